@@ -1,0 +1,83 @@
+"""Effects: structural options that decide which terms, states and parameters exist.
+
+An effect that is off contributes nothing to a model. Each system lists the effects it
+supports; numeric parameter values are never part of an effect.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+from .errors import UserInputError
+
+__all__ = ["Effect", "EFFECTS", "parse_effects"]
+
+
+@dataclass(frozen=True)
+class Effect:
+    """A named structural option.
+
+    Parameters
+    ----------
+    name : str
+    description : str
+    adds : str
+        What it adds to a model (for help texts and the README).
+    """
+
+    name: str
+    description: str
+    adds: str
+
+
+EFFECTS: dict[str, Effect] = {
+    e.name: e
+    for e in (
+        Effect(
+            "gyrostat",
+            "a rotor spinning at a constant relative rate: constant gyrostatic momentum K "
+            "(K01 §4, BKM12 §2.3)",
+            "parameters K1, K2, K3; the term (K, omega) in T",
+        ),
+        Effect(
+            "contact_point",
+            "track the space-fixed horizontal frame alpha, beta and the contact point x, y "
+            "(BKM12-6, K01-2.4..2.6)",
+            "states alpha, beta, x, y; parameter b (ball radius)",
+        ),
+    )
+}
+
+
+def parse_effects(effects: str | Iterable[str] | None, supported: Iterable[str]) -> frozenset[str]:
+    """Validate a set of effect names against what a system supports.
+
+    Parameters
+    ----------
+    effects : str or iterable of str or None
+        Comma-separated string or names; None or "" means no effects.
+    supported : iterable of str
+
+    Returns
+    -------
+    frozenset of str
+
+    Raises
+    ------
+    UserInputError
+        For an unknown or unsupported effect; the message lists the valid names.
+    """
+    if effects is None:
+        return frozenset()
+    if isinstance(effects, str):
+        names = [e.strip() for e in effects.split(",") if e.strip()]
+    else:
+        names = [str(e).strip() for e in effects]
+    supported = sorted(supported)
+    bad = [n for n in names if n not in supported]
+    if bad:
+        raise UserInputError(
+            f"unknown effect {bad[0]!r}; this system supports: {', '.join(supported) or 'none'}"
+        )
+    return frozenset(names)

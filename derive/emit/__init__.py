@@ -1,0 +1,23 @@
+"""Emitters: printers that turn a Model into source files (numpy, mpmath, C).
+
+Each emitter returns ``[(filename, text)]`` and writes nothing; :mod:`.writer` puts the
+files in ``generated/`` and checks that they are up to date.
+"""
+
+from __future__ import annotations
+
+from .base import EMITTERS, Emitter, ModelRoutines, get_emitter, header_lines
+from .c_emitter import CEmitter
+from .mpmath_emitter import MpmathEmitter
+from .numpy_emitter import NumpyEmitter
+
+__all__ = [
+    "EMITTERS",
+    "Emitter",
+    "ModelRoutines",
+    "NumpyEmitter",
+    "MpmathEmitter",
+    "CEmitter",
+    "get_emitter",
+    "header_lines",
+]

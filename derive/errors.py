@@ -1,0 +1,22 @@
+"""Exceptions shared by every layer.
+
+`UserInputError` is the one exception the command line turns into a single line on
+stderr and exit code 2: raise it for anything a user typed wrong (unknown system,
+effect or parameter, a non-physical value, a malformed number).
+"""
+
+from __future__ import annotations
+
+__all__ = ["ChaplyginError", "UserInputError", "DerivationError"]
+
+
+class ChaplyginError(Exception):
+    """Base class of the toolkit's exceptions."""
+
+
+class UserInputError(ChaplyginError, ValueError):
+    """Input that a user can fix: the message says what is wrong and how to fix it."""
+
+
+class DerivationError(ChaplyginError):
+    """A mechanical description the derivation engine cannot turn into a model."""

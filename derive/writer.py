@@ -1,0 +1,104 @@
+"""Write the built-in models' code to ``generated/`` and check that it is up to date."""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from pathlib import Path
+
+from .emit import EMITTERS, ModelRoutines, get_emitter
+from .emit.base import GENERATOR_VERSION
+from .systems import build_model, builtin_variants
+
+__all__ = ["render_generated", "write_generated", "check_generated", "MANIFEST"]
+
+MANIFEST = "manifest.json"
+
+_INIT = '''"""Code emitted by ``chaplygin derive`` for the built-in models. DO NOT EDIT.
+
+One numpy module, one mpmath module and one C source per model variant
+(``<system>[__<effect>...]``); ``manifest.json`` maps each variant to its model hash and
+files. ``chaplygin derive --check`` fails when any file here differs from a fresh
+emission.
+"""
+'''
+
+
+def render_generated(languages: tuple[str, ...] | None = None) -> dict[str, str]:
+    """Every file of ``generated/`` as ``{filename: text}`` (nothing is written).
+
+    Parameters
+    ----------
+    languages : tuple of str, optional
+        Emitters to run (default: all registered).
+    """
+    languages = languages or tuple(sorted(EMITTERS))
+    files: dict[str, str] = {"__init__.py": _INIT}
+    manifest: dict[str, dict] = {}
+    for system, effects in builtin_variants():
+        model = build_model(system, effects)
+        routines = ModelRoutines(model)
+        entry = {
+            "system": system,
+            "effects": sorted(effects),
+            "hash": model.hash,
+            "generator": GENERATOR_VERSION,
+            "files": {},
+        }
+        for language in languages:
+            for filename, text in get_emitter(language).emit(model, routines):
+                files[filename] = text
+                entry["files"][language] = filename
+        manifest[model.name] = entry
+    files[MANIFEST] = json.dumps(manifest, indent=2, sort_keys=True) + "\n"
+    return files
+
+
+def _atomic_write(path: Path, text: str) -> None:
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w") as fh:
+            fh.write(text)
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def _is_generated(path: Path) -> bool:
+    return path.is_file() and path.suffix in {".py", ".c", ".json"}
+
+
+def write_generated(directory: Path) -> list[str]:
+    """(Re)write ``directory``; returns the names of files that changed or were removed."""
+    directory.mkdir(parents=True, exist_ok=True)
+    files = render_generated()
+    changed = []
+    for name, text in sorted(files.items()):
+        path = directory / name
+        if not path.exists() or path.read_text() != text:
+            _atomic_write(path, text)
+            changed.append(name)
+    for path in sorted(directory.iterdir()):
+        if _is_generated(path) and path.name not in files:
+            path.unlink()
+            changed.append(path.name)
+    return changed
+
+
+def check_generated(directory: Path) -> list[str]:
+    """Names of files in ``directory`` that are stale, missing or extra (empty: in sync)."""
+    files = render_generated()
+    problems = []
+    for name, text in sorted(files.items()):
+        path = directory / name
+        if not path.exists():
+            problems.append(f"{name}: missing")
+        elif path.read_text() != text:
+            problems.append(f"{name}: out of date")
+    for path in sorted(directory.iterdir()) if directory.exists() else []:
+        if _is_generated(path) and path.name not in files:
+            problems.append(f"{path.name}: not produced by any built-in model")
+    return problems
