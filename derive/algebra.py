@@ -15,7 +15,13 @@ from functools import lru_cache
 
 import sympy as sp
 
-__all__ = ["ConstraintIdeal", "numerator_of"]
+__all__ = [
+    "ConstraintIdeal",
+    "numerator_of",
+    "RationalFunctionBuilder",
+    "UnsupportedExpression",
+    "ring_normal_form",
+]
 
 
 @lru_cache(maxsize=64)
@@ -83,3 +89,119 @@ class ConstraintIdeal:
         keep = set(symbols)
         cons = [c for c in self.constraints if c.free_symbols & set(self.gens) <= keep]
         return ConstraintIdeal(cons, [g for g in self.gens if g in keep])
+
+
+class UnsupportedExpression(ValueError):
+    """An expression outside the rational functions (and square roots) of its symbols."""
+
+
+class RationalFunctionBuilder:
+    """Exact rational functions as ``numerator / prod(factor^power)`` over sparse polynomials.
+
+    Conversion never computes a multivariate gcd: a denominator is kept as a product of
+    powers of monic polynomial factors, and a sum is brought to the least common multiple
+    of the factor powers. This is what makes identities with nested fractions (``omega``
+    through ``Z``) cheap to decide: the numerator is expanded once in sympy's sparse
+    polynomial ring and reduced modulo a Groebner basis in the same ring.
+
+    Parameters
+    ----------
+    gens : sequence of sympy.Symbol
+        Every symbol that may occur (the polynomial ring's generators).
+    """
+
+    def __init__(self, gens: Sequence[sp.Symbol]):
+        from sympy.polys.domains import QQ
+        from sympy.polys.rings import ring
+
+        self.gens = tuple(gens)
+        self.ring, *_ = ring(self.gens, QQ, order="grevlex")
+        self._gen_of = dict(zip(self.gens, self.ring.gens, strict=True))
+        self._memo: dict[sp.Expr, tuple] = {}
+
+    # A fraction is (num, {factor: power}); factors are monic PolyElements.
+    def _monic(self, p):
+        lc = p.LC
+        return p.quo_ground(lc), lc
+
+    def convert(self, expr: sp.Expr):
+        """``(numerator, {factor: power})`` of a rational expression."""
+        expr = sp.sympify(expr)
+        hit = self._memo.get(expr)
+        if hit is not None:
+            return hit
+        out = self._convert(expr)
+        self._memo[expr] = out
+        return out
+
+    def _convert(self, expr):
+        R = self.ring
+        if expr in self._gen_of:
+            return self._gen_of[expr], {}
+        if expr.is_Rational:
+            return R(expr), {}
+        if expr.is_Add:
+            parts = [self.convert(a) for a in expr.args]
+            den: dict = {}
+            for _, d in parts:
+                for f, k in d.items():
+                    den[f] = max(den.get(f, 0), k)
+            num = R.zero
+            for n, d in parts:
+                term = n
+                for f, k in den.items():
+                    missing = k - d.get(f, 0)
+                    if missing:
+                        term = term * f**missing
+                num += term
+            return num, {f: k for f, k in den.items() if k}
+        if expr.is_Mul:
+            num = R.one
+            den: dict = {}
+            for a in expr.args:
+                n, d = self.convert(a)
+                num = num * n
+                for f, k in d.items():
+                    den[f] = den.get(f, 0) + k
+            return num, den
+        if expr.is_Pow and expr.exp.is_Integer:
+            n, d = self.convert(expr.base)
+            e = int(expr.exp)
+            if e >= 0:
+                return n**e, {f: k * e for f, k in d.items()}
+            if n == 0:
+                raise ZeroDivisionError(str(expr))
+            num = R.one
+            for f, k in d.items():
+                num = num * f ** (k * -e)
+            if n.is_ground:
+                return num.quo_ground(n.LC ** (-e)), {}
+            f, lc = self._monic(n)
+            return num.quo_ground(lc ** (-e)), {f: -e}
+        raise UnsupportedExpression(f"not a rational function of the generators: {expr}")
+
+    def numerator(self, expr: sp.Expr):
+        """Numerator (a PolyElement) of ``expr`` over its factored denominator."""
+        return self.convert(expr)[0]
+
+    def to_expr(self, poly) -> sp.Expr:
+        return poly.as_expr()
+
+
+_RING_BASES: dict = {}
+
+
+def ring_normal_form(poly, constraints: Sequence[sp.Expr], builder: RationalFunctionBuilder):
+    """Normal form of a PolyElement modulo the ideal of ``constraints`` (in the same ring)."""
+    if not constraints or poly.is_zero:
+        return poly
+    from sympy.polys.groebnertools import groebner as ring_groebner
+
+    key = (tuple(constraints), builder.gens)
+    basis = _RING_BASES.get(key)
+    if basis is None:
+        basis = ring_groebner(
+            [builder.ring.from_expr(sp.expand(c)) for c in constraints], builder.ring
+        )
+        _RING_BASES[key] = basis
+    return poly.rem(basis)

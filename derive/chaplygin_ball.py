@@ -104,18 +104,35 @@ def build_chaplygin_ball(effects: Iterable[str] | str | None = ()) -> Model:
         A, U = structured.A, structured.U
         X = structured.X()
         k = U.shape[1]
-        Z = sp.Matrix(sp.symbols(f"Z1:{k + 1}", real=True)) if k > 1 else sp.Matrix([sp.Symbol("Z", real=True)])
+        Z = (
+            sp.Matrix(sp.symbols(f"Z1:{k + 1}", real=True))
+            if k > 1
+            else sp.Matrix([sp.Symbol("Z", real=True)])
+        )
         Zval = X.LUsolve(U.T * A * M) if k > 1 else sp.Matrix([(U.T * A * M)[0] / X[0, 0]])
         aux += [(Z[i], Zval[i]) for i in range(k)]
         omega_val = A * (M + U * Z)
         density = X.det() ** sp.Rational(-1, 2)
+        # Invertible change of parameters used by exact identity checks: A_i = 1/J_ii
+        # (the paper's A = (I + D Id)^-1) keeps numerators small.
+        A_syms = sp.symbols("A1:4", positive=True)
+        reparametrisation = {
+            "forward": {A_syms[i]: 1 / structured.J[i, i] for i in range(3)},
+            "inverse": {
+                Iv[i]: sp.solve(structured.J[i, i] * A_syms[i] - 1, Iv[i])[0] for i in range(3)
+            },
+        }
     else:  # pragma: no cover - the ball always has the structure
         omega_val = red.inertia_operator.LUsolve(M)
         density = red.inertia_operator.det() ** sp.Rational(-1, 2)
+        reparametrisation = None
     aux += [(omega[i], omega_val[i]) for i in range(3)]
 
     # --- state and right-hand side ----------------------------------------------------
-    state_groups: list[tuple[str, tuple[sp.Symbol, ...]]] = [("M", tuple(M)), ("gamma", tuple(gamma))]
+    state_groups: list[tuple[str, tuple[sp.Symbol, ...]]] = [
+        ("M", tuple(M)),
+        ("gamma", tuple(gamma)),
+    ]
     rhs: list[sp.Expr] = list(rhs_M) + list(kinematics["gamma"][1])
     centre_velocity = sp.Matrix(v).subs(red.velocity_map)
     if contact:
@@ -128,13 +145,17 @@ def build_chaplygin_ball(effects: Iterable[str] | str | None = ()) -> Model:
 
     # --- parameters: exactly the symbols the equations use ---------------------------
     specs = [
-        ParameterSpec("I", tuple(Iv), "positive", "central principal moments of inertia I1, I2, I3"),
+        ParameterSpec(
+            "I", tuple(Iv), "positive", "central principal moments of inertia I1, I2, I3"
+        ),
         ParameterSpec("D", (D,), "positive", "D = m b^2 (mass times squared radius)"),
     ]
     if contact:
         specs.append(ParameterSpec("b", (b,), "positive", "ball radius"))
     if gyro:
-        specs.append(ParameterSpec("K", tuple(K), "real", "constant gyrostatic momentum K1, K2, K3"))
+        specs.append(
+            ParameterSpec("K", tuple(K), "real", "constant gyrostatic momentum K1, K2, K3")
+        )
 
     # --- invariants shipped with the model -------------------------------------------
     P = M + red.gyrostatic_momentum  # momentum fixed in space: P' = P x omega
@@ -182,6 +203,7 @@ def build_chaplygin_ball(effects: Iterable[str] | str | None = ()) -> Model:
             "structured_inverse": structured,
             "reduced_equations": red,
             "mass": m,
+            "reparametrisation": reparametrisation,
         },
         references={
             "momentum": "BKM12-1",

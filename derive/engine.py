@@ -77,7 +77,8 @@ class StructuredInverse:
     """``II = J + U C U^T`` on the phase space and the Woodbury form of ``II^-1``.
 
     ``omega = A (M + U Z)``, ``A = J^-1``, ``Z = X^-1 U^T A M``, ``X = -(C^-1 + U^T A U)``.
-    For the Chaplygin ball ``J = I + D Id``, ``U = gamma``, ``C = -D``, ``X = D^-1 - (gamma, A gamma)``.
+    For the Chaplygin ball ``J = I + D Id``, ``U = gamma``, ``C = -D``,
+    ``X = D^-1 - (gamma, A gamma)``.
     """
 
     J: sp.Matrix
@@ -154,9 +155,7 @@ class ReducedEquations:
         coefficients of the normal forms. Returns None when no such split exists.
         """
         II = self.inertia_operator
-        config = [
-            X for X, _ in self.kinematics.values() if set(X) & II.free_symbols
-        ]
+        config = [X for X, _ in self.kinematics.values() if set(X) & II.free_symbols]
         if not config or len(config) > max_rank:
             return None
         k = len(config)
@@ -242,9 +241,7 @@ def lagrange_dalembert(desc: RigidBodyDescription) -> ReducedEquations:
     f_omega = cross(p_omega, omega) + cross(p_v, v) + desc.torque
     f_v = cross(p_v, omega) + desc.force
     reaction = Phi.T * sp.Matrix(lam) if lam else sp.zeros(6, 1)
-    with_multipliers = (
-        p.applyfunc(d_dt) - sp.Matrix.vstack(f_omega, f_v) - reaction
-    )
+    with_multipliers = p.applyfunc(d_dt) - sp.Matrix.vstack(f_omega, f_v) - reaction
 
     # Solve the constraints for the reference-point velocity.
     sol = sp.solve(list(desc.constraints), list(v), dict=True)

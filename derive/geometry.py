@@ -77,12 +77,27 @@ class PoissonGroup:
             n = q0**2 + q1**2 + q2**2 + q3**2
             if n != 0:
                 break
-        rot = sp.Matrix(
-            [
-                [q0**2 + q1**2 - q2**2 - q3**2, 2 * (q1 * q2 - q0 * q3), 2 * (q1 * q3 + q0 * q2)],
-                [2 * (q1 * q2 + q0 * q3), q0**2 - q1**2 + q2**2 - q3**2, 2 * (q2 * q3 - q0 * q1)],
-                [2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), q0**2 - q1**2 - q2**2 + q3**2],
-            ]
-        ) / n
+        rot = (
+            sp.Matrix(
+                [
+                    [
+                        q0**2 + q1**2 - q2**2 - q3**2,
+                        2 * (q1 * q2 - q0 * q3),
+                        2 * (q1 * q3 + q0 * q2),
+                    ],
+                    [
+                        2 * (q1 * q2 + q0 * q3),
+                        q0**2 - q1**2 + q2**2 - q3**2,
+                        2 * (q2 * q3 - q0 * q1),
+                    ],
+                    [
+                        2 * (q1 * q3 - q0 * q2),
+                        2 * (q2 * q3 + q0 * q1),
+                        q0**2 - q1**2 - q2**2 + q3**2,
+                    ],
+                ]
+            )
+            / n
+        )
         # Rows of a proper rotation are the body components of the space axes.
         return {name: list(rot.row(i)) for i, name in enumerate(self.names)}

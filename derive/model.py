@@ -165,7 +165,8 @@ class Model:
             f"effects {','.join(sorted(self.effects))}",
             f"time {sp.srepr(self.time)}",
             "state " + ",".join(f"{n}:{sp.srepr(g)}" for n, g in self.state_groups),
-            "params " + ",".join(f"{p.name}:{sp.srepr(p.symbols)}:{p.domain}" for p in self.parameters),
+            "params "
+            + ",".join(f"{p.name}:{sp.srepr(p.symbols)}:{p.domain}" for p in self.parameters),
         ]
         parts += [f"aux {sp.srepr(s)} = {sp.srepr(e)}" for s, e in self.aux]
         parts += [f"rhs {sp.srepr(e)}" for e in self.rhs]

@@ -31,7 +31,8 @@ SYSTEMS: dict[str, System] = {
             "chaplygin_ball",
             build_chaplygin_ball,
             BALL_EFFECTS,
-            "balanced dynamically asymmetric ball rolling without slipping on a plane (BKM12 §1.1, K01 §2)",
+            "balanced dynamically asymmetric ball rolling without slipping on a plane "
+            "(BKM12 §1.1, K01 §2)",
         ),
     )
 }

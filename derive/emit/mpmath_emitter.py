@@ -30,8 +30,6 @@ class MpmathEmitter(PythonModuleEmitter):
             body = ",\n        ".join(items)
             return [f"    return [\n        {body},\n    ]"]
         n = routine.shape[1]
-        rows = [
-            "[" + ", ".join(items[i * n : (i + 1) * n]) + "]" for i in range(routine.shape[0])
-        ]
+        rows = ["[" + ", ".join(items[i * n : (i + 1) * n]) + "]" for i in range(routine.shape[0])]
         body = ",\n        ".join(rows)
         return [f"    return [\n        {body},\n    ]"]

@@ -28,7 +28,9 @@ class NumpyEmitter(PythonModuleEmitter):
             f"    out = numpy.zeros({routine.shape!r} + numpy.shape({first}), "
             f"dtype=numpy.result_type({first}, *p))"
         ]
-        for index, expr in zip(itertools.product(*map(range, routine.shape)), routine.outputs, strict=True):
+        for index, expr in zip(
+            itertools.product(*map(range, routine.shape)), routine.outputs, strict=True
+        ):
             if expr != 0:
                 lines.append(f"    out[{', '.join(map(str, index))}] = {self._print(expr)}")
         lines.append("    return out")

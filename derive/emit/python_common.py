@@ -78,7 +78,11 @@ class PythonModuleEmitter(Emitter):
             (routines.rhs, "t, y, p", f"Right-hand side dy/dt, shape ({n}, ...)."),
             (routines.jacobian, "t, y, p", f"Jacobian d(dy/dt)/dy, shape ({n}, {n}, ...)."),
             (routines.aux, "t, y, p", "Auxiliary quantities (AUX order: Z, omega ...)."),
-            (routines.integrals, "t, y, p", f"First integrals (INTEGRALS order), shape ({m}, ...)."),
+            (
+                routines.integrals,
+                "t, y, p",
+                f"First integrals (INTEGRALS order), shape ({m}, ...).",
+            ),
             (routines.density, "t, y, p", "Invariant-measure density, shape (1, ...)."),
         ]
         for routine, signature, doc in specs:

@@ -1,0 +1,1 @@
+"""Numerical layer: generated code loaded and integrated in double or arbitrary precision."""

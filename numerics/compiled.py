@@ -1,0 +1,782 @@
+"""Compile emitted C model code on demand, cache the shared library, load it with cffi.
+
+The C sources written by :class:`chaplygin.derive.emit.CEmitter` (``generated/*.c``) define,
+for one model, ``chaplygin_model_hash``, ``chaplygin_sizes`` and the routines
+``chaplygin_rhs``, ``chaplygin_jac``, ``chaplygin_aux``, ``chaplygin_integrals`` and
+``chaplygin_density``, each ``void f(double T, const double *Y, const double *P, double *OUT)``.
+This module turns such a source into a :class:`CompiledModel` with numpy-friendly methods.
+
+Design rules:
+
+* **lazy** -- nothing is compiled at import; :func:`load_c_model` compiles on first use;
+* **cached and idempotent** -- a library is stored under a key that hashes the source text, the
+  compiler (path and ``--version`` output), the flags and the platform; an existing library is
+  reused without running the compiler;
+* **safe under concurrency** -- the compiler writes a temporary file in the cache directory which
+  is then moved into place with :func:`os.replace`, so several processes building the same model
+  at once all end up loading a complete library; no process-global state (working directory,
+  environment, umask) is ever changed;
+* **optional** -- without a working C compiler :func:`load_c_model` warns with
+  :class:`CompilerUnavailableWarning` and returns ``None``; callers then use the numpy module.
+
+The flags are ``-O2 -shared -fPIC -std=c99 -ffp-contract=off`` and ``-lm``: no ``-ffast-math``
+and no fused multiply-add contraction, so results are IEEE double precision and reproducible
+(clang contracts ``a*b + c`` into an FMA by default, hence the explicit ``-ffp-contract=off``).
+
+The cache lives in ``$CHAPLYGIN_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/chaplygin`` or
+``~/.cache/chaplygin``; libraries go into its ``c/`` subfolder (see :func:`c_cache_dir`).
+
+Examples
+--------
+>>> from pathlib import Path
+>>> from chaplygin.numerics.compiled import load_c_model
+>>> source = Path("generated/chaplygin_ball.c").read_text()  # doctest: +SKIP
+>>> model = load_c_model(source)  # doctest: +SKIP
+>>> model.rhs(0.0, y, p)  # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import platform
+import shlex
+import shutil
+import subprocess
+import sys
+import sysconfig
+import tempfile
+import warnings
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import cffi
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..derive.errors import ChaplyginError
+
+__all__ = [
+    "CFLAGS",
+    "LDLIBS",
+    "CompilerError",
+    "CompilerNotFoundError",
+    "CompilationError",
+    "CompilerUnavailableWarning",
+    "ModelHashMismatchError",
+    "CompiledModel",
+    "c_cache_dir",
+    "compile_c",
+    "find_compiler",
+    "load_c_model",
+]
+
+#: Compiler flags (IEEE-exact: no ``-ffast-math``, no FMA contraction).
+CFLAGS: tuple[str, ...] = ("-O2", "-shared", "-fPIC", "-std=c99", "-ffp-contract=off")
+#: Libraries linked after the source file.
+LDLIBS: tuple[str, ...] = ("-lm",)
+
+#: Compilers tried, in order, when neither ``compiler=`` nor ``CC`` is given.
+_DEFAULT_COMPILERS = ("cc", "gcc", "clang")
+#: Bump to invalidate every cached library (changes the cache key).
+_CACHE_FORMAT = "chaplygin-c-cache-1"
+_COMPILE_TIMEOUT = 900.0
+_VERSION_TIMEOUT = 60.0
+_LIB_SUFFIX = ".dll" if sys.platform == "win32" else ".so"
+
+_F64 = np.dtype(np.float64)
+
+_CDEF = """
+const char *chaplygin_model_hash(void);
+void chaplygin_sizes(int *OUT);
+void chaplygin_rhs(double T, const double *Y, const double *P, double *OUT);
+void chaplygin_jac(double T, const double *Y, const double *P, double *OUT);
+void chaplygin_aux(double T, const double *Y, const double *P, double *OUT);
+void chaplygin_integrals(double T, const double *Y, const double *P, double *OUT);
+void chaplygin_density(double T, const double *Y, const double *P, double *OUT);
+void chaplygin_many_rhs(double T, ptrdiff_t N, const double *Y, ptrdiff_t YS0, ptrdiff_t YS1,
+                        const double *P, double *OUT, ptrdiff_t OS0, ptrdiff_t OS1);
+void chaplygin_many_jac(double T, ptrdiff_t N, const double *Y, ptrdiff_t YS0, ptrdiff_t YS1,
+                        const double *P, double *OUT, ptrdiff_t OS0, ptrdiff_t OS1);
+void chaplygin_many_aux(double T, ptrdiff_t N, const double *Y, ptrdiff_t YS0, ptrdiff_t YS1,
+                        const double *P, double *OUT, ptrdiff_t OS0, ptrdiff_t OS1);
+void chaplygin_many_integrals(double T, ptrdiff_t N, const double *Y, ptrdiff_t YS0,
+                              ptrdiff_t YS1, const double *P, double *OUT, ptrdiff_t OS0,
+                              ptrdiff_t OS1);
+void chaplygin_many_density(double T, ptrdiff_t N, const double *Y, ptrdiff_t YS0,
+                            ptrdiff_t YS1, const double *P, double *OUT, ptrdiff_t OS0,
+                            ptrdiff_t OS1);
+"""
+
+_ffi = cffi.FFI()
+_ffi.cdef(_CDEF)
+_from_buffer = _ffi.from_buffer
+_DOUBLES = _ffi.typeof("double[]")  # pre-parsed: from_buffer is faster without the string
+
+_SHIM_MARKER = "/* chaplygin.numerics.compiled batch shim v1 */"
+
+#: Appended by :func:`load_c_model` to every model source: batch versions of the routines
+#: evaluating states stored column-wise in a strided (n_state, N) array, so that
+#: ``CompiledModel.*_many`` need no Python loop.  Strides are in elements, not bytes.
+_SHIM = (
+    "\n"
+    + _SHIM_MARKER
+    + r"""
+#include <stddef.h>
+
+typedef void (*chaplygin__routine)(double, const double *, const double *, double *);
+
+static void chaplygin__many(chaplygin__routine fn, int m, double T, ptrdiff_t N,
+                            const double *Y, ptrdiff_t YS0, ptrdiff_t YS1, const double *P,
+                            double *OUT, ptrdiff_t OS0, ptrdiff_t OS1)
+{
+    int sizes[4];
+    chaplygin_sizes(sizes);
+    const int n = sizes[0];
+    double y[n > 0 ? n : 1];
+    double f[m > 0 ? m : 1];
+    for (ptrdiff_t j = 0; j < N; ++j) {
+        for (int i = 0; i < n; ++i) y[i] = Y[i * YS0 + j * YS1];
+        fn(T, y, P, f);
+        for (int k = 0; k < m; ++k) OUT[k * OS0 + j * OS1] = f[k];
+    }
+}
+
+#define CHAPLYGIN__MANY(NAME, M)                                                          \
+    void chaplygin_many_##NAME(double T, ptrdiff_t N, const double *Y, ptrdiff_t YS0,    \
+                               ptrdiff_t YS1, const double *P, double *OUT, ptrdiff_t OS0, \
+                               ptrdiff_t OS1)                                             \
+    {                                                                                     \
+        int s[4];                                                                         \
+        chaplygin_sizes(s);                                                               \
+        chaplygin__many(chaplygin_##NAME, (M), T, N, Y, YS0, YS1, P, OUT, OS0, OS1);      \
+    }
+
+CHAPLYGIN__MANY(rhs, s[0])
+CHAPLYGIN__MANY(jac, s[0] * s[0])
+CHAPLYGIN__MANY(aux, s[2])
+CHAPLYGIN__MANY(integrals, s[3])
+CHAPLYGIN__MANY(density, 1)
+"""
+)
+
+
+# --------------------------------------------------------------------------- errors
+
+
+class CompilerError(ChaplyginError, RuntimeError):
+    """The C compiler is missing or could not build the library."""
+
+
+class CompilerNotFoundError(CompilerError):
+    """No C compiler could be found (``compiler=`` argument, ``CC``, ``cc``, ``gcc``)."""
+
+
+class CompilationError(CompilerError):
+    """The C compiler ran but failed (non-zero exit status or time-out)."""
+
+
+class ModelHashMismatchError(ChaplyginError, ValueError):
+    """The compiled library reports a model hash other than the expected one."""
+
+
+class CompilerUnavailableWarning(UserWarning):
+    """No usable C compiler: the (slower) numpy implementation is used instead."""
+
+
+# --------------------------------------------------------------------------- compiling
+
+
+def c_cache_dir(cache_dir: str | os.PathLike[str] | None = None) -> Path:
+    """Directory holding the compiled libraries.
+
+    Parameters
+    ----------
+    cache_dir : path-like, optional
+        Root of the chaplygin cache.  Default: ``$CHAPLYGIN_CACHE_DIR`` if set and non-empty,
+        else ``$XDG_CACHE_HOME/chaplygin``, else ``~/.cache/chaplygin``.
+
+    Returns
+    -------
+    pathlib.Path
+        ``<root>/c`` (not created here).
+    """
+    if cache_dir is not None:
+        root = Path(cache_dir)
+    elif os.environ.get("CHAPLYGIN_CACHE_DIR"):
+        root = Path(os.environ["CHAPLYGIN_CACHE_DIR"])
+    else:
+        xdg = os.environ.get("XDG_CACHE_HOME")
+        base = Path(xdg) if xdg else Path.home() / ".cache"
+        root = base / "chaplygin"
+    return root.expanduser() / "c"
+
+
+def find_compiler(compiler: str | None = None) -> list[str]:
+    """Command line that invokes the C compiler.
+
+    Parameters
+    ----------
+    compiler : str, optional
+        Compiler command (may contain arguments, e.g. ``"ccache gcc"``).  When given, it is
+        the only candidate; otherwise the ``CC`` environment variable is, when set and
+        non-empty; otherwise ``cc``, ``gcc`` and ``clang`` are searched on ``PATH``.
+
+    Returns
+    -------
+    list of str
+        The command split into words, its program resolved to an absolute path.
+
+    Raises
+    ------
+    CompilerNotFoundError
+        If the chosen candidate (or, without a choice, every default) is not found.
+    """
+    if compiler is None:
+        compiler = os.environ.get("CC") or None
+        origin = "the CC environment variable"
+    else:
+        origin = "the compiler argument"
+    if compiler is not None:
+        words = shlex.split(compiler)
+        found = shutil.which(words[0]) if words else None
+        if found is None:
+            raise CompilerNotFoundError(
+                f"C compiler {compiler!r} (from {origin}) not found; install it or point CC "
+                "to an installed C compiler"
+            )
+        return [found, *words[1:]]
+    for name in _DEFAULT_COMPILERS:
+        found = shutil.which(name)
+        if found is not None:
+            return [found]
+    raise CompilerNotFoundError(
+        f"no C compiler found on PATH (tried {', '.join(_DEFAULT_COMPILERS)}); install one "
+        "(e.g. gcc) or set the CC environment variable"
+    )
+
+
+_identity_cache: dict[tuple[Any, ...], str] = {}
+
+
+def _compiler_identity(argv: Sequence[str]) -> str:
+    """Path, file stamp and ``--version`` output of the compiler (memoised per process)."""
+    try:
+        st = os.stat(argv[0])
+    except OSError as exc:
+        raise CompilerNotFoundError(f"C compiler {argv[0]!r} not usable: {exc}") from exc
+    memo_key = (tuple(argv), st.st_mtime_ns, st.st_size, st.st_ino)
+    identity = _identity_cache.get(memo_key)
+    if identity is None:
+        try:
+            proc = subprocess.run(
+                [*argv, "--version"],
+                capture_output=True,
+                text=True,
+                errors="replace",
+                stdin=subprocess.DEVNULL,
+                timeout=_VERSION_TIMEOUT,
+                check=False,
+            )
+        except (OSError, subprocess.SubprocessError) as exc:
+            raise CompilerNotFoundError(
+                f"C compiler {shlex.join(argv)!r} cannot be run: {exc}"
+            ) from exc
+        identity = "\n".join([shlex.join(argv), proc.stdout.strip(), proc.stderr.strip()])
+        _identity_cache[memo_key] = identity
+    return identity
+
+
+def _platform_tag() -> str:
+    return f"{sysconfig.get_platform()}|{platform.machine()}|{sys.platform}"
+
+
+def _cache_key(source: str, identity: str, flags: Sequence[str]) -> str:
+    h = hashlib.sha256()
+    for part in (_CACHE_FORMAT, source, identity, shlex.join(flags), _platform_tag()):
+        h.update(part.encode("utf-8", "surrogatepass"))
+        h.update(b"\0")
+    return h.hexdigest()
+
+
+def _unlink_quietly(path: str | os.PathLike[str]) -> None:
+    try:
+        os.unlink(path)
+    except FileNotFoundError:
+        pass
+
+
+def compile_c(
+    source: str,
+    *,
+    cache_dir: str | os.PathLike[str] | None = None,
+    compiler: str | None = None,
+    force: bool = False,
+) -> Path:
+    """Compile C source to a shared library, or reuse the cached one.
+
+    Parameters
+    ----------
+    source : str
+        Complete C99 translation unit.
+    cache_dir : path-like, optional
+        Root of the cache (see :func:`c_cache_dir`); the library goes into ``<root>/c``.
+    compiler : str, optional
+        Compiler command; see :func:`find_compiler` (default: ``CC``, else ``cc``/``gcc``).
+    force : bool, default False
+        Recompile even when the library is cached (replacing it atomically).
+
+    Returns
+    -------
+    pathlib.Path
+        The shared library ``<root>/c/<sha256>.so``; the key hashes the source, the compiler
+        identity, :data:`CFLAGS` + :data:`LDLIBS` and the platform.  The source is kept next
+        to it as ``<sha256>.c`` for inspection.
+
+    Raises
+    ------
+    CompilerNotFoundError
+        If no compiler can be found or run.
+    CompilationError
+        If the compiler fails; the message holds its command line and diagnostics.
+    OSError
+        If the cache directory cannot be created or written.
+
+    Notes
+    -----
+    The compiler writes to a temporary file in the cache directory that is then moved into
+    place with :func:`os.replace`: concurrent builds of the same source (threads or processes)
+    are safe and the final library is never seen half-written.
+    """
+    argv = find_compiler(compiler)
+    flags = (*CFLAGS, *LDLIBS)
+    key = _cache_key(source, _compiler_identity(argv), flags)
+    directory = c_cache_dir(cache_dir)
+    target = directory / f"{key}{_LIB_SUFFIX}"
+    if not force and target.is_file():
+        return target
+
+    directory.mkdir(parents=True, exist_ok=True)
+    prefix = f".tmp-{key[:16]}-"
+    fd, tmp_c = tempfile.mkstemp(prefix=prefix, suffix=".c", dir=directory)
+    with os.fdopen(fd, "w", encoding="utf-8") as fh:
+        fh.write(source)
+    fd, tmp_lib = tempfile.mkstemp(prefix=prefix, suffix=_LIB_SUFFIX, dir=directory)
+    os.close(fd)
+    command = [*argv, *CFLAGS, "-o", tmp_lib, tmp_c, *LDLIBS]
+    try:
+        try:
+            proc = subprocess.run(
+                command,
+                capture_output=True,
+                text=True,
+                errors="replace",
+                stdin=subprocess.DEVNULL,
+                timeout=_COMPILE_TIMEOUT,
+                check=False,
+            )
+        except FileNotFoundError as exc:
+            raise CompilerNotFoundError(f"C compiler {argv[0]!r} not found: {exc}") from exc
+        except (OSError, subprocess.SubprocessError) as exc:
+            raise CompilationError(f"running {shlex.join(command)} failed: {exc}") from exc
+        if proc.returncode != 0 or os.path.getsize(tmp_lib) == 0:
+            diagnostics = (proc.stderr or proc.stdout).strip()
+            if len(diagnostics) > 4000:
+                diagnostics = diagnostics[:4000] + "\n[...]"
+            raise CompilationError(
+                f"{shlex.join(command)} exited with status {proc.returncode}:\n{diagnostics}"
+            )
+        os.replace(tmp_c, directory / f"{key}.c")
+        os.replace(tmp_lib, target)
+    finally:
+        _unlink_quietly(tmp_c)
+        _unlink_quietly(tmp_lib)
+    return target
+
+
+# --------------------------------------------------------------------------- loading
+
+
+def _as_input(a: Any, shape: tuple[int, ...], name: str) -> NDArray[np.float64]:
+    """``a`` as a C-contiguous float64 array of the given shape (no copy when it is one)."""
+    if type(a) is not np.ndarray or a.dtype is not _F64 or not a.flags.c_contiguous:
+        a = np.ascontiguousarray(a, dtype=np.float64)
+    if a.shape != shape:
+        raise ValueError(f"{name} must have shape {shape}, got {a.shape}")
+    return a
+
+
+def _out_buffer(out: Any, shape: tuple[int, ...]) -> Any:
+    """cffi ``double[]`` view of a caller-provided output array (validated, never copied)."""
+    if type(out) is np.ndarray and out.dtype is _F64 and out.shape == shape:
+        try:
+            return _from_buffer(_DOUBLES, out, True)
+        except (ValueError, BufferError, TypeError):
+            pass
+    return _from_buffer(_DOUBLES, _as_output(out, shape), True)
+
+
+def _as_output(out: Any, shape: tuple[int, ...]) -> NDArray[np.float64]:
+    if not isinstance(out, np.ndarray) or out.dtype != _F64 or out.shape != shape:
+        raise ValueError(
+            f"out must be a float64 array of shape {shape}, got "
+            f"{getattr(out, 'dtype', type(out).__name__)} {getattr(out, 'shape', '')}"
+        )
+    if not (out.flags.c_contiguous and out.flags.writeable):
+        raise ValueError("out must be C-contiguous and writeable")
+    return out
+
+
+class CompiledModel:
+    """One model's compiled routines, loaded with cffi (ABI mode).
+
+    Parameters
+    ----------
+    library : path-like
+        Shared library built from an emitted C source (see :func:`compile_c`).
+    expected_hash : str, optional
+        Model hash the library must report (``chaplygin_model_hash()``).
+
+    Attributes
+    ----------
+    path : pathlib.Path
+        The loaded library.
+    model_hash : str
+        Hash reported by the library.
+    n_state, n_param, n_aux, n_integrals : int
+        Sizes reported by ``chaplygin_sizes``.
+
+    Raises
+    ------
+    ModelHashMismatchError
+        If `expected_hash` is given and differs from the library's hash.
+    OSError
+        If the library cannot be loaded.
+
+    Notes
+    -----
+    All routines take ``(t, y, p)`` like the numpy modules: ``y`` is the state (``n_state``
+    doubles), ``p`` the parameters (``n_param`` doubles).  float64 C-contiguous arrays are
+    used as they are, anything else is converted.  Without ``out`` a fresh array is returned,
+    so results stay valid across calls (scipy keeps references to them); pass ``out`` to
+    avoid the allocation.  The parameter array of the previous call is remembered, so passing
+    the same array object again (as ``scipy.integrate.solve_ivp(model.rhs, ..., args=(p,))``
+    does) skips its conversion; the values are read at each call, so in-place changes to it
+    are seen.  Methods are thread-safe (no shared scratch buffers); cffi releases the GIL
+    during the C call.
+    """
+
+    def __init__(self, library: str | os.PathLike[str], expected_hash: str | None = None) -> None:
+        self.path = Path(library)
+        lib = _ffi.dlopen(os.fspath(self.path))
+        try:
+            model_hash_fn = lib.chaplygin_model_hash
+            sizes_fn = lib.chaplygin_sizes
+            routines = {
+                name: getattr(lib, f"chaplygin_{name}")
+                for name in ("rhs", "jac", "aux", "integrals", "density")
+            }
+        except AttributeError as exc:
+            raise ValueError(f"{self.path} is not a chaplygin model library: {exc}") from exc
+        self._lib = lib  # keeps the library loaded while the function pointers are used
+        self.model_hash: str = _ffi.string(model_hash_fn()).decode("ascii")
+        if expected_hash is not None and self.model_hash != expected_hash:
+            raise ModelHashMismatchError(
+                f"compiled model {self.path} has hash {self.model_hash}, expected "
+                f"{expected_hash}: the C source is out of date with the model; regenerate it "
+                "with `chaplygin derive`"
+            )
+        sizes = _ffi.new("int[4]")
+        sizes_fn(sizes)
+        self.n_state, self.n_param, self.n_aux, self.n_integrals = (int(s) for s in sizes)
+        n = self.n_state
+        self._y_shape = (n,)
+        self._p_shape = (self.n_param,)
+        self._rhs = routines["rhs"]
+        self._jac = routines["jac"]
+        self._aux = routines["aux"]
+        self._integrals = routines["integrals"]
+        self._density = routines["density"]
+        self._out_shapes: dict[str, tuple[int, ...]] = {
+            "rhs": (n,),
+            "jac": (n, n),
+            "aux": (self.n_aux,),
+            "integrals": (self.n_integrals,),
+            "density": (1,),
+        }
+        self._many: dict[str, Any] = {}
+        for name in self._out_shapes:
+            try:
+                self._many[name] = getattr(lib, f"chaplygin_many_{name}")
+            except AttributeError:  # library built without the batch shim
+                pass
+        self._p_last: tuple[Any, Any] = (None, None)
+
+    def __repr__(self) -> str:
+        return (
+            f"<CompiledModel {self.model_hash[:12]} n_state={self.n_state} "
+            f"n_param={self.n_param} from {self.path}>"
+        )
+
+    # -- helpers ---------------------------------------------------------------------
+
+    def _p_buffer(self, p: Any) -> Any:
+        last = self._p_last
+        if p is last[0]:
+            return last[1]
+        if type(p) is np.ndarray and p.dtype is _F64 and p.shape == self._p_shape:
+            try:
+                buf = _from_buffer(_DOUBLES, p)
+            except (ValueError, BufferError):  # not contiguous: converted below
+                pass
+            else:
+                self._p_last = (p, buf)
+                return buf
+        return _from_buffer(_DOUBLES, _as_input(p, self._p_shape, "p"))
+
+    def _y_buffer(self, y: Any) -> Any:
+        if type(y) is np.ndarray and y.dtype is _F64 and y.shape == self._y_shape:
+            try:
+                return _from_buffer(_DOUBLES, y)
+            except (ValueError, BufferError):  # not contiguous
+                pass
+        return _from_buffer(_DOUBLES, _as_input(y, self._y_shape, "y"))
+
+    def _call(self, fn: Any, name: str, t: float, y: Any, p: Any, out: Any) -> NDArray:
+        shape = self._out_shapes[name]
+        if out is None:
+            out = np.empty(shape)
+            obuf = _from_buffer(_DOUBLES, out)
+        else:
+            obuf = _out_buffer(out, shape)
+        fn(t, self._y_buffer(y), self._p_buffer(p), obuf)
+        return out
+
+    # -- single state ----------------------------------------------------------------
+
+    def rhs(self, t: float, y: ArrayLike, p: ArrayLike, out: NDArray | None = None) -> NDArray:
+        """Right-hand side dy/dt.
+
+        Parameters
+        ----------
+        t : float
+            Time.
+        y : array_like, shape (n_state,)
+            State.
+        p : array_like, shape (n_param,)
+            Parameters.
+        out : ndarray, shape (n_state,), optional
+            float64 C-contiguous array receiving the result.
+
+        Returns
+        -------
+        ndarray, shape (n_state,)
+            `out` if given, else a new array.
+        """
+        # Fast path inlined (this is the routine an integrator calls most).
+        if out is None:
+            out = np.empty(self._y_shape)
+            obuf = _from_buffer(_DOUBLES, out)
+        else:
+            obuf = _out_buffer(out, self._y_shape)
+        if type(y) is np.ndarray and y.dtype is _F64 and y.shape == self._y_shape:
+            try:
+                ybuf = _from_buffer(_DOUBLES, y)
+            except (ValueError, BufferError):  # not contiguous
+                ybuf = self._y_buffer(y)
+        else:
+            ybuf = self._y_buffer(y)
+        last = self._p_last
+        self._rhs(t, ybuf, last[1] if p is last[0] else self._p_buffer(p), obuf)
+        return out
+
+    def jac(self, t: float, y: ArrayLike, p: ArrayLike, out: NDArray | None = None) -> NDArray:
+        """Jacobian d(dy/dt)/dy.
+
+        Parameters
+        ----------
+        t, y, p, out
+            As for :meth:`rhs`; `out` has shape (n_state, n_state).
+
+        Returns
+        -------
+        ndarray, shape (n_state, n_state)
+            ``J[i, j] = d rhs_i / d y_j``.
+        """
+        return self._call(self._jac, "jac", t, y, p, out)
+
+    def aux(self, t: float, y: ArrayLike, p: ArrayLike, out: NDArray | None = None) -> NDArray:
+        """Auxiliary quantities (order of the numpy module's ``AUX``).
+
+        Parameters
+        ----------
+        t, y, p, out
+            As for :meth:`rhs`; `out` has shape (n_aux,).
+
+        Returns
+        -------
+        ndarray, shape (n_aux,)
+        """
+        return self._call(self._aux, "aux", t, y, p, out)
+
+    def integrals(
+        self, t: float, y: ArrayLike, p: ArrayLike, out: NDArray | None = None
+    ) -> NDArray:
+        """First integrals (order of the numpy module's ``INTEGRALS``).
+
+        Parameters
+        ----------
+        t, y, p, out
+            As for :meth:`rhs`; `out` has shape (n_integrals,).
+
+        Returns
+        -------
+        ndarray, shape (n_integrals,)
+        """
+        return self._call(self._integrals, "integrals", t, y, p, out)
+
+    def density(self, t: float, y: ArrayLike, p: ArrayLike, out: NDArray | None = None) -> NDArray:
+        """Invariant-measure density.
+
+        Parameters
+        ----------
+        t, y, p, out
+            As for :meth:`rhs`; `out` has shape (1,).
+
+        Returns
+        -------
+        ndarray, shape (1,)
+            Same shape as the numpy module's ``density``.
+        """
+        return self._call(self._density, "density", t, y, p, out)
+
+    # -- many states -----------------------------------------------------------------
+
+    def _call_many(self, name: str, t: float, Y: ArrayLike, p: ArrayLike, out: Any) -> NDArray:
+        Y = np.asarray(Y, dtype=np.float64)
+        if Y.ndim != 2 or Y.shape[0] != self.n_state:
+            raise ValueError(f"Y must have shape ({self.n_state}, N), got {Y.shape}")
+        if not Y.flags.aligned or any(s % Y.itemsize for s in Y.strides):
+            Y = np.array(Y, order="C")  # a fresh copy is aligned
+        N = Y.shape[1]
+        shape = (*self._out_shapes[name], N)
+        out = np.empty(shape) if out is None else _as_output(out, shape)
+        if N == 0:
+            return out
+        fn = self._many.get(name)
+        if fn is None:  # no batch shim in this library: loop over columns
+            single = getattr(self, name)
+            for j in range(N):
+                out[..., j] = single(t, Y[:, j], p)
+            return out
+        m = out.size // N
+        pbuf = self._p_buffer(p)
+        ys0, ys1 = (s // Y.itemsize for s in Y.strides)
+        fn(
+            t,
+            N,
+            _ffi.cast("double *", Y.ctypes.data),
+            ys0,
+            ys1,
+            pbuf,
+            _from_buffer(_DOUBLES, out),
+            N if m > 0 else 0,
+            1,
+        )
+        return out
+
+    def rhs_many(self, t: float, Y: ArrayLike, p: ArrayLike, out: NDArray | None = None) -> NDArray:
+        """Right-hand side at many states (columns of `Y`), evaluated in one C call.
+
+        Parameters
+        ----------
+        t : float
+            Time (shared by all states).
+        Y : array_like, shape (n_state, N)
+            States as columns, like the numpy modules' vectorised input; any strides.
+        p : array_like, shape (n_param,)
+            Parameters.
+        out : ndarray, shape (n_state, N), optional
+            float64 C-contiguous array receiving the result.
+
+        Returns
+        -------
+        ndarray, shape (n_state, N)
+            Same layout as the numpy module's ``rhs(t, Y, p)``.
+        """
+        return self._call_many("rhs", t, Y, p, out)
+
+    def jac_many(self, t: float, Y: ArrayLike, p: ArrayLike, out: NDArray | None = None) -> NDArray:
+        """Jacobians at many states; returns shape (n_state, n_state, N). See :meth:`rhs_many`."""
+        return self._call_many("jac", t, Y, p, out)
+
+    def aux_many(self, t: float, Y: ArrayLike, p: ArrayLike, out: NDArray | None = None) -> NDArray:
+        """Auxiliary quantities at many states; shape (n_aux, N). See :meth:`rhs_many`."""
+        return self._call_many("aux", t, Y, p, out)
+
+    def integrals_many(
+        self, t: float, Y: ArrayLike, p: ArrayLike, out: NDArray | None = None
+    ) -> NDArray:
+        """First integrals at many states; shape (n_integrals, N). See :meth:`rhs_many`."""
+        return self._call_many("integrals", t, Y, p, out)
+
+    def density_many(
+        self, t: float, Y: ArrayLike, p: ArrayLike, out: NDArray | None = None
+    ) -> NDArray:
+        """Density at many states; shape (1, N). See :meth:`rhs_many`."""
+        return self._call_many("density", t, Y, p, out)
+
+
+def load_c_model(
+    source: str,
+    expected_hash: str | None = None,
+    *,
+    cache_dir: str | os.PathLike[str] | None = None,
+    compiler: str | None = None,
+) -> CompiledModel | None:
+    """Compile (cached) and load an emitted C model source.
+
+    Parameters
+    ----------
+    source : str
+        C source emitted by :class:`chaplygin.derive.emit.CEmitter`.  A small batch shim
+        (``chaplygin_many_*``, used by :meth:`CompiledModel.rhs_many` and friends) is
+        appended before compiling.
+    expected_hash : str, optional
+        Model hash the library must report.
+    cache_dir : path-like, optional
+        Root of the cache; see :func:`c_cache_dir`.
+    compiler : str, optional
+        Compiler command; see :func:`find_compiler`.
+
+    Returns
+    -------
+    CompiledModel or None
+        None, after a :class:`CompilerUnavailableWarning`, if no C compiler is available, the
+        compilation fails or the cache directory is not writable.
+
+    Raises
+    ------
+    ModelHashMismatchError
+        If `expected_hash` differs from the compiled model's hash.
+    """
+    full_source = source if _SHIM_MARKER in source else source + _SHIM
+    try:
+        path = compile_c(full_source, cache_dir=cache_dir, compiler=compiler)
+        try:
+            return CompiledModel(path, expected_hash)
+        except OSError:
+            # unloadable cache entry (e.g. damaged on disk): rebuild it once
+            path = compile_c(full_source, cache_dir=cache_dir, compiler=compiler, force=True)
+            return CompiledModel(path, expected_hash)
+    except (CompilerError, OSError) as exc:
+        warnings.warn(
+            f"compiled C model unavailable, using the (slower) numpy implementation instead: "
+            f"{exc}\nTo enable compiled models install a C compiler (e.g. `apt install gcc`, "
+            "`xcode-select --install`) or set the CC environment variable to one; the cache "
+            "directory can be moved with CHAPLYGIN_CACHE_DIR.",
+            CompilerUnavailableWarning,
+            stacklevel=2,
+        )
+        return None

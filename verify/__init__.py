@@ -1,0 +1,1 @@
+"""Verification layer: claims, verdicts, reports and the command line (top layer)."""

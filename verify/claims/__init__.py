@@ -1,0 +1,102 @@
+"""The claim registry: every statement of the papers (and of our models) with a check.
+
+A claim has a stable ID from ``FORMULAS.md`` (``BKM12-4``, ``K01-2.2`` ...), a sub-ID after
+a dot for one part of a numbered claim (``BKM12-5.H``), ``/literal`` for the literal
+reading of a garbled formula, and ``/control-...`` for a negative control: a deliberately
+wrong statement that the same machinery must refute (``expected="fails"``).
+"""
+
+from __future__ import annotations
+
+import fnmatch
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+
+import sympy as sp
+from chaplygin.derive import Model, build_model
+
+__all__ = ["Claim", "Check", "REGISTRY", "register", "select_claims", "KINDS"]
+
+KINDS = ("equation", "integral", "measure", "definition", "transformation", "solution", "value")
+
+
+@dataclass
+class Check:
+    """What to decide for a claim: residuals that vanish on the phase space iff it holds.
+
+    Parameters
+    ----------
+    exprs : list of sympy.Expr
+    free : list of sympy.Symbol
+        Variables other than state, Poisson vectors and parameters (velocities ...).
+    """
+
+    exprs: list[sp.Expr]
+    free: list[sp.Symbol] = field(default_factory=list)
+
+
+@dataclass(frozen=True)
+class Claim:
+    """One statement and how to check it.
+
+    Parameters
+    ----------
+    id : str
+        Stable ID (``FORMULAS.md``).
+    source : str
+        Paper and place (``BKM12 §1.1, eq. (4)``).
+    kind : str
+        One of :data:`KINDS`.
+    statement : str
+        The statement in plain-text math, in the notation of ``FORMULAS.md``.
+    system : str
+    effects : tuple of str
+        The model the claim is about.
+    build : callable
+        ``build(model) -> Check``.
+    expected : {"holds", "fails"}
+        ``fails`` for negative controls and literal readings known to be wrong.
+    note : str
+    """
+
+    id: str
+    source: str
+    kind: str
+    statement: str
+    system: str
+    effects: tuple[str, ...]
+    build: Callable[[Model], Check]
+    expected: str = "holds"
+    note: str = ""
+
+    def model(self) -> Model:
+        return build_model(self.system, self.effects)
+
+
+REGISTRY: dict[str, Claim] = {}
+
+
+def register(claim: Claim) -> Claim:
+    if claim.id in REGISTRY:
+        raise ValueError(f"duplicate claim ID {claim.id}")
+    if claim.kind not in KINDS:
+        raise ValueError(f"unknown claim kind {claim.kind}")
+    REGISTRY[claim.id] = claim
+    return claim
+
+
+def select_claims(patterns: str | Iterable[str] | None = None) -> list[Claim]:
+    """Claims whose ID matches any of the glob patterns (comma-separated), in order.
+
+    An empty selection is an error for the caller to report (see the CLI).
+    """
+    _load()
+    if patterns is None or patterns == "":
+        return list(REGISTRY.values())
+    if isinstance(patterns, str):
+        patterns = [p.strip() for p in patterns.split(",") if p.strip()]
+    return [c for c in REGISTRY.values() if any(fnmatch.fnmatchcase(c.id, p) for p in patterns)]
+
+
+def _load() -> None:
+    from . import ball, model_invariants  # noqa: F401  (registration on import)

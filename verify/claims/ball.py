@@ -1,0 +1,436 @@
+"""Claims about the Chaplygin ball: BKM12 §1.1 and K01 §2.1, §4 (gyrostat).
+
+Each check compares what the engine *derived* with the formula the paper prints.
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+from chaplygin.derive import Model
+from chaplygin.derive.vectors import cross, dot
+
+from ..identity import lie_derivative, measure_residual
+from . import Check, Claim, register
+from .notation import ball_notation
+
+BALL = "chaplygin_ball"
+CONTACT = ("contact_point",)
+GYRO = ("gyrostat",)
+
+
+def _rhs(model: Model, group: str) -> sp.Matrix:
+    idx = [model.state.index(s) for s in model.vectors[group]]
+    return sp.Matrix([model.rhs[i] for i in idx])
+
+
+def _omega(model: Model) -> sp.Matrix:
+    return sp.Matrix(model.definitions["omega"])
+
+
+# ---------------------------------------------------------------- BKM12 §1.1
+def _bkm12_1(model: Model) -> Check:
+    n = ball_notation(model)
+    derived = model.definitions["momentum_of_omega"]
+    return Check(list(derived - n.momentum(n.omega)), free=list(n.omega))
+
+
+def _equations(model: Model, K=None) -> Check:
+    """The engine's momentum rate and the model's right-hand side against M' = (M+K) x omega."""
+    n = ball_notation(model)
+    red = model.definitions["reduced_equations"]
+    P0 = red.gyrostatic_momentum
+    K = K if K is not None else sp.zeros(3, 1)
+    raw = red.momentum_rate - cross(red.inertia_operator * n.omega + K, n.omega)
+    exprs = list(raw) + list(P0 - K)
+    exprs += list(_rhs(model, "M") - cross(n.M + K, n.omega))
+    exprs += list(_rhs(model, "gamma") - cross(n.gamma, n.omega))
+    return Check(exprs, free=list(n.omega))
+
+
+def _bkm12_3(model: Model) -> Check:
+    n = ball_notation(model)
+    w = model.expand_aux(n.omega)
+    II = model.definitions["inertia_operator"]
+    return Check(list(w - n.omega_formula()) + list(II * w - n.M))
+
+
+def _measure(exponent, variant="bkm12"):
+    def build(model: Model) -> Check:
+        n = ball_notation(model)
+        if variant == "k01":  # K01-2.2: 1/sqrt(1 - D (gamma, J^-1 gamma))
+            rho = (1 - n.D * dot(n.gamma, n.J.inv() * n.gamma)) ** exponent
+        elif variant == "one":
+            rho = sp.S.One
+        else:
+            rho = n.rho(exponent)
+        return Check([measure_residual(rho, model)])
+
+    return build
+
+
+def _integral(which):
+    def build(model: Model) -> Check:
+        n = ball_notation(model)
+        K = n.K if n.K is not None else sp.zeros(3, 1)
+        P = n.M + K
+        F = {
+            "F0": dot(n.gamma, n.gamma),
+            "F1": dot(P, P),
+            "F2": dot(P, n.gamma),
+            "H": dot(n.M, n.omega) / 2,
+            "MAgamma": dot(n.M, n.A * n.gamma),
+        }[which]
+        return Check([lie_derivative(F, model)])
+
+    return build
+
+
+def _energy_forms(model: Model) -> Check:
+    n = ball_notation(model)
+    half_M_omega = dot(n.M, model.expand_aux(n.omega)) / 2
+    paper = dot(n.M, n.A * n.M) / 2 + n.Z * dot(n.A * n.M, n.gamma) / 2
+    derived = model.expand_aux(model.integral("H"))
+    return Check([half_M_omega - paper, derived - half_M_omega])
+
+
+def _contact_point(model: Model) -> Check:
+    n = ball_notation(model)
+    x_rate, y_rate = _rhs(model, "x")[0], _rhs(model, "y")[0]
+    v = model.definitions["centre_velocity"]
+    return Check(
+        [
+            x_rate - n.b * dot(n.beta, n.omega),
+            y_rate + n.b * dot(n.alpha, n.omega),
+            x_rate - dot(v, n.alpha),
+            y_rate - dot(v, n.beta),
+        ],
+        free=list(n.omega),
+    )
+
+
+def _bkm12_7(model: Model) -> Check:
+    n = ball_notation(model)
+    C, Mg = dot(n.M, n.M), dot(n.M, n.gamma)
+    s = sp.sqrt(C - Mg**2)
+    alpha = cross(n.M, n.gamma) / s
+    beta = (n.M - Mg * n.gamma) / s
+    w = model.expand_aux(n.omega)
+    exprs = [dot(alpha, alpha) - 1, dot(beta, beta) - 1, dot(alpha, beta)]
+    exprs += list(cross(alpha, beta) - n.gamma)
+    exprs += [lie_derivative(a, model) - c for a, c in zip(alpha, cross(alpha, w), strict=True)]
+    exprs += [lie_derivative(b, model) - c for b, c in zip(beta, cross(beta, w), strict=True)]
+    return Check(exprs)
+
+
+def _no_slip(model: Model) -> Check:
+    n = ball_notation(model)
+    r = -n.b * n.gamma
+    v = model.definitions["centre_velocity"]
+    return Check(list(v - cross(r, n.omega)) + list(v + cross(n.omega, r)), free=list(n.omega))
+
+
+def _space_fixed_frame(model: Model) -> Check:
+    n = ball_notation(model)
+    exprs = list(_rhs(model, "alpha") - cross(n.alpha, n.omega))
+    exprs += list(_rhs(model, "beta") - cross(n.beta, n.omega))
+    frame = [dot(n.alpha, n.alpha), dot(n.beta, n.beta), dot(n.alpha, n.beta)]
+    frame += list(n.gamma - cross(n.alpha, n.beta))
+    exprs += [lie_derivative(F, model) for F in frame]
+    return Check(exprs, free=list(n.omega))
+
+
+def _k01_2_1(model: Model) -> Check:
+    a, b = _bkm12_1(model), _equations(model)
+    return Check(a.exprs + b.exprs, free=a.free)
+
+
+def _k01_4_1(model: Model) -> Check:
+    n = ball_notation(model)
+    a = _bkm12_1(model)
+    b = _equations(model, K=n.K)
+    return Check(a.exprs + b.exprs, free=a.free)
+
+
+S11 = "BKM12 §1.1"
+for claim in (
+    Claim(
+        "BKM12-1",
+        f"{S11}",
+        "equation",
+        "M = I omega + D gamma x (omega x gamma), D = m b^2",
+        BALL,
+        (),
+        _bkm12_1,
+        note="the engine's projected momentum G^T dT/d(omega, v) against the paper's formula",
+    ),
+    Claim(
+        "BKM12-2",
+        f"{S11}",
+        "equation",
+        "M' = M x omega, gamma' = gamma x omega",
+        BALL,
+        (),
+        _equations,
+        note="the engine's raw momentum rate (multipliers eliminated) and the model's "
+        "right-hand side, for every omega",
+    ),
+    Claim(
+        "BKM12-3",
+        f"{S11}",
+        "equation",
+        "omega = A (M + Z gamma), A = (I + D Id)^-1, Z = (A M, gamma)/(D^-1 - (gamma, A gamma))",
+        BALL,
+        (),
+        _bkm12_3,
+        note="also: the derived inertia operator times this omega gives M back",
+    ),
+    Claim(
+        "BKM12-4",
+        f"{S11}",
+        "measure",
+        "invariant measure rho dM dgamma, rho = (D^-1 - (gamma, A gamma))^-1/2",
+        BALL,
+        (),
+        _measure(sp.Rational(-1, 2)),
+        note="div(rho f) = 0 on (gamma, gamma) = 1",
+    ),
+    Claim(
+        "BKM12-4/control-exponent+1/2",
+        f"{S11} (negative control)",
+        "measure",
+        "rho = (D^-1 - (gamma, A gamma))^(+1/2) is an invariant density (wrong exponent)",
+        BALL,
+        (),
+        _measure(sp.Rational(1, 2)),
+        expected="fails",
+    ),
+    Claim(
+        "BKM12-4/control-rho=1",
+        f"{S11} (negative control)",
+        "measure",
+        "rho = 1: the flow preserves the Lebesgue measure dM dgamma",
+        BALL,
+        (),
+        _measure(1, "one"),
+        expected="fails",
+    ),
+    Claim(
+        "BKM12-5.F0",
+        f"{S11}",
+        "integral",
+        "F0 = (gamma, gamma) is a first integral",
+        BALL,
+        (),
+        _integral("F0"),
+    ),
+    Claim(
+        "BKM12-5.F1",
+        f"{S11}",
+        "integral",
+        "F1 = (M, M) is a first integral",
+        BALL,
+        (),
+        _integral("F1"),
+    ),
+    Claim(
+        "BKM12-5.F2",
+        f"{S11}",
+        "integral",
+        "F2 = (M, gamma) is a first integral",
+        BALL,
+        (),
+        _integral("F2"),
+    ),
+    Claim(
+        "BKM12-5.H",
+        f"{S11}",
+        "integral",
+        "H = (M, omega)/2 is a first integral",
+        BALL,
+        (),
+        _integral("H"),
+    ),
+    Claim(
+        "BKM12-5.Hform",
+        f"{S11}",
+        "equation",
+        "H = (M, omega)/2 = (M, A M)/2 + Z (A M, gamma)/2 (and = the derived kinetic energy)",
+        BALL,
+        (),
+        _energy_forms,
+    ),
+    Claim(
+        "BKM12-5/control-(M,A gamma)",
+        f"{S11} (negative control)",
+        "integral",
+        "(M, A gamma) is a first integral (it is not)",
+        BALL,
+        (),
+        _integral("MAgamma"),
+        expected="fails",
+    ),
+    Claim(
+        "BKM12-6",
+        f"{S11}",
+        "equation",
+        "x' = b (beta, omega), y' = -b (alpha, omega)  "
+        "(= (v, alpha), (v, beta), v = b omega x gamma)",
+        BALL,
+        CONTACT,
+        _contact_point,
+        note="modulo the orthonormality of alpha, beta, gamma",
+    ),
+    Claim(
+        "BKM12-7",
+        f"{S11}",
+        "equation",
+        "alpha = M x gamma / s, beta = (M - (M, gamma) gamma)/s, s = sqrt((M,M) - (M,gamma)^2): "
+        "orthonormal, alpha x beta = gamma, alpha' = alpha x omega, beta' = beta x omega",
+        BALL,
+        (),
+        _bkm12_7,
+        note="square root split off exactly: A + B s = 0 with A = B = 0",
+    ),
+    # ------------------------------------------------------------ K01 §2.1
+    Claim(
+        "K01-2.1",
+        "K01 §2.1",
+        "equation",
+        "M' = M x omega, gamma' = gamma x omega, "
+        "M = I omega + D gamma x (omega x gamma), D = m a^2",
+        BALL,
+        (),
+        _k01_2_1,
+    ),
+    Claim(
+        "K01-2.2",
+        "K01 §2.1",
+        "measure",
+        "Chaplygin's multiplier rho = 1/sqrt(1 - D (gamma, J^-1 gamma)), J = I + D Id",
+        BALL,
+        (),
+        _measure(sp.Rational(-1, 2), "k01"),
+    ),
+    Claim(
+        "K01-2.3.h",
+        "K01 §2.1",
+        "integral",
+        "h = (M, omega)/2 is a first integral",
+        BALL,
+        (),
+        _integral("H"),
+    ),
+    Claim(
+        "K01-2.3.C",
+        "K01 §2.1",
+        "integral",
+        "C = (M, gamma) is a first integral",
+        BALL,
+        (),
+        _integral("F2"),
+    ),
+    Claim(
+        "K01-2.3.n",
+        "K01 §2.1",
+        "integral",
+        "n = (M, M) is a first integral",
+        BALL,
+        (),
+        _integral("F1"),
+    ),
+    Claim(
+        "K01-2.3.gamma",
+        "K01 §2.1",
+        "integral",
+        "(gamma, gamma) = 1 is preserved",
+        BALL,
+        (),
+        _integral("F0"),
+    ),
+    Claim(
+        "K01-2.4",
+        "K01 §2.1",
+        "equation",
+        "alpha' = alpha x omega, beta' = beta x omega (alpha, beta fixed in space); the frame "
+        "(alpha, beta, alpha x beta = gamma) stays orthonormal",
+        BALL,
+        CONTACT,
+        _space_fixed_frame,
+    ),
+    Claim(
+        "K01-2.5",
+        "K01 §2.1",
+        "equation",
+        "no slip: v = r x omega, r = -a gamma",
+        BALL,
+        CONTACT,
+        _no_slip,
+    ),
+    Claim(
+        "K01-2.6",
+        "K01 §2.1",
+        "equation",
+        "x' = (v, alpha) = a (beta, omega), y' = (v, beta) = -a (alpha, omega)",
+        BALL,
+        CONTACT,
+        _contact_point,
+    ),
+    # ------------------------------------------------------------ K01 §4 (gyrostat)
+    Claim(
+        "K01-4.1",
+        "K01 §4",
+        "equation",
+        "M' = (M + K) x omega, gamma' = gamma x omega, "
+        "M = I omega + D gamma x (omega x gamma), K constant",
+        BALL,
+        GYRO,
+        _k01_4_1,
+        note="derived from T = (omega, I omega)/2 + (K, omega) + m v^2/2",
+    ),
+    Claim(
+        "K01-4.2.h",
+        "K01 §4",
+        "integral",
+        "h = (M, omega)/2 is a first integral",
+        BALL,
+        GYRO,
+        _integral("H"),
+    ),
+    Claim(
+        "K01-4.2.C",
+        "K01 §4",
+        "integral",
+        "C = (M + K, gamma) is a first integral",
+        BALL,
+        GYRO,
+        _integral("F2"),
+    ),
+    Claim(
+        "K01-4.2.gamma",
+        "K01 §4",
+        "integral",
+        "(gamma, gamma) = 1 is preserved",
+        BALL,
+        GYRO,
+        _integral("F0"),
+    ),
+    Claim(
+        "K01-4.2.n",
+        "K01 §4",
+        "integral",
+        "n = (M + K, M + K) is a first integral",
+        BALL,
+        GYRO,
+        _integral("F1"),
+    ),
+    Claim(
+        "K01-4.2m",
+        "K01 §4",
+        "measure",
+        "the measure of K01-2.2 is invariant for the ball with a gyrostat",
+        BALL,
+        GYRO,
+        _measure(sp.Rational(-1, 2), "k01"),
+    ),
+):
+    register(claim)
