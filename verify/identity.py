@@ -223,8 +223,16 @@ class Residuals:
 
     def regular_at(self, point) -> bool:
         args = self._values(point)
-        if any(f(*args) == 0 for f in self.denominators):
-            return False
+        radical_symbols = {r for _, r in self.radicals}
+        roots = {r: sp.sqrt(S.xreplace(point)) for S, r in self.radicals}
+        for f in self.denominators:
+            if radical_symbols & set(f.ring.symbols[i] for i, k in enumerate(f.degrees()) if k):
+                # a factor with a square root in it: evaluate it with the true root
+                value = sp.N(f.as_expr().xreplace({**point, **roots}), 30)
+                if abs(value) < sp.Float(10) ** -25:
+                    return False
+            elif f(*args) == 0:
+                return False
         # radicands must be positive for the real square root to exist
         for S, _ in self.radicals:
             val = S.xreplace(point)

@@ -1,0 +1,160 @@
+"""Generated code of one model variant, as numerics uses it (no sympy work at run time).
+
+Built-in variants load the modules committed in ``generated/``; any other variant is
+derived and emitted in memory (registered in :mod:`linecache`, so tracebacks show it).
+"""
+
+from __future__ import annotations
+
+import importlib
+import json
+import linecache
+import types
+import warnings
+from dataclasses import dataclass, field
+from functools import cached_property
+from importlib import resources
+from typing import Any
+
+from ..derive.effects import parse_effects
+from ..derive.systems import get_system, variant_name
+
+__all__ = ["ModelCode", "load_model_code", "generated_manifest"]
+
+
+def generated_manifest() -> dict[str, dict]:
+    """``generated/manifest.json``: variant -> hash, system, effects, files."""
+    text = resources.files("chaplygin.generated").joinpath("manifest.json").read_text()
+    return json.loads(text)
+
+
+def _module_from_source(name: str, source: str) -> types.ModuleType:
+    filename = f"<chaplygin-generated {name}>"
+    linecache.cache[filename] = (len(source), None, source.splitlines(True), filename)
+    module = types.ModuleType(name)
+    module.__file__ = filename
+    exec(compile(source, filename, "exec"), module.__dict__)  # our own emitted code
+    return module
+
+
+@dataclass
+class ModelCode:
+    """Everything numerics needs about a model variant.
+
+    Attributes
+    ----------
+    name : str
+        Variant name (``chaplygin_ball__gyrostat``).
+    numpy : module
+        Vectorised numpy functions ``rhs, jac, aux, integrals, density (t, y, p)``.
+    mpmath : module
+        The same for mpmath values.
+    c_source : str
+        C99 source (compiled lazily by :meth:`compiled`).
+    """
+
+    name: str
+    numpy: types.ModuleType
+    mpmath: types.ModuleType
+    c_source: str
+    origin: str
+    _compiled: Any = field(default=None, repr=False)
+    _compile_tried: bool = field(default=False, repr=False)
+
+    # metadata straight from the generated module
+    @property
+    def hash(self) -> str:
+        return self.numpy.MODEL_HASH
+
+    @property
+    def system(self) -> str:
+        return self.numpy.SYSTEM
+
+    @property
+    def effects(self) -> tuple[str, ...]:
+        return tuple(self.numpy.EFFECTS)
+
+    @property
+    def state(self) -> tuple[str, ...]:
+        return tuple(self.numpy.STATE)
+
+    @property
+    def params(self) -> tuple[str, ...]:
+        return tuple(self.numpy.PARAMS)
+
+    @property
+    def state_groups(self) -> dict[str, tuple[str, ...]]:
+        return {name: tuple(g) for name, g in self.numpy.STATE_GROUPS}
+
+    @property
+    def parameter_groups(self) -> dict[str, tuple[tuple[str, ...], str, str]]:
+        """``name -> (symbols, domain, description)``."""
+        return {n: (tuple(s), d, desc) for n, s, d, desc in self.numpy.PARAMETERS}
+
+    @property
+    def integral_names(self) -> tuple[str, ...]:
+        return tuple(self.numpy.INTEGRALS)
+
+    @property
+    def geometry(self) -> tuple[tuple[str, tuple[str, ...]], ...]:
+        return tuple(self.numpy.GEOMETRY)
+
+    @cached_property
+    def aux_names(self) -> tuple[str, ...]:
+        return tuple(self.numpy.AUX)
+
+    def compiled(self):
+        """The compiled C model (cached per user), or None without a C compiler."""
+        if not self._compile_tried:
+            from .compiled import load_c_model
+
+            self._compile_tried = True
+            self._compiled = load_c_model(self.c_source, expected_hash=self.hash)
+        return self._compiled
+
+
+_LOADED: dict[str, ModelCode] = {}
+
+
+def load_model_code(system: str, effects=None) -> ModelCode:
+    """Code of ``system`` with ``effects``: from ``generated/`` when built in, else emitted.
+
+    Raises
+    ------
+    UserInputError
+        Unknown system or effect.
+    """
+    sysdef = get_system(system)
+    chosen = parse_effects(effects, sysdef.effects)
+    name = variant_name(system, chosen)
+    if name in _LOADED:
+        return _LOADED[name]
+    manifest = generated_manifest()
+    if name in manifest:
+        files = manifest[name]["files"]
+        code = ModelCode(
+            name=name,
+            numpy=importlib.import_module(f"chaplygin.generated.{files['numpy'][:-3]}"),
+            mpmath=importlib.import_module(f"chaplygin.generated.{files['mpmath'][:-3]}"),
+            c_source=resources.files("chaplygin.generated").joinpath(files["c"]).read_text(),
+            origin="generated/",
+        )
+    else:  # pragma: no cover - every variant of the current systems is built in
+        from ..derive.emit import CEmitter, ModelRoutines, MpmathEmitter, NumpyEmitter
+        from ..derive.systems import build_model
+
+        warnings.warn(f"{name} is not in generated/: deriving it now", stacklevel=2)
+        model = build_model(system, chosen)
+        routines = ModelRoutines(model)
+        ((_, np_src),) = NumpyEmitter().emit(model, routines)
+        ((_, mp_src),) = MpmathEmitter().emit(model, routines)
+        ((_, c_src),) = CEmitter().emit(model, routines)
+        code = ModelCode(
+            name=name,
+            numpy=_module_from_source(f"{name}_numpy", np_src),
+            mpmath=_module_from_source(f"{name}_mpmath", mp_src),
+            c_source=c_src,
+            origin="emitted in memory",
+        )
+    _LOADED[name] = code
+    return code
