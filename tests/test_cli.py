@@ -1,0 +1,108 @@
+"""The command line: output formats, exit codes, one-line errors, no eval of user text."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from chaplygin.verify.cli import main
+
+ACCEPTANCE = [
+    "integrate", "chaplygin_ball", "--param", "I=1,2,3", "--param", "D=1",
+    "--y0", "M=0.7,-0.4,0.5", "--y0", "gamma=0.2,0.3,0.93273790530888150455",
+    "--t-end", "1000", "--rtol", "1e-12", "--atol", "1e-12", "--json",
+]
+
+
+def test_integrate_json_has_the_promised_fields(capsys):
+    assert main(ACCEPTANCE) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert {"status", "t", "y", "drift", "wall_s"} <= set(out)
+    assert out["status"] == 0
+    assert set(out["y"]) == {"M1", "M2", "M3", "gamma1", "gamma2", "gamma3"}
+    assert all(isinstance(v, str) for v in out["y"].values())
+    # full double precision: the decimal string round-trips
+    assert all(repr(float(v)) == v for v in out["y"].values())
+    assert out["drift"]["H"] <= 1e-10 and out["drift"]["(M,M)"] <= 1e-10
+
+
+def test_integrate_digits_prints_every_digit(capsys):
+    args = ACCEPTANCE[:-7] + ["--t-end", "1", "--precision", "30", "--json"]
+    assert main(args) == 0
+    out = json.loads(capsys.readouterr().out)
+    for value in out["y"].values():
+        digits = value.lstrip("-").replace(".", "").lstrip("0")
+        assert len(digits) >= 30
+
+
+BAD_ARGS = [
+    (["integrate", "no_such_system", "--t-end", "1"], "unknown system"),
+    (["integrate", "chaplygin_ball", "--param", "I=1,2", "--param", "D=1", "--y0", "M=1,2,3",
+      "--y0", "gamma=0,0,1", "--t-end", "1"], "I needs 3 values"),
+    (["integrate", "chaplygin_ball", "--param", "I=1,2,0", "--param", "D=1", "--y0", "M=1,2,3",
+      "--y0", "gamma=0,0,1", "--t-end", "1"], "positive"),
+    (["integrate", "chaplygin_ball", "--param", "I=1,2,3", "--param", "D=1", "--y0", "M=1,2,3",
+      "--y0", "gamma=0,0.5,1", "--t-end", "1"], "unit vector"),
+    (["integrate", "chaplygin_ball", "--param", "I=1,2,3", "--param", "D=nan", "--y0", "M=1,2,3",
+      "--y0", "gamma=0,0,1", "--t-end", "1"], "finite"),
+    (["integrate", "chaplygin_ball", "--param", "I=1,2,3", "--param", "D=1", "--y0", "M=1,2,3",
+      "--y0", "gamma=0,0,1", "--t-end", "1", "--effects", "rubber"], "unknown effect"),
+    (["integrate", "chaplygin_ball", "--param", "I", "--t-end", "1"], "NAME=VALUE"),
+    (["integrate", "chaplygin_ball", "--rtol", "-1", "--t-end", "1"], "positive"),
+    (["verify", "--claims", "NOPE-*"], "no claim matches"),
+    (["frobnicate"], "invalid choice"),
+]
+
+
+@pytest.mark.parametrize(("argv", "message"), BAD_ARGS)
+def test_user_errors_are_one_line_exit_2_no_traceback(capsys, argv, message):
+    with pytest.raises(SystemExit) if argv[0] == "frobnicate" or "--rtol" in argv else _nullcontext():
+        code = main(argv)
+        assert code == 2
+    captured = capsys.readouterr()
+    lines = captured.err.strip().splitlines()
+    assert len(lines) == 1, captured.err
+    assert message in lines[0] and "Traceback" not in captured.err
+    assert captured.out == ""
+
+
+class _nullcontext:
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
+
+
+def test_user_text_is_never_evaluated(tmp_path: Path, capsys):
+    marker = tmp_path / "pwned"
+    payload = f"__import__('os').system('touch {marker}')"
+    argv = ["integrate", "chaplygin_ball", "--param", f"I={payload},2,3", "--param", "D=1",
+            "--y0", "M=1,2,3", "--y0", "gamma=0,0,1", "--t-end", "1"]
+    assert main(argv) == 2
+    assert not marker.exists()
+    assert "cannot read" in capsys.readouterr().err
+
+
+def test_verify_json_subset(capsys):
+    assert main(["verify", "--claims", "BKM12-4*", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert [v["id"] for v in out] == [
+        "BKM12-4", "BKM12-4/control-exponent+1/2", "BKM12-4/control-rho=1"
+    ]
+    for v in out:
+        assert {"id", "verdict", "method", "seconds"} <= set(v)
+        assert ("witness" in v) == (v["verdict"] == "refuted")
+        assert "residual" in v
+    assert out[0]["verdict"] == "proved"
+
+
+def test_derive_check_and_regeneration(tmp_path: Path, capsys):
+    assert main(["derive", "--check"]) == 0
+    out = tmp_path / "gen"
+    assert main(["derive", "--check", "--out", str(out)]) == 1
+    assert main(["derive", "--out", str(out)]) == 0
+    assert main(["derive", "--check", "--out", str(out)]) == 0
+    capsys.readouterr()

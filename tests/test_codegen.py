@@ -1,0 +1,176 @@
+"""Generated code: numpy, C, mpmath and direct sympy evaluation agree; generated/ is in sync."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import mpmath
+import numpy as np
+import pytest
+import sympy as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from reference import EPS, assert_close_rel, random_params, random_state
+
+from chaplygin.derive import builtin_variants, build_model, variant_name
+from chaplygin.derive.emit import NumpyEmitter
+from chaplygin.derive.geometry import UNIT_VECTOR, PoissonGroup
+from chaplygin.derive.model import Model, ParameterSpec
+from chaplygin.derive.writer import check_generated, write_generated
+from chaplygin.numerics import load_model_code
+from chaplygin.verify.cli import generated_dir
+
+VARIANTS = [variant_name(s, e) for s, e in builtin_variants()]
+N_STATES = 50
+#: Tolerances of the foundation issue: 1e-13 relative in double (a few hundred flops of
+#: rounding, each ~1.1e-16), 1e-45 at 50 digits (five digits to spare).
+DOUBLE_RTOL = 1e-13
+DIGITS = 50
+DIGITS_RTOL = 1e-45
+
+
+def _variant(name):
+    system, *effects = name.split("__")
+    return build_model(system, effects), load_model_code(system, effects)
+
+
+@pytest.mark.parametrize("name", VARIANTS)
+def test_numpy_c_mpmath_and_sympy_agree_at_random_states(name):
+    model, code = _variant(name)
+    rng = np.random.default_rng(2012)
+    lib = code.compiled()
+    assert lib is not None, "the CI machine has a C compiler"
+    Y = np.stack([random_state(code, rng) for _ in range(N_STATES)], axis=1)
+    P = random_params(code, rng)
+    vec = code.numpy.rhs(0.0, Y, P)  # vectorised over the 50 states
+    symbols = list(model.state) + list(model.params)
+    for j in range(N_STATES):
+        y = Y[:, j]
+        c = lib.rhs(0.0, y, P)
+        with mpmath.workdps(DIGITS):
+            mp_args = [mpmath.mpf(float(v)) for v in y]
+            mp_par = [mpmath.mpf(float(v)) for v in P]
+            mp = code.mpmath.rhs(0, mp_args, mp_par)
+        point = {s: sp.Float(float(v), DIGITS + 10) for s, v in zip(symbols, list(y) + list(P), strict=True)}
+        exact = [sp.N(e.xreplace(point), DIGITS + 10) for e in model.rhs_expanded]
+        scale = max(abs(float(e)) for e in exact)
+        assert_close_rel(vec[:, j], [float(e) for e in exact], DOUBLE_RTOL, f"numpy {name}")
+        assert_close_rel(c, [float(e) for e in exact], DOUBLE_RTOL, f"C {name}")
+        with mpmath.workdps(DIGITS + 10):
+            err = max(abs(m - mpmath.mpf(str(e))) for m, e in zip(mp, exact, strict=True))
+        assert err <= DIGITS_RTOL * scale, f"mpmath {name}: {err}"
+
+
+@pytest.mark.parametrize("name", ["chaplygin_ball", "chaplygin_ball__contact_point__gyrostat"])
+def test_jacobian_matches_high_precision_differences(name):
+    model, code = _variant(name)
+    rng = np.random.default_rng(7)
+    for _ in range(5):
+        y, p = random_state(code, rng), random_params(code, rng)
+        jac = code.numpy.jac(0.0, y, p)
+        with mpmath.workdps(60):
+            h = mpmath.mpf(10) ** -25
+            yp = [mpmath.mpf(float(v)) for v in y]
+            pp = [mpmath.mpf(float(v)) for v in p]
+            fd = np.empty_like(jac)
+            for k in range(len(y)):
+                up, dn = list(yp), list(yp)
+                up[k] += h
+                dn[k] -= h
+                fu, fdn = code.mpmath.rhs(0, up, pp), code.mpmath.rhs(0, dn, pp)
+                fd[:, k] = [float((a - b) / (2 * h)) for a, b in zip(fu, fdn, strict=True)]
+        assert_close_rel(jac, fd, DOUBLE_RTOL * 10, f"jac {name}")
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    m=st.lists(st.floats(-10, 10), min_size=3, max_size=3),
+    g=st.lists(st.floats(-1, 1), min_size=3, max_size=3).filter(lambda v: np.linalg.norm(v) > 0.1),
+    inertia=st.lists(st.floats(0.1, 10), min_size=3, max_size=3),
+    d=st.floats(0.1, 10),
+)
+def test_casimirs_are_conserved_by_the_generated_rhs(m, g, inertia, d):
+    code = load_model_code("chaplygin_ball")
+    y = np.concatenate([m, np.asarray(g) / np.linalg.norm(g)])
+    f = code.numpy.rhs(0.0, y, np.array([*inertia, d]))
+    M, gamma, dM, dgamma = y[:3], y[3:], f[:3], f[3:]
+    scale = np.linalg.norm(M) * np.linalg.norm(dM) + np.linalg.norm(dgamma) + 1e-300
+    assert abs(M @ dM) <= 16 * EPS * scale  # (M, M)' = 0
+    assert abs(gamma @ dgamma) <= 16 * EPS * scale  # (gamma, gamma)' = 0
+
+
+def _tiny_model() -> Model:
+    q, v, k = sp.symbols("q v k", real=True)
+    k = sp.Symbol("k", positive=True)
+    return Model(
+        system="oscillator",
+        effects=frozenset(),
+        time=sp.Symbol("t"),
+        state_groups=(("q", (q,)), ("v", (v,))),
+        parameters=(ParameterSpec("k", (k,), "positive", "stiffness"),),
+        aux=(),
+        rhs=(v, -k * q),
+        constraints=(),
+        geometry=(),
+        integrals=(("E", (v**2 + k * q**2) / 2),),
+        density=sp.S.One,
+    )
+
+
+def test_numpy_emitter_golden_output_on_a_tiny_model():
+    ((name, text),) = NumpyEmitter().emit(_tiny_model())
+    assert name == "oscillator_numpy.py"
+    assert "DO NOT EDIT" in text and "model hash: " in text
+    expected_rhs = '''def rhs(t, y, p):
+    """Right-hand side dy/dt, shape (2, ...)."""
+    q, v, = y
+    k, = p
+    out = numpy.zeros((2,) + numpy.shape(q), dtype=numpy.result_type(q, *p))
+    out[0] = v
+    out[1] = -k*q
+    return out
+'''
+    assert expected_rhs in text
+    namespace: dict = {}
+    exec(compile(text, name, "exec"), namespace)
+    assert namespace["integrals"](0, np.array([1.0, 2.0]), np.array([3.0]))[0] == 3.5
+
+
+def test_generated_directory_is_in_sync():
+    assert check_generated(generated_dir()) == []
+
+
+def test_check_detects_stale_missing_and_extra_files(tmp_path: Path):
+    work = tmp_path / "generated"
+    shutil.copytree(generated_dir(), work, ignore=shutil.ignore_patterns("__pycache__"))
+    assert check_generated(work) == []
+    target = work / "chaplygin_ball.c"
+    target.write_text(target.read_text().replace("OUT[0] =", "OUT[0] = 1.0 +", 1))
+    (work / "chaplygin_ball_numpy.py").unlink()
+    (work / "orphan.py").write_text("# not generated\n")
+    problems = check_generated(work)
+    assert "chaplygin_ball.c: out of date" in problems
+    assert "chaplygin_ball_numpy.py: missing" in problems
+    assert "orphan.py: not produced by any built-in model" in problems
+    write_generated(work)
+    assert check_generated(work) == []
+
+
+def test_emission_is_independent_of_the_hash_seed(tmp_path: Path):
+    script = (
+        "import hashlib,sys\n"
+        "from chaplygin.derive.writer import render_generated\n"
+        "files = render_generated()\n"
+        "print(hashlib.sha256(repr(sorted(files.items())).encode()).hexdigest())\n"
+    )
+    digests = {
+        subprocess.run(
+            [sys.executable, "-c", script], capture_output=True, text=True, check=True,
+            env={"PYTHONHASHSEED": seed, "PATH": "/usr/bin:/bin"},
+        ).stdout
+        for seed in ("1", "4242")
+    }
+    assert len(digests) == 1

@@ -1,0 +1,117 @@
+"""Integration: the foundation acceptance problem, precision paths, evidence, bad input."""
+
+from __future__ import annotations
+
+import mpmath
+import numpy as np
+import pytest
+from reference import EPS, REFERENCE_PARAMS, REFERENCE_Y0
+
+from chaplygin.derive import UserInputError
+from chaplygin.numerics import METHODS, integrate
+
+BALL = "chaplygin_ball"
+
+
+def test_reference_problem_conserves_H_and_M2_to_1e10_over_T1000():
+    """Foundation acceptance: DOP853, rtol = atol = 1e-12, T = 1000."""
+    r = integrate(BALL, REFERENCE_Y0, 1000, REFERENCE_PARAMS, method="DOP853", rtol=1e-12, atol=1e-12)
+    assert r.success, r.message
+    assert r.drift["H"] <= 1e-10
+    assert r.drift["(M,M)"] <= 1e-10
+    assert set(r.drift) == {"H", "(M,M)", "(M,gamma)", "(gamma,gamma)"}
+    # evidence carried by the result
+    assert r.nfev > 0 and r.nsteps > 0 and r.wall_s > 0 and r.backend in ("c", "numpy")
+
+
+def test_c_and_numpy_backends_give_the_same_trajectory():
+    a = integrate(BALL, REFERENCE_Y0, 10, REFERENCE_PARAMS, rtol=1e-12, atol=1e-12, backend="c")
+    b = integrate(BALL, REFERENCE_Y0, 10, REFERENCE_PARAMS, rtol=1e-12, atol=1e-12, backend="numpy")
+    # the right-hand sides agree to a few ulps per call (test_codegen); over the steps
+    # rounding can accumulate at most linearly
+    assert np.max(np.abs(a.y[:, -1] - b.y[:, -1])) <= 100 * a.nsteps * EPS
+
+
+@pytest.mark.parametrize("rtol", [1e-6, 1e-9, 1e-12])
+def test_dop853_error_is_within_its_tolerance_against_a_30_digit_reference(rtol):
+    ref = integrate(BALL, REFERENCE_Y0, 2, REFERENCE_PARAMS, precision=30)
+    y_true = np.array([float(v) for v in ref.y[:, -1]])
+    r = integrate(BALL, REFERENCE_Y0, 2, REFERENCE_PARAMS, method="DOP853", rtol=rtol, atol=rtol)
+    e = np.abs(r.y[:, -1] - y_true) / (rtol + rtol * np.abs(y_true))
+    assert np.all(e < 5)  # scipy's test_ivp criterion
+
+
+@pytest.mark.parametrize("method", ["RK45", "LSODA", "Radau", "BDF"])
+def test_other_scipy_methods_run_and_report_drift(method):
+    r = integrate(BALL, REFERENCE_Y0, 5, REFERENCE_PARAMS, method=method, rtol=1e-9, atol=1e-11)
+    assert r.success, r.message
+    assert max(r.drift.values()) < 1e-6
+    assert METHODS[method].implicit == (method != "RK45")
+    if method in ("Radau", "BDF"):  # LSODA may stay in its non-stiff (Adams) mode
+        assert r.njev > 0  # the generated Jacobian was used
+
+
+def test_high_precision_path_keeps_its_digits():
+    digits = 30
+    r = integrate(BALL, REFERENCE_Y0, 2, REFERENCE_PARAMS, precision=digits)
+    assert r.success and r.method == "taylor" and r.backend == "mpmath"
+    assert isinstance(r.y[0, -1], mpmath.mpf)
+    assert max(r.drift.values()) <= 10.0 ** (5 - digits)
+    assert r.precision == f"{digits} digits"
+
+
+def test_effects_do_not_change_the_balls_motion():
+    base = integrate(BALL, REFERENCE_Y0, 10, REFERENCE_PARAMS, rtol=1e-12, atol=1e-12)
+    zero_k = integrate(BALL, REFERENCE_Y0, 10, {**REFERENCE_PARAMS, "K": (0, 0, 0)},
+                       effects="gyrostat", rtol=1e-12, atol=1e-12)
+    assert np.array_equal(base.y[:, -1], zero_k.y[:, -1])
+    cp = integrate(BALL, REFERENCE_Y0, 10, {**REFERENCE_PARAMS, "b": 1}, effects="contact_point",
+                   rtol=1e-12, atol=1e-12)
+    y = base.y[:, -1]
+    e = np.abs(cp.y[:6, -1] - y) / (1e-12 + 1e-12 * np.abs(y))
+    assert np.all(e < 10)  # two solutions each within scipy's e < 5
+    assert cp.drift["(alpha,alpha)"] < 1e-10 and "(alpha,beta)" in cp.drift_absolute
+    assert abs(cp.y_final["x"]) + abs(cp.y_final["y"]) > 0.1  # the contact point moved
+
+
+def test_gyrostat_changes_the_motion_and_keeps_its_integrals():
+    r = integrate(BALL, REFERENCE_Y0, 50, {**REFERENCE_PARAMS, "K": (0.1, 0.1, 0.2)},
+                  effects="gyrostat", rtol=1e-12, atol=1e-12)
+    base = integrate(BALL, REFERENCE_Y0, 50, REFERENCE_PARAMS, rtol=1e-12, atol=1e-12)
+    assert np.max(np.abs(r.y[:, -1] - base.y[:, -1])) > 1e-3
+    assert max(r.drift.values()) < 1e-10
+
+
+BAD = [
+    ({"I": (1, 2)}, REFERENCE_Y0, "needs 3"),
+    ({"I": (1, -2, 3), "D": 1}, REFERENCE_Y0, "positive"),
+    ({"I": (1, 2, 3), "D": 0}, REFERENCE_Y0, "positive"),
+    ({"I": (1, 2, "nan"), "D": 1}, REFERENCE_Y0, "finite"),
+    ({"I": (1, 2, float("inf")), "D": 1}, REFERENCE_Y0, "finite"),
+    ({"I": (1, 2, 3), "D": 1, "Q": 1}, REFERENCE_Y0, "unknown parameter"),
+    ({"I": (1, 2, 3)}, REFERENCE_Y0, "missing parameter D"),
+    (REFERENCE_PARAMS, {"M": (1, 2, 3), "gamma": (0, 0.1, 1)}, "unit vector"),
+    (REFERENCE_PARAMS, {"M": (1, 2, 3), "gamma": (0, 0, 1), "omega": (1, 2, 3)}, "unknown state"),
+    (REFERENCE_PARAMS, {"gamma": (0, 0, 1)}, "missing initial value of M"),
+    (REFERENCE_PARAMS, {"M": ("1", "__import__('os')", "3"), "gamma": (0, 0, 1)}, "cannot read"),
+]
+
+
+@pytest.mark.parametrize(("params", "y0", "message"), BAD)
+def test_bad_input_is_a_clear_user_error(params, y0, message):
+    with pytest.raises(UserInputError, match=message):
+        integrate(BALL, y0, 1, params)
+
+
+def test_bad_options_are_user_errors():
+    with pytest.raises(UserInputError, match="unknown method"):
+        integrate(BALL, REFERENCE_Y0, 1, REFERENCE_PARAMS, method="Euler")
+    with pytest.raises(UserInputError, match="double precision can deliver"):
+        integrate(BALL, REFERENCE_Y0, 1, REFERENCE_PARAMS, rtol=1e-17)
+    with pytest.raises(UserInputError, match="taylor"):
+        integrate(BALL, REFERENCE_Y0, 1, REFERENCE_PARAMS, method="DOP853", precision=30)
+    with pytest.raises(UserInputError, match="precision"):
+        integrate(BALL, REFERENCE_Y0, 1, REFERENCE_PARAMS, precision="quadruple")
+    with pytest.raises(UserInputError, match="frame"):
+        integrate(BALL, {**REFERENCE_Y0, "alpha": (1, 0, 0), "beta": (1, 0, 0)}, 1,
+                  {**REFERENCE_PARAMS, "b": 1}, effects="contact_point")
