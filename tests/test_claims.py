@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import pytest
 import sympy as sp
-
 from chaplygin.derive.vectors import dot
 from chaplygin.verify.claims import REGISTRY, Check, Claim, select_claims
 from chaplygin.verify.claims.notation import ball_notation
@@ -13,10 +12,32 @@ from chaplygin.verify.verdict import check_claim
 
 CLAIMS = select_claims()
 FOUNDATION = [
-    "BKM12-1", "BKM12-2", "BKM12-3", "BKM12-4", "BKM12-5.F0", "BKM12-5.F1", "BKM12-5.F2",
-    "BKM12-5.H", "BKM12-5.Hform", "BKM12-6", "BKM12-7", "K01-2.1", "K01-2.2", "K01-2.3.h",
-    "K01-2.3.C", "K01-2.3.n", "K01-2.3.gamma", "K01-2.4", "K01-2.5", "K01-2.6", "K01-4.1",
-    "K01-4.2.h", "K01-4.2.C", "K01-4.2.gamma", "K01-4.2.n", "K01-4.2m",
+    "BKM12-1",
+    "BKM12-2",
+    "BKM12-3",
+    "BKM12-4",
+    "BKM12-5.F0",
+    "BKM12-5.F1",
+    "BKM12-5.F2",
+    "BKM12-5.H",
+    "BKM12-5.Hform",
+    "BKM12-6",
+    "BKM12-7",
+    "K01-2.1",
+    "K01-2.2",
+    "K01-2.3.h",
+    "K01-2.3.C",
+    "K01-2.3.n",
+    "K01-2.3.gamma",
+    "K01-2.4",
+    "K01-2.5",
+    "K01-2.6",
+    "K01-4.1",
+    "K01-4.2.h",
+    "K01-4.2.C",
+    "K01-4.2.gamma",
+    "K01-4.2.n",
+    "K01-4.2m",
 ]
 CONTROLS = [c.id for c in CLAIMS if c.expected == "fails"]
 
@@ -57,7 +78,9 @@ def test_control_witness_is_a_phase_space_point_where_the_residual_is_not_zero(c
     check = claim.build(model)
     value = sum(abs(sp.nsimplify(e.xreplace(point))) for e in check.exprs)
     assert value != 0
-    assert abs(float(value) - abs(float(sp.sympify(v.residual)))) <= 1e-12 * abs(float(value)) + 1e-300
+    assert (
+        abs(float(value) - abs(float(sp.sympify(v.residual)))) <= 1e-12 * abs(float(value)) + 1e-300
+    )
 
 
 @pytest.mark.parametrize("claim_id", ["BKM12-1", "BKM12-3", "BKM12-6", "K01-2.2"])
@@ -73,8 +96,15 @@ def test_numeric_method_agrees_and_refutes_the_control():
 
 def _perturbed(claim_id: str, build) -> Claim:
     base = REGISTRY[claim_id]
-    return Claim(base.id + "/perturbed", base.source, base.kind, base.statement, base.system,
-                 base.effects, build)
+    return Claim(
+        base.id + "/perturbed",
+        base.source,
+        base.kind,
+        base.statement,
+        base.system,
+        base.effects,
+        build,
+    )
 
 
 def test_a_wrong_momentum_formula_is_refuted():

@@ -6,13 +6,26 @@ import json
 from pathlib import Path
 
 import pytest
-
 from chaplygin.verify.cli import main
 
 ACCEPTANCE = [
-    "integrate", "chaplygin_ball", "--param", "I=1,2,3", "--param", "D=1",
-    "--y0", "M=0.7,-0.4,0.5", "--y0", "gamma=0.2,0.3,0.93273790530888150455",
-    "--t-end", "1000", "--rtol", "1e-12", "--atol", "1e-12", "--json",
+    "integrate",
+    "chaplygin_ball",
+    "--param",
+    "I=1,2,3",
+    "--param",
+    "D=1",
+    "--y0",
+    "M=0.7,-0.4,0.5",
+    "--y0",
+    "gamma=0.2,0.3,0.93273790530888150455",
+    "--t-end",
+    "1000",
+    "--rtol",
+    "1e-12",
+    "--atol",
+    "1e-12",
+    "--json",
 ]
 
 
@@ -39,16 +52,93 @@ def test_integrate_digits_prints_every_digit(capsys):
 
 BAD_ARGS = [
     (["integrate", "no_such_system", "--t-end", "1"], "unknown system"),
-    (["integrate", "chaplygin_ball", "--param", "I=1,2", "--param", "D=1", "--y0", "M=1,2,3",
-      "--y0", "gamma=0,0,1", "--t-end", "1"], "I needs 3 values"),
-    (["integrate", "chaplygin_ball", "--param", "I=1,2,0", "--param", "D=1", "--y0", "M=1,2,3",
-      "--y0", "gamma=0,0,1", "--t-end", "1"], "positive"),
-    (["integrate", "chaplygin_ball", "--param", "I=1,2,3", "--param", "D=1", "--y0", "M=1,2,3",
-      "--y0", "gamma=0,0.5,1", "--t-end", "1"], "unit vector"),
-    (["integrate", "chaplygin_ball", "--param", "I=1,2,3", "--param", "D=nan", "--y0", "M=1,2,3",
-      "--y0", "gamma=0,0,1", "--t-end", "1"], "finite"),
-    (["integrate", "chaplygin_ball", "--param", "I=1,2,3", "--param", "D=1", "--y0", "M=1,2,3",
-      "--y0", "gamma=0,0,1", "--t-end", "1", "--effects", "rubber"], "unknown effect"),
+    (
+        [
+            "integrate",
+            "chaplygin_ball",
+            "--param",
+            "I=1,2",
+            "--param",
+            "D=1",
+            "--y0",
+            "M=1,2,3",
+            "--y0",
+            "gamma=0,0,1",
+            "--t-end",
+            "1",
+        ],
+        "I needs 3 values",
+    ),
+    (
+        [
+            "integrate",
+            "chaplygin_ball",
+            "--param",
+            "I=1,2,0",
+            "--param",
+            "D=1",
+            "--y0",
+            "M=1,2,3",
+            "--y0",
+            "gamma=0,0,1",
+            "--t-end",
+            "1",
+        ],
+        "positive",
+    ),
+    (
+        [
+            "integrate",
+            "chaplygin_ball",
+            "--param",
+            "I=1,2,3",
+            "--param",
+            "D=1",
+            "--y0",
+            "M=1,2,3",
+            "--y0",
+            "gamma=0,0.5,1",
+            "--t-end",
+            "1",
+        ],
+        "unit vector",
+    ),
+    (
+        [
+            "integrate",
+            "chaplygin_ball",
+            "--param",
+            "I=1,2,3",
+            "--param",
+            "D=nan",
+            "--y0",
+            "M=1,2,3",
+            "--y0",
+            "gamma=0,0,1",
+            "--t-end",
+            "1",
+        ],
+        "finite",
+    ),
+    (
+        [
+            "integrate",
+            "chaplygin_ball",
+            "--param",
+            "I=1,2,3",
+            "--param",
+            "D=1",
+            "--y0",
+            "M=1,2,3",
+            "--y0",
+            "gamma=0,0,1",
+            "--t-end",
+            "1",
+            "--effects",
+            "rubber",
+        ],
+        "unknown effect",
+    ),
     (["integrate", "chaplygin_ball", "--param", "I", "--t-end", "1"], "NAME=VALUE"),
     (["integrate", "chaplygin_ball", "--rtol", "-1", "--t-end", "1"], "positive"),
     (["verify", "--claims", "NOPE-*"], "no claim matches"),
@@ -58,7 +148,9 @@ BAD_ARGS = [
 
 @pytest.mark.parametrize(("argv", "message"), BAD_ARGS)
 def test_user_errors_are_one_line_exit_2_no_traceback(capsys, argv, message):
-    with pytest.raises(SystemExit) if argv[0] == "frobnicate" or "--rtol" in argv else _nullcontext():
+    with (
+        pytest.raises(SystemExit) if argv[0] == "frobnicate" or "--rtol" in argv else _nullcontext()
+    ):
         code = main(argv)
         assert code == 2
     captured = capsys.readouterr()
@@ -79,8 +171,20 @@ class _nullcontext:
 def test_user_text_is_never_evaluated(tmp_path: Path, capsys):
     marker = tmp_path / "pwned"
     payload = f"__import__('os').system('touch {marker}')"
-    argv = ["integrate", "chaplygin_ball", "--param", f"I={payload},2,3", "--param", "D=1",
-            "--y0", "M=1,2,3", "--y0", "gamma=0,0,1", "--t-end", "1"]
+    argv = [
+        "integrate",
+        "chaplygin_ball",
+        "--param",
+        f"I={payload},2,3",
+        "--param",
+        "D=1",
+        "--y0",
+        "M=1,2,3",
+        "--y0",
+        "gamma=0,0,1",
+        "--t-end",
+        "1",
+    ]
     assert main(argv) == 2
     assert not marker.exists()
     assert "cannot read" in capsys.readouterr().err
@@ -90,7 +194,9 @@ def test_verify_json_subset(capsys):
     assert main(["verify", "--claims", "BKM12-4*", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert [v["id"] for v in out] == [
-        "BKM12-4", "BKM12-4/control-exponent+1/2", "BKM12-4/control-rho=1"
+        "BKM12-4",
+        "BKM12-4/control-exponent+1/2",
+        "BKM12-4/control-rho=1",
     ]
     for v in out:
         assert {"id", "verdict", "method", "seconds"} <= set(v)

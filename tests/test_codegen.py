@@ -11,17 +11,15 @@ import mpmath
 import numpy as np
 import pytest
 import sympy as sp
-from hypothesis import given, settings
-from hypothesis import strategies as st
-from reference import EPS, assert_close_rel, random_params, random_state
-
-from chaplygin.derive import builtin_variants, build_model, variant_name
+from chaplygin.derive import build_model, builtin_variants, variant_name
 from chaplygin.derive.emit import NumpyEmitter
-from chaplygin.derive.geometry import UNIT_VECTOR, PoissonGroup
 from chaplygin.derive.model import Model, ParameterSpec
 from chaplygin.derive.writer import check_generated, write_generated
 from chaplygin.numerics import load_model_code
 from chaplygin.verify.cli import generated_dir
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from reference import EPS, assert_close_rel, random_params, random_state
 
 VARIANTS = [variant_name(s, e) for s, e in builtin_variants()]
 N_STATES = 50
@@ -54,7 +52,10 @@ def test_numpy_c_mpmath_and_sympy_agree_at_random_states(name):
             mp_args = [mpmath.mpf(float(v)) for v in y]
             mp_par = [mpmath.mpf(float(v)) for v in P]
             mp = code.mpmath.rhs(0, mp_args, mp_par)
-        point = {s: sp.Float(float(v), DIGITS + 10) for s, v in zip(symbols, list(y) + list(P), strict=True)}
+        point = {
+            s: sp.Float(float(v), DIGITS + 10)
+            for s, v in zip(symbols, list(y) + list(P), strict=True)
+        }
         exact = [sp.N(e.xreplace(point), DIGITS + 10) for e in model.rhs_expanded]
         scale = max(abs(float(e)) for e in exact)
         assert_close_rel(vec[:, j], [float(e) for e in exact], DOUBLE_RTOL, f"numpy {name}")
@@ -168,7 +169,10 @@ def test_emission_is_independent_of_the_hash_seed(tmp_path: Path):
     )
     digests = {
         subprocess.run(
-            [sys.executable, "-c", script], capture_output=True, text=True, check=True,
+            [sys.executable, "-c", script],
+            capture_output=True,
+            text=True,
+            check=True,
             env={"PYTHONHASHSEED": seed, "PATH": "/usr/bin:/bin"},
         ).stdout
         for seed in ("1", "4242")

@@ -5,7 +5,6 @@ from __future__ import annotations
 import re
 
 import pytest
-
 from chaplygin.derive import UserInputError, build_model
 from chaplygin.derive.emit import CEmitter, NumpyEmitter
 from chaplygin.numerics import load_model_code

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import pytest
 import sympy as sp
-
 from chaplygin.derive import DerivationError, RigidBodyDescription, build_model, lagrange_dalembert
 from chaplygin.derive.chaplygin_ball import build_chaplygin_ball
 from chaplygin.derive.vectors import cross, dot, vector
@@ -30,7 +29,9 @@ def _ball_description(r_sign: int = -1, extra_constraints=()):
 def test_multipliers_are_eliminated_by_the_admissible_velocities():
     desc, _ = _ball_description()
     red = lagrange_dalembert(desc)
-    Phi = sp.Matrix([[sp.diff(c, q) for q in list(desc.omega) + list(desc.v)] for c in desc.constraints])
+    Phi = sp.Matrix(
+        [[sp.diff(c, q) for q in list(desc.omega) + list(desc.v)] for c in desc.constraints]
+    )
     # G spans the admissible velocities: Phi G = 0, so G^T Phi^T lambda = 0
     assert (Phi * red.admissible).applyfunc(sp.expand) == sp.zeros(3, 3)
     assert len(red.multipliers) == 3

@@ -5,7 +5,6 @@ from __future__ import annotations
 import random
 
 import sympy as sp
-
 from chaplygin.derive import build_model
 from chaplygin.derive.geometry import FRAME, UNIT_VECTOR, PoissonGroup
 from chaplygin.derive.vectors import cross, dot, vector
@@ -24,8 +23,18 @@ def test_rational_samples_lie_exactly_on_the_variety():
         pts = frame.sample_rational(rng)
         vals = {n: sp.Matrix(v) for n, v in pts.items()}
         assert all(
-            sp.simplify(c.xreplace(dict(zip(list(a) + list(b) + list(g),
-                                            list(vals["alpha"]) + list(vals["beta"]) + list(vals["gamma"]), strict=True)))) == 0
+            sp.simplify(
+                c.xreplace(
+                    dict(
+                        zip(
+                            list(a) + list(b) + list(g),
+                            list(vals["alpha"]) + list(vals["beta"]) + list(vals["gamma"]),
+                            strict=True,
+                        )
+                    )
+                )
+            )
+            == 0
             for c in frame.constraints({"alpha": a, "beta": b, "gamma": g})
         )
 

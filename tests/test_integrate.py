@@ -5,17 +5,18 @@ from __future__ import annotations
 import mpmath
 import numpy as np
 import pytest
-from reference import EPS, REFERENCE_PARAMS, REFERENCE_Y0
-
 from chaplygin.derive import UserInputError
 from chaplygin.numerics import METHODS, integrate
+from reference import EPS, REFERENCE_PARAMS, REFERENCE_Y0
 
 BALL = "chaplygin_ball"
 
 
 def test_reference_problem_conserves_H_and_M2_to_1e10_over_T1000():
     """Foundation acceptance: DOP853, rtol = atol = 1e-12, T = 1000."""
-    r = integrate(BALL, REFERENCE_Y0, 1000, REFERENCE_PARAMS, method="DOP853", rtol=1e-12, atol=1e-12)
+    r = integrate(
+        BALL, REFERENCE_Y0, 1000, REFERENCE_PARAMS, method="DOP853", rtol=1e-12, atol=1e-12
+    )
     assert r.success, r.message
     assert r.drift["H"] <= 1e-10
     assert r.drift["(M,M)"] <= 1e-10
@@ -62,11 +63,25 @@ def test_high_precision_path_keeps_its_digits():
 
 def test_effects_do_not_change_the_balls_motion():
     base = integrate(BALL, REFERENCE_Y0, 10, REFERENCE_PARAMS, rtol=1e-12, atol=1e-12)
-    zero_k = integrate(BALL, REFERENCE_Y0, 10, {**REFERENCE_PARAMS, "K": (0, 0, 0)},
-                       effects="gyrostat", rtol=1e-12, atol=1e-12)
+    zero_k = integrate(
+        BALL,
+        REFERENCE_Y0,
+        10,
+        {**REFERENCE_PARAMS, "K": (0, 0, 0)},
+        effects="gyrostat",
+        rtol=1e-12,
+        atol=1e-12,
+    )
     assert np.array_equal(base.y[:, -1], zero_k.y[:, -1])
-    cp = integrate(BALL, REFERENCE_Y0, 10, {**REFERENCE_PARAMS, "b": 1}, effects="contact_point",
-                   rtol=1e-12, atol=1e-12)
+    cp = integrate(
+        BALL,
+        REFERENCE_Y0,
+        10,
+        {**REFERENCE_PARAMS, "b": 1},
+        effects="contact_point",
+        rtol=1e-12,
+        atol=1e-12,
+    )
     y = base.y[:, -1]
     e = np.abs(cp.y[:6, -1] - y) / (1e-12 + 1e-12 * np.abs(y))
     assert np.all(e < 10)  # two solutions each within scipy's e < 5
@@ -75,8 +90,15 @@ def test_effects_do_not_change_the_balls_motion():
 
 
 def test_gyrostat_changes_the_motion_and_keeps_its_integrals():
-    r = integrate(BALL, REFERENCE_Y0, 50, {**REFERENCE_PARAMS, "K": (0.1, 0.1, 0.2)},
-                  effects="gyrostat", rtol=1e-12, atol=1e-12)
+    r = integrate(
+        BALL,
+        REFERENCE_Y0,
+        50,
+        {**REFERENCE_PARAMS, "K": (0.1, 0.1, 0.2)},
+        effects="gyrostat",
+        rtol=1e-12,
+        atol=1e-12,
+    )
     base = integrate(BALL, REFERENCE_Y0, 50, REFERENCE_PARAMS, rtol=1e-12, atol=1e-12)
     assert np.max(np.abs(r.y[:, -1] - base.y[:, -1])) > 1e-3
     assert max(r.drift.values()) < 1e-10
@@ -113,5 +135,10 @@ def test_bad_options_are_user_errors():
     with pytest.raises(UserInputError, match="precision"):
         integrate(BALL, REFERENCE_Y0, 1, REFERENCE_PARAMS, precision="quadruple")
     with pytest.raises(UserInputError, match="frame"):
-        integrate(BALL, {**REFERENCE_Y0, "alpha": (1, 0, 0), "beta": (1, 0, 0)}, 1,
-                  {**REFERENCE_PARAMS, "b": 1}, effects="contact_point")
+        integrate(
+            BALL,
+            {**REFERENCE_Y0, "alpha": (1, 0, 0), "beta": (1, 0, 0)},
+            1,
+            {**REFERENCE_PARAMS, "b": 1},
+            effects="contact_point",
+        )
