@@ -64,12 +64,10 @@ class CEmitter(Emitter):
             *(e.free_symbols for _, e in routine.temporaries),
             *(sp.sympify(e).free_symbols for e in routine.outputs),
         )
-        lines += [
-            f"    const double s_{s.name} = Y[{i}];" for i, s in enumerate(model.state) if s in used
-        ]
-        lines += [
-            f"    const double p_{s.name} = P[{i}];" for i, s in enumerate(model.params) if s in used
-        ]
+        state = [(i, s) for i, s in enumerate(model.state) if s in used]
+        params = [(i, s) for i, s in enumerate(model.params) if s in used]
+        lines += [f"    const double s_{s.name} = Y[{i}];" for i, s in state]
+        lines += [f"    const double p_{s.name} = P[{i}];" for i, s in params]
         lines += [f"    const double {s} = {printer.doprint(e)};" for s, e in routine.temporaries]
         width = routine.shape[-1]
         for index, expr in zip(

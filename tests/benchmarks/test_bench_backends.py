@@ -8,9 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from reference import REFERENCE_PARAMS, REFERENCE_Y0
-
 from chaplygin.numerics import integrate, load_model_code
+from reference import REFERENCE_PARAMS, REFERENCE_Y0
 
 pytestmark = pytest.mark.benchmark
 
