@@ -63,3 +63,17 @@ def test_verdicts_are_reproducible():
     a = decide([M[0] ** 2 - 1], Domain(model))
     b = decide([M[0] ** 2 - 1], Domain(model))
     assert a.verdict == b.verdict == "refuted" and a.witness == b.witness
+
+
+def test_trigonometric_and_function_atoms_are_generators():
+    """sin/cos pairs live on the circle; a function and its derivative are independent."""
+    model = build_model("chaplygin_ball")
+    t, w = model.time, sp.Symbol("Omega", positive=True)
+    f = sp.Function("I1", positive=True)(t)
+    assert decide([sp.sin(w * t) ** 2 + sp.cos(w * t) ** 2 - 1], Domain(model)).verdict == "proved"
+    assert decide([sp.sin(w * t) ** 2 - 1], Domain(model)).verdict == "refuted"
+    assert decide([sp.diff(f**2, t) - 2 * f * sp.diff(f, t)], Domain(model)).verdict == "proved"
+    wrong = decide([sp.diff(f**2, t) - f * sp.diff(f, t)], Domain(model))
+    assert wrong.verdict == "refuted" and "Derivative(I1(t), t)" in wrong.witness
+    sampled = decide([sp.sin(w * t) ** 2 + sp.cos(w * t) ** 2 - 1], Domain(model), "exact-sampled")
+    assert sampled.verdict == "exact-sampled"

@@ -150,6 +150,7 @@ class Residuals:
         )
         self.radicals = [(S, sp.Dummy(f"r{i}", positive=True)) for i, S in enumerate(radicands)]
         replaced = [self._replace_radicals(e) for e in self.exprs]
+        replaced, self.atom_map, self.circles, self.extra_constraints = _generic_atoms(replaced)
         symbols = set().union(
             *(e.free_symbols for e in replaced), *(S.free_symbols for S, _ in self.radicals)
         )
@@ -209,7 +210,14 @@ class Residuals:
 
     # ------------------------------------------------------------------ methods
     def normal_forms(self) -> list:
-        return [ring_normal_form(p, self.domain.constraints, self.builder) for p in self.pieces]
+        constraints = tuple(self.domain.constraints) + tuple(self.extra_constraints)
+        return [ring_normal_form(p, constraints, self.builder) for p in self.pieces]
+
+    def complete_point(self, point, rng: random.Random) -> None:
+        """Put every (sin u, cos u) pair of the residual on the unit circle, exactly."""
+        for s, c in self.circles:
+            q = sp.Rational(rng.randint(-9, 9), rng.randint(1, 9))
+            point[s], point[c] = 2 * q / (1 + q**2), (1 - q**2) / (1 + q**2)
 
     def _values(self, point):
         dom = self.builder.ring.domain
@@ -247,10 +255,39 @@ class Residuals:
     def value_at(self, point, digits: int = 20) -> str:
         vals = []
         for e in self.exprs:
+            e = e.xreplace({a: d for a, d in self.atom_map.items()})
             v = sp.N(e.xreplace(point), digits)
             vals.append(v)
         worst = max(vals, key=lambda v: abs(complex(v)))
         return sp.sstr(worst)
+
+
+def _generic_atoms(exprs):
+    """Replace non-rational atoms by generators.
+
+    ``sin(u)``, ``cos(u)``, undefined functions ``I1(t)`` and their derivatives become
+    independent symbols (at a fixed time the values of a function and of its derivative
+    are independent); each ``(sin u, cos u)`` pair gets the relation ``s^2 + c^2 = 1``.
+    Returns the new expressions, the atom map, the circle pairs and the relations.
+    """
+    atoms: set = set()
+    for e in exprs:
+        atoms |= {a for a in e.atoms(sp.Derivative)}
+        atoms |= set(e.atoms(sp.Function))
+    atoms = sorted(atoms, key=sp.default_sort_key)
+    derivs = [a for a in atoms if isinstance(a, sp.Derivative)]
+    funcs = [a for a in atoms if not isinstance(a, sp.Derivative)]
+    atom_map = {}
+    for a in derivs + funcs:
+        atom_map[a] = sp.Dummy(str(a), real=True, positive=bool(a.is_positive) or None)
+    out = [e.xreplace({d: atom_map[d] for d in derivs}).xreplace(atom_map) for e in exprs]
+    circles, relations = [], []
+    for a in funcs:
+        if isinstance(a, sp.sin) and sp.cos(a.args[0]) in atom_map:
+            s, c = atom_map[a], atom_map[sp.cos(a.args[0])]
+            circles.append((s, c))
+            relations.append(s**2 + c**2 - 1)
+    return out, atom_map, circles, relations
 
 
 def _witness(point) -> dict[str, str]:
@@ -264,6 +301,7 @@ def _sample(res: Residuals, points: int, seed: int):
     while tried < points and attempts < 20 * points:
         attempts += 1
         point = res.domain.sample(rng, symbols)
+        res.complete_point(point, rng)
         if not res.regular_at(point):
             continue
         tried += 1
@@ -386,10 +424,11 @@ def _numeric(exprs, domain, points, seed, dps, start) -> Outcome:
 
 
 def lie_derivative(expr: sp.Expr, model: Model) -> sp.Expr:
-    """Time derivative of ``expr`` (state, parameters, aux symbols) along the model's flow."""
+    """Total time derivative of ``expr`` (state, parameters, aux, time) along the flow."""
     f = model.rhs_expanded
     e = model.expand_aux(expr)
-    return sum((sp.diff(e, y) * f[i] for i, y in enumerate(model.state)), sp.S.Zero)
+    explicit = sp.diff(e, model.time)  # non-zero for time-dependent parameters (BM20)
+    return explicit + sum((sp.diff(e, y) * f[i] for i, y in enumerate(model.state)), sp.S.Zero)
 
 
 def measure_residual(density: sp.Expr, model: Model) -> sp.Expr:

@@ -81,6 +81,7 @@ class CEmitter(Emitter):
     def _emit_files(self, model: Model, routines: ModelRoutines) -> list[tuple[str, str]]:
         names = {s: f"s_{s.name}" for s in model.state}
         names.update({s: f"p_{s.name}" for s in model.params})
+        names[model.time] = "T"
         printer = ChaplyginCPrinter(names)
         body = "\n\n".join(self._routine(model, r, printer) for r in routines.all())
         text = read_template()
