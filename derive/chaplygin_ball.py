@@ -23,9 +23,20 @@ from .geometry import FRAME, UNIT_VECTOR, PoissonGroup
 from .model import Model, ParameterSpec
 from .vectors import cross, dot, vector
 
-__all__ = ["build_chaplygin_ball", "SUPPORTED_EFFECTS"]
+__all__ = ["build_chaplygin_ball", "SUPPORTED_EFFECTS", "NAME", "DESCRIPTION", "GENERATED_VARIANTS"]
 
+NAME = "chaplygin_ball"
+DESCRIPTION = (
+    "balanced dynamically asymmetric ball rolling without slipping on a plane (BKM12 §1.1, K01 §2)"
+)
 SUPPORTED_EFFECTS = ("gyrostat", "contact_point")
+#: Effect combinations whose code is committed in generated/.
+GENERATED_VARIANTS = (
+    (),
+    ("gyrostat",),
+    ("contact_point",),
+    ("contact_point", "gyrostat"),
+)
 
 
 def build_chaplygin_ball(effects: Iterable[str] | str | None = ()) -> Model:
@@ -222,3 +233,6 @@ def build_chaplygin_ball(effects: Iterable[str] | str | None = ()) -> Model:
     if unused:  # pragma: no cover
         raise AssertionError(f"parameters that no equation uses: {unused}")
     return model
+
+
+BUILDER = build_chaplygin_ball

@@ -1,41 +1,53 @@
-"""Registry of the built-in systems and of the model variants shipped in ``generated/``."""
+"""Registry of the built-in systems and of the model variants shipped in ``generated/``.
+
+Each system lives in its own module of ``chaplygin.derive`` (listed in
+:data:`SYSTEM_MODULES`) and declares ``NAME``, ``DESCRIPTION``, ``BUILDER`` (effects ->
+Model), ``SUPPORTED_EFFECTS`` and ``GENERATED_VARIANTS`` (the effect combinations whose
+code is committed in ``generated/``).
+"""
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
-from .chaplygin_ball import SUPPORTED_EFFECTS as BALL_EFFECTS
-from .chaplygin_ball import build_chaplygin_ball
 from .effects import parse_effects
 from .errors import UserInputError
 from .model import Model
 
-__all__ = ["System", "SYSTEMS", "build_model", "builtin_variants", "variant_name"]
+__all__ = ["System", "SYSTEMS", "SYSTEM_MODULES", "build_model", "builtin_variants", "variant_name"]
+
+#: Modules of chaplygin.derive that define a system (see the module docstring).
+SYSTEM_MODULES = ("chaplygin_ball",)
 
 
 @dataclass(frozen=True)
 class System:
-    """A system family: its builder and the effects it supports."""
+    """A system family: its builder, the effects it supports, the variants it ships."""
 
     name: str
     builder: Callable[..., Model]
     effects: tuple[str, ...]
+    variants: tuple[tuple[str, ...], ...]
     description: str
 
 
-SYSTEMS: dict[str, System] = {
-    s.name: s
-    for s in (
-        System(
-            "chaplygin_ball",
-            build_chaplygin_ball,
-            BALL_EFFECTS,
-            "balanced dynamically asymmetric ball rolling without slipping on a plane "
-            "(BKM12 §1.1, K01 §2)",
-        ),
-    )
-}
+def _load_systems() -> dict[str, System]:
+    out = {}
+    for module_name in SYSTEM_MODULES:
+        mod = importlib.import_module(f"{__package__}.{module_name}")
+        out[mod.NAME] = System(
+            mod.NAME,
+            mod.BUILDER,
+            tuple(mod.SUPPORTED_EFFECTS),
+            tuple(tuple(sorted(v)) for v in mod.GENERATED_VARIANTS),
+            mod.DESCRIPTION,
+        )
+    return out
+
+
+SYSTEMS: dict[str, System] = _load_systems()
 
 _CACHE: dict[tuple[str, frozenset[str]], Model] = {}
 
@@ -82,15 +94,4 @@ def build_model(system: str, effects: Iterable[str] | str | None = ()) -> Model:
 
 def builtin_variants() -> list[tuple[str, frozenset[str]]]:
     """Every (system, effects) combination whose code is committed in ``generated/``."""
-    out = []
-    for sysdef in SYSTEMS.values():
-        for r in range(len(sysdef.effects) + 1):
-            for combo in _combinations(sorted(sysdef.effects), r):
-                out.append((sysdef.name, frozenset(combo)))
-    return out
-
-
-def _combinations(items, r):
-    from itertools import combinations
-
-    return combinations(items, r)
+    return [(s.name, frozenset(v)) for s in SYSTEMS.values() for v in s.variants]

@@ -98,5 +98,22 @@ def select_claims(patterns: str | Iterable[str] | None = None) -> list[Claim]:
     return [c for c in REGISTRY.values() if any(fnmatch.fnmatchcase(c.id, p) for p in patterns)]
 
 
+_LOADED = False
+
+
 def _load() -> None:
-    from . import ball, model_invariants  # noqa: F401  (registration on import)
+    """Import every claim module of this package (registration happens on import).
+
+    ``model_invariants`` comes last so that the papers' claims lead the report.
+    """
+    global _LOADED
+    if _LOADED:
+        return
+    import importlib
+    import pkgutil
+
+    names = sorted(m.name for m in pkgutil.iter_modules(__path__) if m.name != "notation")
+    names.sort(key=lambda n: n == "model_invariants")
+    for name in names:
+        importlib.import_module(f"{__name__}.{name}")
+    _LOADED = True
