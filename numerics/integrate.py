@@ -151,15 +151,18 @@ METHODS: dict[str, Integrator] = {
 }
 
 
-def _drift(code: ModelCode, y: np.ndarray, p, precision: Precision):
+def _drift(code: ModelCode, t: np.ndarray, y: np.ndarray, p, precision: Precision):
     if precision.is_double:
-        values = np.asarray(code.numpy.integrals(0.0, y, np.asarray(p, dtype=float)))
+        # t has one entry per output point: integrals may depend on time explicitly
+        values = np.asarray(
+            code.numpy.integrals(np.asarray(t, dtype=float), y, np.asarray(p, dtype=float))
+        )
         F0 = values[:, :1]
         change = np.max(np.abs(values - F0), axis=1)
         ref = np.abs(F0[:, 0])
     else:
         with mpmath.workdps(precision.digits):
-            rows = [code.mpmath.integrals(0, list(y[:, j]), p) for j in range(y.shape[1])]
+            rows = [code.mpmath.integrals(t[j], list(y[:, j]), p) for j in range(y.shape[1])]
             F0 = rows[0]
             change = [max(abs(r[i] - F0[i]) for r in rows) for i in range(len(F0))]
             ref = [abs(v) for v in F0]
@@ -294,7 +297,7 @@ def integrate(
     wall = time.perf_counter() - t0
     if prec.is_double and not np.all(np.isfinite(ys)):
         status, msg = -1, "the solution became NaN or infinite; check the parameters and state"
-    drift, absolute = _drift(code, ys, p, prec)
+    drift, absolute = _drift(code, t, ys, p, prec)
     return IntegrationResult(
         status=int(status),
         message=str(msg),
