@@ -94,6 +94,13 @@ class StructuredInverse:
     def X(self) -> sp.Matrix:
         return -(self.C.inv() + self.U.T * self.A * self.U)
 
+    def apply_inverse(self, u: sp.Matrix) -> sp.Matrix:
+        """``II^-1 u = A (u + U X^-1 U^T A u)`` on the phase space."""
+        X = self.X()
+        w = self.U.T * self.A * u
+        z = X.LUsolve(w) if X.shape[0] > 1 else sp.Matrix([w[0] / X[0, 0]])
+        return self.A * (u + self.U * z)
+
 
 @dataclass
 class ReducedEquations:
@@ -131,6 +138,41 @@ class ReducedEquations:
     energy: sp.Expr
     omega: sp.Matrix
     kinematics: Mapping[str, tuple[sp.Matrix, sp.Matrix]]
+    omega_constraints: sp.Matrix | None = None
+    omega_multipliers: tuple[sp.Symbol, ...] = ()
+    time: sp.Symbol | None = None
+
+    def multiplier_solution(self, rate: sp.Matrix, apply_inverse) -> dict[sp.Symbol, sp.Expr]:
+        """Multipliers of the constraints on omega alone, ``C omega = 0``.
+
+        They follow from ``d/dt (C omega) = 0`` with ``omega' = II^-1 (M' - II' omega)``::
+
+            mu = -(C II^-1 C^T)^-1 [C' omega + C II^-1 (F - II' omega)],
+
+        where ``M' = F + C^T mu``.
+
+        Parameters
+        ----------
+        rate : sympy.Matrix, shape (3, 1)
+            ``F``: the momentum rate without the multiplier terms (any variables).
+        apply_inverse : callable
+            ``u -> II^-1 u`` (a structured inverse, say).
+
+        Returns
+        -------
+        dict
+            ``mu_j -> expression``.
+        """
+        C = self.omega_constraints
+        if C is None:
+            return {}
+        t = self.time
+        C_dot = C.applyfunc(lambda e: _time_derivative(e, self.kinematics, t))
+        II_dot = self.inertia_operator.applyfunc(lambda e: _time_derivative(e, self.kinematics, t))
+        rhs = C_dot * self.omega + C * apply_inverse(rate - II_dot * self.omega)
+        S = C * sp.Matrix.hstack(*[apply_inverse(C.row(j).T) for j in range(C.shape[0])])
+        sol = -(S.LUsolve(rhs)) if S.shape[0] > 1 else sp.Matrix([-rhs[0] / S[0, 0]])
+        return dict(zip(self.omega_multipliers, sol, strict=True))
 
     def euler_poincare_form(self, M: sp.Matrix) -> tuple[sp.Matrix, sp.Matrix]:
         """``M'`` written as ``(M + P0) x omega + R``; returns ``(rhs, R)``.
@@ -210,9 +252,10 @@ def lagrange_dalembert(desc: RigidBodyDescription) -> ReducedEquations:
     ------
     DerivationError
         When a constraint is not linear and homogeneous in the velocities, or when the
-        constraints cannot be solved for the reference-point velocity ``v`` (constraints
-        on ``omega`` alone — rubber ball, straight-line rolling — need the multiplier
-        path of a later version).
+        constraints that involve ``v`` do not determine it. Constraints on ``omega`` alone
+        (no twist, rolling along a line) keep their multipliers ``mu`` in
+        ``momentum_rate`` (``+ C^T mu``); :meth:`ReducedEquations.multiplier_solution`
+        eliminates them.
     """
     omega, v, t = desc.omega, desc.v, desc.time
     q = list(omega) + list(v)
@@ -243,20 +286,24 @@ def lagrange_dalembert(desc: RigidBodyDescription) -> ReducedEquations:
     reaction = Phi.T * sp.Matrix(lam) if lam else sp.zeros(6, 1)
     with_multipliers = p.applyfunc(d_dt) - sp.Matrix.vstack(f_omega, f_v) - reaction
 
-    # Solve the constraints for the reference-point velocity.
-    sol = sp.solve(list(desc.constraints), list(v), dict=True)
+    # Constraints on omega alone (no twist, rolling along a line) keep their multipliers;
+    # the others are solved for the reference-point velocity.
+    omega_rows = [c for c in desc.constraints if not (set(v) & sp.sympify(c).free_symbols)]
+    v_rows = [c for c in desc.constraints if set(v) & sp.sympify(c).free_symbols]
+    sol = sp.solve(v_rows, list(v), dict=True)
     if len(sol) != 1 or set(sol[0]) != set(v):
         raise DerivationError(
-            "the constraints do not determine the reference-point velocity v uniquely; "
-            "constraints on omega alone are not supported yet"
+            "the constraints do not determine the reference-point velocity v uniquely"
         )
     vmap = {vi: sp.expand(sol[0][vi]) for vi in v}
-    residual = [sp.expand(c.subs(vmap)) for c in desc.constraints]
+    residual = [sp.expand(c.subs(vmap)) for c in v_rows]
     if any(r != 0 for r in residual):
         raise DerivationError(
-            "constraints remain on omega after solving for v (rubber or straight-line "
-            "rolling): not supported by this version of the engine"
+            "after solving for v, constraints involving v remain on omega: write them as "
+            "constraints on omega alone"
         )
+    C = sp.Matrix([[sp.diff(c, w) for w in omega] for c in omega_rows]) if omega_rows else None
+    mu = sp.symbols(f"mu1:{len(omega_rows) + 1}", real=True) if omega_rows else ()
     v_of_omega = v.subs(vmap)
     G = sp.Matrix.vstack(sp.eye(3), v_of_omega.jacobian(omega))
     if any(s in G.free_symbols for s in omega):
@@ -274,6 +321,9 @@ def lagrange_dalembert(desc: RigidBodyDescription) -> ReducedEquations:
     P_rate = (G.T * f_adm + G_dot.T * p_adm).applyfunc(sp.expand)
     P0_rate = P0.applyfunc(lambda e: _time_derivative(e, desc.kinematics, t))
     M_rate = (P_rate - P0_rate).applyfunc(sp.expand)
+    if C is not None:
+        # G^T Phi^T lambda leaves exactly the reaction of the constraints on omega alone
+        M_rate = M_rate + C.T * sp.Matrix(mu)
     # Generalised (Jacobi) energy sum q dT/dq - T = T2 - T0: a gyrostatic term linear in
     # the velocities does no work and drops out.
     energy = sp.expand((sp.Matrix(q).T * p)[0] - T).subs(vmap)
@@ -291,4 +341,7 @@ def lagrange_dalembert(desc: RigidBodyDescription) -> ReducedEquations:
         energy=energy,
         omega=omega,
         kinematics=desc.kinematics,
+        omega_constraints=C,
+        omega_multipliers=tuple(mu),
+        time=t,
     )
