@@ -53,6 +53,12 @@ def _cmd_verify(args) -> int:
     from .claims import select_claims
     from .verdict import check_claim
 
+    if args.report:
+        target = Path(args.report)
+        if target.is_dir() or not target.parent.exists():
+            raise UserInputError(
+                f"cannot write the report to {args.report!r}: give a file in an existing folder"
+            )
     claims = select_claims(args.claims)
     if not claims:
         raise UserInputError(
@@ -74,6 +80,10 @@ def _cmd_verify(args) -> int:
             sys.stdout.flush()
     if args.json:
         print(json.dumps([v.to_json() for v in verdicts], indent=2))
+    if args.report:
+        from .report import render_report
+
+        Path(args.report).write_text(render_report(verdicts))
     bad = [v for v in verdicts if not v.ok]
     if not args.json:
         counts = {
@@ -206,6 +216,8 @@ def build_parser() -> argparse.ArgumentParser:
         "--claims", default=None, help="glob(s) over claim IDs, comma-separated (e.g. 'BKM12-*')"
     )
     p.add_argument("--json", action="store_true", help="print a JSON list of verdicts")
+    p.add_argument("--report", default=None, metavar="FILE.md",
+                   help="also write a Markdown report (LaTeX statements, errata, counts per paper)")
     p.add_argument(
         "--method",
         default="auto",

@@ -57,6 +57,8 @@ class Claim:
     expected : {"holds", "fails"}
         ``fails`` for negative controls and literal readings known to be wrong.
     note : str
+    latex : str, optional
+        The statement in LaTeX for the report (default: translated from ``statement``).
     """
 
     id: str
@@ -68,6 +70,7 @@ class Claim:
     build: Callable[[Model], Check]
     expected: str = "holds"
     note: str = ""
+    latex: str = ""
 
     def model(self) -> Model:
         return build_model(self.system, self.effects)

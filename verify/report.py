@@ -1,0 +1,153 @@
+"""The Markdown report of ``chaplygin verify --report FILE.md``: cite-able verdicts.
+
+Per claim: ID, statement in LaTeX, verdict, method, residual or witness, time; an
+**Errata** section with every literal reading of a garbled formula that was refuted, next
+to its correction; counts per paper.
+"""
+
+from __future__ import annotations
+
+import re
+from collections import Counter
+from collections.abc import Sequence
+
+from .claims import REGISTRY
+from .verdict import Verdict
+
+__all__ = ["plain_to_latex", "render_report", "paper_of"]
+
+_GREEK = [
+    "alpha",
+    "beta",
+    "gamma",
+    "delta",
+    "omega",
+    "Omega",
+    "lambda",
+    "mu",
+    "nu",
+    "rho",
+    "sigma",
+    "phi",
+    "psi",
+    "Psi",
+    "Phi",
+    "Delta",
+    "Sigma",
+    "tau",
+    "theta",
+    "xi",
+    "kappa",
+]
+_KEEP = {"sqrt", "const", "diag"}
+_GREEK_RE = re.compile(r"\b(" + "|".join(_GREEK) + r")\b")
+
+
+def plain_to_latex(text: str) -> str:
+    """Render the plain-text math of ``FORMULAS.md`` as inline LaTeX (best effort).
+
+    Greek names become letters, ``x`` between operands becomes ``\\times``, ``^-1/2`` and
+    similar exponents are braced, ``sqrt(...)`` becomes ``\\sqrt{...}`` and ``'`` marks
+    stay time derivatives.
+    """
+    s = text
+    s = re.sub(r"sqrt\(([^()]*(?:\([^()]*\)[^()]*)*)\)", r"\\sqrt{\1}", s)
+    s = re.sub(r"\^\(([^()]*)\)", r"^{\1}", s)
+    s = re.sub(r"\^(-?[0-9.]+(?:/[0-9]+)?)", r"^{\1}", s)
+    s = re.sub(r"(?<=[\w)\]}]) x (?=[\w(\\])", r" \\times ", s)
+    s = _GREEK_RE.sub(lambda m: "\\" + m.group(1) + " ", s)
+    s = s.replace("Id", r"\mathrm{Id}")
+    # runs of plain words (not commands, not one- or two-letter symbols) become text
+    s = re.sub(
+        r"(?<![\\\w])((?:[A-Za-z]{3,}|is|it|of|on|in|or|as|by)"
+        r"(?:[ :;,]+(?:[A-Za-z]{2,}|a))*)(?![\w{])",
+        lambda m: m.group(0) if m.group(1) in _KEEP else r"\text{" + m.group(1) + "}",
+        s,
+    )
+    s = s.replace("<=", r"\le ").replace(">=", r"\ge ").replace("!=", r"\ne ")
+    return s.replace("\\ ,", "\\,")
+
+
+def paper_of(claim_id: str) -> str:
+    """``BKM12-4/control-...`` -> ``BKM12``; ``MODEL:...`` -> ``chaplygin models``."""
+    if claim_id.startswith("MODEL:"):
+        return "chaplygin models"
+    return claim_id.split("-", 1)[0]
+
+
+def _latex(v: Verdict) -> str:
+    claim = REGISTRY.get(v.id)
+    latex = getattr(claim, "latex", "") if claim else ""
+    return latex or plain_to_latex(v.statement)
+
+
+def _evidence(v: Verdict) -> str:
+    if v.verdict == "refuted":
+        witness = ", ".join(f"{k} = {val}" for k, val in (v.witness or {}).items())
+        return f"residual {v.residual} at {witness}" if witness else f"residual {v.residual}"
+    return f"residual {v.residual}"
+
+
+def render_report(verdicts: Sequence[Verdict]) -> str:
+    """Markdown text of the report."""
+    lines = ["# chaplygin verification report", ""]
+    bad = [v for v in verdicts if not v.ok]
+    lines += [
+        f"{len(verdicts)} claims, {sum(v.seconds for v in verdicts):.1f} s of checking; "
+        + (
+            "every verdict is the expected one."
+            if not bad
+            else f"**{len(bad)} unexpected verdicts**."
+        ),
+        "",
+        "Verdicts: `proved` (Gröbner normal form of the numerator modulo the phase-space "
+        "constraints is zero), `exact-sampled` (exactly zero in rational arithmetic at random "
+        "rational points of the phase space; probabilistic), `numeric` (below a stated bound at "
+        "50 digits), `refuted` (an exact rational witness point). Negative controls and literal "
+        "readings of garbled formulas are expected to be refuted.",
+        "",
+        "## Summary per paper",
+        "",
+        "| paper | claims | proved | exact-sampled | numeric | refuted | unexpected |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    by_paper: dict[str, list[Verdict]] = {}
+    for v in verdicts:
+        by_paper.setdefault(paper_of(v.id), []).append(v)
+    for paper, vs in by_paper.items():
+        c = Counter(v.verdict for v in vs)
+        lines.append(
+            f"| {paper} | {len(vs)} | {c['proved']} | {c['exact-sampled']} | {c['numeric']} | "
+            f"{c['refuted']} | {sum(not v.ok for v in vs)} |"
+        )
+    lines += ["", "## Errata", ""]
+    literal = [v for v in verdicts if v.id.endswith("/literal")]
+    if not literal:
+        lines.append("No literal reading among the checked claims.")
+    else:
+        lines += ["| literal reading | verdict | correction | verdict |", "|---|---|---|---|"]
+        index = {v.id: v for v in verdicts}
+        for v in literal:
+            fix = index.get(v.id[: -len("/literal")])
+            fix_text = f"{fix.id}: ${_latex(fix)}$" if fix else "(not checked)"
+            lines.append(
+                f"| {v.id}: ${_latex(v)}$ | {v.verdict} ({_evidence(v)}) | {fix_text} | "
+                f"{fix.verdict if fix else '-'} |"
+            )
+    lines += ["", "## Claims", ""]
+    for paper, vs in by_paper.items():
+        lines += [
+            f"### {paper}",
+            "",
+            "| ID | statement | verdict | method | evidence | s |",
+            "|---|---|---|---|---|---|",
+        ]
+        for v in vs:
+            mark = "" if v.ok else " **(unexpected)**"
+            expected = " (expected: refuted)" if v.expected == "fails" else ""
+            lines.append(
+                f"| {v.id} | ${_latex(v)}$ | {v.verdict}{expected}{mark} | {v.method} | "
+                f"{_evidence(v)} | {v.seconds:.3f} |"
+            )
+        lines.append("")
+    return "\n".join(lines) + "\n"
