@@ -204,4 +204,69 @@ def ring_normal_form(poly, constraints: Sequence[sp.Expr], builder: RationalFunc
             [builder.ring.from_expr(sp.expand(c)) for c in constraints], builder.ring
         )
         _RING_BASES[key] = basis
-    return poly.rem(basis)
+    return _remainder(poly, basis)
+
+
+def _negated(key):
+    """An order key with every integer negated (a max-heap from ``heapq``)."""
+    return tuple(_negated(k) for k in key) if isinstance(key, tuple) else -key
+
+
+def _heap_key(order):
+    """``monomial -> key`` with the largest monomial of ``order`` first in a min-heap."""
+    alias = getattr(order, "alias", None)
+    if alias == "grevlex":  # order(m) = (deg m, reversed(-m))
+        return lambda m: (-sum(m), m[::-1])
+    if alias == "grlex":
+        return lambda m: (-sum(m), tuple(-e for e in m))
+    if alias == "lex":
+        return lambda m: tuple(-e for e in m)
+    return lambda m: _negated(order(m))
+
+
+def _remainder(f, G):
+    """Remainder of ``f`` on division by the polynomials ``G`` (same as ``f.rem(G)``).
+
+    ``PolyElement.rem`` looks the leading term of the whole dividend up again after
+    every step, quadratic in its size, which makes a large *non-zero* normal form (a
+    refutation) take minutes. Here the dividend's monomials wait in a heap ordered by
+    the ring's monomial order: every reduction step only adds smaller monomials, so each
+    monomial is popped once it is the largest. For a Groebner basis the remainder is the
+    unique normal form, whatever the division strategy.
+    """
+    import heapq
+
+    ring = f.ring
+    if not all(G):
+        raise ZeroDivisionError("polynomial division")
+    key, zero = _heap_key(ring.order), ring.domain.zero
+    monomial_mul, monomial_div = ring.monomial_mul, ring.monomial_div
+    leads = [(g.LM, g.LC, [(m, c) for m, c in g.iterterms() if m != g.LM]) for g in G]
+    todo = dict(f.iterterms())
+    heap = [(key(m), m) for m in todo]
+    heapq.heapify(heap)
+    r = ring.zero
+    while heap:
+        _, m = heapq.heappop(heap)
+        c = todo.pop(m, None)
+        if c is None:  # cancelled, or a duplicate heap entry already done
+            continue
+        for lm, lc, tail in leads:
+            q = monomial_div(m, lm)
+            if q is None:
+                continue
+            qc = c / lc
+            for mg, cg in tail:
+                m1 = monomial_mul(mg, q)
+                old = todo.get(m1)
+                c1 = (zero if old is None else old) - qc * cg
+                if not c1:
+                    todo.pop(m1, None)
+                else:
+                    if old is None:
+                        heapq.heappush(heap, (key(m1), m1))
+                    todo[m1] = c1
+            break
+        else:
+            r[m] = c
+    return r

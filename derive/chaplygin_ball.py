@@ -5,9 +5,20 @@ Built by the Lagrange–d'Alembert engine from its mechanical description: kinet
 constraint ``v + omega x r = 0`` with ``r = -b gamma`` from the centre to the contact
 point, and the Poisson equations of the space-fixed vectors. ``D = m b^2``.
 
+Two effects make the parameters periodic in time (BM20, the ball with moving internal
+masses and rotors): ``variable_inertia`` replaces ``I`` by
+``I(t) = diag(I1 + (J_off + delta sin(Omega t))^2, I2, I3 + (J_off + delta sin(Omega t))^2)``
+(BM20-3.4) and ``variable_gyrostat`` adds the term ``(k(t), omega)`` to ``T`` with
+``k(t) = K sin(Omega t)`` (BM20-3.5). The engine differentiates the explicit time
+dependence of ``T``; with ``variable_gyrostat`` the state is BM20's *total* momentum
+``M = I(t) omega + D gamma x (omega x gamma) + k(t)``, whose equations keep the form
+``M' = M x omega`` with ``omega = A(t) (M - k(t))`` (BM20-2.5) and whose integrals
+``(M, M)``, ``(M, gamma)`` do not depend on time.
+
 References
 ----------
-BKM12-1..7, K01-2.1..2.6 (ball); K01-4.1, K01-4.2 (gyrostat).
+BKM12-1..7, K01-2.1..2.6 (ball); K01-4.1, K01-4.2 (gyrostat); BM20-2.2..2.7, 3.4, 3.5
+(variable inertia and gyrostatic momentum).
 """
 
 from __future__ import annotations
@@ -19,6 +30,7 @@ import sympy as sp
 from .algebra import ConstraintIdeal
 from .effects import parse_effects
 from .engine import RigidBodyDescription, lagrange_dalembert
+from .errors import UserInputError
 from .geometry import FRAME, UNIT_VECTOR, PoissonGroup
 from .model import Model, ParameterSpec
 from .vectors import cross, dot, vector
@@ -29,29 +41,59 @@ NAME = "chaplygin_ball"
 DESCRIPTION = (
     "balanced dynamically asymmetric ball rolling without slipping on a plane (BKM12 §1.1, K01 §2)"
 )
-SUPPORTED_EFFECTS = ("gyrostat", "contact_point")
+SUPPORTED_EFFECTS = ("gyrostat", "contact_point", "variable_inertia", "variable_gyrostat")
 #: Effect combinations whose code is committed in generated/.
 GENERATED_VARIANTS = (
     (),
     ("gyrostat",),
     ("contact_point",),
     ("contact_point", "gyrostat"),
+    ("variable_inertia",),
+    ("variable_gyrostat", "variable_inertia"),
+    ("contact_point", "variable_gyrostat", "variable_inertia"),  # BM20 Fig. 5 contact trace
 )
+#: Laws of the time-dependent parameters: BM20's (3.4)-(3.5), or undefined functions of t
+#: (``I1(t)`` ..., ``k1(t)`` ...) so that a check covers every law (private, for verify).
+LAWS = ("bm20", "generic")
 
 
-def build_chaplygin_ball(effects: Iterable[str] | str | None = ()) -> Model:
+def _time_derivative(expr: sp.Expr, kinematics, t: sp.Symbol) -> sp.Expr:
+    """Total time derivative of an expression in time and the space-fixed vectors."""
+    out = sp.diff(expr, t)
+    for X, Xdot in kinematics.values():
+        for i in range(3):
+            if X[i] in expr.free_symbols:
+                out += sp.diff(expr, X[i]) * Xdot[i]
+    return out
+
+
+def build_chaplygin_ball(effects: Iterable[str] | str | None = (), *, _laws: str = "bm20") -> Model:
     """Derive the Chaplygin ball model.
 
     Parameters
     ----------
     effects : iterable of str or str, optional
-        Any of ``"gyrostat"`` and ``"contact_point"``.
+        Any of ``"gyrostat"``, ``"contact_point"``, ``"variable_inertia"`` and
+        ``"variable_gyrostat"`` (not together with ``"gyrostat"``).
+    _laws : {"bm20", "generic"}, optional
+        Private (verification): ``"generic"`` makes ``I(t)`` and ``k(t)`` undefined
+        functions of time instead of BM20's laws (3.4)-(3.5), so that an identity proved on
+        that model holds for every law. Such a model is never emitted.
 
     Returns
     -------
     Model
         State ``M, gamma`` (+ ``alpha, beta, x, y`` with ``contact_point``), parameters
-        ``I1, I2, I3, D`` (+ ``b`` with ``contact_point``, ``K1, K2, K3`` with ``gyrostat``).
+        ``I1, I2, I3, D`` (+ ``b`` with ``contact_point``, ``K1, K2, K3`` with ``gyrostat``
+        or ``variable_gyrostat``, ``J_off, delta`` with ``variable_inertia``, ``Omega`` with
+        either variable effect). With ``variable_gyrostat`` the state ``M`` is BM20's total
+        momentum (it includes ``k(t)``).
+
+    Raises
+    ------
+    UserInputError
+        ``variable_gyrostat`` together with ``gyrostat`` (one gyrostatic momentum: give
+        either a constant one or a periodic one), or an unknown effect.
 
     Examples
     --------
@@ -64,6 +106,16 @@ def build_chaplygin_ball(effects: Iterable[str] | str | None = ()) -> Model:
     effects = parse_effects(effects, SUPPORTED_EFFECTS)
     gyro = "gyrostat" in effects
     contact = "contact_point" in effects
+    var_inertia = "variable_inertia" in effects
+    var_gyro = "variable_gyrostat" in effects
+    if gyro and var_gyro:
+        raise UserInputError(
+            "effects 'gyrostat' (constant gyrostatic momentum K) and 'variable_gyrostat' "
+            "(k(t) = K sin(Omega t), BM20-3.5) exclude each other: choose one of them"
+        )
+    if _laws not in LAWS:
+        raise ValueError(f"unknown parameter laws {_laws!r}; valid: {', '.join(LAWS)}")
+    generic = _laws == "generic"
 
     t = sp.Symbol("t", real=True)
     Iv = vector("I", positive=True)
@@ -76,11 +128,28 @@ def build_chaplygin_ball(effects: Iterable[str] | str | None = ()) -> Model:
     alpha = vector("alpha", real=True)
     beta = vector("beta", real=True)
     m = D / b**2  # D = m b^2
+    J_off, delta = sp.symbols("J_off delta", real=True)
+    Omega = sp.Symbol("Omega", positive=True)
+
+    # --- time-dependent parameters (BM20-3.4, BM20-3.5) ----------------------------
+    inertia: list[sp.Expr] = list(Iv)
+    if var_inertia and generic:
+        inertia = [sp.Function(f"I{i}", positive=True)(t) for i in (1, 2, 3)]
+    elif var_inertia:  # a pair of masses moving along C x2 (BM20-3.4)
+        offset = (J_off + delta * sp.sin(Omega * t)) ** 2
+        inertia = [Iv[0] + offset, Iv[1], Iv[2] + offset]
+    k_of_t = sp.zeros(3, 1)
+    if var_gyro and generic:
+        k_of_t = sp.Matrix([sp.Function(f"k{i}", real=True)(t) for i in (1, 2, 3)])
+    elif var_gyro:  # rotors (BM20-3.5)
+        k_of_t = K * sp.sin(Omega * t)
 
     # --- mechanical description --------------------------------------------------
-    T = (omega.T * sp.diag(*Iv) * omega)[0] / 2 + m * dot(v, v) / 2
+    T = (omega.T * sp.diag(*inertia) * omega)[0] / 2 + m * dot(v, v) / 2
     if gyro:
         T += dot(K, omega)
+    if var_gyro:
+        T += dot(k_of_t, omega)
     r = -b * gamma  # centre -> contact point (K01-2.5)
     kinematics = {"gamma": (gamma, cross(gamma, omega))}
     if contact:
@@ -108,7 +177,20 @@ def build_chaplygin_ball(effects: Iterable[str] | str | None = ()) -> Model:
     ideal = ConstraintIdeal(constraints, gens)
 
     # --- omega from the momentum (structured inverse on the phase space) -----------
-    rhs_M, remainder = red.euler_poincare_form(M)
+    if var_gyro:
+        # State: the total momentum P = II omega + k(t) (BM20-2.2). Its rate is the
+        # engine's d/dt (G^T dT/dq) = M' + P0', written as P x omega + remainder.
+        P0 = red.gyrostatic_momentum
+        rate = red.momentum_rate + P0.applyfunc(lambda e: _time_derivative(e, kinematics, t))
+        P_of_omega = red.inertia_operator * omega + P0
+        remainder = (rate - cross(P_of_omega, omega)).applyfunc(
+            lambda e: sp.factor_terms(sp.expand(e))
+        )
+        rhs_M = cross(M, omega) + remainder
+        M_kinetic = M - P0  # = II omega
+    else:
+        rhs_M, remainder = red.euler_poincare_form(M)
+        M_kinetic = M
     structured = red.structured_inverse(ideal)
     aux: list[tuple[sp.Symbol, sp.Expr]] = []
     if structured is not None:
@@ -120,23 +202,38 @@ def build_chaplygin_ball(effects: Iterable[str] | str | None = ()) -> Model:
             if k > 1
             else sp.Matrix([sp.Symbol("Z", real=True)])
         )
-        Zval = X.LUsolve(U.T * A * M) if k > 1 else sp.Matrix([(U.T * A * M)[0] / X[0, 0]])
+        Zval = (
+            X.LUsolve(U.T * A * M_kinetic)
+            if k > 1
+            else sp.Matrix([(U.T * A * M_kinetic)[0] / X[0, 0]])
+        )
         aux += [(Z[i], Zval[i]) for i in range(k)]
-        omega_val = A * (M + U * Z)
+        omega_val = A * (M_kinetic + U * Z)
         density = X.det() ** sp.Rational(-1, 2)
         # Invertible change of parameters used by exact identity checks: A_i = 1/J_ii
-        # (the paper's A = (I + D Id)^-1) keeps numerators small.
+        # (the paper's A = (I + D Id)^-1) keeps numerators small. With BM20's I(t) the
+        # A_i depend on time through sin(Omega t): the verifier evaluates the forward map
+        # once it has drawn that point of the circle. Undefined functions I_i(t) (generic
+        # laws) are left alone: a substitution would lose their derivatives.
         A_syms = sp.symbols("A1:4", positive=True)
-        reparametrisation = {
-            "forward": {A_syms[i]: 1 / structured.J[i, i] for i in range(3)},
-            "inverse": {
-                Iv[i]: sp.solve(structured.J[i, i] * A_syms[i] - 1, Iv[i])[0] for i in range(3)
-            },
-        }
+        reparametrisation = (
+            None
+            if generic and var_inertia
+            else {
+                "forward": {A_syms[i]: 1 / structured.J[i, i] for i in range(3)},
+                "inverse": {
+                    Iv[i]: sp.solve(structured.J[i, i] * A_syms[i] - 1, Iv[i])[0] for i in range(3)
+                },
+            }
+        )
     else:  # pragma: no cover - the ball always has the structure
-        omega_val = red.inertia_operator.LUsolve(M)
+        omega_val = red.inertia_operator.LUsolve(M_kinetic)
         density = red.inertia_operator.det() ** sp.Rational(-1, 2)
         reparametrisation = None
+    if var_inertia:
+        # X = D^-1 - (gamma, A(t) gamma) depends on time: det(X)^-1/2 is not invariant
+        # (its explicit time derivative is left over), and no density is known.
+        density = None
     aux += [(omega[i], omega_val[i]) for i in range(3)]
 
     # --- state and right-hand side ----------------------------------------------------
@@ -155,24 +252,69 @@ def build_chaplygin_ball(effects: Iterable[str] | str | None = ()) -> Model:
         rhs += [sp.expand(dot(centre_velocity, alpha)), sp.expand(dot(centre_velocity, beta))]
 
     # --- parameters: exactly the symbols the equations use ---------------------------
-    specs = [
-        ParameterSpec(
-            "I", tuple(Iv), "positive", "central principal moments of inertia I1, I2, I3"
-        ),
-        ParameterSpec("D", (D,), "positive", "D = m b^2 (mass times squared radius)"),
-    ]
+    specs = []
+    if not var_inertia:
+        specs.append(
+            ParameterSpec(
+                "I", tuple(Iv), "positive", "central principal moments of inertia I1, I2, I3"
+            )
+        )
+    elif not generic:
+        specs.append(
+            ParameterSpec(
+                "I",
+                tuple(Iv),
+                "positive",
+                "constant parts I1, I2, I3 of the principal moments of inertia "
+                "I(t) = diag(I1 + (J_off + delta sin(Omega t))^2, I2, I3 + (...)^2)",
+            )
+        )
+    specs.append(ParameterSpec("D", (D,), "positive", "D = m b^2 (mass times squared radius)"))
     if contact:
         specs.append(ParameterSpec("b", (b,), "positive", "ball radius"))
+    if var_inertia and not generic:
+        specs.append(
+            ParameterSpec(
+                "J_off", (J_off,), "real", "offset J of the moving mass pair in I(t) (BM20-3.4)"
+            )
+        )
+        specs.append(
+            ParameterSpec(
+                "delta", (delta,), "real", "amplitude of the mass pair's motion (BM20-3.4)"
+            )
+        )
     if gyro:
         specs.append(
             ParameterSpec("K", tuple(K), "real", "constant gyrostatic momentum K1, K2, K3")
         )
+    if var_gyro and not generic:
+        specs.append(
+            ParameterSpec(
+                "K",
+                tuple(K),
+                "real",
+                "amplitude K of the gyrostatic momentum k(t) = K sin(Omega t) (BM20-3.5)",
+            )
+        )
+    if (var_inertia or var_gyro) and not generic:
+        specs.append(
+            ParameterSpec(
+                "Omega",
+                (Omega,),
+                "positive",
+                "angular frequency of the periodic parameters (BM20-3.4, 3.5)",
+            )
+        )
 
     # --- invariants shipped with the model -------------------------------------------
-    P = M + red.gyrostatic_momentum  # momentum fixed in space: P' = P x omega
+    # momentum fixed in space: P' = P x omega (with variable_gyrostat it is the state)
+    P = M if var_gyro else M + red.gyrostatic_momentum
     P_name = "M+K" if gyro else "M"
-    integrals: list[tuple[str, sp.Expr]] = [
-        ("H", red.energy),
+    integrals: list[tuple[str, sp.Expr]] = []
+    if not (var_inertia or var_gyro):
+        # the parameters do work when they change: no energy integral (BM20-2.6)
+        integrals.append(("H", red.energy))
+    integrals += [
         (f"({P_name},{P_name})", sp.expand(dot(P, P))),
         (f"({P_name},gamma)", sp.expand(dot(P, gamma))),
     ]
@@ -205,8 +347,13 @@ def build_chaplygin_ball(effects: Iterable[str] | str | None = ()) -> Model:
         density=density,
         definitions={
             "omega": omega,
-            "momentum_of_omega": red.inertia_operator * omega,
+            # the state M as a function of omega (it includes k(t) with variable_gyrostat)
+            "momentum_of_omega": red.inertia_operator * omega
+            + (red.gyrostatic_momentum if var_gyro else sp.zeros(3, 1)),
             "inertia_operator": red.inertia_operator,
+            "inertia": sp.diag(*inertia),
+            "gyrostatic_momentum_of_time": k_of_t,
+            "laws": _laws,
             "gyrostatic_momentum": red.gyrostatic_momentum,
             "centre_velocity": centre_velocity,
             "contact_vector": r,
@@ -218,10 +365,14 @@ def build_chaplygin_ball(effects: Iterable[str] | str | None = ()) -> Model:
         },
         references={
             "momentum": "BKM12-1",
-            "equations": "K01-4.1" if gyro else "BKM12-2",
-            "omega": "BKM12-3",
-            "density": "BKM12-4",
-            "integrals": "K01-4.2" if gyro else "BKM12-5",
+            "equations": (
+                "BM20-2.5" if var_inertia or var_gyro else "K01-4.1" if gyro else "BKM12-2"
+            ),
+            "omega": "BM20-2.5" if var_inertia or var_gyro else "BKM12-3",
+            **({} if density is None else {"density": "BKM12-4"}),
+            "integrals": (
+                "BM20-2.5int" if var_inertia or var_gyro else "K01-4.2" if gyro else "BKM12-5"
+            ),
             "contact_point": "BKM12-6",
         },
     )

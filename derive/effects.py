@@ -41,6 +41,18 @@ EFFECTS: dict[str, Effect] = {
             "parameters K1, K2, K3; the term (K, omega) in T",
         ),
         Effect(
+            "variable_inertia",
+            "periodically varying inertia I(t) = diag(I1 + (J_off + delta sin(Omega t))^2, I2, "
+            "I3 + (J_off + delta sin(Omega t))^2) (BM20 (3.4): two masses moving along Cx2)",
+            "parameters J_off, delta, Omega; I becomes the constant part",
+        ),
+        Effect(
+            "variable_gyrostat",
+            "periodically varying gyrostatic momentum k(t) = K sin(Omega t) (BM20 (3.5)); "
+            "the state M is then BM20's total momentum I omega + D gamma x (omega x gamma) + k",
+            "parameters K1, K2, K3, Omega; excludes the constant gyrostat",
+        ),
+        Effect(
             "contact_point",
             "track the space-fixed horizontal frame alpha, beta and the contact point x, y "
             "(BKM12-6, K01-2.4..2.6)",

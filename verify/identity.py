@@ -57,7 +57,10 @@ class Domain:
     Parameters
     ----------
     model : Model
-        Supplies the phase-space constraints and the exact sampler of the Poisson vectors.
+        Supplies the phase-space constraints and the exact sampler of the Poisson vectors;
+        a model whose variety is of another kind puts a callable
+        ``definitions["phase_space_sampler"](rng, point)`` that writes an exact rational
+        point of it (and the parameters it needs) into ``point``.
     free : sequence of sympy.Symbol
         Other real variables (momenta, velocities) sampled as random rationals.
     positive : sequence of sympy.Symbol
@@ -96,22 +99,59 @@ class Domain:
                     point[s] = sp.Rational(rng.randint(1, 60), rng.randint(1, 12))
                 else:
                     point[s] = sp.Rational(rng.randint(-40, 40), rng.randint(1, 12))
+        # A model whose phase space is not made of Poisson vectors (the centre of a ball
+        # on an ellipsoid ...) supplies its own exact sampler; it may also choose the
+        # parameters that shape the variety (a rational point needs them to fit).
+        sampler = self.model.definitions.get("phase_space_sampler")
+        if sampler is not None:
+            sampler(rng, point)
+        # A forward map that depends on time (A_i = 1/J_ii(t) with BM20's I(t)) is left
+        # out here: complete() evaluates it once the sin/cos generators have values.
         rep = self.reparametrisation
+        pending = set()
         if rep:
             for s, e in rep["forward"].items():
-                point[s] = e.xreplace(point)
+                value = e.xreplace(point)
+                if value.is_Rational:
+                    point[s] = value
+                else:
+                    pending.add(s)
         for group in self.model.geometry:
             for name, comps in group.sample_rational(rng).items():
                 point.update(zip(self.model.vectors[name], comps, strict=True))
         positive = set(self.positive)
         for s in sorted(symbols, key=lambda s: s.name):
-            if s in point:
+            if s in point or s in pending:
                 continue
             if s in positive or s.is_positive:
                 point[s] = sp.Rational(rng.randint(1, 60), rng.randint(1, 12))
             else:
                 point[s] = sp.Rational(rng.randint(-40, 40), rng.randint(1, 12))
         return point
+
+    def forward_exprs(self) -> list[sp.Expr]:
+        """The forward maps of the reparametrisation (their atoms need generators too)."""
+        rep = self.reparametrisation
+        return list(rep["forward"].values()) if rep else []
+
+    def complete(self, point, atom_map) -> None:
+        """Evaluate the forward maps :meth:`sample` left out, with the atoms' values.
+
+        Raises
+        ------
+        ValueError
+            When a forward map still has no rational value (an atom without a value).
+        """
+        rep = self.reparametrisation
+        if not rep:
+            return
+        for s, e in rep["forward"].items():
+            if s in point:
+                continue
+            value = e.xreplace(atom_map).xreplace(point)
+            if not value.is_Rational:
+                raise ValueError(f"no rational value of the verification parameter {s}: {value}")
+            point[s] = value
 
 
 @dataclass
@@ -150,9 +190,21 @@ class Residuals:
         )
         self.radicals = [(S, sp.Dummy(f"r{i}", positive=True)) for i, S in enumerate(radicands)]
         replaced = [self._replace_radicals(e) for e in self.exprs]
-        replaced, self.atom_map, self.circles, self.extra_constraints = _generic_atoms(replaced)
+        # The radicands go through the same atom map (a square root of an expression in
+        # undefined functions and their derivatives, |grad f| ...).
+        k = len(replaced)
+        mapped, self.atom_map, self.circles, self.extra_constraints = _generic_atoms(
+            replaced + [S for S, _ in self.radicals], domain.forward_exprs()
+        )
+        replaced = mapped[:k]
+        self.radicals = [(S, r) for S, (_, r) in zip(mapped[k:], self.radicals, strict=True)]
         symbols = set().union(
-            *(e.free_symbols for e in replaced), *(S.free_symbols for S, _ in self.radicals)
+            *(e.free_symbols for e in replaced),
+            *(S.free_symbols for S, _ in self.radicals),
+            *(set(pair) for pair in self.circles),
+            # the constraints must live in the ring even when a residual misses their
+            # variables (the centre x and the axes b of an ellipsoid ...)
+            *(sp.sympify(c).free_symbols for c in domain.constraints),
         )
         poisson = [
             s for g in domain.model.geometry for n in g.names for s in domain.model.vectors[n]
@@ -214,10 +266,12 @@ class Residuals:
         return [ring_normal_form(p, constraints, self.builder) for p in self.pieces]
 
     def complete_point(self, point, rng: random.Random) -> None:
-        """Put every (sin u, cos u) pair of the residual on the unit circle, exactly."""
-        for s, c in self.circles:
-            q = sp.Rational(rng.randint(-9, 9), rng.randint(1, 9))
-            point[s], point[c] = 2 * q / (1 + q**2), (1 - q**2) / (1 + q**2)
+        """Put every (sin u, cos u) pair of the residual on the unit circle, exactly.
+
+        Then evaluate the time-dependent forward maps of the reparametrisation there.
+        """
+        _on_circles(self.circles, point, rng)
+        self.domain.complete(point, self.atom_map)
 
     def _values(self, point):
         dom = self.builder.ring.domain
@@ -262,18 +316,24 @@ class Residuals:
         return sp.sstr(worst)
 
 
-def _generic_atoms(exprs):
+def _generic_atoms(exprs, extra=()):
     """Replace non-rational atoms by generators.
 
     ``sin(u)``, ``cos(u)``, undefined functions ``I1(t)`` and their derivatives become
     independent symbols (at a fixed time the values of a function and of its derivative
-    are independent); each ``(sin u, cos u)`` pair gets the relation ``s^2 + c^2 = 1``.
-    Returns the new expressions, the atom map, the circle pairs and the relations.
+    are independent); each ``(sin u, cos u)`` pair gets the relation ``s^2 + c^2 = 1``
+    (a ``sin u`` without its ``cos u``, or the reverse, gets its partner, so that it is
+    sampled on the circle too). ``extra`` expressions only contribute atoms (the forward
+    maps of a time-dependent reparametrisation). Returns the new expressions, the atom
+    map, the circle pairs and the relations.
     """
     atoms: set = set()
-    for e in exprs:
+    for e in [*exprs, *extra]:
         atoms |= {a for a in e.atoms(sp.Derivative)}
         atoms |= set(e.atoms(sp.Function))
+    for a in list(atoms):
+        if isinstance(a, (sp.sin, sp.cos)):
+            atoms |= {sp.sin(a.args[0]), sp.cos(a.args[0])}
     atoms = sorted(atoms, key=sp.default_sort_key)
     derivs = [a for a in atoms if isinstance(a, sp.Derivative)]
     funcs = [a for a in atoms if not isinstance(a, sp.Derivative)]
@@ -288,6 +348,13 @@ def _generic_atoms(exprs):
             circles.append((s, c))
             relations.append(s**2 + c**2 - 1)
     return out, atom_map, circles, relations
+
+
+def _on_circles(circles, point, rng: random.Random) -> None:
+    """Exact rational points of the unit circle for the (sin u, cos u) generators."""
+    for s, c in circles:
+        q = sp.Rational(rng.randint(-9, 9), rng.randint(1, 9))
+        point[s], point[c] = 2 * q / (1 + q**2), (1 - q**2) / (1 + q**2)
 
 
 def _witness(point) -> dict[str, str]:
@@ -392,7 +459,12 @@ def decide(
 def _numeric(exprs, domain, points, seed, dps, start) -> Outcome:
     rng = random.Random(seed)
     exprs = [domain.prepare(e) for e in exprs]
-    symbols = sorted(set().union(*(e.free_symbols for e in exprs)), key=lambda s: s.name)
+    # sin/cos and undefined functions of time become generators, as in the exact methods
+    exprs, atom_map, circles, _ = _generic_atoms(exprs, domain.forward_exprs())
+    symbols = sorted(
+        set().union(*(e.free_symbols for e in exprs), *(set(pair) for pair in circles)),
+        key=lambda s: s.name,
+    )
     funcs = [sp.lambdify(symbols, e, modules="mpmath") for e in exprs]
     scale_funcs = [
         sp.lambdify(symbols, [abs(a) for a in sp.Add.make_args(e)], modules="mpmath") for e in exprs
@@ -401,6 +473,8 @@ def _numeric(exprs, domain, points, seed, dps, start) -> Outcome:
     with mpmath.workdps(dps):
         for _ in range(points):
             point = domain.sample(rng, symbols)
+            _on_circles(circles, point, rng)
+            domain.complete(point, atom_map)
             args = [mpmath.mpf(point[s].p) / point[s].q for s in symbols]
             for f, g in zip(funcs, scale_funcs, strict=True):
                 val = f(*args)
@@ -432,14 +506,16 @@ def lie_derivative(expr: sp.Expr, model: Model) -> sp.Expr:
 
 
 def measure_residual(density: sp.Expr, model: Model) -> sp.Expr:
-    """``div(rho f) / rho = div f + (f, grad log rho)``: rational for a power-product rho.
+    """``(d rho/dt + div(rho f)) / rho = d log rho/dt + div f + (f, grad log rho)``.
 
-    The flow preserves the constraint level sets, so the vanishing of this residual on
-    the phase space does not depend on how ``f`` and ``rho`` are extended off it.
+    Rational for a power-product rho. The explicit time derivative (Liouville's equation
+    of a non-autonomous flow) vanishes for a density that does not depend on time. The
+    flow preserves the constraint level sets, so the vanishing of this residual on the
+    phase space does not depend on how ``f`` and ``rho`` are extended off it.
     """
     f = model.rhs_expanded
     log_rho = sp.expand_log(sp.log(model.expand_aux(density)), force=True)
-    return sum(
+    return sp.diff(log_rho, model.time) + sum(
         (sp.diff(f[i], y) + f[i] * sp.diff(log_rho, y) for i, y in enumerate(model.state)),
         sp.S.Zero,
     )

@@ -1,0 +1,561 @@
+"""Claims of BM20: the Chaplygin ball with periodically varying inertia and gyrostat.
+
+Borisov, Mikishanina, "Dynamics of the Chaplygin ball with variable parameters" (2020);
+FORMULAS.md §3. BM20's ``M`` is the *total* momentum about the contact point,
+``M = I(t) omega + d gamma x (omega x gamma) + k(t)`` (``d = D``): the state of the model
+with ``variable_gyrostat``; with the constant ``gyrostat`` effect the model's state is
+BKM12's ``M`` and BM20's is ``M + K``.
+
+Claims about *arbitrary* laws ``I(t)``, ``k(t)`` (the equations, the integrals, the
+symmetries) are checked on a model whose ``I_i(t)``, ``k_i(t)`` are undefined functions
+of time (:class:`GenericLawClaim`), so a proof covers every law, not only (3.4)-(3.5);
+``BM20-3.4`` and ``BM20-3.5`` prove that the built-in variants are that model with the
+laws (3.4)-(3.5) substituted.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+
+import sympy as sp
+from chaplygin.derive import Model
+from chaplygin.derive.chaplygin_ball import build_chaplygin_ball
+from chaplygin.derive.vectors import cross, dot
+from sympy.core.function import AppliedUndef
+
+from ..identity import lie_derivative, measure_residual
+from . import Check, Claim, register
+
+__all__ = ["GenericLawClaim", "generic_model", "transformation_residual"]
+
+BALL = "chaplygin_ball"
+GYRO = ("gyrostat",)
+VI = ("variable_inertia",)
+VB = ("variable_gyrostat", "variable_inertia")
+VBC = ("contact_point", "variable_gyrostat", "variable_inertia")
+
+_GENERIC: dict[frozenset[str], Model] = {}
+
+
+def generic_model(effects: Iterable[str]) -> Model:
+    """The ball with ``I(t)``, ``k(t)`` undefined functions of time (memoised).
+
+    Parameters
+    ----------
+    effects : iterable of str
+        Effects of :func:`~chaplygin.derive.chaplygin_ball.build_chaplygin_ball`.
+
+    Returns
+    -------
+    Model
+    """
+    key = frozenset(effects)
+    if key not in _GENERIC:
+        _GENERIC[key] = build_chaplygin_ball(key, _laws="generic")
+    return _GENERIC[key]
+
+
+@dataclass(frozen=True)
+class GenericLawClaim(Claim):
+    """A claim about every law ``I(t)``, ``k(t)``: checked on :func:`generic_model`."""
+
+    def model(self) -> Model:
+        return generic_model(self.effects)
+
+
+# ------------------------------------------------------------------ notation
+@dataclass
+class _Notation:
+    """BM20's objects in a model's symbols (``M`` is BM20's total momentum)."""
+
+    M: sp.Matrix
+    gamma: sp.Matrix
+    omega: sp.Matrix  # the model's auxiliary omega symbols
+    I: sp.Matrix  # noqa: E741  (the paper's name; diagonal, maybe time-dependent)
+    D: sp.Symbol
+    k: sp.Matrix  # gyrostatic momentum k(t) (or the constant K)
+    alpha: sp.Matrix | None
+    beta: sp.Matrix | None
+    b: sp.Symbol | None
+
+    def inertia_about_contact(self) -> sp.Matrix:
+        """``I + d (Id - gamma ⊗ gamma)`` (BM20-2.4)."""
+        return self.I + self.D * (sp.eye(3) - self.gamma * self.gamma.T)
+
+
+def _notation(model: Model) -> _Notation:
+    M = model.group("M")
+    names = {p.name for p in model.parameters}
+    if "gyrostat" in model.effects:  # constant K: BM20's M is the state plus K
+        k = model.param_group("K")
+        M = M + k
+    else:
+        k = sp.Matrix(model.definitions["gyrostatic_momentum_of_time"])
+    return _Notation(
+        M=M,
+        gamma=model.group("gamma"),
+        omega=sp.Matrix(model.definitions["omega"]),
+        I=sp.Matrix(model.definitions["inertia"]),
+        D=model.param_group("D")[0],
+        k=k,
+        alpha=model.group("alpha") if "alpha" in model.vectors else None,
+        beta=model.group("beta") if "beta" in model.vectors else None,
+        b=model.param_group("b")[0] if "b" in names else None,
+    )
+
+
+def _rhs(model: Model, group: str, expanded: bool = False) -> sp.Matrix:
+    rhs = model.rhs_expanded if expanded else model.rhs
+    return sp.Matrix([rhs[model.state.index(s)] for s in model.vectors[group]])
+
+
+# ------------------------------------------------------------------ symmetries
+def _parity_map(model: Model, inertia: int, gyrostat: int) -> dict:
+    """``I_i(-t) -> I_i(t)``, ``k_i(-t) -> ±k_i(t)`` for the generic laws (even/odd)."""
+    t = model.time
+    n = _notation(model)
+    out = {}
+    for f in n.I.diagonal():
+        if isinstance(f, AppliedUndef) and f.args == (t,):
+            out[f.func(-t)] = inertia * f
+    for f in n.k:
+        if isinstance(f, AppliedUndef) and f.args == (t,):
+            out[f.func(-t)] = gyrostat * f
+    return out
+
+
+def transformation_residual(
+    model: Model,
+    signs: dict[str, int],
+    time_sign: int,
+    parity: dict | None = None,
+    at: dict | None = None,
+) -> list[sp.Expr]:
+    """Residual of ``(t, x) -> (s t, S x)`` (``S`` diagonal signs) mapping solutions to solutions.
+
+    ``x(t)`` solves ``x' = f(t, x)`` iff ``y(t) = S x(s t)`` does exactly when
+    ``f(s t, S x) = s S f(t, x)`` for all ``t, x``: the residual is the difference.
+
+    Parameters
+    ----------
+    model : Model
+    signs : dict of str to int
+        Sign of each state group (``{"M": -1, "gamma": 1}``); groups not named keep +1.
+    time_sign : {1, -1}
+        ``-1`` for a reversing symmetry (involution).
+    parity : dict, optional
+        Substitution applied after ``t -> -t`` (``I1(-t) -> I1(t)`` for an even law).
+    at : dict, optional
+        Substitution applied to the right-hand side first (``M -> 0`` on an invariant
+        set, a parameter value).
+
+    Returns
+    -------
+    list of sympy.Expr
+    """
+    f = model.rhs_expanded
+    if at:
+        f = f.xreplace(at)
+    S = {}
+    scale = []
+    for name, group in model.state_groups:
+        sign = signs.get(name, 1)
+        scale += [sign] * len(group)
+        S.update({s: sign * s for s in group if sign != 1})
+    moved = f.xreplace({**S, model.time: time_sign * model.time})
+    if parity:
+        moved = moved.xreplace(parity)
+    return [moved[i] - time_sign * scale[i] * f[i] for i in range(len(scale))]
+
+
+def _transformations(
+    maps: list[tuple[dict[str, int], int]], inertia: int, gyrostat: int, at=None
+) -> Callable[[Model], Check]:
+    def build(model: Model) -> Check:
+        parity = _parity_map(model, inertia, gyrostat)
+        exprs = []
+        for signs, time_sign in maps:
+            exprs += transformation_residual(model, signs, time_sign, parity, at)
+        return Check(exprs)
+
+    return build
+
+
+SYMMETRY = ({"gamma": -1}, 1)  # (t, M, gamma) -> (t, M, -gamma)
+INVOLUTION_1 = ({"M": -1}, -1)  # (t, M, gamma) -> (-t, -M, gamma)
+INVOLUTION_2 = ({"M": -1, "gamma": -1}, -1)  # (t, M, gamma) -> (-t, -M, -gamma)
+
+
+# ------------------------------------------------------------------ checks
+def _bm20_2_2(model: Model) -> Check:
+    n = _notation(model)
+    paper = n.I * n.omega + n.D * cross(n.gamma, cross(n.omega, n.gamma)) + n.k
+    red = model.definitions["reduced_equations"]
+    exprs = list(red.momentum - paper) + list(model.definitions["momentum_of_omega"] - paper)
+    return Check(exprs, free=list(n.omega))
+
+
+def _bm20_2_4(model: Model) -> Check:
+    n = _notation(model)
+    II = n.inertia_about_contact()
+    exprs = list(model.definitions["momentum_of_omega"] - (II * n.omega + n.k))
+    exprs += list(model.definitions["inertia_operator"] - II)
+    return Check(exprs, free=list(n.omega))
+
+
+def _bm20_2_5(model: Model) -> Check:
+    n = _notation(model)
+    t = model.time
+    red = model.definitions["reduced_equations"]
+    # the engine's raw rate of its momentum (multipliers eliminated), for every omega:
+    # d/dt (II omega + k) = (II omega + k) x omega
+    raw = red.momentum_rate + sp.diff(red.gyrostatic_momentum, t)
+    exprs = list(raw - cross(red.inertia_operator * n.omega + n.k, n.omega))
+    exprs += list(red.gyrostatic_momentum - n.k)
+    exprs += list(_rhs(model, "M") - cross(n.M, n.omega))
+    exprs += list(_rhs(model, "gamma") - cross(n.gamma, n.omega))
+    # omega = A (M - k), A = (I + d (Id - gamma ⊗ gamma))^-1, without inverting A
+    w = model.expand_aux(n.omega)
+    exprs += list(n.inertia_about_contact() * w - (n.M - n.k))
+    return Check(exprs, free=list(n.omega))
+
+
+def _integrals(model: Model) -> Check:
+    n = _notation(model)
+    F = [dot(n.gamma, n.gamma), dot(n.M, n.M), dot(n.M, n.gamma)]
+    if n.alpha is not None:
+        F += [dot(n.M, n.alpha), dot(n.M, n.beta)]
+    return Check([lie_derivative(e, model) for e in F])
+
+
+def _energy(literal: bool) -> Callable[[Model], Check]:
+    def build(model: Model) -> Check:
+        n = _notation(model)
+        w = model.expand_aux(n.omega)
+        E = dot(n.M if literal else n.M - n.k, w) / 2
+        exprs = [lie_derivative(E, model)]
+        if not literal:
+            exprs.append(E - dot(w, n.inertia_about_contact() * w) / 2)
+            if "H" in dict(model.integrals):
+                exprs.append(model.expand_aux(model.integral("H")) - E)
+        return Check(exprs)
+
+    return build
+
+
+def _bm20_2_7(model: Model) -> Check:
+    n = _notation(model)
+    J = n.I + n.D * sp.eye(3)
+    rho = (1 - n.D * dot(n.gamma, J.inv() * n.gamma)) ** sp.Rational(-1, 2)
+    return Check([measure_residual(rho, model)])
+
+
+def _bm20_2_8(model: Model) -> Check:
+    n = _notation(model)
+    x, y = _rhs(model, "x")[0], _rhs(model, "y")[0]
+    exprs = [x - n.b * dot(n.beta, n.omega), y + n.b * dot(n.alpha, n.omega)]
+    # BM20's frame alpha = M x gamma / G, beta = M / G, G = |M|, on (M, gamma) = 0:
+    # write M = gamma x u (u free) so that (M, gamma) = 0 identically.
+    u = sp.Matrix(sp.symbols("u1:4", real=True))
+    M_on = cross(n.gamma, u)
+    G = sp.sqrt(dot(M_on, M_on))
+    frame = dict(zip(n.alpha, cross(M_on, n.gamma) / G, strict=True))
+    frame.update(zip(n.beta, M_on / G, strict=True))
+    frame.update(zip(model.group("M"), M_on, strict=True))
+    exprs += [
+        x.xreplace(frame) - n.b / G * dot(M_on, n.omega),
+        y.xreplace(frame) - n.b / G * dot(cross(n.gamma, M_on), n.omega),
+    ]
+    return Check(exprs, free=list(n.omega) + list(u))
+
+
+def _law_substitution(model: Model) -> Check:
+    """The variant's equations are the generic model's with BM20's laws (3.4)-(3.5)."""
+    generic = generic_model(model.effects)
+    n, g = _notation(model), _notation(generic)
+    laws = {f: value for f, value in zip(g.I.diagonal(), n.I.diagonal(), strict=True) if f != value}
+    laws.update({f: value for f, value in zip(g.k, n.k, strict=True) if f != value})
+    if generic.state != model.state:  # pragma: no cover - same builder, same state
+        raise AssertionError("state of the generic model differs")
+    substituted = generic.rhs_expanded.xreplace(laws)
+    exprs = list(model.rhs_expanded - substituted)
+    pairs = zip(model.integrals, generic.integrals, strict=True)
+    exprs += [a - b.xreplace(laws) for (_, a), (_, b) in pairs]
+    return Check(exprs)
+
+
+def _bm20_3_6(model: Model) -> Check:
+    n = _notation(model)
+    t = model.time
+    rest = {s: 0 for s in model.group("M")}  # G = 0
+    f = model.rhs_expanded.xreplace(rest)
+    exprs = list(_rhs(model, "M", expanded=True).xreplace(rest))  # M = 0 is invariant
+    w = model.expand_aux(n.omega).xreplace(rest)
+    # gamma' = gamma x (-A k(t)): A^-1 w = -k and gamma' = gamma x w
+    exprs += list(n.inertia_about_contact() * w + n.k)
+    exprs += list(_rhs(model, "gamma", expanded=True).xreplace(rest) - cross(n.gamma, w))
+    # symmetry gamma -> -gamma (any law) and, with (3.2), the involution (t, gamma) ->
+    # (-t, -gamma) of the reduced system
+    parity = _parity_map(model, 1, -1)
+    idx = [model.state.index(s) for s in model.group("gamma")]
+    flip = {s: -s for s in model.group("gamma")}
+    exprs += [f[i].xreplace(flip) + f[i] for i in idx]
+    exprs += [f[i].xreplace({**flip, t: -t}).xreplace(parity) - f[i] for i in idx]
+    return Check(exprs)
+
+
+# Andoyer–Deprit variables (BM20 §3.1, §3.2)
+_z, _l, _g = sp.symbols("z l g", real=True)
+_G = sp.Symbol("G", positive=True)
+_root = sp.sqrt(1 - _z**2)
+
+
+def _bm20_map(model: Model) -> Check:
+    gamma = sp.Matrix([_root * sp.sin(_l), _root * sp.cos(_l), _z])
+    return Check([dot(gamma, gamma) - 1], free=[_z, _l])
+
+
+def _bm20_3_7(model: Model) -> Check:
+    M = sp.Matrix([_G * _root * sp.sin(_l), _G * _root * sp.cos(_l), _G * _z])
+    gamma = sp.Matrix(
+        [
+            _z * sp.cos(_g) * sp.sin(_l) + sp.sin(_g) * sp.cos(_l),
+            _z * sp.cos(_g) * sp.cos(_l) - sp.sin(_g) * sp.sin(_l),
+            -_root * sp.cos(_g),
+        ]
+    )
+    return Check([dot(gamma, gamma) - 1, dot(M, gamma), dot(M, M) - _G**2], free=[_z, _l, _g, _G])
+
+
+def _involutions_at(J_off_value) -> Callable[[Model], Check]:
+    def build(model: Model) -> Check:
+        at = {} if J_off_value is None else {model.param_group("J_off")[0]: J_off_value}
+        exprs = []
+        for signs, time_sign in (INVOLUTION_1, INVOLUTION_2):
+            exprs += transformation_residual(model, signs, time_sign, at=at)
+        return Check(exprs)
+
+    return build
+
+
+# ------------------------------------------------------------------ registry
+S21, S3 = "BM20 §2.1", "BM20 §3"
+for claim in (
+    GenericLawClaim(
+        "BM20-2.2",
+        f"{S21}, eq. (2.2)",
+        "equation",
+        "M = I omega + d gamma x (omega x gamma) + k, d = m a^2, I = I(t), k = k(t)",
+        BALL,
+        VB,
+        _bm20_2_2,
+        note="the engine's projected momentum G^T dT/d(omega, v) (T with (I(t) omega, omega)/2 "
+        "+ (k(t), omega)) for arbitrary laws I_i(t), k_i(t)",
+    ),
+    GenericLawClaim(
+        "BM20-2.4",
+        f"{S21}, eq. (2.4)",
+        "equation",
+        "M = (I + d (Id - gamma ⊗ gamma)) omega + k",
+        BALL,
+        VB,
+        _bm20_2_4,
+        note="also: the derived inertia operator is I(t) + d (Id - gamma ⊗ gamma) on the sphere",
+    ),
+    GenericLawClaim(
+        "BM20-2.5",
+        f"{S21}, eqs. (2.3), (2.5)",
+        "equation",
+        "M' = M x omega, gamma' = gamma x omega, omega = A (M - k), "
+        "A = (I + d (Id - gamma ⊗ gamma))^-1, for arbitrary I(t), k(t)",
+        BALL,
+        VB,
+        _bm20_2_5,
+        note="the engine's raw momentum rate (explicit d/dt of T included) and the model's "
+        "right-hand side, for arbitrary laws",
+    ),
+    GenericLawClaim(
+        "BM20-2.5int",
+        f"{S21}",
+        "integral",
+        "gamma^2, M^2 = G^2, (M, gamma) = H and, with (2.1), (M, alpha) = F, (M, beta) = Q "
+        "are first integrals for arbitrary I(t), k(t)",
+        BALL,
+        VBC,
+        _integrals,
+        note="Lie derivatives include the explicit d/dt; I_i(t), k_i(t) and their derivatives "
+        "are independent generators",
+    ),
+    Claim(
+        "BM20-2.6/literal",
+        f"{S21}, eq. (2.6) (literal reading)",
+        "integral",
+        "E = (M, omega)/2 (BM20's M, which includes k) is a first integral for constant I "
+        "and constant k",
+        BALL,
+        GYRO,
+        _energy(literal=True),
+        expected="fails",
+        note="BM20's M = M_BKM12 + K; not conserved for K != 0 (FORMULAS.md: FAILED as "
+        "transcribed)",
+    ),
+    Claim(
+        "BM20-2.6",
+        f"{S21}, eq. (2.6) (corrected)",
+        "integral",
+        "E = (M - k, omega)/2 = (omega, (I + d (Id - gamma ⊗ gamma)) omega)/2 is a first "
+        "integral for constant I and constant k (zero or not)",
+        BALL,
+        GYRO,
+        _energy(literal=False),
+        note="also: E is the engine's generalised energy",
+    ),
+    Claim(
+        "BM20-2.6/time-varying",
+        f"{S21} (the energy needs constant parameters)",
+        "integral",
+        "E = (M - k, omega)/2 is a first integral for the time-varying I(t) of (3.4) (k = 0)",
+        BALL,
+        VI,
+        _energy(literal=False),
+        expected="fails",
+        note="the moving masses do work: dE/dt = -(omega, I'(t) omega)/2 != 0",
+    ),
+    Claim(
+        "BM20-2.7.k0",
+        f"{S21}, eq. (2.7)",
+        "measure",
+        "constant I, k = 0: invariant measure with rho = (1 - d (gamma, (I + d Id)^-1 gamma))^-1/2",
+        BALL,
+        (),
+        _bm20_2_7,
+    ),
+    Claim(
+        "BM20-2.7.k",
+        f"{S21}, eq. (2.7)",
+        "measure",
+        "constant I, constant k != 0: the same rho is an invariant density",
+        BALL,
+        GYRO,
+        _bm20_2_7,
+    ),
+    GenericLawClaim(
+        "BM20-2.8",
+        "BM20 §2.2, eq. (2.8)",
+        "equation",
+        "X' = a (beta, omega), Y' = -a (alpha, omega); with alpha = M x gamma/G, beta = M/G "
+        "on (M, gamma) = 0: X' = (a/G)(M, omega), Y' = (a/G)(gamma x M, omega)",
+        BALL,
+        VBC,
+        _bm20_2_8,
+        note="for arbitrary I(t), k(t); (M, gamma) = 0 imposed by M = gamma x u",
+    ),
+    GenericLawClaim(
+        "BM20-3.1",
+        f"{S3}, (3.1)",
+        "transformation",
+        "I(-t) = I(t), k(-t) = k(t): (t, M, gamma) -> (t, M, -gamma) maps solutions to solutions",
+        BALL,
+        VB,
+        _transformations([SYMMETRY], 1, 1),
+        note="f(t, M, -gamma) = S f(t, M, gamma) exactly (for every law, even or not)",
+    ),
+    GenericLawClaim(
+        "BM20-3.1/involution",
+        f"{S3}, (3.1) ('only the symmetry')",
+        "transformation",
+        "I(-t) = I(t), k(-t) = k(t): (t, M, gamma) -> (-t, -M, gamma) is a reversing symmetry",
+        BALL,
+        VB,
+        _transformations([INVOLUTION_1], 1, 1),
+        expected="fails",
+        note="BM20 says only the symmetry survives for even k: the involution must be refuted",
+    ),
+    GenericLawClaim(
+        "BM20-3.2/3.3",
+        f"{S3}, (3.2), (3.3)",
+        "transformation",
+        "I(-t) = I(t), k(-t) = -k(t): the symmetry (t, M, gamma) -> (t, M, -gamma) and the "
+        "involutions (t, M, gamma) -> (-t, -M, gamma), (-t, -M, -gamma)",
+        BALL,
+        VB,
+        _transformations([SYMMETRY, INVOLUTION_1, INVOLUTION_2], 1, -1),
+        note="f(s t, S x) = s S f(t, x) exactly, for every even I(t) and odd k(t)",
+    ),
+    Claim(
+        "BM20-3.4",
+        f"{S3}, eq. (3.4)",
+        "definition",
+        "the variable_inertia model is (2.5) with I(t) = diag(I1 + (J_off + delta sin(Omega t))^2, "
+        "I2, I3 + (J_off + delta sin(Omega t))^2)",
+        BALL,
+        VI,
+        _law_substitution,
+        note="right-hand side and integrals = the generic model's with the law substituted",
+    ),
+    Claim(
+        "BM20-3.5",
+        f"{S3}, eqs. (3.4), (3.5)",
+        "definition",
+        "the variable_gyrostat, variable_inertia model is (2.5) with I(t) of (3.4) and "
+        "k(t) = K sin(Omega t)",
+        BALL,
+        VB,
+        _law_substitution,
+    ),
+    Claim(
+        "BM20-3.4.J0",
+        f"{S3}, eqs. (3.3)-(3.5)",
+        "transformation",
+        "J_off = 0: I(t) of (3.4) is even, k(t) of (3.5) odd, and the involutions "
+        "(t, M, gamma) -> (-t, -M, gamma), (-t, -M, -gamma) hold for the model",
+        BALL,
+        VB,
+        _involutions_at(0),
+    ),
+    Claim(
+        "BM20-3.4J",
+        f"{S3}, eq. (3.4), Fig. 2 (J_off = -0.5)",
+        "transformation",
+        "the involutions (3.3) hold for I(t) of (3.4) and k(t) of (3.5) with J_off != 0",
+        BALL,
+        VB,
+        _involutions_at(None),
+        expected="fails",
+        note="I(t) is even only for J_off = 0 (FORMULAS.md [BM20-3.4J])",
+    ),
+    GenericLawClaim(
+        "BM20-3.6",
+        f"{S3}.1, eq. (3.6)",
+        "equation",
+        "start from rest: G = 0 is invariant and there gamma' = gamma x (-A k(t)), "
+        "A = (I + d (Id - gamma ⊗ gamma))^-1; symmetry gamma -> -gamma; with (3.2) the "
+        "involution (t, gamma) -> (-t, -gamma)",
+        BALL,
+        VB,
+        _bm20_3_6,
+        note="for arbitrary I(t), k(t) (the involution for even I, odd k)",
+    ),
+    Claim(
+        "BM20-map",
+        f"{S3}.1",
+        "transformation",
+        "gamma = (sqrt(1 - z^2) sin l, sqrt(1 - z^2) cos l, z) is a unit vector",
+        BALL,
+        (),
+        _bm20_map,
+    ),
+    Claim(
+        "BM20-3.7",
+        f"{S3}.2, eq. (3.7) (Andoyer–Deprit variables)",
+        "transformation",
+        "M = G (sqrt(1-z^2) sin l, sqrt(1-z^2) cos l, z), gamma = (z cos g sin l + sin g cos l, "
+        "z cos g cos l - sin g sin l, -sqrt(1-z^2) cos g): |gamma| = 1, (M, gamma) = 0, |M| = G",
+        BALL,
+        (),
+        _bm20_3_7,
+        note="sqrt(1 - z^2) split off exactly; (sin, cos) pairs on the unit circle",
+    ),
+):
+    register(claim)
