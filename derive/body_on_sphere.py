@@ -1,0 +1,281 @@
+"""A rigid body rolling without slipping on a fixed sphere (M03 §2), body frame.
+
+Not a built-in system (no generated code): the models here serve the claims of M03 §2.
+
+Description: a body of mass ``m`` and central inertia ``I`` (scalar ``mu Id`` or a
+diagonal tensor) with a convex surface ``f(r) = 0`` in body coordinates, ``r`` the vector
+from the centre of mass ``G`` to the contact point ``Q``, ``n = -grad f/|grad f|``; it rolls
+on a fixed sphere of radius ``R0``, ``k = +-1/R0`` (the sign from the configuration:
+``Q = c - (1/k) n`` with ``c`` the sphere's centre, in body axes).
+
+Derivation:
+
+* contact kinematics — the contact point written twice, ``Q = G + r`` and
+  ``Q = c - n/k``; differentiated in space (body-frame rates ``X' + omega x X``) with the
+  no-slip condition ``v_G + omega x r = 0``, solved for ``n'``: ``k r' + n' = n x omega``;
+  with ``n' = (dn/dr) r'`` (chain rule) this is ``(k Id + dn/dr) r' = n x omega``;
+* dynamics — the body-frame Lagrange–d'Alembert engine (:mod:`.engine`) with
+  ``T = (omega, I omega)/2 + m (v, v)/2``, the no-slip constraint ``v + omega x r = 0`` and
+  ``r`` as the configuration the coefficients depend on, with an abstract rate ``r'``:
+  the projected momentum ``M = I_Q omega``, ``I_Q = I + m r^2 Id - m r ⊗ r`` and its rate;
+  then ``omega' = I_Q^-1 (M' - I_Q' omega)``.
+
+References
+----------
+M03-2.1 .. M03-2.5 (FORMULAS.md §4.2).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from .ball_on_surface import ellipsoid_sampler
+from .engine import ReducedEquations, RigidBodyDescription, lagrange_dalembert
+from .model import Model, ParameterSpec
+from .vectors import cross, dot, vector
+
+__all__ = [
+    "BodyOnSphere",
+    "contact_normal_rate",
+    "derive_body_on_sphere",
+    "body_on_sphere_model",
+    "generic_body_model",
+    "ellipsoid_body_model",
+]
+
+
+def contact_normal_rate(
+    k: sp.Expr, r: sp.Matrix, r_rate: sp.Matrix, n: sp.Matrix, omega: sp.Matrix
+) -> sp.Matrix:
+    """``n'`` from the two expressions of the contact point and the no-slip condition.
+
+    Parameters
+    ----------
+    k : sympy.Expr
+        Signed curvature of the fixed sphere (``Q = c - n/k``).
+    r, r_rate, n, omega : sympy.Matrix
+        Body-frame vectors (``r_rate``, ``n`` may be abstract symbols).
+
+    Returns
+    -------
+    sympy.Matrix
+        ``n' = n x omega - k r'``.
+    """
+    v_G = vector("vG", real=True)
+    n_rate = vector("nrate", real=True)
+    # space rates in body axes: d/dt (G + r) and d/dt (c - n/k), c fixed
+    lhs = v_G + r_rate + cross(omega, r)
+    rhs = -(n_rate + cross(omega, n)) / k
+    no_slip = {v_G[i]: (-cross(omega, r))[i] for i in range(3)}
+    sol = sp.solve(list((lhs - rhs).xreplace(no_slip)), list(n_rate), dict=True)
+    (s,) = sol
+    return sp.Matrix([sp.expand(s[c]) for c in n_rate])
+
+
+def _adjugate_and_det(A: sp.Matrix) -> tuple[sp.Matrix, sp.Expr]:
+    """Adjugate and determinant of a 3x3 matrix by cofactors, without simplification."""
+
+    def cofactor(i: int, j: int) -> sp.Expr:
+        (a, b), (c, d) = ([A[p, q] for q in range(3) if q != j] for p in range(3) if p != i)
+        return (-1) ** (i + j) * (a * d - b * c)
+
+    cof = sp.Matrix(3, 3, cofactor)
+    det = sum((A[0, j] * cof[0, j] for j in range(3)), sp.S.Zero)
+    return cof.T, det
+
+
+@dataclass
+class BodyOnSphere:
+    """Derived equations of a body rolling on a sphere (in ``omega, r`` and ``r'``).
+
+    Attributes
+    ----------
+    reduced : ReducedEquations
+        The engine's output (``r'`` abstract: the symbols :attr:`r_rate_symbols`).
+    inertia_operator : sympy.Matrix
+        ``I_Q`` (``M = I_Q omega``).
+    omega_rate : sympy.Matrix
+        ``omega'`` in ``omega, r`` and the abstract ``r'``.
+    normal, normal_jacobian : sympy.Matrix
+        ``n(r) = -grad f/|grad f|`` and ``dn/dr``.
+    r_rate : sympy.Matrix
+        ``r' = (k Id + dn/dr)^-1 (n x omega)`` in the state.
+    energy : sympy.Expr
+    """
+
+    omega: sp.Matrix
+    r: sp.Matrix
+    r_rate_symbols: sp.Matrix
+    reduced: ReducedEquations
+    inertia_operator: sp.Matrix
+    omega_rate: sp.Matrix
+    normal: sp.Matrix
+    normal_jacobian: sp.Matrix
+    r_rate: sp.Matrix
+    energy: sp.Expr
+
+
+def derive_body_on_sphere(
+    surface: sp.Expr, inertia: sp.Matrix, m: sp.Expr, k: sp.Expr, omega: sp.Matrix, r: sp.Matrix
+) -> BodyOnSphere:
+    """Derive the equations of a body with surface ``f(r) = 0`` rolling on a sphere.
+
+    Parameters
+    ----------
+    surface : sympy.Expr
+        ``f(r)`` (polynomial, or an undefined Function of ``r``).
+    inertia : sympy.Matrix
+        Central inertia tensor (body frame).
+    m, k : sympy.Expr
+        Mass and signed curvature ``+-1/R0`` of the fixed sphere.
+    omega, r : sympy.Matrix
+        State symbols.
+
+    Returns
+    -------
+    BodyOnSphere
+    """
+    t = sp.Symbol("t", real=True)
+    v = vector("v", real=True)
+    r_dot = vector("rdot", real=True)
+    T = (omega.T * inertia * omega)[0] / 2 + m * dot(v, v) / 2
+    desc = RigidBodyDescription(
+        omega=omega,
+        v=v,
+        kinetic_energy=T,
+        constraints=list(v + cross(omega, r)),
+        kinematics={"r": (r, r_dot)},
+        time=t,
+    )
+    red = lagrange_dalembert(desc)
+    II = red.inertia_operator
+    II_rate = II.applyfunc(lambda e: sum(sp.diff(e, r[i]) * r_dot[i] for i in range(3)))
+    adj, det = _adjugate_and_det(II)
+    omega_rate = adj * (red.momentum_rate - II_rate * omega) / sp.factor(det)
+    grad = sp.Matrix([sp.diff(surface, s) for s in r])
+    q = sp.sqrt(sp.factor_terms(sp.expand(dot(grad, grad))))
+    n = (-grad / q).applyfunc(sp.factor_terms)
+    Dn = n.jacobian(r)
+    # (k Id + dn/dr) r' = n x omega, from contact_normal_rate and n' = (dn/dr) r'
+    n_rate = contact_normal_rate(k, r, r_dot, n, omega)
+    system = (Dn * r_dot - n_rate).jacobian(r_dot)
+    source = -(Dn * r_dot - n_rate).xreplace(dict.fromkeys(r_dot, 0))
+    adj, det = _adjugate_and_det(system)
+    r_rate = adj * source / det
+    return BodyOnSphere(
+        omega=omega,
+        r=r,
+        r_rate_symbols=r_dot,
+        reduced=red,
+        inertia_operator=II,
+        omega_rate=omega_rate,
+        normal=n,
+        normal_jacobian=Dn,
+        r_rate=r_rate,
+        energy=red.energy,
+    )
+
+
+def body_on_sphere_model(
+    surface: sp.Expr,
+    inertia: sp.Matrix,
+    parameters: tuple[ParameterSpec, ...],
+    effects: tuple[str, ...] = (),
+    constraints: tuple[sp.Expr, ...] = (),
+    sampler=None,
+) -> Model:
+    """Model with state ``omega, r`` (``r'`` an auxiliary ``rdot``); density left to claims.
+
+    Parameters
+    ----------
+    surface : sympy.Expr
+        ``f(r)`` in the symbols ``r1, r2, r3``.
+    inertia : sympy.Matrix
+    parameters : tuple of ParameterSpec
+        The parameters the surface and inertia use (``m``, ``k`` come first).
+    effects : tuple of str
+        Labels of the variant (for its name).
+    constraints : tuple of sympy.Expr
+        Polynomials vanishing on the phase space (the body surface ``f = 0``).
+    sampler : callable, optional
+        Exact rational sampler of the surface (``definitions["phase_space_sampler"]``).
+    """
+    omega, r = vector("omega", real=True), vector("r", real=True)
+    m, k = sp.Symbol("m", positive=True), sp.Symbol("k", real=True)
+    eq = derive_body_on_sphere(surface, inertia, m, k, omega, r)
+    rdot = eq.r_rate_symbols
+    aux = tuple(zip(rdot, eq.r_rate, strict=True))
+    return Model(
+        system="body_on_sphere",
+        effects=frozenset(effects),
+        time=sp.Symbol("t", real=True),
+        state_groups=(("omega", tuple(omega)), ("r", tuple(r))),
+        parameters=(
+            ParameterSpec("m", (m,), "positive", "mass of the body"),
+            ParameterSpec("k", (k,), "real", "signed curvature +-1/R0 of the fixed sphere"),
+            *parameters,
+        ),
+        aux=aux,
+        rhs=tuple(eq.omega_rate) + tuple(rdot),
+        constraints=constraints,
+        geometry=(),
+        integrals=(("H", eq.energy),),
+        density=None,
+        definitions={
+            "equations": eq,
+            "surface": surface,
+            "inertia": inertia,
+            **({"phase_space_sampler": sampler} if sampler is not None else {}),
+        },
+    )
+
+
+def generic_body_model() -> Model:
+    """Scalar inertia ``mu Id`` and a generic surface ``f`` (undefined Function of ``r``)."""
+    r = vector("r", real=True)
+    mu = sp.Symbol("mu", positive=True)
+    f = sp.Function("f")(*r)
+    spec = ParameterSpec("mu", (mu,), "positive", "scalar central inertia I = mu Id")
+    return body_on_sphere_model(f, mu * sp.eye(3), (spec,), ("generic_surface", "scalar"))
+
+
+def ellipsoid_body_model(inertia: str = "special", on_surface: bool = True) -> Model:
+    """The ellipsoid ``(r, B^-1 r) = 1`` on a sphere.
+
+    Parameters
+    ----------
+    inertia : {"special", "general", "scalar", "double"}
+        ``I = mu Id + m B`` (M03-2.4), ``diag(I1, I2, I3)``, ``mu Id``, or
+        ``mu Id + 2 m B`` (not special: a negative control).
+    on_surface : bool
+        Carry the ellipsoid's equation as the phase-space constraint (with an exact
+        sampler); without it identities are checked for every ``r`` (every level set).
+    """
+    r = vector("r", real=True)
+    b = sp.Matrix(sp.symbols("b1:4", positive=True))
+    m, mu = sp.Symbol("m", positive=True), sp.Symbol("mu", positive=True)
+    surface = sum((r[i] ** 2 / b[i] for i in range(3)), sp.S.Zero) - 1
+    specs = [ParameterSpec("b", tuple(b), "positive", "ellipsoid (r, B^-1 r) = 1")]
+    if inertia in ("special", "double"):
+        factor = 1 if inertia == "special" else 2
+        I = mu * sp.eye(3) + factor * m * sp.diag(*b)  # noqa: E741
+        specs.append(ParameterSpec("mu", (mu,), "positive", f"I = mu Id + {factor} m B"))
+    elif inertia == "general":
+        Iv = sp.symbols("I1:4", positive=True)
+        I = sp.diag(*Iv)  # noqa: E741
+        specs.append(ParameterSpec("I", Iv, "positive", "central principal moments"))
+    elif inertia == "scalar":
+        I = mu * sp.eye(3)  # noqa: E741
+        specs.append(ParameterSpec("mu", (mu,), "positive", "I = mu Id"))
+    else:
+        raise ValueError(f"unknown inertia {inertia!r}")
+    return body_on_sphere_model(
+        surface,
+        I,
+        tuple(specs),
+        ("ellipsoid", inertia),
+        constraints=(sp.expand(b[0] * b[1] * b[2] * surface),) if on_surface else (),
+        sampler=ellipsoid_sampler(b, r) if on_surface else None,
+    )
