@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from contextlib import nullcontext
 from pathlib import Path
 
 import pytest
@@ -149,7 +150,7 @@ BAD_ARGS = [
 @pytest.mark.parametrize(("argv", "message"), BAD_ARGS)
 def test_user_errors_are_one_line_exit_2_no_traceback(capsys, argv, message):
     with (
-        pytest.raises(SystemExit) if argv[0] == "frobnicate" or "--rtol" in argv else _nullcontext()
+        pytest.raises(SystemExit) if argv[0] == "frobnicate" or "--rtol" in argv else nullcontext()
     ):
         code = main(argv)
         assert code == 2
@@ -158,14 +159,6 @@ def test_user_errors_are_one_line_exit_2_no_traceback(capsys, argv, message):
     assert len(lines) == 1, captured.err
     assert message in lines[0] and "Traceback" not in captured.err
     assert captured.out == ""
-
-
-class _nullcontext:
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        return False
 
 
 def test_user_text_is_never_evaluated(tmp_path: Path, capsys):

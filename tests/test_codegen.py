@@ -211,3 +211,13 @@ def test_emission_is_independent_of_the_hash_seed(tmp_path: Path):
         for seed in ("1", "4242")
     }
     assert len(digests) == 1
+
+
+def test_cse_temporaries_never_shadow_a_model_symbol():
+    """A state named ``x1`` must not be overwritten by a temporary ``x1``."""
+    from chaplygin.derive.emit.base import _cse
+
+    x0, x1 = sp.symbols("x0 x1", real=True)
+    routine = _cse("t", [(x1 + x0) ** 2 + sp.sin(x1 + x0)], (1,))
+    names = {s.name for s, _ in routine.temporaries}
+    assert names and not names & {"x0", "x1"}

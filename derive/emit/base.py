@@ -44,8 +44,16 @@ class Routine:
         return int(sum(sp.count_ops(e) for e in exprs))
 
 
+def _temporaries(taken: set[str]):
+    """``x0, x1, ...`` skipping every name a model symbol already has (a state ``x1``)."""
+    for sym in sp.numbered_symbols("x"):
+        if sym.name not in taken:
+            yield sym
+
+
 def _cse(name: str, exprs: list[sp.Expr], shape: tuple[int, ...]) -> Routine:
-    temps, reduced = sp.cse(exprs, symbols=sp.numbered_symbols("x"), order="canonical")
+    taken = {s.name for e in exprs for s in sp.sympify(e).free_symbols}
+    temps, reduced = sp.cse(exprs, symbols=_temporaries(taken), order="canonical")
     return Routine(name, tuple(temps), tuple(reduced), shape)
 
 

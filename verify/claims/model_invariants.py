@@ -47,7 +47,7 @@ def _register_all() -> None:
                     f"MODEL:{name}.density",
                     "chaplygin model",
                     "measure",
-                    f"the model's density det(X)^-1/2 is invariant for {name}",
+                    f"the density the model ships is invariant for {name}",
                     system,
                     tuple(sorted(effects)),
                     _density,
