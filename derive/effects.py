@@ -58,6 +58,30 @@ EFFECTS: dict[str, Effect] = {
             "(BKM12-6, K01-2.4..2.6)",
             "states alpha, beta, x, y; parameter b (ball radius)",
         ),
+        Effect(
+            "rubber",
+            "no twist at the contact: the extra constraint (omega, gamma) = 0 (rubber ball, "
+            "BKM12 §3); its multiplier is eliminated by the engine",
+            "no new states or parameters; (M, M) is no longer an integral",
+        ),
+        Effect(
+            "straight_line",
+            "the ball rolls along a straight line of the plane: the extra constraint "
+            "(omega, alpha) = 0 (Veselovs' system, BKM12 §3, (57)-(58))",
+            "states alpha, beta (the space-fixed horizontal frame)",
+        ),
+        Effect(
+            "potential",
+            "a quadratic potential U = k/2 (c1 x1^2 + c2 x2^2 + c3 x3^2) acting on the centre "
+            "(M03 (1.6))",
+            "parameters k, c1, c2, c3",
+        ),
+        Effect(
+            "rubber_balls",
+            "the supporting balls roll without slipping and without twisting (BKM12 §2.2): "
+            "the support tensor becomes sum_k lambda_k (1/r_k^2 - 1) n_k ⊗ n_k",
+            "no new states; the support parameters keep their meaning (modified D tensor)",
+        ),
     )
 }
 

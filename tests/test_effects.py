@@ -49,6 +49,6 @@ def test_gyrostat_enters_the_equations():
 
 def test_unknown_effect_lists_valid_ones():
     with pytest.raises(UserInputError, match="contact_point, gyrostat"):
-        build_model("chaplygin_ball", ["rubber"])
+        build_model("chaplygin_ball", ["magnetic"])
     with pytest.raises(UserInputError, match="valid systems"):
         load_model_code("rubber_ball")
