@@ -41,7 +41,14 @@ NAME = "chaplygin_ball"
 DESCRIPTION = (
     "balanced dynamically asymmetric ball rolling without slipping on a plane (BKM12 §1.1, K01 §2)"
 )
-SUPPORTED_EFFECTS = ("gyrostat", "contact_point", "variable_inertia", "variable_gyrostat")
+SUPPORTED_EFFECTS = (
+    "gyrostat",
+    "contact_point",
+    "variable_inertia",
+    "variable_gyrostat",
+    "rubber",
+    "straight_line",
+)
 #: Effect combinations whose code is committed in generated/.
 GENERATED_VARIANTS = (
     (),
@@ -51,6 +58,8 @@ GENERATED_VARIANTS = (
     ("variable_inertia",),
     ("variable_gyrostat", "variable_inertia"),
     ("contact_point", "variable_gyrostat", "variable_inertia"),  # BM20 Fig. 5 contact trace
+    ("rubber",),  # BKM12 §3 (no slip, no twist)
+    ("straight_line",),  # BKM12 (57), Veselovs' system
 )
 #: Laws of the time-dependent parameters: BM20's (3.4)-(3.5), or undefined functions of t
 #: (``I1(t)`` ..., ``k1(t)`` ...) so that a check covers every law (private, for verify).
@@ -108,6 +117,8 @@ def build_chaplygin_ball(effects: Iterable[str] | str | None = (), *, _laws: str
     contact = "contact_point" in effects
     var_inertia = "variable_inertia" in effects
     var_gyro = "variable_gyrostat" in effects
+    rubber = "rubber" in effects
+    line = "straight_line" in effects
     if gyro and var_gyro:
         raise UserInputError(
             "effects 'gyrostat' (constant gyrostatic momentum K) and 'variable_gyrostat' "
@@ -152,14 +163,18 @@ def build_chaplygin_ball(effects: Iterable[str] | str | None = (), *, _laws: str
         T += dot(k_of_t, omega)
     r = -b * gamma  # centre -> contact point (K01-2.5)
     kinematics = {"gamma": (gamma, cross(gamma, omega))}
-    if contact:
+    frame = contact or line
+    if frame:
         kinematics["alpha"] = (alpha, cross(alpha, omega))
         kinematics["beta"] = (beta, cross(beta, omega))
+    # no slip; no twist (rubber, BKM12 §3); rolling along the space-fixed line alpha
+    # (Veselovs' constraint (omega, alpha) = 0, BKM12-57)
+    extra_constraints = [dot(omega, gamma)] * rubber + [dot(omega, alpha)] * line
     desc = RigidBodyDescription(
         omega=omega,
         v=v,
         kinetic_energy=T,
-        constraints=list(v + cross(omega, r)),
+        constraints=list(v + cross(omega, r)) + extra_constraints,
         kinematics=kinematics,
         time=t,
     )
@@ -168,7 +183,7 @@ def build_chaplygin_ball(effects: Iterable[str] | str | None = (), *, _laws: str
     # --- phase space ----------------------------------------------------------------
     geometry = (
         (PoissonGroup(FRAME, ("alpha", "beta", "gamma")),)
-        if contact
+        if frame
         else (PoissonGroup(UNIT_VECTOR, ("gamma",)),)
     )
     vectors = {"gamma": gamma, "alpha": alpha, "beta": beta}
@@ -193,6 +208,7 @@ def build_chaplygin_ball(effects: Iterable[str] | str | None = (), *, _laws: str
         M_kinetic = M
     structured = red.structured_inverse(ideal)
     aux: list[tuple[sp.Symbol, sp.Expr]] = []
+    mu_aux: list[tuple[sp.Symbol, sp.Expr]] = []
     if structured is not None:
         A, U = structured.A, structured.U
         X = structured.X()
@@ -230,11 +246,35 @@ def build_chaplygin_ball(effects: Iterable[str] | str | None = (), *, _laws: str
         omega_val = red.inertia_operator.LUsolve(M_kinetic)
         density = red.inertia_operator.det() ** sp.Rational(-1, 2)
         reparametrisation = None
+    if red.omega_multipliers:
+        # Multipliers of the constraints on omega alone (no twist, the straight line),
+        # eliminated from d/dt (C omega) = 0: the flow keeps C omega constant everywhere,
+        # and the model's phase space is its zero level (an invariant relation).
+        reaction = red.omega_constraints.T * sp.Matrix(red.omega_multipliers)
+        rate = rhs_M - reaction  # the momentum rate without the reaction
+        if var_gyro:  # the state includes k(t): II omega = M - P0
+            rate -= red.gyrostatic_momentum.applyfunc(lambda e: _time_derivative(e, kinematics, t))
+        if structured is None:  # pragma: no cover - the ball always has the structure
+            raise AssertionError("the multiplier elimination needs the structured inverse")
+        mu_values = red.multiplier_solution(rate, structured.apply_inverse)
+        mu_aux = [(mu, mu_values[mu]) for mu in red.omega_multipliers]
+        # The reduced flow keeps C omega constant everywhere. On its zero level the
+        # ball's density times det(C II^-1 C^T)^(1/2) satisfies Liouville's equation
+        # (no twist: rho ~ (gamma, A gamma)^(1/2) / (D^-1 - (gamma, A gamma)); proved by
+        # the claims MODEL:...density), so rho dM dgamma / d(C omega) is invariant.
+        # With two such constraints (no twist and the line) the proof does not finish in
+        # reasonable time, so no density is shipped for that combination.
+        C = red.omega_constraints
+        density = None
+        if C.shape[0] == 1:
+            S = (C * structured.apply_inverse(C.T))[0, 0]
+            density = sp.sqrt(sp.factor(S)) * X.det() ** sp.Rational(-1, 2)
     if var_inertia:
         # X = D^-1 - (gamma, A(t) gamma) depends on time: det(X)^-1/2 is not invariant
         # (its explicit time derivative is left over), and no density is known.
         density = None
     aux += [(omega[i], omega_val[i]) for i in range(3)]
+    aux += mu_aux
 
     # --- state and right-hand side ----------------------------------------------------
     state_groups: list[tuple[str, tuple[sp.Symbol, ...]]] = [
@@ -243,10 +283,12 @@ def build_chaplygin_ball(effects: Iterable[str] | str | None = (), *, _laws: str
     ]
     rhs: list[sp.Expr] = list(rhs_M) + list(kinematics["gamma"][1])
     centre_velocity = sp.Matrix(v).subs(red.velocity_map)
+    if frame:
+        state_groups += [("alpha", tuple(alpha)), ("beta", tuple(beta))]
+        rhs += list(kinematics["alpha"][1]) + list(kinematics["beta"][1])
     if contact:
         x, y = sp.symbols("x y", real=True)
-        state_groups += [("alpha", tuple(alpha)), ("beta", tuple(beta)), ("x", (x,)), ("y", (y,))]
-        rhs += list(kinematics["alpha"][1]) + list(kinematics["beta"][1])
+        state_groups += [("x", (x,)), ("y", (y,))]
         # The contact point lies under the centre: its horizontal coordinates move with
         # the centre velocity projected on the space-fixed axes (BKM12-6).
         rhs += [sp.expand(dot(centre_velocity, alpha)), sp.expand(dot(centre_velocity, beta))]
@@ -314,16 +356,20 @@ def build_chaplygin_ball(effects: Iterable[str] | str | None = (), *, _laws: str
     if not (var_inertia or var_gyro):
         # the parameters do work when they change: no energy integral (BM20-2.6)
         integrals.append(("H", red.energy))
-    integrals += [
-        (f"({P_name},{P_name})", sp.expand(dot(P, P))),
-        (f"({P_name},gamma)", sp.expand(dot(P, gamma))),
-    ]
-    if contact:
-        integrals += [
-            (f"({P_name},alpha)", sp.expand(dot(P, alpha))),
-            (f"({P_name},beta)", sp.expand(dot(P, beta))),
-        ]
-    if contact:
+    # The reaction torque of a constraint on omega alone lies along its space-fixed
+    # vector (gamma: no twist; alpha: the straight line); the projections of P on the
+    # other space-fixed axes stay constant, and so does (P, P) without such a reaction.
+    reacting = ({"gamma"} if rubber else set()) | ({"alpha"} if line else set())
+    if not reacting:
+        integrals.append((f"({P_name},{P_name})", sp.expand(dot(P, P))))
+    elif rubber and not frame:  # (P - (P, gamma) gamma)^2
+        integrals.append(
+            (f"({P_name},{P_name})-({P_name},gamma)^2", sp.expand(dot(P, P) - dot(P, gamma) ** 2))
+        )
+    for name in ("gamma", "alpha", "beta") if frame else ("gamma",):
+        if name not in reacting:
+            integrals.append((f"({P_name},{name})", sp.expand(dot(P, vectors[name]))))
+    if frame:
         integrals += [
             ("(alpha,alpha)", dot(alpha, alpha)),
             ("(beta,beta)", dot(beta, beta)),
@@ -331,6 +377,9 @@ def build_chaplygin_ball(effects: Iterable[str] | str | None = (), *, _laws: str
             ("(gamma,alpha)", dot(gamma, alpha)),
             ("(gamma,beta)", dot(gamma, beta)),
         ]
+    # the constraints on omega alone: invariant relations, zero on the phase space
+    relations = [(f"(omega,{name})", dot(omega, vectors[name])) for name in sorted(reacting)]
+    integrals += relations
     integrals.append(("(gamma,gamma)", dot(gamma, gamma)))
 
     model = Model(
@@ -362,6 +411,11 @@ def build_chaplygin_ball(effects: Iterable[str] | str | None = (), *, _laws: str
             "reduced_equations": red,
             "mass": m,
             "reparametrisation": reparametrisation,
+            # constraints on omega alone, kept by the flow (zero on the phase space); the
+            # verifier samples them by solving for the momentum, which they are linear in
+            "invariant_relations": tuple(relations),
+            # what the verifier solves relations (and level sets of a claim) for
+            "relation_unknowns": tuple(M),
         },
         references={
             "momentum": "BKM12-1",
@@ -374,6 +428,8 @@ def build_chaplygin_ball(effects: Iterable[str] | str | None = (), *, _laws: str
                 "BM20-2.5int" if var_inertia or var_gyro else "K01-4.2" if gyro else "BKM12-5"
             ),
             "contact_point": "BKM12-6",
+            **({"straight_line": "BKM12-57"} if line else {}),
+            **({"rubber": "BKM12 §3 (rubber ball)"} if rubber else {}),
         },
     )
     declared = set(model.params) | set(model.state) | set(model.aux_symbols) | {t}

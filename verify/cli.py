@@ -216,8 +216,12 @@ def build_parser() -> argparse.ArgumentParser:
         "--claims", default=None, help="glob(s) over claim IDs, comma-separated (e.g. 'BKM12-*')"
     )
     p.add_argument("--json", action="store_true", help="print a JSON list of verdicts")
-    p.add_argument("--report", default=None, metavar="FILE.md",
-                   help="also write a Markdown report (LaTeX statements, errata, counts per paper)")
+    p.add_argument(
+        "--report",
+        default=None,
+        metavar="FILE.md",
+        help="also write a Markdown report (LaTeX statements, errata, counts per paper)",
+    )
     p.add_argument(
         "--method",
         default="auto",

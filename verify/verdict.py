@@ -71,8 +71,14 @@ def check_claim(claim: Claim, method: str = "auto", points: int = 8) -> Verdict:
     model = claim.model()
     start = time.perf_counter()
     check = claim.build(model)
-    domain = Domain(model, free=check.free)
-    outcome = decide(check.exprs, domain, method=method, points=points)
+    while True:
+        domain = Domain(model, free=check.free, relations=check.on)
+        outcome = decide(check.exprs, domain, method=method, points=points)
+        if outcome.verdict != "refuted" or check.fallback is None:
+            break
+        check = check.fallback
+    if check.note:
+        outcome.method += f" ({check.note})"
     return Verdict(
         id=claim.id,
         statement=claim.statement,

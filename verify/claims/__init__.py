@@ -29,10 +29,22 @@ class Check:
     exprs : list of sympy.Expr
     free : list of sympy.Symbol
         Variables other than state, Poisson vectors and parameters (velocities ...).
+    on : list of sympy.Expr
+        Restrict the check to a subset of the phase space: relations linear in the
+        model's ``relation_unknowns`` (a level set of a linear integral, ``(K, beta) = 0``).
+    fallback : Check, optional
+        A check to decide when this one is refuted. ``exprs`` may then state something
+        stronger than the claim (vanishing for every value of a multiplier kept free):
+        its proof proves the claim, its refutation does not refute it.
+    note : str
+        Appended to the verdict's method (what the check's residuals are).
     """
 
     exprs: list[sp.Expr]
     free: list[sp.Symbol] = field(default_factory=list)
+    on: list[sp.Expr] = field(default_factory=list)
+    fallback: Check | None = None
+    note: str = ""
 
 
 @dataclass(frozen=True)
