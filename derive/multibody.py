@@ -171,15 +171,24 @@ def _time_derivative(expr, kinematics) -> sp.Expr:
 
 
 def _reduce(expr: sp.Expr, ideal: ConstraintIdeal) -> sp.Expr:
-    """Normal form modulo the ideal of ``num/den`` when ``den`` reduces to a constant."""
+    """Normal form modulo the ideal of ``num/den`` when ``den`` reduces to a constant.
+
+    Only the constraints among the generators that occur are used (a sub-ideal: the
+    result is equal on the phase space, and each ball's terms reduce on their own).
+    """
     expr = sp.sympify(expr)
-    if not (expr.free_symbols & set(ideal.gens)):
+    present = expr.free_symbols & set(ideal.gens)
+    if not present:
         return sp.expand(expr)
+    local = ideal.restricted_to(present)
+    expanded = sp.expand(expr)
+    if expanded.is_polynomial(*present):
+        return local.reduce(expanded)
     num, den = sp.fraction(sp.together(expr))
-    den_r = ideal.reduce(den)
+    den_r = local.reduce(den)
     if den_r.free_symbols & set(ideal.gens) or den_r == 0:
         raise DerivationError(f"denominator {den} does not reduce to a constant on the phase space")
-    return sp.expand(ideal.reduce(num) / den_r)
+    return sp.expand(local.reduce(num) / den_r)
 
 
 def ferrers_multibody(desc: MultiBodyDescription) -> MultiBodyReduction:
@@ -265,8 +274,16 @@ def ferrers_multibody(desc: MultiBodyDescription) -> MultiBodyReduction:
     )
     G_dot = G.applyfunc(lambda e: _time_derivative(e, desc.kinematics))
     red = lambda e: _reduce(e, desc.phase_space)  # noqa: E731
-    P = (G.T * p_adm).applyfunc(red)
-    P_rate = (G.T * F + G_dot.T * p_adm).applyfunc(red)
+    # body by body: each ball's terms involve only its own space-fixed vectors
+    P = sp.zeros(len(s), 1)
+    P_rate = sp.zeros(len(s), 1)
+    for b in range(len(names)):
+        rows = slice(3 * b, 3 * b + 3)
+        Gb, Gb_dot, pb = G[rows, :], G_dot[rows, :], p_adm[rows, :]
+        P += (Gb.T * pb).applyfunc(red)
+        P_rate += (Gb.T * F[rows, :] + Gb_dot.T * pb).applyfunc(red)
+    P = P.applyfunc(sp.expand)
+    P_rate = P_rate.applyfunc(sp.expand)
     P_omega, P_extra = P[:3, :], P[3:, :]
     if P_omega.free_symbols & set(extra):
         raise DerivationError("the reduced momentum depends on the extra quasi-velocities")

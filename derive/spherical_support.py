@@ -225,6 +225,17 @@ def _random_unit_vectors(n: int, seed: int) -> list[sp.Matrix]:
     return [sp.Matrix(group.sample_rational(rng)["n"]) for _ in range(n)]
 
 
+def _adjugate_and_det(A: sp.Matrix) -> tuple[sp.Matrix, sp.Expr]:
+    """Adjugate and determinant of a 3x3 matrix by cofactors, without simplification."""
+
+    def cofactor(i: int, j: int) -> sp.Expr:
+        (a, b), (c, d) = ([A[p, q] for q in range(3) if q != j] for p in range(3) if p != i)
+        return (-1) ** (i + j) * (a * d - b * c)
+
+    cof = sp.Matrix(3, 3, cofactor)
+    return cof.T, sum((A[0, j] * cof[0, j] for j in range(3)), sp.S.Zero)
+
+
 def n_ball_model(
     n_balls: int,
     effects: Iterable[str] | str | None = (),
@@ -280,12 +291,11 @@ def n_ball_model(
             for s, e in zip(n, b, strict=True)
         }
     II = red.inertia_operator.xreplace(subs)
-    adj = II.adjugate()
-    det = sp.expand(sum((II[0, j] * adj[j, 0] for j in range(3)), sp.S.Zero))
+    adj, det = _adjugate_and_det(II)  # unexpanded: omega is only evaluated, never simplified
     detII = sp.Symbol("det_II", real=True)
     P0 = red.gyrostatic_momentum
     omega_val = adj * (M - P0) / detII
-    aux = [(detII, det)] + [(omega[i], sp.expand(omega_val[i])) for i in range(3)]
+    aux = [(detII, det)] + [(omega[i], omega_val[i]) for i in range(3)]
     rate = red.momentum_rate.xreplace(subs)
     rhs = list(rate)
     for _, vec in groups:
@@ -413,7 +423,7 @@ def build_spherical_support(effects: Iterable[str] | str | None = ()) -> Model:
         raise DerivationError("the momentum rate is not (M + K) x omega")
     rhs_M = cross(M + P0, omega)
     A, U = structured.A, structured.U
-    X = structured.X().applyfunc(sp.factor)
+    X = structured.X()
     Z = sp.Matrix(sp.symbols("Z_al Z_be", real=True))
     Y = U.T * A * M
     det_X = X[0, 0] * X[1, 1] - X[0, 1] * X[1, 0]
