@@ -34,7 +34,13 @@ from chaplygin.derive.vectors import cross, dot
 from ..identity import lie_derivative, measure_residual
 from . import Check, Claim, register
 
-__all__ = ["NBallClaim", "SupportComparisonClaim", "SEEDS", "support_notation"]
+__all__ = [
+    "NBallClaim",
+    "SupportComparisonClaim",
+    "SEEDS",
+    "NUMERIC_CLAIMS",
+    "support_notation",
+]
 
 SUPPORT = "spherical_support"
 GYRO = ("gyrostat",)
@@ -167,6 +173,8 @@ def _bkm12_2_1M(weight: str = "paper"):
         D_sup = _support_tensor(b, w)
         II = b.I + iso * sp.eye(3) - D_sup
         M = II * b.omega
+        if weight == "control":  # the operators alone: a witness without free velocities
+            return Check(list(b.II - II))
         exprs = list(b.II - II) + list(b.P - b.K - M) + list(b.rate - cross(M + b.K, b.omega))
         return Check(exprs, free=_free(b))
 
@@ -543,7 +551,8 @@ _CLAIMS += [
         "BKM12-2.1M/control-weight",
         f"{S21} (negative control)",
         "equation",
-        "the support tensor with weights lambda_k/r_k instead of lambda_k/r_k^2 (2 balls)",
+        "the inertia operator I + sum (lambda_k/r_k^2) Id - D_sup with the weights "
+        "lambda_k/r_k instead of lambda_k/r_k^2 in D_sup (2 balls)",
         SUPPORT,
         (),
         _bkm12_2_1M("control"),
@@ -741,5 +750,11 @@ _CLAIMS += [
     ),
 ]
 
+#: Decided ``numeric`` (the eigenframe of a random support is irrational): checked by the
+#: test suite, not registered, since every registered claim that holds must be proved.
+#: ``BKM12-33.N1`` (one ball: rational eigen-data) is registered and proved.
+NUMERIC_CLAIMS = [c for c in _CLAIMS if c.id in ("BKM12-33.N2", "BKM12-33.N3", "BKM12-33.N4")]
+
 for _claim in _CLAIMS:
-    register(_claim)
+    if _claim not in NUMERIC_CLAIMS:
+        register(_claim)
