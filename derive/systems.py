@@ -19,7 +19,7 @@ from .model import Model
 __all__ = ["System", "SYSTEMS", "SYSTEM_MODULES", "build_model", "builtin_variants", "variant_name"]
 
 #: Modules of chaplygin.derive that define a system (see the module docstring).
-SYSTEM_MODULES = ("chaplygin_ball", "ball_on_surface")
+SYSTEM_MODULES = ("chaplygin_ball", "ball_on_surface", "spherical_support")
 
 
 @dataclass(frozen=True)
