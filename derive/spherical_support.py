@@ -88,9 +88,9 @@ DESCRIPTION = (
     "eigenframe of the support tensor (BKM12 §2.1-2.3)"
 )
 SUPPORTED_EFFECTS = ("gyrostat", "rubber_balls")
-#: Effect combinations whose code is committed in generated/ (none yet: to be generated
-#: when the system is integrated; the numerics emit it in memory meanwhile).
-GENERATED_VARIANTS: tuple[tuple[str, ...], ...] = ()
+#: Effect combinations whose code is committed in generated/ (``rubber_balls`` gives the same
+#: closed equations as the plain support: only the meaning of the D parameters changes).
+GENERATED_VARIANTS: tuple[tuple[str, ...], ...] = ((), ("gyrostat",))
 
 T_SYMBOL = sp.Symbol("t", real=True)
 

@@ -19,6 +19,7 @@ PARAMS = ('m', 'm_e', 'R', 'b1', 'b2', 'b3', 'k', 'c1', 'c2', 'c3')
 PARAMETERS = (('m', ('m',), 'positive', 'mass of the ball'), ('m_e', ('m_e',), 'positive', 'effective mass: I = m_e R^2'), ('R', ('R',), 'positive', 'radius of the ball'), ('b', ('b1', 'b2', 'b3'), 'positive', 'ellipsoid of the centre (x, B^-1 x) = 1, B = diag(b)'), ('k', ('k',), 'real', 'U = k (x, x)/2 + sum_i c_i/(2 x_i^2)'), ('c', ('c1', 'c2', 'c3'), 'real', 'U = k (x, x)/2 + sum_i c_i/(2 x_i^2)'))
 AUX = ('n1', 'n2', 'n3', 'ndot1', 'ndot2', 'ndot3')
 INTEGRALS = ('H', 'K', '(x,B^-1 x)')
+RELATIONS = ()
 GEOMETRY = ()
 REFERENCES = (('density', 'M03-1Y'), ('energy', 'M03-1.3'), ('equations', 'M03-1.1'), ('integrals', 'M03-1.7'), ('normal', 'M03-1.2'))
 

@@ -19,6 +19,7 @@ PARAMS = ('I1', 'I2', 'I3', 'D', 'b', 'K1', 'K2', 'K3')
 PARAMETERS = (('I', ('I1', 'I2', 'I3'), 'positive', 'central principal moments of inertia I1, I2, I3'), ('D', ('D',), 'positive', 'D = m b^2 (mass times squared radius)'), ('b', ('b',), 'positive', 'ball radius'), ('K', ('K1', 'K2', 'K3'), 'real', 'constant gyrostatic momentum K1, K2, K3'))
 AUX = ('Z', 'omega1', 'omega2', 'omega3')
 INTEGRALS = ('H', '(M+K,M+K)', '(M+K,gamma)', '(M+K,alpha)', '(M+K,beta)', '(alpha,alpha)', '(beta,beta)', '(alpha,beta)', '(gamma,alpha)', '(gamma,beta)', '(gamma,gamma)')
+RELATIONS = ()
 GEOMETRY = (('frame', ('alpha', 'beta', 'gamma')),)
 REFERENCES = (('contact_point', 'BKM12-6'), ('density', 'BKM12-4'), ('equations', 'K01-4.1'), ('integrals', 'K01-4.2'), ('momentum', 'BKM12-1'), ('omega', 'BKM12-3'))
 

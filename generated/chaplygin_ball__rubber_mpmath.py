@@ -19,6 +19,7 @@ PARAMS = ('I1', 'I2', 'I3', 'D')
 PARAMETERS = (('I', ('I1', 'I2', 'I3'), 'positive', 'central principal moments of inertia I1, I2, I3'), ('D', ('D',), 'positive', 'D = m b^2 (mass times squared radius)'))
 AUX = ('Z', 'omega1', 'omega2', 'omega3', 'mu1')
 INTEGRALS = ('H', '(M,M)-(M,gamma)^2', '(omega,gamma)', '(gamma,gamma)')
+RELATIONS = ('(omega,gamma)',)
 GEOMETRY = (('unit_vector', ('gamma',)),)
 REFERENCES = (('contact_point', 'BKM12-6'), ('density', 'BKM12-4'), ('equations', 'BKM12-2'), ('integrals', 'BKM12-5'), ('momentum', 'BKM12-1'), ('omega', 'BKM12-3'), ('rubber', 'BKM12 §3 (rubber ball)'))
 

@@ -19,6 +19,7 @@ PARAMS = ('I1', 'I2', 'I3', 'D', 'J_off', 'delta', 'K1', 'K2', 'K3', 'Omega')
 PARAMETERS = (('I', ('I1', 'I2', 'I3'), 'positive', 'constant parts I1, I2, I3 of the principal moments of inertia I(t) = diag(I1 + (J_off + delta sin(Omega t))^2, I2, I3 + (...)^2)'), ('D', ('D',), 'positive', 'D = m b^2 (mass times squared radius)'), ('J_off', ('J_off',), 'real', 'offset J of the moving mass pair in I(t) (BM20-3.4)'), ('delta', ('delta',), 'real', "amplitude of the mass pair's motion (BM20-3.4)"), ('K', ('K1', 'K2', 'K3'), 'real', 'amplitude K of the gyrostatic momentum k(t) = K sin(Omega t) (BM20-3.5)'), ('Omega', ('Omega',), 'positive', 'angular frequency of the periodic parameters (BM20-3.4, 3.5)'))
 AUX = ('Z', 'omega1', 'omega2', 'omega3')
 INTEGRALS = ('(M,M)', '(M,gamma)', '(gamma,gamma)')
+RELATIONS = ()
 GEOMETRY = (('unit_vector', ('gamma',)),)
 REFERENCES = (('contact_point', 'BKM12-6'), ('equations', 'BM20-2.5'), ('integrals', 'BM20-2.5int'), ('momentum', 'BKM12-1'), ('omega', 'BM20-2.5'))
 

@@ -96,6 +96,11 @@ class ModelCode:
         return tuple(self.numpy.INTEGRALS)
 
     @property
+    def relation_names(self) -> tuple[str, ...]:
+        """Integrals that must vanish on the phase space (constraints on omega alone)."""
+        return tuple(getattr(self.numpy, "RELATIONS", ()))
+
+    @property
     def geometry(self) -> tuple[tuple[str, tuple[str, ...]], ...]:
         return tuple(self.numpy.GEOMETRY)
 

@@ -13,7 +13,7 @@ from scipy.integrate import solve_ivp
 
 from ..derive.errors import UserInputError
 from .code import ModelCode, load_model_code
-from .inputs import Precision, pack_params, pack_state
+from .inputs import UNIT_TOLERANCE, Precision, pack_params, pack_state
 
 __all__ = ["IntegrationResult", "integrate", "METHODS", "Integrator"]
 
@@ -151,6 +151,52 @@ METHODS: dict[str, Integrator] = {
 }
 
 
+def _check_relations(code: ModelCode, t0: float, y, p) -> None:
+    """Refuse an initial state off the model's invariant relations (no twist ...).
+
+    A relation ``(omega, e) = 0`` must hold to :data:`UNIT_TOLERANCE` relative to
+    ``|omega|``. The message gives the nearest momentum that satisfies it: the
+    relations are linear in ``M``, so the correction is a least-squares projection.
+    """
+    names = code.relation_names
+    if not names:
+        return
+    idx = [code.integral_names.index(n) for n in names]
+    with mpmath.workdps(30):
+        yv = [mpmath.mpf(v) if not isinstance(v, mpmath.mpf) else v for v in y]
+        yv = [mpmath.mpf(str(v)) if isinstance(v, (float, np.floating)) else v for v in yv]
+        pv = [mpmath.mpf(str(v)) if isinstance(v, (float, np.floating)) else v for v in p]
+        t = mpmath.mpf(t0)
+
+        def relations(state):
+            values = code.mpmath.integrals(t, state, pv)
+            return mpmath.matrix([values[i] for i in idx])
+
+        aux = code.mpmath.aux(t, yv, pv)
+        omega = [aux[code.aux_names.index(f"omega{i}")] for i in (1, 2, 3)]
+        scale = mpmath.sqrt(sum(w**2 for w in omega))
+        r = relations(yv)
+        worst = max(abs(v) for v in r)
+        if worst <= UNIT_TOLERANCE * max(scale, mpmath.mpf(1)):
+            return
+        M = [code.state.index(f"M{i}") for i in (1, 2, 3)]
+        L = mpmath.matrix(len(idx), 3)
+        for j, k in enumerate(M):
+            e = list(yv)
+            e[k] = yv[k] + 1
+            col = relations(e) - r
+            for i in range(len(idx)):
+                L[i, j] = col[i]
+        shift = L.T * mpmath.lu_solve(L * L.T, r)
+        fixed = [yv[k] - shift[j] for j, k in enumerate(M)]
+    what = ", ".join(f"{n} = {mpmath.nstr(v, 6)}" for n, v in zip(names, r, strict=True))
+    raise UserInputError(
+        f"the initial state is off the phase space of {code.name}: {what} must be 0 "
+        f"(|omega| = {mpmath.nstr(scale, 6)}); the nearest admissible momentum is "
+        f"M={','.join(mpmath.nstr(v, 15) for v in fixed)}"
+    )
+
+
 def _drift(code: ModelCode, t: np.ndarray, y: np.ndarray, p, precision: Precision):
     if precision.is_double:
         # t has one entry per output point: integrals may depend on time explicitly
@@ -273,6 +319,7 @@ def integrate(
         y = pack_state(code, y0, prec)
     else:
         y = _vector(y0, len(code.state), "state vector", prec)
+    _check_relations(code, t_span[0], y, p)
     if backend not in ("auto", "c", "numpy"):
         raise UserInputError(f"unknown backend {backend!r}; valid: auto, c, numpy")
     chosen = "mpmath" if not prec.is_double else backend

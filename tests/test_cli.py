@@ -136,7 +136,7 @@ BAD_ARGS = [
             "--t-end",
             "1",
             "--effects",
-            "rubber",
+            "magnetic",
         ],
         "unknown effect",
     ),

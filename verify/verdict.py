@@ -72,8 +72,14 @@ def check_claim(claim: Claim, method: str = "auto", points: int = 8) -> Verdict:
     start = time.perf_counter()
     check = claim.build(model)
     while True:
-        domain = Domain(model, free=check.free, relations=check.on)
-        outcome = decide(check.exprs, domain, method=method, points=points)
+        domain = Domain(
+            model,
+            free=check.free,
+            relations=check.on,
+            model_relations=not check.everywhere,
+        )
+        chosen = check.method if method == "auto" else method
+        outcome = decide(check.exprs, domain, method=chosen, points=points)
         if outcome.verdict != "refuted" or check.fallback is None:
             break
         check = check.fallback

@@ -29,6 +29,8 @@ def _metadata(model: Model) -> list[str]:
         f"PARAMETERS = {params!r}",
         f"AUX = {tuple(s.name for s in model.aux_symbols)!r}",
         f"INTEGRALS = {tuple(n for n, _ in model.integrals)!r}",
+        "RELATIONS = "
+        + repr(tuple(n for n, _ in model.definitions.get("invariant_relations", ()))),
         f"GEOMETRY = {geometry!r}",
         f"REFERENCES = {tuple(sorted(model.references.items()))!r}",
     ]

@@ -32,19 +32,26 @@ class Check:
     on : list of sympy.Expr
         Restrict the check to a subset of the phase space: relations linear in the
         model's ``relation_unknowns`` (a level set of a linear integral, ``(K, beta) = 0``).
+    everywhere : bool
+        Decide on the whole phase space, without the model's invariant relations.
     fallback : Check, optional
         A check to decide when this one is refuted. ``exprs`` may then state something
         stronger than the claim (vanishing for every value of a multiplier kept free):
         its proof proves the claim, its refutation does not refute it.
     note : str
         Appended to the verdict's method (what the check's residuals are).
+    method : str
+        The method used when the caller asks for ``auto``: ``exact-sampled`` where the
+        Groebner proof is known to take minutes (the note says so).
     """
 
     exprs: list[sp.Expr]
     free: list[sp.Symbol] = field(default_factory=list)
     on: list[sp.Expr] = field(default_factory=list)
+    everywhere: bool = False
     fallback: Check | None = None
     note: str = ""
+    method: str = "auto"
 
 
 @dataclass(frozen=True)

@@ -152,6 +152,57 @@ def _k01_4_1(model: Model) -> Check:
 
 
 S11 = "BKM12 §1.1"
+
+
+# ------------------------------------------------- K01 §4.3-4.4 (M + K parallel to gamma)
+def _zv_quantities(model: Model):
+    """``C, h, l, mu_K, Jh`` of K01-4.3/4.4 in the model's expanded variables."""
+    n = ball_notation(model)
+    w = model.expand_aux(n.omega)
+    C = dot(n.M + n.K, n.gamma)
+    h = dot(n.M, w) / 2
+    l = C + n.D * (2 * h + dot(n.K, w)) / C  # noqa: E741  (K01's letter)
+    mu_K = C + 2 * n.D * h / C
+    Jh = n.J - n.D * n.K * n.K.T / (C * mu_K)
+    return n, w, C, l, mu_K, Jh
+
+
+def _k01_4_3(model: Model) -> Check:
+    """On M + K = C gamma: J omega + K = l gamma."""
+    n, w, _, l, _, _ = _zv_quantities(model)
+    return Check(list(n.J * w + n.K - l * n.gamma), on=list(cross(n.M + n.K, n.gamma)))
+
+
+def _k01_4_4(model: Model) -> Check:
+    """x = omega / l, d tau = l dt: gamma = Jh x + K/mu_K, Jh x' = (Jh x + K/mu_K) x x.
+
+    The second follows from the first by differentiating it along the flow: ``Jh`` and
+    ``mu_K`` are constant there (``C`` and ``h`` are integrals, K01-4.2), so
+    ``Jh dx/dt = gamma' = gamma x omega = l (Jh x + K/mu_K) x x``. The check proves the
+    identity and the model's ``gamma' = l gamma x x`` on the invariant set; expanding
+    ``x'`` itself gives numerators of ~27k terms whose normal form takes minutes.
+    """
+    n, w, _, l, mu_K, Jh = _zv_quantities(model)
+    x = w / l
+    f = model.rhs_expanded
+    gamma_rate = sp.Matrix([f[model.state.index(s)] for s in n.gamma])
+    exprs = list(n.gamma - (Jh * x + n.K / mu_K))
+    exprs += list(gamma_rate - l * cross(n.gamma, x))
+    return Check(
+        exprs,
+        on=list(cross(n.M + n.K, n.gamma)),
+        note="x' from differentiating gamma = Jh x + K/mu_K, with C, h integrals (K01-4.2)",
+    )
+
+
+def _k01_4_4_control(model: Model) -> Check:
+    """The same with mu_K replaced by C (the gyrostat's shift dropped): must fail."""
+    n, w, C, l, _, _ = _zv_quantities(model)
+    Jh = n.J - n.D * n.K * n.K.T / C**2
+    x = w / l
+    return Check(list(n.gamma - (Jh * x + n.K / C)), on=list(cross(n.M + n.K, n.gamma)))
+
+
 for claim in (
     Claim(
         "BKM12-1",
@@ -431,6 +482,38 @@ for claim in (
         BALL,
         GYRO,
         _measure(sp.Rational(-1, 2), "k01"),
+    ),
+    Claim(
+        "K01-4.3",
+        "K01 §4",
+        "solution",
+        "on M + K = C gamma: J omega + K = l gamma, l = C + D (2h + (K, omega))/C",
+        BALL,
+        GYRO,
+        _k01_4_3,
+        note="checked on the invariant set (M + K) x gamma = 0",
+    ),
+    Claim(
+        "K01-4.4",
+        "K01 §4",
+        "transformation",
+        "on M + K = C gamma, omega = l x, dt = d tau / l: Jh x' = (Jh x + K/mu_K) x x "
+        "(Zhukovsky–Volterra), gamma = Jh x + K/mu_K, Jh = J - D K ⊗ K/(C mu_K), "
+        "mu_K = C + 2 D h/C",
+        BALL,
+        GYRO,
+        _k01_4_4,
+        note="checked on the invariant set (M + K) x gamma = 0",
+    ),
+    Claim(
+        "K01-4.4/control-muK",
+        "negative control",
+        "transformation",
+        "gamma = Jh x + K/C with Jh = J - D K ⊗ K/C^2 (mu_K replaced by C: false)",
+        BALL,
+        GYRO,
+        _k01_4_4_control,
+        expected="fails",
     ),
 ):
     register(claim)

@@ -1,0 +1,457 @@
+"""Claims about the rubber ball and the ball along a straight line (BKM12 §3).
+
+Both are the Chaplygin ball with one more constraint on the angular velocity alone: no
+twist, ``(omega, gamma) = 0`` (the rubber ball), or Veselovs' ``(omega, alpha) = 0`` (the
+ball rolls along the space-fixed line ``alpha``). The engine keeps the constraint's
+multiplier ``mu`` and eliminates it from ``d/dt (C omega) = 0``; the model's phase space is
+the zero level of ``C omega``. BKM12 §3 writes the equations in ``K``, the momentum with
+its component along the constraint vector removed; these claims compare that form, its
+integrals (58), the reductions 3.1 and 3.2 to the rubber ball, and the rubber ball's own
+integrals and measure with what the engine derived.
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+from chaplygin.derive import Model
+from chaplygin.derive.vectors import cross, dot
+
+from ..identity import lie_derivative, measure_residual
+from . import Check, Claim, register
+from .notation import ball_notation
+
+BALL = "chaplygin_ball"
+RUBBER = ("rubber",)
+LINE = ("straight_line",)
+
+
+def _omega(model: Model) -> sp.Matrix:
+    return model.expand_aux(sp.Matrix(model.definitions["omega"]))
+
+
+def _rate(model: Model, vec: sp.Matrix) -> sp.Matrix:
+    return sp.Matrix([lie_derivative(e, model) for e in vec])
+
+
+def _multipliers(model: Model) -> list[sp.Symbol]:
+    return [s for s in model.aux_symbols if s.name.startswith("mu")]
+
+
+def _free_mu(exprs: list[sp.Expr], model: Model) -> list[sp.Expr]:
+    """Split ``exprs`` (linear in the multipliers) into their coefficients."""
+    mu = _multipliers(model)
+    out = []
+    for e in exprs:
+        out.append(e.xreplace({m: 0 for m in mu}))
+        out += [sp.diff(e, m) for m in mu]
+    return out
+
+
+def _rate_check(model: Model, fields, extra=(), on=()) -> Check:
+    """``fields(rate) -> residuals``, first for every value of the multipliers.
+
+    ``rate(expr)`` is the Lie derivative, with the multipliers kept as free symbols in
+    the first check and expanded in the fallback. The reaction of a constraint on
+    omega alone has no moment about the free axes and does no work on the constraint,
+    so most statements hold whatever the multipliers are (and that proof is cheap).
+    """
+    mu = _multipliers(model)
+
+    def keep(e):
+        return lie_derivative(e, model, keep=mu)
+
+    def full(e):
+        return lie_derivative(e, model)
+
+    fallback = Check(list(fields(full)) + list(extra), on=list(on))
+    if not mu:
+        return fallback
+    return Check(
+        _free_mu(list(fields(keep)), model) + list(extra),
+        free=mu,
+        on=list(on),
+        fallback=fallback,
+        note="for every value of the multipliers",
+    )
+
+
+def _K(model: Model, along: str) -> sp.Matrix:
+    """The momentum without its component along the constraint vector (BKM12 §3)."""
+    M, c = model.group("M"), model.group(along)
+    return M - dot(M, c) * c
+
+
+# ------------------------------------------------------------- the rubber ball
+def _rubber_constraint(model: Model) -> Check:
+    n = ball_notation(model)
+    return Check([lie_derivative(dot(n.omega, n.gamma), model)], everywhere=True)
+
+
+def _rubber_equations(model: Model) -> Check:
+    """M' - M x omega is the reaction mu gamma (along gamma), gamma' = gamma x omega."""
+    n = ball_notation(model)
+    w = _omega(model)
+    f = model.rhs_expanded
+    Mdot, gdot = f[:3, :], f[3:6, :]
+    return Check(list(cross(Mdot - cross(n.M, w), n.gamma)) + list(gdot - cross(n.gamma, w)))
+
+
+def _rubber_K(model: Model) -> Check:
+    """K = M - (M, gamma) gamma: K' = K x omega and K = (J - gamma ⊗ J gamma) omega."""
+    n = ball_notation(model)
+    w = _omega(model)
+    K = _K(model, "gamma")
+    rubber_form = n.J * w - n.gamma * dot(n.J * n.gamma, w)
+    return _rate_check(
+        model,
+        lambda rate: [rate(K[i]) - cross(K, w)[i] for i in range(3)],
+        extra=list(K - rubber_form),
+    )
+
+
+def _rubber_integral(which: str):
+    def build(model: Model) -> Check:
+        n = ball_notation(model)
+        w = _omega(model)
+        K = _K(model, "gamma")
+        F = {
+            "H": dot(n.M, w) / 2,
+            "KK": dot(K, K),
+            "gamma": dot(n.gamma, n.gamma),
+            "MM": dot(n.M, n.M),  # control: an integral of the Chaplygin ball only
+            "Mgamma": dot(n.M, n.gamma),  # control: the reaction has a moment about gamma
+        }[which]
+        return _rate_check(model, lambda rate: [rate(F)])
+
+    return build
+
+
+def _rubber_density(kind: str):
+    def build(model: Model) -> Check:
+        n = ball_notation(model)
+        Ag = dot(n.gamma, n.A * n.gamma)
+        rho = {
+            "rubber": sp.sqrt(Ag) / (1 / n.D - Ag),
+            "chaplygin": n.rho(),  # control: the density of the ball without the constraint
+        }[kind]
+        return Check([measure_residual(rho, model)])
+
+    return build
+
+
+# ---------------------------------------------------- the ball along a straight line
+def _line_constraint(model: Model) -> Check:
+    n = ball_notation(model)
+    return Check([lie_derivative(dot(n.omega, n.alpha), model)], everywhere=True)
+
+
+def _bkm12_57(model: Model) -> Check:
+    """K' = K x omega, alpha' = alpha x omega, beta' = beta x omega,
+    K = (I + D beta ⊗ beta - alpha ⊗ I alpha) omega, K = K0 - (K0, alpha) alpha."""
+    n = ball_notation(model)
+    w = _omega(model)
+    K = _K(model, "alpha")
+    I = sp.diag(*n.I)  # noqa: E741
+    printed = I * w + n.D * n.beta * dot(n.beta, w) - n.alpha * dot(I * n.alpha, w)
+    K0 = I * w + n.D * cross(n.gamma, cross(w, n.gamma))
+    f = model.rhs_expanded
+    idx = {g: [model.state.index(s) for s in model.vectors[g]] for g in ("alpha", "beta")}
+    exprs = list(K - printed) + list(K - (K0 - dot(K0, n.alpha) * n.alpha))
+    for g, vec in (("alpha", n.alpha), ("beta", n.beta)):
+        exprs += list(sp.Matrix([f[i] for i in idx[g]]) - cross(vec, w))
+    return _rate_check(
+        model, lambda rate: [rate(K[i]) - cross(K, w)[i] for i in range(3)], extra=exprs
+    )
+
+
+def _line_integral(which: str):
+    def build(model: Model) -> Check:
+        n = ball_notation(model)
+        w = _omega(model)
+        K = _K(model, "alpha")
+        F = {
+            "Kbeta": dot(K, n.beta),
+            "Kgamma": dot(K, n.gamma),
+            "E": dot(K, w),
+            "frame": None,
+            "Malpha": dot(n.M, n.alpha),  # control: the reaction torque is along alpha
+            "MM": dot(n.M, n.M),  # control
+        }[which]
+        if which == "E":
+            # E = (M, omega) on the phase space (the constraint kills (M, alpha)(alpha,
+            # omega)); (M, omega) is conserved whatever the multiplier, and the phase space
+            # is invariant (BKM12-57.constraint)
+            return _rate_check(model, lambda rate: [rate(dot(n.M, w))], extra=[F - dot(n.M, w)])
+        if which == "frame":
+            a, b = n.alpha, n.beta
+            casimirs = (dot(a, a), dot(b, b), dot(a, b), dot(n.gamma, n.gamma))
+            return _rate_check(model, lambda rate: [rate(e) for e in casimirs])
+        return _rate_check(model, lambda rate: [rate(F)])
+
+    return build
+
+
+def _bkm12_58_identities(model: Model) -> Check:
+    """(K, alpha) = 0 and (K, K) = (K, beta)^2 + (K, gamma)^2 on the phase space."""
+    n = ball_notation(model)
+    K = _K(model, "alpha")
+    return Check([dot(K, n.alpha), dot(K, K) - dot(K, n.beta) ** 2 - dot(K, n.gamma) ** 2])
+
+
+def _reduction(case: str, sign: int = 1):
+    """BKM12-3.1 ((K, beta) = 0) and 3.2 ((K, gamma) = 0): a rubber ball's K~.
+
+    ``sign = -1`` in 3.1 is the negative control (the sign of 3.2).
+    """
+
+    def build(model: Model) -> Check:
+        n = ball_notation(model)
+        w = _omega(model)
+        K = _K(model, "alpha")
+        E = dot(K, w)
+        I = sp.diag(*n.I)  # noqa: E741
+        if case == "3.1":
+            level = dot(n.M, n.beta)  # (K, beta) = (M, beta)
+            inertia = n.J
+        else:
+            level = dot(n.M, n.gamma)
+            inertia = I
+        rubber_form = inertia * w - n.alpha * dot(inertia * n.alpha, w)
+        # On the level set K = (K, e) e (e = gamma in 3.1, beta in 3.2) and E = (K, e)(e,
+        # omega), so the printed K~ is K -+ D (e, omega) e: two identities without the
+        # division (the same statement, far smaller numerators).
+        e = n.gamma if case == "3.1" else n.beta
+        sgn = sign if case == "3.1" else -1
+        identity = list(E * K - dot(K, e) ** 2 * dot(e, w) * e)
+        identity += list(K + sgn * n.D * dot(e, w) * e - rubber_form)
+        if sign < 0:
+            return Check(identity, on=[level])
+        # K~ = K (1 + ...) with E and (K, gamma) or (K, beta) integrals of the flow
+        # (BKM12-58): K~' = K~ x omega follows from K' = K x omega
+        return _rate_check(
+            model,
+            lambda rate: [rate(K[i]) - cross(K, w)[i] for i in range(3)],
+            extra=identity,
+            on=[level],
+        )
+
+    return build
+
+
+for claim in (
+    # ------------------------------------------------------------ rubber ball
+    Claim(
+        "BKM12-3rub.constraint",
+        "BKM12 §3 (rubber ball)",
+        "equation",
+        "with the no-twist multiplier eliminated the flow keeps (omega, gamma) constant "
+        "on the whole phase space, so (omega, gamma) = 0 is invariant",
+        BALL,
+        RUBBER,
+        _rubber_constraint,
+        note="constraints v + omega x r = 0, (omega, gamma) = 0; mu from d/dt (omega, gamma) = 0",
+    ),
+    Claim(
+        "BKM12-3rub.eq",
+        "BKM12 §3 (rubber ball)",
+        "equation",
+        "M' = M x omega + mu gamma (the reaction torque of the no-twist constraint is "
+        "along gamma), gamma' = gamma x omega",
+        BALL,
+        RUBBER,
+        _rubber_equations,
+    ),
+    Claim(
+        "BKM12-3rub.K",
+        "BKM12 §3 (rubber ball)",
+        "equation",
+        "K = M - (M, gamma) gamma = (J - gamma ⊗ J gamma) omega, K' = K x omega (the rubber "
+        "ball of BKM12 §3, inertia J = I + D Id)",
+        BALL,
+        RUBBER,
+        _rubber_K,
+    ),
+    Claim(
+        "BKM12-3rub.H",
+        "BKM12 §3 (rubber ball)",
+        "integral",
+        "H = (M, omega)/2 is a first integral on (omega, gamma) = 0",
+        BALL,
+        RUBBER,
+        _rubber_integral("H"),
+    ),
+    Claim(
+        "BKM12-3rub.KK",
+        "BKM12 §3 (rubber ball)",
+        "integral",
+        "(K, K) = (M, M) - (M, gamma)^2 is a first integral",
+        BALL,
+        RUBBER,
+        _rubber_integral("KK"),
+    ),
+    Claim(
+        "BKM12-3rub.gamma",
+        "BKM12 §3 (rubber ball)",
+        "integral",
+        "(gamma, gamma) = 1 is preserved",
+        BALL,
+        RUBBER,
+        _rubber_integral("gamma"),
+    ),
+    Claim(
+        "BKM12-3rub.measure",
+        "BKM12 §3 (rubber ball)",
+        "measure",
+        "rho = (gamma, A gamma)^(1/2) / (D^-1 - (gamma, A gamma)) satisfies Liouville's "
+        "equation on (omega, gamma) = 0: rho dM dgamma / d(omega, gamma) is invariant",
+        BALL,
+        RUBBER,
+        _rubber_density("rubber"),
+        note="the Chaplygin ball's density times (C II^-1 C^T)^(1/2), C = gamma^T; "
+        "not printed in BKM12 (derived here)",
+    ),
+    Claim(
+        "BKM12-3rub/control-MM",
+        "negative control",
+        "integral",
+        "(M, M) is a first integral of the rubber ball (false: only (K, K) is)",
+        BALL,
+        RUBBER,
+        _rubber_integral("MM"),
+        expected="fails",
+    ),
+    Claim(
+        "BKM12-3rub/control-Mgamma",
+        "negative control",
+        "integral",
+        "(M, gamma) is a first integral of the rubber ball (false: the reaction twists)",
+        BALL,
+        RUBBER,
+        _rubber_integral("Mgamma"),
+        expected="fails",
+    ),
+    Claim(
+        "BKM12-3rub/control-measure",
+        "negative control",
+        "measure",
+        "the Chaplygin ball's density (D^-1 - (gamma, A gamma))^-1/2 is invariant for the "
+        "rubber ball (false)",
+        BALL,
+        RUBBER,
+        _rubber_density("chaplygin"),
+        expected="fails",
+    ),
+    # -------------------------------------------------- the ball along a straight line
+    Claim(
+        "BKM12-57.constraint",
+        "BKM12 §3, eq. (57)",
+        "equation",
+        "with Veselovs' multiplier eliminated the flow keeps (omega, alpha) constant on the "
+        "whole phase space, so (omega, alpha) = 0 is invariant",
+        BALL,
+        LINE,
+        _line_constraint,
+        note="constraints v + omega x r = 0 and (omega, alpha) = 0",
+    ),
+    Claim(
+        "BKM12-57",
+        "BKM12 §3, eq. (57)",
+        "equation",
+        "K' = K x omega, alpha' = alpha x omega, beta' = beta x omega, "
+        "K = (I + D beta ⊗ beta - alpha ⊗ (I alpha)) omega = K0 - (K0, alpha) alpha, "
+        "K0 = I omega + D gamma x (omega x gamma)",
+        BALL,
+        LINE,
+        _bkm12_57,
+    ),
+    Claim(
+        "BKM12-58.frame",
+        "BKM12 §3, eq. (58)",
+        "integral",
+        "(alpha, alpha) = (beta, beta) = 1, (alpha, beta) = 0 (and (gamma, gamma) = 1) "
+        "are preserved",
+        BALL,
+        LINE,
+        _line_integral("frame"),
+    ),
+    Claim(
+        "BKM12-58.Kbeta",
+        "BKM12 §3, eq. (58)",
+        "integral",
+        "(K, beta) = const",
+        BALL,
+        LINE,
+        _line_integral("Kbeta"),
+    ),
+    Claim(
+        "BKM12-58.Kgamma",
+        "BKM12 §3, eq. (58)",
+        "integral",
+        "(K, gamma) = (K, alpha x beta) = const",
+        BALL,
+        LINE,
+        _line_integral("Kgamma"),
+    ),
+    Claim(
+        "BKM12-58.E",
+        "BKM12 §3, eq. (58)",
+        "integral",
+        "E = (K, omega) = const",
+        BALL,
+        LINE,
+        _line_integral("E"),
+    ),
+    Claim(
+        "BKM12-58.identities",
+        "BKM12 §3, eq. (58)",
+        "definition",
+        "(K, alpha) = 0 and the quadratic integral (K, K) = (K, beta)^2 + (K, gamma)^2 is a "
+        "combination of the linear ones",
+        BALL,
+        LINE,
+        _bkm12_58_identities,
+    ),
+    Claim(
+        "BKM12-3.1",
+        "BKM12 §3",
+        "transformation",
+        "on (K, beta) = 0: K~ = K + D E K/(K, gamma)^2 = (J - alpha ⊗ (J alpha)) omega and "
+        "K~' = K~ x omega: a rubber ball with inertia J = I + D Id (vertical alpha)",
+        BALL,
+        LINE,
+        _reduction("3.1"),
+    ),
+    Claim(
+        "BKM12-3.2",
+        "BKM12 §3",
+        "transformation",
+        "on (K, gamma) = 0: K~ = K - D E K/(K, beta)^2 = (I - alpha ⊗ (I alpha)) omega and "
+        "K~' = K~ x omega: a rubber ball with inertia I (vertical alpha)",
+        BALL,
+        LINE,
+        _reduction("3.2"),
+    ),
+    Claim(
+        "BKM12-3.1/control-sign",
+        "negative control",
+        "transformation",
+        "on (K, beta) = 0: K - D E K/(K, gamma)^2 = (J - alpha ⊗ (J alpha)) omega (the sign "
+        "of 3.2 in 3.1: false)",
+        BALL,
+        LINE,
+        _reduction("3.1", sign=-1),
+        expected="fails",
+    ),
+    Claim(
+        "BKM12-58/control-Malpha",
+        "negative control",
+        "integral",
+        "(M, alpha) is a first integral of the ball along a line (false: the reaction torque "
+        "is along alpha)",
+        BALL,
+        LINE,
+        _line_integral("Malpha"),
+        expected="fails",
+    ),
+):
+    register(claim)
