@@ -341,7 +341,8 @@ def _conserved(which: str):
         }[which]
         exprs = [lie_derivative(f, model) for f in F]
         if which == "37":  # and it is the derived energy
-            exprs.append(model.expand_aux(model.integral("H") - dot(n.M, n.omega) / 2))
+            derived = model.definitions["derived_energy"]
+            exprs.append(model.expand_aux(derived - dot(n.M, n.omega) / 2))
         if which == "Rem2":
             exprs.append(dot(P, P) - dot(P, a) ** 2 - dot(P, b) ** 2 - dot(P, cross(a, b)) ** 2)
         return Check(exprs)
