@@ -339,6 +339,21 @@ def n_ball_model(
 
 
 # ============================================================== closed model
+def _physical_support_sampler(D_iso: sp.Symbol, D_al: sp.Symbol, D_be: sp.Symbol):
+    """Exact sampler of physical support parameters (for the verifier's witnesses).
+
+    The support tensor's eigenvalues ``D_al0, D_be0, D_ga0`` are non-negative, so
+    ``D_iso = D_al0 + D_be0``, ``D_al = D_al0 - D_ga0``, ``D_be = D_be0 - D_ga0``: the
+    eigenvalues are drawn as positive rationals and the parameters set from them.
+    """
+
+    def sample(rng, point) -> None:
+        al0, be0, ga0 = (sp.Rational(rng.randint(1, 40), rng.randint(1, 12)) for _ in range(3))
+        point[D_iso], point[D_al], point[D_be] = al0 + be0, al0 - ga0, be0 - ga0
+
+    return sample
+
+
 def _virtual_weights(rubber: bool):
     """Ball data along ``alpha, beta, gamma`` that realise ``D_iso, D_al, D_be``."""
     D_iso, D_al, D_be = sp.symbols("D_iso D_al D_be", real=True)
@@ -507,6 +522,7 @@ def build_spherical_support(effects: Iterable[str] | str | None = ()) -> Model:
             "momentum_rate_of_omega": rate,
             "derived_energy": energy,
             "euler_poincare_remainder": remainder,
+            "phase_space_sampler": _physical_support_sampler(D_iso, D_al, D_be),
             "reparametrisation": {
                 "forward": {A_syms[i]: 1 / structured.J[i, i] for i in range(3)},
                 "inverse": {Iv[i]: 1 / A_syms[i] - D_iso for i in range(3)},
