@@ -5,6 +5,16 @@ The Kane model (:mod:`chaplygin.verify.kane`) is built from the physical descrip
 no-slip as nonholonomic velocity constraints, gravity included). Both sides give the body-frame
 angular acceleration at the same state ``(M, gamma)``; they must agree to the tolerance of the
 issue: 1e-12 relative, in double precision.
+
+The two variants with one more constraint on the angular velocity are checked the same way:
+the rubber ball (``["rubber"]``, no twist ``(omega, gamma) = 0``) and Veselovs' ball rolling
+along a straight line (``["straight_line"]``, ``(omega, alpha) = 0``). The Kane side imposes
+``omega . N.z = 0`` resp. ``omega . N.x = 0`` as a velocity constraint (a dependent speed), and
+the states are admissible: ``omega`` is drawn on the constraint plane first, ``M = II omega``;
+for the straight line ``alpha, beta`` are the body-frame components of ``N.x, N.y`` in the
+Kane configuration (:func:`space_axes_in_body`). Same tolerance, 1e-12 relative: both sides are
+a few dozen well-conditioned floating-point operations away from the exact value, and the
+observed discrepancy is a few 1e-14.
 """
 
 from __future__ import annotations
@@ -15,6 +25,7 @@ import numpy as np
 import pytest
 from chaplygin.derive import build_model
 from chaplygin.verify.kane import (
+    EXTRA_CONSTRAINTS,
     GAMMA1_LIMIT,
     euler_angles_for_gamma,
     kane_angular_acceleration,
@@ -22,6 +33,7 @@ from chaplygin.verify.kane import (
     kane_energy_and_rate,
     model_angular_acceleration,
     omega_from_momentum,
+    space_axes_in_body,
 )
 
 #: From the issue: the two angular accelerations agree to 1e-12 relative (double precision).
@@ -138,3 +150,169 @@ def test_euler_angles_reject_singular_and_non_unit_gamma() -> None:
         euler_angles_for_gamma(near_pole)
     with pytest.raises(ValueError, match="unit"):
         euler_angles_for_gamma([0.0, 0.0, 2.0])
+
+
+# --------------------------------------------------------------------------------------------
+# One more constraint on the angular velocity: the rubber ball and Veselovs' straight line
+# --------------------------------------------------------------------------------------------
+
+#: Kane-side constraint name -> the model effect, and the row of ``space_axes_in_body``
+#: (alpha = N.x, beta = N.y, gamma = N.z) along which omega must vanish.
+CONSTRAINED = {"rubber": ("rubber", 2), "straight_line": ("straight_line", 0)}
+OMEGA_SEED = 20240608
+
+
+@dataclass(frozen=True)
+class ConstrainedSample:
+    """An admissible state of a constrained variant (built on a :class:`Sample`)."""
+
+    base: Sample
+    constraint: str
+    omega: np.ndarray
+    M: np.ndarray
+    alpha: np.ndarray
+    beta: np.ndarray
+
+    @property
+    def gamma(self) -> np.ndarray:
+        return self.base.gamma
+
+    def kane(self) -> np.ndarray:
+        s = self.base
+        return kane_angular_acceleration(
+            s.I, s.D, s.b, self.M, s.gamma, yaw=s.yaw, constraint=self.constraint
+        )
+
+    def ours(self, model) -> np.ndarray:
+        groups = {"alpha": self.alpha, "beta": self.beta}
+        return model_angular_acceleration(model, self.base.params(), self.M, self.gamma, groups)
+
+
+def _constrained_samples(constraint: str) -> list[ConstrainedSample]:
+    """Admissible states: omega on the constraint plane first, then ``M = II omega``."""
+    rng = np.random.default_rng([OMEGA_SEED, EXTRA_CONSTRAINTS.index(constraint)])
+    out = []
+    for s in SAMPLES:
+        alpha, beta, gamma = space_axes_in_body(s.gamma, s.yaw)
+        normal = (alpha, beta, gamma)[CONSTRAINED[constraint][1]]
+        omega = rng.normal(size=3)
+        omega -= (omega @ normal) * normal
+        omega *= rng.uniform(0.5, 2.0) / np.linalg.norm(omega)  # |omega| away from 0
+        II = np.diag(s.I) + s.D * (np.eye(3) - np.outer(s.gamma, s.gamma))
+        out.append(ConstrainedSample(s, constraint, omega, II @ omega, alpha, beta))
+    return out
+
+
+CONSTRAINED_SAMPLES = {c: _constrained_samples(c) for c in EXTRA_CONSTRAINTS}
+CONSTRAINED_CASES = [
+    pytest.param(c, i, id=f"{c}-state{i}") for c in EXTRA_CONSTRAINTS for i in range(N_STATES)
+]
+
+
+@pytest.fixture(scope="module")
+def constrained_models():
+    return {c: build_model("chaplygin_ball", [CONSTRAINED[c][0]]) for c in EXTRA_CONSTRAINTS}
+
+
+def test_constrained_samples_are_admissible_frames() -> None:
+    """The sampled alpha, beta, gamma form a right-handed orthonormal frame (gamma = alpha x
+    beta) with the drawn vertical, and omega satisfies the constraint."""
+    for c in EXTRA_CONSTRAINTS:
+        for cs in CONSTRAINED_SAMPLES[c]:
+            frame = np.array([cs.alpha, cs.beta, cs.gamma])
+            assert np.allclose(frame @ frame.T, np.eye(3), rtol=0, atol=1e-14)
+            assert np.linalg.norm(np.cross(cs.alpha, cs.beta) - cs.gamma) <= 1e-14
+            normal = frame[CONSTRAINED[c][1]]
+            assert abs(cs.omega @ normal) <= 1e-14 * np.linalg.norm(cs.omega)
+            assert np.linalg.norm(cs.omega) > 0.1
+
+
+@pytest.mark.parametrize(("constraint", "i"), CONSTRAINED_CASES)
+def test_constrained_angular_acceleration_matches_kane(
+    constrained_models, constraint: str, i: int
+) -> None:
+    cs = CONSTRAINED_SAMPLES[constraint][i]
+    kane = cs.kane()
+    ours = cs.ours(constrained_models[constraint])
+    assert kane.shape == ours.shape == (3,)
+    assert np.linalg.norm(kane) > 0
+    assert np.linalg.norm(ours - kane) <= RTOL * np.linalg.norm(kane)
+
+
+@pytest.mark.parametrize("constraint", EXTRA_CONSTRAINTS)
+def test_negative_control_plain_ball_disagrees_with_constrained_kane(
+    model, constraint: str
+) -> None:
+    """The plain ball (no extra constraint) at the same admissible states must fail the
+    comparison with the constrained Kane result, and by far: the reaction of the extra
+    constraint changes omega_dot at every state."""
+    worst = min(
+        _relative_difference(
+            cs.kane(), model_angular_acceleration(model, cs.base.params(), cs.M, cs.gamma)
+        )
+        for cs in CONSTRAINED_SAMPLES[constraint]
+    )
+    assert worst > 1e6 * RTOL
+
+
+def test_negative_control_constrained_models_are_not_interchangeable(constrained_models) -> None:
+    """The rubber model at straight-line states (and vice versa) disagrees with Kane."""
+    for c, other in [("rubber", "straight_line"), ("straight_line", "rubber")]:
+        worst = min(
+            _relative_difference(cs.kane(), cs.ours(constrained_models[other]))
+            for cs in CONSTRAINED_SAMPLES[c]
+        )
+        assert worst > 1e6 * RTOL
+
+
+@pytest.mark.parametrize("constraint", EXTRA_CONSTRAINTS)
+def test_constrained_kane_side_keeps_constraint_and_energy(constraint: str) -> None:
+    """Self-checks of the constrained Kane model: (omega, n)' = (omega_dot, n) = 0 for the
+    space-fixed n (its body components obey n' = n x omega), and the constraint's reaction
+    does no work, dT/dt = 0."""
+    for cs in CONSTRAINED_SAMPLES[constraint][:8]:
+        s = cs.base
+        normal = np.array([cs.alpha, cs.beta, cs.gamma])[CONSTRAINED[constraint][1]]
+        w_dot = cs.kane()
+        assert abs(w_dot @ normal) <= RTOL * np.linalg.norm(w_dot)
+        T, rate = kane_energy_and_rate(
+            s.I, s.D, s.b, cs.M, s.gamma, yaw=s.yaw, constraint=constraint
+        )
+        assert T > 0
+        assert abs(rate) <= RTOL * T * np.linalg.norm(cs.omega)
+
+
+def test_constrained_kane_rejects_inadmissible_states() -> None:
+    s = SAMPLES[0]
+    with pytest.raises(ValueError, match="violates the 'rubber' constraint"):
+        kane_angular_acceleration(s.I, s.D, s.b, s.M, s.gamma, yaw=s.yaw, constraint="rubber")
+    with pytest.raises(ValueError, match="unknown constraint"):
+        kane_angular_acceleration(s.I, s.D, s.b, s.M, s.gamma, constraint="no_spin")
+
+
+def test_straight_line_depends_on_heading_rubber_does_not() -> None:
+    """Turning the heading turns the line in the body frame (another alpha): the straight-line
+    dynamics change; the rubber ball's do not (no horizontal direction is distinguished)."""
+    s = SAMPLES[1]
+    rubber = CONSTRAINED_SAMPLES["rubber"][1]
+    ref = rubber.kane()
+    turned = kane_angular_acceleration(
+        s.I, s.D, s.b, rubber.M, s.gamma, yaw=s.yaw + 1.0, constraint="rubber"
+    )
+    assert np.linalg.norm(turned - ref) <= RTOL * np.linalg.norm(ref)
+    # A spin about the vertical, omega = gamma, is admissible for every heading of the line.
+    g = s.gamma
+    M = (np.diag(s.I) + s.D * (np.eye(3) - np.outer(g, g))) @ g
+    results = [
+        kane_angular_acceleration(s.I, s.D, s.b, M, g, yaw=yaw, constraint="straight_line")
+        for yaw in (s.yaw, s.yaw + 1.0)
+    ]
+    assert _relative_difference(*results) > 1e6 * RTOL
+
+
+def test_model_angular_acceleration_needs_every_state_group(constrained_models) -> None:
+    cs = CONSTRAINED_SAMPLES["straight_line"][0]
+    with pytest.raises(KeyError, match="alpha"):
+        model_angular_acceleration(
+            constrained_models["straight_line"], cs.base.params(), cs.M, cs.gamma
+        )

@@ -31,12 +31,35 @@ The state ``(M, gamma)`` of our model is mapped to the Kane state by choosing Eu
 body-frame upward vertical ``gamma`` (``q2 = -asin(gamma1)``, ``q3 = atan2(gamma2, gamma3)``,
 any yaw ``q1``) and ``omega = (I + D (Id - gamma gamma^T))^-1 M``; the latter formula is checked
 against sympy's own angular momentum about the contact point by :func:`kane_contact_momentum`.
+
+**One extra constraint on the angular velocity** (``constraint=`` of
+:func:`kane_angular_acceleration` and :func:`kane_energy_and_rate`, named after the model
+effects):
+
+* ``"rubber"`` -- no twist: the component of the angular velocity along the vertical ``N.z``
+  vanishes (the rubber ball of ``build_model("chaplygin_ball", ["rubber"])``);
+* ``"straight_line"`` -- the component along the space-fixed horizontal axis ``N.x`` vanishes
+  (Veselovs' system ``build_model("chaplygin_ball", ["straight_line"])``, whose state vector
+  ``alpha`` is then the body-frame components of ``N.x``, ``beta`` those of ``N.y``; see
+  :func:`space_axes_in_body`).
+
+For these the independent speeds are chosen adapted to the constraint: ``u1, u2, u3`` are the
+*space-frame* components of the angular velocity (``omega = u1 N.x + u2 N.y + u3 N.z``), so the
+extra constraint is simply ``u3 = 0`` (resp. ``u1 = 0``), passed to ``KanesMethod`` as a third
+velocity constraint with that speed dependent (together with ``u4, u5``); its coefficient is 1
+at every configuration, so no conditioning is lost (making a *body* component dependent would
+divide by ``gamma3`` or ``alpha3``). With these speeds the no-slip constraints do not even depend
+on the configuration. Kane's equations (2 dynamical + 3 differentiated constraints) give the
+space-frame ``u'``; the angular acceleration vector is the same seen from ``N`` and from ``B``
+(``omega x omega = 0``), so its body-frame components are ``C (u1', u2', u3')`` with ``C`` the
+direction cosines ``B_i . N_j`` of the Euler angles. The reaction torque of the extra constraint
+never appears (it has no partial angular velocity along the independent speeds).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
@@ -46,6 +69,8 @@ import sympy as sp
 from sympy.physics import mechanics as me
 
 __all__ = [
+    "ADMISSIBLE_RTOL",
+    "EXTRA_CONSTRAINTS",
     "GAMMA1_LIMIT",
     "kane_angular_acceleration",
     "kane_contact_momentum",
@@ -53,10 +78,20 @@ __all__ = [
     "model_angular_acceleration",
     "euler_angles_for_gamma",
     "omega_from_momentum",
+    "space_axes_in_body",
 ]
 
 #: Largest ``|gamma1|`` accepted: the 3-2-1 Euler angles are singular at ``gamma1 = +-1``.
 GAMMA1_LIMIT = 0.99
+
+#: Extra constraints on the angular velocity the Kane side can impose (model effect names):
+#: ``"rubber"`` (``omega . N.z = 0``, no twist), ``"straight_line"`` (``omega . N.x = 0``).
+EXTRA_CONSTRAINTS = ("rubber", "straight_line")
+
+#: A state is admissible for an extra constraint when the constrained component of
+#: ``omega = II^-1 M`` is at most this fraction of ``|omega|`` (rounding of the caller's
+#: ``M = II omega`` and of the solve only; the Kane side then sets it to exactly zero).
+ADMISSIBLE_RTOL = 1e-10
 
 
 @dataclass(frozen=True)
@@ -168,6 +203,169 @@ def _kane_system() -> _KaneSystem:
     )
 
 
+@dataclass(frozen=True)
+class _KaneConstrainedSystem:
+    """Lambdified pieces of the Kane model with one extra constraint on the angular velocity.
+
+    Every function takes ``(q, u, p)`` as :class:`_KaneSystem`, but ``u1, u2, u3`` are the
+    space-frame components of the angular velocity. ``speed_order`` is the order of
+    ``KanesMethod.u`` (independent speeds first), the columns of ``mass_matrix``.
+    """
+
+    mass_matrix: Callable[..., Any]
+    forcing: Callable[..., Any]
+    body_from_space: Callable[..., Any]
+    dependent_speeds: Callable[..., Any]
+    energy: Callable[..., Any]
+    energy_gradient: Callable[..., Any]
+    qdot: Callable[..., Any]
+    speed_order: tuple[str, ...]
+    dependent: tuple[int, ...]  # indices (0-based) of the dependent speeds in u1..u5
+    axis: int  # index of the space axis (N.x, N.y, N.z) along which omega vanishes
+
+
+def _euler_frames() -> tuple[me.ReferenceFrame, me.ReferenceFrame, list[Any]]:
+    """Inertial frame ``N`` and body frame ``B`` oriented by 3-2-1 Euler angles ``q1..q3``."""
+    q123 = list(me.dynamicsymbols("q1 q2 q3"))
+    N = me.ReferenceFrame("N")
+    B = me.ReferenceFrame("B")
+    B.orient_body_fixed(N, tuple(q123), "zyx")
+    return N, B, q123
+
+
+@lru_cache(maxsize=1)
+def _space_axes_function() -> Callable[..., Any]:
+    """Lambdified body-frame components of ``N.x, N.y, N.z`` (rows) from ``(q1, q2, q3)``."""
+    N, B, q123 = _euler_frames()
+    rows = sp.Matrix([[n.dot(bv) for bv in (B.x, B.y, B.z)] for n in (N.x, N.y, N.z)])
+    return sp.lambdify([q123], rows, modules="numpy", cse=True)
+
+
+@lru_cache(maxsize=len(EXTRA_CONSTRAINTS))
+def _kane_constrained_system(constraint: str) -> _KaneConstrainedSystem:
+    """Form Kane's equations of the rolling ball with one extra constraint on omega."""
+    if constraint not in EXTRA_CONSTRAINTS:
+        raise ValueError(
+            f"unknown constraint {constraint!r}; valid: {', '.join(EXTRA_CONSTRAINTS)}"
+        )
+    N, B, (q1, q2, q3) = _euler_frames()
+    x, y = me.dynamicsymbols("x y")
+    u1, u2, u3, u4, u5 = me.dynamicsymbols("u1 u2 u3 u4 u5")
+    I1, I2, I3, m, b, g = sp.symbols("I1 I2 I3 m b g", positive=True)
+    t = me.dynamicsymbols._t
+    q = [q1, q2, q3, x, y]
+    u = [u1, u2, u3, u4, u5]
+    p = [I1, I2, I3, m, b, g]
+
+    # Kinematics: u1..u3 = space-frame components of the angular velocity. The relation is
+    # linear in the Euler-angle rates; solve it by LU (fast) and simplify to the form whose
+    # only denominator is cos(q2), the true 3-2-1 singularity.
+    omega_q = B.ang_vel_in(N)
+    rates = [s.diff(t) for s in (q1, q2, q3)]
+    omega_space = sp.Matrix([omega_q.dot(n) for n in (N.x, N.y, N.z)])
+    A = omega_space.jacobian(rates).applyfunc(sp.trigsimp)
+    if sp.simplify(omega_space - A * sp.Matrix(rates)) != sp.zeros(3, 1):  # pragma: no cover
+        raise AssertionError("angular velocity is not linear in the Euler-angle rates")
+    rate_values = A.LUsolve(sp.Matrix([u1, u2, u3])).applyfunc(
+        lambda e: sp.trigsimp(sp.simplify(e))
+    )
+    residual = (A * rate_values - sp.Matrix([u1, u2, u3])).applyfunc(sp.simplify)
+    if residual != sp.zeros(3, 1):  # pragma: no cover - guards the solved kinematics
+        raise AssertionError("solved Euler kinematics do not satisfy omega = u")
+    kd = [r - v for r, v in zip(rates, rate_values, strict=True)]
+    kd += [x.diff(t) - u4, y.diff(t) - u5]
+    B.set_ang_vel(N, u1 * N.x + u2 * N.y + u3 * N.z)
+
+    origin = me.Point("origin")
+    origin.set_vel(N, 0)
+    O = origin.locatenew("O", x * N.x + y * N.y + b * N.z)
+    O.set_vel(N, u4 * N.x + u5 * N.y)
+    P = O.locatenew("P", -b * N.z)  # material point of the ball at the contact
+    P.v2pt_theory(O, N, B)
+    v_contact = P.vel(N)
+    if sp.simplify(v_contact.dot(N.z)) != 0:  # pragma: no cover - geometric guard
+        raise AssertionError("vertical velocity of the contact point does not vanish")
+    # The extra constraint: no twist (no spin about the vertical) or rolling along the line
+    # N.x (no rotation about the space-fixed horizontal axis N.x).
+    axis_vector, axis = (N.z, 2) if constraint == "rubber" else (N.x, 0)
+    omega = B.ang_vel_in(N)
+    velocity_constraints = [v_contact.dot(N.x), v_contact.dot(N.y), omega.dot(axis_vector)]
+    dependent = (axis, 3, 4)
+    u_dep = [u[i] for i in dependent]
+    u_ind = [s for s in u[:3] if s not in u_dep]
+
+    inertia = me.inertia(B, I1, I2, I3)
+    ball = me.RigidBody("ball", O, B, m, (inertia, O))
+    loads = [(O, -m * g * N.z)]
+
+    kane = me.KanesMethod(
+        N,
+        q_ind=q,
+        u_ind=u_ind,
+        u_dependent=u_dep,
+        kd_eqs=kd,
+        velocity_constraints=velocity_constraints,
+    )
+    kane.kanes_equations([ball], loads)
+
+    # Dependent speeds from the (linear) velocity constraints.
+    Cmat, rhs = sp.linear_eq_to_matrix(velocity_constraints, u_dep)
+    dep_values = Cmat.LUsolve(rhs).applyfunc(sp.simplify)
+
+    body_from_space = sp.Matrix([[bv.dot(n) for n in (N.x, N.y, N.z)] for bv in (B.x, B.y, B.z)])
+    T = ball.kinetic_energy(N)
+    qdot = sp.Matrix([*rate_values, u4, u5])
+    T_grad = sp.Matrix([T]).jacobian(q + u)
+
+    def lam(expr: Any) -> Callable[..., Any]:
+        return sp.lambdify((q, u, p), expr, modules="numpy", cse=True)
+
+    return _KaneConstrainedSystem(
+        mass_matrix=lam(kane.mass_matrix),
+        forcing=lam(kane.forcing),
+        body_from_space=lam(body_from_space),
+        dependent_speeds=lam(dep_values),
+        energy=lam(T),
+        energy_gradient=lam(T_grad),
+        qdot=lam(qdot),
+        speed_order=tuple(str(s.func) for s in kane.u),
+        dependent=dependent,
+        axis=axis,
+    )
+
+
+def space_axes_in_body(gamma: Sequence[float], yaw: float = 0.0) -> np.ndarray:
+    """Body-frame components of the space axes ``N.x, N.y, N.z`` of the Kane configuration.
+
+    The configuration is the one every Kane function uses for ``(gamma, yaw)``: the Euler
+    angles of :func:`euler_angles_for_gamma`. For the ``straight_line`` model the rows are its
+    state vectors ``alpha`` (the line ``N.x``), ``beta`` (``N.y``) and ``gamma`` (``N.z``).
+
+    Parameters
+    ----------
+    gamma : sequence of 3 floats
+        Unit upward vertical in the body frame; ``|gamma1| <= GAMMA1_LIMIT``.
+    yaw : float, optional
+        Heading angle (about the vertical).
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (3, 3); rows ``alpha, beta, gamma``, a right-handed orthonormal frame.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> bool(np.allclose(space_axes_in_body([0.0, 0.0, 1.0]), np.eye(3)))
+    True
+    """
+    q = euler_angles_for_gamma(gamma, yaw)
+    axes = np.asarray(_space_axes_function()(q), dtype=float)
+    if np.linalg.norm(axes[2] - np.asarray(gamma, dtype=float)) > 1e-12:  # pragma: no cover
+        raise AssertionError(f"Euler angles give gamma={axes[2]}, wanted {gamma}")
+    return axes
+
+
 def euler_angles_for_gamma(gamma: Sequence[float], yaw: float = 0.0) -> np.ndarray:
     """Body-fixed 3-2-1 Euler angles whose body-frame upward vertical is ``gamma``.
 
@@ -252,6 +450,53 @@ def _kane_point(
     return sys_, q, u, p
 
 
+def _kane_constrained_point(
+    I: Sequence[float],
+    D: float,
+    b: float,
+    M: Sequence[float],
+    gamma: Sequence[float],
+    yaw: float,
+    g: float,
+    constraint: str,
+) -> tuple[_KaneConstrainedSystem, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Constrained Kane system, numeric ``(q, u, p)`` and body-from-space matrix at ``(M, gamma)``.
+
+    Raises ``ValueError`` if ``omega = II^-1 M`` violates the extra constraint.
+    """
+    sys_ = _kane_constrained_system(constraint)
+    if len(I) != 3:
+        raise ValueError("I must have 3 components")
+    if b <= 0 or D <= 0:
+        raise ValueError("D and b must be positive")
+    q = np.concatenate([euler_angles_for_gamma(gamma, yaw), [0.0, 0.0]])
+    p = np.array([*map(float, I), D / b**2, b, g])
+    omega = omega_from_momentum(I, D, M, gamma)
+    C = np.asarray(sys_.body_from_space(q, np.zeros(5), p), dtype=float)
+    omega_space = C.T @ omega
+    if abs(omega_space[sys_.axis]) > ADMISSIBLE_RTOL * np.linalg.norm(omega):
+        raise ValueError(
+            f"state violates the {constraint!r} constraint: omega . N_{'xyz'[sys_.axis]} = "
+            f"{omega_space[sys_.axis]:.3e} (|omega| = {np.linalg.norm(omega):.3e})"
+        )
+    u = np.concatenate([omega_space, [0.0, 0.0]])
+    u[list(sys_.dependent)] = np.asarray(sys_.dependent_speeds(q, u, p), dtype=float).ravel()
+    return sys_, q, u, p, C
+
+
+def _kane_constrained_rates(
+    sys_: _KaneConstrainedSystem, q: np.ndarray, u: np.ndarray, p: np.ndarray
+) -> np.ndarray:
+    """``(u1', ..., u5')`` in the natural order from Kane's equations."""
+    A = np.asarray(sys_.mass_matrix(q, u, p), dtype=float)
+    f = np.asarray(sys_.forcing(q, u, p), dtype=float).ravel()
+    solved = np.linalg.solve(A, f)
+    udot = np.empty(5)
+    for name, value in zip(sys_.speed_order, solved, strict=True):
+        udot[int(name[1:]) - 1] = value
+    return udot
+
+
 def kane_angular_acceleration(
     I: Sequence[float],
     D: float,
@@ -261,6 +506,7 @@ def kane_angular_acceleration(
     *,
     yaw: float = 0.0,
     g: float = 9.81,
+    constraint: str | None = None,
 ) -> np.ndarray:
     """Body-frame angular acceleration of the rolling ball from ``KanesMethod``.
 
@@ -280,11 +526,23 @@ def kane_angular_acceleration(
         Heading angle of the Kane configuration (does not affect the result).
     g : float, optional
         Gravitational acceleration (does not affect the result of a balanced ball).
+    constraint : {None, "rubber", "straight_line"}, optional
+        One extra constraint on the angular velocity (see :data:`EXTRA_CONSTRAINTS`): no twist
+        ``omega . N.z = 0`` or rolling along the line ``N.x``, ``omega . N.x = 0``. The
+        heading ``yaw`` then matters for ``"straight_line"`` (it fixes ``alpha``, see
+        :func:`space_axes_in_body`).
 
     Returns
     -------
     numpy.ndarray
         ``omega_dot`` in the body frame, shape (3,).
+
+    Raises
+    ------
+    ValueError
+        Bad parameters, a singular ``gamma``, an unknown ``constraint``, or a state whose
+        ``omega = II^-1 M`` violates the constraint (relative tolerance
+        :data:`ADMISSIBLE_RTOL`).
 
     Examples
     --------
@@ -292,6 +550,9 @@ def kane_angular_acceleration(
     >>> w_dot.shape
     (3,)
     """
+    if constraint is not None:
+        sys_c, q, u, p, C = _kane_constrained_point(I, D, b, M, gamma, yaw, g, constraint)
+        return C @ _kane_constrained_rates(sys_c, q, u, p)[:3]
     omega = omega_from_momentum(I, D, M, gamma)
     sys_, q, u, p = _kane_point(I, D, b, omega, gamma, yaw, g)
     A = np.asarray(sys_.mass_matrix(q, u, p), dtype=float)
@@ -338,21 +599,30 @@ def kane_energy_and_rate(
     gamma: Sequence[float],
     *,
     yaw: float = 0.0,
+    constraint: str | None = None,
 ) -> tuple[float, float]:
     """Kinetic energy and its time derivative along the Kane solution.
 
     ``dT/dt = (dT/dq) . q' + (dT/du) . u'`` with ``q'`` from the kinematic differential
-    equations and ``u'`` from Kane's equations; it must vanish (rolling and gravity do no work).
+    equations and ``u'`` from Kane's equations; it must vanish (rolling, gravity and the
+    reaction of an extra constraint on omega do no work).
 
     Parameters
     ----------
-    I, D, b, M, gamma, yaw : as in :func:`kane_angular_acceleration`
+    I, D, b, M, gamma, yaw, constraint : as in :func:`kane_angular_acceleration`
 
     Returns
     -------
     tuple of float
         ``(T, dT/dt)``.
     """
+    if constraint is not None:
+        sys_c, q, u, p, _ = _kane_constrained_point(I, D, b, M, gamma, yaw, 9.81, constraint)
+        udot = _kane_constrained_rates(sys_c, q, u, p)
+        qdot = np.asarray(sys_c.qdot(q, u, p), dtype=float).ravel()
+        grad = np.asarray(sys_c.energy_gradient(q, u, p), dtype=float).ravel()
+        T = float(sys_c.energy(q, u, p))
+        return T, float(grad[:5] @ qdot + grad[5:] @ udot)
     omega = omega_from_momentum(I, D, M, gamma)
     sys_, q, u, p = _kane_point(I, D, b, omega, gamma, yaw, 9.81)
     A = np.asarray(sys_.mass_matrix(q, u, p), dtype=float)
@@ -366,48 +636,69 @@ def kane_energy_and_rate(
 
 @lru_cache(maxsize=8)
 def _model_omega_dot(model: Any) -> tuple[Callable[..., Any], tuple[str, ...]]:
-    """Lambdified ``omega_dot(M, gamma, params)`` of a model and its parameter names."""
-    M = list(model.group("M"))
-    gamma = list(model.group("gamma"))
-    state = M + gamma
+    """Lambdified ``omega_dot(state, params)`` of a model and its parameter names.
+
+    ``state`` is the model's whole state vector (``M, gamma`` and e.g. ``alpha, beta``).
+    """
+    state = list(model.state)
     omega = model.expand_aux(model.definitions["omega"])
-    rows = [model.state.index(s) for s in state]
-    rhs = sp.Matrix([model.rhs_expanded[i] for i in rows])
+    rhs = model.rhs_expanded
     allowed = set(state) | set(model.params)
     free = omega.free_symbols | rhs.free_symbols
     if not free <= allowed:
-        raise ValueError(f"omega or (M', gamma') depend on more than M, gamma: {free - allowed}")
+        raise ValueError(f"omega or the state's rate depend on more than state: {free - allowed}")
     jac = omega.jacobian(state)
     f = sp.lambdify((state, list(model.params)), [jac, rhs], modules="numpy", cse=True)
     return f, tuple(model.param_names)
 
 
 def model_angular_acceleration(
-    model: Any, params: dict[str, float], M: Sequence[float], gamma: Sequence[float]
+    model: Any,
+    params: Mapping[str, float],
+    M: Sequence[float],
+    gamma: Sequence[float],
+    groups: Mapping[str, Sequence[float]] | None = None,
 ) -> np.ndarray:
-    """Body-frame angular acceleration from our model: ``(d omega / d state) . rhs``.
+    """Body-frame angular acceleration from our model: ``(d omega / d state) . state'``.
 
     Parameters
     ----------
     model : chaplygin.derive.Model
-        A ``chaplygin_ball`` model (any variant whose ``omega`` and ``(M', gamma')`` depend on
-        ``M``, ``gamma`` and the parameters only).
-    params : dict of str to float
+        A ``chaplygin_ball`` model (any variant whose ``omega`` and state rates depend on the
+        state and the parameters only, e.g. plain, ``rubber``, ``straight_line``).
+    params : mapping of str to float
         Parameter values by name (``I1, I2, I3, D`` ...).
     M : sequence of 3 floats
         Angular momentum about the contact point, body frame.
     gamma : sequence of 3 floats
         Unit upward vertical, body frame.
+    groups : mapping of str to sequence of float, optional
+        Values of the model's other state groups by name (``straight_line``: ``alpha``,
+        ``beta``).
 
     Returns
     -------
     numpy.ndarray
         ``omega_dot``, shape (3,).
+
+    Raises
+    ------
+    KeyError
+        A parameter or a state group of the model without a value.
     """
     f, names = _model_omega_dot(model)
     missing = [n for n in names if n not in params]
     if missing:
         raise KeyError(f"missing parameter values: {missing}")
-    state = [*map(float, M), *map(float, gamma)]
+    values: dict[str, Sequence[float]] = {**(groups or {}), "M": M, "gamma": gamma}
+    absent = [name for name, _ in model.state_groups if name not in values]
+    if absent:
+        raise KeyError(f"missing values of the state groups: {absent}")
+    state: list[float] = []
+    for name, symbols in model.state_groups:
+        group = [float(v) for v in values[name]]
+        if len(group) != len(symbols):
+            raise ValueError(f"state group {name!r} needs {len(symbols)} values, got {len(group)}")
+        state += group
     jac, rhs = f(state, [float(params[n]) for n in names])
     return (np.asarray(jac, dtype=float) @ np.asarray(rhs, dtype=float)).ravel()
