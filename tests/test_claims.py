@@ -90,6 +90,13 @@ def test_control_witness_is_a_phase_space_point_where_the_residual_is_not_zero(c
     positive = [s for spec in model.parameters if spec.domain == "positive" for s in spec.symbols]
     assert all(point[s] > 0 for s in positive if s in point)  # a physical body
     check = claim.build(model)
+    # a refuted claim's residual comes from the last check decided (its fallback)
+    while check.fallback is not None:
+        check = check.fallback
+    # and the witness lies on the model's invariant relations and the check's level set
+    for _, rel in model.definitions.get("invariant_relations", ()):
+        assert sp.nsimplify(model.expand_aux(rel).xreplace(point)) == 0
+    assert all(sp.nsimplify(model.expand_aux(r).xreplace(point)) == 0 for r in check.on)
     # time-dependent residuals: sin(Omega t), cos(Omega t), I1(t), k1'(t) ... carry their
     # witness values by name (derivatives before the functions they contain)
     atoms = {
