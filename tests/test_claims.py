@@ -8,7 +8,16 @@ from chaplygin.derive.vectors import dot
 from chaplygin.verify.claims import REGISTRY, Check, Claim, select_claims
 from chaplygin.verify.claims.notation import ball_notation
 from chaplygin.verify.identity import VERDICTS, Domain, decide, measure_residual
-from chaplygin.verify.verdict import check_claim
+from chaplygin.verify.verdict import Verdict, check_claim
+
+_VERDICTS: dict[str, Verdict] = {}
+
+
+def _verdict(claim_id: str) -> Verdict:
+    """Each claim is decided once per session (two tests look at every control)."""
+    if claim_id not in _VERDICTS:
+        _VERDICTS[claim_id] = check_claim(REGISTRY[claim_id])
+    return _VERDICTS[claim_id]
 
 CLAIMS = select_claims()
 FOUNDATION = [
@@ -58,7 +67,7 @@ def test_registry_covers_the_foundation_claims_and_controls():
 
 @pytest.mark.parametrize("claim_id", [c.id for c in CLAIMS])
 def test_claim_gets_expected_verdict(claim_id):
-    v = check_claim(REGISTRY[claim_id])
+    v = _verdict(claim_id)
     assert v.verdict in VERDICTS
     if REGISTRY[claim_id].expected == "holds":
         # integrals, the measure and the equations must be proved symbolically, unless
@@ -80,7 +89,7 @@ def test_claim_gets_expected_verdict(claim_id):
 def test_control_witness_is_a_phase_space_point_where_the_residual_is_not_zero(claim_id):
     """Re-evaluate the witness independently, in exact arithmetic."""
     claim = REGISTRY[claim_id]
-    v = check_claim(claim)
+    v = _verdict(claim_id)
     model = claim.model()
     # a residual need not involve every state variable (generic-surface models)
     names = model.state + model.params

@@ -7,15 +7,21 @@ numbers) print one line on stderr and exit with status 2; nothing is written.
 from __future__ import annotations
 
 import argparse
+import importlib
 import importlib.util
 import json
 import sys
+import time
 from collections.abc import Sequence
 from pathlib import Path
 
-__all__ = ["main", "build_parser"]
+__all__ = ["main", "build_parser", "COMMAND_MODULES"]
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE = 0, 1, 2
+
+#: Modules of ``chaplygin.verify`` that add a subcommand: each defines
+#: ``add_parser(subparsers) -> None`` and sets ``func`` (args -> exit status) as a default.
+COMMAND_MODULES: tuple[str, ...] = ()
 
 
 class _Parser(argparse.ArgumentParser):
@@ -51,7 +57,7 @@ def _cmd_verify(args) -> int:
     from chaplygin.derive.errors import UserInputError
 
     from .claims import select_claims
-    from .verdict import check_claim
+    from .verdict import default_jobs, iter_verdicts
 
     if args.report:
         target = Path(args.report)
@@ -64,11 +70,14 @@ def _cmd_verify(args) -> int:
         raise UserInputError(
             f"no claim matches {args.claims!r}; patterns are globs over IDs like 'BKM12-*,K01-2.2'"
         )
+    jobs = default_jobs() if args.jobs is None else args.jobs
+    if jobs < 1:
+        raise UserInputError(f"--jobs must be a positive whole number, got {jobs}")
     verdicts = []
+    started = time.perf_counter()
     if not args.json:
         print(f"{'claim':<46} {'verdict':<14} {'ok':<3} {'seconds':>8}  method / statement")
-    for claim in claims:
-        v = check_claim(claim, method=args.method)
+    for v in iter_verdicts(claims, method=args.method, jobs=jobs):
         verdicts.append(v)
         if not args.json:
             flag = "yes" if v.ok else "NO"
@@ -91,10 +100,12 @@ def _cmd_verify(args) -> int:
             for k in ("proved", "exact-sampled", "numeric", "refuted")
         }
         total = sum(v.seconds for v in verdicts)
+        wall = time.perf_counter() - started
         print(
             f"\n{len(verdicts)} claims: "
             + ", ".join(f"{n} {k}" for k, n in counts.items())
-            + f"; {len(bad)} unexpected; {total:.1f} s"
+            + f"; {len(bad)} unexpected; {total:.1f} s of checking, {wall:.1f} s wall"
+            + f" with {jobs} process(es), model derivation included"
         )
         for v in bad:
             print(f"UNEXPECTED: {v.id} is {v.verdict} (expected to {v.expected.rstrip('s')})")
@@ -228,6 +239,12 @@ def build_parser() -> argparse.ArgumentParser:
         choices=("auto", "symbolic", "exact-sampled", "numeric"),
         help="auto: symbolic proof, refutation with an exact witness (default)",
     )
+    p.add_argument(
+        "--jobs",
+        type=int,
+        default=None,
+        help="worker processes (default: the CPUs available); 1 checks in this process",
+    )
     p.set_defaults(func=_cmd_verify)
 
     p = sub.add_parser("derive", help="regenerate generated/ (or check it with --check)")
@@ -261,6 +278,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--backend", default="auto", choices=("auto", "c", "numpy"))
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=_cmd_integrate)
+
+    for name in COMMAND_MODULES:
+        importlib.import_module(f"{__package__}.{name}").add_parser(sub)
     return parser
 
 

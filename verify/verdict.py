@@ -2,14 +2,16 @@
 
 from __future__ import annotations
 
+import multiprocessing
+import os
 import time
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 from dataclasses import asdict, dataclass
 
 from .claims import Claim
 from .identity import Domain, decide
 
-__all__ = ["Verdict", "check_claim", "check_claims"]
+__all__ = ["Verdict", "check_claim", "check_claims", "iter_verdicts", "default_jobs"]
 
 
 @dataclass
@@ -99,5 +101,55 @@ def check_claim(claim: Claim, method: str = "auto", points: int = 8) -> Verdict:
     )
 
 
-def check_claims(claims: Iterable[Claim], method: str = "auto") -> list[Verdict]:
-    return [check_claim(c, method=method) for c in claims]
+def default_jobs() -> int:
+    """Worker processes for a verification: the CPUs this process may use."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover  (not Linux)
+        return max(1, os.cpu_count() or 1)
+
+
+def _check_by_id(task: tuple[int, str, str]) -> tuple[int, Verdict]:
+    from .claims import REGISTRY, select_claims
+
+    index, claim_id, method = task
+    select_claims()  # a spawned worker loads the registry; a forked one has it
+    return index, check_claim(REGISTRY[claim_id], method=method)
+
+
+def iter_verdicts(
+    claims: Iterable[Claim], method: str = "auto", jobs: int = 1
+) -> Iterator[Verdict]:
+    """Check claims, yielding the verdicts in the order of ``claims``.
+
+    Parameters
+    ----------
+    claims : iterable of Claim
+        Registered claims (workers look them up by ID).
+    method : {"auto", "symbolic", "exact-sampled", "numeric"}
+    jobs : int
+        Worker processes. With more than one, the claims are decided in parallel (each
+        worker derives the models it needs once); a verdict is the same whichever process
+        decides it (the sampler is seeded).
+    """
+    claims = list(claims)
+    if jobs <= 1 or len(claims) <= 1:
+        for c in claims:
+            yield check_claim(c, method=method)
+        return
+    methods = multiprocessing.get_all_start_methods()
+    ctx = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
+    tasks = [(i, c.id, method) for i, c in enumerate(claims)]
+    done: dict[int, Verdict] = {}
+    nxt = 0
+    with ctx.Pool(processes=min(jobs, len(claims))) as pool:
+        for index, verdict in pool.imap_unordered(_check_by_id, tasks, chunksize=1):
+            done[index] = verdict
+            while nxt in done:
+                yield done.pop(nxt)
+                nxt += 1
+
+
+def check_claims(claims: Iterable[Claim], method: str = "auto", jobs: int = 1) -> list[Verdict]:
+    """All verdicts of :func:`iter_verdicts`, as a list."""
+    return list(iter_verdicts(claims, method=method, jobs=jobs))
