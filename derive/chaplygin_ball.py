@@ -268,7 +268,7 @@ def build_chaplygin_ball(effects: Iterable[str] | str | None = (), *, _laws: str
         density = None
         if C.shape[0] == 1:
             S = (C * structured.apply_inverse(C.T))[0, 0]
-            density = sp.sqrt(sp.factor(S)) * X.det() ** sp.Rational(-1, 2)
+            density = sp.sqrt(sp.together(S)) * X.det() ** sp.Rational(-1, 2)
     if var_inertia:
         # X = D^-1 - (gamma, A(t) gamma) depends on time: det(X)^-1/2 is not invariant
         # (its explicit time derivative is left over), and no density is known.

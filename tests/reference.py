@@ -7,6 +7,8 @@ M0 = (0.7, -0.4, 0.5).
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 REFERENCE_PARAMS = {"I": (1, 2, 3), "D": 1}
@@ -56,3 +58,15 @@ def assert_close_rel(actual, desired, rtol: float, what: str = "") -> None:
     scale = np.max(np.abs(desired))
     err = np.max(np.abs(actual - desired))
     assert err <= rtol * scale, f"{what}: max error {err:.3e} > {rtol:.1e} x {scale:.3e}"
+
+
+@functools.cache
+def verdict(claim_id: str, method: str = "auto"):
+    """The verdict of a registered claim, decided once per test session (several test
+    modules look at the same claims; the sampler is seeded, so a verdict is the same
+    whenever it is decided)."""
+    from chaplygin.verify.claims import REGISTRY, select_claims
+    from chaplygin.verify.verdict import check_claim
+
+    select_claims()
+    return check_claim(REGISTRY[claim_id], method=method)

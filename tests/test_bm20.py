@@ -38,7 +38,7 @@ from chaplygin.verify.identity import (
     measure_residual,
 )
 from chaplygin.verify.verdict import check_claim
-from reference import random_params, random_state
+from reference import random_params, random_state, verdict
 
 BM20 = [c.id for c in select_claims("BM20-*")]
 BM20_FAILS = [i for i in BM20 if REGISTRY[i].expected == "fails"]
@@ -87,7 +87,7 @@ def test_every_bm20_claim_of_the_brief_is_registered():
 @pytest.mark.parametrize("claim_id", BM20)
 def test_bm20_claim_gets_its_expected_verdict(claim_id):
     """Every claim that holds is proved; literal readings and controls are refuted."""
-    v = check_claim(REGISTRY[claim_id])
+    v = verdict(claim_id)
     if REGISTRY[claim_id].expected == "holds":
         assert v.verdict == "proved", (v.verdict, v.residual, v.witness)
         assert v.residual == "0"
@@ -114,7 +114,7 @@ def _witness_values(claim: Claim, check: Check, witness: dict) -> list[sp.Expr]:
 def test_refutation_witness_is_a_physical_point_where_the_residual_is_not_zero(claim_id):
     """Re-evaluate each witness independently in exact arithmetic."""
     claim = REGISTRY[claim_id]
-    v = check_claim(claim)
+    v = verdict(claim.id)
     model = claim.model()
     gamma = model.group("gamma").xreplace({s: sp.Rational(v.witness[s.name]) for s in model.state})
     assert dot(gamma, gamma) == 1
@@ -135,7 +135,7 @@ def test_refutation_witness_is_a_physical_point_where_the_residual_is_not_zero(c
 def test_time_dependent_reparametrisation_gives_a_physical_witness():
     """A_i = 1/J_ii(t) is evaluated at the sampled point of the circle (sin, cos)."""
     claim = REGISTRY["BM20-3.4J"]
-    v = check_claim(claim)
+    v = verdict(claim.id)
     w = {k: sp.Rational(x) for k, x in v.witness.items()}
     offset = (w["J_off"] + w["delta"] * w["sin(Omega*t)"]) ** 2
     assert w["A1"] == 1 / (w["I1"] + offset + w["D"])
@@ -231,7 +231,7 @@ def test_a_wrong_law_is_refuted_by_the_law_substitution_check():
     }
     wrong = list(model.rhs_expanded - generic.rhs_expanded.xreplace(law))
     assert _decide(model, wrong).verdict == "refuted"
-    assert check_claim(REGISTRY["BM20-3.4"]).verdict == "proved"
+    assert verdict("BM20-3.4").verdict == "proved"
 
 
 def test_generic_claims_use_the_generic_model():

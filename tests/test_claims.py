@@ -8,16 +8,8 @@ from chaplygin.derive.vectors import dot
 from chaplygin.verify.claims import REGISTRY, Check, Claim, select_claims
 from chaplygin.verify.claims.notation import ball_notation
 from chaplygin.verify.identity import VERDICTS, Domain, decide, measure_residual
-from chaplygin.verify.verdict import Verdict, check_claim
-
-_VERDICTS: dict[str, Verdict] = {}
-
-
-def _verdict(claim_id: str) -> Verdict:
-    """Each claim is decided once per session (two tests look at every control)."""
-    if claim_id not in _VERDICTS:
-        _VERDICTS[claim_id] = check_claim(REGISTRY[claim_id])
-    return _VERDICTS[claim_id]
+from chaplygin.verify.verdict import check_claim
+from reference import verdict as _verdict
 
 CLAIMS = select_claims()
 FOUNDATION = [

@@ -13,8 +13,9 @@ from chaplygin.derive.spherical_support import (
     n_ball_model,
     support_parameters,
 )
-from chaplygin.verify.claims import REGISTRY, select_claims
+from chaplygin.verify.claims import select_claims
 from chaplygin.verify.verdict import check_claim
+from reference import verdict
 
 SUPPORT = "spherical_support"
 
@@ -24,7 +25,9 @@ def _verdict(claim_id: str):
     from chaplygin.verify.claims.support import NUMERIC_CLAIMS
 
     numeric = {c.id: c for c in NUMERIC_CLAIMS}
-    return check_claim(numeric.get(claim_id) or REGISTRY[claim_id])
+    if claim_id in numeric:
+        return check_claim(numeric[claim_id])
+    return verdict(claim_id)
 
 
 # ----------------------------------------------------------------- derivation

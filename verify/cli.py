@@ -65,6 +65,18 @@ def _cmd_verify(args) -> int:
             raise UserInputError(
                 f"cannot write the report to {args.report!r}: give a file in an existing folder"
             )
+    if args.coverage:
+        from .coverage import coverage
+        from .report import render_coverage
+
+        rows = coverage(select_claims())
+        print("\n".join(render_coverage(rows)))
+        missing = sum(r.checkable and not r.covered for r in rows)
+        print(
+            f"\n{sum(r.checkable for r in rows)} checkable entries in FORMULAS.md, "
+            f"{missing} without a verdict yet"
+        )
+        return EXIT_OK
     claims = select_claims(args.claims)
     if not claims:
         raise UserInputError(
@@ -238,6 +250,11 @@ def build_parser() -> argparse.ArgumentParser:
         default="auto",
         choices=("auto", "symbolic", "exact-sampled", "numeric"),
         help="auto: symbolic proof, refutation with an exact witness (default)",
+    )
+    p.add_argument(
+        "--coverage",
+        action="store_true",
+        help="list which checkable entries of FORMULAS.md have a claim (checks nothing)",
     )
     p.add_argument(
         "--jobs",

@@ -12,9 +12,10 @@ from collections import Counter
 from collections.abc import Sequence
 
 from .claims import REGISTRY
+from .coverage import SECTIONS, CoverageRow, coverage
 from .verdict import Verdict
 
-__all__ = ["plain_to_latex", "render_report", "paper_of"]
+__all__ = ["plain_to_latex", "render_report", "render_coverage", "paper_of"]
 
 _GREEK = [
     "alpha",
@@ -88,6 +89,31 @@ def _evidence(v: Verdict) -> str:
     return f"residual {v.residual}"
 
 
+def render_coverage(rows: Sequence[CoverageRow]) -> list[str]:
+    """Markdown lines: per FORMULAS.md section, checkable entries with a verdict and the
+    ones without (a FAILED entry needs its ``/literal`` claim too)."""
+    lines = [
+        "| FORMULAS.md section | issue | checkable | covered | not covered yet |",
+        "|---|---|---|---|---|",
+    ]
+    by_section: dict[str, list[CoverageRow]] = {}
+    for r in rows:
+        by_section.setdefault(r.section, []).append(r)
+    for section, rs in by_section.items():
+        checkable = [r for r in rs if r.checkable]
+        missing = [
+            r.id + (" (/literal)" if r.claims and not r.literal_claims else "")
+            for r in checkable
+            if not r.covered
+        ]
+        title, issue = SECTIONS[section]
+        lines.append(
+            f"| {section} {title} | {issue} | {len(checkable)} | "
+            f"{len(checkable) - len(missing)} | {', '.join(missing) or '-'} |"
+        )
+    return lines
+
+
 def render_report(verdicts: Sequence[Verdict]) -> str:
     """Markdown text of the report."""
     lines = ["# chaplygin verification report", ""]
@@ -134,6 +160,8 @@ def render_report(verdicts: Sequence[Verdict]) -> str:
                 f"| {v.id}: ${_latex(v)}$ | {v.verdict} ({_evidence(v)}) | {fix_text} | "
                 f"{fix.verdict if fix else '-'} |"
             )
+    lines += ["", "## Coverage of FORMULAS.md", ""]
+    lines += render_coverage(coverage(REGISTRY[v.id] for v in verdicts if v.id in REGISTRY))
     lines += ["", "## Claims", ""]
     for paper, vs in by_paper.items():
         lines += [

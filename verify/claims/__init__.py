@@ -78,6 +78,9 @@ class Claim:
     note : str
     latex : str, optional
         The statement in LaTeX for the report (default: translated from ``statement``).
+    covers : tuple of str
+        Further FORMULAS.md entries whose statement this verdict settles (a control whose
+        refutation is what the paper asserts: "the special distribution is needed").
     """
 
     id: str
@@ -90,6 +93,7 @@ class Claim:
     expected: str = "holds"
     note: str = ""
     latex: str = ""
+    covers: tuple[str, ...] = ()
 
     def model(self) -> Model:
         return build_model(self.system, self.effects)

@@ -285,6 +285,34 @@ def _law_substitution(model: Model) -> Check:
     return Check(exprs)
 
 
+def _order_certificate(cos_square: bool):
+    """BM20 §3.2 remark: I = (4, 3, 2), J_off = 0 in the law (3.4).
+
+    ``I1(t) - I2 = 1 + delta^2 sin^2`` and ``I2 - I3(t) = (1 - delta^2) + delta^2 cos^2``:
+    a certificate that ``I1(t) > I2 > I3(t)`` for every t iff ``delta < 1`` (the bound
+    ``1 - delta^2`` is attained where ``cos(Omega t) = 0``). ``cos_square=False`` is the
+    control with ``sin^2`` in the second identity.
+    """
+
+    def build(model: Model) -> Check:
+        n = _notation(model)
+        I0 = model.param_group("I")  # noqa: N806
+        J_off = model.param_group("J_off")[0]
+        delta, Omega = model.param_group("delta")[0], model.param_group("Omega")[0]
+        fig = {I0[0]: 4, I0[1]: 3, I0[2]: 2, J_off: 0}
+        It = [n.I[i, i].xreplace(fig) for i in range(3)]
+        s, c = sp.sin(Omega * model.time), sp.cos(Omega * model.time)
+        last = c if cos_square else s
+        return Check(
+            [
+                It[0] - It[1] - (1 + delta**2 * s**2),
+                It[1] - It[2] - (1 - delta**2) - (delta * last) ** 2,
+            ]
+        )
+
+    return build
+
+
 def _bm20_3_6(model: Model) -> Check:
     n = _notation(model)
     t = model.time
@@ -524,6 +552,28 @@ for claim in (
         _involutions_at(None),
         expected="fails",
         note="I(t) is even only for J_off = 0 (FORMULAS.md [BM20-3.4J])",
+    ),
+    Claim(
+        "BM20-3.2rem",
+        f"{S3}.2 (remark on delta)",
+        "value",
+        "I = (4, 3, 2), J_off = 0 in (3.4): I1(t) - I2 = 1 + delta^2 sin^2(Omega t) and "
+        "I2 - I3(t) = (1 - delta^2) + delta^2 cos^2(Omega t), so I1(t) > I2 > I3(t) for all t "
+        "iff delta < 1; delta = 2 violates the order (at sin(Omega t) = +-1)",
+        BALL,
+        VI,
+        _order_certificate(cos_square=True),
+        note="a certificate: the minimum 1 - delta^2 of I2 - I3(t) is attained at cos = 0",
+    ),
+    Claim(
+        "BM20-3.2rem/control-sin",
+        f"{S3}.2 (remark on delta; control)",
+        "value",
+        "the same certificate with I2 - I3(t) = (1 - delta^2) + delta^2 sin^2(Omega t)",
+        BALL,
+        VI,
+        _order_certificate(cos_square=False),
+        expected="fails",
     ),
     GenericLawClaim(
         "BM20-3.6",

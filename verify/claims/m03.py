@@ -739,6 +739,7 @@ SLOW_CLAIMS = [
         _density_2,
         expected="fails",
         note="M03-2.4: the special mass distribution is needed",
+        covers=("M03-2.4",),
         body="double",
     ),
 ]
