@@ -40,6 +40,7 @@ M03-1.1 .. M03-1.7 (FORMULAS.md §4.1).
 
 from __future__ import annotations
 
+import functools
 import random
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
@@ -491,30 +492,31 @@ def ellipsoid_potential(x: sp.Matrix, k: sp.Expr, c: sp.Matrix) -> sp.Expr:
     return k * dot(x, x) / 2 + sum((c[i] / x[i] ** 2 for i in range(3)), sp.S.Zero) / 2
 
 
+def _sample_ellipsoid(b: sp.Matrix, x: sp.Matrix, rng: random.Random, point: dict) -> None:
+    def r() -> sp.Rational:
+        return sp.Rational(rng.choice([-1, 1]) * rng.randint(1, 9), rng.randint(1, 9))
+
+    s = [sp.Rational(rng.randint(1, 12), rng.randint(1, 6)) for _ in range(3)]
+    p, q = r(), r()
+    while p**2 + q**2 == 1:  # u3 = 0
+        p, q = r(), r()
+    d = 1 + p**2 + q**2
+    u = [2 * p / d, 2 * q / d, (1 - p**2 - q**2) / d]
+    for i in range(3):
+        point[b[i]] = s[i] ** 2
+        point[x[i]] = s[i] * u[i]
+
+
 def ellipsoid_sampler(b: sp.Matrix, x: sp.Matrix) -> Callable[[random.Random, dict], None]:
     """Rational points of ``(x, B^-1 x) = 1``: ``b_i = s_i^2``, ``x_i = s_i u_i``, ``|u| = 1``.
 
     ``u`` comes from the inverse stereographic projection of a random rational point,
     ``s_i`` are random positive rationals, so the point is exact and the ellipsoid a
     physical one (positive ``b_i``). Points on the coordinate planes (where the
-    potential of M03-1.6 is singular) are not drawn.
+    potential of M03-1.6 is singular) are not drawn. The sampler is picklable (models
+    are cached on disk).
     """
-
-    def sample(rng: random.Random, point: dict) -> None:
-        def r() -> sp.Rational:
-            return sp.Rational(rng.choice([-1, 1]) * rng.randint(1, 9), rng.randint(1, 9))
-
-        s = [sp.Rational(rng.randint(1, 12), rng.randint(1, 6)) for _ in range(3)]
-        p, q = r(), r()
-        while p**2 + q**2 == 1:  # u3 = 0
-            p, q = r(), r()
-        d = 1 + p**2 + q**2
-        u = [2 * p / d, 2 * q / d, (1 - p**2 - q**2) / d]
-        for i in range(3):
-            point[b[i]] = s[i] ** 2
-            point[x[i]] = s[i] * u[i]
-
-    return sample
+    return functools.partial(_sample_ellipsoid, b, x)
 
 
 def build_ball_on_surface(effects: Iterable[str] | str | None = ()) -> Model:

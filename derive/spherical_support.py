@@ -52,6 +52,7 @@ BKM12-27..38, BKM12-Rem2, BKM12-39..42, BKM12-2.2, BKM12-2.3 (FORMULAS.md §1.6,
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
@@ -339,19 +340,20 @@ def n_ball_model(
 
 
 # ============================================================== closed model
+def _sample_physical_support(D_iso, D_al, D_be, rng, point) -> None:  # noqa: N803
+    al0, be0, ga0 = (sp.Rational(rng.randint(1, 40), rng.randint(1, 12)) for _ in range(3))
+    point[D_iso], point[D_al], point[D_be] = al0 + be0, al0 - ga0, be0 - ga0
+
+
 def _physical_support_sampler(D_iso: sp.Symbol, D_al: sp.Symbol, D_be: sp.Symbol):
     """Exact sampler of physical support parameters (for the verifier's witnesses).
 
     The support tensor's eigenvalues ``D_al0, D_be0, D_ga0`` are non-negative, so
     ``D_iso = D_al0 + D_be0``, ``D_al = D_al0 - D_ga0``, ``D_be = D_be0 - D_ga0``: the
-    eigenvalues are drawn as positive rationals and the parameters set from them.
+    eigenvalues are drawn as positive rationals and the parameters set from them. The
+    sampler is picklable (models are cached on disk).
     """
-
-    def sample(rng, point) -> None:
-        al0, be0, ga0 = (sp.Rational(rng.randint(1, 40), rng.randint(1, 12)) for _ in range(3))
-        point[D_iso], point[D_al], point[D_be] = al0 + be0, al0 - ga0, be0 - ga0
-
-    return sample
+    return functools.partial(_sample_physical_support, D_iso, D_al, D_be)
 
 
 def _virtual_weights(rubber: bool):

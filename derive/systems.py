@@ -8,15 +8,36 @@ code is committed in ``generated/``).
 
 from __future__ import annotations
 
+import hashlib
 import importlib
+import os
+import pickle
+import sys
+import tempfile
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
+from functools import cache
+from pathlib import Path
+
+import mpmath
+import sympy as sp
 
 from .effects import parse_effects
 from .errors import UserInputError
 from .model import Model
 
-__all__ = ["System", "SYSTEMS", "SYSTEM_MODULES", "build_model", "builtin_variants", "variant_name"]
+__all__ = [
+    "System",
+    "SYSTEMS",
+    "SYSTEM_MODULES",
+    "build_model",
+    "builtin_variants",
+    "variant_name",
+    "model_cache_dir",
+]
+
+#: Bumped when the layout of the on-disk model cache changes.
+MODEL_CACHE_VERSION = 1
 
 #: Modules of chaplygin.derive that define a system (see the module docstring).
 SYSTEM_MODULES = ("chaplygin_ball", "ball_on_surface", "spherical_support")
@@ -66,14 +87,84 @@ def variant_name(system: str, effects: Iterable[str]) -> str:
     return "__".join([system, *sorted(effects)])
 
 
-def build_model(system: str, effects: Iterable[str] | str | None = ()) -> Model:
+def model_cache_dir() -> Path | None:
+    """Folder of derived models on disk: ``$CHAPLYGIN_CACHE_DIR/models`` (default
+    ``~/.cache/chaplygin/models``); None when ``CHAPLYGIN_MODEL_CACHE=0``."""
+    if os.environ.get("CHAPLYGIN_MODEL_CACHE", "1") == "0":
+        return None
+    root = os.environ.get("CHAPLYGIN_CACHE_DIR") or os.path.join(
+        os.path.expanduser("~"), ".cache", "chaplygin"
+    )
+    return Path(root) / "models"
+
+
+@cache
+def _derivation_digest() -> str:
+    """Hash of everything a derivation depends on: this package's sources and the
+    versions of Python, sympy and mpmath. Any edit of ``derive/`` gives new keys."""
+    h = hashlib.sha256(f"{MODEL_CACHE_VERSION} {sys.version} {sp.__version__}".encode())
+    h.update(mpmath.__version__.encode())
+    here = Path(__file__).resolve().parent
+    for path in sorted(here.rglob("*.py")):
+        h.update(str(path.relative_to(here)).encode())
+        h.update(path.read_bytes())
+    return h.hexdigest()
+
+
+def _cache_file(system: str, effects: frozenset[str]) -> Path | None:
+    folder = model_cache_dir()
+    if folder is None:
+        return None
+    key = hashlib.sha256(f"{_derivation_digest()} {variant_name(system, effects)}".encode())
+    return folder / f"{variant_name(system, effects)}-{key.hexdigest()[:32]}.pickle"
+
+
+def _load_cached(path: Path | None) -> Model | None:
+    if path is None or not path.exists():
+        return None
+    try:
+        with path.open("rb") as fh:
+            model = pickle.load(fh)  # our own cache (as trusted as the compiled C cache)
+    except Exception:  # a truncated or foreign file: derive again and overwrite it
+        return None
+    return model if isinstance(model, Model) else None
+
+
+def _store(path: Path | None, model: Model) -> None:
+    """Write atomically (parallel processes may derive the same model at once)."""
+    if path is None:
+        return
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
+        with os.fdopen(fd, "wb") as fh:
+            pickle.dump(model, fh, protocol=pickle.HIGHEST_PROTOCOL)
+        os.replace(tmp, path)
+    except (OSError, pickle.PicklingError, AttributeError, TypeError):
+        # a read-only home or an unpicklable definition: the cache is only an aid
+        try:
+            os.unlink(tmp)
+        except (OSError, UnboundLocalError):
+            pass
+
+
+def build_model(
+    system: str, effects: Iterable[str] | str | None = (), disk_cache: bool = True
+) -> Model:
     """Build (and memoise) the model of a system with the given effects.
+
+    Derived models are memoised in the process and, unless ``disk_cache`` is False or
+    ``CHAPLYGIN_MODEL_CACHE=0``, on disk (:func:`model_cache_dir`), keyed by the sources
+    of this package and the versions of Python, sympy and mpmath, so that a later
+    process does not derive them again.
 
     Parameters
     ----------
     system : str
         A key of :data:`SYSTEMS`.
     effects : iterable of str or comma-separated str, optional
+    disk_cache : bool
+        Read and write the on-disk cache.
 
     Returns
     -------
@@ -88,7 +179,12 @@ def build_model(system: str, effects: Iterable[str] | str | None = ()) -> Model:
     chosen = parse_effects(effects, sysdef.effects)
     key = (system, chosen)
     if key not in _CACHE:
-        _CACHE[key] = sysdef.builder(chosen)
+        path = _cache_file(system, chosen) if disk_cache else None
+        model = _load_cached(path)
+        if model is None:
+            model = sysdef.builder(chosen)
+            _store(path, model)
+        _CACHE[key] = model
     return _CACHE[key]
 
 

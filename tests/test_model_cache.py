@@ -1,0 +1,71 @@
+"""Derived models are cached on disk: a cached model is the derivation, byte for byte."""
+
+from __future__ import annotations
+
+import pickle
+
+import pytest
+from chaplygin.derive import systems
+from chaplygin.verify.claims import REGISTRY, select_claims
+from chaplygin.verify.verdict import check_claim
+
+
+@pytest.fixture
+def fresh_cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("CHAPLYGIN_CACHE_DIR", str(tmp_path))
+    monkeypatch.delenv("CHAPLYGIN_MODEL_CACHE", raising=False)
+    monkeypatch.setattr(systems, "_CACHE", {})
+    return tmp_path / "models"
+
+
+def test_a_cached_model_is_the_derivation(fresh_cache):
+    derived = systems.build_model("chaplygin_ball", ["gyrostat"])
+    (stored,) = fresh_cache.glob("chaplygin_ball__gyrostat-*.pickle")
+    systems._CACHE.clear()
+    loaded = systems.build_model("chaplygin_ball", ["gyrostat"])
+    assert loaded is not derived
+    assert loaded.canonical_text() == derived.canonical_text()
+    assert loaded.definitions.keys() == derived.definitions.keys()
+    assert stored.stat().st_size > 0
+    # the verifier reaches the same verdicts with the cached model
+    select_claims()
+    for claim_id in ("K01-4.2.n", "K01-4.2m", "K01-4.4/control-muK"):
+        assert check_claim(REGISTRY[claim_id]).ok
+
+
+def test_samplers_survive_the_cache(fresh_cache):
+    """Models whose phase space has its own exact sampler (picklable partials)."""
+    systems.build_model("ball_on_surface")
+    systems._CACHE.clear()
+    model = systems.build_model("ball_on_surface")
+    import random
+
+    point: dict = {}
+    model.definitions["phase_space_sampler"](random.Random(1), point)
+    b = [point[s] for s in model.param_group("b")]
+    x = [point[s] for s in model.group("x")] if "x" in model.vectors else None
+    assert all(v > 0 for v in b)
+    if x is not None:
+        assert sum(xi**2 / bi for xi, bi in zip(x, b, strict=True)) == 1
+
+
+def test_a_damaged_cache_file_is_derived_again(fresh_cache):
+    systems.build_model("chaplygin_ball")
+    (stored,) = fresh_cache.glob("chaplygin_ball-*.pickle")
+    stored.write_bytes(b"not a pickle")
+    systems._CACHE.clear()
+    model = systems.build_model("chaplygin_ball")
+    assert model.name == "chaplygin_ball"
+    assert isinstance(pickle.loads(stored.read_bytes()), type(model))  # rewritten
+
+
+def test_an_edit_of_the_derivation_changes_the_key(fresh_cache, monkeypatch):
+    before = systems._cache_file("chaplygin_ball", frozenset())
+    monkeypatch.setattr(systems, "_derivation_digest", lambda: "edited sources")
+    assert systems._cache_file("chaplygin_ball", frozenset()) != before
+
+
+def test_the_cache_can_be_switched_off(fresh_cache, monkeypatch):
+    monkeypatch.setenv("CHAPLYGIN_MODEL_CACHE", "0")
+    systems.build_model("chaplygin_ball")
+    assert not fresh_cache.exists()
