@@ -15,6 +15,10 @@ for the straight line ``alpha, beta`` are the body-frame components of ``N.x, N.
 Kane configuration (:func:`space_axes_in_body`). Same tolerance, 1e-12 relative: both sides are
 a few dozen well-conditioned floating-point operations away from the exact value, and the
 observed discrepancy is a few 1e-14.
+
+The gyrostat (``["gyrostat"]``, K01 §4) is checked against a Kane model with a second rigid
+body, a rotor spinning at a constant rate inside the ball; our model's ``K`` is the rotor's
+axial momentum ``Ia s e``. Same tolerance.
 """
 
 from __future__ import annotations
@@ -27,6 +31,7 @@ from chaplygin.derive import build_model
 from chaplygin.verify.kane import (
     EXTRA_CONSTRAINTS,
     GAMMA1_LIMIT,
+    Rotor,
     euler_angles_for_gamma,
     kane_angular_acceleration,
     kane_contact_momentum,
@@ -316,3 +321,54 @@ def test_model_angular_acceleration_needs_every_state_group(constrained_models) 
         model_angular_acceleration(
             constrained_models["straight_line"], cs.base.params(), cs.M, cs.gamma
         )
+
+
+# ------------------------------------------------------------------ gyrostat (K01 §4)
+N_ROTOR_STATES = 6
+
+
+def _rotor_samples() -> list[tuple[Sample, Rotor]]:
+    rng = np.random.default_rng(SEED + 4)
+    out = []
+    for s in SAMPLES[:N_ROTOR_STATES]:
+        # a small rotor, so that the ball's own tensor diag(I) - rotor stays positive
+        axial, transverse = (float(x) for x in rng.uniform(0.05, 0.2, 2))
+        rotor = Rotor(tuple(rng.normal(size=3)), axial, transverse, float(rng.uniform(-8, 8)))
+        out.append((s, rotor))
+    return out
+
+
+ROTOR_SAMPLES = _rotor_samples()
+
+
+def _gyrostat_params(s: Sample, K: np.ndarray) -> dict[str, float]:
+    return {**s.params(), "K1": K[0], "K2": K[1], "K3": K[2]}
+
+
+@pytest.mark.parametrize(
+    ("s", "rotor"), ROTOR_SAMPLES, ids=[f"state{i}" for i in range(N_ROTOR_STATES)]
+)
+def test_gyrostat_angular_acceleration_matches_kane_with_a_spinning_rotor(s, rotor):
+    """K01-4.1: the ball with a rotor turning at a constant rate (a second rigid body of the
+    Kane model) is our gyrostat model with K = Ia s e; same tolerance as the plain ball."""
+    model = build_model("chaplygin_ball", ["gyrostat"])
+    kane = kane_angular_acceleration(s.I, s.D, s.b, s.M, s.gamma, yaw=s.yaw, rotor=rotor)
+    ours = model_angular_acceleration(model, _gyrostat_params(s, rotor.momentum()), s.M, s.gamma)
+    assert _relative_difference(kane, ours) < RTOL
+
+
+def test_negative_control_reversed_gyrostatic_momentum_disagrees_with_kane():
+    model = build_model("chaplygin_ball", ["gyrostat"])
+    for s, rotor in ROTOR_SAMPLES:
+        kane = kane_angular_acceleration(s.I, s.D, s.b, s.M, s.gamma, yaw=s.yaw, rotor=rotor)
+        wrong = model_angular_acceleration(
+            model, _gyrostat_params(s, -rotor.momentum()), s.M, s.gamma
+        )
+        assert _relative_difference(kane, wrong) > 1e3 * RTOL
+
+
+def test_a_rotor_needs_an_axis_and_positive_moments():
+    s = SAMPLES[0]
+    for bad in (Rotor((0, 0, 0), 0.1, 0.1, 1.0), Rotor((1, 0, 0), -0.1, 0.1, 1.0)):
+        with pytest.raises(ValueError):
+            kane_angular_acceleration(s.I, s.D, s.b, s.M, s.gamma, rotor=bad)

@@ -54,6 +54,13 @@ space-frame ``u'``; the angular acceleration vector is the same seen from ``N`` 
 (``omega x omega = 0``), so its body-frame components are ``C (u1', u2', u3')`` with ``C`` the
 direction cosines ``B_i . N_j`` of the Euler angles. The reaction torque of the extra constraint
 never appears (it has no partial angular velocity along the independent speeds).
+
+**A gyrostat** (``rotor=`` of :func:`kane_angular_acceleration`, K01 §4): a second rigid body,
+an axisymmetric rotor about a body-fixed axis ``e`` through the centre, turning relative to
+the ball at a constant rate ``s`` (``R.set_ang_vel(B, s e)``; the motor torque is internal and
+has the same partial angular velocities on both bodies). The ball's own tensor is
+``diag(I1, I2, I3)`` minus the rotor's, so the composite body has the model's principal
+moments and our gyrostat model applies with ``K = Ia s e`` (:meth:`Rotor.momentum`).
 """
 
 from __future__ import annotations
@@ -69,6 +76,7 @@ import sympy as sp
 from sympy.physics import mechanics as me
 
 __all__ = [
+    "Rotor",
     "ADMISSIBLE_RTOL",
     "EXTRA_CONSTRAINTS",
     "GAMMA1_LIMIT",
@@ -95,6 +103,38 @@ ADMISSIBLE_RTOL = 1e-10
 
 
 @dataclass(frozen=True)
+class Rotor:
+    """An axisymmetric rotor inside the ball, turning at a constant rate relative to it.
+
+    Parameters
+    ----------
+    axis : sequence of 3 floats
+        Body-frame direction of the rotor axis (normalised here).
+    axial, transverse : float
+        Moments of inertia of the rotor about its axis and about a transverse axis through
+        the ball's centre (positive).
+    spin : float
+        Rate of the rotor relative to the ball.
+    """
+
+    axis: tuple[float, float, float]
+    axial: float
+    transverse: float
+    spin: float
+
+    def unit_axis(self) -> np.ndarray:
+        a = np.asarray(self.axis, dtype=float)
+        n = float(np.linalg.norm(a))
+        if not n > 0 or self.axial <= 0 or self.transverse <= 0:
+            raise ValueError("a rotor needs a non-zero axis and positive moments of inertia")
+        return a / n
+
+    def momentum(self) -> np.ndarray:
+        """Gyrostatic momentum ``K = Ia s e`` (body frame), the model's parameter ``K``."""
+        return self.axial * self.spin * self.unit_axis()
+
+
+@dataclass(frozen=True)
 class _KaneSystem:
     """Lambdified pieces of the Kane model; every function takes ``(q, u, p)``.
 
@@ -112,16 +152,24 @@ class _KaneSystem:
     speed_order: tuple[str, ...]
 
 
-@lru_cache(maxsize=1)
-def _kane_system() -> _KaneSystem:
-    """Form Kane's equations of the rolling ball once (symbolic), and lambdify them."""
+@lru_cache(maxsize=2)
+def _kane_system(rotor: bool = False) -> _KaneSystem:
+    """Form Kane's equations of the rolling ball once (symbolic), and lambdify them.
+
+    With ``rotor``, the ball carries an axisymmetric rotor about a body-fixed unit axis
+    ``e`` through the centre, spinning at the constant rate ``s`` relative to the ball
+    (axial and transverse moments ``Ia``, ``It``): a gyrostat. The ball's own tensor is
+    ``diag(I1, I2, I3)`` minus the rotor's, so that the composite body has the principal
+    moments ``I1, I2, I3`` of the model; ``p`` gets ``(e1, e2, e3, Ia, It, s)``.
+    """
     q1, q2, q3, x, y = me.dynamicsymbols("q1 q2 q3 x y")
     u1, u2, u3, u4, u5 = me.dynamicsymbols("u1 u2 u3 u4 u5")
     I1, I2, I3, m, b, g = sp.symbols("I1 I2 I3 m b g", positive=True)
+    e1, e2, e3, Ia, It, spin = sp.symbols("e1 e2 e3 Ia It s", real=True)
     t = me.dynamicsymbols._t
     q = [q1, q2, q3, x, y]
     u = [u1, u2, u3, u4, u5]
-    p = [I1, I2, I3, m, b, g]
+    p = [I1, I2, I3, m, b, g] + ([e1, e2, e3, Ia, It, spin] if rotor else [])
 
     N = me.ReferenceFrame("N")
     B = me.ReferenceFrame("B")
@@ -156,7 +204,18 @@ def _kane_system() -> _KaneSystem:
         raise AssertionError("vertical velocity of the contact point does not vanish")
 
     inertia = me.inertia(B, I1, I2, I3)
+    bodies = []
+    if rotor:
+        # The rotor's frame R turns about e relative to B; its central dyadic is the same
+        # in R and in B (axisymmetric about e), so it is written in B's basis.
+        e = e1 * B.x + e2 * B.y + e3 * B.z
+        R = me.ReferenceFrame("R")
+        R.set_ang_vel(B, spin * e)
+        rotor_inertia = Ia * (e | e) + It * (me.inertia(B, 1, 1, 1) - (e | e))
+        inertia = inertia - rotor_inertia
+        bodies.append(me.RigidBody("rotor", O, R, 0, (rotor_inertia, O)))
     ball = me.RigidBody("ball", O, B, m, (inertia, O))
+    bodies.insert(0, ball)
     loads = [(O, -m * g * N.z)]
 
     kane = me.KanesMethod(
@@ -167,7 +226,7 @@ def _kane_system() -> _KaneSystem:
         kd_eqs=kd,
         velocity_constraints=velocity_constraints,
     )
-    kane.kanes_equations([ball], loads)
+    kane.kanes_equations(bodies, loads)
     mass_matrix = kane.mass_matrix
     forcing = kane.forcing
     speed_order = tuple(str(s.func) for s in kane.u)
@@ -178,11 +237,11 @@ def _kane_system() -> _KaneSystem:
 
     # Body-frame upward vertical and angular momentum about the contact point.
     gamma = sp.Matrix([N.z.dot(B.x), N.z.dot(B.y), N.z.dot(B.z)])
-    H = ball.angular_momentum(P, N)
+    H = sum((body.angular_momentum(P, N) for body in bodies), me.Vector(0))
     H_body = sp.Matrix([H.dot(B.x), H.dot(B.y), H.dot(B.z)]).xreplace(dep)
 
     # Kinetic energy (gravity does no work) and its gradient, to check energy conservation.
-    T = ball.kinetic_energy(N)
+    T = sum(body.kinetic_energy(N) for body in bodies)
     qdot_sol = sp.solve(kd, [s.diff(t) for s in q], dict=True)[0]
     qdot = sp.Matrix([qdot_sol[s.diff(t)] for s in q])
     T_grad = sp.Matrix([T]).jacobian(q + u)
@@ -433,15 +492,17 @@ def _kane_point(
     gamma: Sequence[float],
     yaw: float,
     g: float,
+    rotor: Rotor | None = None,
 ) -> tuple[_KaneSystem, np.ndarray, np.ndarray, np.ndarray]:
     """Kane system and numeric ``(q, u, p)`` at the state ``(omega, gamma)``."""
-    sys_ = _kane_system()
+    sys_ = _kane_system(rotor is not None)
     if len(I) != 3:
         raise ValueError("I must have 3 components")
     if b <= 0 or D <= 0:
         raise ValueError("D and b must be positive")
     q = np.concatenate([euler_angles_for_gamma(gamma, yaw), [0.0, 0.0]])
-    p = np.array([*map(float, I), D / b**2, b, g])
+    extra = [] if rotor is None else [*rotor.unit_axis(), rotor.axial, rotor.transverse, rotor.spin]
+    p = np.array([*map(float, I), D / b**2, b, g, *extra])
     gamma_kane = np.asarray(sys_.gamma(q, np.zeros(5), p), dtype=float).ravel()
     if np.linalg.norm(gamma_kane - np.asarray(gamma, dtype=float)) > 1e-12:  # pragma: no cover
         raise AssertionError(f"Euler angles give gamma={gamma_kane}, wanted {gamma}")
@@ -507,6 +568,7 @@ def kane_angular_acceleration(
     yaw: float = 0.0,
     g: float = 9.81,
     constraint: str | None = None,
+    rotor: Rotor | None = None,
 ) -> np.ndarray:
     """Body-frame angular acceleration of the rolling ball from ``KanesMethod``.
 
@@ -531,6 +593,11 @@ def kane_angular_acceleration(
         ``omega . N.z = 0`` or rolling along the line ``N.x``, ``omega . N.x = 0``. The
         heading ``yaw`` then matters for ``"straight_line"`` (it fixes ``alpha``, see
         :func:`space_axes_in_body`).
+    rotor : Rotor, optional
+        A rotor spinning at a constant rate inside the ball (a gyrostat, K01 §4): a second
+        rigid body of the Kane model. The composite body has the principal moments ``I``;
+        our model's gyrostatic momentum is :meth:`Rotor.momentum`. Not combined with
+        ``constraint``.
 
     Returns
     -------
@@ -551,10 +618,12 @@ def kane_angular_acceleration(
     (3,)
     """
     if constraint is not None:
+        if rotor is not None:
+            raise ValueError("a rotor and an extra constraint are not combined here")
         sys_c, q, u, p, C = _kane_constrained_point(I, D, b, M, gamma, yaw, g, constraint)
         return C @ _kane_constrained_rates(sys_c, q, u, p)[:3]
     omega = omega_from_momentum(I, D, M, gamma)
-    sys_, q, u, p = _kane_point(I, D, b, omega, gamma, yaw, g)
+    sys_, q, u, p = _kane_point(I, D, b, omega, gamma, yaw, g, rotor)
     A = np.asarray(sys_.mass_matrix(q, u, p), dtype=float)
     f = np.asarray(sys_.forcing(q, u, p), dtype=float).ravel()
     udot = np.linalg.solve(A, f)
