@@ -18,7 +18,9 @@ observed discrepancy is a few 1e-14.
 
 The gyrostat (``["gyrostat"]``, K01 §4) is checked against a Kane model with a second rigid
 body, a rotor spinning at a constant rate inside the ball; our model's ``K`` is the rotor's
-axial momentum ``Ia s e``. Same tolerance.
+axial momentum ``Ia s e``. BM20's time-varying inertia (``["variable_inertia"]``, (3.4)) is
+checked against a Kane model in which two point masses slide along the body axis 2 at the
+prescribed positions. Same tolerance.
 """
 
 from __future__ import annotations
@@ -36,6 +38,7 @@ from chaplygin.verify.kane import (
     kane_angular_acceleration,
     kane_contact_momentum,
     kane_energy_and_rate,
+    kane_moving_masses_angular_acceleration,
     model_angular_acceleration,
     omega_from_momentum,
     space_axes_in_body,
@@ -372,3 +375,58 @@ def test_a_rotor_needs_an_axis_and_positive_moments():
     for bad in (Rotor((0, 0, 0), 0.1, 0.1, 1.0), Rotor((1, 0, 0), -0.1, 0.1, 1.0)):
         with pytest.raises(ValueError):
             kane_angular_acceleration(s.I, s.D, s.b, s.M, s.gamma, rotor=bad)
+
+
+# ------------------------------------------- time-varying inertia (BM20 (3.4), moving masses)
+def _moving_mass_samples(n: int = 6):
+    rng = np.random.default_rng(SEED + 5)
+    out = []
+    while len(out) < n:
+        I = rng.uniform(0.5, 3.0, 3)
+        b = float(rng.uniform(0.5, 1.5))
+        D = b**2 * float(rng.uniform(1.5, 4.0))  # the two masses weigh 1 together
+        law = (float(rng.uniform(-1, 1)), float(rng.uniform(0.2, 2)), float(rng.uniform(0.3, 2)))
+        M = rng.normal(size=3)
+        gamma = rng.normal(size=3)
+        gamma /= np.linalg.norm(gamma)
+        if abs(gamma[0]) <= GAMMA1_MAX:
+            out.append((I, D, b, law, M, gamma, float(rng.uniform(-5, 5))))
+    return out
+
+
+MOVING = _moving_mass_samples()
+
+
+def _bm20_params(I, D, law) -> dict[str, float]:
+    return {
+        "I1": I[0],
+        "I2": I[1],
+        "I3": I[2],
+        "D": D,
+        "J_off": law[0],
+        "delta": law[1],
+        "Omega": law[2],
+    }
+
+
+@pytest.mark.parametrize("sample", MOVING, ids=[f"state{i}" for i in range(len(MOVING))])
+def test_variable_inertia_matches_kane_with_two_moving_masses(sample):
+    """BM20 (2.5) with I(t) of (3.4), derived by our engine, against a Kane model in which
+    two point masses slide along the body axis 2 at the prescribed positions
+    +-(J_off + delta sin(Omega t)): same tolerance as the plain ball."""
+    I, D, b, law, M, gamma, t = sample
+    model = build_model("chaplygin_ball", ["variable_inertia"])
+    kane = kane_moving_masses_angular_acceleration(I, D, b, law, M, gamma, t)
+    ours = model_angular_acceleration(model, _bm20_params(I, D, law), M, gamma, t=t)
+    assert _relative_difference(kane, ours) < RTOL
+
+
+def test_negative_control_frozen_inertia_disagrees_with_the_moving_masses():
+    """The plain ball with the inertia frozen at I(t) misses the I'(t) omega term."""
+    plain = build_model("chaplygin_ball")
+    for I, D, b, law, M, gamma, t in MOVING:
+        offset = law[0] + law[1] * np.sin(law[2] * t)
+        frozen = {"I1": I[0] + offset**2, "I2": I[1], "I3": I[2] + offset**2, "D": D}
+        kane = kane_moving_masses_angular_acceleration(I, D, b, law, M, gamma, t)
+        wrong = model_angular_acceleration(plain, frozen, M, gamma)
+        assert _relative_difference(kane, wrong) > 1e3 * RTOL
