@@ -51,6 +51,10 @@ class ModelCode:
         The same for mpmath values.
     c_source : str
         C99 source (compiled lazily by :meth:`compiled`).
+    taylor : module
+        Taylor-coefficient recurrences ``taylor_coefficients(t0, y, p, order, lib)``.
+    taylor_c_source : str
+        C Taylor integrator (``double``; ``__float128`` with ``CHAPLYGIN_TAYLOR_QUAD``).
     """
 
     name: str
@@ -58,6 +62,8 @@ class ModelCode:
     mpmath: types.ModuleType
     c_source: str
     origin: str
+    taylor: types.ModuleType | None = None
+    taylor_c_source: str | None = None
     _compiled: Any = field(default=None, repr=False)
     _compile_tried: bool = field(default=False, repr=False)
 
@@ -143,9 +149,20 @@ def load_model_code(system: str, effects=None) -> ModelCode:
             mpmath=importlib.import_module(f"chaplygin.generated.{files['mpmath'][:-3]}"),
             c_source=resources.files("chaplygin.generated").joinpath(files["c"]).read_text(),
             origin="generated/",
+            taylor=importlib.import_module(f"chaplygin.generated.{files['taylor_py'][:-3]}"),
+            taylor_c_source=resources.files("chaplygin.generated")
+            .joinpath(files["taylor_c"])
+            .read_text(),
         )
     else:  # pragma: no cover - every variant of the current systems is built in
-        from ..derive.emit import CEmitter, ModelRoutines, MpmathEmitter, NumpyEmitter
+        from ..derive.emit import (
+            CEmitter,
+            ModelRoutines,
+            MpmathEmitter,
+            NumpyEmitter,
+            TaylorCEmitter,
+            TaylorPythonEmitter,
+        )
         from ..derive.systems import build_model
 
         warnings.warn(f"{name} is not in generated/: deriving it now", stacklevel=2)
@@ -154,12 +171,16 @@ def load_model_code(system: str, effects=None) -> ModelCode:
         ((_, np_src),) = NumpyEmitter().emit(model, routines)
         ((_, mp_src),) = MpmathEmitter().emit(model, routines)
         ((_, c_src),) = CEmitter().emit(model, routines)
+        ((_, tp_src),) = TaylorPythonEmitter().emit(model, routines)
+        ((_, tc_src),) = TaylorCEmitter().emit(model, routines)
         code = ModelCode(
             name=name,
             numpy=_module_from_source(f"{name}_numpy", np_src),
             mpmath=_module_from_source(f"{name}_mpmath", mp_src),
             c_source=c_src,
             origin="emitted in memory",
+            taylor=_module_from_source(f"{name}_taylor", tp_src),
+            taylor_c_source=tc_src,
         )
     _LOADED[name] = code
     return code

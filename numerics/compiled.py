@@ -313,6 +313,7 @@ def compile_c(
     cache_dir: str | os.PathLike[str] | None = None,
     compiler: str | None = None,
     force: bool = False,
+    ldlibs: Sequence[str] = (),
 ) -> Path:
     """Compile C source to a shared library, or reuse the cached one.
 
@@ -326,6 +327,8 @@ def compile_c(
         Compiler command; see :func:`find_compiler` (default: ``CC``, else ``cc``/``gcc``).
     force : bool, default False
         Recompile even when the library is cached (replacing it atomically).
+    ldlibs : sequence of str, optional
+        Extra libraries linked after :data:`LDLIBS` (``("-lquadmath",)``); part of the key.
 
     Returns
     -------
@@ -350,7 +353,7 @@ def compile_c(
     are safe and the final library is never seen half-written.
     """
     argv = find_compiler(compiler)
-    flags = (*CFLAGS, *LDLIBS)
+    flags = (*CFLAGS, *LDLIBS, *ldlibs)
     key = _cache_key(source, _compiler_identity(argv), flags)
     directory = c_cache_dir(cache_dir)
     target = directory / f"{key}{_LIB_SUFFIX}"
@@ -364,7 +367,7 @@ def compile_c(
         fh.write(source)
     fd, tmp_lib = tempfile.mkstemp(prefix=prefix, suffix=_LIB_SUFFIX, dir=directory)
     os.close(fd)
-    command = [*argv, *CFLAGS, "-o", tmp_lib, tmp_c, *LDLIBS]
+    command = [*argv, *CFLAGS, "-o", tmp_lib, tmp_c, *LDLIBS, *ldlibs]
     try:
         try:
             proc = subprocess.run(

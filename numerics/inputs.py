@@ -43,23 +43,31 @@ _CONSTS = {"pi": lambda: +mpmath.pi, "e": lambda: +mpmath.e}
 
 
 class Precision:
-    """Working precision: ``"double"`` or a number of decimal digits.
+    """Working precision: ``"double"``, ``"quad"`` (IEEE binary128) or decimal digits.
 
     Parameters
     ----------
-    value : str or int
+    value : str, int or Precision
     """
 
+    #: Decimal digits carried by IEEE binary128 (113-bit significand).
+    QUAD_DIGITS = 34
+
     def __init__(self, value: str | int):
-        if isinstance(value, str) and value.strip().lower() == "double":
+        self.is_quad = False
+        if isinstance(value, Precision):
+            self.digits, self.is_quad = value.digits, value.is_quad
+        elif isinstance(value, str) and value.strip().lower() == "double":
             self.digits = None
+        elif isinstance(value, str) and value.strip().lower() == "quad":
+            self.digits, self.is_quad = self.QUAD_DIGITS, True
         else:
             try:
                 digits = int(value)
             except (TypeError, ValueError):
                 raise UserInputError(
-                    f"precision {value!r} is neither 'double' nor a number of digits; "
-                    "use --precision double or e.g. --precision 30"
+                    f"precision {value!r} is neither 'double', 'quad' nor a number of digits; "
+                    "use --precision double, --precision quad or e.g. --precision 30"
                 ) from None
             if not 16 <= digits <= 10000:
                 raise UserInputError(
@@ -77,7 +85,28 @@ class Precision:
         return 30 if self.digits is None else self.digits + 10
 
     def __repr__(self) -> str:
+        if self.is_quad:
+            return "quad"
         return "double" if self.digits is None else f"{self.digits} digits"
+
+    @property
+    def kind(self) -> str:
+        """``"double"``, ``"quad"`` or ``"digits"``."""
+        return "double" if self.is_double else ("quad" if self.is_quad else "digits")
+
+    @property
+    def epsilon(self) -> float:
+        """Unit roundoff of the working precision (binary64, binary128 or 10^(1-digits))."""
+        if self.is_double:
+            return 2.0**-52
+        if self.is_quad:
+            return 2.0**-112
+        return 10.0 ** (1 - self.digits)
+
+    @property
+    def min_rtol(self) -> float:
+        """Smallest relative tolerance the precision can deliver (100 eps, 10 eps, 10 eps)."""
+        return (100.0 if self.is_double else 10.0) * self.epsilon
 
 
 def parse_number(text: str | float | int | mpmath.mpf, dps: int = 30) -> mpmath.mpf:

@@ -42,6 +42,11 @@ class IntegrationResult:
         Wall time of the integration (compilation and set-up excluded, see ``setup_s``).
     precision : str
     method, backend : str
+    t_events, y_events : list
+        For each event function, the times (array) and states (rows) where it fired.
+    info : dict
+        Method-specific evidence (the Taylor method: ``order_min``, ``order_max``,
+        ``rtol``, ``atol``).
     """
 
     status: int
@@ -61,6 +66,9 @@ class IntegrationResult:
     backend: str
     model: str
     params: dict[str, object] = field(default_factory=dict)
+    t_events: list = field(default_factory=list)
+    y_events: list = field(default_factory=list)
+    info: dict[str, object] = field(default_factory=dict)
 
     @property
     def success(self) -> bool:
@@ -75,14 +83,17 @@ class IntegrationResult:
 class Integrator:
     """Base of the integration methods: the public call and the bookkeeping.
 
-    Subclasses fill :meth:`_solve`, returning ``(t, y, nfev, njev, nsteps, status, msg)``.
+    Subclasses fill :meth:`_solve`, returning ``(t, y, nfev, njev, nsteps, status, msg)``;
+    ``options`` holds ``precision`` (a :class:`~chaplygin.numerics.inputs.Precision`),
+    ``events`` and ``info`` (a dict the method may fill with events and evidence).
     """
 
     name = ""
     precisions = ("double",)
+    supports_events = False
 
-    def _solve(self, code, y0, t_span, p, rtol, atol, backend, t_eval):  # pragma: no cover
-        raise NotImplementedError
+    def _solve(self, code, y0, t_span, p, rtol, atol, backend, t_eval, **options):
+        raise NotImplementedError  # pragma: no cover
 
 
 class ScipyMethod(Integrator):
@@ -94,14 +105,21 @@ class ScipyMethod(Integrator):
         self.name = name
         self.implicit = implicit
 
-    def _solve(self, code, y0, t_span, p, rtol, atol, backend, t_eval):
+    supports_events = True
+
+    def _solve(self, code, y0, t_span, p, rtol, atol, backend, t_eval, **options):
         p = np.asarray(p, dtype=float)
+        kwargs = {}
+        events = options.get("events") or None
+        if events is not None:
+            kwargs["events"] = events
         if backend == "c":
             lib = code.compiled()
             fun, jac = lib.rhs, lib.jac
         else:
             fun, jac = code.numpy.rhs, code.numpy.jac
-        kwargs = {"jac": jac} if self.implicit else {}
+        if self.implicit:
+            kwargs["jac"] = jac
         sol = solve_ivp(
             fun,
             t_span,
@@ -114,18 +132,25 @@ class ScipyMethod(Integrator):
             **kwargs,
         )
         msg = sol.message
+        if events is not None:
+            options["info"]["t_events"] = list(sol.t_events)
+            options["info"]["y_events"] = list(sol.y_events)
         if sol.status != 0:
             msg += "; try a smaller rtol/atol, an implicit method (Radau, LSODA) or more digits"
         return sol.t, sol.y, sol.nfev, sol.njev, len(sol.t) - 1, sol.status, msg
 
 
-class MpmathTaylor(Integrator):
-    """``mpmath.odefun``: a Taylor-series method at any working precision (baseline)."""
+class MpmathOdefun(Integrator):
+    """``mpmath.odefun``: mpmath's Taylor-series method at the working precision (baseline).
 
-    name = "taylor"
-    precisions = ("digits",)
+    Kept for comparison with :class:`TaylorMethod`; it ignores rtol/atol (it works to the
+    full working precision) and supports no events.
+    """
 
-    def _solve(self, code, y0, t_span, p, rtol, atol, backend, t_eval):
+    name = "odefun"
+    precisions = ("quad", "digits")
+
+    def _solve(self, code, y0, t_span, p, rtol, atol, backend, t_eval, **options):
         counter = [0]
         rhs = code.mpmath.rhs
 
@@ -141,13 +166,60 @@ class MpmathTaylor(Integrator):
         return np.array(times, dtype=object), y, counter[0], 0, len(times) - 1, 0, "reached t_end"
 
 
+class TaylorMethod(Integrator):
+    """Taylor method generated from the model (:mod:`chaplygin.numerics.taylor`).
+
+    Adaptive order and step (Jorba-Zou) from rtol/atol, dense output, event location.
+    ``double`` and ``quad`` run in compiled C (``backend="numpy"`` or no compiler: the
+    Python recurrences), digits in Python with MPFR numbers.
+    """
+
+    name = "taylor"
+    precisions = ("double", "quad", "digits")
+    supports_events = True
+
+    def _solve(self, code, y0, t_span, p, rtol, atol, backend, t_eval, **options):
+        from .taylor import taylor_solve
+
+        prec = options["precision"]
+        lib = None
+        if backend == "numpy":
+            lib = "float" if prec.is_double else "gmpy2"
+        sol = taylor_solve(
+            code,
+            y0,
+            t_span,
+            p,
+            precision=prec.kind,
+            rtol=rtol,
+            atol=atol,
+            t_eval=t_eval,
+            events=options.get("events"),
+            lib=lib,
+            **options.get("taylor", {}),
+        )
+        info = options["info"]
+        info.update(
+            t_events=sol.t_events,
+            y_events=sol.y_events,
+            order_min=sol.order_min,
+            order_max=sol.order_max,
+            taylor_backend=sol.backend,
+            rtol=rtol,
+            atol=atol,
+        )
+        msg = f"{sol.message}; orders {sol.order_min}..{sol.order_max} ({sol.backend})"
+        return sol.t, sol.y, sol.nsteps, 0, sol.nsteps, sol.status, msg
+
+
 METHODS: dict[str, Integrator] = {
     "RK45": ScipyMethod("RK45"),
     "DOP853": ScipyMethod("DOP853"),
     "LSODA": ScipyMethod("LSODA", implicit=True),
     "Radau": ScipyMethod("Radau", implicit=True),
     "BDF": ScipyMethod("BDF", implicit=True),
-    "taylor": MpmathTaylor(),
+    "taylor": TaylorMethod(),
+    "odefun": MpmathOdefun(),
 }
 
 
@@ -234,10 +306,12 @@ def integrate(
     effects: Sequence[str] | str | None = None,
     method: str | Integrator | None = None,
     precision: str | int = "double",
-    rtol: float = 1e-10,
-    atol: float = 1e-12,
+    rtol: float | None = None,
+    atol: float | None = None,
     backend: str = "auto",
     t_eval: Sequence[float] | None = None,
+    events: Sequence | None = None,
+    taylor_options: Mapping[str, object] | None = None,
 ) -> IntegrationResult:
     """Integrate a model and report the drift of every first integral.
 
@@ -254,18 +328,27 @@ def integrate(
         ``{"I": (1, 2, 3), "D": 1}`` or a vector in the model's parameter order.
     effects : sequence of str or str, optional
     method : str or Integrator, optional
-        A key of :data:`METHODS`; default ``DOP853`` in double precision and
-        ``taylor`` (mpmath.odefun) at higher precision.
-    precision : "double" or int
-        Digits for the mpmath path.
-    rtol, atol : float
-        Tolerances of the scipy methods (the mpmath Taylor method works to the full
-        working precision).
+        A key of :data:`METHODS`; default ``DOP853`` in double precision and ``taylor``
+        (the generated Taylor integrator) in quad and digits; ``odefun`` is
+        ``mpmath.odefun`` (for comparison).
+    precision : "double", "quad" or int
+        IEEE double, IEEE binary128 (``__float128``, 34 digits; Taylor in C) or a number
+        of decimal digits (mpmath/MPFR).
+    rtol, atol : float, optional
+        Tolerances. Default 1e-10 and 1e-12 in double; in quad and digits both default to
+        the smallest the precision delivers (:attr:`Precision.min_rtol`: 10 eps).
     backend : {"auto", "c", "numpy"}
-        Right-hand side in double precision: compiled C (``auto`` falls back to numpy,
-        with a warning, when there is no C compiler) or numpy.
+        Compiled C (``auto`` falls back to Python/numpy, with a warning, when there is no C
+        compiler) or numpy/Python.
     t_eval : sequence of float, optional
-        Output times (default: every step in double, 11 points at higher precision).
+        Output times (default: every step for scipy in double, else 11 points).
+    events : sequence of callables, optional
+        ``g(t, y)``: sign changes are located (Taylor: on the dense output to the working
+        precision; scipy: its own root finder); scipy attributes ``terminal`` and
+        ``direction`` are honoured. Times and states in ``t_events``, ``y_events``.
+    taylor_options : mapping, optional
+        ``order`` and/or ``step`` (fixed order, fixed step) or ``max_steps`` for the Taylor
+        method.
 
     Returns
     -------
@@ -275,7 +358,8 @@ def integrate(
     ------
     UserInputError
         Unknown system, effect, method, parameter or state name; wrong lengths;
-        non-physical or non-finite values.
+        non-physical or non-finite values; a tolerance the precision cannot deliver (the
+        message names a precision that can).
 
     Examples
     --------
@@ -292,19 +376,28 @@ def integrate(
     integrator = method if isinstance(method, Integrator) else METHODS.get(method)
     if integrator is None:
         raise UserInputError(f"unknown method {method!r}; valid methods: {', '.join(METHODS)}")
-    kind = "double" if prec.is_double else "digits"
+    kind = prec.kind
     if kind not in integrator.precisions:
         raise UserInputError(
             f"method {integrator.name} works in "
             f"{' or '.join(integrator.precisions)} precision, not {prec!r}; "
-            + ("use --method taylor for digits" if kind == "digits" else "use --precision double")
+            + ("use --method taylor" if kind != "double" else "use --precision double")
         )
+    if events and not integrator.supports_events:
+        raise UserInputError(f"method {integrator.name} does not locate events; use taylor")
+    default_rtol, default_atol = (1e-10, 1e-12) if prec.is_double else (prec.min_rtol,) * 2
+    rtol = default_rtol if rtol is None else rtol
+    atol = default_atol if atol is None else atol
+    try:
+        rtol, atol = float(rtol), float(atol)
+    except (TypeError, ValueError):
+        raise UserInputError("rtol and atol must be positive finite numbers") from None
     if not (rtol > 0 and atol > 0 and np.isfinite(rtol) and np.isfinite(atol)):
         raise UserInputError("rtol and atol must be positive finite numbers")
-    if prec.is_double and rtol < 100 * np.finfo(float).eps:
+    if rtol < prec.min_rtol:
         raise UserInputError(
-            f"rtol={rtol:g} is below what double precision can deliver (about "
-            f"{100 * np.finfo(float).eps:.1e}); ask for more digits with --precision 30"
+            f"rtol={rtol:g} is below what {prec!r} precision can deliver (about "
+            f"{prec.min_rtol:.1e}); ask for {_precision_for(rtol)}"
         )
     if isinstance(t_span, (int, float, str)):
         t_span = (0.0, float(t_span))
@@ -330,17 +423,32 @@ def integrate(
             chosen = "c" if code.compiled() is not None else "numpy"
         if backend == "c" and chosen != "c":
             raise UserInputError("backend 'c' needs a C compiler (install gcc or set CC)")
+    if isinstance(integrator, TaylorMethod) and backend == "numpy":
+        chosen = "numpy"
+    options = {
+        "precision": prec,
+        "events": list(events) if events else None,
+        "info": {},
+        "taylor": dict(taylor_options or {}),
+    }
+    if options["taylor"] and not isinstance(integrator, TaylorMethod):
+        raise UserInputError("taylor_options apply to method taylor only")
+    unknown = set(options["taylor"]) - {"order", "step", "max_steps"}
+    if unknown:
+        raise UserInputError(f"unknown taylor option(s) {sorted(unknown)}; valid: order, step")
     setup = time.perf_counter() - start
     t0 = time.perf_counter()
     if prec.is_double:
         t, ys, nfev, njev, nsteps, status, msg = integrator._solve(
-            code, y, t_span, p, rtol, atol, chosen, t_eval
+            code, y, t_span, p, rtol, atol, chosen, t_eval, **options
         )
     else:
         with mpmath.workdps(prec.digits):
             t, ys, nfev, njev, nsteps, status, msg = integrator._solve(
-                code, y, t_span, p, rtol, atol, chosen, t_eval
+                code, y, t_span, p, rtol, atol, chosen, t_eval, **options
             )
+    if isinstance(integrator, TaylorMethod):
+        chosen = options["info"]["taylor_backend"]
     wall = time.perf_counter() - t0
     if prec.is_double and not np.all(np.isfinite(ys)):
         status, msg = -1, "the solution became NaN or infinite; check the parameters and state"
@@ -363,7 +471,17 @@ def integrate(
         backend=chosen,
         model=code.name,
         params=dict(zip(code.params, p, strict=True)),
+        t_events=list(options["info"].pop("t_events", [])),
+        y_events=list(options["info"].pop("y_events", [])),
+        info=options["info"],
     )
+
+
+def _precision_for(rtol: float) -> str:
+    """The cheapest precision that delivers ``rtol`` (for error messages)."""
+    if rtol >= Precision("quad").min_rtol:
+        return "--precision quad"
+    return f"--precision {max(int(np.ceil(-np.log10(rtol))) + 2, 16)}"
 
 
 def _vector(values, n: int, what: str, prec: Precision) -> list:

@@ -10,6 +10,7 @@ from .base import EMITTERS, Emitter, ModelRoutines, get_emitter, header_lines
 from .c_emitter import CEmitter
 from .mpmath_emitter import MpmathEmitter
 from .numpy_emitter import NumpyEmitter
+from .taylor import TaylorCEmitter, TaylorPythonEmitter, build_taylor_program
 
 __all__ = [
     "EMITTERS",
@@ -18,6 +19,9 @@ __all__ = [
     "NumpyEmitter",
     "MpmathEmitter",
     "CEmitter",
+    "TaylorCEmitter",
+    "TaylorPythonEmitter",
+    "build_taylor_program",
     "get_emitter",
     "header_lines",
 ]

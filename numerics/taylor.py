@@ -1,0 +1,641 @@
+"""Taylor integrator generated from the model: double and quad in C, any digits in Python.
+
+The recurrences come from :mod:`chaplygin.derive.emit.taylor` (``generated/*_taylor.py`` and
+``*_taylor.c``). Order and step follow Jorba and Zou (2005): with ``eps = atol`` when
+``rtol |y|_inf <= atol`` (absolute control, scale 1) and ``eps = rtol`` otherwise (relative
+control, scale ``|y|_inf``), the order is ``p = ceil(-ln(eps)/2 + 1)`` and the step
+``h = rho e^-2 e^(-0.7/(p-1))``, ``rho = min((scale/|y_[p-1]|)^(1/(p-1)),
+(scale/|y_[p]|)^(1/p))`` (the last two coefficients' norms; ``e^(-0.7/(p-1))`` is the
+safety factor). Every step keeps its Taylor polynomial, so the solution is known at any
+time inside it (dense output) and sign changes of user functions ``g(t, y)`` are located by
+root finding on that polynomial to the working precision (event location, for Poincaré
+maps).
+
+Backends
+--------
+* ``double`` -- the C integrator in IEEE double; the whole loop (coefficients, step choice,
+  polynomial evaluation, output at the requested times) runs in C, one call per
+  integration (one call per step when events are requested);
+* ``quad`` -- the same C code in ``__float128`` (libquadmath), values crossing the
+  interface as exact binary128 bytes, converted to and from ``mpmath.mpf``;
+* digits -- the Python recurrences with ``gmpy2`` (MPFR) numbers at the working precision
+  of ``mpmath.mp`` (``mpmath`` numbers when ``lib="mpmath"``).
+
+Without a C compiler double and quad fall back to the Python recurrences (floats, or MPFR at
+113 bits) with a :class:`~chaplygin.numerics.compiled.CompilerUnavailableWarning`.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import types
+import warnings
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import cffi
+import gmpy2
+import mpmath
+import numpy as np
+
+from .compiled import CompilerError, CompilerUnavailableWarning, compile_c
+
+__all__ = [
+    "TaylorSolution",
+    "CompiledTaylor",
+    "load_taylor_library",
+    "taylor_solve",
+    "jorba_zou_order",
+    "encode_binary128",
+    "decode_binary128",
+    "python_lib",
+]
+
+_QUAD_DEFINE = "#define CHAPLYGIN_TAYLOR_QUAD 1\n"
+_CDEF = """
+const char *chaplygin_taylor_model_hash(void);
+void chaplygin_taylor_sizes(int *OUT);
+void chaplygin_taylor_coefficients(int order, const void *T0, const void *Y, const void *P,
+                                   void *OUT);
+int chaplygin_taylor_step(void *TY, const void *P, const void *CTRL, int fixed_order,
+                          const void *T_END, void *COEFFS, void *H, int *ORDER);
+int chaplygin_taylor_run(const void *T01, const void *Y0, const void *P, const void *CTRL,
+                         int fixed_order, long n_eval, const void *T_EVAL, void *Y_EVAL,
+                         void *Y_END, long max_steps, long *STATS);
+"""
+_ffi = cffi.FFI()
+_ffi.cdef(_CDEF)
+
+#: Default largest number of steps of one integration.
+MAX_STEPS = 10_000_000
+
+
+def jorba_zou_order(eps: float, max_order: int = 80) -> int:
+    """Order ``ceil(-ln(eps)/2 + 1)`` of Jorba and Zou (2005), between 2 and ``max_order``."""
+    return int(min(max(math.ceil(-0.5 * math.log(eps) + 1.0), 2), max_order))
+
+
+# --------------------------------------------------------------------------- binary128
+
+_MASK112 = (1 << 112) - 1
+
+
+def encode_binary128(values: Sequence[Any]) -> np.ndarray:
+    """IEEE binary128 bytes (little-endian) of ``values``, rounded to nearest (113 bits).
+
+    Returns a ``uint8`` array of ``16 * len(values)`` bytes.
+    """
+    out = bytearray()
+    with mpmath.workprec(113):
+        for v in values:
+            x = mpmath.mpf(v) if not isinstance(v, mpmath.mpf) else +v
+            if not mpmath.isfinite(x):
+                raise ValueError(f"cannot encode {x} as binary128")
+            sign = 1 if x < 0 else 0
+            if x == 0:
+                bits = sign << 127
+            else:
+                man, exp = mpmath.frexp(abs(x))  # abs(x) = man 2^exp, 0.5 <= man < 1
+                m = int(mpmath.ldexp(man, 113))  # exact: x has at most 113 bits
+                e = int(exp) - 1  # x = m 2^(e - 112), m in [2^112, 2^113)
+                biased = e + 16383
+                if biased <= 0 or biased >= 0x7FFF:
+                    raise ValueError(f"{x} is outside the binary128 normal range")
+                bits = (sign << 127) | (biased << 112) | (m & _MASK112)
+            out += bits.to_bytes(16, "little")
+    return np.frombuffer(bytes(out), dtype=np.uint8).copy()
+
+
+def decode_binary128(buf: np.ndarray | bytes, count: int | None = None) -> list:
+    """``mpmath.mpf`` values (exact at >= 113 bits) of little-endian binary128 bytes."""
+    raw = bytes(buf)
+    count = len(raw) // 16 if count is None else count
+    out = []
+    for i in range(count):
+        bits = int.from_bytes(raw[16 * i : 16 * i + 16], "little")
+        sign = bits >> 127
+        biased = (bits >> 112) & 0x7FFF
+        m = bits & _MASK112
+        if biased == 0x7FFF:
+            out.append(mpmath.nan if m else (mpmath.ninf if sign else mpmath.inf))
+            continue
+        if biased == 0:
+            e = 1 - 16383 - 112
+        else:
+            m |= 1 << 112
+            e = biased - 16383 - 112
+        with mpmath.workprec(max(mpmath.mp.prec, 113)):
+            v = mpmath.ldexp(mpmath.mpf(-m if sign else m), e)
+        out.append(v)
+    return out
+
+
+# --------------------------------------------------------------------------- C library
+
+
+class CompiledTaylor:
+    """The compiled C Taylor integrator of one model, in ``double`` or ``quad``.
+
+    Parameters
+    ----------
+    library : path-like
+    kind : {"double", "quad"}
+    expected_hash : str, optional
+    """
+
+    def __init__(self, library: os.PathLike | str, kind: str, expected_hash: str | None = None):
+        self.lib = _ffi.dlopen(os.fspath(library))
+        self.kind = kind
+        self.model_hash = _ffi.string(self.lib.chaplygin_taylor_model_hash()).decode()
+        if expected_hash is not None and self.model_hash != expected_hash:
+            raise ValueError(
+                f"Taylor library {library} has hash {self.model_hash}, expected {expected_hash}"
+            )
+        sizes = _ffi.new("int[5]")
+        self.lib.chaplygin_taylor_sizes(sizes)
+        self.n_state, self.n_param, self.n_nodes, self.max_order, self.real_size = list(sizes)
+        expected = 8 if kind == "double" else 16
+        if self.real_size != expected:
+            raise ValueError(f"{library} holds {self.real_size}-byte reals, not {kind}")
+
+    # conversion between Python values and REAL buffers
+    def pack(self, values: Sequence[Any]) -> np.ndarray:
+        if self.kind == "double":
+            return np.ascontiguousarray(np.asarray([float(v) for v in values], dtype=float))
+        return encode_binary128(values)
+
+    def unpack(self, buf: np.ndarray, count: int | None = None) -> Any:
+        if self.kind == "double":
+            return buf if count is None else buf[:count]
+        return decode_binary128(buf, count)
+
+    def empty(self, count: int) -> np.ndarray:
+        return np.zeros(count) if self.kind == "double" else np.zeros(16 * count, np.uint8)
+
+    @staticmethod
+    def _ptr(a: np.ndarray):
+        return _ffi.from_buffer("char[]", a, require_writable=False)
+
+    def coefficients(self, order: int, t0, y, p) -> Any:
+        """Normalised Taylor coefficients, ``n_state x (order + 1)`` (ndarray or mpf lists)."""
+        if not 1 <= order <= self.max_order:
+            raise ValueError(f"order must be in 1..{self.max_order}")
+        out = self.empty(self.n_state * (order + 1))
+        ptr = self._ptr
+        self.lib.chaplygin_taylor_coefficients(
+            order, ptr(self.pack([t0])), ptr(self.pack(y)), ptr(self.pack(p)), ptr(out)
+        )
+        vals = self.unpack(out)
+        if self.kind == "double":
+            return np.asarray(vals).reshape(self.n_state, order + 1)
+        S = order + 1
+        return [vals[i * S : (i + 1) * S] for i in range(self.n_state)]
+
+
+_LIBS: dict[tuple[str, str], CompiledTaylor | None] = {}
+
+
+def load_taylor_library(code, kind: str) -> CompiledTaylor | None:
+    """Compile (cached by source hash) and load the C Taylor integrator of ``code``.
+
+    ``kind="quad"`` compiles with ``-DCHAPLYGIN_TAYLOR_QUAD`` and links ``-lquadmath``.
+    Returns None, after a :class:`CompilerUnavailableWarning`, without a usable compiler.
+    """
+    key = (code.hash, kind)
+    if key in _LIBS:
+        return _LIBS[key]
+    source = code.taylor_c_source
+    ldlibs: tuple[str, ...] = ()
+    if kind == "quad":
+        source, ldlibs = _QUAD_DEFINE + source, ("-lquadmath",)
+    try:
+        path = compile_c(source, ldlibs=ldlibs)
+        lib = CompiledTaylor(path, kind, expected_hash=code.hash)
+    except (CompilerError, OSError) as exc:
+        warnings.warn(
+            f"compiled {kind} Taylor integrator unavailable, using the (much slower) Python "
+            f"recurrences instead: {exc}",
+            CompilerUnavailableWarning,
+            stacklevel=2,
+        )
+        lib = None
+    _LIBS[key] = lib
+    return lib
+
+
+# --------------------------------------------------------------------------- Python libs
+
+
+def python_lib(kind: str) -> types.SimpleNamespace:
+    """Number namespace for the generated Python recurrences.
+
+    ``"float"`` (math), ``"mpmath"`` (the ``mpmath.mp`` context) or ``"gmpy2"`` (MPFR at
+    the precision of the active gmpy2 context).
+    """
+    if kind == "float":
+        return types.SimpleNamespace(
+            mpf=float, sqrt=math.sqrt, exp=math.exp, sin=math.sin, cos=math.cos, log=math.log
+        )
+    if kind == "mpmath":
+        return types.SimpleNamespace(
+            mpf=mpmath.mpf,
+            sqrt=mpmath.sqrt,
+            exp=mpmath.exp,
+            sin=mpmath.sin,
+            cos=mpmath.cos,
+            log=mpmath.log,
+        )
+    if kind == "gmpy2":
+        return types.SimpleNamespace(
+            mpf=gmpy2.mpfr, sqrt=gmpy2.sqrt, exp=gmpy2.exp, sin=gmpy2.sin, cos=gmpy2.cos,
+            log=gmpy2.log,
+        )
+    raise ValueError(f"unknown number library {kind!r}")
+
+
+def _to_mpf(x) -> mpmath.mpf:
+    if isinstance(x, mpmath.mpf):
+        return x
+    if isinstance(x, float):
+        return mpmath.mpf(x)
+    m, e = x.as_mantissa_exp()
+    return mpmath.ldexp(mpmath.mpf(int(m)), int(e))
+
+
+def _from_mpf(x, lib_kind: str):
+    if lib_kind == "float":
+        return float(x)
+    if lib_kind == "mpmath":
+        return +mpmath.mpf(x)
+    x = mpmath.mpf(x)
+    sign, man, exp, _ = x._mpf_
+    if man == 0:
+        return gmpy2.mpfr(0)
+    v = gmpy2.mul_2exp(gmpy2.mpfr(gmpy2.mpz(man)), int(exp))
+    return -v if sign else v
+
+
+# --------------------------------------------------------------------------- solution
+
+
+@dataclass
+class TaylorSolution:
+    """Raw outcome of :func:`taylor_solve` (``integrate`` wraps it in an IntegrationResult).
+
+    ``y`` is ``(n_state, len(t))``: float64 in double, ``mpmath.mpf`` objects otherwise;
+    ``t_events[i]``, ``y_events[i]``: times and states where event ``i`` fired.
+    """
+
+    t: np.ndarray
+    y: np.ndarray
+    status: int
+    message: str
+    nsteps: int
+    order_min: int
+    order_max: int
+    backend: str
+    t_events: list = field(default_factory=list)
+    y_events: list = field(default_factory=list)
+
+
+class _Stepper:
+    """One adaptive step in the chosen number system; ``step`` returns the polynomial."""
+
+    def __init__(self, code, kind, p, rtol, atol, order, step, lib: CompiledTaylor | None):
+        self.kind = kind
+        self.clib = lib
+        self.rtol, self.atol = rtol, atol
+        self.order, self.fixed_h = order, step
+        if lib is not None:
+            self.P = lib.pack(p)
+            self.ctrl = lib.pack([rtol, atol, step or 0])
+            self.coeffs = lib.empty(lib.n_state * (lib.max_order + 1))
+            self.h = lib.empty(1)
+            self.ty = lib.empty(lib.n_state + 1)
+            self.ord = _ffi.new("int *")
+            self.backend = f"c-{kind}"
+        else:
+            self.lib_kind = "float" if kind == "double" else "gmpy2"
+            if kind == "digits-mpmath":
+                self.lib_kind = "mpmath"
+            self.lib = python_lib(self.lib_kind)
+            self.fn = code.taylor.taylor_coefficients
+            self.p = [_from_mpf(v, self.lib_kind) for v in p]
+            self.backend = f"python-{self.lib_kind}"
+
+    # values used by Python-side event code: floats (double) or mpf
+    def step(self, t, y, t_end):
+        """Advance one step: ``(t_new, y_new, poly)``; ``poly(s)`` is the state at t + s."""
+        if self.clib is not None:
+            return self._c_step(t, y, t_end)
+        return self._py_step(t, y, t_end)
+
+    def _c_step(self, t, y, t_end):
+        lib = self.clib
+        n = lib.n_state
+        ty = lib.pack([t, *y])
+        tend = lib.pack([t_end])
+        ptr = CompiledTaylor._ptr
+        status = lib.lib.chaplygin_taylor_step(
+            ptr(ty), ptr(self.P), ptr(self.ctrl), self.order or 0, ptr(tend),
+            ptr(self.coeffs), ptr(self.h), self.ord,
+        )
+        p = self.ord[0]
+        S = p + 1
+        if lib.kind == "double":
+            C = self.coeffs[: n * S].reshape(n, S).copy()
+            h = float(self.h[0])
+            t_new, y_new = float(ty[0]), ty[1:].copy()
+        else:
+            flat = decode_binary128(self.coeffs, n * S)
+            C = [flat[i * S : (i + 1) * S] for i in range(n)]
+            (h,) = decode_binary128(self.h, 1)
+            vals = decode_binary128(ty, n + 1)
+            t_new, y_new = vals[0], vals[1:]
+        return t_new, y_new, C, h, p, status
+
+    def _py_step(self, t, y, t_end):
+        L, kind = self.lib, self.lib_kind
+        tt = _from_mpf(t, kind)
+        yy = [_from_mpf(v, kind) for v in y]
+        xn = max(abs(v) for v in yy)
+        absolute = self.rtol * float(xn) <= self.atol
+        scale = L.mpf(1) if absolute else xn
+        p = self.order or jorba_zou_order(self.atol if absolute else self.rtol)
+        C = self.fn(tt, yy, self.p, p, L)
+        remaining = _from_mpf(t_end, kind) - tt
+        if self.fixed_h:
+            h = L.mpf(self.fixed_h)
+        else:
+            rho = math.inf
+            for k in (p - 1, p):
+                nk = max(abs(c[k]) for c in C)
+                if nk > 0:
+                    rho = min(rho, math.exp(float(L.log(scale) - L.log(nk)) / k))
+            h = abs(remaining) if math.isinf(rho) else L.mpf(rho * math.exp(-2 - 0.7 / (p - 1)))
+        if h >= abs(remaining):
+            h, t_new = remaining, _from_mpf(t_end, kind)
+        else:
+            h = h if remaining > 0 else -h
+            t_new = tt + h
+        y_new = [_horner(c, h) for c in C]
+        status = 0 if all(math.isfinite(float(v)) for v in y_new) else -1
+        if kind == "float":
+            return t_new, np.array(y_new), np.array(C), h, p, status
+        return (
+            _to_mpf(t_new),
+            [_to_mpf(v) for v in y_new],
+            [[_to_mpf(v) for v in c] for c in C],
+            _to_mpf(h),
+            p,
+            status,
+        )
+
+
+def _horner(c: Sequence, s):
+    v = c[-1]
+    for a in reversed(c[:-1]):
+        v = v * s + a
+    return v
+
+
+def _eval_poly(C, s):
+    """State at offset ``s`` from the Taylor coefficients of a step."""
+    if isinstance(C, np.ndarray):
+        v = C[:, -1].copy()
+        for k in range(C.shape[1] - 2, -1, -1):
+            v = v * s + C[:, k]
+        return v
+    return [_horner(c, s) for c in C]
+
+
+def _locate(g, t, C, h, g0, g1, eps):
+    """Root of ``g(t + s, poly(s))`` in ``s`` between 0 (value g0) and h (value g1).
+
+    Illinois (modified regula falsi) with bisection safeguard, to a bracket of relative width
+    ``eps`` (the working precision).
+    """
+    a, b, fa, fb = 0 * h, h, g0, g1
+    side = 0
+    tol = eps * max(abs(t), abs(t + h), 1) * 4
+    for _ in range(400):
+        if abs(b - a) <= tol:
+            break
+        s = b - fb * (b - a) / (fb - fa) if fb != fa else (a + b) / 2
+        if not (min(a, b) < s < max(a, b)):
+            s = (a + b) / 2
+        fs = g(t + s, _eval_poly(C, s))
+        if fs == 0:
+            return s
+        if (fs > 0) == (fb > 0):
+            b, fb = s, fs
+            if side == -1:
+                fa /= 2
+            side = -1
+        else:
+            a, fa = s, fs
+            if side == 1:
+                fb /= 2
+            side = 1
+        if abs(b - a) <= tol:
+            break
+    return a if abs(fa) < abs(fb) else b
+
+
+def taylor_solve(
+    code,
+    y0: Sequence,
+    t_span: tuple,
+    p: Sequence,
+    *,
+    precision: str = "double",
+    rtol: float,
+    atol: float,
+    t_eval: Sequence | None = None,
+    events: Sequence[Callable] | Callable | None = None,
+    order: int | None = None,
+    step: float | None = None,
+    max_steps: int = MAX_STEPS,
+    lib: str | None = None,
+) -> TaylorSolution:
+    """Integrate with the Taylor method; see the module docstring.
+
+    Parameters
+    ----------
+    code : ModelCode
+    y0, p : sequence
+        State and parameters (floats in double, ``mpmath.mpf`` otherwise).
+    t_span : (t0, t1)
+    precision : {"double", "quad", "digits"}
+        ``digits`` uses the precision of the active ``mpmath.mp`` context.
+    rtol, atol : float
+        Local tolerances of the Jorba-Zou control.
+    t_eval : sequence, optional
+        Output times inside the span (default 11 equispaced points).
+    events : callable or sequence of callables, optional
+        ``g(t, y)``; a sign change inside a step is an event, located on the step's Taylor
+        polynomial to the working precision. ``g.terminal = True`` stops the integration at
+        the first event; ``g.direction`` (> 0 rising, < 0 falling, 0 both) as in scipy.
+    order, step : optional
+        Fixed order and/or fixed step (for convergence studies); default adaptive.
+    lib : {"c", "gmpy2", "mpmath", "float"}, optional
+        Force a backend (default: C for double and quad, gmpy2 for digits).
+
+    Returns
+    -------
+    TaylorSolution
+    """
+    if precision not in ("double", "quad", "digits"):
+        raise ValueError(f"unknown precision {precision!r}")
+    if order is not None and not 2 <= order <= 80:
+        raise ValueError("order must be in 2..80")
+    t0, t1 = t_span
+    direction = 1 if t1 > t0 else -1
+    if t_eval is None:
+        if precision == "double":
+            t_eval = list(np.linspace(float(t0), float(t1), 11))
+        else:
+            t_eval = list(mpmath.linspace(mpmath.mpf(t0), mpmath.mpf(t1), 11))
+    t_eval = list(t_eval)
+    if any(direction * (t_eval[i + 1] - t_eval[i]) < 0 for i in range(len(t_eval) - 1)):
+        raise ValueError("t_eval must be sorted in the direction of integration")
+    if events is not None and callable(events):
+        events = [events]
+    events = list(events or [])
+    clib = None
+    if precision in ("double", "quad") and lib in (None, "c"):
+        clib = load_taylor_library(code, precision)
+    kind = precision
+    if clib is None and lib == "mpmath":
+        kind = "digits-mpmath"
+    if clib is None and lib == "float" and precision != "double":
+        raise ValueError("lib='float' works in double precision only")
+    stepper = _Stepper(code, kind, p, rtol, atol, order, step, clib)
+    if clib is not None and not events:
+        return _c_run(clib, y0, (t0, t1), p, rtol, atol, t_eval, order, step, max_steps)
+    if clib is None and precision == "quad":
+        # Python fallback in binary128-like precision: MPFR at 113 bits
+        with gmpy2.local_context(gmpy2.context(), precision=113):
+            return _py_run(stepper, y0, (t0, t1), t_eval, events, max_steps, precision)
+    if stepper.clib is None and stepper.lib_kind == "gmpy2":
+        with gmpy2.local_context(gmpy2.context(), precision=mpmath.mp.prec):
+            return _py_run(stepper, y0, (t0, t1), t_eval, events, max_steps, precision)
+    return _py_run(stepper, y0, (t0, t1), t_eval, events, max_steps, precision)
+
+
+_MESSAGES = {
+    0: "reached t_end",
+    -1: "the solution became NaN or infinite; check the parameters and state",
+    -2: "too many steps (max_steps); shorten the span or loosen the tolerance",
+    -3: "the step size underflowed: the solution is singular near this time",
+    -4: "out of memory in the C integrator",
+}
+
+
+def _c_run(clib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps):
+    n = clib.n_state
+    ptr = CompiledTaylor._ptr
+    m = len(t_eval)
+    y_eval = clib.empty(max(m, 1) * n)
+    y_end = clib.empty(n)
+    stats = np.zeros(4, dtype=np.int64)
+    status = clib.lib.chaplygin_taylor_run(
+        ptr(clib.pack(t_span)), ptr(clib.pack(y0)), ptr(clib.pack(p)),
+        ptr(clib.pack([rtol, atol, step or 0])), order or 0, m, ptr(clib.pack(t_eval)),
+        ptr(y_eval), ptr(y_end), max_steps, _ffi.cast("long *", stats.ctypes.data),
+    )
+    done = int(stats[3])
+    if clib.kind == "double":
+        y = y_eval[: done * n].reshape(done, n).T.copy()
+        t = np.asarray(t_eval[:done], dtype=float)
+    else:
+        vals = decode_binary128(y_eval, done * n)
+        y = np.array(vals, dtype=object).reshape(done, n).T if done else np.empty((n, 0), object)
+        with mpmath.workprec(113):
+            t = np.array([+mpmath.mpf(v) for v in t_eval[:done]], dtype=object)
+    return TaylorSolution(
+        t=t, y=y, status=int(status), message=_MESSAGES.get(int(status), "failed"),
+        nsteps=int(stats[0]), order_min=int(stats[2]), order_max=int(stats[1]),
+        backend=f"c-{clib.kind}",
+    )
+
+
+def _py_run(stepper, y0, t_span, t_eval, events, max_steps, precision):
+    t0, t1 = t_span
+    double = precision == "double"
+    if double:
+        t, y = float(t0), np.asarray(y0, dtype=float)
+        eps = 2.0**-52
+    else:
+        t, y = mpmath.mpf(t0), [mpmath.mpf(v) for v in y0]
+        eps = 2.0**-112 if precision == "quad" else mpmath.eps
+        t1 = mpmath.mpf(t1)
+    direction = 1 if t1 > t else -1
+    ts, ys = [], []
+    j = 0
+    while j < len(t_eval) and direction * (t_eval[j] - t) <= 0:
+        ts.append(t_eval[j])
+        ys.append(list(y))
+        j += 1
+    g_prev = [g(t, y) for g in events]
+    t_events: list[list] = [[] for _ in events]
+    y_events: list[list] = [[] for _ in events]
+    nsteps, omin, omax, status = 0, 10**9, 0, 0
+    stop = False
+    while direction * (t1 - t) > 0 and not stop:
+        if nsteps >= max_steps:
+            status = -2
+            break
+        t_new, y_new, C, h, p, status = stepper.step(t, y, t1)
+        nsteps += 1
+        omin, omax = min(omin, p), max(omax, p)
+        if h == 0:
+            status = -3
+            break
+        t_stop = t_new
+        for i, g in enumerate(events):
+            g_new = g(t_new, y_new)
+            g0 = g_prev[i]
+            crossing = (g0 < 0 < g_new) or (g0 > 0 > g_new) or (g_new == 0 and g0 != 0)
+            want = getattr(g, "direction", 0)
+            if crossing and (want == 0 or (want > 0) == (g_new > g0)):
+                s = _locate(g, t, C, h, g0, g_new, eps)
+                te = t + s
+                ye = _eval_poly(C, s)
+                t_events[i].append(te)
+                y_events[i].append(list(ye))
+                if getattr(g, "terminal", False):
+                    stop = True
+                    t_stop = te if direction * (te - t_stop) < 0 else t_stop
+            g_prev[i] = g_new
+        while j < len(t_eval) and direction * (t_eval[j] - t_stop) <= 0:
+            ts.append(t_eval[j])
+            ys.append(list(_eval_poly(C, t_eval[j] - t)))
+            j += 1
+        if stop and t_stop != t_new:
+            ts.append(t_stop)
+            ys.append(list(_eval_poly(C, t_stop - t)))
+        t, y = t_new, y_new
+        if status:
+            break
+    n = len(y0)
+    if double:
+        ty = np.asarray(ts, dtype=float)
+        yy = np.asarray(ys, dtype=float).T if ys else np.empty((n, 0))
+        te = [np.asarray(v, dtype=float) for v in t_events]
+        ye = [np.asarray(v, dtype=float).reshape(-1, n) for v in y_events]
+    else:
+        ty = np.array([mpmath.mpf(v) for v in ts], dtype=object)
+        yy = np.array(ys, dtype=object).T if ys else np.empty((n, 0), dtype=object)
+        te = [np.array(v, dtype=object) for v in t_events]
+        ye = [np.array(v, dtype=object).reshape(-1, n) for v in y_events]
+    msg = _MESSAGES.get(status, "failed")
+    if stop:
+        msg = "a terminal event occurred"
+    return TaylorSolution(
+        t=ty, y=yy, status=status, message=msg, nsteps=nsteps,
+        order_min=omin if nsteps else 0, order_max=omax, backend=stepper.backend,
+        t_events=te, y_events=ye,
+    )
