@@ -394,7 +394,7 @@ def integrate(
         raise UserInputError("rtol and atol must be positive finite numbers") from None
     if not (rtol > 0 and atol > 0 and np.isfinite(rtol) and np.isfinite(atol)):
         raise UserInputError("rtol and atol must be positive finite numbers")
-    if rtol < prec.min_rtol:
+    if rtol < prec.min_rtol * (1 - 1e-9):  # slack: 10.0**-98 vs 10 * 10.0**-99 rounding
         raise UserInputError(
             f"rtol={rtol:g} is below what {prec!r} precision can deliver (about "
             f"{prec.min_rtol:.1e}); ask for {_precision_for(rtol)}"
@@ -478,10 +478,17 @@ def integrate(
 
 
 def _precision_for(rtol: float) -> str:
-    """The cheapest precision that delivers ``rtol`` (for error messages)."""
-    if rtol >= Precision("quad").min_rtol:
+    """The cheapest precision that delivers ``rtol`` (for error messages).
+
+    ``quad`` when its 10 eps suffices, else the fewest digits ``d`` with
+    ``10 * 10**(1 - d) <= rtol`` (:attr:`Precision.min_rtol`).
+    """
+    if rtol >= Precision("quad").min_rtol * (1 - 1e-9):
         return "--precision quad"
-    return f"--precision {max(int(np.ceil(-np.log10(rtol))) + 2, 16)}"
+    digits = int(np.ceil(2 - np.log10(rtol) - 1e-9))
+    while Precision(max(digits, 16)).min_rtol > rtol * (1 + 1e-9):
+        digits += 1
+    return f"--precision {max(digits, 16)}"
 
 
 def _vector(values, n: int, what: str, prec: Precision) -> list:

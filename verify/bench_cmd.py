@@ -1,0 +1,65 @@
+"""``chaplygin bench``: the work-precision study of issue 5 §4 (table, plot, JSON)."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+__all__ = ["add_parser"]
+
+
+def _cmd_bench(args) -> int:
+    from chaplygin.derive.errors import UserInputError
+    from chaplygin.numerics.bench import PROBLEMS, render_markdown, render_plot, run_study
+
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise UserInputError(f"--out {args.out!r} exists and is not a folder; give a folder")
+    if not out.exists() and not out.parent.exists():
+        raise UserInputError(f"--out {args.out!r}: its parent folder does not exist")
+    problems = [p.strip() for p in args.problems.split(",") if p.strip()]
+    bad = [p for p in problems if p not in PROBLEMS]
+    if bad or not problems:
+        raise UserInputError(
+            f"unknown problem {bad[0] if bad else args.problems!r}; valid: {', '.join(PROBLEMS)}"
+        )
+    if args.repeats is not None and args.repeats < 1:
+        raise UserInputError(f"--repeats must be a positive whole number, got {args.repeats}")
+
+    def progress(msg: str) -> None:
+        if not args.json:
+            print(f"  {msg}", file=sys.stderr, flush=True)
+
+    study = run_study(
+        out, quick=args.quick, repeats=args.repeats, problems=problems, progress=progress
+    )
+    table = render_markdown(study)
+    (out / "bench.md").write_text(table)
+    render_plot(study, out / "bench.png")
+    (out / "bench.json").write_text(json.dumps(study, indent=1))
+    if args.json:
+        print(json.dumps(study["rows"], indent=1))
+    else:
+        print(table)
+        print(f"wrote {out / 'bench.md'}, {out / 'bench.png'} and {out / 'bench.json'}")
+    return 0
+
+
+def add_parser(sub) -> None:
+    """Register ``chaplygin bench``."""
+    p = sub.add_parser(
+        "bench", help="work-precision study: error and drift against wall time, per method"
+    )
+    p._sub = "bench"
+    p.add_argument("--out", default="bench-out", help="output folder (table, plot, reference)")
+    p.add_argument("--json", action="store_true", help="print the rows as JSON")
+    p.add_argument(
+        "--quick", action="store_true",
+        help="one run per row, shortened spans (flagged in the table); for tests",
+    )
+    p.add_argument("--repeats", type=int, default=None, help="runs per row (default 5; quick 1)")
+    p.add_argument(
+        "--problems", default="reference,separatrix", help="comma-separated: reference,separatrix"
+    )
+    p.set_defaults(func=_cmd_bench)
