@@ -1,0 +1,117 @@
+"""``chaplygin bench``: the quick work-precision study writes its table, plot and rows.
+
+Timings are never asserted (they belong to benchmarks); accuracy is: every measured row has
+a finite error against the high-precision reference, and the Taylor rows reach their
+requested precision.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import mpmath
+import numpy as np
+import pytest
+from chaplygin.numerics import load_model_code
+from chaplygin.numerics.bench import PROBLEMS, peers_available, separatrix_state
+from chaplygin.verify.cli import main
+
+FIELDS = {"problem", "method", "rhs", "precision", "rtol", "T", "error", "drift", "median_s",
+          "runs", "steps", "nfev", "note"}
+
+
+@pytest.fixture(scope="module")
+def quick_study(tmp_path_factory):
+    out = tmp_path_factory.mktemp("bench")
+    import contextlib
+    import io
+
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        status = main(["bench", "--quick", "--json", "--problems", "reference", "--out", str(out)])
+    return status, json.loads(buf.getvalue()), out
+
+
+@pytest.mark.slow
+def test_quick_bench_writes_table_and_plot(quick_study):
+    status, rows, out = quick_study
+    assert status == 0
+    table = (out / "bench.md").read_text()
+    assert "| method |" in table and "final error" in table and "quick" in table.lower()
+    png = (out / "bench.png").read_bytes()
+    assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 5000
+    saved = json.loads((out / "bench.json").read_text())
+    assert saved["rows"] == rows
+    assert saved["rhs_call_s"] and all(v > 0 for v in saved["rhs_call_s"].values())
+    # the reference is cached in the output folder
+    assert list(out.glob("reference_reference_*.json"))
+
+
+@pytest.mark.slow
+def test_quick_bench_rows_have_fields_and_finite_errors(quick_study):
+    _, rows, _ = quick_study
+    assert rows and all(FIELDS <= set(r) for r in rows)
+    measured = [r for r in rows if r["median_s"] is not None]
+    families = {(r["method"], r["rhs"], r["precision"]) for r in measured}
+    for method in ("RK45", "DOP853", "LSODA", "Radau"):
+        assert {(method, "numpy", "double"), (method, "C", "double")} <= families
+    assert ("odefun", "mpmath", "50 digits") in families
+    for r in measured:
+        assert math.isfinite(r["error"]) and r["error"] >= 0, r
+        assert all(math.isfinite(v) for v in r["drift"].values()), r
+        assert r["median_s"] > 0 and "quick" in r["note"]
+    # Taylor rows meet their precision: error below 1e3 x the working epsilon (short spans)
+    eps = {"double": 2.0**-52, "quad": 2.0**-112, "30 digits": 1e-29, "50 digits": 1e-49,
+           "100 digits": 1e-99}
+    for r in measured:
+        if r["method"] == "taylor":
+            assert r["error"] <= max(1e3 * eps[r["precision"]], 1e2 * r["rtol"]), r
+    for name, ok in peers_available().items():
+        if not ok:
+            assert any(r["method"] == name and "not installed" in r["note"] for r in rows)
+
+
+def test_separatrix_point_is_on_the_separatrix():
+    """M = C gamma at the energy h2 = C^2/(2 I2) of the middle axis (K01-3.3seg, K01-3.4)."""
+    code = load_model_code("chaplygin_ball")
+    st = separatrix_state(dps=40)
+    with mpmath.workdps(40):
+        y = [mpmath.mpf(v) for v in (*st["M"], *st["gamma"])]
+        p = [mpmath.mpf(v) for v in (1, 2, 3, 1)]
+        F = dict(zip(code.integral_names, code.mpmath.integrals(0, y, p), strict=True))
+        assert abs(F["(gamma,gamma)"] - 1) < mpmath.mpf(10) ** -35
+        assert abs(F["H"] - mpmath.mpf(1) / 4) < mpmath.mpf(10) ** -35
+    # negative control: moved along the segment M = C gamma (gamma tilted towards e1), the
+    # energy leaves h2 at first order (e2 is tangent to the separatrix itself, e1 is not)
+    g = np.array([float(v) for v in st["gamma"]]) + np.array([0.01, 0.0, 0.0])
+    g /= np.linalg.norm(g)
+    F2 = code.numpy.integrals(0.0, np.concatenate([g, g]), np.array([1.0, 2.0, 3.0, 1.0]))
+    assert abs(F2[code.integral_names.index("H")] - 0.25) > 1e-6
+    assert set(PROBLEMS) == {"reference", "separatrix"}
+
+
+@pytest.mark.parametrize(
+    "args, fragment",
+    [
+        (["--problems", "nope"], "unknown problem"),
+        (["--repeats", "0"], "--repeats"),
+        (["--out", "/nonexistent-dir/x/y"], "parent folder"),
+    ],
+)
+def test_bench_bad_input_exits_2_with_one_line(args, fragment, capsys, tmp_path):
+    argv = ["bench", "--quick", *args]
+    if "--out" not in args:
+        argv += ["--out", str(tmp_path / "o")]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert fragment in err and "\n" not in err and "Traceback" not in err
+    assert not (tmp_path / "o").exists()
+
+
+def test_bench_out_is_a_file(capsys, tmp_path):
+    f = tmp_path / "file.txt"
+    f.write_text("x")
+    assert main(["bench", "--quick", "--out", str(f)]) == 2
+    assert "not a folder" in capsys.readouterr().err
+    assert f.read_text() == "x"
