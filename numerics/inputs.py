@@ -124,7 +124,7 @@ def parse_number(text: str | float | int | mpmath.mpf, dps: int = 30) -> mpmath.
             src = str(text).strip()
             try:
                 tree = ast.parse(src, mode="eval")
-                value = +_eval_node(tree.body)
+                value = +_eval_node(tree.body, src)
             except (SyntaxError, ValueError, TypeError, ZeroDivisionError, KeyError):
                 raise UserInputError(
                     f"cannot read {src!r} as a number: use a decimal like 0.93 or an "
@@ -137,26 +137,26 @@ def parse_number(text: str | float | int | mpmath.mpf, dps: int = 30) -> mpmath.
         return value
 
 
-def _eval_node(node: ast.AST) -> mpmath.mpf:
+def _eval_node(node: ast.AST, src: str = "") -> mpmath.mpf:
     if (
         isinstance(node, ast.Constant)
         and isinstance(node.value, (int, float))
         and not isinstance(node.value, bool)
     ):
-        # re-read the literal text so that 0.1 means one tenth at the working precision
-        return (
-            mpmath.mpf(repr(node.value))
-            if isinstance(node.value, float)
-            else mpmath.mpf(node.value)
-        )
+        if isinstance(node.value, int):
+            return mpmath.mpf(node.value)
+        # re-read the literal's own text so that 0.1 means one tenth and a 40-digit literal
+        # keeps its 40 digits at the working precision (the Python float has only 17)
+        text = ast.get_source_segment(src, node) if src else None
+        return mpmath.mpf(text.replace("_", "") if text else repr(node.value))
     if isinstance(node, ast.Name) and node.id.lower() in ("nan", "inf", "infinity"):
         return mpmath.mpf("nan") if node.id.lower() == "nan" else mpmath.mpf("inf")
     if isinstance(node, ast.Name) and node.id in _CONSTS:
         return _CONSTS[node.id]()
     if isinstance(node, ast.BinOp) and type(node.op) in _BINOPS:
-        return _BINOPS[type(node.op)](_eval_node(node.left), _eval_node(node.right))
+        return _BINOPS[type(node.op)](_eval_node(node.left, src), _eval_node(node.right, src))
     if isinstance(node, ast.UnaryOp) and type(node.op) in _UNARY:
-        return _UNARY[type(node.op)](_eval_node(node.operand))
+        return _UNARY[type(node.op)](_eval_node(node.operand, src))
     if (
         isinstance(node, ast.Call)
         and isinstance(node.func, ast.Name)
@@ -164,7 +164,7 @@ def _eval_node(node: ast.AST) -> mpmath.mpf:
         and len(node.args) == 1
         and not node.keywords
     ):
-        return _FUNCS[node.func.id](_eval_node(node.args[0]))
+        return _FUNCS[node.func.id](_eval_node(node.args[0], src))
     raise ValueError("unsupported syntax")
 
 
@@ -269,8 +269,9 @@ def pack_state(code: ModelCode, values: Mapping[str, object], precision: Precisi
 
     ``gamma`` (and ``alpha``, ``beta``) must be unit vectors within
     :data:`UNIT_TOLERANCE`; they are renormalised at the working precision. With the
-    contact point, a missing ``alpha, beta`` is the frame of BKM12-7 (or any orthonormal
-    completion when ``M`` is parallel to ``gamma``) and ``x, y`` default to 0.
+    contact point, a missing ``alpha, beta`` is the frame of BKM12-7 (``alpha = M x gamma /
+    |M x gamma|``; refused, with a message asking for an explicit frame, when ``M`` is
+    parallel to ``gamma``, where that formula is singular) and ``x, y`` default to 0.
 
     Raises
     ------
@@ -332,14 +333,17 @@ def _frame(got: dict) -> dict:
         return {"alpha": alpha, "beta": _cross(gamma, alpha)}
     mxg = _cross(M, gamma)
     s = _norm(mxg)
-    if s > 1e-6 * max(_norm(M), mpmath.mpf(1)):
-        alpha = [c / s for c in mxg]  # BKM12-7
-    else:  # M parallel to gamma: any horizontal unit vector
-        axis = min(range(3), key=lambda i: abs(gamma[i]))
-        e = [mpmath.mpf(int(i == axis)) for i in range(3)]
-        a = _cross(e, gamma)
-        n = _norm(a)
-        alpha = [c / n for c in a]
+    if s <= 1e-6 * max(_norm(M), mpmath.mpf(1)):
+        # BKM12-7 divides by |M x gamma|: on (or next to) the line M || gamma the frame is
+        # undefined (or ill-conditioned), and a silently chosen frame would fix the origin of
+        # the contact-point angle arbitrarily; the user must choose it.
+        raise UserInputError(
+            "M is parallel to gamma (|M x gamma| = "
+            f"{mpmath.nstr(s, 3)}), where the frame of BKM12-7, alpha = M x gamma/|M x gamma|, "
+            "is undefined: give alpha and beta explicitly (a right-handed orthonormal frame "
+            "with alpha x beta = gamma), e.g. --y0 alpha=A1,A2,A3 --y0 beta=B1,B2,B3"
+        )
+    alpha = [c / s for c in mxg]  # BKM12-7
     return {"alpha": alpha, "beta": _cross(gamma, alpha)}
 
 
