@@ -69,6 +69,11 @@ QUOTED = {
 }
 
 
+#: Part of the reference-cache key: bump when the inputs' meaning changes (2: decimal literals
+#: are read with all their digits).
+_CACHE_VERSION = 2
+
+
 @dataclass(frozen=True)
 class BenchProblem:
     """One initial-value problem of the study."""
@@ -81,9 +86,10 @@ class BenchProblem:
     description: str
 
     def key(self) -> str:
-        return hashlib.sha256(
-            json.dumps([self.name, self.params, self.y0], sort_keys=True, default=str).encode()
-        ).hexdigest()[:16]
+        data = [_CACHE_VERSION, self.name, self.params, self.y0]
+        return hashlib.sha256(json.dumps(data, sort_keys=True, default=str).encode()).hexdigest()[
+            :16
+        ]
 
 
 def separatrix_state(I: Sequence = (1, 2, 3), D=1, C=1, dps: int = 250) -> dict:
