@@ -394,10 +394,11 @@ def integrate(
         raise UserInputError("rtol and atol must be positive finite numbers") from None
     if not (rtol > 0 and atol > 0 and np.isfinite(rtol) and np.isfinite(atol)):
         raise UserInputError("rtol and atol must be positive finite numbers")
-    if rtol < prec.min_rtol:
+    floor = prec.epsilon if isinstance(integrator, TaylorMethod) else prec.min_rtol
+    if rtol < floor:
         raise UserInputError(
-            f"rtol={rtol:g} is below what {prec!r} precision can deliver (about "
-            f"{prec.min_rtol:.1e}); ask for {_precision_for(rtol)}"
+            f"rtol={rtol:g} is below what {prec!r} precision can deliver with "
+            f"{integrator.name} (about {floor:.1e}); ask for {_precision_for(rtol)}"
         )
     if isinstance(t_span, (int, float, str)):
         t_span = (0.0, float(t_span))
@@ -436,6 +437,10 @@ def integrate(
     unknown = set(options["taylor"]) - {"order", "step", "max_steps"}
     if unknown:
         raise UserInputError(f"unknown taylor option(s) {sorted(unknown)}; valid: order, step")
+    if isinstance(integrator, TaylorMethod) and chosen != "numpy" and kind != "digits":
+        from .taylor import load_taylor_library
+
+        load_taylor_library(code, kind)  # compile or load now: set-up, not wall time
     setup = time.perf_counter() - start
     t0 = time.perf_counter()
     if prec.is_double:
@@ -479,8 +484,8 @@ def integrate(
 
 def _precision_for(rtol: float) -> str:
     """The cheapest precision that delivers ``rtol`` (for error messages)."""
-    if rtol >= Precision("quad").min_rtol:
-        return "--precision quad"
+    if rtol >= Precision("quad").epsilon:
+        return "--precision quad (--method taylor)"
     return f"--precision {max(int(np.ceil(-np.log10(rtol))) + 2, 16)}"
 
 
