@@ -112,7 +112,7 @@ class ScipyMethod(Integrator):
         kwargs = {}
         events = options.get("events") or None
         if events is not None:
-            kwargs["events"] = events
+            kwargs["events"] = [_scipy_event(g) for g in events]
         if backend == "c":
             lib = code.compiled()
             fun, jac = lib.rhs, lib.jac
@@ -138,6 +138,17 @@ class ScipyMethod(Integrator):
         if sol.status != 0:
             msg += "; try a smaller rtol/atol, an implicit method (Radau, LSODA) or more digits"
         return sol.t, sol.y, sol.nfev, sol.njev, len(sol.t) - 1, sol.status, msg
+
+
+def _scipy_event(g):
+    """``g(t, y)`` as scipy calls events (with the ``args``), keeping terminal/direction."""
+
+    def event(t, y, *args):
+        return g(t, y)
+
+    event.terminal = getattr(g, "terminal", False)
+    event.direction = getattr(g, "direction", 0)
+    return event
 
 
 class MpmathOdefun(Integrator):

@@ -367,7 +367,7 @@ class _Stepper:
         C = self.fn(tt, yy, self.p, p, L)
         remaining = _from_mpf(t_end, kind) - tt
         if self.fixed_h:
-            h = L.mpf(self.fixed_h)
+            h = _from_mpf(self.fixed_h, kind)
         else:
             rho = math.inf
             for k in (p - 1, p):
@@ -517,10 +517,10 @@ def taylor_solve(
         return _c_run(clib, y0, (t0, t1), p, rtol, atol, t_eval, order, step, max_steps)
     if clib is None and precision == "quad":
         # Python fallback in binary128-like precision: MPFR at 113 bits
-        with gmpy2.local_context(gmpy2.context(), precision=113):
+        with gmpy2.context(gmpy2.get_context(), precision=113):
             return _py_run(stepper, y0, (t0, t1), t_eval, events, max_steps, precision)
     if stepper.clib is None and stepper.lib_kind == "gmpy2":
-        with gmpy2.local_context(gmpy2.context(), precision=mpmath.mp.prec):
+        with gmpy2.context(gmpy2.get_context(), precision=mpmath.mp.prec):
             return _py_run(stepper, y0, (t0, t1), t_eval, events, max_steps, precision)
     return _py_run(stepper, y0, (t0, t1), t_eval, events, max_steps, precision)
 
@@ -583,7 +583,7 @@ def _py_run(stepper, y0, t_span, t_eval, events, max_steps, precision):
     t_events: list[list] = [[] for _ in events]
     y_events: list[list] = [[] for _ in events]
     nsteps, omin, omax, status = 0, 10**9, 0, 0
-    stop = False
+    stop, y_stop = False, None
     while direction * (t1 - t) > 0 and not stop:
         if nsteps >= max_steps:
             status = -2
@@ -606,17 +606,18 @@ def _py_run(stepper, y0, t_span, t_eval, events, max_steps, precision):
                 ye = _eval_poly(C, s)
                 t_events[i].append(te)
                 y_events[i].append(list(ye))
-                if getattr(g, "terminal", False):
-                    stop = True
-                    t_stop = te if direction * (te - t_stop) < 0 else t_stop
+                if getattr(g, "terminal", False) and (
+                    not stop or direction * (te - t_stop) < 0
+                ):
+                    stop, t_stop, y_stop = True, te, list(ye)
             g_prev[i] = g_new
         while j < len(t_eval) and direction * (t_eval[j] - t_stop) <= 0:
             ts.append(t_eval[j])
             ys.append(list(_eval_poly(C, t_eval[j] - t)))
             j += 1
-        if stop and t_stop != t_new:
+        if stop:
             ts.append(t_stop)
-            ys.append(list(_eval_poly(C, t_stop - t)))
+            ys.append(y_stop)
         t, y = t_new, y_new
         if status:
             break
