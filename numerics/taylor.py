@@ -249,7 +249,11 @@ def python_lib(kind: str) -> types.SimpleNamespace:
         )
     if kind == "gmpy2":
         return types.SimpleNamespace(
-            mpf=gmpy2.mpfr, sqrt=gmpy2.sqrt, exp=gmpy2.exp, sin=gmpy2.sin, cos=gmpy2.cos,
+            mpf=gmpy2.mpfr,
+            sqrt=gmpy2.sqrt,
+            exp=gmpy2.exp,
+            sin=gmpy2.sin,
+            cos=gmpy2.cos,
             log=gmpy2.log,
         )
     raise ValueError(f"unknown number library {kind!r}")
@@ -339,8 +343,14 @@ class _Stepper:
         tend = lib.pack([t_end])
         ptr = CompiledTaylor._ptr
         status = lib.lib.chaplygin_taylor_step(
-            ptr(ty), ptr(self.P), ptr(self.ctrl), self.order or 0, ptr(tend),
-            ptr(self.coeffs), ptr(self.h), self.ord,
+            ptr(ty),
+            ptr(self.P),
+            ptr(self.ctrl),
+            self.order or 0,
+            ptr(tend),
+            ptr(self.coeffs),
+            ptr(self.h),
+            self.ord,
         )
         p = self.ord[0]
         S = p + 1
@@ -542,9 +552,17 @@ def _c_run(clib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps):
     y_end = clib.empty(n)
     stats = np.zeros(4, dtype=np.int64)
     status = clib.lib.chaplygin_taylor_run(
-        ptr(clib.pack(t_span)), ptr(clib.pack(y0)), ptr(clib.pack(p)),
-        ptr(clib.pack([rtol, atol, step or 0])), order or 0, m, ptr(clib.pack(t_eval)),
-        ptr(y_eval), ptr(y_end), max_steps, _ffi.cast("long *", stats.ctypes.data),
+        ptr(clib.pack(t_span)),
+        ptr(clib.pack(y0)),
+        ptr(clib.pack(p)),
+        ptr(clib.pack([rtol, atol, step or 0])),
+        order or 0,
+        m,
+        ptr(clib.pack(t_eval)),
+        ptr(y_eval),
+        ptr(y_end),
+        max_steps,
+        _ffi.cast("long *", stats.ctypes.data),
     )
     done = int(stats[3])
     if clib.kind == "double":
@@ -556,8 +574,13 @@ def _c_run(clib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps):
         with mpmath.workprec(113):
             t = np.array([+mpmath.mpf(v) for v in t_eval[:done]], dtype=object)
     return TaylorSolution(
-        t=t, y=y, status=int(status), message=_MESSAGES.get(int(status), "failed"),
-        nsteps=int(stats[0]), order_min=int(stats[2]), order_max=int(stats[1]),
+        t=t,
+        y=y,
+        status=int(status),
+        message=_MESSAGES.get(int(status), "failed"),
+        nsteps=int(stats[0]),
+        order_min=int(stats[2]),
+        order_max=int(stats[1]),
         backend=f"c-{clib.kind}",
     )
 
@@ -606,9 +629,7 @@ def _py_run(stepper, y0, t_span, t_eval, events, max_steps, precision):
                 ye = _eval_poly(C, s)
                 t_events[i].append(te)
                 y_events[i].append(list(ye))
-                if getattr(g, "terminal", False) and (
-                    not stop or direction * (te - t_stop) < 0
-                ):
+                if getattr(g, "terminal", False) and (not stop or direction * (te - t_stop) < 0):
                     stop, t_stop, y_stop = True, te, list(ye)
             g_prev[i] = g_new
         while j < len(t_eval) and direction * (t_eval[j] - t_stop) <= 0:
@@ -636,7 +657,14 @@ def _py_run(stepper, y0, t_span, t_eval, events, max_steps, precision):
     if stop:
         msg = "a terminal event occurred"
     return TaylorSolution(
-        t=ty, y=yy, status=status, message=msg, nsteps=nsteps,
-        order_min=omin if nsteps else 0, order_max=omax, backend=stepper.backend,
-        t_events=te, y_events=ye,
+        t=ty,
+        y=yy,
+        status=status,
+        message=msg,
+        nsteps=nsteps,
+        order_min=omin if nsteps else 0,
+        order_max=omax,
+        backend=stepper.backend,
+        t_events=te,
+        y_events=ye,
     )

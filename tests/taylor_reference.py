@@ -85,7 +85,10 @@ def _series(expr, env, K, memo):
             r = [c0 * x - s0 * y for x, y in zip(cu, su, strict=True)]
     elif isinstance(expr, sp.exp):
         a = _series(expr.args[0], env, K, memo)
-        r = [mpmath.exp(a[0]) * v for v in _compose(a, [1 / mpmath.factorial(m) for m in range(K + 1)], K)]
+        r = [
+            mpmath.exp(a[0]) * v
+            for v in _compose(a, [1 / mpmath.factorial(m) for m in range(K + 1)], K)
+        ]
     else:
         raise NotImplementedError(type(expr).__name__)
     memo[expr] = r
@@ -110,7 +113,9 @@ def series_coefficients(model, t0, y0, params, K):
     for _ in range(K):
         env.update(dict(zip(model.state, Y, strict=True)))
         F = [_series(e, env, K, {}) for e in f]
-        Y = [[_mp(v)] + [Fi[k - 1] / k for k in range(1, K + 1)] for v, Fi in zip(y0, F, strict=True)]
+        Y = [
+            [_mp(v)] + [Fi[k - 1] / k for k in range(1, K + 1)] for v, Fi in zip(y0, F, strict=True)
+        ]
     return Y
 
 
@@ -124,7 +129,8 @@ def lie_coefficients(model, t0, y0, params, K):
     out = [[sp.Rational(v) for v in y0]]
     for k in range(1, K + 1):
         g = [
-            sp.diff(e, model.time) + sum(sp.diff(e, s) * fi for s, fi in zip(model.state, f, strict=True))
+            sp.diff(e, model.time)
+            + sum(sp.diff(e, s) * fi for s, fi in zip(model.state, f, strict=True))
             for e in g
         ]
         out.append([sp.nsimplify(e.xreplace(point)) / sp.factorial(k) for e in g])

@@ -91,7 +91,9 @@ def test_recurrences_match_series_of_the_solution(system, effects):
         assert max(abs(got[i][K]) for i in range(len(y0))) > 0
 
 
-@pytest.mark.parametrize("system,effects", [("chaplygin_ball", ()), ("chaplygin_ball", ("variable_inertia",))])
+@pytest.mark.parametrize(
+    "system,effects", [("chaplygin_ball", ()), ("chaplygin_ball", ("variable_inertia",))]
+)
 def test_recurrences_match_exact_lie_derivatives(system, effects):
     """Exact rational y'' / 2 (differentiation along the flow) equals the recurrences."""
     model = build_model(system, effects)
@@ -127,12 +129,15 @@ def test_negative_control_a_wrong_coefficient_is_detected():
 
 
 @pytest.mark.parametrize("kind,eps", [("double", 2.0**-52), ("quad", EPS_QUAD)])
-@pytest.mark.parametrize("system,effects", [
-    ("chaplygin_ball", ()),
-    ("chaplygin_ball", ("contact_point", "gyrostat")),
-    ("chaplygin_ball", ("variable_inertia",)),
-    ("ball_on_surface", ("potential",)),
-])
+@pytest.mark.parametrize(
+    "system,effects",
+    [
+        ("chaplygin_ball", ()),
+        ("chaplygin_ball", ("contact_point", "gyrostat")),
+        ("chaplygin_ball", ("variable_inertia",)),
+        ("ball_on_surface", ("potential",)),
+    ],
+)
 def test_c_coefficients_agree_with_mpmath(kind, eps, system, effects):
     """C double / quad against 50-digit mpmath: |error| <= 64 (k+1) eps max_i |c_ik| per order."""
     code = load_model_code(system, effects)
@@ -150,8 +155,11 @@ def test_c_coefficients_agree_with_mpmath(kind, eps, system, effects):
             args = (float(t0), [float(v) for v in y0], [float(v) for v in p])
             # the double inputs are roundings of the rationals: use them for the reference
             ref = code.taylor.taylor_coefficients(
-                mpmath.mpf(args[0]), [mpmath.mpf(v) for v in args[1]],
-                [mpmath.mpf(v) for v in args[2]], order, python_lib("mpmath"),
+                mpmath.mpf(args[0]),
+                [mpmath.mpf(v) for v in args[1]],
+                [mpmath.mpf(v) for v in args[2]],
+                order,
+                python_lib("mpmath"),
             )
         else:
             with mpmath.workprec(113):
@@ -217,14 +225,27 @@ def test_fitted_convergence_order_at_30_digits():
         y0 = _reference_state(30)
         p = [mpmath.mpf(v) for v in (1, 2, 3, 1)]
         T = mpmath.mpf(1)
-        ref = taylor_solve(code, y0, (0, T), p, precision="digits", rtol=1e-29, atol=1e-29,
-                           t_eval=[T])
+        ref = taylor_solve(
+            code, y0, (0, T), p, precision="digits", rtol=1e-29, atol=1e-29, t_eval=[T]
+        )
         hs = [mpmath.mpf(1) / 4, mpmath.mpf(1) / 8, mpmath.mpf(1) / 16]
         errs = []
         for h in hs:
-            sol = taylor_solve(code, y0, (0, T), p, precision="digits", rtol=1e-29, atol=1e-29,
-                               t_eval=[T], order=8, step=h)
-            errs.append(float(max(abs(a - b) for a, b in zip(sol.y[:, -1], ref.y[:, -1]))))
+            sol = taylor_solve(
+                code,
+                y0,
+                (0, T),
+                p,
+                precision="digits",
+                rtol=1e-29,
+                atol=1e-29,
+                t_eval=[T],
+                order=8,
+                step=h,
+            )
+            errs.append(
+                float(max(abs(a - b) for a, b in zip(sol.y[:, -1], ref.y[:, -1], strict=True)))
+            )
     slope = np.polyfit(np.log([float(h) for h in hs]), np.log(errs), 1)[0]
     assert abs(slope - 8) <= 0.35, (slope, errs)
 
@@ -256,7 +277,7 @@ def test_quad_gives_30_digits_on_the_reference_problem():
     ref = integrate(BALL, REFERENCE_Y0, 5, REFERENCE_PARAMS, precision=60)
     assert r.success and r.precision == "quad" and r.backend == "c-quad"
     with mpmath.workdps(60):
-        err = max(abs(a - b) for a, b in zip(r.y[:, -1], ref.y[:, -1]))
+        err = max(abs(a - b) for a, b in zip(r.y[:, -1], ref.y[:, -1], strict=True))
     assert err < 1e-30, err
     assert max(r.drift.values()) < 1e-31
 
@@ -269,7 +290,10 @@ def test_digits_path_meets_tolerance_and_agrees_with_odefun():
     rtol = r.info["rtol"]
     for j in range(r.y.shape[1]):
         with mpmath.workdps(40):
-            err = max(abs(a - b) / (rtol + rtol * abs(b)) for a, b in zip(r.y[:, j], ref.y[:, j]))
+            err = max(
+                abs(a - b) / (rtol + rtol * abs(b))
+                for a, b in zip(r.y[:, j], ref.y[:, j], strict=True)
+            )
         assert err < 5
 
 
@@ -303,8 +327,9 @@ def test_dense_output_matches_runs_ending_there():
     """Output at 7 inner times equals a 40-digit reference there (to the tolerance)."""
     times = [0.3, 1.7, 2.5, 4.0, 4.1, 6.66, 9.0]
     rtol = atol = 1e-13
-    r = integrate(BALL, REFERENCE_Y0, 9, REFERENCE_PARAMS, method="taylor", rtol=rtol,
-                  atol=atol, t_eval=times)
+    r = integrate(
+        BALL, REFERENCE_Y0, 9, REFERENCE_PARAMS, method="taylor", rtol=rtol, atol=atol, t_eval=times
+    )
     assert r.nsteps < len(times) * 3  # steps are longer than the output spacing
     ref = integrate(BALL, REFERENCE_Y0, 9, REFERENCE_PARAMS, precision=40, t_eval=times)
     assert list(r.t) == times
@@ -319,8 +344,16 @@ def _gamma3(t, y):
 def test_event_location_gamma3_zero_crossing():
     """Zero crossings of gamma3: double vs 40 digits (event times to ~1e-12), g(y_e) ~ eps."""
     T = 30
-    r = integrate(BALL, REFERENCE_Y0, T, REFERENCE_PARAMS, method="taylor", rtol=1e-14,
-                  atol=1e-14, events=[_gamma3])
+    r = integrate(
+        BALL,
+        REFERENCE_Y0,
+        T,
+        REFERENCE_PARAMS,
+        method="taylor",
+        rtol=1e-14,
+        atol=1e-14,
+        events=[_gamma3],
+    )
     ref = integrate(BALL, REFERENCE_Y0, T, REFERENCE_PARAMS, precision=40, events=[_gamma3])
     te, tr = r.t_events[0], ref.t_events[0]
     assert len(te) == len(tr) >= 2
@@ -332,8 +365,7 @@ def test_event_location_gamma3_zero_crossing():
         for ye in ref.y_events[0]:
             assert abs(ye[5]) < mpmath.mpf(10) ** -37
         # a scipy DOP853 run finds the same crossings (independent root finder)
-    s = integrate(BALL, REFERENCE_Y0, T, REFERENCE_PARAMS, rtol=1e-12, atol=1e-12,
-                  events=[_gamma3])
+    s = integrate(BALL, REFERENCE_Y0, T, REFERENCE_PARAMS, rtol=1e-12, atol=1e-12, events=[_gamma3])
     assert np.allclose(s.t_events[0], te, atol=1e-8)
 
 
@@ -362,19 +394,35 @@ def test_precision_errors_name_a_precision_that_works():
     with pytest.raises(UserInputError, match="30 digits precision"):
         integrate(BALL, REFERENCE_Y0, 1, REFERENCE_PARAMS, precision=30, rtol=1e-35)
     with pytest.raises(UserInputError, match="does not locate events"):
-        integrate(BALL, REFERENCE_Y0, 1, REFERENCE_PARAMS, precision=30, method="odefun",
-                  events=[_gamma3])
+        integrate(
+            BALL, REFERENCE_Y0, 1, REFERENCE_PARAMS, precision=30, method="odefun", events=[_gamma3]
+        )
     with pytest.raises(UserInputError, match="taylor option"):
-        integrate(BALL, REFERENCE_Y0, 1, REFERENCE_PARAMS, method="taylor",
-                  taylor_options={"ordre": 3})
+        integrate(
+            BALL, REFERENCE_Y0, 1, REFERENCE_PARAMS, method="taylor", taylor_options={"ordre": 3}
+        )
     assert Precision("quad").is_quad and Precision("quad").digits == 34
 
 
 def test_cli_integrate_quad_taylor(capsys):
     args = [
-        "integrate", BALL, "--param", "I=1,2,3", "--param", "D=1", "--y0", "M=0.7,-0.4,0.5",
-        "--y0", "gamma=0.2,0.3,sqrt(0.87)", "--t-end", "2", "--precision", "quad",
-        "--method", "taylor", "--json",
+        "integrate",
+        BALL,
+        "--param",
+        "I=1,2,3",
+        "--param",
+        "D=1",
+        "--y0",
+        "M=0.7,-0.4,0.5",
+        "--y0",
+        "gamma=0.2,0.3,sqrt(0.87)",
+        "--t-end",
+        "2",
+        "--precision",
+        "quad",
+        "--method",
+        "taylor",
+        "--json",
     ]
     assert main(args) == 0
     out = json.loads(capsys.readouterr().out)
@@ -399,7 +447,14 @@ def test_no_compiler_falls_back_with_a_warning(monkeypatch):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         with mpmath.workdps(34):
-            sol = taylor_solve(code, _reference_state(34), (0, 1), [1, 2, 3, 1],
-                               precision="quad", rtol=1e-30, atol=1e-30)
+            sol = taylor_solve(
+                code,
+                _reference_state(34),
+                (0, 1),
+                [1, 2, 3, 1],
+                precision="quad",
+                rtol=1e-30,
+                atol=1e-30,
+            )
     assert any("Python" in str(w.message) for w in caught)
     assert sol.backend == "python-gmpy2" and sol.status == 0
