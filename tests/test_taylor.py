@@ -8,6 +8,7 @@ dense output, event location; quad digits; precision errors; CLI.
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 import random
@@ -18,7 +19,8 @@ import numpy as np
 import pytest
 import sympy as sp
 from chaplygin.derive.errors import UserInputError
-from chaplygin.derive.systems import build_model, builtin_variants
+from chaplygin.derive.systems import build_model as _build_model
+from chaplygin.derive.systems import builtin_variants
 from chaplygin.numerics import integrate, load_model_code
 from chaplygin.numerics.inputs import Precision
 from chaplygin.numerics.taylor import (
@@ -36,6 +38,12 @@ from taylor_reference import lie_coefficients, series_coefficients
 BALL = "chaplygin_ball"
 VARIANTS = [(s, tuple(sorted(e))) for s, e in builtin_variants()]
 EPS_QUAD = 2.0**-112
+
+
+@functools.cache
+def build_model(system: str, effects: tuple[str, ...]):
+    """Derivations are slow (seconds for the rubber ball): once per test session."""
+    return _build_model(system, effects)
 
 
 def _mp(q) -> mpmath.mpf:
