@@ -1,7 +1,7 @@
 """Independent Taylor coefficients of the exact solution, for tests of the recurrences.
 
-The expanded right-hand side (aux substituted, no CSE, not the Taylor program) is evaluated
-on truncated power series by a separate implementation: products by the Cauchy formula,
+The model's aux definitions and right-hand side as derived (no CSE, not the Taylor program)
+are evaluated on truncated power series by a separate implementation: products by the Cauchy formula,
 quotients by long division, rational powers by the binomial series, ``sin``/``cos``/``exp``
 by their addition theorems and Maclaurin series; Picard iteration
 ``y <- y0 + int_0^s f(t0 + s, y(s)) ds`` fixes one more coefficient per pass. The
@@ -105,14 +105,17 @@ def series_coefficients(model, t0, y0, params, K):
 
     ``t0``, ``y0``, ``params`` are exact rationals (sympy); evaluated at the working precision.
     """
-    f = [sp.sympify(e) for e in model.rhs_expanded]
+    f = [sp.sympify(e) for e in model.rhs]
     zero = [mpmath.mpf(0)] * K
     env = {s: [_mp(v)] + zero for s, v in zip(model.params, params, strict=True)}
     env[model.time] = [_mp(t0), mpmath.mpf(1)] + [mpmath.mpf(0)] * (K - 1)
     Y = [[_mp(v)] + zero for v in y0]
     for _ in range(K):
         env.update(dict(zip(model.state, Y, strict=True)))
-        F = [_series(e, env, K, {}) for e in f]
+        memo: dict = {}
+        for sym, definition in model.aux:  # in order, each in terms of the earlier ones
+            env[sym] = _series(sp.sympify(definition), env, K, memo)
+        F = [_series(e, env, K, memo) for e in f]
         Y = [
             [_mp(v)] + [Fi[k - 1] / k for k in range(1, K + 1)] for v, Fi in zip(y0, F, strict=True)
         ]
