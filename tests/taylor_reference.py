@@ -2,8 +2,8 @@
 
 The model's aux definitions and right-hand side as derived (no CSE, not the Taylor
 program) are evaluated on truncated power series by a separate implementation: products by
-the Cauchy formula, quotients by long division, rational powers by the binomial series, ``sin``/``cos``/``exp``
-by their addition theorems and Maclaurin series; Picard iteration
+the Cauchy formula, quotients by long division, rational powers by the binomial series,
+``sin``/``cos``/``exp`` by their addition theorems and Maclaurin series; Picard iteration
 ``y <- y0 + int_0^s f(t0 + s, y(s)) ds`` fixes one more coefficient per pass. The
 coefficients are computed with mpmath at the caller's working precision from exact
 rational data. :func:`lie_coefficients` gives a few coefficients exactly (sympy rationals)
