@@ -466,3 +466,27 @@ def test_no_compiler_falls_back_with_a_warning(monkeypatch):
             )
     assert any("Python" in str(w.message) for w in caught)
     assert sol.backend == "python-gmpy2" and sol.status == 0
+
+
+@pytest.mark.parametrize("precision", ["double", "quad"])
+def test_backward_integration_returns_to_the_start(precision):
+    """Forward to T = 3, then backward from there: the initial state comes back."""
+    fwd = integrate(
+        BALL, REFERENCE_Y0, 3, REFERENCE_PARAMS, method="taylor", precision=precision, t_eval=[3]
+    )
+    y3 = dict(zip(("M", "gamma"), (fwd.y[:3, -1], fwd.y[3:, -1]), strict=True))
+    back = integrate(
+        BALL,
+        {k: tuple(v) for k, v in y3.items()},
+        (3, 0),
+        REFERENCE_PARAMS,
+        method="taylor",
+        precision=precision,
+        t_eval=[2, 1, 0],
+    )
+    assert back.success and list(back.t) == [2, 1, 0]
+    start = integrate(
+        BALL, REFERENCE_Y0, 1, REFERENCE_PARAMS, method="taylor", precision=precision, t_eval=[0]
+    ).y[:, 0]
+    bound = 1e-12 if precision == "double" else 1e-30
+    assert max(abs(a - b) for a, b in zip(back.y[:, -1], start, strict=True)) < bound
