@@ -96,16 +96,18 @@ class Precision:
 
     @property
     def epsilon(self) -> float:
-        """Unit roundoff of the working precision (binary64, binary128 or 10^(1-digits))."""
+        """Unit roundoff: 2^-52 (double), 2^-112 (binary128) or 10^-digits."""
         if self.is_double:
             return 2.0**-52
         if self.is_quad:
             return 2.0**-112
-        return 10.0 ** (1 - self.digits)
+        return 10.0 ** (-self.digits)
 
     @property
     def min_rtol(self) -> float:
-        """Smallest relative tolerance the precision can deliver (100 eps, 10 eps, 10 eps)."""
+        """Smallest relative tolerance worth asking for in general: 100 eps in double
+        (what the scipy methods deliver), 10 eps otherwise (the Taylor method, whose
+        control works to the unit roundoff, accepts down to 1 eps)."""
         return (100.0 if self.is_double else 10.0) * self.epsilon
 
 

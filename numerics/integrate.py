@@ -112,7 +112,7 @@ class ScipyMethod(Integrator):
         kwargs = {}
         events = options.get("events") or None
         if events is not None:
-            kwargs["events"] = events
+            kwargs["events"] = [_scipy_event(g) for g in events]
         if backend == "c":
             lib = code.compiled()
             fun, jac = lib.rhs, lib.jac
@@ -138,6 +138,17 @@ class ScipyMethod(Integrator):
         if sol.status != 0:
             msg += "; try a smaller rtol/atol, an implicit method (Radau, LSODA) or more digits"
         return sol.t, sol.y, sol.nfev, sol.njev, len(sol.t) - 1, sol.status, msg
+
+
+def _scipy_event(g):
+    """``g(t, y)`` as scipy calls events (with the ``args``), keeping terminal/direction."""
+
+    def event(t, y, *args):
+        return g(t, y)
+
+    event.terminal = getattr(g, "terminal", False)
+    event.direction = getattr(g, "direction", 0)
+    return event
 
 
 class MpmathOdefun(Integrator):
@@ -394,10 +405,11 @@ def integrate(
         raise UserInputError("rtol and atol must be positive finite numbers") from None
     if not (rtol > 0 and atol > 0 and np.isfinite(rtol) and np.isfinite(atol)):
         raise UserInputError("rtol and atol must be positive finite numbers")
-    if rtol < prec.min_rtol * (1 - 1e-9):  # slack: 10.0**-98 vs 10 * 10.0**-99 rounding
+    floor = prec.epsilon if isinstance(integrator, TaylorMethod) else prec.min_rtol
+    if rtol < floor * (1 - 1e-9):  # slack: 10.0**-98 against 10 * 10.0**-99 rounding
         raise UserInputError(
-            f"rtol={rtol:g} is below what {prec!r} precision can deliver (about "
-            f"{prec.min_rtol:.1e}); ask for {_precision_for(rtol)}"
+            f"rtol={rtol:g} is below what {prec!r} precision can deliver with "
+            f"{integrator.name} (about {floor:.1e}); ask for {_precision_for(rtol)}"
         )
     if isinstance(t_span, (int, float, str)):
         t_span = (0.0, float(t_span))
@@ -436,6 +448,10 @@ def integrate(
     unknown = set(options["taylor"]) - {"order", "step", "max_steps"}
     if unknown:
         raise UserInputError(f"unknown taylor option(s) {sorted(unknown)}; valid: order, step")
+    if isinstance(integrator, TaylorMethod) and chosen != "numpy" and kind != "digits":
+        from .taylor import load_taylor_library
+
+        load_taylor_library(code, kind)  # compile or load now: set-up, not wall time
     setup = time.perf_counter() - start
     t0 = time.perf_counter()
     if prec.is_double:
@@ -478,17 +494,14 @@ def integrate(
 
 
 def _precision_for(rtol: float) -> str:
-    """The cheapest precision that delivers ``rtol`` (for error messages).
+    """A precision that delivers ``rtol`` with any method (for error messages).
 
-    ``quad`` when its 10 eps suffices, else the fewest digits ``d`` with
-    ``10 * 10**(1 - d) <= rtol`` (:attr:`Precision.min_rtol`).
+    ``quad`` (Taylor) when its unit roundoff suffices, else ``d`` digits with
+    ``10**(2 - d) <= rtol``: both the Taylor floor (eps) and odefun's (10 eps) are met.
     """
-    if rtol >= Precision("quad").min_rtol * (1 - 1e-9):
-        return "--precision quad"
-    digits = int(np.ceil(2 - np.log10(rtol) - 1e-9))
-    while Precision(max(digits, 16)).min_rtol > rtol * (1 + 1e-9):
-        digits += 1
-    return f"--precision {max(digits, 16)}"
+    if rtol >= Precision("quad").epsilon * (1 - 1e-9):
+        return "--precision quad (--method taylor)"
+    return f"--precision {max(int(np.ceil(-np.log10(rtol) - 1e-9)) + 2, 16)}"
 
 
 def _vector(values, n: int, what: str, prec: Precision) -> list:

@@ -249,7 +249,11 @@ def python_lib(kind: str) -> types.SimpleNamespace:
         )
     if kind == "gmpy2":
         return types.SimpleNamespace(
-            mpf=gmpy2.mpfr, sqrt=gmpy2.sqrt, exp=gmpy2.exp, sin=gmpy2.sin, cos=gmpy2.cos,
+            mpf=gmpy2.mpfr,
+            sqrt=gmpy2.sqrt,
+            exp=gmpy2.exp,
+            sin=gmpy2.sin,
+            cos=gmpy2.cos,
             log=gmpy2.log,
         )
     raise ValueError(f"unknown number library {kind!r}")
@@ -339,8 +343,14 @@ class _Stepper:
         tend = lib.pack([t_end])
         ptr = CompiledTaylor._ptr
         status = lib.lib.chaplygin_taylor_step(
-            ptr(ty), ptr(self.P), ptr(self.ctrl), self.order or 0, ptr(tend),
-            ptr(self.coeffs), ptr(self.h), self.ord,
+            ptr(ty),
+            ptr(self.P),
+            ptr(self.ctrl),
+            self.order or 0,
+            ptr(tend),
+            ptr(self.coeffs),
+            ptr(self.h),
+            self.ord,
         )
         p = self.ord[0]
         S = p + 1
@@ -367,7 +377,7 @@ class _Stepper:
         C = self.fn(tt, yy, self.p, p, L)
         remaining = _from_mpf(t_end, kind) - tt
         if self.fixed_h:
-            h = L.mpf(self.fixed_h)
+            h = _from_mpf(self.fixed_h, kind)
         else:
             rho = math.inf
             for k in (p - 1, p):
@@ -517,10 +527,10 @@ def taylor_solve(
         return _c_run(clib, y0, (t0, t1), p, rtol, atol, t_eval, order, step, max_steps)
     if clib is None and precision == "quad":
         # Python fallback in binary128-like precision: MPFR at 113 bits
-        with gmpy2.local_context(gmpy2.context(), precision=113):
+        with gmpy2.context(gmpy2.get_context(), precision=113):
             return _py_run(stepper, y0, (t0, t1), t_eval, events, max_steps, precision)
     if stepper.clib is None and stepper.lib_kind == "gmpy2":
-        with gmpy2.local_context(gmpy2.context(), precision=mpmath.mp.prec):
+        with gmpy2.context(gmpy2.get_context(), precision=mpmath.mp.prec):
             return _py_run(stepper, y0, (t0, t1), t_eval, events, max_steps, precision)
     return _py_run(stepper, y0, (t0, t1), t_eval, events, max_steps, precision)
 
@@ -542,9 +552,17 @@ def _c_run(clib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps):
     y_end = clib.empty(n)
     stats = np.zeros(4, dtype=np.int64)
     status = clib.lib.chaplygin_taylor_run(
-        ptr(clib.pack(t_span)), ptr(clib.pack(y0)), ptr(clib.pack(p)),
-        ptr(clib.pack([rtol, atol, step or 0])), order or 0, m, ptr(clib.pack(t_eval)),
-        ptr(y_eval), ptr(y_end), max_steps, _ffi.cast("long *", stats.ctypes.data),
+        ptr(clib.pack(t_span)),
+        ptr(clib.pack(y0)),
+        ptr(clib.pack(p)),
+        ptr(clib.pack([rtol, atol, step or 0])),
+        order or 0,
+        m,
+        ptr(clib.pack(t_eval)),
+        ptr(y_eval),
+        ptr(y_end),
+        max_steps,
+        _ffi.cast("long *", stats.ctypes.data),
     )
     done = int(stats[3])
     if clib.kind == "double":
@@ -556,8 +574,13 @@ def _c_run(clib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps):
         with mpmath.workprec(113):
             t = np.array([+mpmath.mpf(v) for v in t_eval[:done]], dtype=object)
     return TaylorSolution(
-        t=t, y=y, status=int(status), message=_MESSAGES.get(int(status), "failed"),
-        nsteps=int(stats[0]), order_min=int(stats[2]), order_max=int(stats[1]),
+        t=t,
+        y=y,
+        status=int(status),
+        message=_MESSAGES.get(int(status), "failed"),
+        nsteps=int(stats[0]),
+        order_min=int(stats[2]),
+        order_max=int(stats[1]),
         backend=f"c-{clib.kind}",
     )
 
@@ -583,7 +606,7 @@ def _py_run(stepper, y0, t_span, t_eval, events, max_steps, precision):
     t_events: list[list] = [[] for _ in events]
     y_events: list[list] = [[] for _ in events]
     nsteps, omin, omax, status = 0, 10**9, 0, 0
-    stop = False
+    stop, y_stop = False, None
     while direction * (t1 - t) > 0 and not stop:
         if nsteps >= max_steps:
             status = -2
@@ -606,17 +629,16 @@ def _py_run(stepper, y0, t_span, t_eval, events, max_steps, precision):
                 ye = _eval_poly(C, s)
                 t_events[i].append(te)
                 y_events[i].append(list(ye))
-                if getattr(g, "terminal", False):
-                    stop = True
-                    t_stop = te if direction * (te - t_stop) < 0 else t_stop
+                if getattr(g, "terminal", False) and (not stop or direction * (te - t_stop) < 0):
+                    stop, t_stop, y_stop = True, te, list(ye)
             g_prev[i] = g_new
         while j < len(t_eval) and direction * (t_eval[j] - t_stop) <= 0:
             ts.append(t_eval[j])
             ys.append(list(_eval_poly(C, t_eval[j] - t)))
             j += 1
-        if stop and t_stop != t_new:
+        if stop:
             ts.append(t_stop)
-            ys.append(list(_eval_poly(C, t_stop - t)))
+            ys.append(y_stop)
         t, y = t_new, y_new
         if status:
             break
@@ -635,7 +657,14 @@ def _py_run(stepper, y0, t_span, t_eval, events, max_steps, precision):
     if stop:
         msg = "a terminal event occurred"
     return TaylorSolution(
-        t=ty, y=yy, status=status, message=msg, nsteps=nsteps,
-        order_min=omin if nsteps else 0, order_max=omax, backend=stepper.backend,
-        t_events=te, y_events=ye,
+        t=ty,
+        y=yy,
+        status=status,
+        message=msg,
+        nsteps=nsteps,
+        order_min=omin if nsteps else 0,
+        order_max=omax,
+        backend=stepper.backend,
+        t_events=te,
+        y_events=ye,
     )

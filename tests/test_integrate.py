@@ -55,7 +55,7 @@ def test_other_scipy_methods_run_and_report_drift(method):
 def test_high_precision_path_keeps_its_digits():
     digits = 30
     r = integrate(BALL, REFERENCE_Y0, 2, REFERENCE_PARAMS, precision=digits)
-    assert r.success and r.method == "taylor" and r.backend == "mpmath"
+    assert r.success and r.method == "taylor" and r.backend == "python-gmpy2"
     assert isinstance(r.y[0, -1], mpmath.mpf)
     assert max(r.drift.values()) <= 10.0 ** (5 - digits)
     assert r.precision == f"{digits} digits"

@@ -168,7 +168,7 @@ def _cmd_integrate(args) -> int:
     t_end = float(parse_number(args.t_end))
     t_start = float(parse_number(args.t_start))
     for name, value in (("--rtol", args.rtol), ("--atol", args.atol)):
-        if not value > 0:
+        if value is not None and not value > 0:
             raise UserInputError(f"{name} must be a positive number, got {value}")
     result = integrate(
         args.system,
@@ -201,6 +201,7 @@ def _cmd_integrate(args) -> int:
             "nsteps": result.nsteps,
             "wall_s": result.wall_s,
             "setup_s": result.setup_s,
+            "info": {k: v for k, v in result.info.items() if isinstance(v, (int, float, str))},
         }
         print(json.dumps(out, indent=2))
     else:
@@ -284,11 +285,18 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--method",
         default=None,
-        help="DOP853 (default), RK45, LSODA, Radau, BDF; taylor for digits",
+        help="DOP853 (default in double), RK45, LSODA, Radau, BDF, taylor (default in quad "
+        "and digits; also in double), odefun (mpmath.odefun)",
     )
-    p.add_argument("--rtol", type=_positive_float, default=1e-10)
-    p.add_argument("--atol", type=_positive_float, default=1e-12)
-    p.add_argument("--precision", default="double", help="'double' or a number of digits")
+    p.add_argument(
+        "--rtol", type=_positive_float, default=None, help="default 1e-10 (double), 10 eps"
+    )
+    p.add_argument(
+        "--atol", type=_positive_float, default=None, help="default 1e-12 (double), 10 eps"
+    )
+    p.add_argument(
+        "--precision", default="double", help="'double', 'quad' (binary128) or a number of digits"
+    )
     p.add_argument(
         "--effects", default=None, help="comma-separated effects, e.g. gyrostat,contact_point"
     )
