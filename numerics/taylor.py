@@ -68,6 +68,9 @@ int chaplygin_taylor_run(const void *T01, const void *Y0, const void *P, const v
 _ffi = cffi.FFI()
 _ffi.cdef(_CDEF)
 
+#: Largest order the Python recurrences use by default (the C library has its own cap).
+PY_MAX_ORDER = 400
+
 #: Default largest number of steps of one integration.
 MAX_STEPS = 10_000_000
 
@@ -373,7 +376,10 @@ class _Stepper:
         xn = max(abs(v) for v in yy)
         absolute = self.rtol * float(xn) <= self.atol
         scale = L.mpf(1) if absolute else xn
-        p = self.order or jorba_zou_order(self.atol if absolute else self.rtol)
+        eps = self.atol if absolute else self.rtol
+        # Python recurrences have no order limit: the Jorba-Zou order for any digits (the
+        # C cap of 80 would leave a truncation error e^(-2 p) ~ 1e-70 at 100 digits)
+        p = self.order or jorba_zou_order(eps, max_order=PY_MAX_ORDER)
         C = self.fn(tt, yy, self.p, p, L)
         remaining = _from_mpf(t_end, kind) - tt
         if self.fixed_h:
@@ -384,7 +390,10 @@ class _Stepper:
                 nk = max(abs(c[k]) for c in C)
                 if nk > 0:
                     rho = min(rho, math.exp(float(L.log(scale) - L.log(nk)) / k))
-            h = abs(remaining) if math.isinf(rho) else L.mpf(rho * math.exp(-2 - 0.7 / (p - 1)))
+            # e^-2 is eps^(1/(p-1)) at the Jorba-Zou order; a lower (fixed or capped) order
+            # needs the smaller eps^(1/(p-1)) to keep the truncation error below eps
+            factor = min(-2.0, math.log(eps) / (p - 1)) - 0.7 / (p - 1)
+            h = abs(remaining) if math.isinf(rho) else L.mpf(rho * math.exp(factor))
         if h >= abs(remaining):
             h, t_new = remaining, _from_mpf(t_end, kind)
         else:
