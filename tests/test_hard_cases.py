@@ -364,7 +364,7 @@ def test_time_varying_inertia_order_violated():
         ("double", 1e-20, "--precision quad"),
         ("quad", 1e-34, "--precision 36"),
         (30, 1e-40, "--precision 42"),
-        (100, 1e-99, "--precision 101"),
+        (100, 1e-101, "--precision 103"),
     ],
 )
 def test_accuracy_the_precision_cannot_deliver_is_refused(precision, rtol, wanted):
