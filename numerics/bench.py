@@ -693,14 +693,17 @@ def render_plot(study: dict, path: Path) -> None:
         for r in rows:
             if r["problem"] == pname:
                 groups.setdefault(f"{r['method']} {r['rhs']} {r['precision']}", []).append(r)
-        for label, rs in groups.items():
+        markers = {"taylor": "o-", "heyoka": "D:", "odefun": "^-."}
+        colours = plt.get_cmap("tab20")
+        for i, (label, rs) in enumerate(groups.items()):
             rs = sorted(rs, key=lambda r: r["median_s"])
             ax.loglog(
                 [r["median_s"] for r in rs],
                 [max(r["error"], 1e-120) for r in rs],
-                "o-" if "taylor" in label else "s--",
+                markers.get(label.split()[0], "s--"),
+                color=colours(i % 20),
                 label=label,
-                ms=4,
+                ms=5,
             )
         ax.set_xlabel("median wall time [s]")
         ax.set_ylabel("final error (max norm)")
