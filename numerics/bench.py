@@ -390,6 +390,63 @@ def _heyoka_rows(problem, quick, repeats, reference, compile_s, say) -> list[Ben
     return rows
 
 
+def _jitcode_rows(problem, quick, repeats, reference, compile_s, say) -> list[BenchRow]:
+    """jitcode (C code from symengine, scipy's Fortran dop853) in double, two tolerances.
+
+    The same hand-written system as :func:`_heyoka_system`, with exact rational constants.
+    """
+    import symengine as se
+    from jitcode import jitcode, y
+
+    I = [se.Integer(int(v)) if float(v).is_integer() else se.sympify(str(v))
+         for v in problem.params["I"]]
+    D = (se.Integer(int(problem.params["D"])) if float(problem.params["D"]).is_integer()
+         else se.sympify(str(problem.params["D"])))
+    A = [1 / (v + D) for v in I]
+    M, g = [y(i) for i in range(3)], [y(i) for i in range(3, 6)]
+    AM = [A[i] * M[i] for i in range(3)]
+    Ag = [A[i] * g[i] for i in range(3)]
+    k = D * sum(g[i] * AM[i] for i in range(3)) / (1 - D * sum(g[i] * Ag[i] for i in range(3)))
+    w = [AM[i] + k * Ag[i] for i in range(3)]
+
+    def cross(u, v):
+        return [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
+
+    say(f"{problem.name}: jitcode compile")
+    start = time.perf_counter()
+    ode = jitcode(cross(M, w) + cross(g, w), verbose=False)
+    ode.compile_C()
+    compile_s[f"jitcode C (compile, {problem.name})"] = time.perf_counter() - start
+    T = 20.0 if quick else problem.t_double
+    ref = reference(T, 32)
+    y0 = [float(v) for v in _state_strings(problem, 20)]
+    code = load_model_code("chaplygin_ball")
+    p = np.array([float(v) for v in (*problem.params["I"], problem.params["D"])])
+    rows = []
+    for tol in ([1e-10] if quick else [1e-8, 1e-12]):
+        say(f"{problem.name}: jitcode dop853 rtol={tol} T={T:g}")
+        times = []
+        for _ in range(repeats):
+            ode.set_integrator("dop853", rtol=tol, atol=tol, nsteps=10**8)
+            ode.set_initial_value(y0, 0.0)
+            start = time.perf_counter()
+            state = ode.integrate(T)
+            times.append(time.perf_counter() - start)
+        F0 = code.numpy.integrals(0.0, np.array(y0), p)
+        F1 = code.numpy.integrals(T, np.asarray(state, dtype=float), p)
+        drift = {
+            n: float(abs(b - a) / abs(a)) if abs(a) > 1e-8 else float(abs(b - a))
+            for n, a, b in zip(code.integral_names, F0, F1, strict=True)
+        }
+        rows.append(BenchRow(
+            problem.name, "jitcode", "C (dop853)", "double", tol, T,
+            _error([float(v) for v in state], ref, 32), drift, statistics.median(times),
+            repeats, note="; ".join(x for x in (
+                "drift at the end point only", f"quick: T={T:g}, 1 run" if quick else "") if x),
+        ))
+    return rows
+
+
 def rhs_call_times(number: int = 20000) -> dict[str, float]:
     """Seconds per right-hand-side evaluation of the reference problem, called from Python.
 
@@ -499,7 +556,7 @@ def run_study(
     repeats = (1 if quick else 5) if repeats is None else repeats
     say = progress or (lambda s: None)
     rows: list[BenchRow] = []
-    heyoka_compile: dict[str, float] = {}
+    peer_compile: dict[str, float] = {}
     have_taylor = "taylor" in _integrate_methods()
     for pname in problems:
         problem = PROBLEMS[pname]
@@ -531,26 +588,27 @@ def run_study(
                 row.note = "; ".join(x for x in (row.note, note) if x)
                 rows.append(row)
         peers = peers_available()
+
+        def reference(T, digits, problem=problem, refs=refs):
+            if (T, digits) not in refs:
+                say(f"reference {problem.name} T={T:g} at {digits} digits")
+                refs[(T, digits)] = reference_solution(problem, T, digits, out)
+            return refs[(T, digits)]
+
         if peers["heyoka"]:
-
-            def reference(T, digits, problem=problem, refs=refs):
-                if (T, digits) not in refs:
-                    say(f"reference {problem.name} T={T:g} at {digits} digits")
-                    refs[(T, digits)] = reference_solution(problem, T, digits, out)
-                return refs[(T, digits)]
-
-            rows += _heyoka_rows(problem, quick, repeats, reference, heyoka_compile, say)
+            rows += _heyoka_rows(problem, quick, repeats, reference, peer_compile, say)
         else:
             rows.append(BenchRow(pname, "heyoka", "-", "-", None, problem.t_double, None,
                                  note="not installed (pip install chaplygin[peers])"))
-        # jitcode: no adapter in this version (it could not be installed here)
-        note = ("installed, but this version has no adapter for it (not measured)"
-                if peers["jitcode"] else "not installed (pip install chaplygin[peers])")
-        rows.append(BenchRow(pname, "jitcode", "-", "-", None, problem.t_double, None, note=note))
+        if peers["jitcode"]:
+            rows += _jitcode_rows(problem, quick, repeats, reference, peer_compile, say)
+        else:
+            rows.append(BenchRow(pname, "jitcode", "-", "-", None, problem.t_double, None,
+                                 note="not installed (pip install chaplygin[peers])"))
     return {
         "rows": [r.to_json() for r in rows],
         "rhs_call_s": rhs_call_times(2000 if quick else 20000),
-        "compile_s": {**compile_times(), **heyoka_compile},
+        "compile_s": {**compile_times(), **peer_compile},
         "quick": quick,
         "repeats": repeats,
     }

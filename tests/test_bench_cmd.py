@@ -66,7 +66,7 @@ def test_quick_bench_rows_have_fields_and_finite_errors(quick_study):
            "100 digits": 1e-99}
     eps["quad (real128)"] = eps["quad"]
     for r in measured:
-        if r["method"] in ("taylor", "heyoka"):  # heyoka: an independent implementation
+        if r["method"] in ("taylor", "heyoka", "jitcode"):  # peers: independent implementations
             assert r["error"] <= max(1e3 * eps[r["precision"]], 1e2 * r["rtol"]), r
     for name, ok in peers_available().items():
         if not ok:
