@@ -11,9 +11,8 @@ its contact point moves by ``Delta`` (K01 (3.4)-(3.7); derived in
     of ``x' = nu cos(kap t)/ch(lam t)`` (``1/ch = 2 sum (-1)^n exp(-(2n+1) lam t)``) with
     the bound of the first omitted term;
 (b) :func:`delta_quadrature`: ``|nu| int cos(kap t)/ch(lam t) dt = b int cos(mu s)/ch(s) ds``
-    by ``mpmath.quadosc`` (an integrator for oscillatory integrals) for ``mu >= 1/2``, by
-    Gauss-Legendre on ``[0, L]`` plus the tail series for smaller ``mu`` (less than a
-    quarter period over the decay length: nothing oscillates);
+    by Gauss-Legendre between the zeros of ``cos(mu s)`` plus the tail series (or
+    ``mpmath.quadosc``, a cross-check);
 (c) :func:`delta_closed_form`: ``pi b/ch(pi mu/2)``, derived by residues.
 
 ``Delta`` here is the length of the displacement, ``|x(+oo) - x(-oo)|``; with the frame of
@@ -128,22 +127,54 @@ def tail_integral(mu, L, terms: int):
     return total, bound
 
 
-def delta_quadrature(mu, b=1, dps: int = 30):
-    """(b) ``b int_{-oo}^{oo} cos(mu s)/ch(s) ds`` (K01 (3.7) with ``s = lam t``)."""
+def _zero_points(mu, L) -> list:
+    """``0``, the zeros ``(k + 1/2) pi/mu`` of ``cos(mu s)`` below ``L``, and ``L``.
+
+    Pieces longer than 2 are split (the scale of ``1/ch``).
+    """
+    z = [mpmath.mpf(0)]
+    k = 0
+    while True:
+        s = (k + mpmath.mpf(1) / 2) * mpmath.pi / mu
+        if s >= L:
+            break
+        while s - z[-1] > 2:
+            z.append(z[-1] + 2)
+        z.append(s)
+        k += 1
+    while L - z[-1] > 2:
+        z.append(z[-1] + 2)
+    z.append(mpmath.mpf(L))
+    return z
+
+
+def delta_quadrature(mu, b=1, dps: int = 30, method: str = "zeros"):
+    """(b) ``b int_{-oo}^{oo} cos(mu s)/ch(s) ds`` (K01 (3.7) with ``s = lam t``).
+
+    Parameters
+    ----------
+    method : {"zeros", "quadosc"}
+        ``zeros``: Gauss-Legendre between consecutive zeros of ``cos(mu s)`` (the
+        classical method for oscillatory integrands; the exponential decay makes a
+        series acceleration unnecessary) up to ``L = (dps + 12) ln 10/3``, plus the tail
+        series (:func:`tail_integral`, three terms, bound ``< 10^-(dps+10)``).
+        ``quadosc``: ``mpmath.quadosc`` (slower, a cross-check).
+    """
     with mpmath.workdps(dps + 10):
         mu = mpmath.mpf(mu)
 
         def f(s):
             return mpmath.cos(mu * s) / mpmath.cosh(s)
 
-        if mu >= mpmath.mpf(1) / 2:
+        if method == "quadosc":
             half = mpmath.quadosc(f, [0, mpmath.inf], omega=mu)
-        else:
+        elif method == "zeros":
             L = (dps + 12) * mpmath.log(10) / 3
-            n = int(L / 2) + 1
-            half = mpmath.quad(f, mpmath.linspace(0, L, n + 1), method="gauss-legendre")
+            half = mpmath.quad(f, _zero_points(mu, L), method="gauss-legendre")
             tail, _ = tail_integral(mu, L, 3)
             half += tail
+        else:
+            raise ValueError(f"unknown quadrature method {method!r}: zeros or quadosc")
         return +(2 * b * half)
 
 
