@@ -202,21 +202,20 @@ def flow(y0, params, t_end, digits: int, engine: str = "jet"):
             )
             return [mpmath.mpf(str(v)) for v in res.y], res.steps
     if engine == "odefun":
-        from .integrate import integrate
+        # the project's digits path (integrate(..., precision=digits)) is mpmath.odefun,
+        # which only runs forward: the backward flow is the forward flow of -f
+        rhs = code.mpmath.rhs
+        with mpmath.workdps(digits):
+            sign = 1 if t_end >= 0 else -1
+            p = [mpmath.mpf(v) for v in params]
+            counter = [0]
 
-        names = code.numpy.STATE
-        pnames = code.numpy.PARAMS
-        with mpmath.workdps(digits + 5):
-            r = integrate(
-                "chaplygin_ball",
-                dict(zip(names, [mpmath.nstr(v, digits + 5) for v in y0], strict=True)),
-                (0, mpmath.nstr(t_end, digits + 5)),
-                params=dict(zip(pnames, [mpmath.nstr(v, digits + 5) for v in params],
-                                strict=True)),
-                effects=("contact_point",),
-                precision=digits,
-            )
-            return list(r.y[:, -1]), r.nsteps
+            def F(t, y):
+                counter[0] += 1
+                return [sign * v for v in rhs(t, y, p)]
+
+            sol = mpmath.odefun(F, 0, [mpmath.mpf(v) for v in y0])
+            return list(sol(abs(mpmath.mpf(t_end)))), counter[0]
     raise ValueError(f"unknown engine {engine!r}: jet or odefun")
 
 
