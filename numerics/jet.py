@@ -107,8 +107,9 @@ class Tape:
     def binary(self, kind, a, b):
         ta, tb = isinstance(a, _Tracer), isinstance(b, _Tracer)
         if not ta and not tb:
-            return {"add": operator.add, "sub": operator.sub, "mul": _mul,
-                    "div": operator.truediv}[kind](a, b)
+            return {"add": operator.add, "sub": operator.sub, "mul": _mul, "div": operator.truediv}[
+                kind
+            ](a, b)
         if ta and tb:
             if kind == "mul" and a.idx == b.idx:
                 return self._push(("sqr", a.idx))

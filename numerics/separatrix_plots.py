@@ -45,8 +45,13 @@ def plot_delta_of_mu(path: str | Path, b: float = 1.0, mu_max: float = 6.0) -> P
         for I, printed in (((1, 1.5, 2), 0.002858), ((1, 3, 5), 0.411829)):  # noqa: E741
             mu = float(mu_of(I, 1))
             ax.plot([mu], [printed], "x", ms=9, color="C3")
-            ax.annotate(f"Fig. 4: I={I}", (mu, printed), textcoords="offset points",
-                        xytext=(5, 5), fontsize=8)
+            ax.annotate(
+                f"Fig. 4: I={I}",
+                (mu, printed),
+                textcoords="offset points",
+                xytext=(5, 5),
+                fontsize=8,
+            )
         ax.set_xlabel(r"$\mu = \xi = \kappa/\lambda = 1/(J_2\sqrt{a_{21}a_{32}})$")
         ax.set_ylabel(r"$\Delta$" + (" (log scale)" if log else ""))
         if log:

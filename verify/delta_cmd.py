@@ -34,8 +34,9 @@ def _params(items) -> dict:
         )
     for need in ("I", "D", "b"):
         if need not in raw:
-            raise UserInputError(f"--param {need}=... is required (e.g. --param I=1,3,5 "
-                                 "--param D=1 --param b=1)")
+            raise UserInputError(
+                f"--param {need}=... is required (e.g. --param I=1,3,5 --param D=1 --param b=1)"
+            )
     with mpmath.workdps(60):
         out = {
             "I": [parse_number(v, 60) for v in raw["I"].split(",")],
@@ -46,8 +47,9 @@ def _params(items) -> dict:
     if out["b"] <= 0:
         raise UserInputError("b (the radius) must be positive")
     if out["C"] == 0:
-        raise UserInputError("C = (M, gamma) must not be zero (C = 0 has no separatrix of "
-                             "this kind)")
+        raise UserInputError(
+            "C = (M, gamma) must not be zero (C = 0 has no separatrix of this kind)"
+        )
     return out
 
 
@@ -97,12 +99,16 @@ def run_delta(args) -> int:
         )
     else:
         I = ", ".join(mpmath.nstr(v, 10) for v in P["I"])  # noqa: E741
-        print(f"separatrix on M || gamma at h2 = C^2/(2 I2): I = ({I}), "
-              f"D = {mpmath.nstr(P['D'], 10)}, b = {mpmath.nstr(P['b'], 10)}")
+        print(
+            f"separatrix on M || gamma at h2 = C^2/(2 I2): I = ({I}), "
+            f"D = {mpmath.nstr(P['D'], 10)}, b = {mpmath.nstr(P['b'], 10)}"
+        )
         print(f"mu = xi = kap/lam = {fmt(r.mu)}")
-        print(f"Delta (full equations, Taylor {r.ode_info['work_digits']} digits, "
-              f"{r.ode_info['steps']} steps, |lam t| <= {float(r.ode_info['L']):.2f} + tails "
-              f"[bound {mpmath.nstr(r.ode_info['tail_bound'], 2)}]) = {fmt(r.ode)}")
+        print(
+            f"Delta (full equations, Taylor {r.ode_info['work_digits']} digits, "
+            f"{r.ode_info['steps']} steps, |lam t| <= {float(r.ode_info['L']):.2f} + tails "
+            f"[bound {mpmath.nstr(r.ode_info['tail_bound'], 2)}]) = {fmt(r.ode)}"
+        )
         print(f"Delta (quadrature of K01 (3.7))  = {fmt(r.quadrature)}")
         print(f"Delta (closed form pi b/ch(pi mu/2)) = {fmt(r.closed)}")
         print(f"agree on {agree:.1f} digits (requested {digits}): {'ok' if ok else 'NOT OK'}")
@@ -114,8 +120,7 @@ def run_delta(args) -> int:
         if args.plot:
             plot_delta_of_mu(args.plot, float(P["b"]))
         if args.figures:
-            write_figures(args.figures, [float(v) for v in P["I"]], float(P["D"]),
-                          float(P["b"]))
+            write_figures(args.figures, [float(v) for v in P["I"]], float(P["D"]), float(P["b"]))
     return 0 if ok else 1
 
 
@@ -125,13 +130,25 @@ def add_parser(sub) -> None:
         help="displacement of the contact point along the separatrix (K01 §3.3), three ways",
     )
     p._sub = "delta"
-    p.add_argument("--param", action="append", metavar="NAME=VALUE[,VALUE...]",
-                   help="I=I1,I2,I3 (I2 the middle moment), D=m b^2, b=radius, C=(M,gamma)")
+    p.add_argument(
+        "--param",
+        action="append",
+        metavar="NAME=VALUE[,VALUE...]",
+        help="I=I1,I2,I3 (I2 the middle moment), D=m b^2, b=radius, C=(M,gamma)",
+    )
     p.add_argument("--digits", type=int, default=30, help="digits wanted (default 30)")
     p.add_argument("--json", action="store_true", help="values as decimal strings in JSON")
-    p.add_argument("--engine", default="jet", choices=("jet", "odefun"),
-                   help="integrator of the full equations (default: jet, the Taylor tape)")
+    p.add_argument(
+        "--engine",
+        default="jet",
+        choices=("jet", "odefun"),
+        help="integrator of the full equations (default: jet, the Taylor tape)",
+    )
     p.add_argument("--plot", default=None, metavar="FILE.png", help="write Delta(mu) (Fig. 5)")
-    p.add_argument("--figures", default=None, metavar="DIR",
-                   help="write Delta(mu) and the contact-point traces (Figs. 4-6) into DIR")
+    p.add_argument(
+        "--figures",
+        default=None,
+        metavar="DIR",
+        help="write Delta(mu) and the contact-point traces (Figs. 4-6) into DIR",
+    )
     p.set_defaults(func=run_delta)
