@@ -47,6 +47,8 @@ __all__ = [
     "agreeing_digits",
     "check_inertia",
     "flow",
+    "frame_turn",
+    "critical_energy",
 ]
 
 
@@ -347,3 +349,72 @@ def delta_three_ways(
         others = [v for v in (ode, quad) if v is not None]
         agree = agreeing_digits(others, closed) if others else float(digits)
         return DeltaResult(mu, ode, quad, closed, digits, agree, seconds, info)
+
+
+def frame_turn(I: Sequence, D: float, h: float, C: float = 1.0, rtol: float = 1e-12):  # noqa: E741
+    """Period of ``gamma(t)`` on ``M = C gamma`` at energy ``h`` and the turn of the frame.
+
+    After one period ``T`` of ``gamma`` (an Euler top, K01-2.34) the space-fixed horizontal
+    frame seen from the body has turned by ``Phi`` about ``gamma(0)``; the contact-point
+    trace is a chain of copies rotated by ``Phi`` and is unbounded exactly when
+    ``Phi = 0 mod 2 pi`` (K01-Fig6f). Double precision (DOP853, numpy right-hand side),
+    ``h`` in ``(h3, h1)``, ``h != h2``.
+
+    Returns
+    -------
+    (T, Phi) : tuple of float
+        ``Phi`` in ``(-pi, pi]``.
+    """
+    import numpy as np
+    from scipy.integrate import solve_ivp
+
+    from .code import load_model_code
+    from .separatrix_plots import near_separatrix_state
+
+    code = load_model_code("chaplygin_ball", ("contact_point",))
+    p = np.array([float(v) for v in I] + [float(D), 1.0])
+    y0 = near_separatrix_state(I, D, h, C)
+    # start off the plane gamma2 = 0 crossing: a full period returns to gamma2 = 0 going
+    # the same way
+    f0 = code.numpy.rhs(0.0, y0, p)
+    direction = 1.0 if f0[4] > 0 else -1.0
+
+    def crossing(t, y):
+        return y[4]
+
+    crossing.direction = direction
+    crossing.terminal = False
+    # integrate until the first return with the same direction (events at t > 0)
+    t_end, ev = 50.0, None
+    while ev is None:
+        sol = solve_ivp(
+            lambda t, y: code.numpy.rhs(t, y, p),
+            (0.0, t_end),
+            y0,
+            method="DOP853",
+            rtol=rtol,
+            atol=rtol,
+            events=crossing,
+        )
+        times = [t for t in sol.t_events[0] if t > 1e-9]
+        if times:
+            ev = (times[0], sol.y_events[0][list(sol.t_events[0]).index(times[0])])
+        elif t_end > 1e5:
+            raise RuntimeError("no return of gamma found")
+        else:
+            t_end *= 4
+    T, yT = ev
+    a0, b0 = y0[6:9], y0[9:12]
+    aT = yT[6:9]
+    return float(T), float(np.arctan2(np.dot(aT, b0), np.dot(aT, a0)))
+
+
+def critical_energy(I: Sequence, D: float, bracket: tuple[float, float], C: float = 1.0) -> float:  # noqa: E741
+    """The energy in ``bracket`` where :func:`frame_turn`'s ``Phi`` vanishes (Brent's method).
+
+    Where the trace becomes unbounded (K01-Fig6f); accuracy limited by the double-precision
+    integration (``rtol = 1e-12``): about 1e-9 in ``h``.
+    """
+    from scipy.optimize import brentq
+
+    return float(brentq(lambda h: frame_turn(I, D, h, C)[1], *bracket, xtol=1e-12))

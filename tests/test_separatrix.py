@@ -295,3 +295,19 @@ def test_plots_are_written(tmp_path):
     for p in (a, b):
         assert p.exists() and p.stat().st_size > 10_000
         assert p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_fig6f_critical_energy_where_the_trace_becomes_unbounded():
+    """K01-Fig6f (FORMULAS.md): I = (1, 3, 5), D = C = 1: the frame turns by 0 per period of
+    gamma at h_c = 0.1803189; at the printed 0.180278 by -0.0098 rad (T = 42.18).
+
+    Double precision (DOP853, rtol 1e-12): h_c is compared to the 7 printed decimals.
+    """
+    from chaplygin.numerics.separatrix import critical_energy, frame_turn
+
+    T, phi = frame_turn((1, 3, 5), 1, 0.180278)
+    assert abs(T - 42.18) < 0.005 and abs(phi + 0.0098) < 5e-5
+    h_c = critical_energy((1, 3, 5), 1, (0.1802, 0.1804))
+    assert abs(h_c - 0.1803189) < 5e-8
+    # negative control: away from the resonance the frame turns by an O(1) angle
+    assert abs(frame_turn((1, 3, 5), 1, 0.25)[1]) > 0.5
