@@ -139,6 +139,23 @@ def _k01_3_5(model: Model) -> Check:
     )
 
 
+def _k01_3_6(model: Model) -> Check:
+    """x' is even and y' odd in t along the separatrix: y(+oo) = y(-oo), Delta = x(oo) - x(-oo).
+
+    ``t -> -t`` is ``q -> 1/q``, ``phi -> -phi``; the model's x', y' on the corrected K01-3.4
+    solution, so ``int y' dt = 0`` over the real line and ``Delta = 2 int_0^oo x' dt``.
+    """
+    P = _ordered_inertia(model)
+    gamma, alpha, beta, lam, kap, Cv = _solution("corrected", P)
+    rhs, _ = _substituted_rhs(model, P, gamma, alpha, beta, Cv)
+    x, y = model.group("x")[0], model.group("y")[0]
+    flip = {q: 1 / q, phi: -phi}
+    return Check(
+        [rhs[x] - rhs[x].xreplace(flip), rhs[y] + rhs[y].xreplace(flip)],
+        note="t -> -t is q -> 1/q, phi -> -phi",
+    )
+
+
 def _k01_2_34(model: Model) -> Check:
     """On M x gamma = 0: J omega = l gamma, l = C + 2 D h/C; gamma' = gamma x omega there.
 
@@ -369,6 +386,18 @@ register(
         BALL,
         CONTACT,
         _k01_3_5,
+    )
+)
+register(
+    Claim(
+        "K01-3.6",
+        f"{S33}, eq. (3.6)",
+        "equation",
+        "x(t) = nu int_{-oo}^t cos(kap s)/ch(lam s) ds, y(t) = nu int_{-oo}^t sin(kap s)/ch(lam s) "
+        "ds: x' even, y' odd in t, so y(+oo) = 0 and x(+oo) = Delta = 2 nu int_0^oo ...",
+        BALL,
+        CONTACT,
+        _k01_3_6,
     )
 )
 register(
