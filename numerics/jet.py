@@ -34,9 +34,6 @@ class _Tracer:
     def __init__(self, tape: Tape, idx: int):
         self.tape, self.idx = tape, idx
 
-    def _bin(self, other, op, rop=None):
-        return self.tape.binary(op, self, other)
-
     def __add__(self, o):
         return self.tape.binary("add", self, o)
 
