@@ -1,0 +1,420 @@
+"""The displacement Delta of the contact point along the separatrix, three ways (K01 §3.3).
+
+On ``M = C gamma`` at ``h = h2 = C^2/(2 I2)`` the ball tumbles once along a separatrix and
+its contact point moves by ``Delta`` (K01 (3.4)-(3.7); derived in
+:mod:`chaplygin.derive.separatrix`). With ``mu = xi = kap/lam = 1/(J2 sqrt(a21 a32))``:
+
+(a) :func:`delta_ode`: the full equations of ``chaplygin_ball__contact_point`` (explicit
+    ``alpha, beta`` states: the frame of BKM12-7 is singular at ``M || gamma``) integrated
+    at high precision from the exact separatrix point at ``t = 0`` forward to ``lam t = L``
+    and backward to ``-L``; the tails ``|t| > L/lam`` are summed from the asymptotic series
+    of ``x' = nu cos(kap t)/ch(lam t)`` (``1/ch = 2 sum (-1)^n exp(-(2n+1) lam t)``) with
+    the bound of the first omitted term;
+(b) :func:`delta_quadrature`: ``|nu| int cos(kap t)/ch(lam t) dt = b int cos(mu s)/ch(s) ds``
+    by Gauss-Legendre between the zeros of ``cos(mu s)`` plus the tail series (or
+    ``mpmath.quadosc``, a cross-check);
+(c) :func:`delta_closed_form`: ``pi b/ch(pi mu/2)``, derived by residues.
+
+``Delta`` here is the length of the displacement, ``|x(+oo) - x(-oo)|``; with the frame of
+the corrected K01-3.4 the contact point moves along ``-alpha`` (``nu = -b lam``).
+
+References
+----------
+K01-3.4, K01-3.5, K01-3.6, K01-3.7, K01-Fig4 (FORMULAS.md).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import mpmath
+
+from ..derive.errors import UserInputError
+
+__all__ = [
+    "mu_of",
+    "separatrix_quantities",
+    "separatrix_state",
+    "delta_closed_form",
+    "delta_quadrature",
+    "delta_ode",
+    "tail_integral",
+    "DeltaResult",
+    "delta_three_ways",
+    "agreeing_digits",
+    "check_inertia",
+    "flow",
+    "frame_turn",
+    "critical_energy",
+]
+
+
+def check_inertia(I: Sequence, D) -> None:  # noqa: E741
+    """Raise :class:`UserInputError` unless ``I1 < I2 < I3`` or ``I1 > I2 > I3``, all > 0.
+
+    The separatrix of K01 §3.3 belongs to the middle axis ``I2``.
+    """
+    if len(I) != 3:
+        raise UserInputError(f"I needs three moments of inertia, got {len(I)}")
+    for name, v in (("I1", I[0]), ("I2", I[1]), ("I3", I[2]), ("D", D)):
+        if not mpmath.isfinite(v) or v <= 0:
+            raise UserInputError(f"{name} = {mpmath.nstr(v, 8)} must be a finite positive number")
+    if not (I[0] < I[1] < I[2] or I[0] > I[1] > I[2]):
+        raise UserInputError(
+            "I2 must be the middle moment, strictly between I1 and I3 "
+            f"(got I = {', '.join(mpmath.nstr(v, 8) for v in I)}): the separatrix of "
+            "K01 §3.3 needs three different moments"
+        )
+
+
+def mu_of(I: Sequence, D):  # noqa: E741
+    """``mu = xi = kap/lam = 1/(J2 sqrt(a21 a32))``, ``J_i = I_i + D`` (K01-3.7)."""
+    J1, J2, J3 = (mpmath.mpf(v) + D for v in I)
+    return 1 / (J2 * mpmath.sqrt((1 / J1 - 1 / J2) * (1 / J2 - 1 / J3)))
+
+
+def separatrix_quantities(I: Sequence, D, C=1) -> dict:  # noqa: E741
+    """``lam, kap, s32, s21, l`` for ``I1 < I2 < I3`` (mpmath at the current precision)."""
+    I1, I2, I3 = (mpmath.mpf(v) for v in I)
+    D, C = mpmath.mpf(D), mpmath.mpf(C)
+    J1, J2, J3 = I1 + D, I2 + D, I3 + D
+    d21, d32 = 1 / J1 - 1 / J2, 1 / J2 - 1 / J3
+    lam = abs(C) * J2 / I2 * mpmath.sqrt(d21 * d32)
+    return {
+        "lam": lam,
+        "kap": C / I2,
+        "s32": mpmath.sqrt(d32 / (d21 + d32)),
+        "s21": mpmath.sqrt(d21 / (d21 + d32)),
+        "l": C * J2 / I2,
+    }
+
+
+def separatrix_state(I: Sequence, D, C=1) -> list:  # noqa: E741
+    """The corrected K01-3.4 solution at ``t = 0`` (``th = 0``, ``sech = 1``, ``c = 1``).
+
+    State order of ``chaplygin_ball__contact_point``: ``M, gamma, alpha, beta, x, y``.
+    """
+    Q = separatrix_quantities(I, D, C)
+    s32, s21 = Q["s32"], Q["s21"]
+    gamma = [-s32, mpmath.mpf(0), -s21]
+    alpha = [mpmath.mpf(0), mpmath.mpf(1), mpmath.mpf(0)]
+    beta = [s21, mpmath.mpf(0), -s32]
+    C = mpmath.mpf(C)
+    return [C * g for g in gamma] + gamma + alpha + beta + [mpmath.mpf(0), mpmath.mpf(0)]
+
+
+def delta_closed_form(mu, b=1, dps: int = 30):
+    """(c) ``Delta = pi b / ch(pi mu/2)`` (K01-3.7, derived by residues)."""
+    with mpmath.workdps(dps):
+        return +(mpmath.pi * b / mpmath.cosh(mpmath.pi * mpmath.mpf(mu) / 2))
+
+
+def tail_integral(mu, L, terms: int):
+    """``int_L^oo cos(mu s)/ch(s) ds`` from ``1/ch s = 2 sum (-1)^n exp(-(2n+1) s)``.
+
+    Returns ``(value, bound)``: the bound of the omitted terms is
+    ``2 exp(-(2N+1) L)/((2N+1)(1 - exp(-2L)))``.
+    """
+    mu, L = mpmath.mpf(mu), mpmath.mpf(L)
+    total = mpmath.mpf(0)
+    c, s = mpmath.cos(mu * L), mpmath.sin(mu * L)
+    for n in range(terms):
+        a = 2 * n + 1
+        total += 2 * (-1) ** n * mpmath.exp(-a * L) * (a * c - mu * s) / (a**2 + mu**2)
+    a = 2 * terms + 1
+    bound = 2 * mpmath.exp(-a * L) / (a * (1 - mpmath.exp(-2 * L)))
+    return total, bound
+
+
+def _zero_points(mu, L) -> list:
+    """``0``, the zeros ``(k + 1/2) pi/mu`` of ``cos(mu s)`` below ``L``, and ``L``.
+
+    Pieces longer than 2 are split (the scale of ``1/ch``).
+    """
+    z = [mpmath.mpf(0)]
+    k = 0
+    while True:
+        s = (k + mpmath.mpf(1) / 2) * mpmath.pi / mu
+        if s >= L:
+            break
+        while s - z[-1] > 2:
+            z.append(z[-1] + 2)
+        z.append(s)
+        k += 1
+    while L - z[-1] > 2:
+        z.append(z[-1] + 2)
+    z.append(mpmath.mpf(L))
+    return z
+
+
+def delta_quadrature(mu, b=1, dps: int = 30, method: str = "zeros"):
+    """(b) ``b int_{-oo}^{oo} cos(mu s)/ch(s) ds`` (K01 (3.7) with ``s = lam t``).
+
+    Parameters
+    ----------
+    method : {"zeros", "quadosc"}
+        ``zeros``: Gauss-Legendre between consecutive zeros of ``cos(mu s)`` (the
+        classical method for oscillatory integrands; the exponential decay makes a
+        series acceleration unnecessary) up to ``L = (dps + 12) ln 10/3``, plus the tail
+        series (:func:`tail_integral`, three terms, bound ``< 10^-(dps+10)``).
+        ``quadosc``: ``mpmath.quadosc`` (slower, a cross-check).
+    """
+    with mpmath.workdps(dps + 10):
+        mu = mpmath.mpf(mu)
+
+        def f(s):
+            return mpmath.cos(mu * s) / mpmath.cosh(s)
+
+        if method == "quadosc":
+            half = mpmath.quadosc(f, [0, mpmath.inf], omega=mu)
+        elif method == "zeros":
+            L = (dps + 12) * mpmath.log(10) / 3
+            half = mpmath.quad(f, _zero_points(mu, L), method="gauss-legendre")
+            tail, _ = tail_integral(mu, L, 3)
+            half += tail
+        else:
+            raise ValueError(f"unknown quadrature method {method!r}: zeros or quadosc")
+        return +(2 * b * half)
+
+
+def flow(y0, params, t_end, digits: int, engine: str = "jet"):
+    """Integrate the full ``chaplygin_ball__contact_point`` equations from ``y0``.
+
+    The one place the integrator is chosen: ``jet`` (:func:`chaplygin.numerics.jet.taylor_flow`
+    on the generated mpmath right-hand side) or ``odefun`` (the project's
+    ``integrate(..., precision=digits)``, ``mpmath.odefun``). Returns the final state as
+    mpmath numbers.
+    """
+    from .code import load_model_code
+
+    code = load_model_code("chaplygin_ball", ("contact_point",))
+    if engine == "jet":
+        from .jet import taylor_flow
+
+        with mpmath.workdps(digits + 5):
+            res = taylor_flow(
+                code.mpmath.rhs,
+                [mpmath.nstr(v, digits + 5) for v in y0],
+                [mpmath.nstr(v, digits + 5) for v in params],
+                mpmath.nstr(t_end, digits + 5),
+                digits,
+            )
+            return [mpmath.mpf(str(v)) for v in res.y], res.steps
+    if engine == "odefun":
+        # the project's digits path (integrate(..., precision=digits)) is mpmath.odefun,
+        # which only runs forward: the backward flow is the forward flow of -f
+        rhs = code.mpmath.rhs
+        with mpmath.workdps(digits):
+            sign = 1 if t_end >= 0 else -1
+            p = [mpmath.mpf(v) for v in params]
+            counter = [0]
+
+            def F(t, y):
+                counter[0] += 1
+                return [sign * v for v in rhs(t, y, p)]
+
+            sol = mpmath.odefun(F, 0, [mpmath.mpf(v) for v in y0])
+            return list(sol(abs(mpmath.mpf(t_end)))), counter[0]
+    raise ValueError(f"unknown engine {engine!r}: jet or odefun")
+
+
+def delta_ode(
+    I: Sequence,  # noqa: E741
+    D,
+    b,
+    digits: int,
+    C=1,
+    L=None,
+    engine: str = "jet",
+) -> dict:
+    """(a) Delta from the full equations, forward and backward from the separatrix point.
+
+    Parameters
+    ----------
+    I, D, b : numbers
+        Inertia (``I2`` the middle moment), ``D = m b^2``, radius.
+    digits : int
+        Digits wanted; the working precision adds ``L/ln 10`` (a perturbation off the
+        stable manifold grows like ``exp(lam t)``) and 8 guard digits.
+    C : number
+        ``(M, gamma)`` (the time scale; Delta does not depend on it).
+    L : number, optional
+        ``lam t`` at the ends (default ``max(8, (digits + 5) ln 10/7)``): the tail series
+        then needs 3 terms.
+
+    Returns
+    -------
+    dict
+        ``delta`` (``|x(oo) - x(-oo)|``), ``signed`` (``x(oo) - x(-oo)``), ``y_shift``,
+        ``tail``, ``tail_bound``, ``steps``, ``work_digits``, ``L``, ``seconds``.
+    """
+    start = time.perf_counter()
+    I = list(I)  # noqa: E741
+    if I[0] > I[2]:  # the same body with axes 1 and 3 renamed (mu is symmetric)
+        I = I[::-1]  # noqa: E741
+    if L is None:
+        L = max(8.0, (digits + 5) * math.log(10) / 7)
+    work = digits + int(math.ceil(L / math.log(10))) + 8
+    terms = int(math.ceil((digits + 8) * math.log(10) / (2 * L) + 0.5))
+    with mpmath.workdps(work):
+        Q = separatrix_quantities(I, D, C)
+        lam, kap = Q["lam"], Q["kap"]
+        y0 = separatrix_state(I, D, C)
+        params = [mpmath.mpf(v) for v in I] + [mpmath.mpf(D), mpmath.mpf(b)]
+        T = mpmath.mpf(L) / lam
+        fwd, n1 = flow(y0, params, T, work, engine)
+        bwd, n2 = flow(y0, params, -T, work, engine)
+        mu = kap / lam
+        tail, bound = tail_integral(mu, L, terms)
+        nu = -mpmath.mpf(b) * lam
+        # x(oo) - x(T) = x(-T) - x(-oo) = (nu/lam) int_L^oo cos(mu s)/ch(s) ds
+        tail_x = nu / lam * tail
+        signed = fwd[12] - bwd[12] + 2 * tail_x
+        return {
+            "delta": abs(signed),
+            "signed": signed,
+            "y_shift": fwd[13] - bwd[13],
+            "tail": 2 * tail_x,
+            "tail_bound": 2 * abs(nu / lam) * bound,
+            "steps": n1 + n2,
+            "work_digits": work,
+            "L": L,
+            "seconds": time.perf_counter() - start,
+        }
+
+
+def agreeing_digits(values: Sequence, reference) -> float:
+    """``-log10(max |v/reference - 1|)`` (capped at the working precision)."""
+    worst = max(abs(mpmath.mpf(v) / reference - 1) for v in values)
+    if worst == 0:
+        return float(mpmath.mp.dps)
+    return float(-mpmath.log10(worst))
+
+
+@dataclass
+class DeltaResult:
+    """The three values of Delta and their agreement.
+
+    Attributes
+    ----------
+    mu : mpmath.mpf
+    ode, quadrature, closed : mpmath.mpf
+    digits_agree : float
+        ``-log10`` of the largest relative difference of the three.
+    seconds : dict of str to float
+    ode_info : dict
+    """
+
+    mu: object
+    ode: object
+    quadrature: object
+    closed: object
+    digits: int
+    digits_agree: float
+    seconds: dict = field(default_factory=dict)
+    ode_info: dict = field(default_factory=dict)
+
+
+def delta_three_ways(
+    I: Sequence,  # noqa: E741
+    D,
+    b,
+    digits: int,
+    C=1,
+    engine: str = "jet",
+    methods: Sequence[str] = ("ode", "quadrature", "closed"),
+) -> DeltaResult:
+    """Delta by the full equations, the quadrature (3.7) and the closed form, at ``digits``."""
+    check_inertia([mpmath.mpf(v) for v in I], mpmath.mpf(D))
+    seconds: dict = {}
+    with mpmath.workdps(digits + 10):
+        mu = mu_of(I, D)
+        t = time.perf_counter()
+        closed = delta_closed_form(mu, b, digits + 10)
+        seconds["closed"] = time.perf_counter() - t
+        quad = ode = None
+        info: dict = {}
+        if "quadrature" in methods:
+            t = time.perf_counter()
+            quad = delta_quadrature(mu, b, digits + 5)
+            seconds["quadrature"] = time.perf_counter() - t
+        if "ode" in methods:
+            t = time.perf_counter()
+            info = delta_ode(I, D, b, digits, C=C, engine=engine)
+            ode = info["delta"]
+            seconds["ode"] = time.perf_counter() - t
+        others = [v for v in (ode, quad) if v is not None]
+        agree = agreeing_digits(others, closed) if others else float(digits)
+        return DeltaResult(mu, ode, quad, closed, digits, agree, seconds, info)
+
+
+def frame_turn(I: Sequence, D: float, h: float, C: float = 1.0, rtol: float = 1e-12):  # noqa: E741
+    """Period of ``gamma(t)`` on ``M = C gamma`` at energy ``h`` and the turn of the frame.
+
+    After one period ``T`` of ``gamma`` (an Euler top, K01-2.34) the space-fixed horizontal
+    frame seen from the body has turned by ``Phi`` about ``gamma(0)``; the contact-point
+    trace is a chain of copies rotated by ``Phi`` and is unbounded exactly when
+    ``Phi = 0 mod 2 pi`` (K01-Fig6f). Double precision (DOP853, numpy right-hand side),
+    ``h`` in ``(h3, h1)``, ``h != h2``.
+
+    Returns
+    -------
+    (T, Phi) : tuple of float
+        ``Phi`` in ``(-pi, pi]``.
+    """
+    import numpy as np
+    from scipy.integrate import solve_ivp
+
+    from .code import load_model_code
+    from .separatrix_plots import near_separatrix_state
+
+    code = load_model_code("chaplygin_ball", ("contact_point",))
+    p = np.array([float(v) for v in I] + [float(D), 1.0])
+    y0 = near_separatrix_state(I, D, h, C)
+    # start off the plane gamma2 = 0 crossing: a full period returns to gamma2 = 0 going
+    # the same way
+    f0 = code.numpy.rhs(0.0, y0, p)
+    direction = 1.0 if f0[4] > 0 else -1.0
+
+    def crossing(t, y):
+        return y[4]
+
+    crossing.direction = direction
+    crossing.terminal = False
+    # integrate until the first return with the same direction (events at t > 0)
+    t_end, ev = 50.0, None
+    while ev is None:
+        sol = solve_ivp(
+            lambda t, y: code.numpy.rhs(t, y, p),
+            (0.0, t_end),
+            y0,
+            method="DOP853",
+            rtol=rtol,
+            atol=rtol,
+            events=crossing,
+        )
+        times = [t for t in sol.t_events[0] if t > 1e-9]
+        if times:
+            ev = (times[0], sol.y_events[0][list(sol.t_events[0]).index(times[0])])
+        elif t_end > 1e5:
+            raise RuntimeError("no return of gamma found")
+        else:
+            t_end *= 4
+    T, yT = ev
+    a0, b0 = y0[6:9], y0[9:12]
+    aT = yT[6:9]
+    return float(T), float(np.arctan2(np.dot(aT, b0), np.dot(aT, a0)))
+
+
+def critical_energy(I: Sequence, D: float, bracket: tuple[float, float], C: float = 1.0) -> float:  # noqa: E741
+    """The energy in ``bracket`` where :func:`frame_turn`'s ``Phi`` vanishes (Brent's method).
+
+    Where the trace becomes unbounded (K01-Fig6f); accuracy limited by the double-precision
+    integration (``rtol = 1e-12``): about 1e-9 in ``h``.
+    """
+    from scipy.optimize import brentq
+
+    return float(brentq(lambda h: frame_turn(I, D, h, C)[1], *bracket, xtol=1e-12))
