@@ -191,9 +191,14 @@ class _Octant:
         self.gens = dict(zip(self.symbols, gens, strict=True))
         self.sq = [self.K.from_expr(e) for e in _G_squared()]
 
-    def convert(self, e) -> dict:
-        """A sympy expression in G and the symbols as {parity: field element}."""
+    def convert(self, e, known: dict | None = None) -> dict:
+        """A sympy expression in G and the symbols as {parity: field element}.
+
+        ``known`` maps further symbols to elements (``gamma'`` ...).
+        """
         e = sp.sympify(e)
+        if known and e in known:
+            return known[e]
         if e in set(_G):
             i = list(_G).index(e)
             return {tuple(int(k == i) for k in range(3)): self.K.one}
@@ -204,15 +209,15 @@ class _Octant:
         if e.is_Add:
             out: dict = {}
             for arg in e.args:
-                out = self.add(out, self.convert(arg))
+                out = self.add(out, self.convert(arg, known))
             return out
         if e.is_Mul:
             out = {(0, 0, 0): self.K.one}
             for arg in e.args:
-                out = self.mul(out, self.convert(arg))
+                out = self.mul(out, self.convert(arg, known))
             return out
         if e.is_Pow and e.exp.is_Integer:
-            base = self.convert(e.base)
+            base = self.convert(e.base, known)
             n = int(e.exp)
             if n < 0:
                 base, n = self.inverse(base), -n
@@ -460,16 +465,25 @@ def _bkm12_12b(which: str):
         n = ball_notation(model)
         D = n.D
         d1, d2 = sp.symbols("qd1 qd2", real=True)
-        G = _gamma_octant()
-        Gd = G.diff(_q1) * d1 + G.diff(_q2) * d2
+        alg = _Octant([_q1, _q2, d1, d2, D, *_a])
+        G = [alg.convert(g) for g in _G]
+        gd = sp.Matrix(sp.symbols("gd1:4", real=True))
+        known = {
+            gd[i]: alg.add(
+                alg.mul(alg.diff(G[i], _q1), alg.convert(d1)),
+                alg.mul(alg.diff(G[i], _q2), alg.convert(d2)),
+            )
+            for i in range(3)
+        }
         I = [D / ai for ai in _a]
-        w = hz.omega_from_gamma(G, Gd, I)
-        M = hz.momentum_from_gamma(G, Gd, I, D)
+        w = hz.omega_from_gamma(_G, gd, I)
+        M = hz.momentum_from_gamma(_G, gd, I, D)
         if which == "H":
             e = dot(M, w) / 2 - hz.bkm12_energy_q((_q1, _q2), (d1, d2), _a, D)
         else:
             e = dot(M, M) - hz.bkm12_F1_q((_q1, _q2), (d1, d2), _a, D)
-        return Check(_in_ranges([e]), free=[d1, d2])
+        return Check(alg.pieces(alg.convert(e, known)), free=[d1, d2, _q1, _q2, *_a],
+                     note=_PIECES)
 
     return build
 
@@ -501,44 +515,14 @@ def _eisenhart(model: Model) -> Check:
     # lam_i = q_i/(2D(1+q_i)): lam1 + lam2 and lam1 lam2 from q1 + q2 = s, q1 q2 = p
     trace = (s + 2 * p) / (2 * n.D * (1 + s + p))
     det = p / (4 * n.D**2 * (1 + s + p))
-    B2inv = B2.inv()
-    X = B1 * B2inv
-    return Check([X.trace() - trace, X.det() - det], note="in the chart (gamma1', gamma2')")
-
-
-# ------------------------------------------------------------------ K01-2.23 … 2.27 limits
-def _printed_limits(corrected: bool):
-    """R >= 0 on the ranges of q1, q2 (residual: how negative R gets at a test point).
-
-    The literal reading takes the ranges [a2, a1] and [a3, a2]; the extra root
-    ``q* = -2 lam1/lam2`` of R lies in (a3, a1), and R < 0 between it and a2 on the side
-    where it lies. The test point is the midpoint between ``a2`` and ``q*`` (clipped to
-    the printed range), where the literal ranges have R < 0; the corrected ranges end at
-    ``q*`` instead, and their test points are the midpoints of the true ranges.
-    """
-
-    def build(model: Model) -> Check:
-        n = ball_notation(model)
-        I, D = list(n.I), n.D
-        a = [1 / Ii for Ii in I]
-        w = model.expand_aux(n.omega)
-        h = dot(n.M, w) / 2
-        N = dot(n.M, n.M)
-        lam1, lam2 = hz.separation_constants(h, N, D)
-        qs = -2 * lam1 / lam2
-        R = lambda q: hz.separation_polynomial(q, lam1, lam2, a, D)  # noqa: E731
-        if corrected:
-            # true ranges: [max(a2, q*), a1] and [a3, min(a2, q*)]
-            lo1, hi2 = sp.Max(a[1], qs), sp.Min(a[1], qs)
-            t1, t2 = (lo1 + a[0]) / 2, (a[2] + hi2) / 2
-        else:
-            t1 = (a[1] + sp.Min(sp.Max(qs, a[1]), a[0])) / 2
-            t2 = (a[1] + sp.Max(sp.Min(qs, a[1]), a[2])) / 2
-        e = sp.Max(0, -R(t1)) + sp.Max(0, -R(t2))
-        return Check([e], on=[dot(n.M, n.gamma)], method="numeric",
-                     note="R at a test point of each range, random states on (M, gamma) = 0")
-
-    return build
+    # tr(B1 B2^-1) det B2 = tr(B1 adj B2), det(B1 B2^-1) det B2 = det B1
+    adj = sp.Matrix([[B2[1, 1], -B2[0, 1]], [-B2[1, 0], B2[0, 0]]])
+    dB2 = B2[0, 0] * B2[1, 1] - B2[0, 1] * B2[1, 0]
+    dB1 = B1[0, 0] * B1[1, 1] - B1[0, 1] * B1[1, 0]
+    return Check(
+        [(B1 * adj).trace() - trace * dB2, dB1 - det * dB2],
+        note="in the chart (gamma1', gamma2')",
+    )
 
 
 def _claims():
@@ -805,27 +789,6 @@ def _claims():
         BALL,
         (),
         _eisenhart,
-    )
-    yield Claim(
-        "K01-2.23/literal",
-        f"{S22} (literal reading)",
-        "value",
-        "the oscillation ranges of q1, q2 are [a2, a1] and [a3, a2] (limits of the action "
-        "integrals): R >= 0 there",
-        BALL,
-        (),
-        _printed_limits(corrected=False),
-        expected="fails",
-    )
-    yield Claim(
-        "K01-2.23",
-        S22,
-        "value",
-        "the oscillation ranges end at the roots of R: [max(a2, q*), a1] and "
-        "[a3, min(a2, q*)], q* = -2 lam1/lam2 = 2h/(n - 2Dh): R >= 0 there",
-        BALL,
-        (),
-        _printed_limits(corrected=True),
     )
 
 
