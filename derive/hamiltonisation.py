@@ -96,8 +96,7 @@ def hamiltonian(L: sp.Matrix, gamma: sp.Matrix, I: Sequence[sp.Expr], D: sp.Expr
     """
     A = _J_inv(I, D)
     return (
-        multiplier_inverse_square(gamma, I, D) * dot(L, A * L) / 2
-        + D * dot(gamma, A * L) ** 2 / 2
+        multiplier_inverse_square(gamma, I, D) * dot(L, A * L) / 2 + D * dot(gamma, A * L) ** 2 / 2
     )
 
 
@@ -274,18 +273,29 @@ def momentum_components(
         2
         / (q1 - q2)
         * sp.sqrt(
-            (a1 - q1) * (a1 - q2) * (q1 - a2) * (a2 - q2) * (q1 - a3) * (q2 - a3)
+            (a1 - q1)
+            * (a1 - q2)
+            * (q1 - a2)
+            * (a2 - q2)
+            * (q1 - a3)
+            * (q2 - a3)
             / ((a1 - a2) * (a2 - a3) * (a1 - a3))
         )
     )
-    M1 = F * sp.sqrt(a2 - a3) * (
-        p1 * sp.sqrt((a1 - q1) / (a1 - q2)) - p2 * sp.sqrt((a1 - q2) / (a1 - q1))
+    M1 = (
+        F
+        * sp.sqrt(a2 - a3)
+        * (p1 * sp.sqrt((a1 - q1) / (a1 - q2)) - p2 * sp.sqrt((a1 - q2) / (a1 - q1)))
     )
-    M2 = F * sp.sqrt(a1 - a3) * (
-        p1 * sp.sqrt((q1 - a2) / (a2 - q2)) + p2 * sp.sqrt((a2 - q2) / (q1 - a2))
+    M2 = (
+        F
+        * sp.sqrt(a1 - a3)
+        * (p1 * sp.sqrt((q1 - a2) / (a2 - q2)) + p2 * sp.sqrt((a2 - q2) / (q1 - a2)))
     )
-    M3 = F * sp.sqrt(a1 - a2) * (
-        -p1 * sp.sqrt((q1 - a3) / (q2 - a3)) + p2 * sp.sqrt((q2 - a3) / (q1 - a3))
+    M3 = (
+        F
+        * sp.sqrt(a1 - a2)
+        * (-p1 * sp.sqrt((q1 - a3) / (q2 - a3)) + p2 * sp.sqrt((q2 - a3) / (q1 - a3)))
     )
     return sp.Matrix([M1, M2, M3])
 
@@ -295,7 +305,10 @@ def canonical_bracket(
 ) -> sp.Expr:
     """``{F, G} = sum_i dF/dq_i dG/dp_i - dF/dp_i dG/dq_i``."""
     return sum(
-        (sp.diff(F, qi) * sp.diff(G, pi) - sp.diff(F, pi) * sp.diff(G, qi) for qi, pi in zip(q, p)),
+        (
+            sp.diff(F, qi) * sp.diff(G, pi) - sp.diff(F, pi) * sp.diff(G, qi)
+            for qi, pi in zip(q, p, strict=False)
+        ),
         sp.S.Zero,
     )
 
@@ -400,7 +413,10 @@ def bkm12_energy_q(
 def bkm12_F1_q(
     q: Sequence[sp.Expr], qdot: Sequence[sp.Expr], a: Sequence[sp.Expr], D: sp.Expr
 ) -> sp.Expr:
-    """BKM12-1.2b: ``F1 = Delta D^2 (q1 - q2)((1+q2) q1'^2/(q2^2 Phi(q1)) - (1+q1) q2'^2/(q1^2 Phi(q2)))``."""
+    """BKM12-1.2b: ``F1``.
+
+    ``F1 = Delta D^2 (q1 - q2)((1+q2) q1'^2/(q2^2 Phi(q1)) - (1+q1) q2'^2/(q1^2 Phi(q2)))``.
+    """
     q1, q2 = q
     d1, d2 = qdot
     return (
@@ -427,7 +443,10 @@ def bkm12_quadratures(
 
 
 def omega_from_gamma(gamma: sp.Matrix, gamma_dot: sp.Matrix, I: Sequence[sp.Expr]) -> sp.Matrix:
-    """BKM12-10: ``omega = k gamma' x I gamma``, ``k^-1 = (gamma, I gamma)`` (on ``(I omega, gamma) = 0``)."""
+    """BKM12-10: ``omega = k gamma' x I gamma``, ``k^-1 = (gamma, I gamma)``.
+
+    Valid on ``(I omega, gamma) = 0``.
+    """
     Ig = sp.diag(*I) * gamma
     return cross(gamma_dot, Ig) / dot(gamma, Ig)
 

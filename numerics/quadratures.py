@@ -233,9 +233,19 @@ def torus_quadratures(I, D, M, gamma, digits: int = 30) -> TorusQuadratures:
             for rng in ranges
         )
         out = TorusQuadratures(
-            h=+h, n=+n, lam1=+lam1, lam2=+lam2, roots=roots, ranges=tuple(ranges),
-            q0=q0, A=A, B=B, actions=actions, frequencies=nu,
-            rotation_number=B[1] / B[0], digits=digits,
+            h=+h,
+            n=+n,
+            lam1=+lam1,
+            lam2=+lam2,
+            roots=roots,
+            ranges=tuple(ranges),
+            q0=q0,
+            A=A,
+            B=B,
+            actions=actions,
+            frequencies=nu,
+            rotation_number=B[1] / B[0],
+            digits=digits,
             details={"q_star": -2 * lam1 / lam2, "a": a, "K": K, "c0": c0},
         )
     return out
@@ -333,8 +343,13 @@ def measured_rotation_number(
     n = int(t_end * samples_per_unit) + 1
     t_eval = np.linspace(0.0, t_end, n)
     res = integrate(
-        "chaplygin_ball", {"M": tuple(M), "gamma": tuple(gamma)}, (0.0, t_end),
-        {"I": tuple(I), "D": D}, rtol=rtol, atol=rtol, t_eval=t_eval,
+        "chaplygin_ball",
+        {"M": tuple(M), "gamma": tuple(gamma)},
+        (0.0, t_end),
+        {"I": tuple(I), "D": D},
+        rtol=rtol,
+        atol=rtol,
+        t_eval=t_eval,
     )
     if not res.success:
         raise RuntimeError(res.message)
@@ -366,6 +381,10 @@ def measured_rotation_number(
     value = float(np.sum(wts * inc[0]) / np.sum(wts * inc[1]))
     osc = tuple(float(abs(th[-1] - th[0]) / (2 * np.pi)) for th in thetas)
     return MeasuredRotation(
-        value=abs(value), counted=osc[0] / osc[1], oscillations=osc, drift=res.drift,
-        t_end=t_end, samples=n,
+        value=abs(value),
+        counted=osc[0] / osc[1],
+        oscillations=osc,
+        drift=res.drift,
+        t_end=t_end,
+        samples=n,
     )

@@ -14,14 +14,35 @@ from chaplygin.verify.claims import REGISTRY, select_claims
 from chaplygin.verify.verdict import check_claim
 
 PROVED = [
-    "K01-2.7", "K01-2.8", "K01-2.9", "K01-2.9.e3", "K01-2.10.C", "K01-2.10.gamma",
-    "K01-2.10.n", "K01-2.11", "K01-2.12", "BKM12-1.2a", "K01-2.14", "K01-2.15", "K01-2.16",
-    "K01-2.17", "K01-2.18", "K01-2.22", "BKM12-8", "BKM12-10", "BKM12-1.2b.H",
-    "BKM12-1.2b.F1", "BKM12-11", "BKM12-RemEis",
+    "K01-2.7",
+    "K01-2.8",
+    "K01-2.9",
+    "K01-2.9.e3",
+    "K01-2.10.C",
+    "K01-2.10.gamma",
+    "K01-2.10.n",
+    "K01-2.11",
+    "K01-2.12",
+    "BKM12-1.2a",
+    "K01-2.14",
+    "K01-2.15",
+    "K01-2.16",
+    "K01-2.17",
+    "K01-2.18",
+    "K01-2.22",
+    "BKM12-8",
+    "BKM12-10",
+    "BKM12-1.2b.H",
+    "BKM12-1.2b.F1",
+    "BKM12-11",
+    "BKM12-RemEis",
 ]
 REFUTED = [
-    "K01-2.7/control-sign", "K01-2.10/control-(L,gamma)", "K01-2.10/control-sign",
-    "K01-2.15/literal", "K01-2.16/literal",
+    "K01-2.7/control-sign",
+    "K01-2.10/control-(L,gamma)",
+    "K01-2.10/control-sign",
+    "K01-2.15/literal",
+    "K01-2.16/literal",
 ]
 
 
@@ -74,8 +95,9 @@ def test_bracket_flow_matches_generated_code_numerically():
         rho = rho_f(*gv, *params)
         # dL/dtau = (rho'/rho) M + M', rho' from the gamma rate (numerically, by chain rule)
         eps = 1e-7
-        rho_dot = (rho_f(*(gv + eps * rhs[3:]), *params) - rho_f(*(gv - eps * rhs[3:]), *params)) / (
-            2 * eps)
+        rho_dot = (
+            rho_f(*(gv + eps * rhs[3:]), *params) - rho_f(*(gv - eps * rhs[3:]), *params)
+        ) / (2 * eps)
         expected = np.concatenate([rho_dot / rho * M + rhs[:3], rhs[3:] / rho])
         got = np.array(f(*(rho * M), *gv, *params), dtype=float)
         assert np.allclose(got, expected, rtol=1e-7, atol=1e-9)

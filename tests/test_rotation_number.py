@@ -17,8 +17,11 @@ I_K01 = (1, 1.5, 3)  # K01-Fig1
 D_K01 = 1
 #: Three tori at (M, gamma) = 0: the first has q* in (a2, a1) (q1 turns at q*), the
 #: other two q* in (a3, a2) (q2 turns at q*).
-STATES = [((0.6, 0.0, 0.8), (0.8, 0.5, -0.6)), ((0.3, 0.5, 0.8), (0.1, -0.7, 0.4)),
-          ((0.7, 0.6, 0.2), (-0.2, 0.3, 0.9))]
+STATES = [
+    ((0.6, 0.0, 0.8), (0.8, 0.5, -0.6)),
+    ((0.3, 0.5, 0.8), (0.1, -0.7, 0.4)),
+    ((0.7, 0.6, 0.2), (-0.2, 0.3, 0.9)),
+]
 
 
 def _state(gv, mv):
@@ -53,8 +56,11 @@ def test_quadrature_digits_by_two_precisions():
     a = torus_quadratures(I_K01, D_K01, M, g, digits=30)
     with mpmath.workdps(50):
         b = torus_quadratures(I_K01, D_K01, M, g, digits=45)
-        for x, y in [(a.rotation_number, b.rotation_number), *zip(a.actions, b.actions),
-                     *zip(a.frequencies, b.frequencies)]:
+        for x, y in [
+            (a.rotation_number, b.rotation_number),
+            *zip(a.actions, b.actions, strict=False),
+            *zip(a.frequencies, b.frequencies, strict=False),
+        ]:
             assert abs(x - y) <= mpmath.mpf(10) ** -28 * abs(y)
 
 
@@ -63,8 +69,9 @@ def test_polyroots_find_the_closed_form_roots():
     M, g = _state(*STATES[1])
     tq = torus_quadratures(I_K01, D_K01, M, g, digits=30)
     with mpmath.workdps(30):
-        expected = sorted([mpmath.mpf(1) / x for x in I_K01] + [mpmath.mpf(-1) / D_K01,
-                                                                  tq.details["q_star"]])
+        expected = sorted(
+            [mpmath.mpf(1) / x for x in I_K01] + [mpmath.mpf(-1) / D_K01, tq.details["q_star"]]
+        )
         roots = separation_roots(tq.lam1, tq.lam2, tq.details["a"], mpmath.mpf(D_K01))
         assert len(roots) == 5
         for r, e in zip(roots, expected, strict=True):
@@ -87,8 +94,13 @@ def test_printed_limits_are_wrong(k):
     with mpmath.workdps(30):
         assert abs(qs - 2 * tq.h / (tq.n - 2 * D_K01 * tq.h)) < mpmath.mpf(10) ** -25
         witness = (a2 + qs) / 2  # inside one printed range
-        R = (2 * tq.lam1 + witness * tq.lam2) * (witness - a1) * (witness - a2) * (
-            witness - a3) * (1 + D_K01 * witness)
+        R = (
+            (2 * tq.lam1 + witness * tq.lam2)
+            * (witness - a1)
+            * (witness - a2)
+            * (witness - a3)
+            * (1 + D_K01 * witness)
+        )
         assert R < 0
         # the true ranges: R >= 0 at their midpoints, and one of them ends at q*
         for lo, hi in tq.ranges:
@@ -98,7 +110,8 @@ def test_printed_limits_are_wrong(k):
         ends = [x for rng in tq.ranges for x in rng]
         assert min(abs(x - qs) for x in ends) < mpmath.mpf(10) ** -25
         assert all(abs(x - a2) > mpmath.mpf(10) ** -5 for x in (tq.ranges[0][0],)) or all(
-            abs(x - a2) > mpmath.mpf(10) ** -5 for x in (tq.ranges[1][1],))
+            abs(x - a2) > mpmath.mpf(10) ** -5 for x in (tq.ranges[1][1],)
+        )
 
 
 def test_frequencies_and_rotation_number_are_consistent():

@@ -248,7 +248,7 @@ class _Octant:
 
     def inverse(self, x: dict) -> dict:
         if len(x) == 1:
-            (k, v), = x.items()
+            ((k, v),) = x.items()
             c = 1 / v
             for i in range(3):
                 if k[i]:
@@ -353,8 +353,9 @@ def _momentum_map_poisson(model: Model) -> Check:
                 e = br(V[i], W[j])
                 for k in range(3):
                     if sp.LeviCivita(i, j, k):
-                        e = alg.add(e, alg.mul({(0, 0, 0): alg.K(int(sp.LeviCivita(i, j, k)))},
-                                               W[k]))
+                        e = alg.add(
+                            e, alg.mul({(0, 0, 0): alg.K(int(sp.LeviCivita(i, j, k)))}, W[k])
+                        )
                 exprs += alg.pieces(e)
     return Check(exprs, free=[_q1, _q2, _p1, _p2, *_a], note=_PIECES)
 
@@ -421,8 +422,10 @@ def _abel_jacobi(model: Model) -> Check:
     qdot = hz.quadrature_derivatives(q, p, _a, D)
     sqrtR = [(2 * lam1 + qi * lam2) * sp.sqrt(K) / (2 * pi) for qi, pi in zip(q, p, strict=True)]
     # the branch is a square root of R: check it
-    exprs = [sp.together(sqrtR[i] ** 2 - hz.separation_polynomial(q[i], lam1, lam2, _a, D))
-             for i in range(2)]
+    exprs = [
+        sp.together(sqrtR[i] ** 2 - hz.separation_polynomial(q[i], lam1, lam2, _a, D))
+        for i in range(2)
+    ]
     c0 = 2 / sp.sqrt(K)
     exprs.append(sp.together(qdot[0] / sqrtR[0] + qdot[1] / sqrtR[1] - c0))
     exprs.append(sp.together(q[0] * qdot[0] / sqrtR[0] + q[1] * qdot[1] / sqrtR[1]))
@@ -482,8 +485,7 @@ def _bkm12_12b(which: str):
             e = dot(M, w) / 2 - hz.bkm12_energy_q((_q1, _q2), (d1, d2), _a, D)
         else:
             e = dot(M, M) - hz.bkm12_F1_q((_q1, _q2), (d1, d2), _a, D)
-        return Check(alg.pieces(alg.convert(e, known)), free=[d1, d2, _q1, _q2, *_a],
-                     note=_PIECES)
+        return Check(alg.pieces(alg.convert(e, known)), free=[d1, d2, _q1, _q2, *_a], note=_PIECES)
 
     return build
 
@@ -581,7 +583,8 @@ def _claims():
         "K01-2.10.C",
         S22,
         "integral",
-        "C = (L, gamma)/rho is a Casimir of (2.9); at L = rho M it is the constant of areas (M, gamma)",
+        "C = (L, gamma)/rho is a Casimir of (2.9); at L = rho M it is the constant of areas "
+        "(M, gamma)",
         BALL,
         (),
         _casimir("C"),
