@@ -329,12 +329,21 @@ def _bkm12_spheroconical(model: Model) -> Check:
     return Check(exprs, free=[q1, q2])
 
 
-def _momentum_map_poisson(model: Model) -> Check:
-    """(2.13): canonical (q, p) -> (M, gamma) preserves the e(3) brackets; (M, gamma) = 0."""
+def _momentum_map_closed_form(model: Model) -> Check:
+    """(2.13) equals its closed form (used by the other checks); (M, gamma) = 0."""
     alg = _Octant([_q1, _q2, _p1, _p2, *_a])
     Mg = _momentum_map_G()
     general = hz.momentum_map((_p1, _p2), (_q1, _q2), _G, _a)
     exprs = [p for e in general - Mg for p in alg.pieces(alg.convert(e))]
+    exprs += alg.pieces(alg.convert(dot(Mg, _G)))
+    return Check(exprs, free=[_q1, _q2, _p1, _p2, *_a], note=_PIECES)
+
+
+def _momentum_map_poisson(model: Model) -> Check:
+    """(2.13): canonical (q, p) -> (M, gamma) preserves the e(3) brackets."""
+    alg = _Octant([_q1, _q2, _p1, _p2, *_a])
+    Mg = _momentum_map_G()
+    exprs: list[sp.Expr] = []
     M = [alg.convert(e) for e in Mg]
     G = [alg.convert(e) for e in _G]
     neg = {(0, 0, 0): -alg.K.one}
@@ -346,10 +355,11 @@ def _momentum_map_poisson(model: Model) -> Check:
             out = alg.add(out, alg.mul(neg, alg.mul(alg.diff(F, pk), alg.diff(H, qk))))
         return out
 
-    exprs += alg.pieces(alg.convert(dot(Mg, _G)))
     for i in range(3):
         for j in range(3):
             for V, W in ((M, M), (M, G)):
+                if V is W and i >= j:  # antisymmetric
+                    continue
                 e = br(V[i], W[j])
                 for k in range(3):
                     if sp.LeviCivita(i, j, k):
@@ -661,8 +671,19 @@ def _claims():
         "K01-2.13",
         S22,
         "transformation",
-        "M = p1 (dq1/dgamma x gamma) + p2 (dq2/dgamma x gamma) maps canonical (q, p) onto the "
-        "e(3) leaf (M, gamma) = 0 as a Poisson map",
+        "M = p1 (dq1/dgamma x gamma) + p2 (dq2/dgamma x gamma) lies on the leaf (M, gamma) = 0; "
+        "M_i = 2 (a_j - a_l) gamma_j gamma_l ((a_i - q1) p1 - (a_i - q2) p2)/(q1 - q2), "
+        "(i, j, l) cyclic",
+        BALL,
+        (),
+        _momentum_map_closed_form,
+    )
+    yield Claim(
+        "K01-2.13.poisson",
+        S22,
+        "transformation",
+        "(q, p) -> (M, gamma) of (2.13) is a Poisson map from the canonical bracket onto e(3): "
+        "{M_i, M_j} = -eps_ijk M_k, {M_i, gamma_j} = -eps_ijk gamma_k",
         BALL,
         (),
         _momentum_map_poisson,
