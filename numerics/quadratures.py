@@ -193,13 +193,30 @@ def torus_quadratures(I, D, M, gamma, digits: int = 30) -> TorusQuadratures:
         roots = separation_roots(lam1, lam2, a, D)
         coeffs = _R_coefficients()(lam1, lam2, *a, D)
         lead = coeffs[0]
+        # q1 oscillates in [a2, a1], q2 in [a3, a2] (K01-2.11); inside each, between the
+        # consecutive roots of R where R > 0 (p^2 >= 0; the extra root q* splits one of
+        # them). Chosen by the sign of R, so a state with q_i on a root (gamma_2 = 0 ...)
+        # is handled too.
+        tol = mpmath.mpf(10) ** (-digits // 2)
+
+        def R_at(q):
+            out = mpmath.mpf(0)
+            for c in coeffs:
+                out = out * q + c
+            return out
+
         ranges = []
-        for qi in q0:
-            below = [r for r in roots if r <= qi]
-            above = [r for r in roots if r >= qi]
-            if not below or not above:
-                raise UserInputError("no range of R contains the state's coordinate")
-            ranges.append((below[-1], above[0]))
+        for lo_a, hi_a in ((a[1], a[0]), (a[2], a[1])):
+            inside = [r for r in roots if lo_a - tol * (1 + abs(lo_a)) <= r]
+            inside = [r for r in inside if r <= hi_a + tol * (1 + abs(hi_a))]
+            good = [
+                (lo, hi)
+                for lo, hi in zip(inside[:-1], inside[1:], strict=True)
+                if hi - lo > tol and R_at((lo + hi) / 2) > 0
+            ]
+            if len(good) != 1:
+                raise UserInputError("critical torus: no single oscillation range of R")
+            ranges.append(good[0])
         for lo, hi in ranges:
             if hi - lo <= mpmath.mpf(10) ** (-digits // 3) * (1 + abs(hi)):
                 raise UserInputError("critical torus: a range of R has collapsed")

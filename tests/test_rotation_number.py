@@ -137,3 +137,22 @@ def test_frequencies_and_rotation_number_are_consistent():
 def test_bad_input_is_refused(args, match):
     with pytest.raises(UserInputError, match=match.replace("(", r"\(").replace(")", r"\)")):
         torus_quadratures(*args)
+
+
+def test_printed_rotation_number_is_not_real():
+    """K01-2.26/literal, 2.27/literal: with the printed limits [a3, a2], [a2, a1] the
+    integral int q dq/sqrt(R) over the range that contains q* is not real (R < 0 on part
+    of it), so the printed ratio is not the rotation number; the corrected one is real."""
+    M, g = _state(*STATES[0])
+    tq = torus_quadratures(I_K01, D_K01, M, g, digits=20)
+    a1, a2, a3 = tq.details["a"]
+    qs = tq.details["q_star"]
+    with mpmath.workdps(20):
+
+        def R(q):
+            return (2 * tq.lam1 + q * tq.lam2) * (q - a1) * (q - a2) * (q - a3) * (1 + q)
+
+        lo, hi = (a2, a1) if qs > a2 else (a3, a2)
+        val = mpmath.quad(lambda q: q / mpmath.sqrt(R(q)), [lo, qs, hi])
+        assert abs(mpmath.im(val)) > mpmath.mpf(10) ** -3 * abs(val)
+        assert mpmath.im(tq.rotation_number) == 0 and tq.rotation_number > 0
