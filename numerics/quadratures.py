@@ -307,6 +307,11 @@ class MeasuredRotation:
         Oscillation counts (phase / 2 pi) of q1 over q2 without weights (cruder).
     oscillations : (float, float)
         Number of oscillations of q1 and q2 in the time span.
+    frequencies_t : (float, float)
+        Oscillations of q1, q2 per unit of the time t (weighted Birkhoff averages).
+    mean_rho : float
+        Weighted Birkhoff average of K01's ``rho`` along the trajectory: ``tau/t`` in the
+        long run (K01-2.7), so ``frequencies_t / mean_rho`` are the frequencies in tau.
     drift : dict
         Drift of the first integrals of the integration.
     t_end : float
@@ -316,6 +321,8 @@ class MeasuredRotation:
     value: float
     counted: float
     oscillations: tuple
+    frequencies_t: tuple
+    mean_rho: float
     drift: dict
     t_end: float
     samples: int
@@ -397,10 +404,16 @@ def measured_rotation_number(
     inc = [np.diff(th) for th in thetas]
     value = float(np.sum(wts * inc[0]) / np.sum(wts * inc[1]))
     osc = tuple(float(abs(th[-1] - th[0]) / (2 * np.pi)) for th in thetas)
+    dt = t_eval[1] - t_eval[0]
+    freq_t = tuple(float(abs(np.sum(wts * d)) / (2 * np.pi * dt * np.sum(wts))) for d in inc)
+    rho = 1.0 / np.sqrt(1.0 - D * np.sum(A[:, None] * g * g, axis=0))  # K01-2.2
+    mean_rho = float(np.sum(wts * rho[:-1]) / np.sum(wts))
     return MeasuredRotation(
         value=abs(value),
         counted=osc[0] / osc[1],
         oscillations=osc,
+        frequencies_t=freq_t,
+        mean_rho=mean_rho,
         drift=res.drift,
         t_end=t_end,
         samples=n,

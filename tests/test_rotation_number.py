@@ -48,6 +48,14 @@ def test_rotation_number_quadrature_matches_simulation(k):
     assert abs(measured.value - predicted) < 1e-6
     # the unweighted count is much cruder (error ~ 1/oscillations), but consistent
     assert abs(measured.counted - predicted) < 2 / min(measured.oscillations)
+    # frequencies in tau (K01-2.26 with the true limits, c0 = 2/sqrt(K) of K01-2.22):
+    # measured per unit t, divided by the mean of rho (tau/t in the long run, K01-2.7)
+    tq = torus_quadratures(I_K01, D_K01, M, g, digits=30)
+    for nu, nu_t in zip(tq.frequencies, measured.frequencies_t, strict=True):
+        assert abs(float(nu) - nu_t / measured.mean_rho) < 1e-6 * float(nu)
+        # control: K01's own normalisation c0 = 1 is off by sqrt(K)/2 (5 % here)
+        wrong = float(nu / tq.details["c0"])
+        assert abs(wrong - nu_t / measured.mean_rho) > 1e-2 * wrong
 
 
 def test_quadrature_digits_by_two_precisions():
