@@ -164,3 +164,21 @@ def test_printed_rotation_number_is_not_real():
         val = mpmath.quad(lambda q: q / mpmath.sqrt(R(q)), [lo, qs, hi])
         assert abs(mpmath.im(val)) > mpmath.mpf(10) ** -3 * abs(val)
         assert mpmath.im(tq.rotation_number) == 0 and tq.rotation_number > 0
+
+
+def test_cli_rotation(capsys):
+    """``chaplygin rotation`` prints the quadratures; bad input: one line, exit 2."""
+    import json
+
+    from chaplygin.verify.cli import main
+
+    args = ["rotation", "--I", "1,1.5,3", "--D", "1", "--M", "0.8,0.5,-0.6"]
+    assert main([*args, "--gamma", "0.6,0,0.8", "--digits", "20", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    M, g = (0.8, 0.5, -0.6), (0.6, 0.0, 0.8)
+    expected = rotation_number(I_K01, D_K01, M, g, digits=20)
+    assert abs(float(out["rotation_number"]) - float(expected)) < 1e-15
+    assert main([*args, "--gamma", "1,0,0"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "(M, gamma) = 0" in err
+    assert main([*args, "--gamma", "__import__('os')"]) == 2
