@@ -83,14 +83,15 @@ def test_control_witness_is_a_phase_space_point_where_the_residual_is_not_zero(c
     claim = REGISTRY[claim_id]
     v = _verdict(claim_id)
     model = claim.model()
-    # a residual need not involve every state variable (generic-surface models)
-    names = model.state + model.params
+    check = claim.build(model)
+    # a residual need not involve every state variable (generic-surface models); free
+    # variables of the check (momenta, coordinates) carry their witness values too
+    names = model.state + model.params + tuple(check.free)
     point = {s: sp.Rational(v.witness[s.name]) for s in names if s.name in v.witness}
     # the witness lies exactly on the phase space (unit gamma, the surface ...)
     assert all(sp.nsimplify(c.xreplace(point)) == 0 for c in model.constraints)
     positive = [s for spec in model.parameters if spec.domain == "positive" for s in spec.symbols]
     assert all(point[s] > 0 for s in positive if s in point)  # a physical body
-    check = claim.build(model)
     # a refuted claim's residual comes from the last check decided (its fallback)
     while check.fallback is not None:
         check = check.fallback

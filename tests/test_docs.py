@@ -7,7 +7,11 @@ import importlib
 
 import pytest
 
-MODULES = ["chaplygin.derive.chaplygin_ball", "chaplygin.numerics.integrate"]
+MODULES = [
+    "chaplygin.derive.chaplygin_ball",
+    "chaplygin.numerics.integrate",
+    "chaplygin.numerics.quadratures",
+]
 
 
 @pytest.mark.parametrize("name", MODULES)

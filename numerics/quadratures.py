@@ -1,0 +1,420 @@
+"""Action variables, frequencies and the rotation number at zero constant of areas.
+
+Quadratures (K01-2.23, 2.26, 2.27 with the true turning points): on the torus of a state
+with ``(M, gamma) = 0`` the sphero-conical coordinates oscillate between consecutive real
+roots of ``R(q) = (2 lam1 + q lam2)(q - a1)(q - a2)(q - a3)(1 + D q)`` (K01-2.17,
+``a_i = 1/I_i``, ``lam1 = h``, ``lam2 = 2 D h - n``, K01-2.18), found with
+``mpmath.polyroots`` at the working precision. One of the two ranges ends at the extra
+root ``q* = -2 lam1/lam2``, not at ``a2`` as K01 prints (FORMULAS.md K01-2.23).
+
+With ``A_i = int dq/sqrt(R)`` and ``B_i = int q dq/sqrt(R)`` over the range of ``q_i``, the
+Abel–Jacobi equations (K01-2.22) give the frequencies (oscillations per unit of the time
+``tau`` of K01-2.7) ``nu1 = c0 B2/(2 (A2 B1 - A1 B2))``, ``nu2 = c0 B1/(2 (A2 B1 - A1 B2))``,
+``c0 = 2/sqrt(prod(1 + D a_i))``, and the rotation number ``nu1/nu2 = B2/B1`` (K01-2.27,
+corrected limits; independent of the time change). The substitution
+``q = m + r sin(theta)`` removes the endpoint singularities, so Gauss–Legendre
+quadrature converges exponentially.
+
+:func:`measured_rotation_number` measures the same number from an integrated trajectory
+(DOP853, double precision): the phase of each coordinate's oscillation in the plane
+``(q_i - c_i, q_i')`` is unwrapped and its weighted Birkhoff average (smooth bump weight,
+super-polynomial convergence on a non-resonant torus) gives the ratio.
+
+References
+----------
+K01-2.17, K01-2.18, K01-2.22, K01-2.23, K01-2.26, K01-2.27
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import lru_cache
+
+import mpmath
+import numpy as np
+import sympy as sp
+
+from ..derive import hamiltonisation as hz
+from ..derive.errors import UserInputError
+from .code import load_model_code
+
+__all__ = [
+    "TorusQuadratures",
+    "torus_quadratures",
+    "rotation_number",
+    "measured_rotation_number",
+    "MeasuredRotation",
+    "spheroconical_coordinates",
+    "separation_roots",
+]
+
+
+@lru_cache(maxsize=1)
+def _R_coefficients():
+    """Coefficients of R(q) (highest first) as an mpmath function of (lam1, lam2, a, D)."""
+    q, l1, l2, D = sp.symbols("q lam1 lam2 D")
+    a = sp.symbols("a1:4")
+    poly = sp.Poly(sp.expand(hz.separation_polynomial(q, l1, l2, a, D)), q)
+    return sp.lambdify((l1, l2, *a, D), poly.all_coeffs(), modules="mpmath")
+
+
+@dataclass
+class TorusQuadratures:
+    """Quadratures of one torus at ``(M, gamma) = 0``.
+
+    Attributes
+    ----------
+    h, n : mpf
+        Energy ``(M, omega)/2`` and ``(M, M)``.
+    lam1, lam2 : mpf
+        Separation constants (K01-2.18).
+    roots : list of mpf
+        Real roots of R, ascending.
+    ranges : ((lo1, hi1), (lo2, hi2))
+        Oscillation ranges of ``q1`` and ``q2`` (consecutive roots of R).
+    q0 : (mpf, mpf)
+        Sphero-conical coordinates of the state.
+    A, B : (mpf, mpf)
+        ``int dq/sqrt(R)`` and ``int q dq/sqrt(R)`` over each range.
+    actions : (mpf, mpf)
+        ``oint p_i dq_i`` with the canonical momenta of K01-2.13.
+    frequencies : (mpf, mpf)
+        Oscillations of ``q1``, ``q2`` per unit of ``tau`` (K01-2.7).
+    rotation_number : mpf
+        ``nu1/nu2 = B2/B1``.
+    digits : int
+        Working precision.
+    """
+
+    h: object
+    n: object
+    lam1: object
+    lam2: object
+    roots: list
+    ranges: tuple
+    q0: tuple
+    A: tuple
+    B: tuple
+    actions: tuple
+    frequencies: tuple
+    rotation_number: object
+    digits: int
+    details: dict = field(default_factory=dict)
+
+
+def spheroconical_coordinates(gamma, a):
+    """``q1 > q2``: the roots of ``sum_i gamma_i^2 prod_{j!=i}(a_j - x) = 0`` (K01-2.11).
+
+    On the sphere the polynomial is ``x^2 - s x + p``.
+    """
+    g2 = [g * g for g in gamma]
+    norm = g2[0] + g2[1] + g2[2]
+    s = (g2[0] * (a[1] + a[2]) + g2[1] * (a[0] + a[2]) + g2[2] * (a[0] + a[1])) / norm
+    p = (g2[0] * a[1] * a[2] + g2[1] * a[0] * a[2] + g2[2] * a[0] * a[1]) / norm
+    disc = s * s - 4 * p
+    if isinstance(disc, np.ndarray):
+        r = np.sqrt(np.maximum(disc, 0.0))
+    else:
+        r = mpmath.sqrt(disc) if disc > 0 else 0 * disc
+    return (s + r) / 2, (s - r) / 2
+
+
+def separation_roots(lam1, lam2, a, D) -> list:
+    """Real roots of R (K01-2.17), ascending, by ``mpmath.polyroots`` at the working precision."""
+    coeffs = _R_coefficients()(lam1, lam2, *a, D)
+    roots = mpmath.polyroots(coeffs, maxsteps=200, extraprec=2 * mpmath.mp.prec)
+    tol = mpmath.mpf(10) ** (-mpmath.mp.dps // 2)
+    return sorted(mpmath.re(r) for r in roots if abs(mpmath.im(r)) <= tol * (1 + abs(r)))
+
+
+def _state(I, D, M, gamma, dps):
+    try:
+        I = [mpmath.mpf(x) for x in I]  # noqa: E741
+        D = mpmath.mpf(D)
+        M = [mpmath.mpf(x) for x in M]
+        gamma = [mpmath.mpf(x) for x in gamma]
+    except (TypeError, ValueError) as exc:
+        raise UserInputError(f"I, D, M, gamma must be numbers: {exc}") from None
+    if len(I) != 3 or len(M) != 3 or len(gamma) != 3:
+        raise UserInputError("I, M and gamma need three components each")
+    if min(I) <= 0 or D <= 0:
+        raise UserInputError("the inertia I and D must be positive")
+    if not (I[0] < I[1] < I[2]):
+        raise UserInputError("sphero-conical coordinates need I1 < I2 < I3 (K01-2.11)")
+    ng = mpmath.sqrt(sum(g * g for g in gamma))
+    if abs(ng - 1) > mpmath.mpf(10) ** (-8):
+        raise UserInputError(f"gamma must be a unit vector, |gamma| = {mpmath.nstr(ng, 10)}")
+    gamma = [g / ng for g in gamma]
+    C = sum(m * g for m, g in zip(M, gamma, strict=True))
+    scale = mpmath.sqrt(sum(m * m for m in M))
+    if abs(C) > mpmath.mpf(10) ** (-8) * max(scale, 1):
+        raise UserInputError(
+            f"the quadratures need (M, gamma) = 0 (K01 §2.2), got {mpmath.nstr(C, 6)}"
+        )
+    M = [m - C * g for m, g in zip(M, gamma, strict=True)]
+    return I, D, M, gamma
+
+
+def torus_quadratures(I, D, M, gamma, digits: int = 30) -> TorusQuadratures:
+    """Quadratures of the torus through ``(M, gamma)`` with ``(M, gamma) = 0``.
+
+    Parameters
+    ----------
+    I : three numbers, ``I1 < I2 < I3``
+    D : number
+    M, gamma : three numbers each; ``gamma`` a unit vector, ``(M, gamma) = 0``
+    digits : int
+        Working precision (decimal digits).
+
+    Returns
+    -------
+    TorusQuadratures
+
+    Raises
+    ------
+    UserInputError
+        Non-physical parameters, ``(M, gamma) != 0``, or a state on a critical torus
+        (a range whose ends are not two simple roots of R).
+
+    References
+    ----------
+    K01-2.17, K01-2.18, K01-2.22, K01-2.23, K01-2.26, K01-2.27
+    """
+    if not isinstance(digits, int) or digits < 15:
+        raise UserInputError("digits must be an integer >= 15")
+    with mpmath.workdps(digits + 10):
+        I, D, M, gamma = _state(I, D, M, gamma, digits)  # noqa: E741
+        code = load_model_code("chaplygin_ball", ())
+        vals = code.mpmath.integrals(mpmath.mpf(0), list(M) + list(gamma), list(I) + [D])
+        h, n = vals[code.integral_names.index("H")], vals[code.integral_names.index("(M,M)")]
+        lam1, lam2 = h, 2 * D * h - n  # K01-2.18
+        a = [1 / x for x in I]
+        q0 = spheroconical_coordinates(gamma, a)
+        roots = separation_roots(lam1, lam2, a, D)
+        coeffs = _R_coefficients()(lam1, lam2, *a, D)
+        lead = coeffs[0]
+        # q1 oscillates in [a2, a1], q2 in [a3, a2] (K01-2.11); inside each, between the
+        # consecutive roots of R where R > 0 (p^2 >= 0; the extra root q* splits one of
+        # them). Chosen by the sign of R, so a state with q_i on a root (gamma_2 = 0 ...)
+        # is handled too.
+        tol = mpmath.mpf(10) ** (-digits // 2)
+
+        def R_at(q):
+            out = mpmath.mpf(0)
+            for c in coeffs:
+                out = out * q + c
+            return out
+
+        ranges = []
+        for lo_a, hi_a in ((a[1], a[0]), (a[2], a[1])):
+            inside = [r for r in roots if lo_a - tol * (1 + abs(lo_a)) <= r]
+            inside = [r for r in inside if r <= hi_a + tol * (1 + abs(hi_a))]
+            good = [
+                (lo, hi)
+                for lo, hi in zip(inside[:-1], inside[1:], strict=True)
+                if hi - lo > tol and R_at((lo + hi) / 2) > 0
+            ]
+            if len(good) != 1:
+                raise UserInputError("critical torus: no single oscillation range of R")
+            ranges.append(good[0])
+        for lo, hi in ranges:
+            if hi - lo <= mpmath.mpf(10) ** (-digits // 3) * (1 + abs(hi)):
+                raise UserInputError("critical torus: a range of R has collapsed")
+
+        def integral(k, rng, weight=None):
+            lo, hi = rng
+            m, r = (lo + hi) / 2, (hi - lo) / 2
+            others = [x for x in roots if x not in (lo, hi)]
+            # R = lead (q - lo)(q - hi) prod (q - other) = -lead r^2 cos^2 th prod(...)
+            # on the range; dq/sqrt(R) = d th / sqrt(-lead prod (q - other)).
+
+            def f(th):
+                q = m + r * mpmath.sin(th)
+                rest = -lead
+                for x in others:
+                    rest *= q - x
+                w = q**k if weight is None else weight(q)
+                return w / mpmath.sqrt(rest)
+
+            return mpmath.quad(f, [-mpmath.pi / 2, 0, mpmath.pi / 2], method="gauss-legendre")
+
+        A = tuple(integral(0, rng) for rng in ranges)
+        B = tuple(integral(1, rng) for rng in ranges)
+        K = (1 + D * a[0]) * (1 + D * a[1]) * (1 + D * a[2])
+        c0 = 2 / mpmath.sqrt(K)
+        den = 2 * (A[1] * B[0] - A[0] * B[1])
+        nu = (c0 * B[1] / den, c0 * B[0] / den)
+        # actions: oint p dq = 2 int sqrt(K)/2 |2 lam1 + q lam2|/sqrt(R) dq
+        actions = tuple(
+            mpmath.sqrt(K) * integral(0, rng, weight=lambda q: abs(2 * lam1 + q * lam2))
+            for rng in ranges
+        )
+        out = TorusQuadratures(
+            h=+h,
+            n=+n,
+            lam1=+lam1,
+            lam2=+lam2,
+            roots=roots,
+            ranges=tuple(ranges),
+            q0=q0,
+            A=A,
+            B=B,
+            actions=actions,
+            frequencies=nu,
+            rotation_number=B[1] / B[0],
+            digits=digits,
+            details={"q_star": -2 * lam1 / lam2, "a": a, "K": K, "c0": c0},
+        )
+    return out
+
+
+def rotation_number(I, D, M, gamma, digits: int = 30):
+    """Rotation number ``nu1/nu2`` (oscillations of ``q1`` per oscillation of ``q2``).
+
+    Parameters
+    ----------
+    I, D, M, gamma, digits
+        As for :func:`torus_quadratures`.
+
+    Returns
+    -------
+    mpmath.mpf
+
+    References
+    ----------
+    K01-2.27 (with the true turning points, FORMULAS.md)
+
+    Examples
+    --------
+    >>> import mpmath
+    >>> g = (mpmath.mpf("0.6"), mpmath.mpf("0.0"), mpmath.mpf("0.8"))
+    >>> nu = rotation_number((1, 1.5, 3), 1, (0.8, 0.5, -0.6), g, digits=20)
+    >>> 0 < nu < 2
+    True
+    """
+    return torus_quadratures(I, D, M, gamma, digits).rotation_number
+
+
+@dataclass
+class MeasuredRotation:
+    """Rotation number measured from an integrated trajectory.
+
+    Attributes
+    ----------
+    value : float
+        Weighted Birkhoff average of the phase increments of q1 over those of q2.
+    counted : float
+        Oscillation counts (phase / 2 pi) of q1 over q2 without weights (cruder).
+    oscillations : (float, float)
+        Number of oscillations of q1 and q2 in the time span.
+    frequencies_t : (float, float)
+        Oscillations of q1, q2 per unit of the time t (weighted Birkhoff averages).
+    mean_rho : float
+        Weighted Birkhoff average of K01's ``rho`` along the trajectory: ``tau/t`` in the
+        long run (K01-2.7), so ``frequencies_t / mean_rho`` are the frequencies in tau.
+    drift : dict
+        Drift of the first integrals of the integration.
+    t_end : float
+    samples : int
+    """
+
+    value: float
+    counted: float
+    oscillations: tuple
+    frequencies_t: tuple
+    mean_rho: float
+    drift: dict
+    t_end: float
+    samples: int
+
+
+def _bump(s):
+    out = np.zeros_like(s)
+    inside = (s > 0) & (s < 1)
+    x = s[inside]
+    out[inside] = np.exp(-1.0 / (x * (1.0 - x)))
+    return out
+
+
+def measured_rotation_number(
+    I, D, M, gamma, t_end: float, samples_per_unit: float = 40.0, rtol: float = 1e-12
+) -> MeasuredRotation:
+    """Measure ``nu1/nu2`` from a trajectory integrated in double precision (DOP853).
+
+    The phase of ``q_i`` is the angle of ``(q_i - c_i, s_i q_i')`` (``c_i`` the middle of
+    the observed range, ``s_i`` a scale), unwrapped; the ratio of the weighted Birkhoff
+    sums ``sum w_k (theta_i(t_{k+1}) - theta_i(t_k))`` with the bump weight
+    ``w = exp(-1/(s (1 - s)))``, ``s = t/t_end``, converges faster than any power of the
+    number of oscillations on a non-resonant torus (Das, Sander, Yorke et al.).
+
+    Parameters
+    ----------
+    I, D, M, gamma
+        Parameters and a state with ``(M, gamma) = 0``.
+    t_end : float
+        Length of the trajectory (time t).
+    samples_per_unit : float
+        Output samples per unit of time (must resolve every oscillation).
+    rtol : float
+        Relative tolerance of DOP853 (``atol = rtol``).
+
+    Returns
+    -------
+    MeasuredRotation
+    """
+    from .integrate import integrate
+
+    n = int(t_end * samples_per_unit) + 1
+    t_eval = np.linspace(0.0, t_end, n)
+    res = integrate(
+        "chaplygin_ball",
+        {"M": tuple(M), "gamma": tuple(gamma)},
+        (0.0, t_end),
+        {"I": tuple(I), "D": D},
+        rtol=rtol,
+        atol=rtol,
+        t_eval=t_eval,
+    )
+    if not res.success:
+        raise RuntimeError(res.message)
+    y = np.asarray(res.y, dtype=float)
+    Mv, g = y[:3], y[3:6]
+    Iv = np.asarray(I, dtype=float)
+    A = 1.0 / (Iv + D)
+    Z = np.sum(A[:, None] * Mv * g, axis=0) / (1.0 / D - np.sum(A[:, None] * g * g, axis=0))
+    w = A[:, None] * (Mv + Z * g)  # BKM12-3
+    gd = np.cross(g.T, w.T).T  # gamma' = gamma x omega
+    a = 1.0 / Iv
+    q1, q2 = spheroconical_coordinates(g, a)
+    thetas = []
+    for q in (q1, q2):
+        # dq/dt from P(q, gamma) = sum gamma_i^2 prod_{j!=i}(a_j - q) = 0
+        dP_dq = np.zeros_like(q)
+        dP_dt = np.zeros_like(q)
+        for i in range(3):
+            j, k = [m for m in range(3) if m != i]
+            dP_dq += g[i] ** 2 * (-(a[k] - q) - (a[j] - q))
+            dP_dt += 2 * g[i] * gd[i] * (a[j] - q) * (a[k] - q)
+        qd = -dP_dt / dP_dq
+        c = (q.max() + q.min()) / 2
+        s = (q.max() - q.min()) / 2 / max(np.abs(qd).max(), 1e-300)
+        th = np.unwrap(np.arctan2(s * qd, q - c))
+        thetas.append(th)
+    wts = _bump(t_eval / t_end)[:-1]
+    inc = [np.diff(th) for th in thetas]
+    value = float(np.sum(wts * inc[0]) / np.sum(wts * inc[1]))
+    osc = tuple(float(abs(th[-1] - th[0]) / (2 * np.pi)) for th in thetas)
+    dt = t_eval[1] - t_eval[0]
+    freq_t = tuple(float(abs(np.sum(wts * d)) / (2 * np.pi * dt * np.sum(wts))) for d in inc)
+    rho = 1.0 / np.sqrt(1.0 - D * np.sum(A[:, None] * g * g, axis=0))  # K01-2.2
+    mean_rho = float(np.sum(wts * rho[:-1]) / np.sum(wts))
+    return MeasuredRotation(
+        value=abs(value),
+        counted=osc[0] / osc[1],
+        oscillations=osc,
+        frequencies_t=freq_t,
+        mean_rho=mean_rho,
+        drift=res.drift,
+        t_end=t_end,
+        samples=n,
+    )

@@ -1,0 +1,96 @@
+"""``chaplygin rotation``: actions, frequencies and rotation number of a torus at (M, gamma) = 0.
+
+References
+----------
+K01-2.23, K01-2.26, K01-2.27 (with the true turning points, FORMULAS.md)
+"""
+
+from __future__ import annotations
+
+import json
+
+__all__ = ["add_parser"]
+
+
+def _vector(text: str, flag: str, n: int, dps: int) -> list:
+    from chaplygin.derive.errors import UserInputError
+    from chaplygin.numerics.inputs import parse_number
+
+    items = [s for s in str(text).split(",") if s.strip()]
+    if len(items) != n:
+        raise UserInputError(f"{flag} needs {n} comma-separated numbers, got {text!r}")
+    return [parse_number(s, dps) for s in items]
+
+
+def _cmd_rotation(args) -> int:
+    import mpmath
+    from chaplygin.derive.errors import UserInputError
+    from chaplygin.numerics.quadratures import measured_rotation_number, torus_quadratures
+
+    if args.digits < 15 or args.digits > 1000:
+        raise UserInputError("--digits must be between 15 and 1000")
+    dps = args.digits + 10
+    I = _vector(args.I, "--I", 3, dps)  # noqa: E741
+    D = _vector(args.D, "--D", 1, dps)[0]
+    M = _vector(args.M, "--M", 3, dps)
+    gamma = _vector(args.gamma, "--gamma", 3, dps)
+    if args.simulate is not None and not (0 < args.simulate < 1e6):
+        raise UserInputError("--simulate T needs 0 < T < 1e6")
+    tq = torus_quadratures(I, D, M, gamma, digits=args.digits)
+    d = args.digits
+
+    def s(x):
+        return mpmath.nstr(x, d)
+
+    out = {
+        "rotation_number": s(tq.rotation_number),
+        "frequencies_tau": [s(x) for x in tq.frequencies],
+        "actions": [s(x) for x in tq.actions],
+        "ranges": [[s(lo), s(hi)] for lo, hi in tq.ranges],
+        "q_star": s(tq.details["q_star"]),
+        "h": s(tq.h),
+        "n": s(tq.n),
+        "digits": d,
+    }
+    if args.simulate is not None:
+        mr = measured_rotation_number(
+            [float(x) for x in I],
+            float(D),
+            [float(x) for x in M],
+            [float(x) for x in gamma],
+            t_end=args.simulate,
+        )
+        out["measured"] = {
+            "rotation_number": mr.value,
+            "difference": float(tq.rotation_number) - mr.value,
+            "oscillations": list(mr.oscillations),
+            "drift_H": mr.drift["H"],
+        }
+    if args.json:
+        print(json.dumps(out, indent=1))
+    else:
+        for k, v in out.items():
+            print(f"{k:16s} {v}")
+    return 0
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser(
+        "rotation",
+        help="rotation number, frequencies and actions of a torus at (M, gamma) = 0 (K01-2.27)",
+    )
+    p._sub = "rotation"
+    p.add_argument("--I", required=True, help="I1,I2,I3 with I1 < I2 < I3")
+    p.add_argument("--D", required=True, help="D = m b^2")
+    p.add_argument("--M", required=True, help="M1,M2,M3 with (M, gamma) = 0")
+    p.add_argument("--gamma", required=True, help="gamma1,gamma2,gamma3 (unit vector)")
+    p.add_argument("--digits", type=int, default=30)
+    p.add_argument(
+        "--simulate",
+        type=float,
+        default=None,
+        metavar="T",
+        help="also measure it from a DOP853 trajectory of length T",
+    )
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=_cmd_rotation)
