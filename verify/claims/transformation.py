@@ -254,35 +254,53 @@ def _chaplygin(model: Model, root: int = 0, wrong_quadratic: bool = False):
     return n, E, C, Mg, f, vals
 
 
-def _bkm12_22_23(root: int, wrong: bool = False):
+F = sp.Symbol("f")
+
+
+def _bkm12_22(model: Model) -> Check:
+    """Every f = k tan phi: normalisations, (21), (20) and omega~ || omega."""
+    cm = chaplygin_map()
+    n = ball_notation(model)
+    E = _energy(model)
+    C, Mg = dot(n.M, n.M), dot(n.M, n.gamma)
+    sub = {cm.symbols["E"]: E, cm.symbols["D"]: n.D, cm.symbols["C"]: C,
+           cm.symbols["Mg"]: Mg, cm.symbols["f"]: F}
+    # m1, c1 are non-zero factors: u = M~/m1, v = gamma~/c1; m1^2, c1^2 are rational in f
+    m1sq, c1sq = (cm.m1**2).xreplace(sub), (cm.c1**2).xreplace(sub)
+    r_m, r_c = sp.cancel(cm.m2 / cm.m1).xreplace(sub), sp.cancel(cm.c2 / cm.c1).xreplace(sub)
+    Dt_inv, Et = cm.Dt_inv.xreplace(sub), cm.Et.xreplace(sub)
+    u = n.M + r_m * n.gamma
+    v = n.M + r_c * n.gamma
+    exprs = [m1sq * dot(u, u) - C, c1sq * dot(v, v) - 1]
+    exprs += [E + r_m * r_c / n.D, Dt_inv - c1sq * (E + r_c**2 / n.D)]
+    exprs += [Et - m1sq * (E + r_m**2 / n.D)]
+    return Check(exprs, free=[F], note="f free (every phi); m1, c1 enter through m1^2, c1^2; "
+                 "E = (M, omega) of the state; omega~ || omega for every phi is BKM12-1.4a")
+
+
+def _bkm12_23(wrong: bool = False):
     def build(model: Model) -> Check:
         cm = chaplygin_map()
-        n, E, C, Mg, f, (a1, a2, b1, b2, Dt_inv, Et) = _chaplygin(model, root, wrong)
+        n = ball_notation(model)
+        E = _energy(model)
         k2 = E * n.D
-        if wrong:
-            # the wrong root only: orthogonality must fail
-            Mt, gt = n.M - f * n.gamma, f * n.M + k2 * n.gamma
-            return Check([dot(Mt, gt)])
-        # m1, c1 are non-zero factors: u = M~/m1 = M - f gamma, v = gamma~/c1 = M + (k^2/f) gamma;
-        # m1^2, c1^2 are rational in f (the normalisations involve only them)
-        sub = {cm.symbols["E"]: E, cm.symbols["D"]: n.D, cm.symbols["C"]: C,
-               cm.symbols["Mg"]: Mg, cm.symbols["f"]: f}
-        m1sq, c1sq = (cm.m1**2).xreplace(sub), (cm.c1**2).xreplace(sub)
-        r_m, r_c = sp.simplify(cm.m2 / cm.m1).xreplace(sub), sp.simplify(cm.c2 / cm.c1).xreplace(sub)
-        u = n.M + r_m * n.gamma
-        v = n.M + r_c * n.gamma
-        exprs = [dot(u, v)]  # (M~, gamma~) / (m1 c1)
-        exprs += [m1sq * dot(u, u) - C, c1sq * dot(v, v) - 1]
-        # omega~ / m1 with D~^-1 from (21): parallel to omega
-        Ztg = c1sq * dot(n.A * u, v) / (Dt_inv - c1sq * dot(v, n.A * v)) * v
-        wt = n.A * (u + Ztg)
-        w = model.expand_aux(n.omega)
-        exprs += list(cross(wt, w))
-        # (21)/(m1 c1), (21b), (20)
-        exprs += [E + r_m * r_c / n.D, Dt_inv - c1sq * (E + r_c**2 / n.D)]
-        exprs += [Et - m1sq * (E + r_m**2 / n.D)]
-        return Check(exprs, note="f = the root of Chaplygin's quadratic (square root split off); "
-                     "E = (M, omega) of the state; m1, c1 enter through m1^2, c1^2")
+        # vector level, every f: (M - f gamma, f M + k^2 gamma) is the Gram form
+        ortho = cm.orthogonality.xreplace({cm.symbols["E"]: E, cm.symbols["D"]: n.D,
+                                           cm.symbols["C"]: dot(n.M, n.M),
+                                           cm.symbols["Mg"]: dot(n.M, n.gamma), cm.symbols["f"]: F})
+        exprs = [dot(n.M - F * n.gamma, F * n.M + k2 * n.gamma) - ortho]
+        # scalar level: the Gram form vanishes at both roots (C, Mg, E, D free scalars)
+        s = cm.symbols
+        if wrong:  # a root of Mg f^2 - (C - E D) f + E D Mg (sign of the last term flipped)
+            K2 = s["E"] * s["D"]
+            roots = [((s["C"] - K2) + sp.sqrt((s["C"] - K2) ** 2 - 4 * K2 * s["Mg"] ** 2))
+                     / (2 * s["Mg"])]
+        else:
+            roots = list(cm.roots)
+        exprs += [cm.orthogonality.xreplace({s["f"]: r}) for r in roots]
+        return Check(exprs, free=[F, s["C"], s["Mg"], s["E"], s["D"]],
+                     note="(M~, gamma~)/(m1 c1) = the Gram form in C, M_gamma, E (proved on the "
+                     "phase space); the form at both roots f = k tan phi (square root split off)")
 
     return build
 
@@ -311,125 +329,150 @@ def _bkm12_23_phi(model: Model) -> Check:
 def _bkm12_1_4a(model: Model) -> Check:
     """For every phi (k^2 = E D, D~^-1 = E sigma^2): (21) holds and omega~ || omega.
 
-    With ``t = tan phi`` the positive factors ``rho cos phi`` and ``sigma cos phi`` come out:
-    ``u = M~/(rho cos phi) = M - k t gamma``, ``v = gamma~/(sigma cos phi) = t M + k gamma``,
-    and ``Z~ gamma~ = rho cos^2 phi (A u, v) v/(E - cos^2 phi (v, A v))``.
+    (21) is checked on the printed coefficients divided by the positive ``rho sigma``
+    (resp. ``sigma^2``): only ``k^2`` enters. For the parallelism, ``f = k tan phi`` (free):
+    ``u = M~/(rho cos phi) = M - f gamma``, ``v = k gamma~/(sigma cos phi) = f M + k^2 gamma`` and
+    ``Z~ gamma~/(rho cos phi) = (A u, v) v/(E (k^2 + f^2) - (v, A v))`` (``cos^-2 phi = 1 + f^2/k^2``).
     """
     p = chaplygin_phi_form()
     n = ball_notation(model)
     E = _energy(model)
-    k = sp.Symbol("k", positive=True)  # sqrt(E D), split off below
-    t = sp.Symbol("t")
-    cos2 = 1 / (1 + t**2)
-    u = n.M - k * t * n.gamma
-    v = t * n.M + k * n.gamma
-    # (21) divided by rho sigma cos^2 phi, from the printed coefficients
-    c, s_ = sp.cos(p["phi"]), sp.sin(p["phi"])
-    rs = {c: 1, s_: t, p["k"]: k}
-    a1, a2 = ((p[x] / p["rho"]).xreplace(rs) for x in ("m1", "m2"))
-    b1, b2 = ((p[x] / p["sigma"]).xreplace(rs) for x in ("c1", "c2"))
-    exprs = [E * a1 * b1 + a2 * b2 / n.D]
-    exprs += list(u - (a1 * n.M + a2 * n.gamma)) + list(v - (b1 * n.M + b2 * n.gamma))
-    Ztg = cos2 * dot(n.A * u, v) / (E - cos2 * dot(v, n.A * v)) * v
+    C, Mg = dot(n.M, n.M), dot(n.M, n.gamma)
+    sub = {p["C"]: C, p["Mg"]: Mg}
+    a1, a2 = ((p[x] / p["rho"]).xreplace(sub) for x in ("m1", "m2"))
+    b1, b2 = ((p[x] / p["sigma"]).xreplace(sub) for x in ("c1", "c2"))
+    k2 = E * n.D
+    kk = {p["k"] ** 2: k2}
+    exprs = [sp.expand(E * a1 * b1 + a2 * b2 / n.D).xreplace(kk)]
+    exprs += [sp.expand(E - (E * b1**2 + b2**2 / n.D)).xreplace(kk)]
+    f = sp.Symbol("f")
+    u = n.M - f * n.gamma
+    v = f * n.M + k2 * n.gamma
+    Ztg = dot(n.A * u, v) / (E * (k2 + f**2) - dot(v, n.A * v)) * v
     wt = n.A * (u + Ztg)
     exprs += list(cross(wt, model.expand_aux(n.omega)))
-    exprs = [q for e in exprs for q in split_root(e, k, E * n.D)]
-    return Check(exprs, free=[t], note="t = tan phi free; k = sqrt(E D) split off exactly")
+    return Check(exprs, free=[f], note="phi on the circle, f = k tan phi free; only k^2 = E D enters")
 
 
 # ------------------------------------------------------------------ Kilin's form
-def _kilin(model: Model, f_expr=None, Dt_wrong: bool = False):
-    km = kilin_map()
+def _kilin(model: Model):
+    """Kilin's new vectors for a free f; D~ from BKM12-21 (D~^-1 = E c1^2 + c2^2/D)."""
+    km, cm = kilin_map(), chaplygin_map()
     n = ball_notation(model)
     E = _energy(model)
     nn, Cg = dot(n.M, n.M), dot(n.M, n.gamma)
     s = km.symbols
-    sub = {s["n"]: nn, s["C"]: Cg, s["h"]: E / 2, s["D"]: n.D}
-    if f_expr is None:
-        cm = chaplygin_map()
-        f_expr = cm.roots[0].xreplace(
-            {cm.symbols["E"]: E, cm.symbols["D"]: n.D, cm.symbols["C"]: nn, cm.symbols["Mg"]: Cg})
-    sub[s["f"]] = f_expr
-    vals = {k: getattr(km, k).xreplace(sub) for k in ("mu", "nu", "kap", "lam", "Q", "n1", "h1", "Dt")}
-    if Dt_wrong:
-        f = f_expr
-        vals["Dt"] = f * (nn - Cg**2) / (E * (f + Cg))
-    inv = km.inverse.xreplace(sub)
-    Mt = inv[0, 0] * n.M + inv[0, 1] * n.gamma
-    gt = inv[1, 0] * n.M + inv[1, 1] * n.gamma
+    sub = {s["n"]: nn, s["C"]: Cg, s["h"]: E / 2, s["D"]: n.D, s["f"]: F}
+    vals = {k: getattr(km, k).xreplace(sub) for k in ("mu", "nu", "kap", "lam", "Q", "n1")}
+    # the inverse of [[nu, mu], [lam, kap]] (derive's ``inverse``), written with the same
+    # kap so that square roots of related radicands are not taken as independent:
+    # 1/sqrt((n - C^2) Q) = kap/(n - C^2)
+    root = sp.sqrt(nn - Cg**2)
+    Mt = root * (n.M - F * n.gamma) / vals["Q"]
+    gt = vals["kap"] * ((F - Cg) * n.M + (nn - Cg * F) * n.gamma) / (nn - Cg**2)
+    inv = sp.Matrix([[root / vals["Q"], -F * root / vals["Q"]], [0, 0]])
+    vals["Dt"] = 1 / cm.Dt_inv.xreplace({cm.symbols["E"]: E, cm.symbols["D"]: n.D,
+                                          cm.symbols["C"]: nn, cm.symbols["Mg"]: Cg,
+                                          cm.symbols["f"]: F})
+    vals["m1"], vals["m2"] = inv[0, 0], inv[0, 1]
     return n, E, nn, Cg, vals, Mt, gt
 
 
-def _k01_2_29_30(model: Model) -> Check:
-    n, E, nn, Cg, v, Mt, gt = _kilin(model, f_expr=sp.Symbol("f"))
-    exprs = [v["mu"] ** 2 + v["nu"] ** 2 * v["n1"] - nn, v["kap"] ** 2 + v["lam"] ** 2 * v["n1"] - 1,
-             v["mu"] * v["kap"] + v["nu"] * v["lam"] * v["n1"] - Cg]
-    exprs += list(n.M - (v["mu"] * gt + v["nu"] * Mt)) + list(n.gamma - (v["kap"] * gt + v["lam"] * Mt))
-    exprs += [dot(Mt, Mt) - v["n1"], dot(gt, gt) - 1]
-    return Check(exprs, free=[sp.Symbol("f")], note="for every f (the relations do not need (2.32))")
-
-
-def _k01_2_31(control: bool = False):
+def _k01_2_29(which: str):
     def build(model: Model) -> Check:
-        n, E, nn, Cg, v, Mt, gt = _kilin(model, Dt_wrong=control)
-        Dt_val = v["Dt"]
-        Zt = dot(n.A * Mt, gt) / (1 / Dt_val - dot(gt, n.A * gt))
-        wt = n.A * (Mt + Zt * gt)
-        w = model.expand_aux(n.omega)
-        if control:
-            return Check(list(cross(wt, w)))
-        J = n.J
-        wg = dot(wt, gt)
-        exprs = [dot(J * wt, wt) - Dt_val * wg**2 - 2 * v["h1"],
-                 dot(J * wt, J * wt) - Dt_val**2 * wg**2 - v["n1"]]
-        exprs += list(cross(wt, w)) + [v["kap"] * dot(Mt, gt)]
-        return Check(exprs, note="f = root of K01-2.32 (square root split off); "
-                     "(M~, gamma~) times kap != 0")
+        n, E, nn, Cg, v, Mt, gt = _kilin(model)
+        if which == "2.30":
+            exprs = [v["mu"] ** 2 + v["nu"] ** 2 * v["n1"] - nn,
+                     v["kap"] ** 2 + v["lam"] ** 2 * v["n1"] - 1,
+                     v["mu"] * v["kap"] + v["nu"] * v["lam"] * v["n1"] - Cg]
+        else:
+            exprs = list(n.M - (v["mu"] * gt + v["nu"] * Mt))
+            exprs += list(n.gamma - (v["kap"] * gt + v["lam"] * Mt))
+            exprs += [dot(Mt, Mt) - v["n1"], dot(gt, gt) - 1]
+        return Check(exprs, free=[F], note="for every f (the relations do not need (2.32))")
 
     return build
 
 
-def _k01_2_31c(model: Model) -> Check:
+def _k01_2_31(model: Model) -> Check:
     n, E, nn, Cg, v, Mt, gt = _kilin(model)
-    h, D = E / 2, n.D
+    Dt_val = v["Dt"]
+    Zt = dot(n.A * Mt, gt) / (1 / Dt_val - dot(gt, n.A * gt))
+    wt = n.A * (Mt + Zt * gt)
+    w = model.expand_aux(n.omega)
+    J = n.J
+    wg = dot(wt, gt)
+    exprs = [dot(J * wt, wt) - Dt_val * wg**2 - (E * v["m1"] ** 2 + v["m2"] ** 2 / n.D)]
+    exprs += [dot(J * wt, J * wt) - Dt_val**2 * wg**2 - dot(Mt, Mt) - 2 * Dt_val * wg * dot(Mt, gt)]
+    exprs += list(cross(wt, w))
+    return Check(exprs, free=[F], note="f free, D~ from (21); 2 h1 = E m1^2 + m2^2/D (BKM12-20) "
+                 "and (M~, gamma~) = 0 at the root are K01-2.33 and BKM12-23")
+
+
+# scalar level: n, C (= M_gamma), D, f free; E = 2h eliminated with the quadratic (2.32)
+_n, _D = sp.symbols("n D", positive=True)
+_C = sp.Symbol("C")
+
+
+def _on_quadratic():
+    km = kilin_map()
+    s = km.symbols
+    E = F * (_n - _C * F) / (_D * (F - _C))  # solves Mg f^2 - (n - E D) f - E D Mg = 0
+    sub = {s["n"]: _n, s["C"]: _C, s["h"]: E / 2, s["D"]: _D, s["f"]: F}
+    return km, E, sub
+
+
+def _k01_2_31c(model: Model) -> Check:
+    km, E, sub = _on_quadratic()
+    v = {k: getattr(km, k).xreplace(sub) for k in ("mu", "nu", "kap", "lam", "Q", "n1", "h1", "Dt")}
+    h, D = E / 2, _D
     det2 = (v["mu"] * v["lam"] - v["nu"] * v["kap"]) ** 2
-    exprs = [det2 * v["h1"] - (h * v["kap"] ** 2 + v["mu"] ** 2 / (2 * D)),
+    exprs = [km.quadratic.xreplace(sub),
+             det2 * v["h1"] - (h * v["kap"] ** 2 + v["mu"] ** 2 / (2 * D)),
              det2 / v["Dt"] - (2 * h * v["lam"] ** 2 + v["nu"] ** 2 / D),
              v["mu"] * v["nu"] / D + 2 * h * v["kap"] * v["lam"],
              det2 * v["h1"] / v["Dt"] - h / D]
-    return Check(exprs)
+    return Check(exprs, free=[_n, _C, _D, F], everywhere=True,
+                 note="scalars n, C, D, f; 2h = f (n - C f)/(D (f - C)) solves (2.32)")
 
 
 def _k01_2_32(model: Model) -> Check:
     km, cm = kilin_map(), chaplygin_map()
-    n, E, nn, Cg, v, Mt, gt = _kilin(model)
-    f = sp.Symbol("f")
+    E = sp.Symbol("E", positive=True)
     s = km.symbols
-    quad = km.quadratic.xreplace({s["n"]: nn, s["C"]: Cg, s["h"]: E / 2, s["D"]: n.D, s["f"]: f})
-    orth = cm.orthogonality.xreplace({cm.symbols["E"]: E, cm.symbols["D"]: n.D,
-                                      cm.symbols["C"]: nn, cm.symbols["Mg"]: Cg, cm.symbols["f"]: f})
-    exprs = [Cg * quad + orth]  # K01's quadratic is BKM12's orthogonality / (-Mg)
-    exprs += [(v["mu"] * v["lam"] - v["nu"] * v["kap"]) ** 2 - v["Q"]]
-    return Check(exprs, free=[f], note="f free in the first residual")
+    sub = {s["n"]: _n, s["C"]: _C, s["h"]: E / 2, s["D"]: _D, s["f"]: F}
+    quad = km.quadratic.xreplace(sub)
+    orth = cm.orthogonality.xreplace({cm.symbols["E"]: E, cm.symbols["D"]: _D,
+                                      cm.symbols["C"]: _n, cm.symbols["Mg"]: _C, cm.symbols["f"]: F})
+    v = {k: getattr(km, k).xreplace(sub) for k in ("mu", "nu", "kap", "lam", "Q")}
+    exprs = [_C * quad + orth, (v["mu"] * v["lam"] - v["nu"] * v["kap"]) ** 2 - v["Q"]]
+    return Check(exprs, free=[_n, _C, _D, F, E], everywhere=True,
+                 note="K01's quadratic is -1/M_gamma times BKM12's orthogonality (scalars free)")
 
 
-def _k01_2_33(model: Model) -> Check:
-    n, E, nn, Cg, v, Mt, gt = _kilin(model)
-    f = _kilin_f(model)
-    exprs = [dot(Mt, Mt) - v["n1"], v["n1"] - (nn - Cg**2) / (nn - Cg**2 + (Cg - f) ** 2)]
-    return Check(exprs)
+def _k01_2_33(control: bool = False):
+    def build(model: Model) -> Check:
+        km, E, sub = _on_quadratic()
+        cm = chaplygin_map()
+        v = {k: getattr(km, k).xreplace(sub) for k in ("n1", "h1", "Dt", "Q")}
+        csub = {cm.symbols["E"]: E, cm.symbols["D"]: _D, cm.symbols["C"]: _n,
+                cm.symbols["Mg"]: _C, cm.symbols["f"]: F}
+        Dt_bkm = 1 / cm.Dt_inv.xreplace(csub)
+        m1sq = (_n - _C**2) / v["Q"] ** 2  # Kilin's M~ = sqrt(n - C^2) (M - f gamma)/Q
+        Et = m1sq * (E + F**2 / _D)  # BKM12-20
+        if control:
+            return Check([F * (_n - _C**2) / (E * (F + _C)) - Dt_bkm], free=[_n, _C, _D, F],
+                         everywhere=True)
+        exprs = [v["Dt"] - Dt_bkm, 2 * v["h1"] - Et,
+                 v["n1"] - m1sq * (_n - 2 * _C * F + F**2)]
+        return Check(exprs, free=[_n, _C, _D, F], everywhere=True,
+                     note="scalars; 2h = f (n - C f)/(D (f - C)) solves (2.32); against BKM12-20, 21")
 
-
-def _kilin_f(model):
-    cm = chaplygin_map()
-    n = ball_notation(model)
-    E = _energy(model)
-    return cm.roots[0].xreplace({cm.symbols["E"]: E, cm.symbols["D"]: n.D,
-                                 cm.symbols["C"]: dot(n.M, n.M), cm.symbols["Mg"]: dot(n.M, n.gamma)})
+    return build
 
 
 def _k01_rem1(model: Model) -> Check:
-    """M~ -> s M~ (s free): omega~ scales by s, (M~, gamma~) = 0 and omega~ || omega persist."""
+    """M~ -> s M~ (s free): omega~ scales by s, still parallel to omega."""
     n, E, nn, Cg, v, Mt, gt = _kilin(model)
     w = model.expand_aux(n.omega)
 
@@ -438,8 +481,8 @@ def _k01_rem1(model: Model) -> Check:
         return n.A * (M_ + Zt * gt)
 
     ws = omega_t(s_free * Mt)
-    exprs = list(ws - s_free * omega_t(Mt)) + list(cross(ws, w)) + [v["kap"] * dot(s_free * Mt, gt)]
-    return Check(exprs, free=[s_free])
+    exprs = list(ws - s_free * omega_t(Mt)) + list(cross(ws, w))
+    return Check(exprs, free=[s_free, F])
 
 
 for claim in (
@@ -500,24 +543,30 @@ for claim in (
           "(gamma~, gamma~) = 1; tan(2 phi) = -2 k M_gamma/(C - k^2) gives (M~, gamma~) = 0",
           BALL, (), _bkm12_23_phi),
     Claim("BKM12-22", S14, "transformation",
-          "M~ = rho (cos phi M - k sin phi gamma), gamma~ = sigma (sin phi M + k cos phi gamma) with "
-          "f = k tan phi the root of M_gamma f^2 - (C - E D) f - E D M_gamma = 0 that vanishes with "
-          "M_gamma: (M~, gamma~) = 0, (M~, M~) = C, (gamma~, gamma~) = 1, omega~ || omega, (21), (20)",
-          BALL, (), _bkm12_22_23(0)),
+          "M~ = rho (cos phi M - k sin phi gamma), gamma~ = sigma (sin phi M + k cos phi gamma), "
+          "f = k tan phi: (M~, M~) = C, (gamma~, gamma~) = 1, (21) and E~ = E m1^2 + m2^2/D "
+          "for every phi (the derived closed forms)",
+          BALL, (), _bkm12_22),
     Claim("BKM12-23", S14, "transformation",
-          "the same for the other root of tan(2 phi) = -2 k M_gamma/(C - k^2) (phi + pi/2)",
-          BALL, (), _bkm12_22_23(1)),
+          "(M~, gamma~) = 0 at both roots of tan(2 phi) = -2 k M_gamma/(C - k^2), i.e. of "
+          "M_gamma f^2 - (C - E D) f - E D M_gamma = 0 (f = k tan phi; the roots differ by pi/2)",
+          BALL, (), _bkm12_23()),
     Claim("BKM12-23/control-quadratic", f"{S14} (negative control)", "transformation",
           "(M - f gamma, f M + E D gamma) = 0 for a root of M_gamma f^2 - (C - E D) f + E D M_gamma",
-          BALL, (), _bkm12_22_23(0, wrong=True), expected="fails"),
-    Claim("K01-2.29,2.30", K23, "transformation",
-          "M = mu gamma~ + nu M~, gamma = kap gamma~ + lam M~ with (M~, M~) = n1, (gamma~, gamma~) = 1: "
-          "mu^2 + nu^2 n1 = n, kap^2 + lam^2 n1 = 1, mu kap + nu lam n1 = C",
-          BALL, (), _k01_2_29_30),
+          BALL, (), _bkm12_23(wrong=True), expected="fails"),
+    Claim("K01-2.29", K23, "transformation",
+          "M = mu gamma~ + nu M~, gamma = kap gamma~ + lam M~ (the derived inverse map) with "
+          "(M~, M~) = n1, (gamma~, gamma~) = 1",
+          BALL, (), _k01_2_29("2.29")),
+    Claim("K01-2.30", K23, "transformation",
+          "mu^2 + nu^2 n1 = n, kap^2 + lam^2 n1 = 1, mu kap + nu lam n1 = C "
+          "(kap = sqrt((n - C^2)/Q), mu = f kap, lam = (C - f)/sqrt(n - C^2), nu = (n - C f)/sqrt(n - C^2))",
+          BALL, (), _k01_2_29("2.30")),
     Claim("K01-2.31", K23, "transformation",
-          "(J omega~, omega~) - D~ (omega~, gamma~)^2 = 2 h1, (J omega~, J omega~) - D~^2 (omega~, gamma~)^2 = n1, "
-          "J = I + D Id = I~ + D~ Id; omega~ || omega, (M~, gamma~) = 0",
-          BALL, (), _k01_2_31()),
+          "(J omega~, omega~) - D~ (omega~, gamma~)^2 = (M~, omega~) = 2 h1, "
+          "(J omega~, J omega~) - D~^2 (omega~, gamma~)^2 = (M~, M~) = n1 where (M~, gamma~) = 0, "
+          "J = I + D Id = I~ + D~ Id; omega~ || omega",
+          BALL, (), _k01_2_31),
     Claim("K01-2.31c", K23, "transformation",
           "(mu lam - nu kap)^2 h1 = h kap^2 + mu^2/(2D), (mu lam - nu kap)^2/D~ = 2 h lam^2 + nu^2/D, "
           "mu nu/D + 2 h kap lam = 0, (mu lam - nu kap)^2 h1/D~ = h/D",
@@ -527,14 +576,12 @@ for claim in (
           "|mu lam - nu kap| = sqrt(Q)",
           BALL, (), _k01_2_32),
     Claim("K01-2.33", K23, "transformation",
-          "n1 = (M~, M~) = (n - C^2)/(n - C^2 + (C - f)^2)", BALL, (), _k01_2_33),
-    Claim("K01-2.33h", K23, "transformation",
-          "h1 = h (n - C^2)/((n - C f) Q), D~ = f (n - C^2)/(2h (f - C)) (reconstructed): "
-          "checked through K01-2.31 and omega~ || omega",
-          BALL, (), _k01_2_31()),
-    Claim("K01-2.33h/control-Dt", f"{K23} (negative control)", "transformation",
-          "omega~ || omega with D~ = f (n - C^2)/(2h (f + C))",
-          BALL, (), _k01_2_31(control=True), expected="fails"),
+          "n1 = (M~, M~) = (n - C^2)/(n - C^2 + (C - f)^2); h1 = h (n - C^2)/((n - C f) Q), "
+          "D~ = f (n - C^2)/(2h (f - C)) (reconstructed) agree with BKM12-20, 21",
+          BALL, (), _k01_2_33()),
+    Claim("K01-2.33/control-Dt", f"{K23} (negative control)", "transformation",
+          "D~ = f (n - C^2)/(2h (f + C)) agrees with BKM12-21",
+          BALL, (), _k01_2_33(control=True), expected="fails"),
     Claim("K01-Rem1", K23, "transformation",
           "the transformation is defined up to M~ -> s M~: omega~ -> s omega~, still parallel to omega",
           BALL, (), _k01_rem1),
