@@ -389,24 +389,32 @@ def _k01_2_29(which: str):
             exprs = list(n.M - (v["mu"] * gt + v["nu"] * Mt))
             exprs += list(n.gamma - (v["kap"] * gt + v["lam"] * Mt))
             exprs += [dot(Mt, Mt) - v["n1"], dot(gt, gt) - 1]
+            return Check(exprs, free=[F], method="exact-sampled",
+                         note="for every f; exact sampling: the Groebner proof with the two "
+                         "square roots takes ~5 s")
         return Check(exprs, free=[F], note="for every f (the relations do not need (2.32))")
 
     return build
 
 
 def _k01_2_31(model: Model) -> Check:
-    n, E, nn, Cg, v, Mt, gt = _kilin(model)
-    Dt_val = v["Dt"]
-    Zt = dot(n.A * Mt, gt) / (1 / Dt_val - dot(gt, n.A * gt))
+    """The new ball's energy and (M~, M~) in Kilin's form, for every f and every D~.
+
+    ``J omega~ = M~ + Z~ gamma~`` and ``(omega~, gamma~) = Z~/D~`` make both identities hold
+    for any ``D~``; the value of ``D~`` (K01-2.33) and ``omega~ || omega`` (BKM12-1.4a,
+    every ``f``) are separate claims.
+    """
+    n = ball_notation(model)
+    Mt, gt = n.M, n.gamma  # the new ball's state: any M~, unit gamma~
+    Zt = dot(n.A * Mt, gt) / (1 / Dt - dot(gt, n.A * gt))
     wt = n.A * (Mt + Zt * gt)
-    w = model.expand_aux(n.omega)
     J = n.J
     wg = dot(wt, gt)
-    exprs = [dot(J * wt, wt) - Dt_val * wg**2 - (E * v["m1"] ** 2 + v["m2"] ** 2 / n.D)]
-    exprs += [dot(J * wt, J * wt) - Dt_val**2 * wg**2 - dot(Mt, Mt) - 2 * Dt_val * wg * dot(Mt, gt)]
-    exprs += list(cross(wt, w))
-    return Check(exprs, free=[F], note="f free, D~ from (21); 2 h1 = E m1^2 + m2^2/D (BKM12-20) "
-                 "and (M~, gamma~) = 0 at the root are K01-2.33 and BKM12-23")
+    exprs = [dot(J * wt, wt) - Dt * wg**2 - dot(Mt, wt)]
+    exprs += [dot(J * wt, J * wt) - Dt**2 * wg**2 - dot(Mt, Mt) - 2 * Dt * wg * dot(Mt, gt)]
+    return Check(exprs, free=[Dt],
+                 note="at every state (M~, gamma~), |gamma~| = 1, and any D~ (Kilin's (M~, M~) = n1 is K01-2.29, "
+                 "(M~, gamma~) = 0 at the root BKM12-23, 2 h1 and D~ K01-2.33)")
 
 
 # scalar level: n, C (= M_gamma), D, f free; E = 2h eliminated with the quadratic (2.32)
@@ -472,17 +480,20 @@ def _k01_2_33(control: bool = False):
 
 
 def _k01_rem1(model: Model) -> Check:
-    """M~ -> s M~ (s free): omega~ scales by s, still parallel to omega."""
-    n, E, nn, Cg, v, Mt, gt = _kilin(model)
-    w = model.expand_aux(n.omega)
+    """M~ -> s M~: omega~ -> s omega~ at every state and D~, and (21) is kept (m -> s m)."""
+    n = ball_notation(model)
+    E = _energy(model)
 
     def omega_t(M_):
-        Zt = dot(n.A * M_, gt) / (1 / v["Dt"] - dot(gt, n.A * gt))
-        return n.A * (M_ + Zt * gt)
+        Zt = dot(n.A * M_, n.gamma) / (1 / Dt - dot(n.gamma, n.A * n.gamma))
+        return n.A * (M_ + Zt * n.gamma)
 
-    ws = omega_t(s_free * Mt)
-    exprs = list(ws - s_free * omega_t(Mt)) + list(cross(ws, w))
-    return Check(exprs, free=[s_free, F])
+    coeffs, Dt_inv = _t1_coeffs(model)
+    a1, a2, b1, b2 = coeffs
+    exprs = list(omega_t(s_free * n.M) - s_free * omega_t(n.M))
+    exprs += [E * (s_free * a1) * b1 + (s_free * a2) * b2 / n.D]
+    return Check(exprs, free=[s_free, Dt],
+                 note="the new ball's state (M~, gamma~) is the model's state; D~, s free")
 
 
 for claim in (
@@ -565,7 +576,7 @@ for claim in (
     Claim("K01-2.31", K23, "transformation",
           "(J omega~, omega~) - D~ (omega~, gamma~)^2 = (M~, omega~) = 2 h1, "
           "(J omega~, J omega~) - D~^2 (omega~, gamma~)^2 = (M~, M~) = n1 where (M~, gamma~) = 0, "
-          "J = I + D Id = I~ + D~ Id; omega~ || omega",
+          "J = I + D Id = I~ + D~ Id",
           BALL, (), _k01_2_31),
     Claim("K01-2.31c", K23, "transformation",
           "(mu lam - nu kap)^2 h1 = h kap^2 + mu^2/(2D), (mu lam - nu kap)^2/D~ = 2 h lam^2 + nu^2/D, "
