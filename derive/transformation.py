@@ -70,7 +70,8 @@ class Theorem1:
     conditions : list of sympy.Expr
         Its coefficients: they vanish iff ``omega~ || omega`` on the whole level.
     R1, R2 : sympy.Expr
-        BKM12-14: ``R1 = m2/D~ + E c1 Delta``, ``R2 = m1/D~ - c2 Delta/D``, ``Delta = m1 c2 - m2 c1``;
+        BKM12-14: ``R1 = m2/D~ + E c1 Delta``, ``R2 = m1/D~ - c2 Delta/D``,
+        ``Delta = m1 c2 - m2 c1``;
         ``numerator = X (R2 Y - R1 X)`` (BKM12-proofT1).
     solution : dict
         The conditions solved for ``m2`` and ``D~`` (BKM12-21).
@@ -115,7 +116,9 @@ def theorem1() -> Theorem1:
     Y_t = _bilinear(m, c, gram)
     Z, Z_t = Y / X, Y_t / X_t
     factor = (m1 + c1 * Z_t) * Z - (m2 + c2 * Z_t)
-    numerator = sp.Poly(sp.expand(X * ((m1 * X_t + c1 * Y_t) * Y - X * (m2 * X_t + c2 * Y_t))), X, Y)
+    numerator = sp.Poly(
+        sp.expand(X * ((m1 * X_t + c1 * Y_t) * Y - X * (m2 * X_t + c2 * Y_t))), X, Y
+    )
     conditions = [sp.factor(co) for _, co in numerator.terms()]
     sol = sp.solve(conditions, [m2, Dt], dict=True)
     if len(sol) != 1:  # pragma: no cover - a derivation failure, not user input

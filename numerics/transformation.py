@@ -79,7 +79,7 @@ def _kilin_funcs():
 
 
 def chaplygin_coefficients(E: float, D: float, C: float, Mg: float) -> MapCoefficients:
-    """BKM12-22/23: normalised so that ``(M~, M~) = C``, ``(gamma~, gamma~) = 1``, ``(M~, gamma~) = 0``.
+    """BKM12-22/23: ``(M~, M~) = C``, ``(gamma~, gamma~) = 1``, ``(M~, gamma~) = 0``.
 
     Parameters
     ----------
@@ -243,8 +243,9 @@ def transformation_test(
     t_sorted = t_all[order]
     y0 = np.concatenate([M0, gamma0])
     params = {"I": tuple(I), "D": D}
-    r1 = integrate("chaplygin_ball", y0, (0.0, t_end), params, rtol=rtol, atol=rtol,
-                   t_eval=t_sorted)
+    r1 = integrate(
+        "chaplygin_ball", y0, (0.0, t_end), params, rtol=rtol, atol=rtol, t_eval=t_sorted
+    )
     if not r1.success:
         raise RuntimeError(f"integration of the original ball failed: {r1.message}")
     y_all = np.empty_like(r1.y)
@@ -258,8 +259,15 @@ def transformation_test(
     if np.any(np.diff(s_edges) <= 0):  # pragma: no cover - mu keeps its sign on a trajectory
         raise RuntimeError("the new time is not monotonic (mu changes sign)")
     params_new = {"I": tuple(I_new), "D": coeffs.Dt}
-    r2 = integrate("chaplygin_ball", yt_edges[:, 0], (0.0, s_edges[-1]), params_new,
-                   rtol=rtol, atol=rtol, t_eval=s_edges)
+    r2 = integrate(
+        "chaplygin_ball",
+        yt_edges[:, 0],
+        (0.0, s_edges[-1]),
+        params_new,
+        rtol=rtol,
+        atol=rtol,
+        t_eval=s_edges,
+    )
     if not r2.success:
         raise RuntimeError(f"integration of the transformed ball failed: {r2.message}")
     err = float(np.max(np.abs(r2.y - yt_edges)))
@@ -273,7 +281,9 @@ def transformation_test(
         "(gamma~,gamma~)-1": float(np.dot(gt0, gt0) - 1),
         "(M~,M~)": float(np.dot(Mt0, Mt0)),
         "E~": float(
-            np.dot(Mt0, A * (Mt0 + np.dot(A * Mt0, gt0) / (1 / coeffs.Dt - np.dot(gt0, A * gt0)) * gt0))
+            np.dot(
+                Mt0, A * (Mt0 + np.dot(A * Mt0, gt0) / (1 / coeffs.Dt - np.dot(gt0, A * gt0)) * gt0)
+            )
         ),
     }
     drift = {f"original {k}": v for k, v in r1.drift.items()}
@@ -298,10 +308,18 @@ def support_coefficients(
     """
     p = proposition2()
     s = p.symbols
-    vals = {s["E"]: E, s["C"]: C, s["M_al"]: M_al, s["M_be"]: M_be, s["D_al"]: D_al,
-            s["D_be"]: D_be}
-    coeffs = [float(sp.Poly(p.cubic, s["lam"]).coeff_monomial(s["lam"] ** k).xreplace(vals))
-              for k in (3, 2, 1, 0)]
+    vals = {
+        s["E"]: E,
+        s["C"]: C,
+        s["M_al"]: M_al,
+        s["M_be"]: M_be,
+        s["D_al"]: D_al,
+        s["D_be"]: D_be,
+    }
+    coeffs = [
+        float(sp.Poly(p.cubic, s["lam"]).coeff_monomial(s["lam"] ** k).xreplace(vals))
+        for k in (3, 2, 1, 0)
+    ]
     roots = np.sort(np.roots(coeffs).real)
     Gamma = np.array([[C, M_al, M_be], [M_al, 1, 0], [M_be, 0, 1]], dtype=float)
     g = np.diag([E, 1 / D_al, 1 / D_be])

@@ -57,7 +57,12 @@ def test_chaplygin_roots_differ_by_quarter_turn():
     """The two roots f = k tan(phi) of BKM12-23: phi2 = phi1 + pi/2, i.e. f1 f2 = -k^2."""
     cm = chaplygin_map()
     s = cm.symbols
-    vals = {s["E"]: sp.Rational(3, 2), s["D"]: sp.Rational(2, 3), s["C"]: 5, s["Mg"]: sp.Rational(-1, 3)}
+    vals = {
+        s["E"]: sp.Rational(3, 2),
+        s["D"]: sp.Rational(2, 3),
+        s["C"]: 5,
+        s["Mg"]: sp.Rational(-1, 3),
+    }
     f1, f2 = (r.xreplace(vals) for r in cm.roots)
     assert sp.simplify(f1 * f2 + vals[s["E"]] * vals[s["D"]]) == 0
 
@@ -66,9 +71,12 @@ def test_cubic_55_derived():
     p = proposition2()
     s = p.symbols
     E, C, Ma, Mb, Da, Db, lam = (s[k] for k in ("E", "C", "M_al", "M_be", "D_al", "D_be", "lam"))
-    printed = (E * lam**3 - (E * (Da + Db) + C) * lam**2
-               + (Da * (C - Ma**2) + Db * (C - Mb**2) + E * Da * Db) * lam
-               - (C - Ma**2 - Mb**2) * Da * Db)
+    printed = (
+        E * lam**3
+        - (E * (Da + Db) + C) * lam**2
+        + (Da * (C - Ma**2) + Db * (C - Mb**2) + E * Da * Db) * lam
+        - (C - Ma**2 - Mb**2) * Da * Db
+    )
     assert sp.expand(p.cubic - printed) == 0
 
 
@@ -105,15 +113,29 @@ def test_transformation_control_wrong_time_direction():
 
     k = r.coefficients
     A = 1 / (np.asarray(I) + D)
-    res = integrate("chaplygin_ball", np.concatenate([M, g]), (0.0, 4.0), {"I": tuple(I), "D": D},
-                    rtol=1e-12, atol=1e-12, t_eval=r.t)
+    res = integrate(
+        "chaplygin_ball",
+        np.concatenate([M, g]),
+        (0.0, 4.0),
+        {"I": tuple(I), "D": D},
+        rtol=1e-12,
+        atol=1e-12,
+        t_eval=r.t,
+    )
     yt = map_state(res.y, k)
     mu = mu_of_mapped(yt, A, k)
     assert np.ptp(mu) > 1e-3  # mu is not constant: the direction matters
     # s with the wrong direction (trapezoid is enough to show a gross mismatch)
     s_wrong = np.concatenate([[0.0], np.cumsum(np.diff(r.t) * (mu[1:] + mu[:-1]) / 2)])
-    r2 = integrate("chaplygin_ball", yt[:, 0], (0.0, s_wrong[-1]), r.params_new,
-                   rtol=1e-12, atol=1e-12, t_eval=s_wrong)
+    r2 = integrate(
+        "chaplygin_ball",
+        yt[:, 0],
+        (0.0, s_wrong[-1]),
+        r.params_new,
+        rtol=1e-12,
+        atol=1e-12,
+        t_eval=s_wrong,
+    )
     assert np.max(np.abs(r2.y - yt)) > 1e3 * r.tolerance
     assert r.passed
 
