@@ -1,0 +1,327 @@
+"""Chaplygin's transformation applied to integrated trajectories (BKM12 §1.3-1.4, K01 §2.3).
+
+A trajectory of the ball ``(A, D)`` with ``(M, gamma) != 0`` is mapped point by point with
+constant coefficients (computed from the integrals of its initial state):
+``M~ = m1 M + m2 gamma``, ``gamma~ = c1 M + c2 gamma``. In the original time ``t`` the images
+obey ``M~' = mu^-1 M~ x omega~`` (BKM12-19, ``mu = m1 + c1 Z~``), so they are a trajectory
+of the ball ``(A, D~)`` in the new time ``s`` with ``ds/dt = 1/mu``. :func:`transformation_test`
+integrates the original ball, maps it, computes ``s(t)`` by Gauss–Legendre quadrature of
+``1/mu`` over the output, integrates the transformed ball independently from the mapped
+initial state (where ``(M~, gamma~) = 0``) and reports the largest difference.
+
+The coefficients are the derived expressions of :mod:`chaplygin.derive.transformation`
+turned into numpy functions.
+
+References
+----------
+BKM12-19, BKM12-22, BKM12-23, K01-2.29 ... K01-2.33.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import lru_cache
+
+import numpy as np
+import sympy as sp
+
+from ..derive.errors import UserInputError
+from ..derive.transformation import chaplygin_map, kilin_map, proposition2
+from .integrate import integrate
+
+__all__ = [
+    "MapCoefficients",
+    "chaplygin_coefficients",
+    "kilin_coefficients",
+    "map_state",
+    "mu_of_mapped",
+    "TransformationReport",
+    "transformation_test",
+    "support_coefficients",
+]
+
+
+@dataclass(frozen=True)
+class MapCoefficients:
+    """``M~ = m1 M + m2 gamma``, ``gamma~ = c1 M + c2 gamma`` and the new ``D~``, ``E~``."""
+
+    m1: float
+    m2: float
+    c1: float
+    c2: float
+    Dt: float
+    Et: float
+    f: float
+    form: str
+
+    @property
+    def matrix(self) -> np.ndarray:
+        return np.array([[self.m1, self.m2], [self.c1, self.c2]])
+
+
+@lru_cache(maxsize=1)
+def _chaplygin_funcs():
+    cm = chaplygin_map()
+    s = cm.symbols
+    args = [s["E"], s["D"], s["C"], s["Mg"]]
+    f_fun = sp.lambdify(args, cm.roots[0], "numpy")
+    rest = sp.lambdify(args + [s["f"]], [cm.m1, cm.m2, cm.c1, cm.c2, cm.Dt_inv, cm.Et], "numpy")
+    return f_fun, rest
+
+
+@lru_cache(maxsize=1)
+def _kilin_funcs():
+    km = kilin_map()
+    s = km.symbols
+    args = [s["n"], s["C"], s["h"], s["D"], s["f"]]
+    inv = km.inverse
+    return sp.lambdify(args, [inv[0, 0], inv[0, 1], inv[1, 0], inv[1, 1], km.Dt, km.h1], "numpy")
+
+
+def chaplygin_coefficients(E: float, D: float, C: float, Mg: float) -> MapCoefficients:
+    """BKM12-22/23: ``(M~, M~) = C``, ``(gamma~, gamma~) = 1``, ``(M~, gamma~) = 0``.
+
+    Parameters
+    ----------
+    E : float
+        ``2H = (M, omega)``.
+    D, C, Mg : float
+        ``D``, ``(M, M)``, ``(M, gamma)`` (``Mg != 0``; at ``Mg = 0`` the map is the identity).
+
+    References
+    ----------
+    BKM12-22, BKM12-23, BKM12-1.4a.
+    """
+    if not (E > 0 and D > 0 and C > 0):
+        raise UserInputError("Chaplygin's coefficients need E > 0, D > 0, (M, M) > 0")
+    f_fun, rest = _chaplygin_funcs()
+    f = float(f_fun(E, D, C, Mg))
+    m1, m2, c1, c2, Dt_inv, Et = (float(x) for x in rest(E, D, C, Mg, f))
+    return MapCoefficients(m1, m2, c1, c2, 1.0 / Dt_inv, Et, f, "chaplygin")
+
+
+def kilin_coefficients(E: float, D: float, C: float, Mg: float) -> MapCoefficients:
+    """K01-2.29 ... 2.33 (Kilin's normalisation ``(M~, M~) = n1``), inverted.
+
+    References
+    ----------
+    K01-2.29, K01-2.32, K01-2.33.
+    """
+    if not (E > 0 and D > 0 and C > Mg**2):
+        raise UserInputError("Kilin's coefficients need E > 0, D > 0, (M, M) > (M, gamma)^2")
+    f_fun, _ = _chaplygin_funcs()
+    f = float(f_fun(E, D, C, Mg))
+    a, b, c, d, Dt, h1 = (float(x) for x in _kilin_funcs()(C, Mg, E / 2, D, f))
+    return MapCoefficients(a, b, c, d, Dt, 2 * h1, f, "kilin")
+
+
+def map_state(y: np.ndarray, k: MapCoefficients) -> np.ndarray:
+    """Map states ``(M, gamma)`` (shape ``(6, ...)``) to ``(M~, gamma~)``."""
+    M, g = y[:3], y[3:6]
+    return np.concatenate([k.m1 * M + k.m2 * g, k.c1 * M + k.c2 * g])
+
+
+def mu_of_mapped(yt: np.ndarray, A: np.ndarray, k: MapCoefficients) -> np.ndarray:
+    """``mu = m1 + c1 Z~`` (BKM12-18, corrected) at mapped states (shape ``(6, N)``)."""
+    Mt, gt = yt[:3], yt[3:6]
+    A = np.asarray(A, dtype=float).reshape(3, 1)
+    Zt = np.sum(A * Mt * gt, axis=0) / (1.0 / k.Dt - np.sum(A * gt * gt, axis=0))
+    return k.m1 + k.c1 * Zt
+
+
+@dataclass
+class TransformationReport:
+    """Outcome of :func:`transformation_test`.
+
+    Attributes
+    ----------
+    coefficients : MapCoefficients
+    params_new : dict
+        ``I~ = I + D - D~`` (``J = I + D Id`` kept), ``D~``.
+    t, s : ndarray
+        Original times of the comparison points and the new times ``s(t)``.
+    max_error : float
+        ``max |y~_mapped(t) - y~_integrated(s(t))|`` over the comparison points.
+    tolerance : float
+        Derived from ``rtol`` and the time span (see :func:`transformation_test`).
+    initial_products : dict
+        ``(M~, gamma~)``, ``(gamma~, gamma~) - 1`` and ``(M~, M~)`` of the mapped initial state.
+    drift : dict
+        Drift of the integrals of both integrations.
+    """
+
+    coefficients: MapCoefficients
+    params_new: dict
+    t: np.ndarray
+    s: np.ndarray
+    max_error: float
+    tolerance: float
+    initial_products: dict
+    drift: dict = field(default_factory=dict)
+
+    @property
+    def passed(self) -> bool:
+        return self.max_error <= self.tolerance
+
+
+def transformation_test(
+    I: tuple[float, float, float],  # noqa: E741  (the papers' name)
+    D: float,
+    M0: tuple[float, float, float],
+    gamma0: tuple[float, float, float],
+    t_end: float = 10.0,
+    *,
+    form: str = "chaplygin",
+    rtol: float = 1e-13,
+    panel: float = 0.25,
+    nodes: int = 12,
+) -> TransformationReport:
+    """Map an integrated trajectory and compare it with the transformed ball's own trajectory.
+
+    Parameters
+    ----------
+    I, D : inertia and ``D = m b^2`` of the original ball.
+    M0, gamma0 : initial state (``|gamma0| = 1``, ``(M0, gamma0) != 0``).
+    t_end : float
+        Time span of the original trajectory.
+    form : {"chaplygin", "kilin"}
+        BKM12-22/23 normalisation or K01-2.29 ... 2.33.
+    rtol : float
+        Relative tolerance of both DOP853 integrations (``atol = rtol``, the state is O(1)).
+    panel, nodes : float, int
+        Gauss–Legendre panels for ``s(t) = int_0^t dt'/mu``: the quadrature error,
+        ``~ (panel/2)^(2 nodes)`` times derivatives of ``1/mu``, is far below ``rtol``.
+
+    Returns
+    -------
+    TransformationReport
+        ``tolerance = 10 * rtol * (1 + s_end) * max(1, |y~|_max) * (1 + L)`` with
+        ``L = max |mu|/min |mu|``: each integration's global error grows at most
+        linearly over the span for this integrable (quasi-periodic) flow, and the
+        time change maps errors in ``t`` to errors in ``s`` by the factor ``1/mu``.
+
+    Raises
+    ------
+    UserInputError
+        Non-physical inputs, ``(M, gamma) = 0``, or a transformed ball whose inertia
+        ``I + D - D~`` is not positive.
+
+    References
+    ----------
+    BKM12-19, BKM12-22, BKM12-23, K01-2.29 ... K01-2.33.
+    """
+    I = np.asarray(I, dtype=float)  # noqa: E741
+    M0 = np.asarray(M0, dtype=float)
+    gamma0 = np.asarray(gamma0, dtype=float)
+    if form not in ("chaplygin", "kilin"):
+        raise UserInputError(f"unknown form {form!r}; valid: chaplygin, kilin")
+    if abs(np.dot(gamma0, gamma0) - 1) > 1e-12:
+        raise UserInputError("gamma0 must be a unit vector")
+    Mg = float(np.dot(M0, gamma0))
+    if abs(Mg) < 1e-8:
+        raise UserInputError("(M, gamma) = 0 already: nothing to transform")
+    A = 1.0 / (I + D)
+    X = 1.0 / D - np.dot(gamma0, A * gamma0)
+    Y = np.dot(A * M0, gamma0)
+    omega0 = A * (M0 + (Y / X) * gamma0)
+    E = float(np.dot(M0, omega0))
+    C = float(np.dot(M0, M0))
+    coeffs = (chaplygin_coefficients if form == "chaplygin" else kilin_coefficients)(E, D, C, Mg)
+    I_new = I + D - coeffs.Dt
+    if np.any(I_new <= 0) or coeffs.Dt <= 0:
+        raise UserInputError(
+            f"the transformed ball is not physical (I~ = {I_new.tolist()}, D~ = {coeffs.Dt})"
+        )
+    # Gauss-Legendre nodes on panels of [0, t_end]
+    n_pan = max(1, int(np.ceil(t_end / panel)))
+    edges = np.linspace(0.0, t_end, n_pan + 1)
+    x, w = np.polynomial.legendre.leggauss(nodes)
+    h = np.diff(edges)
+    t_nodes = (edges[:-1, None] + (x[None, :] + 1) * h[:, None] / 2).ravel()
+    t_all = np.concatenate([edges, t_nodes])
+    order = np.argsort(t_all)
+    t_sorted = t_all[order]
+    y0 = np.concatenate([M0, gamma0])
+    params = {"I": tuple(I), "D": D}
+    r1 = integrate(
+        "chaplygin_ball", y0, (0.0, t_end), params, rtol=rtol, atol=rtol, t_eval=t_sorted
+    )
+    if not r1.success:
+        raise RuntimeError(f"integration of the original ball failed: {r1.message}")
+    y_all = np.empty_like(r1.y)
+    y_all[:, order] = r1.y
+    y_edges, y_nodes = y_all[:, : n_pan + 1], y_all[:, n_pan + 1 :]
+    yt_nodes = map_state(y_nodes, coeffs)
+    inv_mu = 1.0 / mu_of_mapped(yt_nodes, A, coeffs)
+    panel_int = (inv_mu.reshape(n_pan, nodes) * w[None, :]).sum(axis=1) * h / 2
+    s_edges = np.concatenate([[0.0], np.cumsum(panel_int)])
+    yt_edges = map_state(y_edges, coeffs)
+    if np.any(np.diff(s_edges) <= 0):  # pragma: no cover - mu keeps its sign on a trajectory
+        raise RuntimeError("the new time is not monotonic (mu changes sign)")
+    params_new = {"I": tuple(I_new), "D": coeffs.Dt}
+    r2 = integrate(
+        "chaplygin_ball",
+        yt_edges[:, 0],
+        (0.0, s_edges[-1]),
+        params_new,
+        rtol=rtol,
+        atol=rtol,
+        t_eval=s_edges,
+    )
+    if not r2.success:
+        raise RuntimeError(f"integration of the transformed ball failed: {r2.message}")
+    err = float(np.max(np.abs(r2.y - yt_edges)))
+    mu_all = 1.0 / inv_mu
+    L = float(np.max(np.abs(mu_all)) / np.min(np.abs(mu_all)))
+    scale = max(1.0, float(np.max(np.abs(yt_edges))), float(np.max(np.abs(y_edges))))
+    tol = 10 * rtol * (1 + s_edges[-1]) * scale * (1 + L)
+    Mt0, gt0 = yt_edges[:3, 0], yt_edges[3:, 0]
+    products = {
+        "(M~,gamma~)": float(np.dot(Mt0, gt0)),
+        "(gamma~,gamma~)-1": float(np.dot(gt0, gt0) - 1),
+        "(M~,M~)": float(np.dot(Mt0, Mt0)),
+        "E~": float(
+            np.dot(
+                Mt0, A * (Mt0 + np.dot(A * Mt0, gt0) / (1 / coeffs.Dt - np.dot(gt0, A * gt0)) * gt0)
+            )
+        ),
+    }
+    drift = {f"original {k}": v for k, v in r1.drift.items()}
+    drift.update({f"transformed {k}": v for k, v in r2.drift.items()})
+    return TransformationReport(coeffs, params_new, edges, s_edges, err, tol, products, drift)
+
+
+# ------------------------------------------------------------------ spherical support
+def support_coefficients(
+    E: float, C: float, M_al: float, M_be: float, D_al: float, D_be: float
+) -> dict:
+    """BKM12 Proposition 2: rows of ``Q_E`` from the roots of the cubic (55).
+
+    Returns
+    -------
+    dict
+        ``roots`` (ascending), ``Q`` (rows for the roots, first entry 1), ``Gamma``, ``g``.
+
+    References
+    ----------
+    BKM12-50 ... BKM12-55.
+    """
+    p = proposition2()
+    s = p.symbols
+    vals = {
+        s["E"]: E,
+        s["C"]: C,
+        s["M_al"]: M_al,
+        s["M_be"]: M_be,
+        s["D_al"]: D_al,
+        s["D_be"]: D_be,
+    }
+    coeffs = [
+        float(sp.Poly(p.cubic, s["lam"]).coeff_monomial(s["lam"] ** k).xreplace(vals))
+        for k in (3, 2, 1, 0)
+    ]
+    roots = np.sort(np.roots(coeffs).real)
+    Gamma = np.array([[C, M_al, M_be], [M_al, 1, 0], [M_be, 0, 1]], dtype=float)
+    g = np.diag([E, 1 / D_al, 1 / D_be])
+    Q = np.array([[1.0, M_al * D_al / (lam - D_al), M_be * D_be / (lam - D_be)] for lam in roots])
+    return {"roots": roots, "Q": Q, "Gamma": Gamma, "g": g, "cubic": np.array(coeffs)}

@@ -1,0 +1,880 @@
+"""Claims of Chaplygin's transformation: BKM12 §1.3-1.4 (Theorem 1, (22)-(23)), K01 §2.3.
+
+The coefficients and conditions come from :mod:`chaplygin.derive.transformation` (derived
+there); the checks compare them with the papers' formulas on the ball's phase space. The
+energy level ``2H = E`` is handled by taking ``E`` to be the model's energy
+``(M, omega)`` of the state, so every residual is rational in the state (square roots
+such as the discriminant of Chaplygin's quadratic are split off exactly).
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+from chaplygin.derive import Model
+from chaplygin.derive.transformation import (
+    chaplygin_map,
+    chaplygin_phi_form,
+    kilin_map,
+    theorem1,
+)
+from chaplygin.derive.vectors import cross, dot
+
+from ..identity import lie_derivative
+from . import Check, Claim, register
+from .notation import ball_notation
+
+__all__ = ["BallMap", "ball_map", "split_root"]
+
+BALL = "chaplygin_ball"
+S13, S14, K23 = "BKM12 §1.3", "BKM12 §1.4", "K01 §2.3"
+
+m1, m2, c1, c2, s_free = sp.symbols("m1 m2 c1 c2 s")
+Dt = sp.Symbol("Dt", positive=True)
+
+
+class BallMap:
+    """The map ``M~ = m1 M + m2 gamma``, ``gamma~ = c1 M + c2 gamma`` on the ball's state.
+
+    Parameters
+    ----------
+    model : Model
+    coeffs : (m1, m2, c1, c2)
+    Dt_inv : sympy.Expr
+        ``D~^-1``.
+    sign : int
+        ``-1`` for the correct ``Z~ = (A M~, gamma~)/(D~^-1 - (gamma~, A gamma~))``,
+        ``+1`` for the literal reading of BKM12-19.
+    """
+
+    def __init__(self, model: Model, coeffs, Dt_inv, sign: int = -1):
+        n = ball_notation(model)
+        self.n = n
+        self.omega = model.expand_aux(n.omega)
+        self.E = dot(n.M, self.omega)
+        self.C = dot(n.M, n.M)
+        self.Mg = dot(n.M, n.gamma)
+        a1, a2, b1, b2 = coeffs
+        self.coeffs = coeffs
+        self.Mt = a1 * n.M + a2 * n.gamma
+        self.gt = b1 * n.M + b2 * n.gamma
+        self.Dt_inv = Dt_inv
+        self.Zt = dot(n.A * self.Mt, self.gt) / (Dt_inv + sign * dot(self.gt, n.A * self.gt))
+        self.omega_t = n.A * (self.Mt + self.Zt * self.gt)
+        self.mu = a1 + b1 * self.Zt
+
+
+def ball_map(model: Model, coeffs, Dt_inv, sign: int = -1) -> BallMap:
+    """A :class:`BallMap` (E, C, Mg of the state available as attributes)."""
+    return BallMap(model, coeffs, Dt_inv, sign)
+
+
+def split_root(expr: sp.Expr, r: sp.Symbol, r2: sp.Expr) -> list[sp.Expr]:
+    """``expr = A + B r`` with ``r^2 = r2`` (``r`` a symbol standing for a square root).
+
+    Returns ``[A', B']``, numerators of ``A`` and ``B`` over a common denominator free of
+    ``r``: both vanish when ``expr`` does for every value of the radicand (sufficient for
+    a proof; the checker's own split does the same for an explicit ``sqrt``).
+    """
+    num, den = sp.fraction(sp.together(expr))
+
+    def reduce(e):
+        P = sp.Poly(sp.expand(e), r)
+        a = sum((c * r2 ** (m[0] // 2) for m, c in P.terms() if m[0] % 2 == 0), sp.S.Zero)
+        b = sum((c * r2 ** (m[0] // 2) for m, c in P.terms() if m[0] % 2 == 1), sp.S.Zero)
+        return a, b
+
+    a, b = reduce(num)
+    c, d = reduce(den)
+    # (a + b r)/(c + d r) = (a + b r)(c - d r)/(c^2 - d^2 r2)
+    return [a * c - b * d * r2, b * c - a * d]
+
+
+def _energy(model: Model) -> sp.Expr:
+    n = ball_notation(model)
+    return dot(n.M, model.expand_aux(n.omega))
+
+
+def _t1_coeffs(model: Model, violate: str = ""):
+    """Coefficients satisfying (21) (derived solution), ``m1, c1, c2`` free; E of the state."""
+    t = theorem1()
+    E = _energy(model)
+    n = ball_notation(model)
+    sub = {
+        t.symbols["E"]: E,
+        t.symbols["D"]: n.D,
+        t.symbols["m1"]: m1,
+        t.symbols["c1"]: c1,
+        t.symbols["c2"]: c2,
+    }
+    mm2 = t.solution[t.symbols["m2"]].xreplace(sub)
+    Dt_inv = 1 / t.solution[t.symbols["Dt"]].xreplace(sub)
+    if violate == "m2":
+        mm2 = mm2 + c1
+    elif violate == "Dt":
+        Dt_inv = Dt_inv + 2 * c2**2 / n.D  # E c1^2 - ... replaced by E c1^2 + 3 c2^2/D
+    return (m1, mm2, c1, c2), Dt_inv
+
+
+def _scalars_sub(model: Model, bm: BallMap) -> dict:
+    t = theorem1()
+    n = bm.n
+    X = 1 / n.D - dot(n.gamma, n.A * n.gamma)
+    Y = dot(n.A * n.M, n.gamma)
+    return {t.symbols["X"]: X, t.symbols["Y"]: Y, t.symbols["E"]: bm.E, t.symbols["D"]: n.D}
+
+
+# ------------------------------------------------------------------ Theorem 1 claims
+def _bkm12_12(model: Model) -> Check:
+    bm = ball_map(model, (m1, m2, c1, c2), 1 / Dt)
+    n = bm.n
+    exprs = [
+        lie_derivative(x, model) - y for x, y in zip(bm.Mt, cross(bm.Mt, bm.omega), strict=True)
+    ]
+    exprs += [
+        lie_derivative(x, model) - y for x, y in zip(bm.gt, cross(bm.gt, bm.omega), strict=True)
+    ]
+    exprs += [lie_derivative(dot(bm.gt, bm.gt), model), lie_derivative(dot(bm.Mt, bm.gt), model)]
+    del n
+    return Check(exprs, note="constant coefficients m1, m2, c1, c2 free")
+
+
+def _bkm12_14(model: Model) -> Check:
+    """The derived conditions are (14): numerator = X (R2 Y - R1 X)."""
+    t = theorem1()
+    X, Y = t.symbols["X"], t.symbols["Y"]
+    exprs = [t.numerator.as_expr() - X * (t.R2 * Y - t.R1 * X)]
+    exprs += [t.numerator.coeff_monomial(X**2) + t.R1, t.numerator.coeff_monomial(X * Y) - t.R2]
+    return Check(exprs, everywhere=True, note="scalar identity in X, Y and the coefficients")
+
+
+def _bkm12_21(model: Model) -> Check:
+    """(21) solves (14): R1 = R2 = 0 with m2 = -E D m1 c1/c2, D~^-1 = E c1^2 + D^-1 c2^2."""
+    t = theorem1()
+    s = t.symbols
+    E, D = s["E"], s["D"]
+    sub = {
+        s["m2"]: -E * D * s["m1"] * s["c1"] / s["c2"],
+        s["Dt"]: 1 / (E * s["c1"] ** 2 + s["c2"] ** 2 / D),
+    }
+    exprs = [t.R1.xreplace(sub), t.R2.xreplace(sub)]
+    # and the derived solution is (21)
+    sol = t.solution
+    exprs += [
+        E * s["m1"] * s["c1"] + sol[s["m2"]] * s["c2"] / D,
+        1 / sol[s["Dt"]] - (E * s["c1"] ** 2 + s["c2"] ** 2 / D),
+    ]
+    return Check(exprs, everywhere=True, note="scalar identity in E, D and the coefficients")
+
+
+def _bkm12_17(model: Model) -> Check:
+    t = theorem1()
+    bm = ball_map(model, (m1, m2, c1, c2), 1 / Dt)
+    n = bm.n
+    sub = _scalars_sub(model, bm)
+    sub.update(
+        {
+            t.symbols["m1"]: m1,
+            t.symbols["m2"]: m2,
+            t.symbols["c1"]: c1,
+            t.symbols["c2"]: c2,
+            t.symbols["Dt"]: Dt,
+        }
+    )
+    X, Y = sub[t.symbols["X"]], sub[t.symbols["Y"]]
+    exprs = [dot(n.A * n.M, n.M) - (bm.E - Y**2 / X), dot(n.gamma, n.A * n.gamma) - (1 / n.D - X)]
+    exprs += [1 / Dt - dot(bm.gt, n.A * bm.gt) - t.X_t.xreplace(sub)]
+    exprs += [dot(n.A * bm.Mt, bm.gt) - t.Y_t.xreplace(sub)]
+    return Check(exprs, note="E = (M, omega) of the state; coefficients and D~ free")
+
+
+def _proof_t1(model: Model) -> Check:
+    t = theorem1()
+    bm = ball_map(model, (m1, m2, c1, c2), 1 / Dt)
+    n = bm.n
+    sub = _scalars_sub(model, bm)
+    sub.update(
+        {
+            t.symbols["m1"]: m1,
+            t.symbols["m2"]: m2,
+            t.symbols["c1"]: c1,
+            t.symbols["c2"]: c2,
+            t.symbols["Dt"]: Dt,
+        }
+    )
+    X, Y, E, D = (sub[t.symbols[k]] for k in ("X", "Y", "E", "D"))
+    R1, R2 = t.R1.xreplace(sub), t.R2.xreplace(sub)
+    Phi = (R2 * Y - R1 * X) / ((c2 * X - c1 * Y) ** 2 - X * (E * c1**2 + c2**2 / D - 1 / Dt))
+    w, wt = bm.omega, bm.omega_t
+    exprs = []
+    for i, j in ((0, 1), (1, 2), (0, 2)):
+        minor = wt[i] * w[j] - wt[j] * w[i]
+        exprs.append(
+            minor - n.A[i, i] * n.A[j, j] * (n.M[i] * n.gamma[j] - n.M[j] * n.gamma[i]) * Phi
+        )
+    return Check(exprs, note="general coefficients and D~ (not satisfying (14))")
+
+
+def _parallel(coeff_kind: str):
+    def build(model: Model) -> Check:
+        coeffs, Dt_inv = _t1_coeffs(model, violate=coeff_kind)
+        bm = ball_map(model, coeffs, Dt_inv)
+        return Check(
+            list(cross(bm.omega_t, bm.omega)),
+            note="coefficients from the derived solution of (14) (m1, c1, c2 free)",
+        )
+
+    return build
+
+
+def _bkm12_18(which: str):
+    def build(model: Model) -> Check:
+        coeffs, Dt_inv = _t1_coeffs(model)
+        bm = ball_map(model, coeffs, Dt_inv)
+        mu = bm.mu if which == "corrected" else m1 + c1 * bm.n.Z
+        return Check(list(bm.omega_t - mu * bm.omega))
+
+    return build
+
+
+def _bkm12_19(sign: int):
+    def build(model: Model) -> Check:
+        coeffs, Dt_inv = _t1_coeffs(model)
+        bm = ball_map(model, coeffs, Dt_inv, sign=sign)
+        # multiplied by mu (non-zero where the map is defined)
+        exprs = [
+            bm.mu * lie_derivative(x, model) - y
+            for x, y in zip(bm.Mt, cross(bm.Mt, bm.omega_t), strict=True)
+        ]
+        exprs += [
+            bm.mu * lie_derivative(x, model) - y
+            for x, y in zip(bm.gt, cross(bm.gt, bm.omega_t), strict=True)
+        ]
+        return Check(exprs, note="times mu")
+
+    return build
+
+
+def _bkm12_20(model: Model) -> Check:
+    coeffs, Dt_inv = _t1_coeffs(model)
+    bm = ball_map(model, coeffs, Dt_inv)
+    a1, a2, _, _ = coeffs
+    return Check([dot(bm.Mt, bm.omega_t) - (bm.E * a1**2 + a2**2 / bm.n.D)])
+
+
+def _rem_t1(model: Model) -> Check:
+    """Metric <x, y> = E x1 y1 + D^-1 x2 y2: <m, c> = 0, D~^-1 = <c, c>, E~ = <m, m>."""
+    coeffs, Dt_inv = _t1_coeffs(model)
+    bm = ball_map(model, coeffs, Dt_inv)
+    a1, a2, b1, b2 = coeffs
+    E, D = bm.E, bm.n.D
+
+    def g(x, y):
+        return E * x[0] * y[0] + x[1] * y[1] / D
+
+    m, c = (a1, a2), (b1, b2)
+    return Check([g(m, c), Dt_inv - g(c, c), dot(bm.Mt, bm.omega_t) - g(m, m)])
+
+
+# ------------------------------------------------------------------ Chaplygin's coefficients
+def _chaplygin(model: Model, root: int = 0, wrong_quadratic: bool = False):
+    cm = chaplygin_map()
+    n = ball_notation(model)
+    E = _energy(model)
+    C, Mg = dot(n.M, n.M), dot(n.M, n.gamma)
+    sub = {cm.symbols["E"]: E, cm.symbols["D"]: n.D, cm.symbols["C"]: C, cm.symbols["Mg"]: Mg}
+    f = cm.roots[root].xreplace(sub)
+    if wrong_quadratic:  # root of Mg f^2 - (C - E D) f + E D Mg (sign of the last term flipped)
+        k2 = E * n.D
+        f = ((C - k2) + sp.sqrt((C - k2) ** 2 - 4 * k2 * Mg**2)) / (2 * Mg)
+    sub[cm.symbols["f"]] = f
+    vals = [e.xreplace(sub) for e in (cm.m1, cm.m2, cm.c1, cm.c2, cm.Dt_inv, cm.Et)]
+    return n, E, C, Mg, f, vals
+
+
+F = sp.Symbol("f")
+
+
+def _bkm12_22(model: Model) -> Check:
+    """Every f = k tan phi: normalisations, (21), (20) and omega~ || omega."""
+    cm = chaplygin_map()
+    n = ball_notation(model)
+    E = _energy(model)
+    C, Mg = dot(n.M, n.M), dot(n.M, n.gamma)
+    sub = {
+        cm.symbols["E"]: E,
+        cm.symbols["D"]: n.D,
+        cm.symbols["C"]: C,
+        cm.symbols["Mg"]: Mg,
+        cm.symbols["f"]: F,
+    }
+    # m1, c1 are non-zero factors: u = M~/m1, v = gamma~/c1; m1^2, c1^2 are rational in f
+    m1sq, c1sq = (cm.m1**2).xreplace(sub), (cm.c1**2).xreplace(sub)
+    r_m, r_c = sp.cancel(cm.m2 / cm.m1).xreplace(sub), sp.cancel(cm.c2 / cm.c1).xreplace(sub)
+    Dt_inv, Et = cm.Dt_inv.xreplace(sub), cm.Et.xreplace(sub)
+    u = n.M + r_m * n.gamma
+    v = n.M + r_c * n.gamma
+    exprs = [m1sq * dot(u, u) - C, c1sq * dot(v, v) - 1]
+    exprs += [E + r_m * r_c / n.D, Dt_inv - c1sq * (E + r_c**2 / n.D)]
+    exprs += [Et - m1sq * (E + r_m**2 / n.D)]
+    return Check(
+        exprs,
+        free=[F],
+        note="f free (every phi); m1, c1 enter through m1^2, c1^2; "
+        "E = (M, omega) of the state; omega~ || omega for every phi is BKM12-1.4a",
+    )
+
+
+def _bkm12_23(wrong: bool = False):
+    def build(model: Model) -> Check:
+        cm = chaplygin_map()
+        n = ball_notation(model)
+        E = _energy(model)
+        k2 = E * n.D
+        # vector level, every f: (M - f gamma, f M + k^2 gamma) is the Gram form
+        ortho = cm.orthogonality.xreplace(
+            {
+                cm.symbols["E"]: E,
+                cm.symbols["D"]: n.D,
+                cm.symbols["C"]: dot(n.M, n.M),
+                cm.symbols["Mg"]: dot(n.M, n.gamma),
+                cm.symbols["f"]: F,
+            }
+        )
+        exprs = [dot(n.M - F * n.gamma, F * n.M + k2 * n.gamma) - ortho]
+        # scalar level: the Gram form vanishes at both roots (C, Mg, E, D free scalars)
+        s = cm.symbols
+        if wrong:  # a root of Mg f^2 - (C - E D) f + E D Mg (sign of the last term flipped)
+            K2 = s["E"] * s["D"]
+            roots = [
+                ((s["C"] - K2) + sp.sqrt((s["C"] - K2) ** 2 - 4 * K2 * s["Mg"] ** 2))
+                / (2 * s["Mg"])
+            ]
+        else:
+            roots = list(cm.roots)
+        exprs += [cm.orthogonality.xreplace({s["f"]: r}) for r in roots]
+        return Check(
+            exprs,
+            free=[F, s["C"], s["Mg"], s["E"], s["D"]],
+            note="(M~, gamma~)/(m1 c1) = the Gram form in C, M_gamma, E (proved on the "
+            "phase space); the form at both roots f = k tan phi (square root split off)",
+        )
+
+    return build
+
+
+def _bkm12_23_phi(model: Model) -> Check:
+    """Printed phi-form: rho, sigma normalise for every phi, k; tan(2 phi) "
+    "gives (M~, gamma~) = 0."""
+    p = chaplygin_phi_form()
+    n = ball_notation(model)
+    k = p["k"]
+    phi = p["phi"]
+    C, Mg = dot(n.M, n.M), dot(n.M, n.gamma)
+    sub = {p["C"]: C, p["Mg"]: Mg}
+    a1, a2, b1, b2 = (p[x].xreplace(sub) for x in ("m1", "m2", "c1", "c2"))
+    Mt, gt = a1 * n.M + a2 * n.gamma, b1 * n.M + b2 * n.gamma
+    exprs = [dot(Mt, Mt) - C, dot(gt, gt) - 1]
+    # (M~, gamma~) = rho sigma ((C - k^2) sin(2 phi)/2 + k Mg cos(2 phi))
+    exprs.append(
+        dot(Mt, gt)
+        - p["rho"].xreplace(sub)
+        * p["sigma"].xreplace(sub)
+        * ((C - k**2) * sp.sin(phi) * sp.cos(phi) + k * Mg * (sp.cos(phi) ** 2 - sp.sin(phi) ** 2))
+    )
+    # with tan(2 phi) = -2 k Mg/(C - k^2): sin 2phi, cos 2phi on the unit circle
+    R = sp.sqrt((C - k**2) ** 2 + 4 * k**2 * Mg**2)
+    s2, c2_ = -2 * k * Mg / R, (C - k**2) / R
+    exprs.append((C - k**2) * s2 / 2 + k * Mg * c2_)
+    return Check(exprs, free=[k], note="phi free (sin, cos on the circle), k > 0 free")
+
+
+def _bkm12_1_4a(model: Model) -> Check:
+    """For every phi (k^2 = E D, D~^-1 = E sigma^2): (21) holds and omega~ || omega.
+
+    (21) is checked on the printed coefficients divided by the positive ``rho sigma``
+    (resp. ``sigma^2``): only ``k^2`` enters. For the parallelism, ``f = k tan phi`` (free):
+    ``u = M~/(rho cos phi) = M - f gamma``, ``v = k gamma~/(sigma cos phi) = f M + k^2 gamma`` and
+    ``Z~ gamma~/(rho cos phi) = (A u, v) v/(E (k^2 + f^2) - (v, A v))``
+    (``cos^-2 phi = 1 + f^2/k^2``).
+    """
+    p = chaplygin_phi_form()
+    n = ball_notation(model)
+    E = _energy(model)
+    C, Mg = dot(n.M, n.M), dot(n.M, n.gamma)
+    sub = {p["C"]: C, p["Mg"]: Mg}
+    a1, a2 = ((p[x] / p["rho"]).xreplace(sub) for x in ("m1", "m2"))
+    b1, b2 = ((p[x] / p["sigma"]).xreplace(sub) for x in ("c1", "c2"))
+    k2 = E * n.D
+    kk = {p["k"] ** 2: k2}
+    exprs = [sp.expand(E * a1 * b1 + a2 * b2 / n.D).xreplace(kk)]
+    exprs += [sp.expand(E - (E * b1**2 + b2**2 / n.D)).xreplace(kk)]
+    f = sp.Symbol("f")
+    u = n.M - f * n.gamma
+    v = f * n.M + k2 * n.gamma
+    Ztg = dot(n.A * u, v) / (E * (k2 + f**2) - dot(v, n.A * v)) * v
+    wt = n.A * (u + Ztg)
+    exprs += list(cross(wt, model.expand_aux(n.omega)))
+    return Check(
+        exprs, free=[f], note="phi on the circle, f = k tan phi free; only k^2 = E D enters"
+    )
+
+
+# ------------------------------------------------------------------ Kilin's form
+def _kilin(model: Model):
+    """Kilin's new vectors for a free f; D~ from BKM12-21 (D~^-1 = E c1^2 + c2^2/D)."""
+    km, cm = kilin_map(), chaplygin_map()
+    n = ball_notation(model)
+    E = _energy(model)
+    nn, Cg = dot(n.M, n.M), dot(n.M, n.gamma)
+    s = km.symbols
+    sub = {s["n"]: nn, s["C"]: Cg, s["h"]: E / 2, s["D"]: n.D, s["f"]: F}
+    vals = {k: getattr(km, k).xreplace(sub) for k in ("mu", "nu", "kap", "lam", "Q", "n1")}
+    # the inverse of [[nu, mu], [lam, kap]] (derive's ``inverse``), written with the same
+    # kap so that square roots of related radicands are not taken as independent:
+    # 1/sqrt((n - C^2) Q) = kap/(n - C^2)
+    root = sp.sqrt(nn - Cg**2)
+    Mt = root * (n.M - F * n.gamma) / vals["Q"]
+    gt = vals["kap"] * ((F - Cg) * n.M + (nn - Cg * F) * n.gamma) / (nn - Cg**2)
+    inv = sp.Matrix([[root / vals["Q"], -F * root / vals["Q"]], [0, 0]])
+    vals["Dt"] = 1 / cm.Dt_inv.xreplace(
+        {
+            cm.symbols["E"]: E,
+            cm.symbols["D"]: n.D,
+            cm.symbols["C"]: nn,
+            cm.symbols["Mg"]: Cg,
+            cm.symbols["f"]: F,
+        }
+    )
+    vals["m1"], vals["m2"] = inv[0, 0], inv[0, 1]
+    return n, E, nn, Cg, vals, Mt, gt
+
+
+def _k01_2_29(which: str):
+    def build(model: Model) -> Check:
+        n, E, nn, Cg, v, Mt, gt = _kilin(model)
+        if which == "2.30":
+            exprs = [
+                v["mu"] ** 2 + v["nu"] ** 2 * v["n1"] - nn,
+                v["kap"] ** 2 + v["lam"] ** 2 * v["n1"] - 1,
+                v["mu"] * v["kap"] + v["nu"] * v["lam"] * v["n1"] - Cg,
+            ]
+        else:
+            exprs = list(n.M - (v["mu"] * gt + v["nu"] * Mt))
+            exprs += list(n.gamma - (v["kap"] * gt + v["lam"] * Mt))
+            exprs += [dot(Mt, Mt) - v["n1"], dot(gt, gt) - 1]
+            return Check(
+                exprs,
+                free=[F],
+                method="exact-sampled",
+                note="for every f; exact sampling: the Groebner proof with the two "
+                "square roots takes ~5 s",
+            )
+        return Check(exprs, free=[F], note="for every f (the relations do not need (2.32))")
+
+    return build
+
+
+def _k01_2_31(model: Model) -> Check:
+    """The new ball's energy and (M~, M~) in Kilin's form, for every f and every D~.
+
+    ``J omega~ = M~ + Z~ gamma~`` and ``(omega~, gamma~) = Z~/D~`` make both identities hold
+    for any ``D~``; the value of ``D~`` (K01-2.33) and ``omega~ || omega`` (BKM12-1.4a,
+    every ``f``) are separate claims.
+    """
+    n = ball_notation(model)
+    Mt, gt = n.M, n.gamma  # the new ball's state: any M~, unit gamma~
+    Zt = dot(n.A * Mt, gt) / (1 / Dt - dot(gt, n.A * gt))
+    wt = n.A * (Mt + Zt * gt)
+    J = n.J
+    wg = dot(wt, gt)
+    exprs = [dot(J * wt, wt) - Dt * wg**2 - dot(Mt, wt)]
+    exprs += [dot(J * wt, J * wt) - Dt**2 * wg**2 - dot(Mt, Mt) - 2 * Dt * wg * dot(Mt, gt)]
+    return Check(
+        exprs,
+        free=[Dt],
+        note="at every state (M~, gamma~), |gamma~| = 1, and any D~ "
+        "(Kilin's (M~, M~) = n1 is K01-2.29, "
+        "(M~, gamma~) = 0 at the root BKM12-23, 2 h1 and D~ K01-2.33)",
+    )
+
+
+# scalar level: n, C (= M_gamma), D, f free; E = 2h eliminated with the quadratic (2.32)
+_n, _D = sp.symbols("n D", positive=True)
+_C = sp.Symbol("C")
+
+
+def _on_quadratic():
+    km = kilin_map()
+    s = km.symbols
+    E = F * (_n - _C * F) / (_D * (F - _C))  # solves Mg f^2 - (n - E D) f - E D Mg = 0
+    sub = {s["n"]: _n, s["C"]: _C, s["h"]: E / 2, s["D"]: _D, s["f"]: F}
+    return km, E, sub
+
+
+def _k01_2_31c(model: Model) -> Check:
+    km, E, sub = _on_quadratic()
+    v = {k: getattr(km, k).xreplace(sub) for k in ("mu", "nu", "kap", "lam", "Q", "n1", "h1", "Dt")}
+    h, D = E / 2, _D
+    det2 = (v["mu"] * v["lam"] - v["nu"] * v["kap"]) ** 2
+    exprs = [
+        km.quadratic.xreplace(sub),
+        det2 * v["h1"] - (h * v["kap"] ** 2 + v["mu"] ** 2 / (2 * D)),
+        det2 / v["Dt"] - (2 * h * v["lam"] ** 2 + v["nu"] ** 2 / D),
+        v["mu"] * v["nu"] / D + 2 * h * v["kap"] * v["lam"],
+        det2 * v["h1"] / v["Dt"] - h / D,
+    ]
+    return Check(
+        exprs,
+        free=[_n, _C, _D, F],
+        everywhere=True,
+        note="scalars n, C, D, f; 2h = f (n - C f)/(D (f - C)) solves (2.32)",
+    )
+
+
+def _k01_2_32(model: Model) -> Check:
+    km, cm = kilin_map(), chaplygin_map()
+    E = sp.Symbol("E", positive=True)
+    s = km.symbols
+    sub = {s["n"]: _n, s["C"]: _C, s["h"]: E / 2, s["D"]: _D, s["f"]: F}
+    quad = km.quadratic.xreplace(sub)
+    orth = cm.orthogonality.xreplace(
+        {
+            cm.symbols["E"]: E,
+            cm.symbols["D"]: _D,
+            cm.symbols["C"]: _n,
+            cm.symbols["Mg"]: _C,
+            cm.symbols["f"]: F,
+        }
+    )
+    v = {k: getattr(km, k).xreplace(sub) for k in ("mu", "nu", "kap", "lam", "Q")}
+    exprs = [_C * quad + orth, (v["mu"] * v["lam"] - v["nu"] * v["kap"]) ** 2 - v["Q"]]
+    return Check(
+        exprs,
+        free=[_n, _C, _D, F, E],
+        everywhere=True,
+        note="K01's quadratic is -1/M_gamma times BKM12's orthogonality (scalars free)",
+    )
+
+
+def _k01_2_33(control: bool = False):
+    def build(model: Model) -> Check:
+        km, E, sub = _on_quadratic()
+        cm = chaplygin_map()
+        v = {k: getattr(km, k).xreplace(sub) for k in ("n1", "h1", "Dt", "Q")}
+        csub = {
+            cm.symbols["E"]: E,
+            cm.symbols["D"]: _D,
+            cm.symbols["C"]: _n,
+            cm.symbols["Mg"]: _C,
+            cm.symbols["f"]: F,
+        }
+        Dt_bkm = 1 / cm.Dt_inv.xreplace(csub)
+        m1sq = (_n - _C**2) / v["Q"] ** 2  # Kilin's M~ = sqrt(n - C^2) (M - f gamma)/Q
+        Et = m1sq * (E + F**2 / _D)  # BKM12-20
+        if control:
+            return Check(
+                [F * (_n - _C**2) / (E * (F + _C)) - Dt_bkm], free=[_n, _C, _D, F], everywhere=True
+            )
+        exprs = [v["Dt"] - Dt_bkm, 2 * v["h1"] - Et, v["n1"] - m1sq * (_n - 2 * _C * F + F**2)]
+        return Check(
+            exprs,
+            free=[_n, _C, _D, F],
+            everywhere=True,
+            note="scalars; 2h = f (n - C f)/(D (f - C)) solves (2.32); against BKM12-20, 21",
+        )
+
+    return build
+
+
+def _k01_rem1(model: Model) -> Check:
+    """M~ -> s M~: omega~ -> s omega~ at every state and D~, and (21) is kept (m -> s m)."""
+    n = ball_notation(model)
+    E = _energy(model)
+
+    def omega_t(M_):
+        Zt = dot(n.A * M_, n.gamma) / (1 / Dt - dot(n.gamma, n.A * n.gamma))
+        return n.A * (M_ + Zt * n.gamma)
+
+    coeffs, Dt_inv = _t1_coeffs(model)
+    a1, a2, b1, b2 = coeffs
+    exprs = list(omega_t(s_free * n.M) - s_free * omega_t(n.M))
+    exprs += [E * (s_free * a1) * b1 + (s_free * a2) * b2 / n.D]
+    return Check(
+        exprs,
+        free=[s_free, Dt],
+        note="the new ball's state (M~, gamma~) is the model's state; D~, s free",
+    )
+
+
+for claim in (
+    Claim(
+        "BKM12-12",
+        S13,
+        "transformation",
+        "M~ = m1 M + m2 gamma, gamma~ = c1 M + c2 gamma (constant coefficients): "
+        "M~' = M~ x omega, gamma~' = gamma~ x omega, (gamma~, gamma~) and (M~, gamma~) conserved",
+        BALL,
+        (),
+        _bkm12_12,
+    ),
+    Claim(
+        "BKM12-14",
+        S13,
+        "transformation",
+        "omega~ || omega on 2H = E iff R1 = m2 D~^-1 + E c1 Delta = 0, R2 = m1 "
+        "D~^-1 - c2 D^-1 Delta = 0, "
+        "Delta = m1 c2 - m2 c1 (the derived coefficients of X^2 X~ times the minor factor)",
+        BALL,
+        (),
+        _bkm12_14,
+        note="derived in chaplygin.derive.transformation.theorem1",
+    ),
+    Claim(
+        "BKM12-17",
+        S13,
+        "equation",
+        "(A M, M) = E - X^-1 Y^2, (gamma, A gamma) = D^-1 - X, "
+        "X~ = D~^-1 - c1^2 (E - X^-1 Y^2) - c2^2 (D^-1 - X) - 2 c1 c2 Y, "
+        "Y~ = m1 c1 (E - X^-1 Y^2) + m2 c2 (D^-1 - X) + (m1 c2 + m2 c1) Y",
+        BALL,
+        (),
+        _bkm12_17,
+    ),
+    Claim(
+        "BKM12-proofT1",
+        S13,
+        "transformation",
+        "omega~_i omega_j - omega~_j omega_i = A_i A_j (M_i gamma_j - M_j gamma_i) Phi, "
+        "Phi = (R2 Y - R1 X)/((c2 X - c1 Y)^2 - X (E c1^2 + D^-1 c2^2 - D~^-1))",
+        BALL,
+        (),
+        _proof_t1,
+    ),
+    Claim(
+        "BKM12-21",
+        S13,
+        "transformation",
+        "(14) <=> E m1 c1 + D^-1 m2 c2 = 0, D~^-1 = E c1^2 + D^-1 c2^2 (the derived solution)",
+        BALL,
+        (),
+        _bkm12_21,
+    ),
+    Claim(
+        "BKM12-15",
+        S13,
+        "transformation",
+        "under (21): omega~ = A (M~ + Z~ gamma~) is parallel to omega on 2H = E",
+        BALL,
+        (),
+        _parallel(""),
+    ),
+    Claim(
+        "BKM12-15/control-m2",
+        f"{S13} (negative control)",
+        "transformation",
+        "omega~ || omega with m2 = -E D m1 c1/c2 + c1 (violating (21))",
+        BALL,
+        (),
+        _parallel("m2"),
+        expected="fails",
+    ),
+    Claim(
+        "BKM12-15/control-Dt",
+        f"{S13} (negative control)",
+        "transformation",
+        "omega~ || omega with D~^-1 = E c1^2 + 3 D^-1 c2^2 (violating (21))",
+        BALL,
+        (),
+        _parallel("Dt"),
+        expected="fails",
+    ),
+    Claim(
+        "BKM12-18",
+        S13,
+        "transformation",
+        "omega~ = mu omega, mu = m1 + c1 Z~ (corrected: Z~, not Z)",
+        BALL,
+        (),
+        _bkm12_18("corrected"),
+    ),
+    Claim(
+        "BKM12-18/literal",
+        f"{S13} (literal reading)",
+        "transformation",
+        "omega~ = mu omega, mu = m1 + c1 Z (as extracted)",
+        BALL,
+        (),
+        _bkm12_18("literal"),
+        expected="fails",
+    ),
+    Claim(
+        "BKM12-19",
+        S13,
+        "transformation",
+        "M~' = mu^-1 M~ x omega~, gamma~' = mu^-1 gamma~ x omega~, "
+        "Z~ = (A M~, gamma~)/(D~^-1 - (gamma~, A gamma~))",
+        BALL,
+        (),
+        _bkm12_19(-1),
+    ),
+    Claim(
+        "BKM12-19/literal",
+        f"{S13} (literal reading)",
+        "transformation",
+        "the same with Z~ = (A M~, gamma~)/(D~^-1 + (gamma~, A gamma~)) (denominator as extracted)",
+        BALL,
+        (),
+        _bkm12_19(+1),
+        expected="fails",
+    ),
+    Claim(
+        "BKM12-20", S13, "integral", "E~ = (M~, omega~) = E m1^2 + D^-1 m2^2", BALL, (), _bkm12_20
+    ),
+    Claim(
+        "BKM12-RemT1",
+        S13,
+        "transformation",
+        "<x, y> = E x1 y1 + D^-1 x2 y2: <m, c> = 0, D~^-1 = <c, c>, E~ = (M~, omega~) = <m, m>",
+        BALL,
+        (),
+        _rem_t1,
+    ),
+    Claim(
+        "BKM12-1.4a",
+        S14,
+        "transformation",
+        "m1 = rho cos phi, m2 = -k rho sin phi, c1 = sigma sin phi, c2 = k "
+        "sigma cos phi, k^2 = E D, "
+        "D~^-1 = E sigma^2: (21) holds and omega~ || omega for every phi",
+        BALL,
+        (),
+        _bkm12_1_4a,
+    ),
+    Claim(
+        "BKM12-23.phi",
+        S14,
+        "transformation",
+        "rho = sqrt(C) (C cos^2 phi + k^2 sin^2 phi - 2 k M_gamma sin phi cos phi)^-1/2, "
+        "sigma = (C sin^2 phi + k^2 cos^2 phi + 2 k M_gamma cos phi sin "
+        "phi)^-1/2 give (M~, M~) = C, "
+        "(gamma~, gamma~) = 1; tan(2 phi) = -2 k M_gamma/(C - k^2) gives (M~, gamma~) = 0",
+        BALL,
+        (),
+        _bkm12_23_phi,
+    ),
+    Claim(
+        "BKM12-22",
+        S14,
+        "transformation",
+        "M~ = rho (cos phi M - k sin phi gamma), gamma~ = sigma (sin phi M + k cos phi gamma), "
+        "f = k tan phi: (M~, M~) = C, (gamma~, gamma~) = 1, (21) and E~ = E m1^2 + m2^2/D "
+        "for every phi (the derived closed forms)",
+        BALL,
+        (),
+        _bkm12_22,
+    ),
+    Claim(
+        "BKM12-23",
+        S14,
+        "transformation",
+        "(M~, gamma~) = 0 at both roots of tan(2 phi) = -2 k M_gamma/(C - k^2), i.e. of "
+        "M_gamma f^2 - (C - E D) f - E D M_gamma = 0 (f = k tan phi; the roots differ by pi/2)",
+        BALL,
+        (),
+        _bkm12_23(),
+    ),
+    Claim(
+        "BKM12-23/control-quadratic",
+        f"{S14} (negative control)",
+        "transformation",
+        "(M - f gamma, f M + E D gamma) = 0 for a root of M_gamma f^2 - (C - E D) f + E D M_gamma",
+        BALL,
+        (),
+        _bkm12_23(wrong=True),
+        expected="fails",
+    ),
+    Claim(
+        "K01-2.29",
+        K23,
+        "transformation",
+        "M = mu gamma~ + nu M~, gamma = kap gamma~ + lam M~ (the derived inverse map) with "
+        "(M~, M~) = n1, (gamma~, gamma~) = 1",
+        BALL,
+        (),
+        _k01_2_29("2.29"),
+    ),
+    Claim(
+        "K01-2.30",
+        K23,
+        "transformation",
+        "mu^2 + nu^2 n1 = n, kap^2 + lam^2 n1 = 1, mu kap + nu lam n1 = C "
+        "(kap = sqrt((n - C^2)/Q), mu = f kap, lam = (C - f)/sqrt(n - C^2), nu "
+        "= (n - C f)/sqrt(n - C^2))",
+        BALL,
+        (),
+        _k01_2_29("2.30"),
+    ),
+    Claim(
+        "K01-2.31",
+        K23,
+        "transformation",
+        "(J omega~, omega~) - D~ (omega~, gamma~)^2 = (M~, omega~) = 2 h1, "
+        "(J omega~, J omega~) - D~^2 (omega~, gamma~)^2 = (M~, M~) = n1 where (M~, gamma~) = 0, "
+        "J = I + D Id = I~ + D~ Id",
+        BALL,
+        (),
+        _k01_2_31,
+    ),
+    Claim(
+        "K01-2.31c",
+        K23,
+        "transformation",
+        "(mu lam - nu kap)^2 h1 = h kap^2 + mu^2/(2D), (mu lam - nu kap)^2/D~ "
+        "= 2 h lam^2 + nu^2/D, "
+        "mu nu/D + 2 h kap lam = 0, (mu lam - nu kap)^2 h1/D~ = h/D",
+        BALL,
+        (),
+        _k01_2_31c,
+    ),
+    Claim(
+        "K01-2.32",
+        K23,
+        "transformation",
+        "f^2 - ((n - 2hD)/C) f - 2hD = 0 is Chaplygin's orthogonality (BKM12-23, f = k tan phi); "
+        "|mu lam - nu kap| = sqrt(Q)",
+        BALL,
+        (),
+        _k01_2_32,
+    ),
+    Claim(
+        "K01-2.33",
+        K23,
+        "transformation",
+        "n1 = (M~, M~) = (n - C^2)/(n - C^2 + (C - f)^2); h1 = h (n - C^2)/((n - C f) Q), "
+        "D~ = f (n - C^2)/(2h (f - C)) (reconstructed) agree with BKM12-20, 21",
+        BALL,
+        (),
+        _k01_2_33(),
+    ),
+    Claim(
+        "K01-2.33/control-Dt",
+        f"{K23} (negative control)",
+        "transformation",
+        "D~ = f (n - C^2)/(2h (f + C)) agrees with BKM12-21",
+        BALL,
+        (),
+        _k01_2_33(control=True),
+        expected="fails",
+    ),
+    Claim(
+        "K01-Rem1",
+        K23,
+        "transformation",
+        "the transformation is defined up to M~ -> s M~: omega~ -> s omega~, "
+        "still parallel to omega",
+        BALL,
+        (),
+        _k01_rem1,
+    ),
+):
+    register(claim)
