@@ -44,6 +44,7 @@ __all__ = [
     "bifurcation_curve",
     "multiple_root_locus",
     "casimir_names",
+    "steady_parameters",
 ]
 
 
@@ -218,6 +219,29 @@ def bifurcation_curve(model: Model, axis: int) -> sp.Expr:
         if sp.degree(g, E) == 1:
             return sp.factor(sp.solve(g, E)[0])
     raise ValueError("no element of the elimination ideal is linear in E")
+
+
+def steady_parameters(model: Model, axis: int) -> list[dict[str, sp.Expr]]:
+    """Speed ``w`` and ``gamma_i`` of the ball's steady rotations on a level ``(C, M_gamma)``.
+
+    Solves ``family_integrals`` (``C = (M, M)``, ``M_gamma = (M, gamma)``; they depend on
+    ``gamma(0)`` only through ``gamma_i``) for ``w`` and ``gamma_i``: two solutions, one
+    for each sense of rotation (BKM12-crit: two critical solutions per ``M_gamma``).
+
+    Returns
+    -------
+    list of dict
+        ``{"w": expr, "g": expr}`` in the symbols ``C``, ``M_gamma`` and the parameters.
+    """
+    fam = steady_rotation(model, axis)
+    gamma = model.vectors["gamma"]
+    g = sp.Symbol("g", real=True)
+    j = (axis + 1) % 3
+    at = {gamma[axis]: g, gamma[j]: sp.sqrt(1 - g**2), gamma[(axis + 2) % 3]: 0}
+    vals = {k: sp.simplify(v.xreplace(at)) for k, v in family_integrals(model, fam).items()}
+    C, Mg = sp.Symbol("C", real=True), sp.Symbol("M_gamma", real=True)
+    sols = sp.solve([vals["C"] - C, vals["(M,gamma)"] - Mg], [fam.w, g], dict=True)
+    return [{"w": sp.simplify(s_[fam.w]), "g": sp.simplify(s_[g])} for s_ in sols]
 
 
 def multiple_root_locus(
