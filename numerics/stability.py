@@ -43,6 +43,7 @@ __all__ = [
     "monodromy",
     "floquet",
     "integral_gradients",
+    "support_steady_state",
 ]
 
 SYSTEM = "chaplygin_ball"
@@ -231,8 +232,13 @@ def monodromy(code, y0, T: float, p, rtol: float = 1e-12):
     return z[n:].reshape(n, n), z[:n]
 
 
-def floquet(I, D, y0, T: float, rtol: float = 1e-12) -> FloquetResult:  # noqa: E741
+def floquet(
+    I, D, y0, T: float, rtol: float = 1e-12, *, system: str = SYSTEM, params=None  # noqa: E741
+) -> FloquetResult:
     """Floquet multipliers of the periodic solution through ``y0`` with period ``T``.
+
+    ``system`` and ``params`` (the generated code's parameter vector) select another
+    model (the spherical support); ``I, D`` are then ignored.
 
     Returns
     -------
@@ -242,8 +248,8 @@ def floquet(I, D, y0, T: float, rtol: float = 1e-12) -> FloquetResult:  # noqa: 
     ----------
     BKM12-1.5stab, BKM12-1.5stab8.
     """
-    p = _params(I, D)
-    code = load_model_code(SYSTEM)
+    p = _params(I, D) if params is None else [float(v) for v in params]
+    code = load_model_code(system)
     y0 = np.asarray(y0, dtype=float)
     Phi, yT = monodromy(code, y0, T, p, rtol)
     dF = integral_gradients(code, y0, p)
@@ -276,3 +282,34 @@ def floquet(I, D, y0, T: float, rtol: float = 1e-12) -> FloquetResult:  # noqa: 
         rank=rank,
         y0=y0,
     )
+
+
+@lru_cache(maxsize=None)
+def _support_functions(axis: int):
+    model = build_model("spherical_support", ())
+    fam = steady_rotation(model, axis)
+    frame = [s for n in ("alpha", "beta", "gamma") for s in model.vectors[n]]
+    state = [fam.state[s].xreplace({model.time: 0}) for s in model.state]
+    return sp.lambdify([fam.w, *frame, *model.params], state, "numpy")
+
+
+def support_steady_state(params, axis: int, w: float, frame) -> tuple[np.ndarray, float]:
+    """Steady rotation ``omega = w e_axis`` of the spherical support (BKM12-2.7b).
+
+    Parameters
+    ----------
+    params : sequence of 6 floats
+        ``I1, I2, I3, D_iso, D_al, D_be``.
+    frame : array, shape (3, 3)
+        Rows ``alpha, beta, gamma`` at ``t = 0`` (orthonormal, right-handed).
+
+    Returns
+    -------
+    y0 : ndarray, shape (12,)
+    period : float
+    """
+    F = np.asarray(frame, dtype=float)
+    if F.shape != (3, 3) or not np.allclose(F @ F.T, np.eye(3), atol=1e-12):
+        raise UserInputError("the frame must be three orthonormal rows alpha, beta, gamma")
+    y = _support_functions(axis)(w, *F.ravel(), *[float(v) for v in params])
+    return np.array([float(v) for v in y]), 2 * np.pi / abs(w)
