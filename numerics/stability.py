@@ -23,7 +23,7 @@ BKM12-1.5stab, BKM12-1.5stab8, K01-3.2stab, BKM12-Sigma45.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 import sympy as sp
@@ -87,7 +87,7 @@ class FloquetResult:
     y0: np.ndarray = field(repr=False, default_factory=lambda: np.zeros(6))
 
 
-@lru_cache(maxsize=None)
+@cache
 def _critical_functions(axis: int):
     """Lambdified derived expressions: (w, g) on a level, and the state at t = 0."""
     model = build_model(SYSTEM, ())
@@ -233,7 +233,14 @@ def monodromy(code, y0, T: float, p, rtol: float = 1e-12):
 
 
 def floquet(
-    I, D, y0, T: float, rtol: float = 1e-12, *, system: str = SYSTEM, params=None  # noqa: E741
+    I,
+    D,
+    y0,
+    T: float,
+    rtol: float = 1e-12,
+    *,
+    system: str = SYSTEM,
+    params=None,  # noqa: E741
 ) -> FloquetResult:
     """Floquet multipliers of the periodic solution through ``y0`` with period ``T``.
 
@@ -284,7 +291,7 @@ def floquet(
     )
 
 
-@lru_cache(maxsize=None)
+@cache
 def _support_functions(axis: int):
     model = build_model("spherical_support", ())
     fam = steady_rotation(model, axis)

@@ -15,7 +15,7 @@ K01-Fig1, K01-Fig2, K01-Fig3, BKM12-24, BKM12-Fig3, BKM12-2.7c, BKM12-1.5stab8.
 from __future__ import annotations
 
 import argparse
-from functools import lru_cache
+from functools import cache, lru_cache
 
 import numpy as np
 import sympy as sp
@@ -50,7 +50,7 @@ FIGURES = {
 COLORS = ("tab:blue", "tab:red", "tab:green", "tab:purple", "tab:orange")
 
 
-@lru_cache(maxsize=None)
+@cache
 def _sigma_functions():
     """Derived ``E = Sigma_i(C, M_gamma)`` of the ball, lambdified (I1, I2, I3, D)."""
     model = build_model("chaplygin_ball", ())
@@ -65,6 +65,7 @@ def sigma(i: int, C, Mg, I, D):  # noqa: E741
     return _sigma_functions()[i](C, Mg, *I, D)
 
 
+@lru_cache(maxsize=64)
 def family_stability(I, D, C: float = 1.0, Mg: float = 0.0) -> list[tuple[bool, float]]:  # noqa: E741
     """(stable, max |multiplier|) of the steady rotations about e_1, e_2, e_3."""
     from ..numerics.stability import critical_state, floquet
@@ -77,6 +78,7 @@ def family_stability(I, D, C: float = 1.0, Mg: float = 0.0) -> list[tuple[bool, 
     return out
 
 
+@lru_cache(maxsize=64)
 def euler_stability(I, D, Ep: float) -> tuple[bool, float]:  # noqa: E741
     """(stable, max |multiplier|) of the orbit M = sqrt(C) gamma at E' (Sigma_4)."""
     from ..numerics.stability import euler_state, floquet, return_period
@@ -88,6 +90,7 @@ def euler_stability(I, D, Ep: float) -> tuple[bool, float]:  # noqa: E741
     return r.stable, r.max_abs
 
 
+@lru_cache(maxsize=16)
 def support_stability(params) -> list[tuple[bool, float]]:
     """(stable, max |multiplier|) of the support's steady rotations (a generic frame)."""
     from ..numerics.stability import floquet, support_steady_state
@@ -110,7 +113,14 @@ def _random_unit(rng, n):
 
 
 def sample_levels(
-    I, D, n: int, seed: int, C_range=(0.05, 1.0), Mg=None, g=None, t_end: float = 2.0  # noqa: E741
+    I,
+    D,
+    n: int,
+    seed: int,
+    C_range=(0.05, 1.0),
+    Mg=None,
+    g=None,
+    t_end: float = 2.0,  # noqa: E741
 ):
     """Random seeded ball states, integrated to ``t_end``: their ``(C, M_gamma, E)``.
 
@@ -154,7 +164,7 @@ def sample_levels(
     return np.array(out), drift, np.array(states)
 
 
-@lru_cache(maxsize=None)
+@cache
 def _ball_code():
     from ..numerics.code import load_model_code
 
@@ -183,7 +193,13 @@ def _draw_kilin(ax, I, D, C, samples, seed, traces=None):  # noqa: E741
     n = np.linspace(C**2, n_max, 200)
     for i in range(3):
         h = sigma(i, n, C, I, D) / 2
-        ax.plot(n, h, _style(stab[i][0]), color=COLORS[i], label=f"p{i + 1} (max|mu| = {stab[i][1]:.3g})")
+        ax.plot(
+            n,
+            h,
+            _style(stab[i][0]),
+            color=COLORS[i],
+            label=f"p{i + 1} (max|mu| = {stab[i][1]:.3g})",
+        )
     if C != 0:
         hs = sorted(C**2 / (2 * np.asarray(I, float)))  # h_i = C^2/(2 I_i) on n = C^2
         Ep_mid = D * 2 * hs[1] / C**2
@@ -192,7 +208,14 @@ def _draw_kilin(ax, I, D, C, samples, seed, traces=None):  # noqa: E741
             st, mu = euler_stability(I, D, Ep)
             ax.plot([C**2, C**2], [lo, hi], _style(st), color=COLORS[3], lw=2)
         ax.plot([], [], "-", color=COLORS[3], lw=2, label="n = C^2 (M || gamma)")
-        ax.plot([C**2], [hs[1]], "o", color=COLORS[3], mfc="w", label=f"unstable point E' = {Ep_mid:.3g}")
+        ax.plot(
+            [C**2],
+            [hs[1]],
+            "o",
+            color=COLORS[3],
+            mfc="w",
+            label=f"unstable point E' = {Ep_mid:.3g}",
+        )
     vals, drift, states = sample_levels(I, D, samples, seed, C_range=(C**2, n_max), Mg=C)
     ax.plot(vals[:, 0], vals[:, 2] / 2, ".", color="0.5", ms=3)
     ax.set_xlabel("n = (M, M)")
@@ -244,7 +267,13 @@ def _draw_bkm12_2(ax, I, D, samples, seed):  # noqa: E741
     C = np.linspace(0, 1, 100)
     A = 1 / (np.asarray(I, float) + D)
     for i in range(3):
-        ax.plot(C, A[i] * C, _style(stab[i][0]), color=COLORS[i], label=f"E = A{i + 1} C (max|mu| = {stab[i][1]:.3g})")
+        ax.plot(
+            C,
+            A[i] * C,
+            _style(stab[i][0]),
+            color=COLORS[i],
+            label=f"E = A{i + 1} C (max|mu| = {stab[i][1]:.3g})",
+        )
     vals, drift, states = sample_levels(I, D, samples, seed, C_range=(0.02, 1.0), Mg=0.0)
     ax.plot(vals[:, 0], vals[:, 2], ".", color="0.5", ms=3)
     ax.set_xlabel("C = (M, M)")
@@ -258,13 +287,21 @@ def _draw_bkm12_3(ax, I, D, samples, seed):  # noqa: E741
     stab = family_stability(I, D, 1.0, 0.5)
     for i in range(3):
         Ep = sigma(i, 1.0, g, I, D) * D  # E' = E D/C at C = 1
-        ax.plot(g, Ep, _style(stab[i][0]), color=COLORS[i], label=f"Sigma_{i + 1} (max|mu| = {stab[i][1]:.3g})")
+        ax.plot(
+            g,
+            Ep,
+            _style(stab[i][0]),
+            color=COLORS[i],
+            label=f"Sigma_{i + 1} (max|mu| = {stab[i][1]:.3g})",
+        )
     ends = sorted(b / (1 - b))
     for gv, k in ((1, 4), (-1, 5)):
         for lo, hi in ((ends[0], ends[1]), (ends[1], ends[2])):
             st, _ = euler_stability(I, D, (lo + hi) / 2)
             ax.plot([gv, gv], [lo, hi], _style(st), color=COLORS[3 if k == 4 else 4], lw=2)
-        ax.plot([], [], "-", color=COLORS[3 if k == 4 else 4], lw=2, label=f"Sigma_{k}: g = {gv:+d}")
+        ax.plot(
+            [], [], "-", color=COLORS[3 if k == 4 else 4], lw=2, label=f"Sigma_{k}: g = {gv:+d}"
+        )
         ax.plot([gv], [ends[1]], "o", color="k", mfc="w")
     rng = np.random.default_rng(seed)
     gs = rng.uniform(-1, 1, samples)
@@ -301,7 +338,11 @@ def _draw_bkm12_5(fig, params, samples, seed):
             fontsize=8,
         )
         ax.set_aspect("equal")
-        ax.add_patch(__import__("matplotlib.patches", fromlist=["Circle"]).Circle((0, 0), 1, fill=False, lw=0.5))
+        ax.add_patch(
+            __import__("matplotlib.patches", fromlist=["Circle"]).Circle(
+                (0, 0), 1, fill=False, lw=0.5
+            )
+        )
         ax.set_xlabel("g_al")
         ax.set_ylabel("g_be")
     # region of motion: random states, E' between the extreme surfaces at their (g_al, g_be, g_ga)
@@ -351,7 +392,10 @@ def support_sample(params, n: int, seed: int, t_end: float = 1.0):
         C = Mv @ Mv
         gx = np.array([Mv @ al, Mv @ be, Mv @ ga]) / np.sqrt(C)
         E = 2 * float(code.numpy.integrals(0.0, yv, [*I, D_iso, D_al, D_be])[0])
-        surf = [gx[0] ** 2 / (J[i] - D_al) + gx[1] ** 2 / (J[i] - D_be) + gx[2] ** 2 / J[i] for i in range(3)]
+        surf = [
+            gx[0] ** 2 / (J[i] - D_al) + gx[1] ** 2 / (J[i] - D_be) + gx[2] ** 2 / J[i]
+            for i in range(3)
+        ]
         lo, hi = min(surf), max(surf)
         out.append((gx[0], gx[1], (E / C - lo) / (hi - lo)))
         drift = max(drift, max(r.drift.values()))
@@ -393,10 +437,14 @@ def draw(figure: str, out: str, params: dict, samples: int = 60, seed: int = 1) 
         params6 = (*I, float(p["D_iso"]), float(p["D_al"]), float(p["D_be"]))
         J = np.asarray(I) + params6[3]
         if params6[3] < 0 or min(J) <= max(params6[4], params6[5], 0):
-            raise UserInputError("need D_iso >= 0 and I_i + D_iso > D_al, D_be (a physical support)")
+            raise UserInputError(
+                "need D_iso >= 0 and I_i + D_iso > D_al, D_be (a physical support)"
+            )
         drift = _draw_bkm12_5(fig, params6, samples, seed)
-        fig.suptitle(f"{title}: bifurcation surfaces E' = E/C on g_al^2 + g_be^2 + g_ga^2 = 1 "
-                     f"(I = {I}, D_iso = {params6[3]}, D_al = {params6[4]}, D_be = {params6[5]})")
+        fig.suptitle(
+            f"{title}: bifurcation surfaces E' = E/C on g_al^2 + g_be^2 + g_ga^2 = 1 "
+            f"(I = {I}, D_iso = {params6[3]}, D_al = {params6[4]}, D_be = {params6[5]})"
+        )
     else:
         D = float(p["D"])
         if figure == "k01-3":
@@ -462,23 +510,33 @@ def _cmd(args) -> int:
     if figure not in FIGURES:
         raise UserInputError(f"unknown figure {figure!r}; valid: {', '.join(FIGURES)}")
     if FIGURES[figure][0] != args.system:
-        raise UserInputError(f"figure {figure} is a diagram of {FIGURES[figure][0]}, not {args.system}")
+        raise UserInputError(
+            f"figure {figure} is a diagram of {FIGURES[figure][0]}, not {args.system}"
+        )
     if not args.out.lower().endswith(".png"):
         raise UserInputError(f"--out must name a .png file, got {args.out!r}")
     summary = draw(figure, args.out, params, samples=args.samples, seed=args.seed)
-    print(f"wrote {summary['out']} ({figure}; {summary['samples']} integrated states, "
-          f"largest relative drift of their integrals {summary['drift']:.1e})")
+    print(
+        f"wrote {summary['out']} ({figure}; {summary['samples']} integrated states, "
+        f"largest relative drift of their integrals {summary['drift']:.1e})"
+    )
     return 0
 
 
 def add_parser(sub) -> None:
     """Register ``chaplygin bifurcation``."""
-    p = sub.add_parser("bifurcation", help="draw a bifurcation diagram (K01 Figs. 1-3, BKM12 Figs. 2, 3, 5)")
+    p = sub.add_parser(
+        "bifurcation", help="draw a bifurcation diagram (K01 Figs. 1-3, BKM12 Figs. 2, 3, 5)"
+    )
     p._sub = "bifurcation"
     p.add_argument("system", help="chaplygin_ball or spherical_support")
-    p.add_argument("--param", action="append", metavar="NAME=VALUE[,VALUE...]",
-                   help="I=1,1.5,3 D=1 C=1 (ball; C = (M, gamma) for K01 figures); "
-                   "I, D_iso, D_al, D_be (support)")
+    p.add_argument(
+        "--param",
+        action="append",
+        metavar="NAME=VALUE[,VALUE...]",
+        help="I=1,1.5,3 D=1 C=1 (ball; C = (M, gamma) for K01 figures); "
+        "I, D_iso, D_al, D_be (support)",
+    )
     p.add_argument("--figure", default=None, help=", ".join(FIGURES))
     p.add_argument("--out", required=True, help="PNG file to write")
     p.add_argument("--samples", type=int, default=60, help="integrated random states (default 60)")
