@@ -352,20 +352,24 @@ def _k01_3_3(model: Model) -> Check:
 
 
 def _k01_3_2y(model: Model) -> Check:
-    """alpha || M (C = 0): y' = -b (alpha, omega) = -2 b h/sqrt(n), constant."""
+    """alpha || M (C = 0): y' = -b (alpha, omega) = -2 b h/sqrt(n), constant.
+
+    The model's ``y' = -b (alpha, omega)`` (K01-2.6) with ``omega`` kept free: on
+    ``M = (M, alpha) alpha`` it is ``-b (M, omega)/(M, alpha) = -2 b h/sqrt(n)``, a ratio of
+    integrals (``h``; ``(M, alpha)``, BKM12-7), whatever ``omega`` is.
+    """
     n = ball_notation(model)
-    f = model.rhs_expanded
-    y_rate = f[model.state.index(model.vectors["y"][0])]
-    w = model.expand_aux(n.omega)
-    h = dot(n.M, w) / 2
+    y_rate = model.rhs[model.state.index(model.vectors["y"][0])]
+    h = dot(n.M, n.omega) / 2
     sqrt_n = dot(n.M, n.alpha)  # alpha = M/|M|
     exprs = [
-        y_rate + n.b * dot(n.alpha, w),
+        y_rate + n.b * dot(n.alpha, n.omega),
         y_rate * sqrt_n + 2 * n.b * h,
         sqrt_n**2 - dot(n.M, n.M),
         dot(n.M, n.gamma),  # C = 0 follows
     ]
-    return Check(exprs, on=list(cross(n.alpha, n.M)))
+    on_set = dict(zip(n.M, _m * n.alpha, strict=True))  # M = m alpha, m = sqrt(n)
+    return Check([e.xreplace(on_set) for e in exprs], free=[*n.omega, _m])
 
 
 # ------------------------------------------------------------ spherical support §2.7
@@ -708,7 +712,7 @@ _CLAIMS = [
         BALL,
         ("contact_point",),
         _k01_3_2y,
-        note="checked on the invariant set alpha x M = 0, sqrt(n) = (M, alpha)",
+        note="on M = m alpha (alpha || M), sqrt(n) = (M, alpha) = m, omega free",
     ),
     Claim(
         "BKM12-2.7a",
