@@ -101,20 +101,24 @@ def test_control_witness_is_a_phase_space_point_where_the_residual_is_not_zero(c
     assert all(sp.nsimplify(model.expand_aux(r).xreplace(point)) == 0 for r in check.on)
     # time-dependent residuals: sin(Omega t), cos(Omega t), I1(t), k1'(t) ... carry their
     # witness values by name (derivatives before the functions they contain)
+    # the residuals as the verifier decides them (in its verification parameters), so
+    # that atoms like sin(A1 c t) and free symbols of the check (c, w ...) match the
+    # witness by name
+    prepared = [Domain(model).prepare(e) for e in check.exprs]
     atoms = {
         a: sp.Rational(v.witness[str(a)])
-        for e in check.exprs
+        for e in prepared
         for a in e.atoms(sp.Derivative) | e.atoms(sp.Function)
         if str(a) in v.witness
     }
-    # free variables of the check (coefficients, velocities ...) carry their values by name
-    free = {
+    exprs = [e.xreplace(atoms) for e in prepared]
+    extra = {
         s: sp.Rational(v.witness[s.name])
-        for e in check.exprs
+        for e in exprs
         for s in e.free_symbols
         if s not in point and s.name in v.witness
     }
-    exprs = [e.xreplace(atoms).xreplace(point).xreplace(free) for e in check.exprs]
+    exprs = [e.xreplace({**point, **extra}) for e in exprs]
     # the verdict reports the residual of largest modulus among the check's expressions
     value = max((abs(sp.nsimplify(e)) for e in exprs), key=float)
     assert value != 0

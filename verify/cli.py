@@ -21,7 +21,7 @@ EXIT_OK, EXIT_FAILED, EXIT_USAGE = 0, 1, 2
 
 #: Modules of ``chaplygin.verify`` that add a subcommand: each defines
 #: ``add_parser(subparsers) -> None`` and sets ``func`` (args -> exit status) as a default.
-COMMAND_MODULES: tuple[str, ...] = ("bench_cmd", "delta_cmd", "rotation_cmd")
+COMMAND_MODULES: tuple[str, ...] = ("bench_cmd", "delta_cmd", "rotation_cmd", "bifurcation_cmd")
 
 
 class _Parser(argparse.ArgumentParser):

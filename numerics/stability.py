@@ -1,0 +1,322 @@
+"""Floquet multipliers of the ball's periodic solutions (BKM12 §1.5, K01 §3.2).
+
+The monodromy matrix comes from the variational equations ``Phi' = J(y) Phi`` with the
+generated Jacobian, integrated together with the state (6 + 36 equations, DOP853) over one
+period. The integrals ``F`` of the model (energy, ``(M, M)``, ``(M, gamma)``,
+``(gamma, gamma)``) give trivial multipliers: ``dF(y0) Phi = dF(y0)``, so ``Phi`` maps the
+tangent space ``ker dF(y0)`` of the level set into itself and fixes the flow direction.
+On a critical orbit ``dF`` has rank 3 (that is what *critical* means), ``ker dF`` is
+3-dimensional, and the map induced on ``ker dF / span f(y0)`` is a 2x2 matrix whose
+eigenvalues are the nontrivial multipliers: a pair ``mu, 1/mu`` (unstable) or
+``exp(+-i theta)`` (stable).
+
+The periodic solutions are the derived families of ``derive/bifurcation.py``: the steady
+rotations about ``e_i`` on ``Sigma_i`` (BKM12-25, BKM12-crit) and the Euler-top orbits on
+``M = M_gamma gamma`` (``Sigma_4``, ``Sigma_5``, BKM12-Sigma45), whose period is found
+from the first return to the initial state.
+
+References
+----------
+BKM12-1.5stab, BKM12-1.5stab8, K01-3.2stab, BKM12-Sigma45.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cache
+
+import numpy as np
+import sympy as sp
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+
+from ..derive.bifurcation import steady_parameters, steady_rotation
+from ..derive.errors import UserInputError
+from ..derive.systems import build_model
+from .code import load_model_code
+
+__all__ = [
+    "FloquetResult",
+    "critical_state",
+    "euler_state",
+    "return_period",
+    "monodromy",
+    "floquet",
+    "integral_gradients",
+    "support_steady_state",
+]
+
+SYSTEM = "chaplygin_ball"
+
+
+@dataclass
+class FloquetResult:
+    """Multipliers of one periodic solution, with the evidence.
+
+    Attributes
+    ----------
+    period : float
+    multipliers : ndarray, shape (6,)
+        All eigenvalues of the monodromy matrix.
+    nontrivial : ndarray, shape (2,)
+        Eigenvalues of the map induced on ``ker dF / span f`` (see the module docstring).
+    max_abs : float
+        ``max |nontrivial|``.
+    tolerance : float
+        ``sqrt(rtol)``: a pair on the unit circle that is about to leave it (a double
+        multiplier) moves by the square root of a perturbation of size ``rtol``.
+    stable : bool
+        ``|max_abs - 1| <= tolerance``.
+    closure : float
+        ``|y(T) - y(0)|``: how well the orbit closes.
+    drift : float
+        Largest change of an integral over the period.
+    rank : int
+        Numerical rank of ``dF(y0)`` (3 on a critical orbit).
+    """
+
+    period: float
+    multipliers: np.ndarray
+    nontrivial: np.ndarray
+    max_abs: float
+    tolerance: float
+    stable: bool
+    closure: float
+    drift: float
+    rank: int
+    y0: np.ndarray = field(repr=False, default_factory=lambda: np.zeros(6))
+
+
+@cache
+def _critical_functions(axis: int):
+    """Lambdified derived expressions: (w, g) on a level, and the state at t = 0."""
+    model = build_model(SYSTEM, ())
+    C, Mg = sp.Symbol("C", real=True), sp.Symbol("M_gamma", real=True)
+    params = list(model.params)
+    sols = steady_parameters(model, axis)
+    par = [sp.lambdify([C, Mg, *params], [s["w"], s["g"]], "numpy") for s in sols]
+    fam = steady_rotation(model, axis)
+    gamma = model.vectors["gamma"]
+    g = sp.Symbol("g", real=True)
+    j = (axis + 1) % 3
+    at = {gamma[axis]: g, gamma[j]: sp.sqrt(1 - g**2), gamma[(axis + 2) % 3]: 0}
+    state = [fam.state[s].xreplace({model.time: 0}).xreplace(at) for s in model.state]
+    y_of = sp.lambdify([fam.w, g, *params], state, "numpy")
+    return par, y_of
+
+
+def _params(I, D) -> list[float]:  # noqa: E741
+    p = [float(v) for v in (*I, D)]
+    if len(p) != 4 or min(p) <= 0 or not np.all(np.isfinite(p)):
+        raise UserInputError(f"need three positive moments I and a positive D, got I={I}, D={D}")
+    return p
+
+
+def critical_state(I, D, axis: int, C: float, Mg: float = 0.0, branch: int = 0):  # noqa: E741
+    """A steady rotation about ``e_axis`` on the level ``(C, M_gamma)`` (BKM12-crit).
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+    D : float
+    axis : {0, 1, 2}
+    C, Mg : float
+        ``(M, M)`` and ``(M, gamma)``; ``Mg**2 < C``.
+    branch : {0, 1}
+        The two senses of rotation.
+
+    Returns
+    -------
+    y0 : ndarray, shape (6,)
+    period : float
+        ``2 pi/|w|``.
+    """
+    p = _params(I, D)
+    if not (C > 0 and Mg**2 < C):
+        raise UserInputError(f"need C > 0 and M_gamma^2 < C, got C={C}, M_gamma={Mg}")
+    par, y_of = _critical_functions(axis)
+    w, g = (float(v) for v in par[branch](C, Mg, *p))
+    y0 = np.array([float(v) for v in y_of(w, g, *p)])
+    return y0, 2 * np.pi / abs(w)
+
+
+def euler_state(I, D, C: float, Ep: float, sign: int = 1):  # noqa: E741
+    """A state with ``M = M_gamma gamma`` (``Sigma_4`` for sign +1, ``Sigma_5`` for -1).
+
+    ``C = M_gamma^2`` and ``E' = E D/C``: the orbit lies on ``(gamma, A gamma) =
+    E/(C + E D)`` (BKM12-Sigma45, Fig3); gamma(0) is taken in the plane of the axes of
+    largest and smallest ``A_i``, which every such curve crosses.
+
+    Returns
+    -------
+    ndarray, shape (6,)
+    """
+    p = _params(I, D)
+    A = 1 / (np.asarray(p[:3]) + p[3])
+    q = Ep / (1 + Ep) / p[3]  # (gamma, A gamma) = E/(C + E D) = E'/((1 + E') D)
+    hi, lo = int(np.argmax(A)), int(np.argmin(A))
+    if not (A[lo] < q < A[hi]):
+        raise UserInputError(
+            f"E' = {Ep} is outside the range of Sigma_4/5: "
+            f"({A[lo] * p[3] / (1 - A[lo] * p[3])}, {A[hi] * p[3] / (1 - A[hi] * p[3])})"
+        )
+    c2 = (q - A[lo]) / (A[hi] - A[lo])
+    gamma = np.zeros(3)
+    gamma[hi], gamma[lo] = np.sqrt(c2), np.sqrt(1 - c2)
+    m = sign * np.sqrt(C)
+    return np.concatenate([m * gamma, gamma])
+
+
+def integral_gradients(code, y, p) -> np.ndarray:
+    """``dF(y)`` of every integral of the model, complex-step derivatives, shape (k, n)."""
+    n = len(y)
+    h = 1e-30
+    Y = np.asarray(y, dtype=complex)[:, None] + 1j * h * np.eye(n)
+    return np.imag(code.numpy.integrals(0.0, Y, p)) / h
+
+
+def return_period(I, D, y0, t_max: float, rtol: float = 1e-12) -> float:  # noqa: E741
+    """First return time of a periodic orbit to ``y0``.
+
+    Zeros of ``(y(t) - y0, f(y0))`` from below, found on the dense output and refined
+    with Brent's method; the one where ``|y(t) - y0|`` is smallest within the first
+    crossings is the period.
+
+    Raises
+    ------
+    RuntimeError
+        When the orbit does not come back within ``t_max``.
+    """
+    p = _params(I, D)
+    code = load_model_code(SYSTEM)
+    f0 = code.numpy.rhs(0.0, y0, p)
+    sol = solve_ivp(
+        lambda t, y: code.numpy.rhs(t, y, p),
+        (0, t_max),
+        y0,
+        method="DOP853",
+        rtol=rtol,
+        atol=rtol,
+        dense_output=True,
+    )
+    ts = np.linspace(0, t_max, 4000)
+    ys = sol.sol(ts)
+    h = (ys - y0[:, None]).T @ f0
+    best = None
+    for k in range(1, len(ts) - 1):
+        if h[k] < 0 <= h[k + 1]:
+            t = brentq(lambda s: (sol.sol(s) - y0) @ f0, ts[k], ts[k + 1], xtol=1e-14)
+            dist = np.linalg.norm(sol.sol(t) - y0)
+            if dist < 1e-6 * max(1.0, np.linalg.norm(y0)):
+                return float(t)
+            if best is None or dist < best[1]:
+                best = (t, dist)
+    raise RuntimeError(f"no return to the initial state within t = {t_max} (closest: {best})")
+
+
+def monodromy(code, y0, T: float, p, rtol: float = 1e-12):
+    """``Phi(T)`` of the variational equations, and ``y(T)`` (DOP853, atol = rtol)."""
+    n = len(y0)
+
+    def rhs(t, z):
+        y = z[:n]
+        Phi = z[n:].reshape(n, n)
+        J = np.asarray(code.numpy.jac(t, y, p), dtype=float)
+        return np.concatenate([code.numpy.rhs(t, y, p), (J @ Phi).ravel()])
+
+    z0 = np.concatenate([y0, np.eye(n).ravel()])
+    sol = solve_ivp(rhs, (0, T), z0, method="DOP853", rtol=rtol, atol=rtol)
+    if not sol.success:  # pragma: no cover - a smooth periodic orbit
+        raise RuntimeError(sol.message)
+    z = sol.y[:, -1]
+    return z[n:].reshape(n, n), z[:n]
+
+
+def floquet(
+    I,
+    D,
+    y0,
+    T: float,
+    rtol: float = 1e-12,
+    *,
+    system: str = SYSTEM,
+    params=None,  # noqa: E741
+) -> FloquetResult:
+    """Floquet multipliers of the periodic solution through ``y0`` with period ``T``.
+
+    ``system`` and ``params`` (the generated code's parameter vector) select another
+    model (the spherical support); ``I, D`` are then ignored.
+
+    Returns
+    -------
+    FloquetResult
+
+    References
+    ----------
+    BKM12-1.5stab, BKM12-1.5stab8.
+    """
+    p = _params(I, D) if params is None else [float(v) for v in params]
+    code = load_model_code(system)
+    y0 = np.asarray(y0, dtype=float)
+    Phi, yT = monodromy(code, y0, T, p, rtol)
+    dF = integral_gradients(code, y0, p)
+    _, s, Vt = np.linalg.svd(dF)
+    rank = int(np.sum(s > 1e-8 * s[0]))
+    K = Vt[rank:].T  # orthonormal basis of ker dF, shape (n, n - rank)
+    f = code.numpy.rhs(0.0, y0, p)
+    f = f / np.linalg.norm(f)
+    # quotient by the flow direction: basis of ker dF orthogonal to f
+    fk = K.T @ f
+    Q, _ = np.linalg.qr(np.column_stack([fk, np.eye(len(fk))]))
+    B = K @ Q[:, 1:]  # (n, n - rank - 1), orthonormal, orthogonal to f
+    # induced map on ker dF / span f: project Phi B back onto B along f
+    P = np.eye(len(y0)) - np.outer(f, f)
+    Mq = B.T @ P @ Phi @ B
+    nontrivial = np.linalg.eigvals(Mq)
+    F0 = code.numpy.integrals(0.0, y0, p)
+    FT = code.numpy.integrals(0.0, yT, p)
+    tol = float(np.sqrt(rtol))
+    max_abs = float(np.max(np.abs(nontrivial)))
+    return FloquetResult(
+        period=float(T),
+        multipliers=np.linalg.eigvals(Phi),
+        nontrivial=nontrivial,
+        max_abs=max_abs,
+        tolerance=tol,
+        stable=abs(max_abs - 1) <= tol,
+        closure=float(np.linalg.norm(yT - y0)),
+        drift=float(np.max(np.abs(FT - F0))),
+        rank=rank,
+        y0=y0,
+    )
+
+
+@cache
+def _support_functions(axis: int):
+    model = build_model("spherical_support", ())
+    fam = steady_rotation(model, axis)
+    frame = [s for n in ("alpha", "beta", "gamma") for s in model.vectors[n]]
+    state = [fam.state[s].xreplace({model.time: 0}) for s in model.state]
+    return sp.lambdify([fam.w, *frame, *model.params], state, "numpy")
+
+
+def support_steady_state(params, axis: int, w: float, frame) -> tuple[np.ndarray, float]:
+    """Steady rotation ``omega = w e_axis`` of the spherical support (BKM12-2.7b).
+
+    Parameters
+    ----------
+    params : sequence of 6 floats
+        ``I1, I2, I3, D_iso, D_al, D_be``.
+    frame : array, shape (3, 3)
+        Rows ``alpha, beta, gamma`` at ``t = 0`` (orthonormal, right-handed).
+
+    Returns
+    -------
+    y0 : ndarray, shape (12,)
+    period : float
+    """
+    F = np.asarray(frame, dtype=float)
+    if F.shape != (3, 3) or not np.allclose(F @ F.T, np.eye(3), atol=1e-12):
+        raise UserInputError("the frame must be three orthonormal rows alpha, beta, gamma")
+    y = _support_functions(axis)(w, *F.ravel(), *[float(v) for v in params])
+    return np.array([float(v) for v in y]), 2 * np.pi / abs(w)
