@@ -10,6 +10,7 @@ import argparse
 import importlib
 import importlib.util
 import json
+import math
 import sys
 import time
 from collections.abc import Sequence
@@ -18,6 +19,8 @@ from pathlib import Path
 __all__ = ["main", "build_parser", "COMMAND_MODULES"]
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE = 0, 1, 2
+#: Seconds one claim may take in 'chaplygin verify' (the slowest takes about 10 s).
+DEFAULT_CLAIM_TIMEOUT = 600.0
 
 #: Modules of ``chaplygin.verify`` that add a subcommand: each defines
 #: ``add_parser(subparsers) -> None`` and sets ``func`` (args -> exit status) as a default.
@@ -85,11 +88,14 @@ def _cmd_verify(args) -> int:
     jobs = default_jobs() if args.jobs is None else args.jobs
     if jobs < 1:
         raise UserInputError(f"--jobs must be a positive whole number, got {jobs}")
+    if not (args.timeout >= 0 and math.isfinite(args.timeout)):
+        raise UserInputError(f"--timeout must be a number of seconds >= 0, got {args.timeout}")
+    timeout = args.timeout or None
     verdicts = []
     started = time.perf_counter()
     if not args.json:
         print(f"{'claim':<46} {'verdict':<14} {'ok':<3} {'seconds':>8}  method / statement")
-    for v in iter_verdicts(claims, method=args.method, jobs=jobs):
+    for v in iter_verdicts(claims, method=args.method, jobs=jobs, timeout=timeout):
         verdicts.append(v)
         if not args.json:
             flag = "yes" if v.ok else "NO"
@@ -111,6 +117,9 @@ def _cmd_verify(args) -> int:
             k: sum(v.verdict == k for v in verdicts)
             for k in ("proved", "exact-sampled", "numeric", "refuted")
         }
+        for k in ("error", "timeout"):
+            if any(v.verdict == k for v in verdicts):
+                counts[k] = sum(v.verdict == k for v in verdicts)
         total = sum(v.seconds for v in verdicts)
         wall = time.perf_counter() - started
         print(
@@ -261,7 +270,18 @@ def build_parser() -> argparse.ArgumentParser:
         "--jobs",
         type=int,
         default=None,
-        help="worker processes (default: the CPUs available); 1 checks in this process",
+        help="worker processes (default: the CPUs available)",
+    )
+    p.add_argument(
+        "--timeout",
+        type=float,
+        default=DEFAULT_CLAIM_TIMEOUT,
+        metavar="SECONDS",
+        help=(
+            f"time limit of one claim (default {DEFAULT_CLAIM_TIMEOUT:g} s): past it the claim is"
+            " reported as 'timeout' and the run goes on; 0 means none, and with --jobs 1 then"
+            " checks in this process"
+        ),
     )
     p.set_defaults(func=_cmd_verify)
 

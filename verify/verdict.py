@@ -2,16 +2,26 @@
 
 from __future__ import annotations
 
+import faulthandler
 import multiprocessing
+import multiprocessing.connection
 import os
 import time
-from collections.abc import Iterable, Iterator
+import traceback
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import asdict, dataclass
 
 from .claims import Claim
 from .identity import Domain, decide
 
-__all__ = ["Verdict", "check_claim", "check_claims", "iter_verdicts", "default_jobs"]
+__all__ = [
+    "Verdict",
+    "check_claim",
+    "check_claims",
+    "iter_verdicts",
+    "default_jobs",
+    "registered_claim",
+]
 
 
 @dataclass
@@ -22,7 +32,9 @@ class Verdict:
     ----------
     id, statement, source, kind : str
         From the claim.
-    verdict : {"proved", "exact-sampled", "numeric", "refuted"}
+    verdict : {"proved", "exact-sampled", "numeric", "refuted", "error", "timeout"}
+        ``"error"`` and ``"timeout"`` are not decisions: the check raised, its worker
+        died or it ran out of time (the method says which); they are never ``ok``.
     method : str
         How it was decided.
     seconds : float
@@ -49,6 +61,8 @@ class Verdict:
     @property
     def ok(self) -> bool:
         """True when the verdict is the expected one (a control must be refuted)."""
+        if self.verdict in ("error", "timeout"):
+            return False
         refuted = self.verdict == "refuted"
         return refuted if self.expected == "fails" else not refuted
 
@@ -109,18 +123,94 @@ def default_jobs() -> int:
         return max(1, os.cpu_count() or 1)
 
 
-def _check_by_id(task: tuple[int, str, str]) -> tuple[int, Verdict]:
+#: Verdicts that are not decisions: the check raised, its worker died or ran out of time.
+FAILURES = ("error", "timeout")
+
+
+def _failure(claim: Claim, verdict: str, why: str, seconds: float) -> Verdict:
+    return Verdict(
+        id=claim.id,
+        statement=claim.statement,
+        source=claim.source,
+        kind=claim.kind,
+        verdict=verdict,
+        method=why,
+        seconds=seconds,
+        residual=None,
+        witness=None,
+        expected=claim.expected,
+    )
+
+
+def _check_or_error(claim: Claim, method: str) -> Verdict:
+    start = time.perf_counter()
+    try:
+        return check_claim(claim, method=method)
+    except Exception as exc:  # a bug in one check must not hide the other verdicts
+        detail = "".join(traceback.format_exception_only(exc)).strip()
+        return _failure(claim, "error", f"the check raised {detail}", time.perf_counter() - start)
+
+
+def registered_claim(claim_id: str) -> Claim:
+    """The registered claim with this ID (how worker processes find their claims)."""
     from .claims import REGISTRY, select_claims
 
-    index, claim_id, method = task
-    select_claims()  # a spawned worker loads the registry; a forked one has it
-    return index, check_claim(REGISTRY[claim_id], method=method)
+    select_claims()  # loads the registry once per process
+    return REGISTRY[claim_id]
+
+
+def _worker(conn, method: str, lookup) -> None:  # pragma: no cover  (a child process)
+    """Decide the claims the parent sends, one at a time, until it sends None."""
+    faulthandler.enable()  # a crash in compiled code leaves a traceback on stderr
+    while True:
+        task = conn.recv()
+        if task is None:
+            return
+        index, claim_id = task
+        conn.send((index, _check_or_error(lookup(claim_id), method)))
+
+
+class _Slot:
+    """One worker process and the claim it is deciding."""
+
+    def __init__(self, ctx, method: str, lookup):
+        self.conn, child = ctx.Pipe()
+        self.process = ctx.Process(target=_worker, args=(child, method, lookup), daemon=True)
+        self.process.start()
+        child.close()
+        self.task: tuple[int, str] | None = None
+        self.since = 0.0
+
+    def send(self, task: tuple[int, str]) -> None:
+        self.task, self.since = task, time.perf_counter()
+        self.conn.send(task)
+
+    def stop(self, kill: bool = False) -> None:
+        if kill:
+            self.process.kill()
+        else:
+            try:
+                self.conn.send(None)
+            except OSError:
+                pass
+        self.process.join(timeout=10)
+        if self.process.is_alive():
+            self.process.kill()
+            self.process.join()
+        self.conn.close()
 
 
 def iter_verdicts(
-    claims: Iterable[Claim], method: str = "auto", jobs: int = 1
+    claims: Iterable[Claim],
+    method: str = "auto",
+    jobs: int = 1,
+    timeout: float | None = None,
+    lookup: Callable[[str], Claim] = registered_claim,
 ) -> Iterator[Verdict]:
     """Check claims, yielding the verdicts in the order of ``claims``.
+
+    A check that raises gives the verdict ``"error"`` (with the exception) instead of
+    stopping the run.
 
     Parameters
     ----------
@@ -128,28 +218,81 @@ def iter_verdicts(
         Registered claims (workers look them up by ID).
     method : {"auto", "symbolic", "exact-sampled", "numeric"}
     jobs : int
-        Worker processes. With more than one, the claims are decided in parallel (each
-        worker derives the models it needs once); a verdict is the same whichever process
-        decides it (the sampler is seeded).
+        Worker processes. With more than one, the claims are decided in parallel by
+        fresh (spawned) processes, each deriving or loading the models it needs once; a
+        verdict is the same whichever process decides it (the sampler is seeded).
+    timeout : float, optional
+        Seconds a single claim may take. With a timeout the claims are always decided
+        in worker processes (one when ``jobs`` is 1): a worker that exceeds it is
+        stopped and the claim gets the verdict ``"timeout"``; a worker that dies gives
+        ``"error"`` with its exit code. The other claims go on in a new worker.
+    lookup : callable, optional
+        How a worker process finds a claim by its ID: a picklable function (default
+        :func:`registered_claim`).
     """
     claims = list(claims)
-    if jobs <= 1 or len(claims) <= 1:
+    if (jobs <= 1 and timeout is None) or not claims:
         for c in claims:
-            yield check_claim(c, method=method)
+            yield _check_or_error(c, method)
         return
-    methods = multiprocessing.get_all_start_methods()
-    ctx = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
-    tasks = [(i, c.id, method) for i, c in enumerate(claims)]
+    ctx = multiprocessing.get_context("spawn")  # no fork of a parent with locks or threads
+    pending = list(enumerate(c.id for c in claims))[::-1]
+    slots = [_Slot(ctx, method, lookup) for _ in range(max(1, min(jobs, len(claims))))]
     done: dict[int, Verdict] = {}
     nxt = 0
-    with ctx.Pool(processes=min(jobs, len(claims))) as pool:
-        for index, verdict in pool.imap_unordered(_check_by_id, tasks, chunksize=1):
-            done[index] = verdict
+    try:
+        for slot in slots:
+            slot.send(pending.pop())
+        while nxt < len(claims):
+            busy = [s for s in slots if s.task is not None]
+            ready = multiprocessing.connection.wait(
+                [s.conn for s in busy] + [s.process.sentinel for s in busy],
+                timeout=None if timeout is None else 1.0,
+            )
+            for i, slot in enumerate(slots):
+                if slot.task is None:
+                    continue
+                index, claim_id = slot.task
+                claim = claims[index]
+                elapsed = time.perf_counter() - slot.since
+                result: Verdict | None = None
+                replace = False
+                if slot.conn in ready:
+                    try:
+                        _, result = slot.conn.recv()
+                    except (EOFError, OSError):
+                        result = None
+                if result is None and (slot.conn in ready or slot.process.sentinel in ready):
+                    slot.process.join(timeout=5)
+                    code = slot.process.exitcode
+                    result = _failure(
+                        claim, "error", f"its worker process died (exit code {code})", elapsed
+                    )
+                    replace = True
+                elif result is None and timeout is not None and elapsed > timeout:
+                    result = _failure(
+                        claim, "timeout", f"stopped after {timeout:g} s (--timeout)", elapsed
+                    )
+                    replace = True
+                if result is None:
+                    continue
+                done[index] = result
+                slot.task = None
+                if replace:
+                    slot.stop(kill=True)
+                    slot = slots[i] = _Slot(ctx, method, lookup)
+                if pending:
+                    slot.send(pending.pop())
             while nxt in done:
                 yield done.pop(nxt)
                 nxt += 1
+    finally:
+        for slot in slots:
+            slot.stop(kill=slot.task is not None)
 
 
-def check_claims(claims: Iterable[Claim], method: str = "auto", jobs: int = 1) -> list[Verdict]:
+def check_claims(
+    claims: Iterable[Claim], method: str = "auto", jobs: int = 1, timeout: float | None = None
+) -> list[Verdict]:
     """All verdicts of :func:`iter_verdicts`, as a list."""
-    return list(iter_verdicts(claims, method=method, jobs=jobs))
+    return list(iter_verdicts(claims, method=method, jobs=jobs, timeout=timeout))
