@@ -41,6 +41,9 @@ FOUNDATION = [
     "K01-4.2m",
 ]
 CONTROLS = [c.id for c in CLAIMS if c.expected == "fails"]
+#: Controls decided by residual expressions (their witness can be re-evaluated exactly).
+EXPR_CONTROLS = [i for i in CONTROLS if not getattr(REGISTRY[i].build, "computed", False)]
+COMPUTED_CONTROLS = sorted(set(CONTROLS) - set(EXPR_CONTROLS))
 
 
 def test_registry_covers_the_foundation_claims_and_controls():
@@ -66,18 +69,34 @@ def test_claim_gets_expected_verdict(claim_id):
         # the check itself chose the exact sampled method (and says why)
         model = REGISTRY[claim_id].model()
         check = REGISTRY[claim_id].build(model)
-        expected = "exact-sampled" if check.method == "exact-sampled" else "proved"
+        if check.computed is not None:  # a computed quantity: within its derived bound
+            assert v.verdict == "numeric", (v.verdict, v.residual, v.witness)
+            assert "computed:" in v.method and "bound" in v.method
+            return
+        expected = check.method if check.method in ("exact-sampled", "numeric") else "proved"
         assert v.verdict == expected, (v.verdict, v.residual, v.witness)
         if expected != "proved":
             assert check.note, "a claim that is not proved says why"
-        assert v.residual == "0"
+        if expected != "numeric":
+            assert v.residual == "0"
     else:
         assert v.verdict == "refuted"
         assert v.witness, "a refutation carries its witness point"
     assert v.ok
 
 
-@pytest.mark.parametrize("claim_id", CONTROLS)
+@pytest.mark.parametrize("claim_id", COMPUTED_CONTROLS)
+def test_computed_control_is_refuted_by_its_error_beyond_the_bound(claim_id):
+    """A wrong number (a printed value, a rule, a normalisation) is refuted by the same
+    computation that checks the right one: its error exceeds the derived bound."""
+    v = _verdict(claim_id)
+    assert v.verdict == "refuted" and v.witness
+    error, bound = (float(x) for x in v.method.rsplit("; error ", 1)[1].split(", bound ")[:2])
+    assert float(v.residual) == pytest.approx(error, rel=5e-3)  # printed to 3 digits
+    assert error > bound
+
+
+@pytest.mark.parametrize("claim_id", EXPR_CONTROLS)
 def test_control_witness_is_a_phase_space_point_where_the_residual_is_not_zero(claim_id):
     """Re-evaluate the witness independently, in exact arithmetic."""
     claim = REGISTRY[claim_id]

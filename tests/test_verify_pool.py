@@ -26,7 +26,8 @@ def test_workers_survive_errors_deaths_and_hangs_and_keep_the_order():
     verdicts = list(iter_verdicts(claims, jobs=2, timeout=20, lookup=lookup))
     assert [v.id for v in verdicts] == ids
     got = {v.id: v for v in verdicts}
-    assert got["pool/raises"].verdict == "error" and "ZeroDivisionError" in got["pool/raises"].method
+    raised = got["pool/raises"]
+    assert raised.verdict == "error" and "ZeroDivisionError" in raised.method
     assert got["pool/dies"].verdict == "error" and "exit code 7" in got["pool/dies"].method
     assert got["pool/hangs"].verdict == "timeout"
     assert got["pool/hangs"].seconds >= 20

@@ -87,6 +87,8 @@ def check_claim(claim: Claim, method: str = "auto", points: int = 8) -> Verdict:
     model = claim.model()
     start = time.perf_counter()
     check = claim.build(model)
+    if check.computed is not None:
+        return _decide_computed(claim, check, start)
     while True:
         domain = Domain(
             model,
@@ -111,6 +113,26 @@ def check_claim(claim: Claim, method: str = "auto", points: int = 8) -> Verdict:
         seconds=time.perf_counter() - start,
         residual=outcome.residual,
         witness=outcome.witness,
+        expected=claim.expected,
+    )
+
+
+def _decide_computed(claim: Claim, check, start: float) -> Verdict:
+    """A claim about a computed quantity: ``numeric`` when the error is within its bound."""
+    result = check.computed()
+    holds = result.holds
+    note = f" ({check.note})" if check.note else ""
+    return Verdict(
+        id=claim.id,
+        statement=claim.statement,
+        source=claim.source,
+        kind=claim.kind,
+        verdict="numeric" if holds else "refuted",
+        method=f"computed: {result.what}; error {result.error:.3g}, bound {result.bound:.3g}"
+        + note,
+        seconds=time.perf_counter() - start,
+        residual=f"{result.error:.6g}",
+        witness=None if holds else dict(result.values),
         expected=claim.expected,
     )
 

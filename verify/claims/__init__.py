@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 from chaplygin.derive import Model, build_model
 
-__all__ = ["Claim", "Check", "REGISTRY", "register", "select_claims", "KINDS"]
+__all__ = ["Claim", "Check", "Computed", "REGISTRY", "register", "select_claims", "KINDS"]
 
 KINDS = ("equation", "integral", "measure", "definition", "transformation", "solution", "value")
 
@@ -43,6 +43,11 @@ class Check:
     method : str
         The method used when the caller asks for ``auto``: ``exact-sampled`` where the
         Groebner proof is known to take minutes (the note says so).
+    computed : callable, optional
+        For a claim about a computed quantity (a Floquet multiplier, a rotation number
+        measured on a trajectory, a critical energy): a function of no arguments that
+        runs the computation and returns a :class:`Computed`. ``exprs`` is then empty
+        and the verdict is ``numeric`` (error within its derived bound) or ``refuted``.
     """
 
     exprs: list[sp.Expr]
@@ -52,6 +57,35 @@ class Check:
     fallback: Check | None = None
     note: str = ""
     method: str = "auto"
+    computed: Callable[[], Computed] | None = None
+
+
+@dataclass
+class Computed:
+    """Outcome of the computation behind a numerical claim.
+
+    Parameters
+    ----------
+    error : float
+        The discrepancy measured (non-negative; NaN counts as failure).
+    bound : float
+        What the error may be: derived from the tolerance of the computation or the
+        digits a paper prints (the ``what`` says which).
+    what : str
+        What was computed and compared, for the report.
+    values : dict
+        The numbers behind the verdict (``name -> value`` as strings): the witness of a
+        refutation.
+    """
+
+    error: float
+    bound: float
+    what: str
+    values: dict[str, str] = field(default_factory=dict)
+
+    @property
+    def holds(self) -> bool:
+        return bool(self.error <= self.bound)  # False for NaN
 
 
 @dataclass(frozen=True)

@@ -224,6 +224,7 @@ for claim in (
         _equations,
         note="the engine's raw momentum rate (multipliers eliminated) and the model's "
         "right-hand side, for every omega",
+        covers=("BKM12-9",),  # gamma' = gamma x omega again (FORMULAS.md)
     ),
     Claim(
         "BKM12-3",

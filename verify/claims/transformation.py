@@ -667,6 +667,7 @@ for claim in (
         BALL,
         (),
         _parallel(""),
+        covers=("BKM12-1.3a",),  # the same A, D -> D~: a trajectory isomorphism
     ),
     Claim(
         "BKM12-15/control-m2",
