@@ -25,6 +25,32 @@ emission.
 '''
 
 
+#: Emitted files per (model hash, generator version, language): emission is a pure function
+#: of the model, and a process that renders twice (``derive --check`` then ``derive``, the
+#: tests) pays for it once.
+_EMITTED: dict[tuple[str, str, str], tuple[tuple[str, str], ...]] = {}
+
+
+class _LazyRoutines:
+    """The model's routines, built on first use (not at all when every emission is memoised)."""
+
+    def __init__(self, model):
+        self.model = model
+        self.value = None
+
+    def get(self):
+        if self.value is None:
+            self.value = ModelRoutines(self.model)
+        return self.value
+
+
+def _emitted(model, language: str, routines: _LazyRoutines) -> tuple[tuple[str, str], ...]:
+    key = (model.hash, GENERATOR_VERSION, language)
+    if key not in _EMITTED:
+        _EMITTED[key] = tuple(get_emitter(language).emit(model, routines.get()))
+    return _EMITTED[key]
+
+
 def render_generated(languages: tuple[str, ...] | None = None) -> dict[str, str]:
     """Every file of ``generated/`` as ``{filename: text}`` (nothing is written).
 
@@ -38,7 +64,7 @@ def render_generated(languages: tuple[str, ...] | None = None) -> dict[str, str]
     manifest: dict[str, dict] = {}
     for system, effects in builtin_variants():
         model = build_model(system, effects)
-        routines = ModelRoutines(model)
+        routines = _LazyRoutines(model)
         entry = {
             "system": system,
             "effects": sorted(effects),
@@ -47,7 +73,7 @@ def render_generated(languages: tuple[str, ...] | None = None) -> dict[str, str]
             "files": {},
         }
         for language in languages:
-            for filename, text in get_emitter(language).emit(model, routines):
+            for filename, text in _emitted(model, language, routines):
                 files[filename] = text
                 entry["files"][language] = filename
         manifest[model.name] = entry
