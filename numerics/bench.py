@@ -450,7 +450,9 @@ def _jitcode_rows(problem, quick, repeats, reference, compile_s, say) -> list[Be
 def rhs_call_times(number: int = 20000) -> dict[str, float]:
     """Seconds per right-hand-side evaluation of the reference problem, called from Python.
 
-    ``C (cffi, per call)``: :meth:`CompiledModel.rhs` with preallocated ``out``;
+    ``C, CompiledModel.rhs``: the single call users and scipy make, with and without a
+    preallocated ``out`` (through the CPython trampoline of :mod:`.fastcall` when it could be
+    built); ``C via cffi only``: the same with the trampoline switched off;
     ``C (rhs_many, per state)``: one batched C call on 1000 states, divided by 1000;
     ``numpy (per call)``: the generated numpy ``rhs``. Best of 5 repeats of ``number``.
     """
@@ -466,12 +468,21 @@ def rhs_call_times(number: int = 20000) -> dict[str, float]:
         return out
     buf = np.empty(6)
     rhs = lib.rhs
-    out["C via cffi (per call)"] = min(
-        timeit.repeat(lambda: rhs(0.0, y, p, buf), number=number, repeat=5)
+    env = {"rhs": rhs, "y": y, "p": p, "buf": buf}  # timed as statements: no lambda frame
+    via = "CPython trampoline" if lib._fast is not None else "cffi (no trampoline here)"
+    out[f"C, CompiledModel.rhs with out ({via})"] = min(
+        timeit.repeat("rhs(0.0, y, p, buf)", globals=env, number=number, repeat=5)
     ) / number
-    out["C via cffi, new output array (per call)"] = min(
-        timeit.repeat(lambda: rhs(0.0, y, p), number=number, repeat=5)
+    out[f"C, CompiledModel.rhs, new output array ({via})"] = min(
+        timeit.repeat("rhs(0.0, y, p)", globals=env, number=number, repeat=5)
     ) / number
+    saved, lib._fast = lib._fast, None  # the cffi path alone, for comparison
+    try:
+        out["C via cffi only (per call)"] = min(
+            timeit.repeat("rhs(0.0, y, p, buf)", globals=env, number=number, repeat=5)
+        ) / number
+    finally:
+        lib._fast = saved
     raw, ybuf, pbuf, obuf = lib._rhs, lib._y_buffer(y), lib._p_buffer(p), lib._y_buffer(buf)
     out["C via cffi, raw call on pre-built buffers (floor of ABI mode)"] = min(
         timeit.repeat(lambda: raw(0.0, ybuf, pbuf, obuf), number=number, repeat=5)
@@ -724,14 +735,17 @@ def target_ratios(study: dict) -> list[str]:
             f"{o50['median_s']:.3f} s: {ratio:.1f}x faster (target >= 10x){extra}"
         )
     rc = study["rhs_call_s"]
-    if "C via cffi (per call)" in rc:
-        floor = rc.get("C via cffi, raw call on pre-built buffers (floor of ABI mode)")
+    single = [k for k in rc if k.startswith("C, CompiledModel.rhs with out")]
+    if single:
+        fresh = [k for k in rc if k.startswith("C, CompiledModel.rhs, new output")]
+        value = rc[single[0]]
         msgs.append(
-            f"rhs call of the compiled C code from Python: {rc['C via cffi (per call)'] * 1e9:.0f}"
-            " ns per call through cffi"
-            + (f" (raw cffi call {floor * 1e9:.0f} ns)" if floor else "")
-            + f", {rc['C rhs_many, 1000 states (per state)'] * 1e9:.0f} ns per state batched"
-            " (target < 300 ns)"
+            f"rhs call of the compiled C code from Python: {value * 1e9:.0f} ns per call"
+            f" ({single[0].split('(')[-1].rstrip(')')}; "
+            + (f"{rc[fresh[0]] * 1e9:.0f} ns with a new output array; " if fresh else "")
+            + f"cffi alone {rc.get('C via cffi only (per call)', float('nan')) * 1e9:.0f} ns"
+            f", batched {rc['C rhs_many, 1000 states (per state)'] * 1e9:.0f} ns per state)"
+            f" (target < 300 ns: {'met' if value < 300e-9 else 'missed'})"
         )
     return msgs
 

@@ -314,6 +314,7 @@ def compile_c(
     compiler: str | None = None,
     force: bool = False,
     ldlibs: Sequence[str] = (),
+    cflags: Sequence[str] = (),
 ) -> Path:
     """Compile C source to a shared library, or reuse the cached one.
 
@@ -329,6 +330,8 @@ def compile_c(
         Recompile even when the library is cached (replacing it atomically).
     ldlibs : sequence of str, optional
         Extra libraries linked after :data:`LDLIBS` (``("-lquadmath",)``); part of the key.
+    cflags : sequence of str, optional
+        Extra compiler flags after :data:`CFLAGS` (include folders ``-I...``); part of the key.
 
     Returns
     -------
@@ -353,7 +356,7 @@ def compile_c(
     are safe and the final library is never seen half-written.
     """
     argv = find_compiler(compiler)
-    flags = (*CFLAGS, *LDLIBS, *ldlibs)
+    flags = (*CFLAGS, *cflags, *LDLIBS, *ldlibs)
     key = _cache_key(source, _compiler_identity(argv), flags)
     directory = c_cache_dir(cache_dir)
     target = directory / f"{key}{_LIB_SUFFIX}"
@@ -367,7 +370,7 @@ def compile_c(
         fh.write(source)
     fd, tmp_lib = tempfile.mkstemp(prefix=prefix, suffix=_LIB_SUFFIX, dir=directory)
     os.close(fd)
-    command = [*argv, *CFLAGS, "-o", tmp_lib, tmp_c, *LDLIBS, *ldlibs]
+    command = [*argv, *CFLAGS, *cflags, "-o", tmp_lib, tmp_c, *LDLIBS, *ldlibs]
     try:
         try:
             proc = subprocess.run(
@@ -515,6 +518,14 @@ class CompiledModel:
             except AttributeError:  # library built without the batch shim
                 pass
         self._p_last: tuple[Any, Any] = (None, None)
+        # the CPython trampoline for single calls (None: the cffi path below)
+        from .fastcall import load_fastcall
+
+        fast = load_fastcall()
+        self._fast = None if fast is None else fast.call
+        self._address = {
+            name: int(_ffi.cast("uintptr_t", fn)) for name, fn in routines.items()
+        }
 
     def __repr__(self) -> str:
         return (
@@ -548,6 +559,10 @@ class CompiledModel:
 
     def _call(self, fn: Any, name: str, t: float, y: Any, p: Any, out: Any) -> NDArray:
         shape = self._out_shapes[name]
+        if self._fast is not None and len(shape) == 1:
+            r = self._fast(self._address[name], shape[0], self.n_state, self.n_param, t, y, p, out)
+            if r is not NotImplemented:
+                return r
         if out is None:
             out = np.empty(shape)
             obuf = _from_buffer(_DOUBLES, out)
@@ -578,6 +593,12 @@ class CompiledModel:
             `out` if given, else a new array.
         """
         # Fast path inlined (this is the routine an integrator calls most).
+        fast = self._fast
+        if fast is not None:
+            n = self.n_state
+            r = fast(self._address["rhs"], n, n, self.n_param, t, y, p, out)
+            if r is not NotImplemented:
+                return r
         if out is None:
             out = np.empty(self._y_shape)
             obuf = _from_buffer(_DOUBLES, out)

@@ -269,7 +269,7 @@ def test_second_load_reuses_cached_library(tmp_path):
 def test_different_source_gives_different_library(tmp_path):
     _real_compiler()
     a = compile_c(_source("chaplygin_ball"), cache_dir=tmp_path)
-    b = compile_c(_source("chaplygin_ball__gyrostat"), cache_dir=tmp_path)
+    b = compile_c(_source("chaplygin_ball__contact_point__gyrostat"), cache_dir=tmp_path)
     c = compile_c(_source("chaplygin_ball") + "\n/* comment */\n", cache_dir=tmp_path)
     assert len({a, b, c}) == 3
     assert all(path.parent == tmp_path / "c" for path in (a, b, c))
@@ -425,3 +425,45 @@ def test_damaged_cache_entry_is_rebuilt(tmp_path):
     rebuilt = load_c_model(source, cache_dir=fresh)
     assert rebuilt is not None and rebuilt.path == damaged
     assert damaged.name == path.name  # same key: the cache key is location-independent
+
+
+def test_trampoline_and_cffi_paths_agree(models):
+    """Single calls go through the CPython trampoline (numerics/fastcall.py) when it can be
+    built; it must give exactly what the cffi path gives, and leave other inputs to it."""
+    import sysconfig
+
+    from chaplygin.numerics.fastcall import load_fastcall
+
+    include = Path(sysconfig.get_paths()["include"]) / "Python.h"
+    if include.exists():
+        assert load_fastcall() is not None
+    model = models["chaplygin_ball__contact_point__gyrostat"]
+    assert (model._fast is not None) == (load_fastcall() is not None)
+    rng = np.random.default_rng(11)
+    y = _random_states("chaplygin_ball__contact_point__gyrostat", rng, 1)[:, 0].copy()
+    p = _random_params("chaplygin_ball__contact_point__gyrostat", rng)
+    calls = {
+        name: (lambda name=name, **kw: getattr(model, name)(0.25, y, p, **kw))
+        for name in ("rhs", "aux", "integrals", "density")
+    }
+    fast = {name: f() for name, f in calls.items()}
+    fast_out = {name: f(out=np.empty_like(fast[name])) for name, f in calls.items()}
+    saved, model._fast = model._fast, None
+    try:
+        slow = {name: f() for name, f in calls.items()}
+    finally:
+        model._fast = saved
+    for name in calls:
+        np.testing.assert_array_equal(fast[name], slow[name])
+        np.testing.assert_array_equal(fast_out[name], slow[name])
+    if model._fast is not None:
+        address = model._address["rhs"]
+        n, m = model.n_state, model.n_param
+        # the trampoline declines what it cannot take as is (the caller then converts)
+        assert model._fast(address, n, n, m, 0.25, list(y), p, None) is NotImplemented
+        assert model._fast(address, n, n, m, 0.25, y[:-1], p, None) is NotImplemented
+        assert model._fast(address, n, n, m, "0", y, p, None) is NotImplemented
+        frozen = np.empty(n)
+        frozen.flags.writeable = False
+        assert model._fast(address, n, n, m, 0.25, y, p, frozen) is NotImplemented
+        np.testing.assert_array_equal(model._fast(address, n, n, m, 0.25, y, p, None), slow["rhs"])
