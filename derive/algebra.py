@@ -16,12 +16,36 @@ from functools import lru_cache
 import sympy as sp
 
 __all__ = [
+    "seeded_factor",
     "ConstraintIdeal",
     "numerator_of",
     "RationalFunctionBuilder",
     "UnsupportedExpression",
     "ring_normal_form",
 ]
+
+
+#: Seed of sympy's random generator during :func:`seeded_factor`.
+FACTOR_SEED = 0
+
+
+def seeded_factor(expr, *gens, **args):
+    """``sympy.factor`` with sympy's random generator seeded (and restored afterwards).
+
+    Multivariate factorisation (Wang's algorithm) draws random evaluation points from
+    sympy's global generator, so its running time depends on whatever consumed random
+    numbers before: the same call took under a second or more than six minutes (the
+    inertia determinant of M03-2.5's ``mu Id + 2 m B`` body). Seeded, a derivation takes
+    the same path and time in every process.
+    """
+    from sympy.core import random as sympy_random
+
+    state = sympy_random.rng.getstate()
+    sympy_random.rng.seed(FACTOR_SEED)
+    try:
+        return sp.factor(expr, *gens, **args)
+    finally:
+        sympy_random.rng.setstate(state)
 
 
 @lru_cache(maxsize=64)

@@ -47,7 +47,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from .algebra import ConstraintIdeal
+from .algebra import ConstraintIdeal, seeded_factor
 from .effects import parse_effects
 from .errors import DerivationError
 from .model import Model, ParameterSpec
@@ -235,7 +235,7 @@ def derive_fixed_frame(
     if not solutions:
         raise DerivationError("the projected inertia operator is not a Id + c nu ⊗ nu")
     ((a, c),) = solutions
-    a, c = sp.factor(a), sp.factor(c)
+    a, c = seeded_factor(a), seeded_factor(c)
     # Sherman–Morrison on |nu| = 1: (a Id + c nu ⊗ nu)^-1 = (Id - c/(a + c) nu ⊗ nu)/a.
     inverse = (sp.eye(3) - c / (a + c) * nu * nu.T) / a
     omega_rate = (-(inverse * b0)).applyfunc(lambda e: sp.factor_terms(sp.expand(e)))

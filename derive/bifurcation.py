@@ -31,6 +31,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from .algebra import seeded_factor
 from .model import Model
 from .vectors import cross, dot
 
@@ -217,7 +218,7 @@ def bifurcation_curve(model: Model, axis: int) -> sp.Expr:
         if g.free_symbols & set(elim):
             continue
         if sp.degree(g, E) == 1:
-            return sp.factor(sp.solve(g, E)[0])
+            return seeded_factor(sp.solve(g, E)[0])
     raise ValueError("no element of the elimination ideal is linear in E")
 
 
@@ -271,5 +272,5 @@ def multiple_root_locus(
             continue
         if f.has(E):
             f = sp.expand(f / sp.Poly(f, E).LC())
-        out.append(sp.factor(f))
+        out.append(seeded_factor(f))
     return out

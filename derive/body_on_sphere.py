@@ -31,6 +31,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from .algebra import seeded_factor
 from .ball_on_surface import ellipsoid_sampler
 from .engine import ReducedEquations, RigidBodyDescription, lagrange_dalembert
 from .model import Model, ParameterSpec
@@ -153,7 +154,7 @@ def derive_body_on_sphere(
     II = red.inertia_operator
     II_rate = II.applyfunc(lambda e: sum(sp.diff(e, r[i]) * r_dot[i] for i in range(3)))
     adj, det = _adjugate_and_det(II)
-    omega_rate = adj * (red.momentum_rate - II_rate * omega) / sp.factor(det)
+    omega_rate = adj * (red.momentum_rate - II_rate * omega) / seeded_factor(det)
     grad = sp.Matrix([sp.diff(surface, s) for s in r])
     q = sp.sqrt(sp.factor_terms(sp.expand(dot(grad, grad))))
     n = (-grad / q).applyfunc(sp.factor_terms)

@@ -41,6 +41,7 @@ from functools import lru_cache
 
 import sympy as sp
 
+from .algebra import seeded_factor
 from .vectors import cross, dot
 
 __all__ = [
@@ -178,8 +179,8 @@ def separatrix_gamma(S: SeparatrixSymbols, sigma: int = -1) -> dict:
     quadrics = [dot(g, g) - 1, dot(g, Jinv * g) - sp.simplify(2 * h2 * l / S.C) / l**2]
     sol = sp.solve(quadrics, [g1**2, g3**2], dict=True)[0]
     one_minus = 1 - g2**2
-    r1 = sp.factor(sp.simplify(sol[g1**2] / one_minus))
-    r3 = sp.factor(sp.simplify(sol[g3**2] / one_minus))
+    r1 = seeded_factor(sp.simplify(sol[g1**2] / one_minus))
+    r3 = seeded_factor(sp.simplify(sol[g3**2] / one_minus))
     s32 = sp.sqrt(S.d32 / S.d31)
     s21 = sp.sqrt(S.d21 / S.d31)
     assert sp.simplify(r1 - s32**2) == 0 and sp.simplify(r3 - s21**2) == 0
@@ -214,7 +215,7 @@ def separatrix_gamma(S: SeparatrixSymbols, sigma: int = -1) -> dict:
 
 
 def _simplify_vec(v: sp.Matrix) -> sp.Matrix:
-    return v.applyfunc(lambda e: sp.factor(sp.simplify(e)))
+    return v.applyfunc(lambda e: seeded_factor(sp.simplify(e)))
 
 
 def separatrix_frame(S: SeparatrixSymbols, step1: dict) -> dict:
@@ -262,7 +263,7 @@ def contact_velocity(S: SeparatrixSymbols, alpha, beta, omega, lam) -> dict:
         raise AssertionError(f"x' is not nu cos(phi) sech: {x_rate}")
     if sp.simplify(y_rate - nu * sp.sin(S.phi) * sech) != 0:
         raise AssertionError(f"y' is not nu sin(phi) sech: {y_rate}")
-    return {"x_rate": x_rate, "y_rate": y_rate, "nu": sp.factor(nu)}
+    return {"x_rate": x_rate, "y_rate": y_rate, "nu": seeded_factor(nu)}
 
 
 @lru_cache(maxsize=1)

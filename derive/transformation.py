@@ -35,6 +35,8 @@ from functools import lru_cache
 
 import sympy as sp
 
+from .algebra import seeded_factor
+
 __all__ = [
     "Theorem1",
     "theorem1",
@@ -119,7 +121,7 @@ def theorem1() -> Theorem1:
     numerator = sp.Poly(
         sp.expand(X * ((m1 * X_t + c1 * Y_t) * Y - X * (m2 * X_t + c2 * Y_t))), X, Y
     )
-    conditions = [sp.factor(co) for _, co in numerator.terms()]
+    conditions = [seeded_factor(co) for _, co in numerator.terms()]
     sol = sp.solve(conditions, [m2, Dt], dict=True)
     if len(sol) != 1:  # pragma: no cover - a derivation failure, not user input
         raise RuntimeError(f"Theorem 1: unexpected solutions {sol}")
@@ -355,7 +357,7 @@ def proposition2() -> Proposition2:
     v2, v3 = sp.symbols("v2 v3")
     eqs = ((Gamma - lam * g) * sp.Matrix([1, v2, v3]))[1:, 0]
     sol = sp.solve(list(eqs), [v2, v3], dict=True)[0]
-    row = sp.Matrix([[1, sp.factor(sol[v2]), sp.factor(sol[v3])]])
+    row = sp.Matrix([[1, seeded_factor(sol[v2]), seeded_factor(sol[v3])]])
     syms = dict(E=E, C=C, M_al=M_al, M_be=M_be, D_al=D_al, D_be=D_be, lam=lam)
     return Proposition2(syms, Gamma, g, g.inv() * Gamma, cubic, row)
 

@@ -523,9 +523,7 @@ class CompiledModel:
 
         fast = load_fastcall()
         self._fast = None if fast is None else fast.call
-        self._address = {
-            name: int(_ffi.cast("uintptr_t", fn)) for name, fn in routines.items()
-        }
+        self._address = {name: int(_ffi.cast("uintptr_t", fn)) for name, fn in routines.items()}
 
     def __repr__(self) -> str:
         return (

@@ -46,12 +46,14 @@ __all__ = [
     "MeasuredRotation",
     "spheroconical_coordinates",
     "separation_roots",
+    "separation_R",
 ]
 
 
 @lru_cache(maxsize=1)
 def _R_coefficients():
-    """Coefficients of R(q) (highest first) as an mpmath function of (lam1, lam2, a, D)."""
+    """Coefficients of R(q) (highest first) as an mpmath function of (lam1, lam2, a, D);
+    see :func:`separation_R`."""
     q, l1, l2, D = sp.symbols("q lam1 lam2 D")
     a = sp.symbols("a1:4")
     poly = sp.Poly(sp.expand(hz.separation_polynomial(q, l1, l2, a, D)), q)
@@ -155,6 +157,12 @@ def _state(I, D, M, gamma, dps):
     return I, D, M, gamma
 
 
+def separation_R(lam1, lam2, a, D):
+    """``R(q)`` of K01-2.17 (from ``derive/hamiltonisation.py``) as an mpmath function of q."""
+    coeffs = _R_coefficients()(lam1, lam2, *a, D)
+    return lambda q: mpmath.polyval(coeffs, q)
+
+
 def torus_quadratures(I, D, M, gamma, digits: int = 30) -> TorusQuadratures:
     """Quadratures of the torus through ``(M, gamma)`` with ``(M, gamma) = 0``.
 
@@ -199,11 +207,7 @@ def torus_quadratures(I, D, M, gamma, digits: int = 30) -> TorusQuadratures:
         # is handled too.
         tol = mpmath.mpf(10) ** (-digits // 2)
 
-        def R_at(q):
-            out = mpmath.mpf(0)
-            for c in coeffs:
-                out = out * q + c
-            return out
+        R_at = separation_R(lam1, lam2, a, D)
 
         ranges = []
         for lo_a, hi_a in ((a[1], a[0]), (a[2], a[1])):
@@ -312,6 +316,11 @@ class MeasuredRotation:
     mean_rho : float
         Weighted Birkhoff average of K01's ``rho`` along the trajectory: ``tau/t`` in the
         long run (K01-2.7), so ``frequencies_t / mean_rho`` are the frequencies in tau.
+    q_ranges : ((float, float), (float, float))
+        Smallest and largest sampled ``q1`` and ``q2``: the observed oscillation ranges.
+    q_sampling : (float, float)
+        ``max |q''| dt^2 / 8`` (from second differences): how far the sample nearest to a
+        turning point can miss it.
     drift : dict
         Drift of the first integrals of the integration.
     t_end : float
@@ -326,6 +335,8 @@ class MeasuredRotation:
     drift: dict
     t_end: float
     samples: int
+    q_ranges: tuple = ()
+    q_sampling: tuple = ()
 
 
 def _bump(s):
@@ -387,6 +398,8 @@ def measured_rotation_number(
     a = 1.0 / Iv
     q1, q2 = spheroconical_coordinates(g, a)
     thetas = []
+    q_ranges = tuple((float(q.min()), float(q.max())) for q in (q1, q2))
+    q_sampling = tuple(float(np.max(np.abs(np.diff(q, 2)))) / 8 for q in (q1, q2))
     for q in (q1, q2):
         # dq/dt from P(q, gamma) = sum gamma_i^2 prod_{j!=i}(a_j - q) = 0
         dP_dq = np.zeros_like(q)
@@ -417,4 +430,6 @@ def measured_rotation_number(
         drift=res.drift,
         t_end=t_end,
         samples=n,
+        q_ranges=q_ranges,
+        q_sampling=q_sampling,
     )

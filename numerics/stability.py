@@ -23,7 +23,7 @@ BKM12-1.5stab, BKM12-1.5stab8, K01-3.2stab, BKM12-Sigma45.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from functools import cache
+from functools import cache, lru_cache
 
 import numpy as np
 import sympy as sp
@@ -44,6 +44,8 @@ __all__ = [
     "floquet",
     "integral_gradients",
     "support_steady_state",
+    "steady_rotation_floquet",
+    "euler_floquet",
 ]
 
 SYSTEM = "chaplygin_ball"
@@ -289,6 +291,44 @@ def floquet(
         rank=rank,
         y0=y0,
     )
+
+
+@lru_cache(maxsize=256)
+def steady_rotation_floquet(
+    I,
+    D,
+    C: float = 1.0,
+    Mg: float = 0.0,
+    rtol: float = 1e-12,  # noqa: E741
+) -> tuple[FloquetResult, FloquetResult, FloquetResult]:
+    """:func:`floquet` of the steady rotations about ``e_1, e_2, e_3`` on ``(C, M_gamma)``.
+
+    ``I`` must be hashable (a tuple): results are memoised.
+
+    References
+    ----------
+    BKM12-1.5stab, BKM12-1.5stab8, K01-3.2stab.
+    """
+    out = []
+    for axis in range(3):
+        y0, T = critical_state(I, D, axis, C, Mg)
+        out.append(floquet(I, D, y0, T, rtol=rtol))
+    return tuple(out)
+
+
+@lru_cache(maxsize=256)
+def euler_floquet(I, D, Ep: float, rtol: float = 1e-12) -> FloquetResult:  # noqa: E741
+    """:func:`floquet` of the Euler-top orbit ``M = gamma`` at ``E' = Ep`` (``Sigma_4``, C = 1),
+    its period from :func:`return_period` within 40 periods of the fastest rotation.
+
+    References
+    ----------
+    BKM12-1.5stab8, BKM12-Sigma45.
+    """
+    y0 = euler_state(I, D, 1.0, Ep)
+    A = 1 / (np.asarray(I, float) + D)
+    T = return_period(I, D, y0, t_max=40 * 2 * np.pi / A.min(), rtol=rtol)
+    return floquet(I, D, y0, T, rtol=rtol)
 
 
 @cache

@@ -38,6 +38,7 @@ __all__ = [
     "TransformationReport",
     "transformation_test",
     "support_coefficients",
+    "random_support_state",
 ]
 
 
@@ -325,3 +326,15 @@ def support_coefficients(
     g = np.diag([E, 1 / D_al, 1 / D_be])
     Q = np.array([[1.0, M_al * D_al / (lam - D_al), M_be * D_be / (lam - D_be)] for lam in roots])
     return {"roots": roots, "Q": Q, "Gamma": Gamma, "g": g, "cubic": np.array(coeffs)}
+
+
+def random_support_state(rng: np.random.Generator) -> tuple[float, ...]:
+    """``(E, C, M_al, M_be, D_al, D_be)`` of a random support state: a random orthonormal
+    pair alpha, beta, a normal random M, E in [0.2, 3], D_al, D_be in [0.2, 2] (the
+    arguments of :func:`support_coefficients`)."""
+    Qr, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    alpha, beta = Qr[:, 0], Qr[:, 1]
+    M = rng.normal(size=3)
+    E = rng.uniform(0.2, 3.0)
+    Da, Db = rng.uniform(0.2, 2.0, 2)
+    return float(E), float(M @ M), float(M @ alpha), float(M @ beta), float(Da), float(Db)

@@ -18,9 +18,8 @@ from chaplygin.derive.bifurcation import (
 from chaplygin.numerics import integrate
 from chaplygin.numerics.stability import (
     critical_state,
-    euler_state,
-    floquet,
-    return_period,
+    euler_floquet,
+    steady_rotation_floquet,
     support_steady_state,
 )
 from chaplygin.verify import bifurcation_cmd as bc
@@ -112,9 +111,7 @@ def test_derived_curve_matches_integrated_steady_rotation(axis, Mg):
     [(0.0, (1.0, 12.545, 1.0)), (0.5, (1.0, 9.358, 1.0))],  # BKM12-1.5stab, BKM12-1.5stab8
 )
 def test_floquet_multipliers_match_the_reference_values(Mg, reference):
-    for axis in range(3):
-        y0, T = critical_state(I_REF, D_REF, axis, 1.0, Mg)
-        r = floquet(I_REF, D_REF, y0, T, rtol=RTOL)
+    for axis, r in enumerate(steady_rotation_floquet(I_REF, D_REF, 1.0, Mg, RTOL)):
         assert r.rank == 3  # a critical orbit
         assert r.closure < 1e-9 and r.drift < 1e-10
         # the pair is mu, 1/mu or on the unit circle
@@ -132,9 +129,7 @@ def test_floquet_rule_extreme_stable_middle_unstable_random_inertia():
         D = float(rng.uniform(0.2, 2.0))
         A = 1 / (np.asarray(I) + D)
         middle = int(np.argsort(A)[1])
-        for axis in range(3):
-            y0, T = critical_state(I, D, axis, 1.0, 0.3)
-            r = floquet(I, D, y0, T, rtol=RTOL)
+        for axis, r in enumerate(steady_rotation_floquet(I, D, 1.0, 0.3, RTOL)):
             assert r.stable == (axis != middle), (I, D, axis, r.max_abs)
             if axis == middle:
                 assert r.max_abs > 1 + 1e3 * r.tolerance
@@ -143,9 +138,7 @@ def test_floquet_rule_extreme_stable_middle_unstable_random_inertia():
 @pytest.mark.parametrize("Ep", [0.5, 0.9])  # the two arcs of Sigma_4 (split at E' = 2/3)
 def test_sigma4_orbits_are_stable(Ep):
     """BKM12-1.5stab8: on Sigma_4 (both arcs) all |multipliers| = 1."""
-    y0 = euler_state(I_REF, D_REF, 1.0, Ep)
-    T = return_period(I_REF, D_REF, y0, t_max=200.0)
-    r = floquet(I_REF, D_REF, y0, T, rtol=RTOL)
+    r = euler_floquet(I_REF, D_REF, Ep, RTOL)
     assert r.rank == 3 and r.stable and r.closure < 1e-9
 
 

@@ -16,6 +16,7 @@ from chaplygin.derive.errors import UserInputError
 from chaplygin.derive.transformation import chaplygin_map, proposition2, theorem1
 from chaplygin.numerics.transformation import (
     chaplygin_coefficients,
+    random_support_state,
     support_coefficients,
     transformation_test,
 )
@@ -68,16 +69,10 @@ def test_chaplygin_roots_differ_by_quarter_turn():
 
 
 def test_cubic_55_derived():
+    from chaplygin.verify.claims.support_transformation import printed_cubic_55
+
     p = proposition2()
-    s = p.symbols
-    E, C, Ma, Mb, Da, Db, lam = (s[k] for k in ("E", "C", "M_al", "M_be", "D_al", "D_be", "lam"))
-    printed = (
-        E * lam**3
-        - (E * (Da + Db) + C) * lam**2
-        + (Da * (C - Ma**2) + Db * (C - Mb**2) + E * Da * Db) * lam
-        - (C - Ma**2 - Mb**2) * Da * Db
-    )
-    assert sp.expand(p.cubic - printed) == 0
+    assert sp.expand(p.cubic - printed_cubic_55(p.symbols)) == 0
 
 
 # ------------------------------------------------------------------ trajectory test
@@ -152,15 +147,8 @@ def test_transformation_rejects_zero_constant_of_areas():
 @pytest.mark.parametrize("seed", range(5))
 def test_proposition2_rows_numerically(seed):
     """BKM12-51..55 at random states: positive roots, Q Gamma Q^T and Q g Q^T diagonal."""
-    rng = np.random.default_rng(5500 + seed)
     # a random frame alpha, beta and momentum, and a positive energy value
-    Qr, _ = np.linalg.qr(rng.normal(size=(3, 3)))
-    alpha, beta = Qr[:, 0], Qr[:, 1]
-    M = rng.normal(size=3)
-    E = rng.uniform(0.2, 3.0)
-    Da, Db = rng.uniform(0.2, 2.0, 2)
-    C, Ma, Mb = M @ M, M @ alpha, M @ beta
-    out = support_coefficients(E, C, Ma, Mb, Da, Db)
+    out = support_coefficients(*random_support_state(np.random.default_rng(5500 + seed)))
     roots, Q, Gam, g = out["roots"], out["Q"], out["Gamma"], out["g"]
     assert np.all(roots > 0)  # BKM12-55pos
     assert np.all(np.abs(np.polyval(out["cubic"], roots)) <= 1e-10 * np.max(np.abs(out["cubic"])))

@@ -65,28 +65,18 @@ def sigma(i: int, C, Mg, I, D):  # noqa: E741
     return _sigma_functions()[i](C, Mg, *I, D)
 
 
-@lru_cache(maxsize=64)
 def family_stability(I, D, C: float = 1.0, Mg: float = 0.0) -> list[tuple[bool, float]]:  # noqa: E741
     """(stable, max |multiplier|) of the steady rotations about e_1, e_2, e_3."""
-    from ..numerics.stability import critical_state, floquet
+    from ..numerics.stability import steady_rotation_floquet
 
-    out = []
-    for i in range(3):
-        y0, T = critical_state(I, D, i, C, Mg)
-        r = floquet(I, D, y0, T)
-        out.append((r.stable, r.max_abs))
-    return out
+    return [(r.stable, r.max_abs) for r in steady_rotation_floquet(tuple(I), D, C, Mg)]
 
 
-@lru_cache(maxsize=64)
 def euler_stability(I, D, Ep: float) -> tuple[bool, float]:  # noqa: E741
     """(stable, max |multiplier|) of the orbit M = sqrt(C) gamma at E' (Sigma_4)."""
-    from ..numerics.stability import euler_state, floquet, return_period
+    from ..numerics.stability import euler_floquet
 
-    y0 = euler_state(I, D, 1.0, Ep)
-    A = 1 / (np.asarray(I, float) + D)
-    T = return_period(I, D, y0, t_max=40 * 2 * np.pi / A.min())
-    r = floquet(I, D, y0, T)
+    r = euler_floquet(tuple(I), D, Ep)
     return r.stable, r.max_abs
 
 

@@ -60,7 +60,7 @@ def _cmd_verify(args) -> int:
     from chaplygin.derive.errors import UserInputError
 
     from .claims import select_claims
-    from .verdict import default_jobs, iter_verdicts
+    from .verdict import FAILURES, default_jobs, iter_verdicts
 
     if args.report:
         target = Path(args.report)
@@ -115,11 +115,9 @@ def _cmd_verify(args) -> int:
     if not args.json:
         counts = {
             k: sum(v.verdict == k for v in verdicts)
-            for k in ("proved", "exact-sampled", "numeric", "refuted")
+            for k in ("proved", "exact-sampled", "numeric", "refuted", *FAILURES)
         }
-        for k in ("error", "timeout"):
-            if any(v.verdict == k for v in verdicts):
-                counts[k] = sum(v.verdict == k for v in verdicts)
+        counts = {k: n for k, n in counts.items() if n or k not in FAILURES}
         total = sum(v.seconds for v in verdicts)
         wall = time.perf_counter() - started
         print(

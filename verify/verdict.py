@@ -21,7 +21,12 @@ __all__ = [
     "iter_verdicts",
     "default_jobs",
     "registered_claim",
+    "FAILURES",
 ]
+
+
+#: Verdicts that are not decisions: the check raised, its worker died or ran out of time.
+FAILURES = ("error", "timeout")
 
 
 @dataclass
@@ -61,7 +66,7 @@ class Verdict:
     @property
     def ok(self) -> bool:
         """True when the verdict is the expected one (a control must be refuted)."""
-        if self.verdict in ("error", "timeout"):
+        if self.verdict in FAILURES:
             return False
         refuted = self.verdict == "refuted"
         return refuted if self.expected == "fails" else not refuted
@@ -84,11 +89,22 @@ def check_claim(claim: Claim, method: str = "auto", points: int = 8) -> Verdict:
     points : int
         Sample points for the sampled methods.
     """
-    model = claim.model()
+    # a computed claim runs its own computation: no model to derive
+    model = claim.model() if getattr(claim.build, "needs_model", True) else None
     start = time.perf_counter()
     check = claim.build(model)
     if check.computed is not None:
-        return _decide_computed(claim, check, start)
+        result = check.computed()
+        holds = result.holds
+        note = f" ({check.note})" if check.note else ""
+        return _verdict(
+            claim,
+            "numeric" if holds else "refuted",
+            f"computed: {result.what}; error {result.error:.3g}, bound {result.bound:.3g}{note}",
+            time.perf_counter() - start,
+            residual=f"{result.error:.6g}",
+            witness=None if holds else dict(result.values),
+        )
     while True:
         domain = Domain(
             model,
@@ -103,36 +119,35 @@ def check_claim(claim: Claim, method: str = "auto", points: int = 8) -> Verdict:
         check = check.fallback
     if check.note:
         outcome.method += f" ({check.note})"
-    return Verdict(
-        id=claim.id,
-        statement=claim.statement,
-        source=claim.source,
-        kind=claim.kind,
-        verdict=outcome.verdict,
-        method=outcome.method,
-        seconds=time.perf_counter() - start,
+    return _verdict(
+        claim,
+        outcome.verdict,
+        outcome.method,
+        time.perf_counter() - start,
         residual=outcome.residual,
         witness=outcome.witness,
-        expected=claim.expected,
     )
 
 
-def _decide_computed(claim: Claim, check, start: float) -> Verdict:
-    """A claim about a computed quantity: ``numeric`` when the error is within its bound."""
-    result = check.computed()
-    holds = result.holds
-    note = f" ({check.note})" if check.note else ""
+def _verdict(
+    claim: Claim,
+    verdict: str,
+    method: str,
+    seconds: float,
+    residual: str | None = None,
+    witness: dict | None = None,
+) -> Verdict:
+    """The verdict on ``claim`` (its ID, statement, source, kind and expectation copied)."""
     return Verdict(
         id=claim.id,
         statement=claim.statement,
         source=claim.source,
         kind=claim.kind,
-        verdict="numeric" if holds else "refuted",
-        method=f"computed: {result.what}; error {result.error:.3g}, bound {result.bound:.3g}"
-        + note,
-        seconds=time.perf_counter() - start,
-        residual=f"{result.error:.6g}",
-        witness=None if holds else dict(result.values),
+        verdict=verdict,
+        method=method,
+        seconds=seconds,
+        residual=residual,
+        witness=witness,
         expected=claim.expected,
     )
 
@@ -145,32 +160,13 @@ def default_jobs() -> int:
         return max(1, os.cpu_count() or 1)
 
 
-#: Verdicts that are not decisions: the check raised, its worker died or ran out of time.
-FAILURES = ("error", "timeout")
-
-
-def _failure(claim: Claim, verdict: str, why: str, seconds: float) -> Verdict:
-    return Verdict(
-        id=claim.id,
-        statement=claim.statement,
-        source=claim.source,
-        kind=claim.kind,
-        verdict=verdict,
-        method=why,
-        seconds=seconds,
-        residual=None,
-        witness=None,
-        expected=claim.expected,
-    )
-
-
 def _check_or_error(claim: Claim, method: str) -> Verdict:
     start = time.perf_counter()
     try:
         return check_claim(claim, method=method)
     except Exception as exc:  # a bug in one check must not hide the other verdicts
         detail = "".join(traceback.format_exception_only(exc)).strip()
-        return _failure(claim, "error", f"the check raised {detail}", time.perf_counter() - start)
+        return _verdict(claim, "error", f"the check raised {detail}", time.perf_counter() - start)
 
 
 def registered_claim(claim_id: str) -> Claim:
@@ -287,12 +283,12 @@ def iter_verdicts(
                 if result is None and (slot.conn in ready or slot.process.sentinel in ready):
                     slot.process.join(timeout=5)
                     code = slot.process.exitcode
-                    result = _failure(
+                    result = _verdict(
                         claim, "error", f"its worker process died (exit code {code})", elapsed
                     )
                     replace = True
                 elif result is None and timeout is not None and elapsed > timeout:
-                    result = _failure(
+                    result = _verdict(
                         claim, "timeout", f"stopped after {timeout:g} s (--timeout)", elapsed
                     )
                     replace = True

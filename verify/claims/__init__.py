@@ -15,7 +15,16 @@ from dataclasses import dataclass, field
 import sympy as sp
 from chaplygin.derive import Model, build_model
 
-__all__ = ["Claim", "Check", "Computed", "REGISTRY", "register", "select_claims", "KINDS"]
+__all__ = [
+    "Claim",
+    "Check",
+    "Computed",
+    "computed_build",
+    "REGISTRY",
+    "register",
+    "select_claims",
+    "KINDS",
+]
 
 KINDS = ("equation", "integral", "measure", "definition", "transformation", "solution", "value")
 
@@ -86,6 +95,18 @@ class Computed:
     @property
     def holds(self) -> bool:
         return bool(self.error <= self.bound)  # False for NaN
+
+
+def computed_build(fn: Callable[[], Computed], note: str = "") -> Callable:
+    """``build`` of a claim about a computed quantity: a :class:`Check` whose ``computed``
+    is ``fn``. It needs no model (``build.needs_model`` is False: the verifier does not
+    derive one)."""
+
+    def build(model: Model | None) -> Check:
+        return Check([], computed=fn, note=note)
+
+    build.needs_model = False
+    return build
 
 
 @dataclass(frozen=True)

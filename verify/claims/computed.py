@@ -16,7 +16,7 @@ from functools import cache
 import mpmath
 import numpy as np
 
-from . import Check, Claim, Computed, register
+from . import Claim, Computed, computed_build, register
 
 BALL = "chaplygin_ball"
 SUPPORT = "spherical_support"
@@ -25,16 +25,6 @@ EPS = float(np.finfo(float).eps)
 I_REF, D_REF = (1.0, 1.5, 3.0), 1.0
 #: Relative tolerance of the double-precision integrations (DOP853) behind the checks.
 RTOL = 1e-12
-
-
-def _computed(fn, note: str = ""):
-    """``build`` of a computed claim: the model is not needed, the computation is."""
-
-    def build(model):
-        return Check([], computed=fn, note=note)
-
-    build.computed = True  # known without building (tests tell the two kinds apart)
-    return build
 
 
 def _claim(id_, source, kind, statement, system, fn, expected="holds", covers=()):
@@ -46,7 +36,7 @@ def _claim(id_, source, kind, statement, system, fn, expected="holds", covers=()
             statement,
             system,
             (),
-            _computed(fn),
+            computed_build(fn),
             expected=expected,
             covers=tuple(covers),
         )
@@ -54,24 +44,15 @@ def _claim(id_, source, kind, statement, system, fn, expected="holds", covers=()
 
 
 # ------------------------------------------------------------------ Floquet multipliers
-@cache
-def _steady_floquet(I, D, Mg):  # noqa: E741
-    from chaplygin.numerics.stability import critical_state, floquet
-
-    out = []
-    for axis in range(3):
-        y0, T = critical_state(I, D, axis, 1.0, Mg)
-        out.append(floquet(I, D, y0, T, rtol=RTOL))
-    return tuple(out)
-
-
 def _printed_multipliers(Mg: float, printed: tuple[float, float, float]):
     """max |multiplier| of the steady rotations about e_1, e_2, e_3 against the printed
     values (3 decimals: half a unit of the last digit, or the multiplier's own tolerance
     sqrt(rtol) when that is larger)."""
 
     def run() -> Computed:
-        rs = _steady_floquet(I_REF, D_REF, Mg)
+        from chaplygin.numerics.stability import steady_rotation_floquet
+
+        rs = steady_rotation_floquet(I_REF, D_REF, 1.0, Mg, RTOL)
         errors = [abs(r.max_abs - p) for r, p in zip(rs, printed, strict=True)]
         bound = max(5e-4, *(r.tolerance for r in rs))
         # the rule: |mult| = 1 (stable) exactly where the paper prints 1
@@ -93,13 +74,10 @@ def _printed_multipliers(Mg: float, printed: tuple[float, float, float]):
 
 
 def _sigma4_stable() -> Computed:
-    from chaplygin.numerics.stability import euler_state, floquet, return_period
+    from chaplygin.numerics.stability import euler_floquet
 
-    rs = []
-    for Ep in (0.5, 0.9):  # the two arcs of Sigma_4 (split at E' = b_2/(1 - b_2) = 2/3)
-        y0 = euler_state(I_REF, D_REF, 1.0, Ep)
-        T = return_period(I_REF, D_REF, y0, t_max=200.0)
-        rs.append(floquet(I_REF, D_REF, y0, T, rtol=RTOL))
+    # the two arcs of Sigma_4 (split at E' = b_2/(1 - b_2) = 2/3)
+    rs = [euler_floquet(I_REF, D_REF, Ep, RTOL) for Ep in (0.5, 0.9)]
     return Computed(
         error=max(abs(r.max_abs - 1) for r in rs),
         bound=rs[0].tolerance,
@@ -129,7 +107,7 @@ def _middle_axis_rule(seed: int, bodies: int, claim_middle_stable: bool = False)
     stable, about the middle one unstable (the error counts the axes that break it)."""
 
     def run() -> Computed:
-        from chaplygin.numerics.stability import critical_state, floquet
+        from chaplygin.numerics.stability import steady_rotation_floquet
 
         rng = np.random.default_rng(seed)
         wrong, values = 0, {}
@@ -137,9 +115,7 @@ def _middle_axis_rule(seed: int, bodies: int, claim_middle_stable: bool = False)
             I = tuple(float(x) for x in rng.uniform(0.5, 4.0, 3))  # noqa: E741
             D = float(rng.uniform(0.2, 2.0))
             middle = int(np.argsort(1 / (np.asarray(I) + D))[1])
-            for axis in range(3):
-                y0, T = critical_state(I, D, axis, 1.0, 0.3)
-                r = floquet(I, D, y0, T, rtol=RTOL)
+            for axis, r in enumerate(steady_rotation_floquet(I, D, 1.0, 0.3, RTOL)):
                 should = (axis != middle) or claim_middle_stable
                 wrong += r.stable != should
                 values[f"body {b} I={tuple(round(x, 4) for x in I)} D={D:.4f} axis {axis + 1}"] = (
@@ -297,9 +273,13 @@ def _rotation_number() -> Computed:
     )
 
 
-def _frequencies(c0_factor: float = 1.0):
+def _frequencies(k01_normalisation: bool = False):
+    """Quadrature frequencies against the measured ones; with K01's normalisation c0 = 1
+    (instead of c0 = 2/sqrt(K) for d tau = rho dt) they are divided by c0."""
+
     def run() -> Computed:
         tq, ms = _torus()
+        c0_factor = float(1 / tq.details["c0"]) if k01_normalisation else 1.0
         rel = []
         for nu, nu_t in zip(tq.frequencies, ms.frequencies_t, strict=True):
             nu = float(nu) * c0_factor
@@ -324,35 +304,24 @@ def _frequencies(c0_factor: float = 1.0):
 def _true_ranges() -> Computed:
     """K01-2.23 with the true turning points: R > 0 inside each range, R = 0 at both ends,
     one end at q* = 2h/(n - 2Dh); the integrated trajectory fills exactly these ranges."""
-    from chaplygin.numerics.quadratures import spheroconical_coordinates
-
-    tq, _ = _torus()
-    M, g = _torus_state()
-    from chaplygin.numerics import integrate
-
-    t = np.linspace(0.0, 300.0, 60001)
-    res = integrate(BALL, {"M": M, "gamma": g}, (0.0, 300.0), {"I": I_REF, "D": D_REF},
-                    rtol=RTOL, atol=RTOL, t_eval=t)  # fmt: skip
-    q = spheroconical_coordinates(np.asarray(res.y)[3:6], 1 / np.asarray(I_REF))
+    tq, ms = _torus()
     errors, values = [], {}
-    dt = t[1] - t[0]
-    for i, (qi, (lo, hi)) in enumerate(zip(q, tq.ranges, strict=True)):
+    for i, ((lo, hi), (qmin, qmax), slack) in enumerate(
+        zip(tq.ranges, ms.q_ranges, ms.q_sampling, strict=True)
+    ):
         lo, hi = float(lo), float(hi)
-        # the nearest sample to a turning point misses it by at most |q''| dt^2 / 8
-        qdd = np.max(np.abs(np.diff(qi, 2))) / dt**2
-        slack = qdd * dt**2 / 8 + 1e3 * EPS
-        errors.append(max(abs(qi.min() - lo), abs(qi.max() - hi)) / slack)
+        # the sample nearest to a turning point misses it by at most |q''| dt^2/8
+        errors.append(max(abs(qmin - lo), abs(qmax - hi)) / (slack + 1e3 * EPS))
         values[f"q{i + 1} range"] = f"[{lo:.12f}, {hi:.12f}]"
-        values[f"q{i + 1} observed"] = f"[{qi.min():.12f}, {qi.max():.12f}]"
+        values[f"q{i + 1} observed"] = f"[{qmin:.12f}, {qmax:.12f}]"
     qs = tq.details["q_star"]
-    ends = [float(x) for r in tq.ranges for x in r]
-    at_qstar = min(abs(x - float(qs)) for x in ends)
+    at_qstar = min(abs(float(x - qs)) for r in tq.ranges for x in r)
     return Computed(
         error=max(*errors, at_qstar / 1e-25),
         bound=1.0,
         what=(
-            "oscillation ranges of q1, q2 between consecutive roots of R (one end at q*) "
-            "against the extremes of q along a trajectory (t = 300, 200 samples per unit); "
+            "oscillation ranges of q1, q2 between consecutive roots of R (one end at q*, to "
+            "1e-25) against the extremes of q sampled along the trajectory of K01-2.27; "
             "error in units of the sampling bound |q''| dt^2/8"
         ),
         values=values,
@@ -364,29 +333,30 @@ def _printed_limits(which: str):
     the range containing q*, R < 0 on part of it, so the integral is not real."""
 
     def run() -> Computed:
+        from chaplygin.numerics.quadratures import separation_R
+
         tq, ms = _torus()
         a1, a2, a3 = tq.details["a"]
         qs = tq.details["q_star"]
         with mpmath.workdps(20):
+            R = separation_R(tq.lam1, tq.lam2, tq.details["a"], D_REF)
 
-            def R(q):
-                return (2 * tq.lam1 + q * tq.lam2) * (q - a1) * (q - a2) * (q - a3) * (1 + q)
+            def printed(weight):  # over [a2, a1] and [a3, a2], split at q* (R changes sign)
+                return [
+                    mpmath.quad(
+                        lambda q: weight(q) / mpmath.sqrt(R(q)),
+                        [lo, qs, hi] if lo < qs < hi else [lo, hi],
+                    )
+                    for lo, hi in ((a2, a1), (a3, a2))
+                ]
 
-            ranges = ((a2, a1), (a3, a2))
-
-            def integral(f, lo, hi):  # split at q* where it lies inside (R changes sign)
-                return mpmath.quad(f, [lo, qs, hi] if lo < qs < hi else [lo, hi])
-
-            B = [integral(lambda q: q / mpmath.sqrt(R(q)), lo, hi) for lo, hi in ranges]
-            A = [
-                integral(lambda q: (2 * tq.lam1 + q * tq.lam2) / mpmath.sqrt(R(q)), lo, hi)
-                for lo, hi in ranges
-            ]
             if which == "actions":
+                A = printed(lambda q: 2 * tq.lam1 + q * tq.lam2)
                 err = max(abs(mpmath.im(x)) / abs(x) for x in A)
                 vals = {"I1 printed": str(complex(A[0])), "I2 printed": str(complex(A[1]))}
                 what = "imaginary part of the printed-limit action integrals (relative)"
             else:
+                B = printed(lambda q: q)
                 nu = B[1] / B[0]  # B2/B1 with the printed ranges
                 err = abs(complex(nu) - ms.value) / ms.value
                 vals = {"printed ratio": str(complex(nu)), "measured": f"{ms.value:.12f}"}
@@ -429,7 +399,7 @@ _claim(
     "value",
     "frequencies in K01's normalisation c0 = 1 equal the measured frequencies in tau",
     BALL,
-    _frequencies(float(1 / np.sqrt(np.prod(1 + D_REF / np.asarray(I_REF))) * 2) ** -1),
+    _frequencies(k01_normalisation=True),
     expected="fails",
 )
 _claim(
@@ -502,29 +472,22 @@ _claim(
 
 
 # ------------------------------------------------------- BKM12 Proposition 2 (support)
-def _proposition2(sign: float = 1.0, seeds: int = 3):
+def _proposition2(wrong_sign: bool = False, seeds: int = 3):
     """Rows (54) for the roots of the cubic (55) diagonalise Gamma and g together (49,
-    52), and (Q^T)^-1 = g~^-1 Q g, lam = Lambda_ii/g~_ii (53); ``sign = -1`` is a control
+    52), and (Q^T)^-1 = g~^-1 Q g, lam = Lambda_ii/g~_ii (53); ``wrong_sign`` is a control
     with lam + D instead of lam - D in the rows."""
 
     def run() -> Computed:
-        from chaplygin.numerics.transformation import support_coefficients
+        from chaplygin.numerics.transformation import random_support_state, support_coefficients
 
         worst, values = 0.0, {}
         bound = 0.0
         for seed in range(seeds):
-            rng = np.random.default_rng(5500 + seed)
-            Qr, _ = np.linalg.qr(rng.normal(size=(3, 3)))
-            alpha, beta = Qr[:, 0], Qr[:, 1]
-            M = rng.normal(size=3)
-            E = rng.uniform(0.2, 3.0)
-            Da, Db = rng.uniform(0.2, 2.0, 2)
-            C, Ma, Mb = M @ M, M @ alpha, M @ beta
+            E, C, Ma, Mb, Da, Db = random_support_state(np.random.default_rng(5500 + seed))
             out = support_coefficients(E, C, Ma, Mb, Da, Db)
-            roots, g, Gam = out["roots"], out["g"], out["Gamma"]
-            Q = np.array(
-                [[1.0, Ma * Da / (lam - sign * Da), Mb * Db / (lam - sign * Db)] for lam in roots]
-            )
+            roots, g, Gam, Q = out["roots"], out["g"], out["Gamma"], out["Q"]
+            if wrong_sign:  # the control: lam + D in the denominators of the rows
+                Q = np.array([[1.0, Ma * Da / (lam + Da), Mb * Db / (lam + Db)] for lam in roots])
             L, G = Q @ Gam @ Q.T, Q @ g @ Q.T
             res = [np.max(np.abs(Mx - np.diag(np.diag(Mx)))) / np.max(np.abs(Mx)) for Mx in (L, G)]
             Gd = np.diag(np.diag(G))
@@ -565,6 +528,6 @@ _claim(
     "transformation",
     "(wrong) rows with lam + D_al, lam + D_be in the denominators",
     SUPPORT,
-    _proposition2(sign=-1.0, seeds=1),
+    _proposition2(wrong_sign=True, seeds=1),
     expected="fails",
 )

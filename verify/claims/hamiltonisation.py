@@ -15,6 +15,7 @@ from __future__ import annotations
 import sympy as sp
 from chaplygin.derive import Model
 from chaplygin.derive import hamiltonisation as hz
+from chaplygin.derive.algebra import seeded_factor
 from chaplygin.derive.vectors import cross, dot
 
 from . import Check, Claim, register
@@ -46,7 +47,7 @@ def _split_radicals(e: sp.Expr) -> sp.Expr:
     """Factor every radicand: square roots of products of positive linear forms split."""
     return e.replace(
         lambda x: x.is_Pow and x.exp.is_Rational and x.exp.q == 2,
-        lambda x: sp.factor(x.base) ** x.exp,
+        lambda x: seeded_factor(x.base) ** x.exp,
     )
 
 

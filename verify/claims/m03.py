@@ -27,6 +27,7 @@ from functools import lru_cache
 
 import sympy as sp
 from chaplygin.derive import Model
+from chaplygin.derive.algebra import seeded_factor
 from chaplygin.derive.ball_on_surface import generic_surface_model
 from chaplygin.derive.body_on_sphere import ellipsoid_body_model, generic_body_model
 from chaplygin.derive.vectors import cross, dot
@@ -309,7 +310,7 @@ def solve_potential_factor(model: Model) -> sp.Expr | None:
     a0, b0 = pivots[0]
     if any(a * b0 - a0 * b for a, b in groups.values()):
         return None
-    return sp.factor(-a0.as_expr() / b0.as_expr())
+    return seeded_factor(-a0.as_expr() / b0.as_expr())
 
 
 def _m03_1_5(denominator: str):

@@ -220,17 +220,22 @@ def _bkm12_48(literal: bool = False):
 
 
 # ------------------------------------------------------------------ §2.6 Proposition 2
-def _bkm12_55(model: Model) -> Check:
-    p = proposition2()
-    s = p.symbols
+def printed_cubic_55(s: dict) -> sp.Expr:
+    """BKM12 (55) as printed, in the symbols ``s`` of :func:`proposition2`."""
     E, C, Ma, Mb, Da, Db, lam = (s[k] for k in ("E", "C", "M_al", "M_be", "D_al", "D_be", "lam"))
-    printed = (
+    return (
         E * lam**3
         - (E * (Da + Db) + C) * lam**2
         + (Da * (C - Ma**2) + Db * (C - Mb**2) + E * Da * Db) * lam
         - (C - Ma**2 - Mb**2) * Da * Db
     )
-    exprs = [p.cubic - printed, p.cubic + Da * Db * (p.Gamma - lam * p.g).det()]
+
+
+def _bkm12_55(model: Model) -> Check:
+    p = proposition2()
+    s = p.symbols
+    Da, Db, lam = s["D_al"], s["D_be"], s["lam"]
+    exprs = [p.cubic - printed_cubic_55(s), p.cubic + Da * Db * (p.Gamma - lam * p.g).det()]
     exprs += list(p.B - p.g.inv() * p.Gamma) + list(p.B - (p.Gamma * p.g.inv()).T)
     return Check(exprs, free=list(s.values()), everywhere=True, note="scalar identity")
 

@@ -166,10 +166,11 @@ def _bkm12_21(model: Model) -> Check:
     return Check(exprs, everywhere=True, note="scalar identity in E, D and the coefficients")
 
 
-def _bkm12_17(model: Model) -> Check:
+def _theorem1_on_ball(model: Model):
+    """Theorem 1's derivation, the ball map with free coefficients and ``D~``, and the
+    substitution of the model's scalars and those coefficients into the derivation."""
     t = theorem1()
     bm = ball_map(model, (m1, m2, c1, c2), 1 / Dt)
-    n = bm.n
     sub = _scalars_sub(model, bm)
     sub.update(
         {
@@ -180,6 +181,12 @@ def _bkm12_17(model: Model) -> Check:
             t.symbols["Dt"]: Dt,
         }
     )
+    return t, bm, sub
+
+
+def _bkm12_17(model: Model) -> Check:
+    t, bm, sub = _theorem1_on_ball(model)
+    n = bm.n
     X, Y = sub[t.symbols["X"]], sub[t.symbols["Y"]]
     exprs = [dot(n.A * n.M, n.M) - (bm.E - Y**2 / X), dot(n.gamma, n.A * n.gamma) - (1 / n.D - X)]
     exprs += [1 / Dt - dot(bm.gt, n.A * bm.gt) - t.X_t.xreplace(sub)]
@@ -188,19 +195,8 @@ def _bkm12_17(model: Model) -> Check:
 
 
 def _proof_t1(model: Model) -> Check:
-    t = theorem1()
-    bm = ball_map(model, (m1, m2, c1, c2), 1 / Dt)
+    t, bm, sub = _theorem1_on_ball(model)
     n = bm.n
-    sub = _scalars_sub(model, bm)
-    sub.update(
-        {
-            t.symbols["m1"]: m1,
-            t.symbols["m2"]: m2,
-            t.symbols["c1"]: c1,
-            t.symbols["c2"]: c2,
-            t.symbols["Dt"]: Dt,
-        }
-    )
     X, Y, E, D = (sub[t.symbols[k]] for k in ("X", "Y", "E", "D"))
     R1, R2 = t.R1.xreplace(sub), t.R2.xreplace(sub)
     Phi = (R2 * Y - R1 * X) / ((c2 * X - c1 * Y) ** 2 - X * (E * c1**2 + c2**2 / D - 1 / Dt))
