@@ -8,16 +8,28 @@ with mpmath at the working precision (so ``sqrt(0.87)`` carries every digit aske
 from __future__ import annotations
 
 import ast
-import math
+import numbers
 import operator
+import re
 from collections.abc import Mapping, Sequence
+from decimal import Decimal
+from fractions import Fraction
 
+import gmpy2
 import mpmath
+from mpmath.libmp import dps_to_prec, from_rational, round_nearest
 
 from ..derive.errors import UserInputError
 from .code import ModelCode
 
-__all__ = ["UNIT_TOLERANCE", "parse_number", "pack_params", "pack_state", "Precision"]
+__all__ = [
+    "UNIT_TOLERANCE",
+    "parse_number",
+    "working_number",
+    "pack_params",
+    "pack_state",
+    "Precision",
+]
 
 #: How far a unit vector (gamma, alpha, beta) may be from unit length, relatively, before
 #: it is rejected; within it the vector is renormalised exactly at the working precision.
@@ -90,6 +102,16 @@ class Precision:
         return "double" if self.digits is None else f"{self.digits} digits"
 
     @property
+    def prec(self) -> int:
+        """Binary precision in bits: 53 (double), 113 (binary128) or mpmath's bits for
+        the number of digits (what ``mpmath.workdps(digits)`` uses)."""
+        if self.is_double:
+            return 53
+        if self.is_quad:
+            return 113
+        return dps_to_prec(self.digits)
+
+    @property
     def kind(self) -> str:
         """``"double"``, ``"quad"`` or ``"digits"``."""
         return "double" if self.is_double else ("quad" if self.is_quad else "digits")
@@ -111,32 +133,137 @@ class Precision:
         return (100.0 if self.is_double else 10.0) * self.epsilon
 
 
-def parse_number(text: str | float | int | mpmath.mpf, dps: int = 30) -> mpmath.mpf:
+Number = str | int | float | Fraction | Decimal | mpmath.mpf
+
+#: A plain decimal literal: read directly at the working precision (correctly rounded).
+_LITERAL = re.compile(r"[+-]?(?:\d[\d_]*\.?[\d_]*|\.\d[\d_]*)(?:[eE][+-]?\d+)?")
+
+
+def _exact_mpf(value: object, prec: int) -> mpmath.mpf | None:
+    """``value`` rounded once to ``prec`` bits, for the number types that carry an exact value.
+
+    A Python or numpy float is the exact binary value it is; ``Fraction``, ``Decimal``,
+    gmpy2 ``mpz``/``mpq``/``mpfr`` and ``mpf`` are rounded to nearest from their exact
+    value. Returns None for anything else (text, unknown types).
+    """
+    if isinstance(value, bool):
+        return None
+    if isinstance(value, mpmath.mpf):
+        with mpmath.workprec(prec):
+            return +value
+    if isinstance(value, Decimal):
+        if not value.is_finite():
+            return mpmath.mpf("nan")
+        return _exact_mpf(Fraction(value), prec)
+    if isinstance(value, (float,)) or type(value).__name__ in ("float64", "float32", "float16"):
+        with mpmath.workprec(max(prec, 53)):
+            x = mpmath.mpf(float(value))
+        with mpmath.workprec(prec):
+            return +x
+    if type(value).__name__ == "mpfr":
+        if not gmpy2.is_finite(value):
+            return mpmath.mpf("nan")
+        return _exact_mpf(Fraction(*value.as_integer_ratio()), prec)
+    if isinstance(value, numbers.Rational):  # int, numpy ints, Fraction, mpz, mpq
+        num, den = int(value.numerator), int(value.denominator)
+        with mpmath.workprec(prec):  # mpf(raw) rounds to the context's precision
+            return mpmath.mpf(from_rational(num, den, prec, round_nearest))
+    return None
+
+
+def parse_number(text: Number | object, dps: int = 30) -> mpmath.mpf:
     """Parse a user number safely (no ``eval``) at ``dps`` digits.
+
+    Parameters
+    ----------
+    text : str, int, float, Fraction, Decimal, mpmath.mpf or gmpy2 number
+        Text is a decimal literal or an expression of literals with ``sqrt``, ``cbrt``,
+        ``exp``, ``log``, ``sin``, ``cos``, ``pi``, ``e``, ``+ - * / **`` and parentheses;
+        every literal is read from its own text (``0.1`` is one tenth). Number types are
+        taken at their exact value (a float is the binary value it is).
+    dps : int
+        Decimal digits of the result.
+
+    Returns
+    -------
+    mpmath.mpf
 
     Raises
     ------
     UserInputError
-        Malformed text, NaN or infinity.
+        Malformed text, an unsupported type, NaN or infinity.
     """
+    exact = _exact_mpf(text, dps_to_prec(dps))
     with mpmath.workdps(dps):
-        if isinstance(text, (int, float, mpmath.mpf)):
-            value = mpmath.mpf(text)
-        else:
-            src = str(text).strip()
+        if exact is not None:
+            value = exact
+        elif isinstance(text, str | bytes):
+            src = text.decode() if isinstance(text, bytes) else text
+            src = src.strip()
             try:
-                tree = ast.parse(src, mode="eval")
-                value = +_eval_node(tree.body, src)
+                if _LITERAL.fullmatch(src):
+                    value = mpmath.mpf(src.replace("_", ""))
+                else:
+                    tree = ast.parse(src, mode="eval")
+                    value = +_eval_node(tree.body, src)
             except (SyntaxError, ValueError, TypeError, ZeroDivisionError, KeyError):
                 raise UserInputError(
                     f"cannot read {src!r} as a number: use a decimal like 0.93 or an "
                     "expression of numbers with sqrt, pi, + - * / ** and parentheses"
                 ) from None
+        else:
+            raise UserInputError(f"{text!r} is not a number (give a decimal string or a number)")
+        if not isinstance(value, mpmath.mpf):
+            raise UserInputError(f"value {text!r} is not a real number")
         if not mpmath.isfinite(value):
             raise UserInputError(
                 f"value {text!r} is not finite (NaN or infinity); give a finite number"
             )
         return value
+
+
+def working_number(value: Number | object, precision: Precision) -> float | mpmath.mpf:
+    """A user number at the working precision, rounded once where that is possible.
+
+    A decimal literal (``"1.2716"``), an ``int``, ``Fraction``, ``Decimal``, float, ``mpf``
+    or gmpy2 number is rounded to nearest directly from its exact value; an expression
+    (``"sqrt(0.87)"``) is evaluated with 10 guard digits and then rounded.
+
+    Parameters
+    ----------
+    value : str or number
+    precision : Precision
+
+    Returns
+    -------
+    float (double) or mpmath.mpf with ``precision.prec`` bits (quad, digits)
+
+    Raises
+    ------
+    UserInputError
+        Malformed or non-finite input, or a value that overflows the working precision.
+    """
+    bits = precision.prec
+    exact = _exact_mpf(value, bits)
+    if exact is None and isinstance(value, str) and _LITERAL.fullmatch(value.strip()):
+        with mpmath.workprec(bits):
+            exact = mpmath.mpf(value.strip().replace("_", ""))
+    if exact is None:
+        exact = parse_number(value, precision.parse_dps)
+    if not mpmath.isfinite(exact):
+        raise UserInputError(
+            f"value {value!r} is not finite (NaN or infinity); give a finite number"
+        )
+    if precision.is_double:
+        out = float(exact)
+        if abs(out) == float("inf") or (out == 0 and exact != 0):
+            what = "overflows" if out else "underflows to zero in"
+            raise UserInputError(
+                f"value {value!r} {what} double precision; use --precision quad or digits"
+            )
+        return out
+    with mpmath.workprec(bits):
+        return +exact
 
 
 def _eval_node(node: ast.AST, src: str = "") -> mpmath.mpf:
@@ -170,13 +297,10 @@ def _eval_node(node: ast.AST, src: str = "") -> mpmath.mpf:
     raise ValueError("unsupported syntax")
 
 
-def _parse_literal_exact(text: str, dps: int) -> mpmath.mpf:
-    return parse_number(text, dps)
-
-
-def _values(name: str, raw, expected: int, dps: int) -> list[mpmath.mpf]:
-    if isinstance(raw, (str, bytes)):
-        items = [s for s in str(raw).split(",")]
+def _items(name: str, raw: object, expected: int) -> list:
+    """The ``expected`` raw entries of a group given as text ``"a,b,c"``, a sequence or a number."""
+    if isinstance(raw, str | bytes):
+        items = (raw.decode() if isinstance(raw, bytes) else raw).split(",")
     elif isinstance(raw, Sequence) or hasattr(raw, "__len__"):
         items = list(raw)
     else:
@@ -186,15 +310,28 @@ def _values(name: str, raw, expected: int, dps: int) -> list[mpmath.mpf]:
             f"{name} needs {expected} value{'s' if expected > 1 else ''}, got {len(items)}: "
             f"give {name}=" + ",".join(["..."] * expected)
         )
+    return items
+
+
+def _values(name: str, raw: object, expected: int, dps: int) -> list[mpmath.mpf]:
+    """A group's values at ``dps`` digits (guard precision, for vectors still to be processed)."""
     out = []
-    for item in items:
-        if isinstance(item, str):
+    for item in _items(name, raw, expected):
+        try:
             out.append(parse_number(item, dps))
-        else:
-            try:
-                out.append(parse_number(item, dps))
-            except TypeError:
-                raise UserInputError(f"{name}: {item!r} is not a number") from None
+        except UserInputError as exc:
+            raise UserInputError(f"{name}: {exc}") from None
+    return out
+
+
+def _working_values(name: str, raw: object, expected: int, precision: Precision) -> list:
+    """A group's values rounded once to the working precision."""
+    out = []
+    for item in _items(name, raw, expected):
+        try:
+            out.append(working_number(item, precision))
+        except UserInputError as exc:
+            raise UserInputError(f"{name}: {exc}") from None
     return out
 
 
@@ -224,28 +361,36 @@ def pack_params(code: ModelCode, values: Mapping[str, object], precision: Precis
             f"unknown parameter {unknown[0]!r} for {code.name}; valid parameters: "
             + ", ".join(f"{n} ({desc})" for n, (_, _, desc) in groups.items())
         )
-    out: dict[str, mpmath.mpf] = {}
-    dps = precision.parse_dps
+    out: dict[str, object] = {}
     for name, (symbols, domain, desc) in groups.items():
         if name not in values:
             raise UserInputError(
                 f"missing parameter {name} ({desc}) for {code.name}: add --param {name}="
                 + ",".join(["VALUE"] * len(symbols))
             )
-        vals = _values(name, values[name], len(symbols), dps)
+        # each value is rounded once to the working precision, and checked after rounding
+        vals = _working_values(name, values[name], len(symbols), precision)
         if domain == "positive" and any(v <= 0 for v in vals):
             raise UserInputError(
                 f"{name} must be positive ({desc}); got {','.join(mpmath.nstr(v, 8) for v in vals)}"
             )
         out.update(zip(symbols, vals, strict=True))
-    return _convert([out[s] for s in code.params], precision)
+    return [out[s] for s in code.params]
 
 
-def _convert(vals: list, precision: Precision) -> list:
-    if precision.is_double:
-        return [float(v) for v in vals]
-    with mpmath.workdps(precision.digits):
-        return [+v for v in vals]
+def round_to(values: Sequence, precision: Precision) -> list:
+    """Values (mpf at a guard precision) rounded once to the working precision.
+
+    Parameters
+    ----------
+    values : sequence of mpmath.mpf
+    precision : Precision
+
+    Returns
+    -------
+    list of float (double) or mpmath.mpf with ``precision.prec`` bits
+    """
+    return [working_number(v, precision) for v in values]
 
 
 def _norm(v):
@@ -307,7 +452,20 @@ def pack_state(code: ModelCode, values: Mapping[str, object], precision: Precisi
             s: v for name, comps in groups.items() for s, v in zip(comps, got[name], strict=True)
         }
         state = [flat[s] for s in code.state]
-    return _convert(state, precision)
+    # groups given by the user and kept as they are are rounded once from their own text;
+    # normalised or completed ones from the guard-precision values above
+    kept = {name for name in values if name not in ("gamma", "alpha", "beta")}
+    direct = {
+        s: v
+        for name in kept
+        for s, v in zip(
+            groups[name],
+            _working_values(name, values[name], len(groups[name]), precision),
+            strict=True,
+        )
+    }
+    rounded = round_to(state, precision)
+    return [direct.get(s, r) for s, r in zip(code.state, rounded, strict=True)]
 
 
 def _frame(got: dict) -> dict:
@@ -348,6 +506,3 @@ def _frame(got: dict) -> dict:
     alpha = [c / s for c in mxg]  # BKM12-7
     return {"alpha": alpha, "beta": _cross(gamma, alpha)}
 
-
-def is_finite_all(values) -> bool:
-    return all(math.isfinite(float(v)) for v in values)

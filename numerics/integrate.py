@@ -13,7 +13,7 @@ from scipy.integrate import solve_ivp
 
 from ..derive.errors import UserInputError
 from .code import ModelCode, load_model_code
-from .inputs import UNIT_TOLERANCE, Precision, pack_params, pack_state
+from .inputs import UNIT_TOLERANCE, Precision, pack_params, pack_state, working_number
 
 __all__ = ["IntegrationResult", "integrate", "METHODS", "Integrator"]
 
@@ -246,9 +246,9 @@ def _check_relations(code: ModelCode, t0: float, y, p) -> None:
         return
     idx = [code.integral_names.index(n) for n in names]
     with mpmath.workdps(30):
-        yv = [mpmath.mpf(v) if not isinstance(v, mpmath.mpf) else v for v in y]
-        yv = [mpmath.mpf(str(v)) if isinstance(v, (float, np.floating)) else v for v in yv]
-        pv = [mpmath.mpf(str(v)) if isinstance(v, (float, np.floating)) else v for v in p]
+        # the values the integration will use, exactly (a float is its binary value)
+        yv = [mpmath.mpf(v) for v in y]
+        pv = [mpmath.mpf(v) for v in p]
         t = mpmath.mpf(t0)
 
         def relations(state):
@@ -293,7 +293,13 @@ def _drift(code: ModelCode, t: np.ndarray, y: np.ndarray, p, precision: Precisio
         with mpmath.workdps(precision.digits):
             rows = [code.mpmath.integrals(t[j], list(y[:, j]), p) for j in range(y.shape[1])]
             F0 = rows[0]
-            change = [max(abs(r[i] - F0[i]) for r in rows) for i in range(len(F0))]
+            # NaN compares false: a non-finite value anywhere makes the change NaN
+            change = [
+                max(abs(r[i] - F0[i]) for r in rows)
+                if all(mpmath.isfinite(r[i]) for r in rows)
+                else mpmath.nan
+                for i in range(len(F0))
+            ]
             ref = [abs(v) for v in F0]
     # An integral whose initial value is zero to within the square root of the working
     # precision has no meaningful relative change: report its absolute change instead.
@@ -411,11 +417,9 @@ def integrate(
             f"rtol={rtol:g} is below what {prec!r} precision can deliver with "
             f"{integrator.name} (about {floor:.1e}); ask for {_precision_for(rtol)}"
         )
-    if isinstance(t_span, (int, float, str)):
-        t_span = (0.0, float(t_span))
-    t_span = (float(t_span[0]), float(t_span[1]))
-    if not all(np.isfinite(t_span)) or t_span[1] == t_span[0]:
-        raise UserInputError("the time span must be finite and non-empty")
+    t_span = _time_span(t_span, prec)
+    if t_eval is not None:
+        t_eval = [working_number(v, prec) for v in _sequence(t_eval, "t_eval")]
     if isinstance(params, Mapping):
         p = pack_params(code, params, prec)
     else:
@@ -443,6 +447,8 @@ def integrate(
         "info": {},
         "taylor": dict(taylor_options or {}),
     }
+    if options["taylor"].get("step") is not None:
+        options["taylor"]["step"] = working_number(options["taylor"]["step"], prec)
     if options["taylor"] and not isinstance(integrator, TaylorMethod):
         raise UserInputError("taylor_options apply to method taylor only")
     unknown = set(options["taylor"]) - {"order", "step", "max_steps"}
@@ -466,9 +472,16 @@ def integrate(
     if isinstance(integrator, TaylorMethod):
         chosen = options["info"]["taylor_backend"]
     wall = time.perf_counter() - t0
-    if prec.is_double and not np.all(np.isfinite(ys)):
+    if not _all_finite(ys):
         status, msg = -1, "the solution became NaN or infinite; check the parameters and state"
     drift, absolute = _drift(code, t, ys, p, prec)
+    bad = [name for name, v in drift.items() if not np.isfinite(v)]
+    if bad and status == 0:
+        status = -5
+        msg = (
+            f"the error evidence is not finite (drift of {', '.join(bad)}): the result cannot "
+            "be trusted; check the parameters and state"
+        )
     return IntegrationResult(
         status=int(status),
         message=str(msg),
@@ -504,14 +517,34 @@ def _precision_for(rtol: float) -> str:
     return f"--precision {max(int(np.ceil(-np.log10(rtol) - 1e-9)) + 2, 16)}"
 
 
+def _sequence(values, what: str) -> list:
+    if isinstance(values, str | bytes) or not hasattr(values, "__len__"):
+        raise UserInputError(f"{what} must be a sequence of numbers, got {values!r}")
+    return list(values)
+
+
 def _vector(values, n: int, what: str, prec: Precision) -> list:
-    vals = list(values)
+    vals = _sequence(values, f"the {what}")
     if len(vals) != n:
         raise UserInputError(f"the {what} needs {n} entries, got {len(vals)}")
-    from .inputs import parse_number
+    return [working_number(v, prec) for v in vals]
 
-    parsed = [parse_number(v, prec.parse_dps) for v in vals]
-    if prec.is_double:
-        return [float(v) for v in parsed]
-    with mpmath.workdps(prec.digits):
-        return [+v for v in parsed]
+
+def _time_span(t_span, prec: Precision) -> tuple:
+    """``(t0, t1)`` at the working precision; a single number means ``(0, t1)``."""
+    if isinstance(t_span, str | bytes) or not hasattr(t_span, "__len__"):
+        t_span = (0, t_span)
+    items = list(t_span)
+    if len(items) != 2:
+        raise UserInputError(f"t_span must be (t0, t1) or a single end time, got {t_span!r}")
+    t0, t1 = (working_number(v, prec) for v in items)
+    if t1 == t0:
+        raise UserInputError("the time span must be finite and non-empty")
+    return t0, t1
+
+
+def _all_finite(ys) -> bool:
+    arr = np.asarray(ys)
+    if arr.dtype != object:
+        return bool(np.all(np.isfinite(arr)))
+    return all(mpmath.isfinite(v) for v in arr.ravel())

@@ -531,16 +531,17 @@ def taylor_solve(
         kind = "digits-mpmath"
     if clib is None and lib == "float" and precision != "double":
         raise ValueError("lib='float' works in double precision only")
-    stepper = _Stepper(code, kind, p, rtol, atol, order, step, clib)
     if clib is not None and not events:
         return _c_run(clib, y0, (t0, t1), p, rtol, atol, t_eval, order, step, max_steps)
-    if clib is None and precision == "quad":
-        # Python fallback in binary128-like precision: MPFR at 113 bits
-        with gmpy2.context(gmpy2.get_context(), precision=113):
+    if clib is None and kind in ("quad", "digits"):
+        # gmpy2/MPFR at the working precision (113 bits for the quad fallback). The stepper
+        # converts the parameters when it is made: it must be made inside the context, or
+        # MPFR rounds them to the default 53 bits.
+        bits = 113 if precision == "quad" else mpmath.mp.prec
+        with gmpy2.context(gmpy2.get_context(), precision=bits):
+            stepper = _Stepper(code, kind, p, rtol, atol, order, step, clib)
             return _py_run(stepper, y0, (t0, t1), t_eval, events, max_steps, precision)
-    if stepper.clib is None and stepper.lib_kind == "gmpy2":
-        with gmpy2.context(gmpy2.get_context(), precision=mpmath.mp.prec):
-            return _py_run(stepper, y0, (t0, t1), t_eval, events, max_steps, precision)
+    stepper = _Stepper(code, kind, p, rtol, atol, order, step, clib)
     return _py_run(stepper, y0, (t0, t1), t_eval, events, max_steps, precision)
 
 

@@ -167,13 +167,13 @@ def _format_number(value, digits: int | None) -> str:
 def _cmd_integrate(args) -> int:
     from chaplygin.derive.errors import UserInputError
     from chaplygin.numerics import integrate
-    from chaplygin.numerics.inputs import Precision, parse_number
+    from chaplygin.numerics.inputs import Precision
 
     params = _key_values(args.param, "--param")
     y0 = _key_values(args.y0, "--y0")
     prec = Precision(args.precision)
-    t_end = float(parse_number(args.t_end))
-    t_start = float(parse_number(args.t_start))
+    # the times go to integrate() as typed: it reads them at the working precision
+    t_end, t_start = args.t_end, args.t_start
     for name, value in (("--rtol", args.rtol), ("--atol", args.atol)):
         if value is not None and not value > 0:
             raise UserInputError(f"{name} must be a positive number, got {value}")
@@ -201,16 +201,21 @@ def _cmd_integrate(args) -> int:
             "precision": result.precision,
             "t": _format_number(result.t[-1], digits),
             "y": final,
-            "drift": result.drift,
+            # untrusted evidence (NaN, inf) is null, never a bare NaN (not JSON)
+            "drift": {k: (v if math.isfinite(v) else None) for k, v in result.drift.items()},
             "drift_absolute": list(result.drift_absolute),
             "nfev": result.nfev,
             "njev": result.njev,
             "nsteps": result.nsteps,
             "wall_s": result.wall_s,
             "setup_s": result.setup_s,
-            "info": {k: v for k, v in result.info.items() if isinstance(v, (int, float, str))},
+            "info": {
+                k: v
+                for k, v in result.info.items()
+                if isinstance(v, int | str) or (isinstance(v, float) and math.isfinite(v))
+            },
         }
-        print(json.dumps(out, indent=2))
+        print(json.dumps(out, indent=2, allow_nan=False))
     else:
         print(f"{result.model}: {result.message} (status {result.status})")
         print(

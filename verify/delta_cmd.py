@@ -37,12 +37,14 @@ def _params(items) -> dict:
             raise UserInputError(
                 f"--param {need}=... is required (e.g. --param I=1,3,5 --param D=1 --param b=1)"
             )
-    with mpmath.workdps(60):
+    # read at more digits than any --digits (was 60: --digits 100 lost the inputs' digits)
+    dps = MAX_DIGITS + 10
+    with mpmath.workdps(dps):
         out = {
-            "I": [parse_number(v, 60) for v in raw["I"].split(",")],
-            "D": parse_number(raw["D"], 60),
-            "b": parse_number(raw["b"], 60),
-            "C": parse_number(raw.get("C", "1"), 60),
+            "I": [parse_number(v, dps) for v in raw["I"].split(",")],
+            "D": parse_number(raw["D"], dps),
+            "b": parse_number(raw["b"], dps),
+            "C": parse_number(raw.get("C", "1"), dps),
         }
     if out["b"] <= 0:
         raise UserInputError("b (the radius) must be positive")
