@@ -313,12 +313,12 @@ def _items(name: str, raw: object, expected: int) -> list:
     return items
 
 
-def _values(name: str, raw: object, expected: int, dps: int) -> list[mpmath.mpf]:
-    """A group's values at ``dps`` digits (guard precision, for vectors still to be processed)."""
+def _values(name: str, raw: object, expected: int, convert) -> list:
+    """A group's values, each converted by ``convert`` (errors name the group)."""
     out = []
     for item in _items(name, raw, expected):
         try:
-            out.append(parse_number(item, dps))
+            out.append(convert(item))
         except UserInputError as exc:
             raise UserInputError(f"{name}: {exc}") from None
     return out
@@ -326,13 +326,7 @@ def _values(name: str, raw: object, expected: int, dps: int) -> list[mpmath.mpf]
 
 def _working_values(name: str, raw: object, expected: int, precision: Precision) -> list:
     """A group's values rounded once to the working precision."""
-    out = []
-    for item in _items(name, raw, expected):
-        try:
-            out.append(working_number(item, precision))
-        except UserInputError as exc:
-            raise UserInputError(f"{name}: {exc}") from None
-    return out
+    return _values(name, raw, expected, lambda v: working_number(v, precision))
 
 
 def pack_params(code: ModelCode, values: Mapping[str, object], precision: Precision) -> list:
@@ -432,7 +426,10 @@ def pack_state(code: ModelCode, values: Mapping[str, object], precision: Precisi
         )
     dps = precision.parse_dps
     with mpmath.workdps(dps):
-        got = {name: _values(name, values[name], len(groups[name]), dps) for name in values}
+        got = {
+            name: _values(name, values[name], len(groups[name]), lambda v: parse_number(v, dps))
+            for name in values
+        }
         for required in ("M", "gamma"):
             if required in groups and required not in got:
                 raise UserInputError(
