@@ -38,14 +38,17 @@ Examples
 from __future__ import annotations
 
 import hashlib
+import json
 import os
 import platform
 import shlex
 import shutil
+import stat
 import subprocess
 import sys
 import sysconfig
 import tempfile
+import time
 import warnings
 from collections.abc import Sequence
 from pathlib import Path
@@ -55,7 +58,7 @@ import cffi
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..derive.errors import ChaplyginError
+from ..derive.errors import ChaplyginError, UserInputError
 
 __all__ = [
     "CFLAGS",
@@ -179,6 +182,11 @@ class CompilationError(CompilerError):
 
 class ModelHashMismatchError(ChaplyginError, ValueError):
     """The compiled library reports a model hash other than the expected one."""
+
+
+class CacheError(UserInputError):
+    """The cache folder cannot be used safely (others can write to it, it is not ours, or
+    it is read-only); the message says how to fix it (CHAPLYGIN_CACHE_DIR, chmod)."""
 
 
 class CompilerUnavailableWarning(UserWarning):
@@ -307,6 +315,91 @@ def _unlink_quietly(path: str | os.PathLike[str]) -> None:
         pass
 
 
+#: A build's temporaries older than this are left over from a killed build: removed.
+STALE_SECONDS = 3600.0
+
+
+def check_cache_dir(directory: str | os.PathLike[str]) -> None:
+    """Refuse a cache folder (or a parent up to the cache root) others could write to.
+
+    A library in the cache is loaded with ``dlopen``: whoever can write there can run code
+    in our process. The folder must be owned by the current user and not writable by group
+    or others (a parent may be shared only if it has the sticky bit, like ``/tmp``).
+
+    Parameters
+    ----------
+    directory : path-like
+        The folder holding the compiled libraries (it may not exist yet).
+
+    Raises
+    ------
+    CacheError
+        The folder or its cache root is writable by others or owned by another user.
+    """
+    path = Path(directory)
+    for folder in (path, path.parent):
+        try:
+            st = folder.stat()
+        except FileNotFoundError:
+            continue
+        if not hasattr(os, "getuid"):  # pragma: no cover - Windows
+            return
+        others_write = st.st_mode & (stat.S_IWGRP | stat.S_IWOTH)
+        if st.st_uid != os.getuid() or (others_write and not st.st_mode & stat.S_ISVTX):
+            raise CacheError(
+                f"the cache folder {folder} can be written by other users (mode "
+                f"{stat.filemode(st.st_mode)}, owner uid {st.st_uid}): code loaded from it "
+                "could be theirs; use a private folder (chmod go-w, or set "
+                "CHAPLYGIN_CACHE_DIR to a folder of your own)"
+            )
+
+
+def _digest(path: Path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def _record_path(library: Path) -> Path:
+    return library.with_name(library.name + ".record")
+
+
+def _write_record(library: Path) -> None:
+    """Record size and SHA-256 of a library just built (written atomically)."""
+    record = json.dumps({"size": library.stat().st_size, "sha256": _digest(library)})
+    fd, tmp = tempfile.mkstemp(prefix=".tmp-record-", dir=library.parent)
+    with os.fdopen(fd, "w", encoding="utf-8") as fh:
+        fh.write(record)
+    os.replace(tmp, _record_path(library))
+
+
+def _record_matches(library: Path) -> bool:
+    """True when the library is exactly what our build wrote (size and SHA-256)."""
+    try:
+        record = json.loads(_record_path(library).read_text(encoding="utf-8"))
+        return (
+            isinstance(record, dict)
+            and record.get("size") == library.stat().st_size
+            and record.get("sha256") == _digest(library)
+        )
+    except (OSError, ValueError):
+        return False
+
+
+def _remove_stale_temporaries(directory: Path) -> None:
+    """Remove our ``.tmp-*`` files that a killed build left behind (older than an hour)."""
+    now = time.time()
+    for path in directory.glob(".tmp-*"):
+        try:
+            st = path.stat()
+            if now - st.st_mtime > STALE_SECONDS and st.st_uid == os.getuid():
+                path.unlink()
+        except OSError:
+            continue
+
+
 def compile_c(
     source: str,
     *,
@@ -361,9 +454,25 @@ def compile_c(
     directory = c_cache_dir(cache_dir)
     target = directory / f"{key}{_LIB_SUFFIX}"
     if not force and target.is_file():
-        return target
+        check_cache_dir(directory)
+        if _record_matches(target):
+            return target
+        # damaged, replaced or unrecorded: never load it, build it again
 
-    directory.mkdir(parents=True, exist_ok=True)
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise CacheError(
+            f"cannot create the cache folder {directory}: {exc.strerror or exc}; set "
+            "CHAPLYGIN_CACHE_DIR to a writable folder"
+        ) from None
+    check_cache_dir(directory)
+    if not os.access(directory, os.W_OK | os.X_OK):
+        raise CacheError(
+            f"the cache folder {directory} is read-only: compiled code cannot be stored; set "
+            "CHAPLYGIN_CACHE_DIR to a writable folder"
+        )
+    _remove_stale_temporaries(directory)
     prefix = f".tmp-{key[:16]}-"
     fd, tmp_c = tempfile.mkstemp(prefix=prefix, suffix=".c", dir=directory)
     with os.fdopen(fd, "w", encoding="utf-8") as fh:
@@ -395,6 +504,7 @@ def compile_c(
             )
         os.replace(tmp_c, directory / f"{key}.c")
         os.replace(tmp_lib, target)
+        _write_record(target)
     finally:
         _unlink_quietly(tmp_c)
         _unlink_quietly(tmp_lib)
@@ -792,6 +902,8 @@ def load_c_model(
             # unloadable cache entry (e.g. damaged on disk): rebuild it once
             path = compile_c(full_source, cache_dir=cache_dir, compiler=compiler, force=True)
             return CompiledModel(path, expected_hash)
+    except CacheError:
+        raise
     except (CompilerError, OSError) as exc:
         warnings.warn(
             f"compiled C model unavailable, using the (slower) numpy implementation instead: "
