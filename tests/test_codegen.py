@@ -190,6 +190,10 @@ def test_check_detects_stale_missing_and_extra_files(tmp_path: Path):
     assert "chaplygin_ball_numpy.py: missing" in problems
     assert "orphan.py: not produced by any built-in model" in problems
     write_generated(work)
+    # a file it did not write is reported, never deleted (issue 11: nothing lost)
+    assert check_generated(work) == ["orphan.py: not produced by any built-in model"]
+    assert (work / "orphan.py").read_text() == "# not generated\n"
+    (work / "orphan.py").unlink()
     assert check_generated(work) == []
 
 
