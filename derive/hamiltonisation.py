@@ -171,7 +171,7 @@ def jacobi_residuals(P: sp.Matrix, coords: Sequence[sp.Symbol]) -> list[sp.Expr]
         for j in range(i + 1, n):
             for k in range(j + 1, n):
                 e = sp.S.Zero
-                for l in range(n):  # noqa: E741
+                for l in range(n):
                     e += P[i, l] * dP[j][k][l] + P[j, l] * dP[k][i][l] + P[k, l] * dP[i][j][l]
                 out.append(e)
     return out

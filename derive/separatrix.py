@@ -135,7 +135,7 @@ class Separatrix:
     """
 
     symbols: SeparatrixSymbols
-    l: sp.Expr  # noqa: E741  (K01's letter)
+    l: sp.Expr  # K01's letter
     lam: sp.Expr
     kap: sp.Expr
     s32: sp.Expr
@@ -170,7 +170,7 @@ def separatrix_gamma(S: SeparatrixSymbols, sigma: int = -1) -> dict:
     """
     J1, J2, J3 = S.J
     h2 = S.C**2 / (2 * S.I2)  # K01-3.3seg: the segment meets p2 there
-    l = sp.simplify(S.C + 2 * S.D * h2 / S.C)  # noqa: E741  (K01-2.34)
+    l = sp.simplify(S.C + 2 * S.D * h2 / S.C)  # K01-2.34
     g1, g2, g3 = sp.symbols("g1 g2 g3", real=True)
     g = sp.Matrix([g1, g2, g3])
     Jinv = sp.diag(1 / J1, 1 / J2, 1 / J3)

@@ -52,7 +52,7 @@ __all__ = [
 ]
 
 
-def check_inertia(I: Sequence, D) -> None:  # noqa: E741
+def check_inertia(I: Sequence, D) -> None:
     """Raise :class:`UserInputError` unless ``I1 < I2 < I3`` or ``I1 > I2 > I3``, all > 0.
 
     The separatrix of K01 §3.3 belongs to the middle axis ``I2``.
@@ -70,13 +70,13 @@ def check_inertia(I: Sequence, D) -> None:  # noqa: E741
         )
 
 
-def mu_of(I: Sequence, D):  # noqa: E741
+def mu_of(I: Sequence, D):
     """``mu = xi = kap/lam = 1/(J2 sqrt(a21 a32))``, ``J_i = I_i + D`` (K01-3.7)."""
     J1, J2, J3 = (mpmath.mpf(v) + D for v in I)
     return 1 / (J2 * mpmath.sqrt((1 / J1 - 1 / J2) * (1 / J2 - 1 / J3)))
 
 
-def separatrix_quantities(I: Sequence, D, C=1) -> dict:  # noqa: E741
+def separatrix_quantities(I: Sequence, D, C=1) -> dict:
     """``lam, kap, s32, s21, l`` for ``I1 < I2 < I3`` (mpmath at the current precision)."""
     I1, I2, I3 = (mpmath.mpf(v) for v in I)
     D, C = mpmath.mpf(D), mpmath.mpf(C)
@@ -92,7 +92,7 @@ def separatrix_quantities(I: Sequence, D, C=1) -> dict:  # noqa: E741
     }
 
 
-def separatrix_state(I: Sequence, D, C=1) -> list:  # noqa: E741
+def separatrix_state(I: Sequence, D, C=1) -> list:
     """The corrected K01-3.4 solution at ``t = 0`` (``th = 0``, ``sech = 1``, ``c = 1``).
 
     State order of ``chaplygin_ball__contact_point``: ``M, gamma, alpha, beta, x, y``.
@@ -222,7 +222,7 @@ def flow(y0, params, t_end, digits: int, engine: str = "jet"):
 
 
 def delta_ode(
-    I: Sequence,  # noqa: E741
+    I: Sequence,
     D,
     b,
     digits: int,
@@ -252,9 +252,9 @@ def delta_ode(
         ``tail``, ``tail_bound``, ``steps``, ``work_digits``, ``L``, ``seconds``.
     """
     start = time.perf_counter()
-    I = list(I)  # noqa: E741
+    I = list(I)
     if I[0] > I[2]:  # the same body with axes 1 and 3 renamed (mu is symmetric)
-        I = I[::-1]  # noqa: E741
+        I = I[::-1]
     if L is None:
         L = max(8.0, (digits + 5) * math.log(10) / 7)
     work = digits + int(math.ceil(L / math.log(10))) + 8
@@ -319,7 +319,7 @@ class DeltaResult:
 
 
 def delta_three_ways(
-    I: Sequence,  # noqa: E741
+    I: Sequence,
     D,
     b,
     digits: int,
@@ -351,7 +351,7 @@ def delta_three_ways(
         return DeltaResult(mu, ode, quad, closed, digits, agree, seconds, info)
 
 
-def frame_turn(I: Sequence, D: float, h: float, C: float = 1.0, rtol: float = 1e-12):  # noqa: E741
+def frame_turn(I: Sequence, D: float, h: float, C: float = 1.0, rtol: float = 1e-12):
     """Period of ``gamma(t)`` on ``M = C gamma`` at energy ``h`` and the turn of the frame.
 
     After one period ``T`` of ``gamma`` (an Euler top, K01-2.34) the space-fixed horizontal
@@ -409,7 +409,7 @@ def frame_turn(I: Sequence, D: float, h: float, C: float = 1.0, rtol: float = 1e
     return float(T), float(np.arctan2(np.dot(aT, b0), np.dot(aT, a0)))
 
 
-def critical_energy(I: Sequence, D: float, bracket: tuple[float, float], C: float = 1.0) -> float:  # noqa: E741
+def critical_energy(I: Sequence, D: float, bracket: tuple[float, float], C: float = 1.0) -> float:
     """The energy in ``bracket`` where :func:`frame_turn`'s ``Phi`` vanishes (Brent's method).
 
     Where the trace becomes unbounded (K01-Fig6f); accuracy limited by the double-precision

@@ -42,7 +42,7 @@ def plot_delta_of_mu(path: str | Path, b: float = 1.0, mu_max: float = 6.0) -> P
     for ax, log in zip(axes, (False, True), strict=True):
         ax.plot(mus, closed, "-", label=r"closed form $\pi b/\cosh(\pi\mu/2)$")
         ax.plot(pts, quad, "o", mfc="none", label="quadrature of (3.7)")
-        for I, printed in (((1, 1.5, 2), 0.002858), ((1, 3, 5), 0.411829)):  # noqa: E741
+        for I, printed in (((1, 1.5, 2), 0.002858), ((1, 3, 5), 0.411829)):
             mu = float(mu_of(I, 1))
             ax.plot([mu], [printed], "x", ms=9, color="C3")
             ax.annotate(
@@ -66,7 +66,7 @@ def plot_delta_of_mu(path: str | Path, b: float = 1.0, mu_max: float = 6.0) -> P
     return path
 
 
-def near_separatrix_state(I: Sequence, D: float, h: float, C: float = 1.0) -> np.ndarray:  # noqa: E741
+def near_separatrix_state(I: Sequence, D: float, h: float, C: float = 1.0) -> np.ndarray:
     """A state on ``M = C gamma`` with energy ``h`` in ``[C^2/(2 I3), C^2/(2 I1)]``.
 
     ``gamma = (cos psi, 0, sin psi)`` with ``(gamma, A gamma) = 1/(D + C^2/(2h))``
@@ -83,7 +83,7 @@ def near_separatrix_state(I: Sequence, D: float, h: float, C: float = 1.0) -> np
     return np.concatenate([C * gamma, gamma, alpha, beta, [0.0, 0.0]])
 
 
-def _separatrix_trace(I, D, b, C=1.0, n=2001):  # noqa: E741
+def _separatrix_trace(I, D, b, C=1.0, n=2001):
     """``x(t), y(t)`` on the separatrix: cumulative integrals of K01-3.5 (nu = -b lam)."""
     from scipy.integrate import cumulative_simpson
 
@@ -117,7 +117,7 @@ def plot_traces(
     plt = _pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(11, 5))
     ax = axes[0]
-    for I in inertias:  # noqa: E741
+    for I in inertias:
         x, y = _separatrix_trace(I, D, b, C)
         mu = float(mu_of(I, D))
         d = float(delta_closed_form(mu, b, 15))
@@ -130,7 +130,7 @@ def plot_traces(
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     ax = axes[1]
-    I = inertias[0]  # noqa: E741
+    I = inertias[0]
     h2 = C**2 / (2 * I[1])
     for off in offsets:
         y0 = near_separatrix_state(I, D, h2 * (1 + off), C)
@@ -161,7 +161,7 @@ def plot_traces(
     return path
 
 
-def write_figures(directory: str | Path, I=(1, 3, 5), D: float = 1.0, b: float = 1.0) -> list[Path]:  # noqa: E741
+def write_figures(directory: str | Path, I=(1, 3, 5), D: float = 1.0, b: float = 1.0) -> list[Path]:
     """Write ``delta_of_mu.png`` and ``separatrix_traces.png`` into ``directory``."""
     out = Path(directory)
     out.mkdir(parents=True, exist_ok=True)

@@ -71,7 +71,7 @@ def test_middle_curve_control_is_refuted_with_a_witness():
 def test_steady_rotations_are_rotations_about_principal_axes():
     model = build_model("chaplygin_ball", ())
     w = sp.Matrix(model.definitions["omega"])
-    I = sp.diag(*model.param_group("I"))  # noqa: E741
+    I = sp.diag(*model.param_group("I"))
     # derived residual is omega x (I omega): no dependence on gamma left
     assert sp.simplify(steady_rotation_residual(model) - w.cross(I * w)) == sp.zeros(3, 1)
     assert steady_axes(model) == [sp.eye(3)[:, i] for i in range(3)]
@@ -125,7 +125,7 @@ def test_floquet_rule_extreme_stable_middle_unstable_random_inertia():
     """The papers' rule for random seeded inertia: the axis of the middle A_i is unstable."""
     rng = np.random.default_rng(7)
     for _ in range(2):
-        I = tuple(rng.uniform(0.5, 4.0, 3))  # noqa: E741
+        I = tuple(rng.uniform(0.5, 4.0, 3))
         D = float(rng.uniform(0.2, 2.0))
         A = 1 / (np.asarray(I) + D)
         middle = int(np.argsort(A)[1])

@@ -60,19 +60,19 @@ def _sigma_functions():
     ]
 
 
-def sigma(i: int, C, Mg, I, D):  # noqa: E741
+def sigma(i: int, C, Mg, I, D):
     """Energy ``E = 2h`` on the derived curve ``Sigma_i`` (BKM12-Sigma_i, K01-3.2c)."""
     return _sigma_functions()[i](C, Mg, *I, D)
 
 
-def family_stability(I, D, C: float = 1.0, Mg: float = 0.0) -> list[tuple[bool, float]]:  # noqa: E741
+def family_stability(I, D, C: float = 1.0, Mg: float = 0.0) -> list[tuple[bool, float]]:
     """(stable, max |multiplier|) of the steady rotations about e_1, e_2, e_3."""
     from ..numerics.stability import steady_rotation_floquet
 
     return [(r.stable, r.max_abs) for r in steady_rotation_floquet(tuple(I), D, C, Mg)]
 
 
-def euler_stability(I, D, Ep: float) -> tuple[bool, float]:  # noqa: E741
+def euler_stability(I, D, Ep: float) -> tuple[bool, float]:
     """(stable, max |multiplier|) of the orbit M = sqrt(C) gamma at E' (Sigma_4)."""
     from ..numerics.stability import euler_floquet
 
@@ -110,7 +110,7 @@ def sample_levels(
     C_range=(0.05, 1.0),
     Mg=None,
     g=None,
-    t_end: float = 2.0,  # noqa: E741
+    t_end: float = 2.0,
 ):
     """Random seeded ball states, integrated to ``t_end``: their ``(C, M_gamma, E)``.
 
@@ -176,7 +176,7 @@ def _legend_stab(ax):
     return handles
 
 
-def _draw_kilin(ax, I, D, C, samples, seed, traces=None):  # noqa: E741
+def _draw_kilin(ax, I, D, C, samples, seed, traces=None):
     """(n, h) plane: p_i: h = Sigma_i/2, and the segment n = C^2 (M || gamma)."""
     stab = family_stability(I, D, 1.0 + C**2, C)
     n_max = 3.0 if C == 0 else 3.0 * C**2
@@ -215,7 +215,7 @@ def _draw_kilin(ax, I, D, C, samples, seed, traces=None):  # noqa: E741
     return drift
 
 
-def _draw_traces(ax, tax, I, D, C, vals, states, stab):  # noqa: E741
+def _draw_traces(ax, tax, I, D, C, vals, states, stab):
     """K01 Fig. 3: contact-point traces of three states (above p2, below p2, near p2)."""
     from ..numerics import integrate
     from ..numerics.stability import critical_state
@@ -252,7 +252,7 @@ def _draw_traces(ax, tax, I, D, C, vals, states, stab):  # noqa: E741
     tax.set_title("contact-point traces, t in [0, 150]", fontsize=9)
 
 
-def _draw_bkm12_2(ax, I, D, samples, seed):  # noqa: E741
+def _draw_bkm12_2(ax, I, D, samples, seed):
     stab = family_stability(I, D, 1.0, 0.0)
     C = np.linspace(0, 1, 100)
     A = 1 / (np.asarray(I, float) + D)
@@ -271,7 +271,7 @@ def _draw_bkm12_2(ax, I, D, samples, seed):  # noqa: E741
     return drift
 
 
-def _draw_bkm12_3(ax, I, D, samples, seed):  # noqa: E741
+def _draw_bkm12_3(ax, I, D, samples, seed):
     b = D / (np.asarray(I, float) + D)
     g = np.linspace(-1, 1, 201)
     stab = family_stability(I, D, 1.0, 0.5)
@@ -415,7 +415,7 @@ def draw(figure: str, out: str, params: dict, samples: int = 60, seed: int = 1) 
             f"parameter(s) {', '.join(sorted(unknown))} not used by {figure}; "
             f"valid: {', '.join(defaults)}"
         )
-    I = tuple(float(v) for v in p["I"])  # noqa: E741
+    I = tuple(float(v) for v in p["I"])
     if len(I) != 3 or min(I) <= 0:
         raise UserInputError(f"I needs three positive values, got {p['I']}")
     if system == "chaplygin_ball" and float(p["D"]) <= 0:

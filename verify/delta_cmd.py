@@ -98,7 +98,7 @@ def run_delta(args) -> int:
             )
         )
     else:
-        I = ", ".join(mpmath.nstr(v, 10) for v in P["I"])  # noqa: E741
+        I = ", ".join(mpmath.nstr(v, 10) for v in P["I"])
         print(
             f"separatrix on M || gamma at h2 = C^2/(2 I2): I = ({I}), "
             f"D = {mpmath.nstr(P['D'], 10)}, b = {mpmath.nstr(P['b'], 10)}"

@@ -30,7 +30,7 @@ def _cmd_rotation(args) -> int:
     if args.digits < 15 or args.digits > 1000:
         raise UserInputError("--digits must be between 15 and 1000")
     dps = args.digits + 10
-    I = _vector(args.I, "--I", 3, dps)  # noqa: E741
+    I = _vector(args.I, "--I", 3, dps)
     D = _vector(args.D, "--D", 1, dps)[0]
     M = _vector(args.M, "--M", 3, dps)
     gamma = _vector(args.gamma, "--gamma", 3, dps)
