@@ -54,8 +54,6 @@ __all__ = [
     "sech_fourier_integral",
     "derive_separatrix",
     "hyperbolic_in_q",
-    "time_derivative",
-    "xi_of_inertia",
     "delta_closed_form",
 ]
 
@@ -103,11 +101,6 @@ def separatrix_symbols() -> SeparatrixSymbols:
 def hyperbolic_in_q(q: sp.Symbol) -> tuple[sp.Expr, sp.Expr]:
     """``(th(lam t), 1/ch(lam t))`` as rational functions of ``q = exp(-lam t)``."""
     return (1 - q**2) / (1 + q**2), 2 * q / (1 + q**2)
-
-
-def time_derivative(expr: sp.Expr, q: sp.Symbol, phi: sp.Symbol, lam, kap) -> sp.Expr:
-    """``d/dt`` of an expression in ``q = exp(-lam t)`` and ``phi = kap t``."""
-    return -lam * q * sp.diff(expr, q) + kap * sp.diff(expr, phi)
 
 
 @dataclass
@@ -341,12 +334,6 @@ def derive_separatrix(sigma: int = -1) -> Separatrix:
         delta=delta,
         steps={"gamma": one, "frame": two, "contact": three, "fourier": four},
     )
-
-
-def xi_of_inertia(I1, I2, I3, D):
-    """``xi = kap/lam = 1/(J2 sqrt(a21 a32))`` (any number type with ``sqrt`` via ``**``)."""
-    J1, J2, J3 = I1 + D, I2 + D, I3 + D
-    return 1 / (J2 * ((1 / J1 - 1 / J2) * (1 / J2 - 1 / J3)) ** sp.S.Half)
 
 
 def delta_closed_form(xi, b):

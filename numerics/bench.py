@@ -59,16 +59,6 @@ __all__ = [
     "target_ratios",
 ]
 
-#: Timings quoted in issue 5 (heyoka and mpmath.odefun, the project's machines), seconds.
-QUOTED = {
-    "heyoka double T=1000 err 1e-11": 1.0e-3,
-    "heyoka real128 32 digits T=50": 62e-3,
-    "heyoka 50 digits T=50": 0.18,
-    "mpmath.odefun 32 digits T=50": 2.7,
-    "mpmath.odefun 50 digits T=50": 9.3,
-}
-
-
 #: Part of the reference-cache key: bump when the inputs' meaning changes (2: decimal literals
 #: are read with all their digits).
 _CACHE_VERSION = 2

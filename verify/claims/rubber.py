@@ -29,10 +29,6 @@ def _omega(model: Model) -> sp.Matrix:
     return model.expand_aux(sp.Matrix(model.definitions["omega"]))
 
 
-def _rate(model: Model, vec: sp.Matrix) -> sp.Matrix:
-    return sp.Matrix([lie_derivative(e, model) for e in vec])
-
-
 def _multipliers(model: Model) -> list[sp.Symbol]:
     return [s for s in model.aux_symbols if s.name.startswith("mu")]
 
