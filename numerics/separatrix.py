@@ -47,6 +47,8 @@ __all__ = [
     "agreeing_digits",
     "check_inertia",
     "flow",
+    "near_separatrix_state",
+    "separatrix_trace",
     "frame_turn",
     "critical_energy",
 ]
@@ -351,6 +353,73 @@ def delta_three_ways(
         return DeltaResult(mu, ode, quad, closed, digits, agree, seconds, info)
 
 
+def near_separatrix_state(I: Sequence, D: float, h: float, C: float = 1.0):
+    """A state on ``M = C gamma`` with energy ``h`` in ``[C^2/(2 I3), C^2/(2 I1)]``.
+
+    ``gamma = (cos psi, 0, sin psi)`` with ``(gamma, A gamma) = 1/(D + C^2/(2h))``
+    (K01-3.3seg), ``alpha = e2``, ``beta = gamma x alpha``; ``x = y = 0``.
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+        Moments of inertia.
+    D, h, C : float
+        ``D = m b^2``, the energy and ``C = (M, gamma)``.
+
+    Returns
+    -------
+    numpy.ndarray, shape (14,)
+        State of ``chaplygin_ball__contact_point``: ``M, gamma, alpha, beta, x, y``.
+
+    Raises
+    ------
+    ValueError
+        If ``h`` is not on the segment ``n = C^2``.
+    """
+    import numpy as np
+
+    J1, _, J3 = (float(v) + D for v in I)
+    g = 1.0 / (D + C**2 / (2 * h))
+    c2 = (g - 1 / J3) / (1 / J1 - 1 / J3)
+    if not 0 <= c2 <= 1:
+        raise ValueError(f"h = {h} is not on the segment n = C^2")
+    gamma = np.array([np.sqrt(c2), 0.0, np.sqrt(1 - c2)])
+    alpha = np.array([0.0, 1.0, 0.0])
+    beta = np.cross(gamma, alpha)
+    return np.concatenate([C * gamma, gamma, alpha, beta, [0.0, 0.0]])
+
+
+def separatrix_trace(I: Sequence, D: float, b: float, C: float = 1.0, n: int = 2001):
+    """``x(t), y(t)`` of the contact point on the separatrix (K01 Fig. 4).
+
+    Cumulative integrals (Simpson) of K01-3.5 with ``nu = -b lam`` over ``lam t`` in
+    ``[-25, 25]``.
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+        Moments of inertia, ``I1 < I2 < I3``.
+    D, b, C : float
+        ``D = m b^2``, the radius and ``C = (M, gamma)``.
+    n : int
+        Number of points.
+
+    Returns
+    -------
+    x, y : numpy.ndarray, shape (n,)
+    """
+    import numpy as np
+    from scipy.integrate import cumulative_simpson
+
+    Q = separatrix_quantities(I, D, C)
+    lam, kap = float(Q["lam"]), float(Q["kap"])
+    s = np.linspace(-25, 25, n)  # s = lam t
+    nu = -b * lam
+    xr = nu * np.cos(kap / lam * s) / np.cosh(s) / lam
+    yr = nu * np.sin(kap / lam * s) / np.cosh(s) / lam
+    return cumulative_simpson(xr, x=s, initial=0), cumulative_simpson(yr, x=s, initial=0)
+
+
 def frame_turn(I: Sequence, D: float, h: float, C: float = 1.0, rtol: float = 1e-12):
     """Period of ``gamma(t)`` on ``M = C gamma`` at energy ``h`` and the turn of the frame.
 
@@ -369,7 +438,6 @@ def frame_turn(I: Sequence, D: float, h: float, C: float = 1.0, rtol: float = 1e
     from scipy.integrate import solve_ivp
 
     from .code import load_model_code
-    from .separatrix_plots import near_separatrix_state
 
     code = load_model_code("chaplygin_ball", ("contact_point",))
     p = np.array([float(v) for v in I] + [float(D), 1.0])

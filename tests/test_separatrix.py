@@ -288,10 +288,11 @@ def test_cli_bad_input_one_line_exit_2(capsys, params, digits, message):
 
 @pytest.mark.slow
 def test_plots_are_written(tmp_path):
-    from chaplygin.numerics.separatrix_plots import plot_delta_of_mu, plot_traces
+    from chaplygin.verify.plots import delta_of_mu_figure, separatrix_traces_figure
 
-    a = plot_delta_of_mu(tmp_path / "fig5.png")
-    b = plot_traces(tmp_path / "fig46.png", t_end=20.0)
+    a, b = tmp_path / "fig5.png", tmp_path / "fig46.png"
+    delta_of_mu_figure().savefig(a)
+    separatrix_traces_figure(t_end=20.0).savefig(b)
     for p in (a, b):
         assert p.exists() and p.stat().st_size > 10_000
         assert p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

@@ -187,7 +187,7 @@ def _region(widen: float = 1.0):
     (widen < 1 narrows the region to a control that must be refuted)."""
 
     def run() -> Computed:
-        from chaplygin.verify.bifurcation_cmd import sample_levels
+        from chaplygin.numerics.bifurcation import sample_levels
 
         vals, drift, _ = sample_levels(I_REF, D_REF, 25, seed=3, Mg=0.0)
         A = 1 / (np.asarray(I_REF) + D_REF)

@@ -40,9 +40,9 @@ import mpmath
 import numpy as np
 
 from ..derive.errors import UserInputError
-from .code import load_model_code
-from .inputs import Precision
-from .integrate import integrate
+from ..numerics.code import load_model_code
+from ..numerics.inputs import Precision
+from ..numerics.integrate import integrate
 
 __all__ = [
     "BenchProblem",
@@ -55,7 +55,6 @@ __all__ = [
     "compile_times",
     "peers_available",
     "render_markdown",
-    "render_plot",
     "target_ratios",
 ]
 
@@ -270,7 +269,7 @@ def peers_available() -> dict[str, bool]:
 
 def _state_strings(problem: BenchProblem, digits: int) -> list[str]:
     """The problem's initial state (model order), as decimal strings of ``digits`` digits."""
-    from .inputs import pack_state
+    from ..numerics.inputs import pack_state
 
     code = load_model_code("chaplygin_ball")
     with mpmath.workdps(digits + 10):
@@ -441,8 +440,9 @@ def rhs_call_times(number: int = 20000) -> dict[str, float]:
     """Seconds per right-hand-side evaluation of the reference problem, called from Python.
 
     ``C, CompiledModel.rhs``: the single call users and scipy make, with and without a
-    preallocated ``out`` (through the CPython trampoline of :mod:`.fastcall` when it could be
-    built); ``C via cffi only``: the same with the trampoline switched off;
+    preallocated ``out`` (through the CPython trampoline of
+    :mod:`chaplygin.numerics.fastcall` when it could be built); ``C via cffi only``: the same
+    with the trampoline switched off;
     ``C (rhs_many, per state)``: one batched C call on 1000 states, divided by 1000;
     ``numpy (per call)``: the generated numpy ``rhs``. Best of 5 repeats of ``number``.
     """
@@ -487,7 +487,7 @@ def rhs_call_times(number: int = 20000) -> dict[str, float]:
 
 def compile_times() -> dict[str, float]:
     """Seconds to compile (from scratch, in a temporary cache) the model's C code."""
-    from .compiled import compile_c
+    from ..numerics.ccompile import compile_c
 
     code = load_model_code("chaplygin_ball")
     out: dict[str, float] = {}
@@ -616,7 +616,7 @@ def run_study(
 
 
 def _integrate_methods():
-    from .integrate import METHODS
+    from ..numerics.integrate import METHODS
 
     return METHODS
 
@@ -738,40 +738,3 @@ def target_ratios(study: dict) -> list[str]:
             f" (target < 300 ns: {'met' if value < 300e-9 else 'missed'})"
         )
     return msgs
-
-
-def render_plot(study: dict, path: Path) -> None:
-    """Log-log plot of final error against median wall time, one panel per problem."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    rows = [r for r in study["rows"] if r["median_s"] is not None and r["error"] is not None]
-    problems = list(dict.fromkeys(r["problem"] for r in study["rows"]))
-    fig, axes = plt.subplots(1, len(problems), figsize=(6.5 * len(problems), 5), squeeze=False)
-    for ax, pname in zip(axes[0], problems, strict=True):
-        groups: dict[str, list] = {}
-        for r in rows:
-            if r["problem"] == pname:
-                groups.setdefault(f"{r['method']} {r['rhs']} {r['precision']}", []).append(r)
-        markers = {"taylor": "o-", "heyoka": "D:", "odefun": "^-."}
-        colours = plt.get_cmap("tab20")
-        for i, (label, rs) in enumerate(groups.items()):
-            rs = sorted(rs, key=lambda r: r["median_s"])
-            ax.loglog(
-                [r["median_s"] for r in rs],
-                [max(r["error"], 1e-120) for r in rs],
-                markers.get(label.split()[0], "s--"),
-                color=colours(i % 20),
-                label=label,
-                ms=5,
-            )
-        ax.set_xlabel("median wall time [s]")
-        ax.set_ylabel("final error (max norm)")
-        ax.set_title(pname + (" (quick)" if study.get("quick") else ""))
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=6)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
