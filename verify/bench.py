@@ -43,6 +43,7 @@ from ..derive.errors import UserInputError
 from ..numerics.code import load_model_code
 from ..numerics.inputs import Precision
 from ..numerics.integrate import integrate
+from ..numerics.separatrix import separatrix_state as exact_separatrix_state
 
 __all__ = [
     "BenchProblem",
@@ -84,8 +85,24 @@ class BenchProblem:
 def separatrix_state(I: Sequence = (1, 2, 3), D=1, C=1, dps: int = 250) -> dict:
     """``M`` and ``gamma`` at the separatrix point ``t = 0`` of K01-3.4 (C > 0 form).
 
-    ``gamma = (-s32, 0, -s21)``, ``M = C gamma``; values as decimal strings of ``dps``
-    digits (the inputs are parsed at the working precision of each run).
+    ``gamma = (-s32, 0, -s21)``, ``M = C gamma``, computed by
+    :func:`chaplygin.numerics.separatrix.separatrix_state` at ``dps + 10`` digits; values as
+    decimal strings of ``dps`` digits (the inputs are parsed at the working precision of
+    each run).
+
+    Parameters
+    ----------
+    I : sequence of 3 numbers
+        Moments of inertia, ``I1 < I2 < I3``.
+    D, C : number
+        ``D = m b^2`` and ``C = (M, gamma)``.
+    dps : int
+        Digits of the strings.
+
+    Returns
+    -------
+    dict
+        ``{"M": (3 str), "gamma": (3 str)}``.
 
     References
     ----------
@@ -93,22 +110,12 @@ def separatrix_state(I: Sequence = (1, 2, 3), D=1, C=1, dps: int = 250) -> dict:
     """
     with mpmath.workdps(dps + 10):
         I1, I2, I3 = (mpmath.mpf(str(v)) for v in I)
-        Dm, Cm = mpmath.mpf(str(D)), mpmath.mpf(str(C))
         if not I1 < I2 < I3:
             raise UserInputError("the separatrix point needs I1 < I2 < I3")
-        J1, J2, J3 = I1 + Dm, I2 + Dm, I3 + Dm
-        a = {
-            "21": 1 / J2 - 1 / J1,
-            "32": 1 / J3 - 1 / J2,
-            "31": 1 / J3 - 1 / J1,
-        }
-        s32 = mpmath.sqrt(a["32"] / a["31"])
-        s21 = mpmath.sqrt(a["21"] / a["31"])
-        gamma = [-s32, mpmath.mpf(0), -s21]
-        M = [Cm * g for g in gamma]
+        y = exact_separatrix_state((I1, I2, I3), mpmath.mpf(str(D)), mpmath.mpf(str(C)))
         return {
-            "M": tuple(mpmath.nstr(v, dps, strip_zeros=False) for v in M),
-            "gamma": tuple(mpmath.nstr(v, dps, strip_zeros=False) for v in gamma),
+            "M": tuple(mpmath.nstr(v, dps, strip_zeros=False) for v in y[:3]),
+            "gamma": tuple(mpmath.nstr(v, dps, strip_zeros=False) for v in y[3:6]),
         }
 
 
