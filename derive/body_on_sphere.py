@@ -261,14 +261,14 @@ def ellipsoid_body_model(inertia: str = "special", on_surface: bool = True) -> M
     specs = [ParameterSpec("b", tuple(b), "positive", "ellipsoid (r, B^-1 r) = 1")]
     if inertia in ("special", "double"):
         factor = 1 if inertia == "special" else 2
-        I = mu * sp.eye(3) + factor * m * sp.diag(*b)  # noqa: E741
+        I = mu * sp.eye(3) + factor * m * sp.diag(*b)
         specs.append(ParameterSpec("mu", (mu,), "positive", f"I = mu Id + {factor} m B"))
     elif inertia == "general":
         Iv = sp.symbols("I1:4", positive=True)
-        I = sp.diag(*Iv)  # noqa: E741
+        I = sp.diag(*Iv)
         specs.append(ParameterSpec("I", Iv, "positive", "central principal moments"))
     elif inertia == "scalar":
-        I = mu * sp.eye(3)  # noqa: E741
+        I = mu * sp.eye(3)
         specs.append(ParameterSpec("mu", (mu,), "positive", "I = mu Id"))
     else:
         raise ValueError(f"unknown inertia {inertia!r}")

@@ -48,7 +48,6 @@ __all__ = [
     "q_gradient",
     "momentum_map",
     "momentum_components",
-    "canonical_bracket",
     "k01_f",
     "hamiltonian_qp",
     "integral_n_qp",
@@ -171,7 +170,7 @@ def jacobi_residuals(P: sp.Matrix, coords: Sequence[sp.Symbol]) -> list[sp.Expr]
         for j in range(i + 1, n):
             for k in range(j + 1, n):
                 e = sp.S.Zero
-                for l in range(n):  # noqa: E741
+                for l in range(n):
                     e += P[i, l] * dP[j][k][l] + P[j, l] * dP[k][i][l] + P[k, l] * dP[i][j][l]
                 out.append(e)
     return out
@@ -298,19 +297,6 @@ def momentum_components(
         * (-p1 * sp.sqrt((q1 - a3) / (q2 - a3)) + p2 * sp.sqrt((q2 - a3) / (q1 - a3)))
     )
     return sp.Matrix([M1, M2, M3])
-
-
-def canonical_bracket(
-    F: sp.Expr, G: sp.Expr, q: Sequence[sp.Symbol], p: Sequence[sp.Symbol]
-) -> sp.Expr:
-    """``{F, G} = sum_i dF/dq_i dG/dp_i - dF/dp_i dG/dq_i``."""
-    return sum(
-        (
-            sp.diff(F, qi) * sp.diff(G, pi) - sp.diff(F, pi) * sp.diff(G, qi)
-            for qi, pi in zip(q, p, strict=False)
-        ),
-        sp.S.Zero,
-    )
 
 
 # ------------------------------------------------------------------ K01-2.15 … 2.22

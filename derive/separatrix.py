@@ -54,8 +54,6 @@ __all__ = [
     "sech_fourier_integral",
     "derive_separatrix",
     "hyperbolic_in_q",
-    "time_derivative",
-    "xi_of_inertia",
     "delta_closed_form",
 ]
 
@@ -105,11 +103,6 @@ def hyperbolic_in_q(q: sp.Symbol) -> tuple[sp.Expr, sp.Expr]:
     return (1 - q**2) / (1 + q**2), 2 * q / (1 + q**2)
 
 
-def time_derivative(expr: sp.Expr, q: sp.Symbol, phi: sp.Symbol, lam, kap) -> sp.Expr:
-    """``d/dt`` of an expression in ``q = exp(-lam t)`` and ``phi = kap t``."""
-    return -lam * q * sp.diff(expr, q) + kap * sp.diff(expr, phi)
-
-
 @dataclass
 class Separatrix:
     """The derived separatrix (C > 0, ``sigma`` = the branch ``sign gamma1(0)``).
@@ -135,7 +128,7 @@ class Separatrix:
     """
 
     symbols: SeparatrixSymbols
-    l: sp.Expr  # noqa: E741  (K01's letter)
+    l: sp.Expr  # K01's letter
     lam: sp.Expr
     kap: sp.Expr
     s32: sp.Expr
@@ -170,7 +163,7 @@ def separatrix_gamma(S: SeparatrixSymbols, sigma: int = -1) -> dict:
     """
     J1, J2, J3 = S.J
     h2 = S.C**2 / (2 * S.I2)  # K01-3.3seg: the segment meets p2 there
-    l = sp.simplify(S.C + 2 * S.D * h2 / S.C)  # noqa: E741  (K01-2.34)
+    l = sp.simplify(S.C + 2 * S.D * h2 / S.C)  # K01-2.34
     g1, g2, g3 = sp.symbols("g1 g2 g3", real=True)
     g = sp.Matrix([g1, g2, g3])
     Jinv = sp.diag(1 / J1, 1 / J2, 1 / J3)
@@ -341,12 +334,6 @@ def derive_separatrix(sigma: int = -1) -> Separatrix:
         delta=delta,
         steps={"gamma": one, "frame": two, "contact": three, "fourier": four},
     )
-
-
-def xi_of_inertia(I1, I2, I3, D):
-    """``xi = kap/lam = 1/(J2 sqrt(a21 a32))`` (any number type with ``sqrt`` via ``**``)."""
-    J1, J2, J3 = I1 + D, I2 + D, I3 + D
-    return 1 / (J2 * ((1 / J1 - 1 / J2) * (1 / J2 - 1 / J3)) ** sp.S.Half)
 
 
 def delta_closed_form(xi, b):

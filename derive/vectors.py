@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-__all__ = ["vector", "cross", "dot", "skew", "outer", "column"]
+__all__ = ["vector", "cross", "dot", "outer", "column"]
 
 
 def vector(name: str, **assumptions: bool) -> sp.Matrix:
@@ -39,11 +39,6 @@ def cross(a: sp.Matrix, b: sp.Matrix) -> sp.Matrix:
 def dot(a: sp.Matrix, b: sp.Matrix) -> sp.Expr:
     """Scalar product ``(a, b)``."""
     return sum((a[i] * b[i] for i in range(a.shape[0])), sp.S.Zero)
-
-
-def skew(a: sp.Matrix) -> sp.Matrix:
-    """Matrix ``[a]_x`` with ``[a]_x b = a x b``."""
-    return sp.Matrix([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
 
 
 def outer(a: sp.Matrix, b: sp.Matrix) -> sp.Matrix:

@@ -18,8 +18,8 @@ import time
 from pathlib import Path
 
 import pytest
-from chaplygin.numerics import compiled
-from chaplygin.numerics.compiled import CacheError, compile_c
+from chaplygin.numerics import ccompile as compiled
+from chaplygin.numerics.ccompile import CacheError, compile_c
 
 pytestmark = pytest.mark.skipif(
     not hasattr(os, "getuid") or shutil.which(os.environ.get("CC", "cc")) is None,

@@ -16,7 +16,7 @@ from chaplygin.derive.emit import NumpyEmitter
 from chaplygin.derive.model import Model, ParameterSpec
 from chaplygin.derive.writer import check_generated, write_generated
 from chaplygin.numerics import load_model_code
-from chaplygin.verify.cli import generated_dir
+from chaplygin.verify.derive_cmd import generated_dir
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from reference import EPS, assert_close_rel, random_params, random_state

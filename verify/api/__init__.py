@@ -50,7 +50,10 @@ _PUBLIC: dict[str, str] = {
     "Claim": "verify.claims:Claim",
     "Verdict": "verify.verdict:Verdict",
     # figures (matplotlib Figure objects)
-    "delta_figure": "numerics.separatrix_plots:plot_delta_of_mu",
+    "delta_figure": "verify.plots:delta_of_mu_figure",
+    "separatrix_figures": "verify.plots:separatrix_figures",
+    "bifurcation_figure": "verify.plots:bifurcation_figure",
+    "work_precision_figure": "verify.plots:work_precision_figure",
 }
 
 __all__ = ["__version__", *_PUBLIC]

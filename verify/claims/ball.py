@@ -161,7 +161,7 @@ def _zv_quantities(model: Model):
     w = model.expand_aux(n.omega)
     C = dot(n.M + n.K, n.gamma)
     h = dot(n.M, w) / 2
-    l = C + n.D * (2 * h + dot(n.K, w)) / C  # noqa: E741  (K01's letter)
+    l = C + n.D * (2 * h + dot(n.K, w)) / C  # K01's letter
     mu_K = C + 2 * n.D * h / C
     Jh = n.J - n.D * n.K * n.K.T / (C * mu_K)
     return n, w, C, l, mu_K, Jh

@@ -374,7 +374,7 @@ def _k01_3_2y(model: Model) -> Check:
 
 # ------------------------------------------------------------ spherical support §2.7
 def _support(model: Model):
-    I = model.param_group("I")  # noqa: E741
+    I = model.param_group("I")
     D_iso, D_al, D_be = (model.param_group(k)[0] for k in ("D_iso", "D_al", "D_be"))
     J = [I[i] + D_iso for i in range(3)]
     return J, D_al, D_be

@@ -72,7 +72,7 @@ class _Notation:
     M: sp.Matrix
     gamma: sp.Matrix
     omega: sp.Matrix  # the model's auxiliary omega symbols
-    I: sp.Matrix  # noqa: E741  (the paper's name; diagonal, maybe time-dependent)
+    I: sp.Matrix  # the paper's name; diagonal, maybe time-dependent
     D: sp.Symbol
     k: sp.Matrix  # gyrostatic momentum k(t) (or the constant K)
     alpha: sp.Matrix | None
@@ -296,7 +296,7 @@ def _order_certificate(cos_square: bool):
 
     def build(model: Model) -> Check:
         n = _notation(model)
-        I0 = model.param_group("I")  # noqa: N806
+        I0 = model.param_group("I")
         J_off = model.param_group("J_off")[0]
         delta, Omega = model.param_group("delta")[0], model.param_group("Omega")[0]
         fig = {I0[0]: 4, I0[1]: 3, I0[2]: 2, J_off: 0}

@@ -112,7 +112,7 @@ def _middle_axis_rule(seed: int, bodies: int, claim_middle_stable: bool = False)
         rng = np.random.default_rng(seed)
         wrong, values = 0, {}
         for b in range(bodies):
-            I = tuple(float(x) for x in rng.uniform(0.5, 4.0, 3))  # noqa: E741
+            I = tuple(float(x) for x in rng.uniform(0.5, 4.0, 3))
             D = float(rng.uniform(0.2, 2.0))
             middle = int(np.argsort(1 / (np.asarray(I) + D))[1])
             for axis, r in enumerate(steady_rotation_floquet(I, D, 1.0, 0.3, RTOL)):
@@ -187,7 +187,7 @@ def _region(widen: float = 1.0):
     (widen < 1 narrows the region to a control that must be refuted)."""
 
     def run() -> Computed:
-        from chaplygin.verify.bifurcation_cmd import sample_levels
+        from chaplygin.numerics.bifurcation import sample_levels
 
         vals, drift, _ = sample_levels(I_REF, D_REF, 25, seed=3, Mg=0.0)
         A = 1 / (np.asarray(I_REF) + D_REF)

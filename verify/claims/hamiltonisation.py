@@ -167,15 +167,6 @@ def _G_squared():
     return hz.spheroconical_gamma_squared(_q1, _q2, _a)
 
 
-def _dq(F: sp.Expr, q: sp.Symbol) -> sp.Expr:
-    """d/dq of an expression in (G, q, p, a): dG_i/dq = G_i (d G_i^2/dq)/(2 G_i^2)."""
-    sq = _G_squared()
-    out = sp.diff(F, q)
-    for i in range(3):
-        out += sp.diff(F, _G[i]) * _G[i] * sp.diff(sq[i], q) / (2 * sq[i])
-    return out
-
-
 class _Octant:
     """Exact algebra of ``sum_S A_S prod_{i in S} G_i`` with ``G_i^2 = gamma_i^2(q)``.
 

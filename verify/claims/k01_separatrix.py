@@ -48,7 +48,7 @@ def _ordered_inertia(model: Model) -> dict:
     n = ball_notation(model)
     D = n.D
     u, v = sp.cos(theta), sp.sin(theta)  # s32, s21: on the circle u^2 + v^2 = 1
-    I = n.I  # noqa: E741
+    I = n.I
     J1, J3 = I[0] + D, I[2] + D
     d31 = 1 / J1 - 1 / J3
     inv_J2 = 1 / J3 + u**2 * d31  # a32/a31 = s32^2
@@ -166,7 +166,7 @@ def _k01_2_34(model: Model) -> Check:
     w = model.expand_aux(n.omega)
     Cv = dot(n.M, n.gamma)
     h = dot(n.M, w) / 2
-    l = Cv + 2 * n.D * h / Cv  # noqa: E741
+    l = Cv + 2 * n.D * h / Cv
     f = model.rhs_expanded
     gamma_rate = sp.Matrix([f[model.state.index(s)] for s in n.gamma])
     exprs = list(n.J * w - l * n.gamma) + list(gamma_rate - cross(n.gamma, w))
@@ -222,7 +222,7 @@ def _fig4_cases():
 
 
 @lru_cache(maxsize=16)
-def _delta_numbers(I, D="1", b="1", dps=42):  # noqa: E741
+def _delta_numbers(I, D="1", b="1", dps=42):
     from chaplygin.numerics.separatrix import delta_closed_form, delta_quadrature, mu_of
 
     with mpmath.workdps(dps):
@@ -239,7 +239,7 @@ def _k01_3_7(form: str):
     def build(model: Model) -> Check:
         exprs = []
         with mpmath.workdps(50):
-            for I in _SAMPLES_3_7:  # noqa: E741
+            for I in _SAMPLES_3_7:
                 mu, quad, closed = _delta_numbers(I)
                 if form == "control":
                     closed = mpmath.pi / mpmath.cosh(mpmath.pi * mu)
@@ -257,7 +257,7 @@ def _k01_3_7(form: str):
 def _k01_fig4(model: Model) -> Check:
     exprs = []
     with mpmath.workdps(50):
-        for I, printed in _fig4_cases():  # noqa: E741
+        for I, printed in _fig4_cases():
             _, quad, closed = _delta_numbers(I)
             for value in (quad, closed):
                 truncated = sp.Rational(int(mpmath.floor(value * 10**6)), 10**6)

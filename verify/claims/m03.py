@@ -178,7 +178,7 @@ def _m03_1_2(model: Model) -> Check:
 
 
 def _paper_energy(p: _Paper) -> sp.Expr:
-    I = p.m_e * p.R**2  # noqa: E741  (the paper's name)
+    I = p.m_e * p.R**2  # the paper's name
     w2 = dot(p.omega, p.omega)
     return (I + p.m * p.R**2) * w2 / 2 - p.m * p.R**2 * dot(p.omega, p.n) ** 2 / 2 + p.U
 
@@ -512,7 +512,7 @@ class _Body:
     r_rate: sp.Matrix  # abstract r' symbols
     m: sp.Symbol
     k: sp.Symbol
-    I: sp.Matrix  # noqa: E741  (the paper's name)
+    I: sp.Matrix  # the paper's name
     I_Q: sp.Matrix  # typed from the paper: I + m r^2 Id - m r ⊗ r
     q: sp.Expr
     n: sp.Matrix  # -grad f/|grad f|
@@ -526,7 +526,7 @@ def _body_notation(model: Model) -> _Body:
     eq = model.definitions["equations"]
     r, omega = model.group("r"), model.group("omega")
     m, k = model.param_group("m")[0], model.param_group("k")[0]
-    I = model.definitions["inertia"]  # noqa: E741
+    I = model.definitions["inertia"]
     f = model.definitions["surface"]
     grad = sp.Matrix([sp.diff(f, s) for s in r])
     q = sp.sqrt(sp.factor_terms(dot(grad, grad)))  # 2 sqrt((r, B^-2 r)) on the ellipsoid

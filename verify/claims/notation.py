@@ -20,7 +20,7 @@ class BallNotation:
     M: sp.Matrix
     gamma: sp.Matrix
     omega: sp.Matrix  # the model's auxiliary omega symbols
-    I: sp.Matrix  # noqa: E741  (the papers' name)
+    I: sp.Matrix  # the papers' name
     D: sp.Symbol
     A: sp.Matrix  # (I + D Id)^-1
     J: sp.Matrix  # I + D Id
@@ -44,7 +44,7 @@ class BallNotation:
 
 
 def ball_notation(model: Model) -> BallNotation:
-    I = model.param_group("I")  # noqa: E741
+    I = model.param_group("I")
     D = model.param_group("D")[0]
     M, gamma = model.group("M"), model.group("gamma")
     J = sp.diag(*[I[i] + D for i in range(3)])

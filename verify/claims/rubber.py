@@ -29,10 +29,6 @@ def _omega(model: Model) -> sp.Matrix:
     return model.expand_aux(sp.Matrix(model.definitions["omega"]))
 
 
-def _rate(model: Model, vec: sp.Matrix) -> sp.Matrix:
-    return sp.Matrix([lie_derivative(e, model) for e in vec])
-
-
 def _multipliers(model: Model) -> list[sp.Symbol]:
     return [s for s in model.aux_symbols if s.name.startswith("mu")]
 
@@ -151,7 +147,7 @@ def _bkm12_57(model: Model) -> Check:
     n = ball_notation(model)
     w = _omega(model)
     K = _K(model, "alpha")
-    I = sp.diag(*n.I)  # noqa: E741
+    I = sp.diag(*n.I)
     printed = I * w + n.D * n.beta * dot(n.beta, w) - n.alpha * dot(I * n.alpha, w)
     K0 = I * w + n.D * cross(n.gamma, cross(w, n.gamma))
     f = model.rhs_expanded
@@ -209,7 +205,7 @@ def _reduction(case: str, sign: int = 1):
         w = _omega(model)
         K = _K(model, "alpha")
         E = dot(K, w)
-        I = sp.diag(*n.I)  # noqa: E741
+        I = sp.diag(*n.I)
         if case == "3.1":
             level = dot(n.M, n.beta)  # (K, beta) = (M, beta)
             inertia = n.J

@@ -78,7 +78,7 @@ class _Balls:
     n: list[sp.Matrix]  # body components of the contact directions
     w: list[sp.Matrix]  # the balls' angular velocity symbols
     nu: tuple
-    I: sp.Matrix  # noqa: E741  (the paper's name)
+    I: sp.Matrix  # the paper's name
     lam: tuple
     r: tuple
     K: sp.Matrix
@@ -245,7 +245,7 @@ class SupportNotation:
     beta: sp.Matrix
     gamma: sp.Matrix
     omega: sp.Matrix  # the model's auxiliary omega symbols
-    I: sp.Matrix  # noqa: E741
+    I: sp.Matrix
     D_iso: sp.Symbol
     D_al: sp.Symbol
     D_be: sp.Symbol
@@ -277,7 +277,7 @@ class SupportNotation:
 
 def support_notation(model: Model) -> SupportNotation:
     """The paper's objects of §2.1 in the closed model's symbols (typed from BKM12)."""
-    I = model.param_group("I")  # noqa: E741
+    I = model.param_group("I")
     D_iso = model.param_group("D_iso")[0]
     J = sp.diag(*[I[i] + D_iso for i in range(3)])
     names = {p.name for p in model.parameters}

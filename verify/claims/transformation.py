@@ -23,7 +23,7 @@ from ..identity import lie_derivative
 from . import Check, Claim, register
 from .notation import ball_notation
 
-__all__ = ["BallMap", "ball_map", "split_root"]
+__all__ = ["BallMap", "ball_map"]
 
 BALL = "chaplygin_ball"
 S13, S14, K23 = "BKM12 §1.3", "BKM12 §1.4", "K01 §2.3"
@@ -66,27 +66,6 @@ class BallMap:
 def ball_map(model: Model, coeffs, Dt_inv, sign: int = -1) -> BallMap:
     """A :class:`BallMap` (E, C, Mg of the state available as attributes)."""
     return BallMap(model, coeffs, Dt_inv, sign)
-
-
-def split_root(expr: sp.Expr, r: sp.Symbol, r2: sp.Expr) -> list[sp.Expr]:
-    """``expr = A + B r`` with ``r^2 = r2`` (``r`` a symbol standing for a square root).
-
-    Returns ``[A', B']``, numerators of ``A`` and ``B`` over a common denominator free of
-    ``r``: both vanish when ``expr`` does for every value of the radicand (sufficient for
-    a proof; the checker's own split does the same for an explicit ``sqrt``).
-    """
-    num, den = sp.fraction(sp.together(expr))
-
-    def reduce(e):
-        P = sp.Poly(sp.expand(e), r)
-        a = sum((c * r2 ** (m[0] // 2) for m, c in P.terms() if m[0] % 2 == 0), sp.S.Zero)
-        b = sum((c * r2 ** (m[0] // 2) for m, c in P.terms() if m[0] % 2 == 1), sp.S.Zero)
-        return a, b
-
-    a, b = reduce(num)
-    c, d = reduce(den)
-    # (a + b r)/(c + d r) = (a + b r)(c - d r)/(c^2 - d^2 r2)
-    return [a * c - b * d * r2, b * c - a * d]
 
 
 def _energy(model: Model) -> sp.Expr:
@@ -272,21 +251,6 @@ def _rem_t1(model: Model) -> Check:
 
 
 # ------------------------------------------------------------------ Chaplygin's coefficients
-def _chaplygin(model: Model, root: int = 0, wrong_quadratic: bool = False):
-    cm = chaplygin_map()
-    n = ball_notation(model)
-    E = _energy(model)
-    C, Mg = dot(n.M, n.M), dot(n.M, n.gamma)
-    sub = {cm.symbols["E"]: E, cm.symbols["D"]: n.D, cm.symbols["C"]: C, cm.symbols["Mg"]: Mg}
-    f = cm.roots[root].xreplace(sub)
-    if wrong_quadratic:  # root of Mg f^2 - (C - E D) f + E D Mg (sign of the last term flipped)
-        k2 = E * n.D
-        f = ((C - k2) + sp.sqrt((C - k2) ** 2 - 4 * k2 * Mg**2)) / (2 * Mg)
-    sub[cm.symbols["f"]] = f
-    vals = [e.xreplace(sub) for e in (cm.m1, cm.m2, cm.c1, cm.c2, cm.Dt_inv, cm.Et)]
-    return n, E, C, Mg, f, vals
-
-
 F = sp.Symbol("f")
 
 
