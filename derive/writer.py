@@ -58,6 +58,12 @@ def render_generated(languages: tuple[str, ...] | None = None) -> dict[str, str]
     ----------
     languages : tuple of str, optional
         Emitters to run (default: all registered).
+
+    Returns
+    -------
+    dict of str to str
+        File name (relative to ``generated/``) to text: the package ``__init__.py``,
+        each emitter's files for every built-in variant, and ``manifest.json``.
     """
     languages = languages or tuple(sorted(EMITTERS))
     files: dict[str, str] = {"__init__.py": _INIT}
@@ -98,7 +104,21 @@ def _is_generated(path: Path) -> bool:
 
 
 def write_generated(directory: Path) -> list[str]:
-    """(Re)write ``directory``; returns the names of files that changed or were removed."""
+    """(Re)write ``directory``; returns the names of files that changed or were removed.
+
+    Files are written atomically and only when their text differs; emitted-looking
+    files (``.py``, ``.c``, ``.json``) no built-in model produces are deleted.
+
+    Parameters
+    ----------
+    directory : pathlib.Path
+        The ``generated/`` directory (created if missing).
+
+    Returns
+    -------
+    list of str
+        Names of the files written or removed, sorted within each group.
+    """
     directory.mkdir(parents=True, exist_ok=True)
     files = render_generated()
     changed = []
@@ -115,7 +135,19 @@ def write_generated(directory: Path) -> list[str]:
 
 
 def check_generated(directory: Path) -> list[str]:
-    """Names of files in ``directory`` that are stale, missing or extra (empty: in sync)."""
+    """Names of files in ``directory`` that are stale, missing or extra (empty: in sync).
+
+    Parameters
+    ----------
+    directory : pathlib.Path
+        The ``generated/`` directory (may be missing).
+
+    Returns
+    -------
+    list of str
+        One ``"<name>: <problem>"`` line per file that is missing, out of date or
+        not produced by any built-in model; empty when ``directory`` is in sync.
+    """
     files = render_generated()
     problems = []
     for name, text in sorted(files.items()):
