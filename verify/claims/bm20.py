@@ -61,6 +61,13 @@ class GenericLawClaim(Claim):
     """A claim about every law ``I(t)``, ``k(t)``: checked on :func:`generic_model`."""
 
     def model(self) -> Model:
+        """The ball with generic laws ``I(t)``, ``k(t)`` for the claim's effects.
+
+        Returns
+        -------
+        Model
+            :func:`generic_model` of the claim's effects (cached).
+        """
         return generic_model(self.effects)
 
 

@@ -38,7 +38,9 @@ class BallMap:
     Parameters
     ----------
     model : Model
+        A Chaplygin-ball model.
     coeffs : (m1, m2, c1, c2)
+        Coefficients of the map (sympy expressions).
     Dt_inv : sympy.Expr
         ``D~^-1``.
     sign : int
@@ -46,7 +48,13 @@ class BallMap:
         ``+1`` for the literal reading of BKM12-19.
     """
 
-    def __init__(self, model: Model, coeffs, Dt_inv, sign: int = -1):
+    def __init__(
+        self,
+        model: Model,
+        coeffs: tuple[sp.Expr, sp.Expr, sp.Expr, sp.Expr],
+        Dt_inv: sp.Expr,
+        sign: int = -1,
+    ):
         n = ball_notation(model)
         self.n = n
         self.omega = model.expand_aux(n.omega)
@@ -63,8 +71,33 @@ class BallMap:
         self.mu = a1 + b1 * self.Zt
 
 
-def ball_map(model: Model, coeffs, Dt_inv, sign: int = -1) -> BallMap:
-    """A :class:`BallMap` (E, C, Mg of the state available as attributes)."""
+def ball_map(
+    model: Model,
+    coeffs: tuple[sp.Expr, sp.Expr, sp.Expr, sp.Expr],
+    Dt_inv: sp.Expr,
+    sign: int = -1,
+) -> BallMap:
+    """A :class:`BallMap` (E, C, Mg of the state available as attributes).
+
+    Parameters
+    ----------
+    model : Model
+        A Chaplygin-ball model.
+    coeffs : (m1, m2, c1, c2)
+        Coefficients of ``M~ = m1 M + m2 gamma``, ``gamma~ = c1 M + c2 gamma``.
+    Dt_inv : sympy.Expr
+        ``D~^-1``.
+    sign : int, optional
+        ``-1`` for the correct ``Z~``, ``+1`` for the literal reading of BKM12-19.
+
+    Returns
+    -------
+    BallMap
+
+    References
+    ----------
+    BKM12-12, BKM12-19
+    """
     return BallMap(model, coeffs, Dt_inv, sign)
 
 
@@ -74,6 +107,20 @@ def split_root(expr: sp.Expr, r: sp.Symbol, r2: sp.Expr) -> list[sp.Expr]:
     Returns ``[A', B']``, numerators of ``A`` and ``B`` over a common denominator free of
     ``r``: both vanish when ``expr`` does for every value of the radicand (sufficient for
     a proof; the checker's own split does the same for an explicit ``sqrt``).
+
+    Parameters
+    ----------
+    expr : sympy.Expr
+        Rational function of ``r`` and other symbols.
+    r : sympy.Symbol
+        Stands for a square root.
+    r2 : sympy.Expr
+        The radicand, ``r^2``.
+
+    Returns
+    -------
+    list of two sympy.Expr
+        ``[A', B']``.
     """
     num, den = sp.fraction(sp.together(expr))
 
