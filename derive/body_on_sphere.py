@@ -139,6 +139,7 @@ def derive_body_on_sphere(
     Returns
     -------
     BodyOnSphere
+        The derived kinematics, momentum balance and energy.
     """
     t = sp.Symbol("t", real=True)
     v = vector("v", real=True)

@@ -92,6 +92,7 @@ class SeparatrixSymbols:
         Returns
         -------
         sympy.Expr
+            ``d21`` in ``I1, I2, D``.
         """
         J1, J2, _ = self.J
         return 1 / J1 - 1 / J2
@@ -103,6 +104,7 @@ class SeparatrixSymbols:
         Returns
         -------
         sympy.Expr
+            ``d32`` in ``I2, I3, D``.
         """
         _, J2, J3 = self.J
         return 1 / J2 - 1 / J3
@@ -114,6 +116,7 @@ class SeparatrixSymbols:
         Returns
         -------
         sympy.Expr
+            ``d31`` in ``I1, I2, I3, D``.
         """
         return self.d21 + self.d32
 
@@ -124,6 +127,8 @@ def separatrix_symbols() -> SeparatrixSymbols:
     Returns
     -------
     SeparatrixSymbols
+        New symbols (sympy caches them by name and assumptions, so repeated calls
+        give equal symbols).
     """
     I1, I2, I3, D, b, C, q = sp.symbols("I1 I2 I3 D b C q", positive=True)
     phi, t = sp.symbols("phi t", real=True)

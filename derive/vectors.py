@@ -22,6 +22,7 @@ def vector(name: str, **assumptions: bool) -> sp.Matrix:
     Returns
     -------
     sympy.Matrix, shape (3, 1)
+        The symbols ``name1, name2, name3``.
     """
     return sp.Matrix(sp.symbols(f"{name}1:4", **assumptions))
 
@@ -37,6 +38,7 @@ def column(items: Iterable[sp.Expr]) -> sp.Matrix:
     Returns
     -------
     sympy.Matrix, shape (n, 1)
+        The items as a column.
     """
     return sp.Matrix(list(items))
 
@@ -52,6 +54,7 @@ def cross(a: sp.Matrix, b: sp.Matrix) -> sp.Matrix:
     Returns
     -------
     sympy.Matrix, shape (3, 1)
+        ``a x b`` (components not simplified).
     """
     return sp.Matrix(
         [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]

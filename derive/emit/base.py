@@ -236,6 +236,7 @@ def get_emitter(language: str | type[Emitter] | Emitter) -> Emitter:
     Returns
     -------
     Emitter
+        A new instance for a name or a class; ``language`` itself for an instance.
 
     Raises
     ------

@@ -49,6 +49,7 @@ def generic_model(effects: Iterable[str]) -> Model:
     Returns
     -------
     Model
+        The generic-law ball model, built once per set of effects.
     """
     key = frozenset(effects)
     if key not in _GENERIC:
@@ -147,6 +148,7 @@ def transformation_residual(
     Parameters
     ----------
     model : Model
+        The model whose flow ``x' = f(t, x)`` is tested.
     signs : dict of str to int
         Sign of each state group (``{"M": -1, "gamma": 1}``); groups not named keep +1.
     time_sign : {1, -1}
@@ -160,6 +162,7 @@ def transformation_residual(
     Returns
     -------
     list of sympy.Expr
+        ``f(s t, S x) - s S f(t, x)``, one entry per state component.
     """
     f = model.rhs_expanded
     if at:

@@ -285,6 +285,7 @@ class SupportNotation:
         Returns
         -------
         sympy.Matrix, shape (2, 2)
+            Symmetric, in ``alpha``, ``beta`` and the parameters.
 
         References
         ----------
@@ -466,6 +467,7 @@ class SupportComparisonClaim(Claim):
         Returns
         -------
         Model
+            ``build_model(self.system, self.effects)``.
         """
         from chaplygin.derive import build_model
 

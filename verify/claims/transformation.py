@@ -93,6 +93,7 @@ def ball_map(
     Returns
     -------
     BallMap
+        The transformed ``M~``, ``gamma~``, ``Z~``, ``omega~`` and ``mu`` in the state.
 
     References
     ----------
