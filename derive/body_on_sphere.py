@@ -188,7 +188,7 @@ def body_on_sphere_model(
     parameters: tuple[ParameterSpec, ...],
     effects: tuple[str, ...] = (),
     constraints: tuple[sp.Expr, ...] = (),
-    sampler: Callable[[random.Random, dict], None] | None = None,
+    sampler: Callable[[random.Random, dict[sp.Symbol, sp.Rational]], None] | None = None,
 ) -> Model:
     """Model with state ``omega, r`` (``r'`` an auxiliary ``rdot``); density left to claims.
 

@@ -215,7 +215,7 @@ class Separatrix:
     steps: dict
 
 
-def separatrix_gamma(S: SeparatrixSymbols, sigma: int = -1) -> dict:
+def separatrix_gamma(S: SeparatrixSymbols, sigma: int = -1) -> dict[str, object]:
     """Step 1: ``gamma(t)`` on the separatrix from the Euler top ``gamma' = l gamma x J^-1 gamma``.
 
     Parameters
@@ -282,7 +282,9 @@ def _simplify_vec(v: sp.Matrix) -> sp.Matrix:
     return v.applyfunc(lambda e: seeded_factor(sp.simplify(e)))
 
 
-def separatrix_frame(S: SeparatrixSymbols, step1: dict) -> dict:
+def separatrix_frame(
+    S: SeparatrixSymbols, step1: dict[str, object]
+) -> dict[str, sp.Expr | sp.Matrix]:
     """Step 2: the space-fixed frame ``alpha, beta`` along the separatrix.
 
     ``alpha = cos(phi) T + sin(phi) N``, ``T = gamma'/|gamma'|``, ``N = T x gamma``;
@@ -345,7 +347,7 @@ def contact_velocity(
     beta: sp.Matrix,
     omega: sp.Matrix,
     lam: sp.Expr,
-) -> dict:
+) -> dict[str, sp.Expr]:
     """Step 3: ``x' = b (beta, omega)``, ``y' = -b (alpha, omega)`` (BKM12-6) and ``nu``.
 
     Parameters
@@ -384,7 +386,7 @@ def contact_velocity(
 
 
 @lru_cache(maxsize=1)
-def sech_fourier_integral() -> tuple[sp.Symbol, sp.Expr, dict]:
+def sech_fourier_integral() -> tuple[sp.Symbol, sp.Expr, dict[str, sp.Expr]]:
     """``F(k) = int_{-oo}^{oo} cos(k s)/ch(s) ds`` by residues, derived with sympy.
 
     ``f(z) = exp(i k z)/ch(z)``; on the rectangle ``[-R, R] x [0, pi]`` the top side is

@@ -224,7 +224,7 @@ def chaplygin_map() -> ChaplyginMap:
     return ChaplyginMap(syms, ortho, (f_small, f_other), m1, m2, c1, c2, Dt_inv, Et)
 
 
-def chaplygin_phi_form() -> dict:
+def chaplygin_phi_form() -> dict[str, sp.Expr]:
     """BKM12-22/23 as printed: coefficients in ``phi, k, rho, sigma`` and ``tan(2 phi)``.
 
     Returns
@@ -424,7 +424,7 @@ def theorem2_scalars(
     Y: sp.Matrix,
     E: sp.Expr,
     Dt_inv: tuple[sp.Expr, sp.Expr, sp.Expr, sp.Expr],
-) -> dict:
+) -> dict[str, sp.Matrix]:
     """``X~`` (2x2) and ``Y~`` of BKM12-48 from ``X``, ``Y`` and the coefficients, by bilinearity.
 
     The A-Gram matrix of ``(M, alpha, beta)`` on the level ``2H = E`` is

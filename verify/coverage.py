@@ -346,7 +346,7 @@ class CoverageRow:
         return SECTIONS[self.section][1]
 
 
-def coverage(claims: Iterable) -> list[CoverageRow]:
+def coverage(claims: Iterable[object]) -> list[CoverageRow]:
     """Coverage of every FORMULAS.md entry by the given claims.
 
     Parameters

@@ -126,7 +126,7 @@ class Domain:
         return out
 
     @property
-    def reparametrisation(self) -> dict | None:
+    def reparametrisation(self) -> dict[str, dict[sp.Symbol, sp.Expr]] | None:
         """The model's change to verification parameters, if it has one.
 
         Returns

@@ -137,8 +137,8 @@ def transformation_residual(
     model: Model,
     signs: dict[str, int],
     time_sign: int,
-    parity: dict | None = None,
-    at: dict | None = None,
+    parity: dict[sp.Expr, sp.Expr] | None = None,
+    at: dict[sp.Expr, sp.Expr] | None = None,
 ) -> list[sp.Expr]:
     """Residual of ``(t, x) -> (s t, S x)`` (``S`` diagonal signs) mapping solutions to solutions.
 

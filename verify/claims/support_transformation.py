@@ -220,7 +220,7 @@ def _bkm12_48(literal: bool = False):
 
 
 # ------------------------------------------------------------------ §2.6 Proposition 2
-def printed_cubic_55(s: dict) -> sp.Expr:
+def printed_cubic_55(s: dict[str, sp.Symbol]) -> sp.Expr:
     """BKM12 (55) as printed, in the symbols ``s`` of :func:`proposition2`.
 
     Parameters
