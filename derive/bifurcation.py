@@ -191,7 +191,7 @@ def steady_rotation(model: Model, axis: int, w: sp.Symbol | None = None) -> Stea
 
     References
     ----------
-    BKM12-25, BKM12-crit, BKM12-2.7a, K01-3.2
+    BKM12-25, BKM12-crit, BKM12-2.7a-sol, BKM12-2.7b, K01-3.2
     """
     t = model.time
     w = sp.Symbol("w", real=True) if w is None else w

@@ -258,10 +258,6 @@ def jacobi_residuals(P: sp.Matrix, coords: Sequence[sp.Symbol]) -> list[sp.Expr]
     list of sympy.Expr
         ``n (n-1) (n-2) / 6`` residuals (not simplified), all zero exactly when ``P``
         obeys the Jacobi identity.
-
-    References
-    ----------
-    K01-2.9
     """
     n = len(coords)
     dP = [[[sp.diff(P[j, k], coords[l]) for l in range(n)] for k in range(n)] for j in range(n)]
