@@ -66,6 +66,12 @@ def render_generated(languages: tuple[str, ...] | None = None) -> dict[str, str]
     ----------
     languages : tuple of str, optional
         Emitters to run (default: all registered).
+
+    Returns
+    -------
+    dict of str to str
+        File name (relative to ``generated/``) to text: the package ``__init__.py``,
+        each emitter's files for every built-in variant, and ``manifest.json``.
     """
     languages = languages or tuple(sorted(EMITTERS))
     files: dict[str, str] = {"__init__.py": _INIT}
@@ -177,16 +183,19 @@ def refuse_foreign(directory: Path, names: set[str] | None = None) -> None:
 def write_generated(directory: Path) -> list[str]:
     """(Re)write ``directory``; returns the names of files that changed or were removed.
 
-    Only files this writer made (stamped, see :func:`is_ours`) are overwritten or removed;
-    a folder with anything else in it is refused before any work is done.
+    Files are written atomically and only when their text differs. Only files this writer
+    made (stamped, see :func:`is_ours`) are overwritten or removed; a folder with anything
+    else in it is refused before any work is done.
 
     Parameters
     ----------
     directory : pathlib.Path
+        The ``generated/`` directory (created if missing).
 
     Returns
     -------
     list of str
+        Names of the files written or removed, sorted within each group.
 
     Raises
     ------
@@ -211,7 +220,19 @@ def write_generated(directory: Path) -> list[str]:
 
 
 def check_generated(directory: Path) -> list[str]:
-    """Names of files in ``directory`` that are stale, missing or extra (empty: in sync)."""
+    """Names of files in ``directory`` that are stale, missing or extra (empty: in sync).
+
+    Parameters
+    ----------
+    directory : pathlib.Path
+        The ``generated/`` directory (may be missing).
+
+    Returns
+    -------
+    list of str
+        One ``"<name>: <problem>"`` line per file that is missing, out of date or
+        not produced by any built-in model; empty when ``directory`` is in sync.
+    """
     files = render_generated()
     problems = []
     for name, text in sorted(files.items()):

@@ -50,6 +50,17 @@ def plain_to_latex(text: str) -> str:
     Greek names become letters, ``x`` between operands becomes ``\\times``, ``^-1/2`` and
     similar exponents are braced, ``sqrt(...)`` becomes ``\\sqrt{...}`` and ``'`` marks
     stay time derivatives.
+
+    Parameters
+    ----------
+    text : str
+        A statement in the plain-text notation of FORMULAS.md §0.1.
+
+    Returns
+    -------
+    str
+        LaTeX for inline math (without the ``$`` delimiters); runs of words are
+        wrapped in ``\\text{...}``.
     """
     s = text
     s = re.sub(r"sqrt\(([^()]*(?:\([^()]*\)[^()]*)*)\)", r"\\sqrt{\1}", s)
@@ -70,7 +81,19 @@ def plain_to_latex(text: str) -> str:
 
 
 def paper_of(claim_id: str) -> str:
-    """``BKM12-4/control-...`` -> ``BKM12``; ``MODEL:...`` -> ``chaplygin models``."""
+    """``BKM12-4/control-...`` -> ``BKM12``; ``MODEL:...`` -> ``chaplygin models``.
+
+    Parameters
+    ----------
+    claim_id : str
+        A claim ID.
+
+    Returns
+    -------
+    str
+        The paper's short name (the part before the first ``-``), or
+        ``"chaplygin models"`` for the models' own claims.
+    """
     if claim_id.startswith("MODEL:"):
         return "chaplygin models"
     return claim_id.split("-", 1)[0]
@@ -91,7 +114,19 @@ def _evidence(v: Verdict) -> str:
 
 def render_coverage(rows: Sequence[CoverageRow]) -> list[str]:
     """Markdown lines: per FORMULAS.md section, checkable entries with a verdict and the
-    ones without (a FAILED entry needs its ``/literal`` claim too)."""
+    ones without (a FAILED entry needs its ``/literal`` claim too).
+
+    Parameters
+    ----------
+    rows : sequence of CoverageRow
+        Rows of :func:`~chaplygin.verify.coverage.coverage`.
+
+    Returns
+    -------
+    list of str
+        A Markdown table: header, then one line per section (title, issue, counts of
+        checkable and covered entries, the IDs not covered yet).
+    """
     lines = [
         "| FORMULAS.md section | issue | checkable | covered | not covered yet |",
         "|---|---|---|---|---|",
@@ -115,7 +150,20 @@ def render_coverage(rows: Sequence[CoverageRow]) -> list[str]:
 
 
 def render_report(verdicts: Sequence[Verdict]) -> str:
-    """Markdown text of the report."""
+    """Markdown text of the report.
+
+    Parameters
+    ----------
+    verdicts : sequence of Verdict
+        The verdicts of a ``chaplygin verify`` run.
+
+    Returns
+    -------
+    str
+        The report: totals, a summary per paper, the errata (each ``/literal`` reading
+        next to its correction), the coverage of FORMULAS.md and one table of claims per
+        paper.
+    """
     lines = ["# chaplygin verification report", ""]
     bad = [v for v in verdicts if not v.ok]
     lines += [

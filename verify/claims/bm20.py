@@ -49,6 +49,7 @@ def generic_model(effects: Iterable[str]) -> Model:
     Returns
     -------
     Model
+        The generic-law ball model, built once per set of effects.
     """
     key = frozenset(effects)
     if key not in _GENERIC:
@@ -61,6 +62,13 @@ class GenericLawClaim(Claim):
     """A claim about every law ``I(t)``, ``k(t)``: checked on :func:`generic_model`."""
 
     def model(self) -> Model:
+        """The ball with generic laws ``I(t)``, ``k(t)`` for the claim's effects.
+
+        Returns
+        -------
+        Model
+            :func:`generic_model` of the claim's effects (cached).
+        """
         return generic_model(self.effects)
 
 
@@ -129,8 +137,8 @@ def transformation_residual(
     model: Model,
     signs: dict[str, int],
     time_sign: int,
-    parity: dict | None = None,
-    at: dict | None = None,
+    parity: dict[sp.Expr, sp.Expr] | None = None,
+    at: dict[sp.Expr, sp.Expr] | None = None,
 ) -> list[sp.Expr]:
     """Residual of ``(t, x) -> (s t, S x)`` (``S`` diagonal signs) mapping solutions to solutions.
 
@@ -140,6 +148,7 @@ def transformation_residual(
     Parameters
     ----------
     model : Model
+        The model whose flow ``x' = f(t, x)`` is tested.
     signs : dict of str to int
         Sign of each state group (``{"M": -1, "gamma": 1}``); groups not named keep +1.
     time_sign : {1, -1}
@@ -153,6 +162,7 @@ def transformation_residual(
     Returns
     -------
     list of sympy.Expr
+        ``f(s t, S x) - s S f(t, x)``, one entry per state component.
     """
     f = model.rhs_expanded
     if at:

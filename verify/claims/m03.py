@@ -71,6 +71,13 @@ class SurfaceClaim(Claim):
     with_potential: bool = True
 
     def model(self) -> Model:
+        """The generic-surface ball model (cached).
+
+        Returns
+        -------
+        Model
+            The ball on an arbitrary surface, with or without the potential force.
+        """
         return _generic(self.with_potential)
 
 
@@ -244,8 +251,18 @@ def joachimsthal_first_term(model: Model, denominator: str = "B") -> sp.Expr:
     Parameters
     ----------
     model : Model
+        A ball-on-ellipsoid model (centre ``x``, axes ``b``, state ``omega``).
     denominator : {"B", "Binv"}
         ``(n, B n)`` (corrected) or ``(n, B^-1 n)`` (the extraction's literal reading).
+
+    Returns
+    -------
+    sympy.Expr
+        The term, in the model's symbols.
+
+    References
+    ----------
+    M03-1.5, M03-1.7
     """
     B, Binv, n = _ellipsoid(model)
     w = cross(n, model.group("omega"))
@@ -254,7 +271,22 @@ def joachimsthal_first_term(model: Model, denominator: str = "B") -> sp.Expr:
 
 
 def potential_term(model: Model) -> sp.Expr:
-    """``(x, B^-2 x) [k - (x, B^-1 x)^-1 sum_i c_i/(b_i x_i^2)]`` (M03-1.7)."""
+    """``(x, B^-2 x) [k - (x, B^-1 x)^-1 sum_i c_i/(b_i x_i^2)]`` (M03-1.7).
+
+    Parameters
+    ----------
+    model : Model
+        A ball-on-ellipsoid model with the potential of M03-1.6 (parameters ``k``, ``c``).
+
+    Returns
+    -------
+    sympy.Expr
+        The term, without its prefactor.
+
+    References
+    ----------
+    M03-1.6, M03-1.7
+    """
     _, Binv, _ = _ellipsoid(model)
     x, b = model.group("x"), model.param_group("b")
     k, c = model.param_group("k")[0], model.param_group("c")
@@ -263,7 +295,22 @@ def potential_term(model: Model) -> sp.Expr:
 
 
 def stated_potential_factor(model: Model) -> sp.Expr:
-    """The factor of the potential term in M03-1.7 found here: ``-1/((m + m_e) R^2)``."""
+    """The factor of the potential term in M03-1.7 found here: ``-1/((m + m_e) R^2)``.
+
+    Parameters
+    ----------
+    model : Model
+        A ball-on-ellipsoid model (parameters ``m``, ``m_e``, ``R``).
+
+    Returns
+    -------
+    sympy.Expr
+        The factor in the model's parameters.
+
+    References
+    ----------
+    M03-1.7
+    """
     m, m_e, R = (model.param_group(s)[0] for s in ("m", "m_e", "R"))
     return -1 / ((m + m_e) * R**2)
 
@@ -279,10 +326,19 @@ def solve_potential_factor(model: Model) -> sp.Expr | None:
     reduction). Every coefficient must vanish: ``c = -A/B`` from one of them, and
     ``A B' - A' B = 0`` for all the others (exact ring arithmetic).
 
+    Parameters
+    ----------
+    model : Model
+        A ball-on-ellipsoid model with the potential of M03-1.6.
+
     Returns
     -------
     sympy.Expr or None
         ``c`` in the parameters, or None when no constant (or not a unique one) works.
+
+    References
+    ----------
+    M03-1.7
     """
     c = sp.Dummy("c")
     K = joachimsthal_first_term(model) + c * potential_term(model)
@@ -502,6 +558,14 @@ class BodyClaim(Claim):
     body: str = "generic"
 
     def model(self) -> Model:
+        """The body-on-sphere model of kind ``body`` (cached).
+
+        Returns
+        -------
+        Model
+            :func:`~chaplygin.derive.body_on_sphere.generic_body_model` or an
+            ellipsoid body model.
+        """
         return _body(self.body)
 
 
@@ -614,9 +678,20 @@ def density_flux_residual(model: Model) -> sp.Expr:
     ``X = (adj(I_Q) (Delta h0 + H adj(K) c), det(I_Q) adj(K) c)`` (``K adj(K) = Delta Id``),
     ``rho f = rho1 X`` and ``div(rho f)/rho1 = div X + (X, grad log rho1)``.
 
+    Parameters
+    ----------
+    model : Model
+        A body-on-sphere model with scalar inertia ``mu Id`` (parameter ``mu``).
+
     Returns
     -------
     sympy.Expr
+        The residual in ``omega, r`` and the abstract rates ``r'``; zero on the phase
+        space exactly when ``rho`` is an invariant density.
+
+    References
+    ----------
+    M03-2.2rho, M03-2.5
     """
     b = _body_notation(model)
     eq = model.definitions["equations"]

@@ -68,6 +68,14 @@ class NBallClaim(Claim):
     balls: int = 1
 
     def model(self) -> Model:
+        """The N-ball model of the claim (cached; directions from ``SEEDS[balls]``).
+
+        Returns
+        -------
+        Model
+            The multi-body derivation with ``balls`` support balls and the claim's
+            effects.
+        """
         return _n_ball(self.balls, tuple(sorted(self.effects)), SEEDS[self.balls])
 
 
@@ -254,12 +262,35 @@ class SupportNotation:
     K: sp.Matrix
 
     def operator(self) -> sp.Matrix:
-        """BKM12-33: ``J - D_al alpha⊗alpha - D_be beta⊗beta``."""
+        """BKM12-33: ``J - D_al alpha⊗alpha - D_be beta⊗beta``.
+
+        Returns
+        -------
+        sympy.Matrix, shape (3, 3)
+            The inertia operator ``M = operator() omega``.
+
+        References
+        ----------
+        BKM12-33
+        """
         a, b = self.alpha, self.beta
         return self.J - self.D_al * a * a.T - self.D_be * b * b.T
 
     def X(self) -> sp.Matrix:
-        """BKM12-34."""
+        """BKM12-34: the 2x2 matrix ``X`` of ``Z = X^-1 Y``.
+
+        ``X = [[D_al^-1 - (alpha, A alpha), -(alpha, A beta)],
+        [-(alpha, A beta), D_be^-1 - (beta, A beta)]]``.
+
+        Returns
+        -------
+        sympy.Matrix, shape (2, 2)
+            Symmetric, in ``alpha``, ``beta`` and the parameters.
+
+        References
+        ----------
+        BKM12-34
+        """
         a, b, A = self.alpha, self.beta, self.A
         return sp.Matrix(
             [
@@ -269,14 +300,38 @@ class SupportNotation:
         )
 
     def omega_formula(self) -> sp.Matrix:
-        """BKM12-34: ``A (M + Z_al alpha + Z_be beta)``, ``Z = X^-1 Y``."""
+        """BKM12-34: ``A (M + Z_al alpha + Z_be beta)``, ``Z = X^-1 Y``.
+
+        ``Y = ((A M, alpha), (A M, beta))``.
+
+        Returns
+        -------
+        sympy.Matrix, shape (3, 1)
+            ``omega`` in ``M``, ``alpha``, ``beta`` and the parameters.
+
+        References
+        ----------
+        BKM12-34
+        """
         Y = sp.Matrix([dot(self.A * self.M, self.alpha), dot(self.A * self.M, self.beta)])
         Z = self.X().inv() * Y
         return self.A * (self.M + Z[0] * self.alpha + Z[1] * self.beta)
 
 
 def support_notation(model: Model) -> SupportNotation:
-    """The paper's objects of §2.1 in the closed model's symbols (typed from BKM12)."""
+    """The paper's objects of §2.1 in the closed model's symbols (typed from BKM12).
+
+    Parameters
+    ----------
+    model : Model
+        The closed spherical-support model (groups ``M``, ``alpha``, ``beta``,
+        ``gamma``; parameters ``I``, ``D_iso``, ``D_al``, ``D_be``, optionally ``K``).
+
+    Returns
+    -------
+    SupportNotation
+        ``J = I + D_iso Id``, ``A = J^-1``; ``K`` is zero without a gyrostat.
+    """
     I = model.param_group("I")
     D_iso = model.param_group("D_iso")[0]
     J = sp.diag(*[I[i] + D_iso for i in range(3)])
@@ -407,6 +462,13 @@ class SupportComparisonClaim(Claim):
     balls: int = 1
 
     def model(self) -> Model:
+        """The closed built-in model of the claim's system and effects.
+
+        Returns
+        -------
+        Model
+            ``build_model(self.system, self.effects)``.
+        """
         from chaplygin.derive import build_model
 
         return build_model(self.system, self.effects)

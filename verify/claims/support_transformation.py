@@ -220,8 +220,23 @@ def _bkm12_48(literal: bool = False):
 
 
 # ------------------------------------------------------------------ §2.6 Proposition 2
-def printed_cubic_55(s: dict) -> sp.Expr:
-    """BKM12 (55) as printed, in the symbols ``s`` of :func:`proposition2`."""
+def printed_cubic_55(s: dict[str, sp.Symbol]) -> sp.Expr:
+    """BKM12 (55) as printed, in the symbols ``s`` of :func:`proposition2`.
+
+    Parameters
+    ----------
+    s : dict of str to sympy.Symbol
+        ``Proposition2.symbols``: ``E, C, M_al, M_be, D_al, D_be, lam``.
+
+    Returns
+    -------
+    sympy.Expr
+        The characteristic cubic in ``lam``, as printed.
+
+    References
+    ----------
+    BKM12-55
+    """
     E, C, Ma, Mb, Da, Db, lam = (s[k] for k in ("E", "C", "M_al", "M_be", "D_al", "D_be", "lam"))
     return (
         E * lam**3

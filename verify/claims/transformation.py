@@ -38,7 +38,9 @@ class BallMap:
     Parameters
     ----------
     model : Model
+        A Chaplygin-ball model.
     coeffs : (m1, m2, c1, c2)
+        Coefficients of the map (sympy expressions).
     Dt_inv : sympy.Expr
         ``D~^-1``.
     sign : int
@@ -46,7 +48,13 @@ class BallMap:
         ``+1`` for the literal reading of BKM12-19.
     """
 
-    def __init__(self, model: Model, coeffs, Dt_inv, sign: int = -1):
+    def __init__(
+        self,
+        model: Model,
+        coeffs: tuple[sp.Expr, sp.Expr, sp.Expr, sp.Expr],
+        Dt_inv: sp.Expr,
+        sign: int = -1,
+    ):
         n = ball_notation(model)
         self.n = n
         self.omega = model.expand_aux(n.omega)
@@ -63,8 +71,34 @@ class BallMap:
         self.mu = a1 + b1 * self.Zt
 
 
-def ball_map(model: Model, coeffs, Dt_inv, sign: int = -1) -> BallMap:
-    """A :class:`BallMap` (E, C, Mg of the state available as attributes)."""
+def ball_map(
+    model: Model,
+    coeffs: tuple[sp.Expr, sp.Expr, sp.Expr, sp.Expr],
+    Dt_inv: sp.Expr,
+    sign: int = -1,
+) -> BallMap:
+    """A :class:`BallMap` (E, C, Mg of the state available as attributes).
+
+    Parameters
+    ----------
+    model : Model
+        A Chaplygin-ball model.
+    coeffs : (m1, m2, c1, c2)
+        Coefficients of ``M~ = m1 M + m2 gamma``, ``gamma~ = c1 M + c2 gamma``.
+    Dt_inv : sympy.Expr
+        ``D~^-1``.
+    sign : int, optional
+        ``-1`` for the correct ``Z~``, ``+1`` for the literal reading of BKM12-19.
+
+    Returns
+    -------
+    BallMap
+        The transformed ``M~``, ``gamma~``, ``Z~``, ``omega~`` and ``mu`` in the state.
+
+    References
+    ----------
+    BKM12-12, BKM12-19
+    """
     return BallMap(model, coeffs, Dt_inv, sign)
 
 
