@@ -262,7 +262,11 @@ class ClaimRegistry(Mapping[str, Claim]):
             if name in self._loaded or (name in _MODEL_MODULES and not models):
                 continue
             self._loaded.add(name)  # before the import: a module may read the registry
-            importlib.import_module(f"{__name__}.{name}")
+            try:
+                importlib.import_module(f"{__name__}.{name}")
+            except BaseException:
+                self._loaded.discard(name)  # the next lookup raises the same error again
+                raise
 
     def __getitem__(self, claim_id: str) -> Claim:
         self.load(models=claim_id.startswith(_MODEL_PREFIX))

@@ -48,8 +48,9 @@ def _comparison(
         return Computed(
             error=differences[worst],
             bound=BOUND,
-            what=f"{what}: largest relative difference of omega_dot from the Kane model's at "
-            f"{len(differences)} random states (bound 2^12 eps, double precision)",
+            what=f"an independent Kane's-method derivation (KanesMethod) against the derived "
+            f"{what}: largest relative difference of omega_dot at {len(differences)} random "
+            "states; bound 2^12 eps from the double-precision evaluation of both sides",
             values={"state": str(worst), "relative difference": f"{differences[worst]:.6g}"},
         )
 
@@ -113,7 +114,7 @@ register(
         kind="equation",
         statement="the same with the derived model evaluated at 1.1 D (false)",
         system=BALL,
-        compute=_comparison(lambda: _ball(D_factor=1.1), "plain ball at 1.1 D"),
+        compute=_comparison(lambda: _ball(D_factor=1.1), "plain ball evaluated at 1.1 D"),
         expected="fails",
     ),
     ComputedClaim(
@@ -189,7 +190,9 @@ register(
         "at +-(J_off + delta sin(Omega t))",
         system=BALL,
         effects=("variable_inertia",),
-        compute=_comparison(lambda: _moving_masses(False), "variable inertia"),
+        compute=_comparison(
+            lambda: _moving_masses(False), "ball with the variable inertia of BM20 (3.4)"
+        ),
     ),
     ComputedClaim(
         id="KANE-variable_inertia/control-frozen-inertia",
@@ -198,7 +201,9 @@ register(
         statement="the plain ball with the inertia frozen at I(t) has the moving masses' "
         "omega' (false: it misses the I'(t) omega term)",
         system=BALL,
-        compute=_comparison(lambda: _moving_masses(True), "inertia frozen at I(t)"),
+        compute=_comparison(
+            lambda: _moving_masses(True), "plain ball with the inertia frozen at I(t)"
+        ),
         expected="fails",
     ),
 )
