@@ -247,6 +247,7 @@ class ClaimRegistry(Mapping[str, Claim]):
     def __init__(self) -> None:
         self._claims: dict[str, Claim] = {}
         self._loaded: set[str] = set()
+        self._modules: list[str] = []
 
     def add(self, claim: Claim) -> None:
         """Register one claim (its ID must be new)."""
@@ -256,9 +257,12 @@ class ClaimRegistry(Mapping[str, Claim]):
 
     def load(self, models: bool = True) -> None:
         """Import the claim modules (the papers' first; ``models``: the model claims too)."""
-        names = sorted(m.name for m in pkgutil.iter_modules(__path__) if m.name != "notation")
-        names.sort(key=lambda n: n in _MODEL_MODULES)
-        for name in names:
+        if not self._modules:
+            names = sorted(m.name for m in pkgutil.iter_modules(__path__))
+            self._modules = sorted(
+                (n for n in names if n != "notation"), key=lambda n: n in _MODEL_MODULES
+            )
+        for name in self._modules:
             if name in self._loaded or (name in _MODEL_MODULES and not models):
                 continue
             self._loaded.add(name)  # before the import: a module may read the registry
@@ -275,8 +279,7 @@ class ClaimRegistry(Mapping[str, Claim]):
         except KeyError:
             raise KeyError(
                 f"no claim {claim_id!r} is registered; IDs look like 'BKM12-4', 'K01-2.2', "
-                "'BKM12-4/control-rho=1' (list them with `chaplygin verify --coverage` or "
-                "select_claims())"
+                "'BKM12-4/control-rho=1' (select_claims() lists them)"
             ) from None
 
     def __contains__(self, claim_id: object) -> bool:
