@@ -39,6 +39,7 @@ CONSTRAINED_SAMPLES = {c: constrained_samples(c, SAMPLES) for c in EXTRA_CONSTRA
 KANE_CLAIMS = ["ball", "rubber", "straight_line", "gyrostat", "variable_inertia"]
 
 
+@pytest.mark.quick
 def test_every_variant_has_a_kane_claim_within_the_issue_tolerance_and_a_control():
     """The cross-check runs in ``chaplygin verify``: one claim per variant, each with a
     negative control refuted by the same comparison; the bound (from the precision of the
@@ -78,6 +79,7 @@ def test_yaw_gravity_and_radius_do_not_change_the_kane_result() -> None:
         assert np.linalg.norm(other - ref) <= RTOL * np.linalg.norm(ref)
 
 
+@pytest.mark.quick
 def test_euler_angles_reject_singular_and_non_unit_gamma() -> None:
     near_pole = np.array([GAMMA1_LIMIT + 1e-3, 0.0, 0.0])
     near_pole[2] = np.sqrt(1.0 - near_pole[0] ** 2)
