@@ -50,7 +50,7 @@ import sympy as sp
 from .algebra import ConstraintIdeal, seeded_factor
 from .effects import parse_effects
 from .errors import DerivationError
-from .model import Model, ParameterSpec
+from .model import Model, ModelDetails, ParameterSpec
 from .vectors import cross, dot, vector
 
 __all__ = [
@@ -264,8 +264,10 @@ def derive_fixed_frame(
 
 # ------------------------------------------------------------------- a surface
 @dataclass
-class SurfaceEquations:
+class SurfaceEquations(ModelDetails):
     """The derivation on a concrete surface ``f(x) = 0`` with potential ``U(x)``.
+
+    It is the ``details`` of a :func:`surface_model`.
 
     Expressions are written in the state ``omega, x``, the parameters and the auxiliary
     symbols ``n1..n3`` (unit normal) and ``ndot1..ndot3`` (its rate) of :attr:`aux`.
@@ -418,24 +420,7 @@ def surface_model(
         ParameterSpec("R", (R,), "positive", "radius of the ball"),
         *parameters,
     ]
-    definitions: dict = {
-        "omega": omega,
-        "x": x,
-        "surface_equations": eq,
-        "derivation": eq.derivation,
-        "normal": eq.normal,
-        "normal_rate": eq.normal_rate,
-        "grad_norm": eq.grad_norm,
-        "force": eq.force,
-        "potential": potential,
-        "surface": surface,
-        "mass": m,
-        "effective_mass": m_e,
-        "radius": R,
-    }
-    if sampler is not None:
-        definitions["phase_space_sampler"] = sampler
-    model = Model(
+    return Model(
         system=system,
         effects=frozenset(effects),
         time=sp.Symbol("t", real=True),
@@ -447,14 +432,11 @@ def surface_model(
         geometry=(),
         integrals=(("H", eq.energy), *integrals),
         density=eq.grad_norm,
-        definitions=definitions,
+        omega=omega,
+        sampler=sampler,
+        details=eq,
         references=references or {},
     )
-    declared = set(model.params) | set(model.state) | set(model.aux_symbols)
-    used = set().union(*(sp.sympify(e).free_symbols for e in (*model.rhs, *(e for _, e in eq.aux))))
-    if not used <= declared:  # pragma: no cover - guards the builder itself
-        raise AssertionError(f"undeclared symbols in the model: {used - declared}")
-    return model
 
 
 def generic_surface_model(with_potential: bool = True) -> Model:
