@@ -473,9 +473,8 @@ def build_spherical_support(effects: Iterable[str] | str | None = ()) -> Model:
     ('I1', 'I2', 'I3', 'D_iso', 'D_al', 'D_be')
     """
     effects = parse_effects(effects, SUPPORTED_EFFECTS)
-    rubber = "rubber_balls" in effects
-    gyro = "gyrostat" in effects
-    der = _derive(3, effects)
+    der = _derive(3, effects)  # the effects applied themselves to the balls' description
+    rubber, gyro = der.rubber, der.K is not None
     red = der.reduction
     M = vector("M", real=True)
     alpha, beta, gamma = (vector(n, real=True) for n in ("alpha", "beta", "gamma"))

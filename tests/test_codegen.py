@@ -39,7 +39,7 @@ def _states(model, code, n: int):
     """``n`` random phase-space points and parameter vectors (one per point).
 
     Ball variants use the moderate ranges of ``reference`` (vectorised call checked too);
-    other systems draw exact points from the verifier's sampler of their phase space.
+    other systems draw exact points from the phase-space sampler of derive.
     """
     rng = np.random.default_rng(2012)
     if {"M", "gamma"} <= set(code.state_groups):
@@ -47,13 +47,12 @@ def _states(model, code, n: int):
         return [(random_state(code, rng), P) for _ in range(n)]
     import random
 
-    from chaplygin.verify.identity import Domain
+    from chaplygin.derive.phase_space import sample_point
 
     prng = random.Random(2012)
-    domain = Domain(model)
     out = []
     for _ in range(n):
-        point = domain.sample(prng, model.state)
+        point = sample_point(model, prng, model.state)
         out.append(
             (
                 np.array([float(point[s]) for s in model.state]),
