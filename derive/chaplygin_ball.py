@@ -35,6 +35,7 @@ from .vectors import cross, dot, vector
 __all__ = [
     "build_chaplygin_ball",
     "ball_description",
+    "ball_signature",
     "SUPPORTED_EFFECTS",
     "PARAMETER_ORDER",
     "NAME",
@@ -127,6 +128,28 @@ def ball_description(
     return desc
 
 
+def ball_signature(
+    effects: frozenset[str],
+) -> tuple[tuple[tuple[str, tuple[sp.Symbol, ...]], ...], tuple[ParameterSpec, ...]]:
+    """State groups and parameters of a variant, from its description (nothing derived).
+
+    Parameters
+    ----------
+    effects : frozenset of str
+        Checked names.
+
+    Returns
+    -------
+    state_groups : tuple of (str, tuple of sympy.Symbol)
+    parameters : tuple of ParameterSpec
+        In :data:`PARAMETER_ORDER`, as the derived model has them.
+    """
+    desc = ball_description(effects)
+    apply_effects(desc, effects, SUPPORTED_EFFECTS)
+    groups = tuple((name, symbols) for name, symbols, _ in desc.states)
+    return groups, tuple(desc.parameters[n] for n in PARAMETER_ORDER if n in desc.parameters)
+
+
 def build_chaplygin_ball(effects: Iterable[str] | str | None = (), *, _laws: str = "bm20") -> Model:
     """Derive the Chaplygin ball model.
 
@@ -174,3 +197,4 @@ def build_chaplygin_ball(effects: Iterable[str] | str | None = (), *, _laws: str
 
 
 BUILDER = build_chaplygin_ball
+SIGNATURE = ball_signature

@@ -194,3 +194,31 @@ def test_invariant_relations_need_their_unknowns():
     with pytest.raises(DerivationError, match="relation_unknowns"):
         _toy(lambda x, a: -a * x, relations=(("x", x),))
     assert _toy(lambda x, a: -a * x, relations=(("x", x),), unknowns=(x,)).relation_unknowns
+
+
+def test_bad_input_for_a_variant_not_in_generated_fails_before_deriving_it(monkeypatch):
+    """``rubber,straight_line`` is not in generated/; a missing parameter is refused from
+    the variant's signature (its description, nothing derived), not after a derivation."""
+    import time
+
+    from chaplygin.derive import systems
+    from chaplygin.numerics import integrate
+
+    monkeypatch.setenv("CHAPLYGIN_MODEL_CACHE", "0")
+    monkeypatch.setattr(systems, "_CACHE", {})
+    y0 = {"M": (0.1, 0.2, 0.3), "gamma": (0, 0, 1)}
+    start = time.perf_counter()
+    with pytest.raises(UserInputError, match="missing parameter I .* add --param I=VALUE"):
+        integrate("chaplygin_ball", y0, 1.0, {"D": 1}, effects=["rubber", "straight_line"])
+    assert time.perf_counter() - start < 0.5
+    assert not systems._CACHE  # nothing was derived
+
+
+def test_the_signature_is_the_derived_models():
+    from chaplygin.derive.systems import variant_signature
+
+    for effects in (["contact_point", "gyrostat"], ["variable_gyrostat", "variable_inertia"]):
+        signature = variant_signature("chaplygin_ball", effects)
+        model = build_model("chaplygin_ball", effects)
+        assert signature.state == model.state_names
+        assert signature.params == model.param_names
