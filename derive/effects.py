@@ -64,7 +64,6 @@ class Effect:
 
 
 # ------------------------------------------------------------------ the effects
-K_SPEC = "K"
 
 
 class Gyrostat(Effect):
@@ -74,7 +73,7 @@ class Gyrostat(Effect):
         K = vector("K", real=True)
         desc.add_kinetic_energy(dot(K, desc.omega))
         desc.add_parameter(
-            ParameterSpec(K_SPEC, tuple(K), "real", "constant gyrostatic momentum K1, K2, K3")
+            ParameterSpec("K", tuple(K), "real", "constant gyrostatic momentum K1, K2, K3")
         )
         desc.references.update(equations="K01-4.1", integrals="K01-4.2")
 
@@ -180,7 +179,7 @@ class VariableGyrostat(Effect):
             k = K * sp.sin(sp.Symbol("Omega", positive=True) * t)
             desc.add_parameter(
                 ParameterSpec(
-                    K_SPEC,
+                    "K",
                     tuple(K),
                     "real",
                     "amplitude K of the gyrostatic momentum k(t) = K sin(Omega t) (BM20-3.5)",
