@@ -73,6 +73,11 @@ class MechanicalDescription:
     gyrostatic_momentum_of_time : sympy.Matrix, shape (3, 1)
     contact_vector : sympy.Matrix or None
         From the centre to the contact point.
+    potential : sympy.Expr
+        Potential energy of external forces on the centre (in the state symbols).
+    integrals : dict of str to sympy.Expr
+        First integrals the description states beyond those :func:`form_model` finds
+        (a system that makes its Model itself, the ball on a surface, ships them).
     bodies : list of (sympy.Matrix, sympy.Matrix)
         Further bodies (the support's balls): angular velocity and contact direction.
     free_spins : bool
@@ -98,6 +103,8 @@ class MechanicalDescription:
     total_momentum: bool = False
     gyrostatic_momentum_of_time: sp.Matrix = field(default_factory=lambda: sp.zeros(3, 1))
     contact_vector: sp.Matrix | None = None
+    potential: sp.Expr = sp.S.Zero
+    integrals: dict[str, sp.Expr] = field(default_factory=dict)
     bodies: list[tuple[sp.Matrix, sp.Matrix]] = field(default_factory=list)
     free_spins: bool = True
 
@@ -162,11 +169,47 @@ class MechanicalDescription:
         symbols : tuple of sympy.Symbol
         rate : sequence of sympy.Expr, callable or None
             Its time derivative, or a function of the reduced equations that gives it;
-            None for the momentum ``M`` (derived by :func:`form_model`).
+            None when the step that makes the Model derives it (the momentum ``M`` in
+            :func:`form_model`).
         """
         if any(n == name for n, _, _ in self.states):
             raise DerivationError(f"state group {name!r} added twice")
         self.states.append((name, tuple(symbols), rate))
+
+    def add_potential(self, term: sp.Expr) -> None:
+        """Add a term to the potential energy of the external forces.
+
+        Parameters
+        ----------
+        term : sympy.Expr
+        """
+        self.potential += term
+
+    def add_integral(self, name: str, expr: sp.Expr) -> None:
+        """Add a first integral, or a term to one of that name already stated.
+
+        Parameters
+        ----------
+        name : str
+        expr : sympy.Expr
+        """
+        self.integrals[name] = self.integrals.get(name, sp.S.Zero) + expr
+
+    def state_group(self, name: str) -> sp.Matrix:
+        """The symbols of state group ``name`` as a column matrix.
+
+        Parameters
+        ----------
+        name : str
+
+        Returns
+        -------
+        sympy.Matrix
+        """
+        for group, symbols, _ in self.states:
+            if group == name:
+                return sp.Matrix(symbols)
+        raise KeyError(name)
 
     def add_parameter(self, spec: ParameterSpec, replace: bool = False) -> None:
         """Declare a parameter group.

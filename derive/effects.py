@@ -192,7 +192,29 @@ class VariableGyrostat(Effect):
 
 
 class Potential(Effect):
-    """The ellipsoid potential of M03-1.6 (applied by ``ball_on_surface``'s builder)."""
+    """``U = k (x, x)/2 + (1/2) sum_i c_i/x_i^2`` on the centre of the ball on the
+    ellipsoid ``(x, B^-1 x) = 1`` (M03-1.6), and its term of the integral ``K`` (M03-1.7).
+    """
+
+    def apply(self, desc: MechanicalDescription) -> None:
+        from .ball_on_surface import ellipsoid_potential  # that module imports this one
+
+        x = desc.state_group("x")
+        b = desc.parameters["b"].symbols
+        m, m_e, R = sp.symbols("m m_e R", positive=True)  # declared by the surface model
+        k = sp.Symbol("k", real=True)
+        c = sp.Matrix(sp.symbols("c1:4", real=True))
+        desc.add_potential(ellipsoid_potential(x, k, c))
+        text = "U = k (x, x)/2 + sum_i c_i/(2 x_i^2)"
+        desc.add_parameter(ParameterSpec("k", (k,), "real", text))
+        desc.add_parameter(ParameterSpec("c", tuple(c), "real", text))
+        # M03-1.7 with the factor fixed by the derivation (verify/claims/m03.py solves for
+        # it): -1/((m + m_e) R^2) for U = k x^2/2 + sum c_i/(2 x_i^2).
+        quadric = sum((x[i] ** 2 / b[i] for i in range(3)), sp.S.Zero)
+        bracket = k - sum((c[i] / (b[i] * x[i] ** 2) for i in range(3)), sp.S.Zero) / quadric
+        weighted = sum((x[i] ** 2 / b[i] ** 2 for i in range(3)), sp.S.Zero)
+        desc.add_integral("K", -weighted * bracket / ((m + m_e) * R**2))
+        desc.references["integrals"] = "M03-1.7"
 
 
 class RubberBalls(Effect):
@@ -249,8 +271,8 @@ EFFECTS: dict[str, Effect] = {
         ),
         Potential(
             "potential",
-            "a quadratic potential U = k/2 (c1 x1^2 + c2 x2^2 + c3 x3^2) acting on the centre "
-            "(M03 (1.6))",
+            "the potential U = k (x, x)/2 + sum_i c_i/(2 x_i^2) acting on the centre "
+            "(M03 (1.6)); the integral K takes its term (M03 (1.7))",
             "parameters k, c1, c2, c3",
         ),
         RubberBalls(

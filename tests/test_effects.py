@@ -80,17 +80,20 @@ def test_a_missing_requirement_is_refused_with_the_fix(monkeypatch):
 
 # ------------------------------------------------------- each effect alone
 def _description_of(system, effects):
-    from chaplygin.derive.chaplygin_ball import SUPPORTED_EFFECTS as BALL_EFFECTS
-    from chaplygin.derive.chaplygin_ball import ball_description
+    """A system's base description with ``effects`` applied (nothing derived)."""
+    from chaplygin.derive import ball_on_surface, chaplygin_ball, spherical_support
     from chaplygin.derive.description import apply_effects
-    from chaplygin.derive.spherical_support import SUPPORTED_EFFECTS, support_description
 
-    if system == "chaplygin_ball":
-        desc = ball_description(frozenset(effects))
-        apply_effects(desc, effects, BALL_EFFECTS)
-    else:
-        desc = support_description(2, frozenset(effects))
-        apply_effects(desc, effects, SUPPORTED_EFFECTS)
+    module, description = {
+        "chaplygin_ball": (chaplygin_ball, chaplygin_ball.ball_description),
+        "spherical_support": (
+            spherical_support,
+            lambda e: spherical_support.support_description(2, e),
+        ),
+        "ball_on_surface": (ball_on_surface, ball_on_surface.ellipsoid_description),
+    }[system]
+    desc = description(frozenset(effects))
+    apply_effects(desc, effects, module.SUPPORTED_EFFECTS)
     states = [s.name for _, group, _ in desc.states for s in group]
     params = [s.name for spec in desc.parameters.values() for s in spec.symbols]
     return desc, states, params
@@ -114,6 +117,7 @@ ALONE = {
     ),
     ("spherical_support", "gyrostat"): ([], ["K1", "K2", "K3"], 0),
     ("spherical_support", "rubber_balls"): ([], [], 2),  # one no-twist row per ball
+    ("ball_on_surface", "potential"): ([], ["k", "c1", "c2", "c3"], 0),
 }
 
 
