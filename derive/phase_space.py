@@ -1,10 +1,14 @@
-"""Exact rational points of a model's phase space: the one sampler of the toolkit.
+"""Points of a model's phase space: the one sampler of the toolkit.
 
-Tests, numerics and the verifier draw points here: parameters from their physical
-domain, the model's own :attr:`~.model.Model.sampler` (a surface, physical support
-parameters), the Poisson vectors of :attr:`~.model.Model.geometry` on their variety,
-the rest random, and the relation unknowns moved exactly onto the invariant relations.
-Everything is rational, so a point is exact and reproducible from the seed.
+Tests, numerics and the verifier draw points here.
+
+* Exact (:func:`sample_point`): parameters from their physical domain, the model's own
+  :attr:`~.model.Model.sampler` (a surface, physical support parameters), the Poisson
+  vectors of :attr:`~.model.Model.geometry` on their variety, the rest random, and the
+  relation unknowns moved exactly onto the invariant relations. Everything is rational,
+  so a point is exact and reproducible from the seed.
+* Floating point (:func:`random_state`, :func:`random_frame`, :func:`random_unit`,
+  :func:`random_orthonormal`): numpy generators, for numerical tests and studies.
 """
 
 from __future__ import annotations
@@ -12,11 +16,21 @@ from __future__ import annotations
 import random
 from collections.abc import Iterable, Sequence
 
+import numpy as np
 import sympy as sp
 
 from .model import Model
 
-__all__ = ["sample_point", "project_on_relations", "invariant_relation_exprs", "random_rational"]
+__all__ = [
+    "sample_point",
+    "project_on_relations",
+    "invariant_relation_exprs",
+    "random_rational",
+    "random_state",
+    "random_frame",
+    "random_unit",
+    "random_orthonormal",
+]
 
 
 def random_rational(rng: random.Random, positive: bool) -> sp.Rational:
@@ -163,3 +177,82 @@ def project_on_relations(
         raise ValueError("degenerate invariant relations at the sample point")
     u = u - L.T * (L * L.T).LUsolve(L * u + c)
     point.update(zip(unknowns, u, strict=True))
+
+
+# ------------------------------------------------------------------ floating point
+def random_unit(rng: np.random.Generator, n: int | None = None) -> np.ndarray:
+    """Uniform random unit vector(s).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+    n : int, optional
+        Number of vectors (columns).
+
+    Returns
+    -------
+    numpy.ndarray, shape (3,) or (3, n)
+    """
+    v = rng.normal(size=(3,) if n is None else (3, n))
+    return v / np.linalg.norm(v, axis=0)
+
+
+def random_orthonormal(rng: np.random.Generator) -> np.ndarray:
+    """A random orthogonal matrix (QR of a normal one; its determinant is +-1).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+
+    Returns
+    -------
+    numpy.ndarray, shape (3, 3)
+        Orthonormal columns.
+    """
+    q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    return q
+
+
+def random_frame(rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A random right-handed orthonormal frame ``(alpha, beta, gamma = alpha x beta)``.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+
+    Returns
+    -------
+    tuple of numpy.ndarray, each shape (3,)
+    """
+    q = random_orthonormal(rng)
+    if np.linalg.det(q) < 0:
+        q[:, 0] *= -1
+    alpha, beta = q[:, 0], q[:, 1]
+    return alpha, beta, np.cross(alpha, beta)
+
+
+def random_state(state_groups: Iterable[str], rng: np.random.Generator) -> np.ndarray:
+    """A random floating-point point of a ball's phase space, by its state groups.
+
+    ``M`` normal, ``gamma`` a uniform unit vector, or ``alpha, beta, gamma`` a random
+    frame when ``alpha`` is a group (then ``x, y`` normal).
+
+    Parameters
+    ----------
+    state_groups : iterable of str
+        Group names in state order (``Model.vectors`` or the generated code's
+        ``state_groups``).
+    rng : numpy.random.Generator
+
+    Returns
+    -------
+    numpy.ndarray, shape (n_state,)
+    """
+    groups = list(state_groups)
+    values: dict[str, np.ndarray] = {"M": rng.normal(size=3)}
+    if "alpha" in groups:
+        values["alpha"], values["beta"], values["gamma"] = random_frame(rng)
+        values["x"], values["y"] = rng.normal(size=1), rng.normal(size=1)
+    else:
+        values["gamma"] = random_unit(rng)
+    return np.concatenate([np.atleast_1d(values[name]) for name in groups])
