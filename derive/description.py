@@ -76,8 +76,8 @@ class MechanicalDescription:
     potential : sympy.Expr
         Potential energy of external forces on the centre (in the state symbols).
     integrals : dict of str to sympy.Expr
-        First integrals the description states beyond those :func:`form_model` finds
-        (a system that makes its Model itself, the ball on a surface, ships them).
+        First integrals the system or an effect states; :func:`form_model` ships them
+        after those it finds itself.
     bodies : list of (sympy.Matrix, sympy.Matrix)
         Further bodies (the support's balls): angular velocity and contact direction.
     free_spins : bool
@@ -490,6 +490,7 @@ def form_model(desc: MechanicalDescription, parameter_order: Sequence[str]) -> M
     )
     integrals += relations
     integrals.append(("(gamma,gamma)", dot(vectors["gamma"], vectors["gamma"])))
+    integrals += list(desc.integrals.items())  # stated by the system or an effect
 
     references = dict(desc.references)
     if density is None:

@@ -60,7 +60,7 @@ class Effect:
         desc : MechanicalDescription
             Modified in place.
         """
-        raise NotImplementedError(f"effect {self.name!r} is applied by its system's builder")
+        raise NotImplementedError(f"effect {self.name!r} does not say how to apply itself")
 
 
 # ------------------------------------------------------------------ the effects

@@ -208,7 +208,9 @@ def build_model(
     Raises
     ------
     UserInputError
-        Unknown system or effect (the message lists the valid names).
+        Unknown system or effect (the message lists the valid names), effects that
+        exclude each other, an effect without one it requires: all before anything is
+        derived.
     """
     sysdef = get_system(system)
     chosen = parse_effects(effects, sysdef.effects)
