@@ -386,6 +386,8 @@ def integrate(
     True
     """
     start = time.perf_counter()
+    if not isinstance(system, ModelCode):
+        _refuse_bad_input_before_deriving(system, effects, y0, params, precision)
     code = system if isinstance(system, ModelCode) else load_model_code(system, effects)
     prec = Precision(precision)
     if method is None:
@@ -504,6 +506,38 @@ def integrate(
         y_events=list(options["info"].pop("y_events", [])),
         info=options["info"],
     )
+
+
+def _refuse_bad_input_before_deriving(system, effects, y0, params, precision) -> None:
+    """Check parameters and initial state of a variant not in generated/ against its
+    signature (derive.systems.variant_signature, no derivation) before deriving it.
+
+    Parameters
+    ----------
+    system : str
+    effects : iterable of str or str or None
+    y0, params : mapping or sequence
+    precision : str or int
+
+    Raises
+    ------
+    UserInputError
+        Unknown system or effect, conflicting effects, a missing or unknown parameter
+        or state group, a bad value.
+    """
+    from ..derive.systems import builtin_variants, get_system, parse_effects, variant_signature
+
+    chosen = parse_effects(effects, get_system(system).effects)
+    if (system, chosen) in builtin_variants():
+        return  # its code is generated: nothing to derive
+    signature = variant_signature(system, chosen)
+    if signature is None:
+        return
+    prec = Precision(precision)
+    if isinstance(params, Mapping):
+        pack_params(signature, params, prec)
+    if isinstance(y0, Mapping):
+        pack_state(signature, y0, prec)
 
 
 def _precision_for(rtol: float) -> str:

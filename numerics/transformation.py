@@ -26,6 +26,7 @@ import numpy as np
 import sympy as sp
 
 from ..derive.errors import UserInputError
+from ..derive.phase_space import random_orthonormal
 from ..derive.transformation import chaplygin_map, kilin_map, proposition2
 from .integrate import integrate
 
@@ -332,7 +333,7 @@ def random_support_state(rng: np.random.Generator) -> tuple[float, ...]:
     """``(E, C, M_al, M_be, D_al, D_be)`` of a random support state: a random orthonormal
     pair alpha, beta, a normal random M, E in [0.2, 3], D_al, D_be in [0.2, 2] (the
     arguments of :func:`support_coefficients`)."""
-    Qr, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    Qr = random_orthonormal(rng)
     alpha, beta = Qr[:, 0], Qr[:, 1]
     M = rng.normal(size=3)
     E = rng.uniform(0.2, 3.0)

@@ -226,7 +226,7 @@ def test_control_witness_is_a_phase_space_point_where_the_residual_is_not_zero(c
     while check.fallback is not None:
         check = check.fallback
     # and the witness lies on the model's invariant relations and the check's level set
-    for _, rel in model.definitions.get("invariant_relations", ()):
+    for _, rel in model.invariant_relations:
         assert sp.nsimplify(model.expand_aux(rel).xreplace(point)) == 0
     assert all(sp.nsimplify(model.expand_aux(r).xreplace(point)) == 0 for r in check.on)
     # time-dependent residuals: sin(Omega t), cos(Omega t), I1(t), k1'(t) ... carry their
@@ -280,7 +280,7 @@ def test_a_wrong_momentum_formula_is_refuted():
     def build(model):
         n = ball_notation(model)
         wrong = sp.diag(*n.I) * n.omega + 2 * n.D * (n.omega - dot(n.gamma, n.omega) * n.gamma)
-        return Check(list(model.definitions["momentum_of_omega"] - wrong), free=list(n.omega))
+        return Check(list(model.momentum_of_omega - wrong), free=list(n.omega))
 
     v = check_claim(_perturbed("BKM12-1", build))
     assert v.verdict == "refuted" and not v.ok and v.problem == "refuted, expected proved"

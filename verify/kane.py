@@ -834,7 +834,7 @@ def _model_omega_dot(model: Any) -> tuple[Callable[..., Any], tuple[str, ...]]:
     ``state`` is the model's whole state vector (``M, gamma`` and e.g. ``alpha, beta``).
     """
     state = list(model.state)
-    omega = model.expand_aux(model.definitions["omega"])
+    omega = model.expand_aux(model.omega)
     rhs = model.rhs_expanded
     allowed = set(state) | set(model.params) | {model.time}
     free = omega.free_symbols | rhs.free_symbols

@@ -24,20 +24,20 @@ def _rhs(model: Model, group: str) -> sp.Matrix:
 
 
 def _omega(model: Model) -> sp.Matrix:
-    return sp.Matrix(model.definitions["omega"])
+    return sp.Matrix(model.omega)
 
 
 # ---------------------------------------------------------------- BKM12 §1.1
 def _bkm12_1(model: Model) -> Check:
     n = ball_notation(model)
-    derived = model.definitions["momentum_of_omega"]
+    derived = model.momentum_of_omega
     return Check(list(derived - n.momentum(n.omega)), free=list(n.omega))
 
 
 def _equations(model: Model, K=None) -> Check:
     """The engine's momentum rate and the model's right-hand side against M' = (M+K) x omega."""
     n = ball_notation(model)
-    red = model.definitions["reduced_equations"]
+    red = model.details.reduced_equations
     P0 = red.gyrostatic_momentum
     K = K if K is not None else sp.zeros(3, 1)
     raw = red.momentum_rate - cross(red.inertia_operator * n.omega + K, n.omega)
@@ -50,7 +50,7 @@ def _equations(model: Model, K=None) -> Check:
 def _bkm12_3(model: Model) -> Check:
     n = ball_notation(model)
     w = model.expand_aux(n.omega)
-    II = model.definitions["inertia_operator"]
+    II = model.inertia_operator
     return Check(list(w - n.omega_formula()) + list(II * w - n.M))
 
 
@@ -96,7 +96,7 @@ def _energy_forms(model: Model) -> Check:
 def _contact_point(model: Model) -> Check:
     n = ball_notation(model)
     x_rate, y_rate = _rhs(model, "x")[0], _rhs(model, "y")[0]
-    v = model.definitions["centre_velocity"]
+    v = model.details.centre_velocity
     return Check(
         [
             x_rate - n.b * dot(n.beta, n.omega),
@@ -125,7 +125,7 @@ def _bkm12_7(model: Model) -> Check:
 def _no_slip(model: Model) -> Check:
     n = ball_notation(model)
     r = -n.b * n.gamma
-    v = model.definitions["centre_velocity"]
+    v = model.details.centre_velocity
     return Check(list(v - cross(r, n.omega)) + list(v + cross(n.omega, r)), free=list(n.omega))
 
 

@@ -68,7 +68,7 @@ def _steady_residual(model: Model, fam) -> list[sp.Expr]:
 
 
 def _omega_at(model: Model, state: dict) -> sp.Matrix:
-    return model.expand_aux(sp.Matrix(model.definitions["omega"])).xreplace(state)
+    return model.expand_aux(sp.Matrix(model.omega)).xreplace(state)
 
 
 def _sigma(n, i: int, C, Mg) -> sp.Expr:
@@ -425,7 +425,7 @@ def _aux_chain(model: Model, state: dict, omega: sp.Matrix) -> tuple[list, sp.Ma
         D_x = model.param_group("D_al" if x == "alpha" else "D_be")[0]
         vec = sp.Matrix([e for s, e in state.items() if s in set(model.vectors[x])])
         expected[sp.Symbol(f"Z_{x[:2]}", real=True)] = D_x * dot(vec, omega)
-    expected.update(dict(zip(model.definitions["omega"], omega, strict=True)))
+    expected.update(dict(zip(model.omega, omega, strict=True)))
     out = []
     for sym, expr in model.aux:
         out.append(expr.xreplace(state).xreplace(expected) - expected[sym])

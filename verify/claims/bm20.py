@@ -99,12 +99,12 @@ def _notation(model: Model) -> _Notation:
         k = model.param_group("K")
         M = M + k
     else:
-        k = sp.Matrix(model.definitions["gyrostatic_momentum_of_time"])
+        k = sp.Matrix(model.details.gyrostatic_momentum_of_time)
     return _Notation(
         M=M,
         gamma=model.group("gamma"),
-        omega=sp.Matrix(model.definitions["omega"]),
-        I=sp.Matrix(model.definitions["inertia"]),
+        omega=sp.Matrix(model.omega),
+        I=sp.Matrix(model.details.inertia),
         D=model.param_group("D")[0],
         k=k,
         alpha=model.group("alpha") if "alpha" in model.vectors else None,
@@ -201,23 +201,23 @@ INVOLUTION_2 = ({"M": -1, "gamma": -1}, -1)  # (t, M, gamma) -> (-t, -M, -gamma)
 def _bm20_2_2(model: Model) -> Check:
     n = _notation(model)
     paper = n.I * n.omega + n.D * cross(n.gamma, cross(n.omega, n.gamma)) + n.k
-    red = model.definitions["reduced_equations"]
-    exprs = list(red.momentum - paper) + list(model.definitions["momentum_of_omega"] - paper)
+    red = model.details.reduced_equations
+    exprs = list(red.momentum - paper) + list(model.momentum_of_omega - paper)
     return Check(exprs, free=list(n.omega))
 
 
 def _bm20_2_4(model: Model) -> Check:
     n = _notation(model)
     II = n.inertia_about_contact()
-    exprs = list(model.definitions["momentum_of_omega"] - (II * n.omega + n.k))
-    exprs += list(model.definitions["inertia_operator"] - II)
+    exprs = list(model.momentum_of_omega - (II * n.omega + n.k))
+    exprs += list(model.inertia_operator - II)
     return Check(exprs, free=list(n.omega))
 
 
 def _bm20_2_5(model: Model) -> Check:
     n = _notation(model)
     t = model.time
-    red = model.definitions["reduced_equations"]
+    red = model.details.reduced_equations
     # the engine's raw rate of its momentum (multipliers eliminated), for every omega:
     # d/dt (II omega + k) = (II omega + k) x omega
     raw = red.momentum_rate + sp.diff(red.gyrostatic_momentum, t)

@@ -437,7 +437,7 @@ def _abel_jacobi(model: Model) -> Check:
 # ------------------------------------------------------------------ BKM12 §1.2
 def _bkm12_8(model: Model) -> Check:
     n = ball_notation(model)
-    Mw = model.definitions["momentum_of_omega"]
+    Mw = model.momentum_of_omega
     return Check([dot(Mw, n.gamma) - dot(sp.diag(*n.I) * n.omega, n.gamma)], free=list(n.omega))
 
 

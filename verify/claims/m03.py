@@ -100,7 +100,7 @@ class _Paper:
 
 def _paper(model: Model) -> _Paper:
     x, omega = model.group("x"), model.group("omega")
-    f, U = model.definitions["surface"], model.definitions["potential"]
+    f, U = model.details.surface, model.details.potential
     grad_f = sp.Matrix([sp.diff(f, s) for s in x])
     f_rhs = model.rhs_expanded
     return _Paper(
@@ -139,7 +139,7 @@ def _m03_1_1(model: Model) -> Check:
     )
     exprs += list(p.x_rate - p.R * cross(p.omega, p.n))
     # the derivation with an arbitrary force: nu -> n(x), nudot -> (dn/dx) x'
-    der = model.definitions["derivation"]
+    der = model.details.derivation
     Fs = sp.Matrix(sp.symbols("F1:4", real=True))
     x_rate = p.R * cross(p.omega, p.n)
     nudot = p.n.jacobian(p.x) * x_rate
@@ -175,12 +175,9 @@ def _m03_1_2(model: Model) -> Check:
     q = sp.sqrt(dot(p.grad_f, p.grad_f))
     hess = p.grad_f.jacobian(p.x)
     formula = (hess - p.grad_f * (p.grad_f.T * hess) / q**2) * p.x_rate / q
-    exprs = list(model.definitions["normal"] - p.n)
+    exprs = list(model.details.normal - p.n)
     exprs += list(_lie(p.n, model) - formula)
-    exprs += list(
-        model.expand_aux(sp.Matrix(model.definitions["surface_equations"].normal_rate_symbols))
-        - formula
-    )
+    exprs += list(model.expand_aux(sp.Matrix(model.details.normal_rate_symbols)) - formula)
     return Check(exprs)
 
 
@@ -590,11 +587,11 @@ class _Body:
 
 
 def _body_notation(model: Model) -> _Body:
-    eq = model.definitions["equations"]
+    eq = model.details.equations
     r, omega = model.group("r"), model.group("omega")
     m, k = model.param_group("m")[0], model.param_group("k")[0]
-    I = model.definitions["inertia"]
-    f = model.definitions["surface"]
+    I = model.details.inertia
+    f = model.details.surface
     grad = sp.Matrix([sp.diff(f, s) for s in r])
     q = sp.sqrt(sp.factor_terms(dot(grad, grad)))  # 2 sqrt((r, B^-2 r)) on the ellipsoid
     n = -grad / q
@@ -647,7 +644,7 @@ def _m03_2_2(which: str):
 def _m03_2_3(model: Model) -> Check:
     """I_Q omega' = (I_Q omega) x omega - m r x (omega x r'); (omega, I_Q omega)/2 conserved."""
     b = _body_notation(model)
-    eq = model.definitions["equations"]
+    eq = model.details.equations
     w, r, rd = b.omega, b.r, b.r_rate
     exprs = list(b.I_Q * b.omega_rate - cross(b.I_Q * w, w) + b.m * cross(r, cross(w, rd)))
     exprs += list(eq.inertia_operator - b.I_Q)
@@ -697,7 +694,7 @@ def density_flux_residual(model: Model) -> sp.Expr:
     M03-2.2rho, M03-2.5
     """
     b = _body_notation(model)
-    eq = model.definitions["equations"]
+    eq = model.details.equations
     w, r, rd = b.omega, b.r, b.r_rate
     mu = model.param_group("mu")[0]
     II_rate = b.I_Q.applyfunc(lambda e: sum(sp.diff(e, r[i]) * rd[i] for i in range(3)))

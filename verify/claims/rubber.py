@@ -26,7 +26,7 @@ LINE = ("straight_line",)
 
 
 def _omega(model: Model) -> sp.Matrix:
-    return model.expand_aux(sp.Matrix(model.definitions["omega"]))
+    return model.expand_aux(sp.Matrix(model.omega))
 
 
 def _multipliers(model: Model) -> list[sp.Symbol]:

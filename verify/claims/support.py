@@ -99,16 +99,16 @@ class _Balls:
 
 
 def _balls(model: Model) -> _Balls:
-    der = model.definitions["derivation"]
+    der = model.details.derivation
     red = der.reduction
-    subs = model.definitions["on_directions"]
+    subs = model.details.on_directions
 
     def on(e):
         return sp.sympify(e).xreplace(subs)
 
     return _Balls(
         omega=der.omega,
-        n=model.definitions["directions"],
+        n=model.details.directions,
         w=der.ball_velocities,
         nu=der.spins,
         I=sp.diag(*der.I),
@@ -341,7 +341,7 @@ def support_notation(model: Model) -> SupportNotation:
         alpha=model.group("alpha"),
         beta=model.group("beta"),
         gamma=model.group("gamma"),
-        omega=sp.Matrix(model.definitions["omega"]),
+        omega=sp.Matrix(model.omega),
         I=I,
         D_iso=D_iso,
         D_al=model.param_group("D_al")[0],
@@ -364,14 +364,14 @@ def _bkm12_32(model: Model) -> Check:
     for name in ("alpha", "beta", "gamma"):
         exprs += list(_rhs(model, name) - cross(model.group(name), w))
     M_of_w = n.operator() * w
-    exprs += list(model.definitions["momentum_rate_of_omega"] - cross(M_of_w + n.K, w))
+    exprs += list(model.details.momentum_rate_of_omega - cross(M_of_w + n.K, w))
     return Check(exprs, free=list(w))
 
 
 def _bkm12_33(model: Model) -> Check:
     n = support_notation(model)
     w = n.omega
-    exprs = list(model.definitions["momentum_of_omega"] - n.operator() * w)
+    exprs = list(model.momentum_of_omega - n.operator() * w)
     exprs += list(n.operator() * model.expand_aux(w) - n.M)  # omega(M) inverts it
     return Check(exprs, free=list(w))
 
@@ -396,7 +396,7 @@ def _conserved(which: str):
         }[which]
         exprs = [lie_derivative(f, model) for f in F]
         if which == "37":  # and it is the derived energy
-            derived = model.definitions["derived_energy"]
+            derived = model.details.derived_energy
             exprs.append(model.expand_aux(derived - dot(n.M, n.omega) / 2))
         if which == "Rem2":
             exprs.append(dot(P, P) - dot(P, a) ** 2 - dot(P, b) ** 2 - dot(P, cross(a, b)) ** 2)
@@ -443,8 +443,8 @@ def _rubber_closed(model: Model) -> Check:
 
     plain = build_model(SUPPORT, [e for e in model.effects if e != "rubber_balls"])
     exprs = [a - b for a, b in zip(model.rhs_expanded, plain.rhs_expanded, strict=True)]
-    exprs += list(model.definitions["momentum_of_omega"] - plain.definitions["momentum_of_omega"])
-    return Check(exprs, free=list(model.definitions["omega"]))
+    exprs += list(model.momentum_of_omega - plain.momentum_of_omega)
+    return Check(exprs, free=list(model.omega))
 
 
 # ------------------------------------------------------------------ N balls vs closed model
@@ -479,7 +479,7 @@ def _compare(n_balls: int):
         nb = _n_ball(n_balls, tuple(sorted(model.effects)), SEEDS[n_balls])
         b = _balls(nb)
         lam, r = _concrete_support(n_balls, SEEDS[n_balls])
-        space = nb.definitions["space_directions"]
+        space = nb.details.space_directions
         data = support_parameters(lam, r, [list(c) for c in space], effects=model.effects)
         n = support_notation(model)
         e = [n.alpha, n.beta, n.gamma]
@@ -500,7 +500,7 @@ def _compare(n_balls: int):
             return sp.sympify(x).xreplace(to_concrete)
 
         w = n.omega
-        II_closed = model.definitions["momentum_of_omega"].jacobian(w).applyfunc(closed)
+        II_closed = model.momentum_of_omega.jacobian(w).applyfunc(closed)
         exprs = list(b.II.applyfunc(balls) - II_closed)
         M_of_w = II_closed * w
         rate_closed = _rhs(model, "M").xreplace(dict(zip(n.M, M_of_w, strict=True)))
@@ -778,7 +778,7 @@ _CLAIMS += [
         system=SUPPORT,
         effects=GYRO,
         build=lambda m: Check(
-            _bkm12_32(m).exprs + _bkm12_34(m).exprs, free=list(m.definitions["omega"])
+            _bkm12_32(m).exprs + _bkm12_34(m).exprs, free=list(m.omega)
         ),
         note="derived from T = (omega, I omega)/2 + (K, omega) + sum lambda_k omega_k^2/2",
     ),
