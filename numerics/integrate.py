@@ -324,10 +324,14 @@ class Integrator:
     supports_events : bool
     options : tuple of str
         Names it accepts in ``taylor_options``.
+    backends : tuple of str
+        What it runs on, preferred first (``c``: compiled, ``numpy``: numpy or Python
+        numbers, ``mpmath``); :meth:`_prepare` picks one for the requested ``backend``.
     """
 
     name: ClassVar[str] = ""
     precisions: ClassVar[tuple[str, ...]] = ("double",)
+    backends: ClassVar[tuple[str, ...]] = ("mpmath",)
     rtol_floor: ClassVar[Mapping[str, float]] = {"double": 100.0}
     supports_events: ClassVar[bool] = False
     options: ClassVar[tuple[str, ...]] = ()
@@ -456,8 +460,12 @@ class Integrator:
 
     # ---------------------------------------------------------------- hooks
     def _prepare(self, problem: Problem, backend: str) -> str:
-        """Compile or load what the method runs on; return the backend's name."""
-        return "mpmath"
+        """Compile or load what the method runs on; return the backend's name.
+
+        The default: the method's first backend, whatever was requested (``mpmath.odefun``
+        has only one).
+        """
+        return self.backends[0]
 
     def _solve(self, problem: Problem, backend: str) -> Solution:
         raise NotImplementedError  # pragma: no cover
@@ -483,6 +491,7 @@ class ScipyMethod(Integrator):
 
     implicit: ClassVar[bool] = False
     supports_events = True
+    backends = ("c", "numpy")
 
     def _prepare(self, problem: Problem, backend: str) -> str:
         if backend == "numpy":
@@ -608,6 +617,7 @@ class TaylorMethod(Integrator):
     rtol_floor = {"double": 1.0, "quad": 1.0, "digits": 1.0}
     supports_events = True
     options = ("order", "step", "max_steps")
+    backends = ("c", "numpy", "mpmath")
 
     #: number library of the Python recurrences, per precision kind (``backend="numpy"``)
     python_libs: ClassVar[Mapping[str, str]] = {
@@ -622,7 +632,7 @@ class TaylorMethod(Integrator):
         kind = problem.precision.kind
         if backend == "numpy":
             return "numpy"
-        if kind == "digits":  # MPFR in Python: nothing to compile
+        if kind == "digits":  # MPFR in Python: nothing to compile (reported: python-gmpy2)
             return "mpmath"
         # compile or load now: set-up, not wall time
         if load_taylor_library(problem.code, kind) is None and backend == "c":

@@ -174,9 +174,15 @@ def test_method_data_is_consistent():
     for kind, number_type in NUMBER_TYPES.items():
         assert number_type.kind == kind
         assert kind in METHODS[number_type.default_method].precisions
+        assert cls.backends and set(cls.backends) <= {"c", "numpy", "mpmath"}
     prec = Precision(30)
     assert METHODS["taylor"]().floor(prec) == prec.epsilon
     assert METHODS["odefun"]().floor(prec) == prec.min_rtol
+    # a method with one backend runs on it whatever is asked
+    r = integrate(
+        BALL, REFERENCE_Y0, 0.1, REFERENCE_PARAMS, precision=20, method="odefun", backend="numpy"
+    )
+    assert r.success and r.backend == "mpmath"
 
 
 def test_result_repr_is_short_and_names_the_evidence():
