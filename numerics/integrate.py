@@ -371,8 +371,8 @@ class Integrator:
         if kind not in self.precisions:
             raise UserInputError(
                 f"method {self.name} works in {' or '.join(self.precisions)} precision, "
-                f"not {precision!r}; "
-                + ("use --method taylor" if kind != "double" else "use --precision double")
+                f"not {precision!r}; use --method {NUMBER_TYPES[kind].default_method} or "
+                f"--precision {' or '.join(self.precisions)}"
             )
         if events and not self.supports_events:
             raise UserInputError(f"method {self.name} does not locate events; use taylor")
@@ -619,6 +619,8 @@ class TaylorMethod(Integrator):
     options = ("order", "step", "max_steps")
     backends = ("c", "numpy", "mpmath")
 
+    #: precision kinds with a compiled C integrator (``double``, ``__float128``)
+    compiled: ClassVar[tuple[str, ...]] = ("double", "quad")
     #: number library of the Python recurrences, per precision kind (``backend="numpy"``)
     python_libs: ClassVar[Mapping[str, str]] = {
         "double": "float",
@@ -632,7 +634,7 @@ class TaylorMethod(Integrator):
         kind = problem.precision.kind
         if backend == "numpy":
             return "numpy"
-        if kind == "digits":  # MPFR in Python: nothing to compile (reported: python-gmpy2)
+        if kind not in self.compiled:  # MPFR in Python: nothing to compile
             return "mpmath"
         # compile or load now: set-up, not wall time
         if load_taylor_library(problem.code, kind) is None and backend == "c":
