@@ -51,6 +51,8 @@ __all__ = [
     "encode_binary128",
     "decode_binary128",
     "python_lib",
+    "RealType",
+    "REAL_TYPES",
 ]
 
 _QUAD_DEFINE = "#define CHAPLYGIN_TAYLOR_QUAD 1\n"
@@ -135,6 +137,93 @@ def decode_binary128(buf: np.ndarray | bytes, count: int | None = None) -> list:
     return out
 
 
+# --------------------------------------------------------------------------- C reals
+
+
+def _pack_double(values: Sequence[Any]) -> np.ndarray:
+    return np.ascontiguousarray(np.asarray([float(v) for v in values], dtype=float))
+
+
+def _unpack_double(buf: np.ndarray, count: int | None = None) -> np.ndarray:
+    return buf if count is None else buf[:count]
+
+
+def _rows_array(flat: np.ndarray, n: int, width: int) -> np.ndarray:
+    return np.asarray(flat[: n * width]).reshape(n, width).copy()
+
+
+def _rows_lists(flat: list, n: int, width: int) -> list[list]:
+    return [flat[i * width : (i + 1) * width] for i in range(n)]
+
+
+def _times_113(values: Sequence) -> np.ndarray:
+    with mpmath.workprec(113):
+        return np.array([+mpmath.mpf(v) for v in values], dtype=object)
+
+
+@dataclass(frozen=True)
+class RealType:
+    """The C ``REAL`` of one Taylor library and how values cross the interface.
+
+    Attributes
+    ----------
+    size : int
+        Bytes per value.
+    define : str
+        Source prefix selecting the type (``CHAPLYGIN_TAYLOR_QUAD``).
+    ldlibs : tuple of str
+    pack : callable
+        Values -> buffer.
+    unpack : callable
+        ``(buffer, count=None)`` -> float64 array (double) or list of mpf (quad).
+    empty : callable
+        ``count`` -> zeroed buffer.
+    rows : callable
+        ``(flat, n, width)`` -> ``n`` rows of ``width`` values.
+    times : callable
+        Times as the output array (float64, or mpf at 113 bits).
+    dtype : type
+        dtype of the output arrays.
+    """
+
+    size: int
+    define: str
+    ldlibs: tuple[str, ...]
+    pack: Callable[[Sequence[Any]], np.ndarray]
+    unpack: Callable[..., Any]
+    empty: Callable[[int], np.ndarray]
+    rows: Callable[[Any, int, int], Any]
+    times: Callable[[Sequence], np.ndarray]
+    dtype: type
+
+
+#: The C integrator's real types (``double`` and ``__float128``).
+REAL_TYPES: dict[str, RealType] = {
+    "double": RealType(
+        size=8,
+        define="",
+        ldlibs=(),
+        pack=_pack_double,
+        unpack=_unpack_double,
+        empty=np.zeros,
+        rows=_rows_array,
+        times=lambda values: np.asarray(values, dtype=float),
+        dtype=float,
+    ),
+    "quad": RealType(
+        size=16,
+        define=_QUAD_DEFINE,
+        ldlibs=("-lquadmath",),
+        pack=encode_binary128,
+        unpack=decode_binary128,
+        empty=lambda count: np.zeros(16 * count, np.uint8),
+        rows=_rows_lists,
+        times=_times_113,
+        dtype=object,
+    ),
+}
+
+
 # --------------------------------------------------------------------------- C library
 
 
@@ -151,6 +240,7 @@ class CompiledTaylor:
     def __init__(self, library: os.PathLike | str, kind: str, expected_hash: str | None = None):
         self.lib = _ffi.dlopen(os.fspath(library))
         self.kind = kind
+        self.real = REAL_TYPES[kind]
         self.model_hash = _ffi.string(self.lib.chaplygin_taylor_model_hash()).decode()
         if expected_hash is not None and self.model_hash != expected_hash:
             raise ValueError(
@@ -159,23 +249,21 @@ class CompiledTaylor:
         sizes = _ffi.new("int[5]")
         self.lib.chaplygin_taylor_sizes(sizes)
         self.n_state, self.n_param, self.n_nodes, self.max_order, self.real_size = list(sizes)
-        expected = 8 if kind == "double" else 16
-        if self.real_size != expected:
+        if self.real_size != self.real.size:
             raise ValueError(f"{library} holds {self.real_size}-byte reals, not {kind}")
 
     # conversion between Python values and REAL buffers
     def pack(self, values: Sequence[Any]) -> np.ndarray:
-        if self.kind == "double":
-            return np.ascontiguousarray(np.asarray([float(v) for v in values], dtype=float))
-        return encode_binary128(values)
+        """Buffer of ``values`` as the library's reals."""
+        return self.real.pack(values)
 
     def unpack(self, buf: np.ndarray, count: int | None = None) -> Any:
-        if self.kind == "double":
-            return buf if count is None else buf[:count]
-        return decode_binary128(buf, count)
+        """The first ``count`` reals of ``buf`` (all by default)."""
+        return self.real.unpack(buf, count)
 
     def empty(self, count: int) -> np.ndarray:
-        return np.zeros(count) if self.kind == "double" else np.zeros(16 * count, np.uint8)
+        """A zeroed buffer of ``count`` reals."""
+        return self.real.empty(count)
 
     @staticmethod
     def _ptr(a: np.ndarray):
@@ -190,11 +278,7 @@ class CompiledTaylor:
         self.lib.chaplygin_taylor_coefficients(
             order, ptr(self.pack([t0])), ptr(self.pack(y)), ptr(self.pack(p)), ptr(out)
         )
-        vals = self.unpack(out)
-        if self.kind == "double":
-            return np.asarray(vals).reshape(self.n_state, order + 1)
-        S = order + 1
-        return [vals[i * S : (i + 1) * S] for i in range(self.n_state)]
+        return self.real.rows(self.unpack(out), self.n_state, order + 1)
 
 
 _LIBS: dict[tuple[str, str], CompiledTaylor | None] = {}
@@ -209,10 +293,8 @@ def load_taylor_library(code, kind: str) -> CompiledTaylor | None:
     key = (code.hash, kind)
     if key in _LIBS:
         return _LIBS[key]
-    source = code.taylor_c_source
-    ldlibs: tuple[str, ...] = ()
-    if kind == "quad":
-        source, ldlibs = _QUAD_DEFINE + source, ("-lquadmath",)
+    real = REAL_TYPES[kind]
+    source, ldlibs = real.define + code.taylor_c_source, real.ldlibs
     try:
         path = compile_c(source, ldlibs=ldlibs)
         lib = CompiledTaylor(path, kind, expected_hash=code.hash)
@@ -357,17 +439,10 @@ class _Stepper:
         )
         p = self.ord[0]
         S = p + 1
-        if lib.kind == "double":
-            C = self.coeffs[: n * S].reshape(n, S).copy()
-            h = float(self.h[0])
-            t_new, y_new = float(ty[0]), ty[1:].copy()
-        else:
-            flat = decode_binary128(self.coeffs, n * S)
-            C = [flat[i * S : (i + 1) * S] for i in range(n)]
-            (h,) = decode_binary128(self.h, 1)
-            vals = decode_binary128(ty, n + 1)
-            t_new, y_new = vals[0], vals[1:]
-        return t_new, y_new, C, h, p, status
+        C = lib.real.rows(lib.unpack(self.coeffs, n * S), n, S)
+        (h,) = lib.unpack(self.h, 1)
+        vals = lib.unpack(ty, n + 1)
+        return vals[0], vals[1:], C, h, p, status
 
     def _py_step(self, t, y, t_end):
         L, kind = self.lib, self.lib_kind
@@ -575,14 +650,10 @@ def _c_run(clib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps):
         _ffi.cast("long *", stats.ctypes.data),
     )
     done = int(stats[3])
-    if clib.kind == "double":
-        y = y_eval[: done * n].reshape(done, n).T.copy()
-        t = np.asarray(t_eval[:done], dtype=float)
-    else:
-        vals = decode_binary128(y_eval, done * n)
-        y = np.array(vals, dtype=object).reshape(done, n).T if done else np.empty((n, 0), object)
-        with mpmath.workprec(113):
-            t = np.array([+mpmath.mpf(v) for v in t_eval[:done]], dtype=object)
+    real = clib.real
+    rows = real.rows(real.unpack(y_eval, done * n), done, n)
+    y = np.array(rows, dtype=real.dtype).reshape(done, n).T.copy()
+    t = real.times(t_eval[:done])
     return TaylorSolution(
         t=t,
         y=y,
