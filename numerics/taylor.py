@@ -53,6 +53,8 @@ __all__ = [
     "python_lib",
     "RealType",
     "REAL_TYPES",
+    "LoopNumbers",
+    "LOOP_NUMBERS",
 ]
 
 _QUAD_DEFINE = "#define CHAPLYGIN_TAYLOR_QUAD 1\n"
@@ -389,6 +391,70 @@ class TaylorSolution:
     y_events: list = field(default_factory=list)
 
 
+@dataclass(frozen=True)
+class LoopNumbers:
+    """The numbers of the Python-side loop (steps, events, dense output) in one precision.
+
+    Attributes
+    ----------
+    number : callable
+        A value as the loop's number (``float`` or ``mpmath.mpf``).
+    vector : callable
+        A state as the loop's vector (float64 array or list of mpf).
+    dtype : type
+        dtype of the output arrays.
+    linspace : callable
+        ``(t0, t1, n)`` equispaced output times.
+    eps : callable
+        Unit roundoff (event location works to it).
+    bits : callable
+        MPFR bits of the Python recurrences (None: floats, no gmpy2 context).
+    python_lib : str
+        Number library of the Python recurrences (:func:`python_lib`).
+    compiled : bool
+        Whether a C integrator exists (:data:`REAL_TYPES`).
+    """
+
+    number: Callable[[Any], Any]
+    vector: Callable[[Sequence], Any]
+    dtype: type
+    linspace: Callable[[Any, Any, int], Sequence]
+    eps: Callable[[], float]
+    bits: Callable[[], int | None]
+    python_lib: str
+    compiled: bool
+
+
+def _mpf_loop(eps: Callable[[], float], bits: Callable[[], int], compiled: bool) -> LoopNumbers:
+    return LoopNumbers(
+        number=mpmath.mpf,
+        vector=lambda values: [mpmath.mpf(v) for v in values],
+        dtype=object,
+        linspace=lambda a, b, n: mpmath.linspace(mpmath.mpf(a), mpmath.mpf(b), n),
+        eps=eps,
+        bits=bits,
+        python_lib="gmpy2",
+        compiled=compiled,
+    )
+
+
+#: One row per precision of :func:`taylor_solve` (heyoka's ``fp_type``).
+LOOP_NUMBERS: dict[str, LoopNumbers] = {
+    "double": LoopNumbers(
+        number=float,
+        vector=lambda values: np.asarray(values, dtype=float),
+        dtype=float,
+        linspace=lambda a, b, n: np.linspace(float(a), float(b), n),
+        eps=lambda: 2.0**-52,
+        bits=lambda: None,
+        python_lib="float",
+        compiled=True,
+    ),
+    "quad": _mpf_loop(lambda: 2.0**-112, lambda: 113, compiled=True),
+    "digits": _mpf_loop(lambda: mpmath.eps, lambda: mpmath.mp.prec, compiled=False),
+}
+
+
 class _Stepper:
     """One adaptive step in the chosen number system; ``step`` returns the polynomial."""
 
@@ -406,9 +472,7 @@ class _Stepper:
             self.ord = _ffi.new("int *")
             self.backend = f"c-{kind}"
         else:
-            self.lib_kind = "float" if kind == "double" else "gmpy2"
-            if kind == "digits-mpmath":
-                self.lib_kind = "mpmath"
+            self.lib_kind = "mpmath" if kind == "digits-mpmath" else LOOP_NUMBERS[kind].python_lib
             self.lib = python_lib(self.lib_kind)
             self.fn = code.taylor.taylor_coefficients
             self.p = [_from_mpf(v, self.lib_kind) for v in p]
@@ -581,38 +645,34 @@ def taylor_solve(
     -------
     TaylorSolution
     """
-    if precision not in ("double", "quad", "digits"):
+    if precision not in LOOP_NUMBERS:
         raise ValueError(f"unknown precision {precision!r}")
+    numbers = LOOP_NUMBERS[precision]
     if order is not None and not 2 <= order <= 80:
         raise ValueError("order must be in 2..80")
     t0, t1 = t_span
     direction = 1 if t1 > t0 else -1
-    if t_eval is None:
-        if precision == "double":
-            t_eval = list(np.linspace(float(t0), float(t1), 11))
-        else:
-            t_eval = list(mpmath.linspace(mpmath.mpf(t0), mpmath.mpf(t1), 11))
-    t_eval = list(t_eval)
+    t_eval = list(numbers.linspace(t0, t1, 11) if t_eval is None else t_eval)
     if any(direction * (t_eval[i + 1] - t_eval[i]) < 0 for i in range(len(t_eval) - 1)):
         raise ValueError("t_eval must be sorted in the direction of integration")
     if events is not None and callable(events):
         events = [events]
     events = list(events or [])
     clib = None
-    if precision in ("double", "quad") and lib in (None, "c"):
+    if numbers.compiled and lib in (None, "c"):
         clib = load_taylor_library(code, precision)
     kind = precision
     if clib is None and lib == "mpmath":
         kind = "digits-mpmath"
-    if clib is None and lib == "float" and precision != "double":
+    if clib is None and lib == "float" and numbers.python_lib != "float":
         raise ValueError("lib='float' works in double precision only")
     if clib is not None and not events:
         return _c_run(clib, y0, (t0, t1), p, rtol, atol, t_eval, order, step, max_steps)
-    if clib is None and kind in ("quad", "digits"):
+    bits = numbers.bits()
+    if clib is None and kind == precision and bits is not None:
         # gmpy2/MPFR at the working precision (113 bits for the quad fallback). The stepper
         # converts the parameters when it is made: it must be made inside the context, or
         # MPFR rounds them to the default 53 bits.
-        bits = 113 if precision == "quad" else mpmath.mp.prec
         with gmpy2.context(gmpy2.get_context(), precision=bits):
             stepper = _Stepper(code, kind, p, rtol, atol, order, step, clib)
             return _py_run(stepper, y0, (t0, t1), t_eval, events, max_steps, precision)
@@ -667,15 +727,10 @@ def _c_run(clib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps):
 
 
 def _py_run(stepper, y0, t_span, t_eval, events, max_steps, precision):
-    t0, t1 = t_span
-    double = precision == "double"
-    if double:
-        t, y = float(t0), np.asarray(y0, dtype=float)
-        eps = 2.0**-52
-    else:
-        t, y = mpmath.mpf(t0), [mpmath.mpf(v) for v in y0]
-        eps = 2.0**-112 if precision == "quad" else mpmath.eps
-        t1 = mpmath.mpf(t1)
+    numbers = LOOP_NUMBERS[precision]
+    t, t1 = numbers.number(t_span[0]), numbers.number(t_span[1])
+    y = numbers.vector(y0)
+    eps = numbers.eps()
     direction = 1 if t1 > t else -1
     ts, ys = [], []
     j = 0
@@ -724,16 +779,11 @@ def _py_run(stepper, y0, t_span, t_eval, events, max_steps, precision):
         if status:
             break
     n = len(y0)
-    if double:
-        ty = np.asarray(ts, dtype=float)
-        yy = np.asarray(ys, dtype=float).T if ys else np.empty((n, 0))
-        te = [np.asarray(v, dtype=float) for v in t_events]
-        ye = [np.asarray(v, dtype=float).reshape(-1, n) for v in y_events]
-    else:
-        ty = np.array([mpmath.mpf(v) for v in ts], dtype=object)
-        yy = np.array(ys, dtype=object).T if ys else np.empty((n, 0), dtype=object)
-        te = [np.array(v, dtype=object) for v in t_events]
-        ye = [np.array(v, dtype=object).reshape(-1, n) for v in y_events]
+    dtype = numbers.dtype
+    ty = np.array([numbers.number(v) for v in ts], dtype=dtype)
+    yy = np.array(ys, dtype=dtype).T if ys else np.empty((n, 0), dtype=dtype)
+    te = [np.array(v, dtype=dtype) for v in t_events]
+    ye = [np.array(v, dtype=dtype).reshape(-1, n) for v in y_events]
     msg = _MESSAGES.get(status, "failed")
     if stop:
         msg = "a terminal event occurred"
