@@ -148,7 +148,7 @@ def test_bad_options_are_user_errors():
 
 
 def test_method_may_be_a_name_a_class_or_an_instance():
-    from chaplygin.numerics.integrate import DOP853, get_integrator
+    from chaplygin.numerics.integrators import DOP853, get_integrator
 
     runs = [
         integrate(BALL, REFERENCE_Y0, 2, REFERENCE_PARAMS, method=m, rtol=1e-10, atol=1e-10)
@@ -165,7 +165,7 @@ def test_method_data_is_consistent():
     """Every method's floor covers its precisions, and it is >= 1 eps (no method beats the
     unit roundoff); the default method of each precision works in it."""
     from chaplygin.numerics.inputs import Precision
-    from chaplygin.numerics.integrate import NUMBER_TYPES
+    from chaplygin.numerics.integrators import NUMBER_TYPES
 
     for name, cls in METHODS.items():
         assert cls.name == name
