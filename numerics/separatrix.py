@@ -187,7 +187,9 @@ ENGINES = ("taylor", "odefun")
 _ENGINE_ALIASES = {"jet": "taylor"}
 
 
-def flow(y0, params, t_end, digits: int, engine: str = "taylor"):
+def flow(
+    y0: Sequence, params: Sequence, t_end, digits: int, engine: str = "taylor"
+) -> tuple[list, int]:
     """Integrate the full ``chaplygin_ball__contact_point`` equations from ``y0`` at t = 0.
 
     The one place the integrator is chosen: ``taylor`` (the generated Taylor integrator,

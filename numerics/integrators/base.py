@@ -255,7 +255,9 @@ class Integrator:
                 f"unknown taylor option(s) {sorted(unknown)}; valid: {', '.join(self.options)}"
             )
 
-    def run(self, problem: Problem, backend: str = "auto", setup_s: float = 0.0):
+    def run(
+        self, problem: Problem, backend: str = "auto", setup_s: float = 0.0
+    ) -> IntegrationResult:
         """Integrate ``problem`` and return the result with its evidence.
 
         Chooses the backend and prepares compiled parts (set-up time), runs :meth:`_solve`
