@@ -29,7 +29,7 @@ __all__ = [
 FACTOR_SEED = 0
 
 
-def seeded_factor(expr, *gens, **args):
+def seeded_factor(expr: sp.Expr, *gens: sp.Symbol, **args: object) -> sp.Expr:
     """``sympy.factor`` with sympy's random generator seeded (and restored afterwards).
 
     Multivariate factorisation (Wang's algorithm) draws random evaluation points from
@@ -37,6 +37,21 @@ def seeded_factor(expr, *gens, **args):
     numbers before: the same call took under a second or more than six minutes (the
     inertia determinant of M03-2.5's ``mu Id + 2 m B`` body). Seeded, a derivation takes
     the same path and time in every process.
+
+    Parameters
+    ----------
+    expr : sympy.Expr
+        Expression to factor.
+    *gens : sympy.Symbol
+        Generators passed on to ``sympy.factor``.
+    **args
+        Options passed on to ``sympy.factor`` (``extension``, ``deep`` ...).
+
+    Returns
+    -------
+    sympy.Expr
+        ``sympy.factor(expr, *gens, **args)``, computed with the generator seeded by
+        :data:`FACTOR_SEED`.
     """
     from sympy.core import random as sympy_random
 
@@ -54,7 +69,18 @@ def _groebner(constraints: tuple[sp.Expr, ...], gens: tuple[sp.Symbol, ...]) -> 
 
 
 def numerator_of(expr: sp.Expr) -> sp.Expr:
-    """Expanded numerator of ``expr`` brought to one fraction."""
+    """Expanded numerator of ``expr`` brought to one fraction.
+
+    Parameters
+    ----------
+    expr : sympy.Expr
+        A rational expression.
+
+    Returns
+    -------
+    sympy.Expr
+        The expanded numerator of ``cancel(together(expr))``.
+    """
     num, _ = sp.fraction(sp.cancel(sp.together(expr)))
     return sp.expand(num)
 
@@ -77,6 +103,13 @@ class ConstraintIdeal:
 
     @property
     def basis(self) -> sp.GroebnerBasis | None:
+        """Groebner basis (grevlex) of the constraints, cached across instances.
+
+        Returns
+        -------
+        sympy.GroebnerBasis or None
+            The basis in ``gens``; None when there are no constraints.
+        """
         if not self.constraints:
             return None
         return _groebner(self.constraints, self.gens)
@@ -85,6 +118,17 @@ class ConstraintIdeal:
         """Normal form of a polynomial in ``gens`` modulo the ideal.
 
         Coefficients may be rational functions of other symbols (parameters).
+
+        Parameters
+        ----------
+        poly_expr : sympy.Expr
+            A polynomial in ``gens``.
+
+        Returns
+        -------
+        sympy.Expr
+            The expanded remainder on division by the Groebner basis (``poly_expr``
+            expanded when there are no constraints or no generator occurs).
         """
         expr = sp.expand(poly_expr)
         if self.basis is None or expr == 0:
@@ -98,18 +142,54 @@ class ConstraintIdeal:
         return sp.expand(remainder)
 
     def is_zero(self, expr: sp.Expr) -> bool:
-        """True when ``expr`` (a rational function) vanishes on the variety."""
+        """True when ``expr`` (a rational function) vanishes on the variety.
+
+        Parameters
+        ----------
+        expr : sympy.Expr
+            A rational function of ``gens`` (and parameters).
+
+        Returns
+        -------
+        bool
+            Whether the numerator of ``expr`` reduces to zero modulo the ideal.
+        """
         return self.reduce(numerator_of(expr)) == 0
 
     def coefficient_equations(self, expr: sp.Expr) -> list[sp.Expr]:
-        """Coefficients (in ``gens``) of the normal form of the numerator of ``expr``."""
+        """Coefficients (in ``gens``) of the normal form of the numerator of ``expr``.
+
+        Parameters
+        ----------
+        expr : sympy.Expr
+            A rational function of ``gens`` (and parameters).
+
+        Returns
+        -------
+        list of sympy.Expr
+            The coefficients, expressions in the parameters; empty when ``expr``
+            vanishes on the variety. ``expr`` is zero on it for the parameter values
+            that solve all of them.
+        """
         reduced = self.reduce(numerator_of(expr))
         if reduced == 0:
             return []
         return list(sp.Poly(reduced, *self.gens).coeffs())
 
     def restricted_to(self, symbols: Iterable[sp.Symbol]) -> ConstraintIdeal:
-        """The constraints that involve only ``symbols`` (a sub-ideal)."""
+        """The constraints that involve only ``symbols`` (a sub-ideal).
+
+        Parameters
+        ----------
+        symbols : iterable of sympy.Symbol
+            Generators to keep.
+
+        Returns
+        -------
+        ConstraintIdeal
+            The ideal of the constraints whose generators all lie in ``symbols``, in
+            the kept generators (in their original order).
+        """
         keep = set(symbols)
         cons = [c for c in self.constraints if c.free_symbols & set(self.gens) <= keep]
         return ConstraintIdeal(cons, [g for g in self.gens if g in keep])
@@ -148,8 +228,32 @@ class RationalFunctionBuilder:
         lc = p.LC
         return p.quo_ground(lc), lc
 
-    def convert(self, expr: sp.Expr):
-        """``(numerator, {factor: power})`` of a rational expression."""
+    def convert(
+        self, expr: sp.Expr
+    ) -> tuple[sp.polys.rings.PolyElement, dict[sp.polys.rings.PolyElement, int]]:
+        """``(numerator, {factor: power})`` of a rational expression.
+
+        Results are memoised per builder.
+
+        Parameters
+        ----------
+        expr : sympy.Expr
+            A rational function of the generators (integer powers only).
+
+        Returns
+        -------
+        numerator : sympy.polys.rings.PolyElement
+            Numerator in the builder's ring.
+        denominator : dict of PolyElement to int
+            Monic factors of the denominator with their powers.
+
+        Raises
+        ------
+        UnsupportedExpression
+            When ``expr`` is not a rational function of the generators.
+        ZeroDivisionError
+            When ``expr`` contains a negative power of zero.
+        """
         expr = sp.sympify(expr)
         hit = self._memo.get(expr)
         if hit is not None:
@@ -204,19 +308,71 @@ class RationalFunctionBuilder:
             return num.quo_ground(lc ** (-e)), {f: -e}
         raise UnsupportedExpression(f"not a rational function of the generators: {expr}")
 
-    def numerator(self, expr: sp.Expr):
-        """Numerator (a PolyElement) of ``expr`` over its factored denominator."""
+    def numerator(self, expr: sp.Expr) -> sp.polys.rings.PolyElement:
+        """Numerator (a PolyElement) of ``expr`` over its factored denominator.
+
+        Parameters
+        ----------
+        expr : sympy.Expr
+            A rational function of the generators.
+
+        Returns
+        -------
+        sympy.polys.rings.PolyElement
+            The numerator of :meth:`convert`.
+
+        Raises
+        ------
+        UnsupportedExpression
+            When ``expr`` is not a rational function of the generators.
+        """
         return self.convert(expr)[0]
 
-    def to_expr(self, poly) -> sp.Expr:
+    def to_expr(self, poly: sp.polys.rings.PolyElement) -> sp.Expr:
+        """A ring element as a sympy expression.
+
+        Parameters
+        ----------
+        poly : sympy.polys.rings.PolyElement
+            Element of the builder's ring.
+
+        Returns
+        -------
+        sympy.Expr
+            ``poly.as_expr()``, in the builder's generators.
+        """
         return poly.as_expr()
 
 
 _RING_BASES: dict = {}
 
 
-def ring_normal_form(poly, constraints: Sequence[sp.Expr], builder: RationalFunctionBuilder):
-    """Normal form of a PolyElement modulo the ideal of ``constraints`` (in the same ring)."""
+def ring_normal_form(
+    poly: sp.polys.rings.PolyElement,
+    constraints: Sequence[sp.Expr],
+    builder: RationalFunctionBuilder,
+) -> sp.polys.rings.PolyElement:
+    """Normal form of a PolyElement modulo the ideal of ``constraints`` (in the same ring).
+
+    The grevlex Groebner basis of the constraints is computed once per
+    ``(constraints, generators)`` and cached at module level.
+
+    Parameters
+    ----------
+    poly : sympy.polys.rings.PolyElement
+        Element of ``builder.ring``.
+    constraints : sequence of sympy.Expr
+        Polynomials in ``builder.gens`` that vanish on the phase space.
+    builder : RationalFunctionBuilder
+        Owner of the ring ``poly`` lives in.
+
+    Returns
+    -------
+    sympy.polys.rings.PolyElement
+        The remainder of ``poly`` on division by the Groebner basis (``poly`` itself when
+        there are no constraints or ``poly`` is zero); zero exactly when ``poly`` lies in
+        the ideal.
+    """
     if not constraints or poly.is_zero:
         return poly
     from sympy.polys.groebnertools import groebner as ring_groebner

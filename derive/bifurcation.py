@@ -53,6 +53,18 @@ def axis_rotation(i: int, angle: sp.Expr) -> sp.Matrix:
     """Rotation matrix about the body axis ``e_i`` (``i`` = 0, 1, 2) by ``angle``.
 
     ``v(t) = axis_rotation(i, -w t) v0`` solves ``v' = v x (w e_i)``.
+
+    Parameters
+    ----------
+    i : int
+        The axis, 0, 1 or 2.
+    angle : sympy.Expr
+        Rotation angle (counter-clockwise about ``e_i``).
+
+    Returns
+    -------
+    sympy.Matrix, shape (3, 3)
+        The rotation matrix.
     """
     c, s = sp.cos(angle), sp.sin(angle)
     j, k = (i + 1) % 3, (i + 2) % 3
@@ -72,6 +84,20 @@ def steady_rotation_residual(model: Model) -> sp.Matrix:
     and the space-fixed vectors ``v``; with ``omega`` constant each vector obeys
     ``v' = v x omega`` (the model's Poisson equations). Expanded: a polynomial vector in
     ``omega`` and the vectors.
+
+    Parameters
+    ----------
+    model : Model
+        A model with ``definitions["omega"]`` and ``definitions["momentum_of_omega"]``.
+
+    Returns
+    -------
+    sympy.Matrix, shape (3, 1)
+        The residual, zero exactly for the steady rotations.
+
+    References
+    ----------
+    BKM12-25
     """
     w = sp.Matrix(model.definitions["omega"])
     M = model.definitions["momentum_of_omega"]
@@ -88,6 +114,21 @@ def steady_axes(model: Model) -> list[sp.Matrix]:
 
     Solves :func:`steady_rotation_residual` ``= 0`` for ``omega`` (the vectors drop out
     of it); with distinct principal moments the solutions are the three axes.
+
+    Parameters
+    ----------
+    model : Model
+        A model with ``definitions["omega"]`` and ``definitions["momentum_of_omega"]``.
+
+    Returns
+    -------
+    list of sympy.Matrix, shape (3, 1)
+        The unit vectors ``e_i`` for which ``omega = w e_i`` (other components zero)
+        solves the residual.
+
+    References
+    ----------
+    BKM12-25
     """
     w = list(model.definitions["omega"])
     res = steady_rotation_residual(model)
@@ -146,6 +187,11 @@ def steady_rotation(model: Model, axis: int, w: sp.Symbol | None = None) -> Stea
     Returns
     -------
     SteadyRotation
+        The family, every state symbol as a function of ``model.time``.
+
+    References
+    ----------
+    BKM12-25, BKM12-crit, BKM12-2.7a-sol, BKM12-2.7b, K01-3.2
     """
     t = model.time
     w = sp.Symbol("w", real=True) if w is None else w
@@ -163,7 +209,18 @@ def steady_rotation(model: Model, axis: int, w: sp.Symbol | None = None) -> Stea
 
 
 def casimir_names(model: Model) -> list[str]:
-    """Names of the linear integrals ``(M, v)`` of the model's space-fixed vectors."""
+    """Names of the linear integrals ``(M, v)`` of the model's space-fixed vectors.
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+
+    Returns
+    -------
+    list of str
+        ``"(M,<name>)"`` for each vector of the model's Poisson groups, in order.
+    """
     return [f"(M,{name})" for name in _vector_names(model)]
 
 
@@ -171,6 +228,19 @@ def family_integrals(model: Model, fam: SteadyRotation) -> dict[str, sp.Expr]:
     """``E = (M, omega)``, ``C = (M, M)`` and ``(M, v)`` for each vector, on a family.
 
     They are constant along the family (proved in the claims); returned at ``t = 0``.
+
+    Parameters
+    ----------
+    model : Model
+        The model the family belongs to.
+    fam : SteadyRotation
+        A family of :func:`steady_rotation`.
+
+    Returns
+    -------
+    dict of str to sympy.Expr
+        ``"E"``, ``"C"`` and ``"(M,<name>)"`` for each vector, in ``w``, the vectors'
+        components at ``t = 0`` and the parameters.
     """
     at0 = {model.time: 0}
     M = fam.M.xreplace(at0)
@@ -189,6 +259,13 @@ def bifurcation_curve(model: Model, axis: int) -> sp.Expr:
     parameters are eliminated with a lex Groebner basis; the element of the elimination
     ideal that is linear in ``E`` is solved for it.
 
+    Parameters
+    ----------
+    model : Model
+        The ball (possibly with ``contact_point``) or the spherical support.
+    axis : int
+        0, 1 or 2.
+
     Returns
     -------
     sympy.Expr
@@ -199,6 +276,10 @@ def bifurcation_curve(model: Model, axis: int) -> sp.Expr:
     ------
     ValueError
         When the elimination ideal has no element linear in ``E``.
+
+    References
+    ----------
+    BKM12-24, BKM12-Sigma_i, BKM12-2.7b, K01-3.1, K01-3.2c
     """
     fam = steady_rotation(model, axis)
     vals = family_integrals(model, fam)
@@ -229,10 +310,21 @@ def steady_parameters(model: Model, axis: int) -> list[dict[str, sp.Expr]]:
     ``gamma(0)`` only through ``gamma_i``) for ``w`` and ``gamma_i``: two solutions, one
     for each sense of rotation (BKM12-crit: two critical solutions per ``M_gamma``).
 
+    Parameters
+    ----------
+    model : Model
+        A model with a ``gamma`` vector (the ball).
+    axis : int
+        0, 1 or 2.
+
     Returns
     -------
     list of dict
         ``{"w": expr, "g": expr}`` in the symbols ``C``, ``M_gamma`` and the parameters.
+
+    References
+    ----------
+    BKM12-crit
     """
     fam = steady_rotation(model, axis)
     gamma = model.vectors["gamma"]
@@ -256,6 +348,22 @@ def multiple_root_locus(
     distinct ``a_i`` exactly where ``res(Phi, L) = 0`` (or ``L`` degenerates). The
     factors of the resultant that involve ``E`` or ``C`` are returned, each once and
     monic in ``E`` where it contains ``E``.
+
+    Parameters
+    ----------
+    a : tuple of three sympy.Expr
+        ``a_i = D/I_i``.
+    D : sympy.Expr
+        ``m b^2``.
+    E : sympy.Symbol
+        Twice the energy.
+    C : sympy.Symbol
+        The integral ``(M, M)``.
+
+    Returns
+    -------
+    list of sympy.Expr
+        The factors, each in factored form.
 
     References
     ----------

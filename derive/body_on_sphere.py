@@ -27,6 +27,8 @@ M03-2.1 .. M03-2.5 (FORMULAS.md §4.2).
 
 from __future__ import annotations
 
+import random
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import sympy as sp
@@ -137,6 +139,7 @@ def derive_body_on_sphere(
     Returns
     -------
     BodyOnSphere
+        The derived kinematics, momentum balance and energy.
     """
     t = sp.Symbol("t", real=True)
     v = vector("v", real=True)
@@ -185,7 +188,7 @@ def body_on_sphere_model(
     parameters: tuple[ParameterSpec, ...],
     effects: tuple[str, ...] = (),
     constraints: tuple[sp.Expr, ...] = (),
-    sampler=None,
+    sampler: Callable[[random.Random, dict[sp.Symbol, sp.Rational]], None] | None = None,
 ) -> Model:
     """Model with state ``omega, r`` (``r'`` an auxiliary ``rdot``); density left to claims.
 
@@ -193,7 +196,8 @@ def body_on_sphere_model(
     ----------
     surface : sympy.Expr
         ``f(r)`` in the symbols ``r1, r2, r3``.
-    inertia : sympy.Matrix
+    inertia : sympy.Matrix, shape (3, 3)
+        Central inertia tensor ``I``.
     parameters : tuple of ParameterSpec
         The parameters the surface and inertia use (``m``, ``k`` come first).
     effects : tuple of str
@@ -202,6 +206,17 @@ def body_on_sphere_model(
         Polynomials vanishing on the phase space (the body surface ``f = 0``).
     sampler : callable, optional
         Exact rational sampler of the surface (``definitions["phase_space_sampler"]``).
+
+    Returns
+    -------
+    Model
+        System ``"body_on_sphere"``: state ``omega1..3, r1..3``, energy ``H`` as the only
+        integral, no density; ``definitions`` carry the :class:`BodyOnSphere` equations,
+        the surface and the inertia.
+
+    References
+    ----------
+    M03-2.1, M03-2.2, M03-2.3
     """
     omega, r = vector("omega", real=True), vector("r", real=True)
     m, k = sp.Symbol("m", positive=True), sp.Symbol("k", real=True)
@@ -234,7 +249,14 @@ def body_on_sphere_model(
 
 
 def generic_body_model() -> Model:
-    """Scalar inertia ``mu Id`` and a generic surface ``f`` (undefined Function of ``r``)."""
+    """Scalar inertia ``mu Id`` and a generic surface ``f`` (undefined Function of ``r``).
+
+    Returns
+    -------
+    Model
+        :func:`body_on_sphere_model` with effects ``generic_surface``, ``scalar`` and no
+        phase-space constraint.
+    """
     r = vector("r", real=True)
     mu = sp.Symbol("mu", positive=True)
     f = sp.Function("f")(*r)
@@ -253,6 +275,20 @@ def ellipsoid_body_model(inertia: str = "special", on_surface: bool = True) -> M
     on_surface : bool
         Carry the ellipsoid's equation as the phase-space constraint (with an exact
         sampler); without it identities are checked for every ``r`` (every level set).
+
+    Returns
+    -------
+    Model
+        :func:`body_on_sphere_model` with effects ``ellipsoid`` and ``inertia``.
+
+    Raises
+    ------
+    ValueError
+        For an unknown ``inertia``.
+
+    References
+    ----------
+    M03-2.4, M03-2.5
     """
     r = vector("r", real=True)
     b = sp.Matrix(sp.symbols("b1:4", positive=True))
@@ -261,14 +297,14 @@ def ellipsoid_body_model(inertia: str = "special", on_surface: bool = True) -> M
     specs = [ParameterSpec("b", tuple(b), "positive", "ellipsoid (r, B^-1 r) = 1")]
     if inertia in ("special", "double"):
         factor = 1 if inertia == "special" else 2
-        I = mu * sp.eye(3) + factor * m * sp.diag(*b)  # noqa: E741
+        I = mu * sp.eye(3) + factor * m * sp.diag(*b)
         specs.append(ParameterSpec("mu", (mu,), "positive", f"I = mu Id + {factor} m B"))
     elif inertia == "general":
         Iv = sp.symbols("I1:4", positive=True)
-        I = sp.diag(*Iv)  # noqa: E741
+        I = sp.diag(*Iv)
         specs.append(ParameterSpec("I", Iv, "positive", "central principal moments"))
     elif inertia == "scalar":
-        I = mu * sp.eye(3)  # noqa: E741
+        I = mu * sp.eye(3)
         specs.append(ParameterSpec("mu", (mu,), "positive", "I = mu Id"))
     else:
         raise ValueError(f"unknown inertia {inertia!r}")

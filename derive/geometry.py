@@ -50,6 +50,17 @@ class PoissonGroup:
         For a frame the constraints are ``gamma - alpha x beta = 0`` and the
         orthonormality of ``alpha, beta``; they imply ``|gamma| = 1`` and
         ``gamma`` orthogonal to both.
+
+        Parameters
+        ----------
+        vectors : dict of str to sympy.Matrix
+            Body-frame vectors (shape (3, 1)) by name; must contain ``names``.
+
+        Returns
+        -------
+        list of sympy.Expr
+            One polynomial for a unit vector; six (three components, two norms, one
+            scalar product) for a frame.
         """
         if self.kind == UNIT_VECTOR:
             (g,) = (vectors[n] for n in self.names)
@@ -63,6 +74,19 @@ class PoissonGroup:
         A unit vector comes from the inverse stereographic projection of a random
         rational point; a frame from the rotation matrix of a random integer
         quaternion (Euler–Rodrigues), whose entries are rational.
+
+        Parameters
+        ----------
+        rng : random.Random
+            Source of the random integers (the caller seeds it).
+        height : int, optional
+            Bound on the numerators and denominators drawn (stereographic
+            coordinates) or on the quaternion's integer entries.
+
+        Returns
+        -------
+        dict of str to list of three sympy.Rational
+            The components of each vector of the group, by name.
         """
 
         def r() -> sp.Rational:

@@ -48,7 +48,6 @@ __all__ = [
     "q_gradient",
     "momentum_map",
     "momentum_components",
-    "canonical_bracket",
     "k01_f",
     "hamiltonian_qp",
     "integral_n_qp",
@@ -71,7 +70,26 @@ def _J_inv(I: Sequence[sp.Expr], D: sp.Expr) -> sp.Matrix:
 
 # ------------------------------------------------------------------ K01-2.7 … 2.10
 def multiplier_inverse_square(gamma: sp.Matrix, I: Sequence[sp.Expr], D: sp.Expr) -> sp.Expr:
-    """``rho^-2 = 1 - D (gamma, J^-1 gamma)`` (rational; K01-2.2)."""
+    """``rho^-2 = 1 - D (gamma, J^-1 gamma)`` (rational; K01-2.2).
+
+    Parameters
+    ----------
+    gamma : sympy.Matrix, shape (3, 1)
+        Unit normal in the body frame.
+    I : sequence of three sympy.Expr
+        Principal moments ``I1, I2, I3``.
+    D : sympy.Expr
+        ``m b^2``.
+
+    Returns
+    -------
+    sympy.Expr
+        ``1 - D (gamma, J^-1 gamma)`` with ``J = I + D Id``.
+
+    References
+    ----------
+    K01-2.2
+    """
     return 1 - D * dot(gamma, _J_inv(I, D) * gamma)
 
 
@@ -79,6 +97,20 @@ def k01_multiplier(gamma: sp.Matrix, I: Sequence[sp.Expr], D: sp.Expr) -> sp.Exp
     """Chaplygin's multiplier in K01's normalisation, ``rho = (1 - D (gamma, J^-1 gamma))^-1/2``.
 
     It is ``D^-1/2`` times BKM12's ``rho`` (the density the ball model ships).
+
+    Parameters
+    ----------
+    gamma : sympy.Matrix, shape (3, 1)
+        Unit normal in the body frame.
+    I : sequence of three sympy.Expr
+        Principal moments ``I1, I2, I3``.
+    D : sympy.Expr
+        ``m b^2``.
+
+    Returns
+    -------
+    sympy.Expr
+        ``rho``, the inverse square root of :func:`multiplier_inverse_square`.
 
     References
     ----------
@@ -89,6 +121,22 @@ def k01_multiplier(gamma: sp.Matrix, I: Sequence[sp.Expr], D: sp.Expr) -> sp.Exp
 
 def hamiltonian(L: sp.Matrix, gamma: sp.Matrix, I: Sequence[sp.Expr], D: sp.Expr) -> sp.Expr:
     """K01-2.8: ``H = (1 - D (gamma, J^-1 gamma)) (L, J^-1 L)/2 + D (gamma, J^-1 L)^2/2``.
+
+    Parameters
+    ----------
+    L : sympy.Matrix, shape (3, 1)
+        Rescaled momentum ``L = rho M``.
+    gamma : sympy.Matrix, shape (3, 1)
+        Unit normal in the body frame.
+    I : sequence of three sympy.Expr
+        Principal moments ``I1, I2, I3``.
+    D : sympy.Expr
+        ``m b^2``.
+
+    Returns
+    -------
+    sympy.Expr
+        The energy in the variables ``(L, gamma)``.
 
     References
     ----------
@@ -117,8 +165,11 @@ def poisson_tensor(
     Parameters
     ----------
     L, gamma : sympy.Matrix, shape (3, 1)
+        Rescaled momentum and unit normal (the coordinates).
     I : sequence of three sympy expressions
+        Principal moments ``I1, I2, I3``.
     D : sympy expression
+        ``m b^2``.
     d_sign : {-1, +1}
         Sign of the ``D``-term (``-1`` is K01's; ``+1`` is a negative control).
 
@@ -147,14 +198,44 @@ def poisson_tensor(
 
 
 def bracket(F: sp.Expr, G: sp.Expr, coords: Sequence[sp.Symbol], P: sp.Matrix) -> sp.Expr:
-    """``{F, G} = grad F^T P grad G``."""
+    """``{F, G} = grad F^T P grad G``.
+
+    Parameters
+    ----------
+    F, G : sympy.Expr
+        Functions of ``coords``.
+    coords : sequence of n sympy.Symbol
+        The coordinates ``P`` is written in.
+    P : sympy.Matrix, shape (n, n)
+        Poisson tensor, ``P[i, j] = {x_i, x_j}`` (e.g. :func:`poisson_tensor`).
+
+    Returns
+    -------
+    sympy.Expr
+        The bracket ``{F, G}`` (not simplified).
+    """
     gF = sp.Matrix([sp.diff(F, x) for x in coords])
     gG = sp.Matrix([sp.diff(G, x) for x in coords])
     return (gF.T * P * gG)[0, 0]
 
 
 def hamiltonian_flow(H: sp.Expr, coords: Sequence[sp.Symbol], P: sp.Matrix) -> sp.Matrix:
-    """``x' = {x, H} = P grad H``, shape (n, 1)."""
+    """``x' = {x, H} = P grad H``, shape (n, 1).
+
+    Parameters
+    ----------
+    H : sympy.Expr
+        Hamiltonian, a function of ``coords``.
+    coords : sequence of n sympy.Symbol
+        The coordinates ``P`` is written in.
+    P : sympy.Matrix, shape (n, n)
+        Poisson tensor.
+
+    Returns
+    -------
+    sympy.Matrix, shape (n, 1)
+        The vector field ``P grad H``.
+    """
     return P * sp.Matrix([sp.diff(H, x) for x in coords])
 
 
@@ -163,6 +244,19 @@ def jacobi_residuals(P: sp.Matrix, coords: Sequence[sp.Symbol]) -> list[sp.Expr]
 
     ``sum_l (P[i,l] d_l P[j,k] + P[j,l] d_l P[k,i] + P[k,l] d_l P[i,j])`` (the
     Schouten bracket ``[P, P]`` up to a factor).
+
+    Parameters
+    ----------
+    P : sympy.Matrix, shape (n, n)
+        Antisymmetric tensor, ``P[i, j] = {x_i, x_j}``.
+    coords : sequence of n sympy.Symbol
+        The coordinates ``P`` is written in.
+
+    Returns
+    -------
+    list of sympy.Expr
+        ``n (n-1) (n-2) / 6`` residuals (not simplified), all zero exactly when ``P``
+        obeys the Jacobi identity.
     """
     n = len(coords)
     dP = [[[sp.diff(P[j, k], coords[l]) for l in range(n)] for k in range(n)] for j in range(n)]
@@ -171,7 +265,7 @@ def jacobi_residuals(P: sp.Matrix, coords: Sequence[sp.Symbol]) -> list[sp.Expr]
         for j in range(i + 1, n):
             for k in range(j + 1, n):
                 e = sp.S.Zero
-                for l in range(n):  # noqa: E741
+                for l in range(n):
                     e += P[i, l] * dP[j][k][l] + P[j, l] * dP[k][i][l] + P[k, l] * dP[i][j][l]
                 out.append(e)
     return out
@@ -186,9 +280,22 @@ def rescaled_flow(
     where ``'`` is the model's time derivative and ``rho`` depends on ``gamma`` (and
     ``M``) only.
 
+    Parameters
+    ----------
+    rhs_M, rhs_gamma : sympy.Matrix, shape (3, 1)
+        The model's ``M'`` and ``gamma'``.
+    M, gamma : sympy.Matrix, shape (3, 1)
+        The model's state symbols.
+    rho : sympy.Expr
+        Time-change multiplier, a function of ``M`` and ``gamma``.
+
     Returns
     -------
     (dL/dtau, dgamma/dtau) : two sympy.Matrix of shape (3, 1), in the model's variables.
+
+    References
+    ----------
+    K01-2.7
     """
     state = list(M) + list(gamma)
     f = list(rhs_M) + list(rhs_gamma)
@@ -199,7 +306,28 @@ def rescaled_flow(
 
 
 def area_casimir(L: sp.Matrix, gamma: sp.Matrix, I: Sequence[sp.Expr], D: sp.Expr) -> sp.Expr:
-    """K01-2.10: ``C = (L, gamma)/rho`` (equals ``(M, gamma)`` for ``L = rho M``)."""
+    """K01-2.10: ``C = (L, gamma)/rho`` (equals ``(M, gamma)`` for ``L = rho M``).
+
+    Parameters
+    ----------
+    L : sympy.Matrix, shape (3, 1)
+        Rescaled momentum.
+    gamma : sympy.Matrix, shape (3, 1)
+        Unit normal in the body frame.
+    I : sequence of three sympy.Expr
+        Principal moments ``I1, I2, I3``.
+    D : sympy.Expr
+        ``m b^2``.
+
+    Returns
+    -------
+    sympy.Expr
+        The Casimir ``(L, gamma) (1 - D (gamma, J^-1 gamma))^(1/2)``.
+
+    References
+    ----------
+    K01-2.10
+    """
     return dot(L, gamma) * multiplier_inverse_square(gamma, I, D) ** sp.S.Half
 
 
@@ -207,7 +335,24 @@ def area_casimir(L: sp.Matrix, gamma: sp.Matrix, I: Sequence[sp.Expr], D: sp.Exp
 def spheroconical_gamma_squared(
     q1: sp.Expr, q2: sp.Expr, a: Sequence[sp.Expr]
 ) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
-    """K01-2.12 / BKM12-1.2a: ``gamma_i^2 = (a_i - q1)(a_i - q2) / prod_{j != i}(a_i - a_j)``."""
+    """K01-2.12 / BKM12-1.2a: ``gamma_i^2 = (a_i - q1)(a_i - q2) / prod_{j != i}(a_i - a_j)``.
+
+    Parameters
+    ----------
+    q1, q2 : sympy.Expr
+        Sphero-conical coordinates.
+    a : sequence of three sympy.Expr
+        ``a_1, a_2, a_3`` (``1/I_i`` in K01, ``D/I_i`` in BKM12).
+
+    Returns
+    -------
+    tuple of three sympy.Expr
+        ``(gamma_1^2, gamma_2^2, gamma_3^2)``.
+
+    References
+    ----------
+    K01-2.12, BKM12-1.2a
+    """
     out = []
     for i in range(3):
         j, k = [m for m in range(3) if m != i]
@@ -216,7 +361,26 @@ def spheroconical_gamma_squared(
 
 
 def spheroconical_function(q: sp.Expr, gamma: sp.Matrix, a: Sequence[sp.Expr]) -> sp.Expr:
-    """K01-2.11: ``f(q) = sum_i gamma_i^2/(a_i - q)``; ``q1, q2`` are its zeros."""
+    """K01-2.11: ``f(q) = sum_i gamma_i^2/(a_i - q)``; ``q1, q2`` are its zeros.
+
+    Parameters
+    ----------
+    q : sympy.Expr
+        The argument.
+    gamma : sympy.Matrix, shape (3, 1)
+        Unit normal in the body frame.
+    a : sequence of three sympy.Expr
+        ``a_1, a_2, a_3``.
+
+    Returns
+    -------
+    sympy.Expr
+        ``f(q)``.
+
+    References
+    ----------
+    K01-2.11
+    """
     return sum((gamma[i] ** 2 / (a[i] - q) for i in range(3)), sp.S.Zero)
 
 
@@ -225,6 +389,24 @@ def spheroconical_polynomial(q: sp.Expr, gamma: sp.Matrix, a: Sequence[sp.Expr])
 
     On the sphere its leading coefficient is ``(gamma, gamma) = 1``: it equals
     ``(q - q1)(q - q2)``, so ``q1 + q2`` and ``q1 q2`` are quadratic forms in ``gamma``.
+
+    Parameters
+    ----------
+    q : sympy.Expr
+        The argument.
+    gamma : sympy.Matrix, shape (3, 1)
+        Unit normal in the body frame.
+    a : sequence of three sympy.Expr
+        ``a_1, a_2, a_3``.
+
+    Returns
+    -------
+    sympy.Expr
+        The quadratic polynomial in ``q`` (not expanded).
+
+    References
+    ----------
+    K01-2.11
     """
     out = sp.S.Zero
     for i in range(3):
@@ -238,6 +420,20 @@ def q_gradient(q: sp.Expr, gamma: sp.Matrix, a: Sequence[sp.Expr]) -> sp.Matrix:
 
     ``f`` is homogeneous of degree 2 in ``gamma``, so this extension of ``q`` off the sphere
     is homogeneous of degree 0 and its gradient is tangent to the sphere.
+
+    Parameters
+    ----------
+    q : sympy.Expr
+        The root (a symbol standing for ``q1`` or ``q2``).
+    gamma : sympy.Matrix, shape (3, 1)
+        Unit normal in the body frame.
+    a : sequence of three sympy.Expr
+        ``a_1, a_2, a_3``.
+
+    Returns
+    -------
+    sympy.Matrix, shape (3, 1)
+        ``-(df/dgamma) / (df/dq)`` with ``f`` of :func:`spheroconical_function`.
     """
     # f(q, gamma) = sum_i gamma_i^2/(a_i - q): df/dgamma_i = 2 gamma_i/(a_i - q),
     # df/dq = sum_i gamma_i^2/(a_i - q)^2; dq/dgamma = -(df/dgamma)/(df/dq).
@@ -251,6 +447,26 @@ def momentum_map(
     """K01-2.13: ``M = p1 (dq1/dgamma x gamma) + p2 (dq2/dgamma x gamma)``.
 
     ``M`` here is K01's rescaled momentum (``L`` of :func:`hamiltonian`).
+
+    Parameters
+    ----------
+    p : sequence of two sympy.Expr
+        Conjugate momenta ``p1, p2``.
+    q : sequence of two sympy.Expr
+        Sphero-conical coordinates ``q1, q2`` (roots of ``f`` at ``gamma``).
+    gamma : sympy.Matrix, shape (3, 1)
+        Unit normal in the body frame.
+    a : sequence of three sympy.Expr
+        ``a_1, a_2, a_3``.
+
+    Returns
+    -------
+    sympy.Matrix, shape (3, 1)
+        The momentum, in ``p, q`` and ``gamma``.
+
+    References
+    ----------
+    K01-2.13
     """
     return p[0] * cross(q_gradient(q[0], gamma, a), gamma) + p[1] * cross(
         q_gradient(q[1], gamma, a), gamma
@@ -261,6 +477,20 @@ def momentum_components(
     p: Sequence[sp.Expr], q: Sequence[sp.Expr], a: Sequence[sp.Expr]
 ) -> sp.Matrix:
     """K01-2.14: the components of (2.13) in ``q, p`` (``gamma`` in the positive octant).
+
+    Parameters
+    ----------
+    p : sequence of two sympy.Expr
+        Conjugate momenta ``p1, p2``.
+    q : sequence of two sympy.Expr
+        Sphero-conical coordinates ``q1, q2`` (``a3 < q2 < a2 < q1 < a1``).
+    a : sequence of three sympy.Expr
+        ``a_1, a_2, a_3``.
+
+    Returns
+    -------
+    sympy.Matrix, shape (3, 1)
+        ``(M1, M2, M3)`` as printed in K01 (with square roots).
 
     References
     ----------
@@ -300,27 +530,50 @@ def momentum_components(
     return sp.Matrix([M1, M2, M3])
 
 
-def canonical_bracket(
-    F: sp.Expr, G: sp.Expr, q: Sequence[sp.Symbol], p: Sequence[sp.Symbol]
-) -> sp.Expr:
-    """``{F, G} = sum_i dF/dq_i dG/dp_i - dF/dp_i dG/dq_i``."""
-    return sum(
-        (
-            sp.diff(F, qi) * sp.diff(G, pi) - sp.diff(F, pi) * sp.diff(G, qi)
-            for qi, pi in zip(q, p, strict=False)
-        ),
-        sp.S.Zero,
-    )
-
-
 # ------------------------------------------------------------------ K01-2.15 … 2.22
 def k01_f(q: sp.Expr, a: Sequence[sp.Expr], D: sp.Expr) -> sp.Expr:
-    """K01-2.15: ``f(q) = q^-1 (q - a1)(q - a2)(q - a3)(1 + D q)``."""
+    """K01-2.15: ``f(q) = q^-1 (q - a1)(q - a2)(q - a3)(1 + D q)``.
+
+    Parameters
+    ----------
+    q : sympy.Expr
+        A sphero-conical coordinate.
+    a : sequence of three sympy.Expr
+        ``a_i = 1/I_i``.
+    D : sympy.Expr
+        ``m b^2``.
+
+    Returns
+    -------
+    sympy.Expr
+        ``f(q)``.
+
+    References
+    ----------
+    K01-2.15
+    """
     return (q - a[0]) * (q - a[1]) * (q - a[2]) * (1 + D * q) / q
 
 
 def k01_K(a: Sequence[sp.Expr], D: sp.Expr) -> sp.Expr:
-    """``K = prod_i (1 + D a_i) = prod_i J_i/I_i`` (the missing factor of K01-2.15, 2.16)."""
+    """``K = prod_i (1 + D a_i) = prod_i J_i/I_i`` (the missing factor of K01-2.15, 2.16).
+
+    Parameters
+    ----------
+    a : sequence of three sympy.Expr
+        ``a_i = 1/I_i``.
+    D : sympy.Expr
+        ``m b^2``.
+
+    Returns
+    -------
+    sympy.Expr
+        The product ``K``.
+
+    References
+    ----------
+    K01-2.15, K01-2.16
+    """
     return sp.Mul(*[1 + D * ai for ai in a])
 
 
@@ -334,6 +587,24 @@ def hamiltonian_qp(
     """K01-2.15: ``H = c/2 (q2^-1 - q1^-1)^-1 (-p1^2 f(q1) + p2^2 f(q2))``.
 
     ``c = 4/K`` (corrected, FORMULAS.md) or ``c = 1`` (``printed=True``: as K01 prints it).
+
+    Parameters
+    ----------
+    p : sequence of two sympy.Expr
+        Conjugate momenta ``p1, p2``.
+    q : sequence of two sympy.Expr
+        Sphero-conical coordinates ``q1, q2``.
+    a : sequence of three sympy.Expr
+        ``a_i = 1/I_i``.
+    D : sympy.Expr
+        ``m b^2``.
+    printed : bool, optional
+        Use K01's printed factor ``c = 1`` instead of the corrected ``4/K``.
+
+    Returns
+    -------
+    sympy.Expr
+        The Hamiltonian in ``(q, p)``.
 
     References
     ----------
@@ -354,6 +625,26 @@ def integral_n_qp(
 ) -> sp.Expr:
     """K01-2.16: ``n = c (-p1^2 f(q1) q1 (1 + D q2) + p2^2 f(q2) q2 (1 + D q1))/(q1 - q2)``.
 
+    ``c`` as in :func:`hamiltonian_qp`.
+
+    Parameters
+    ----------
+    p : sequence of two sympy.Expr
+        Conjugate momenta ``p1, p2``.
+    q : sequence of two sympy.Expr
+        Sphero-conical coordinates ``q1, q2``.
+    a : sequence of three sympy.Expr
+        ``a_i = 1/I_i``.
+    D : sympy.Expr
+        ``m b^2``.
+    printed : bool, optional
+        Use K01's printed factor ``c = 1`` instead of the corrected ``4/K``.
+
+    Returns
+    -------
+    sympy.Expr
+        The integral ``n = (M, M)`` in ``(q, p)``.
+
     References
     ----------
     K01-2.16
@@ -368,26 +659,102 @@ def integral_n_qp(
 def separation_polynomial(
     q: sp.Expr, lam1: sp.Expr, lam2: sp.Expr, a: Sequence[sp.Expr], D: sp.Expr
 ) -> sp.Expr:
-    """K01-2.17: ``R(q) = (2 lam1 + q lam2)(q - a1)(q - a2)(q - a3)(1 + D q)``."""
+    """K01-2.17: ``R(q) = (2 lam1 + q lam2)(q - a1)(q - a2)(q - a3)(1 + D q)``.
+
+    Parameters
+    ----------
+    q : sympy.Expr
+        The argument.
+    lam1, lam2 : sympy.Expr
+        Separation constants (:func:`separation_constants`).
+    a : sequence of three sympy.Expr
+        ``a_i = 1/I_i``.
+    D : sympy.Expr
+        ``m b^2``.
+
+    Returns
+    -------
+    sympy.Expr
+        ``R(q)`` (not expanded).
+
+    References
+    ----------
+    K01-2.17
+    """
     return (2 * lam1 + q * lam2) * (q - a[0]) * (q - a[1]) * (q - a[2]) * (1 + D * q)
 
 
 def separation_constants(h: sp.Expr, n: sp.Expr, D: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
-    """K01-2.18: ``lam1 = H``, ``lam2 = 2 D H - n``."""
+    """K01-2.18: ``lam1 = H``, ``lam2 = 2 D H - n``.
+
+    Parameters
+    ----------
+    h : sympy.Expr
+        Energy ``H``.
+    n : sympy.Expr
+        Integral ``n = (M, M)``.
+    D : sympy.Expr
+        ``m b^2``.
+
+    Returns
+    -------
+    (lam1, lam2) : tuple of two sympy.Expr
+
+    References
+    ----------
+    K01-2.18
+    """
     return h, 2 * D * h - n
 
 
 def quadrature_derivatives(
     q: Sequence[sp.Expr], p: Sequence[sp.Expr], a: Sequence[sp.Expr], D: sp.Expr
 ) -> tuple[sp.Expr, sp.Expr]:
-    """``dq_i/d tau = dH/dp_i`` of the corrected K01-2.15."""
+    """``dq_i/d tau = dH/dp_i`` of the corrected K01-2.15.
+
+    Parameters
+    ----------
+    q : sequence of two sympy.Expr
+        Sphero-conical coordinates ``q1, q2``.
+    p : sequence of two sympy.Symbol
+        Conjugate momenta ``p1, p2`` (differentiated by).
+    a : sequence of three sympy.Expr
+        ``a_i = 1/I_i``.
+    D : sympy.Expr
+        ``m b^2``.
+
+    Returns
+    -------
+    (dq1/dtau, dq2/dtau) : tuple of two sympy.Expr
+
+    References
+    ----------
+    K01-2.15, K01-2.22
+    """
     H = hamiltonian_qp(p, q, a, D)
     return sp.diff(H, p[0]), sp.diff(H, p[1])
 
 
 # ------------------------------------------------------------------ BKM12 §1.2
 def bkm12_Phi(x: sp.Expr, a: Sequence[sp.Expr]) -> sp.Expr:
-    """BKM12 §1.2: ``Phi(x) = (1 + x)(a1 - x)(a2 - x)(a3 - x)`` (``a_i = D/I_i``)."""
+    """BKM12 §1.2: ``Phi(x) = (1 + x)(a1 - x)(a2 - x)(a3 - x)`` (``a_i = D/I_i``).
+
+    Parameters
+    ----------
+    x : sympy.Expr
+        The argument.
+    a : sequence of three sympy.Expr
+        ``a_i = D/I_i``.
+
+    Returns
+    -------
+    sympy.Expr
+        ``Phi(x)`` (not expanded).
+
+    References
+    ----------
+    BKM12-1.2b
+    """
     return (1 + x) * (a[0] - x) * (a[1] - x) * (a[2] - x)
 
 
@@ -398,7 +765,30 @@ def _bkm12_Delta(q1: sp.Expr, q2: sp.Expr) -> sp.Expr:
 def bkm12_energy_q(
     q: Sequence[sp.Expr], qdot: Sequence[sp.Expr], a: Sequence[sp.Expr], D: sp.Expr
 ) -> sp.Expr:
-    """BKM12-1.2b: ``H = Delta D (q1 - q2)/2 (q1'^2/(q2 Phi(q1)) - q2'^2/(q1 Phi(q2)))``."""
+    """BKM12-1.2b: ``H = Delta D (q1 - q2)/2 (q1'^2/(q2 Phi(q1)) - q2'^2/(q1 Phi(q2)))``.
+
+    ``Delta = (1 + q1)(1 + q2)/4``.
+
+    Parameters
+    ----------
+    q : sequence of two sympy.Expr
+        Sphero-conical coordinates ``q1, q2`` (BKM12's, ``a_i = D/I_i``).
+    qdot : sequence of two sympy.Expr
+        Their time derivatives ``q1', q2'``.
+    a : sequence of three sympy.Expr
+        ``a_i = D/I_i``.
+    D : sympy.Expr
+        ``m b^2``.
+
+    Returns
+    -------
+    sympy.Expr
+        The energy ``H`` as a quadratic form in ``q'``.
+
+    References
+    ----------
+    BKM12-1.2b
+    """
     q1, q2 = q
     d1, d2 = qdot
     return (
@@ -416,6 +806,26 @@ def bkm12_F1_q(
     """BKM12-1.2b: ``F1``.
 
     ``F1 = Delta D^2 (q1 - q2)((1+q2) q1'^2/(q2^2 Phi(q1)) - (1+q1) q2'^2/(q1^2 Phi(q2)))``.
+
+    Parameters
+    ----------
+    q : sequence of two sympy.Expr
+        Sphero-conical coordinates ``q1, q2`` (BKM12's).
+    qdot : sequence of two sympy.Expr
+        Their time derivatives ``q1', q2'``.
+    a : sequence of three sympy.Expr
+        ``a_i = D/I_i``.
+    D : sympy.Expr
+        ``m b^2``.
+
+    Returns
+    -------
+    sympy.Expr
+        The integral ``F1 = (M, M)`` as a quadratic form in ``q'``.
+
+    References
+    ----------
+    BKM12-1.2b
     """
     q1, q2 = q
     d1, d2 = qdot
@@ -433,7 +843,29 @@ def bkm12_F1_q(
 def bkm12_quadratures(
     q: Sequence[sp.Expr], a: Sequence[sp.Expr], D: sp.Expr, E: sp.Expr, C: sp.Expr
 ) -> tuple[sp.Expr, sp.Expr]:
-    """BKM12-11: ``q1'^2`` and ``q2'^2`` on ``2H = E``, ``F1 = C``."""
+    """BKM12-11: ``q1'^2`` and ``q2'^2`` on ``2H = E``, ``F1 = C``.
+
+    Parameters
+    ----------
+    q : sequence of two sympy.Expr
+        Sphero-conical coordinates ``q1, q2`` (BKM12's).
+    a : sequence of three sympy.Expr
+        ``a_i = D/I_i``.
+    D : sympy.Expr
+        ``m b^2``.
+    E : sympy.Expr
+        Twice the energy.
+    C : sympy.Expr
+        Value of ``F1 = (M, M)``.
+
+    Returns
+    -------
+    (q1'^2, q2'^2) : tuple of two sympy.Expr
+
+    References
+    ----------
+    BKM12-11
+    """
     q1, q2 = q
     den = _bkm12_Delta(q1, q2) * D**2 * (q1 - q2) ** 2
     return (
@@ -446,6 +878,22 @@ def omega_from_gamma(gamma: sp.Matrix, gamma_dot: sp.Matrix, I: Sequence[sp.Expr
     """BKM12-10: ``omega = k gamma' x I gamma``, ``k^-1 = (gamma, I gamma)``.
 
     Valid on ``(I omega, gamma) = 0``.
+
+    Parameters
+    ----------
+    gamma, gamma_dot : sympy.Matrix, shape (3, 1)
+        Unit normal and its time derivative.
+    I : sequence of three sympy.Expr
+        Principal moments ``I1, I2, I3``.
+
+    Returns
+    -------
+    sympy.Matrix, shape (3, 1)
+        Angular velocity ``omega``.
+
+    References
+    ----------
+    BKM12-10
     """
     Ig = sp.diag(*I) * gamma
     return cross(gamma_dot, Ig) / dot(gamma, Ig)
@@ -454,6 +902,27 @@ def omega_from_gamma(gamma: sp.Matrix, gamma_dot: sp.Matrix, I: Sequence[sp.Expr
 def momentum_from_gamma(
     gamma: sp.Matrix, gamma_dot: sp.Matrix, I: Sequence[sp.Expr], D: sp.Expr
 ) -> sp.Matrix:
-    """BKM12-10: ``M = k I (gamma' x I gamma) - D gamma x gamma'``."""
+    """BKM12-10: ``M = k I (gamma' x I gamma) - D gamma x gamma'``.
+
+    ``k^-1 = (gamma, I gamma)``; valid on ``(M, gamma) = 0``.
+
+    Parameters
+    ----------
+    gamma, gamma_dot : sympy.Matrix, shape (3, 1)
+        Unit normal and its time derivative.
+    I : sequence of three sympy.Expr
+        Principal moments ``I1, I2, I3``.
+    D : sympy.Expr
+        ``m b^2``.
+
+    Returns
+    -------
+    sympy.Matrix, shape (3, 1)
+        Angular momentum ``M`` about the contact point.
+
+    References
+    ----------
+    BKM12-10
+    """
     Ig = sp.diag(*I) * gamma
     return sp.diag(*I) * cross(gamma_dot, Ig) / dot(gamma, Ig) - D * cross(gamma, gamma_dot)

@@ -54,8 +54,6 @@ __all__ = [
     "sech_fourier_integral",
     "derive_separatrix",
     "hyperbolic_in_q",
-    "time_derivative",
-    "xi_of_inertia",
     "delta_closed_form",
 ]
 
@@ -76,38 +74,79 @@ class SeparatrixSymbols:
 
     @property
     def J(self) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
+        """Moments about the contact point, ``J_i = I_i + D``.
+
+        Returns
+        -------
+        tuple of three sympy.Expr
+            ``(J1, J2, J3)``.
+        """
         return (self.I1 + self.D, self.I2 + self.D, self.I3 + self.D)
 
     @property
     def d21(self) -> sp.Expr:
+        """``d21 = 1/J1 - 1/J2`` (positive).
+
+        Returns
+        -------
+        sympy.Expr
+            ``d21`` in ``I1, I2, D``.
+        """
         J1, J2, _ = self.J
         return 1 / J1 - 1 / J2
 
     @property
     def d32(self) -> sp.Expr:
+        """``d32 = 1/J2 - 1/J3`` (positive).
+
+        Returns
+        -------
+        sympy.Expr
+            ``d32`` in ``I2, I3, D``.
+        """
         _, J2, J3 = self.J
         return 1 / J2 - 1 / J3
 
     @property
     def d31(self) -> sp.Expr:
+        """``d31 = d21 + d32 = 1/J1 - 1/J3``.
+
+        Returns
+        -------
+        sympy.Expr
+            ``d31`` in ``I1, I2, I3, D``.
+        """
         return self.d21 + self.d32
 
 
 def separatrix_symbols() -> SeparatrixSymbols:
-    """Fresh positive symbols ``I1, I2, I3, D, b, C, q`` and real ``phi, t``."""
+    """Fresh positive symbols ``I1, I2, I3, D, b, C, q`` and real ``phi, t``.
+
+    Returns
+    -------
+    SeparatrixSymbols
+        New symbols (sympy caches them by name and assumptions, so repeated calls
+        give equal symbols).
+    """
     I1, I2, I3, D, b, C, q = sp.symbols("I1 I2 I3 D b C q", positive=True)
     phi, t = sp.symbols("phi t", real=True)
     return SeparatrixSymbols(I1, I2, I3, D, b, C, q, phi, t)
 
 
 def hyperbolic_in_q(q: sp.Symbol) -> tuple[sp.Expr, sp.Expr]:
-    """``(th(lam t), 1/ch(lam t))`` as rational functions of ``q = exp(-lam t)``."""
+    """``(th(lam t), 1/ch(lam t))`` as rational functions of ``q = exp(-lam t)``.
+
+    Parameters
+    ----------
+    q : sympy.Symbol
+        Stands for ``exp(-lam t)``.
+
+    Returns
+    -------
+    (th, sech) : tuple of two sympy.Expr
+        ``(1 - q^2)/(1 + q^2)`` and ``2 q/(1 + q^2)``.
+    """
     return (1 - q**2) / (1 + q**2), 2 * q / (1 + q**2)
-
-
-def time_derivative(expr: sp.Expr, q: sp.Symbol, phi: sp.Symbol, lam, kap) -> sp.Expr:
-    """``d/dt`` of an expression in ``q = exp(-lam t)`` and ``phi = kap t``."""
-    return -lam * q * sp.diff(expr, q) + kap * sp.diff(expr, phi)
 
 
 @dataclass
@@ -135,7 +174,7 @@ class Separatrix:
     """
 
     symbols: SeparatrixSymbols
-    l: sp.Expr  # noqa: E741  (K01's letter)
+    l: sp.Expr  # K01's letter
     lam: sp.Expr
     kap: sp.Expr
     s32: sp.Expr
@@ -152,12 +191,13 @@ class Separatrix:
     steps: dict
 
 
-def separatrix_gamma(S: SeparatrixSymbols, sigma: int = -1) -> dict:
+def separatrix_gamma(S: SeparatrixSymbols, sigma: int = -1) -> dict[str, object]:
     """Step 1: ``gamma(t)`` on the separatrix from the Euler top ``gamma' = l gamma x J^-1 gamma``.
 
     Parameters
     ----------
     S : SeparatrixSymbols
+        Symbols to derive with.
     sigma : {-1, 1}
         The branch: ``sign gamma1 = sign gamma3 = sigma`` (both branches are separatrices;
         ``-1`` is the form of FORMULAS.md's corrected K01-3.4).
@@ -170,7 +210,7 @@ def separatrix_gamma(S: SeparatrixSymbols, sigma: int = -1) -> dict:
     """
     J1, J2, J3 = S.J
     h2 = S.C**2 / (2 * S.I2)  # K01-3.3seg: the segment meets p2 there
-    l = sp.simplify(S.C + 2 * S.D * h2 / S.C)  # noqa: E741  (K01-2.34)
+    l = sp.simplify(S.C + 2 * S.D * h2 / S.C)  # K01-2.34
     g1, g2, g3 = sp.symbols("g1 g2 g3", real=True)
     g = sp.Matrix([g1, g2, g3])
     Jinv = sp.diag(1 / J1, 1 / J2, 1 / J3)
@@ -218,11 +258,35 @@ def _simplify_vec(v: sp.Matrix) -> sp.Matrix:
     return v.applyfunc(lambda e: seeded_factor(sp.simplify(e)))
 
 
-def separatrix_frame(S: SeparatrixSymbols, step1: dict) -> dict:
+def separatrix_frame(
+    S: SeparatrixSymbols, step1: dict[str, object]
+) -> dict[str, sp.Expr | sp.Matrix]:
     """Step 2: the space-fixed frame ``alpha, beta`` along the separatrix.
 
     ``alpha = cos(phi) T + sin(phi) N``, ``T = gamma'/|gamma'|``, ``N = T x gamma``;
     ``alpha' = alpha x omega`` is solved for ``phi'`` (it comes out constant, ``kap``).
+
+    Parameters
+    ----------
+    S : SeparatrixSymbols
+        Symbols of the derivation.
+    step1 : dict
+        The result of :func:`separatrix_gamma` (``gamma``, ``lam``, ``l`` are used).
+
+    Returns
+    -------
+    dict
+        ``omega`` (``l J^-1 gamma``), ``T``, ``N``, ``kap``, ``alpha``, ``beta``: sympy
+        matrices of shape (3, 1) in ``q`` and ``phi``, and ``kap`` a sympy.Expr.
+
+    Raises
+    ------
+    AssertionError
+        When the projected equation does not determine ``phi'`` uniquely.
+
+    References
+    ----------
+    K01-3.4
     """
     J1, J2, J3 = S.J
     gamma, lam, l = step1["gamma"], step1["lam"], step1["l"]
@@ -253,8 +317,39 @@ def separatrix_frame(S: SeparatrixSymbols, step1: dict) -> dict:
     }
 
 
-def contact_velocity(S: SeparatrixSymbols, alpha, beta, omega, lam) -> dict:
-    """Step 3: ``x' = b (beta, omega)``, ``y' = -b (alpha, omega)`` (BKM12-6) and ``nu``."""
+def contact_velocity(
+    S: SeparatrixSymbols,
+    alpha: sp.Matrix,
+    beta: sp.Matrix,
+    omega: sp.Matrix,
+    lam: sp.Expr,
+) -> dict[str, sp.Expr]:
+    """Step 3: ``x' = b (beta, omega)``, ``y' = -b (alpha, omega)`` (BKM12-6) and ``nu``.
+
+    Parameters
+    ----------
+    S : SeparatrixSymbols
+        Symbols of the derivation.
+    alpha, beta, omega : sympy.Matrix, shape (3, 1)
+        Frame and angular velocity along the separatrix (:func:`separatrix_frame`).
+    lam : sympy.Expr
+        Rate of the separatrix (unused: the rates are written in ``q``).
+
+    Returns
+    -------
+    dict
+        ``x_rate``, ``y_rate`` (sympy.Expr in ``q`` and ``phi``) and ``nu`` with
+        ``x_rate = nu cos(phi)/ch(lam t)``, ``y_rate = nu sin(phi)/ch(lam t)``.
+
+    Raises
+    ------
+    AssertionError
+        When the rates are not of that form.
+
+    References
+    ----------
+    BKM12-6, K01-3.5
+    """
     _, sech = hyperbolic_in_q(S.q)
     x_rate = sp.simplify(S.b * dot(beta, omega))
     y_rate = sp.simplify(-S.b * dot(alpha, omega))
@@ -267,7 +362,7 @@ def contact_velocity(S: SeparatrixSymbols, alpha, beta, omega, lam) -> dict:
 
 
 @lru_cache(maxsize=1)
-def sech_fourier_integral() -> tuple[sp.Symbol, sp.Expr, dict]:
+def sech_fourier_integral() -> tuple[sp.Symbol, sp.Expr, dict[str, sp.Expr]]:
     """``F(k) = int_{-oo}^{oo} cos(k s)/ch(s) ds`` by residues, derived with sympy.
 
     ``f(z) = exp(i k z)/ch(z)``; on the rectangle ``[-R, R] x [0, pi]`` the top side is
@@ -313,7 +408,26 @@ def derive_separatrix(sigma: int = -1) -> Separatrix:
     """Run steps 1-4 and return the separatrix with ``Delta`` in closed form.
 
     ``Delta = nu int cos(kap t)/ch(lam t) dt = (nu/lam) F(kap/lam)`` with ``F`` of
-    :func:`sech_fourier_integral`.
+    :func:`sech_fourier_integral`. Cached per ``sigma``.
+
+    Parameters
+    ----------
+    sigma : {-1, 1}, optional
+        The branch ``sign gamma1(0)`` (see :func:`separatrix_gamma`).
+
+    Returns
+    -------
+    Separatrix
+        Every derived quantity, and the intermediate results in ``steps``.
+
+    Raises
+    ------
+    AssertionError
+        When a step's derived form is not the expected one.
+
+    References
+    ----------
+    K01-3.4, K01-3.5, K01-3.6, K01-3.7
     """
     S = separatrix_symbols()
     one = separatrix_gamma(S, sigma)
@@ -343,12 +457,23 @@ def derive_separatrix(sigma: int = -1) -> Separatrix:
     )
 
 
-def xi_of_inertia(I1, I2, I3, D):
-    """``xi = kap/lam = 1/(J2 sqrt(a21 a32))`` (any number type with ``sqrt`` via ``**``)."""
-    J1, J2, J3 = I1 + D, I2 + D, I3 + D
-    return 1 / (J2 * ((1 / J1 - 1 / J2) * (1 / J2 - 1 / J3)) ** sp.S.Half)
+def delta_closed_form(xi: sp.Expr | float, b: sp.Expr | float) -> sp.Expr:
+    """``Delta = pi b / ch(pi xi/2)`` (sympy).
 
+    Parameters
+    ----------
+    xi : sympy.Expr or float
+        ``kap/lam``.
+    b : sympy.Expr or float
+        Ball radius.
 
-def delta_closed_form(xi, b):
-    """``Delta = pi b / ch(pi xi/2)`` (sympy)."""
+    Returns
+    -------
+    sympy.Expr
+        The displacement ``Delta`` of the contact point along the separatrix.
+
+    References
+    ----------
+    K01-3.6, K01-3.7
+    """
     return sp.pi * b / sp.cosh(sp.pi * xi / 2)

@@ -122,7 +122,7 @@ class SupportDerivation:
     ball_velocities: list[sp.Matrix]
     directions: list[sp.Matrix]
     spins: tuple[sp.Symbol, ...]
-    I: sp.Matrix  # noqa: E741  (the paper's name)
+    I: sp.Matrix  # the paper's name
     lambdas: tuple[sp.Symbol, ...]
     ratios: tuple[sp.Symbol, ...]
     K: sp.Matrix | None
@@ -340,7 +340,7 @@ def n_ball_model(
 
 
 # ============================================================== closed model
-def _sample_physical_support(D_iso, D_al, D_be, rng, point) -> None:  # noqa: N803
+def _sample_physical_support(D_iso, D_al, D_be, rng, point) -> None:
     al0, be0, ga0 = (sp.Rational(rng.randint(1, 40), rng.randint(1, 12)) for _ in range(3))
     point[D_iso], point[D_al], point[D_be] = al0 + be0, al0 - ga0, be0 - ga0
 

@@ -104,6 +104,18 @@ def _bilinear(u: tuple, v: tuple, gram: dict) -> sp.Expr:
 def theorem1() -> Theorem1:
     """Derive the conditions of BKM12 Theorem 1 (see :class:`Theorem1`).
 
+    Cached: the derivation runs once per process.
+
+    Returns
+    -------
+    Theorem1
+        The conditions, their solution for ``m2`` and ``D~``, and ``mu``.
+
+    Raises
+    ------
+    RuntimeError
+        When the conditions do not have exactly one solution (a derivation failure).
+
     References
     ----------
     BKM12-14, BKM12-17, BKM12-proofT1, BKM12-18, BKM12-21.
@@ -170,6 +182,18 @@ class ChaplyginMap:
 def chaplygin_map() -> ChaplyginMap:
     """Derive Chaplygin's coefficients (see :class:`ChaplyginMap`).
 
+    Cached: the derivation runs once per process.
+
+    Returns
+    -------
+    ChaplyginMap
+        The orthogonality quadratic, both roots ``f`` and the coefficients in ``f``.
+
+    Raises
+    ------
+    RuntimeError
+        When the orthogonality condition does not have two roots (a derivation failure).
+
     References
     ----------
     BKM12-1.4a, BKM12-22, BKM12-23, K01-2.32.
@@ -200,7 +224,7 @@ def chaplygin_map() -> ChaplyginMap:
     return ChaplyginMap(syms, ortho, (f_small, f_other), m1, m2, c1, c2, Dt_inv, Et)
 
 
-def chaplygin_phi_form() -> dict:
+def chaplygin_phi_form() -> dict[str, sp.Expr]:
     """BKM12-22/23 as printed: coefficients in ``phi, k, rho, sigma`` and ``tan(2 phi)``.
 
     Returns
@@ -270,6 +294,13 @@ class KilinMap:
 def kilin_map() -> KilinMap:
     """Kilin's form of the transformation; the inverse is derived (see :class:`KilinMap`).
 
+    Cached: the derivation runs once per process.
+
+    Returns
+    -------
+    KilinMap
+        K01's coefficients in ``n, C, h, D, f`` and the inverse matrix.
+
     References
     ----------
     K01-2.29, K01-2.30, K01-2.32, K01-2.33.
@@ -305,6 +336,24 @@ def gram_orthogonal_rows(g: sp.Matrix, a: sp.Matrix, w: sp.Matrix) -> sp.Matrix:
     ``b = g^-1 (a x w)``, ``m = g^-1 (a x b)``: ``<a, b> = a . (a x w) = 0`` and
     ``<m, a> = <m, b> = 0``. Every g-orthogonal triple with ``a`` first is of this form up
     to the scale of ``m`` (BKM12-47's hypothesis without square roots).
+
+    Parameters
+    ----------
+    g : sympy.Matrix, shape (3, 3)
+        Symmetric invertible metric.
+    a : sympy.Matrix, shape (3, 1)
+        The second row.
+    w : sympy.Matrix, shape (3, 1)
+        Free vector that fixes ``b`` (any vector not parallel to ``a``).
+
+    Returns
+    -------
+    sympy.Matrix, shape (3, 3)
+        Rows ``m^T, a^T, b^T``.
+
+    References
+    ----------
+    BKM12-47
     """
     from .vectors import cross
 
@@ -345,6 +394,13 @@ class Proposition2:
 def proposition2() -> Proposition2:
     """Derive BKM12-50 ... 55 (see :class:`Proposition2`).
 
+    Cached: the derivation runs once per process.
+
+    Returns
+    -------
+    Proposition2
+        ``Gamma``, ``g``, ``B``, the cubic and the eigen-row.
+
     References
     ----------
     BKM12-49 ... BKM12-55.
@@ -362,7 +418,13 @@ def proposition2() -> Proposition2:
     return Proposition2(syms, Gamma, g, g.inv() * Gamma, cubic, row)
 
 
-def theorem2_scalars(Q: sp.Matrix, X: sp.Matrix, Y: sp.Matrix, E: sp.Expr, Dt_inv) -> dict:
+def theorem2_scalars(
+    Q: sp.Matrix,
+    X: sp.Matrix,
+    Y: sp.Matrix,
+    E: sp.Expr,
+    Dt_inv: tuple[sp.Expr, sp.Expr, sp.Expr, sp.Expr],
+) -> dict[str, sp.Matrix]:
     """``X~`` (2x2) and ``Y~`` of BKM12-48 from ``X``, ``Y`` and the coefficients, by bilinearity.
 
     The A-Gram matrix of ``(M, alpha, beta)`` on the level ``2H = E`` is
@@ -378,6 +440,7 @@ def theorem2_scalars(Q: sp.Matrix, X: sp.Matrix, Y: sp.Matrix, E: sp.Expr, Dt_in
     Y : sympy.Matrix
         ``((A M, alpha), (A M, beta))``.
     E : sympy.Expr
+        Twice the energy.
     Dt_inv : (sympy.Expr, sympy.Expr, sympy.Expr, sympy.Expr)
         ``(D_al^-1, D_be^-1, D_al~^-1, D_be~^-1)``.
 
@@ -385,6 +448,10 @@ def theorem2_scalars(Q: sp.Matrix, X: sp.Matrix, Y: sp.Matrix, E: sp.Expr, Dt_in
     -------
     dict
         ``X_t`` (2x2), ``Y_t`` (2x1), ``Gram`` (3x3 A-Gram matrix used).
+
+    References
+    ----------
+    BKM12-48, BKM12-T2
     """
     dal, dbe, tal, tbe = Dt_inv
     YXY = (Y.T * X.inv() * Y)[0, 0]

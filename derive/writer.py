@@ -9,9 +9,17 @@ from pathlib import Path
 
 from .emit import EMITTERS, ModelRoutines, get_emitter
 from .emit.base import GENERATOR_VERSION
+from .errors import UserInputError
 from .systems import build_model, builtin_variants
 
-__all__ = ["render_generated", "write_generated", "check_generated", "MANIFEST"]
+__all__ = [
+    "render_generated",
+    "write_generated",
+    "check_generated",
+    "is_ours",
+    "refuse_foreign",
+    "MANIFEST",
+]
 
 MANIFEST = "manifest.json"
 
@@ -58,6 +66,12 @@ def render_generated(languages: tuple[str, ...] | None = None) -> dict[str, str]
     ----------
     languages : tuple of str, optional
         Emitters to run (default: all registered).
+
+    Returns
+    -------
+    dict of str to str
+        File name (relative to ``generated/``) to text: the package ``__init__.py``,
+        each emitter's files for every built-in variant, and ``manifest.json``.
     """
     languages = languages or tuple(sorted(EMITTERS))
     files: dict[str, str] = {"__init__.py": _INIT}
@@ -97,10 +111,101 @@ def _is_generated(path: Path) -> bool:
     return path.is_file() and path.suffix in {".py", ".c", ".json"}
 
 
+#: Every file this writer emits says so in its first lines (the manifest is recognised by
+#: its shape): only such files are ever overwritten or removed.
+_STAMP = "DO NOT EDIT"
+
+
+def is_ours(path: Path) -> bool:
+    """True when ``path`` is a file ``chaplygin derive`` wrote (its stamp or the manifest).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+
+    Returns
+    -------
+    bool
+    """
+    if not path.is_file():
+        return False
+    try:
+        with open(path, encoding="utf-8") as fh:
+            head = fh.read(4096)
+    except (OSError, UnicodeDecodeError):
+        return False
+    if path.name == MANIFEST:
+        try:
+            data = json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            return False
+        return isinstance(data, dict) and all(
+            isinstance(v, dict) and {"system", "hash", "files"} <= set(v) for v in data.values()
+        )
+    first = "\n".join(head.splitlines()[:5])
+    return _STAMP in first and "chaplygin derive" in first
+
+
+def refuse_foreign(directory: Path, names: set[str] | None = None) -> None:
+    """Refuse to write into a folder holding files the project did not write.
+
+    Parameters
+    ----------
+    directory : pathlib.Path
+        The output folder (it may not exist: then nothing is refused).
+    names : set of str, optional
+        The files about to be written; without it only the folder itself is checked.
+
+    Raises
+    ------
+    UserInputError
+        The folder is not a folder, is not empty and holds no manifest of ours, or holds a
+        file of the same name as one to be written that is not ours.
+    """
+    if not directory.exists():
+        return
+    if not directory.is_dir():
+        raise UserInputError(f"output folder {directory}: not a folder")
+    present = [p for p in directory.iterdir() if not p.name.startswith(".")]
+    if present and not is_ours(directory / MANIFEST):
+        raise UserInputError(
+            f"output folder {directory}: the folder is not empty and was not written by chaplygin "
+            f"derive ({len(present)} entries, no {MANIFEST} of ours); give an empty or new folder"
+        )
+    for p in present:
+        if names is not None and p.name in names and not is_ours(p):
+            raise UserInputError(
+                f"output folder {directory}: {p.name} is not a file chaplygin derive wrote; "
+                "it would be overwritten: move it away or give another folder"
+            )
+
+
 def write_generated(directory: Path) -> list[str]:
-    """(Re)write ``directory``; returns the names of files that changed or were removed."""
-    directory.mkdir(parents=True, exist_ok=True)
+    """(Re)write ``directory``; returns the names of files that changed or were removed.
+
+    Files are written atomically and only when their text differs. Only files this writer
+    made (stamped, see :func:`is_ours`) are overwritten or removed; a folder with anything
+    else in it is refused before any work is done.
+
+    Parameters
+    ----------
+    directory : pathlib.Path
+        The ``generated/`` directory (created if missing).
+
+    Returns
+    -------
+    list of str
+        Names of the files written or removed, sorted within each group.
+
+    Raises
+    ------
+    UserInputError
+        See :func:`refuse_foreign`.
+    """
+    refuse_foreign(directory)
     files = render_generated()
+    refuse_foreign(directory, set(files))  # (the folder may have changed meanwhile)
+    directory.mkdir(parents=True, exist_ok=True)
     changed = []
     for name, text in sorted(files.items()):
         path = directory / name
@@ -108,14 +213,26 @@ def write_generated(directory: Path) -> list[str]:
             _atomic_write(path, text)
             changed.append(name)
     for path in sorted(directory.iterdir()):
-        if _is_generated(path) and path.name not in files:
+        if _is_generated(path) and path.name not in files and is_ours(path):
             path.unlink()
             changed.append(path.name)
     return changed
 
 
 def check_generated(directory: Path) -> list[str]:
-    """Names of files in ``directory`` that are stale, missing or extra (empty: in sync)."""
+    """Names of files in ``directory`` that are stale, missing or extra (empty: in sync).
+
+    Parameters
+    ----------
+    directory : pathlib.Path
+        The ``generated/`` directory (may be missing).
+
+    Returns
+    -------
+    list of str
+        One ``"<name>: <problem>"`` line per file that is missing, out of date or
+        not produced by any built-in model; empty when ``directory`` is in sync.
+    """
     files = render_generated()
     problems = []
     for name, text in sorted(files.items()):

@@ -13,15 +13,17 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from chaplygin.verify.bifurcation_cmd import FIGURES, draw
+from chaplygin.verify.plots import FIGURES, bifurcation_figure
 
 
 def main() -> None:
     out = Path(__file__).resolve().parent / "figures"
     out.mkdir(exist_ok=True)
     for name in FIGURES:
-        summary = draw(name, str(out / f"bifurcation_{name}.png"), {}, samples=60, seed=1)
-        print(f"{summary['out']}: drift of the samples {summary['drift']:.1e}")
+        path = out / f"bifurcation_{name}.png"
+        figure, drift = bifurcation_figure(name, samples=60, seed=1)
+        figure.savefig(path, dpi=110)
+        print(f"{path}: drift of the samples {drift:.1e}")
 
 
 if __name__ == "__main__":

@@ -4,7 +4,9 @@ The C sources written by :class:`chaplygin.derive.emit.CEmitter` (``generated/*.
 for one model, ``chaplygin_model_hash``, ``chaplygin_sizes`` and the routines
 ``chaplygin_rhs``, ``chaplygin_jac``, ``chaplygin_aux``, ``chaplygin_integrals`` and
 ``chaplygin_density``, each ``void f(double T, const double *Y, const double *P, double *OUT)``.
-This module turns such a source into a :class:`CompiledModel` with numpy-friendly methods.
+This module turns such a source into a :class:`CompiledModel` with numpy-friendly methods;
+the compiler and its cache are :mod:`.ccompile`'s (its names are re-exported here), the
+CPython trampoline for single calls is :mod:`.fastcall`'s.
 
 Design rules:
 
@@ -37,17 +39,8 @@ Examples
 
 from __future__ import annotations
 
-import hashlib
 import os
-import platform
-import shlex
-import shutil
-import subprocess
-import sys
-import sysconfig
-import tempfile
 import warnings
-from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -56,6 +49,18 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..derive.errors import ChaplyginError
+from .ccompile import (
+    CFLAGS,
+    LDLIBS,
+    CacheError,
+    CompilationError,
+    CompilerError,
+    CompilerNotFoundError,
+    c_cache_dir,
+    compile_c,
+    find_compiler,
+)
+from .fastcall import load_fastcall
 
 __all__ = [
     "CFLAGS",
@@ -71,19 +76,6 @@ __all__ = [
     "find_compiler",
     "load_c_model",
 ]
-
-#: Compiler flags (IEEE-exact: no ``-ffast-math``, no FMA contraction).
-CFLAGS: tuple[str, ...] = ("-O2", "-shared", "-fPIC", "-std=c99", "-ffp-contract=off")
-#: Libraries linked after the source file.
-LDLIBS: tuple[str, ...] = ("-lm",)
-
-#: Compilers tried, in order, when neither ``compiler=`` nor ``CC`` is given.
-_DEFAULT_COMPILERS = ("cc", "gcc", "clang")
-#: Bump to invalidate every cached library (changes the cache key).
-_CACHE_FORMAT = "chaplygin-c-cache-1"
-_COMPILE_TIMEOUT = 900.0
-_VERSION_TIMEOUT = 60.0
-_LIB_SUFFIX = ".dll" if sys.platform == "win32" else ".so"
 
 _F64 = np.dtype(np.float64)
 
@@ -164,241 +156,12 @@ CHAPLYGIN__MANY(density, 1)
 
 # --------------------------------------------------------------------------- errors
 
-
-class CompilerError(ChaplyginError, RuntimeError):
-    """The C compiler is missing or could not build the library."""
-
-
-class CompilerNotFoundError(CompilerError):
-    """No C compiler could be found (``compiler=`` argument, ``CC``, ``cc``, ``gcc``)."""
-
-
-class CompilationError(CompilerError):
-    """The C compiler ran but failed (non-zero exit status or time-out)."""
-
-
 class ModelHashMismatchError(ChaplyginError, ValueError):
     """The compiled library reports a model hash other than the expected one."""
 
 
 class CompilerUnavailableWarning(UserWarning):
     """No usable C compiler: the (slower) numpy implementation is used instead."""
-
-
-# --------------------------------------------------------------------------- compiling
-
-
-def c_cache_dir(cache_dir: str | os.PathLike[str] | None = None) -> Path:
-    """Directory holding the compiled libraries.
-
-    Parameters
-    ----------
-    cache_dir : path-like, optional
-        Root of the chaplygin cache.  Default: ``$CHAPLYGIN_CACHE_DIR`` if set and non-empty,
-        else ``$XDG_CACHE_HOME/chaplygin``, else ``~/.cache/chaplygin``.
-
-    Returns
-    -------
-    pathlib.Path
-        ``<root>/c`` (not created here).
-    """
-    if cache_dir is not None:
-        root = Path(cache_dir)
-    elif os.environ.get("CHAPLYGIN_CACHE_DIR"):
-        root = Path(os.environ["CHAPLYGIN_CACHE_DIR"])
-    else:
-        xdg = os.environ.get("XDG_CACHE_HOME")
-        base = Path(xdg) if xdg else Path.home() / ".cache"
-        root = base / "chaplygin"
-    return root.expanduser() / "c"
-
-
-def find_compiler(compiler: str | None = None) -> list[str]:
-    """Command line that invokes the C compiler.
-
-    Parameters
-    ----------
-    compiler : str, optional
-        Compiler command (may contain arguments, e.g. ``"ccache gcc"``).  When given, it is
-        the only candidate; otherwise the ``CC`` environment variable is, when set and
-        non-empty; otherwise ``cc``, ``gcc`` and ``clang`` are searched on ``PATH``.
-
-    Returns
-    -------
-    list of str
-        The command split into words, its program resolved to an absolute path.
-
-    Raises
-    ------
-    CompilerNotFoundError
-        If the chosen candidate (or, without a choice, every default) is not found.
-    """
-    if compiler is None:
-        compiler = os.environ.get("CC") or None
-        origin = "the CC environment variable"
-    else:
-        origin = "the compiler argument"
-    if compiler is not None:
-        words = shlex.split(compiler)
-        found = shutil.which(words[0]) if words else None
-        if found is None:
-            raise CompilerNotFoundError(
-                f"C compiler {compiler!r} (from {origin}) not found; install it or point CC "
-                "to an installed C compiler"
-            )
-        return [found, *words[1:]]
-    for name in _DEFAULT_COMPILERS:
-        found = shutil.which(name)
-        if found is not None:
-            return [found]
-    raise CompilerNotFoundError(
-        f"no C compiler found on PATH (tried {', '.join(_DEFAULT_COMPILERS)}); install one "
-        "(e.g. gcc) or set the CC environment variable"
-    )
-
-
-_identity_cache: dict[tuple[Any, ...], str] = {}
-
-
-def _compiler_identity(argv: Sequence[str]) -> str:
-    """Path, file stamp and ``--version`` output of the compiler (memoised per process)."""
-    try:
-        st = os.stat(argv[0])
-    except OSError as exc:
-        raise CompilerNotFoundError(f"C compiler {argv[0]!r} not usable: {exc}") from exc
-    memo_key = (tuple(argv), st.st_mtime_ns, st.st_size, st.st_ino)
-    identity = _identity_cache.get(memo_key)
-    if identity is None:
-        try:
-            proc = subprocess.run(
-                [*argv, "--version"],
-                capture_output=True,
-                text=True,
-                errors="replace",
-                stdin=subprocess.DEVNULL,
-                timeout=_VERSION_TIMEOUT,
-                check=False,
-            )
-        except (OSError, subprocess.SubprocessError) as exc:
-            raise CompilerNotFoundError(
-                f"C compiler {shlex.join(argv)!r} cannot be run: {exc}"
-            ) from exc
-        identity = "\n".join([shlex.join(argv), proc.stdout.strip(), proc.stderr.strip()])
-        _identity_cache[memo_key] = identity
-    return identity
-
-
-def _platform_tag() -> str:
-    return f"{sysconfig.get_platform()}|{platform.machine()}|{sys.platform}"
-
-
-def _cache_key(source: str, identity: str, flags: Sequence[str]) -> str:
-    h = hashlib.sha256()
-    for part in (_CACHE_FORMAT, source, identity, shlex.join(flags), _platform_tag()):
-        h.update(part.encode("utf-8", "surrogatepass"))
-        h.update(b"\0")
-    return h.hexdigest()
-
-
-def _unlink_quietly(path: str | os.PathLike[str]) -> None:
-    try:
-        os.unlink(path)
-    except FileNotFoundError:
-        pass
-
-
-def compile_c(
-    source: str,
-    *,
-    cache_dir: str | os.PathLike[str] | None = None,
-    compiler: str | None = None,
-    force: bool = False,
-    ldlibs: Sequence[str] = (),
-    cflags: Sequence[str] = (),
-) -> Path:
-    """Compile C source to a shared library, or reuse the cached one.
-
-    Parameters
-    ----------
-    source : str
-        Complete C99 translation unit.
-    cache_dir : path-like, optional
-        Root of the cache (see :func:`c_cache_dir`); the library goes into ``<root>/c``.
-    compiler : str, optional
-        Compiler command; see :func:`find_compiler` (default: ``CC``, else ``cc``/``gcc``).
-    force : bool, default False
-        Recompile even when the library is cached (replacing it atomically).
-    ldlibs : sequence of str, optional
-        Extra libraries linked after :data:`LDLIBS` (``("-lquadmath",)``); part of the key.
-    cflags : sequence of str, optional
-        Extra compiler flags after :data:`CFLAGS` (include folders ``-I...``); part of the key.
-
-    Returns
-    -------
-    pathlib.Path
-        The shared library ``<root>/c/<sha256>.so``; the key hashes the source, the compiler
-        identity, :data:`CFLAGS` + :data:`LDLIBS` and the platform.  The source is kept next
-        to it as ``<sha256>.c`` for inspection.
-
-    Raises
-    ------
-    CompilerNotFoundError
-        If no compiler can be found or run.
-    CompilationError
-        If the compiler fails; the message holds its command line and diagnostics.
-    OSError
-        If the cache directory cannot be created or written.
-
-    Notes
-    -----
-    The compiler writes to a temporary file in the cache directory that is then moved into
-    place with :func:`os.replace`: concurrent builds of the same source (threads or processes)
-    are safe and the final library is never seen half-written.
-    """
-    argv = find_compiler(compiler)
-    flags = (*CFLAGS, *cflags, *LDLIBS, *ldlibs)
-    key = _cache_key(source, _compiler_identity(argv), flags)
-    directory = c_cache_dir(cache_dir)
-    target = directory / f"{key}{_LIB_SUFFIX}"
-    if not force and target.is_file():
-        return target
-
-    directory.mkdir(parents=True, exist_ok=True)
-    prefix = f".tmp-{key[:16]}-"
-    fd, tmp_c = tempfile.mkstemp(prefix=prefix, suffix=".c", dir=directory)
-    with os.fdopen(fd, "w", encoding="utf-8") as fh:
-        fh.write(source)
-    fd, tmp_lib = tempfile.mkstemp(prefix=prefix, suffix=_LIB_SUFFIX, dir=directory)
-    os.close(fd)
-    command = [*argv, *CFLAGS, *cflags, "-o", tmp_lib, tmp_c, *LDLIBS, *ldlibs]
-    try:
-        try:
-            proc = subprocess.run(
-                command,
-                capture_output=True,
-                text=True,
-                errors="replace",
-                stdin=subprocess.DEVNULL,
-                timeout=_COMPILE_TIMEOUT,
-                check=False,
-            )
-        except FileNotFoundError as exc:
-            raise CompilerNotFoundError(f"C compiler {argv[0]!r} not found: {exc}") from exc
-        except (OSError, subprocess.SubprocessError) as exc:
-            raise CompilationError(f"running {shlex.join(command)} failed: {exc}") from exc
-        if proc.returncode != 0 or os.path.getsize(tmp_lib) == 0:
-            diagnostics = (proc.stderr or proc.stdout).strip()
-            if len(diagnostics) > 4000:
-                diagnostics = diagnostics[:4000] + "\n[...]"
-            raise CompilationError(
-                f"{shlex.join(command)} exited with status {proc.returncode}:\n{diagnostics}"
-            )
-        os.replace(tmp_c, directory / f"{key}.c")
-        os.replace(tmp_lib, target)
-    finally:
-        _unlink_quietly(tmp_c)
-        _unlink_quietly(tmp_lib)
-    return target
 
 
 # --------------------------------------------------------------------------- loading
@@ -519,8 +282,6 @@ class CompiledModel:
                 pass
         self._p_last: tuple[Any, Any] = (None, None)
         # the CPython trampoline for single calls (None: the cffi path below)
-        from .fastcall import load_fastcall
-
         fast = load_fastcall()
         self._fast = None if fast is None else fast.call
         self._address = {name: int(_ffi.cast("uintptr_t", fn)) for name, fn in routines.items()}
@@ -792,6 +553,8 @@ def load_c_model(
             # unloadable cache entry (e.g. damaged on disk): rebuild it once
             path = compile_c(full_source, cache_dir=cache_dir, compiler=compiler, force=True)
             return CompiledModel(path, expected_hash)
+    except CacheError:
+        raise
     except (CompilerError, OSError) as exc:
         warnings.warn(
             f"compiled C model unavailable, using the (slower) numpy implementation instead: "

@@ -27,6 +27,8 @@ from types import ModuleType
 
 import numpy as np
 
+from .ccompile import CompilationError, CompilerNotFoundError, compile_c
+
 __all__ = ["load_fastcall", "FASTCALL_SOURCE"]
 
 FASTCALL_SOURCE = r"""
@@ -110,8 +112,6 @@ PyMODINIT_FUNC PyInit_chaplygin_fastcall(void)
 def load_fastcall() -> ModuleType | None:
     """The compiled trampoline module (built into the C cache on first use), or None when
     it cannot be built here (no compiler, no Python or numpy headers)."""
-    from .compiled import CompilationError, CompilerNotFoundError, compile_c
-
     include = sysconfig.get_paths().get("include")
     if not include:
         return None

@@ -200,13 +200,33 @@ def parse_number(text: Number | object, dps: int = 30) -> mpmath.mpf:
         elif isinstance(text, str | bytes):
             src = text.decode() if isinstance(text, bytes) else text
             src = src.strip()
+            if len(src) > MAX_TEXT:
+                raise UserInputError(
+                    f"a number of {len(src)} characters is too long (at most {MAX_TEXT})"
+                )
             try:
                 if _LITERAL.fullmatch(src):
-                    value = mpmath.mpf(src.replace("_", ""))
+                    value = _bounded(mpmath.mpf(src.replace("_", "")))
                 else:
                     tree = ast.parse(src, mode="eval")
+                    if _depth(tree) > MAX_DEPTH:
+                        raise _Refused(f"the expression is nested deeper than {MAX_DEPTH}")
                     value = +_eval_node(tree.body, src)
-            except (SyntaxError, ValueError, TypeError, ZeroDivisionError, KeyError):
+            except _Refused as exc:
+                raise UserInputError(f"cannot use {src[:60]!r} as a number: {exc}") from None
+            except ZeroDivisionError:
+                raise UserInputError(
+                    f"cannot use {src[:60]!r} as a number: division by zero"
+                ) from None
+            except (
+                SyntaxError,
+                ValueError,
+                TypeError,
+                KeyError,
+                RecursionError,
+                MemoryError,
+                OverflowError,
+            ):
                 raise UserInputError(
                     f"cannot read {src!r} as a number: use a decimal like 0.93 or an "
                     "expression of numbers with sqrt, pi, + - * / ** and parentheses"
@@ -266,14 +286,99 @@ def working_number(value: Number | object, precision: Precision) -> float | mpma
         return +exact
 
 
+#: Bounds of the number parser, checked before anything is evaluated: the length of the
+#: text, the nesting depth of the expression, and the size of every intermediate value
+#: (``|log10 x| <= MAX_LOG10``: far beyond any physical input, small enough that no
+#: operation can take long or use much memory).
+MAX_TEXT, MAX_DEPTH, MAX_LOG10 = 1000, 50, 10_000
+
+
+class _Refused(ValueError):
+    """An expression the parser will not evaluate (the message says why)."""
+
+
+def _depth(tree: ast.AST) -> int:
+    """Nesting depth of an expression tree, without recursion."""
+    deepest, stack = 0, [(tree, 1)]
+    while stack:
+        node, d = stack.pop()
+        deepest = max(deepest, d)
+        stack.extend((child, d + 1) for child in ast.iter_child_nodes(node))
+    return deepest
+
+
+def _log10_abs(x: mpmath.mpf) -> float:
+    """``log10 |x|`` from the binary exponent (cheap at any size; 0 for x = 0)."""
+    if x == 0:
+        return 0.0
+    man, exp = mpmath.frexp(x)
+    return float(exp) * 0.30102999566398120 + float(mpmath.log10(abs(man)))
+
+
+def _bounded(x) -> mpmath.mpf:
+    if not isinstance(x, mpmath.mpf):
+        raise _Refused("the value is not a real number")
+    if mpmath.isfinite(x) and abs(_log10_abs(x)) > MAX_LOG10:
+        raise _Refused(f"an intermediate value is beyond 1e±{MAX_LOG10}")
+    return x
+
+
+def _power(base: mpmath.mpf, exponent: mpmath.mpf) -> mpmath.mpf:
+    # estimate the size of the result before computing it (9**9**9**9 must not start)
+    if base != 0 and abs(exponent) * abs(_log10_abs(base)) > MAX_LOG10:
+        raise _Refused(f"a power is beyond 1e±{MAX_LOG10}")
+    if base < 0 and exponent != mpmath.floor(exponent):
+        raise _Refused("a negative number to a fractional power is not real")
+    return base**exponent
+
+
+def _exp(x: mpmath.mpf) -> mpmath.mpf:
+    if abs(x) > MAX_LOG10 * 2.302585092994046:
+        raise _Refused(f"exp of {mpmath.nstr(x, 5)} is beyond 1e±{MAX_LOG10}")
+    return mpmath.exp(x)
+
+
+def _real_only(fn, what: str):
+    def f(x):
+        if x < 0:
+            raise _Refused(f"{what} of a negative number is not real")
+        if what == "log" and x == 0:
+            raise _Refused("log of 0 is not finite")
+        return fn(x)
+
+    return f
+
+
+def _trig(fn):
+    def f(x):
+        if abs(x) > 1e100:  # reducing a larger argument mod 2 pi costs time, not accuracy
+            raise _Refused("the argument of sin/cos is beyond 1e100")
+        return fn(x)
+
+    return f
+
+
+_FUNCS.update(
+    sqrt=_real_only(mpmath.sqrt, "sqrt"),
+    log=_real_only(mpmath.log, "log"),
+    exp=_exp,
+    cbrt=lambda x: mpmath.cbrt(x) if x >= 0 else -mpmath.cbrt(-x),  # the real root
+    sin=_trig(mpmath.sin),
+    cos=_trig(mpmath.cos),
+)
+_BINOPS[ast.Pow] = _power
+
+
 def _eval_node(node: ast.AST, src: str = "") -> mpmath.mpf:
+    return _bounded(_eval_unchecked(node, src))
+
+
+def _eval_unchecked(node: ast.AST, src: str = "") -> mpmath.mpf:
     if (
         isinstance(node, ast.Constant)
-        and isinstance(node.value, (int, float))
+        and isinstance(node.value, int | float)
         and not isinstance(node.value, bool)
     ):
-        if isinstance(node.value, int):
-            return mpmath.mpf(node.value)
         # re-read the literal's own text so that 0.1 means one tenth and a 40-digit literal
         # keeps its 40 digits at the working precision (the Python float has only 17)
         text = ast.get_source_segment(src, node) if src else None

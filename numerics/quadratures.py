@@ -132,7 +132,7 @@ def separation_roots(lam1, lam2, a, D) -> list:
 
 def _state(I, D, M, gamma, dps):
     try:
-        I = [mpmath.mpf(x) for x in I]  # noqa: E741
+        I = [mpmath.mpf(x) for x in I]
         D = mpmath.mpf(D)
         M = [mpmath.mpf(x) for x in M]
         gamma = [mpmath.mpf(x) for x in gamma]
@@ -192,7 +192,7 @@ def torus_quadratures(I, D, M, gamma, digits: int = 30) -> TorusQuadratures:
     if not isinstance(digits, int) or digits < 15:
         raise UserInputError("digits must be an integer >= 15")
     with mpmath.workdps(digits + 10):
-        I, D, M, gamma = _state(I, D, M, gamma, digits)  # noqa: E741
+        I, D, M, gamma = _state(I, D, M, gamma, digits)
         code = load_model_code("chaplygin_ball", ())
         vals = code.mpmath.integrals(mpmath.mpf(0), list(M) + list(gamma), list(I) + [D])
         h, n = vals[code.integral_names.index("H")], vals[code.integral_names.index("(M,M)")]

@@ -48,12 +48,14 @@ __all__ = [
     "check_inertia",
     "flow",
     "ENGINES",
+    "near_separatrix_state",
+    "separatrix_trace",
     "frame_turn",
     "critical_energy",
 ]
 
 
-def check_inertia(I: Sequence, D) -> None:  # noqa: E741
+def check_inertia(I: Sequence, D) -> None:
     """Raise :class:`UserInputError` unless ``I1 < I2 < I3`` or ``I1 > I2 > I3``, all > 0.
 
     The separatrix of K01 §3.3 belongs to the middle axis ``I2``.
@@ -71,13 +73,13 @@ def check_inertia(I: Sequence, D) -> None:  # noqa: E741
         )
 
 
-def mu_of(I: Sequence, D):  # noqa: E741
+def mu_of(I: Sequence, D):
     """``mu = xi = kap/lam = 1/(J2 sqrt(a21 a32))``, ``J_i = I_i + D`` (K01-3.7)."""
     J1, J2, J3 = (mpmath.mpf(v) + D for v in I)
     return 1 / (J2 * mpmath.sqrt((1 / J1 - 1 / J2) * (1 / J2 - 1 / J3)))
 
 
-def separatrix_quantities(I: Sequence, D, C=1) -> dict:  # noqa: E741
+def separatrix_quantities(I: Sequence, D, C=1) -> dict:
     """``lam, kap, s32, s21, l`` for ``I1 < I2 < I3`` (mpmath at the current precision)."""
     I1, I2, I3 = (mpmath.mpf(v) for v in I)
     D, C = mpmath.mpf(D), mpmath.mpf(C)
@@ -93,7 +95,7 @@ def separatrix_quantities(I: Sequence, D, C=1) -> dict:  # noqa: E741
     }
 
 
-def separatrix_state(I: Sequence, D, C=1) -> list:  # noqa: E741
+def separatrix_state(I: Sequence, D, C=1) -> list:
     """The corrected K01-3.4 solution at ``t = 0`` (``th = 0``, ``sech = 1``, ``c = 1``).
 
     State order of ``chaplygin_ball__contact_point``: ``M, gamma, alpha, beta, x, y``.
@@ -260,7 +262,7 @@ def flow(
 
 
 def delta_ode(
-    I: Sequence,  # noqa: E741
+    I: Sequence,
     D,
     b,
     digits: int,
@@ -292,9 +294,9 @@ def delta_ode(
         ``tail``, ``tail_bound``, ``steps``, ``work_digits``, ``L``, ``seconds``.
     """
     start = time.perf_counter()
-    I = list(I)  # noqa: E741
+    I = list(I)
     if I[0] > I[2]:  # the same body with axes 1 and 3 renamed (mu is symmetric)
-        I = I[::-1]  # noqa: E741
+        I = I[::-1]
     if L is None:
         L = max(8.0, (digits + 5) * math.log(10) / 7)
     work = digits + int(math.ceil(L / math.log(10))) + 8
@@ -359,7 +361,7 @@ class DeltaResult:
 
 
 def delta_three_ways(
-    I: Sequence,  # noqa: E741
+    I: Sequence,
     D,
     b,
     digits: int,
@@ -391,7 +393,74 @@ def delta_three_ways(
         return DeltaResult(mu, ode, quad, closed, digits, agree, seconds, info)
 
 
-def frame_turn(I: Sequence, D: float, h: float, C: float = 1.0, rtol: float = 1e-12):  # noqa: E741
+def near_separatrix_state(I: Sequence, D: float, h: float, C: float = 1.0):
+    """A state on ``M = C gamma`` with energy ``h`` in ``[C^2/(2 I3), C^2/(2 I1)]``.
+
+    ``gamma = (cos psi, 0, sin psi)`` with ``(gamma, A gamma) = 1/(D + C^2/(2h))``
+    (K01-3.3seg), ``alpha = e2``, ``beta = gamma x alpha``; ``x = y = 0``.
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+        Moments of inertia.
+    D, h, C : float
+        ``D = m b^2``, the energy and ``C = (M, gamma)``.
+
+    Returns
+    -------
+    numpy.ndarray, shape (14,)
+        State of ``chaplygin_ball__contact_point``: ``M, gamma, alpha, beta, x, y``.
+
+    Raises
+    ------
+    ValueError
+        If ``h`` is not on the segment ``n = C^2``.
+    """
+    import numpy as np
+
+    J1, _, J3 = (float(v) + D for v in I)
+    g = 1.0 / (D + C**2 / (2 * h))
+    c2 = (g - 1 / J3) / (1 / J1 - 1 / J3)
+    if not 0 <= c2 <= 1:
+        raise ValueError(f"h = {h} is not on the segment n = C^2")
+    gamma = np.array([np.sqrt(c2), 0.0, np.sqrt(1 - c2)])
+    alpha = np.array([0.0, 1.0, 0.0])
+    beta = np.cross(gamma, alpha)
+    return np.concatenate([C * gamma, gamma, alpha, beta, [0.0, 0.0]])
+
+
+def separatrix_trace(I: Sequence, D: float, b: float, C: float = 1.0, n: int = 2001):
+    """``x(t), y(t)`` of the contact point on the separatrix (K01 Fig. 4).
+
+    Cumulative integrals (Simpson) of K01-3.5 with ``nu = -b lam`` over ``lam t`` in
+    ``[-25, 25]``.
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+        Moments of inertia, ``I1 < I2 < I3``.
+    D, b, C : float
+        ``D = m b^2``, the radius and ``C = (M, gamma)``.
+    n : int
+        Number of points.
+
+    Returns
+    -------
+    x, y : numpy.ndarray, shape (n,)
+    """
+    import numpy as np
+    from scipy.integrate import cumulative_simpson
+
+    Q = separatrix_quantities(I, D, C)
+    lam, kap = float(Q["lam"]), float(Q["kap"])
+    s = np.linspace(-25, 25, n)  # s = lam t
+    nu = -b * lam
+    xr = nu * np.cos(kap / lam * s) / np.cosh(s) / lam
+    yr = nu * np.sin(kap / lam * s) / np.cosh(s) / lam
+    return cumulative_simpson(xr, x=s, initial=0), cumulative_simpson(yr, x=s, initial=0)
+
+
+def frame_turn(I: Sequence, D: float, h: float, C: float = 1.0, rtol: float = 1e-12):
     """Period of ``gamma(t)`` on ``M = C gamma`` at energy ``h`` and the turn of the frame.
 
     After one period ``T`` of ``gamma`` (an Euler top, K01-2.34) the space-fixed horizontal
@@ -409,7 +478,6 @@ def frame_turn(I: Sequence, D: float, h: float, C: float = 1.0, rtol: float = 1e
     from scipy.integrate import solve_ivp
 
     from .code import load_model_code
-    from .separatrix_plots import near_separatrix_state
 
     code = load_model_code("chaplygin_ball", ("contact_point",))
     p = np.array([float(v) for v in I] + [float(D), 1.0])
@@ -449,7 +517,7 @@ def frame_turn(I: Sequence, D: float, h: float, C: float = 1.0, rtol: float = 1e
     return float(T), float(np.arctan2(np.dot(aT, b0), np.dot(aT, a0)))
 
 
-def critical_energy(I: Sequence, D: float, bracket: tuple[float, float], C: float = 1.0) -> float:  # noqa: E741
+def critical_energy(I: Sequence, D: float, bracket: tuple[float, float], C: float = 1.0) -> float:
     """The energy in ``bracket`` where :func:`frame_turn`'s ``Phi`` vanishes (Brent's method).
 
     Where the trace becomes unbounded (K01-Fig6f); accuracy limited by the double-precision

@@ -108,14 +108,14 @@ def _critical_functions(axis: int):
     return par, y_of
 
 
-def _params(I, D) -> list[float]:  # noqa: E741
+def _params(I, D) -> list[float]:
     p = [float(v) for v in (*I, D)]
     if len(p) != 4 or min(p) <= 0 or not np.all(np.isfinite(p)):
         raise UserInputError(f"need three positive moments I and a positive D, got I={I}, D={D}")
     return p
 
 
-def critical_state(I, D, axis: int, C: float, Mg: float = 0.0, branch: int = 0):  # noqa: E741
+def critical_state(I, D, axis: int, C: float, Mg: float = 0.0, branch: int = 0):
     """A steady rotation about ``e_axis`` on the level ``(C, M_gamma)`` (BKM12-crit).
 
     Parameters
@@ -143,7 +143,7 @@ def critical_state(I, D, axis: int, C: float, Mg: float = 0.0, branch: int = 0):
     return y0, 2 * np.pi / abs(w)
 
 
-def euler_state(I, D, C: float, Ep: float, sign: int = 1):  # noqa: E741
+def euler_state(I, D, C: float, Ep: float, sign: int = 1):
     """A state with ``M = M_gamma gamma`` (``Sigma_4`` for sign +1, ``Sigma_5`` for -1).
 
     ``C = M_gamma^2`` and ``E' = E D/C``: the orbit lies on ``(gamma, A gamma) =
@@ -178,7 +178,7 @@ def integral_gradients(code, y, p) -> np.ndarray:
     return np.imag(code.numpy.integrals(0.0, Y, p)) / h
 
 
-def return_period(I, D, y0, t_max: float, rtol: float = 1e-12) -> float:  # noqa: E741
+def return_period(I, D, y0, t_max: float, rtol: float = 1e-12) -> float:
     """First return time of a periodic orbit to ``y0``.
 
     Zeros of ``(y(t) - y0, f(y0))`` from below, found on the dense output and refined
@@ -243,7 +243,7 @@ def floquet(
     rtol: float = 1e-12,
     *,
     system: str = SYSTEM,
-    params=None,  # noqa: E741
+    params=None,
 ) -> FloquetResult:
     """Floquet multipliers of the periodic solution through ``y0`` with period ``T``.
 
@@ -300,7 +300,7 @@ def steady_rotation_floquet(
     D,
     C: float = 1.0,
     Mg: float = 0.0,
-    rtol: float = 1e-12,  # noqa: E741
+    rtol: float = 1e-12,
 ) -> tuple[FloquetResult, FloquetResult, FloquetResult]:
     """:func:`floquet` of the steady rotations about ``e_1, e_2, e_3`` on ``(C, M_gamma)``.
 
@@ -318,7 +318,7 @@ def steady_rotation_floquet(
 
 
 @lru_cache(maxsize=256)
-def euler_floquet(I, D, Ep: float, rtol: float = 1e-12) -> FloquetResult:  # noqa: E741
+def euler_floquet(I, D, Ep: float, rtol: float = 1e-12) -> FloquetResult:
     """:func:`floquet` of the Euler-top orbit ``M = gamma`` at ``E' = Ep`` (``Sigma_4``, C = 1),
     its period from :func:`return_period` within 40 periods of the fastest rotation.
 

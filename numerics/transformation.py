@@ -172,7 +172,7 @@ class TransformationReport:
 
 
 def transformation_test(
-    I: tuple[float, float, float],  # noqa: E741  (the papers' name)
+    I: tuple[float, float, float],  # the papers' name
     D: float,
     M0: tuple[float, float, float],
     gamma0: tuple[float, float, float],
@@ -217,7 +217,7 @@ def transformation_test(
     ----------
     BKM12-19, BKM12-22, BKM12-23, K01-2.29 ... K01-2.33.
     """
-    I = np.asarray(I, dtype=float)  # noqa: E741
+    I = np.asarray(I, dtype=float)
     M0 = np.asarray(M0, dtype=float)
     gamma0 = np.asarray(gamma0, dtype=float)
     if form not in ("chaplygin", "kilin"):

@@ -14,7 +14,7 @@ import mpmath
 import numpy as np
 import pytest
 from chaplygin.numerics import load_model_code
-from chaplygin.numerics.bench import PROBLEMS, peers_available, separatrix_state
+from chaplygin.verify.bench import PROBLEMS, peers_available, separatrix_state
 from chaplygin.verify.cli import main
 
 FIELDS = {"problem", "method", "rhs", "precision", "rtol", "T", "error", "drift", "median_s",

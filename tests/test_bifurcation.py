@@ -15,17 +15,18 @@ from chaplygin.derive.bifurcation import (
     steady_axes,
     steady_rotation_residual,
 )
-from chaplygin.numerics import integrate
+from chaplygin.numerics import bifurcation as nb
+from chaplygin.numerics import integrate, load_model_code
 from chaplygin.numerics.stability import (
     critical_state,
     euler_floquet,
     steady_rotation_floquet,
     support_steady_state,
 )
-from chaplygin.verify import bifurcation_cmd as bc
 from chaplygin.verify.claims import REGISTRY
 from chaplygin.verify.claims import bifurcation as _bifurcation_claims  # registers them
 from chaplygin.verify.cli import main
+from chaplygin.verify.plots import FIGURES
 from chaplygin.verify.verdict import check_claim
 
 I_REF, D_REF = (1.0, 1.5, 3.0), 1.0  # BKM12-1.5stab, K01-Fig1
@@ -71,7 +72,7 @@ def test_middle_curve_control_is_refuted_with_a_witness():
 def test_steady_rotations_are_rotations_about_principal_axes():
     model = build_model("chaplygin_ball", ())
     w = sp.Matrix(model.definitions["omega"])
-    I = sp.diag(*model.param_group("I"))  # noqa: E741
+    I = sp.diag(*model.param_group("I"))
     # derived residual is omega x (I omega): no dependence on gamma left
     assert sp.simplify(steady_rotation_residual(model) - w.cross(I * w)) == sp.zeros(3, 1)
     assert steady_axes(model) == [sp.eye(3)[:, i] for i in range(3)]
@@ -92,7 +93,7 @@ def test_derived_curve_matches_integrated_steady_rotation(axis, Mg):
         atol=RTOL,
         t_eval=np.linspace(0, T, 50),
     )
-    code = bc._ball_code()
+    code = load_model_code("chaplygin_ball")
     p = [*I_REF, D_REF]
     aux = np.asarray(code.numpy.aux(0.0, r.y, p))
     omega = aux[-3:]
@@ -102,7 +103,7 @@ def test_derived_curve_matches_integrated_steady_rotation(axis, Mg):
     assert np.ptp(omega[axis]) < 1e-9
     assert np.linalg.norm(r.y[:, -1] - y0) < 1e-9
     E = 2 * code.numpy.integrals(0.0, y0, p)[0]
-    assert abs(E - bc.sigma(axis, 1.0, Mg, I_REF, D_REF)) < 1e-13
+    assert abs(E - nb.sigma(axis, 1.0, Mg, I_REF, D_REF)) < 1e-13
 
 
 # --------------------------------------------------------------------- stability
@@ -125,7 +126,7 @@ def test_floquet_rule_extreme_stable_middle_unstable_random_inertia():
     """The papers' rule for random seeded inertia: the axis of the middle A_i is unstable."""
     rng = np.random.default_rng(7)
     for _ in range(2):
-        I = tuple(rng.uniform(0.5, 4.0, 3))  # noqa: E741
+        I = tuple(rng.uniform(0.5, 4.0, 3))
         D = float(rng.uniform(0.2, 2.0))
         A = 1 / (np.asarray(I) + D)
         middle = int(np.argsort(A)[1])
@@ -144,7 +145,7 @@ def test_sigma4_orbits_are_stable(Ep):
 
 def test_support_steady_rotations_follow_the_same_rule():
     params = (1.0, 1.5, 3.0, 0.5, 0.3, -0.2)
-    stab = bc.support_stability(params)
+    stab = nb.support_stability(params)
     assert [s for s, _ in stab] == [True, False, True]
     y0, T = support_steady_state(params, 0, 1.0, np.eye(3))
     assert y0.shape == (12,) and T > 0
@@ -153,23 +154,23 @@ def test_support_steady_rotations_follow_the_same_rule():
 # --------------------------------------------------------------- region of motion
 def test_region_of_motion_between_the_extreme_curves():
     """BKM12-Fig2region and K01-3.2a: integrated states lie between the extreme curves."""
-    vals, drift, _ = bc.sample_levels(I_REF, D_REF, 25, seed=3, Mg=0.0)
+    vals, drift, _ = nb.sample_levels(I_REF, D_REF, 25, seed=3, Mg=0.0)
     A = 1 / (np.asarray(I_REF) + D_REF)
     tol = 10 * max(drift, 1e-12)
     C, E = vals[:, 0], vals[:, 2]
     assert np.all(E >= A.min() * C * (1 - tol)) and np.all(E <= A.max() * C * (1 + tol))
     # general M_gamma: between Sigma_min and Sigma_max, and n >= C^2
-    vals, drift, _ = bc.sample_levels(I_REF, D_REF, 25, seed=4)
+    vals, drift, _ = nb.sample_levels(I_REF, D_REF, 25, seed=4)
     C, Mg, E = vals.T
-    lo = np.minimum.reduce([bc.sigma(i, C, Mg, I_REF, D_REF) for i in range(3)])
-    hi = np.maximum.reduce([bc.sigma(i, C, Mg, I_REF, D_REF) for i in range(3)])
+    lo = np.minimum.reduce([nb.sigma(i, C, Mg, I_REF, D_REF) for i in range(3)])
+    hi = np.maximum.reduce([nb.sigma(i, C, Mg, I_REF, D_REF) for i in range(3)])
     tol = 10 * max(drift, 1e-12)
     assert np.all(E >= lo * (1 - tol)) and np.all(E <= hi * (1 + tol))
     assert np.all(C >= Mg**2)
 
 
 def test_support_region_of_motion_between_extreme_surfaces():
-    pos, drift = bc.support_sample((1.0, 1.5, 3.0, 0.5, 0.3, -0.2), 15, seed=5)
+    pos, drift = nb.support_sample((1.0, 1.5, 3.0, 0.5, 0.3, -0.2), 15, seed=5)
     tol = 10 * max(drift, 1e-12)
     assert np.all(pos[:, 2] >= -tol) and np.all(pos[:, 2] <= 1 + tol)
 
@@ -179,8 +180,8 @@ def test_support_region_of_motion_between_extreme_surfaces():
 def figures(tmp_path_factory):
     out = tmp_path_factory.mktemp("figures")
     written = {}
-    for fig in bc.FIGURES:
-        system = bc.FIGURES[fig][0]
+    for fig in FIGURES:
+        system = FIGURES[fig][0]
         path = out / f"{fig}.png"
         status = main(
             ["bifurcation", system, "--figure", fig, "--out", str(path), "--samples", "6"]
@@ -190,7 +191,7 @@ def figures(tmp_path_factory):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("fig", list(bc.FIGURES))
+@pytest.mark.parametrize("fig", list(FIGURES))
 def test_figures_are_written(figures, fig):
     status, path = figures[fig]
     assert status == 0

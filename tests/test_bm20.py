@@ -170,7 +170,7 @@ def test_a_wrong_integral_is_refuted_for_arbitrary_laws():
     k = sp.Matrix(model.definitions["gyrostatic_momentum_of_time"])
     out = _decide(model, [lie_derivative(dot(M, k), model)])
     assert out.verdict == "refuted" and "Derivative(k1(t), t)" in out.witness
-    I = model.definitions["inertia"]  # noqa: E741
+    I = model.definitions["inertia"]
     out = _decide(model, [lie_derivative(dot(M, I * g), model)])
     assert out.verdict == "refuted"
 

@@ -16,7 +16,7 @@ from chaplygin.derive.emit import NumpyEmitter
 from chaplygin.derive.model import Model, ParameterSpec
 from chaplygin.derive.writer import check_generated, write_generated
 from chaplygin.numerics import load_model_code
-from chaplygin.verify.cli import generated_dir
+from chaplygin.verify.derive_cmd import generated_dir
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from reference import EPS, assert_close_rel, random_params, random_state
@@ -190,6 +190,10 @@ def test_check_detects_stale_missing_and_extra_files(tmp_path: Path):
     assert "chaplygin_ball_numpy.py: missing" in problems
     assert "orphan.py: not produced by any built-in model" in problems
     write_generated(work)
+    # a file it did not write is reported, never deleted (issue 11: nothing lost)
+    assert check_generated(work) == ["orphan.py: not produced by any built-in model"]
+    assert (work / "orphan.py").read_text() == "# not generated\n"
+    (work / "orphan.py").unlink()
     assert check_generated(work) == []
 
 

@@ -261,9 +261,11 @@ def test_second_load_reuses_cached_library(tmp_path):
     compile_c(source + compiled._SHIM, cache_dir=cache, compiler=cc, force=True)
     assert _count(count) == 2
 
-    # the cache holds the library and its source, no temporary files
+    # the cache holds the library, its source and its record (size, SHA-256), no temporary
+    # files
     names = sorted(p.name for p in (cache / "c").iterdir())
-    assert names == [first.path.with_suffix(".c").name, first.path.name]
+    lib = first.path
+    assert names == [lib.with_suffix(".c").name, lib.name, lib.name + ".record"]
 
 
 def test_different_source_gives_different_library(tmp_path):

@@ -11,7 +11,7 @@ from chaplygin.derive.vectors import cross, dot, vector
 
 def _ball_description(r_sign: int = -1, extra_constraints=()):
     t = sp.Symbol("t")
-    I = vector("I", positive=True)  # noqa: E741
+    I = vector("I", positive=True)
     m, b = sp.symbols("m b", positive=True)
     omega, v, gamma = vector("omega"), vector("v"), vector("gamma")
     T = (omega.T * sp.diag(*I) * omega)[0] / 2 + m * dot(v, v) / 2
@@ -64,7 +64,7 @@ def test_constraint_sign_reaches_the_velocity_but_not_the_momentum():
 def test_structured_inverse_is_the_papers_sherman_morrison_form():
     model = build_model("chaplygin_ball")
     s = model.definitions["structured_inverse"]
-    I = model.param_group("I")  # noqa: E741
+    I = model.param_group("I")
     D = model.param_group("D")[0]
     assert s.J == sp.diag(*[I[i] + D for i in range(3)])
     assert s.C == sp.Matrix([[-D]])
@@ -98,7 +98,7 @@ def _rubber_ball_checks():
     """Residuals for the rubber ball (no slip, no twist) derived by the engine."""
     model = build_model("chaplygin_ball")  # supplies symbols, sphere and sampler
     t = model.time
-    I = model.param_group("I")  # noqa: E741
+    I = model.param_group("I")
     D = model.param_group("D")[0]
     b = sp.Symbol("b", positive=True)
     M, gamma = model.group("M"), model.group("gamma")

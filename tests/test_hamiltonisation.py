@@ -77,7 +77,7 @@ def test_bracket_flow_matches_generated_code_numerically():
     """K01-2.7 by another route: P grad H (lambdified) vs the generated numpy rhs / rho,
     at random states with (M, gamma) != 0, to 1e-12 relative."""
     model = build_model("chaplygin_ball")
-    I = sp.symbols("I1:4", positive=True)  # noqa: E741
+    I = sp.symbols("I1:4", positive=True)
     D = sp.Symbol("D", positive=True)
     L = sp.Matrix(sp.symbols("L1:4"))
     g = sp.Matrix(sp.symbols("g1:4"))
@@ -113,7 +113,7 @@ def test_separated_hamiltonian_numerically_at_a_point():
     g2 = hz.spheroconical_gamma_squared(q1, q2, a)
     gv = np.sqrt(np.array([float(x) for x in g2]))
     assert abs(np.dot(M, gv)) < 1e-14 and abs(np.sum(gv**2) - 1) < 1e-14
-    I = [1 / x for x in a]  # noqa: E741
+    I = [1 / x for x in a]
     H28 = float(hz.hamiltonian(sp.Matrix(M), sp.Matrix(gv), I, D))
     Hq = float(hz.hamiltonian_qp((p1, p2), (q1, q2), a, D))
     Hp = float(hz.hamiltonian_qp((p1, p2), (q1, q2), a, D, printed=True))

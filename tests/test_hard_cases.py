@@ -31,7 +31,7 @@ import numpy as np
 import pytest
 from chaplygin.derive.errors import UserInputError
 from chaplygin.numerics import integrate, load_model_code
-from chaplygin.numerics.bench import separatrix_state
+from chaplygin.verify.bench import separatrix_state
 from chaplygin.verify.cli import main
 
 EPS = 2.0**-52

@@ -40,14 +40,14 @@ def _random_inertias(seed: int, count: int):
         I2 = I1 + rng.uniform(0.01, 5)
         I3 = I2 + rng.uniform(0.01, 20)
         D = rng.uniform(0.05, 5)
-        I = [mpmath.mpf(repr(v)) for v in (I1, I2, I3)]  # noqa: E741
+        I = [mpmath.mpf(repr(v)) for v in (I1, I2, I3)]
         D = mpmath.mpf(repr(D))
         if 0.1 <= mu_of(I, D) <= 5:
             out.append((I, D, mpmath.mpf(repr(rng.uniform(0.2, 3)))))
     return out
 
 
-def _exact_state(I, D, b, t, C=1):  # noqa: E741
+def _exact_state(I, D, b, t, C=1):
     """The corrected K01-3.4 solution (FORMULAS.md K01-3.4fix) at time t; x, y left out."""
     Q = separatrix_quantities(I, D, C)
     lam, kap, s32, s21 = Q["lam"], Q["kap"], Q["s32"], Q["s21"]
@@ -59,7 +59,7 @@ def _exact_state(I, D, b, t, C=1):  # noqa: E741
     return [C * g for g in gamma] + gamma + alpha + beta
 
 
-def _printed_state(I, D, t, C=1):  # noqa: E741
+def _printed_state(I, D, t, C=1):
     """The printed (literal) K01-3.4 form with C > 0."""
     Q = separatrix_quantities(I, D, C)
     lam, kap, s32, s21 = Q["lam"], Q["kap"], Q["s32"], Q["s21"]
@@ -71,7 +71,7 @@ def _printed_state(I, D, t, C=1):  # noqa: E741
     return [C * g for g in gamma] + gamma + alpha + beta
 
 
-def _equation_residual(state_of_t, I, D, b, t) -> mpmath.mpf:  # noqa: E741
+def _equation_residual(state_of_t, I, D, b, t) -> mpmath.mpf:
     """max |d/dt state - rhs(state)| of the full contact-point model at time t."""
     rhs = load_model_code("chaplygin_ball", ("contact_point",)).mpmath.rhs
     y = state_of_t(t) + [mpmath.mpf(0), mpmath.mpf(0)]
@@ -87,7 +87,7 @@ def _equation_residual(state_of_t, I, D, b, t) -> mpmath.mpf:  # noqa: E741
 def test_corrected_separatrix_solves_the_full_equations_numerically():
     """K01-3.4: the corrected form solves the model's equations (residual at 40 digits)."""
     with mpmath.workdps(40):
-        for I, D, b in _random_inertias(7, 2):  # noqa: E741
+        for I, D, b in _random_inertias(7, 2):
             for t in (mpmath.mpf("-0.7"), mpmath.mpf("0.3"), mpmath.mpf("2.1")):
                 r = _equation_residual(
                     lambda s, I=I, D=D, b=b: _exact_state(I, D, b, s), I, D, b, t
@@ -136,7 +136,7 @@ def test_tail_series_matches_quadrature_within_its_bound():
 def test_three_methods_agree_at_random_inertias(case):
     """(a) full equations, (b) quadrature, (c) closed form agree to the requested digits."""
     digits = 20
-    I, D, b = _random_inertias(2026, 3)[case]  # noqa: E741
+    I, D, b = _random_inertias(2026, 3)[case]
     r = delta_three_ways(I, D, b, digits)
     assert 0.1 <= r.mu <= 5
     assert r.digits_agree >= digits
@@ -158,7 +158,7 @@ def test_thirty_digits_at_the_extremes_of_mu():
 
 def test_paper_values_of_fig4():
     """K01-Fig4: 0.002858 (I = (1, 1.5, 2)) and 0.411829 (I = (1, 3, 5)), truncated."""
-    for I, printed in FIG4.items():  # noqa: E741
+    for I, printed in FIG4.items():
         with mpmath.workdps(30):
             mu = mu_of(I, 1)
             for value in (delta_closed_form(mu, 1, 25), delta_quadrature(mu, 1, 25)):
@@ -212,7 +212,7 @@ def test_derivation_gives_the_corrected_form_and_the_closed_form():
     }
     assert sp.simplify(S.kap - sy.C / sy.I2) == 0
     with mpmath.workdps(30):
-        I, D, b, C = [1, 3, 5], 1, mpmath.mpf(7) / 3, mpmath.mpf(3) / 2  # noqa: E741
+        I, D, b, C = [1, 3, 5], 1, mpmath.mpf(7) / 3, mpmath.mpf(3) / 2
         Q = separatrix_quantities(I, D, C)
         assert abs(sp.N(S.lam.subs(vals), 30) - Q["lam"]) < 1e-25
         assert abs(sp.N(S.xi.subs(vals), 30) - mu_of(I, D)) < 1e-25
@@ -285,10 +285,11 @@ def test_cli_bad_input_one_line_exit_2(capsys, params, digits, message):
 
 @pytest.mark.slow
 def test_plots_are_written(tmp_path):
-    from chaplygin.numerics.separatrix_plots import plot_delta_of_mu, plot_traces
+    from chaplygin.verify.plots import delta_of_mu_figure, separatrix_traces_figure
 
-    a = plot_delta_of_mu(tmp_path / "fig5.png")
-    b = plot_traces(tmp_path / "fig46.png", t_end=20.0)
+    a, b = tmp_path / "fig5.png", tmp_path / "fig46.png"
+    delta_of_mu_figure().savefig(a)
+    separatrix_traces_figure(t_end=20.0).savefig(b)
     for p in (a, b):
         assert p.exists() and p.stat().st_size > 10_000
         assert p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

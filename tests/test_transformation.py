@@ -27,7 +27,7 @@ EPS = np.finfo(float).eps
 def _random_ball(rng: np.random.Generator):
     """Random physical ball and state with (M, gamma) != 0 whose transformed ball is physical."""
     while True:
-        I = rng.uniform(0.5, 3.0, 3)  # noqa: E741
+        I = rng.uniform(0.5, 3.0, 3)
         D = rng.uniform(0.3, 2.0)
         g = rng.normal(size=3)
         g /= np.linalg.norm(g)

@@ -2,16 +2,33 @@
 
 from __future__ import annotations
 
+import argparse
 import json
 import sys
 from pathlib import Path
 
-__all__ = ["add_parser"]
+from chaplygin.derive.errors import UserInputError
+
+from .cli_common import EXIT_OK
+
+__all__ = ["add_parser", "run"]
 
 
-def _cmd_bench(args) -> int:
-    from chaplygin.derive.errors import UserInputError
-    from chaplygin.numerics.bench import PROBLEMS, render_markdown, render_plot, run_study
+def run(args: argparse.Namespace) -> int:
+    """Run ``chaplygin bench``: write ``bench.md``, ``bench.png`` and ``bench.json``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed flags of :func:`add_parser`.
+
+    Returns
+    -------
+    int
+        0.
+    """
+    from .bench import PROBLEMS, render_markdown, run_study
+    from .plots import work_precision_figure
 
     out = Path(args.out)
     if out.exists() and not out.is_dir():
@@ -36,22 +53,32 @@ def _cmd_bench(args) -> int:
     )
     table = render_markdown(study)
     (out / "bench.md").write_text(table)
-    render_plot(study, out / "bench.png")
+    work_precision_figure(study).savefig(out / "bench.png", dpi=110)
     (out / "bench.json").write_text(json.dumps(study, indent=1))
     if args.json:
         print(json.dumps(study["rows"], indent=1))
     else:
         print(table)
         print(f"wrote {out / 'bench.md'}, {out / 'bench.png'} and {out / 'bench.json'}")
-    return 0
+    return EXIT_OK
 
 
-def add_parser(sub) -> None:
-    """Register ``chaplygin bench``."""
-    p = sub.add_parser(
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Register ``chaplygin bench``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        What ``ArgumentParser.add_subparsers`` returned.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The subcommand's parser.
+    """
+    p = subparsers.add_parser(
         "bench", help="work-precision study: error and drift against wall time, per method"
     )
-    p._sub = "bench"
     p.add_argument("--out", default="bench-out", help="output folder (table, plot, reference)")
     p.add_argument("--json", action="store_true", help="print the rows as JSON")
     p.add_argument(
@@ -62,4 +89,4 @@ def add_parser(sub) -> None:
     p.add_argument(
         "--problems", default="reference,separatrix", help="comma-separated: reference,separatrix"
     )
-    p.set_defaults(func=_cmd_bench)
+    return p

@@ -249,6 +249,16 @@ def parse_formulas(text: str) -> list[tuple[str, str, bool, bool]]:
     An entry is a bullet ``- **ID** ...`` with its continuation lines; it is checkable
     when it says "checked numerically/symbolically" or "FAILED", not when it says only
     "not checkable here".
+
+    Parameters
+    ----------
+    text : str
+        The text of FORMULAS.md.
+
+    Returns
+    -------
+    list of (str, str, bool, bool)
+        ``(ID, section number, checkable, literal reading FAILED)`` per entry.
     """
     items: list[list[str]] = []
     section = ""
@@ -279,7 +289,19 @@ _IDS = sorted((e[0] for e in FORMULAS_ENTRIES), key=len, reverse=True)
 
 
 def covered_entry(claim_id: str) -> str | None:
-    """The FORMULAS.md entry a claim ID speaks about (longest prefix at a boundary)."""
+    """The FORMULAS.md entry a claim ID speaks about (longest prefix at a boundary).
+
+    Parameters
+    ----------
+    claim_id : str
+        A claim ID (``BKM12-4/control-...``, ``K01-2.22a`` ...).
+
+    Returns
+    -------
+    str or None
+        The longest entry ID that is a prefix of ``claim_id`` followed by nothing,
+        ``.``, ``/`` or a letter; None when there is none.
+    """
     for entry_id in _IDS:
         if claim_id.startswith(entry_id):
             rest = claim_id[len(entry_id) :]
@@ -301,17 +323,30 @@ class CoverageRow:
 
     @property
     def covered(self) -> bool:
-        """A claim expected to hold speaks about it (and a /literal one, if FAILED)."""
+        """A claim expected to hold speaks about it (and a /literal one, if FAILED).
+
+        Returns
+        -------
+        bool
+            True for an entry that is not checkable.
+        """
         if not self.checkable:
             return True
         return bool(self.claims) and (not self.literal_failed or bool(self.literal_claims))
 
     @property
     def issue(self) -> int:
+        """Number of the project issue the entry's section belongs to.
+
+        Returns
+        -------
+        int
+            From :data:`SECTIONS`.
+        """
         return SECTIONS[self.section][1]
 
 
-def coverage(claims: Iterable) -> list[CoverageRow]:
+def coverage(claims: Iterable[object]) -> list[CoverageRow]:
     """Coverage of every FORMULAS.md entry by the given claims.
 
     Parameters

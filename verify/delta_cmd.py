@@ -9,12 +9,16 @@ wall time (K01-3.4 ... 3.7, Fig. 4).
 
 from __future__ import annotations
 
+import argparse
 import json
 import time
+from pathlib import Path
 
 from chaplygin.derive.errors import UserInputError
 
-__all__ = ["add_parser", "run_delta", "MIN_DIGITS", "MAX_DIGITS"]
+from .cli_common import EXIT_FAILED, EXIT_OK, key_values
+
+__all__ = ["add_parser", "run", "MIN_DIGITS", "MAX_DIGITS"]
 
 MIN_DIGITS, MAX_DIGITS = 5, 200
 
@@ -23,9 +27,7 @@ def _params(items) -> dict:
     import mpmath
     from chaplygin.numerics.inputs import parse_number
 
-    from .cli import _key_values
-
-    raw = _key_values(items, "--param")
+    raw = key_values(items, "--param")
     unknown = set(raw) - {"I", "D", "b", "C"}
     if unknown:
         raise UserInputError(
@@ -55,7 +57,19 @@ def _params(items) -> dict:
     return out
 
 
-def run_delta(args) -> int:
+def run(args: argparse.Namespace) -> int:
+    """Run ``chaplygin delta``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed flags of :func:`add_parser`.
+
+    Returns
+    -------
+    int
+        0 when the three values agree on the digits asked for, 1 otherwise.
+    """
     import mpmath
     from chaplygin.numerics.separatrix import check_inertia, delta_three_ways
 
@@ -100,7 +114,7 @@ def run_delta(args) -> int:
             )
         )
     else:
-        I = ", ".join(mpmath.nstr(v, 10) for v in P["I"])  # noqa: E741
+        I = ", ".join(mpmath.nstr(v, 10) for v in P["I"])
         print(
             f"separatrix on M || gamma at h2 = C^2/(2 I2): I = ({I}), "
             f"D = {mpmath.nstr(P['D'], 10)}, b = {mpmath.nstr(P['b'], 10)}"
@@ -117,21 +131,36 @@ def run_delta(args) -> int:
         times = ", ".join(f"{k} {v:.2f} s" for k, v in r.seconds.items())
         print(f"wall time {wall:.2f} s ({times})")
     if args.plot or args.figures:
-        from chaplygin.numerics.separatrix_plots import plot_delta_of_mu, write_figures
+        from .plots import delta_of_mu_figure, separatrix_figures
 
         if args.plot:
-            plot_delta_of_mu(args.plot, float(P["b"]))
+            delta_of_mu_figure(float(P["b"])).savefig(args.plot, dpi=110)
         if args.figures:
-            write_figures(args.figures, [float(v) for v in P["I"]], float(P["D"]), float(P["b"]))
-    return 0 if ok else 1
+            out = Path(args.figures)
+            out.mkdir(parents=True, exist_ok=True)
+            figures = separatrix_figures([float(v) for v in P["I"]], float(P["D"]), float(P["b"]))
+            for name, figure in figures.items():
+                figure.savefig(out / name, dpi=110)
+    return EXIT_OK if ok else EXIT_FAILED
 
 
-def add_parser(sub) -> None:
-    p = sub.add_parser(
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Register ``chaplygin delta``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        What ``ArgumentParser.add_subparsers`` returned.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The subcommand's parser.
+    """
+    p = subparsers.add_parser(
         "delta",
         help="displacement of the contact point along the separatrix (K01 §3.3), three ways",
     )
-    p._sub = "delta"
     p.add_argument(
         "--param",
         action="append",
@@ -154,4 +183,4 @@ def add_parser(sub) -> None:
         metavar="DIR",
         help="write Delta(mu) and the contact-point traces (Figs. 4-6) into DIR",
     )
-    p.set_defaults(func=run_delta)
+    return p

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import random
 import time
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 
 import mpmath
@@ -87,6 +87,11 @@ class Domain:
         constraint on omega alone (no twist ...), a level set of a linear integral.
         ``model_relations=False`` leaves the model's own out (a statement about the
         whole phase space: the flow keeps ``(omega, gamma)`` constant everywhere).
+
+        Returns
+        -------
+        list of sympy.Expr
+            The relations with the model's auxiliary symbols expanded.
         """
         exprs = (
             [e for _, e in self.model.definitions.get("invariant_relations", ())]
@@ -98,6 +103,14 @@ class Domain:
 
     @property
     def constraints(self) -> tuple[sp.Expr, ...]:
+        """Polynomials that vanish on the domain.
+
+        Returns
+        -------
+        tuple of sympy.Expr
+            The model's constraints, then the numerators of :attr:`relation_exprs` in
+            the verification parameters (factors free of state variables dropped).
+        """
         return self.model.constraints + tuple(self._relation_polynomials())
 
     def _relation_polynomials(self) -> list[sp.Expr]:
@@ -113,20 +126,63 @@ class Domain:
         return out
 
     @property
-    def reparametrisation(self) -> dict | None:
+    def reparametrisation(self) -> dict[str, dict[sp.Symbol, sp.Expr]] | None:
+        """The model's change to verification parameters, if it has one.
+
+        Returns
+        -------
+        dict or None
+            ``definitions["reparametrisation"]``: ``{"forward": {new: expr in old},
+            "inverse": {old: expr in new}}``; None for a model without one.
+        """
         return self.model.definitions.get("reparametrisation")
 
     def prepare(self, expr: sp.Expr) -> sp.Expr:
-        """Rewrite in the model's verification parameters (an invertible change)."""
+        """Rewrite in the model's verification parameters (an invertible change).
+
+        Parameters
+        ----------
+        expr : sympy.Expr
+            Expression in the model's own parameters.
+
+        Returns
+        -------
+        sympy.Expr
+            ``expr`` with the inverse map substituted (unchanged without a
+            reparametrisation).
+        """
         rep = self.reparametrisation
         return sp.sympify(expr).xreplace(rep["inverse"]) if rep else sp.sympify(expr)
 
-    def sample(self, rng: random.Random, symbols) -> dict[sp.Symbol, sp.Rational]:
+    def sample(
+        self, rng: random.Random, symbols: Iterable[sp.Symbol]
+    ) -> dict[sp.Symbol, sp.Rational]:
         """An exact rational point: Poisson vectors on their variety, the rest random.
 
         The model's parameters are drawn from their physical domain (positive inertia
         ...) and mapped forward to the verification parameters, so a witness is always
         a physical point.
+
+        Parameters
+        ----------
+        rng : random.Random
+            Source of randomness (seeded by the caller).
+        symbols : iterable of sympy.Symbol
+            Symbols that need a value besides the parameters and the Poisson vectors;
+            positive ones (``positive`` or assumed positive) get positive values, the
+            relation unknowns are then projected onto the relations.
+
+        Returns
+        -------
+        dict of sympy.Symbol to sympy.Rational
+            The point. Forward maps that depend on time are left out (see
+            :meth:`complete`).
+
+        Raises
+        ------
+        ValueError
+            When the relations are not linear in the relation unknowns with rational
+            coefficients at the point, or the model declares none.
         """
         point: dict[sp.Symbol, sp.Rational] = {}
         for spec in self.model.parameters:
@@ -197,12 +253,28 @@ class Domain:
         point.update(zip(unknowns, u, strict=True))
 
     def forward_exprs(self) -> list[sp.Expr]:
-        """The forward maps of the reparametrisation (their atoms need generators too)."""
+        """The forward maps of the reparametrisation (their atoms need generators too).
+
+        Returns
+        -------
+        list of sympy.Expr
+            The right-hand sides of ``reparametrisation["forward"]``; empty without one.
+        """
         rep = self.reparametrisation
         return list(rep["forward"].values()) if rep else []
 
-    def complete(self, point, atom_map) -> None:
+    def complete(
+        self, point: dict[sp.Symbol, sp.Rational], atom_map: dict[sp.Expr, sp.Symbol]
+    ) -> None:
         """Evaluate the forward maps :meth:`sample` left out, with the atoms' values.
+
+        Parameters
+        ----------
+        point : dict of sympy.Symbol to sympy.Rational
+            A point of :meth:`sample`; completed in place.
+        atom_map : dict of sympy.Expr to sympy.Symbol
+            Generators standing for the non-rational atoms (``sin u``, ``I1(t)`` ...)
+            whose values are in ``point``.
 
         Raises
         ------
@@ -241,6 +313,7 @@ class Residuals:
     exprs : sequence of sympy.Expr
         Expressions that should vanish on the domain.
     domain : Domain
+        Where they should vanish.
     """
 
     def __init__(self, exprs: Sequence[sp.Expr], domain: Domain):
@@ -328,14 +401,35 @@ class Residuals:
         return [even, odd]
 
     # ------------------------------------------------------------------ methods
-    def normal_forms(self) -> list:
+    def normal_forms(self) -> list[sp.polys.rings.PolyElement]:
+        """Normal forms of the pieces modulo the domain's constraints.
+
+        The constraints include ``s^2 + c^2 - 1`` for each ``(sin u, cos u)`` pair.
+
+        Returns
+        -------
+        list of sympy.polys.rings.PolyElement
+            One per piece; all zero is a proof that the residuals vanish.
+        """
         constraints = tuple(self.domain.constraints) + tuple(self.extra_constraints)
         return [ring_normal_form(p, constraints, self.builder) for p in self.pieces]
 
-    def complete_point(self, point, rng: random.Random) -> None:
+    def complete_point(self, point: dict[sp.Symbol, sp.Rational], rng: random.Random) -> None:
         """Put every (sin u, cos u) pair of the residual on the unit circle, exactly.
 
         Then evaluate the time-dependent forward maps of the reparametrisation there.
+
+        Parameters
+        ----------
+        point : dict of sympy.Symbol to sympy.Rational
+            A point of :meth:`Domain.sample`; completed in place.
+        rng : random.Random
+            Source of the circle points.
+
+        Raises
+        ------
+        ValueError
+            When a forward map has no rational value at the completed point.
         """
         _on_circles(self.circles, point, rng)
         self.domain.complete(point, self.atom_map)
@@ -350,7 +444,20 @@ class Residuals:
                 args.append(dom.zero)
         return args
 
-    def regular_at(self, point) -> bool:
+    def regular_at(self, point: dict[sp.Symbol, sp.Rational]) -> bool:
+        """Whether the residuals are defined (and real) at ``point``.
+
+        Parameters
+        ----------
+        point : dict of sympy.Symbol to sympy.Rational
+            A completed sample point.
+
+        Returns
+        -------
+        bool
+            False when a denominator factor vanishes there (a factor with a square root
+            in it: below ``1e-25`` at 30 digits) or a radicand is not positive.
+        """
         args = self._values(point)
         radical_symbols = {r for _, r in self.radicals}
         roots = {r: sp.sqrt(S.xreplace(point)) for S, r in self.radicals}
@@ -369,11 +476,38 @@ class Residuals:
                 return False
         return True
 
-    def piece_values(self, point) -> list:
+    def piece_values(self, point: dict[sp.Symbol, sp.Rational]) -> list[object]:
+        """Exact values of the numerator pieces at ``point``.
+
+        Parameters
+        ----------
+        point : dict of sympy.Symbol to sympy.Rational
+            A completed, regular sample point.
+
+        Returns
+        -------
+        list
+            One element of the ring's coefficient domain (an exact rational) per piece;
+            all zero exactly when every residual vanishes there.
+        """
         args = self._values(point)
         return [p(*args) for p in self.pieces]
 
-    def value_at(self, point, digits: int = 20) -> str:
+    def value_at(self, point: dict[sp.Symbol, sp.Rational], digits: int = 20) -> str:
+        """The largest residual at ``point``, printed (the value a refutation reports).
+
+        Parameters
+        ----------
+        point : dict of sympy.Symbol to sympy.Rational
+            A completed sample point.
+        digits : int, optional
+            Significant digits of the evaluation.
+
+        Returns
+        -------
+        str
+            The residual of largest modulus, evaluated with ``sympy.N``.
+        """
         vals = []
         for e in self.exprs:
             e = e.xreplace({a: d for a, d in self.atom_map.items()})
@@ -459,7 +593,9 @@ def decide(
     Parameters
     ----------
     exprs : sequence of sympy.Expr
+        Residuals that should vanish.
     domain : Domain
+        Where they should vanish.
     method : {"auto", "symbolic", "exact-sampled", "numeric"}
         ``auto``/``symbolic``: a Groebner normal-form proof, falling back to exact
         sampling when an expression is not rational in its symbols; a non-zero normal
@@ -475,6 +611,13 @@ def decide(
     Returns
     -------
     Outcome
+        The verdict (one of :data:`VERDICTS`), the method, the time and, for a
+        refutation, the residual's value and the witness point.
+
+    Raises
+    ------
+    ValueError
+        For an unknown ``method``, or when no regular sample point is found.
     """
     start = time.perf_counter()
     if method not in ("auto", "symbolic", "exact-sampled", "numeric"):
@@ -580,6 +723,20 @@ def lie_derivative(expr: sp.Expr, model: Model, keep: Sequence[sp.Symbol] = ()) 
     ``keep``: auxiliary symbols left unexpanded (free variables of the result), e.g. the
     multipliers ``mu``: a derivative that vanishes whatever their value vanishes for
     their true value too.
+
+    Parameters
+    ----------
+    expr : sympy.Expr
+        Function of the state, parameters, auxiliary symbols and time.
+    model : Model
+        Supplies the flow ``rhs`` and the auxiliary definitions.
+    keep : sequence of sympy.Symbol, optional
+        Auxiliary symbols not to expand.
+
+    Returns
+    -------
+    sympy.Expr
+        ``d expr/dt + sum_i d expr/dy_i f_i`` (not simplified).
     """
     if keep:
         sub = {a: v for a, v in model._aux_expanded.items() if a not in set(keep)}
@@ -600,6 +757,19 @@ def measure_residual(density: sp.Expr, model: Model) -> sp.Expr:
     of a non-autonomous flow) vanishes for a density that does not depend on time. The
     flow preserves the constraint level sets, so the vanishing of this residual on the
     phase space does not depend on how ``f`` and ``rho`` are extended off it.
+
+    Parameters
+    ----------
+    density : sympy.Expr
+        Candidate density ``rho`` of an invariant measure (may use auxiliary symbols).
+    model : Model
+        Supplies the flow ``f``.
+
+    Returns
+    -------
+    sympy.Expr
+        The residual; it vanishes on the phase space exactly when ``rho`` is an
+        invariant density.
     """
     f = model.rhs_expanded
     log_rho = sp.expand_log(sp.log(model.expand_aux(density)), force=True)

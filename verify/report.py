@@ -7,66 +7,15 @@ to its correction; counts per paper.
 
 from __future__ import annotations
 
-import re
 from collections import Counter
 from collections.abc import Sequence
 
 from .claims import REGISTRY
 from .coverage import SECTIONS, CoverageRow, coverage
+from .latex import plain_to_latex
 from .verdict import Verdict
 
 __all__ = ["plain_to_latex", "render_report", "render_coverage", "paper_of"]
-
-_GREEK = [
-    "alpha",
-    "beta",
-    "gamma",
-    "delta",
-    "omega",
-    "Omega",
-    "lambda",
-    "mu",
-    "nu",
-    "rho",
-    "sigma",
-    "phi",
-    "psi",
-    "Psi",
-    "Phi",
-    "Delta",
-    "Sigma",
-    "tau",
-    "theta",
-    "xi",
-    "kappa",
-]
-_KEEP = {"sqrt", "const", "diag"}
-_GREEK_RE = re.compile(r"\b(" + "|".join(_GREEK) + r")\b")
-
-
-def plain_to_latex(text: str) -> str:
-    """Render the plain-text math of ``FORMULAS.md`` as inline LaTeX (best effort).
-
-    Greek names become letters, ``x`` between operands becomes ``\\times``, ``^-1/2`` and
-    similar exponents are braced, ``sqrt(...)`` becomes ``\\sqrt{...}`` and ``'`` marks
-    stay time derivatives.
-    """
-    s = text
-    s = re.sub(r"sqrt\(([^()]*(?:\([^()]*\)[^()]*)*)\)", r"\\sqrt{\1}", s)
-    s = re.sub(r"\^\(([^()]*)\)", r"^{\1}", s)
-    s = re.sub(r"\^(-?[0-9.]+(?:/[0-9]+)?)", r"^{\1}", s)
-    s = re.sub(r"(?<=[\w)\]}]) x (?=[\w(\\])", r" \\times ", s)
-    s = _GREEK_RE.sub(lambda m: "\\" + m.group(1) + " ", s)
-    s = s.replace("Id", r"\mathrm{Id}")
-    # runs of plain words (not commands, not one- or two-letter symbols) become text
-    s = re.sub(
-        r"(?<![\\\w])((?:[A-Za-z]{3,}|is|it|of|on|in|or|as|by)"
-        r"(?:[ :;,]+(?:[A-Za-z]{2,}|a))*)(?![\w{])",
-        lambda m: m.group(0) if m.group(1) in _KEEP else r"\text{" + m.group(1) + "}",
-        s,
-    )
-    s = s.replace("<=", r"\le ").replace(">=", r"\ge ").replace("!=", r"\ne ")
-    return s.replace("\\ ,", "\\,")
 
 
 def paper_of(claim_id: str) -> str:
@@ -74,12 +23,6 @@ def paper_of(claim_id: str) -> str:
     if claim_id.startswith("MODEL:"):
         return "chaplygin models"
     return claim_id.split("-", 1)[0]
-
-
-def _latex(v: Verdict) -> str:
-    claim = REGISTRY.get(v.id)
-    latex = getattr(claim, "latex", "") if claim else ""
-    return latex or plain_to_latex(v.statement)
 
 
 def _evidence(v: Verdict) -> str:
@@ -155,9 +98,9 @@ def render_report(verdicts: Sequence[Verdict]) -> str:
         index = {v.id: v for v in verdicts}
         for v in literal:
             fix = index.get(v.id[: -len("/literal")])
-            fix_text = f"{fix.id}: ${_latex(fix)}$" if fix else "(not checked)"
+            fix_text = f"{fix.id}: ${fix.latex}$" if fix else "(not checked)"
             lines.append(
-                f"| {v.id}: ${_latex(v)}$ | {v.verdict} ({_evidence(v)}) | {fix_text} | "
+                f"| {v.id}: ${v.latex}$ | {v.verdict} ({_evidence(v)}) | {fix_text} | "
                 f"{fix.verdict if fix else '-'} |"
             )
     lines += ["", "## Coverage of FORMULAS.md", ""]
@@ -174,7 +117,7 @@ def render_report(verdicts: Sequence[Verdict]) -> str:
             mark = "" if v.ok else " **(unexpected)**"
             expected = " (expected: refuted)" if v.expected == "fails" else ""
             lines.append(
-                f"| {v.id} | ${_latex(v)}$ | {v.verdict}{expected}{mark} | {v.method} | "
+                f"| {v.id} | ${v.latex}$ | {v.verdict}{expected}{mark} | {v.method} | "
                 f"{_evidence(v)} | {v.seconds:.3f} |"
             )
         lines.append("")

@@ -7,9 +7,12 @@ K01-2.23, K01-2.26, K01-2.27 (with the true turning points, FORMULAS.md)
 
 from __future__ import annotations
 
+import argparse
 import json
 
-__all__ = ["add_parser"]
+from .cli_common import EXIT_OK
+
+__all__ = ["add_parser", "run"]
 
 
 def _vector(text: str, flag: str, n: int, dps: int) -> list:
@@ -22,7 +25,19 @@ def _vector(text: str, flag: str, n: int, dps: int) -> list:
     return [parse_number(s, dps) for s in items]
 
 
-def _cmd_rotation(args) -> int:
+def run(args: argparse.Namespace) -> int:
+    """Run ``chaplygin rotation``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed flags of :func:`add_parser`.
+
+    Returns
+    -------
+    int
+        0.
+    """
     import mpmath
     from chaplygin.derive.errors import UserInputError
     from chaplygin.numerics.quadratures import measured_rotation_number, torus_quadratures
@@ -30,7 +45,7 @@ def _cmd_rotation(args) -> int:
     if args.digits < 15 or args.digits > 1000:
         raise UserInputError("--digits must be between 15 and 1000")
     dps = args.digits + 10
-    I = _vector(args.I, "--I", 3, dps)  # noqa: E741
+    I = _vector(args.I, "--I", 3, dps)
     D = _vector(args.D, "--D", 1, dps)[0]
     M = _vector(args.M, "--M", 3, dps)
     gamma = _vector(args.gamma, "--gamma", 3, dps)
@@ -71,15 +86,26 @@ def _cmd_rotation(args) -> int:
     else:
         for k, v in out.items():
             print(f"{k:16s} {v}")
-    return 0
+    return EXIT_OK
 
 
-def add_parser(sub) -> None:
-    p = sub.add_parser(
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Register ``chaplygin rotation``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        What ``ArgumentParser.add_subparsers`` returned.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The subcommand's parser.
+    """
+    p = subparsers.add_parser(
         "rotation",
         help="rotation number, frequencies and actions of a torus at (M, gamma) = 0 (K01-2.27)",
     )
-    p._sub = "rotation"
     p.add_argument("--I", required=True, help="I1,I2,I3 with I1 < I2 < I3")
     p.add_argument("--D", required=True, help="D = m b^2")
     p.add_argument("--M", required=True, help="M1,M2,M3 with (M, gamma) = 0")
@@ -93,4 +119,4 @@ def add_parser(sub) -> None:
         help="also measure it from a DOP853 trajectory of length T",
     )
     p.add_argument("--json", action="store_true")
-    p.set_defaults(func=_cmd_rotation)
+    return p

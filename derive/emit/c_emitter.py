@@ -41,6 +41,13 @@ class ChaplyginCPrinter(C99CodePrinter):
 
 
 def read_template() -> str:
+    """Text of the C template shipped as package data.
+
+    Returns
+    -------
+    str
+        ``chaplygin/derive/templates/<C_TEMPLATE>``.
+    """
     return resources.files("chaplygin.derive").joinpath("templates", C_TEMPLATE).read_text()
 
 
@@ -51,6 +58,18 @@ class CEmitter(Emitter):
     language = "c"
 
     def filename(self, model: Model) -> str:
+        """Name of the emitted file.
+
+        Parameters
+        ----------
+        model : Model
+            The model printed.
+
+        Returns
+        -------
+        str
+            ``"<model name>.c"``.
+        """
         return f"{model.name}.c"
 
     def _routine(self, model: Model, routine: Routine, printer: ChaplyginCPrinter) -> str:

@@ -44,6 +44,18 @@ class PythonModuleEmitter(Emitter):
     suffix: str = ""
 
     def filename(self, model: Model) -> str:
+        """Name of the emitted module.
+
+        Parameters
+        ----------
+        model : Model
+            The model printed.
+
+        Returns
+        -------
+        str
+            ``"<model name>_<suffix>.py"``.
+        """
         return f"{model.name}_{self.suffix}.py"
 
     def _print(self, expr: sp.Expr) -> str:

@@ -49,6 +49,7 @@ def generic_model(effects: Iterable[str]) -> Model:
     Returns
     -------
     Model
+        The generic-law ball model, built once per set of effects.
     """
     key = frozenset(effects)
     if key not in _GENERIC:
@@ -56,11 +57,18 @@ def generic_model(effects: Iterable[str]) -> Model:
     return _GENERIC[key]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class GenericLawClaim(Claim):
     """A claim about every law ``I(t)``, ``k(t)``: checked on :func:`generic_model`."""
 
     def model(self) -> Model:
+        """The ball with generic laws ``I(t)``, ``k(t)`` for the claim's effects.
+
+        Returns
+        -------
+        Model
+            :func:`generic_model` of the claim's effects (cached).
+        """
         return generic_model(self.effects)
 
 
@@ -72,7 +80,7 @@ class _Notation:
     M: sp.Matrix
     gamma: sp.Matrix
     omega: sp.Matrix  # the model's auxiliary omega symbols
-    I: sp.Matrix  # noqa: E741  (the paper's name; diagonal, maybe time-dependent)
+    I: sp.Matrix  # the paper's name; diagonal, maybe time-dependent
     D: sp.Symbol
     k: sp.Matrix  # gyrostatic momentum k(t) (or the constant K)
     alpha: sp.Matrix | None
@@ -129,8 +137,8 @@ def transformation_residual(
     model: Model,
     signs: dict[str, int],
     time_sign: int,
-    parity: dict | None = None,
-    at: dict | None = None,
+    parity: dict[sp.Expr, sp.Expr] | None = None,
+    at: dict[sp.Expr, sp.Expr] | None = None,
 ) -> list[sp.Expr]:
     """Residual of ``(t, x) -> (s t, S x)`` (``S`` diagonal signs) mapping solutions to solutions.
 
@@ -140,6 +148,7 @@ def transformation_residual(
     Parameters
     ----------
     model : Model
+        The model whose flow ``x' = f(t, x)`` is tested.
     signs : dict of str to int
         Sign of each state group (``{"M": -1, "gamma": 1}``); groups not named keep +1.
     time_sign : {1, -1}
@@ -153,6 +162,7 @@ def transformation_residual(
     Returns
     -------
     list of sympy.Expr
+        ``f(s t, S x) - s S f(t, x)``, one entry per state component.
     """
     f = model.rhs_expanded
     if at:
@@ -296,7 +306,7 @@ def _order_certificate(cos_square: bool):
 
     def build(model: Model) -> Check:
         n = _notation(model)
-        I0 = model.param_group("I")  # noqa: N806
+        I0 = model.param_group("I")
         J_off = model.param_group("J_off")[0]
         delta, Omega = model.param_group("delta")[0], model.param_group("Omega")[0]
         fig = {I0[0]: 4, I0[1]: 3, I0[2]: 2, J_off: 0}
@@ -369,243 +379,252 @@ def _involutions_at(J_off_value) -> Callable[[Model], Check]:
 
 # ------------------------------------------------------------------ registry
 S21, S3 = "BM20 §2.1", "BM20 §3"
-for claim in (
+register(
     GenericLawClaim(
-        "BM20-2.2",
-        f"{S21}, eq. (2.2)",
-        "equation",
-        "M = I omega + d gamma x (omega x gamma) + k, d = m a^2, I = I(t), k = k(t)",
-        BALL,
-        VB,
-        _bm20_2_2,
+        id="BM20-2.2",
+        source=f"{S21}, eq. (2.2)",
+        kind="equation",
+        statement="M = I omega + d gamma x (omega x gamma) + k, d = m a^2, I = I(t), k = k(t)",
+        system=BALL,
+        effects=VB,
+        build=_bm20_2_2,
         note="the engine's projected momentum G^T dT/d(omega, v) (T with (I(t) omega, omega)/2 "
         "+ (k(t), omega)) for arbitrary laws I_i(t), k_i(t)",
     ),
     GenericLawClaim(
-        "BM20-2.4",
-        f"{S21}, eq. (2.4)",
-        "equation",
-        "M = (I + d (Id - gamma ⊗ gamma)) omega + k",
-        BALL,
-        VB,
-        _bm20_2_4,
+        id="BM20-2.4",
+        source=f"{S21}, eq. (2.4)",
+        kind="equation",
+        statement="M = (I + d (Id - gamma ⊗ gamma)) omega + k",
+        system=BALL,
+        effects=VB,
+        build=_bm20_2_4,
         note="also: the derived inertia operator is I(t) + d (Id - gamma ⊗ gamma) on the sphere",
     ),
     GenericLawClaim(
-        "BM20-2.5",
-        f"{S21}, eqs. (2.3), (2.5)",
-        "equation",
-        "M' = M x omega, gamma' = gamma x omega, omega = A (M - k), "
+        id="BM20-2.5",
+        source=f"{S21}, eqs. (2.3), (2.5)",
+        kind="equation",
+        statement="M' = M x omega, gamma' = gamma x omega, omega = A (M - k), "
         "A = (I + d (Id - gamma ⊗ gamma))^-1, for arbitrary I(t), k(t)",
-        BALL,
-        VB,
-        _bm20_2_5,
+        system=BALL,
+        effects=VB,
+        build=_bm20_2_5,
         note="the engine's raw momentum rate (explicit d/dt of T included) and the model's "
         "right-hand side, for arbitrary laws",
     ),
     GenericLawClaim(
-        "BM20-2.5int",
-        f"{S21}",
-        "integral",
-        "gamma^2, M^2 = G^2, (M, gamma) = H and, with (2.1), (M, alpha) = F, (M, beta) = Q "
+        id="BM20-2.5int",
+        source=f"{S21}",
+        kind="integral",
+        statement="gamma^2, M^2 = G^2, (M, gamma) = H and, with (2.1), (M, alpha) = F, (M, beta) = "
+        "Q "
         "are first integrals for arbitrary I(t), k(t)",
-        BALL,
-        VBC,
-        _integrals,
+        system=BALL,
+        effects=VBC,
+        build=_integrals,
         note="Lie derivatives include the explicit d/dt; I_i(t), k_i(t) and their derivatives "
         "are independent generators",
     ),
     Claim(
-        "BM20-2.6/literal",
-        f"{S21}, eq. (2.6) (literal reading)",
-        "integral",
-        "E = (M, omega)/2 (BM20's M, which includes k) is a first integral for constant I "
+        id="BM20-2.6/literal",
+        source=f"{S21}, eq. (2.6) (literal reading)",
+        kind="integral",
+        statement="E = (M, omega)/2 (BM20's M, which includes k) is a first integral for constant "
+        "I "
         "and constant k",
-        BALL,
-        GYRO,
-        _energy(literal=True),
+        system=BALL,
+        effects=GYRO,
+        build=_energy(literal=True),
         expected="fails",
         note="BM20's M = M_BKM12 + K; not conserved for K != 0 (FORMULAS.md: FAILED as "
         "transcribed)",
     ),
     Claim(
-        "BM20-2.6",
-        f"{S21}, eq. (2.6) (corrected)",
-        "integral",
-        "E = (M - k, omega)/2 = (omega, (I + d (Id - gamma ⊗ gamma)) omega)/2 is a first "
+        id="BM20-2.6",
+        source=f"{S21}, eq. (2.6) (corrected)",
+        kind="integral",
+        statement="E = (M - k, omega)/2 = (omega, (I + d (Id - gamma ⊗ gamma)) omega)/2 is a first "
         "integral for constant I and constant k (zero or not)",
-        BALL,
-        GYRO,
-        _energy(literal=False),
+        system=BALL,
+        effects=GYRO,
+        build=_energy(literal=False),
         note="also: E is the engine's generalised energy",
     ),
     Claim(
-        "BM20-2.6/time-varying",
-        f"{S21} (the energy needs constant parameters)",
-        "integral",
-        "E = (M - k, omega)/2 is a first integral for the time-varying I(t) of (3.4) (k = 0)",
-        BALL,
-        VI,
-        _energy(literal=False),
+        id="BM20-2.6/time-varying",
+        source=f"{S21} (the energy needs constant parameters)",
+        kind="integral",
+        statement="E = (M - k, omega)/2 is a first integral for the time-varying I(t) of (3.4) (k "
+        "= 0)",
+        system=BALL,
+        effects=VI,
+        build=_energy(literal=False),
         expected="fails",
         note="the moving masses do work: dE/dt = -(omega, I'(t) omega)/2 != 0",
     ),
     Claim(
-        "BM20-2.7.k0",
-        f"{S21}, eq. (2.7)",
-        "measure",
-        "constant I, k = 0: invariant measure with rho = (1 - d (gamma, (I + d Id)^-1 gamma))^-1/2",
-        BALL,
-        (),
-        _bm20_2_7,
+        id="BM20-2.7.k0",
+        source=f"{S21}, eq. (2.7)",
+        kind="measure",
+        statement="constant I, k = 0: invariant measure with rho = (1 - d (gamma, (I + d Id)^-1 "
+        "gamma))^-1/2",
+        system=BALL,
+        effects=(),
+        build=_bm20_2_7,
     ),
     Claim(
-        "BM20-2.7.k",
-        f"{S21}, eq. (2.7)",
-        "measure",
-        "constant I, constant k != 0: the same rho is an invariant density",
-        BALL,
-        GYRO,
-        _bm20_2_7,
+        id="BM20-2.7.k",
+        source=f"{S21}, eq. (2.7)",
+        kind="measure",
+        statement="constant I, constant k != 0: the same rho is an invariant density",
+        system=BALL,
+        effects=GYRO,
+        build=_bm20_2_7,
     ),
     GenericLawClaim(
-        "BM20-2.8",
-        "BM20 §2.2, eq. (2.8)",
-        "equation",
-        "X' = a (beta, omega), Y' = -a (alpha, omega); with alpha = M x gamma/G, beta = M/G "
+        id="BM20-2.8",
+        source="BM20 §2.2, eq. (2.8)",
+        kind="equation",
+        statement="X' = a (beta, omega), Y' = -a (alpha, omega); with alpha = M x gamma/G, beta = "
+        "M/G "
         "on (M, gamma) = 0: X' = (a/G)(M, omega), Y' = (a/G)(gamma x M, omega)",
-        BALL,
-        VBC,
-        _bm20_2_8,
+        system=BALL,
+        effects=VBC,
+        build=_bm20_2_8,
         note="for arbitrary I(t), k(t); (M, gamma) = 0 imposed by M = gamma x u",
     ),
     GenericLawClaim(
-        "BM20-3.1",
-        f"{S3}, (3.1)",
-        "transformation",
-        "I(-t) = I(t), k(-t) = k(t): (t, M, gamma) -> (t, M, -gamma) maps solutions to solutions",
-        BALL,
-        VB,
-        _transformations([SYMMETRY], 1, 1),
+        id="BM20-3.1",
+        source=f"{S3}, (3.1)",
+        kind="transformation",
+        statement="I(-t) = I(t), k(-t) = k(t): (t, M, gamma) -> (t, M, -gamma) maps solutions to "
+        "solutions",
+        system=BALL,
+        effects=VB,
+        build=_transformations([SYMMETRY], 1, 1),
         note="f(t, M, -gamma) = S f(t, M, gamma) exactly (for every law, even or not)",
     ),
     GenericLawClaim(
-        "BM20-3.1/involution",
-        f"{S3}, (3.1) ('only the symmetry')",
-        "transformation",
-        "I(-t) = I(t), k(-t) = k(t): (t, M, gamma) -> (-t, -M, gamma) is a reversing symmetry",
-        BALL,
-        VB,
-        _transformations([INVOLUTION_1], 1, 1),
+        id="BM20-3.1/involution",
+        source=f"{S3}, (3.1) ('only the symmetry')",
+        kind="transformation",
+        statement="I(-t) = I(t), k(-t) = k(t): (t, M, gamma) -> (-t, -M, gamma) is a reversing "
+        "symmetry",
+        system=BALL,
+        effects=VB,
+        build=_transformations([INVOLUTION_1], 1, 1),
         expected="fails",
         note="BM20 says only the symmetry survives for even k: the involution must be refuted",
     ),
     GenericLawClaim(
-        "BM20-3.2/3.3",
-        f"{S3}, (3.2), (3.3)",
-        "transformation",
-        "I(-t) = I(t), k(-t) = -k(t): the symmetry (t, M, gamma) -> (t, M, -gamma) and the "
+        id="BM20-3.2/3.3",
+        source=f"{S3}, (3.2), (3.3)",
+        kind="transformation",
+        statement="I(-t) = I(t), k(-t) = -k(t): the symmetry (t, M, gamma) -> (t, M, -gamma) and "
+        "the "
         "involutions (t, M, gamma) -> (-t, -M, gamma), (-t, -M, -gamma)",
-        BALL,
-        VB,
-        _transformations([SYMMETRY, INVOLUTION_1, INVOLUTION_2], 1, -1),
+        system=BALL,
+        effects=VB,
+        build=_transformations([SYMMETRY, INVOLUTION_1, INVOLUTION_2], 1, -1),
         note="f(s t, S x) = s S f(t, x) exactly, for every even I(t) and odd k(t)",
     ),
     Claim(
-        "BM20-3.4",
-        f"{S3}, eq. (3.4)",
-        "definition",
-        "the variable_inertia model is (2.5) with I(t) = diag(I1 + (J_off + delta sin(Omega t))^2, "
+        id="BM20-3.4",
+        source=f"{S3}, eq. (3.4)",
+        kind="definition",
+        statement="the variable_inertia model is (2.5) with I(t) = diag(I1 + (J_off + delta "
+        "sin(Omega t))^2, "
         "I2, I3 + (J_off + delta sin(Omega t))^2)",
-        BALL,
-        VI,
-        _law_substitution,
+        system=BALL,
+        effects=VI,
+        build=_law_substitution,
         note="right-hand side and integrals = the generic model's with the law substituted",
     ),
     Claim(
-        "BM20-3.5",
-        f"{S3}, eqs. (3.4), (3.5)",
-        "definition",
-        "the variable_gyrostat, variable_inertia model is (2.5) with I(t) of (3.4) and "
+        id="BM20-3.5",
+        source=f"{S3}, eqs. (3.4), (3.5)",
+        kind="definition",
+        statement="the variable_gyrostat, variable_inertia model is (2.5) with I(t) of (3.4) and "
         "k(t) = K sin(Omega t)",
-        BALL,
-        VB,
-        _law_substitution,
+        system=BALL,
+        effects=VB,
+        build=_law_substitution,
     ),
     Claim(
-        "BM20-3.4.J0",
-        f"{S3}, eqs. (3.3)-(3.5)",
-        "transformation",
-        "J_off = 0: I(t) of (3.4) is even, k(t) of (3.5) odd, and the involutions "
+        id="BM20-3.4.J0",
+        source=f"{S3}, eqs. (3.3)-(3.5)",
+        kind="transformation",
+        statement="J_off = 0: I(t) of (3.4) is even, k(t) of (3.5) odd, and the involutions "
         "(t, M, gamma) -> (-t, -M, gamma), (-t, -M, -gamma) hold for the model",
-        BALL,
-        VB,
-        _involutions_at(0),
+        system=BALL,
+        effects=VB,
+        build=_involutions_at(0),
     ),
     Claim(
-        "BM20-3.4J",
-        f"{S3}, eq. (3.4), Fig. 2 (J_off = -0.5)",
-        "transformation",
-        "the involutions (3.3) hold for I(t) of (3.4) and k(t) of (3.5) with J_off != 0",
-        BALL,
-        VB,
-        _involutions_at(None),
+        id="BM20-3.4J",
+        source=f"{S3}, eq. (3.4), Fig. 2 (J_off = -0.5)",
+        kind="transformation",
+        statement="the involutions (3.3) hold for I(t) of (3.4) and k(t) of (3.5) with J_off != 0",
+        system=BALL,
+        effects=VB,
+        build=_involutions_at(None),
         expected="fails",
         note="I(t) is even only for J_off = 0 (FORMULAS.md [BM20-3.4J])",
     ),
     Claim(
-        "BM20-3.2rem",
-        f"{S3}.2 (remark on delta)",
-        "value",
-        "I = (4, 3, 2), J_off = 0 in (3.4): I1(t) - I2 = 1 + delta^2 sin^2(Omega t) and "
+        id="BM20-3.2rem",
+        source=f"{S3}.2 (remark on delta)",
+        kind="value",
+        statement="I = (4, 3, 2), J_off = 0 in (3.4): I1(t) - I2 = 1 + delta^2 sin^2(Omega t) and "
         "I2 - I3(t) = (1 - delta^2) + delta^2 cos^2(Omega t), so I1(t) > I2 > I3(t) for all t "
         "iff delta < 1; delta = 2 violates the order (at sin(Omega t) = +-1)",
-        BALL,
-        VI,
-        _order_certificate(cos_square=True),
+        system=BALL,
+        effects=VI,
+        build=_order_certificate(cos_square=True),
         note="a certificate: the minimum 1 - delta^2 of I2 - I3(t) is attained at cos = 0",
     ),
     Claim(
-        "BM20-3.2rem/control-sin",
-        f"{S3}.2 (remark on delta; control)",
-        "value",
-        "the same certificate with I2 - I3(t) = (1 - delta^2) + delta^2 sin^2(Omega t)",
-        BALL,
-        VI,
-        _order_certificate(cos_square=False),
+        id="BM20-3.2rem/control-sin",
+        source=f"{S3}.2 (remark on delta; control)",
+        kind="value",
+        statement="the same certificate with I2 - I3(t) = (1 - delta^2) + delta^2 sin^2(Omega t)",
+        system=BALL,
+        effects=VI,
+        build=_order_certificate(cos_square=False),
         expected="fails",
     ),
     GenericLawClaim(
-        "BM20-3.6",
-        f"{S3}.1, eq. (3.6)",
-        "equation",
-        "start from rest: G = 0 is invariant and there gamma' = gamma x (-A k(t)), "
+        id="BM20-3.6",
+        source=f"{S3}.1, eq. (3.6)",
+        kind="equation",
+        statement="start from rest: G = 0 is invariant and there gamma' = gamma x (-A k(t)), "
         "A = (I + d (Id - gamma ⊗ gamma))^-1; symmetry gamma -> -gamma; with (3.2) the "
         "involution (t, gamma) -> (-t, -gamma)",
-        BALL,
-        VB,
-        _bm20_3_6,
+        system=BALL,
+        effects=VB,
+        build=_bm20_3_6,
         note="for arbitrary I(t), k(t) (the involution for even I, odd k)",
     ),
     Claim(
-        "BM20-map",
-        f"{S3}.1",
-        "transformation",
-        "gamma = (sqrt(1 - z^2) sin l, sqrt(1 - z^2) cos l, z) is a unit vector",
-        BALL,
-        (),
-        _bm20_map,
+        id="BM20-map",
+        source=f"{S3}.1",
+        kind="transformation",
+        statement="gamma = (sqrt(1 - z^2) sin l, sqrt(1 - z^2) cos l, z) is a unit vector",
+        system=BALL,
+        effects=(),
+        build=_bm20_map,
     ),
     Claim(
-        "BM20-3.7",
-        f"{S3}.2, eq. (3.7) (Andoyer–Deprit variables)",
-        "transformation",
-        "M = G (sqrt(1-z^2) sin l, sqrt(1-z^2) cos l, z), gamma = (z cos g sin l + sin g cos l, "
+        id="BM20-3.7",
+        source=f"{S3}.2, eq. (3.7) (Andoyer–Deprit variables)",
+        kind="transformation",
+        statement="M = G (sqrt(1-z^2) sin l, sqrt(1-z^2) cos l, z), gamma = (z cos g sin l + sin g "
+        "cos l, "
         "z cos g cos l - sin g sin l, -sqrt(1-z^2) cos g): |gamma| = 1, (M, gamma) = 0, |M| = G",
-        BALL,
-        (),
-        _bm20_3_7,
+        system=BALL,
+        effects=(),
+        build=_bm20_3_7,
         note="sqrt(1 - z^2) split off exactly; (sin, cos) pairs on the unit circle",
     ),
-):
-    register(claim)
+)

@@ -23,7 +23,7 @@ from ..identity import lie_derivative
 from . import Check, Claim, register
 from .notation import ball_notation
 
-__all__ = ["BallMap", "ball_map", "split_root"]
+__all__ = ["BallMap", "ball_map"]
 
 BALL = "chaplygin_ball"
 S13, S14, K23 = "BKM12 §1.3", "BKM12 §1.4", "K01 §2.3"
@@ -38,7 +38,9 @@ class BallMap:
     Parameters
     ----------
     model : Model
+        A Chaplygin-ball model.
     coeffs : (m1, m2, c1, c2)
+        Coefficients of the map (sympy expressions).
     Dt_inv : sympy.Expr
         ``D~^-1``.
     sign : int
@@ -46,7 +48,13 @@ class BallMap:
         ``+1`` for the literal reading of BKM12-19.
     """
 
-    def __init__(self, model: Model, coeffs, Dt_inv, sign: int = -1):
+    def __init__(
+        self,
+        model: Model,
+        coeffs: tuple[sp.Expr, sp.Expr, sp.Expr, sp.Expr],
+        Dt_inv: sp.Expr,
+        sign: int = -1,
+    ):
         n = ball_notation(model)
         self.n = n
         self.omega = model.expand_aux(n.omega)
@@ -63,30 +71,35 @@ class BallMap:
         self.mu = a1 + b1 * self.Zt
 
 
-def ball_map(model: Model, coeffs, Dt_inv, sign: int = -1) -> BallMap:
-    """A :class:`BallMap` (E, C, Mg of the state available as attributes)."""
-    return BallMap(model, coeffs, Dt_inv, sign)
+def ball_map(
+    model: Model,
+    coeffs: tuple[sp.Expr, sp.Expr, sp.Expr, sp.Expr],
+    Dt_inv: sp.Expr,
+    sign: int = -1,
+) -> BallMap:
+    """A :class:`BallMap` (E, C, Mg of the state available as attributes).
 
+    Parameters
+    ----------
+    model : Model
+        A Chaplygin-ball model.
+    coeffs : (m1, m2, c1, c2)
+        Coefficients of ``M~ = m1 M + m2 gamma``, ``gamma~ = c1 M + c2 gamma``.
+    Dt_inv : sympy.Expr
+        ``D~^-1``.
+    sign : int, optional
+        ``-1`` for the correct ``Z~``, ``+1`` for the literal reading of BKM12-19.
 
-def split_root(expr: sp.Expr, r: sp.Symbol, r2: sp.Expr) -> list[sp.Expr]:
-    """``expr = A + B r`` with ``r^2 = r2`` (``r`` a symbol standing for a square root).
+    Returns
+    -------
+    BallMap
+        The transformed ``M~``, ``gamma~``, ``Z~``, ``omega~`` and ``mu`` in the state.
 
-    Returns ``[A', B']``, numerators of ``A`` and ``B`` over a common denominator free of
-    ``r``: both vanish when ``expr`` does for every value of the radicand (sufficient for
-    a proof; the checker's own split does the same for an explicit ``sqrt``).
+    References
+    ----------
+    BKM12-12, BKM12-19
     """
-    num, den = sp.fraction(sp.together(expr))
-
-    def reduce(e):
-        P = sp.Poly(sp.expand(e), r)
-        a = sum((c * r2 ** (m[0] // 2) for m, c in P.terms() if m[0] % 2 == 0), sp.S.Zero)
-        b = sum((c * r2 ** (m[0] // 2) for m, c in P.terms() if m[0] % 2 == 1), sp.S.Zero)
-        return a, b
-
-    a, b = reduce(num)
-    c, d = reduce(den)
-    # (a + b r)/(c + d r) = (a + b r)(c - d r)/(c^2 - d^2 r2)
-    return [a * c - b * d * r2, b * c - a * d]
+    return BallMap(model, coeffs, Dt_inv, sign)
 
 
 def _energy(model: Model) -> sp.Expr:
@@ -272,21 +285,6 @@ def _rem_t1(model: Model) -> Check:
 
 
 # ------------------------------------------------------------------ Chaplygin's coefficients
-def _chaplygin(model: Model, root: int = 0, wrong_quadratic: bool = False):
-    cm = chaplygin_map()
-    n = ball_notation(model)
-    E = _energy(model)
-    C, Mg = dot(n.M, n.M), dot(n.M, n.gamma)
-    sub = {cm.symbols["E"]: E, cm.symbols["D"]: n.D, cm.symbols["C"]: C, cm.symbols["Mg"]: Mg}
-    f = cm.roots[root].xreplace(sub)
-    if wrong_quadratic:  # root of Mg f^2 - (C - E D) f + E D Mg (sign of the last term flipped)
-        k2 = E * n.D
-        f = ((C - k2) + sp.sqrt((C - k2) ** 2 - 4 * k2 * Mg**2)) / (2 * Mg)
-    sub[cm.symbols["f"]] = f
-    vals = [e.xreplace(sub) for e in (cm.m1, cm.m2, cm.c1, cm.c2, cm.Dt_inv, cm.Et)]
-    return n, E, C, Mg, f, vals
-
-
 F = sp.Symbol("f")
 
 
@@ -602,276 +600,289 @@ def _k01_rem1(model: Model) -> Check:
     )
 
 
-for claim in (
+register(
     Claim(
-        "BKM12-12",
-        S13,
-        "transformation",
-        "M~ = m1 M + m2 gamma, gamma~ = c1 M + c2 gamma (constant coefficients): "
+        id="BKM12-12",
+        source=S13,
+        kind="transformation",
+        statement="M~ = m1 M + m2 gamma, gamma~ = c1 M + c2 gamma (constant coefficients): "
         "M~' = M~ x omega, gamma~' = gamma~ x omega, (gamma~, gamma~) and (M~, gamma~) conserved",
-        BALL,
-        (),
-        _bkm12_12,
+        system=BALL,
+        effects=(),
+        build=_bkm12_12,
     ),
     Claim(
-        "BKM12-14",
-        S13,
-        "transformation",
-        "omega~ || omega on 2H = E iff R1 = m2 D~^-1 + E c1 Delta = 0, R2 = m1 "
+        id="BKM12-14",
+        source=S13,
+        kind="transformation",
+        statement="omega~ || omega on 2H = E iff R1 = m2 D~^-1 + E c1 Delta = 0, R2 = m1 "
         "D~^-1 - c2 D^-1 Delta = 0, "
         "Delta = m1 c2 - m2 c1 (the derived coefficients of X^2 X~ times the minor factor)",
-        BALL,
-        (),
-        _bkm12_14,
+        system=BALL,
+        effects=(),
+        build=_bkm12_14,
         note="derived in chaplygin.derive.transformation.theorem1",
     ),
     Claim(
-        "BKM12-17",
-        S13,
-        "equation",
-        "(A M, M) = E - X^-1 Y^2, (gamma, A gamma) = D^-1 - X, "
+        id="BKM12-17",
+        source=S13,
+        kind="equation",
+        statement="(A M, M) = E - X^-1 Y^2, (gamma, A gamma) = D^-1 - X, "
         "X~ = D~^-1 - c1^2 (E - X^-1 Y^2) - c2^2 (D^-1 - X) - 2 c1 c2 Y, "
         "Y~ = m1 c1 (E - X^-1 Y^2) + m2 c2 (D^-1 - X) + (m1 c2 + m2 c1) Y",
-        BALL,
-        (),
-        _bkm12_17,
+        system=BALL,
+        effects=(),
+        build=_bkm12_17,
     ),
     Claim(
-        "BKM12-proofT1",
-        S13,
-        "transformation",
-        "omega~_i omega_j - omega~_j omega_i = A_i A_j (M_i gamma_j - M_j gamma_i) Phi, "
+        id="BKM12-proofT1",
+        source=S13,
+        kind="transformation",
+        statement="omega~_i omega_j - omega~_j omega_i = A_i A_j (M_i gamma_j - M_j gamma_i) Phi, "
         "Phi = (R2 Y - R1 X)/((c2 X - c1 Y)^2 - X (E c1^2 + D^-1 c2^2 - D~^-1))",
-        BALL,
-        (),
-        _proof_t1,
+        system=BALL,
+        effects=(),
+        build=_proof_t1,
     ),
     Claim(
-        "BKM12-21",
-        S13,
-        "transformation",
-        "(14) <=> E m1 c1 + D^-1 m2 c2 = 0, D~^-1 = E c1^2 + D^-1 c2^2 (the derived solution)",
-        BALL,
-        (),
-        _bkm12_21,
+        id="BKM12-21",
+        source=S13,
+        kind="transformation",
+        statement="(14) <=> E m1 c1 + D^-1 m2 c2 = 0, D~^-1 = E c1^2 + D^-1 c2^2 (the derived "
+        "solution)",
+        system=BALL,
+        effects=(),
+        build=_bkm12_21,
     ),
     Claim(
-        "BKM12-15",
-        S13,
-        "transformation",
-        "under (21): omega~ = A (M~ + Z~ gamma~) is parallel to omega on 2H = E",
-        BALL,
-        (),
-        _parallel(""),
+        id="BKM12-15",
+        source=S13,
+        kind="transformation",
+        statement="under (21): omega~ = A (M~ + Z~ gamma~) is parallel to omega on 2H = E",
+        system=BALL,
+        effects=(),
+        build=_parallel(""),
         covers=("BKM12-1.3a",),  # the same A, D -> D~: a trajectory isomorphism
     ),
     Claim(
-        "BKM12-15/control-m2",
-        f"{S13} (negative control)",
-        "transformation",
-        "omega~ || omega with m2 = -E D m1 c1/c2 + c1 (violating (21))",
-        BALL,
-        (),
-        _parallel("m2"),
+        id="BKM12-15/control-m2",
+        source=f"{S13} (negative control)",
+        kind="transformation",
+        statement="omega~ || omega with m2 = -E D m1 c1/c2 + c1 (violating (21))",
+        system=BALL,
+        effects=(),
+        build=_parallel("m2"),
         expected="fails",
     ),
     Claim(
-        "BKM12-15/control-Dt",
-        f"{S13} (negative control)",
-        "transformation",
-        "omega~ || omega with D~^-1 = E c1^2 + 3 D^-1 c2^2 (violating (21))",
-        BALL,
-        (),
-        _parallel("Dt"),
+        id="BKM12-15/control-Dt",
+        source=f"{S13} (negative control)",
+        kind="transformation",
+        statement="omega~ || omega with D~^-1 = E c1^2 + 3 D^-1 c2^2 (violating (21))",
+        system=BALL,
+        effects=(),
+        build=_parallel("Dt"),
         expected="fails",
     ),
     Claim(
-        "BKM12-18",
-        S13,
-        "transformation",
-        "omega~ = mu omega, mu = m1 + c1 Z~ (corrected: Z~, not Z)",
-        BALL,
-        (),
-        _bkm12_18("corrected"),
+        id="BKM12-18",
+        source=S13,
+        kind="transformation",
+        statement="omega~ = mu omega, mu = m1 + c1 Z~ (corrected: Z~, not Z)",
+        system=BALL,
+        effects=(),
+        build=_bkm12_18("corrected"),
     ),
     Claim(
-        "BKM12-18/literal",
-        f"{S13} (literal reading)",
-        "transformation",
-        "omega~ = mu omega, mu = m1 + c1 Z (as extracted)",
-        BALL,
-        (),
-        _bkm12_18("literal"),
+        id="BKM12-18/literal",
+        source=f"{S13} (literal reading)",
+        kind="transformation",
+        statement="omega~ = mu omega, mu = m1 + c1 Z (as extracted)",
+        system=BALL,
+        effects=(),
+        build=_bkm12_18("literal"),
         expected="fails",
     ),
     Claim(
-        "BKM12-19",
-        S13,
-        "transformation",
-        "M~' = mu^-1 M~ x omega~, gamma~' = mu^-1 gamma~ x omega~, "
+        id="BKM12-19",
+        source=S13,
+        kind="transformation",
+        statement="M~' = mu^-1 M~ x omega~, gamma~' = mu^-1 gamma~ x omega~, "
         "Z~ = (A M~, gamma~)/(D~^-1 - (gamma~, A gamma~))",
-        BALL,
-        (),
-        _bkm12_19(-1),
+        system=BALL,
+        effects=(),
+        build=_bkm12_19(-1),
     ),
     Claim(
-        "BKM12-19/literal",
-        f"{S13} (literal reading)",
-        "transformation",
-        "the same with Z~ = (A M~, gamma~)/(D~^-1 + (gamma~, A gamma~)) (denominator as extracted)",
-        BALL,
-        (),
-        _bkm12_19(+1),
+        id="BKM12-19/literal",
+        source=f"{S13} (literal reading)",
+        kind="transformation",
+        statement="the same with Z~ = (A M~, gamma~)/(D~^-1 + (gamma~, A gamma~)) (denominator as "
+        "extracted)",
+        system=BALL,
+        effects=(),
+        build=_bkm12_19(+1),
         expected="fails",
     ),
     Claim(
-        "BKM12-20", S13, "integral", "E~ = (M~, omega~) = E m1^2 + D^-1 m2^2", BALL, (), _bkm12_20
+        id="BKM12-20",
+        source=S13,
+        kind="integral",
+        statement="E~ = (M~, omega~) = E m1^2 + D^-1 m2^2",
+        system=BALL,
+        effects=(),
+        build=_bkm12_20,
     ),
     Claim(
-        "BKM12-RemT1",
-        S13,
-        "transformation",
-        "<x, y> = E x1 y1 + D^-1 x2 y2: <m, c> = 0, D~^-1 = <c, c>, E~ = (M~, omega~) = <m, m>",
-        BALL,
-        (),
-        _rem_t1,
+        id="BKM12-RemT1",
+        source=S13,
+        kind="transformation",
+        statement="<x, y> = E x1 y1 + D^-1 x2 y2: <m, c> = 0, D~^-1 = <c, c>, E~ = (M~, omega~) = "
+        "<m, m>",
+        system=BALL,
+        effects=(),
+        build=_rem_t1,
     ),
     Claim(
-        "BKM12-1.4a",
-        S14,
-        "transformation",
-        "m1 = rho cos phi, m2 = -k rho sin phi, c1 = sigma sin phi, c2 = k "
+        id="BKM12-1.4a",
+        source=S14,
+        kind="transformation",
+        statement="m1 = rho cos phi, m2 = -k rho sin phi, c1 = sigma sin phi, c2 = k "
         "sigma cos phi, k^2 = E D, "
         "D~^-1 = E sigma^2: (21) holds and omega~ || omega for every phi",
-        BALL,
-        (),
-        _bkm12_1_4a,
+        system=BALL,
+        effects=(),
+        build=_bkm12_1_4a,
     ),
     Claim(
-        "BKM12-23.phi",
-        S14,
-        "transformation",
-        "rho = sqrt(C) (C cos^2 phi + k^2 sin^2 phi - 2 k M_gamma sin phi cos phi)^-1/2, "
+        id="BKM12-23.phi",
+        source=S14,
+        kind="transformation",
+        statement="rho = sqrt(C) (C cos^2 phi + k^2 sin^2 phi - 2 k M_gamma sin phi cos phi)^-1/2, "
         "sigma = (C sin^2 phi + k^2 cos^2 phi + 2 k M_gamma cos phi sin "
         "phi)^-1/2 give (M~, M~) = C, "
         "(gamma~, gamma~) = 1; tan(2 phi) = -2 k M_gamma/(C - k^2) gives (M~, gamma~) = 0",
-        BALL,
-        (),
-        _bkm12_23_phi,
+        system=BALL,
+        effects=(),
+        build=_bkm12_23_phi,
     ),
     Claim(
-        "BKM12-22",
-        S14,
-        "transformation",
-        "M~ = rho (cos phi M - k sin phi gamma), gamma~ = sigma (sin phi M + k cos phi gamma), "
+        id="BKM12-22",
+        source=S14,
+        kind="transformation",
+        statement="M~ = rho (cos phi M - k sin phi gamma), gamma~ = sigma (sin phi M + k cos phi "
+        "gamma), "
         "f = k tan phi: (M~, M~) = C, (gamma~, gamma~) = 1, (21) and E~ = E m1^2 + m2^2/D "
         "for every phi (the derived closed forms)",
-        BALL,
-        (),
-        _bkm12_22,
+        system=BALL,
+        effects=(),
+        build=_bkm12_22,
     ),
     Claim(
-        "BKM12-23",
-        S14,
-        "transformation",
-        "(M~, gamma~) = 0 at both roots of tan(2 phi) = -2 k M_gamma/(C - k^2), i.e. of "
+        id="BKM12-23",
+        source=S14,
+        kind="transformation",
+        statement="(M~, gamma~) = 0 at both roots of tan(2 phi) = -2 k M_gamma/(C - k^2), i.e. of "
         "M_gamma f^2 - (C - E D) f - E D M_gamma = 0 (f = k tan phi; the roots differ by pi/2)",
-        BALL,
-        (),
-        _bkm12_23(),
+        system=BALL,
+        effects=(),
+        build=_bkm12_23(),
     ),
     Claim(
-        "BKM12-23/control-quadratic",
-        f"{S14} (negative control)",
-        "transformation",
-        "(M - f gamma, f M + E D gamma) = 0 for a root of M_gamma f^2 - (C - E D) f + E D M_gamma",
-        BALL,
-        (),
-        _bkm12_23(wrong=True),
+        id="BKM12-23/control-quadratic",
+        source=f"{S14} (negative control)",
+        kind="transformation",
+        statement="(M - f gamma, f M + E D gamma) = 0 for a root of M_gamma f^2 - (C - E D) f + E "
+        "D M_gamma",
+        system=BALL,
+        effects=(),
+        build=_bkm12_23(wrong=True),
         expected="fails",
     ),
     Claim(
-        "K01-2.29",
-        K23,
-        "transformation",
-        "M = mu gamma~ + nu M~, gamma = kap gamma~ + lam M~ (the derived inverse map) with "
+        id="K01-2.29",
+        source=K23,
+        kind="transformation",
+        statement="M = mu gamma~ + nu M~, gamma = kap gamma~ + lam M~ (the derived inverse map) "
+        "with "
         "(M~, M~) = n1, (gamma~, gamma~) = 1",
-        BALL,
-        (),
-        _k01_2_29("2.29"),
+        system=BALL,
+        effects=(),
+        build=_k01_2_29("2.29"),
     ),
     Claim(
-        "K01-2.30",
-        K23,
-        "transformation",
-        "mu^2 + nu^2 n1 = n, kap^2 + lam^2 n1 = 1, mu kap + nu lam n1 = C "
+        id="K01-2.30",
+        source=K23,
+        kind="transformation",
+        statement="mu^2 + nu^2 n1 = n, kap^2 + lam^2 n1 = 1, mu kap + nu lam n1 = C "
         "(kap = sqrt((n - C^2)/Q), mu = f kap, lam = (C - f)/sqrt(n - C^2), nu "
         "= (n - C f)/sqrt(n - C^2))",
-        BALL,
-        (),
-        _k01_2_29("2.30"),
+        system=BALL,
+        effects=(),
+        build=_k01_2_29("2.30"),
     ),
     Claim(
-        "K01-2.31",
-        K23,
-        "transformation",
-        "(J omega~, omega~) - D~ (omega~, gamma~)^2 = (M~, omega~) = 2 h1, "
+        id="K01-2.31",
+        source=K23,
+        kind="transformation",
+        statement="(J omega~, omega~) - D~ (omega~, gamma~)^2 = (M~, omega~) = 2 h1, "
         "(J omega~, J omega~) - D~^2 (omega~, gamma~)^2 = (M~, M~) = n1 where (M~, gamma~) = 0, "
         "J = I + D Id = I~ + D~ Id",
-        BALL,
-        (),
-        _k01_2_31,
+        system=BALL,
+        effects=(),
+        build=_k01_2_31,
     ),
     Claim(
-        "K01-2.31c",
-        K23,
-        "transformation",
-        "(mu lam - nu kap)^2 h1 = h kap^2 + mu^2/(2D), (mu lam - nu kap)^2/D~ "
+        id="K01-2.31c",
+        source=K23,
+        kind="transformation",
+        statement="(mu lam - nu kap)^2 h1 = h kap^2 + mu^2/(2D), (mu lam - nu kap)^2/D~ "
         "= 2 h lam^2 + nu^2/D, "
         "mu nu/D + 2 h kap lam = 0, (mu lam - nu kap)^2 h1/D~ = h/D",
-        BALL,
-        (),
-        _k01_2_31c,
+        system=BALL,
+        effects=(),
+        build=_k01_2_31c,
     ),
     Claim(
-        "K01-2.32",
-        K23,
-        "transformation",
-        "f^2 - ((n - 2hD)/C) f - 2hD = 0 is Chaplygin's orthogonality (BKM12-23, f = k tan phi); "
+        id="K01-2.32",
+        source=K23,
+        kind="transformation",
+        statement="f^2 - ((n - 2hD)/C) f - 2hD = 0 is Chaplygin's orthogonality (BKM12-23, f = k "
+        "tan phi); "
         "|mu lam - nu kap| = sqrt(Q)",
-        BALL,
-        (),
-        _k01_2_32,
+        system=BALL,
+        effects=(),
+        build=_k01_2_32,
     ),
     Claim(
-        "K01-2.33",
-        K23,
-        "transformation",
-        "n1 = (M~, M~) = (n - C^2)/(n - C^2 + (C - f)^2); h1 = h (n - C^2)/((n - C f) Q), "
+        id="K01-2.33",
+        source=K23,
+        kind="transformation",
+        statement="n1 = (M~, M~) = (n - C^2)/(n - C^2 + (C - f)^2); h1 = h (n - C^2)/((n - C f) "
+        "Q), "
         "D~ = f (n - C^2)/(2h (f - C)) (reconstructed) agree with BKM12-20, 21",
-        BALL,
-        (),
-        _k01_2_33(),
+        system=BALL,
+        effects=(),
+        build=_k01_2_33(),
     ),
     Claim(
-        "K01-2.33/control-Dt",
-        f"{K23} (negative control)",
-        "transformation",
-        "D~ = f (n - C^2)/(2h (f + C)) agrees with BKM12-21",
-        BALL,
-        (),
-        _k01_2_33(control=True),
+        id="K01-2.33/control-Dt",
+        source=f"{K23} (negative control)",
+        kind="transformation",
+        statement="D~ = f (n - C^2)/(2h (f + C)) agrees with BKM12-21",
+        system=BALL,
+        effects=(),
+        build=_k01_2_33(control=True),
         expected="fails",
     ),
     Claim(
-        "K01-Rem1",
-        K23,
-        "transformation",
-        "the transformation is defined up to M~ -> s M~: omega~ -> s omega~, "
+        id="K01-Rem1",
+        source=K23,
+        kind="transformation",
+        statement="the transformation is defined up to M~ -> s M~: omega~ -> s omega~, "
         "still parallel to omega",
-        BALL,
-        (),
-        _k01_rem1,
+        system=BALL,
+        effects=(),
+        build=_k01_rem1,
     ),
-):
-    register(claim)
+)

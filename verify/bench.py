@@ -40,9 +40,10 @@ import mpmath
 import numpy as np
 
 from ..derive.errors import UserInputError
-from .code import load_model_code
-from .inputs import Precision
-from .integrate import integrate
+from ..numerics.code import load_model_code
+from ..numerics.inputs import Precision
+from ..numerics.integrate import integrate
+from ..numerics.separatrix import separatrix_state as exact_separatrix_state
 
 __all__ = [
     "BenchProblem",
@@ -55,19 +56,8 @@ __all__ = [
     "compile_times",
     "peers_available",
     "render_markdown",
-    "render_plot",
     "target_ratios",
 ]
-
-#: Timings quoted in issue 5 (heyoka and mpmath.odefun, the project's machines), seconds.
-QUOTED = {
-    "heyoka double T=1000 err 1e-11": 1.0e-3,
-    "heyoka real128 32 digits T=50": 62e-3,
-    "heyoka 50 digits T=50": 0.18,
-    "mpmath.odefun 32 digits T=50": 2.7,
-    "mpmath.odefun 50 digits T=50": 9.3,
-}
-
 
 #: Part of the reference-cache key: bump when the inputs' meaning changes (2: decimal literals
 #: are read with all their digits).
@@ -95,8 +85,24 @@ class BenchProblem:
 def separatrix_state(I: Sequence = (1, 2, 3), D=1, C=1, dps: int = 250) -> dict:
     """``M`` and ``gamma`` at the separatrix point ``t = 0`` of K01-3.4 (C > 0 form).
 
-    ``gamma = (-s32, 0, -s21)``, ``M = C gamma``; values as decimal strings of ``dps``
-    digits (the inputs are parsed at the working precision of each run).
+    ``gamma = (-s32, 0, -s21)``, ``M = C gamma``, computed by
+    :func:`chaplygin.numerics.separatrix.separatrix_state` at ``dps + 10`` digits; values as
+    decimal strings of ``dps`` digits (the inputs are parsed at the working precision of
+    each run).
+
+    Parameters
+    ----------
+    I : sequence of 3 numbers
+        Moments of inertia, ``I1 < I2 < I3``.
+    D, C : number
+        ``D = m b^2`` and ``C = (M, gamma)``.
+    dps : int
+        Digits of the strings.
+
+    Returns
+    -------
+    dict
+        ``{"M": (3 str), "gamma": (3 str)}``.
 
     References
     ----------
@@ -104,22 +110,12 @@ def separatrix_state(I: Sequence = (1, 2, 3), D=1, C=1, dps: int = 250) -> dict:
     """
     with mpmath.workdps(dps + 10):
         I1, I2, I3 = (mpmath.mpf(str(v)) for v in I)
-        Dm, Cm = mpmath.mpf(str(D)), mpmath.mpf(str(C))
         if not I1 < I2 < I3:
             raise UserInputError("the separatrix point needs I1 < I2 < I3")
-        J1, J2, J3 = I1 + Dm, I2 + Dm, I3 + Dm
-        a = {
-            "21": 1 / J2 - 1 / J1,
-            "32": 1 / J3 - 1 / J2,
-            "31": 1 / J3 - 1 / J1,
-        }
-        s32 = mpmath.sqrt(a["32"] / a["31"])
-        s21 = mpmath.sqrt(a["21"] / a["31"])
-        gamma = [-s32, mpmath.mpf(0), -s21]
-        M = [Cm * g for g in gamma]
+        y = exact_separatrix_state((I1, I2, I3), mpmath.mpf(str(D)), mpmath.mpf(str(C)))
         return {
-            "M": tuple(mpmath.nstr(v, dps, strip_zeros=False) for v in M),
-            "gamma": tuple(mpmath.nstr(v, dps, strip_zeros=False) for v in gamma),
+            "M": tuple(mpmath.nstr(v, dps, strip_zeros=False) for v in y[:3]),
+            "gamma": tuple(mpmath.nstr(v, dps, strip_zeros=False) for v in y[3:6]),
         }
 
 
@@ -280,7 +276,7 @@ def peers_available() -> dict[str, bool]:
 
 def _state_strings(problem: BenchProblem, digits: int) -> list[str]:
     """The problem's initial state (model order), as decimal strings of ``digits`` digits."""
-    from .inputs import pack_state
+    from ..numerics.inputs import pack_state
 
     code = load_model_code("chaplygin_ball")
     with mpmath.workdps(digits + 10):
@@ -451,8 +447,9 @@ def rhs_call_times(number: int = 20000) -> dict[str, float]:
     """Seconds per right-hand-side evaluation of the reference problem, called from Python.
 
     ``C, CompiledModel.rhs``: the single call users and scipy make, with and without a
-    preallocated ``out`` (through the CPython trampoline of :mod:`.fastcall` when it could be
-    built); ``C via cffi only``: the same with the trampoline switched off;
+    preallocated ``out`` (through the CPython trampoline of
+    :mod:`chaplygin.numerics.fastcall` when it could be built); ``C via cffi only``: the same
+    with the trampoline switched off;
     ``C (rhs_many, per state)``: one batched C call on 1000 states, divided by 1000;
     ``numpy (per call)``: the generated numpy ``rhs``. Best of 5 repeats of ``number``.
     """
@@ -497,7 +494,7 @@ def rhs_call_times(number: int = 20000) -> dict[str, float]:
 
 def compile_times() -> dict[str, float]:
     """Seconds to compile (from scratch, in a temporary cache) the model's C code."""
-    from .compiled import compile_c
+    from ..numerics.ccompile import compile_c
 
     code = load_model_code("chaplygin_ball")
     out: dict[str, float] = {}
@@ -513,7 +510,7 @@ def compile_times() -> dict[str, float]:
             start = time.perf_counter()
             try:
                 compile_c(src, cache_dir=tmp, force=True, ldlibs=ldlibs)
-            except Exception as exc:  # noqa: BLE001 - reported, not fatal
+            except Exception as exc:  # reported in the table, not fatal
                 out[name] = float("nan")
                 out[name + " (error)"] = str(exc)[:80]  # type: ignore[assignment]
                 continue
@@ -626,7 +623,7 @@ def run_study(
 
 
 def _integrate_methods():
-    from .integrate import METHODS
+    from ..numerics.integrate import METHODS
 
     return METHODS
 
@@ -748,40 +745,3 @@ def target_ratios(study: dict) -> list[str]:
             f" (target < 300 ns: {'met' if value < 300e-9 else 'missed'})"
         )
     return msgs
-
-
-def render_plot(study: dict, path: Path) -> None:
-    """Log-log plot of final error against median wall time, one panel per problem."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    rows = [r for r in study["rows"] if r["median_s"] is not None and r["error"] is not None]
-    problems = list(dict.fromkeys(r["problem"] for r in study["rows"]))
-    fig, axes = plt.subplots(1, len(problems), figsize=(6.5 * len(problems), 5), squeeze=False)
-    for ax, pname in zip(axes[0], problems, strict=True):
-        groups: dict[str, list] = {}
-        for r in rows:
-            if r["problem"] == pname:
-                groups.setdefault(f"{r['method']} {r['rhs']} {r['precision']}", []).append(r)
-        markers = {"taylor": "o-", "heyoka": "D:", "odefun": "^-."}
-        colours = plt.get_cmap("tab20")
-        for i, (label, rs) in enumerate(groups.items()):
-            rs = sorted(rs, key=lambda r: r["median_s"])
-            ax.loglog(
-                [r["median_s"] for r in rs],
-                [max(r["error"], 1e-120) for r in rs],
-                markers.get(label.split()[0], "s--"),
-                color=colours(i % 20),
-                label=label,
-                ms=5,
-            )
-        ax.set_xlabel("median wall time [s]")
-        ax.set_ylabel("final error (max norm)")
-        ax.set_title(pname + (" (quick)" if study.get("quick") else ""))
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=6)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)

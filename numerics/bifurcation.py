@@ -1,0 +1,307 @@
+"""Numbers behind the bifurcation diagrams: the derived curves evaluated, the stability of
+each family (Floquet multipliers) and seeded samples of integrated states on the levels.
+
+The curves are the derived ones (:mod:`chaplygin.derive.bifurcation`, proved in
+``verify/claims/bifurcation.py``); the stability comes from :mod:`.stability` at a sample
+point of each family; random seeded initial states are integrated for a short time and
+their integral values mark the region of motion (BKM12-Fig2region). Drawing them is
+:mod:`chaplygin.verify.plots`'s part.
+
+References
+----------
+K01-Fig1, K01-Fig2, K01-Fig3, BKM12-24, BKM12-Fig3, BKM12-2.7c, BKM12-1.5stab8.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from functools import cache, lru_cache
+
+import numpy as np
+import sympy as sp
+
+from ..derive.bifurcation import bifurcation_curve
+from ..derive.emit import emit_function
+from ..derive.systems import build_model
+from .code import load_model_code
+from .integrate import integrate
+from .stability import (
+    euler_floquet,
+    floquet,
+    steady_rotation_floquet,
+    support_steady_state,
+)
+
+__all__ = [
+    "sigma",
+    "family_stability",
+    "euler_stability",
+    "support_stability",
+    "ball_energy",
+    "sample_levels",
+    "support_sample",
+]
+
+
+@cache
+def _sigma_functions():
+    """Derived ``E = Sigma_i(C, M_gamma)`` of the ball as numpy functions of (C, M_gamma, I1, I2,
+    I3, D) (:func:`~chaplygin.derive.emit.emit_function`)."""
+    model = build_model("chaplygin_ball", ())
+    C, Mg = sp.Symbol("C", real=True), sp.Symbol("M_gamma", real=True)
+    args = [C, Mg, *model.params]
+    return [
+        emit_function(args, bifurcation_curve(model, i), name=f"sigma{i + 1}") for i in range(3)
+    ]
+
+
+def sigma(i: int, C, Mg, I: Sequence[float], D: float):
+    """Energy ``E = 2h`` on the derived curve ``Sigma_i`` (BKM12-Sigma_i, K01-3.2c).
+
+    Parameters
+    ----------
+    i : int
+        The family, 0, 1 or 2 (steady rotations about ``e_1``, ``e_2``, ``e_3``).
+    C, Mg : float or numpy.ndarray
+        ``(M, M)`` and ``(M, gamma)`` (arrays broadcast).
+    I : sequence of 3 floats
+        Moments of inertia.
+    D : float
+        ``D = m b^2``.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        ``E`` on the curve, shaped like the broadcast of ``C`` and ``Mg``.
+    """
+    return _sigma_functions()[i](C, Mg, *I, D)
+
+
+def family_stability(
+    I: Sequence[float], D: float, C: float = 1.0, Mg: float = 0.0
+) -> list[tuple[bool, float]]:
+    """Stability of the steady rotations about ``e_1``, ``e_2``, ``e_3`` of the ball.
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+        Moments of inertia.
+    D : float
+        ``D = m b^2``.
+    C, Mg : float
+        ``(M, M)`` and ``(M, gamma)`` of the sample point of each family.
+
+    Returns
+    -------
+    list of (bool, float)
+        ``(stable, max |multiplier|)`` per axis.
+    """
+    return [(r.stable, r.max_abs) for r in steady_rotation_floquet(tuple(I), D, C, Mg)]
+
+
+def euler_stability(I: Sequence[float], D: float, Ep: float) -> tuple[bool, float]:
+    """Stability of the orbit ``M = sqrt(C) gamma`` at ``E' = E D/C`` (``Sigma_4``).
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+        Moments of inertia.
+    D : float
+        ``D = m b^2``.
+    Ep : float
+        ``E' = E D/C``.
+
+    Returns
+    -------
+    (bool, float)
+        ``(stable, max |multiplier|)``.
+    """
+    r = euler_floquet(tuple(I), D, Ep)
+    return r.stable, r.max_abs
+
+
+@lru_cache(maxsize=16)
+def support_stability(params: tuple[float, ...]) -> list[tuple[bool, float]]:
+    """Stability of the spherical support's steady rotations, in a generic frame.
+
+    Parameters
+    ----------
+    params : tuple of 6 floats
+        ``(I1, I2, I3, D_iso, D_al, D_be)``.
+
+    Returns
+    -------
+    list of (bool, float)
+        ``(stable, max |multiplier|)`` per axis.
+    """
+    c, s = np.cos(0.7), np.sin(0.7)
+    R1 = np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
+    R2 = np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])
+    frame = R1 @ R2
+    out = []
+    for i in range(3):
+        y0, T = support_steady_state(params, i, 1.0, frame)
+        r = floquet(None, None, y0, T, system="spherical_support", params=params)
+        out.append((r.stable, r.max_abs))
+    return out
+
+
+def _random_unit(rng, n):
+    v = rng.normal(size=(n, 3))
+    return v / np.linalg.norm(v, axis=1)[:, None]
+
+
+@cache
+def _ball_code():
+    return load_model_code("chaplygin_ball")
+
+
+def ball_energy(y: np.ndarray, I: Sequence[float], D: float) -> float:
+    """``E = (M, omega) = 2 h`` of a ball state ``(M, gamma)`` (generated integrals).
+
+    Parameters
+    ----------
+    y : numpy.ndarray, shape (6,)
+        ``M, gamma``.
+    I : sequence of 3 floats
+        Moments of inertia.
+    D : float
+        ``D = m b^2``.
+
+    Returns
+    -------
+    float
+    """
+    return 2 * float(_ball_code().numpy.integrals(0.0, y, [*I, D])[0])
+
+
+def sample_levels(
+    I: Sequence[float],
+    D: float,
+    n: int,
+    seed: int,
+    C_range: tuple[float, float] = (0.05, 1.0),
+    Mg: float | None = None,
+    g: float | None = None,
+    t_end: float = 2.0,
+) -> tuple[np.ndarray, float, np.ndarray]:
+    """Random seeded ball states, integrated to ``t_end``: their ``(C, M_gamma, E)``.
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+        Moments of inertia.
+    D : float
+        ``D = m b^2``.
+    n : int
+        Number of states.
+    seed : int
+        Seed of :func:`numpy.random.default_rng`.
+    C_range : (float, float)
+        ``C = (M, M)`` is drawn uniformly in this range.
+    Mg : float, optional
+        Fixes ``(M, gamma)``.
+    g : float, optional
+        Fixes ``M_gamma/sqrt(C)`` (normalised diagram); without ``Mg`` or ``g`` it is random.
+    t_end : float
+        Integration time (DOP853, ``rtol = 1e-10``).
+
+    Returns
+    -------
+    values : numpy.ndarray, shape (n, 3)
+        ``(C, M_gamma, E)`` at ``t_end``.
+    drift : float
+        Largest relative drift of the integrals.
+    states : numpy.ndarray, shape (n, 6)
+        The final states.
+    """
+    rng = np.random.default_rng(seed)
+    gam = _random_unit(rng, n)
+    out, drift, states = [], 0.0, []
+    for k in range(n):
+        C = rng.uniform(*C_range)
+        perp = rng.normal(size=3)
+        perp -= perp.dot(gam[k]) * gam[k]
+        perp /= np.linalg.norm(perp)
+        if Mg is not None:
+            mg = Mg
+        elif g is not None:
+            mg = g * np.sqrt(C)
+        else:
+            mg = rng.uniform(-1, 1) * np.sqrt(C)
+        M = mg * gam[k] + np.sqrt(max(C - mg**2, 0.0)) * perp
+        r = integrate(
+            "chaplygin_ball",
+            {"M": tuple(M), "gamma": tuple(gam[k])},
+            t_end,
+            {"I": tuple(I), "D": D},
+            rtol=1e-10,
+            atol=1e-12,
+        )
+        y = r.y[:, -1]
+        Mv, gv = y[:3], y[3:]
+        out.append((Mv @ Mv, Mv @ gv, ball_energy(y, I, D)))
+        states.append(y)
+        drift = max(drift, max(r.drift.values()))
+    return np.array(out), drift, np.array(states)
+
+
+def support_sample(
+    params: Sequence[float], n: int, seed: int, t_end: float = 1.0
+) -> tuple[np.ndarray, float]:
+    """Random support states integrated to ``t_end``: ``(g_al, g_be, position)``.
+
+    ``position`` is ``(E' - min_i E'_i)/(max_i E'_i - min_i E'_i)`` with ``E'_i`` the
+    surfaces of BKM12-2.7c at the state's ``g``: in ``[0, 1]`` inside the region of motion.
+
+    Parameters
+    ----------
+    params : sequence of 6 floats
+        ``(I1, I2, I3, D_iso, D_al, D_be)``.
+    n : int
+        Number of states.
+    seed : int
+        Seed of :func:`numpy.random.default_rng`.
+    t_end : float
+        Integration time.
+
+    Returns
+    -------
+    values : numpy.ndarray, shape (n, 3)
+        ``(g_al, g_be, position)``.
+    drift : float
+        Largest relative drift of the integrals.
+    """
+    rng = np.random.default_rng(seed)
+    code = load_model_code("spherical_support")
+    I, D_iso, D_al, D_be = params[:3], params[3], params[4], params[5]
+    J = np.asarray(I, float) + D_iso
+    out, drift = [], 0.0
+    for _ in range(n):
+        q = rng.normal(size=4)
+        q /= np.linalg.norm(q)
+        w, x, y, z = q
+        R = np.array(
+            [
+                [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+            ]
+        )
+        M = rng.normal(size=3)
+        y0 = {"M": tuple(M), "alpha": tuple(R[0]), "beta": tuple(R[1]), "gamma": tuple(R[2])}
+        p = {"I": tuple(I), "D_iso": D_iso, "D_al": D_al, "D_be": D_be}
+        r = integrate("spherical_support", y0, t_end, p, rtol=1e-10, atol=1e-12)
+        yv = r.y[:, -1]
+        Mv, al, be, ga = yv[:3], yv[3:6], yv[6:9], yv[9:12]
+        C = Mv @ Mv
+        gx = np.array([Mv @ al, Mv @ be, Mv @ ga]) / np.sqrt(C)
+        E = 2 * float(code.numpy.integrals(0.0, yv, [*I, D_iso, D_al, D_be])[0])
+        surf = [
+            gx[0] ** 2 / (J[i] - D_al) + gx[1] ** 2 / (J[i] - D_be) + gx[2] ** 2 / J[i]
+            for i in range(3)
+        ]
+        lo, hi = min(surf), max(surf)
+        out.append((gx[0], gx[1], (E / C - lo) / (hi - lo)))
+        drift = max(drift, max(r.drift.values()))
+    return np.array(out), drift

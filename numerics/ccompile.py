@@ -1,0 +1,403 @@
+"""Compile C source into a shared library, cached per user and keyed by what it depends on.
+
+Stages callable alone: :func:`find_compiler`, :func:`compile_c` (returns the library's path);
+loading the library is :mod:`.compiled`'s part (and :mod:`.fastcall`'s for its trampoline).
+
+* **cached and idempotent** -- a library is stored under a key that hashes the source text, the
+  compiler (path and ``--version`` output), the flags and the platform; an existing library is
+  reused without running the compiler;
+* **safe under concurrency** -- the compiler writes a temporary file in the cache directory which
+  is then moved into place with :func:`os.replace`; no process-global state (working directory,
+  environment, umask) is ever changed.
+
+The flags are ``-O2 -shared -fPIC -std=c99 -ffp-contract=off`` and ``-lm``: no ``-ffast-math``
+and no fused multiply-add contraction, so results are IEEE double precision and reproducible
+(clang contracts ``a*b + c`` into an FMA by default, hence the explicit ``-ffp-contract=off``).
+
+The cache lives in ``$CHAPLYGIN_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/chaplygin`` or
+``~/.cache/chaplygin``; libraries go into its ``c/`` subfolder (see :func:`c_cache_dir`).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import platform
+import shlex
+import shutil
+import stat
+import subprocess
+import sys
+import sysconfig
+import tempfile
+import time
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from ..derive.errors import ChaplyginError, UserInputError
+
+__all__ = [
+    "CFLAGS",
+    "LDLIBS",
+    "STALE_SECONDS",
+    "CacheError",
+    "check_cache_dir",
+    "CompilerError",
+    "CompilerNotFoundError",
+    "CompilationError",
+    "c_cache_dir",
+    "compile_c",
+    "find_compiler",
+]
+
+#: Compiler flags (IEEE-exact: no ``-ffast-math``, no FMA contraction).
+CFLAGS: tuple[str, ...] = ("-O2", "-shared", "-fPIC", "-std=c99", "-ffp-contract=off")
+#: Libraries linked after the source file.
+LDLIBS: tuple[str, ...] = ("-lm",)
+
+#: Compilers tried, in order, when neither ``compiler=`` nor ``CC`` is given.
+_DEFAULT_COMPILERS = ("cc", "gcc", "clang")
+#: Bump to invalidate every cached library (changes the cache key).
+_CACHE_FORMAT = "chaplygin-c-cache-1"
+_COMPILE_TIMEOUT = 900.0
+_VERSION_TIMEOUT = 60.0
+_LIB_SUFFIX = ".dll" if sys.platform == "win32" else ".so"
+
+# --------------------------------------------------------------------------- errors
+
+
+class CompilerError(ChaplyginError, RuntimeError):
+    """The C compiler is missing or could not build the library."""
+
+
+class CompilerNotFoundError(CompilerError):
+    """No C compiler could be found (``compiler=`` argument, ``CC``, ``cc``, ``gcc``)."""
+
+
+class CompilationError(CompilerError):
+    """The C compiler ran but failed (non-zero exit status or time-out)."""
+
+
+# --------------------------------------------------------------------------- compiling
+
+
+class CacheError(UserInputError):
+    """The cache folder cannot be used safely (others can write to it, it is not ours, or
+    it is read-only); the message says how to fix it (CHAPLYGIN_CACHE_DIR, chmod)."""
+
+
+def c_cache_dir(cache_dir: str | os.PathLike[str] | None = None) -> Path:
+    """Directory holding the compiled libraries.
+
+    Parameters
+    ----------
+    cache_dir : path-like, optional
+        Root of the chaplygin cache.  Default: ``$CHAPLYGIN_CACHE_DIR`` if set and non-empty,
+        else ``$XDG_CACHE_HOME/chaplygin``, else ``~/.cache/chaplygin``.
+
+    Returns
+    -------
+    pathlib.Path
+        ``<root>/c`` (not created here).
+    """
+    if cache_dir is not None:
+        root = Path(cache_dir)
+    elif os.environ.get("CHAPLYGIN_CACHE_DIR"):
+        root = Path(os.environ["CHAPLYGIN_CACHE_DIR"])
+    else:
+        xdg = os.environ.get("XDG_CACHE_HOME")
+        base = Path(xdg) if xdg else Path.home() / ".cache"
+        root = base / "chaplygin"
+    return root.expanduser() / "c"
+
+
+def find_compiler(compiler: str | None = None) -> list[str]:
+    """Command line that invokes the C compiler.
+
+    Parameters
+    ----------
+    compiler : str, optional
+        Compiler command (may contain arguments, e.g. ``"ccache gcc"``).  When given, it is
+        the only candidate; otherwise the ``CC`` environment variable is, when set and
+        non-empty; otherwise ``cc``, ``gcc`` and ``clang`` are searched on ``PATH``.
+
+    Returns
+    -------
+    list of str
+        The command split into words, its program resolved to an absolute path.
+
+    Raises
+    ------
+    CompilerNotFoundError
+        If the chosen candidate (or, without a choice, every default) is not found.
+    """
+    if compiler is None:
+        compiler = os.environ.get("CC") or None
+        origin = "the CC environment variable"
+    else:
+        origin = "the compiler argument"
+    if compiler is not None:
+        words = shlex.split(compiler)
+        found = shutil.which(words[0]) if words else None
+        if found is None:
+            raise CompilerNotFoundError(
+                f"C compiler {compiler!r} (from {origin}) not found; install it or point CC "
+                "to an installed C compiler"
+            )
+        return [found, *words[1:]]
+    for name in _DEFAULT_COMPILERS:
+        found = shutil.which(name)
+        if found is not None:
+            return [found]
+    raise CompilerNotFoundError(
+        f"no C compiler found on PATH (tried {', '.join(_DEFAULT_COMPILERS)}); install one "
+        "(e.g. gcc) or set the CC environment variable"
+    )
+
+
+_identity_cache: dict[tuple[Any, ...], str] = {}
+
+
+def _compiler_identity(argv: Sequence[str]) -> str:
+    """Path, file stamp and ``--version`` output of the compiler (memoised per process)."""
+    try:
+        st = os.stat(argv[0])
+    except OSError as exc:
+        raise CompilerNotFoundError(f"C compiler {argv[0]!r} not usable: {exc}") from exc
+    memo_key = (tuple(argv), st.st_mtime_ns, st.st_size, st.st_ino)
+    identity = _identity_cache.get(memo_key)
+    if identity is None:
+        try:
+            proc = subprocess.run(
+                [*argv, "--version"],
+                capture_output=True,
+                text=True,
+                errors="replace",
+                stdin=subprocess.DEVNULL,
+                timeout=_VERSION_TIMEOUT,
+                check=False,
+            )
+        except (OSError, subprocess.SubprocessError) as exc:
+            raise CompilerNotFoundError(
+                f"C compiler {shlex.join(argv)!r} cannot be run: {exc}"
+            ) from exc
+        identity = "\n".join([shlex.join(argv), proc.stdout.strip(), proc.stderr.strip()])
+        _identity_cache[memo_key] = identity
+    return identity
+
+
+def _platform_tag() -> str:
+    return f"{sysconfig.get_platform()}|{platform.machine()}|{sys.platform}"
+
+
+def _cache_key(source: str, identity: str, flags: Sequence[str]) -> str:
+    h = hashlib.sha256()
+    for part in (_CACHE_FORMAT, source, identity, shlex.join(flags), _platform_tag()):
+        h.update(part.encode("utf-8", "surrogatepass"))
+        h.update(b"\0")
+    return h.hexdigest()
+
+
+def _unlink_quietly(path: str | os.PathLike[str]) -> None:
+    try:
+        os.unlink(path)
+    except FileNotFoundError:
+        pass
+
+
+#: A build's temporaries older than this are left over from a killed build: removed.
+STALE_SECONDS = 3600.0
+
+
+def check_cache_dir(directory: str | os.PathLike[str]) -> None:
+    """Refuse a cache folder (or a parent up to the cache root) others could write to.
+
+    A library in the cache is loaded with ``dlopen``: whoever can write there can run code
+    in our process. The folder must be owned by the current user and not writable by group
+    or others (a parent may be shared only if it has the sticky bit, like ``/tmp``).
+
+    Parameters
+    ----------
+    directory : path-like
+        The folder holding the compiled libraries (it may not exist yet).
+
+    Raises
+    ------
+    CacheError
+        The folder or its cache root is writable by others or owned by another user.
+    """
+    path = Path(directory)
+    for folder in (path, path.parent):
+        try:
+            st = folder.stat()
+        except FileNotFoundError:
+            continue
+        if not hasattr(os, "getuid"):  # pragma: no cover - Windows
+            return
+        others_write = st.st_mode & (stat.S_IWGRP | stat.S_IWOTH)
+        if st.st_uid != os.getuid() or (others_write and not st.st_mode & stat.S_ISVTX):
+            raise CacheError(
+                f"the cache folder {folder} can be written by other users (mode "
+                f"{stat.filemode(st.st_mode)}, owner uid {st.st_uid}): code loaded from it "
+                "could be theirs; use a private folder (chmod go-w, or set "
+                "CHAPLYGIN_CACHE_DIR to a folder of your own)"
+            )
+
+
+def _digest(path: Path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def _record_path(library: Path) -> Path:
+    return library.with_name(library.name + ".record")
+
+
+def _write_record(library: Path) -> None:
+    """Record size and SHA-256 of a library just built (written atomically)."""
+    record = json.dumps({"size": library.stat().st_size, "sha256": _digest(library)})
+    fd, tmp = tempfile.mkstemp(prefix=".tmp-record-", dir=library.parent)
+    with os.fdopen(fd, "w", encoding="utf-8") as fh:
+        fh.write(record)
+    os.replace(tmp, _record_path(library))
+
+
+def _record_matches(library: Path) -> bool:
+    """True when the library is exactly what our build wrote (size and SHA-256)."""
+    try:
+        record = json.loads(_record_path(library).read_text(encoding="utf-8"))
+        return (
+            isinstance(record, dict)
+            and record.get("size") == library.stat().st_size
+            and record.get("sha256") == _digest(library)
+        )
+    except (OSError, ValueError):
+        return False
+
+
+def _remove_stale_temporaries(directory: Path) -> None:
+    """Remove our ``.tmp-*`` files that a killed build left behind (older than an hour)."""
+    now = time.time()
+    for path in directory.glob(".tmp-*"):
+        try:
+            st = path.stat()
+            if now - st.st_mtime > STALE_SECONDS and st.st_uid == os.getuid():
+                path.unlink()
+        except OSError:
+            continue
+
+
+def compile_c(
+    source: str,
+    *,
+    cache_dir: str | os.PathLike[str] | None = None,
+    compiler: str | None = None,
+    force: bool = False,
+    ldlibs: Sequence[str] = (),
+    cflags: Sequence[str] = (),
+) -> Path:
+    """Compile C source to a shared library, or reuse the cached one.
+
+    Parameters
+    ----------
+    source : str
+        Complete C99 translation unit.
+    cache_dir : path-like, optional
+        Root of the cache (see :func:`c_cache_dir`); the library goes into ``<root>/c``.
+    compiler : str, optional
+        Compiler command; see :func:`find_compiler` (default: ``CC``, else ``cc``/``gcc``).
+    force : bool, default False
+        Recompile even when the library is cached (replacing it atomically).
+    ldlibs : sequence of str, optional
+        Extra libraries linked after :data:`LDLIBS` (``("-lquadmath",)``); part of the key.
+    cflags : sequence of str, optional
+        Extra compiler flags after :data:`CFLAGS` (include folders ``-I...``); part of the key.
+
+    Returns
+    -------
+    pathlib.Path
+        The shared library ``<root>/c/<sha256>.so``; the key hashes the source, the compiler
+        identity, :data:`CFLAGS` + :data:`LDLIBS` and the platform.  The source is kept next
+        to it as ``<sha256>.c`` for inspection.
+
+    Raises
+    ------
+    CompilerNotFoundError
+        If no compiler can be found or run.
+    CompilationError
+        If the compiler fails; the message holds its command line and diagnostics.
+    OSError
+        If the cache directory cannot be created or written.
+
+    Notes
+    -----
+    The compiler writes to a temporary file in the cache directory that is then moved into
+    place with :func:`os.replace`: concurrent builds of the same source (threads or processes)
+    are safe and the final library is never seen half-written.
+    """
+    argv = find_compiler(compiler)
+    flags = (*CFLAGS, *cflags, *LDLIBS, *ldlibs)
+    key = _cache_key(source, _compiler_identity(argv), flags)
+    directory = c_cache_dir(cache_dir)
+    target = directory / f"{key}{_LIB_SUFFIX}"
+    if not force and target.is_file():
+        check_cache_dir(directory)
+        if _record_matches(target):
+            return target
+        # damaged, replaced or unrecorded: never load it, build it again
+
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise CacheError(
+            f"cannot create the cache folder {directory}: {exc.strerror or exc}; set "
+            "CHAPLYGIN_CACHE_DIR to a writable folder"
+        ) from None
+    check_cache_dir(directory)
+    if not os.access(directory, os.W_OK | os.X_OK):
+        raise CacheError(
+            f"the cache folder {directory} is read-only: compiled code cannot be stored; set "
+            "CHAPLYGIN_CACHE_DIR to a writable folder"
+        )
+    _remove_stale_temporaries(directory)
+    prefix = f".tmp-{key[:16]}-"
+    fd, tmp_c = tempfile.mkstemp(prefix=prefix, suffix=".c", dir=directory)
+    with os.fdopen(fd, "w", encoding="utf-8") as fh:
+        fh.write(source)
+    fd, tmp_lib = tempfile.mkstemp(prefix=prefix, suffix=_LIB_SUFFIX, dir=directory)
+    os.close(fd)
+    command = [*argv, *CFLAGS, *cflags, "-o", tmp_lib, tmp_c, *LDLIBS, *ldlibs]
+    try:
+        try:
+            proc = subprocess.run(
+                command,
+                capture_output=True,
+                text=True,
+                errors="replace",
+                stdin=subprocess.DEVNULL,
+                timeout=_COMPILE_TIMEOUT,
+                check=False,
+            )
+        except FileNotFoundError as exc:
+            raise CompilerNotFoundError(f"C compiler {argv[0]!r} not found: {exc}") from exc
+        except (OSError, subprocess.SubprocessError) as exc:
+            raise CompilationError(f"running {shlex.join(command)} failed: {exc}") from exc
+        if proc.returncode != 0 or os.path.getsize(tmp_lib) == 0:
+            diagnostics = (proc.stderr or proc.stdout).strip()
+            if len(diagnostics) > 4000:
+                diagnostics = diagnostics[:4000] + "\n[...]"
+            raise CompilationError(
+                f"{shlex.join(command)} exited with status {proc.returncode}:\n{diagnostics}"
+            )
+        os.replace(tmp_c, directory / f"{key}.c")
+        os.replace(tmp_lib, target)
+        _write_record(target)
+    finally:
+        _unlink_quietly(tmp_c)
+        _unlink_quietly(tmp_lib)
+    return target

@@ -1,0 +1,74 @@
+"""chaplygin: derive, verify and integrate nonholonomic rolling systems.
+
+``import chaplygin`` gives the public surface in one import. This folder is the package root
+``chaplygin`` itself (pyproject maps it: the fixed top-level layout has no folder of its own
+for the root); the layers stay where they are: ``chaplygin.derive`` (sympy models),
+``chaplygin.generated`` (emitted code), ``chaplygin.numerics`` (integration) and
+``chaplygin.verify`` (claims, verdicts, commands). Names are resolved on first use, so the
+import itself is cheap (sympy, scipy and matplotlib load when a function needs them).
+
+Examples
+--------
+>>> import chaplygin
+>>> model = chaplygin.build_model("chaplygin_ball", effects=["gyrostat"])    # doctest: +SKIP
+>>> chaplygin.check("BKM12-4")                                               # doctest: +SKIP
+BKM12-4: proved (Groebner normal form ...)
+>>> r = chaplygin.integrate("chaplygin_ball", {"M": (0.7, -0.4, 0.5),
+...     "gamma": (0.2, 0.3, "sqrt(0.87)")}, 10, {"I": (1, 2, 3), "D": 1})   # doctest: +SKIP
+>>> chaplygin.delta((1, 3, 5), 1, 1, digits=30).closed                       # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import importlib
+from importlib.metadata import PackageNotFoundError, version
+from typing import Any
+
+try:
+    __version__ = version("chaplygin")
+except PackageNotFoundError:  # pragma: no cover - running from an uninstalled tree
+    __version__ = "0+unknown"
+
+#: public name -> "module:attribute" (modules relative to the package root)
+_PUBLIC: dict[str, str] = {
+    # models and effects (derive)
+    "build_model": "derive.systems:build_model",
+    "Model": "derive.model:Model",
+    "EFFECTS": "derive.effects:EFFECTS",
+    "UserInputError": "derive.errors:UserInputError",
+    # numerics
+    "integrate": "numerics.integrate:integrate",
+    "IntegrationResult": "numerics.integrate:IntegrationResult",
+    "METHODS": "numerics.integrate:METHODS",
+    "Precision": "numerics.inputs:Precision",
+    "load_model_code": "numerics.code:load_model_code",
+    "delta": "numerics.separatrix:delta_three_ways",
+    "torus_quadratures": "numerics.quadratures:torus_quadratures",
+    # claims and verdicts (verify)
+    "claims": "verify.claims:select_claims",
+    "check": "verify.check:check",
+    "Claim": "verify.claims:Claim",
+    "Verdict": "verify.verdict:Verdict",
+    # figures (matplotlib Figure objects)
+    "delta_figure": "verify.plots:delta_of_mu_figure",
+    "separatrix_figures": "verify.plots:separatrix_figures",
+    "bifurcation_figure": "verify.plots:bifurcation_figure",
+    "work_precision_figure": "verify.plots:work_precision_figure",
+}
+
+__all__ = ["__version__", *_PUBLIC]
+
+
+def __getattr__(name: str) -> Any:
+    """Resolve a public name on first use (PEP 562) and cache it in the module."""
+    target = _PUBLIC.get(name)
+    if target is None:
+        raise AttributeError(f"module 'chaplygin' has no attribute {name!r}")
+    module, attribute = target.split(":")
+    value = getattr(importlib.import_module(f"{__name__}.{module}"), attribute)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_PUBLIC))

@@ -1,0 +1,539 @@
+"""Figures: bifurcation diagrams, the separatrix figures of K01 §3.3 and the work-precision plot.
+
+Every function returns a :class:`matplotlib.figure.Figure` (or draws on a given ``ax``); the
+caller saves or shows it. No backend is selected here and :mod:`matplotlib.pyplot` is never
+imported: a :class:`~matplotlib.figure.Figure` made directly saves itself to PNG, and in a
+notebook the figure is shown inline by the notebook's own backend. matplotlib is imported on
+the first figure, not with this module, and so are the numerics (the command line builds its
+parser from :data:`FIGURES` on every start).
+
+The numbers come from :mod:`chaplygin.numerics` (:mod:`~chaplygin.numerics.bifurcation`,
+:mod:`~chaplygin.numerics.separatrix`) and from the study of :mod:`chaplygin.verify.bench`.
+
+References
+----------
+K01-Fig1, K01-Fig2, K01-Fig3, BKM12-24, BKM12-Fig3, BKM12-2.7c, BKM12-1.5stab8 (bifurcation
+diagrams); K01-3.7, K01-Fig4, K01-Fig6 (separatrix figures).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
+
+import mpmath
+import numpy as np
+
+from ..derive.errors import UserInputError
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+__all__ = [
+    "FIGURES",
+    "bifurcation_figure",
+    "delta_of_mu_figure",
+    "separatrix_traces_figure",
+    "work_precision_figure",
+]
+
+#: Bifurcation diagrams: name -> (system, default parameters, title).
+FIGURES = {
+    "k01-1": ("chaplygin_ball", {"I": (1, 1.5, 3), "D": 1, "C": 0}, "K01 Fig. 1"),
+    "k01-2": ("chaplygin_ball", {"I": (1, 1.5, 3), "D": 1, "C": 1}, "K01 Fig. 2b"),
+    "k01-3": ("chaplygin_ball", {"I": (1, 1.5, 3), "D": 1, "C": 1}, "K01 Fig. 3"),
+    "bkm12-2": ("chaplygin_ball", {"I": (1, 1.5, 3), "D": 1}, "BKM12 Fig. 2"),
+    "bkm12-3": ("chaplygin_ball", {"I": (1, 1.5, 3), "D": 1}, "BKM12 Fig. 3"),
+    "bkm12-5": (
+        "spherical_support",
+        {"I": (1, 1.5, 3), "D_iso": 0.5, "D_al": 0.3, "D_be": -0.2},
+        "BKM12 Fig. 5",
+    ),
+}
+COLORS = ("tab:blue", "tab:red", "tab:green", "tab:purple", "tab:orange")
+
+
+def _new_figure(**kwargs) -> Figure:
+    """A :class:`~matplotlib.figure.Figure` not managed by pyplot (no backend is chosen)."""
+    from matplotlib.figure import Figure
+
+    return Figure(**kwargs)
+
+
+# ---------------------------------------------------------------------- bifurcation diagrams
+def _style(stable: bool) -> str:
+    return "-" if stable else "--"
+
+
+def _stability_legend() -> list:
+    from matplotlib.lines import Line2D
+
+    return [
+        Line2D([], [], color="k", ls="-", label="stable (|multipliers| = 1)"),
+        Line2D([], [], color="k", ls="--", label="unstable"),
+        Line2D([], [], color="0.5", marker=".", ls="", label="integrated states"),
+    ]
+
+
+def _draw_kilin(ax: Axes, I, D, C, samples, seed, traces: Axes | None = None) -> float:
+    """(n, h) plane: p_i: h = Sigma_i/2, and the segment n = C^2 (M || gamma)."""
+    from ..numerics.bifurcation import euler_stability, family_stability, sample_levels, sigma
+
+    stab = family_stability(I, D, 1.0 + C**2, C)
+    n_max = 3.0 if C == 0 else 3.0 * C**2
+    n = np.linspace(C**2, n_max, 200)
+    for i in range(3):
+        h = sigma(i, n, C, I, D) / 2
+        ax.plot(
+            n,
+            h,
+            _style(stab[i][0]),
+            color=COLORS[i],
+            label=f"p{i + 1} (max|mu| = {stab[i][1]:.3g})",
+        )
+    if C != 0:
+        hs = sorted(C**2 / (2 * np.asarray(I, float)))  # h_i = C^2/(2 I_i) on n = C^2
+        Ep_mid = D * 2 * hs[1] / C**2
+        for lo, hi in ((hs[0], hs[1]), (hs[1], hs[2])):
+            Ep = D * (lo + hi) / C**2  # E' = 2 h D/C^2 at the arc's midpoint
+            st, mu = euler_stability(I, D, Ep)
+            ax.plot([C**2, C**2], [lo, hi], _style(st), color=COLORS[3], lw=2)
+        ax.plot([], [], "-", color=COLORS[3], lw=2, label="n = C^2 (M || gamma)")
+        ax.plot(
+            [C**2],
+            [hs[1]],
+            "o",
+            color=COLORS[3],
+            mfc="w",
+            label=f"unstable point E' = {Ep_mid:.3g}",
+        )
+    vals, drift, states = sample_levels(I, D, samples, seed, C_range=(C**2, n_max), Mg=C)
+    ax.plot(vals[:, 0], vals[:, 2] / 2, ".", color="0.5", ms=3)
+    ax.set_xlabel("n = (M, M)")
+    ax.set_ylabel("h = (M, omega)/2")
+    if traces is not None:
+        _draw_traces(ax, traces, I, D, C, vals, states)
+    return drift
+
+
+def _draw_traces(ax: Axes, tax: Axes, I, D, C, vals, states) -> None:
+    """K01 Fig. 3: contact-point traces of three states (above p2, below p2, near p2)."""
+    from ..numerics import integrate
+    from ..numerics.bifurcation import ball_energy, sigma
+    from ..numerics.stability import critical_state
+
+    h2 = sigma(1, vals[:, 0], C, I, D) / 2
+    above = int(np.argmax(vals[:, 2] / 2 - h2 > 0.05))
+    below = int(np.argmax(h2 - vals[:, 2] / 2 > 0.05))
+    y2, _ = critical_state(I, D, 1, 1.0 + C**2, C)
+    near = y2 + 1e-4 * np.array([1.0, -1.0, 0.5, 0.3, -0.2, 0.1])
+    near[3:] /= np.linalg.norm(near[3:])
+    picks = [("a", states[above]), ("b", states[below]), ("c (near p2)", near)]
+    for k, (label, y) in enumerate(picks):
+        M, g = y[:3], y[3:]
+        r = integrate(
+            "chaplygin_ball",
+            {"M": tuple(M), "gamma": tuple(g)},
+            150.0,
+            {"I": tuple(I), "D": D, "b": 1.0},
+            effects=("contact_point",),
+            rtol=1e-10,
+            atol=1e-12,
+            t_eval=np.linspace(0, 150, 3000),
+        )
+        xs, ys = r.y[r.state_names.index("x")], r.y[r.state_names.index("y")]
+        tax.plot(xs, ys, lw=0.8, color=COLORS[k], label=label)
+        h_ = ball_energy(y[:6], I, D) / 2
+        ax.annotate(label[0], (M @ M, h_), color=COLORS[k], fontsize=10, weight="bold")
+    tax.grid(alpha=0.3)
+    tax.set_xlabel("x (contact point, b = 1)")
+    tax.set_ylabel("y")
+    tax.legend(fontsize=7)
+    tax.set_title("contact-point traces, t in [0, 150]", fontsize=9)
+
+
+def _draw_bkm12_2(ax: Axes, I, D, samples, seed) -> float:
+    from ..numerics.bifurcation import family_stability, sample_levels
+
+    stab = family_stability(I, D, 1.0, 0.0)
+    C = np.linspace(0, 1, 100)
+    A = 1 / (np.asarray(I, float) + D)
+    for i in range(3):
+        ax.plot(
+            C,
+            A[i] * C,
+            _style(stab[i][0]),
+            color=COLORS[i],
+            label=f"E = A{i + 1} C (max|mu| = {stab[i][1]:.3g})",
+        )
+    vals, drift, states = sample_levels(I, D, samples, seed, C_range=(0.02, 1.0), Mg=0.0)
+    ax.plot(vals[:, 0], vals[:, 2], ".", color="0.5", ms=3)
+    ax.set_xlabel("C = (M, M)")
+    ax.set_ylabel("E = (M, omega)")
+    return drift
+
+
+def _draw_bkm12_3(ax: Axes, I, D, samples, seed) -> float:
+    from ..numerics.bifurcation import euler_stability, family_stability, sample_levels, sigma
+
+    b = D / (np.asarray(I, float) + D)
+    g = np.linspace(-1, 1, 201)
+    stab = family_stability(I, D, 1.0, 0.5)
+    for i in range(3):
+        Ep = sigma(i, 1.0, g, I, D) * D  # E' = E D/C at C = 1
+        ax.plot(
+            g,
+            Ep,
+            _style(stab[i][0]),
+            color=COLORS[i],
+            label=f"Sigma_{i + 1} (max|mu| = {stab[i][1]:.3g})",
+        )
+    ends = sorted(b / (1 - b))
+    for gv, k in ((1, 4), (-1, 5)):
+        for lo, hi in ((ends[0], ends[1]), (ends[1], ends[2])):
+            st, _ = euler_stability(I, D, (lo + hi) / 2)
+            ax.plot([gv, gv], [lo, hi], _style(st), color=COLORS[3 if k == 4 else 4], lw=2)
+        ax.plot(
+            [], [], "-", color=COLORS[3 if k == 4 else 4], lw=2, label=f"Sigma_{k}: g = {gv:+d}"
+        )
+        ax.plot([gv], [ends[1]], "o", color="k", mfc="w")
+    rng = np.random.default_rng(seed)
+    gs = rng.uniform(-1, 1, samples)
+    vals = []
+    drift = 0.0
+    for k, gv in enumerate(gs):
+        v, d, _ = sample_levels(I, D, 1, seed + k, C_range=(1.0, 1.0), g=gv)
+        vals.append((v[0, 1] / np.sqrt(v[0, 0]), v[0, 2] * D / v[0, 0]))
+        drift = max(drift, d)
+    vals = np.array(vals)
+    ax.plot(vals[:, 0], vals[:, 1], ".", color="0.5", ms=3)
+    ax.set_xlabel("g = M_gamma/sqrt(C)")
+    ax.set_ylabel("E' = E D/C")
+    return drift
+
+
+def _draw_bkm12_5(fig: Figure, params, samples, seed) -> float:
+    """Surfaces E'_i on the sphere of (g_al, g_be, g_ga), drawn over the (g_al, g_be) disc."""
+    from matplotlib.patches import Circle
+
+    from ..numerics.bifurcation import support_sample, support_stability
+
+    I, D_iso, D_al, D_be = params[:3], params[3], params[4], params[5]
+    J = np.asarray(I, float) + D_iso
+    stab = support_stability(params)
+    t = np.linspace(-1, 1, 241)
+    X, Y = np.meshgrid(t, t)
+    R2 = X**2 + Y**2
+    Zg = np.where(R2 <= 1, 1 - R2, np.nan)
+    axes = fig.subplots(1, 4)
+    for i in range(3):
+        ax = axes[i]
+        Ep = X**2 / (J[i] - D_al) + Y**2 / (J[i] - D_be) + Zg / J[i]
+        cs = ax.contour(X, Y, Ep, levels=10, colors=COLORS[i], linestyles=_style(stab[i][0]))
+        ax.clabel(cs, fontsize=6, fmt="%.2f")
+        ax.set_title(
+            f"E'_{i + 1} ({'stable' if stab[i][0] else 'unstable'}, max|mu| = {stab[i][1]:.3g})",
+            fontsize=8,
+        )
+        ax.set_aspect("equal")
+        ax.add_patch(Circle((0, 0), 1, fill=False, lw=0.5))
+        ax.set_xlabel("g_al")
+        ax.set_ylabel("g_be")
+    # region of motion: random states, E' between the extreme surfaces at their (g_al, g_be, g_ga)
+    pos, drift = support_sample(params, samples, seed)
+    ax = axes[3]
+    sc = ax.scatter(pos[:, 0], pos[:, 1], c=pos[:, 2], s=6, cmap="viridis", vmin=0, vmax=1)
+    fig.colorbar(sc, ax=ax, fraction=0.046, label="(E' - min_i E'_i)/(max_i E'_i - min_i E'_i)")
+    ax.set_aspect("equal")
+    ax.set_xlim(-1, 1)
+    ax.set_ylim(-1, 1)
+    ax.set_title("integrated states", fontsize=8)
+    ax.set_xlabel("g_al")
+    return drift
+
+
+def bifurcation_figure(
+    figure: str, params: Mapping | None = None, samples: int = 60, seed: int = 1
+) -> tuple[Figure, float]:
+    """One bifurcation diagram of :data:`FIGURES`.
+
+    The derived curves are drawn solid where their Floquet multipliers lie on the unit
+    circle and dashed otherwise; ``samples`` seeded random states integrated for a short
+    time are drawn as dots (the region of motion).
+
+    Parameters
+    ----------
+    figure : str
+        A key of :data:`FIGURES` (``"k01-1"``, ..., ``"bkm12-5"``).
+    params : mapping, optional
+        Overrides of the figure's default parameters (``I`` a triple, the others numbers).
+    samples : int
+        Number of integrated random states.
+    seed : int
+        Seed of the random states.
+
+    Returns
+    -------
+    figure : matplotlib.figure.Figure
+    drift : float
+        Largest relative drift of the integrals over the integrated states.
+
+    Raises
+    ------
+    UserInputError
+        Unknown figure or inadmissible parameters.
+    """
+    params = dict(params or {})
+    if figure not in FIGURES:
+        raise UserInputError(f"unknown figure {figure!r}; valid: {', '.join(FIGURES)}")
+    system, defaults, title = FIGURES[figure]
+    p = {**defaults, **params}
+    unknown = set(params) - set(defaults)
+    if unknown:
+        raise UserInputError(
+            f"parameter(s) {', '.join(sorted(unknown))} not used by {figure}; "
+            f"valid: {', '.join(defaults)}"
+        )
+    I = tuple(float(v) for v in p["I"])
+    if len(I) != 3 or min(I) <= 0:
+        raise UserInputError(f"I needs three positive values, got {p['I']}")
+    if system == "chaplygin_ball" and float(p["D"]) <= 0:
+        raise UserInputError(f"D must be positive, got {p['D']}")
+    if samples < 1:
+        raise UserInputError(f"--samples must be at least 1, got {samples}")
+    if figure == "bkm12-5":
+        params6 = (*I, float(p["D_iso"]), float(p["D_al"]), float(p["D_be"]))
+        J = np.asarray(I) + params6[3]
+        if params6[3] < 0 or min(J) <= max(params6[4], params6[5], 0):
+            raise UserInputError(
+                "need D_iso >= 0 and I_i + D_iso > D_al, D_be (a physical support)"
+            )
+        fig = _new_figure(figsize=(16, 4.4))
+        drift = _draw_bkm12_5(fig, params6, samples, seed)
+        fig.suptitle(
+            f"{title}: bifurcation surfaces E' = E/C on g_al^2 + g_be^2 + g_ga^2 = 1 "
+            f"(I = {I}, D_iso = {params6[3]}, D_al = {params6[4]}, D_be = {params6[5]})"
+        )
+    else:
+        D = float(p["D"])
+        if figure == "k01-3":
+            fig = _new_figure(figsize=(13, 5))
+            ax, tax = fig.subplots(1, 2)
+        else:
+            fig = _new_figure(figsize=(7, 5))
+            ax, tax = fig.subplots(), None
+        if figure.startswith("k01"):
+            C = float(p["C"])
+            drift = _draw_kilin(ax, I, D, C, samples, seed, traces=tax)
+            ax.set_title(f"{title}: I = {I}, D = {D}, C = (M, gamma) = {C}")
+        elif figure == "bkm12-2":
+            drift = _draw_bkm12_2(ax, I, D, samples, seed)
+            ax.set_title(f"{title}: (M, gamma) = 0, I = {I}, D = {D}")
+        else:
+            drift = _draw_bkm12_3(ax, I, D, samples, seed)
+            ax.set_title(f"{title}: normalised diagram, I = {I}, D = {D}")
+        handles, _ = ax.get_legend_handles_labels()
+        ax.legend(handles=handles + _stability_legend(), fontsize=7, loc="best")
+        ax.grid(alpha=0.3)
+    fig.tight_layout()
+    return fig, drift
+
+
+# ---------------------------------------------------------------------- separatrix, K01 §3.3
+def delta_of_mu_figure(b: float = 1.0, mu_max: float = 6.0) -> Figure:
+    """K01 Fig. 5: ``Delta(mu) = pi b/ch(pi mu/2)`` with quadrature points and Fig. 4's values.
+
+    Parameters
+    ----------
+    b : float
+        Radius of the ball.
+    mu_max : float
+        Right end of the ``mu`` axis.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels, linear and logarithmic ``Delta``.
+    """
+    from ..numerics.separatrix import delta_closed_form, delta_quadrature, mu_of
+
+    mus = np.linspace(0.0, mu_max, 400)
+    closed = [float(delta_closed_form(m, b, 20)) for m in mus]
+    pts = np.linspace(0.25, mu_max, 12)
+    quad = [float(delta_quadrature(m, b, 15)) for m in pts]
+    fig = _new_figure(figsize=(10, 4))
+    axes = fig.subplots(1, 2)
+    for ax, log in zip(axes, (False, True), strict=True):
+        ax.plot(mus, closed, "-", label=r"closed form $\pi b/\cosh(\pi\mu/2)$")
+        ax.plot(pts, quad, "o", mfc="none", label="quadrature of (3.7)")
+        for I, printed in (((1, 1.5, 2), 0.002858), ((1, 3, 5), 0.411829)):
+            mu = float(mu_of(I, 1))
+            ax.plot([mu], [printed], "x", ms=9, color="C3")
+            ax.annotate(
+                f"Fig. 4: I={I}",
+                (mu, printed),
+                textcoords="offset points",
+                xytext=(5, 5),
+                fontsize=8,
+            )
+        ax.set_xlabel(r"$\mu = \xi = \kappa/\lambda = 1/(J_2\sqrt{a_{21}a_{32}})$")
+        ax.set_ylabel(r"$\Delta$" + (" (log scale)" if log else ""))
+        if log:
+            ax.set_yscale("log")
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=8)
+    fig.suptitle(f"Displacement of the contact point per tumble (K01 Fig. 5), b = {b:g}")
+    fig.tight_layout()
+    return fig
+
+
+def separatrix_traces_figure(
+    inertias: Sequence = ((1, 3, 5), (1, 1.5, 2)),
+    D: float = 1.0,
+    b: float = 1.0,
+    C: float = 1.0,
+    offsets: Sequence[float] = (-1e-3, 1e-3),
+    t_end: float = 120.0,
+) -> Figure:
+    """K01 Figs. 4 and 6: contact-point traces on and near the separatrix.
+
+    Left: the trace along the separatrix itself (the displacement ``Delta``, K01 Fig. 4).
+    Right: traces of the full equations (DOP853, compiled right-hand side) on ``M = C gamma``
+    at ``h = h2 (1 + offset)`` for the first inertia (K01 Fig. 6 (d)-(e)): a spiral
+    whose centres are displaced by about ``Delta`` per tumble.
+
+    Parameters
+    ----------
+    inertias : sequence of triples
+        Moments of inertia of the traces on the separatrix (the first also for the right panel).
+    D, b, C : float
+        ``D = m b^2``, the radius and ``C = (M, gamma)``.
+    offsets : sequence of float
+        Relative offsets of the energy from ``h2`` (right panel).
+    t_end : float
+        Integration time of the right panel.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from ..numerics.integrate import integrate
+    from ..numerics.separatrix import (
+        delta_closed_form,
+        mu_of,
+        near_separatrix_state,
+        separatrix_trace,
+    )
+
+    fig = _new_figure(figsize=(11, 5))
+    axes = fig.subplots(1, 2)
+    ax = axes[0]
+    for I in inertias:
+        x, y = separatrix_trace(I, D, b, C)
+        mu = float(mu_of(I, D))
+        d = float(delta_closed_form(mu, b, 15))
+        ax.plot(x, y, label=f"I = {tuple(I)}, mu = {mu:.4f}, Delta = {d:.6f}")
+        ax.plot([x[0], x[-1]], [y[0], y[-1]], "k.", ms=4)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x (along alpha)")
+    ax.set_ylabel("y (along beta)")
+    ax.set_title("on the separatrix, h = h2 (K01 Fig. 4)")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    ax = axes[1]
+    I = inertias[0]
+    h2 = C**2 / (2 * I[1])
+    for off in offsets:
+        y0 = near_separatrix_state(I, D, h2 * (1 + off), C)
+        r = integrate(
+            "chaplygin_ball",
+            list(y0),
+            (0.0, t_end),
+            params=list(I) + [D, b],
+            effects=("contact_point",),
+            rtol=1e-11,
+            atol=1e-12,
+            t_eval=np.linspace(0, t_end, 6000),
+        )
+        names = list(r.state_names)
+        x, y = r.y[names.index("x")], r.y[names.index("y")]
+        ax.plot(x, y, lw=0.8, label=f"h = h2 (1 {off:+.0e}) = {h2 * (1 + off):.6f}")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.set_title(f"near the separatrix, I = {tuple(I)}, t <= {t_end:g} (K01 Fig. 6)")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    fig.suptitle(f"contact-point traces on M = C gamma, D = {D:g}, b = {b:g}, C = {C:g}")
+    fig.tight_layout()
+    return fig
+
+
+def separatrix_figures(
+    I: Sequence = (1, 3, 5), D: float = 1.0, b: float = 1.0
+) -> dict[str, Figure]:
+    """K01 Figs. 4-6 for ``chaplygin delta --figures``: file name -> figure.
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+        Moments of inertia of the traces (besides ``(1, 1.5, 2)``).
+    D, b : float
+        ``D = m b^2`` and the radius.
+
+    Returns
+    -------
+    dict of str to matplotlib.figure.Figure
+        ``delta_of_mu.png`` and ``separatrix_traces.png``.
+    """
+    with mpmath.workdps(20):
+        return {
+            "delta_of_mu.png": delta_of_mu_figure(b),
+            "separatrix_traces.png": separatrix_traces_figure((tuple(I), (1, 1.5, 2)), D, b),
+        }
+
+
+# ---------------------------------------------------------------------- work-precision study
+def work_precision_figure(study: Mapping) -> Figure:
+    """Log-log plot of final error against median wall time, one panel per problem.
+
+    Parameters
+    ----------
+    study : mapping
+        The result of :func:`chaplygin.verify.bench.run_study` (its ``rows`` and ``quick``).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib import colormaps
+
+    rows = [r for r in study["rows"] if r["median_s"] is not None and r["error"] is not None]
+    problems = list(dict.fromkeys(r["problem"] for r in study["rows"]))
+    fig = _new_figure(figsize=(6.5 * len(problems), 5))
+    axes = fig.subplots(1, len(problems), squeeze=False)
+    for ax, pname in zip(axes[0], problems, strict=True):
+        groups: dict[str, list] = {}
+        for r in rows:
+            if r["problem"] == pname:
+                groups.setdefault(f"{r['method']} {r['rhs']} {r['precision']}", []).append(r)
+        markers = {"taylor": "o-", "heyoka": "D:", "odefun": "^-."}
+        colours = colormaps["tab20"]
+        for i, (label, rs) in enumerate(groups.items()):
+            rs = sorted(rs, key=lambda r: r["median_s"])
+            ax.loglog(
+                [r["median_s"] for r in rs],
+                [max(r["error"], 1e-120) for r in rs],
+                markers.get(label.split()[0], "s--"),
+                color=colours(i % 20),
+                label=label,
+                ms=5,
+            )
+        ax.set_xlabel("median wall time [s]")
+        ax.set_ylabel("final error (max norm)")
+        ax.set_title(pname + (" (quick)" if study.get("quick") else ""))
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=6)
+    fig.tight_layout()
+    return fig

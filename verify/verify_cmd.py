@@ -1,0 +1,159 @@
+"""``chaplygin verify``: check the claims of the papers and report their verdicts."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+from pathlib import Path
+
+from chaplygin.derive.errors import UserInputError
+
+from .cli_common import EXIT_FAILED, EXIT_OK
+
+__all__ = ["add_parser", "run", "DEFAULT_CLAIM_TIMEOUT"]
+
+#: Seconds one claim may take in 'chaplygin verify' (the slowest takes about 10 s).
+DEFAULT_CLAIM_TIMEOUT = 600.0
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run ``chaplygin verify``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed flags of :func:`add_parser`.
+
+    Returns
+    -------
+    int
+        0 when every verdict is the expected one, 1 otherwise.
+    """
+    from .claims import select_claims
+    from .verdict import FAILURES, default_jobs, iter_verdicts
+
+    if args.report:
+        target = Path(args.report)
+        if target.is_dir() or not target.parent.exists():
+            raise UserInputError(
+                f"cannot write the report to {args.report!r}: give a file in an existing folder"
+            )
+    if args.coverage:
+        from .coverage import coverage
+        from .report import render_coverage
+
+        rows = coverage(select_claims())
+        print("\n".join(render_coverage(rows)))
+        missing = sum(r.checkable and not r.covered for r in rows)
+        print(
+            f"\n{sum(r.checkable for r in rows)} checkable entries in FORMULAS.md, "
+            f"{missing} without a verdict yet"
+        )
+        return EXIT_OK
+    claims = select_claims(args.claims)
+    if not claims:
+        raise UserInputError(
+            f"no claim matches {args.claims!r}; patterns are globs over IDs like 'BKM12-*,K01-2.2'"
+        )
+    jobs = default_jobs() if args.jobs is None else args.jobs
+    if jobs < 1:
+        raise UserInputError(f"--jobs must be a positive whole number, got {jobs}")
+    if not (args.timeout >= 0 and math.isfinite(args.timeout)):
+        raise UserInputError(f"--timeout must be a number of seconds >= 0, got {args.timeout}")
+    timeout = args.timeout or None
+    verdicts = []
+    started = time.perf_counter()
+    if not args.json:
+        print(f"{'claim':<46} {'verdict':<14} {'ok':<3} {'seconds':>8}  method / statement")
+    for v in iter_verdicts(claims, method=args.method, jobs=jobs, timeout=timeout):
+        verdicts.append(v)
+        if not args.json:
+            flag = "yes" if v.ok else "NO"
+            extra = "" if v.expected == "holds" else "  [expected: refuted]"
+            print(f"{v.id:<46} {v.verdict:<14} {flag:<3} {v.seconds:8.3f}  {v.method}{extra}")
+            print(f"{'':<46} {'':<14} {'':<3} {'':>8}  {v.statement}")
+            if v.verdict == "refuted":
+                print(f"{'':<72}residual {v.residual} at {v.witness}")
+            sys.stdout.flush()
+    if args.json:
+        print(json.dumps([v.to_json() for v in verdicts], indent=2))
+    if args.report:
+        from .report import render_report
+
+        Path(args.report).write_text(render_report(verdicts))
+    bad = [v for v in verdicts if not v.ok]
+    if not args.json:
+        counts = {
+            k: sum(v.verdict == k for v in verdicts)
+            for k in ("proved", "exact-sampled", "numeric", "refuted", *FAILURES)
+        }
+        counts = {k: n for k, n in counts.items() if n or k not in FAILURES}
+        total = sum(v.seconds for v in verdicts)
+        wall = time.perf_counter() - started
+        print(
+            f"\n{len(verdicts)} claims: "
+            + ", ".join(f"{n} {k}" for k, n in counts.items())
+            + f"; {len(bad)} unexpected; {total:.1f} s of checking, {wall:.1f} s wall"
+            + f" with {jobs} process(es), model derivation included"
+        )
+        for v in bad:
+            print(f"UNEXPECTED: {v.id}: {v.problem}")
+    return EXIT_FAILED if bad else EXIT_OK
+
+
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Register ``chaplygin verify``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        What ``ArgumentParser.add_subparsers`` returned.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The subcommand's parser.
+    """
+    p = subparsers.add_parser("verify", help="check every claim of the papers and report verdicts")
+    p.add_argument(
+        "--claims", default=None, help="glob(s) over claim IDs, comma-separated (e.g. 'BKM12-*')"
+    )
+    p.add_argument("--json", action="store_true", help="print a JSON list of verdicts")
+    p.add_argument(
+        "--report",
+        default=None,
+        metavar="FILE.md",
+        help="also write a Markdown report (LaTeX statements, errata, counts per paper)",
+    )
+    p.add_argument(
+        "--method",
+        default="auto",
+        choices=("auto", "symbolic", "exact-sampled", "numeric"),
+        help="auto: symbolic proof, refutation with an exact witness (default)",
+    )
+    p.add_argument(
+        "--coverage",
+        action="store_true",
+        help="list which checkable entries of FORMULAS.md have a claim (checks nothing)",
+    )
+    p.add_argument(
+        "--jobs",
+        type=int,
+        default=None,
+        help="worker processes (default: the CPUs available)",
+    )
+    p.add_argument(
+        "--timeout",
+        type=float,
+        default=DEFAULT_CLAIM_TIMEOUT,
+        metavar="SECONDS",
+        help=(
+            f"time limit of one claim (default {DEFAULT_CLAIM_TIMEOUT:g} s): past it the claim is"
+            " reported as 'timeout' and the run goes on; 0 means none, and with --jobs 1 then"
+            " checks in this process"
+        ),
+    )
+    return p
