@@ -9,7 +9,7 @@ starts. Numeric parameter values are never part of an effect.
 
 Adding an effect: write a subclass here with its ``apply``, put an instance in
 :data:`EFFECTS` and its name in the ``SUPPORTED_EFFECTS`` of the systems that take it
-(see ``derive/ADDING.md``).
+(see "How to add an effect or a system" in the README).
 """
 
 from __future__ import annotations
