@@ -331,6 +331,6 @@ def parse_effects(effects: str | Iterable[str] | None, supported: Iterable[str])
         if missing:
             raise UserInputError(
                 f"effect {name!r} needs the effect(s) {', '.join(map(repr, missing))}: "
-                f"add them (--effects {','.join(sorted(chosen | set(missing)))})"
+                f'add them (effects="{",".join(sorted(chosen | set(missing)))}")'
             )
     return chosen

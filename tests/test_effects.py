@@ -212,7 +212,10 @@ def test_bad_input_for_a_variant_not_in_generated_fails_before_deriving_it(monke
     monkeypatch.setattr(systems, "_CACHE", {})
     y0 = {"M": (0.1, 0.2, 0.3), "gamma": (0, 0, 1)}
     start = time.perf_counter()
-    with pytest.raises(UserInputError, match="missing parameter I .* add --param I=VALUE"):
+    with pytest.raises(
+        UserInputError,
+        match=r"missing parameter I .* give params\[\"I\"\]=\(VALUE1, VALUE2, VALUE3\)",
+    ):
         integrate("chaplygin_ball", y0, 1.0, {"D": 1}, effects=["rubber", "straight_line"])
     assert time.perf_counter() - start < 0.5
     assert not systems._CACHE  # nothing was derived

@@ -236,11 +236,11 @@ class Integrator:
         if kind not in self.precisions:
             raise UserInputError(
                 f"method {self.name} works in {' or '.join(self.precisions)} precision, "
-                f"not {precision!r}; use --method {NUMBER_TYPES[kind].default_method} or "
-                f"--precision {' or '.join(self.precisions)}"
+                f'not {precision!r}; use method="{NUMBER_TYPES[kind].default_method}" or '
+                + " or ".join(f'precision="{p}"' for p in self.precisions)
             )
         if events and not self.supports_events:
-            raise UserInputError(f"method {self.name} does not locate events; use taylor")
+            raise UserInputError(f'method {self.name} does not locate events; use method="taylor"')
         floor = self.floor(precision)
         if rtol < floor * (1 - 1e-9):  # slack: 10.0**-98 against 10 * 10.0**-99 rounding
             raise UserInputError(
@@ -362,8 +362,8 @@ def _precision_for(rtol: float) -> str:
     ``10**(2 - d) <= rtol``: both the Taylor floor (eps) and odefun's (10 eps) are met.
     """
     if rtol >= Precision("quad").epsilon * (1 - 1e-9):
-        return "--precision quad (--method taylor)"
-    return f"--precision {max(int(np.ceil(-np.log10(rtol) - 1e-9)) + 2, 16)}"
+        return 'precision="quad" (method="taylor")'
+    return f"precision={max(int(np.ceil(-np.log10(rtol) - 1e-9)) + 2, 16)}"
 
 
 def _all_finite(ys) -> bool:
