@@ -82,6 +82,8 @@ class MechanicalDescription:
         Further bodies (the support's balls): angular velocity and contact direction.
     free_spins : bool
         The bodies' spins about their contact directions are free quasi-velocities.
+    completion : dict of (str, ...) to str
+        How omitted state groups are completed (``Model.completion``).
     """
 
     system: str
@@ -107,6 +109,7 @@ class MechanicalDescription:
     integrals: dict[str, sp.Expr] = field(default_factory=dict)
     bodies: list[tuple[sp.Matrix, sp.Matrix]] = field(default_factory=list)
     free_spins: bool = True
+    completion: dict[tuple[str, ...], str] = field(default_factory=dict)
 
     # ------------------------------------------------------------------ add_*
     def add_kinetic_energy(self, term: sp.Expr) -> None:
@@ -184,6 +187,18 @@ class MechanicalDescription:
         term : sympy.Expr
         """
         self.potential += term
+
+    def add_completion(self, groups: tuple[str, ...], rule: str) -> None:
+        """Declare how the state groups ``groups`` are completed when a user omits them.
+
+        Parameters
+        ----------
+        groups : tuple of str
+            State groups completed together (``("alpha", "beta")``).
+        rule : str
+            One of :data:`~chaplygin.derive.model.COMPLETION_RULES`.
+        """
+        self.completion[tuple(groups)] = rule
 
     def add_integral(self, name: str, expr: sp.Expr) -> None:
         """Add a first integral, or a term to one of that name already stated.
@@ -518,6 +533,7 @@ def form_model(desc: MechanicalDescription, parameter_order: Sequence[str]) -> M
         # verifier samples them by solving for the momentum, which they are linear in
         invariant_relations=relations,
         relation_unknowns=tuple(M),
+        completion=tuple(desc.completion.items()),
         reparametrisation=reparametrisation,
         details=RigidBodyDetails(
             reduced_equations=red,

@@ -27,7 +27,7 @@ from .vectors import dot, vector
 if TYPE_CHECKING:  # pragma: no cover
     from .description import MechanicalDescription
 
-__all__ = ["Effect", "EFFECTS", "parse_effects"]
+__all__ = ["Effect", "EFFECTS", "parse_effects", "ellipsoid_potential"]
 
 
 @dataclass(frozen=True)
@@ -91,6 +91,10 @@ class ContactPoint(Effect):
         desc.add_state("x", (x,), lambda red: [sp.expand(dot(desc.centre_velocity(red), alpha))])
         desc.add_state("y", (y,), lambda red: [sp.expand(dot(desc.centre_velocity(red), beta))])
         desc.add_parameter(ParameterSpec("b", (b,), "positive", "ball radius"))
+        # a state given without the frame gets BKM12-7's; the contact point starts at 0
+        desc.add_completion(("alpha", "beta"), "frame_bkm12_7")
+        desc.add_completion(("x",), "zero")
+        desc.add_completion(("y",), "zero")
 
 
 class Rubber(Effect):
@@ -107,6 +111,7 @@ class StraightLine(Effect):
     def apply(self, desc: MechanicalDescription) -> None:
         desc.add_frame()
         desc.add_constraint(dot(desc.omega, desc.vectors["alpha"]), reacts_along="alpha")
+        desc.add_completion(("alpha", "beta"), "frame_bkm12_7")
         desc.references["straight_line"] = "BKM12-57"
 
 
@@ -191,13 +196,36 @@ class VariableGyrostat(Effect):
         _periodic(desc)
 
 
+def ellipsoid_potential(x: sp.Matrix, k: sp.Expr, c: sp.Matrix) -> sp.Expr:
+    """``U = k (x, x)/2 + (1/2) sum_i c_i/x_i^2`` (M03-1.6, with the 1/2 factors read).
+
+    Parameters
+    ----------
+    x : sympy.Matrix, shape (3, 1)
+        Position of the centre.
+    k : sympy.Expr
+        Stiffness of the quadratic term.
+    c : sympy.Matrix, shape (3, 1)
+        Coefficients of the ``1/x_i^2`` terms.
+
+    Returns
+    -------
+    sympy.Expr
+        The potential energy ``U``.
+
+    References
+    ----------
+    M03-1.6
+    """
+    return k * dot(x, x) / 2 + sum((c[i] / x[i] ** 2 for i in range(3)), sp.S.Zero) / 2
+
+
 class Potential(Effect):
     """``U = k (x, x)/2 + (1/2) sum_i c_i/x_i^2`` on the centre of the ball on the
     ellipsoid ``(x, B^-1 x) = 1`` (M03-1.6), and its term of the integral ``K`` (M03-1.7).
     """
 
     def apply(self, desc: MechanicalDescription) -> None:
-        from .ball_on_surface import ellipsoid_potential  # that module imports this one
 
         x = desc.state_group("x")
         b = desc.parameters["b"].symbols

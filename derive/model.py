@@ -24,6 +24,9 @@ __all__ = [
     "MODEL_FORMAT_VERSION",
 ]
 
+#: Rules by which a missing state group is completed (see ``Model.completion``).
+COMPLETION_RULES = ("zero", "frame_bkm12_7")
+
 #: ``sampler(rng, point)`` writes an exact rational point of a model's phase space (and
 #: the parameters that shape it) into the dict ``point``; picklable (models are cached).
 PhaseSpaceSampler = Callable[[random.Random, dict], None]
@@ -140,6 +143,11 @@ class Model:
         System-specific derived objects (a typed record of the system's module).
     references : dict of str to str
         Claim IDs (FORMULAS.md) the parts of the model correspond to.
+    completion : tuple of ((str, ...), str)
+        How a partial initial state is completed, declared by the system or an effect:
+        groups and a rule of :data:`COMPLETION_RULES` (``"zero"``: start at 0;
+        ``"frame_bkm12_7"``: ``alpha = M x gamma/|M x gamma|``, ``beta = gamma x alpha``).
+        A group without a rule must be given. Not part of the hash.
 
     Raises
     ------
@@ -173,6 +181,7 @@ class Model:
     sampler: PhaseSpaceSampler | None = None
     details: ModelDetails | None = None
     references: dict[str, str] = field(default_factory=dict)
+    completion: tuple[tuple[tuple[str, ...], str], ...] = ()
 
     def __post_init__(self) -> None:
         self._validate()
@@ -205,6 +214,12 @@ class Model:
                 f"model {self.name}: parameters {', '.join(unused)} are used by no equation: "
                 "remove them from the parameters (an effect that is off leaves none behind)"
             )
+        for groups, rule in self.completion:
+            if rule not in COMPLETION_RULES or not set(groups) <= {n for n, _ in self.state_groups}:
+                raise DerivationError(
+                    f"model {self.name}: completion {groups} by {rule!r}: the rule must be one "
+                    f"of {', '.join(COMPLETION_RULES)} and the groups states of the model"
+                )
         if self.invariant_relations and not self.relation_unknowns:
             raise DerivationError(
                 f"model {self.name}: invariant relations need relation_unknowns (the state "

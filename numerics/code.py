@@ -99,7 +99,33 @@ class ModelCode:
 
     @property
     def geometry(self) -> tuple[tuple[str, tuple[str, ...]], ...]:
+        """Poisson groups as ``(kind, names)``: ``("unit_vector", ("gamma",))`` or a frame.
+
+        Returns
+        -------
+        tuple of (str, tuple of str)
+        """
         return tuple(self.numpy.GEOMETRY)
+
+    @property
+    def constraint_names(self) -> tuple[str, ...]:
+        """The phase-space constraints as text (``"gamma1**2 + ... - 1 = 0"``).
+
+        Returns
+        -------
+        tuple of str
+        """
+        return tuple(getattr(self.numpy, "CONSTRAINTS", ()))
+
+    @property
+    def completion(self) -> tuple[tuple[tuple[str, ...], str], ...]:
+        """How omitted state groups are completed (``derive.model.Model.completion``).
+
+        Returns
+        -------
+        tuple of ((str, ...), str)
+        """
+        return tuple(getattr(self.numpy, "COMPLETION", ()))
 
     @cached_property
     def aux_names(self) -> tuple[str, ...]:

@@ -524,17 +524,34 @@ def _unit(name: str, v: list) -> list:
 
 
 def pack_state(code: ModelCode, values: Mapping[str, object], precision: Precision) -> list:
-    """State vector in the model's order, validated and completed.
+    """State vector in the model's order, validated and completed as the model declares.
 
-    ``gamma`` (and ``alpha``, ``beta``) must be unit vectors within
-    :data:`UNIT_TOLERANCE`; they are renormalised at the working precision. With the
-    contact point, a missing ``alpha, beta`` is the frame of BKM12-7 (``alpha = M x gamma /
-    |M x gamma|``; refused, with a message asking for an explicit frame, when ``M`` is
-    parallel to ``gamma``, where that formula is singular) and ``x, y`` default to 0.
+    The vectors of the model's Poisson groups (``code.geometry``: ``gamma``, or the frame
+    ``alpha, beta, gamma``) must be unit vectors (a frame orthonormal and right-handed)
+    within :data:`UNIT_TOLERANCE`; they are renormalised at the working precision. A group
+    the user omits is completed by the rule the model declares for it (``code.completion``:
+    with the contact point, ``alpha, beta`` by BKM12-7, ``alpha = M x gamma/|M x gamma|``,
+    refused with a message asking for an explicit frame when ``M`` is parallel to
+    ``gamma``, where that formula is singular; ``x, y`` start at 0); a group without a rule
+    must be given (the spherical support's eigenframe, the ball on a surface's ``x``). The
+    constraints that involve parameters (the ellipsoid) are checked by ``integrate``.
+
+    Parameters
+    ----------
+    code : ModelCode
+    values : mapping of group name to values
+        ``{"M": (0.7, -0.4, 0.5), "gamma": (...)}``; strings are parsed safely.
+    precision : Precision
+
+    Returns
+    -------
+    list of float (double) or mpmath.mpf
+        The state in the model's order, each value rounded once to the working precision.
 
     Raises
     ------
     UserInputError
+        Unknown or missing group, wrong length, a bad number, a vector off its variety.
     """
     groups = code.state_groups
     unknown = sorted(set(values) - set(groups))
@@ -548,29 +565,36 @@ def pack_state(code: ModelCode, values: Mapping[str, object], precision: Precisi
             name: _values(name, values[name], len(groups[name]), lambda v: parse_number(v, dps))
             for name in values
         }
-        for required in ("M", "gamma"):
-            if required in groups and required not in got:
-                raise UserInputError(
-                    f"missing initial value of {required}: give "
-                    + _argument("y0", required, 3, "V")
-                )
-        if "gamma" in got:
-            got["gamma"] = _unit("gamma", got["gamma"])
-        if "alpha" in groups:
-            got.update(_frame(got))
+        rules = {g: rule for names, rule in code.completion for g in names}
         for name, comps in groups.items():
-            if name not in got and len(comps) == 1:
-                got[name] = [mpmath.mpf(0)]
-        missing = [n for n in groups if n not in got]
-        if missing:  # pragma: no cover - every current group has a rule above
-            raise UserInputError(f"missing initial value of {missing[0]}")
+            if name not in got and name not in rules:
+                raise UserInputError(
+                    f"missing initial value of {name}: give "
+                    + _argument("y0", name, len(comps), "V")
+                )
+        for kind, names in code.geometry:
+            if kind == "unit_vector":
+                got[names[0]] = _unit(names[0], got[names[0]])
+            else:  # a frame alpha, beta, gamma: checked, or completed by its rule
+                alpha, beta, gamma = names
+                got[gamma] = _unit(gamma, got[gamma])
+                if (alpha in got) != (beta in got):
+                    raise UserInputError(
+                        f"give both {alpha} and {beta}, or neither (they are then computed)"
+                    )
+                if alpha in got or rules.get(alpha) == "frame_bkm12_7":
+                    got.update(_frame(got))
+        for name, rule in rules.items():
+            if name not in got and rule == "zero":
+                got[name] = [mpmath.mpf(0)] * len(groups[name])
         flat = {
             s: v for name, comps in groups.items() for s, v in zip(comps, got[name], strict=True)
         }
         state = [flat[s] for s in code.state]
     # groups given by the user and kept as they are are rounded once from their own text;
     # normalised or completed ones from the guard-precision values above
-    kept = {name for name in values if name not in ("gamma", "alpha", "beta")}
+    vectors = {n for _, names in code.geometry for n in names}
+    kept = {name for name in values if name not in vectors}
     direct = {
         s: v
         for name in kept

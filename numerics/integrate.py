@@ -76,6 +76,49 @@ def _check_relations(code: ModelCode, t0: float, y, p) -> None:
     )
 
 
+def _check_constraints(code: ModelCode, t0, y: Sequence, p: Sequence) -> None:
+    """Refuse an initial state off the phase space the model declares.
+
+    Every phase-space constraint of the model (its generated ``constraints`` routine:
+    ``|gamma|^2 = 1``, the frame's orthonormality, the ellipsoid ``(x, B^-1 x) = 1`` ...)
+    must hold to :data:`UNIT_TOLERANCE` relative to its scale (the sum of the absolute
+    values of its terms), evaluated at 30 digits from the values the integration will use.
+
+    Parameters
+    ----------
+    code : ModelCode
+    t0 : number
+        Initial time.
+    y, p : sequence
+        State and parameters at the working precision.
+
+    Raises
+    ------
+    UserInputError
+        The constraint that fails, its value, and what to do.
+    """
+    names = code.constraint_names
+    if not names:
+        return
+    with mpmath.workdps(30):
+        values = code.mpmath.constraints(
+            mpmath.mpf(t0), [mpmath.mpf(v) for v in y], [mpmath.mpf(v) for v in p]
+        )
+        k = len(names)
+        for name, value, scale in zip(names, values[:k], values[k:], strict=True):
+            if not abs(value) <= UNIT_TOLERANCE * max(scale, mpmath.mpf(1)):
+                raise UserInputError(
+                    f"the initial state is off the phase space of {code.name}: {name} fails by "
+                    f"{mpmath.nstr(value, 6)} (allowed {UNIT_TOLERANCE:g} relative); give a "
+                    "state on it"
+                    + (
+                        " (for the ellipsoid, x = sqrt(b) u with a unit vector u)"
+                        if code.system == "ball_on_surface"
+                        else ""
+                    )
+                )
+
+
 def _tolerances(rtol, atol, precision: Precision) -> tuple[float, float]:
     """``rtol, atol`` as positive finite floats, the precision's defaults where None."""
     default_rtol, default_atol = NUMBER_TYPES[precision.kind].default_tolerances(precision)
@@ -185,6 +228,7 @@ def integrate(
         y = pack_state(code, y0, prec)
     else:
         y = _vector(y0, len(code.state), "state vector", prec)
+    _check_constraints(code, t_span[0], y, p)
     _check_relations(code, t_span[0], y, p)
     problem = Problem(
         code=code,
