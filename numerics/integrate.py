@@ -27,7 +27,17 @@ from .integrators import (
     get_integrator,
 )
 
-__all__ = ["IntegrationResult", "integrate", "METHODS", "Integrator", "get_integrator"]
+__all__ = [
+    "IntegrationResult",
+    "integrate",
+    "METHODS",
+    "Integrator",
+    "get_integrator",
+    "DEFAULT_MAX_WALL_S",
+]
+
+#: Default wall-time limit of one integration, in seconds (``max_wall_s``; None: none).
+DEFAULT_MAX_WALL_S = 3600.0
 
 
 def _check_relations(code: ModelCode, t0: float, y, p) -> None:
@@ -148,6 +158,8 @@ def integrate(
     t_eval: Sequence[float] | None = None,
     events: Sequence | None = None,
     taylor_options: Mapping[str, object] | None = None,
+    max_steps: int | None = None,
+    max_wall_s: float | None = DEFAULT_MAX_WALL_S,
 ) -> IntegrationResult:
     """Integrate a model and report the drift of every first integral.
 
@@ -185,6 +197,15 @@ def integrate(
     taylor_options : mapping, optional
         ``order`` and/or ``step`` (fixed order, fixed step) or ``max_steps`` for the Taylor
         method.
+    max_steps : int, optional
+        Step limit (default: 10^7 for the Taylor method, 10^6 for the scipy methods, whose
+        steps are counted as right-hand-side calls over the method's stages); past it the
+        result has status -2 and says to raise the limit or shorten the span.
+    max_wall_s : float or None
+        Wall-time limit in seconds (default :data:`DEFAULT_MAX_WALL_S`, one hour; None: no
+        limit), checked between right-hand-side calls of the scipy methods and
+        ``mpmath.odefun`` and between steps of the Python Taylor loop; past it the result has
+        status -6. The compiled Taylor run is bounded by ``max_steps`` only.
 
     Returns
     -------
@@ -230,6 +251,20 @@ def integrate(
         y = _vector(y0, len(code.state), "state vector", prec)
     _check_constraints(code, t_span[0], y, p)
     _check_relations(code, t_span[0], y, p)
+    _check_finite_start(code, t_span[0], y, p, prec)
+    if max_steps is not None and not (
+        isinstance(max_steps, int) and not isinstance(max_steps, bool) and max_steps >= 1
+    ):
+        raise UserInputError(f"max_steps must be a positive integer, got {max_steps!r}")
+    if max_wall_s is not None:
+        try:
+            max_wall_s = float(max_wall_s)
+        except (TypeError, ValueError):
+            raise UserInputError(
+                f"max_wall_s must be a positive number, got {max_wall_s!r}"
+            ) from None
+        if not max_wall_s > 0:
+            raise UserInputError(f"max_wall_s must be a positive number, got {max_wall_s!r}")
     problem = Problem(
         code=code,
         y0=y,
@@ -241,8 +276,58 @@ def integrate(
         t_eval=t_eval,
         events=list(events) if events else None,
         options=options,
+        max_steps=max_steps,
+        max_wall_s=max_wall_s,
     )
     return integrator.run(problem, backend, setup_s=time.perf_counter() - start)
+
+
+def _check_finite_start(code: ModelCode, t0, y: Sequence, p: Sequence, prec: Precision) -> None:
+    """Refuse a start where the right-hand side or an integral is not finite.
+
+    Evaluated in the working number type (double overflows where 30 digits do not: ``D =
+    1e300``); a method started there would loop on NaN steps or report NaN evidence.
+
+    Parameters
+    ----------
+    code : ModelCode
+    t0 : number
+    y, p : sequence
+        State and parameters at the working precision.
+    prec : Precision
+
+    Raises
+    ------
+    UserInputError
+        Which of the right-hand side and the integrals is not finite, and what to check.
+    """
+    if prec.is_double:
+        with np.errstate(all="ignore"):
+            yy, pp = np.asarray(y, dtype=float), np.asarray(p, dtype=float)
+            parts = {
+                "right-hand side": np.asarray(code.numpy.rhs(float(t0), yy, pp), dtype=float),
+                "first integrals": np.asarray(code.numpy.integrals(float(t0), yy, pp), dtype=float),
+            }
+        bad = [what for what, v in parts.items() if not np.all(np.isfinite(v))]
+    else:
+        bad = []
+        with mpmath.workprec(prec.prec):
+            for what, fn in (
+                ("right-hand side", code.mpmath.rhs),
+                ("first integrals", code.mpmath.integrals),
+            ):
+                try:
+                    finite = all(mpmath.isfinite(v) for v in fn(t0, list(y), list(p)))
+                except (ArithmeticError, ValueError):  # mpmath raises on 1/0
+                    finite = False
+                if not finite:
+                    bad.append(what)
+    if bad:
+        raise UserInputError(
+            f"the {' and the '.join(bad)} of {code.name} are not finite at the initial state "
+            f"in {prec!r} precision (overflow or division by zero): check the parameters and "
+            'state, or use a wider precision (precision="quad" or digits)'
+        )
 
 
 def _sequence(values, what: str) -> list:

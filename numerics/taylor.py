@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import math
 import os
+import time
 import types
 import warnings
 from collections.abc import Callable, Sequence
@@ -617,6 +618,7 @@ def taylor_solve(
     step: float | None = None,
     max_steps: int = MAX_STEPS,
     lib: str | None = None,
+    max_wall_s: float | None = None,
 ) -> TaylorSolution:
     """Integrate with the Taylor method; see the module docstring.
 
@@ -640,6 +642,9 @@ def taylor_solve(
         Fixed order and/or fixed step (for convergence studies); default adaptive.
     lib : {"c", "gmpy2", "mpmath", "float"}, optional
         Force a backend (default: C for double and quad, gmpy2 for digits).
+    max_wall_s : float, optional
+        Wall-time limit of the Python loop (status -6 past it); the compiled run is bounded
+        by ``max_steps`` only.
 
     Returns
     -------
@@ -675,9 +680,9 @@ def taylor_solve(
         # MPFR rounds them to the default 53 bits.
         with gmpy2.context(gmpy2.get_context(), precision=bits):
             stepper = _Stepper(code, kind, p, rtol, atol, order, step, clib)
-            return _py_run(stepper, y0, (t0, t1), t_eval, events, max_steps, precision)
+            return _py_run(stepper, y0, (t0, t1), t_eval, events, max_steps, precision, max_wall_s)
     stepper = _Stepper(code, kind, p, rtol, atol, order, step, clib)
-    return _py_run(stepper, y0, (t0, t1), t_eval, events, max_steps, precision)
+    return _py_run(stepper, y0, (t0, t1), t_eval, events, max_steps, precision, max_wall_s)
 
 
 _MESSAGES = {
@@ -686,6 +691,8 @@ _MESSAGES = {
     -2: "too many steps (max_steps); shorten the span or loosen the tolerance",
     -3: "the step size underflowed: the solution is singular near this time",
     -4: "out of memory in the C integrator",
+    -6: "the wall-time limit (max_wall_s) was reached: raise it (None: no limit) or shorten "
+    "the span",
 }
 
 
@@ -726,7 +733,7 @@ def _c_run(clib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps):
     )
 
 
-def _py_run(stepper, y0, t_span, t_eval, events, max_steps, precision):
+def _py_run(stepper, y0, t_span, t_eval, events, max_steps, precision, max_wall_s=None):
     numbers = LOOP_NUMBERS[precision]
     t, t1 = numbers.number(t_span[0]), numbers.number(t_span[1])
     y = numbers.vector(y0)
@@ -742,10 +749,14 @@ def _py_run(stepper, y0, t_span, t_eval, events, max_steps, precision):
     t_events: list[list] = [[] for _ in events]
     y_events: list[list] = [[] for _ in events]
     nsteps, omin, omax, status = 0, 10**9, 0, 0
+    deadline = None if max_wall_s is None else time.perf_counter() + max_wall_s
     stop, y_stop = False, None
     while direction * (t1 - t) > 0 and not stop:
         if nsteps >= max_steps:
             status = -2
+            break
+        if deadline is not None and time.perf_counter() > deadline:
+            status = -6
             break
         t_new, y_new, C, h, p, status = stepper.step(t, y, t1)
         nsteps += 1
