@@ -244,11 +244,14 @@ def integrate(
     if isinstance(params, Mapping):
         p = pack_params(code, params, prec)
     else:
-        p = _vector(params, len(code.params), "parameter vector", prec)
+        # a vector gets the same checks as named groups: split it by the model's groups
+        groups = {n: len(v[0]) for n, v in code.parameter_groups.items()}
+        p = pack_params(code, _by_groups(params, groups, code.params, "parameter vector"), prec)
     if isinstance(y0, Mapping):
         y = pack_state(code, y0, prec)
     else:
-        y = _vector(y0, len(code.state), "state vector", prec)
+        groups = {n: len(v) for n, v in code.state_groups.items()}
+        y = pack_state(code, _by_groups(y0, groups, code.state, "state vector"), prec)
     _check_constraints(code, t_span[0], y, p)
     _check_relations(code, t_span[0], y, p)
     _check_finite_start(code, t_span[0], y, p, prec)
@@ -336,11 +339,16 @@ def _sequence(values, what: str) -> list:
     return list(values)
 
 
-def _vector(values, n: int, what: str, prec: Precision) -> list:
+def _by_groups(values, groups: Mapping[str, int], order: Sequence[str], what: str) -> dict:
+    """A flat vector in the model's order as ``{group: values}`` (for the groups' checks)."""
     vals = _sequence(values, f"the {what}")
-    if len(vals) != n:
-        raise UserInputError(f"the {what} needs {n} entries, got {len(vals)}")
-    return [working_number(v, prec) for v in vals]
+    if len(vals) != len(order):
+        raise UserInputError(f"the {what} needs {len(order)} entries, got {len(vals)}")
+    out, i = {}, 0
+    for name, n in groups.items():
+        out[name] = tuple(vals[i : i + n])
+        i += n
+    return out
 
 
 def _time_span(t_span, prec: Precision) -> tuple:
