@@ -38,6 +38,7 @@ from ..derive import hamiltonisation as hz
 from ..derive.emit import emit_function
 from ..derive.errors import UserInputError
 from .code import load_model_code
+from .inputs import check_count, check_inertia_vector, check_real, check_vector
 
 __all__ = [
     "TorusQuadratures",
@@ -49,6 +50,10 @@ __all__ = [
     "separation_roots",
     "separation_R",
 ]
+
+
+#: Most output samples :func:`measured_rotation_number` takes (about 1 GB of states).
+MAX_SAMPLES = 10**7
 
 
 @lru_cache(maxsize=1)
@@ -131,17 +136,13 @@ def separation_roots(lam1, lam2, a, D) -> list:
 
 
 def _state(I, D, M, gamma, dps):
-    try:
-        I = [mpmath.mpf(x) for x in I]
-        D = mpmath.mpf(D)
-        M = [mpmath.mpf(x) for x in M]
-        gamma = [mpmath.mpf(x) for x in gamma]
-    except (TypeError, ValueError) as exc:
-        raise UserInputError(f"I, D, M, gamma must be numbers: {exc}") from None
-    if len(I) != 3 or len(M) != 3 or len(gamma) != 3:
-        raise UserInputError("I, M and gamma need three components each")
-    if min(I) <= 0 or D <= 0:
-        raise UserInputError("the inertia I and D must be positive")
+    check_inertia_vector(I, D)
+    check_vector(M, "M")
+    check_vector(gamma, "gamma")
+    I = [mpmath.mpf(x) for x in I]
+    D = mpmath.mpf(D)
+    M = [mpmath.mpf(x) for x in M]
+    gamma = [mpmath.mpf(x) for x in gamma]
     if not (I[0] < I[1] < I[2]):
         raise UserInputError("sphero-conical coordinates need I1 < I2 < I3 (K01-2.11)")
     ng = mpmath.sqrt(sum(g * g for g in gamma))
@@ -189,8 +190,7 @@ def torus_quadratures(I, D, M, gamma, digits: int = 30) -> TorusQuadratures:
     ----------
     K01-2.17, K01-2.18, K01-2.22, K01-2.23, K01-2.26, K01-2.27
     """
-    if not isinstance(digits, int) or digits < 15:
-        raise UserInputError("digits must be an integer >= 15")
+    check_count(digits, "digits", 15, 10000)
     with mpmath.workdps(digits + 10):
         I, D, M, gamma = _state(I, D, M, gamma, digits)
         code = load_model_code("chaplygin_ball", ())
@@ -376,6 +376,17 @@ def measured_rotation_number(
     """
     from .integrate import integrate
 
+    check_inertia_vector(I, D, double=True)
+    check_vector(M, "M", double=True)
+    check_vector(gamma, "gamma", double=True)
+    check_real(t_end, "t_end", positive=True, double=True)
+    check_real(samples_per_unit, "samples_per_unit", positive=True, double=True)
+    check_real(rtol, "rtol", positive=True, double=True)
+    if t_end * samples_per_unit > MAX_SAMPLES:
+        raise UserInputError(
+            f"t_end * samples_per_unit = {t_end * samples_per_unit:g} samples is more than "
+            f"{MAX_SAMPLES}; shorten t_end or lower samples_per_unit"
+        )
     n = int(t_end * samples_per_unit) + 1
     t_eval = np.linspace(0.0, t_end, n)
     res = integrate(

@@ -33,6 +33,10 @@ from dataclasses import dataclass, field
 import mpmath
 
 from ..derive.errors import UserInputError
+from .inputs import check_choice, check_count, check_inertia_vector, check_real
+
+#: Digits the separatrix functions accept (``digits``, ``dps``).
+MAX_DIGITS = 10000
 
 __all__ = [
     "mu_of",
@@ -60,11 +64,7 @@ def check_inertia(I: Sequence, D) -> None:
 
     The separatrix of K01 §3.3 belongs to the middle axis ``I2``.
     """
-    if len(I) != 3:
-        raise UserInputError(f"I needs three moments of inertia, got {len(I)}")
-    for name, v in (("I1", I[0]), ("I2", I[1]), ("I3", I[2]), ("D", D)):
-        if not mpmath.isfinite(v) or v <= 0:
-            raise UserInputError(f"{name} = {mpmath.nstr(v, 8)} must be a finite positive number")
+    I, D = check_inertia_vector(I, D)
     if not (I[0] < I[1] < I[2] or I[0] > I[1] > I[2]):
         raise UserInputError(
             "I2 must be the middle moment, strictly between I1 and I3 "
@@ -74,7 +74,14 @@ def check_inertia(I: Sequence, D) -> None:
 
 
 def mu_of(I: Sequence, D):
-    """``mu = xi = kap/lam = 1/(J2 sqrt(a21 a32))``, ``J_i = I_i + D`` (K01-3.7)."""
+    """``mu = xi = kap/lam = 1/(J2 sqrt(a21 a32))``, ``J_i = I_i + D`` (K01-3.7).
+
+    Raises
+    ------
+    UserInputError
+        ``I``, ``D`` refused by :func:`check_inertia` (``I2`` must be the middle moment).
+    """
+    check_inertia(I, D)
     J1, J2, J3 = (mpmath.mpf(v) + D for v in I)
     return 1 / (J2 * mpmath.sqrt((1 / J1 - 1 / J2) * (1 / J2 - 1 / J3)))
 
@@ -100,6 +107,8 @@ def separatrix_state(I: Sequence, D, C=1) -> list:
 
     State order of ``chaplygin_ball__contact_point``: ``M, gamma, alpha, beta, x, y``.
     """
+    check_inertia(I, D)
+    check_real(C, "C", nonzero=True)
     Q = separatrix_quantities(I, D, C)
     s32, s21 = Q["s32"], Q["s21"]
     gamma = [-s32, mpmath.mpf(0), -s21]
@@ -111,6 +120,7 @@ def separatrix_state(I: Sequence, D, C=1) -> list:
 
 def delta_closed_form(mu, b=1, dps: int = 30):
     """(c) ``Delta = pi b / ch(pi mu/2)`` (K01-3.7, derived by residues)."""
+    _check_delta_args(mu, b, dps, "dps")
     with mpmath.workdps(dps):
         return +(mpmath.pi * b / mpmath.cosh(mpmath.pi * mpmath.mpf(mu) / 2))
 
@@ -165,6 +175,8 @@ def delta_quadrature(mu, b=1, dps: int = 30, method: str = "zeros"):
         series (:func:`tail_integral`, three terms, bound ``< 10^-(dps+10)``).
         ``quadosc``: ``mpmath.quadosc`` (slower, a cross-check).
     """
+    _check_delta_args(mu, b, dps, "dps", mu_positive=True)
+    check_choice(method, ("zeros", "quadosc"), "method")
     with mpmath.workdps(dps + 10):
         mu = mpmath.mpf(mu)
 
@@ -178,9 +190,15 @@ def delta_quadrature(mu, b=1, dps: int = 30, method: str = "zeros"):
             half = mpmath.quad(f, _zero_points(mu, L), method="gauss-legendre")
             tail, _ = tail_integral(mu, L, 3)
             half += tail
-        else:
-            raise ValueError(f"unknown quadrature method {method!r}: zeros or quadosc")
         return +(2 * b * half)
+
+
+def _check_delta_args(mu, b, digits, digits_name: str, mu_positive: bool = False) -> None:
+    """A finite ``mu`` (``> 0`` if asked), the radius ``b > 0`` (Delta is a length) and a
+    count of digits."""
+    check_real(mu, "mu", positive=mu_positive)
+    check_real(b, "b", positive=True)
+    check_count(digits, digits_name, 1, MAX_DIGITS)
 
 
 #: Integrators of the full equations for :func:`flow`; ``jet`` (the tape integrator of
@@ -369,8 +387,25 @@ def delta_three_ways(
     engine: str = "taylor",
     methods: Sequence[str] = ("ode", "quadrature", "closed"),
 ) -> DeltaResult:
-    """Delta by the full equations, the quadrature (3.7) and the closed form, at ``digits``."""
-    check_inertia([mpmath.mpf(v) for v in I], mpmath.mpf(D))
+    """Delta by the full equations, the quadrature (3.7) and the closed form, at ``digits``.
+
+    Raises
+    ------
+    UserInputError
+        ``I``, ``D`` refused by :func:`check_inertia`, ``b <= 0`` (a radius), ``C = 0``,
+        ``digits`` not a count, an unknown ``engine`` or method.
+    """
+    check_inertia(I, D)
+    check_real(b, "b", positive=True)
+    check_real(C, "C", nonzero=True)
+    check_count(digits, "digits", 1, MAX_DIGITS)
+    check_choice(engine, (*ENGINES, *_ENGINE_ALIASES), "engine")
+    if isinstance(methods, str | bytes) or not all(
+        isinstance(m, str) and m in ("ode", "quadrature", "closed") for m in methods
+    ):
+        raise UserInputError(
+            f"methods = {methods!r}: give a sequence of 'ode', 'quadrature', 'closed'"
+        )
     seconds: dict = {}
     with mpmath.workdps(digits + 10):
         mu = mu_of(I, D)
@@ -413,20 +448,29 @@ def near_separatrix_state(I: Sequence, D: float, h: float, C: float = 1.0):
 
     Raises
     ------
-    ValueError
-        If ``h`` is not on the segment ``n = C^2``.
+    UserInputError
+        If ``h`` is not on the segment ``n = C^2`` (or ``I``, ``D``, ``C`` are refused).
     """
     import numpy as np
 
+    _check_frame_args(I, D, h, C)
     J1, _, J3 = (float(v) + D for v in I)
     g = 1.0 / (D + C**2 / (2 * h))
     c2 = (g - 1 / J3) / (1 / J1 - 1 / J3)
     if not 0 <= c2 <= 1:
-        raise ValueError(f"h = {h} is not on the segment n = C^2")
+        raise UserInputError(f"h = {h} is not on the segment n = C^2")
     gamma = np.array([np.sqrt(c2), 0.0, np.sqrt(1 - c2)])
     alpha = np.array([0.0, 1.0, 0.0])
     beta = np.cross(gamma, alpha)
     return np.concatenate([C * gamma, gamma, alpha, beta, [0.0, 0.0]])
+
+
+def _check_frame_args(I, D, h, C) -> None:
+    """The checks of :func:`near_separatrix_state` and :func:`frame_turn` (double precision)."""
+    check_inertia(I, D)
+    check_inertia_vector(I, D, double=True)
+    check_real(h, "h", positive=True, double=True)
+    check_real(C, "C", nonzero=True, double=True)
 
 
 def separatrix_trace(I: Sequence, D: float, b: float, C: float = 1.0, n: int = 2001):
@@ -479,6 +523,8 @@ def frame_turn(I: Sequence, D: float, h: float, C: float = 1.0, rtol: float = 1e
 
     from .code import load_model_code
 
+    _check_frame_args(I, D, h, C)
+    check_real(rtol, "rtol", positive=True, double=True)
     code = load_model_code("chaplygin_ball", ("contact_point",))
     p = np.array([float(v) for v in I] + [float(D), 1.0])
     y0 = near_separatrix_state(I, D, h, C)
@@ -524,5 +570,12 @@ def critical_energy(I: Sequence, D: float, bracket: tuple[float, float], C: floa
     integration (``rtol = 1e-12``): about 1e-9 in ``h``.
     """
     from scipy.optimize import brentq
+
+    check_inertia(I, D)
+    check_real(C, "C", nonzero=True, double=True)
+    if isinstance(bracket, str | bytes) or not hasattr(bracket, "__len__") or len(bracket) != 2:
+        raise UserInputError(f"bracket = {bracket!r} must be two energies (low, high)")
+    for i, h in enumerate(bracket):
+        check_real(h, f"bracket[{i}]", positive=True, double=True)
 
     return float(brentq(lambda h: frame_turn(I, D, h, C)[1], *bracket, xtol=1e-12))

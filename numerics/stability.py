@@ -35,6 +35,7 @@ from ..derive.emit import emit_function
 from ..derive.errors import UserInputError
 from ..derive.systems import build_model
 from .code import load_model_code
+from .inputs import check_choice, check_inertia_vector, check_real
 
 __all__ = [
     "FloquetResult",
@@ -109,10 +110,9 @@ def _critical_functions(axis: int):
 
 
 def _params(I, D) -> list[float]:
-    p = [float(v) for v in (*I, D)]
-    if len(p) != 4 or min(p) <= 0 or not np.all(np.isfinite(p)):
-        raise UserInputError(f"need three positive moments I and a positive D, got I={I}, D={D}")
-    return p
+    """``I1, I2, I3, D`` as floats, each finite and positive (errors name the argument)."""
+    I, D = check_inertia_vector(I, D, double=True)
+    return [float(v) for v in (*I, D)]
 
 
 def critical_state(I, D, axis: int, C: float, Mg: float = 0.0, branch: int = 0):
@@ -135,6 +135,9 @@ def critical_state(I, D, axis: int, C: float, Mg: float = 0.0, branch: int = 0):
         ``2 pi/|w|``.
     """
     p = _params(I, D)
+    check_choice(axis, (0, 1, 2), "axis")
+    check_choice(branch, (0, 1), "branch")
+    C, Mg = float(check_real(C, "C", double=True)), float(check_real(Mg, "Mg", double=True))
     if not (C > 0 and Mg**2 < C):
         raise UserInputError(f"need C > 0 and M_gamma^2 < C, got C={C}, M_gamma={Mg}")
     par, y_of = _critical_functions(axis)
@@ -294,7 +297,6 @@ def floquet(
     )
 
 
-@lru_cache(maxsize=256)
 def steady_rotation_floquet(
     I,
     D,
@@ -304,12 +306,21 @@ def steady_rotation_floquet(
 ) -> tuple[FloquetResult, FloquetResult, FloquetResult]:
     """:func:`floquet` of the steady rotations about ``e_1, e_2, e_3`` on ``(C, M_gamma)``.
 
-    ``I`` must be hashable (a tuple): results are memoised.
+    Results are memoised (on ``tuple(I)`` and the other arguments).
 
     References
     ----------
     BKM12-1.5stab, BKM12-1.5stab8, K01-3.2stab.
     """
+    _params(I, D)
+    for name, value in (("C", C), ("Mg", Mg)):
+        check_real(value, name, double=True)
+    check_real(rtol, "rtol", positive=True, double=True)
+    return _steady_rotation_floquet(tuple(I), D, C, Mg, rtol)
+
+
+@lru_cache(maxsize=256)
+def _steady_rotation_floquet(I, D, C, Mg, rtol) -> tuple[FloquetResult, ...]:
     out = []
     for axis in range(3):
         y0, T = critical_state(I, D, axis, C, Mg)
@@ -317,7 +328,6 @@ def steady_rotation_floquet(
     return tuple(out)
 
 
-@lru_cache(maxsize=256)
 def euler_floquet(I, D, Ep: float, rtol: float = 1e-12) -> FloquetResult:
     """:func:`floquet` of the Euler-top orbit ``M = gamma`` at ``E' = Ep`` (``Sigma_4``, C = 1),
     its period from :func:`return_period` within 40 periods of the fastest rotation.
@@ -326,6 +336,14 @@ def euler_floquet(I, D, Ep: float, rtol: float = 1e-12) -> FloquetResult:
     ----------
     BKM12-1.5stab8, BKM12-Sigma45.
     """
+    _params(I, D)
+    check_real(Ep, "Ep", double=True)
+    check_real(rtol, "rtol", positive=True, double=True)
+    return _euler_floquet(tuple(I), D, Ep, rtol)
+
+
+@lru_cache(maxsize=256)
+def _euler_floquet(I, D, Ep, rtol) -> FloquetResult:
     y0 = euler_state(I, D, 1.0, Ep)
     A = 1 / (np.asarray(I, float) + D)
     T = return_period(I, D, y0, t_max=40 * 2 * np.pi / A.min(), rtol=rtol)

@@ -29,7 +29,11 @@ from ..derive.emit import emit_function
 from ..derive.errors import UserInputError
 from ..derive.phase_space import random_orthonormal
 from ..derive.transformation import chaplygin_map, kilin_map, proposition2
+from .inputs import check_choice, check_count, check_inertia_vector, check_real, check_vector
 from .integrate import integrate
+
+#: Most Gauss-Legendre panels :func:`transformation_test` lays on ``[0, t_end]``.
+MAX_PANELS = 10**6
 
 __all__ = [
     "MapCoefficients",
@@ -218,11 +222,21 @@ def transformation_test(
     ----------
     BKM12-19, BKM12-22, BKM12-23, K01-2.29 ... K01-2.33.
     """
+    check_inertia_vector(I, D, double=True)
+    check_vector(M0, "M0", double=True)
+    check_vector(gamma0, "gamma0", double=True)
+    check_choice(form, ("chaplygin", "kilin"), "form")
+    for name, value in (("t_end", t_end), ("rtol", rtol), ("panel", panel)):
+        check_real(value, name, positive=True, double=True)
+    check_count(nodes, "nodes", 1, 100)
+    if t_end / panel > MAX_PANELS:
+        raise UserInputError(
+            f"t_end/panel = {t_end / panel:g} panels is more than {MAX_PANELS}; "
+            "shorten t_end or widen panel"
+        )
     I = np.asarray(I, dtype=float)
     M0 = np.asarray(M0, dtype=float)
     gamma0 = np.asarray(gamma0, dtype=float)
-    if form not in ("chaplygin", "kilin"):
-        raise UserInputError(f"unknown form {form!r}; valid: chaplygin, kilin")
     if abs(np.dot(gamma0, gamma0) - 1) > 1e-12:
         raise UserInputError("gamma0 must be a unit vector")
     Mg = float(np.dot(M0, gamma0))
