@@ -339,8 +339,10 @@ def parse_effects(effects: str | Iterable[str] | None, supported: Iterable[str])
         return frozenset()
     if isinstance(effects, str):
         names = [e.strip() for e in effects.split(",") if e.strip()]
-    else:
+    elif isinstance(effects, Iterable):
         names = [str(e).strip() for e in effects]
+    else:
+        raise UserInputError(f"effects = {effects!r}: give effect names (a list or 'a,b')")
     supported = sorted(supported)
     bad = [n for n in names if n not in supported]
     if bad:

@@ -111,7 +111,7 @@ _CACHE: dict[tuple[str, frozenset[str]], Model] = {}
 def get_system(name: str) -> System:
     try:
         return SYSTEMS[name]
-    except KeyError:
+    except (KeyError, TypeError):  # TypeError: an unhashable name (a list, a dict)
         raise UserInputError(
             f"unknown system {name!r}; valid systems: {', '.join(sorted(SYSTEMS))}"
         ) from None

@@ -358,7 +358,10 @@ def _time_span(t_span, prec: Precision) -> tuple:
     items = list(t_span)
     if len(items) != 2:
         raise UserInputError(f"t_span must be (t0, t1) or a single end time, got {t_span!r}")
-    t0, t1 = (working_number(v, prec) for v in items)
+    try:
+        t0, t1 = (working_number(v, prec) for v in items)
+    except UserInputError as exc:
+        raise UserInputError(f"t_span: {exc}") from None
     if t1 == t0:
         raise UserInputError("the time span must be finite and non-empty")
     return t0, t1
