@@ -127,8 +127,17 @@ def spheroconical_coordinates(gamma, a):
     return (s + r) / 2, (s - r) / 2
 
 
+def _check_separation_args(lam1, lam2, a, D) -> None:
+    """Finite ``lam1``, ``lam2``, three positive ``a`` and a positive ``D``."""
+    check_real(lam1, "lam1")
+    check_real(lam2, "lam2")
+    check_vector(a, "a", positive=True)
+    check_real(D, "D", positive=True)
+
+
 def separation_roots(lam1, lam2, a, D) -> list:
     """Real roots of R (K01-2.17), ascending, by ``mpmath.polyroots`` at the working precision."""
+    _check_separation_args(lam1, lam2, a, D)
     coeffs = _R_coefficients()(lam1, lam2, *a, D)
     roots = mpmath.polyroots(coeffs, maxsteps=200, extraprec=2 * mpmath.mp.prec)
     tol = mpmath.mpf(10) ** (-mpmath.mp.dps // 2)
@@ -161,6 +170,7 @@ def _state(I, D, M, gamma, dps):
 
 def separation_R(lam1, lam2, a, D):
     """``R(q)`` of K01-2.17 (from ``derive/hamiltonisation.py``) as an mpmath function of q."""
+    _check_separation_args(lam1, lam2, a, D)
     coeffs = _R_coefficients()(lam1, lam2, *a, D)
     return lambda q: mpmath.polyval(coeffs, q)
 

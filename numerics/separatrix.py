@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 
 import mpmath
@@ -400,8 +400,10 @@ def delta_three_ways(
     check_real(C, "C", nonzero=True)
     check_count(digits, "digits", 1, MAX_DIGITS)
     check_choice(engine, (*ENGINES, *_ENGINE_ALIASES), "engine")
-    if isinstance(methods, str | bytes) or not all(
-        isinstance(m, str) and m in ("ode", "quadrature", "closed") for m in methods
+    if (
+        isinstance(methods, str | bytes)
+        or not isinstance(methods, Iterable)
+        or not all(isinstance(m, str) and m in ("ode", "quadrature", "closed") for m in methods)
     ):
         raise UserInputError(
             f"methods = {methods!r}: give a sequence of 'ode', 'quadrature', 'closed'"

@@ -138,7 +138,7 @@ def critical_state(I, D, axis: int, C: float, Mg: float = 0.0, branch: int = 0):
     check_choice(axis, (0, 1, 2), "axis")
     check_choice(branch, (0, 1), "branch")
     C, Mg = float(check_real(C, "C", double=True)), float(check_real(Mg, "Mg", double=True))
-    if not (C > 0 and Mg**2 < C):
+    if not (C > 0 and Mg * Mg < C):
         raise UserInputError(f"need C > 0 and M_gamma^2 < C, got C={C}, M_gamma={Mg}")
     par, y_of = _critical_functions(axis)
     w, g = (float(v) for v in par[branch](C, Mg, *p))

@@ -25,6 +25,7 @@ import mpmath
 import numpy as np
 
 from ..derive.errors import UserInputError
+from ..numerics.inputs import check_count, check_inertia_vector, check_real, check_vector
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -39,6 +40,11 @@ __all__ = [
 ]
 
 #: Bifurcation diagrams: name -> (system, default parameters, title).
+#: Most random states :func:`bifurcation_figure` integrates.
+MAX_SAMPLES = 100_000
+#: Largest ``mu`` of :func:`delta_of_mu_figure` (``Delta ~ 2 pi b exp(-pi mu/2)``).
+MAX_MU = 100.0
+
 FIGURES = {
     "k01-1": ("chaplygin_ball", {"I": (1, 1.5, 3), "D": 1, "C": 0}, "K01 Fig. 1"),
     "k01-2": ("chaplygin_ball", {"I": (1, 1.5, 3), "D": 1, "C": 1}, "K01 Fig. 2b"),
@@ -284,8 +290,13 @@ def bifurcation_figure(
     UserInputError
         Unknown figure or inadmissible parameters.
     """
+    if params is not None and not isinstance(params, Mapping):
+        raise UserInputError(f"params = {params!r} must be a mapping of parameter names to values")
     params = dict(params or {})
-    if figure not in FIGURES:
+    check_count(samples, "samples", 1, MAX_SAMPLES)
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise UserInputError(f"seed = {seed!r} must be a non-negative integer")
+    if not isinstance(figure, str) or figure not in FIGURES:
         raise UserInputError(f"unknown figure {figure!r}; valid: {', '.join(FIGURES)}")
     system, defaults, title = FIGURES[figure]
     p = {**defaults, **params}
@@ -295,9 +306,9 @@ def bifurcation_figure(
             f"parameter(s) {', '.join(sorted(unknown))} not used by {figure}; "
             f"valid: {', '.join(defaults)}"
         )
-    I = tuple(float(v) for v in p["I"])
-    if len(I) != 3 or min(I) <= 0:
-        raise UserInputError(f"I needs three positive values, got {p['I']}")
+    I = tuple(float(v) for v in check_vector(p["I"], "I", positive=True, double=True))
+    for name in set(p) - {"I"}:
+        check_real(p[name], name, double=True)
     if system == "chaplygin_ball" and float(p["D"]) <= 0:
         raise UserInputError(f"D must be positive, got {p['D']}")
     if samples < 1:
@@ -358,6 +369,10 @@ def delta_of_mu_figure(b: float = 1.0, mu_max: float = 6.0) -> Figure:
     """
     from ..numerics.separatrix import delta_closed_form, delta_quadrature, mu_of
 
+    check_real(b, "b", positive=True, double=True)
+    check_real(mu_max, "mu_max", positive=True, double=True)
+    if mu_max > MAX_MU:
+        raise UserInputError(f"mu_max = {mu_max} is beyond {MAX_MU} (Delta underflows there)")
     mus = np.linspace(0.0, mu_max, 400)
     closed = [float(delta_closed_form(m, b, 20)) for m in mus]
     pts = np.linspace(0.25, mu_max, 12)
@@ -487,6 +502,11 @@ def separatrix_figures(
     dict of str to matplotlib.figure.Figure
         ``delta_of_mu.png`` and ``separatrix_traces.png``.
     """
+    from ..numerics.separatrix import check_inertia
+
+    check_inertia(I, D)
+    check_inertia_vector(I, D, double=True)
+    check_real(b, "b", positive=True, double=True)
     with mpmath.workdps(20):
         return {
             "delta_of_mu.png": delta_of_mu_figure(b),
@@ -495,6 +515,23 @@ def separatrix_figures(
 
 
 # ---------------------------------------------------------------------- work-precision study
+def _check_study(study: object) -> None:
+    """A work-precision study as :func:`chaplygin.verify.bench.run_study` returns it."""
+    keys = {"problem", "method", "rhs", "precision", "median_s", "error"}
+    rows = study.get("rows") if isinstance(study, Mapping) else None
+    if not isinstance(rows, list) or not all(
+        isinstance(r, Mapping)
+        and keys <= set(r)
+        and all(r[k] is None or isinstance(r[k], int | float) for k in ("median_s", "error"))
+        for r in rows
+    ):
+        raise UserInputError(
+            "study must be the result of chaplygin.verify.bench.run_study: a mapping whose "
+            f"'rows' are mappings with {', '.join(sorted(keys))} (numbers or None for "
+            "median_s and error)"
+        )
+
+
 def work_precision_figure(study: Mapping) -> Figure:
     """Log-log plot of final error against median wall time, one panel per problem.
 
@@ -509,6 +546,7 @@ def work_precision_figure(study: Mapping) -> Figure:
     """
     from matplotlib import colormaps
 
+    _check_study(study)
     rows = [r for r in study["rows"] if r["median_s"] is not None and r["error"] is not None]
     problems = list(dict.fromkeys(r["problem"] for r in study["rows"]))
     fig = _new_figure(figsize=(6.5 * len(problems), 5))
