@@ -84,7 +84,6 @@ class _Payload:
 
 
 def test_a_planted_pickle_is_never_unpickled(fresh_cache, tmp_path):
-    import pickle
 
     path = systems._cache_file("chaplygin_ball", frozenset())
     path.parent.mkdir(parents=True, exist_ok=True)
