@@ -55,7 +55,9 @@ def _sigma_functions():
     ]
 
 
-def sigma(i: int, C, Mg, I: Sequence[float], D: float):
+def sigma(
+    i: int, C: float | np.ndarray, Mg: float | np.ndarray, I: Sequence[float], D: float
+) -> float | np.ndarray:
     """Energy ``E = 2h`` on the derived curve ``Sigma_i`` (BKM12-Sigma_i, K01-3.2c).
 
     Parameters
@@ -73,6 +75,10 @@ def sigma(i: int, C, Mg, I: Sequence[float], D: float):
     -------
     float or numpy.ndarray
         ``E`` on the curve, shaped like the broadcast of ``C`` and ``Mg``.
+
+    References
+    ----------
+    BKM12-Sigma_i, K01-3.2c (FORMULAS.md).
     """
     return _sigma_functions()[i](C, Mg, *I, D)
 

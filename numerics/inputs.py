@@ -510,7 +510,9 @@ def _unit(name: str, v: list) -> list:
     return [x / n for x in v]
 
 
-def pack_state(code: ModelCode, values: Mapping[str, object], precision: Precision) -> list:
+def pack_state(
+    code: ModelCode, values: Mapping[str, object], precision: Precision
+) -> list[float | mpmath.mpf]:
     """State vector in the model's order, validated and completed.
 
     ``gamma`` (and ``alpha``, ``beta``) must be unit vectors within
@@ -519,9 +521,33 @@ def pack_state(code: ModelCode, values: Mapping[str, object], precision: Precisi
     |M x gamma|``; refused, with a message asking for an explicit frame, when ``M`` is
     parallel to ``gamma``, where that formula is singular) and ``x, y`` default to 0.
 
+    Parameters
+    ----------
+    code : ModelCode
+        The model (its state groups and state order).
+    values : mapping of str to value
+        Group name (``"M"``, ``"gamma"``, ``"alpha"``, ``"x"`` ...) -> its components: a
+        sequence, comma-separated text ``"a,b,c"`` or, for a one-component group, a single
+        value; each entry anything :func:`parse_number` reads.
+    precision : Precision
+        Working precision; the text is read at ``precision.parse_dps`` digits.
+
+    Returns
+    -------
+    list of float (double) or mpmath.mpf with ``precision.prec`` bits
+        The state in ``code.state`` order; groups kept as given are rounded once from their
+        own text, normalised or completed ones from the guard-precision values.
+
     Raises
     ------
     UserInputError
+        An unknown group, a wrong number of components, an unreadable number, a missing
+        ``M`` or ``gamma``, a vector that is not a unit vector, only one of ``alpha`` and
+        ``beta``, or no frame where ``M`` is parallel to ``gamma``.
+
+    References
+    ----------
+    BKM12-7 (FORMULAS.md).
     """
     groups = code.state_groups
     unknown = sorted(set(values) - set(groups))
@@ -607,4 +633,3 @@ def _frame(got: dict) -> dict:
         )
     alpha = [c / s for c in mxg]  # BKM12-7
     return {"alpha": alpha, "beta": _cross(gamma, alpha)}
-

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import time
 import warnings
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from contextlib import AbstractContextManager, nullcontext
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
@@ -217,15 +217,25 @@ class Integrator:
         """
         return self.rtol_floor[precision.kind] * precision.epsilon
 
-    def check(self, precision: Precision, rtol: float, events, options: Mapping) -> None:
+    def check(
+        self,
+        precision: Precision,
+        rtol: float,
+        events: Sequence[Callable] | Callable | None,
+        options: Mapping[str, Any],
+    ) -> None:
         """Refuse a precision, tolerance, events or options this method cannot honour.
 
         Parameters
         ----------
         precision : Precision
+            The requested precision.
         rtol : float
-        events : sequence or None
+            The requested relative tolerance (at least :meth:`floor`).
+        events : callable or sequence of callables or None
+            Event functions ``g(t, y)``; any needs a method that locates events.
         options : mapping
+            ``taylor_options`` (keys among :attr:`options`).
 
         Raises
         ------
