@@ -177,6 +177,7 @@ def ball_energy(y: np.ndarray, I: Sequence[float], D: float) -> float:
     Returns
     -------
     float
+        ``E``, twice the energy integral ``H`` of the generated code.
     """
     return 2 * float(_ball_code().numpy.integrals(0.0, y, [*I, D])[0])
 
@@ -277,6 +278,10 @@ def support_sample(
         ``(g_al, g_be, position)``.
     drift : float
         Largest relative drift of the integrals.
+
+    References
+    ----------
+    BKM12-2.7c (FORMULAS.md).
     """
     rng = np.random.default_rng(seed)
     code = load_model_code("spherical_support")

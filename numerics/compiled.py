@@ -401,6 +401,7 @@ class CompiledModel:
         Returns
         -------
         ndarray, shape (n_aux,)
+            The auxiliary quantities at ``(t, y)``.
         """
         return self._call(self._aux, "aux", t, y, p, out)
 
@@ -417,6 +418,7 @@ class CompiledModel:
         Returns
         -------
         ndarray, shape (n_integrals,)
+            The first integrals at ``(t, y)``.
         """
         return self._call(self._integrals, "integrals", t, y, p, out)
 

@@ -187,6 +187,7 @@ def parse_number(text: Number | object, dps: int = 30) -> mpmath.mpf:
     Returns
     -------
     mpmath.mpf
+        The value at ``dps`` digits.
 
     Raises
     ------
@@ -252,11 +253,14 @@ def working_number(value: Number | object, precision: Precision) -> float | mpma
     Parameters
     ----------
     value : str or number
+        The user's number or its text (as for :func:`parse_number`).
     precision : Precision
+        The working precision.
 
     Returns
     -------
     float (double) or mpmath.mpf with ``precision.prec`` bits (quad, digits)
+        The value rounded to the working precision.
 
     Raises
     ------
@@ -434,19 +438,24 @@ def _working_values(name: str, raw: object, expected: int, precision: Precision)
     return _values(name, raw, expected, lambda v: working_number(v, precision))
 
 
-def pack_params(code: ModelCode, values: Mapping[str, object], precision: Precision) -> list:
+def pack_params(
+    code: ModelCode, values: Mapping[str, object], precision: Precision
+) -> list[float | mpmath.mpf]:
     """Parameter vector in the model's order, validated.
 
     Parameters
     ----------
     code : ModelCode
+        The model (its parameter groups, their domains and order).
     values : mapping of group name to values
         ``{"I": (1, 2, 3), "D": 1}``; strings are parsed safely.
     precision : Precision
+        The working precision.
 
     Returns
     -------
     list of float (double) or mpmath.mpf (digits)
+        The parameters in ``code.params`` order, each rounded once.
 
     Raises
     ------
@@ -477,17 +486,25 @@ def pack_params(code: ModelCode, values: Mapping[str, object], precision: Precis
     return [out[s] for s in code.params]
 
 
-def round_to(values: Sequence, precision: Precision) -> list:
+def round_to(values: Sequence[mpmath.mpf], precision: Precision) -> list[float | mpmath.mpf]:
     """Values (mpf at a guard precision) rounded once to the working precision.
 
     Parameters
     ----------
     values : sequence of mpmath.mpf
+        Values at a guard precision.
     precision : Precision
+        The working precision.
 
     Returns
     -------
     list of float (double) or mpmath.mpf with ``precision.prec`` bits
+        The values rounded to nearest (:func:`working_number`).
+
+    Raises
+    ------
+    UserInputError
+        A value that is not finite or overflows the working precision.
     """
     return [working_number(v, precision) for v in values]
 

@@ -73,6 +73,10 @@ def check_inertia(I: Sequence[float | mpmath.mpf], D: float | mpmath.mpf) -> Non
     UserInputError
         If ``I`` does not hold three values, a value is not finite and positive, or ``I2``
         is not strictly between ``I1`` and ``I3``.
+
+    References
+    ----------
+    K01-3.4 (FORMULAS.md).
     """
     if len(I) != 3:
         raise UserInputError(f"I needs three moments of inertia, got {len(I)}")

@@ -498,6 +498,7 @@ def euler_floquet(
     Returns
     -------
     FloquetResult
+        Multipliers and evidence of the orbit through :func:`euler_state` ``(I, D, 1, Ep)``.
 
     Raises
     ------

@@ -316,7 +316,7 @@ class CompiledTaylor:
         """
         return self.real.pack(values)
 
-    def unpack(self, buf: np.ndarray, count: int | None = None) -> Any:
+    def unpack(self, buf: np.ndarray, count: int | None = None) -> np.ndarray | list[mpmath.mpf]:
         """The first ``count`` reals of ``buf`` (all by default).
 
         Parameters
@@ -358,7 +358,7 @@ class CompiledTaylor:
         t0: float | mpmath.mpf,
         y: Sequence[float | mpmath.mpf],
         p: Sequence[float | mpmath.mpf],
-    ) -> Any:
+    ) -> np.ndarray | list[list[mpmath.mpf]]:
         """Normalised Taylor coefficients, ``n_state x (order + 1)`` (ndarray or mpf lists).
 
         Parameters

@@ -253,8 +253,10 @@ def transformation_test(
 
     Parameters
     ----------
-    I, D : inertia and ``D = m b^2`` of the original ball.
-    M0, gamma0 : initial state (``|gamma0| = 1``, ``(M0, gamma0) != 0``).
+    I, D : tuple of 3 floats, float
+        Inertia and ``D = m b^2`` of the original ball.
+    M0, gamma0 : tuple of 3 floats each
+        Initial state (``|gamma0| = 1``, ``(M0, gamma0) != 0``).
     t_end : float
         Time span of the original trajectory.
     form : {"chaplygin", "kilin"}

@@ -210,10 +210,12 @@ class Integrator:
         Parameters
         ----------
         precision : Precision
+            The working precision.
 
         Returns
         -------
         float
+            ``rtol_floor[precision.kind]`` times the precision's unit roundoff.
         """
         return self.rtol_floor[precision.kind] * precision.epsilon
 
@@ -277,13 +279,22 @@ class Integrator:
         Parameters
         ----------
         problem : Problem
+            Model code, initial state, span, parameters, precision and tolerances.
         backend : {"auto", "c", "numpy"}
+            Where the right-hand side runs: compiled C, numpy, or C when it is available.
         setup_s : float
             Set-up time already spent (reading the inputs), added to ``setup_s``.
 
         Returns
         -------
         IntegrationResult
+            Solution, status and message (status -1 for a non-finite solution, -5 for a
+            non-finite drift), the drift of every first integral, work counters and times.
+
+        Raises
+        ------
+        UserInputError
+            An unknown ``backend``.
         """
         start = time.perf_counter()
         if backend not in BACKENDS:
