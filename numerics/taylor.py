@@ -753,7 +753,7 @@ def taylor_solve(
     precision: str = "double",
     rtol: float,
     atol: float,
-    t_eval: Sequence | None = None,
+    t_eval: Sequence[float | mpmath.mpf] | None = None,
     events: Sequence[Callable] | Callable | None = None,
     order: int | None = None,
     step: float | None = None,
