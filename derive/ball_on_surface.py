@@ -472,7 +472,26 @@ def generic_surface_model(with_potential: bool = True) -> Model:
 
 # ------------------------------------------------------------ the ellipsoid
 def ellipsoid_potential(x: sp.Matrix, k: sp.Expr, c: sp.Matrix) -> sp.Expr:
-    """``U = k (x, x)/2 + (1/2) sum_i c_i/x_i^2`` (M03-1.6, with the 1/2 factors read)."""
+    """``U = k (x, x)/2 + (1/2) sum_i c_i/x_i^2`` (M03-1.6, with the 1/2 factors read).
+
+    Parameters
+    ----------
+    x : sympy.Matrix, shape (3, 1)
+        Position of the ball's centre.
+    k : sympy.Expr
+        Coefficient of the isotropic quadratic term.
+    c : sympy.Matrix, shape (3, 1)
+        Coefficients ``c_1, c_2, c_3`` of the inverse-square terms.
+
+    Returns
+    -------
+    sympy.Expr
+        The potential ``U(x)``.
+
+    References
+    ----------
+    M03-1.6.
+    """
     return k * dot(x, x) / 2 + sum((c[i] / x[i] ** 2 for i in range(3)), sp.S.Zero) / 2
 
 
@@ -499,6 +518,19 @@ def ellipsoid_sampler(b: sp.Matrix, x: sp.Matrix) -> Callable[[random.Random, di
     physical one (positive ``b_i``). Points on the coordinate planes (where the
     potential of M03-1.6 is singular) are not drawn. The sampler is picklable (models
     are cached on disk).
+
+    Parameters
+    ----------
+    b : sympy.Matrix, shape (3, 1)
+        The semi-axis parameters ``b_1, b_2, b_3`` (squares of the semi-axes).
+    x : sympy.Matrix, shape (3, 1)
+        The centre's state symbols.
+
+    Returns
+    -------
+    callable ``(rng, point) -> None``
+        A :data:`~.model.PhaseSpaceSampler`: writes exact rational values of ``b`` and
+        ``x`` into the dict ``point``, drawing from ``rng`` (a ``random.Random``).
     """
     return functools.partial(_sample_ellipsoid, b, x)
 

@@ -109,6 +109,23 @@ _CACHE: dict[tuple[str, frozenset[str]], Model] = {}
 
 
 def get_system(name: str) -> System:
+    """The built-in system called ``name``.
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`SYSTEMS` (``"chaplygin_ball"``, ...).
+
+    Returns
+    -------
+    System
+        Its registry entry (builder, supported effects, generated variants ...).
+
+    Raises
+    ------
+    UserInputError
+        For an unknown name (the message lists the valid ones).
+    """
     try:
         return SYSTEMS[name]
     except KeyError:
@@ -118,13 +135,32 @@ def get_system(name: str) -> System:
 
 
 def variant_name(system: str, effects: Iterable[str]) -> str:
-    """``system__effect1__effect2`` with the effects sorted."""
+    """``system__effect1__effect2`` with the effects sorted.
+
+    Parameters
+    ----------
+    system : str
+        System name.
+    effects : iterable of str
+        Effect names (any order); none gives the bare system name.
+
+    Returns
+    -------
+    str
+        The variant name, the key of the variant's files in ``generated/``.
+    """
     return "__".join([system, *sorted(effects)])
 
 
 def model_cache_dir() -> Path | None:
     """Folder of derived models on disk: ``$CHAPLYGIN_CACHE_DIR/models`` (default
-    ``~/.cache/chaplygin/models``); None when ``CHAPLYGIN_MODEL_CACHE=0``."""
+    ``~/.cache/chaplygin/models``); None when ``CHAPLYGIN_MODEL_CACHE=0``.
+
+    Returns
+    -------
+    pathlib.Path or None
+        The folder (not created here), or None when the disk cache is switched off.
+    """
     if os.environ.get("CHAPLYGIN_MODEL_CACHE", "1") == "0":
         return None
     root = os.environ.get("CHAPLYGIN_CACHE_DIR") or os.path.join(
@@ -258,5 +294,12 @@ def variant_signature(
 
 
 def builtin_variants() -> list[tuple[str, frozenset[str]]]:
-    """Every (system, effects) combination whose code is committed in ``generated/``."""
+    """Every (system, effects) combination whose code is committed in ``generated/``.
+
+    Returns
+    -------
+    list of (str, frozenset of str)
+        ``(system name, effects)`` pairs, in the order of :data:`SYSTEMS` and of each
+        system's ``GENERATED_VARIANTS``.
+    """
     return [(s.name, frozenset(v)) for s in SYSTEMS.values() for v in s.variants]
