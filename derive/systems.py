@@ -110,6 +110,23 @@ _CACHE: dict[tuple[str, frozenset[str]], Model] = {}
 
 
 def get_system(name: str) -> System:
+    """The built-in system called ``name``.
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`SYSTEMS` (``"chaplygin_ball"``, ...).
+
+    Returns
+    -------
+    System
+        Its registry entry (builder, supported effects, generated variants ...).
+
+    Raises
+    ------
+    UserInputError
+        For an unknown name (the message lists the valid ones).
+    """
     try:
         return SYSTEMS[name]
     except KeyError:
@@ -119,7 +136,20 @@ def get_system(name: str) -> System:
 
 
 def variant_name(system: str, effects: Iterable[str]) -> str:
-    """``system__effect1__effect2`` with the effects sorted."""
+    """``system__effect1__effect2`` with the effects sorted.
+
+    Parameters
+    ----------
+    system : str
+        System name.
+    effects : iterable of str
+        Effect names (any order); none gives the bare system name.
+
+    Returns
+    -------
+    str
+        The variant name, the key of the variant's files in ``generated/``.
+    """
     return "__".join([system, *sorted(effects)])
 
 
@@ -287,5 +317,12 @@ def variant_signature(
 
 
 def builtin_variants() -> list[tuple[str, frozenset[str]]]:
-    """Every (system, effects) combination whose code is committed in ``generated/``."""
+    """Every (system, effects) combination whose code is committed in ``generated/``.
+
+    Returns
+    -------
+    list of (str, frozenset of str)
+        ``(system name, effects)`` pairs, in the order of :data:`SYSTEMS` and of each
+        system's ``GENERATED_VARIANTS``.
+    """
     return [(s.name, frozenset(v)) for s in SYSTEMS.values() for v in s.variants]
