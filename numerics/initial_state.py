@@ -39,7 +39,15 @@ import numpy as np
 from ..derive.errors import UserInputError
 from .code import ModelCode
 
-__all__ = ["ResolvedState", "state_from_integrals", "integral_residuals", "GRID", "INTEGRAL_KEYS"]
+__all__ = [
+    "ResolvedState",
+    "state_from_integrals",
+    "state_from_andoyer",
+    "horizontal_frame",
+    "integral_residuals",
+    "GRID",
+    "INTEGRAL_KEYS",
+]
 
 #: Points of the Fibonacci lattice on the sphere that candidate ``gamma`` are taken from.
 GRID = 400
@@ -417,3 +425,41 @@ def integral_residuals(
             name: float(values[code.integral_names.index(name)] - mpmath.mpf(want))
             for name, want in prescribed.items()
         }
+
+
+def state_from_andoyer(G, z, l, g) -> dict[str, list]:
+    """``M, gamma`` from BM20's Andoyer-Deprit variables (BM20 (3.7), ``(M, gamma) = 0``).
+
+    ``M = (G sqrt(1-z^2) sin l, G sqrt(1-z^2) cos l, G z)``,
+    ``gamma = (z cos g sin l + sin g cos l, z cos g cos l - sin g sin l, -sqrt(1-z^2) cos g)``.
+
+    Parameters
+    ----------
+    G, z, l, g : mpmath.mpf
+        ``G = |M| >= 0``, ``|z| <= 1``; angles in radians. Evaluated at the current mpmath
+        precision.
+
+    Returns
+    -------
+    dict of str to list of mpmath.mpf
+        ``{"M": [...], "gamma": [...]}``.
+
+    Raises
+    ------
+    UserInputError
+        ``|z| > 1`` or ``G < 0`` (the message gives the admissible range).
+    """
+    if not -1 <= z <= 1:
+        raise UserInputError(
+            f"Andoyer-Deprit z = {mpmath.nstr(z, 10)} is outside its range: |z| <= 1 (z = M3/G)"
+        )
+    if G < 0:
+        raise UserInputError(f"Andoyer-Deprit G = |M| must be 0 or more, got {mpmath.nstr(G, 10)}")
+    s = mpmath.sqrt(1 - z * z)
+    M = [G * s * mpmath.sin(l), G * s * mpmath.cos(l), G * z]
+    gamma = [
+        z * mpmath.cos(g) * mpmath.sin(l) + mpmath.sin(g) * mpmath.cos(l),
+        z * mpmath.cos(g) * mpmath.cos(l) - mpmath.sin(g) * mpmath.sin(l),
+        -s * mpmath.cos(g),
+    ]
+    return {"M": M, "gamma": gamma}

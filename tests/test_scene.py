@@ -8,7 +8,6 @@ from pathlib import Path
 import mpmath
 import numpy as np
 import pytest
-
 from chaplygin.numerics.code import load_model_code
 from chaplygin.numerics.initial_state import integral_residuals, state_from_integrals
 from chaplygin.verify.cli import main

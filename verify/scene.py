@@ -71,6 +71,9 @@ OUTPUT_EFFECTS: dict[str, tuple[str, ...]] = {
     "body_trace": ("contact_point",),
 }
 
+#: Andoyer-Deprit variables of BM20 (3.7), in their order.
+ANDOYER = ("G", "z", "l", "g")
+
 #: Units of the state groups, auxiliary quantities and integrals (the scene's own units:
 #: ``I, D`` in mass*length^2, ``b`` in length, ``t`` in time).
 UNITS = {
@@ -212,6 +215,11 @@ class Initial(BaseModel):
     point: Annotated[StrictInt, Field(ge=0, le=10_000)] = Field(
         0, description="which point of the level set (reproducible order)"
     )
+    G: Number | None = Field(None, description="Andoyer-Deprit G = |M| (BM20 (3.7))")
+    z: Number | None = Field(None, description="Andoyer-Deprit z = M3/G, |z| <= 1")
+    l: Number | None = Field(None, description="Andoyer-Deprit angle l (radians)")
+    g: Number | None = Field(None, description="Andoyer-Deprit angle g (radians)")
+    rest: StrictBool = Field(False, description="from rest: M = 0 (BM20 §3.1, k(0) = 0)")
 
 
 def _system_name(value: str) -> str:
@@ -466,9 +474,7 @@ def _fields_of(loc: Sequence) -> list[str]:
     for part in loc:
         if isinstance(part, int) or model is None:
             return []
-        info = next(
-            (f for n, f in model.model_fields.items() if (f.alias or n) == part), None
-        )
+        info = next((f for n, f in model.model_fields.items() if (f.alias or n) == part), None)
         if info is None:
             return []
         ann = info.annotation
@@ -695,10 +701,20 @@ def _resolve(scene: Scene) -> Resolved:
     given = {
         k: v
         for k, v in {**dict(scene.initial), **(scene.initial.model_extra or {})}.items()
-        if v is not None and k not in ("parallel", "point")
+        if v is not None and k not in ("parallel", "point", "rest", *ANDOYER)
     }
     if scene.initial.parallel:
         given["parallel"] = True
+    andoyer = {
+        k: getattr(scene.initial, k) for k in ANDOYER if getattr(scene.initial, k) is not None
+    }
+    if scene.initial.rest:
+        andoyer.setdefault("G", 0)
+        if "M" in given or (andoyer.get("G") not in (0, "0")):
+            raise SceneError("rest = true means M = 0: give no M and no G", src, "initial.rest",
+                             _line_of(text, ("initial", "rest")))  # fmt: skip
+        if "gamma" in given:
+            given["M"] = [0, 0, 0]
     by_integrals = {k: given.pop(k) for k in INTEGRAL_KEYS if k in given}
     state_groups = code.state_groups
     for k in given:
@@ -714,6 +730,29 @@ def _resolve(scene: Scene) -> Resolved:
     _check_outputs(scene, code, text)
     prescribed, how = {}, "given by state"
     dps = prec.parse_dps
+    if andoyer and not (scene.initial.rest and set(andoyer) == {"G"} and "gamma" in given):
+        missing = [k for k in ANDOYER if k not in andoyer]
+        clash = [k for k in ("M", "gamma") if k in given] + list(by_integrals)
+        if missing or clash:
+            loc = ("initial", missing[0] if missing else clash[0])
+            what = (
+                f"initial.{missing[0]} is missing (Andoyer-Deprit needs G, z, l, g)"
+                if missing
+                else f"give the Andoyer-Deprit variables or {clash[0]}, not both"
+            )
+            raise SceneError(what, src, _dotted(loc), _line_of(text, loc))
+        from ..numerics.initial_state import state_from_andoyer
+
+        with mpmath.workdps(dps + 10):
+            try:
+                values = state_from_andoyer(*(_num(andoyer[k], dps) for k in ANDOYER))
+            except UserInputError as exc:
+                loc = ("initial", "z" if "z =" in str(exc) else "G")
+                raise SceneError(str(exc), src, _dotted(loc), _line_of(text, loc)) from None
+            given.update({k: [mpmath.nstr(c, dps + 5) for c in v] for k, v in values.items()})
+        how = "Andoyer-Deprit variables G, z, l, g (BM20 (3.7))"
+    elif scene.initial.rest:
+        how = "from rest (M = 0)"
     if by_integrals:
         if "M" in given:
             raise SceneError(
