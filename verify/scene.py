@@ -865,21 +865,20 @@ def _text_of(source: str | None) -> str | None:
 
 
 def _owner_effect(system: str, parameter: str) -> str | None:
-    """The generated variant (effect) that has ``parameter``, for messages."""
+    """The effects of the smallest variant in ``generated/`` that has ``parameter`` (for
+    messages; nothing is derived)."""
     from ..numerics.code import generated_manifest, load_model_code
 
-    for entry in generated_manifest().values():
-        if entry.get("system") != system:
-            continue
-        effects = entry.get("effects") or []
-        code = load_model_code(system, effects)
-        if parameter in code.parameter_groups:
-            base = load_model_code(system, ())
-            if parameter not in base.parameter_groups:
-                for e in effects:
-                    if parameter in load_model_code(system, [e]).parameter_groups:
-                        return e
-                return ", ".join(effects)
+    if parameter in load_model_code(system, ()).parameter_groups:
+        return None
+    variants = sorted(
+        (tuple(sorted(entry.get("effects") or [])) for entry in generated_manifest().values()
+         if entry.get("system") == system),
+        key=lambda v: (len(v), v),
+    )  # fmt: skip
+    for effects in variants:
+        if effects and parameter in load_model_code(system, effects).parameter_groups:
+            return " + ".join(effects)
     return None
 
 
