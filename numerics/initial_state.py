@@ -193,7 +193,7 @@ def _trig_roots(f, level, k_max: int = 8) -> list:
 
 
 def _range_msg(lo, hi) -> str:
-    return f"[{mpmath.nstr(lo, 10)}, {mpmath.nstr(hi, 10)}]"
+    return f"[{mpmath.nstr(mpmath.mpf(lo), 10)}, {mpmath.nstr(mpmath.mpf(hi), 10)}]"
 
 
 def state_from_integrals(
@@ -304,13 +304,18 @@ def _resolve(code, params, request) -> ResolvedState:
             f"(of {GRID}) where the energy crosses h (crossing {point})"
         )
         return ResolvedState({"M": momentum(g, 0), "gamma": g}, how, prescribed)
-    lo, hi = mpmath.inf, -mpmath.inf
+    # a double-precision pre-scan of every circle (16 angles): its range decides which
+    # candidates can have roots (with a margin of 10 % of the circle's span), and the range
+    # reported when none has
+    ranges = _circle_ranges(code, p, C, r, Kv, candidates)
+    lo, hi = float(ranges[:, 0].min()), float(ranges[:, 1].max())
     seen = 0
     for idx, g in enumerate(candidates):
+        a, b = ranges[idx]
+        if not a - 0.1 * (b - a) - 1e-12 <= float(h) <= b + 0.1 * (b - a) + 1e-12:
+            continue
         f = lambda phi, g=g: energy(momentum(g, phi), g)  # noqa: E731
         roots = _trig_roots(f, h)
-        samples = [f(2 * mpmath.pi * j / 16) for j in range(16)]
-        lo, hi = min(lo, *samples), max(hi, *samples)
         if seen + len(roots) > point:
             phi = roots[point - seen]
             where = "the given gamma" if gamma is not None else f"Fibonacci grid point {idx}"
@@ -322,6 +327,36 @@ def _resolve(code, params, request) -> ResolvedState:
             return ResolvedState({"M": momentum(g, phi), "gamma": g}, how, prescribed)
         seen += len(roots)
     raise _no_point(h, lo, hi, point, seen, "n")
+
+
+def _circle_ranges(code: ModelCode, p, C, r, K, candidates) -> np.ndarray:
+    """(min, max) of the energy over 16 angles of each candidate's circle, in double."""
+    g = np.array([[float(c) for c in v] for v in candidates])  # (G, 3)
+    k = np.argmin(np.abs(g) + np.arange(3) * 1e-15, axis=1)  # same rule as _perp_basis
+    e = np.eye(3)[k]
+    e1 = e - np.sum(e * g, axis=1)[:, None] * g
+    e1 /= np.linalg.norm(e1, axis=1)[:, None]
+    e2 = np.cross(g, e1)
+    phi = 2 * np.pi * np.arange(16) / 16
+    u = float(r) * (
+        np.cos(phi)[None, :, None] * e1[:, None, :] + np.sin(phi)[None, :, None] * e2[:, None, :]
+    )
+    M = float(C) * g[:, None, :] + u - np.array([float(v) for v in K])[None, None, :]
+    gam = np.broadcast_to(g[:, None, :], M.shape)
+    values = {"M": M.reshape(-1, 3).T, "gamma": gam.reshape(-1, 3).T}
+    n = M.shape[0] * M.shape[1]
+    rows = {}
+    for name, comps in code.state_groups.items():
+        block = values.get(name, np.zeros((len(comps), n)))
+        rows.update(zip(comps, block, strict=True))
+    y = np.array([rows[s] for s in code.state])
+    H = np.asarray(
+        code.numpy.integrals(np.zeros(n), y, np.array([float(v) for v in p]))[
+            code.integral_names.index("H")
+        ],
+        float,
+    ).reshape(M.shape[0], M.shape[1])
+    return np.stack([H.min(axis=1), H.max(axis=1)], axis=1)
 
 
 def _no_point(h, lo, hi, point, found, case) -> UserInputError:

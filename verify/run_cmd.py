@@ -54,8 +54,13 @@ def run(args: argparse.Namespace) -> int:
     int
         0 when every run reached its end, 1 otherwise (2 for a user error, raised).
     """
-    from .scene import Scene, SceneError, prepare_output, write_atomically
+    from .scene import Scene, SceneError, prepare_output, scene_json_schema, write_atomically
 
+    if args.schema:
+        print(json.dumps(scene_json_schema(), indent=2, sort_keys=True))
+        return EXIT_OK
+    if not args.scenes:
+        raise SceneError("give at least one scene file (or --schema)")
     folders = _out_folders(args.scenes, args.out)
     if len(set(folders)) != len(folders):
         raise SceneError("two scenes have the same file name: their output folders would clash")
@@ -106,7 +111,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p = subparsers.add_parser(
         "run", help="run scene files (TOML): trajectory, summary and plots of one experiment"
     )
-    p.add_argument("scenes", nargs="+", metavar="SCENE.toml", help="scene file(s)")
+    p.add_argument("scenes", nargs="*", metavar="SCENE.toml", help="scene file(s)")
     p.add_argument(
         "--out",
         default=None,
@@ -121,4 +126,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.add_argument("--explain", action="store_true", help="say what would run; run nothing")
     p.add_argument("--quiet", action="store_true", help="no progress bar, no report line")
+    p.add_argument(
+        "--schema",
+        action="store_true",
+        help="print the JSON Schema of scene files (examples/scenes/scene.schema.json)",
+    )
     return p

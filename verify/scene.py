@@ -334,7 +334,7 @@ class Scene(BaseModel):
         try:
             scene = cls.model_validate(dict(data))
         except ValidationError as exc:
-            raise _scene_error(exc, source, text) from None
+            raise _scene_error(exc, source, text, dict(data)) from None
         except _KeyProblem as exc:
             raise SceneError(
                 exc.message, source, _dotted(exc.loc), _line_of(text, exc.loc)
@@ -491,17 +491,27 @@ def _fields_of(loc: Sequence) -> list[str]:
     return [f.alias or n for n, f in model.model_fields.items()]
 
 
-def _scene_error(exc: ValidationError, source: str | None, text: str | None) -> SceneError:
+def _input_path(loc: Sequence, data: object) -> tuple:
+    """The parts of a pydantic ``loc`` that are keys or indices of the input (pydantic also
+    puts the names of union members and validators in it)."""
+    out, node = [], data
+    for part in loc:
+        if isinstance(node, Mapping) and isinstance(part, str) and part in node:
+            out.append(part)
+            node = node[part]
+        elif isinstance(node, list) and isinstance(part, int) and 0 <= part < len(node):
+            out.append(part)
+            node = node[part]
+    return tuple(out)
+
+
+def _scene_error(
+    exc: ValidationError, source: str | None, text: str | None, data: object = None
+) -> SceneError:
     err = exc.errors(include_url=False)[0]
-    loc = tuple(
-        p for p in err["loc"] if not (isinstance(p, str) and ("[" in p or p.startswith("function")))
-    )
-    # pydantic names union members in loc ("int", "list[...]"): drop them
-    loc = tuple(
-        p
-        for p in loc
-        if p not in ("int", "float", "str", "bool", "list[...]") and "-" not in str(p)
-    )
+    loc = _input_path(err["loc"], data)
+    if err["type"] == "missing" and err["loc"]:
+        loc = (*loc, err["loc"][-1])
     kind, msg = err["type"], err["msg"]
     ctx_error = (err.get("ctx") or {}).get("error")
     if isinstance(ctx_error, _KeyProblem):
@@ -601,6 +611,8 @@ class Resolved:
         How the initial point was chosen.
     load_s : float
         Time to load (or derive and emit) the model code.
+    t_span : (t0, t1)
+        At the working precision.
     """
 
     code: Any
@@ -611,6 +623,7 @@ class Resolved:
     residuals: dict[str, float] = field(default_factory=dict)
     how: str = "given by state"
     load_s: float = 0.0
+    t_span: tuple = (0.0, 1.0)
 
     def state_by_name(self) -> dict[str, str]:
         """Initial state by component name, as decimal strings."""
@@ -667,6 +680,7 @@ def _resolve(scene: Scene) -> Resolved:
         raise SceneError(
             str(exc), src, "run.precision", _line_of(text, ("run", "precision"))
         ) from None
+    t_span = _time_span(scene, prec, text)
     # parameters: exactly the model's groups
     groups = code.parameter_groups
     for name in scene.parameters:
@@ -803,7 +817,29 @@ def _resolve(scene: Scene) -> Resolved:
     residuals = {}
     if prescribed:
         residuals = integral_residuals(code, y0, p, prescribed, max(prec.digits or 17, 17))
-    return Resolved(code, reasons, params, y0, prescribed, residuals, how, load_s)
+    return Resolved(code, reasons, params, y0, prescribed, residuals, how, load_s, t_span)
+
+
+def _time_span(scene: Scene, prec: Any, text: str | None) -> tuple:
+    from ..numerics.inputs import working_number
+
+    src = scene.source
+    out = []
+    for key in ("t_start", "t_end"):
+        loc = ("run", key)
+        try:
+            out.append(working_number(getattr(scene.run_options, key), prec))
+        except UserInputError as exc:
+            raise SceneError(str(exc), src, _dotted(loc), _line_of(text, loc)) from None
+    if not out[1] > out[0]:
+        loc = ("run", "t_end")
+        raise SceneError(
+            f"run.t_end must be after run.t_start ({_decimal(out[0])})",
+            src,
+            _dotted(loc),
+            _line_of(text, loc),
+        )
+    return tuple(out)
 
 
 def quantity_names(code: Any) -> list[str]:
@@ -983,18 +1019,11 @@ def _progress_event(t0: float, t1: float, enabled: bool):
 def _run(scene: Scene, res: Resolved, progress: bool) -> SceneResult:
     import mpmath
 
-    from ..numerics.inputs import Precision, working_number
+    from ..numerics.inputs import Precision
     from ..numerics.integrate import integrate
 
     prec = Precision(scene.run_options.precision)
-    src = scene.source
-    try:
-        t0 = working_number(scene.run_options.t_start, prec)
-        t1 = working_number(scene.run_options.t_end, prec)
-    except UserInputError as exc:
-        raise SceneError(str(exc), src, "run.t_end") from None
-    if not t1 > t0:
-        raise SceneError(f"run.t_end must be after run.t_start ({t0})", src, "run.t_end")
+    t0, t1 = res.t_span
     n = scene.run_options.points
     if prec.is_double:
         t_eval = list(np.linspace(t0, t1, n))
@@ -1019,7 +1048,7 @@ def _run(scene: Scene, res: Resolved, progress: bool) -> SceneResult:
             events=[event] if event else None,
         )
     except UserInputError as exc:
-        raise SceneError(str(exc), src, "run") from None
+        raise SceneError(str(exc), scene.source, "run") from None
     finally:
         if bar is not None:
             bar.close()
