@@ -67,18 +67,18 @@ def run(args: argparse.Namespace) -> int:
     scenes = [Scene.from_toml(path, args.set or ()) for path in args.scenes]
     resolved = [scene.resolve() for scene in scenes]  # every user error before any work
     if args.explain:
-        from .scene import _explain
+        from .scene import explain_text
 
-        print("\n\n".join(_explain(s, r) for s, r in zip(scenes, resolved, strict=True)))
+        print("\n\n".join(explain_text(s, r) for s, r in zip(scenes, resolved, strict=True)))
         return EXIT_OK
     for folder in folders:
         prepare_output(folder)
     status = EXIT_OK
     progress = not args.quiet and sys.stderr.isatty()
-    from .scene import _run
+    from .scene import run_resolved
 
     for scene, res, folder in zip(scenes, resolved, folders, strict=True):
-        result = _run(scene, res, progress)
+        result = run_resolved(scene, res, progress)
         written = write_atomically(result, folder)
         summary = result.summary([str(folder / w) for w in written])
         if not result.success:

@@ -63,6 +63,11 @@ __all__ = [
     "scene_json_schema",
     "apply_overrides",
     "load_scene",
+    "explain_text",
+    "run_resolved",
+    "quantity_names",
+    "prepare_output",
+    "write_atomically",
 ]
 
 #: Effects an output needs: output key -> effects.
@@ -184,8 +189,10 @@ class Run(_Table):
     method: StrictStr | None = Field(None, description="DOP853, RK45, LSODA, Radau, BDF, taylor")
     rtol: Annotated[StrictFloat | StrictInt, Field(gt=0, lt=1)] | None = None
     atol: Annotated[StrictFloat | StrictInt, Field(gt=0, lt=1)] | None = None
-    points: Annotated[StrictInt, Field(ge=2, le=1_000_000)] = Field(
-        2001, description="number of output points, evenly spaced"
+    points: Annotated[StrictInt, Field(ge=2, le=1_000_000)] | None = Field(
+        None,
+        description="number of output points, evenly spaced (default: 20 per unit of time, "
+        "at least 2001 and at most 200001)",
     )
     backend: Literal["auto", "c", "numpy"] = "auto"
 
@@ -370,7 +377,7 @@ class Scene(BaseModel):
         -------
         str
         """
-        return _explain(self, self.resolve())
+        return explain_text(self, self.resolve())
 
     def run(self, progress: bool = False) -> SceneResult:
         """Integrate the scene.
@@ -384,7 +391,7 @@ class Scene(BaseModel):
         -------
         SceneResult
         """
-        return _run(self, self.resolve(), progress)
+        return run_resolved(self, self.resolve(), progress)
 
 
 class _KeyProblem(ValueError):
@@ -766,6 +773,14 @@ def _resolve(scene: Scene) -> Resolved:
             given.update({k: [mpmath.nstr(c, dps + 5) for c in v] for k, v in values.items()})
         how = "Andoyer-Deprit variables G, z, l, g (BM20 (3.7))"
     elif scene.initial.rest:
+        if "gamma" not in given:
+            loc = ("initial", "rest")
+            raise SceneError(
+                "rest = true needs gamma (or the Andoyer-Deprit z, l, g)",
+                src,
+                _dotted(loc),
+                _line_of(text, loc),
+            )
         how = "from rest (M = 0)"
     if by_integrals:
         if "M" in given:
@@ -954,7 +969,18 @@ def _largest_variant(system: str) -> Any:
     return load_model_code(system, biggest)
 
 
-def _explain(scene: Scene, res: Resolved) -> str:
+def explain_text(scene: Scene, res: Resolved) -> str:
+    """What a run of ``scene`` (resolved as ``res``) would do, as text (``--explain``).
+
+    Parameters
+    ----------
+    scene : Scene
+    res : Resolved
+
+    Returns
+    -------
+    str
+    """
     from ..numerics.code import generated_manifest
 
     code = res.code
@@ -1002,7 +1028,14 @@ def _progress_event(t0: float, t1: float, enabled: bool):
     from tqdm import tqdm
 
     total = abs(float(t1) - float(t0))
-    bar = tqdm(total=total, delay=2.0, unit="t", file=sys.stderr, leave=False, mininterval=0.5)
+    bar = tqdm(
+        total=total,
+        delay=2.0,
+        file=sys.stderr,
+        leave=False,
+        mininterval=0.5,
+        bar_format="{l_bar}{bar}| t = {n:.6g} of {total:.6g} [{elapsed}<{remaining}]",
+    )
     state = {"last": float(t0)}
 
     def event(t, y):
@@ -1016,7 +1049,26 @@ def _progress_event(t0: float, t1: float, enabled: bool):
     return event, bar
 
 
-def _run(scene: Scene, res: Resolved, progress: bool) -> SceneResult:
+def run_resolved(scene: Scene, res: Resolved, progress: bool) -> SceneResult:
+    """Integrate a resolved scene.
+
+    Parameters
+    ----------
+    scene : Scene
+    res : Resolved
+        What :meth:`Scene.resolve` returned.
+    progress : bool
+        Show a tqdm bar on stderr (after 2 s).
+
+    Returns
+    -------
+    SceneResult
+
+    Raises
+    ------
+    SceneError
+        The integrator refused the run settings.
+    """
     import mpmath
 
     from ..numerics.inputs import Precision
@@ -1024,7 +1076,7 @@ def _run(scene: Scene, res: Resolved, progress: bool) -> SceneResult:
 
     prec = Precision(scene.run_options.precision)
     t0, t1 = res.t_span
-    n = scene.run_options.points
+    n = scene.run_options.points or int(min(max(20 * float(t1 - t0) + 1, 2001), 200_001))
     if prec.is_double:
         t_eval = list(np.linspace(t0, t1, n))
     else:
