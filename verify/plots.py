@@ -677,7 +677,15 @@ def scene_diagram_figure(
     """
     fig = _new_figure(figsize=(7, 5))
     ax = fig.subplots()
-    _draw_kilin(ax, tuple(float(v) for v in I), float(D), float(C), samples, 1)
+    I = tuple(float(v) for v in I)
+    _draw_kilin(ax, I, float(D), float(C), samples, 1)
+    n_max = 3.0 if C == 0 else 3.0 * C**2  # where _draw_kilin stops
+    if n > n_max:  # continue the branches to the scene's point (dotted)
+        from ..numerics.bifurcation import sigma
+
+        ext = np.linspace(n_max, 1.1 * n, 50)
+        for i in range(3):
+            ax.plot(ext, sigma(i, ext, C, I, D) / 2, ":", color=COLORS[i])
     ax.plot([n], [h], "*", color="k", ms=12, label=f"scene: n = {n:.6g}, h = {h:.6g}")
     ax.legend(fontsize=7, loc="best")
     ax.set_title(f"{title}\nI = {tuple(I)}, D = {D:g}, C = {C:.6g}", fontsize=9)
