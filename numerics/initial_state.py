@@ -43,6 +43,7 @@ __all__ = [
     "ResolvedState",
     "state_from_integrals",
     "state_from_andoyer",
+    "state_near_rotation",
     "horizontal_frame",
     "integral_residuals",
     "GRID",
@@ -498,3 +499,63 @@ def state_from_andoyer(G, z, l, g) -> dict[str, list]:
         -s * mpmath.cos(g),
     ]
     return {"M": M, "gamma": gamma}
+
+
+def state_near_rotation(
+    code: ModelCode, params: Mapping, axis: int, C, n, offset=0
+) -> ResolvedState:
+    """The steady rotation about body axis ``axis`` (K01 (3.2): branch ``p_axis`` of the diagram)
+    at ``C = (M, gamma)`` and ``n = (M, M)``, optionally pushed off it by ``offset``.
+
+    On the rotation ``omega = w e_i`` and ``gamma = g_i e_i + sqrt(1 - g_i^2) e_j`` (``j`` the next
+    axis), ``M = I omega + D gamma x (omega x gamma) = J_i w e_i - D g_i w gamma``, so
+    ``C = I_i w g_i`` and ``n = J_i^2 w^2 - (2 J_i D - D^2) C^2/I_i^2``. ``offset`` adds
+    ``offset |M|`` to the component of ``M`` along the third axis ``k`` (a documented push off
+    the periodic solution; the residuals then show how far the integrals moved).
+
+    Parameters
+    ----------
+    code : ModelCode
+    params : mapping
+        Parameter values by symbol (``I1, I2, I3, D``).
+    axis : int
+        1, 2 or 3.
+    C, n : mpmath.mpf
+    offset : mpmath.mpf
+
+    Returns
+    -------
+    ResolvedState
+
+    Raises
+    ------
+    UserInputError
+        No such rotation at these ``C, n`` (the message gives the admissible ``n``).
+    """
+    I = [mpmath.mpf(params[f"I{i}"]) for i in (1, 2, 3)]
+    D = mpmath.mpf(params["D"])
+    i = axis - 1
+    Ji = I[i] + D
+    w2 = (n + (2 * Ji * D - D * D) * C * C / I[i] ** 2) / Ji**2
+    n_min = (Ji**2 - (2 * Ji * D - D * D)) * C * C / I[i] ** 2  # where |g_i| = 1
+    if w2 <= 0 or (C != 0 and abs(C / (I[i] * mpmath.sqrt(w2))) > 1):
+        raise UserInputError(
+            f"no rotation about axis {axis} has C = {mpmath.nstr(C, 10)} and n = "
+            f"{mpmath.nstr(n, 10)}: admissible n >= {mpmath.nstr(n_min, 10)}"
+        )
+    w = mpmath.sqrt(w2)
+    gi = C / (I[i] * w)
+    j, k = (i + 1) % 3, (i + 2) % 3
+    gamma = [mpmath.mpf(0)] * 3
+    gamma[i], gamma[j] = gi, mpmath.sqrt(1 - gi * gi)
+    M = [-D * gi * w * g for g in gamma]
+    M[i] += Ji * w
+    size = mpmath.sqrt(sum(m * m for m in M))
+    M[k] += offset * size
+    how = (
+        f"steady rotation about body axis {axis} (K01 (3.2), branch p{axis}): omega = "
+        f"{mpmath.nstr(w, 12)} e{axis}, gamma{axis} = {mpmath.nstr(gi, 12)}"
+        + (f"; M{k + 1} pushed by offset |M| = {mpmath.nstr(offset * size, 6)}" if offset else "")
+    )
+    prescribed = {_integral_name(code, "C"): C, _integral_name(code, "n"): n}
+    return ResolvedState({"M": M, "gamma": gamma}, how, prescribed)

@@ -242,3 +242,64 @@ def test_scene_result_api():
     assert isinstance(result.series_figure(["omega1", "H"]), Figure)
     h = result.quantity("H")
     assert np.max(np.abs(h - float(mpmath.mpf("0.1803189")))) < 1e-12
+
+
+NEAR = """title = "near"
+system = "chaplygin_ball"
+[parameters]
+I = [1, 1.5, 3]
+D = 1
+[initial]
+C = 1
+n = 2
+near = "p{axis}"
+[run]
+t_end = 20
+rtol = 1e-12
+atol = 1e-12
+"""
+
+
+@pytest.mark.parametrize("axis", (1, 2, 3))
+def test_near_is_the_steady_rotation_of_branch_p_i(tmp_path, axis):
+    from chaplygin.numerics.bifurcation import sigma
+
+    scene = Scene.from_toml(_write(tmp_path, NEAR.format(axis=axis)))
+    res = scene.resolve()
+    assert max(abs(v) for v in res.residuals.values()) < 1e-14
+    result = scene.run()
+    H = result.quantity("H")
+    # its energy is the branch p_i of the diagram at n = 2 (numerics.bifurcation, K01 (3.3))
+    assert H[0] == pytest.approx(float(sigma(axis - 1, 2.0, 1.0, (1, 1.5, 3), 1.0)) / 2, rel=1e-12)
+    # a steady rotation: omega stays along e_i (stable p1, p3; p2 too over this short time)
+    w = np.array([result.quantity(f"omega{i}") for i in (1, 2, 3)])
+    others = np.delete(w, axis - 1, axis=0)
+    assert np.max(np.abs(others)) < 1e-6 * np.max(np.abs(w[axis - 1]))
+
+
+def test_offset_pushes_off_and_separatrix_needs_the_middle_axis(tmp_path):
+    near = Scene.from_toml(_write(tmp_path, NEAR.format(axis=2)), ["initial.offset=1e-6"])
+    assert abs(near.resolve().residuals["(M,M)"]) > 1e-13  # pushed off: n moved
+    text = NEAR.format(axis=2).replace('near = "p2"', "separatrix = 2").replace("n = 2\n", "")
+    res = Scene.from_toml(_write(tmp_path, text)).resolve()
+    assert res.prescribed["H"] == pytest.approx(1 / 3)  # h2 = C^2/(2 I2)
+    assert max(abs(v) for v in res.residuals.values()) < 1e-15
+    with pytest.raises(SceneError, match="middle axis, here 2"):
+        Scene.from_toml(
+            _write(tmp_path, text.replace("separatrix = 2", "separatrix = 3"))
+        ).resolve()
+    with pytest.raises(SceneError, match="admissible n >= 1"):
+        Scene.from_toml(_write(tmp_path, NEAR.format(axis=2)), ["initial.n=0.5"]).resolve()
+
+
+def test_andoyer_deprit_state_and_range(tmp_path):
+    text = (SCENES / "bm20-fig5.toml").read_text()
+    res = Scene.from_toml(_write(tmp_path, text)).resolve()
+    y = res.state_by_name()
+    M = np.array([float(y[f"M{i}"]) for i in (1, 2, 3)])
+    g = np.array([float(y[f"gamma{i}"]) for i in (1, 2, 3)])
+    assert np.linalg.norm(M) == pytest.approx(3, rel=1e-15)  # |M| = G
+    assert abs(M @ g) < 1e-15 and np.linalg.norm(g) == pytest.approx(1, rel=1e-15)
+    assert M[2] == pytest.approx(1.5, rel=1e-15)  # M3 = G z
+    with pytest.raises(SceneError, match=r"\|z\| <= 1"):
+        Scene.from_toml(_write(tmp_path, text), ["initial.z=1.5"]).resolve()

@@ -227,6 +227,13 @@ class Initial(BaseModel):
     l: Number | None = Field(None, description="Andoyer-Deprit angle l (radians)")
     g: Number | None = Field(None, description="Andoyer-Deprit angle g (radians)")
     rest: StrictBool = Field(False, description="from rest: M = 0 (BM20 §3.1, k(0) = 0)")
+    near: Literal["p1", "p2", "p3"] | None = Field(
+        None, description="the steady rotation of branch p_i (K01 (3.2)) at C and n"
+    )
+    separatrix: Literal[1, 2, 3] | None = Field(
+        None, description="M || gamma at h = C^2/(2 I_i), i the middle axis (K01 §3.3)"
+    )
+    offset: Number = Field(0, description="push off near/separatrix (relative)")
 
 
 def _system_name(value: str) -> str:
@@ -722,7 +729,8 @@ def _resolve(scene: Scene) -> Resolved:
     given = {
         k: v
         for k, v in {**dict(scene.initial), **(scene.initial.model_extra or {})}.items()
-        if v is not None and k not in ("parallel", "point", "rest", *ANDOYER)
+        if v is not None
+        and k not in ("parallel", "point", "rest", "near", "separatrix", "offset", *ANDOYER)
     }
     if scene.initial.parallel:
         given["parallel"] = True
@@ -751,6 +759,11 @@ def _resolve(scene: Scene) -> Resolved:
     _check_outputs(scene, code, text)
     prescribed, how = {}, "given by state"
     dps = prec.parse_dps
+    special = _near_or_separatrix(scene, code, params, given, by_integrals, dps, text)
+    if special is not None:
+        given.update(special[0])
+        by_integrals.update(special[1])
+        prescribed, how = special[2], special[3]
     if andoyer and not (scene.initial.rest and set(andoyer) == {"G"} and "gamma" in given):
         missing = [k for k in ANDOYER if k not in andoyer]
         clash = [k for k in ("M", "gamma") if k in given] + list(by_integrals)
@@ -782,7 +795,7 @@ def _resolve(scene: Scene) -> Resolved:
                 _line_of(text, loc),
             )
         how = "from rest (M = 0)"
-    if by_integrals:
+    if by_integrals and not prescribed:
         if "M" in given:
             raise SceneError(
                 "give M or the integrals (h, C, n, parallel), not both", src, "initial.M",
@@ -833,6 +846,65 @@ def _resolve(scene: Scene) -> Resolved:
     if prescribed:
         residuals = integral_residuals(code, y0, p, prescribed, max(prec.digits or 17, 17))
     return Resolved(code, reasons, params, y0, prescribed, residuals, how, load_s, t_span)
+
+
+def _near_or_separatrix(scene, code, params, given, by_integrals, dps, text):
+    """``near = "p_i"`` or ``separatrix = i``: ``(state groups, integral request, prescribed,
+    how)`` or None."""
+    import mpmath
+
+    from ..numerics.initial_state import state_near_rotation
+
+    ini, src = scene.initial, scene.source
+    if ini.near is None and ini.separatrix is None:
+        if ini.offset not in (0, "0"):
+            loc = ("initial", "offset")
+            raise SceneError(
+                "offset needs near or separatrix", src, _dotted(loc), _line_of(text, loc)
+            )
+        return None
+    key = "near" if ini.near is not None else "separatrix"
+    loc = ("initial", key)
+    where = (src, _dotted(loc), _line_of(text, loc))
+    clash = [k for k in ("M", "gamma") if k in given] + [
+        k for k in by_integrals if k not in (("C", "n") if key == "near" else ("C",))
+    ]
+    if ini.near is not None and ini.separatrix is not None:
+        clash.append("separatrix")
+    if clash or ini.parallel:
+        raise SceneError(f"{key} fixes the state: give no {(clash or ['parallel'])[0]}", *where)
+    if "K1" in code.params or "I1" not in code.params or "D" not in code.params:
+        raise SceneError(f"{key} is defined for chaplygin_ball without gyrostat", *where)
+    need = ("C", "n") if key == "near" else ("C",)
+    missing = [k for k in need if k not in by_integrals]
+    if missing:
+        raise SceneError(f"{key} needs initial.{missing[0]}", *where)
+    with mpmath.workdps(dps + 10):
+        C = _num(by_integrals["C"], dps)
+        offset = _num(ini.offset, dps)
+        p = {k: mpmath.mpf(v) for k, v in params.items()}
+        if key == "near":
+            try:
+                r = state_near_rotation(
+                    code, p, int(ini.near[1]), C, _num(by_integrals["n"], dps), offset
+                )
+            except UserInputError as exc:
+                raise SceneError(str(exc), *where) from None
+            values = {k: [mpmath.nstr(c, dps + 5) for c in v] for k, v in r.values.items()}
+            by_integrals.clear()
+            return values, {}, r.prescribed, r.how
+        I = sorted((p[f"I{i}"], i) for i in (1, 2, 3))
+        if ini.separatrix != I[1][1]:
+            raise SceneError(
+                f"the separatrix on M || gamma belongs to the middle axis, here {I[1][1]} "
+                f"(I = {', '.join(mpmath.nstr(v, 8) for v, _ in sorted(I, key=lambda t: t[1]))})",
+                *where,
+            )
+        h = C * C / (2 * p[f"I{ini.separatrix}"]) * (1 + offset)
+        request = {"C": by_integrals["C"], "h": mpmath.nstr(h, dps + 5), "parallel": True}
+        by_integrals.clear()
+        by_integrals.update(request)
+        return {}, {}, {}, ""
 
 
 def _time_span(scene: Scene, prec: Any, text: str | None) -> tuple:
