@@ -303,3 +303,37 @@ def test_andoyer_deprit_state_and_range(tmp_path):
     assert M[2] == pytest.approx(1.5, rel=1e-15)  # M3 = G z
     with pytest.raises(SceneError, match=r"\|z\| <= 1"):
         Scene.from_toml(_write(tmp_path, text), ["initial.z=1.5"]).resolve()
+
+
+def test_effect_combination_not_in_generated_is_derived_and_says_so(tmp_path, capsys):
+    """The path that derives, emits and compiles a variant on first use (no longer untested)."""
+    from chaplygin.numerics.code import generated_manifest
+
+    assert "chaplygin_ball__variable_gyrostat" not in generated_manifest()
+    scene = _write(
+        tmp_path,
+        """title = "k(t) alone"
+system = "chaplygin_ball"
+effects = ["variable_gyrostat"]
+[parameters]
+I = [4, 3, 2]
+D = 1
+K = [1, -1, 2]
+Omega = 0.5
+[initial]
+M = [0.1, 0.2, 0.3]
+gamma = [0, 0, 1]
+[run]
+t_end = 5
+rtol = 1e-12
+atol = 1e-12
+""",
+    )
+    out = tmp_path / "o"
+    assert main(["run", str(scene), "--out", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert "chaplygin_ball__variable_gyrostat is not in generated/: derived and emitted" in err
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["code_origin"] == "emitted in memory"
+    assert summary["resolved"]["effects"] == {"variable_gyrostat": "named in the scene"}
+    assert max(summary["drift"].values()) < 1e-9  # its integrals (M,M), (M,gamma) hold

@@ -1449,6 +1449,7 @@ class SceneResult:
             "message": r.message,
             "model_hash": res.code.hash,
             "code_origin": res.code.origin,
+            "code_load_s": res.load_s,
             "method": r.method,
             "backend": r.backend,
             "precision": r.precision,
