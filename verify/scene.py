@@ -236,12 +236,6 @@ class Initial(BaseModel):
     offset: Number = Field(0, description="push off near/separatrix (relative)")
 
 
-def _system_name(value: str) -> str:
-    if value not in SYSTEMS:
-        raise ValueError(f"unknown system {value!r}; valid: {', '.join(sorted(SYSTEMS))}")
-    return value
-
-
 class Scene(BaseModel):
     """One experiment. Build it with :meth:`from_toml` or :meth:`from_dict`; run it with
     :meth:`run`."""
@@ -627,6 +621,8 @@ class Resolved:
         Time to load (or derive and emit) the model code.
     t_span : (t0, t1)
         At the working precision.
+    digits : int or None
+        Working decimal digits (None in double precision).
     """
 
     code: Any
@@ -638,20 +634,26 @@ class Resolved:
     how: str = "given by state"
     load_s: float = 0.0
     t_span: tuple = (0.0, 1.0)
+    digits: int | None = None
 
     def state_by_name(self) -> dict[str, str]:
-        """Initial state by component name, as decimal strings."""
-        return {n: _decimal(v) for n, v in zip(self.code.state, self.y0, strict=True)}
+        """Initial state by component name, as decimal strings (every working digit).
+
+        Returns
+        -------
+        dict of str to str
+        """
+        return {n: _decimal(v, self.digits) for n, v in zip(self.code.state, self.y0, strict=True)}
 
 
-def _decimal(value: object) -> str:
+def _decimal(value: object, digits: int | None = None) -> str:
+    """A number as decimal text: floats by their shortest repr, mpf with ``digits`` digits."""
     import mpmath
 
     if isinstance(value, float | np.floating):
         return repr(float(value))
     if isinstance(value, mpmath.mpf):
-        digits = max(int(mpmath.mp.prec * 0.30103), 17)
-        return mpmath.nstr(value, digits, strip_zeros=False)
+        return mpmath.nstr(value, digits or 17, strip_zeros=False)
     return str(value)
 
 
@@ -845,7 +847,9 @@ def _resolve(scene: Scene) -> Resolved:
     residuals = {}
     if prescribed:
         residuals = integral_residuals(code, y0, p, prescribed, max(prec.digits or 17, 17))
-    return Resolved(code, reasons, params, y0, prescribed, residuals, how, load_s, t_span)
+    return Resolved(
+        code, reasons, params, y0, prescribed, residuals, how, load_s, t_span, prec.digits
+    )
 
 
 def _near_or_separatrix(scene, code, params, given, by_integrals, dps, text):
@@ -1063,7 +1067,10 @@ def explain_text(scene: Scene, res: Resolved) -> str:
     for e, why in res.effects.items():
         lines.append(f"  {e}: {why}")
     lines.append(f"states ({len(code.state)}): {', '.join(code.state)}")
-    lines.append("parameters: " + ", ".join(f"{k} = {_decimal(v)}" for k, v in res.params.items()))
+    lines.append(
+        "parameters: "
+        + ", ".join(f"{k} = {_decimal(v, res.digits)}" for k, v in res.params.items())
+    )
     lines.append(f"initial state ({res.how}):")
     lines.extend(f"  {k} = {v}" for k, v in res.state_by_name().items())
     for name, r in res.residuals.items():
@@ -1423,7 +1430,8 @@ class SceneResult:
         import sympy
 
         r, res = self.integration, self.resolved
-        final = {k: _decimal(v) for k, v in r.y_final.items()}
+        digits = res.digits
+        final = {k: _decimal(v, digits) for k, v in r.y_final.items()}
         return {
             "title": self.scene.title,
             "source": self.scene.source,
@@ -1432,17 +1440,17 @@ class SceneResult:
                 "system": self.scene.system,
                 "model": res.code.name,
                 "effects": res.effects,
-                "parameters": {k: _decimal(v) for k, v in res.params.items()},
+                "parameters": {k: _decimal(v, digits) for k, v in res.params.items()},
                 "initial": res.state_by_name(),
                 "initial_how": res.how,
-                "prescribed": {k: _decimal(v) for k, v in res.prescribed.items()},
+                "prescribed": {k: _decimal(v, digits) for k, v in res.prescribed.items()},
                 "residuals": res.residuals,
             },
             "system": self.scene.system,
             "effects": sorted(res.effects),
             "states": list(res.code.state),
             "y": final,
-            "t_end": _decimal(r.t[-1]),
+            "t_end": _decimal(r.t[-1], digits),
             "drift": {k: (v if math.isfinite(v) else None) for k, v in r.drift.items()},
             "drift_absolute": list(r.drift_absolute),
             "status": r.status,
