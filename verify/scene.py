@@ -79,22 +79,6 @@ OUTPUT_EFFECTS: dict[str, tuple[str, ...]] = {
 #: Andoyer-Deprit variables of BM20 (3.7), in their order.
 ANDOYER = ("G", "z", "l", "g")
 
-#: Units of the state groups, auxiliary quantities and integrals (the scene's own units:
-#: ``I, D`` in mass*length^2, ``b`` in length, ``t`` in time).
-UNITS = {
-    "t": "time",
-    "M": "mass*length^2/time",
-    "gamma": "1",
-    "alpha": "1",
-    "beta": "1",
-    "x": "length",
-    "y": "length",
-    "omega": "1/time",
-    "Z": "mass*length^2/time",
-    "I": "mass*length^2",
-}
-
-
 class SceneError(UserInputError):
     """A scene that cannot be used: the message names the file, key path and line.
 
@@ -1511,33 +1495,22 @@ class SceneResult:
         return written
 
     def _columns(self) -> list[tuple[str, np.ndarray, str, str]]:
+        from .trajectory import trajectory_columns
+
         code = self.resolved.code
-        cols = [("t", self.t, UNITS["t"], "time")]
-        groups = {c: g for g, comps in code.state_groups.items() for c in comps}
-        for name, values in self.y.items():
-            unit = UNITS.get(groups.get(name, ""), "see the model")
-            cols.append((name, values, unit, f"state {name} (group {groups.get(name, name)})"))
-        return cols
+        return trajectory_columns(self.t, self.integration.y, code.state, code.state_groups)
 
     def _write_netcdf(self, path: Path) -> None:
-        from scipy.io import netcdf_file
+        from .trajectory import write_trajectory
 
-        with netcdf_file(path, "w", version=2) as nc:
-            nc.title = self.scene.title or ""
-            nc.model = self.resolved.code.name
-            nc.model_hash = self.resolved.code.hash
-            nc.createDimension("t", len(self.t))
-            for name, values, unit, long in self._columns():
-                var = nc.createVariable(name, "d", ("t",))
-                var[:] = values
-                var.units = unit
-                var.long_name = long
+        code = self.resolved.code
+        attrs = {"title": self.scene.title or "", "model": code.name, "model_hash": code.hash}
+        write_trajectory(path, self._columns(), attrs)
 
     def _write_csv(self, path: Path) -> None:
-        cols = self._columns()
-        header = ",".join(f"{n} [{u}]" for n, _, u, _ in cols)
-        data = np.column_stack([c[1] for c in cols])
-        np.savetxt(path, data, delimiter=",", header=header, comments="# ", fmt="%.17g")
+        from .trajectory import write_trajectory
+
+        write_trajectory(path, self._columns())
 
     # ------------------------------------------------------------------ display
     def __repr__(self) -> str:
