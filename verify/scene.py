@@ -261,6 +261,7 @@ class Scene(BaseModel):
     # private, set by the loaders
     _source: str | None = None
     _given: dict = {}
+    _text: str | None = None  # the file's text, lines of --set keys blanked
 
     # -------------------------------------------------------------------------- loading
     @classmethod
@@ -299,7 +300,10 @@ class Scene(BaseModel):
             raise SceneError(
                 f"TOML syntax: {exc}", name, line=int(line.group(1)) if line else None
             ) from None
-        return cls.from_dict(apply_overrides(data, overrides, name), source=name, text=text)
+        text = _mask_overridden(text, overrides)
+        scene = cls.from_dict(apply_overrides(data, overrides, name), source=name, text=text)
+        scene._text = text
+        return scene
 
     @classmethod
     def from_dict(cls, data: Mapping, source: str | None = None, text: str | None = None) -> Scene:
@@ -536,6 +540,19 @@ def _short(value: object) -> str:
     return text if len(text) <= 40 else text[:37] + "..."
 
 
+def _mask_overridden(text: str, overrides: Sequence[str]) -> str:
+    """``text`` with the lines of keys given by ``--set`` blanked, so that no message points at
+    a line whose value was replaced."""
+    lines = text.splitlines()
+    for item in overrides:
+        key = item.partition("=")[0].strip()
+        line = _line_of("\n".join(lines), key.split("."))
+        if line is not None and _KEY.match(lines[line - 1] or "") is not None:
+            if _KEY.match(lines[line - 1]).group(1) == key.split(".")[-1]:
+                lines[line - 1] = ""
+    return "\n".join(lines)
+
+
 def apply_overrides(data: Mapping, overrides: Sequence[str], source: str | None = None) -> dict:
     """``KEY=VALUE`` overrides (``run.t_end=100``) applied to a parsed scene.
 
@@ -656,7 +673,7 @@ def _resolve(scene: Scene) -> Resolved:
     from ..numerics.inputs import Precision, pack_params, pack_state
 
     src = scene.source
-    text = _text_of(src)
+    text = scene._text if scene._text is not None else _text_of(src)
     reasons = {e: "named in the scene" for e in scene.effects}
     for key, needs in OUTPUT_EFFECTS.items():
         if getattr(scene.outputs, key) is not None:
