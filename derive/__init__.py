@@ -5,10 +5,12 @@ Imports nothing from the other layers of chaplygin.
 
 from __future__ import annotations
 
+from .description import MechanicalDescription, apply_effects, form_model
 from .effects import EFFECTS, Effect, parse_effects
 from .engine import ReducedEquations, RigidBodyDescription, lagrange_dalembert
 from .errors import ChaplyginError, DerivationError, UserInputError
-from .model import Model, ParameterSpec
+from .model import Model, ModelDetails, ParameterSpec, Reparametrisation
+from .phase_space import sample_point
 from .systems import SYSTEMS, build_model, builtin_variants, variant_name
 
 __version__ = "0.1.0"
@@ -17,6 +19,9 @@ __all__ = [
     "EFFECTS",
     "Effect",
     "parse_effects",
+    "MechanicalDescription",
+    "apply_effects",
+    "form_model",
     "RigidBodyDescription",
     "ReducedEquations",
     "lagrange_dalembert",
@@ -25,6 +30,9 @@ __all__ = [
     "UserInputError",
     "Model",
     "ParameterSpec",
+    "ModelDetails",
+    "Reparametrisation",
+    "sample_point",
     "SYSTEMS",
     "build_model",
     "builtin_variants",

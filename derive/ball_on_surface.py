@@ -48,9 +48,10 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .algebra import ConstraintIdeal, seeded_factor
+from .description import MechanicalDescription, apply_effects
 from .effects import parse_effects
 from .errors import DerivationError
-from .model import Model, ParameterSpec
+from .model import Model, ModelDetails, ParameterSpec
 from .vectors import cross, dot, vector
 
 __all__ = [
@@ -68,6 +69,7 @@ __all__ = [
     "ellipsoid_potential",
     "ellipsoid_sampler",
     "build_ball_on_surface",
+    "ellipsoid_description",
 ]
 
 NAME = "ball_on_surface"
@@ -264,8 +266,10 @@ def derive_fixed_frame(
 
 # ------------------------------------------------------------------- a surface
 @dataclass
-class SurfaceEquations:
+class SurfaceEquations(ModelDetails):
     """The derivation on a concrete surface ``f(x) = 0`` with potential ``U(x)``.
+
+    It is the ``details`` of a :func:`surface_model`.
 
     Expressions are written in the state ``omega, x``, the parameters and the auxiliary
     symbols ``n1..n3`` (unit normal) and ``ndot1..ndot3`` (its rate) of :attr:`aux`.
@@ -418,24 +422,7 @@ def surface_model(
         ParameterSpec("R", (R,), "positive", "radius of the ball"),
         *parameters,
     ]
-    definitions: dict = {
-        "omega": omega,
-        "x": x,
-        "surface_equations": eq,
-        "derivation": eq.derivation,
-        "normal": eq.normal,
-        "normal_rate": eq.normal_rate,
-        "grad_norm": eq.grad_norm,
-        "force": eq.force,
-        "potential": potential,
-        "surface": surface,
-        "mass": m,
-        "effective_mass": m_e,
-        "radius": R,
-    }
-    if sampler is not None:
-        definitions["phase_space_sampler"] = sampler
-    model = Model(
+    return Model(
         system=system,
         effects=frozenset(effects),
         time=sp.Symbol("t", real=True),
@@ -447,14 +434,11 @@ def surface_model(
         geometry=(),
         integrals=(("H", eq.energy), *integrals),
         density=eq.grad_norm,
-        definitions=definitions,
+        omega=omega,
+        sampler=sampler,
+        details=eq,
         references=references or {},
     )
-    declared = set(model.params) | set(model.state) | set(model.aux_symbols)
-    used = set().union(*(sp.sympify(e).free_symbols for e in (*model.rhs, *(e for _, e in eq.aux))))
-    if not used <= declared:  # pragma: no cover - guards the builder itself
-        raise AssertionError(f"undeclared symbols in the model: {used - declared}")
-    return model
 
 
 def generic_surface_model(with_potential: bool = True) -> Model:
@@ -519,6 +503,50 @@ def ellipsoid_sampler(b: sp.Matrix, x: sp.Matrix) -> Callable[[random.Random, di
     return functools.partial(_sample_ellipsoid, b, x)
 
 
+def ellipsoid_description(effects: frozenset[str] = frozenset()) -> MechanicalDescription:
+    """The ball whose centre rolls on ``(x, B^-1 x) = 1``, no effect applied yet.
+
+    State ``omega, x``; parameters ``b`` (``m, m_e, R`` are declared by
+    :func:`surface_model`); the integrals ``K`` (M03-1.5) and ``(x, B^-1 x)``.
+
+    Parameters
+    ----------
+    effects : frozenset of str
+        Recorded in the description; not applied here.
+
+    Returns
+    -------
+    MechanicalDescription
+    """
+    omega, x = _state_symbols()
+    b = sp.Matrix(sp.symbols("b1:4", positive=True))
+    B = sp.diag(*b)
+    Binv = sp.diag(*[1 / bi for bi in b])
+    quadric = dot(x, Binv * x)
+    desc = MechanicalDescription(NAME, effects, sp.Symbol("t", real=True), omega)
+    desc.add_state("omega", tuple(omega), None)
+    desc.add_state("x", tuple(x), None)
+    desc.add_parameter(
+        ParameterSpec(
+            "b", tuple(b), "positive", "ellipsoid of the centre (x, B^-1 x) = 1, B = diag(b)"
+        )
+    )
+    n = sp.Matrix(sp.symbols("n1:4", real=True))
+    u = cross(n, omega)
+    desc.add_integral("K", dot(u, Binv * u) / dot(n, B * n))  # M03-1.5
+    desc.add_integral("(x,B^-1 x)", quadric)
+    desc.references.update(
+        {
+            "equations": "M03-1.1",
+            "normal": "M03-1.2",
+            "energy": "M03-1.3",
+            "density": "M03-1Y",
+            "integrals": "M03-1.5",
+        }
+    )
+    return desc
+
+
 def build_ball_on_surface(effects: Iterable[str] | str | None = ()) -> Model:
     """Derive the ball whose centre rolls on the ellipsoid ``(x, B^-1 x) = 1``.
 
@@ -546,54 +574,23 @@ def build_ball_on_surface(effects: Iterable[str] | str | None = ()) -> Model:
     ['H', 'K', '(x,B^-1 x)']
     """
     effects = parse_effects(effects, SUPPORTED_EFFECTS)
-    with_potential = "potential" in effects
-    omega, x = _state_symbols()
-    m, m_e, R = _mechanical_parameters()
-    b = sp.Matrix(sp.symbols("b1:4", positive=True))
-    B = sp.diag(*b)
-    Binv = sp.diag(*[1 / bi for bi in b])
-    quadric = dot(x, Binv * x)
+    desc = ellipsoid_description(effects)
+    apply_effects(desc, effects, SUPPORTED_EFFECTS)
+    b, x = desc.parameters["b"].symbols, desc.state_group("x")
+    quadric = desc.integrals["(x,B^-1 x)"]
     surface = quadric - 1
-    specs = [
-        ParameterSpec(
-            "b", tuple(b), "positive", "ellipsoid of the centre (x, B^-1 x) = 1, B = diag(b)"
-        )
-    ]
-    potential = sp.S.Zero
-    k = sp.Symbol("k", real=True)
-    c = sp.Matrix(sp.symbols("c1:4", real=True))
-    if with_potential:
-        potential = ellipsoid_potential(x, k, c)
-        specs += [
-            ParameterSpec("k", (k,), "real", "U = k (x, x)/2 + sum_i c_i/(2 x_i^2)"),
-            ParameterSpec("c", tuple(c), "real", "U = k (x, x)/2 + sum_i c_i/(2 x_i^2)"),
-        ]
-    n = sp.Matrix(sp.symbols("n1:4", real=True))
-    u = cross(n, omega)
-    K = dot(u, Binv * u) / dot(n, B * n)
-    if with_potential:
-        # M03-1.7 with the factor fixed by the derivation (verify/claims/m03.py solves for
-        # it): -1/((m + m_e) R^2) for U = k x^2/2 + sum c_i/(2 x_i^2).
-        bracket = k - sum((c[i] / (b[i] * x[i] ** 2) for i in range(3)), sp.S.Zero) / quadric
-        K += -dot(x, Binv * Binv * x) * bracket / ((m + m_e) * R**2)
     # The surface polynomial with its denominators cleared (same real variety for b > 0),
     # so that it lies in the polynomial ring of the verifier.
     constraint = sp.expand(b[0] * b[1] * b[2] * surface)
     return surface_model(
         surface,
-        potential,
-        parameters=specs,
+        desc.potential,
+        parameters=tuple(desc.parameters.values()),
         effects=effects,
         constraints=(constraint,),
-        integrals=(("K", K), ("(x,B^-1 x)", quadric)),
+        integrals=tuple(desc.integrals.items()),
         sampler=ellipsoid_sampler(b, x),
-        references={
-            "equations": "M03-1.1",
-            "normal": "M03-1.2",
-            "energy": "M03-1.3",
-            "density": "M03-1Y",
-            "integrals": "M03-1.7" if with_potential else "M03-1.5",
-        },
+        references=desc.references,
     )
 
 

@@ -1,7 +1,7 @@
 """Bifurcation analysis of the ball and of the spherical support (BKM12 §1.5, §2.7; K01 §3).
 
 Everything here is derived from a model's own momentum ``M = II(vectors) omega``
-(``definitions["momentum_of_omega"]``), nothing is typed in from the papers:
+(``Model.momentum_of_omega``), nothing is typed in from the papers:
 
 * :func:`steady_rotation_residual` -- for a *constant* body-frame angular velocity the
   space-fixed vectors rotate, ``v' = v x omega``, and ``M' - M x omega`` reduces to
@@ -80,7 +80,7 @@ def _vector_names(model: Model) -> list[str]:
 def steady_rotation_residual(model: Model) -> sp.Matrix:
     """``d/dt M(omega, v(t)) - M x omega`` for a constant body-frame ``omega``.
 
-    ``M = definitions["momentum_of_omega"]`` depends on ``omega`` (the model's symbols)
+    ``M = model.momentum_of_omega`` depends on ``omega`` (the model's symbols)
     and the space-fixed vectors ``v``; with ``omega`` constant each vector obeys
     ``v' = v x omega`` (the model's Poisson equations). Expanded: a polynomial vector in
     ``omega`` and the vectors.
@@ -88,7 +88,7 @@ def steady_rotation_residual(model: Model) -> sp.Matrix:
     Parameters
     ----------
     model : Model
-        A model with ``definitions["omega"]`` and ``definitions["momentum_of_omega"]``.
+        A model with ``omega`` and ``momentum_of_omega`` (a rigid-body model).
 
     Returns
     -------
@@ -99,8 +99,8 @@ def steady_rotation_residual(model: Model) -> sp.Matrix:
     ----------
     BKM12-25
     """
-    w = sp.Matrix(model.definitions["omega"])
-    M = model.definitions["momentum_of_omega"]
+    w = sp.Matrix(model.omega)
+    M = model.momentum_of_omega
     rate = sp.zeros(3, 1)
     for name in _vector_names(model):
         v = model.vectors[name]
@@ -118,7 +118,7 @@ def steady_axes(model: Model) -> list[sp.Matrix]:
     Parameters
     ----------
     model : Model
-        A model with ``definitions["omega"]`` and ``definitions["momentum_of_omega"]``.
+        A model with ``omega`` and ``momentum_of_omega`` (a rigid-body model).
 
     Returns
     -------
@@ -130,7 +130,7 @@ def steady_axes(model: Model) -> list[sp.Matrix]:
     ----------
     BKM12-25
     """
-    w = list(model.definitions["omega"])
+    w = list(model.omega)
     res = steady_rotation_residual(model)
     W = sp.Symbol("w", real=True)
     axes = []
@@ -199,10 +199,10 @@ def steady_rotation(model: Model, axis: int, w: sp.Symbol | None = None) -> Stea
     R = axis_rotation(axis, -w * t)
     vectors = {name: R * model.vectors[name] for name in _vector_names(model)}
     sub = {s: e for name, v in vectors.items() for s, e in zip(model.vectors[name], v, strict=True)}
-    sub.update(dict(zip(model.definitions["omega"], omega, strict=True)))
-    M = model.definitions["momentum_of_omega"].xreplace(sub)
+    sub.update(dict(zip(model.omega, omega, strict=True)))
+    M = model.momentum_of_omega.xreplace(sub)
     state = dict(sub)
-    for s in model.definitions["omega"]:
+    for s in model.omega:
         state.pop(s)
     state.update(dict(zip(model.vectors["M"], M, strict=True)))
     return SteadyRotation(axis, w, omega, vectors, M, state)

@@ -36,7 +36,7 @@ import sympy as sp
 from .algebra import seeded_factor
 from .ball_on_surface import ellipsoid_sampler
 from .engine import ReducedEquations, RigidBodyDescription, lagrange_dalembert
-from .model import Model, ParameterSpec
+from .model import Model, ModelDetails, ParameterSpec
 from .vectors import cross, dot, vector
 
 __all__ = [
@@ -182,6 +182,25 @@ def derive_body_on_sphere(
     )
 
 
+@dataclass(frozen=True)
+class BodyOnSphereDetails(ModelDetails):
+    """Derived objects of :func:`body_on_sphere_model` (``Model.details``).
+
+    Attributes
+    ----------
+    equations : BodyOnSphere
+        The derivation.
+    surface : sympy.Expr
+        ``f(r)`` of the body's surface.
+    inertia : sympy.Matrix, shape (3, 3)
+        Central inertia tensor of the body.
+    """
+
+    equations: BodyOnSphere
+    surface: sp.Expr
+    inertia: sp.Matrix
+
+
 def body_on_sphere_model(
     surface: sp.Expr,
     inertia: sp.Matrix,
@@ -205,13 +224,13 @@ def body_on_sphere_model(
     constraints : tuple of sympy.Expr
         Polynomials vanishing on the phase space (the body surface ``f = 0``).
     sampler : callable, optional
-        Exact rational sampler of the surface (``definitions["phase_space_sampler"]``).
+        Exact rational sampler of the surface (``Model.sampler``).
 
     Returns
     -------
     Model
         System ``"body_on_sphere"``: state ``omega1..3, r1..3``, energy ``H`` as the only
-        integral, no density; ``definitions`` carry the :class:`BodyOnSphere` equations,
+        integral, no density; ``details`` carry the :class:`BodyOnSphere` equations,
         the surface and the inertia.
 
     References
@@ -239,12 +258,9 @@ def body_on_sphere_model(
         geometry=(),
         integrals=(("H", eq.energy),),
         density=None,
-        definitions={
-            "equations": eq,
-            "surface": surface,
-            "inertia": inertia,
-            **({"phase_space_sampler": sampler} if sampler is not None else {}),
-        },
+        omega=omega,
+        sampler=sampler,
+        details=BodyOnSphereDetails(equations=eq, surface=surface, inertia=inertia),
     )
 
 

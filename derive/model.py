@@ -3,16 +3,30 @@
 from __future__ import annotations
 
 import hashlib
+import random
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Any
 
 import sympy as sp
 
 from .algebra import ConstraintIdeal
+from .engine import StructuredInverse
+from .errors import DerivationError
 from .geometry import PoissonGroup
 
-__all__ = ["Model", "ParameterSpec", "MODEL_FORMAT_VERSION"]
+__all__ = [
+    "Model",
+    "ModelDetails",
+    "ParameterSpec",
+    "PhaseSpaceSampler",
+    "Reparametrisation",
+    "MODEL_FORMAT_VERSION",
+]
+
+#: ``sampler(rng, point)`` writes an exact rational point of a model's phase space (and
+#: the parameters that shape it) into the dict ``point``; picklable (models are cached).
+PhaseSpaceSampler = Callable[[random.Random, dict], None]
 
 #: Bumped whenever the meaning of a Model field changes (part of every model hash).
 MODEL_FORMAT_VERSION = 1
@@ -35,6 +49,35 @@ class ParameterSpec:
     symbols: tuple[sp.Symbol, ...]
     domain: str
     description: str
+
+
+@dataclass(frozen=True)
+class Reparametrisation:
+    """An invertible change of parameters used by exact identity checks.
+
+    The verifier rewrites a residual in the new parameters (``inverse``) and computes
+    their values from the physical ones (``forward``); ``A_i = 1/J_ii`` keeps the
+    numerators of the Chaplygin ball small.
+
+    Attributes
+    ----------
+    forward : dict of sympy.Symbol to sympy.Expr
+        New parameter -> expression in the model's parameters (and possibly time).
+    inverse : dict of sympy.Symbol to sympy.Expr
+        Model parameter -> expression in the new parameters.
+    """
+
+    forward: Mapping[sp.Symbol, sp.Expr]
+    inverse: Mapping[sp.Symbol, sp.Expr]
+
+
+class ModelDetails:
+    """Base of the system-specific derivation records a Model carries in ``details``.
+
+    Each system module defines a (frozen) dataclass subclass whose fields are the
+    derived objects its claims and tests read (``BallDetails`` of
+    :mod:`.chaplygin_ball` ...); they do not enter the model hash.
+    """
 
 
 @dataclass(frozen=True, eq=False)
@@ -69,11 +112,43 @@ class Model:
         numerics reports the drift of each, verify proves each.
     density : sympy.Expr or None
         Density of the invariant measure in the state variables.
-    definitions : dict
-        Derived objects kept for checks and documentation (momentum as a function of
-        omega, inertia operator, reference-point velocity ...).
+    omega : sympy.Matrix or None, shape (3, 1)
+        Angular-velocity symbols (auxiliary symbols, or state symbols of a model
+        written in ``omega``).
+    momentum_of_omega : sympy.Matrix or None, shape (3, 1)
+        The momentum state as a function of ``omega`` (``M = II omega`` plus what the
+        state includes, ``k(t)`` with ``variable_gyrostat``).
+    inertia_operator : sympy.Matrix or None, shape (3, 3)
+        ``II = dM/domega``.
+    structured_inverse : StructuredInverse or None
+        ``II = J + U C U^T`` on the phase space (the Woodbury form behind ``omega``).
+    euler_poincare_remainder : sympy.Matrix or None, shape (3, 1)
+        ``M' - (M + P0) x omega`` as derived (zero for the ball and the support).
+    invariant_relations : tuple of (str, sympy.Expr)
+        Constraints on omega alone kept by the flow (``(omega, gamma)`` ...): zero on
+        the phase space; linear in :attr:`relation_unknowns`.
+    relation_unknowns : tuple of sympy.Symbol
+        State symbols the invariant relations (and a check's level sets of linear
+        integrals) are solved for when a point is sampled (the momentum).
+    reparametrisation : Reparametrisation or None
+        Invertible change of parameters for exact checks.
+    sampler : callable or None
+        ``sampler(rng, point)``: exact rational point of a phase space that is not made
+        of the Poisson vectors of :attr:`geometry` (and the parameters that shape it);
+        see :mod:`.phase_space`.
+    details : ModelDetails or None
+        System-specific derived objects (a typed record of the system's module).
     references : dict of str to str
         Claim IDs (FORMULAS.md) the parts of the model correspond to.
+
+    Raises
+    ------
+    DerivationError
+        When made with a symbol in the right-hand side, an auxiliary definition, an
+        integral, a constraint, the density or an invariant relation that is neither
+        state, parameter, auxiliary nor time; with a parameter that neither the
+        right-hand side nor an auxiliary definition uses; or with invariant relations
+        but no relation unknowns.
     """
 
     system: str
@@ -87,8 +162,54 @@ class Model:
     geometry: tuple[PoissonGroup, ...]
     integrals: tuple[tuple[str, sp.Expr], ...]
     density: sp.Expr | None
-    definitions: dict[str, Any] = field(default_factory=dict)
+    omega: sp.Matrix | None = None
+    momentum_of_omega: sp.Matrix | None = None
+    inertia_operator: sp.Matrix | None = None
+    structured_inverse: StructuredInverse | None = None
+    euler_poincare_remainder: sp.Matrix | None = None
+    invariant_relations: tuple[tuple[str, sp.Expr], ...] = ()
+    relation_unknowns: tuple[sp.Symbol, ...] = ()
+    reparametrisation: Reparametrisation | None = None
+    sampler: PhaseSpaceSampler | None = None
+    details: ModelDetails | None = None
     references: dict[str, str] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        self._validate()
+
+    def _validate(self) -> None:
+        """Every symbol declared, every parameter used (see the class docstring)."""
+        declared = set(self.params) | set(self.state) | set(self.aux_symbols) | {self.time}
+        parts: list[tuple[str, object]] = [("the right-hand side", e) for e in self.rhs]
+        parts += [(f"the auxiliary definition of {s}", e) for s, e in self.aux]
+        parts += [(f"the integral {n}", e) for n, e in self.integrals]
+        parts += [(f"the invariant relation {n}", e) for n, e in self.invariant_relations]
+        parts += [("a phase-space constraint", e) for e in self.constraints]
+        if self.density is not None:
+            parts.append(("the density", self.density))
+        for where, expr in parts:
+            undeclared = sp.sympify(expr).free_symbols - declared
+            if undeclared:
+                names = ", ".join(sorted(s.name for s in undeclared))
+                raise DerivationError(
+                    f"model {self.name}: {where} uses {names}, which is neither a state, a "
+                    "parameter, an auxiliary symbol nor time: declare it (a ParameterSpec, "
+                    "a state group or an aux definition)"
+                )
+        used = set().union(
+            *(sp.sympify(e).free_symbols for e in (*self.rhs, *(e for _, e in self.aux)))
+        )
+        unused = [s.name for s in self.params if s not in used]
+        if unused:
+            raise DerivationError(
+                f"model {self.name}: parameters {', '.join(unused)} are used by no equation: "
+                "remove them from the parameters (an effect that is off leaves none behind)"
+            )
+        if self.invariant_relations and not self.relation_unknowns:
+            raise DerivationError(
+                f"model {self.name}: invariant relations need relation_unknowns (the state "
+                "symbols they are solved for when a point is sampled)"
+            )
 
     # ----------------------------------------------------------------- structure
     @property

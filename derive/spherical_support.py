@@ -61,11 +61,12 @@ import mpmath
 import sympy as sp
 
 from .algebra import ConstraintIdeal
+from .description import MechanicalDescription, apply_effects
 from .effects import parse_effects
 from .engine import ReducedEquations
 from .errors import DerivationError, UserInputError
 from .geometry import FRAME, UNIT_VECTOR, PoissonGroup
-from .model import Model, ParameterSpec
+from .model import Model, ModelDetails, ParameterSpec, Reparametrisation
 from .multibody import MultiBodyDescription, MultiBodyReduction, ferrers_multibody
 from .vectors import cross, dot, vector
 
@@ -76,6 +77,9 @@ __all__ = [
     "GENERATED_VARIANTS",
     "BUILDER",
     "SupportDerivation",
+    "NBallDetails",
+    "ClosedSupportDetails",
+    "support_description",
     "SupportParameters",
     "derive_support",
     "n_ball_model",
@@ -135,6 +139,56 @@ class SupportDerivation:
         return lam * (1 / r**2 - 1) if self.rubber else lam / r**2
 
 
+@dataclass(frozen=True)
+class NBallDetails(ModelDetails):
+    """Derived objects of :func:`n_ball_model` (``Model.details``).
+
+    Attributes
+    ----------
+    derivation : SupportDerivation
+    directions : list of sympy.Matrix
+        Body-frame contact directions (symbolic, or in the frame ``alpha, beta, gamma``).
+    space_directions : list of sympy.Matrix or None
+        Their exact space components (None for symbolic directions).
+    on_directions : dict
+        The substitution of the symbolic ``n_k`` by ``directions``.
+    support_tensor : sympy.Matrix, shape (3, 3)
+        ``sum_k w_k n_k ⊗ n_k``.
+    n_balls : int
+    """
+
+    derivation: SupportDerivation
+    directions: list[sp.Matrix]
+    space_directions: list[sp.Matrix] | None
+    on_directions: dict
+    support_tensor: sp.Matrix
+    n_balls: int
+
+
+@dataclass(frozen=True)
+class ClosedSupportDetails(ModelDetails):
+    """Derived objects of the closed support model (``Model.details``).
+
+    Attributes
+    ----------
+    derivation : SupportDerivation
+        The three virtual balls' derivation the model comes from.
+    gyrostatic_momentum : sympy.Matrix, shape (3, 1)
+    virtual_support : dict
+        Substitution of the virtual balls' data (directions, weights, ratios, spins).
+    momentum_rate_of_omega : sympy.Matrix, shape (3, 1)
+        ``M'`` in ``omega`` and the frame as derived.
+    derived_energy : sympy.Expr
+        ``T`` on the admissible velocities (equal to ``(M, omega)/2``, BKM12-37).
+    """
+
+    derivation: SupportDerivation
+    gyrostatic_momentum: sp.Matrix
+    virtual_support: dict
+    momentum_rate_of_omega: sp.Matrix
+    derived_energy: sp.Expr
+
+
 def _check_n(n_balls: int) -> int:
     if isinstance(n_balls, bool) or not isinstance(n_balls, int) or n_balls < 1:
         raise UserInputError(
@@ -143,49 +197,79 @@ def _check_n(n_balls: int) -> int:
     return n_balls
 
 
-@lru_cache(maxsize=16)
-def _derive(n_balls: int, effects: frozenset[str]) -> SupportDerivation:
-    rubber = "rubber_balls" in effects
+def support_description(
+    n_balls: int, effects: frozenset[str] = frozenset()
+) -> MechanicalDescription:
+    """The body on ``n_balls`` balls that roll without slipping (no effect applied yet).
+
+    ``T = (omega, I omega)/2 + sum_k lambda_k (omega_k, omega_k)/2`` and the no-slip
+    constraints ``omega x n_k + r_k omega_k x n_k = 0`` (BKM12-27); the bodies are the
+    balls ``(omega_k, n_k)``.
+
+    Parameters
+    ----------
+    n_balls : int
+    effects : frozenset of str
+        Recorded in the description; not applied here.
+
+    Returns
+    -------
+    MechanicalDescription
+    """
     omega = vector("omega", real=True)
     Iv = vector("I", positive=True)
-    K = vector("K", real=True) if "gyrostat" in effects else None
     lambdas = sp.symbols(f"lambda1:{n_balls + 1}", positive=True)
     ratios = sp.symbols(f"r1:{n_balls + 1}", positive=True)
     balls = [vector(f"omega_{k + 1}_", real=True) for k in range(n_balls)]
     dirs = [vector(f"n{k + 1}_", real=True) for k in range(n_balls)]
-    spins = () if rubber else sp.symbols(f"nu1:{n_balls + 1}", real=True)
-    T = (omega.T * sp.diag(*Iv) * omega)[0] / 2
-    T += sum((lam * dot(w, w) / 2 for lam, w in zip(lambdas, balls, strict=True)), sp.S.Zero)
-    if K is not None:
-        T += dot(K, omega)
-    constraints: list[sp.Expr] = []
+    desc = MechanicalDescription(
+        system=NAME, effects=effects, time=T_SYMBOL, omega=omega, inertia=list(Iv)
+    )
+    desc.add_kinetic_energy(
+        sum((lam * dot(w, w) / 2 for lam, w in zip(lambdas, balls, strict=True)), sp.S.Zero)
+    )
+    desc.bodies = list(zip(balls, dirs, strict=True))
     for k in range(n_balls):
-        constraints += list(cross(omega, dirs[k]) + ratios[k] * cross(balls[k], dirs[k]))
-        if rubber:
-            constraints.append(dot(omega - balls[k], dirs[k]))
+        desc.add_kinematics(f"n{k + 1}", dirs[k], cross(dirs[k], omega))
+        for c in cross(omega, dirs[k]) + ratios[k] * cross(balls[k], dirs[k]):
+            desc.add_constraint(c)
+    desc.add_parameter(ParameterSpec("I", tuple(Iv), "positive", "central principal moments"))
+    desc.add_parameter(ParameterSpec("lambda", lambdas, "positive", "moments of the balls"))
+    desc.add_parameter(ParameterSpec("r", ratios, "positive", "radius ratios r_k = R_k/R0"))
+    return desc
+
+
+@lru_cache(maxsize=16)
+def _derive(n_balls: int, effects: frozenset[str]) -> SupportDerivation:
+    desc = support_description(n_balls, effects)
+    apply_effects(desc, effects, SUPPORTED_EFFECTS)
+    omega = desc.omega
+    balls = [w for w, _ in desc.bodies]
+    dirs = [n for _, n in desc.bodies]
+    spins = sp.symbols(f"nu1:{n_balls + 1}", real=True) if desc.free_spins else ()
     quasi = [(spins[k], dot(balls[k], dirs[k])) for k in range(len(spins))]
     ideal = ConstraintIdeal([dot(n, n) - 1 for n in dirs], [s for n in dirs for s in n])
-    desc = MultiBodyDescription(
+    mb = MultiBodyDescription(
         omega=omega,
         bodies={f"ball{k + 1}": balls[k] for k in range(n_balls)},
-        kinetic_energy=T,
-        constraints=constraints,
-        kinematics={f"n{k + 1}": (dirs[k], cross(dirs[k], omega)) for k in range(n_balls)},
+        kinetic_energy=desc.total_kinetic_energy(),
+        constraints=desc.constraints,
+        kinematics=desc.kinematics,
         phase_space=ideal,
         time=T_SYMBOL,
         quasi_velocities=quasi,
     )
     return SupportDerivation(
-        reduction=ferrers_multibody(desc),
+        reduction=ferrers_multibody(mb),
         omega=omega,
         ball_velocities=balls,
         directions=dirs,
         spins=tuple(spins),
-        I=Iv,
-        lambdas=tuple(lambdas),
-        ratios=tuple(ratios),
-        K=K,
-        rubber=rubber,
+        I=sp.Matrix(desc.parameters["I"].symbols),
+        lambdas=desc.parameters["lambda"].symbols,
+        ratios=desc.parameters["r"].symbols,
+        K=sp.Matrix(desc.parameters["K"].symbols) if "K" in desc.parameters else None,
+        rubber=not desc.free_spins,
     )
 
 
@@ -259,9 +343,9 @@ def n_ball_model(
     -------
     Model
         State ``M`` (the reduced momentum) and the directions or the frame; ``omega`` is
-        an auxiliary ``II^-1 M`` (cofactors, unsimplified); ``definitions`` carry the
-        derivation (``"derivation"``), the body-frame directions (``"directions"``), the
-        support tensor (``"support_tensor"``) and the substitution ``"on_directions"``.
+        an auxiliary ``II^-1 M`` (cofactors, unsimplified); ``details`` (NBallDetails)
+        carry the derivation, the body-frame directions, the support tensor and the
+        substitution ``on_directions``.
     """
     der = derive_support(n_balls, effects)
     red = der.reduction
@@ -326,15 +410,15 @@ def n_ball_model(
         geometry=geometry,
         integrals=(),
         density=None,
-        definitions={
-            "derivation": der,
-            "omega": omega,
-            "directions": body_dirs,
-            "space_directions": space,
-            "on_directions": subs,
-            "support_tensor": tensor,
-            "n_balls": n_balls,
-        },
+        omega=omega,
+        details=NBallDetails(
+            derivation=der,
+            directions=body_dirs,
+            space_directions=space,
+            on_directions=subs,
+            support_tensor=tensor,
+            n_balls=n_balls,
+        ),
         references={"equations": "BKM12-31", "momentum": "BKM12-2.1M"},
     )
 
@@ -389,9 +473,8 @@ def build_spherical_support(effects: Iterable[str] | str | None = ()) -> Model:
     ('I1', 'I2', 'I3', 'D_iso', 'D_al', 'D_be')
     """
     effects = parse_effects(effects, SUPPORTED_EFFECTS)
-    rubber = "rubber_balls" in effects
-    gyro = "gyrostat" in effects
-    der = _derive(3, effects)
+    der = _derive(3, effects)  # the effects applied themselves to the balls' description
+    rubber, gyro = der.rubber, der.K is not None
     red = der.reduction
     M = vector("M", real=True)
     alpha, beta, gamma = (vector(n, real=True) for n in ("alpha", "beta", "gamma"))
@@ -479,7 +562,7 @@ def build_spherical_support(effects: Iterable[str] | str | None = ()) -> Model:
     P_name = "M+K" if gyro else "M"
     integrals = [
         # (M, omega)/2 on the phase space; the derived energy (T on the admissible
-        # velocities, in definitions["derived_energy"]) is proved equal to it (BKM12-37)
+        # velocities, in details.derived_energy) is proved equal to it (BKM12-37)
         # but its Lie derivative is far larger to reduce
         ("H", dot(M, omega) / 2),
         (f"({P_name},alpha)", sp.expand(dot(P, alpha))),
@@ -511,25 +594,23 @@ def build_spherical_support(effects: Iterable[str] | str | None = ()) -> Model:
         geometry=geometry,
         integrals=tuple(integrals),
         density=density,
-        definitions={
-            "omega": omega,
-            "momentum_of_omega": II * omega,
-            "inertia_operator": II,
-            "gyrostatic_momentum": P0,
-            "structured_inverse": structured,
-            "X": X,
-            "J": structured.J,
-            "derivation": der,
-            "virtual_support": subs,
-            "momentum_rate_of_omega": rate,
-            "derived_energy": energy,
-            "euler_poincare_remainder": remainder,
-            "phase_space_sampler": _physical_support_sampler(D_iso, D_al, D_be),
-            "reparametrisation": {
-                "forward": {A_syms[i]: 1 / structured.J[i, i] for i in range(3)},
-                "inverse": {Iv[i]: 1 / A_syms[i] - D_iso for i in range(3)},
-            },
-        },
+        omega=omega,
+        momentum_of_omega=II * omega,
+        inertia_operator=II,
+        structured_inverse=structured,
+        euler_poincare_remainder=remainder,
+        sampler=_physical_support_sampler(D_iso, D_al, D_be),
+        reparametrisation=Reparametrisation(
+            forward={A_syms[i]: 1 / structured.J[i, i] for i in range(3)},
+            inverse={Iv[i]: 1 / A_syms[i] - D_iso for i in range(3)},
+        ),
+        details=ClosedSupportDetails(
+            derivation=der,
+            gyrostatic_momentum=P0,
+            virtual_support=subs,
+            momentum_rate_of_omega=rate,
+            derived_energy=energy,
+        ),
         references={
             "equations": "BKM12-2.3" if gyro else "BKM12-32",
             "momentum": "BKM12-33",

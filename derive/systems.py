@@ -3,7 +3,8 @@
 Each system lives in its own module of ``chaplygin.derive`` (listed in
 :data:`SYSTEM_MODULES`) and declares ``NAME``, ``DESCRIPTION``, ``BUILDER`` (effects ->
 Model), ``SUPPORTED_EFFECTS`` and ``GENERATED_VARIANTS`` (the effect combinations whose
-code is committed in ``generated/``).
+code is committed in ``generated/``); optionally ``SIGNATURE`` (effects -> state groups
+and parameters, from the mechanical description alone, without deriving).
 """
 
 from __future__ import annotations
@@ -33,6 +34,8 @@ __all__ = [
     "build_model",
     "builtin_variants",
     "variant_name",
+    "variant_signature",
+    "VariantSignature",
     "model_cache_dir",
 ]
 
@@ -52,6 +55,37 @@ class System:
     effects: tuple[str, ...]
     variants: tuple[tuple[str, ...], ...]
     description: str
+    signature: Callable[[frozenset[str]], tuple] | None = None
+
+
+@dataclass(frozen=True)
+class VariantSignature:
+    """The state and parameter names of a variant, known before it is derived.
+
+    Same attributes as the generated code's ``ModelCode`` that input checks read, so
+    that bad input (a missing parameter ...) is refused before a derivation starts.
+
+    Attributes
+    ----------
+    name : str
+    state_groups : dict of str to tuple of str
+    parameter_groups : dict of str to (tuple of str, str, str)
+        ``name -> (symbols, domain, description)``.
+    """
+
+    name: str
+    state_groups: dict[str, tuple[str, ...]]
+    parameter_groups: dict[str, tuple[tuple[str, ...], str, str]]
+
+    @property
+    def state(self) -> tuple[str, ...]:
+        """State names in order."""
+        return tuple(s for group in self.state_groups.values() for s in group)
+
+    @property
+    def params(self) -> tuple[str, ...]:
+        """Parameter names in order."""
+        return tuple(s for symbols, _, _ in self.parameter_groups.values() for s in symbols)
 
 
 def _load_systems() -> dict[str, System]:
@@ -64,6 +98,7 @@ def _load_systems() -> dict[str, System]:
             tuple(mod.SUPPORTED_EFFECTS),
             tuple(tuple(sorted(v)) for v in mod.GENERATED_VARIANTS),
             mod.DESCRIPTION,
+            getattr(mod, "SIGNATURE", None),
         )
     return out
 
@@ -173,7 +208,9 @@ def build_model(
     Raises
     ------
     UserInputError
-        Unknown system or effect (the message lists the valid names).
+        Unknown system or effect (the message lists the valid names), effects that
+        exclude each other, an effect without one it requires: all before anything is
+        derived.
     """
     sysdef = get_system(system)
     chosen = parse_effects(effects, sysdef.effects)
@@ -186,6 +223,38 @@ def build_model(
             _store(path, model)
         _CACHE[key] = model
     return _CACHE[key]
+
+
+def variant_signature(
+    system: str, effects: Iterable[str] | str | None = ()
+) -> VariantSignature | None:
+    """State and parameter names of a variant without deriving it (milliseconds).
+
+    Parameters
+    ----------
+    system : str
+    effects : iterable of str or comma-separated str, optional
+
+    Returns
+    -------
+    VariantSignature or None
+        None when the system has no ``SIGNATURE`` (its model must be built).
+
+    Raises
+    ------
+    UserInputError
+        Unknown system or effect, conflicting effects, a missing required effect.
+    """
+    sysdef = get_system(system)
+    chosen = parse_effects(effects, sysdef.effects)
+    if sysdef.signature is None:
+        return None
+    state_groups, parameters = sysdef.signature(chosen)
+    return VariantSignature(
+        variant_name(system, chosen),
+        {name: tuple(s.name for s in group) for name, group in state_groups},
+        {p.name: (tuple(s.name for s in p.symbols), p.domain, p.description) for p in parameters},
+    )
 
 
 def builtin_variants() -> list[tuple[str, frozenset[str]]]:

@@ -21,6 +21,7 @@ import numpy as np
 import sympy as sp
 
 from ..derive.bifurcation import bifurcation_curve
+from ..derive.emit import emit_function
 from ..derive.systems import build_model
 from .code import load_model_code
 from .integrate import integrate
@@ -44,11 +45,13 @@ __all__ = [
 
 @cache
 def _sigma_functions():
-    """Derived ``E = Sigma_i(C, M_gamma)`` of the ball, lambdified (I1, I2, I3, D)."""
+    """Derived ``E = Sigma_i(C, M_gamma)`` of the ball as numpy functions of (C, M_gamma, I1, I2,
+    I3, D) (:func:`~chaplygin.derive.emit.emit_function`)."""
     model = build_model("chaplygin_ball", ())
     C, Mg = sp.Symbol("C", real=True), sp.Symbol("M_gamma", real=True)
+    args = [C, Mg, *model.params]
     return [
-        sp.lambdify([C, Mg, *model.params], bifurcation_curve(model, i), "numpy") for i in range(3)
+        emit_function(args, bifurcation_curve(model, i), name=f"sigma{i + 1}") for i in range(3)
     ]
 
 

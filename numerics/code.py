@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import importlib
 import json
-import linecache
 import types
 import warnings
 from dataclasses import dataclass, field
@@ -17,6 +16,7 @@ from importlib import resources
 from typing import Any
 
 from ..derive.effects import parse_effects
+from ..derive.emit.functions import module_from_source
 from ..derive.systems import get_system, variant_name
 
 __all__ = ["ModelCode", "load_model_code", "generated_manifest"]
@@ -26,15 +26,6 @@ def generated_manifest() -> dict[str, dict]:
     """``generated/manifest.json``: variant -> hash, system, effects, files."""
     text = resources.files("chaplygin.generated").joinpath("manifest.json").read_text()
     return json.loads(text)
-
-
-def _module_from_source(name: str, source: str) -> types.ModuleType:
-    filename = f"<chaplygin-generated {name}>"
-    linecache.cache[filename] = (len(source), None, source.splitlines(True), filename)
-    module = types.ModuleType(name)
-    module.__file__ = filename
-    exec(compile(source, filename, "exec"), module.__dict__)  # our own emitted code
-    return module
 
 
 @dataclass
@@ -175,11 +166,11 @@ def load_model_code(system: str, effects=None) -> ModelCode:
         ((_, tc_src),) = TaylorCEmitter().emit(model, routines)
         code = ModelCode(
             name=name,
-            numpy=_module_from_source(f"{name}_numpy", np_src),
-            mpmath=_module_from_source(f"{name}_mpmath", mp_src),
+            numpy=module_from_source(f"{name}_numpy", np_src),
+            mpmath=module_from_source(f"{name}_mpmath", mp_src),
             c_source=c_src,
             origin="emitted in memory",
-            taylor=_module_from_source(f"{name}_taylor", tp_src),
+            taylor=module_from_source(f"{name}_taylor", tp_src),
             taylor_c_source=tc_src,
         )
     _LOADED[name] = code

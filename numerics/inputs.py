@@ -79,7 +79,8 @@ class Precision:
             except (TypeError, ValueError):
                 raise UserInputError(
                     f"precision {value!r} is neither 'double', 'quad' nor a number of digits; "
-                    "use --precision double, --precision quad or e.g. --precision 30"
+                    'use precision="double", precision="quad" or a number of digits, '
+                    "e.g. precision=30"
                 ) from None
             if not 16 <= digits <= 10000:
                 raise UserInputError(
@@ -279,7 +280,8 @@ def working_number(value: Number | object, precision: Precision) -> float | mpma
         if abs(out) == float("inf") or (out == 0 and exact != 0):
             what = "overflows" if out else "underflows to zero in"
             raise UserInputError(
-                f"value {value!r} {what} double precision; use --precision quad or digits"
+                f'value {value!r} {what} double precision; use precision="quad" or digits, e.g. '
+                "precision=30"
             )
         return out
     with mpmath.workprec(bits):
@@ -402,6 +404,17 @@ def _eval_unchecked(node: ast.AST, src: str = "") -> mpmath.mpf:
     raise ValueError("unsupported syntax")
 
 
+def _argument(mapping: str, key: str, count: int, placeholder: str) -> str:
+    """How to give a value, in the API's words: ``params["I"]=(V1, V2, V3)``.
+
+    The command line translates this form to its flags (``--param I=V1,V2,V3``).
+    """
+    if count == 1:
+        return f'{mapping}["{key}"]={placeholder}'
+    values = ", ".join(f"{placeholder}{i}" for i in range(1, count + 1))
+    return f'{mapping}["{key}"]=({values})'
+
+
 def _items(name: str, raw: object, expected: int) -> list:
     """The ``expected`` raw entries of a group given as text ``"a,b,c"``, a sequence or a number."""
     if isinstance(raw, str | bytes):
@@ -464,8 +477,8 @@ def pack_params(code: ModelCode, values: Mapping[str, object], precision: Precis
     for name, (symbols, domain, desc) in groups.items():
         if name not in values:
             raise UserInputError(
-                f"missing parameter {name} ({desc}) for {code.name}: add --param {name}="
-                + ",".join(["VALUE"] * len(symbols))
+                f"missing parameter {name} ({desc}) for {code.name}: give "
+                + _argument("params", name, len(symbols), "VALUE")
             )
         # each value is rounded once to the working precision, and checked after rounding
         vals = _working_values(name, values[name], len(symbols), precision)
@@ -538,7 +551,8 @@ def pack_state(code: ModelCode, values: Mapping[str, object], precision: Precisi
         for required in ("M", "gamma"):
             if required in groups and required not in got:
                 raise UserInputError(
-                    f"missing initial value of {required}: add --y0 {required}=V1,V2,V3"
+                    f"missing initial value of {required}: give "
+                    + _argument("y0", required, 3, "V")
                 )
         if "gamma" in got:
             got["gamma"] = _unit("gamma", got["gamma"])
@@ -603,8 +617,10 @@ def _frame(got: dict) -> dict:
             "M is parallel to gamma (|M x gamma| = "
             f"{mpmath.nstr(s, 3)}), where the frame of BKM12-7, alpha = M x gamma/|M x gamma|, "
             "is undefined: give alpha and beta explicitly (a right-handed orthonormal frame "
-            "with alpha x beta = gamma), e.g. --y0 alpha=A1,A2,A3 --y0 beta=B1,B2,B3"
+            "with alpha x beta = gamma), e.g. "
+            + _argument("y0", "alpha", 3, "A")
+            + " and "
+            + _argument("y0", "beta", 3, "B")
         )
     alpha = [c / s for c in mxg]  # BKM12-7
     return {"alpha": alpha, "beta": _cross(gamma, alpha)}
-

@@ -35,6 +35,7 @@ import numpy as np
 import sympy as sp
 
 from ..derive import hamiltonisation as hz
+from ..derive.emit import emit_function
 from ..derive.errors import UserInputError
 from .code import load_model_code
 
@@ -57,7 +58,7 @@ def _R_coefficients():
     q, l1, l2, D = sp.symbols("q lam1 lam2 D")
     a = sp.symbols("a1:4")
     poly = sp.Poly(sp.expand(hz.separation_polynomial(q, l1, l2, a, D)), q)
-    return sp.lambdify((l1, l2, *a, D), poly.all_coeffs(), modules="mpmath")
+    return emit_function((l1, l2, *a, D), poly.all_coeffs(), "mpmath", name="R_coefficients")
 
 
 @dataclass

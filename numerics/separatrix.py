@@ -47,6 +47,7 @@ __all__ = [
     "agreeing_digits",
     "check_inertia",
     "flow",
+    "ENGINES",
     "near_separatrix_state",
     "separatrix_trace",
     "frame_turn",
@@ -182,32 +183,67 @@ def delta_quadrature(mu, b=1, dps: int = 30, method: str = "zeros"):
         return +(2 * b * half)
 
 
-def flow(y0, params, t_end, digits: int, engine: str = "jet"):
-    """Integrate the full ``chaplygin_ball__contact_point`` equations from ``y0``.
+#: Integrators of the full equations for :func:`flow`; ``jet`` (the tape integrator of
+#: ``numerics/jet.py``, now removed) is kept as an alias of ``taylor``.
+ENGINES = ("taylor", "odefun")
+_ENGINE_ALIASES = {"jet": "taylor"}
 
-    The one place the integrator is chosen: ``jet`` (:func:`chaplygin.numerics.jet.taylor_flow`
-    on the generated mpmath right-hand side) or ``odefun`` (the project's
-    ``integrate(..., precision=digits)``, ``mpmath.odefun``). Returns the final state as
-    mpmath numbers.
+
+def flow(
+    y0: Sequence, params: Sequence, t_end, digits: int, engine: str = "taylor"
+) -> tuple[list, int]:
+    """Integrate the full ``chaplygin_ball__contact_point`` equations from ``y0`` at t = 0.
+
+    The one place the integrator is chosen: ``taylor`` (the generated Taylor integrator,
+    :func:`chaplygin.numerics.taylor.taylor_solve`, MPFR at ``digits`` with local
+    tolerance ``10^-digits``; ``jet`` is an alias) or ``odefun`` (``mpmath.odefun``, a
+    cross-check).
+
+    Parameters
+    ----------
+    y0, params : sequence of numbers
+        State in the model's order and ``I1, I2, I3, D, b``.
+    t_end : number
+        Negative for a backward integration.
+    digits : int
+        Working precision (decimal digits).
+    engine : {"taylor", "odefun", "jet"}
+
+    Returns
+    -------
+    (list of mpmath.mpf, int)
+        The state at ``t_end`` and the number of steps (``odefun``: right-hand side calls).
+
+    Raises
+    ------
+    ValueError
+        An unknown engine, or a failed integration.
     """
     from .code import load_model_code
 
+    engine = _ENGINE_ALIASES.get(engine, engine)
     code = load_model_code("chaplygin_ball", ("contact_point",))
-    if engine == "jet":
-        from .jet import taylor_flow
+    if engine == "taylor":
+        from .taylor import taylor_solve
 
-        with mpmath.workdps(digits + 5):
-            res = taylor_flow(
-                code.mpmath.rhs,
-                [mpmath.nstr(v, digits + 5) for v in y0],
-                [mpmath.nstr(v, digits + 5) for v in params],
-                mpmath.nstr(t_end, digits + 5),
-                digits,
+        with mpmath.workdps(digits):
+            eps = 10.0**-digits
+            t1 = mpmath.mpf(t_end)
+            sol = taylor_solve(
+                code,
+                [mpmath.mpf(v) for v in y0],
+                (mpmath.mpf(0), t1),
+                [mpmath.mpf(v) for v in params],
+                precision="digits",
+                rtol=eps,
+                atol=eps,
+                t_eval=[t1],
             )
-            return [mpmath.mpf(str(v)) for v in res.y], res.steps
+            if sol.status != 0:
+                raise ValueError(f"the separatrix flow failed: {sol.message}")
+            return list(sol.y[:, -1]), sol.nsteps
     if engine == "odefun":
-        # the project's digits path (integrate(..., precision=digits)) is mpmath.odefun,
-        # which only runs forward: the backward flow is the forward flow of -f
+        # mpmath.odefun only runs forward: the backward flow is the forward flow of -f
         rhs = code.mpmath.rhs
         with mpmath.workdps(digits):
             sign = 1 if t_end >= 0 else -1
@@ -220,7 +256,9 @@ def flow(y0, params, t_end, digits: int, engine: str = "jet"):
 
             sol = mpmath.odefun(F, 0, [mpmath.mpf(v) for v in y0])
             return list(sol(abs(mpmath.mpf(t_end)))), counter[0]
-    raise ValueError(f"unknown engine {engine!r}: jet or odefun")
+    raise ValueError(
+        f"unknown engine {engine!r}: {' or '.join(ENGINES)} (jet is an alias of taylor)"
+    )
 
 
 def delta_ode(
@@ -230,7 +268,7 @@ def delta_ode(
     digits: int,
     C=1,
     L=None,
-    engine: str = "jet",
+    engine: str = "taylor",
 ) -> dict:
     """(a) Delta from the full equations, forward and backward from the separatrix point.
 
@@ -246,6 +284,8 @@ def delta_ode(
     L : number, optional
         ``lam t`` at the ends (default ``max(8, (digits + 5) ln 10/7)``): the tail series
         then needs 3 terms.
+    engine : {"taylor", "odefun", "jet"}
+        Integrator of :func:`flow` (``jet`` is an alias of ``taylor``).
 
     Returns
     -------
@@ -326,7 +366,7 @@ def delta_three_ways(
     b,
     digits: int,
     C=1,
-    engine: str = "jet",
+    engine: str = "taylor",
     methods: Sequence[str] = ("ode", "quadrature", "closed"),
 ) -> DeltaResult:
     """Delta by the full equations, the quadrature (3.7) and the closed form, at ``digits``."""

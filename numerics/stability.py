@@ -31,6 +31,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 from ..derive.bifurcation import steady_parameters, steady_rotation
+from ..derive.emit import emit_function
 from ..derive.errors import UserInputError
 from ..derive.systems import build_model
 from .code import load_model_code
@@ -96,14 +97,14 @@ def _critical_functions(axis: int):
     C, Mg = sp.Symbol("C", real=True), sp.Symbol("M_gamma", real=True)
     params = list(model.params)
     sols = steady_parameters(model, axis)
-    par = [sp.lambdify([C, Mg, *params], [s["w"], s["g"]], "numpy") for s in sols]
+    par = [emit_function([C, Mg, *params], [s["w"], s["g"]], name="steady_level") for s in sols]
     fam = steady_rotation(model, axis)
     gamma = model.vectors["gamma"]
     g = sp.Symbol("g", real=True)
     j = (axis + 1) % 3
     at = {gamma[axis]: g, gamma[j]: sp.sqrt(1 - g**2), gamma[(axis + 2) % 3]: 0}
     state = [fam.state[s].xreplace({model.time: 0}).xreplace(at) for s in model.state]
-    y_of = sp.lambdify([fam.w, g, *params], state, "numpy")
+    y_of = emit_function([fam.w, g, *params], state, name="steady_state")
     return par, y_of
 
 
@@ -337,7 +338,7 @@ def _support_functions(axis: int):
     fam = steady_rotation(model, axis)
     frame = [s for n in ("alpha", "beta", "gamma") for s in model.vectors[n]]
     state = [fam.state[s].xreplace({model.time: 0}) for s in model.state]
-    return sp.lambdify([fam.w, *frame, *model.params], state, "numpy")
+    return emit_function([fam.w, *frame, *model.params], state, name="support_state")
 
 
 def support_steady_state(params, axis: int, w: float, frame) -> tuple[np.ndarray, float]:

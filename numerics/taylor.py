@@ -51,6 +51,10 @@ __all__ = [
     "encode_binary128",
     "decode_binary128",
     "python_lib",
+    "RealType",
+    "REAL_TYPES",
+    "LoopNumbers",
+    "LOOP_NUMBERS",
 ]
 
 _QUAD_DEFINE = "#define CHAPLYGIN_TAYLOR_QUAD 1\n"
@@ -135,6 +139,93 @@ def decode_binary128(buf: np.ndarray | bytes, count: int | None = None) -> list:
     return out
 
 
+# --------------------------------------------------------------------------- C reals
+
+
+def _pack_double(values: Sequence[Any]) -> np.ndarray:
+    return np.ascontiguousarray(np.asarray([float(v) for v in values], dtype=float))
+
+
+def _unpack_double(buf: np.ndarray, count: int | None = None) -> np.ndarray:
+    return buf if count is None else buf[:count]
+
+
+def _rows_array(flat: np.ndarray, n: int, width: int) -> np.ndarray:
+    return np.asarray(flat[: n * width]).reshape(n, width).copy()
+
+
+def _rows_lists(flat: list, n: int, width: int) -> list[list]:
+    return [flat[i * width : (i + 1) * width] for i in range(n)]
+
+
+def _times_113(values: Sequence) -> np.ndarray:
+    with mpmath.workprec(113):
+        return np.array([+mpmath.mpf(v) for v in values], dtype=object)
+
+
+@dataclass(frozen=True)
+class RealType:
+    """The C ``REAL`` of one Taylor library and how values cross the interface.
+
+    Attributes
+    ----------
+    size : int
+        Bytes per value.
+    define : str
+        Source prefix selecting the type (``CHAPLYGIN_TAYLOR_QUAD``).
+    ldlibs : tuple of str
+    pack : callable
+        Values -> buffer.
+    unpack : callable
+        ``(buffer, count=None)`` -> float64 array (double) or list of mpf (quad).
+    empty : callable
+        ``count`` -> zeroed buffer.
+    rows : callable
+        ``(flat, n, width)`` -> ``n`` rows of ``width`` values.
+    times : callable
+        Times as the output array (float64, or mpf at 113 bits).
+    dtype : type
+        dtype of the output arrays.
+    """
+
+    size: int
+    define: str
+    ldlibs: tuple[str, ...]
+    pack: Callable[[Sequence[Any]], np.ndarray]
+    unpack: Callable[..., Any]
+    empty: Callable[[int], np.ndarray]
+    rows: Callable[[Any, int, int], Any]
+    times: Callable[[Sequence], np.ndarray]
+    dtype: type
+
+
+#: The C integrator's real types (``double`` and ``__float128``).
+REAL_TYPES: dict[str, RealType] = {
+    "double": RealType(
+        size=8,
+        define="",
+        ldlibs=(),
+        pack=_pack_double,
+        unpack=_unpack_double,
+        empty=np.zeros,
+        rows=_rows_array,
+        times=lambda values: np.asarray(values, dtype=float),
+        dtype=float,
+    ),
+    "quad": RealType(
+        size=16,
+        define=_QUAD_DEFINE,
+        ldlibs=("-lquadmath",),
+        pack=encode_binary128,
+        unpack=decode_binary128,
+        empty=lambda count: np.zeros(16 * count, np.uint8),
+        rows=_rows_lists,
+        times=_times_113,
+        dtype=object,
+    ),
+}
+
+
 # --------------------------------------------------------------------------- C library
 
 
@@ -151,6 +242,7 @@ class CompiledTaylor:
     def __init__(self, library: os.PathLike | str, kind: str, expected_hash: str | None = None):
         self.lib = _ffi.dlopen(os.fspath(library))
         self.kind = kind
+        self.real = REAL_TYPES[kind]
         self.model_hash = _ffi.string(self.lib.chaplygin_taylor_model_hash()).decode()
         if expected_hash is not None and self.model_hash != expected_hash:
             raise ValueError(
@@ -159,23 +251,21 @@ class CompiledTaylor:
         sizes = _ffi.new("int[5]")
         self.lib.chaplygin_taylor_sizes(sizes)
         self.n_state, self.n_param, self.n_nodes, self.max_order, self.real_size = list(sizes)
-        expected = 8 if kind == "double" else 16
-        if self.real_size != expected:
+        if self.real_size != self.real.size:
             raise ValueError(f"{library} holds {self.real_size}-byte reals, not {kind}")
 
     # conversion between Python values and REAL buffers
     def pack(self, values: Sequence[Any]) -> np.ndarray:
-        if self.kind == "double":
-            return np.ascontiguousarray(np.asarray([float(v) for v in values], dtype=float))
-        return encode_binary128(values)
+        """Buffer of ``values`` as the library's reals."""
+        return self.real.pack(values)
 
     def unpack(self, buf: np.ndarray, count: int | None = None) -> Any:
-        if self.kind == "double":
-            return buf if count is None else buf[:count]
-        return decode_binary128(buf, count)
+        """The first ``count`` reals of ``buf`` (all by default)."""
+        return self.real.unpack(buf, count)
 
     def empty(self, count: int) -> np.ndarray:
-        return np.zeros(count) if self.kind == "double" else np.zeros(16 * count, np.uint8)
+        """A zeroed buffer of ``count`` reals."""
+        return self.real.empty(count)
 
     @staticmethod
     def _ptr(a: np.ndarray):
@@ -190,11 +280,7 @@ class CompiledTaylor:
         self.lib.chaplygin_taylor_coefficients(
             order, ptr(self.pack([t0])), ptr(self.pack(y)), ptr(self.pack(p)), ptr(out)
         )
-        vals = self.unpack(out)
-        if self.kind == "double":
-            return np.asarray(vals).reshape(self.n_state, order + 1)
-        S = order + 1
-        return [vals[i * S : (i + 1) * S] for i in range(self.n_state)]
+        return self.real.rows(self.unpack(out), self.n_state, order + 1)
 
 
 _LIBS: dict[tuple[str, str], CompiledTaylor | None] = {}
@@ -209,10 +295,8 @@ def load_taylor_library(code, kind: str) -> CompiledTaylor | None:
     key = (code.hash, kind)
     if key in _LIBS:
         return _LIBS[key]
-    source = code.taylor_c_source
-    ldlibs: tuple[str, ...] = ()
-    if kind == "quad":
-        source, ldlibs = _QUAD_DEFINE + source, ("-lquadmath",)
+    real = REAL_TYPES[kind]
+    source, ldlibs = real.define + code.taylor_c_source, real.ldlibs
     try:
         path = compile_c(source, ldlibs=ldlibs)
         lib = CompiledTaylor(path, kind, expected_hash=code.hash)
@@ -307,6 +391,70 @@ class TaylorSolution:
     y_events: list = field(default_factory=list)
 
 
+@dataclass(frozen=True)
+class LoopNumbers:
+    """The numbers of the Python-side loop (steps, events, dense output) in one precision.
+
+    Attributes
+    ----------
+    number : callable
+        A value as the loop's number (``float`` or ``mpmath.mpf``).
+    vector : callable
+        A state as the loop's vector (float64 array or list of mpf).
+    dtype : type
+        dtype of the output arrays.
+    linspace : callable
+        ``(t0, t1, n)`` equispaced output times.
+    eps : callable
+        Unit roundoff (event location works to it).
+    bits : callable
+        MPFR bits of the Python recurrences (None: floats, no gmpy2 context).
+    python_lib : str
+        Number library of the Python recurrences (:func:`python_lib`).
+    compiled : bool
+        Whether a C integrator exists (:data:`REAL_TYPES`).
+    """
+
+    number: Callable[[Any], Any]
+    vector: Callable[[Sequence], Any]
+    dtype: type
+    linspace: Callable[[Any, Any, int], Sequence]
+    eps: Callable[[], float]
+    bits: Callable[[], int | None]
+    python_lib: str
+    compiled: bool
+
+
+def _mpf_loop(eps: Callable[[], float], bits: Callable[[], int], compiled: bool) -> LoopNumbers:
+    return LoopNumbers(
+        number=mpmath.mpf,
+        vector=lambda values: [mpmath.mpf(v) for v in values],
+        dtype=object,
+        linspace=lambda a, b, n: mpmath.linspace(mpmath.mpf(a), mpmath.mpf(b), n),
+        eps=eps,
+        bits=bits,
+        python_lib="gmpy2",
+        compiled=compiled,
+    )
+
+
+#: One row per precision of :func:`taylor_solve` (heyoka's ``fp_type``).
+LOOP_NUMBERS: dict[str, LoopNumbers] = {
+    "double": LoopNumbers(
+        number=float,
+        vector=lambda values: np.asarray(values, dtype=float),
+        dtype=float,
+        linspace=lambda a, b, n: np.linspace(float(a), float(b), n),
+        eps=lambda: 2.0**-52,
+        bits=lambda: None,
+        python_lib="float",
+        compiled=True,
+    ),
+    "quad": _mpf_loop(lambda: 2.0**-112, lambda: 113, compiled=True),
+    "digits": _mpf_loop(lambda: mpmath.eps, lambda: mpmath.mp.prec, compiled=False),
+}
+
+
 class _Stepper:
     """One adaptive step in the chosen number system; ``step`` returns the polynomial."""
 
@@ -324,9 +472,7 @@ class _Stepper:
             self.ord = _ffi.new("int *")
             self.backend = f"c-{kind}"
         else:
-            self.lib_kind = "float" if kind == "double" else "gmpy2"
-            if kind == "digits-mpmath":
-                self.lib_kind = "mpmath"
+            self.lib_kind = "mpmath" if kind == "digits-mpmath" else LOOP_NUMBERS[kind].python_lib
             self.lib = python_lib(self.lib_kind)
             self.fn = code.taylor.taylor_coefficients
             self.p = [_from_mpf(v, self.lib_kind) for v in p]
@@ -357,17 +503,10 @@ class _Stepper:
         )
         p = self.ord[0]
         S = p + 1
-        if lib.kind == "double":
-            C = self.coeffs[: n * S].reshape(n, S).copy()
-            h = float(self.h[0])
-            t_new, y_new = float(ty[0]), ty[1:].copy()
-        else:
-            flat = decode_binary128(self.coeffs, n * S)
-            C = [flat[i * S : (i + 1) * S] for i in range(n)]
-            (h,) = decode_binary128(self.h, 1)
-            vals = decode_binary128(ty, n + 1)
-            t_new, y_new = vals[0], vals[1:]
-        return t_new, y_new, C, h, p, status
+        C = lib.real.rows(lib.unpack(self.coeffs, n * S), n, S)
+        (h,) = lib.unpack(self.h, 1)
+        vals = lib.unpack(ty, n + 1)
+        return vals[0], vals[1:], C, h, p, status
 
     def _py_step(self, t, y, t_end):
         L, kind = self.lib, self.lib_kind
@@ -506,38 +645,34 @@ def taylor_solve(
     -------
     TaylorSolution
     """
-    if precision not in ("double", "quad", "digits"):
+    if precision not in LOOP_NUMBERS:
         raise ValueError(f"unknown precision {precision!r}")
+    numbers = LOOP_NUMBERS[precision]
     if order is not None and not 2 <= order <= 80:
         raise ValueError("order must be in 2..80")
     t0, t1 = t_span
     direction = 1 if t1 > t0 else -1
-    if t_eval is None:
-        if precision == "double":
-            t_eval = list(np.linspace(float(t0), float(t1), 11))
-        else:
-            t_eval = list(mpmath.linspace(mpmath.mpf(t0), mpmath.mpf(t1), 11))
-    t_eval = list(t_eval)
+    t_eval = list(numbers.linspace(t0, t1, 11) if t_eval is None else t_eval)
     if any(direction * (t_eval[i + 1] - t_eval[i]) < 0 for i in range(len(t_eval) - 1)):
         raise ValueError("t_eval must be sorted in the direction of integration")
     if events is not None and callable(events):
         events = [events]
     events = list(events or [])
     clib = None
-    if precision in ("double", "quad") and lib in (None, "c"):
+    if numbers.compiled and lib in (None, "c"):
         clib = load_taylor_library(code, precision)
     kind = precision
     if clib is None and lib == "mpmath":
         kind = "digits-mpmath"
-    if clib is None and lib == "float" and precision != "double":
+    if clib is None and lib == "float" and numbers.python_lib != "float":
         raise ValueError("lib='float' works in double precision only")
     if clib is not None and not events:
         return _c_run(clib, y0, (t0, t1), p, rtol, atol, t_eval, order, step, max_steps)
-    if clib is None and kind in ("quad", "digits"):
+    bits = numbers.bits()
+    if clib is None and kind == precision and bits is not None:
         # gmpy2/MPFR at the working precision (113 bits for the quad fallback). The stepper
         # converts the parameters when it is made: it must be made inside the context, or
         # MPFR rounds them to the default 53 bits.
-        bits = 113 if precision == "quad" else mpmath.mp.prec
         with gmpy2.context(gmpy2.get_context(), precision=bits):
             stepper = _Stepper(code, kind, p, rtol, atol, order, step, clib)
             return _py_run(stepper, y0, (t0, t1), t_eval, events, max_steps, precision)
@@ -575,14 +710,10 @@ def _c_run(clib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps):
         _ffi.cast("long *", stats.ctypes.data),
     )
     done = int(stats[3])
-    if clib.kind == "double":
-        y = y_eval[: done * n].reshape(done, n).T.copy()
-        t = np.asarray(t_eval[:done], dtype=float)
-    else:
-        vals = decode_binary128(y_eval, done * n)
-        y = np.array(vals, dtype=object).reshape(done, n).T if done else np.empty((n, 0), object)
-        with mpmath.workprec(113):
-            t = np.array([+mpmath.mpf(v) for v in t_eval[:done]], dtype=object)
+    real = clib.real
+    rows = real.rows(real.unpack(y_eval, done * n), done, n)
+    y = np.array(rows, dtype=real.dtype).reshape(done, n).T.copy()
+    t = real.times(t_eval[:done])
     return TaylorSolution(
         t=t,
         y=y,
@@ -596,15 +727,10 @@ def _c_run(clib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps):
 
 
 def _py_run(stepper, y0, t_span, t_eval, events, max_steps, precision):
-    t0, t1 = t_span
-    double = precision == "double"
-    if double:
-        t, y = float(t0), np.asarray(y0, dtype=float)
-        eps = 2.0**-52
-    else:
-        t, y = mpmath.mpf(t0), [mpmath.mpf(v) for v in y0]
-        eps = 2.0**-112 if precision == "quad" else mpmath.eps
-        t1 = mpmath.mpf(t1)
+    numbers = LOOP_NUMBERS[precision]
+    t, t1 = numbers.number(t_span[0]), numbers.number(t_span[1])
+    y = numbers.vector(y0)
+    eps = numbers.eps()
     direction = 1 if t1 > t else -1
     ts, ys = [], []
     j = 0
@@ -653,16 +779,11 @@ def _py_run(stepper, y0, t_span, t_eval, events, max_steps, precision):
         if status:
             break
     n = len(y0)
-    if double:
-        ty = np.asarray(ts, dtype=float)
-        yy = np.asarray(ys, dtype=float).T if ys else np.empty((n, 0))
-        te = [np.asarray(v, dtype=float) for v in t_events]
-        ye = [np.asarray(v, dtype=float).reshape(-1, n) for v in y_events]
-    else:
-        ty = np.array([mpmath.mpf(v) for v in ts], dtype=object)
-        yy = np.array(ys, dtype=object).T if ys else np.empty((n, 0), dtype=object)
-        te = [np.array(v, dtype=object) for v in t_events]
-        ye = [np.array(v, dtype=object).reshape(-1, n) for v in y_events]
+    dtype = numbers.dtype
+    ty = np.array([numbers.number(v) for v in ts], dtype=dtype)
+    yy = np.array(ys, dtype=dtype).T if ys else np.empty((n, 0), dtype=dtype)
+    te = [np.array(v, dtype=dtype) for v in t_events]
+    ye = [np.array(v, dtype=dtype).reshape(-1, n) for v in y_events]
     msg = _MESSAGES.get(status, "failed")
     if stop:
         msg = "a terminal event occurred"

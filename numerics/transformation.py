@@ -25,7 +25,9 @@ from functools import lru_cache
 import numpy as np
 import sympy as sp
 
+from ..derive.emit import emit_function
 from ..derive.errors import UserInputError
+from ..derive.phase_space import random_orthonormal
 from ..derive.transformation import chaplygin_map, kilin_map, proposition2
 from .integrate import integrate
 
@@ -65,8 +67,12 @@ def _chaplygin_funcs():
     cm = chaplygin_map()
     s = cm.symbols
     args = [s["E"], s["D"], s["C"], s["Mg"]]
-    f_fun = sp.lambdify(args, cm.roots[0], "numpy")
-    rest = sp.lambdify(args + [s["f"]], [cm.m1, cm.m2, cm.c1, cm.c2, cm.Dt_inv, cm.Et], "numpy")
+    f_fun = emit_function(args, cm.roots[0], name="chaplygin_f")
+    rest = emit_function(
+        args + [s["f"]],
+        [cm.m1, cm.m2, cm.c1, cm.c2, cm.Dt_inv, cm.Et],
+        name="chaplygin_coefficients",
+    )
     return f_fun, rest
 
 
@@ -76,7 +82,8 @@ def _kilin_funcs():
     s = km.symbols
     args = [s["n"], s["C"], s["h"], s["D"], s["f"]]
     inv = km.inverse
-    return sp.lambdify(args, [inv[0, 0], inv[0, 1], inv[1, 0], inv[1, 1], km.Dt, km.h1], "numpy")
+    outputs = [inv[0, 0], inv[0, 1], inv[1, 0], inv[1, 1], km.Dt, km.h1]
+    return emit_function(args, outputs, name="kilin_coefficients")
 
 
 def chaplygin_coefficients(E: float, D: float, C: float, Mg: float) -> MapCoefficients:
@@ -332,7 +339,7 @@ def random_support_state(rng: np.random.Generator) -> tuple[float, ...]:
     """``(E, C, M_al, M_be, D_al, D_be)`` of a random support state: a random orthonormal
     pair alpha, beta, a normal random M, E in [0.2, 3], D_al, D_be in [0.2, 2] (the
     arguments of :func:`support_coefficients`)."""
-    Qr, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    Qr = random_orthonormal(rng)
     alpha, beta = Qr[:, 0], Qr[:, 1]
     M = rng.normal(size=3)
     E = rng.uniform(0.2, 3.0)

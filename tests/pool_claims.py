@@ -28,6 +28,12 @@ def lookup(claim_id: str) -> Claim:
     """A registered claim, or one of the misbehaving claims above."""
     if claim_id in _BAD:
         return Claim(
-            claim_id, "test", "integral", "misbehaves", "chaplygin_ball", (), _BAD[claim_id]
+            id=claim_id,
+            source="test",
+            kind="integral",
+            statement="misbehaves",
+            system="chaplygin_ball",
+            effects=(),
+            build=_BAD[claim_id],
         )
     return registered_claim(claim_id)

@@ -10,37 +10,17 @@ from __future__ import annotations
 import functools
 
 import numpy as np
+from chaplygin.derive import phase_space
 
 REFERENCE_PARAMS = {"I": (1, 2, 3), "D": 1}
 REFERENCE_Y0 = {"M": (0.7, -0.4, 0.5), "gamma": ("0.2", "0.3", "sqrt(0.87)")}
 EPS = np.finfo(float).eps
 
 
-def random_unit(rng: np.random.Generator, n: int | None = None) -> np.ndarray:
-    """Uniform random unit vector(s), shape (3,) or (3, n)."""
-    v = rng.normal(size=(3,) if n is None else (3, n))
-    return v / np.linalg.norm(v, axis=0)
-
-
-def random_frame(rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """A random right-handed orthonormal frame (alpha, beta, gamma = alpha x beta)."""
-    q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
-    if np.linalg.det(q) < 0:
-        q[:, 0] *= -1
-    alpha, beta = q[:, 0], q[:, 1]
-    return alpha, beta, np.cross(alpha, beta)
-
-
 def random_state(code, rng: np.random.Generator) -> np.ndarray:
-    """A random point of the phase space of a model variant (by its state groups)."""
-    groups = code.state_groups
-    values: dict[str, np.ndarray] = {"M": rng.normal(size=3)}
-    if "alpha" in groups:
-        values["alpha"], values["beta"], values["gamma"] = random_frame(rng)
-        values["x"], values["y"] = rng.normal(size=1), rng.normal(size=1)
-    else:
-        values["gamma"] = random_unit(rng)
-    return np.concatenate([np.atleast_1d(values[name]) for name in groups])
+    """A random point of the phase space of a model variant (by its state groups):
+    derive's floating-point sampler (:func:`chaplygin.derive.phase_space.random_state`)."""
+    return phase_space.random_state(code.state_groups, rng)
 
 
 def random_params(code, rng: np.random.Generator) -> np.ndarray:

@@ -71,7 +71,7 @@ def test_middle_curve_control_is_refuted_with_a_witness():
 
 def test_steady_rotations_are_rotations_about_principal_axes():
     model = build_model("chaplygin_ball", ())
-    w = sp.Matrix(model.definitions["omega"])
+    w = sp.Matrix(model.omega)
     I = sp.diag(*model.param_group("I"))
     # derived residual is omega x (I omega): no dependence on gamma left
     assert sp.simplify(steady_rotation_residual(model) - w.cross(I * w)) == sp.zeros(3, 1)

@@ -167,10 +167,10 @@ def test_a_wrong_integral_is_refuted_for_arbitrary_laws():
     """(M, k(t)) and (M, A gamma) are not first integrals of the generic model."""
     model = generic_model(VARIABLE)
     M, g = model.group("M"), model.group("gamma")
-    k = sp.Matrix(model.definitions["gyrostatic_momentum_of_time"])
+    k = sp.Matrix(model.details.gyrostatic_momentum_of_time)
     out = _decide(model, [lie_derivative(dot(M, k), model)])
     assert out.verdict == "refuted" and "Derivative(k1(t), t)" in out.witness
-    I = model.definitions["inertia"]
+    I = model.details.inertia
     out = _decide(model, [lie_derivative(dot(M, I * g), model)])
     assert out.verdict == "refuted"
 
@@ -188,7 +188,7 @@ def test_the_density_of_constant_inertia_is_not_invariant_for_periodic_inertia()
     """rho(t) = det(X(t))^-1/2: div(rho f) = 0 at every frozen t, d rho/dt is left over."""
     model = build_model("chaplygin_ball", VARIABLE)
     assert model.density is None
-    rho = model.definitions["structured_inverse"].X().det() ** sp.Rational(-1, 2)
+    rho = model.structured_inverse.X().det() ** sp.Rational(-1, 2)
     residual = measure_residual(rho, model)
     assert _decide(model, [residual]).verdict == "refuted"
     frozen = residual - sp.diff(sp.log(rho), model.time)
@@ -198,8 +198,8 @@ def test_the_density_of_constant_inertia_is_not_invariant_for_periodic_inertia()
 def test_the_energy_is_not_conserved_with_a_periodic_gyrostat():
     """Constant I, k(t) = K sin(Omega t): the rotors do work on the ball."""
     model = build_model("chaplygin_ball", ("variable_gyrostat",))
-    M, k = model.group("M"), sp.Matrix(model.definitions["gyrostatic_momentum_of_time"])
-    w = model.expand_aux(sp.Matrix(model.definitions["omega"]))
+    M, k = model.group("M"), sp.Matrix(model.details.gyrostatic_momentum_of_time)
+    w = model.expand_aux(sp.Matrix(model.omega))
     out = _decide(model, [lie_derivative(dot(M - k, w) / 2, model)])
     assert out.verdict == "refuted" and "sin(Omega*t)" in out.witness
 
@@ -311,11 +311,11 @@ def test_periodic_inertia_with_a_constant_gyrostat_keeps_its_integrals():
 def test_the_state_is_bm20s_total_momentum_with_the_periodic_gyrostat():
     """M = II omega + k(t): M' = M x omega exactly, integrals free of time."""
     model = build_model("chaplygin_ball", VARIABLE)
-    omega = sp.Matrix(model.definitions["omega"])
-    k = sp.Matrix(model.definitions["gyrostatic_momentum_of_time"])
-    II = model.definitions["inertia_operator"]
-    assert sp.expand(model.definitions["momentum_of_omega"] - II * omega - k) == sp.zeros(3, 1)
-    assert model.definitions["euler_poincare_remainder"] == sp.zeros(3, 1)
+    omega = sp.Matrix(model.omega)
+    k = sp.Matrix(model.details.gyrostatic_momentum_of_time)
+    II = model.inertia_operator
+    assert sp.expand(model.momentum_of_omega - II * omega - k) == sp.zeros(3, 1)
+    assert model.euler_poincare_remainder == sp.zeros(3, 1)
     assert [n for n, _ in model.integrals] == ["(M,M)", "(M,gamma)", "(gamma,gamma)"]
     assert all(model.time not in F.free_symbols for _, F in model.integrals)
 
@@ -403,7 +403,7 @@ def test_the_symmetry_holds_for_every_law_not_only_even_ones():
 def test_sampler_evaluates_time_dependent_forward_maps_after_the_circle():
     """A_i = 1/J_ii(t) waits for the value of sin(Omega t), then is exact and positive."""
     model = build_model("chaplygin_ball", ("variable_inertia",))
-    omega = sp.Matrix(model.definitions["omega"])
+    omega = sp.Matrix(model.omega)
     res = Residuals([lie_derivative(dot(model.group("M"), omega), model)], Domain(model))
     rng = random.Random(3)
     point = res.domain.sample(rng, [s for s in res.symbols])

@@ -47,7 +47,7 @@ def _admissible_state(constraint: str, seed: int = 7) -> dict[str, np.ndarray]:
 def test_sampled_points_lie_exactly_on_the_invariant_relation(effect):
     model = build_model(BALL, [effect])
     domain = Domain(model)
-    (_, relation), *_ = model.definitions["invariant_relations"]
+    (_, relation), *_ = model.invariant_relations
     rel = model.expand_aux(relation)
     rng = random.Random(3)
     for _ in range(5):

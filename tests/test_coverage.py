@@ -57,7 +57,15 @@ def test_the_foundation_and_systems_sections_are_covered():
 
 def _claim(claim_id: str, expected: str = "holds", covers=()) -> Claim:
     return Claim(
-        claim_id, "", "equation", "", "chaplygin_ball", (), lambda m: None, expected, covers=covers
+        id=claim_id,
+        source="",
+        kind="equation",
+        statement="",
+        system="chaplygin_ball",
+        effects=(),
+        build=lambda m: None,
+        expected=expected,
+        covers=covers,
     )
 
 

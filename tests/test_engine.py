@@ -63,7 +63,7 @@ def test_constraint_sign_reaches_the_velocity_but_not_the_momentum():
 
 def test_structured_inverse_is_the_papers_sherman_morrison_form():
     model = build_model("chaplygin_ball")
-    s = model.definitions["structured_inverse"]
+    s = model.structured_inverse
     I = model.param_group("I")
     D = model.param_group("D")[0]
     assert s.J == sp.diag(*[I[i] + D for i in range(3)])
@@ -102,7 +102,7 @@ def _rubber_ball_checks():
     D = model.param_group("D")[0]
     b = sp.Symbol("b", positive=True)
     M, gamma = model.group("M"), model.group("gamma")
-    omega, v = sp.Matrix(model.definitions["omega"]), vector("v", real=True)
+    omega, v = sp.Matrix(model.omega), vector("v", real=True)
     T = (omega.T * sp.diag(*I) * omega)[0] / 2 + D / b**2 * dot(v, v) / 2
     desc = RigidBodyDescription(
         omega=omega,

@@ -142,3 +142,57 @@ def test_bad_options_are_user_errors():
             {**REFERENCE_PARAMS, "b": 1},
             effects="contact_point",
         )
+
+
+# ------------------------------------------------------------------ the integrator protocol
+
+
+def test_method_may_be_a_name_a_class_or_an_instance():
+    from chaplygin.numerics.integrators import DOP853, get_integrator
+
+    runs = [
+        integrate(BALL, REFERENCE_Y0, 2, REFERENCE_PARAMS, method=m, rtol=1e-10, atol=1e-10)
+        for m in ("DOP853", DOP853, DOP853())
+    ]
+    assert {r.method for r in runs} == {"DOP853"}
+    assert all(np.array_equal(r.y, runs[0].y) for r in runs)
+    with pytest.raises(UserInputError, match="valid methods: RK45, DOP853, LSODA") as err:
+        get_integrator("dop853")
+    assert all(name in str(err.value) for name in METHODS)
+
+
+def test_method_data_is_consistent():
+    """Every method's floor covers its precisions, and it is >= 1 eps (no method beats the
+    unit roundoff); the default method of each precision works in it."""
+    from chaplygin.numerics.inputs import Precision
+    from chaplygin.numerics.integrators import NUMBER_TYPES
+
+    for name, cls in METHODS.items():
+        assert cls.name == name
+        assert set(cls.rtol_floor) == set(cls.precisions)
+        assert min(cls.rtol_floor.values()) >= 1
+    for kind, number_type in NUMBER_TYPES.items():
+        assert number_type.kind == kind
+        assert kind in METHODS[number_type.default_method].precisions
+        assert cls.backends and set(cls.backends) <= {"c", "numpy", "mpmath"}
+    prec = Precision(30)
+    assert METHODS["taylor"]().floor(prec) == prec.epsilon
+    assert METHODS["odefun"]().floor(prec) == prec.min_rtol
+    # a method with one backend runs on it whatever is asked
+    r = integrate(
+        BALL, REFERENCE_Y0, 0.1, REFERENCE_PARAMS, precision=20, method="odefun", backend="numpy"
+    )
+    assert r.success and r.backend == "mpmath"
+
+
+def test_result_repr_is_short_and_names_the_evidence():
+    r = integrate(BALL, REFERENCE_Y0, 5, REFERENCE_PARAMS, rtol=1e-10, atol=1e-10)
+    text = repr(r)
+    assert len(text) < 600 and len(text.splitlines()) < 12
+    for key in ("DOP853", "success", "drift", "nfev", "M1=", "(gamma,gamma)"):
+        assert key in text
+    assert f"({r.t.size})" in text  # the time array is shortened, its length given
+    html = r._repr_html_()
+    assert html.startswith("<table>") and "DOP853" in html and "nfev" in html
+    q = integrate(BALL, REFERENCE_Y0, 1, REFERENCE_PARAMS, precision=40)
+    assert "40 digits" in repr(q) and len(repr(q)) < 600

@@ -147,7 +147,7 @@ def test_generic_surface_identities_hold_off_the_zero_level_set():
     """The generic model has no constraint: the proofs hold on every level set of f."""
     model = generic_surface_model()
     assert model.constraints == ()
-    f = model.definitions["surface"]
+    f = model.details.surface
     assert decide([lie_derivative(f, model)], Domain(model)).verdict == "proved"
 
 
@@ -181,7 +181,7 @@ def test_potential_effect_off_leaves_nothing_behind():
     used = set().union(*(e.free_symbols for e in off.rhs_expanded))
     used |= set().union(*(off.expand_aux(e).free_symbols for _, e in off.integrals))
     assert {s.name for s in used}.isdisjoint(names)
-    assert off.definitions["potential"] == 0
+    assert off.details.potential == 0
 
 
 def _ellipsoid_state(rng: np.random.Generator, b: np.ndarray) -> np.ndarray:

@@ -14,13 +14,13 @@ import mpmath
 import pytest
 import sympy as sp
 from chaplygin.numerics.code import load_model_code
-from chaplygin.numerics.jet import taylor_flow
 from chaplygin.numerics.separatrix import (
     agreeing_digits,
     delta_closed_form,
     delta_ode,
     delta_quadrature,
     delta_three_ways,
+    flow,
     mu_of,
     separatrix_quantities,
     separatrix_state,
@@ -104,24 +104,21 @@ def test_printed_form_with_positive_C_is_refuted_by_the_same_residual():
 
 
 def test_taylor_flow_follows_the_exact_separatrix():
-    """The jet integrator at 30 digits reproduces the exact solution at lam t = +-3."""
+    """The generated Taylor integrator at 30 digits (the flow of Delta) reproduces the exact
+    solution at lam t = +-3; ``jet`` names the same integrator."""
     with mpmath.workdps(40):
         I, D, b = [mpmath.mpf(1), mpmath.mpf(3), mpmath.mpf(5)], mpmath.mpf(1), mpmath.mpf(1)
         lam = separatrix_quantities(I, D)["lam"]
-        rhs = load_model_code("chaplygin_ball", ("contact_point",)).mpmath.rhs
         y0 = separatrix_state(I, D)
         for T in (3 / lam, -3 / lam):
-            res = taylor_flow(
-                rhs,
-                [mpmath.nstr(v, 40) for v in y0],
-                [mpmath.nstr(v, 40) for v in I + [D, b]],
-                mpmath.nstr(T, 40),
-                30,
-            )
+            y, steps = flow(y0, I + [D, b], T, 30)
             exact = _exact_state(I, D, b, T)
-            err = max(abs(mpmath.mpf(str(a)) - e) for a, e in zip(res.y[:12], exact, strict=True))
+            err = max(abs(a - e) for a, e in zip(y[:12], exact, strict=True))
             assert err < mpmath.mpf(10) ** -27
-            assert res.steps > 1
+            assert steps > 1
+            assert flow(y0, I + [D, b], T, 30, engine="jet") == (y, steps)
+        with pytest.raises(ValueError, match="taylor or odefun"):
+            flow(y0, I + [D, b], 1, 30, engine="euler")
 
 
 def test_tail_series_matches_quadrature_within_its_bound():

@@ -56,7 +56,7 @@ def test_closed_model_structure():
     model = build_model(SUPPORT)
     assert model.param_names == ("I1", "I2", "I3", "D_iso", "D_al", "D_be")
     assert model.state_names[:3] == ("M1", "M2", "M3")
-    s = model.definitions["structured_inverse"]
+    s = model.structured_inverse
     assert s.U.shape == (3, 2)  # rank-2 Woodbury split U = [alpha beta]
     D_al, D_be = model.param_group("D_al")[0], model.param_group("D_be")[0]
     assert s.C == sp.diag(-D_al, -D_be)

@@ -397,7 +397,7 @@ def test_terminal_event_with_direction_stops_there():
 def test_precision_errors_name_a_precision_that_works():
     with pytest.raises(UserInputError, match="precision quad"):
         integrate(BALL, REFERENCE_Y0, 1, REFERENCE_PARAMS, method="taylor", rtol=1e-20)
-    with pytest.raises(UserInputError, match=r"quad precision.*--precision 42"):
+    with pytest.raises(UserInputError, match=r"quad precision.*precision=42"):
         integrate(BALL, REFERENCE_Y0, 1, REFERENCE_PARAMS, precision="quad", rtol=1e-40)
     with pytest.raises(UserInputError, match="30 digits precision"):
         integrate(BALL, REFERENCE_Y0, 1, REFERENCE_PARAMS, precision=30, rtol=1e-35)
@@ -490,3 +490,25 @@ def test_backward_integration_returns_to_the_start(precision):
     ).y[:, 0]
     bound = 1e-12 if precision == "double" else 1e-30
     assert max(abs(a - b) for a, b in zip(back.y[:, -1], start, strict=True)) < bound
+
+
+def test_precision_tables_agree_with_the_precisions_they_describe():
+    """LOOP_NUMBERS and REAL_TYPES (method data): unit roundoff as Precision states it, a C
+    real type exactly for the compiled precisions, its byte size that of the IEEE format."""
+    from chaplygin.numerics.taylor import LOOP_NUMBERS, REAL_TYPES
+
+    for kind, numbers in LOOP_NUMBERS.items():
+        with mpmath.workdps(30):
+            want = Precision(30 if kind == "digits" else kind).epsilon
+            # within a decade: mpmath's 2^-102 against the stated 10^-30 at 30 digits
+            assert abs(mpmath.log10(numbers.eps() / want)) < 1
+        assert numbers.compiled == (kind in REAL_TYPES)
+        assert isinstance(numbers.number(1), float if numbers.dtype is float else mpmath.mpf)
+    assert {k: r.size for k, r in REAL_TYPES.items()} == {"double": 8, "quad": 16}
+    for kind, real in REAL_TYPES.items():
+        values = [mpmath.mpf(1) / 3, mpmath.mpf(-2) ** 40]
+        with mpmath.workprec(113):
+            back = real.unpack(real.pack(values), 2)
+        assert len(real.pack(values)) * (8 if kind == "double" else 1) == 2 * real.size
+        assert abs(mpmath.mpf(back[0]) * 3 - 1) <= 4 * LOOP_NUMBERS[kind].eps()
+        assert mpmath.mpf(back[1]) == 2**40

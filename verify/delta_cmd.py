@@ -171,9 +171,10 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="values as decimal strings in JSON")
     p.add_argument(
         "--engine",
-        default="jet",
-        choices=("jet", "odefun"),
-        help="integrator of the full equations (default: jet, the Taylor tape)",
+        default="taylor",
+        choices=("taylor", "odefun", "jet"),
+        help="integrator of the full equations (default: taylor, the generated Taylor "
+        "integrator; jet is an alias of taylor, odefun is mpmath.odefun)",
     )
     p.add_argument("--plot", default=None, metavar="FILE.png", help="write Delta(mu) (Fig. 5)")
     p.add_argument(

@@ -34,7 +34,8 @@ from chaplygin.derive.algebra import (
     UnsupportedExpression,
     ring_normal_form,
 )
-from chaplygin.derive.model import Model
+from chaplygin.derive.model import Model, Reparametrisation
+from chaplygin.derive.phase_space import invariant_relation_exprs, sample_point
 
 __all__ = [
     "Domain",
@@ -59,7 +60,7 @@ class Domain:
     model : Model
         Supplies the phase-space constraints and the exact sampler of the Poisson vectors;
         a model whose variety is of another kind puts a callable
-        ``definitions["phase_space_sampler"](rng, point)`` that writes an exact rational
+        ``Model.sampler(rng, point)`` that writes an exact rational
         point of it (and the parameters it needs) into ``point``.
     free : sequence of sympy.Symbol
         Other real variables (momenta, velocities) sampled as random rationals.
@@ -68,9 +69,9 @@ class Domain:
         neither list nor on the variety are sampled as free reals.
     relations : sequence of sympy.Expr
         Extra relations that cut the domain down (a level set of a linear integral),
-        linear in the model's ``definitions["relation_unknowns"]``.
+        linear in the model's ``Model.relation_unknowns``.
     model_relations : bool
-        Include the model's own invariant relations (``definitions["invariant_relations"]``).
+        Include the model's own invariant relations (``Model.invariant_relations``).
     """
 
     model: Model
@@ -83,7 +84,7 @@ class Domain:
     def relation_exprs(self) -> list[sp.Expr]:
         """Invariant relations of the model and of the check, in state and parameters.
 
-        They are linear in ``definitions["relation_unknowns"]`` (the momentum): a
+        They are linear in ``Model.relation_unknowns`` (the momentum): a
         constraint on omega alone (no twist ...), a level set of a linear integral.
         ``model_relations=False`` leaves the model's own out (a statement about the
         whole phase space: the flow keeps ``(omega, gamma)`` constant everywhere).
@@ -93,13 +94,8 @@ class Domain:
         list of sympy.Expr
             The relations with the model's auxiliary symbols expanded.
         """
-        exprs = (
-            [e for _, e in self.model.definitions.get("invariant_relations", ())]
-            if self.model_relations
-            else []
-        )
-        exprs += list(self.relations)
-        return [self.model.expand_aux(e) for e in exprs]
+        exprs = invariant_relation_exprs(self.model) if self.model_relations else []
+        return exprs + [self.model.expand_aux(e) for e in self.relations]
 
     @property
     def constraints(self) -> tuple[sp.Expr, ...]:
@@ -126,16 +122,16 @@ class Domain:
         return out
 
     @property
-    def reparametrisation(self) -> dict[str, dict[sp.Symbol, sp.Expr]] | None:
+    def reparametrisation(self) -> Reparametrisation | None:
         """The model's change to verification parameters, if it has one.
 
         Returns
         -------
-        dict or None
-            ``definitions["reparametrisation"]``: ``{"forward": {new: expr in old},
-            "inverse": {old: expr in new}}``; None for a model without one.
+        Reparametrisation or None
+            ``Model.reparametrisation``: ``forward`` ``{new: expr in old}`` and ``inverse``
+            ``{old: expr in new}``; None for a model without one.
         """
-        return self.model.definitions.get("reparametrisation")
+        return self.model.reparametrisation
 
     def prepare(self, expr: sp.Expr) -> sp.Expr:
         """Rewrite in the model's verification parameters (an invertible change).
@@ -152,12 +148,14 @@ class Domain:
             reparametrisation).
         """
         rep = self.reparametrisation
-        return sp.sympify(expr).xreplace(rep["inverse"]) if rep else sp.sympify(expr)
+        return sp.sympify(expr).xreplace(rep.inverse) if rep else sp.sympify(expr)
 
     def sample(
         self, rng: random.Random, symbols: Iterable[sp.Symbol]
     ) -> dict[sp.Symbol, sp.Rational]:
-        """An exact rational point: Poisson vectors on their variety, the rest random.
+        """An exact rational point: Poisson vectors on their variety, the rest random
+        (:func:`~chaplygin.derive.phase_space.sample_point` with this domain's positive
+        symbols and relations).
 
         The model's parameters are drawn from their physical domain (positive inertia
         ...) and mapped forward to the verification parameters, so a witness is always
@@ -184,73 +182,7 @@ class Domain:
             When the relations are not linear in the relation unknowns with rational
             coefficients at the point, or the model declares none.
         """
-        point: dict[sp.Symbol, sp.Rational] = {}
-        for spec in self.model.parameters:
-            for s in spec.symbols:
-                if spec.domain == "positive":
-                    point[s] = sp.Rational(rng.randint(1, 60), rng.randint(1, 12))
-                else:
-                    point[s] = sp.Rational(rng.randint(-40, 40), rng.randint(1, 12))
-        # A model whose phase space is not made of Poisson vectors (the centre of a ball
-        # on an ellipsoid ...) supplies its own exact sampler; it may also choose the
-        # parameters that shape the variety (a rational point needs them to fit).
-        sampler = self.model.definitions.get("phase_space_sampler")
-        if sampler is not None:
-            sampler(rng, point)
-        # A forward map that depends on time (A_i = 1/J_ii(t) with BM20's I(t)) is left
-        # out here: complete() evaluates it once the sin/cos generators have values.
-        rep = self.reparametrisation
-        pending = set()
-        if rep:
-            for s, e in rep["forward"].items():
-                value = e.xreplace(point)
-                if value.is_Rational:
-                    point[s] = value
-                else:
-                    pending.add(s)
-        for group in self.model.geometry:
-            for name, comps in group.sample_rational(rng).items():
-                point.update(zip(self.model.vectors[name], comps, strict=True))
-        positive = set(self.positive)
-        unknowns = tuple(self.model.definitions.get("relation_unknowns", ()))
-        for s in sorted(set(symbols) | set(unknowns), key=lambda s: s.name):
-            if s in point or s in pending:
-                continue
-            if s in positive or s.is_positive:
-                point[s] = sp.Rational(rng.randint(1, 60), rng.randint(1, 12))
-            else:
-                point[s] = sp.Rational(rng.randint(-40, 40), rng.randint(1, 12))
-        self._project_on_relations(point, unknowns)
-        return point
-
-    def _project_on_relations(self, point, unknowns) -> None:
-        """Move the relation unknowns (drawn at random) onto the relations, exactly.
-
-        The relations are linear in the unknowns: ``L u + c = 0``; the point becomes
-        ``u - L^T (L L^T)^-1 (L u + c)``, rational like everything else.
-        """
-        relations = self.relation_exprs
-        if not relations:
-            return
-        if not unknowns:
-            raise ValueError("invariant relations need definitions['relation_unknowns']")
-        others = {s: v for s, v in point.items() if s not in unknowns}
-        fixed = [e.xreplace(others) for e in relations]
-        L = sp.Matrix([[sp.diff(e, u) for u in unknowns] for e in fixed])
-        c = sp.Matrix([e.xreplace({u: 0 for u in unknowns}) for e in fixed])
-        if L.free_symbols or c.free_symbols:
-            raise ValueError(f"relations not linear in {unknowns} with rational coefficients")
-        # keep a maximal independent set of rows ((M + K) x gamma = 0 has rank 2)
-        rows: list[int] = []
-        for i in range(L.shape[0]):
-            if L.extract([*rows, i], list(range(L.shape[1]))).rank() == len(rows) + 1:
-                rows.append(i)
-        L, c = L.extract(rows, list(range(L.shape[1]))), c.extract(rows, [0])
-        u = sp.Matrix([point[s] for s in unknowns])
-        if not rows:
-            raise ValueError("degenerate invariant relations at the sample point")
-        u = u - L.T * (L * L.T).LUsolve(L * u + c)
-        point.update(zip(unknowns, u, strict=True))
+        return sample_point(self.model, rng, symbols, self.positive, self.relation_exprs)
 
     def forward_exprs(self) -> list[sp.Expr]:
         """The forward maps of the reparametrisation (their atoms need generators too).
@@ -261,7 +193,7 @@ class Domain:
             The right-hand sides of ``reparametrisation["forward"]``; empty without one.
         """
         rep = self.reparametrisation
-        return list(rep["forward"].values()) if rep else []
+        return list(rep.forward.values()) if rep else []
 
     def complete(
         self, point: dict[sp.Symbol, sp.Rational], atom_map: dict[sp.Expr, sp.Symbol]
@@ -284,7 +216,7 @@ class Domain:
         rep = self.reparametrisation
         if not rep:
             return
-        for s, e in rep["forward"].items():
+        for s, e in rep.forward.items():
             if s in point:
                 continue
             value = e.xreplace(atom_map).xreplace(point)

@@ -834,7 +834,7 @@ def _model_omega_dot(model: Any) -> tuple[Callable[..., Any], tuple[str, ...]]:
     ``state`` is the model's whole state vector (``M, gamma`` and e.g. ``alpha, beta``).
     """
     state = list(model.state)
-    omega = model.expand_aux(model.definitions["omega"])
+    omega = model.expand_aux(model.omega)
     rhs = model.rhs_expanded
     allowed = set(state) | set(model.params) | {model.time}
     free = omega.free_symbols | rhs.free_symbols
@@ -903,3 +903,264 @@ def model_angular_acceleration(
     jac, rhs, explicit = f(state, [float(params[n]) for n in names], float(t))
     jac, rhs = np.asarray(jac, dtype=float), np.asarray(rhs, dtype=float)
     return (jac @ rhs).ravel() + np.asarray(explicit, dtype=float).ravel()
+
+
+# ------------------------------------------------------------------------------------------
+# Random states of the cross-check (the claims KANE-* and tests/test_kane_crosscheck.py)
+# ------------------------------------------------------------------------------------------
+#: Seed and number of the random physical states of the cross-check.
+SEED = 20240607
+N_STATES = 24
+#: Samples keep |gamma1| below this, away from the 3-2-1 Euler singularity gamma1 = +-1.
+GAMMA1_MAX = 0.9
+#: Seed of the admissible angular velocities of the constrained variants.
+OMEGA_SEED = 20240608
+#: Row of :func:`space_axes_in_body` (alpha = N.x, beta = N.y, gamma = N.z) along which
+#: omega vanishes, per extra constraint.
+CONSTRAINT_AXIS = {"rubber": 2, "straight_line": 0}
+
+
+@dataclass(frozen=True)
+class KaneSample:
+    """One random physical state and parameter set of the plain ball.
+
+    Attributes
+    ----------
+    I : numpy.ndarray
+        Principal moments, shape (3,).
+    D, b : float
+        ``m b^2`` and the radius.
+    M, gamma : numpy.ndarray
+        Momentum about the contact point and unit vertical (body frame), shape (3,).
+    yaw : float
+        Heading of the Kane configuration.
+    """
+
+    I: np.ndarray  # noqa: E741  (the papers' name)
+    D: float
+    b: float
+    M: np.ndarray
+    gamma: np.ndarray
+    yaw: float
+
+    def params(self, D_factor: float = 1.0) -> dict[str, float]:
+        """Our model's parameters (optionally with a deliberately scaled ``D``).
+
+        Parameters
+        ----------
+        D_factor : float, optional
+            Factor on ``D`` (a negative control uses ``1.1``).
+
+        Returns
+        -------
+        dict of str to float
+            ``I1, I2, I3, D``.
+        """
+        return {"I1": self.I[0], "I2": self.I[1], "I3": self.I[2], "D": self.D * D_factor}
+
+    def kane(self, **kwargs: Any) -> np.ndarray:
+        """:func:`kane_angular_acceleration` at this state (keyword arguments passed on)."""
+        return kane_angular_acceleration(
+            self.I, self.D, self.b, self.M, self.gamma, yaw=self.yaw, **kwargs
+        )
+
+
+def random_samples(n: int = N_STATES, seed: int = SEED) -> list[KaneSample]:
+    """Random states: ``I`` in [0.5, 3], ``D`` in [0.3, 2], ``b`` in [0.5, 2], normal ``M``,
+    uniform unit ``gamma`` with ``|gamma1| <= GAMMA1_MAX``, uniform heading.
+
+    Parameters
+    ----------
+    n : int
+    seed : int
+
+    Returns
+    -------
+    list of KaneSample
+    """
+    rng = np.random.default_rng(seed)
+    out = []
+    for _ in range(n):
+        I = rng.uniform(0.5, 3.0, 3)  # noqa: E741
+        D = float(rng.uniform(0.3, 2.0))
+        b = float(rng.uniform(0.5, 2.0))
+        M = rng.normal(size=3)
+        while True:
+            gamma = rng.normal(size=3)
+            gamma /= np.linalg.norm(gamma)
+            if abs(gamma[0]) <= GAMMA1_MAX:
+                break
+        yaw = float(rng.uniform(-np.pi, np.pi))
+        out.append(KaneSample(I, D, b, M, gamma, yaw))
+    return out
+
+
+@dataclass(frozen=True)
+class ConstrainedSample:
+    """An admissible state of a constrained variant (built on a :class:`KaneSample`).
+
+    Attributes
+    ----------
+    base : KaneSample
+        Parameters, ``gamma`` and heading.
+    constraint : str
+        One of :data:`EXTRA_CONSTRAINTS`.
+    omega, M : numpy.ndarray
+        Angular velocity on the constraint plane and ``M = II omega``, shape (3,).
+    alpha, beta : numpy.ndarray
+        Body-frame components of ``N.x``, ``N.y``, shape (3,).
+    """
+
+    base: KaneSample
+    constraint: str
+    omega: np.ndarray
+    M: np.ndarray
+    alpha: np.ndarray
+    beta: np.ndarray
+
+    @property
+    def gamma(self) -> np.ndarray:
+        return self.base.gamma
+
+    def kane(self) -> np.ndarray:
+        """The constrained Kane model's ``omega_dot`` at this state, shape (3,)."""
+        s = self.base
+        return kane_angular_acceleration(
+            s.I, s.D, s.b, self.M, s.gamma, yaw=s.yaw, constraint=self.constraint
+        )
+
+    def ours(self, model: Any) -> np.ndarray:
+        """``omega_dot`` of ``model`` at this state (with ``alpha, beta`` if it has them)."""
+        groups = {"alpha": self.alpha, "beta": self.beta}
+        return model_angular_acceleration(model, self.base.params(), self.M, self.gamma, groups)
+
+
+def constrained_samples(
+    constraint: str, samples: Sequence[KaneSample] | None = None
+) -> list[ConstrainedSample]:
+    """Admissible states: ``omega`` on the constraint plane first, then ``M = II omega``.
+
+    Parameters
+    ----------
+    constraint : {"rubber", "straight_line"}
+    samples : sequence of KaneSample, optional
+        Default: :func:`random_samples`.
+
+    Returns
+    -------
+    list of ConstrainedSample
+        ``|omega|`` in [0.5, 2].
+    """
+    rng = np.random.default_rng([OMEGA_SEED, EXTRA_CONSTRAINTS.index(constraint)])
+    out = []
+    for s in random_samples() if samples is None else samples:
+        alpha, beta, gamma = space_axes_in_body(s.gamma, s.yaw)
+        normal = (alpha, beta, gamma)[CONSTRAINT_AXIS[constraint]]
+        omega = rng.normal(size=3)
+        omega -= (omega @ normal) * normal
+        omega *= rng.uniform(0.5, 2.0) / np.linalg.norm(omega)  # |omega| away from 0
+        II = np.diag(s.I) + s.D * (np.eye(3) - np.outer(s.gamma, s.gamma))
+        out.append(ConstrainedSample(s, constraint, omega, II @ omega, alpha, beta))
+    return out
+
+
+def rotor_samples(
+    samples: Sequence[KaneSample] | None = None, n: int = 6, seed: int = SEED + 4
+) -> list[tuple[KaneSample, Rotor]]:
+    """The first ``n`` states with a small random rotor each (the ball's own tensor
+    ``diag(I) -`` rotor stays positive).
+
+    Parameters
+    ----------
+    samples : sequence of KaneSample, optional
+        Default: :func:`random_samples`.
+    n, seed : int
+
+    Returns
+    -------
+    list of (KaneSample, Rotor)
+    """
+    rng = np.random.default_rng(seed)
+    out = []
+    for s in (random_samples() if samples is None else samples)[:n]:
+        axial, transverse = (float(x) for x in rng.uniform(0.05, 0.2, 2))
+        rotor = Rotor(tuple(rng.normal(size=3)), axial, transverse, float(rng.uniform(-8, 8)))
+        out.append((s, rotor))
+    return out
+
+
+def gyrostat_params(s: KaneSample, K: Sequence[float]) -> dict[str, float]:
+    """The gyrostat model's parameters: ``s.params()`` and ``K1, K2, K3``."""
+    return {**s.params(), "K1": K[0], "K2": K[1], "K3": K[2]}
+
+
+@dataclass(frozen=True)
+class MovingMassSample:
+    """A state of the ball with BM20's two moving masses (see
+    :func:`kane_moving_masses_angular_acceleration` for the fields)."""
+
+    I: np.ndarray  # noqa: E741  (the papers' name)
+    D: float
+    b: float
+    law: tuple[float, float, float]
+    M: np.ndarray
+    gamma: np.ndarray
+    t: float
+
+    def params(self) -> dict[str, float]:
+        """The ``variable_inertia`` model's parameters."""
+        J_off, delta, Omega = self.law
+        I1, I2, I3 = self.I
+        return {
+            "I1": I1,
+            "I2": I2,
+            "I3": I3,
+            "D": self.D,
+            "J_off": J_off,
+            "delta": delta,
+            "Omega": Omega,
+        }
+
+    def frozen_params(self) -> dict[str, float]:
+        """The plain ball's parameters with the inertia frozen at ``I(t)``."""
+        offset = self.law[0] + self.law[1] * np.sin(self.law[2] * self.t)
+        I1, I2, I3 = self.I
+        return {"I1": I1 + offset**2, "I2": I2, "I3": I3 + offset**2, "D": self.D}
+
+    def kane(self) -> np.ndarray:
+        """The Kane model's ``omega_dot``, shape (3,)."""
+        return kane_moving_masses_angular_acceleration(
+            self.I, self.D, self.b, self.law, self.M, self.gamma, self.t
+        )
+
+
+def moving_mass_samples(n: int = 6, seed: int = SEED + 5) -> list[MovingMassSample]:
+    """Random states of the ball with moving masses (``D = b^2 x [1.5, 4]``, the masses
+    weigh 1 together; ``|gamma1| <= GAMMA1_MAX``).
+
+    Parameters
+    ----------
+    n, seed : int
+
+    Returns
+    -------
+    list of MovingMassSample
+    """
+    rng = np.random.default_rng(seed)
+    out = []
+    while len(out) < n:
+        I = rng.uniform(0.5, 3.0, 3)  # noqa: E741
+        b = float(rng.uniform(0.5, 1.5))
+        D = b**2 * float(rng.uniform(1.5, 4.0))
+        law = (float(rng.uniform(-1, 1)), float(rng.uniform(0.2, 2)), float(rng.uniform(0.3, 2)))
+        M = rng.normal(size=3)
+        gamma = rng.normal(size=3)
+        gamma /= np.linalg.norm(gamma)
+        if abs(gamma[0]) <= GAMMA1_MAX:
+            out.append(MovingMassSample(I, D, b, law, M, gamma, float(rng.uniform(-5, 5))))
+    return out
+
+
+def relative_difference(reference: np.ndarray, other: np.ndarray) -> float:
+    """``|other - reference| / |reference|`` (Euclidean norms)."""
+    return float(np.linalg.norm(other - reference) / np.linalg.norm(reference))

@@ -7,102 +7,22 @@ to its correction; counts per paper.
 
 from __future__ import annotations
 
-import re
 from collections import Counter
 from collections.abc import Sequence
 
 from .claims import REGISTRY
 from .coverage import SECTIONS, CoverageRow, coverage
+from .latex import plain_to_latex
 from .verdict import Verdict
 
 __all__ = ["plain_to_latex", "render_report", "render_coverage", "paper_of"]
 
-_GREEK = [
-    "alpha",
-    "beta",
-    "gamma",
-    "delta",
-    "omega",
-    "Omega",
-    "lambda",
-    "mu",
-    "nu",
-    "rho",
-    "sigma",
-    "phi",
-    "psi",
-    "Psi",
-    "Phi",
-    "Delta",
-    "Sigma",
-    "tau",
-    "theta",
-    "xi",
-    "kappa",
-]
-_KEEP = {"sqrt", "const", "diag"}
-_GREEK_RE = re.compile(r"\b(" + "|".join(_GREEK) + r")\b")
-
-
-def plain_to_latex(text: str) -> str:
-    """Render the plain-text math of ``FORMULAS.md`` as inline LaTeX (best effort).
-
-    Greek names become letters, ``x`` between operands becomes ``\\times``, ``^-1/2`` and
-    similar exponents are braced, ``sqrt(...)`` becomes ``\\sqrt{...}`` and ``'`` marks
-    stay time derivatives.
-
-    Parameters
-    ----------
-    text : str
-        A statement in the plain-text notation of FORMULAS.md §0.1.
-
-    Returns
-    -------
-    str
-        LaTeX for inline math (without the ``$`` delimiters); runs of words are
-        wrapped in ``\\text{...}``.
-    """
-    s = text
-    s = re.sub(r"sqrt\(([^()]*(?:\([^()]*\)[^()]*)*)\)", r"\\sqrt{\1}", s)
-    s = re.sub(r"\^\(([^()]*)\)", r"^{\1}", s)
-    s = re.sub(r"\^(-?[0-9.]+(?:/[0-9]+)?)", r"^{\1}", s)
-    s = re.sub(r"(?<=[\w)\]}]) x (?=[\w(\\])", r" \\times ", s)
-    s = _GREEK_RE.sub(lambda m: "\\" + m.group(1) + " ", s)
-    s = s.replace("Id", r"\mathrm{Id}")
-    # runs of plain words (not commands, not one- or two-letter symbols) become text
-    s = re.sub(
-        r"(?<![\\\w])((?:[A-Za-z]{3,}|is|it|of|on|in|or|as|by)"
-        r"(?:[ :;,]+(?:[A-Za-z]{2,}|a))*)(?![\w{])",
-        lambda m: m.group(0) if m.group(1) in _KEEP else r"\text{" + m.group(1) + "}",
-        s,
-    )
-    s = s.replace("<=", r"\le ").replace(">=", r"\ge ").replace("!=", r"\ne ")
-    return s.replace("\\ ,", "\\,")
-
 
 def paper_of(claim_id: str) -> str:
-    """``BKM12-4/control-...`` -> ``BKM12``; ``MODEL:...`` -> ``chaplygin models``.
-
-    Parameters
-    ----------
-    claim_id : str
-        A claim ID.
-
-    Returns
-    -------
-    str
-        The paper's short name (the part before the first ``-``), or
-        ``"chaplygin models"`` for the models' own claims.
-    """
+    """``BKM12-4/control-...`` -> ``BKM12``; ``MODEL:...`` -> ``chaplygin models``."""
     if claim_id.startswith("MODEL:"):
         return "chaplygin models"
     return claim_id.split("-", 1)[0]
-
-
-def _latex(v: Verdict) -> str:
-    claim = REGISTRY.get(v.id)
-    latex = getattr(claim, "latex", "") if claim else ""
-    return latex or plain_to_latex(v.statement)
 
 
 def _evidence(v: Verdict) -> str:
@@ -114,19 +34,7 @@ def _evidence(v: Verdict) -> str:
 
 def render_coverage(rows: Sequence[CoverageRow]) -> list[str]:
     """Markdown lines: per FORMULAS.md section, checkable entries with a verdict and the
-    ones without (a FAILED entry needs its ``/literal`` claim too).
-
-    Parameters
-    ----------
-    rows : sequence of CoverageRow
-        Rows of :func:`~chaplygin.verify.coverage.coverage`.
-
-    Returns
-    -------
-    list of str
-        A Markdown table: header, then one line per section (title, issue, counts of
-        checkable and covered entries, the IDs not covered yet).
-    """
+    ones without (a FAILED entry needs its ``/literal`` claim too)."""
     lines = [
         "| FORMULAS.md section | issue | checkable | covered | not covered yet |",
         "|---|---|---|---|---|",
@@ -150,20 +58,7 @@ def render_coverage(rows: Sequence[CoverageRow]) -> list[str]:
 
 
 def render_report(verdicts: Sequence[Verdict]) -> str:
-    """Markdown text of the report.
-
-    Parameters
-    ----------
-    verdicts : sequence of Verdict
-        The verdicts of a ``chaplygin verify`` run.
-
-    Returns
-    -------
-    str
-        The report: totals, a summary per paper, the errata (each ``/literal`` reading
-        next to its correction), the coverage of FORMULAS.md and one table of claims per
-        paper.
-    """
+    """Markdown text of the report."""
     lines = ["# chaplygin verification report", ""]
     bad = [v for v in verdicts if not v.ok]
     lines += [
@@ -203,9 +98,9 @@ def render_report(verdicts: Sequence[Verdict]) -> str:
         index = {v.id: v for v in verdicts}
         for v in literal:
             fix = index.get(v.id[: -len("/literal")])
-            fix_text = f"{fix.id}: ${_latex(fix)}$" if fix else "(not checked)"
+            fix_text = f"{fix.id}: ${fix.latex}$" if fix else "(not checked)"
             lines.append(
-                f"| {v.id}: ${_latex(v)}$ | {v.verdict} ({_evidence(v)}) | {fix_text} | "
+                f"| {v.id}: ${v.latex}$ | {v.verdict} ({_evidence(v)}) | {fix_text} | "
                 f"{fix.verdict if fix else '-'} |"
             )
     lines += ["", "## Coverage of FORMULAS.md", ""]
@@ -222,7 +117,7 @@ def render_report(verdicts: Sequence[Verdict]) -> str:
             mark = "" if v.ok else " **(unexpected)**"
             expected = " (expected: refuted)" if v.expected == "fails" else ""
             lines.append(
-                f"| {v.id} | ${_latex(v)}$ | {v.verdict}{expected}{mark} | {v.method} | "
+                f"| {v.id} | ${v.latex}$ | {v.verdict}{expected}{mark} | {v.method} | "
                 f"{_evidence(v)} | {v.seconds:.3f} |"
             )
         lines.append("")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import faulthandler
+import html
 import multiprocessing
 import multiprocessing.connection
 import os
@@ -11,8 +12,9 @@ import traceback
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import asdict, dataclass
 
-from .claims import Claim
+from .claims import REGISTRY, Claim, ComputedClaim
 from .identity import Domain, decide
+from .latex import plain_to_latex
 
 __all__ = [
     "Verdict",
@@ -50,6 +52,10 @@ class Verdict:
     witness : dict or None
         Exact point (``name -> rational``) where a refuted claim fails.
     expected : {"holds", "fails"}
+    expected_verdict : str, optional
+        The verdict the claim must get (:meth:`Claim.expected_verdict`): ``"refuted"``
+        for a claim expected to fail; ``"proved"``, or the method its check or the caller
+        chose, for one that holds. Default: ``"refuted"`` or ``"proved"``.
     """
 
     id: str
@@ -62,21 +68,69 @@ class Verdict:
     residual: str | None
     witness: dict | None
     expected: str
+    expected_verdict: str | None = None
+
+    def __post_init__(self) -> None:
+        if self.expected_verdict is None:
+            self.expected_verdict = "refuted" if self.expected == "fails" else "proved"
+
+    @property
+    def problem(self) -> str:
+        """Why the verdict is not the expected one (empty when it is).
+
+        Strict: the verdict must be the expected one (a proof where a proof is expected,
+        not a sampled or numeric check), a proof or an exact sampling has the residual
+        ``0`` and a refutation carries its witness.
+        """
+        if self.verdict in FAILURES:
+            return f"{self.verdict}: {self.method}"
+        if self.verdict != self.expected_verdict:
+            return f"{self.verdict}, expected {self.expected_verdict}"
+        if self.verdict == "refuted" and not self.witness:
+            return "refuted without a witness"
+        if self.verdict in ("proved", "exact-sampled") and self.residual != "0":
+            return f"{self.verdict} with the residual {self.residual} (not 0)"
+        return ""
 
     @property
     def ok(self) -> bool:
-        """True when the verdict is the expected one (a control must be refuted)."""
-        if self.verdict in FAILURES:
-            return False
-        refuted = self.verdict == "refuted"
-        return refuted if self.expected == "fails" else not refuted
+        """True when the verdict is the expected one (see :attr:`problem`)."""
+        return not self.problem
+
+    @property
+    def latex(self) -> str:
+        """The claim's statement in LaTeX (the claim's own, or translated from the text)."""
+        claim = REGISTRY.get(self.id)
+        return (claim.latex if claim is not None else "") or plain_to_latex(self.statement)
 
     def to_json(self) -> dict:
+        """The fields as a JSON-ready dict, with ``ok`` (no ``witness`` when there is none)."""
         out = asdict(self)
         out["ok"] = self.ok
         if out["witness"] is None:
             del out["witness"]
         return out
+
+    def __repr__(self) -> str:
+        mark = "" if self.ok else f" UNEXPECTED ({self.problem})"
+        return f"<Verdict {self.id}: {self.verdict}{mark}, {self.seconds:.3g} s>"
+
+    def _repr_latex_(self) -> str:
+        ident = self.id.replace("_", r"\_")
+        return rf"$\text{{{ident}}}:\ {self.latex}\quad\text{{({self.verdict})}}$"
+
+    def _repr_html_(self) -> str:
+        mark = "" if self.ok else f" <b>unexpected: {html.escape(self.problem)}</b>"
+        evidence = f"residual {html.escape(str(self.residual))}"
+        if self.witness:
+            evidence += " at " + html.escape(
+                ", ".join(f"{k} = {v}" for k, v in self.witness.items())
+            )
+        return (
+            f"<p><b>{html.escape(self.id)}</b> ({html.escape(self.source)}): "
+            f"${html.escape(self.latex)}$<br>{html.escape(self.verdict)}{mark}: "
+            f"{html.escape(self.method)}; {evidence}; {self.seconds:.3g} s</p>"
+        )
 
 
 def check_claim(claim: Claim, method: str = "auto", points: int = 8) -> Verdict:
@@ -85,26 +139,32 @@ def check_claim(claim: Claim, method: str = "auto", points: int = 8) -> Verdict:
     Parameters
     ----------
     claim : Claim
+        A :class:`ComputedClaim` runs its computation (no model is derived).
     method : {"auto", "symbolic", "exact-sampled", "numeric"}
     points : int
         Sample points for the sampled methods.
+
+    Returns
+    -------
+    Verdict
+        With the verdict the claim must get (:meth:`Claim.expected_verdict`).
     """
-    # a computed claim runs its own computation: no model to derive
-    model = claim.model() if getattr(claim.build, "needs_model", True) else None
-    start = time.perf_counter()
-    check = claim.build(model)
-    if check.computed is not None:
-        result = check.computed()
+    if isinstance(claim, ComputedClaim):
+        start = time.perf_counter()
+        result = claim.compute()
         holds = result.holds
-        note = f" ({check.note})" if check.note else ""
         return _verdict(
             claim,
             "numeric" if holds else "refuted",
-            f"computed: {result.what}; error {result.error:.3g}, bound {result.bound:.3g}{note}",
+            f"computed: {result.what}; error {result.error:.3g}, bound {result.bound:.3g}",
             time.perf_counter() - start,
             residual=f"{result.error:.6g}",
             witness=None if holds else dict(result.values),
         )
+    model = claim.model()
+    start = time.perf_counter()
+    check = claim.build(model)
+    expected_verdict = claim.expected_verdict(check, method)
     while True:
         domain = Domain(
             model,
@@ -126,6 +186,7 @@ def check_claim(claim: Claim, method: str = "auto", points: int = 8) -> Verdict:
         time.perf_counter() - start,
         residual=outcome.residual,
         witness=outcome.witness,
+        expected_verdict=expected_verdict,
     )
 
 
@@ -136,6 +197,7 @@ def _verdict(
     seconds: float,
     residual: str | None = None,
     witness: dict | None = None,
+    expected_verdict: str | None = None,
 ) -> Verdict:
     """The verdict on ``claim`` (its ID, statement, source, kind and expectation copied)."""
     return Verdict(
@@ -149,6 +211,7 @@ def _verdict(
         residual=residual,
         witness=witness,
         expected=claim.expected,
+        expected_verdict=expected_verdict or claim.expected_verdict(),
     )
 
 
@@ -170,10 +233,17 @@ def _check_or_error(claim: Claim, method: str) -> Verdict:
 
 
 def registered_claim(claim_id: str) -> Claim:
-    """The registered claim with this ID (how worker processes find their claims)."""
-    from .claims import REGISTRY, select_claims
+    """The registered claim with this ID (how worker processes find their claims).
 
-    select_claims()  # loads the registry once per process
+    Parameters
+    ----------
+    claim_id : str
+
+    Returns
+    -------
+    Claim
+        From :data:`REGISTRY` (which loads the claim modules on first use).
+    """
     return REGISTRY[claim_id]
 
 

@@ -100,7 +100,7 @@ def run(args: argparse.Namespace) -> int:
             + f" with {jobs} process(es), model derivation included"
         )
         for v in bad:
-            print(f"UNEXPECTED: {v.id} is {v.verdict} (expected to {v.expected.rstrip('s')})")
+            print(f"UNEXPECTED: {v.id}: {v.problem}")
     return EXIT_FAILED if bad else EXIT_OK
 
 

@@ -1,13 +1,15 @@
 """Emitters: printers that turn a Model into source files (numpy, mpmath, C).
 
 Each emitter returns ``[(filename, text)]`` and writes nothing; :mod:`.writer` puts the
-files in ``generated/`` and checks that they are up to date.
+files in ``generated/`` and checks that they are up to date. :func:`emit_function` prints
+run-time functions of other expressions the same way (the project's ``lambdify``).
 """
 
 from __future__ import annotations
 
 from .base import EMITTERS, Emitter, ModelRoutines, get_emitter, header_lines
 from .c_emitter import CEmitter
+from .functions import emit_function, function_source, module_from_source
 from .mpmath_emitter import MpmathEmitter
 from .numpy_emitter import NumpyEmitter
 from .taylor import TaylorCEmitter, TaylorPythonEmitter, build_taylor_program
@@ -22,6 +24,9 @@ __all__ = [
     "TaylorCEmitter",
     "TaylorPythonEmitter",
     "build_taylor_program",
+    "emit_function",
+    "function_source",
+    "module_from_source",
     "get_emitter",
     "header_lines",
 ]

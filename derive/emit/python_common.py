@@ -29,8 +29,7 @@ def _metadata(model: Model) -> list[str]:
         f"PARAMETERS = {params!r}",
         f"AUX = {tuple(s.name for s in model.aux_symbols)!r}",
         f"INTEGRALS = {tuple(n for n, _ in model.integrals)!r}",
-        "RELATIONS = "
-        + repr(tuple(n for n, _ in model.definitions.get("invariant_relations", ()))),
+        "RELATIONS = " + repr(tuple(n for n, _ in model.invariant_relations)),
         f"GEOMETRY = {geometry!r}",
         f"REFERENCES = {tuple(sorted(model.references.items()))!r}",
     ]

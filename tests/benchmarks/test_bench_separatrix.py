@@ -15,7 +15,7 @@ I, D, B = (1, 3, 5), 1, 1
 
 
 @pytest.mark.benchmark(group="delta 30 digits")
-def test_delta_ode_jet_30_digits(benchmark):
+def test_delta_ode_taylor_30_digits(benchmark):
     r = benchmark.pedantic(delta_ode, args=(I, D, B, 30), rounds=3, iterations=1)
     with mpmath.workdps(40):
         assert abs(r["delta"] - delta_closed_form(mu_of(I, D), B, 40)) < mpmath.mpf(10) ** -30

@@ -68,7 +68,7 @@ def _steady_residual(model: Model, fam) -> list[sp.Expr]:
 
 
 def _omega_at(model: Model, state: dict) -> sp.Matrix:
-    return model.expand_aux(sp.Matrix(model.definitions["omega"])).xreplace(state)
+    return model.expand_aux(sp.Matrix(model.omega)).xreplace(state)
 
 
 def _sigma(n, i: int, C, Mg) -> sp.Expr:
@@ -425,7 +425,7 @@ def _aux_chain(model: Model, state: dict, omega: sp.Matrix) -> tuple[list, sp.Ma
         D_x = model.param_group("D_al" if x == "alpha" else "D_be")[0]
         vec = sp.Matrix([e for s, e in state.items() if s in set(model.vectors[x])])
         expected[sp.Symbol(f"Z_{x[:2]}", real=True)] = D_x * dot(vec, omega)
-    expected.update(dict(zip(model.definitions["omega"], omega, strict=True)))
+    expected.update(dict(zip(model.omega, omega, strict=True)))
     out = []
     for sym, expr in model.aux:
         out.append(expr.xreplace(state).xreplace(expected) - expected[sym])
@@ -502,278 +502,284 @@ def _bkm12_2_7c(model: Model) -> Check:
 
 _CLAIMS = [
     Claim(
-        "BKM12-1.5R",
-        S15,
-        "equation",
-        "R(x) = Phi(x)((C - E D) x - E D), Phi(x) = (1 + x)(a1 - x)(a2 - x)(a3 - x), a_i = D/I_i, "
+        id="BKM12-1.5R",
+        source=S15,
+        kind="equation",
+        statement="R(x) = Phi(x)((C - E D) x - E D), Phi(x) = (1 + x)(a1 - x)(a2 - x)(a3 - x), a_i "
+        "= D/I_i, "
         "has a multiple root exactly on E = A_i C (and on the trivial level C = 0)",
-        BALL,
-        (),
-        _bkm12_1_5R,
+        system=BALL,
+        effects=(),
+        build=_bkm12_1_5R,
         note="factors of res(Phi, (C - E D) x - E D) that involve E, C "
         "(disc(Phi L) = disc(Phi) disc(L) res(Phi, L)^2)",
     ),
     Claim(
-        "BKM12-24",
-        S15,
-        "equation",
-        "at M_gamma = 0 the bifurcation curves are E = A_i C, i = 1, 2, 3",
-        BALL,
-        (),
-        _bkm12_24,
+        id="BKM12-24",
+        source=S15,
+        kind="equation",
+        statement="at M_gamma = 0 the bifurcation curves are E = A_i C, i = 1, 2, 3",
+        system=BALL,
+        effects=(),
+        build=_bkm12_24,
         note="the energy of the steady rotations omega = w e_i with w, gamma_i eliminated "
         "(derive/bifurcation.py), at M_gamma = 0",
     ),
     Claim(
-        "BKM12-25",
-        S15,
-        "solution",
-        "M = s sqrt(C) e_i, gamma = cos(phi) e_j + sin(phi) e_k, phi = -s A_i sqrt(C) t, "
+        id="BKM12-25",
+        source=S15,
+        kind="solution",
+        statement="M = s sqrt(C) e_i, gamma = cos(phi) e_j + sin(phi) e_k, phi = -s A_i sqrt(C) t, "
         "omega = s A_i sqrt(C) e_i, (i, j, k) cyclic, s = +-1 (six families) solve (2); "
         "E = A_i C, M_gamma = 0",
-        BALL,
-        (),
-        _bkm12_25(-1),
+        system=BALL,
+        effects=(),
+        build=_bkm12_25(-1),
         note="substituted into the model's right-hand side; sin/cos of t on the unit circle",
     ),
     Claim(
-        "BKM12-25/literal",
-        S15,
-        "solution",
-        "the six families (25) with the phase as printed, phi = +s A_i sqrt(C) t",
-        BALL,
-        (),
-        _bkm12_25(+1),
+        id="BKM12-25/literal",
+        source=S15,
+        kind="solution",
+        statement="the six families (25) with the phase as printed, phi = +s A_i sqrt(C) t",
+        system=BALL,
+        effects=(),
+        build=_bkm12_25(+1),
         expected="fails",
         note="FORMULAS.md: the printed phase sign must be opposite to s",
     ),
     Claim(
-        "BKM12-Sigma_i",
-        S15,
-        "equation",
-        "Sigma_i: E = A_i C + A_i^2 M_gamma^2/(D^-1 - A_i), i = 1, 2, 3",
-        BALL,
-        (),
-        _sigma_i(),
+        id="BKM12-Sigma_i",
+        source=S15,
+        kind="equation",
+        statement="Sigma_i: E = A_i C + A_i^2 M_gamma^2/(D^-1 - A_i), i = 1, 2, 3",
+        system=BALL,
+        effects=(),
+        build=_sigma_i(),
         note="the curve eliminated from the steady rotations, and the energy along them",
     ),
     Claim(
-        "BKM12-Sigma_i/control-coefficient",
-        f"{S15} (negative control)",
-        "equation",
-        "Sigma_2 with a wrong coefficient: E = A_2 C + 2 A_2^2 M_gamma^2/(D^-1 - A_2)",
-        BALL,
-        (),
-        _sigma_i(coefficient=2, axes=(1,)),
+        id="BKM12-Sigma_i/control-coefficient",
+        source=f"{S15} (negative control)",
+        kind="equation",
+        statement="Sigma_2 with a wrong coefficient: E = A_2 C + 2 A_2^2 M_gamma^2/(D^-1 - A_2)",
+        system=BALL,
+        effects=(),
+        build=_sigma_i(coefficient=2, axes=(1,)),
         expected="fails",
     ),
     Claim(
-        "BKM12-crit",
-        S15,
-        "solution",
-        "omega = lambda A_i e_i constant, M + Z gamma = lambda e_i, gamma turning about e_i: "
+        id="BKM12-crit",
+        source=S15,
+        kind="solution",
+        statement="omega = lambda A_i e_i constant, M + Z gamma = lambda e_i, gamma turning about "
+        "e_i: "
         "exact solutions for every gamma(0); C + Z M_gamma = lambda M_i, M_gamma + Z = "
         "lambda gamma_i, M_i + Z gamma_i = lambda, D^-1 Z = A_i lambda gamma_i; lambda M_i = "
         "C + A_i M_gamma^2/(D^-1 - A_i), lambda gamma_i = D^-1 M_gamma/(D^-1 - A_i), "
         "lambda^2 = C + (2 D^-1 - A_i) A_i M_gamma^2/(D^-1 - A_i)^2, Z = A_i M_gamma/(D^-1 - A_i), "
         "E = lambda A_i M_i, M_perp = -Z gamma_perp",
-        BALL,
-        (),
-        _bkm12_crit,
+        system=BALL,
+        effects=(),
+        build=_bkm12_crit,
     ),
     Claim(
-        "BKM12-Sigma45",
-        S15,
-        "solution",
-        "M = M_gamma gamma is invariant, C = M_gamma^2; gamma' = gamma x A~ gamma, "
+        id="BKM12-Sigma45",
+        source=S15,
+        kind="solution",
+        statement="M = M_gamma gamma is invariant, C = M_gamma^2; gamma' = gamma x A~ gamma, "
         "A~ = M_gamma (1 + E D/C) A (Euler equation); (gamma, A gamma) = E/(C + E D)",
-        BALL,
-        (),
-        _bkm12_sigma45,
+        system=BALL,
+        effects=(),
+        build=_bkm12_sigma45,
         note="checked on the invariant set M = M_gamma gamma",
     ),
     Claim(
-        "BKM12-Fig3",
-        S15,
-        "equation",
-        "E' = E D/C, g = M_gamma/sqrt(C): Sigma_i: E' = b_i + b_i^2 g^2/(1 - b_i), b_i = D A_i; "
+        id="BKM12-Fig3",
+        source=S15,
+        kind="equation",
+        statement="E' = E D/C, g = M_gamma/sqrt(C): Sigma_i: E' = b_i + b_i^2 g^2/(1 - b_i), b_i = "
+        "D A_i; "
         "Sigma_4,5: g = +-1 (M = M_gamma gamma), where E'/(1 + E') = D (gamma, A gamma); "
         "Sigma_4 meets Sigma_i at E' = b_i/(1 - b_i)",
-        BALL,
-        (),
-        _bkm12_fig3,
+        system=BALL,
+        effects=(),
+        build=_bkm12_fig3,
     ),
     Claim(
-        "BKM12-1.5a",
-        S15,
-        "transformation",
-        "with (22), k^2 = E D: E~ = k^2 rho^2 D^-1, (M~, M~) = rho^2/2 (C + k^2 + (C - k^2) "
+        id="BKM12-1.5a",
+        source=S15,
+        kind="transformation",
+        statement="with (22), k^2 = E D: E~ = k^2 rho^2 D^-1, (M~, M~) = rho^2/2 (C + k^2 + (C - "
+        "k^2) "
         "cos 2phi - 2 k M_gamma sin 2phi)",
-        BALL,
-        (),
-        _bkm12_1_5a,
+        system=BALL,
+        effects=(),
+        build=_bkm12_1_5a,
         note="E~ = E m1^2 + D^-1 m2^2 is BKM12-20",
     ),
     Claim(
-        "BKM12-26",
-        S15,
-        "equation",
-        "E~ = A_i C~ with (M~, gamma~) = 0 (23) gives (k^2 - D A_i C)(1 - D A_i) = "
+        id="BKM12-26",
+        source=S15,
+        kind="equation",
+        statement="E~ = A_i C~ with (M~, gamma~) = 0 (23) gives (k^2 - D A_i C)(1 - D A_i) = "
         "D^2 A_i^2 M_gamma^2, i.e. Sigma_i for k^2 = E D",
-        BALL,
-        (),
-        _bkm12_26(),
+        system=BALL,
+        effects=(),
+        build=_bkm12_26(),
         note="the hypotheses solved for M_gamma and C (linear), 2 phi on the unit circle",
     ),
     Claim(
-        "BKM12-26/control-factor2",
-        f"{S15} (negative control)",
-        "equation",
-        "(k^2 - D A_i C)(1 - D A_i) = 2 D^2 A_i^2 M_gamma^2 (wrong factor)",
-        BALL,
-        (),
-        _bkm12_26(control=True),
+        id="BKM12-26/control-factor2",
+        source=f"{S15} (negative control)",
+        kind="equation",
+        statement="(k^2 - D A_i C)(1 - D A_i) = 2 D^2 A_i^2 M_gamma^2 (wrong factor)",
+        system=BALL,
+        effects=(),
+        build=_bkm12_26(control=True),
         expected="fails",
     ),
     Claim(
-        "K01-3.1",
-        "K01 §3.1",
-        "equation",
-        "C = 0: p_i: h = n/(2 (I_i + D)), i = 1, 2, 3",
-        BALL,
-        (),
-        _k01_3_1,
+        id="K01-3.1",
+        source="K01 §3.1",
+        kind="equation",
+        statement="C = 0: p_i: h = n/(2 (I_i + D)), i = 1, 2, 3",
+        system=BALL,
+        effects=(),
+        build=_k01_3_1,
         note="the derived curves with h = E/2, n = (M, M), C = (M, gamma) = 0",
     ),
     Claim(
-        "K01-3.2a",
-        K32,
-        "equation",
-        "n >= C^2: n - C^2 = |M x gamma|^2 on (gamma, gamma) = 1",
-        BALL,
-        (),
-        _k01_3_2a,
+        id="K01-3.2a",
+        source=K32,
+        kind="equation",
+        statement="n >= C^2: n - C^2 = |M x gamma|^2 on (gamma, gamma) = 1",
+        system=BALL,
+        effects=(),
+        build=_k01_3_2a,
     ),
     Claim(
-        "K01-3.2b",
-        K32,
-        "equation",
-        "h1/n1 = h/(n - C f) (K01-2.33); h1 = n1/(2 J_i) with (2.32) gives p_i",
-        BALL,
-        (),
-        _k01_3_2b,
+        id="K01-3.2b",
+        source=K32,
+        kind="equation",
+        statement="h1/n1 = h/(n - C f) (K01-2.33); h1 = n1/(2 J_i) with (2.32) gives p_i",
+        system=BALL,
+        effects=(),
+        build=_k01_3_2b,
         note="(2.32) at f = (n - 2 h J_i)/C is (4 h J_i I_i/C^2) (h - h_i)",
     ),
     Claim(
-        "K01-3.2c",
-        K32,
-        "equation",
-        "p_i: h_i = (n + D C^2/I_i)/(2 J_i), J_i = I_i + D (= BKM12 Sigma_i)",
-        BALL,
-        (),
-        _k01_3_2c,
+        id="K01-3.2c",
+        source=K32,
+        kind="equation",
+        statement="p_i: h_i = (n + D C^2/I_i)/(2 J_i), J_i = I_i + D (= BKM12 Sigma_i)",
+        system=BALL,
+        effects=(),
+        build=_k01_3_2c,
     ),
     Claim(
-        "K01-3.2",
-        K32,
-        "solution",
-        "omega = (w1, 0, 0), gamma = (g1, s cos(w1 t), -s sin(w1 t)), s = sqrt(1 - g1^2), "
+        id="K01-3.2",
+        source=K32,
+        kind="solution",
+        statement="omega = (w1, 0, 0), gamma = (g1, s cos(w1 t), -s sin(w1 t)), s = sqrt(1 - "
+        "g1^2), "
         "M = J omega - D (omega, gamma) gamma solve (2.1) (corrected rotation sense)",
-        BALL,
-        (),
-        _k01_3_2(-1),
+        system=BALL,
+        effects=(),
+        build=_k01_3_2(-1),
     ),
     Claim(
-        "K01-3.2/literal",
-        K32,
-        "solution",
-        "as printed: gamma = (g1, s cos(w1 t), s sin(w1 t)) with omega = (w1, 0, 0)",
-        BALL,
-        (),
-        _k01_3_2(+1),
+        id="K01-3.2/literal",
+        source=K32,
+        kind="solution",
+        statement="as printed: gamma = (g1, s cos(w1 t), s sin(w1 t)) with omega = (w1, 0, 0)",
+        system=BALL,
+        effects=(),
+        build=_k01_3_2(+1),
         expected="fails",
         note="FORMULAS.md: this solves gamma' = omega x gamma, not (2.1)",
     ),
     Claim(
-        "K01-3.3",
-        K32,
-        "equation",
-        "on p1: w1^2 = (2 I1^2 h + D C^2)/(J1 I1^2), g1^2 = J1 C^2/(2 I1^2 h + D C^2)",
-        BALL,
-        (),
-        _k01_3_3,
+        id="K01-3.3",
+        source=K32,
+        kind="equation",
+        statement="on p1: w1^2 = (2 I1^2 h + D C^2)/(J1 I1^2), g1^2 = J1 C^2/(2 I1^2 h + D C^2)",
+        system=BALL,
+        effects=(),
+        build=_k01_3_3,
         note="h, C of the steady rotations about e_1",
     ),
     Claim(
-        "K01-3.2y",
-        K32,
-        "equation",
-        "C = 0, alpha = M/|M|: y' = -a (alpha, omega) = -2 a h/sqrt(n) (constant)",
-        BALL,
-        ("contact_point",),
-        _k01_3_2y,
+        id="K01-3.2y",
+        source=K32,
+        kind="equation",
+        statement="C = 0, alpha = M/|M|: y' = -a (alpha, omega) = -2 a h/sqrt(n) (constant)",
+        system=BALL,
+        effects=("contact_point",),
+        build=_k01_3_2y,
         note="on M = m alpha (alpha || M), sqrt(n) = (M, alpha) = m, omega free",
     ),
     Claim(
-        "BKM12-2.7a",
-        S27,
-        "equation",
-        "M || alpha: E = A_i M_al^2/(1 - D_al A_i) = M_al^2/(J_i^0 - D_al0) on the steady "
+        id="BKM12-2.7a",
+        source=S27,
+        kind="equation",
+        statement="M || alpha: E = A_i M_al^2/(1 - D_al A_i) = M_al^2/(J_i^0 - D_al0) on the "
+        "steady "
         "rotations M = M_al e_i, alpha = e_i",
-        SUPPORT,
-        (),
-        _bkm12_2_7a("curve"),
+        system=SUPPORT,
+        effects=(),
+        build=_bkm12_2_7a("curve"),
     ),
     Claim(
-        "BKM12-2.7a-sol",
-        S27,
-        "solution",
-        "M = M_al e_i, alpha = e_i, beta = cos(phi) e_j + sin(phi) e_k, "
+        id="BKM12-2.7a-sol",
+        source=S27,
+        kind="solution",
+        statement="M = M_al e_i, alpha = e_i, beta = cos(phi) e_j + sin(phi) e_k, "
         "omega = M_al A_i/(1 - D_al A_i) e_i, phi' = -omega_i solve (32)-(34)",
-        SUPPORT,
-        (),
-        _bkm12_2_7a("solution"),
+        system=SUPPORT,
+        effects=(),
+        build=_bkm12_2_7a("solution"),
     ),
     Claim(
-        "BKM12-2.7a-sol/literal",
-        S27,
-        "solution",
-        "as extracted: omega = M_al A_i e_i, phi = A_i M_al t",
-        SUPPORT,
-        (),
-        _bkm12_2_7a("literal"),
+        id="BKM12-2.7a-sol/literal",
+        source=S27,
+        kind="solution",
+        statement="as extracted: omega = M_al A_i e_i, phi = A_i M_al t",
+        system=SUPPORT,
+        effects=(),
+        build=_bkm12_2_7a("literal"),
         expected="fails",
         note="FORMULAS.md: the factor 1/(1 - D_al A_i) is missing",
     ),
     *(
         Claim(
-            f"BKM12-2.7b.e{i + 1}",
-            S27,
-            "solution",
-            f"i = {i + 1}: omega = lambda A_i e_i, M + Z_al alpha + Z_be beta = lambda e_i (any "
+            id=f"BKM12-2.7b.e{i + 1}",
+            source=S27,
+            kind="solution",
+            statement=f"i = {i + 1}: omega = lambda A_i e_i, M + Z_al alpha + Z_be beta = lambda "
+            f"e_i (any "
             "frame turning about e_i) solve (32)-(34); lambda^2, lambda M_i, lambda alpha_i, "
             "lambda beta_i, Z_al, Z_be as printed; E = A_i C + A_i^2 M_al^2/(D_al^-1 - A_i) + "
             "A_i^2 M_be^2/(D_be^-1 - A_i) = M_al^2/(J_i^0 - D_al0) + M_be^2/(J_i^0 - D_be0) + "
             "M_ga^2/(J_i^0 - D_ga0)",
-            SUPPORT,
-            (),
-            _bkm12_2_7b((i,)),
+            system=SUPPORT,
+            effects=(),
+            build=_bkm12_2_7b((i,)),
             note="J_i^0 - D_x0 = J_i - D_x in the model's parameters (D_ga = 0); the model's "
             "Z_al, Z_be, omega compared one after the other",
         )
         for i in range(3)
     ),
     Claim(
-        "BKM12-2.7c",
-        S27,
-        "equation",
-        "E' = E/C, g_x = M_x/sqrt(C): g_al^2/(J_i^0 - D_al0) + g_be^2/(J_i^0 - D_be0) + "
+        id="BKM12-2.7c",
+        source=S27,
+        kind="equation",
+        statement="E' = E/C, g_x = M_x/sqrt(C): g_al^2/(J_i^0 - D_al0) + g_be^2/(J_i^0 - D_be0) + "
         "g_ga^2/(J_i^0 - D_ga0) = E' on g_al^2 + g_be^2 + g_ga^2 = 1",
-        SUPPORT,
-        (),
-        _bkm12_2_7c,
+        system=SUPPORT,
+        effects=(),
+        build=_bkm12_2_7c,
     ),
 ]
 
-for _claim in _CLAIMS:
-    register(_claim)
+register(*_CLAIMS)

@@ -57,7 +57,7 @@ def generic_model(effects: Iterable[str]) -> Model:
     return _GENERIC[key]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class GenericLawClaim(Claim):
     """A claim about every law ``I(t)``, ``k(t)``: checked on :func:`generic_model`."""
 
@@ -99,12 +99,12 @@ def _notation(model: Model) -> _Notation:
         k = model.param_group("K")
         M = M + k
     else:
-        k = sp.Matrix(model.definitions["gyrostatic_momentum_of_time"])
+        k = sp.Matrix(model.details.gyrostatic_momentum_of_time)
     return _Notation(
         M=M,
         gamma=model.group("gamma"),
-        omega=sp.Matrix(model.definitions["omega"]),
-        I=sp.Matrix(model.definitions["inertia"]),
+        omega=sp.Matrix(model.omega),
+        I=sp.Matrix(model.details.inertia),
         D=model.param_group("D")[0],
         k=k,
         alpha=model.group("alpha") if "alpha" in model.vectors else None,
@@ -201,23 +201,23 @@ INVOLUTION_2 = ({"M": -1, "gamma": -1}, -1)  # (t, M, gamma) -> (-t, -M, -gamma)
 def _bm20_2_2(model: Model) -> Check:
     n = _notation(model)
     paper = n.I * n.omega + n.D * cross(n.gamma, cross(n.omega, n.gamma)) + n.k
-    red = model.definitions["reduced_equations"]
-    exprs = list(red.momentum - paper) + list(model.definitions["momentum_of_omega"] - paper)
+    red = model.details.reduced_equations
+    exprs = list(red.momentum - paper) + list(model.momentum_of_omega - paper)
     return Check(exprs, free=list(n.omega))
 
 
 def _bm20_2_4(model: Model) -> Check:
     n = _notation(model)
     II = n.inertia_about_contact()
-    exprs = list(model.definitions["momentum_of_omega"] - (II * n.omega + n.k))
-    exprs += list(model.definitions["inertia_operator"] - II)
+    exprs = list(model.momentum_of_omega - (II * n.omega + n.k))
+    exprs += list(model.inertia_operator - II)
     return Check(exprs, free=list(n.omega))
 
 
 def _bm20_2_5(model: Model) -> Check:
     n = _notation(model)
     t = model.time
-    red = model.definitions["reduced_equations"]
+    red = model.details.reduced_equations
     # the engine's raw rate of its momentum (multipliers eliminated), for every omega:
     # d/dt (II omega + k) = (II omega + k) x omega
     raw = red.momentum_rate + sp.diff(red.gyrostatic_momentum, t)
@@ -379,243 +379,252 @@ def _involutions_at(J_off_value) -> Callable[[Model], Check]:
 
 # ------------------------------------------------------------------ registry
 S21, S3 = "BM20 §2.1", "BM20 §3"
-for claim in (
+register(
     GenericLawClaim(
-        "BM20-2.2",
-        f"{S21}, eq. (2.2)",
-        "equation",
-        "M = I omega + d gamma x (omega x gamma) + k, d = m a^2, I = I(t), k = k(t)",
-        BALL,
-        VB,
-        _bm20_2_2,
+        id="BM20-2.2",
+        source=f"{S21}, eq. (2.2)",
+        kind="equation",
+        statement="M = I omega + d gamma x (omega x gamma) + k, d = m a^2, I = I(t), k = k(t)",
+        system=BALL,
+        effects=VB,
+        build=_bm20_2_2,
         note="the engine's projected momentum G^T dT/d(omega, v) (T with (I(t) omega, omega)/2 "
         "+ (k(t), omega)) for arbitrary laws I_i(t), k_i(t)",
     ),
     GenericLawClaim(
-        "BM20-2.4",
-        f"{S21}, eq. (2.4)",
-        "equation",
-        "M = (I + d (Id - gamma ⊗ gamma)) omega + k",
-        BALL,
-        VB,
-        _bm20_2_4,
+        id="BM20-2.4",
+        source=f"{S21}, eq. (2.4)",
+        kind="equation",
+        statement="M = (I + d (Id - gamma ⊗ gamma)) omega + k",
+        system=BALL,
+        effects=VB,
+        build=_bm20_2_4,
         note="also: the derived inertia operator is I(t) + d (Id - gamma ⊗ gamma) on the sphere",
     ),
     GenericLawClaim(
-        "BM20-2.5",
-        f"{S21}, eqs. (2.3), (2.5)",
-        "equation",
-        "M' = M x omega, gamma' = gamma x omega, omega = A (M - k), "
+        id="BM20-2.5",
+        source=f"{S21}, eqs. (2.3), (2.5)",
+        kind="equation",
+        statement="M' = M x omega, gamma' = gamma x omega, omega = A (M - k), "
         "A = (I + d (Id - gamma ⊗ gamma))^-1, for arbitrary I(t), k(t)",
-        BALL,
-        VB,
-        _bm20_2_5,
+        system=BALL,
+        effects=VB,
+        build=_bm20_2_5,
         note="the engine's raw momentum rate (explicit d/dt of T included) and the model's "
         "right-hand side, for arbitrary laws",
     ),
     GenericLawClaim(
-        "BM20-2.5int",
-        f"{S21}",
-        "integral",
-        "gamma^2, M^2 = G^2, (M, gamma) = H and, with (2.1), (M, alpha) = F, (M, beta) = Q "
+        id="BM20-2.5int",
+        source=f"{S21}",
+        kind="integral",
+        statement="gamma^2, M^2 = G^2, (M, gamma) = H and, with (2.1), (M, alpha) = F, (M, beta) = "
+        "Q "
         "are first integrals for arbitrary I(t), k(t)",
-        BALL,
-        VBC,
-        _integrals,
+        system=BALL,
+        effects=VBC,
+        build=_integrals,
         note="Lie derivatives include the explicit d/dt; I_i(t), k_i(t) and their derivatives "
         "are independent generators",
     ),
     Claim(
-        "BM20-2.6/literal",
-        f"{S21}, eq. (2.6) (literal reading)",
-        "integral",
-        "E = (M, omega)/2 (BM20's M, which includes k) is a first integral for constant I "
+        id="BM20-2.6/literal",
+        source=f"{S21}, eq. (2.6) (literal reading)",
+        kind="integral",
+        statement="E = (M, omega)/2 (BM20's M, which includes k) is a first integral for constant "
+        "I "
         "and constant k",
-        BALL,
-        GYRO,
-        _energy(literal=True),
+        system=BALL,
+        effects=GYRO,
+        build=_energy(literal=True),
         expected="fails",
         note="BM20's M = M_BKM12 + K; not conserved for K != 0 (FORMULAS.md: FAILED as "
         "transcribed)",
     ),
     Claim(
-        "BM20-2.6",
-        f"{S21}, eq. (2.6) (corrected)",
-        "integral",
-        "E = (M - k, omega)/2 = (omega, (I + d (Id - gamma ⊗ gamma)) omega)/2 is a first "
+        id="BM20-2.6",
+        source=f"{S21}, eq. (2.6) (corrected)",
+        kind="integral",
+        statement="E = (M - k, omega)/2 = (omega, (I + d (Id - gamma ⊗ gamma)) omega)/2 is a first "
         "integral for constant I and constant k (zero or not)",
-        BALL,
-        GYRO,
-        _energy(literal=False),
+        system=BALL,
+        effects=GYRO,
+        build=_energy(literal=False),
         note="also: E is the engine's generalised energy",
     ),
     Claim(
-        "BM20-2.6/time-varying",
-        f"{S21} (the energy needs constant parameters)",
-        "integral",
-        "E = (M - k, omega)/2 is a first integral for the time-varying I(t) of (3.4) (k = 0)",
-        BALL,
-        VI,
-        _energy(literal=False),
+        id="BM20-2.6/time-varying",
+        source=f"{S21} (the energy needs constant parameters)",
+        kind="integral",
+        statement="E = (M - k, omega)/2 is a first integral for the time-varying I(t) of (3.4) (k "
+        "= 0)",
+        system=BALL,
+        effects=VI,
+        build=_energy(literal=False),
         expected="fails",
         note="the moving masses do work: dE/dt = -(omega, I'(t) omega)/2 != 0",
     ),
     Claim(
-        "BM20-2.7.k0",
-        f"{S21}, eq. (2.7)",
-        "measure",
-        "constant I, k = 0: invariant measure with rho = (1 - d (gamma, (I + d Id)^-1 gamma))^-1/2",
-        BALL,
-        (),
-        _bm20_2_7,
+        id="BM20-2.7.k0",
+        source=f"{S21}, eq. (2.7)",
+        kind="measure",
+        statement="constant I, k = 0: invariant measure with rho = (1 - d (gamma, (I + d Id)^-1 "
+        "gamma))^-1/2",
+        system=BALL,
+        effects=(),
+        build=_bm20_2_7,
     ),
     Claim(
-        "BM20-2.7.k",
-        f"{S21}, eq. (2.7)",
-        "measure",
-        "constant I, constant k != 0: the same rho is an invariant density",
-        BALL,
-        GYRO,
-        _bm20_2_7,
+        id="BM20-2.7.k",
+        source=f"{S21}, eq. (2.7)",
+        kind="measure",
+        statement="constant I, constant k != 0: the same rho is an invariant density",
+        system=BALL,
+        effects=GYRO,
+        build=_bm20_2_7,
     ),
     GenericLawClaim(
-        "BM20-2.8",
-        "BM20 §2.2, eq. (2.8)",
-        "equation",
-        "X' = a (beta, omega), Y' = -a (alpha, omega); with alpha = M x gamma/G, beta = M/G "
+        id="BM20-2.8",
+        source="BM20 §2.2, eq. (2.8)",
+        kind="equation",
+        statement="X' = a (beta, omega), Y' = -a (alpha, omega); with alpha = M x gamma/G, beta = "
+        "M/G "
         "on (M, gamma) = 0: X' = (a/G)(M, omega), Y' = (a/G)(gamma x M, omega)",
-        BALL,
-        VBC,
-        _bm20_2_8,
+        system=BALL,
+        effects=VBC,
+        build=_bm20_2_8,
         note="for arbitrary I(t), k(t); (M, gamma) = 0 imposed by M = gamma x u",
     ),
     GenericLawClaim(
-        "BM20-3.1",
-        f"{S3}, (3.1)",
-        "transformation",
-        "I(-t) = I(t), k(-t) = k(t): (t, M, gamma) -> (t, M, -gamma) maps solutions to solutions",
-        BALL,
-        VB,
-        _transformations([SYMMETRY], 1, 1),
+        id="BM20-3.1",
+        source=f"{S3}, (3.1)",
+        kind="transformation",
+        statement="I(-t) = I(t), k(-t) = k(t): (t, M, gamma) -> (t, M, -gamma) maps solutions to "
+        "solutions",
+        system=BALL,
+        effects=VB,
+        build=_transformations([SYMMETRY], 1, 1),
         note="f(t, M, -gamma) = S f(t, M, gamma) exactly (for every law, even or not)",
     ),
     GenericLawClaim(
-        "BM20-3.1/involution",
-        f"{S3}, (3.1) ('only the symmetry')",
-        "transformation",
-        "I(-t) = I(t), k(-t) = k(t): (t, M, gamma) -> (-t, -M, gamma) is a reversing symmetry",
-        BALL,
-        VB,
-        _transformations([INVOLUTION_1], 1, 1),
+        id="BM20-3.1/involution",
+        source=f"{S3}, (3.1) ('only the symmetry')",
+        kind="transformation",
+        statement="I(-t) = I(t), k(-t) = k(t): (t, M, gamma) -> (-t, -M, gamma) is a reversing "
+        "symmetry",
+        system=BALL,
+        effects=VB,
+        build=_transformations([INVOLUTION_1], 1, 1),
         expected="fails",
         note="BM20 says only the symmetry survives for even k: the involution must be refuted",
     ),
     GenericLawClaim(
-        "BM20-3.2/3.3",
-        f"{S3}, (3.2), (3.3)",
-        "transformation",
-        "I(-t) = I(t), k(-t) = -k(t): the symmetry (t, M, gamma) -> (t, M, -gamma) and the "
+        id="BM20-3.2/3.3",
+        source=f"{S3}, (3.2), (3.3)",
+        kind="transformation",
+        statement="I(-t) = I(t), k(-t) = -k(t): the symmetry (t, M, gamma) -> (t, M, -gamma) and "
+        "the "
         "involutions (t, M, gamma) -> (-t, -M, gamma), (-t, -M, -gamma)",
-        BALL,
-        VB,
-        _transformations([SYMMETRY, INVOLUTION_1, INVOLUTION_2], 1, -1),
+        system=BALL,
+        effects=VB,
+        build=_transformations([SYMMETRY, INVOLUTION_1, INVOLUTION_2], 1, -1),
         note="f(s t, S x) = s S f(t, x) exactly, for every even I(t) and odd k(t)",
     ),
     Claim(
-        "BM20-3.4",
-        f"{S3}, eq. (3.4)",
-        "definition",
-        "the variable_inertia model is (2.5) with I(t) = diag(I1 + (J_off + delta sin(Omega t))^2, "
+        id="BM20-3.4",
+        source=f"{S3}, eq. (3.4)",
+        kind="definition",
+        statement="the variable_inertia model is (2.5) with I(t) = diag(I1 + (J_off + delta "
+        "sin(Omega t))^2, "
         "I2, I3 + (J_off + delta sin(Omega t))^2)",
-        BALL,
-        VI,
-        _law_substitution,
+        system=BALL,
+        effects=VI,
+        build=_law_substitution,
         note="right-hand side and integrals = the generic model's with the law substituted",
     ),
     Claim(
-        "BM20-3.5",
-        f"{S3}, eqs. (3.4), (3.5)",
-        "definition",
-        "the variable_gyrostat, variable_inertia model is (2.5) with I(t) of (3.4) and "
+        id="BM20-3.5",
+        source=f"{S3}, eqs. (3.4), (3.5)",
+        kind="definition",
+        statement="the variable_gyrostat, variable_inertia model is (2.5) with I(t) of (3.4) and "
         "k(t) = K sin(Omega t)",
-        BALL,
-        VB,
-        _law_substitution,
+        system=BALL,
+        effects=VB,
+        build=_law_substitution,
     ),
     Claim(
-        "BM20-3.4.J0",
-        f"{S3}, eqs. (3.3)-(3.5)",
-        "transformation",
-        "J_off = 0: I(t) of (3.4) is even, k(t) of (3.5) odd, and the involutions "
+        id="BM20-3.4.J0",
+        source=f"{S3}, eqs. (3.3)-(3.5)",
+        kind="transformation",
+        statement="J_off = 0: I(t) of (3.4) is even, k(t) of (3.5) odd, and the involutions "
         "(t, M, gamma) -> (-t, -M, gamma), (-t, -M, -gamma) hold for the model",
-        BALL,
-        VB,
-        _involutions_at(0),
+        system=BALL,
+        effects=VB,
+        build=_involutions_at(0),
     ),
     Claim(
-        "BM20-3.4J",
-        f"{S3}, eq. (3.4), Fig. 2 (J_off = -0.5)",
-        "transformation",
-        "the involutions (3.3) hold for I(t) of (3.4) and k(t) of (3.5) with J_off != 0",
-        BALL,
-        VB,
-        _involutions_at(None),
+        id="BM20-3.4J",
+        source=f"{S3}, eq. (3.4), Fig. 2 (J_off = -0.5)",
+        kind="transformation",
+        statement="the involutions (3.3) hold for I(t) of (3.4) and k(t) of (3.5) with J_off != 0",
+        system=BALL,
+        effects=VB,
+        build=_involutions_at(None),
         expected="fails",
         note="I(t) is even only for J_off = 0 (FORMULAS.md [BM20-3.4J])",
     ),
     Claim(
-        "BM20-3.2rem",
-        f"{S3}.2 (remark on delta)",
-        "value",
-        "I = (4, 3, 2), J_off = 0 in (3.4): I1(t) - I2 = 1 + delta^2 sin^2(Omega t) and "
+        id="BM20-3.2rem",
+        source=f"{S3}.2 (remark on delta)",
+        kind="value",
+        statement="I = (4, 3, 2), J_off = 0 in (3.4): I1(t) - I2 = 1 + delta^2 sin^2(Omega t) and "
         "I2 - I3(t) = (1 - delta^2) + delta^2 cos^2(Omega t), so I1(t) > I2 > I3(t) for all t "
         "iff delta < 1; delta = 2 violates the order (at sin(Omega t) = +-1)",
-        BALL,
-        VI,
-        _order_certificate(cos_square=True),
+        system=BALL,
+        effects=VI,
+        build=_order_certificate(cos_square=True),
         note="a certificate: the minimum 1 - delta^2 of I2 - I3(t) is attained at cos = 0",
     ),
     Claim(
-        "BM20-3.2rem/control-sin",
-        f"{S3}.2 (remark on delta; control)",
-        "value",
-        "the same certificate with I2 - I3(t) = (1 - delta^2) + delta^2 sin^2(Omega t)",
-        BALL,
-        VI,
-        _order_certificate(cos_square=False),
+        id="BM20-3.2rem/control-sin",
+        source=f"{S3}.2 (remark on delta; control)",
+        kind="value",
+        statement="the same certificate with I2 - I3(t) = (1 - delta^2) + delta^2 sin^2(Omega t)",
+        system=BALL,
+        effects=VI,
+        build=_order_certificate(cos_square=False),
         expected="fails",
     ),
     GenericLawClaim(
-        "BM20-3.6",
-        f"{S3}.1, eq. (3.6)",
-        "equation",
-        "start from rest: G = 0 is invariant and there gamma' = gamma x (-A k(t)), "
+        id="BM20-3.6",
+        source=f"{S3}.1, eq. (3.6)",
+        kind="equation",
+        statement="start from rest: G = 0 is invariant and there gamma' = gamma x (-A k(t)), "
         "A = (I + d (Id - gamma ⊗ gamma))^-1; symmetry gamma -> -gamma; with (3.2) the "
         "involution (t, gamma) -> (-t, -gamma)",
-        BALL,
-        VB,
-        _bm20_3_6,
+        system=BALL,
+        effects=VB,
+        build=_bm20_3_6,
         note="for arbitrary I(t), k(t) (the involution for even I, odd k)",
     ),
     Claim(
-        "BM20-map",
-        f"{S3}.1",
-        "transformation",
-        "gamma = (sqrt(1 - z^2) sin l, sqrt(1 - z^2) cos l, z) is a unit vector",
-        BALL,
-        (),
-        _bm20_map,
+        id="BM20-map",
+        source=f"{S3}.1",
+        kind="transformation",
+        statement="gamma = (sqrt(1 - z^2) sin l, sqrt(1 - z^2) cos l, z) is a unit vector",
+        system=BALL,
+        effects=(),
+        build=_bm20_map,
     ),
     Claim(
-        "BM20-3.7",
-        f"{S3}.2, eq. (3.7) (Andoyer–Deprit variables)",
-        "transformation",
-        "M = G (sqrt(1-z^2) sin l, sqrt(1-z^2) cos l, z), gamma = (z cos g sin l + sin g cos l, "
+        id="BM20-3.7",
+        source=f"{S3}.2, eq. (3.7) (Andoyer–Deprit variables)",
+        kind="transformation",
+        statement="M = G (sqrt(1-z^2) sin l, sqrt(1-z^2) cos l, z), gamma = (z cos g sin l + sin g "
+        "cos l, "
         "z cos g cos l - sin g sin l, -sqrt(1-z^2) cos g): |gamma| = 1, (M, gamma) = 0, |M| = G",
-        BALL,
-        (),
-        _bm20_3_7,
+        system=BALL,
+        effects=(),
+        build=_bm20_3_7,
         note="sqrt(1 - z^2) split off exactly; (sin, cos) pairs on the unit circle",
     ),
-):
-    register(claim)
+)

@@ -16,7 +16,7 @@ from functools import cache
 import mpmath
 import numpy as np
 
-from . import Claim, Computed, computed_build, register
+from . import Computed, ComputedClaim, register
 
 BALL = "chaplygin_ball"
 SUPPORT = "spherical_support"
@@ -25,22 +25,6 @@ EPS = float(np.finfo(float).eps)
 I_REF, D_REF = (1.0, 1.5, 3.0), 1.0
 #: Relative tolerance of the double-precision integrations (DOP853) behind the checks.
 RTOL = 1e-12
-
-
-def _claim(id_, source, kind, statement, system, fn, expected="holds", covers=()):
-    register(
-        Claim(
-            id_,
-            source,
-            kind,
-            statement,
-            system,
-            (),
-            computed_build(fn),
-            expected=expected,
-            covers=tuple(covers),
-        )
-    )
 
 
 # ------------------------------------------------------------------ Floquet multipliers
@@ -134,50 +118,64 @@ def _middle_axis_rule(seed: int, bodies: int, claim_middle_stable: bool = False)
     return run
 
 
-_claim(
-    "BKM12-1.5stab",
-    "BKM12 §1.5, Fig. 2",
-    "solution",
-    "steady rotations at (M, gamma) = 0: stable about the axes of the extreme A_i, unstable "
-    "about the middle one; max |multiplier| = 1, 12.545, 1 at I = (1, 1.5, 3), D = C = 1",
-    BALL,
-    _printed_multipliers(0.0, (1.0, 12.545, 1.0)),
+register(
+    ComputedClaim(
+        id="BKM12-1.5stab",
+        source="BKM12 §1.5, Fig. 2",
+        kind="solution",
+        statement="steady rotations at (M, gamma) = 0: stable about the axes of the extreme A_i, "
+        "unstable "
+        "about the middle one; max |multiplier| = 1, 12.545, 1 at I = (1, 1.5, 3), D = C = 1",
+        system=BALL,
+        compute=_printed_multipliers(0.0, (1.0, 12.545, 1.0)),
+    )
 )
-_claim(
-    "BKM12-1.5stab/control-middle-stable",
-    "control",
-    "solution",
-    "(wrong) the rotation about the middle axis is stable: max |multiplier| = 1, 1, 1",
-    BALL,
-    _printed_multipliers(0.0, (1.0, 1.0, 1.0)),
-    expected="fails",
+register(
+    ComputedClaim(
+        id="BKM12-1.5stab/control-middle-stable",
+        source="control",
+        kind="solution",
+        statement="(wrong) the rotation about the middle axis is stable: max |multiplier| = 1, 1, "
+        "1",
+        system=BALL,
+        compute=_printed_multipliers(0.0, (1.0, 1.0, 1.0)),
+        expected="fails",
+    )
 )
-_claim(
-    "BKM12-1.5stab8",
-    "BKM12 §1.5, Fig. 3",
-    "solution",
-    "M_gamma = 0.5: max |multiplier| = 1, 9.358, 1 on Sigma_1, Sigma_2, Sigma_3 and all "
-    "|multipliers| = 1 on both arcs of Sigma_4 (8 stable families, Sigma_2 unstable)",
-    BALL,
-    _stab8,
+register(
+    ComputedClaim(
+        id="BKM12-1.5stab8",
+        source="BKM12 §1.5, Fig. 3",
+        kind="solution",
+        statement="M_gamma = 0.5: max |multiplier| = 1, 9.358, 1 on Sigma_1, Sigma_2, Sigma_3 and "
+        "all "
+        "|multipliers| = 1 on both arcs of Sigma_4 (8 stable families, Sigma_2 unstable)",
+        system=BALL,
+        compute=_stab8,
+    )
 )
-_claim(
-    "K01-3.2stab",
-    "K01 §3.2",
-    "solution",
-    "stable rotations about the axes of the extreme A_i (minor and major), unstable about the "
-    "mean one, for any body (random seeded inertia)",
-    BALL,
-    _middle_axis_rule(7, 2),
+register(
+    ComputedClaim(
+        id="K01-3.2stab",
+        source="K01 §3.2",
+        kind="solution",
+        statement="stable rotations about the axes of the extreme A_i (minor and major), unstable "
+        "about the "
+        "mean one, for any body (random seeded inertia)",
+        system=BALL,
+        compute=_middle_axis_rule(7, 2),
+    )
 )
-_claim(
-    "K01-3.2stab/control-all-stable",
-    "control",
-    "solution",
-    "(wrong) all three steady rotations are stable",
-    BALL,
-    _middle_axis_rule(7, 1, claim_middle_stable=True),
-    expected="fails",
+register(
+    ComputedClaim(
+        id="K01-3.2stab/control-all-stable",
+        source="control",
+        kind="solution",
+        statement="(wrong) all three steady rotations are stable",
+        system=BALL,
+        compute=_middle_axis_rule(7, 1, claim_middle_stable=True),
+        expected="fails",
+    )
 )
 
 
@@ -209,23 +207,28 @@ def _region(widen: float = 1.0):
     return run
 
 
-_claim(
-    "BKM12-Fig2region",
-    "BKM12 Fig. 2; K01 §3.2",
-    "value",
-    "the region of motion at (M, gamma) = 0 lies between the extreme lines E = A_min C and "
-    "E = A_max C",
-    BALL,
-    _region(),
+register(
+    ComputedClaim(
+        id="BKM12-Fig2region",
+        source="BKM12 Fig. 2; K01 §3.2",
+        kind="value",
+        statement="the region of motion at (M, gamma) = 0 lies between the extreme lines E = A_min "
+        "C and "
+        "E = A_max C",
+        system=BALL,
+        compute=_region(),
+    )
 )
-_claim(
-    "BKM12-Fig2region/control-narrow",
-    "control",
-    "value",
-    "(wrong) the region of motion lies between E = 1.1 A_min C and E = A_max C / 1.1",
-    BALL,
-    _region(widen=1 / 1.1),
-    expected="fails",
+register(
+    ComputedClaim(
+        id="BKM12-Fig2region/control-narrow",
+        source="control",
+        kind="value",
+        statement="(wrong) the region of motion lies between E = 1.1 A_min C and E = A_max C / 1.1",
+        system=BALL,
+        compute=_region(widen=1 / 1.1),
+        expected="fails",
+    )
 )
 
 
@@ -366,59 +369,74 @@ def _printed_limits(which: str):
     return run
 
 
-_claim(
-    "K01-2.27",
-    "K01 §2.2, (2.27)",
-    "value",
-    "rotation number nu1/nu2 = -int_(q2 range) q dq/sqrt(R) / int_(q1 range) q dq/sqrt(R) "
-    "with the true turning points equals the one measured on a trajectory",
-    BALL,
-    _rotation_number,
+register(
+    ComputedClaim(
+        id="K01-2.27",
+        source="K01 §2.2, (2.27)",
+        kind="value",
+        statement="rotation number nu1/nu2 = -int_(q2 range) q dq/sqrt(R) / int_(q1 range) q "
+        "dq/sqrt(R) "
+        "with the true turning points equals the one measured on a trajectory",
+        system=BALL,
+        compute=_rotation_number,
+    )
 )
-_claim(
-    "K01-2.27/literal",
-    "K01 §2.2, (2.27) as printed",
-    "value",
-    "rotation number from the integrals over the printed ranges [a3, a2], [a2, a1]",
-    BALL,
-    _printed_limits("ratio"),
-    expected="fails",
+register(
+    ComputedClaim(
+        id="K01-2.27/literal",
+        source="K01 §2.2, (2.27) as printed",
+        kind="value",
+        statement="rotation number from the integrals over the printed ranges [a3, a2], [a2, a1]",
+        system=BALL,
+        compute=_printed_limits("ratio"),
+        expected="fails",
+    )
 )
-_claim(
-    "K01-2.26",
-    "K01 §2.2, (2.26)",
-    "value",
-    "frequencies (1/2F) int q dq/sqrt(R) over the true oscillation ranges, with c0 = "
-    "2/sqrt(prod(1 + D a_i)), equal the measured frequencies in tau",
-    BALL,
-    _frequencies(),
+register(
+    ComputedClaim(
+        id="K01-2.26",
+        source="K01 §2.2, (2.26)",
+        kind="value",
+        statement="frequencies (1/2F) int q dq/sqrt(R) over the true oscillation ranges, with c0 = "
+        "2/sqrt(prod(1 + D a_i)), equal the measured frequencies in tau",
+        system=BALL,
+        compute=_frequencies(),
+    )
 )
-_claim(
-    "K01-2.26/literal",
-    "K01 §2.2, (2.26) with c0 = 1",
-    "value",
-    "frequencies in K01's normalisation c0 = 1 equal the measured frequencies in tau",
-    BALL,
-    _frequencies(k01_normalisation=True),
-    expected="fails",
+register(
+    ComputedClaim(
+        id="K01-2.26/literal",
+        source="K01 §2.2, (2.26) with c0 = 1",
+        kind="value",
+        statement="frequencies in K01's normalisation c0 = 1 equal the measured frequencies in tau",
+        system=BALL,
+        compute=_frequencies(k01_normalisation=True),
+        expected="fails",
+    )
 )
-_claim(
-    "K01-2.23",
-    "K01 §2.2, (2.23)",
-    "value",
-    "the action integrals run between consecutive roots of R: the true turning points, one "
-    "of them q* = -2 lam1/lam2 = 2h/(n - 2Dh), are those of the motion",
-    BALL,
-    _true_ranges,
+register(
+    ComputedClaim(
+        id="K01-2.23",
+        source="K01 §2.2, (2.23)",
+        kind="value",
+        statement="the action integrals run between consecutive roots of R: the true turning "
+        "points, one "
+        "of them q* = -2 lam1/lam2 = 2h/(n - 2Dh), are those of the motion",
+        system=BALL,
+        compute=_true_ranges,
+    )
 )
-_claim(
-    "K01-2.23/literal",
-    "K01 §2.2, (2.23) as printed",
-    "value",
-    "the action integrals over the printed ranges [a2, a1], [a3, a2] are real periods",
-    BALL,
-    _printed_limits("actions"),
-    expected="fails",
+register(
+    ComputedClaim(
+        id="K01-2.23/literal",
+        source="K01 §2.2, (2.23) as printed",
+        kind="value",
+        statement="the action integrals over the printed ranges [a2, a1], [a3, a2] are real "
+        "periods",
+        system=BALL,
+        compute=_printed_limits("actions"),
+        expected="fails",
+    )
 )
 
 
@@ -451,23 +469,28 @@ def _fig6f(printed: float):
     return run
 
 
-_claim(
-    "K01-Fig6f",
-    "K01 §3.3, Fig. 6f",
-    "value",
-    "I = (1, 3, 5), C = D = 1, M || gamma: at h = 0.180278 the contact-point trace is "
-    "unbounded (the resonance where the frame turns by 0 per period)",
-    BALL,
-    _fig6f(H_FIG6F),
+register(
+    ComputedClaim(
+        id="K01-Fig6f",
+        source="K01 §3.3, Fig. 6f",
+        kind="value",
+        statement="I = (1, 3, 5), C = D = 1, M || gamma: at h = 0.180278 the contact-point trace "
+        "is "
+        "unbounded (the resonance where the frame turns by 0 per period)",
+        system=BALL,
+        compute=_fig6f(H_FIG6F),
+    )
 )
-_claim(
-    "K01-Fig6f/control-h2",
-    "control",
-    "value",
-    "(wrong) the unbounded trace of Fig. 6f is at h2 + 0.01 = 0.17667",
-    BALL,
-    _fig6f(1 / 6 + 0.01),
-    expected="fails",
+register(
+    ComputedClaim(
+        id="K01-Fig6f/control-h2",
+        source="control",
+        kind="value",
+        statement="(wrong) the unbounded trace of Fig. 6f is at h2 + 0.01 = 0.17667",
+        system=BALL,
+        compute=_fig6f(1 / 6 + 0.01),
+        expected="fails",
+    )
 )
 
 
@@ -511,23 +534,28 @@ def _proposition2(wrong_sign: bool = False, seeds: int = 3):
     return run
 
 
-_claim(
-    "BKM12-49-54",
-    "BKM12 §2.6, (49)-(54)",
-    "transformation",
-    "the rows (54) of Q_E for the roots of (55) make M~, alpha~, beta~ pairwise orthogonal "
-    "(49) with Q Gamma Q^T = Lambda, Q g Q^T = g~ diagonal (52), (Q^T)^-1 = g~^-1 Q g and "
-    "lam = Lambda_ii/g~_ii (53)",
-    SUPPORT,
-    _proposition2(),
-    covers=("BKM12-49", "BKM12-52", "BKM12-53", "BKM12-54"),
+register(
+    ComputedClaim(
+        id="BKM12-49-54",
+        source="BKM12 §2.6, (49)-(54)",
+        kind="transformation",
+        statement="the rows (54) of Q_E for the roots of (55) make M~, alpha~, beta~ pairwise "
+        "orthogonal "
+        "(49) with Q Gamma Q^T = Lambda, Q g Q^T = g~ diagonal (52), (Q^T)^-1 = g~^-1 Q g and "
+        "lam = Lambda_ii/g~_ii (53)",
+        system=SUPPORT,
+        compute=_proposition2(),
+        covers=("BKM12-49", "BKM12-52", "BKM12-53", "BKM12-54"),
+    )
 )
-_claim(
-    "BKM12-49-54/control-sign",
-    "control",
-    "transformation",
-    "(wrong) rows with lam + D_al, lam + D_be in the denominators",
-    SUPPORT,
-    _proposition2(wrong_sign=True, seeds=1),
-    expected="fails",
+register(
+    ComputedClaim(
+        id="BKM12-49-54/control-sign",
+        source="control",
+        kind="transformation",
+        statement="(wrong) rows with lam + D_al, lam + D_be in the denominators",
+        system=SUPPORT,
+        compute=_proposition2(wrong_sign=True, seeds=1),
+        expected="fails",
+    )
 )

@@ -437,7 +437,7 @@ def _abel_jacobi(model: Model) -> Check:
 # ------------------------------------------------------------------ BKM12 §1.2
 def _bkm12_8(model: Model) -> Check:
     n = ball_notation(model)
-    Mw = model.definitions["momentum_of_omega"]
+    Mw = model.momentum_of_omega
     return Check([dot(Mw, n.gamma) - dot(sp.diag(*n.I) * n.omega, n.gamma)], free=list(n.omega))
 
 
@@ -531,164 +531,173 @@ def _eisenhart(model: Model) -> Check:
 
 def _claims():
     yield Claim(
-        "K01-2.7",
-        S22,
-        "transformation",
-        "d tau = rho dt, L = rho M, rho = (1 - D (gamma, J^-1 gamma))^-1/2: dx/dtau = {x, H} "
+        id="K01-2.7",
+        source=S22,
+        kind="transformation",
+        statement="d tau = rho dt, L = rho M, rho = (1 - D (gamma, J^-1 gamma))^-1/2: dx/dtau = "
+        "{x, H} "
         "with H of (2.8) and the bracket (2.9) equals rho^-1 times the ball's flow "
         "(on the whole phase space, not only at (M, gamma) = 0)",
-        BALL,
-        (),
-        _flow(-1),
+        system=BALL,
+        effects=(),
+        build=_flow(-1),
         note="the ball's right-hand side as derived by the engine; x' = {x, H}",
     )
     yield Claim(
-        "K01-2.7/control-sign",
-        f"{S22} (negative control)",
-        "transformation",
-        "the same with the D-term of (2.9) of the opposite sign (+D (L, gamma) rho^2 J^-1 gamma)",
-        BALL,
-        (),
-        _flow(+1),
+        id="K01-2.7/control-sign",
+        source=f"{S22} (negative control)",
+        kind="transformation",
+        statement="the same with the D-term of (2.9) of the opposite sign (+D (L, gamma) rho^2 "
+        "J^-1 gamma)",
+        system=BALL,
+        effects=(),
+        build=_flow(+1),
         expected="fails",
     )
     yield Claim(
-        "K01-2.8",
-        S22,
-        "equation",
-        "H = (1 - D (gamma, J^-1 gamma)) (L, J^-1 L)/2 + D (gamma, J^-1 L)^2/2 at L = rho M "
+        id="K01-2.8",
+        source=S22,
+        kind="equation",
+        statement="H = (1 - D (gamma, J^-1 gamma)) (L, J^-1 L)/2 + D (gamma, J^-1 L)^2/2 at L = "
+        "rho M "
         "is the ball's energy (M, omega)/2",
-        BALL,
-        (),
-        _energy,
+        system=BALL,
+        effects=(),
+        build=_energy,
     )
     yield Claim(
-        "K01-2.9",
-        S22,
-        "equation",
-        "{L_i, L_j} = -eps_ijk (L_k - D (L, gamma) rho^2 (J^-1 gamma)_k), "
+        id="K01-2.9",
+        source=S22,
+        kind="equation",
+        statement="{L_i, L_j} = -eps_ijk (L_k - D (L, gamma) rho^2 (J^-1 gamma)_k), "
         "{L_i, gamma_j} = -eps_ijk gamma_k, {gamma_i, gamma_j} = 0 satisfies the Jacobi identity",
-        BALL,
-        (),
-        _jacobi(-1),
+        system=BALL,
+        effects=(),
+        build=_jacobi(-1),
     )
     yield Claim(
-        "K01-2.9.e3",
-        S22,
-        "equation",
-        "at (L, gamma) = 0 the bracket (2.9) is e(3): {L_i, L_j} = -eps_ijk L_k",
-        BALL,
-        (),
-        _e3_leaf,
+        id="K01-2.9.e3",
+        source=S22,
+        kind="equation",
+        statement="at (L, gamma) = 0 the bracket (2.9) is e(3): {L_i, L_j} = -eps_ijk L_k",
+        system=BALL,
+        effects=(),
+        build=_e3_leaf,
     )
     yield Claim(
-        "K01-2.10.C",
-        S22,
-        "integral",
-        "C = (L, gamma)/rho is a Casimir of (2.9); at L = rho M it is the constant of areas "
+        id="K01-2.10.C",
+        source=S22,
+        kind="integral",
+        statement="C = (L, gamma)/rho is a Casimir of (2.9); at L = rho M it is the constant of "
+        "areas "
         "(M, gamma)",
-        BALL,
-        (),
-        _casimir("C"),
+        system=BALL,
+        effects=(),
+        build=_casimir("C"),
     )
     yield Claim(
-        "K01-2.10.gamma",
-        S22,
-        "integral",
-        "(gamma, gamma) is a Casimir of (2.9)",
-        BALL,
-        (),
-        _casimir("gamma"),
+        id="K01-2.10.gamma",
+        source=S22,
+        kind="integral",
+        statement="(gamma, gamma) is a Casimir of (2.9)",
+        system=BALL,
+        effects=(),
+        build=_casimir("gamma"),
     )
     yield Claim(
-        "K01-2.10.n",
-        S22,
-        "integral",
-        "n = L^2/rho^2 is an integral of (2.8)-(2.9), {n, H} = 0, and equals (M, M) at L = rho M",
-        BALL,
-        (),
-        _n_integral,
+        id="K01-2.10.n",
+        source=S22,
+        kind="integral",
+        statement="n = L^2/rho^2 is an integral of (2.8)-(2.9), {n, H} = 0, and equals (M, M) at L "
+        "= rho M",
+        system=BALL,
+        effects=(),
+        build=_n_integral,
     )
     yield Claim(
-        "K01-2.10/control-(L,gamma)",
-        f"{S22} (negative control)",
-        "integral",
-        "(L, gamma) (without 1/rho) is a Casimir of (2.9)",
-        BALL,
-        (),
-        _casimir("(L,gamma)"),
+        id="K01-2.10/control-(L,gamma)",
+        source=f"{S22} (negative control)",
+        kind="integral",
+        statement="(L, gamma) (without 1/rho) is a Casimir of (2.9)",
+        system=BALL,
+        effects=(),
+        build=_casimir("(L,gamma)"),
         expected="fails",
     )
     yield Claim(
-        "K01-2.10/control-sign",
-        f"{S22} (negative control)",
-        "integral",
-        "(L, gamma)/rho is a Casimir of the bracket with the D-term's sign reversed",
-        BALL,
-        (),
-        _casimir("C", d_sign=+1),
+        id="K01-2.10/control-sign",
+        source=f"{S22} (negative control)",
+        kind="integral",
+        statement="(L, gamma)/rho is a Casimir of the bracket with the D-term's sign reversed",
+        system=BALL,
+        effects=(),
+        build=_casimir("C", d_sign=+1),
         expected="fails",
     )
     yield Claim(
-        "K01-2.11",
-        S22,
-        "definition",
-        "q1, q2 are the zeros of f(q) = sum gamma_i^2/(a_i - q), a_i = 1/I_i, "
+        id="K01-2.11",
+        source=S22,
+        kind="definition",
+        statement="q1, q2 are the zeros of f(q) = sum gamma_i^2/(a_i - q), a_i = 1/I_i, "
         "a3 < q2 < a2 < q1 < a1 (gamma_i^2 of (2.12))",
-        BALL,
-        (),
-        _spheroconical_zeros,
+        system=BALL,
+        effects=(),
+        build=_spheroconical_zeros,
     )
     yield Claim(
-        "K01-2.12",
-        S22,
-        "definition",
-        "gamma_i^2 = (a_i - q1)(a_i - q2)/prod_{j!=i}(a_i - a_j): sum gamma_i^2 = 1 and "
+        id="K01-2.12",
+        source=S22,
+        kind="definition",
+        statement="gamma_i^2 = (a_i - q1)(a_i - q2)/prod_{j!=i}(a_i - a_j): sum gamma_i^2 = 1 and "
         "sum_i gamma_i^2 prod_{j!=i}(a_j - x) = (x - q1)(x - q2)",
-        BALL,
-        (),
-        _spheroconical_inverse,
+        system=BALL,
+        effects=(),
+        build=_spheroconical_inverse,
     )
     yield Claim(
-        "BKM12-1.2a",
-        S12,
-        "definition",
-        "sphero-conical coordinates with a_i = D/I_i: q_BKM = D q_K01 (same gamma_i^2, zeros "
+        id="BKM12-1.2a",
+        source=S12,
+        kind="definition",
+        statement="sphero-conical coordinates with a_i = D/I_i: q_BKM = D q_K01 (same gamma_i^2, "
+        "zeros "
         "of sum gamma_i^2/(a_i - x))",
-        BALL,
-        (),
-        _bkm12_spheroconical,
+        system=BALL,
+        effects=(),
+        build=_bkm12_spheroconical,
     )
     yield Claim(
-        "K01-2.13",
-        S22,
-        "transformation",
-        "M = p1 (dq1/dgamma x gamma) + p2 (dq2/dgamma x gamma) lies on the leaf (M, gamma) = 0; "
+        id="K01-2.13",
+        source=S22,
+        kind="transformation",
+        statement="M = p1 (dq1/dgamma x gamma) + p2 (dq2/dgamma x gamma) lies on the leaf (M, "
+        "gamma) = 0; "
         "M_i = 2 (a_j - a_l) gamma_j gamma_l ((a_i - q1) p1 - (a_i - q2) p2)/(q1 - q2), "
         "(i, j, l) cyclic",
-        BALL,
-        (),
-        _momentum_map_closed_form,
+        system=BALL,
+        effects=(),
+        build=_momentum_map_closed_form,
     )
     yield Claim(
-        "K01-2.13.poisson",
-        S22,
-        "transformation",
-        "(q, p) -> (M, gamma) of (2.13) is a Poisson map from the canonical bracket onto e(3): "
+        id="K01-2.13.poisson",
+        source=S22,
+        kind="transformation",
+        statement="(q, p) -> (M, gamma) of (2.13) is a Poisson map from the canonical bracket onto "
+        "e(3): "
         "{M_i, M_j} = -eps_ijk M_k, {M_i, gamma_j} = -eps_ijk gamma_k",
-        BALL,
-        (),
-        _momentum_map_poisson,
+        system=BALL,
+        effects=(),
+        build=_momentum_map_poisson,
     )
     yield Claim(
-        "K01-2.14",
-        S22,
-        "equation",
-        "the components (2.14) of M(q, p), F(q1, q2) = 2/(q1 - q2) sqrt(...), equal (2.13) "
+        id="K01-2.14",
+        source=S22,
+        kind="equation",
+        statement="the components (2.14) of M(q, p), F(q1, q2) = 2/(q1 - q2) sqrt(...), equal "
+        "(2.13) "
         "(gamma in the positive octant)",
-        BALL,
-        (),
-        _momentum_components,
+        system=BALL,
+        effects=(),
+        build=_momentum_components,
     )
     for which, eq, name in (("H", "2.15", "H"), ("n", "2.16", "n")):
         form = (
@@ -698,115 +707,119 @@ def _claims():
         )
         target = "(2.8)" if which == "H" else "L^2/rho^2 of (2.10)"
         yield Claim(
-            f"K01-{eq}",
-            S22,
-            "equation",
-            f"{form}, f(q) = q^-1 (q - a1)(q - a2)(q - a3)(1 + D q), K = prod_i (1 + D a_i): "
+            id=f"K01-{eq}",
+            source=S22,
+            kind="equation",
+            statement=f"{form}, f(q) = q^-1 (q - a1)(q - a2)(q - a3)(1 + D q), K = prod_i (1 + D "
+            f"a_i): "
             f"equals {target} at M(q, p) of (2.13)",
-            BALL,
-            (),
-            _qp_integral(which, printed=False),
+            system=BALL,
+            effects=(),
+            build=_qp_integral(which, printed=False),
         )
         yield Claim(
-            f"K01-{eq}/literal",
-            f"{S22} (literal reading)",
-            "equation",
-            f"{name} as printed (without the factor 4/K) equals {target} at M(q, p) of (2.13)",
-            BALL,
-            (),
-            _qp_integral(which, printed=True),
+            id=f"K01-{eq}/literal",
+            source=f"{S22} (literal reading)",
+            kind="equation",
+            statement=f"{name} as printed (without the factor 4/K) equals {target} at M(q, p) of "
+            f"(2.13)",
+            system=BALL,
+            effects=(),
+            build=_qp_integral(which, printed=True),
             expected="fails",
         )
     yield Claim(
-        "K01-2.17",
-        S22,
-        "solution",
-        "S = sum_i int sqrt(K)/2 (2 lam1 + q lam2)/sqrt(R(q)) dq_i, R(q) = (2 lam1 + q lam2)"
+        id="K01-2.17",
+        source=S22,
+        kind="solution",
+        statement="S = sum_i int sqrt(K)/2 (2 lam1 + q lam2)/sqrt(R(q)) dq_i, R(q) = (2 lam1 + q "
+        "lam2)"
         "(q - a1)(q - a2)(q - a3)(1 + D q), solves H(q, dS/dq) = lam1 (K01's S in the "
         "normalisation where (2.15) holds)",
-        BALL,
-        (),
-        _hamilton_jacobi("H"),
+        system=BALL,
+        effects=(),
+        build=_hamilton_jacobi("H"),
     )
     yield Claim(
-        "K01-2.18",
-        S22,
-        "equation",
-        "lam1 = H, lam2 = 2 D H - n: n(q, dS/dq) = 2 D lam1 - lam2",
-        BALL,
-        (),
-        _hamilton_jacobi("n"),
+        id="K01-2.18",
+        source=S22,
+        kind="equation",
+        statement="lam1 = H, lam2 = 2 D H - n: n(q, dS/dq) = 2 D lam1 - lam2",
+        system=BALL,
+        effects=(),
+        build=_hamilton_jacobi("n"),
     )
     yield Claim(
-        "K01-2.22",
-        S22,
-        "equation",
-        "Abel-Jacobi: dq1/sqrt(R(q1)) + dq2/sqrt(R(q2)) = c0 d tau, "
+        id="K01-2.22",
+        source=S22,
+        kind="equation",
+        statement="Abel-Jacobi: dq1/sqrt(R(q1)) + dq2/sqrt(R(q2)) = c0 d tau, "
         "q1 dq1/sqrt(R(q1)) + q2 dq2/sqrt(R(q2)) = 0 along (2.15), c0 = 2/sqrt(K), "
         "sqrt(R(q_i)) with the sign of p_i",
-        BALL,
-        (),
-        _abel_jacobi,
+        system=BALL,
+        effects=(),
+        build=_abel_jacobi,
     )
     yield Claim(
-        "BKM12-8",
-        S12,
-        "equation",
-        "M_gamma = (M, gamma) = (I omega, gamma)",
-        BALL,
-        (),
-        _bkm12_8,
+        id="BKM12-8",
+        source=S12,
+        kind="equation",
+        statement="M_gamma = (M, gamma) = (I omega, gamma)",
+        system=BALL,
+        effects=(),
+        build=_bkm12_8,
     )
     yield Claim(
-        "BKM12-10",
-        S12,
-        "equation",
-        "on (M, gamma) = 0: omega = k gamma' x I gamma, M = k I (gamma' x I gamma) - "
+        id="BKM12-10",
+        source=S12,
+        kind="equation",
+        statement="on (M, gamma) = 0: omega = k gamma' x I gamma, M = k I (gamma' x I gamma) - "
         "D gamma x gamma', k^-1 = (gamma, I gamma)",
-        BALL,
-        (),
-        _bkm12_10,
+        system=BALL,
+        effects=(),
+        build=_bkm12_10,
     )
     yield Claim(
-        "BKM12-1.2b.H",
-        S12,
-        "equation",
-        "H = Delta D (q1 - q2)/2 (q1'^2/(q2 Phi(q1)) - q2'^2/(q1 Phi(q2))), "
+        id="BKM12-1.2b.H",
+        source=S12,
+        kind="equation",
+        statement="H = Delta D (q1 - q2)/2 (q1'^2/(q2 Phi(q1)) - q2'^2/(q1 Phi(q2))), "
         "Delta = (1 + q1)(1 + q2)/4, Phi(x) = (1 + x)(a1 - x)(a2 - x)(a3 - x), a_i = D/I_i",
-        BALL,
-        (),
-        _bkm12_12b("H"),
+        system=BALL,
+        effects=(),
+        build=_bkm12_12b("H"),
     )
     yield Claim(
-        "BKM12-1.2b.F1",
-        S12,
-        "equation",
-        "F1 = Delta D^2 (q1 - q2)((1 + q2) q1'^2/(q2^2 Phi(q1)) - (1 + q1) q2'^2/(q1^2 Phi(q2)))",
-        BALL,
-        (),
-        _bkm12_12b("F1"),
+        id="BKM12-1.2b.F1",
+        source=S12,
+        kind="equation",
+        statement="F1 = Delta D^2 (q1 - q2)((1 + q2) q1'^2/(q2^2 Phi(q1)) - (1 + q1) q2'^2/(q1^2 "
+        "Phi(q2)))",
+        system=BALL,
+        effects=(),
+        build=_bkm12_12b("F1"),
     )
     yield Claim(
-        "BKM12-11",
-        S12,
-        "equation",
-        "on 2H = E, F1 = C: q1'^2 = q2^2 Phi(q1)(C q1 - E D (1 + q1))/(Delta D^2 (q1 - q2)^2), "
+        id="BKM12-11",
+        source=S12,
+        kind="equation",
+        statement="on 2H = E, F1 = C: q1'^2 = q2^2 Phi(q1)(C q1 - E D (1 + q1))/(Delta D^2 (q1 - "
+        "q2)^2), "
         "q2'^2 = q1^2 Phi(q2)(C q2 - E D (1 + q2))/(Delta D^2 (q1 - q2)^2)",
-        BALL,
-        (),
-        _bkm12_11,
+        system=BALL,
+        effects=(),
+        build=_bkm12_11,
     )
     yield Claim(
-        "BKM12-RemEis",
-        f"{S12}, Remark",
-        "equation",
-        "H = (x', B1 x'), F1 = (x', B2 x') in a chart: the eigenvalues of B1 B2^-1 are "
+        id="BKM12-RemEis",
+        source=f"{S12}, Remark",
+        kind="equation",
+        statement="H = (x', B1 x'), F1 = (x', B2 x') in a chart: the eigenvalues of B1 B2^-1 are "
         "q_i/(2 D (1 + q_i)), one function of each sphero-conical coordinate",
-        BALL,
-        (),
-        _eisenhart,
+        system=BALL,
+        effects=(),
+        build=_eisenhart,
     )
 
 
-for _c in _claims():
-    register(_c)
+register(*_claims())

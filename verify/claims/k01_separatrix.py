@@ -298,154 +298,155 @@ def _k01_fig6(model: Model) -> Check:
 
 register(
     Claim(
-        "K01-2.34",
-        "K01 §2.3",
-        "equation",
-        "on M = C gamma: (M, M) = C^2, J omega = (C + 2 D h/C) gamma, "
+        id="K01-2.34",
+        source="K01 §2.3",
+        kind="equation",
+        statement="on M = C gamma: (M, M) = C^2, J omega = (C + 2 D h/C) gamma, "
         "J omega' = J omega x omega (Euler equations)",
-        BALL,
-        (),
-        _k01_2_34,
+        system=BALL,
+        effects=(),
+        build=_k01_2_34,
     )
 )
 register(
     Claim(
-        "K01-3.3seg",
-        S33,
-        "equation",
-        "on n = C^2 (M || gamma): h = C^2/(2 (1/(gamma, A gamma) - D)) runs over "
+        id="K01-3.3seg",
+        source=S33,
+        kind="equation",
+        statement="on n = C^2 (M || gamma): h = C^2/(2 (1/(gamma, A gamma) - D)) runs over "
         "[C^2/(2 I3), C^2/(2 I1)]; at gamma = e_i, h = h_i = C^2/(2 I_i) on p_i "
         "(K01-3.2c at n = C^2)",
-        BALL,
-        (),
-        _k01_3_3seg,
+        system=BALL,
+        effects=(),
+        build=_k01_3_3seg,
     )
 )
 register(
     Claim(
-        "K01-3.3seg/literal",
-        f"{S33} as printed",
-        "equation",
-        "the segment n = C^2 is bounded by the branches p1 and p2: its lower end "
+        id="K01-3.3seg/literal",
+        source=f"{S33} as printed",
+        kind="equation",
+        statement="the segment n = C^2 is bounded by the branches p1 and p2: its lower end "
         "(gamma = e3) lies on p2",
-        BALL,
-        (),
-        _k01_3_3seg_literal,
+        system=BALL,
+        effects=(),
+        build=_k01_3_3seg_literal,
         expected="fails",
     )
 )
 register(
     Claim(
-        "K01-3.4",
-        f"{S33}, eq. (3.4), corrected for C > 0",
-        "solution",
-        "C > 0, h = C^2/(2 I2): M = C gamma, gamma = (-s32 sech, th, -s21 sech), "
+        id="K01-3.4",
+        source=f"{S33}, eq. (3.4), corrected for C > 0",
+        kind="solution",
+        statement="C > 0, h = C^2/(2 I2): M = C gamma, gamma = (-s32 sech, th, -s21 sech), "
         "alpha = (s32 th c - s21 s, sech c, s21 th c + s32 s), "
         "beta = (s32 th s + s21 c, sech s, s21 th s - s32 c), sech = 1/ch(lam t), "
         "th = th(lam t), c = cos(kap t), s = sin(kap t), s_ij = sqrt(a_ij/a31), "
         "kap = C/I2, lam = C J2/I2 sqrt(a32 a21) solves M' = M x omega, gamma' = gamma x omega, "
         "alpha' = alpha x omega, beta' = beta x omega",
-        BALL,
-        CONTACT,
-        _k01_3_4("corrected"),
+        system=BALL,
+        effects=CONTACT,
+        build=_k01_3_4("corrected"),
     )
 )
 register(
     Claim(
-        "K01-3.4/literal",
-        f"{S33}, eq. (3.4) as printed, with C > 0",
-        "solution",
-        "C > 0: gamma = (s32 sech, -th, s21 sech), alpha = (s32 th c + s21 s, sech c, "
+        id="K01-3.4/literal",
+        source=f"{S33}, eq. (3.4) as printed, with C > 0",
+        kind="solution",
+        statement="C > 0: gamma = (s32 sech, -th, s21 sech), alpha = (s32 th c + s21 s, sech c, "
         "s21 th c - s32 s), beta = (s32 th s - s21 c, sech s, s21 th s + s32 c) solves the "
         "equations",
-        BALL,
-        CONTACT,
-        _k01_3_4("literal"),
+        system=BALL,
+        effects=CONTACT,
+        build=_k01_3_4("literal"),
         expected="fails",
     )
 )
 register(
     Claim(
-        "K01-3.4neg",
-        f"{S33}, eq. (3.4) as printed, with C < 0",
-        "solution",
-        "C < 0 (M antiparallel to gamma), lam = |C| J2/I2 sqrt(a32 a21), kap = C/I2: the "
+        id="K01-3.4neg",
+        source=f"{S33}, eq. (3.4) as printed, with C < 0",
+        kind="solution",
+        statement="C < 0 (M antiparallel to gamma), lam = |C| J2/I2 sqrt(a32 a21), kap = C/I2: the "
         "printed gamma, alpha, beta solve the equations",
-        BALL,
-        CONTACT,
-        _k01_3_4("negative"),
+        system=BALL,
+        effects=CONTACT,
+        build=_k01_3_4("negative"),
     )
 )
 register(
     Claim(
-        "K01-3.5",
-        f"{S33}, eq. (3.5)",
-        "equation",
-        "on the separatrix (K01-3.4): x' = nu cos(kap t)/ch(lam t), "
+        id="K01-3.5",
+        source=f"{S33}, eq. (3.5)",
+        kind="equation",
+        statement="on the separatrix (K01-3.4): x' = nu cos(kap t)/ch(lam t), "
         "y' = nu sin(kap t)/ch(lam t), nu = -b lam (|nu| = a lam)",
-        BALL,
-        CONTACT,
-        _k01_3_5,
+        system=BALL,
+        effects=CONTACT,
+        build=_k01_3_5,
     )
 )
 register(
     Claim(
-        "K01-3.6",
-        f"{S33}, eq. (3.6)",
-        "equation",
-        "x(t) = nu int_{-oo}^t cos(kap s)/ch(lam s) ds, y(t) = nu int_{-oo}^t sin(kap s)/ch(lam s) "
+        id="K01-3.6",
+        source=f"{S33}, eq. (3.6)",
+        kind="equation",
+        statement="x(t) = nu int_{-oo}^t cos(kap s)/ch(lam s) ds, y(t) = nu int_{-oo}^t sin(kap "
+        "s)/ch(lam s) "
         "ds: x' even, y' odd in t, so y(+oo) = 0 and x(+oo) = Delta = 2 nu int_0^oo ...",
-        BALL,
-        CONTACT,
-        _k01_3_6,
+        system=BALL,
+        effects=CONTACT,
+        build=_k01_3_6,
     )
 )
 register(
     Claim(
-        "K01-3.7",
-        f"{S33}, eqs. (3.6), (3.7)",
-        "value",
-        "|Delta| = |nu| int cos(kap t)/ch(lam t) dt = pi a/ch(pi xi/2), "
+        id="K01-3.7",
+        source=f"{S33}, eqs. (3.6), (3.7)",
+        kind="value",
+        statement="|Delta| = |nu| int cos(kap t)/ch(lam t) dt = pi a/ch(pi xi/2), "
         "xi = mu = kap/lam = 1/(J2 sqrt(a21 a32))",
-        BALL,
-        CONTACT,
-        _k01_3_7("closed"),
+        system=BALL,
+        effects=CONTACT,
+        build=_k01_3_7("closed"),
     )
 )
 register(
     Claim(
-        "K01-3.7/control-ch(pi xi)",
-        f"{S33} (negative control)",
-        "value",
-        "|Delta| = pi a/ch(pi xi) (the factor 1/2 dropped)",
-        BALL,
-        CONTACT,
-        _k01_3_7("control"),
+        id="K01-3.7/control-ch(pi xi)",
+        source=f"{S33} (negative control)",
+        kind="value",
+        statement="|Delta| = pi a/ch(pi xi) (the factor 1/2 dropped)",
+        system=BALL,
+        effects=CONTACT,
+        build=_k01_3_7("control"),
         expected="fails",
     )
 )
 register(
     Claim(
-        "K01-Fig4",
-        f"{S33}, Fig. 4",
-        "value",
-        "Delta = 0.002858 for I = (1, 1.5, 2) and 0.411829 for I = (1, 3, 5) "
+        id="K01-Fig4",
+        source=f"{S33}, Fig. 4",
+        kind="value",
+        statement="Delta = 0.002858 for I = (1, 1.5, 2) and 0.411829 for I = (1, 3, 5) "
         "(D = 1, a = 1, C = 1; printed values truncated to 6 decimals)",
-        BALL,
-        CONTACT,
-        _k01_fig4,
+        system=BALL,
+        effects=CONTACT,
+        build=_k01_fig4,
     )
 )
 register(
     Claim(
-        "K01-Fig6",
-        f"{S33}, Fig. 6",
-        "value",
-        "the energies of Fig. 6 sit next to h_i = C^2/(2 I_i) on n = C^2: I = (1, 3, 5): "
+        id="K01-Fig6",
+        source=f"{S33}, Fig. 6",
+        kind="value",
+        statement="the energies of Fig. 6 sit next to h_i = C^2/(2 I_i) on n = C^2: I = (1, 3, 5): "
         "h1 = 1/2 (0.4993), h3 = 1/10 (0.1002), h2 = 1/6 (0.16667); I = (1, 1.5, 2): "
         "h2 = 1/3 (0.33335)",
-        BALL,
-        (),
-        _k01_fig6,
+        system=BALL,
+        effects=(),
+        build=_k01_fig6,
     )
 )

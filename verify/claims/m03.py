@@ -58,7 +58,7 @@ def _generic(with_potential: bool) -> Model:
     return generic_surface_model(with_potential)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class SurfaceClaim(Claim):
     """A claim about an arbitrary surface: checked on the generic-surface model.
 
@@ -100,7 +100,7 @@ class _Paper:
 
 def _paper(model: Model) -> _Paper:
     x, omega = model.group("x"), model.group("omega")
-    f, U = model.definitions["surface"], model.definitions["potential"]
+    f, U = model.details.surface, model.details.potential
     grad_f = sp.Matrix([sp.diff(f, s) for s in x])
     f_rhs = model.rhs_expanded
     return _Paper(
@@ -139,7 +139,7 @@ def _m03_1_1(model: Model) -> Check:
     )
     exprs += list(p.x_rate - p.R * cross(p.omega, p.n))
     # the derivation with an arbitrary force: nu -> n(x), nudot -> (dn/dx) x'
-    der = model.definitions["derivation"]
+    der = model.details.derivation
     Fs = sp.Matrix(sp.symbols("F1:4", real=True))
     x_rate = p.R * cross(p.omega, p.n)
     nudot = p.n.jacobian(p.x) * x_rate
@@ -175,12 +175,9 @@ def _m03_1_2(model: Model) -> Check:
     q = sp.sqrt(dot(p.grad_f, p.grad_f))
     hess = p.grad_f.jacobian(p.x)
     formula = (hess - p.grad_f * (p.grad_f.T * hess) / q**2) * p.x_rate / q
-    exprs = list(model.definitions["normal"] - p.n)
+    exprs = list(model.details.normal - p.n)
     exprs += list(_lie(p.n, model) - formula)
-    exprs += list(
-        model.expand_aux(sp.Matrix(model.definitions["surface_equations"].normal_rate_symbols))
-        - formula
-    )
+    exprs += list(model.expand_aux(sp.Matrix(model.details.normal_rate_symbols)) - formula)
     return Check(exprs)
 
 
@@ -405,130 +402,133 @@ def _m03_1_7_factor(model: Model) -> Check:
 # ------------------------------------------------------------------- registry
 _GENERIC = [
     SurfaceClaim(
-        "M03-1.1",
-        f"{S1}, eq. (1.1)",
-        "equation",
-        "(m + m_e) omega' = m (omega, n) n' + (1/R) n x F, x' = R omega x n, I = m_e R^2",
-        SYSTEM,
-        POTENTIAL,
-        _m03_1_1,
+        id="M03-1.1",
+        source=f"{S1}, eq. (1.1)",
+        kind="equation",
+        statement="(m + m_e) omega' = m (omega, n) n' + (1/R) n x F, x' = R omega x n, I = m_e R^2",
+        system=SYSTEM,
+        effects=POTENTIAL,
+        build=_m03_1_1,
         note="generic f and U; also the fixed-frame derivation for an arbitrary force F, "
         "and the Newton–Euler equations with the contact reaction solved directly",
     ),
     SurfaceClaim(
-        "M03-1.2",
-        f"{S1}, eq. (1.2)",
-        "equation",
-        "n = grad f/|grad f|, n_i' = (1/|grad f|)(f_ij - f_i f_k f_kj/|grad f|^2) x_j'",
-        SYSTEM,
-        POTENTIAL,
-        _m03_1_2,
+        id="M03-1.2",
+        source=f"{S1}, eq. (1.2)",
+        kind="equation",
+        statement="n = grad f/|grad f|, n_i' = (1/|grad f|)(f_ij - f_i f_k f_kj/|grad f|^2) x_j'",
+        system=SYSTEM,
+        effects=POTENTIAL,
+        build=_m03_1_2,
         note="n' along the flow and the model's auxiliary ndot against the formula",
     ),
     SurfaceClaim(
-        "M03-1.3",
-        f"{S1}, eq. (1.3)",
-        "integral",
-        "H = (I + m R^2) omega^2/2 - m R^2 (omega, n)^2/2 + U(x) is conserved for F = -grad U",
-        SYSTEM,
-        POTENTIAL,
-        _m03_1_3,
+        id="M03-1.3",
+        source=f"{S1}, eq. (1.3)",
+        kind="integral",
+        statement="H = (I + m R^2) omega^2/2 - m R^2 (omega, n)^2/2 + U(x) is conserved for F = "
+        "-grad U",
+        system=SYSTEM,
+        effects=POTENTIAL,
+        build=_m03_1_3,
         note="the derived energy equals the paper's H; dH/dt = 0 for generic f, U",
     ),
     SurfaceClaim(
-        "M03-1.3g",
-        f"{S1}, after eq. (1.3)",
-        "integral",
-        "geometric integral f(x) = const, (n, n) = 1",
-        SYSTEM,
-        POTENTIAL,
-        _m03_1_3g,
+        id="M03-1.3g",
+        source=f"{S1}, after eq. (1.3)",
+        kind="integral",
+        statement="geometric integral f(x) = const, (n, n) = 1",
+        system=SYSTEM,
+        effects=POTENTIAL,
+        build=_m03_1_3g,
     ),
     SurfaceClaim(
-        "M03-1Y",
-        f"{S1} (Yaroshchuk)",
-        "measure",
-        "invariant measure rho d omega dx, rho = |grad f|, for F = -grad U",
-        SYSTEM,
-        POTENTIAL,
-        _density("grad"),
+        id="M03-1Y",
+        source=f"{S1} (Yaroshchuk)",
+        kind="measure",
+        statement="invariant measure rho d omega dx, rho = |grad f|, for F = -grad U",
+        system=SYSTEM,
+        effects=POTENTIAL,
+        build=_density("grad"),
         note="div(rho f) = 0 in (omega, x) for generic f, U",
     ),
     SurfaceClaim(
-        "M03-1Y/control-inverse",
-        f"{S1} (negative control)",
-        "measure",
-        "rho = 1/|grad f| is an invariant density (wrong exponent)",
-        SYSTEM,
-        POTENTIAL,
-        _density("inverse"),
+        id="M03-1Y/control-inverse",
+        source=f"{S1} (negative control)",
+        kind="measure",
+        statement="rho = 1/|grad f| is an invariant density (wrong exponent)",
+        system=SYSTEM,
+        effects=POTENTIAL,
+        build=_density("inverse"),
         expected="fails",
     ),
     SurfaceClaim(
-        "M03-1.4",
-        f"{S1}, Remark 1, eq. (1.4) (Hermans)",
-        "equation",
-        "v' = -(v, n') n + m_e/(m_e + m) u n x n' + (F - (F, n) n)/(m_e + m), "
+        id="M03-1.4",
+        source=f"{S1}, Remark 1, eq. (1.4) (Hermans)",
+        kind="equation",
+        statement="v' = -(v, n') n + m_e/(m_e + m) u n x n' + (F - (F, n) n)/(m_e + m), "
         "u' = (n' x n, v), x' = v; v = R omega x n, u = R (omega, n)",
-        SYSTEM,
-        POTENTIAL,
-        _m03_1_4,
+        system=SYSTEM,
+        effects=POTENTIAL,
+        build=_m03_1_4,
     ),
 ]
 
 _ELLIPSOID = [
     Claim(
-        "M03-1.5/literal",
-        f"{S1}, eq. (1.5) as extracted",
-        "integral",
-        "K = (n x omega, B^-1 (n x omega))/(n, B^-1 n) is conserved on (x, B^-1 x) = 1, F = 0",
-        SYSTEM,
-        (),
-        _m03_1_5("Binv"),
+        id="M03-1.5/literal",
+        source=f"{S1}, eq. (1.5) as extracted",
+        kind="integral",
+        statement="K = (n x omega, B^-1 (n x omega))/(n, B^-1 n) is conserved on (x, B^-1 x) = 1, "
+        "F = 0",
+        system=SYSTEM,
+        effects=(),
+        build=_m03_1_5("Binv"),
         expected="fails",
         note="the extracted denominator (n, B^-1 n)",
     ),
     Claim(
-        "M03-1.5",
-        f"{S1}, eq. (1.5), corrected",
-        "integral",
-        "K = (n x omega, B^-1 (n x omega))/(n, B n) = (x, B^-2 x)(n x omega, B^-1 (n x omega)) "
+        id="M03-1.5",
+        source=f"{S1}, eq. (1.5), corrected",
+        kind="integral",
+        statement="K = (n x omega, B^-1 (n x omega))/(n, B n) = (x, B^-2 x)(n x omega, B^-1 (n x "
+        "omega)) "
         "is conserved on (x, B^-1 x) = 1, F = 0",
-        SYSTEM,
-        (),
-        _m03_1_5("B"),
+        system=SYSTEM,
+        effects=(),
+        build=_m03_1_5("B"),
     ),
     Claim(
-        "M03-1.7/literal",
-        f"{S1}, eq. (1.7) as extracted",
-        "integral",
-        "K = (n x omega, B^-1 (n x omega))/(n, B^-1 n) "
+        id="M03-1.7/literal",
+        source=f"{S1}, eq. (1.7) as extracted",
+        kind="integral",
+        statement="K = (n x omega, B^-1 (n x omega))/(n, B^-1 n) "
         "- 4 (x, B^-2 x)[k - (x, B^-1 x)^-1 sum c_i/(b_i x_i^2)], U of (1.6)",
-        SYSTEM,
-        POTENTIAL,
-        _m03_1_7("literal"),
+        system=SYSTEM,
+        effects=POTENTIAL,
+        build=_m03_1_7("literal"),
         expected="fails",
     ),
     Claim(
-        "M03-1.7",
-        f"{S1}, eq. (1.7), corrected",
-        "integral",
-        "K = (n x omega, B^-1 (n x omega))/(n, B n) "
+        id="M03-1.7",
+        source=f"{S1}, eq. (1.7), corrected",
+        kind="integral",
+        statement="K = (n x omega, B^-1 (n x omega))/(n, B n) "
         "- (x, B^-2 x)[k - (x, B^-1 x)^-1 sum c_i/(b_i x_i^2)]/((m + m_e) R^2), "
         "U = k x^2/2 + sum c_i/(2 x_i^2)",
-        SYSTEM,
-        POTENTIAL,
-        _m03_1_7("corrected"),
+        system=SYSTEM,
+        effects=POTENTIAL,
+        build=_m03_1_7("corrected"),
     ),
     Claim(
-        "M03-1.7.factor",
-        f"{S1}, eq. (1.7): the overall factor of the potential term",
-        "value",
-        "the only c with d/dt[(n x omega, B^-1 (n x omega))/(n, B n) + c (x, B^-2 x)"
+        id="M03-1.7.factor",
+        source=f"{S1}, eq. (1.7): the overall factor of the potential term",
+        kind="value",
+        statement="the only c with d/dt[(n x omega, B^-1 (n x omega))/(n, B n) + c (x, B^-2 x)"
         "[k - (x, B^-1 x)^-1 sum c_i/(b_i x_i^2)]] = 0 is c = -1/((m + m_e) R^2)",
-        SYSTEM,
-        POTENTIAL,
-        _m03_1_7_factor,
+        system=SYSTEM,
+        effects=POTENTIAL,
+        build=_m03_1_7_factor,
         note="solved from the normal forms of the Lie derivative, affine in c",
     ),
 ]
@@ -543,7 +543,7 @@ def _body(kind: str) -> Model:
     return ellipsoid_body_model(kind, on_surface=kind != "scalar")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class BodyClaim(Claim):
     """A claim about a body rolling on a sphere (M03 §2), on one of its models.
 
@@ -587,11 +587,11 @@ class _Body:
 
 
 def _body_notation(model: Model) -> _Body:
-    eq = model.definitions["equations"]
+    eq = model.details.equations
     r, omega = model.group("r"), model.group("omega")
     m, k = model.param_group("m")[0], model.param_group("k")[0]
-    I = model.definitions["inertia"]
-    f = model.definitions["surface"]
+    I = model.details.inertia
+    f = model.details.surface
     grad = sp.Matrix([sp.diff(f, s) for s in r])
     q = sp.sqrt(sp.factor_terms(dot(grad, grad)))  # 2 sqrt((r, B^-2 r)) on the ellipsoid
     n = -grad / q
@@ -644,7 +644,7 @@ def _m03_2_2(which: str):
 def _m03_2_3(model: Model) -> Check:
     """I_Q omega' = (I_Q omega) x omega - m r x (omega x r'); (omega, I_Q omega)/2 conserved."""
     b = _body_notation(model)
-    eq = model.definitions["equations"]
+    eq = model.details.equations
     w, r, rd = b.omega, b.r, b.r_rate
     exprs = list(b.I_Q * b.omega_rate - cross(b.I_Q * w, w) + b.m * cross(r, cross(w, rd)))
     exprs += list(eq.inertia_operator - b.I_Q)
@@ -694,7 +694,7 @@ def density_flux_residual(model: Model) -> sp.Expr:
     M03-2.2rho, M03-2.5
     """
     b = _body_notation(model)
-    eq = model.definitions["equations"]
+    eq = model.details.equations
     w, r, rd = b.omega, b.r, b.r_rate
     mu = model.param_group("mu")[0]
     II_rate = b.I_Q.applyfunc(lambda e: sum(sp.diff(e, r[i]) * rd[i] for i in range(3)))
@@ -722,71 +722,74 @@ def _m03_2_5to2_2(model: Model) -> Check:
 
 _BODY = [
     BodyClaim(
-        "M03-2.1",
-        f"{S2}, eq. (2.1)",
-        "equation",
-        "k r' + n' = n x omega, (mu + m r^2) omega' = m (omega, r)(r' + omega x r) "
+        id="M03-2.1",
+        source=f"{S2}, eq. (2.1)",
+        kind="equation",
+        statement="k r' + n' = n x omega, (mu + m r^2) omega' = m (omega, r)(r' + omega x r) "
         "- m (r, r') omega, I = mu Id, n = -grad f/|grad f|",
-        BODY,
-        ("scalar",),
-        _m03_2_1,
+        system=BODY,
+        effects=("scalar",),
+        build=_m03_2_1,
         note="omega' for every rate r' of the contact point; also (r, omega') = 0; "
         "the kinematics along the flow for a generic body surface f",
         body="generic",
     ),
     BodyClaim(
-        "M03-2.2",
-        f"{S2}, eq. (2.2), corrected",
-        "equation",
-        "(k Id + V) r' = n x omega, V = -q^-1 (Id - n ⊗ n) Psi, Psi = d2f/dr dr, q = |grad f|",
-        BODY,
-        ("scalar",),
-        _m03_2_2("corrected"),
+        id="M03-2.2",
+        source=f"{S2}, eq. (2.2), corrected",
+        kind="equation",
+        statement="(k Id + V) r' = n x omega, V = -q^-1 (Id - n ⊗ n) Psi, Psi = d2f/dr dr, q = "
+        "|grad f|",
+        system=BODY,
+        effects=("scalar",),
+        build=_m03_2_2("corrected"),
         note="generic body surface f; V = dn/dr",
         body="generic",
     ),
     BodyClaim(
-        "M03-2.2/literal",
-        f"{S2}, eq. (2.2) as extracted",
-        "equation",
-        "(k Id + V) r' = n x omega with V = -q^-1 (Id + n ⊗ n) Psi",
-        BODY,
-        ("scalar",),
-        _m03_2_2("literal"),
+        id="M03-2.2/literal",
+        source=f"{S2}, eq. (2.2) as extracted",
+        kind="equation",
+        statement="(k Id + V) r' = n x omega with V = -q^-1 (Id + n ⊗ n) Psi",
+        system=BODY,
+        effects=("scalar",),
+        build=_m03_2_2("literal"),
         expected="fails",
         body="generic",
     ),
     BodyClaim(
-        "M03-2.2rho",
-        f"{S2}, after eq. (2.2) (Yaroshchuk)",
-        "measure",
-        "invariant measure rho d omega dr, rho = (mu + m r^2)^(3/2) q det(k Id + V), I = mu Id",
-        BODY,
-        ("scalar",),
-        _density_2,
+        id="M03-2.2rho",
+        source=f"{S2}, after eq. (2.2) (Yaroshchuk)",
+        kind="measure",
+        statement="invariant measure rho d omega dr, rho = (mu + m r^2)^(3/2) q det(k Id + V), I = "
+        "mu Id",
+        system=BODY,
+        effects=("scalar",),
+        build=_density_2,
         note="ellipsoidal body (r, B^-1 r) = 1, every B; rho = mu^-1 x the (2.5) form",
         body="scalar",
     ),
     BodyClaim(
-        "M03-2.3",
-        f"{S2}, eq. (2.3)",
-        "equation",
-        "I_Q omega' = (I_Q omega) x omega - m r x (omega x r'), I_Q = I + m r^2 Id - m r ⊗ r; "
+        id="M03-2.3",
+        source=f"{S2}, eq. (2.3)",
+        kind="equation",
+        statement="I_Q omega' = (I_Q omega) x omega - m r x (omega x r'), I_Q = I + m r^2 Id - m r "
+        "⊗ r; "
         "energy (omega, I_Q omega)/2 conserved",
-        BODY,
-        ("general",),
-        _m03_2_3,
+        system=BODY,
+        effects=("general",),
+        build=_m03_2_3,
         note="general central inertia; for every rate r' (any body surface)",
         body="general",
     ),
     BodyClaim(
-        "M03-2.5to2.2",
-        f"{S2}, (2.5) for I = mu Id",
-        "definition",
-        "det(I_Q) = mu (mu + m r^2)^2 for I = mu Id, so (2.5) reduces to (2.2rho)",
-        BODY,
-        ("scalar",),
-        _m03_2_5to2_2,
+        id="M03-2.5to2.2",
+        source=f"{S2}, (2.5) for I = mu Id",
+        kind="definition",
+        statement="det(I_Q) = mu (mu + m r^2)^2 for I = mu Id, so (2.5) reduces to (2.2rho)",
+        system=BODY,
+        effects=("scalar",),
+        build=_m03_2_5to2_2,
         body="scalar",
     ),
 ]
@@ -794,25 +797,26 @@ _BODY = [
 #: The slowest checks of the registry (about 7 s each on the development machine).
 SLOW_CLAIMS = [
     BodyClaim(
-        "M03-2.5",
-        f"{S2}, eqs. (2.4), (2.5)",
-        "measure",
-        "for I = mu Id + m B the ellipsoid (r, B^-1 r) = 1 on a sphere has the invariant "
+        id="M03-2.5",
+        source=f"{S2}, eqs. (2.4), (2.5)",
+        kind="measure",
+        statement="for I = mu Id + m B the ellipsoid (r, B^-1 r) = 1 on a sphere has the invariant "
         "density rho = (mu + m r^2)^(-1/2) det(I_Q) q det(k Id + V)",
-        BODY,
-        ("special",),
-        _density_2,
+        system=BODY,
+        effects=("special",),
+        build=_density_2,
         note="div(rho f) = 0 modulo the ellipsoid; rho f written without denominators",
         body="special",
     ),
     BodyClaim(
-        "M03-2.5/control-2mB",
-        f"{S2}, eq. (2.5) (negative control)",
-        "measure",
-        "the density (2.5) is invariant for I = mu Id + 2 m B (not the special distribution)",
-        BODY,
-        ("double",),
-        _density_2,
+        id="M03-2.5/control-2mB",
+        source=f"{S2}, eq. (2.5) (negative control)",
+        kind="measure",
+        statement="the density (2.5) is invariant for I = mu Id + 2 m B (not the special "
+        "distribution)",
+        system=BODY,
+        effects=("double",),
+        build=_density_2,
         expected="fails",
         note="M03-2.4: the special mass distribution is needed",
         covers=("M03-2.4",),
@@ -820,5 +824,4 @@ SLOW_CLAIMS = [
     ),
 ]
 
-for _claim in (*_GENERIC, *_ELLIPSOID, *_BODY, *SLOW_CLAIMS):
-    register(_claim)
+register(*_GENERIC, *_ELLIPSOID, *_BODY, *SLOW_CLAIMS)

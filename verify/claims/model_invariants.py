@@ -6,6 +6,8 @@ IDs: ``MODEL:<variant>.integral(<name>)`` and ``MODEL:<variant>.density``.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+
 import sympy as sp
 from chaplygin.derive import Model, builtin_variants, variant_name
 
@@ -33,36 +35,34 @@ def _density(model: Model) -> Check:
     return Check([measure_residual(model.density, model)])
 
 
-def _register_all() -> None:
+def _model_claims() -> Iterator[Claim]:
+    """One claim per integral and density of every built-in variant (derives the models:
+    the registry loads this module only when a ``MODEL:`` claim may be asked for)."""
     from chaplygin.derive import build_model
 
     for system, effects in builtin_variants():
         name = variant_name(system, effects)
         model = build_model(system, effects)
         for integral, _ in model.integrals:
-            register(
-                Claim(
-                    f"MODEL:{name}.integral{integral}",
-                    "chaplygin model",
-                    "integral",
-                    f"{integral} is a first integral of the derived model {name}",
-                    system,
-                    tuple(sorted(effects)),
-                    _integral(integral),
-                )
+            yield Claim(
+                id=f"MODEL:{name}.integral{integral}",
+                source="chaplygin model",
+                kind="integral",
+                statement=f"{integral} is a first integral of the derived model {name}",
+                system=system,
+                effects=tuple(sorted(effects)),
+                build=_integral(integral),
             )
         if model.density is not None:
-            register(
-                Claim(
-                    f"MODEL:{name}.density",
-                    "chaplygin model",
-                    "measure",
-                    f"the density the model ships is invariant for {name}",
-                    system,
-                    tuple(sorted(effects)),
-                    _density,
-                )
+            yield Claim(
+                id=f"MODEL:{name}.density",
+                source="chaplygin model",
+                kind="measure",
+                statement=f"the density the model ships is invariant for {name}",
+                system=system,
+                effects=tuple(sorted(effects)),
+                build=_density,
             )
 
 
-_register_all()
+register(*_model_claims())

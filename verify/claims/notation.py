@@ -112,7 +112,7 @@ def ball_notation(model: Model) -> BallNotation:
     return BallNotation(
         M=M,
         gamma=gamma,
-        omega=sp.Matrix(model.definitions["omega"]),
+        omega=sp.Matrix(model.omega),
         I=I,
         D=D,
         A=A,

@@ -26,7 +26,7 @@ LINE = ("straight_line",)
 
 
 def _omega(model: Model) -> sp.Matrix:
-    return model.expand_aux(sp.Matrix(model.definitions["omega"]))
+    return model.expand_aux(sp.Matrix(model.omega))
 
 
 def _multipliers(model: Model) -> list[sp.Symbol]:
@@ -234,220 +234,227 @@ def _reduction(case: str, sign: int = 1):
     return build
 
 
-for claim in (
+register(
     # ------------------------------------------------------------ rubber ball
     Claim(
-        "BKM12-3rub.constraint",
-        "BKM12 §3 (rubber ball)",
-        "equation",
-        "with the no-twist multiplier eliminated the flow keeps (omega, gamma) constant "
+        id="BKM12-3rub.constraint",
+        source="BKM12 §3 (rubber ball)",
+        kind="equation",
+        statement="with the no-twist multiplier eliminated the flow keeps (omega, gamma) constant "
         "on the whole phase space, so (omega, gamma) = 0 is invariant",
-        BALL,
-        RUBBER,
-        _rubber_constraint,
+        system=BALL,
+        effects=RUBBER,
+        build=_rubber_constraint,
         note="constraints v + omega x r = 0, (omega, gamma) = 0; mu from d/dt (omega, gamma) = 0",
     ),
     Claim(
-        "BKM12-3rub.eq",
-        "BKM12 §3 (rubber ball)",
-        "equation",
-        "M' = M x omega + mu gamma (the reaction torque of the no-twist constraint is "
+        id="BKM12-3rub.eq",
+        source="BKM12 §3 (rubber ball)",
+        kind="equation",
+        statement="M' = M x omega + mu gamma (the reaction torque of the no-twist constraint is "
         "along gamma), gamma' = gamma x omega",
-        BALL,
-        RUBBER,
-        _rubber_equations,
+        system=BALL,
+        effects=RUBBER,
+        build=_rubber_equations,
     ),
     Claim(
-        "BKM12-3rub.K",
-        "BKM12 §3 (rubber ball)",
-        "equation",
-        "K = M - (M, gamma) gamma = (J - gamma ⊗ J gamma) omega, K' = K x omega (the rubber "
+        id="BKM12-3rub.K",
+        source="BKM12 §3 (rubber ball)",
+        kind="equation",
+        statement="K = M - (M, gamma) gamma = (J - gamma ⊗ J gamma) omega, K' = K x omega (the "
+        "rubber "
         "ball of BKM12 §3, inertia J = I + D Id)",
-        BALL,
-        RUBBER,
-        _rubber_K,
+        system=BALL,
+        effects=RUBBER,
+        build=_rubber_K,
     ),
     Claim(
-        "BKM12-3rub.H",
-        "BKM12 §3 (rubber ball)",
-        "integral",
-        "H = (M, omega)/2 is a first integral on (omega, gamma) = 0",
-        BALL,
-        RUBBER,
-        _rubber_integral("H"),
+        id="BKM12-3rub.H",
+        source="BKM12 §3 (rubber ball)",
+        kind="integral",
+        statement="H = (M, omega)/2 is a first integral on (omega, gamma) = 0",
+        system=BALL,
+        effects=RUBBER,
+        build=_rubber_integral("H"),
     ),
     Claim(
-        "BKM12-3rub.KK",
-        "BKM12 §3 (rubber ball)",
-        "integral",
-        "(K, K) = (M, M) - (M, gamma)^2 is a first integral",
-        BALL,
-        RUBBER,
-        _rubber_integral("KK"),
+        id="BKM12-3rub.KK",
+        source="BKM12 §3 (rubber ball)",
+        kind="integral",
+        statement="(K, K) = (M, M) - (M, gamma)^2 is a first integral",
+        system=BALL,
+        effects=RUBBER,
+        build=_rubber_integral("KK"),
     ),
     Claim(
-        "BKM12-3rub.gamma",
-        "BKM12 §3 (rubber ball)",
-        "integral",
-        "(gamma, gamma) = 1 is preserved",
-        BALL,
-        RUBBER,
-        _rubber_integral("gamma"),
+        id="BKM12-3rub.gamma",
+        source="BKM12 §3 (rubber ball)",
+        kind="integral",
+        statement="(gamma, gamma) = 1 is preserved",
+        system=BALL,
+        effects=RUBBER,
+        build=_rubber_integral("gamma"),
     ),
     Claim(
-        "BKM12-3rub.measure",
-        "BKM12 §3 (rubber ball)",
-        "measure",
-        "rho = (gamma, A gamma)^(1/2) / (D^-1 - (gamma, A gamma)) satisfies Liouville's "
+        id="BKM12-3rub.measure",
+        source="BKM12 §3 (rubber ball)",
+        kind="measure",
+        statement="rho = (gamma, A gamma)^(1/2) / (D^-1 - (gamma, A gamma)) satisfies Liouville's "
         "equation on (omega, gamma) = 0: rho dM dgamma / d(omega, gamma) is invariant",
-        BALL,
-        RUBBER,
-        _rubber_density("rubber"),
+        system=BALL,
+        effects=RUBBER,
+        build=_rubber_density("rubber"),
         note="the Chaplygin ball's density times (C II^-1 C^T)^(1/2), C = gamma^T; "
         "not printed in BKM12 (derived here)",
     ),
     Claim(
-        "BKM12-3rub/control-MM",
-        "negative control",
-        "integral",
-        "(M, M) is a first integral of the rubber ball (false: only (K, K) is)",
-        BALL,
-        RUBBER,
-        _rubber_integral("MM"),
+        id="BKM12-3rub/control-MM",
+        source="negative control",
+        kind="integral",
+        statement="(M, M) is a first integral of the rubber ball (false: only (K, K) is)",
+        system=BALL,
+        effects=RUBBER,
+        build=_rubber_integral("MM"),
         expected="fails",
     ),
     Claim(
-        "BKM12-3rub/control-Mgamma",
-        "negative control",
-        "integral",
-        "(M, gamma) is a first integral of the rubber ball (false: the reaction twists)",
-        BALL,
-        RUBBER,
-        _rubber_integral("Mgamma"),
+        id="BKM12-3rub/control-Mgamma",
+        source="negative control",
+        kind="integral",
+        statement="(M, gamma) is a first integral of the rubber ball (false: the reaction twists)",
+        system=BALL,
+        effects=RUBBER,
+        build=_rubber_integral("Mgamma"),
         expected="fails",
     ),
     Claim(
-        "BKM12-3rub/control-measure",
-        "negative control",
-        "measure",
-        "the Chaplygin ball's density (D^-1 - (gamma, A gamma))^-1/2 is invariant for the "
+        id="BKM12-3rub/control-measure",
+        source="negative control",
+        kind="measure",
+        statement="the Chaplygin ball's density (D^-1 - (gamma, A gamma))^-1/2 is invariant for "
+        "the "
         "rubber ball (false)",
-        BALL,
-        RUBBER,
-        _rubber_density("chaplygin"),
+        system=BALL,
+        effects=RUBBER,
+        build=_rubber_density("chaplygin"),
         expected="fails",
     ),
     # -------------------------------------------------- the ball along a straight line
     Claim(
-        "BKM12-57.constraint",
-        "BKM12 §3, eq. (57)",
-        "equation",
-        "with Veselovs' multiplier eliminated the flow keeps (omega, alpha) constant on the "
+        id="BKM12-57.constraint",
+        source="BKM12 §3, eq. (57)",
+        kind="equation",
+        statement="with Veselovs' multiplier eliminated the flow keeps (omega, alpha) constant on "
+        "the "
         "whole phase space, so (omega, alpha) = 0 is invariant",
-        BALL,
-        LINE,
-        _line_constraint,
+        system=BALL,
+        effects=LINE,
+        build=_line_constraint,
         note="constraints v + omega x r = 0 and (omega, alpha) = 0",
     ),
     Claim(
-        "BKM12-57",
-        "BKM12 §3, eq. (57)",
-        "equation",
-        "K' = K x omega, alpha' = alpha x omega, beta' = beta x omega, "
+        id="BKM12-57",
+        source="BKM12 §3, eq. (57)",
+        kind="equation",
+        statement="K' = K x omega, alpha' = alpha x omega, beta' = beta x omega, "
         "K = (I + D beta ⊗ beta - alpha ⊗ (I alpha)) omega = K0 - (K0, alpha) alpha, "
         "K0 = I omega + D gamma x (omega x gamma)",
-        BALL,
-        LINE,
-        _bkm12_57,
+        system=BALL,
+        effects=LINE,
+        build=_bkm12_57,
     ),
     Claim(
-        "BKM12-58.frame",
-        "BKM12 §3, eq. (58)",
-        "integral",
-        "(alpha, alpha) = (beta, beta) = 1, (alpha, beta) = 0 (and (gamma, gamma) = 1) "
+        id="BKM12-58.frame",
+        source="BKM12 §3, eq. (58)",
+        kind="integral",
+        statement="(alpha, alpha) = (beta, beta) = 1, (alpha, beta) = 0 (and (gamma, gamma) = 1) "
         "are preserved",
-        BALL,
-        LINE,
-        _line_integral("frame"),
+        system=BALL,
+        effects=LINE,
+        build=_line_integral("frame"),
     ),
     Claim(
-        "BKM12-58.Kbeta",
-        "BKM12 §3, eq. (58)",
-        "integral",
-        "(K, beta) = const",
-        BALL,
-        LINE,
-        _line_integral("Kbeta"),
+        id="BKM12-58.Kbeta",
+        source="BKM12 §3, eq. (58)",
+        kind="integral",
+        statement="(K, beta) = const",
+        system=BALL,
+        effects=LINE,
+        build=_line_integral("Kbeta"),
     ),
     Claim(
-        "BKM12-58.Kgamma",
-        "BKM12 §3, eq. (58)",
-        "integral",
-        "(K, gamma) = (K, alpha x beta) = const",
-        BALL,
-        LINE,
-        _line_integral("Kgamma"),
+        id="BKM12-58.Kgamma",
+        source="BKM12 §3, eq. (58)",
+        kind="integral",
+        statement="(K, gamma) = (K, alpha x beta) = const",
+        system=BALL,
+        effects=LINE,
+        build=_line_integral("Kgamma"),
     ),
     Claim(
-        "BKM12-58.E",
-        "BKM12 §3, eq. (58)",
-        "integral",
-        "E = (K, omega) = const",
-        BALL,
-        LINE,
-        _line_integral("E"),
+        id="BKM12-58.E",
+        source="BKM12 §3, eq. (58)",
+        kind="integral",
+        statement="E = (K, omega) = const",
+        system=BALL,
+        effects=LINE,
+        build=_line_integral("E"),
     ),
     Claim(
-        "BKM12-58.identities",
-        "BKM12 §3, eq. (58)",
-        "definition",
-        "(K, alpha) = 0 and the quadratic integral (K, K) = (K, beta)^2 + (K, gamma)^2 is a "
+        id="BKM12-58.identities",
+        source="BKM12 §3, eq. (58)",
+        kind="definition",
+        statement="(K, alpha) = 0 and the quadratic integral (K, K) = (K, beta)^2 + (K, gamma)^2 "
+        "is a "
         "combination of the linear ones",
-        BALL,
-        LINE,
-        _bkm12_58_identities,
+        system=BALL,
+        effects=LINE,
+        build=_bkm12_58_identities,
     ),
     Claim(
-        "BKM12-3.1",
-        "BKM12 §3",
-        "transformation",
-        "on (K, beta) = 0: K~ = K + D E K/(K, gamma)^2 = (J - alpha ⊗ (J alpha)) omega and "
+        id="BKM12-3.1",
+        source="BKM12 §3",
+        kind="transformation",
+        statement="on (K, beta) = 0: K~ = K + D E K/(K, gamma)^2 = (J - alpha ⊗ (J alpha)) omega "
+        "and "
         "K~' = K~ x omega: a rubber ball with inertia J = I + D Id (vertical alpha)",
-        BALL,
-        LINE,
-        _reduction("3.1"),
+        system=BALL,
+        effects=LINE,
+        build=_reduction("3.1"),
     ),
     Claim(
-        "BKM12-3.2",
-        "BKM12 §3",
-        "transformation",
-        "on (K, gamma) = 0: K~ = K - D E K/(K, beta)^2 = (I - alpha ⊗ (I alpha)) omega and "
+        id="BKM12-3.2",
+        source="BKM12 §3",
+        kind="transformation",
+        statement="on (K, gamma) = 0: K~ = K - D E K/(K, beta)^2 = (I - alpha ⊗ (I alpha)) omega "
+        "and "
         "K~' = K~ x omega: a rubber ball with inertia I (vertical alpha)",
-        BALL,
-        LINE,
-        _reduction("3.2"),
+        system=BALL,
+        effects=LINE,
+        build=_reduction("3.2"),
     ),
     Claim(
-        "BKM12-3.1/control-sign",
-        "negative control",
-        "transformation",
-        "on (K, beta) = 0: K - D E K/(K, gamma)^2 = (J - alpha ⊗ (J alpha)) omega (the sign "
+        id="BKM12-3.1/control-sign",
+        source="negative control",
+        kind="transformation",
+        statement="on (K, beta) = 0: K - D E K/(K, gamma)^2 = (J - alpha ⊗ (J alpha)) omega (the "
+        "sign "
         "of 3.2 in 3.1: false)",
-        BALL,
-        LINE,
-        _reduction("3.1", sign=-1),
+        system=BALL,
+        effects=LINE,
+        build=_reduction("3.1", sign=-1),
         expected="fails",
     ),
     Claim(
-        "BKM12-58/control-Malpha",
-        "negative control",
-        "integral",
-        "(M, alpha) is a first integral of the ball along a line (false: the reaction torque "
+        id="BKM12-58/control-Malpha",
+        source="negative control",
+        kind="integral",
+        statement="(M, alpha) is a first integral of the ball along a line (false: the reaction "
+        "torque "
         "is along alpha)",
-        BALL,
-        LINE,
-        _line_integral("Malpha"),
+        system=BALL,
+        effects=LINE,
+        build=_line_integral("Malpha"),
         expected="fails",
     ),
-):
-    register(claim)
+)

@@ -55,7 +55,7 @@ def _n_ball(n: int, effects: tuple[str, ...], seed: int) -> Model:
     return n_ball_model(n, effects, space_directions=seed)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class NBallClaim(Claim):
     """A claim checked on the multi-body derivation of ``balls`` balls (random directions).
 
@@ -99,16 +99,16 @@ class _Balls:
 
 
 def _balls(model: Model) -> _Balls:
-    der = model.definitions["derivation"]
+    der = model.details.derivation
     red = der.reduction
-    subs = model.definitions["on_directions"]
+    subs = model.details.on_directions
 
     def on(e):
         return sp.sympify(e).xreplace(subs)
 
     return _Balls(
         omega=der.omega,
-        n=model.definitions["directions"],
+        n=model.details.directions,
         w=der.ball_velocities,
         nu=der.spins,
         I=sp.diag(*der.I),
@@ -341,7 +341,7 @@ def support_notation(model: Model) -> SupportNotation:
         alpha=model.group("alpha"),
         beta=model.group("beta"),
         gamma=model.group("gamma"),
-        omega=sp.Matrix(model.definitions["omega"]),
+        omega=sp.Matrix(model.omega),
         I=I,
         D_iso=D_iso,
         D_al=model.param_group("D_al")[0],
@@ -364,14 +364,14 @@ def _bkm12_32(model: Model) -> Check:
     for name in ("alpha", "beta", "gamma"):
         exprs += list(_rhs(model, name) - cross(model.group(name), w))
     M_of_w = n.operator() * w
-    exprs += list(model.definitions["momentum_rate_of_omega"] - cross(M_of_w + n.K, w))
+    exprs += list(model.details.momentum_rate_of_omega - cross(M_of_w + n.K, w))
     return Check(exprs, free=list(w))
 
 
 def _bkm12_33(model: Model) -> Check:
     n = support_notation(model)
     w = n.omega
-    exprs = list(model.definitions["momentum_of_omega"] - n.operator() * w)
+    exprs = list(model.momentum_of_omega - n.operator() * w)
     exprs += list(n.operator() * model.expand_aux(w) - n.M)  # omega(M) inverts it
     return Check(exprs, free=list(w))
 
@@ -396,7 +396,7 @@ def _conserved(which: str):
         }[which]
         exprs = [lie_derivative(f, model) for f in F]
         if which == "37":  # and it is the derived energy
-            derived = model.definitions["derived_energy"]
+            derived = model.details.derived_energy
             exprs.append(model.expand_aux(derived - dot(n.M, n.omega) / 2))
         if which == "Rem2":
             exprs.append(dot(P, P) - dot(P, a) ** 2 - dot(P, b) ** 2 - dot(P, cross(a, b)) ** 2)
@@ -443,8 +443,8 @@ def _rubber_closed(model: Model) -> Check:
 
     plain = build_model(SUPPORT, [e for e in model.effects if e != "rubber_balls"])
     exprs = [a - b for a, b in zip(model.rhs_expanded, plain.rhs_expanded, strict=True)]
-    exprs += list(model.definitions["momentum_of_omega"] - plain.definitions["momentum_of_omega"])
-    return Check(exprs, free=list(model.definitions["omega"]))
+    exprs += list(model.momentum_of_omega - plain.momentum_of_omega)
+    return Check(exprs, free=list(model.omega))
 
 
 # ------------------------------------------------------------------ N balls vs closed model
@@ -455,7 +455,7 @@ def _concrete_support(n_balls: int, seed: int):
     return lam, r
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class SupportComparisonClaim(Claim):
     """The closed model against the N-ball derivation of a concrete random support."""
 
@@ -479,7 +479,7 @@ def _compare(n_balls: int):
         nb = _n_ball(n_balls, tuple(sorted(model.effects)), SEEDS[n_balls])
         b = _balls(nb)
         lam, r = _concrete_support(n_balls, SEEDS[n_balls])
-        space = nb.definitions["space_directions"]
+        space = nb.details.space_directions
         data = support_parameters(lam, r, [list(c) for c in space], effects=model.effects)
         n = support_notation(model)
         e = [n.alpha, n.beta, n.gamma]
@@ -500,7 +500,7 @@ def _compare(n_balls: int):
             return sp.sympify(x).xreplace(to_concrete)
 
         w = n.omega
-        II_closed = model.definitions["momentum_of_omega"].jacobian(w).applyfunc(closed)
+        II_closed = model.momentum_of_omega.jacobian(w).applyfunc(closed)
         exprs = list(b.II.applyfunc(balls) - II_closed)
         M_of_w = II_closed * w
         rate_closed = _rhs(model, "M").xreplace(dict(zip(n.M, M_of_w, strict=True)))
@@ -515,95 +515,98 @@ _CLAIMS: list[Claim] = []
 for N in (1, 2, 3, 4):
     _CLAIMS += [
         NBallClaim(
-            f"BKM12-30.N{N}",
-            f"{S21}, eq. (30)",
-            "integral",
-            f"nu_k = (omega_k, n_k) = const ({N} balls at random directions)",
-            SUPPORT,
-            (),
-            _bkm12_30,
+            id=f"BKM12-30.N{N}",
+            source=f"{S21}, eq. (30)",
+            kind="integral",
+            statement=f"nu_k = (omega_k, n_k) = const ({N} balls at random directions)",
+            system=SUPPORT,
+            effects=(),
+            build=_bkm12_30,
             note="the projected equations of the extra quasi-velocities nu_k: "
             "d/dt (lambda_k nu_k) = 0",
             balls=N,
         ),
         NBallClaim(
-            f"BKM12-31.N{N}",
-            f"{S21}, eq. (31) (reconstructed)",
-            "equation",
-            "omega_k = -(1/r_k)(omega - (omega, n_k) n_k) + nu_k n_k; "
+            id=f"BKM12-31.N{N}",
+            source=f"{S21}, eq. (31) (reconstructed)",
+            kind="equation",
+            statement="omega_k = -(1/r_k)(omega - (omega, n_k) n_k) + nu_k n_k; "
             "d/dt[I omega + sum (lambda_k/r_k^2)(omega - (omega, n_k) n_k)] = [same] x omega "
             f"({N} balls)",
-            SUPPORT,
-            (),
-            _bkm12_31,
+            system=SUPPORT,
+            effects=(),
+            build=_bkm12_31,
             balls=N,
         ),
         NBallClaim(
-            f"BKM12-2.1M.N{N}",
-            f"{S21}",
-            "equation",
-            "M = (I + sum_k (lambda_k/r_k^2) Id - D_sup) omega, "
+            id=f"BKM12-2.1M.N{N}",
+            source=f"{S21}",
+            kind="equation",
+            statement="M = (I + sum_k (lambda_k/r_k^2) Id - D_sup) omega, "
             f"D_sup = sum_k (lambda_k/r_k^2) n_k ⊗ n_k, M' = M x omega ({N} balls)",
-            SUPPORT,
-            (),
-            _bkm12_2_1M(),
+            system=SUPPORT,
+            effects=(),
+            build=_bkm12_2_1M(),
             balls=N,
         ),
         NBallClaim(
-            f"BKM12-41.N{N}",
-            f"{S22}, eq. (41)",
-            "equation",
-            f"omega_k = -(1/r_k) omega + (1 + 1/r_k)(omega, n_k) n_k ({N} rubber balls)",
-            SUPPORT,
-            RUBBER,
-            _bkm12_41,
+            id=f"BKM12-41.N{N}",
+            source=f"{S22}, eq. (41)",
+            kind="equation",
+            statement=f"omega_k = -(1/r_k) omega + (1 + 1/r_k)(omega, n_k) n_k ({N} rubber balls)",
+            system=SUPPORT,
+            effects=RUBBER,
+            build=_bkm12_41,
             balls=N,
         ),
         NBallClaim(
-            f"BKM12-42.N{N}",
-            f"{S22}, eq. (42) (reconstructed)",
-            "equation",
-            "(omega, n_k') = (omega_k, n_k') = 0, (omega', n_k) = (omega_k', n_k); "
+            id=f"BKM12-42.N{N}",
+            source=f"{S22}, eq. (42) (reconstructed)",
+            kind="equation",
+            statement="(omega, n_k') = (omega_k, n_k') = 0, (omega', n_k) = (omega_k', n_k); "
             "mu_k = -lambda_k (omega', n_k), "
             f"n_k x N_k = -(lambda_k/r_k^2)(omega' - (omega', n_k) n_k) ({N} rubber balls)",
-            SUPPORT,
-            RUBBER,
-            _bkm12_42,
+            system=SUPPORT,
+            effects=RUBBER,
+            build=_bkm12_42,
             note="reactions on each ball from its Ferrers equation, for every omega'",
             balls=N,
         ),
         NBallClaim(
-            f"BKM12-2.2.N{N}",
-            f"{S22}",
-            "equation",
-            "rubber balls: M = (I + sum_k (lambda_k/r_k^2) Id - D_rub) omega, M' = M x omega, "
+            id=f"BKM12-2.2.N{N}",
+            source=f"{S22}",
+            kind="equation",
+            statement="rubber balls: M = (I + sum_k (lambda_k/r_k^2) Id - D_rub) omega, M' = M x "
+            "omega, "
             "D_rub = sum_k lambda_k (1/r_k^2 - 1) n_k ⊗ n_k",
-            SUPPORT,
-            RUBBER,
-            _bkm12_2_1M(),
+            system=SUPPORT,
+            effects=RUBBER,
+            build=_bkm12_2_1M(),
             balls=N,
         ),
         NBallClaim(
-            f"BKM12-2.2.equiv.N{N}",
-            f"{S22}",
-            "transformation",
-            "the rubber support is the ordinary support with I -> I + sum_k lambda_k Id and "
+            id=f"BKM12-2.2.equiv.N{N}",
+            source=f"{S22}",
+            kind="transformation",
+            statement="the rubber support is the ordinary support with I -> I + sum_k lambda_k Id "
+            "and "
             f"lambda_k/r_k^2 -> lambda_k (1/r_k^2 - 1) ({N} balls)",
-            SUPPORT,
-            RUBBER,
-            _bkm12_2_2,
+            system=SUPPORT,
+            effects=RUBBER,
+            build=_bkm12_2_2,
             balls=N,
         ),
         SupportComparisonClaim(
-            f"BKM12-33.N{N}",
-            f"{S21}, eqs. (32), (33)",
-            "equation",
-            "a concrete support of N balls (random rational lambda_k, r_k, directions) gives "
+            id=f"BKM12-33.N{N}",
+            source=f"{S21}, eqs. (32), (33)",
+            kind="equation",
+            statement="a concrete support of N balls (random rational lambda_k, r_k, directions) "
+            "gives "
             "the closed model with J = I + D_iso Id, D_al, D_be from the eigen-data of D_sup "
             f"(N = {N})",
-            SUPPORT,
-            (),
-            _compare(N),
+            system=SUPPORT,
+            effects=(),
+            build=_compare(N),
             note="support_parameters: numeric when the eigenframe is irrational",
             balls=N,
         ),
@@ -611,205 +614,212 @@ for N in (1, 2, 3, 4):
 
 _CLAIMS += [
     NBallClaim(
-        "BKM12-2.1M/control-weight",
-        f"{S21} (negative control)",
-        "equation",
-        "the inertia operator I + sum (lambda_k/r_k^2) Id - D_sup with the weights "
+        id="BKM12-2.1M/control-weight",
+        source=f"{S21} (negative control)",
+        kind="equation",
+        statement="the inertia operator I + sum (lambda_k/r_k^2) Id - D_sup with the weights "
         "lambda_k/r_k instead of lambda_k/r_k^2 in D_sup (2 balls)",
-        SUPPORT,
-        (),
-        _bkm12_2_1M("control"),
+        system=SUPPORT,
+        effects=(),
+        build=_bkm12_2_1M("control"),
         expected="fails",
         balls=2,
     ),
     NBallClaim(
-        "BKM12-2.3.N2",
-        f"{S23}",
-        "equation",
-        "gyrostat on 2 balls: M' = (M + K) x omega, "
+        id="BKM12-2.3.N2",
+        source=f"{S23}",
+        kind="equation",
+        statement="gyrostat on 2 balls: M' = (M + K) x omega, "
         "M = (I + sum (lambda_k/r_k^2) Id - D_sup) omega",
-        SUPPORT,
-        GYRO,
-        _bkm12_2_1M(),
+        system=SUPPORT,
+        effects=GYRO,
+        build=_bkm12_2_1M(),
         balls=2,
     ),
     Claim(
-        "BKM12-32",
-        f"{S21}, eq. (32)",
-        "equation",
-        "M' = M x omega, alpha' = alpha x omega, beta' = beta x omega (gamma' = gamma x omega)",
-        SUPPORT,
-        (),
-        _bkm12_32,
+        id="BKM12-32",
+        source=f"{S21}, eq. (32)",
+        kind="equation",
+        statement="M' = M x omega, alpha' = alpha x omega, beta' = beta x omega (gamma' = gamma x "
+        "omega)",
+        system=SUPPORT,
+        effects=(),
+        build=_bkm12_32,
         note="the model's right-hand side, and the derived momentum rate for every omega",
     ),
     Claim(
-        "BKM12-33",
-        f"{S21}, eq. (33)",
-        "equation",
-        "M = (J - D_al alpha⊗alpha - D_be beta⊗beta) omega, J = I + D_iso Id "
+        id="BKM12-33",
+        source=f"{S21}, eq. (33)",
+        kind="equation",
+        statement="M = (J - D_al alpha⊗alpha - D_be beta⊗beta) omega, J = I + D_iso Id "
         "(D_iso = sum lambda_k/r_k^2 - D_ga0, D_al = D_al0 - D_ga0, D_be = D_be0 - D_ga0)",
-        SUPPORT,
-        (),
-        _bkm12_33,
+        system=SUPPORT,
+        effects=(),
+        build=_bkm12_33,
     ),
     Claim(
-        "BKM12-34",
-        f"{S21}, eq. (34)",
-        "equation",
-        "omega = A (M + Z_al alpha + Z_be beta), A = J^-1, (Z_al, Z_be) = X^-1 (Y_al, Y_be), "
+        id="BKM12-34",
+        source=f"{S21}, eq. (34)",
+        kind="equation",
+        statement="omega = A (M + Z_al alpha + Z_be beta), A = J^-1, (Z_al, Z_be) = X^-1 (Y_al, "
+        "Y_be), "
         "X = [[D_al^-1 - (alpha, A alpha), -(alpha, A beta)], [-(alpha, A beta), "
         "D_be^-1 - (beta, A beta)]], Y = ((A M, alpha), (A M, beta))",
-        SUPPORT,
-        (),
-        _bkm12_34,
+        system=SUPPORT,
+        effects=(),
+        build=_bkm12_34,
     ),
     Claim(
-        "BKM12-35",
-        f"{S21}, eq. (35)",
-        "integral",
-        "alpha^2 = 1, beta^2 = 1, (alpha, beta) = 0 are preserved",
-        SUPPORT,
-        (),
-        _conserved("35"),
+        id="BKM12-35",
+        source=f"{S21}, eq. (35)",
+        kind="integral",
+        statement="alpha^2 = 1, beta^2 = 1, (alpha, beta) = 0 are preserved",
+        system=SUPPORT,
+        effects=(),
+        build=_conserved("35"),
     ),
     Claim(
-        "BKM12-36",
-        f"{S21}, eq. (36)",
-        "integral",
-        "(M, alpha), (M, beta), (M, alpha x beta) are first integrals",
-        SUPPORT,
-        (),
-        _conserved("36"),
+        id="BKM12-36",
+        source=f"{S21}, eq. (36)",
+        kind="integral",
+        statement="(M, alpha), (M, beta), (M, alpha x beta) are first integrals",
+        system=SUPPORT,
+        effects=(),
+        build=_conserved("36"),
     ),
     Claim(
-        "BKM12-36/control-(M,A alpha)",
-        f"{S21} (negative control)",
-        "integral",
-        "(M, A alpha) is a first integral (it is not)",
-        SUPPORT,
-        (),
-        _conserved("control"),
+        id="BKM12-36/control-(M,A alpha)",
+        source=f"{S21} (negative control)",
+        kind="integral",
+        statement="(M, A alpha) is a first integral (it is not)",
+        system=SUPPORT,
+        effects=(),
+        build=_conserved("control"),
         expected="fails",
     ),
     Claim(
-        "BKM12-37",
-        f"{S21}, eq. (37)",
-        "integral",
-        "H = (M, omega)/2 is a first integral (and the derived energy without the balls' spins)",
-        SUPPORT,
-        (),
-        _conserved("37"),
+        id="BKM12-37",
+        source=f"{S21}, eq. (37)",
+        kind="integral",
+        statement="H = (M, omega)/2 is a first integral (and the derived energy without the balls' "
+        "spins)",
+        system=SUPPORT,
+        effects=(),
+        build=_conserved("37"),
     ),
     Claim(
-        "BKM12-Rem2",
-        f"{S21}, Remark 2",
-        "integral",
-        "(M, M) = (M, alpha)^2 + (M, beta)^2 + (M, alpha x beta)^2 = const",
-        SUPPORT,
-        (),
-        _conserved("Rem2"),
+        id="BKM12-Rem2",
+        source=f"{S21}, Remark 2",
+        kind="integral",
+        statement="(M, M) = (M, alpha)^2 + (M, beta)^2 + (M, alpha x beta)^2 = const",
+        system=SUPPORT,
+        effects=(),
+        build=_conserved("Rem2"),
     ),
     Claim(
-        "BKM12-38",
-        f"{S21}, eq. (38)",
-        "measure",
-        "invariant measure rho dM dalpha dbeta, rho = det(J - D_al alpha⊗alpha - "
+        id="BKM12-38",
+        source=f"{S21}, eq. (38)",
+        kind="measure",
+        statement="invariant measure rho dM dalpha dbeta, rho = det(J - D_al alpha⊗alpha - "
         "D_be beta⊗beta)^-1/2",
-        SUPPORT,
-        (),
-        _measure("paper"),
+        system=SUPPORT,
+        effects=(),
+        build=_measure("paper"),
         note="on the frame phase space (gamma = alpha x beta carried along: div of its "
         "equation is zero)",
     ),
     Claim(
-        "BKM12-38.X",
-        f"{S21}, eq. (38)",
-        "measure",
-        "rho = det(X)^-1/2 (X of BKM12-34) is invariant; det(J - D_al a⊗a - D_be b⊗b) = "
+        id="BKM12-38.X",
+        source=f"{S21}, eq. (38)",
+        kind="measure",
+        statement="rho = det(X)^-1/2 (X of BKM12-34) is invariant; det(J - D_al a⊗a - D_be b⊗b) = "
         "det(J) D_al D_be det(X) (a constant factor); the model ships det(X)^-1/2",
-        SUPPORT,
-        (),
-        lambda m: Check(_measure("X")(m).exprs + _bkm12_38_factor(m).exprs),
+        system=SUPPORT,
+        effects=(),
+        build=lambda m: Check(_measure("X")(m).exprs + _bkm12_38_factor(m).exprs),
     ),
     Claim(
-        "BKM12-38/control-exponent+1/2",
-        f"{S21} (negative control)",
-        "measure",
-        "rho = det(X)^(+1/2) is an invariant density (wrong exponent)",
-        SUPPORT,
-        (),
-        _measure("X+1/2"),
+        id="BKM12-38/control-exponent+1/2",
+        source=f"{S21} (negative control)",
+        kind="measure",
+        statement="rho = det(X)^(+1/2) is an invariant density (wrong exponent)",
+        system=SUPPORT,
+        effects=(),
+        build=_measure("X+1/2"),
         expected="fails",
     ),
     Claim(
-        "BKM12-38/control-exponent-1",
-        f"{S21} (negative control)",
-        "measure",
-        "rho = det(X)^-1 is an invariant density (wrong exponent)",
-        SUPPORT,
-        (),
-        _measure("X-1"),
+        id="BKM12-38/control-exponent-1",
+        source=f"{S21} (negative control)",
+        kind="measure",
+        statement="rho = det(X)^-1 is an invariant density (wrong exponent)",
+        system=SUPPORT,
+        effects=(),
+        build=_measure("X-1"),
         expected="fails",
     ),
     Claim(
-        "BKM12-2.2",
-        f"{S22}",
-        "equation",
-        "with rubber balls the closed system is the same as (32)-(34) (only the meaning of "
+        id="BKM12-2.2",
+        source=f"{S22}",
+        kind="equation",
+        statement="with rubber balls the closed system is the same as (32)-(34) (only the meaning "
+        "of "
         "D_iso, D_al, D_be changes)",
-        SUPPORT,
-        RUBBER,
-        _rubber_closed,
+        system=SUPPORT,
+        effects=RUBBER,
+        build=_rubber_closed,
     ),
     Claim(
-        "BKM12-2.3",
-        f"{S23}",
-        "equation",
-        "M' = (M + K) x omega, alpha' = alpha x omega, beta' = beta x omega, with (33), (34)",
-        SUPPORT,
-        GYRO,
-        lambda m: Check(_bkm12_32(m).exprs + _bkm12_34(m).exprs, free=list(m.definitions["omega"])),
+        id="BKM12-2.3",
+        source=f"{S23}",
+        kind="equation",
+        statement="M' = (M + K) x omega, alpha' = alpha x omega, beta' = beta x omega, with (33), "
+        "(34)",
+        system=SUPPORT,
+        effects=GYRO,
+        build=lambda m: Check(
+            _bkm12_32(m).exprs + _bkm12_34(m).exprs, free=list(m.omega)
+        ),
         note="derived from T = (omega, I omega)/2 + (K, omega) + sum lambda_k omega_k^2/2",
     ),
     Claim(
-        "BKM12-2.3.integrals",
-        f"{S23}",
-        "integral",
-        "alpha^2 = beta^2 = 1, (alpha, beta) = 0, (M + K, alpha), (M + K, beta), "
+        id="BKM12-2.3.integrals",
+        source=f"{S23}",
+        kind="integral",
+        statement="alpha^2 = beta^2 = 1, (alpha, beta) = 0, (M + K, alpha), (M + K, beta), "
         "(M + K, alpha x beta), H = (M, omega)/2 are first integrals",
-        SUPPORT,
-        GYRO,
-        _bkm12_2_3_integrals,
+        system=SUPPORT,
+        effects=GYRO,
+        build=_bkm12_2_3_integrals,
     ),
     Claim(
-        "BKM12-2.3.measure",
-        f"{S23}",
-        "measure",
-        "the density (38) is invariant for the gyrostat",
-        SUPPORT,
-        GYRO,
-        _measure("paper"),
+        id="BKM12-2.3.measure",
+        source=f"{S23}",
+        kind="measure",
+        statement="the density (38) is invariant for the gyrostat",
+        system=SUPPORT,
+        effects=GYRO,
+        build=_measure("paper"),
     ),
     Claim(
-        "BKM12-2.3E/literal",
-        f"{S23} (literal reading)",
-        "integral",
-        "H = (M + K, omega)/2 is a first integral",
-        SUPPORT,
-        GYRO,
-        _conserved("2.3E/literal"),
+        id="BKM12-2.3E/literal",
+        source=f"{S23} (literal reading)",
+        kind="integral",
+        statement="H = (M + K, omega)/2 is a first integral",
+        system=SUPPORT,
+        effects=GYRO,
+        build=_conserved("2.3E/literal"),
         expected="fails",
         note="FORMULAS.md: FAILED as transcribed; (M, omega)/2 is conserved (BKM12-2.3E)",
     ),
     Claim(
-        "BKM12-2.3E",
-        f"{S23} (corrected)",
-        "integral",
-        "H = (M, omega)/2 is a first integral of the gyrostat in a spherical support",
-        SUPPORT,
-        GYRO,
-        _conserved("37"),
+        id="BKM12-2.3E",
+        source=f"{S23} (corrected)",
+        kind="integral",
+        statement="H = (M, omega)/2 is a first integral of the gyrostat in a spherical support",
+        system=SUPPORT,
+        effects=GYRO,
+        build=_conserved("37"),
     ),
 ]
 
@@ -818,6 +828,4 @@ _CLAIMS += [
 #: ``BKM12-33.N1`` (one ball: rational eigen-data) is registered and proved.
 NUMERIC_CLAIMS = [c for c in _CLAIMS if c.id in ("BKM12-33.N2", "BKM12-33.N3", "BKM12-33.N4")]
 
-for _claim in _CLAIMS:
-    if _claim not in NUMERIC_CLAIMS:
-        register(_claim)
+register(*(c for c in _CLAIMS if c not in NUMERIC_CLAIMS))

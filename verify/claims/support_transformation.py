@@ -310,123 +310,127 @@ def _bkm12_51_control(model: Model) -> Check:
     return Check([(v1.T * g * v2)[0, 0]], free=free, everywhere=True)
 
 
-for claim in (
+register(
     Claim(
-        "BKM12-43",
-        S24,
-        "solution",
-        "(M, beta) = (M, alpha x beta) = 0 => M = (M, alpha) alpha, (alpha, omega) = E/(M, alpha)",
-        SUPPORT,
-        (),
-        _bkm12_43,
+        id="BKM12-43",
+        source=S24,
+        kind="solution",
+        statement="(M, beta) = (M, alpha x beta) = 0 => M = (M, alpha) alpha, (alpha, omega) = "
+        "E/(M, alpha)",
+        system=SUPPORT,
+        effects=(),
+        build=_bkm12_43,
     ),
     Claim(
-        "BKM12-44",
-        S24,
-        "transformation",
-        "Proposition 1: M~ = (1 + E D_al/C) M = (J - D_be beta⊗beta) omega, "
+        id="BKM12-44",
+        source=S24,
+        kind="transformation",
+        statement="Proposition 1: M~ = (1 + E D_al/C) M = (J - D_be beta⊗beta) omega, "
         "omega = A (M~ + Z beta), "
         "Z = (A M~, beta)/(D_be^-1 - (beta, A beta)), E~ = E (1 + E D_al/C), (M~, beta) = 0",
-        SUPPORT,
-        (),
-        _bkm12_44,
+        system=SUPPORT,
+        effects=(),
+        build=_bkm12_44,
     ),
     Claim(
-        "BKM12-2.4Rem",
-        S24,
-        "transformation",
-        "on (M, alpha x beta) = 0: D_al alpha⊗alpha + D_be beta⊗beta = D_M M⊗M + D_xi xi⊗xi, "
+        id="BKM12-2.4Rem",
+        source=S24,
+        kind="transformation",
+        statement="on (M, alpha x beta) = 0: D_al alpha⊗alpha + D_be beta⊗beta = D_M M⊗M + D_xi "
+        "xi⊗xi, "
         "xi = D_al M_be alpha - D_be M_al beta, (M, D2^-1 xi) = 0, M~ = (1 + E D_M) M = "
         "(J - D_xi k^2 gamma~⊗gamma~) omega, (M~, gamma~) = k^-1 (1 + E "
         "D_M)(D_al - D_be) M_al M_be",
-        SUPPORT,
-        (),
-        _bkm12_2_4rem,
+        system=SUPPORT,
+        effects=(),
+        build=_bkm12_2_4rem,
     ),
     Claim(
-        "BKM12-48",
-        S25,
-        "equation",
-        "(A M, M) = E - (Y, X^-1 Y); X~_aa, X~_ab, X~_bb, -Y~_al = -(A M~, alpha~), "
+        id="BKM12-48",
+        source=S25,
+        kind="equation",
+        statement="(A M, M) = E - (Y, X^-1 Y); X~_aa, X~_ab, X~_bb, -Y~_al = -(A M~, alpha~), "
         "-Y~_be = -(A M~, beta~) in X, Y (the printed forms; derived by bilinearity)",
-        SUPPORT,
-        (),
-        _bkm12_48(),
+        system=SUPPORT,
+        effects=(),
+        build=_bkm12_48(),
     ),
     Claim(
-        "BKM12-48/literal",
-        f"{S25} (literal reading)",
-        "equation",
-        "Y~_be = (A M~, beta~) = m1 b1 (Y, X^-1 Y) + m2 b2 X_aa + ... (the minus sign dropped)",
-        SUPPORT,
-        (),
-        _bkm12_48(literal=True),
+        id="BKM12-48/literal",
+        source=f"{S25} (literal reading)",
+        kind="equation",
+        statement="Y~_be = (A M~, beta~) = m1 b1 (Y, X^-1 Y) + m2 b2 X_aa + ... (the minus sign "
+        "dropped)",
+        system=SUPPORT,
+        effects=(),
+        build=_bkm12_48(literal=True),
         expected="fails",
     ),
     Claim(
-        "BKM12-47",
-        S25,
-        "transformation",
-        "Theorem 2: rows m, a, b of Q_E mutually <, >-orthogonal, D_al~^-1 = <a, a>, "
+        id="BKM12-47",
+        source=S25,
+        kind="transformation",
+        statement="Theorem 2: rows m, a, b of Q_E mutually <, >-orthogonal, D_al~^-1 = <a, a>, "
         "D_be~^-1 = <b, b> => mu Z_al = m2 + a2 Z~_al + b2 Z~_be, mu Z_be = m3 "
         "+ a3 Z~_al + b3 Z~_be "
         "with mu = m1 + a1 Z~_al + b1 Z~_be, i.e. omega~ = mu omega; mu^-1 = [(a2 b3 - a3 b2) + "
         "(a3 b1 - a1 b3) Z_al + (a1 b2 - a2 b1) Z_be]/det Q_E",
-        SUPPORT,
-        (),
-        _bkm12_t2("mu"),
+        system=SUPPORT,
+        effects=(),
+        build=_bkm12_t2("mu"),
     ),
     Claim(
-        "BKM12-T2E",
-        S25,
-        "integral",
-        "E~ = (M~, omega~) = E m1^2 + D_al^-1 m2^2 + D_be^-1 m3^2 = <m, m>",
-        SUPPORT,
-        (),
-        _bkm12_t2("E"),
+        id="BKM12-T2E",
+        source=S25,
+        kind="integral",
+        statement="E~ = (M~, omega~) = E m1^2 + D_al^-1 m2^2 + D_be^-1 m3^2 = <m, m>",
+        system=SUPPORT,
+        effects=(),
+        build=_bkm12_t2("E"),
     ),
     Claim(
-        "BKM12-55",
-        S26,
-        "equation",
-        "E lam^3 - (E (D_al + D_be) + C) lam^2 + (D_al (C - M_al^2) + D_be (C "
+        id="BKM12-55",
+        source=S26,
+        kind="equation",
+        statement="E lam^3 - (E (D_al + D_be) + C) lam^2 + (D_al (C - M_al^2) + D_be (C "
         "- M_be^2) + E D_al D_be) lam "
         "- (C - M_al^2 - M_be^2) D_al D_be = -D_al D_be det(Gamma - lam g); B "
         "= g^-1 Gamma = (Gamma g^-1)^T",
-        SUPPORT,
-        (),
-        _bkm12_55,
+        system=SUPPORT,
+        effects=(),
+        build=_bkm12_55,
     ),
     Claim(
-        "BKM12-55pos",
-        S26,
-        "equation",
-        "Gamma is the Gram matrix of M, alpha, beta (det Gamma = (M, gamma)^2): the roots of the "
+        id="BKM12-55pos",
+        source=S26,
+        kind="equation",
+        statement="Gamma is the Gram matrix of M, alpha, beta (det Gamma = (M, gamma)^2): the "
+        "roots of the "
         "cubic are real and non-negative",
-        SUPPORT,
-        (),
-        _bkm12_55pos,
+        system=SUPPORT,
+        effects=(),
+        build=_bkm12_55pos,
     ),
     Claim(
-        "BKM12-51",
-        S26,
-        "transformation",
-        "Proposition 2: eigen-rows m1 (1, M_al D_al/(lam - D_al), M_be D_be/(lam - D_be)) (54) of "
+        id="BKM12-51",
+        source=S26,
+        kind="transformation",
+        statement="Proposition 2: eigen-rows m1 (1, M_al D_al/(lam - D_al), M_be D_be/(lam - "
+        "D_be)) (54) of "
         "B for two roots of (55) are <, >-orthogonal (47), Q_E Gamma Q_E^T is diagonal (52) and "
         "lam = Lambda_ii/g~_ii (53)",
-        SUPPORT,
-        (),
-        _bkm12_51,
+        system=SUPPORT,
+        effects=(),
+        build=_bkm12_51,
     ),
     Claim(
-        "BKM12-51/control-swap",
-        f"{S26} (negative control)",
-        "transformation",
-        "the rows with D_al and D_be swapped are <, >-orthogonal",
-        SUPPORT,
-        (),
-        _bkm12_51_control,
+        id="BKM12-51/control-swap",
+        source=f"{S26} (negative control)",
+        kind="transformation",
+        statement="the rows with D_al and D_be swapped are <, >-orthogonal",
+        system=SUPPORT,
+        effects=(),
+        build=_bkm12_51_control,
         expected="fails",
     ),
-):
-    register(claim)
+)

@@ -1,0 +1,108 @@
+"""scipy's ``solve_ivp`` methods, in double precision on the generated right-hand side."""
+
+from __future__ import annotations
+
+from typing import ClassVar
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from ...derive.errors import UserInputError
+from .base import Integrator, Problem, Solution
+
+__all__ = ["ScipyMethod", "RK45", "DOP853", "LSODA", "Radau", "BDF"]
+
+
+def _scipy_event(g):
+    """``g(t, y)`` as scipy calls events (with the ``args``), keeping terminal/direction."""
+
+    def event(t, y, *args):
+        return g(t, y)
+
+    event.terminal = getattr(g, "terminal", False)
+    event.direction = getattr(g, "direction", 0)
+    return event
+
+
+class ScipyMethod(Integrator):
+    """A ``scipy.integrate.solve_ivp`` method in double precision, on the generated C or
+    numpy right-hand side; implicit methods get the generated Jacobian."""
+
+    implicit: ClassVar[bool] = False
+    supports_events = True
+    backends = ("c", "numpy")
+
+    def _prepare(self, problem: Problem, backend: str) -> str:
+        if backend == "numpy":
+            return "numpy"
+        chosen = "c" if problem.code.compiled() is not None else "numpy"
+        if backend == "c" and chosen != "c":
+            raise UserInputError("backend 'c' needs a C compiler (install gcc or set CC)")
+        return chosen
+
+    def _solve(self, problem: Problem, backend: str) -> Solution:
+        code = problem.code
+        kwargs = {}
+        if problem.events:
+            kwargs["events"] = [_scipy_event(g) for g in problem.events]
+        lib = code.compiled() if backend == "c" else code.numpy
+        if self.implicit:
+            kwargs["jac"] = lib.jac
+        sol = solve_ivp(
+            lib.rhs,
+            problem.t_span,
+            np.asarray(problem.y0, dtype=float),
+            method=self.name,
+            rtol=problem.rtol,
+            atol=problem.atol,
+            args=(np.asarray(problem.params, dtype=float),),
+            t_eval=problem.t_eval,
+            **kwargs,
+        )
+        message = sol.message
+        if sol.status != 0:
+            message += "; try a smaller rtol/atol, an implicit method (Radau, LSODA) or more digits"
+        return Solution(
+            t=sol.t,
+            y=sol.y,
+            status=sol.status,
+            message=message,
+            nfev=sol.nfev,
+            njev=sol.njev,
+            nsteps=len(sol.t) - 1,
+            t_events=list(sol.t_events) if problem.events else [],
+            y_events=list(sol.y_events) if problem.events else [],
+        )
+
+
+class RK45(ScipyMethod):
+    """scipy's explicit Runge-Kutta 5(4) (Dormand-Prince)."""
+
+    name = "RK45"
+
+
+class DOP853(ScipyMethod):
+    """scipy's explicit Runge-Kutta 8(5,3) (Hairer's DOP853)."""
+
+    name = "DOP853"
+
+
+class LSODA(ScipyMethod):
+    """scipy's LSODA (Adams/BDF switching), with the generated Jacobian."""
+
+    name = "LSODA"
+    implicit = True
+
+
+class Radau(ScipyMethod):
+    """scipy's implicit Runge-Kutta Radau IIA of order 5, with the generated Jacobian."""
+
+    name = "Radau"
+    implicit = True
+
+
+class BDF(ScipyMethod):
+    """scipy's variable-order BDF, with the generated Jacobian."""
+
+    name = "BDF"
+    implicit = True
