@@ -463,7 +463,9 @@ def integral_residuals(
         }
 
 
-def state_from_andoyer(G, z, l, g) -> dict[str, list]:
+def state_from_andoyer(
+    G: mpmath.mpf, z: mpmath.mpf, l: mpmath.mpf, g: mpmath.mpf
+) -> dict[str, list]:
     """``M, gamma`` from BM20's Andoyer-Deprit variables (BM20 (3.7), ``(M, gamma) = 0``).
 
     ``M = (G sqrt(1-z^2) sin l, G sqrt(1-z^2) cos l, G z)``,
@@ -502,7 +504,12 @@ def state_from_andoyer(G, z, l, g) -> dict[str, list]:
 
 
 def state_near_rotation(
-    code: ModelCode, params: Mapping, axis: int, C, n, offset=0
+    code: ModelCode,
+    params: Mapping,
+    axis: int,
+    C: mpmath.mpf,
+    n: mpmath.mpf,
+    offset: mpmath.mpf | int = 0,
 ) -> ResolvedState:
     """The steady rotation about body axis ``axis`` (K01 (3.2): branch ``p_axis`` of the diagram)
     at ``C = (M, gamma)`` and ``n = (M, M)``, optionally pushed off it by ``offset``.

@@ -102,7 +102,7 @@ def run(args: argparse.Namespace) -> int:
     return status
 
 
-def add_parser(subparsers) -> argparse.ArgumentParser:
+def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     """Register ``chaplygin run``.
 
     Parameters

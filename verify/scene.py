@@ -34,7 +34,7 @@ import tomllib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 import numpy as np
 from pydantic import (
@@ -53,6 +53,9 @@ from pydantic import (
 
 from ..derive.errors import UserInputError
 from ..derive.systems import SYSTEMS
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 __all__ = [
     "Scene",
@@ -78,6 +81,7 @@ OUTPUT_EFFECTS: dict[str, tuple[str, ...]] = {
 
 #: Andoyer-Deprit variables of BM20 (3.7), in their order.
 ANDOYER = ("G", "z", "l", "g")
+
 
 class SceneError(UserInputError):
     """A scene that cannot be used: the message names the file, key path and line.
@@ -1300,7 +1304,7 @@ class SceneResult:
         return out
 
     # ------------------------------------------------------------------ figures
-    def contact_trace_figure(self):
+    def contact_trace_figure(self) -> Figure:
         """The contact point in the plane (``x, y``).
 
         Returns
@@ -1312,7 +1316,7 @@ class SceneResult:
         y = self.y
         return contact_trace_figure(y["x"], y["y"], self._title())
 
-    def body_trace_figure(self):
+    def body_trace_figure(self) -> Figure:
         """The contact point ``-b gamma`` on the ball's surface, in the body frame.
 
         Returns
@@ -1325,7 +1329,7 @@ class SceneResult:
         gamma = np.array([y["gamma1"], y["gamma2"], y["gamma3"]])
         return body_trace_figure(gamma, float(self.resolved.params["b"]), self._title())
 
-    def series_figure(self, quantities: Sequence[str] | None = None):
+    def series_figure(self, quantities: Sequence[str] | None = None) -> Figure:
         """Time series of ``quantities`` (default: those of ``outputs.series``).
 
         Parameters
@@ -1343,7 +1347,7 @@ class SceneResult:
             quantities = series.quantities if series else ["H"]
         return series_figure(self.t, {q: self.quantity(q) for q in quantities}, self._title())
 
-    def drift_figure(self):
+    def drift_figure(self) -> Figure:
         """Change of every integral over time (log scale).
 
         Returns
@@ -1354,7 +1358,7 @@ class SceneResult:
 
         return drift_figure(self.t, self.integral_change(), self._title())
 
-    def diagram_figure(self):
+    def diagram_figure(self) -> Figure:
         """K01's energy diagram (n, h) at this ``C`` with the scene's point.
 
         Returns
