@@ -49,7 +49,7 @@ import sympy as sp
 
 from .algebra import ConstraintIdeal, seeded_factor
 from .description import MechanicalDescription, apply_effects
-from .effects import parse_effects
+from .effects import ellipsoid_potential, parse_effects
 from .errors import DerivationError
 from .model import Model, ModelDetails, ParameterSpec
 from .vectors import cross, dot, vector
@@ -471,11 +471,6 @@ def generic_surface_model(with_potential: bool = True) -> Model:
 
 
 # ------------------------------------------------------------ the ellipsoid
-def ellipsoid_potential(x: sp.Matrix, k: sp.Expr, c: sp.Matrix) -> sp.Expr:
-    """``U = k (x, x)/2 + (1/2) sum_i c_i/x_i^2`` (M03-1.6, with the 1/2 factors read)."""
-    return k * dot(x, x) / 2 + sum((c[i] / x[i] ** 2 for i in range(3)), sp.S.Zero) / 2
-
-
 def _sample_ellipsoid(b: sp.Matrix, x: sp.Matrix, rng: random.Random, point: dict) -> None:
     def r() -> sp.Rational:
         return sp.Rational(rng.choice([-1, 1]) * rng.randint(1, 9), rng.randint(1, 9))
@@ -499,6 +494,19 @@ def ellipsoid_sampler(b: sp.Matrix, x: sp.Matrix) -> Callable[[random.Random, di
     physical one (positive ``b_i``). Points on the coordinate planes (where the
     potential of M03-1.6 is singular) are not drawn. The sampler is picklable (models
     are cached on disk).
+
+    Parameters
+    ----------
+    b : sympy.Matrix, shape (3, 1)
+        The semi-axis parameters ``b_1, b_2, b_3`` (squares of the semi-axes).
+    x : sympy.Matrix, shape (3, 1)
+        The centre's state symbols.
+
+    Returns
+    -------
+    callable ``(rng, point) -> None``
+        A :data:`~.model.PhaseSpaceSampler`: writes exact rational values of ``b`` and
+        ``x`` into the dict ``point``, drawing from ``rng`` (a ``random.Random``).
     """
     return functools.partial(_sample_ellipsoid, b, x)
 

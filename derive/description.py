@@ -82,6 +82,8 @@ class MechanicalDescription:
         Further bodies (the support's balls): angular velocity and contact direction.
     free_spins : bool
         The bodies' spins about their contact directions are free quasi-velocities.
+    completion : dict of (str, ...) to str
+        How omitted state groups are completed (``Model.completion``).
     """
 
     system: str
@@ -107,6 +109,7 @@ class MechanicalDescription:
     integrals: dict[str, sp.Expr] = field(default_factory=dict)
     bodies: list[tuple[sp.Matrix, sp.Matrix]] = field(default_factory=list)
     free_spins: bool = True
+    completion: dict[tuple[str, ...], str] = field(default_factory=dict)
 
     # ------------------------------------------------------------------ add_*
     def add_kinetic_energy(self, term: sp.Expr) -> None:
@@ -185,6 +188,18 @@ class MechanicalDescription:
         """
         self.potential += term
 
+    def add_completion(self, groups: tuple[str, ...], rule: str) -> None:
+        """Declare how the state groups ``groups`` are completed when a user omits them.
+
+        Parameters
+        ----------
+        groups : tuple of str
+            State groups completed together (``("alpha", "beta")``).
+        rule : str
+            One of :data:`~chaplygin.derive.model.COMPLETION_RULES`.
+        """
+        self.completion[tuple(groups)] = rule
+
     def add_integral(self, name: str, expr: sp.Expr) -> None:
         """Add a first integral, or a term to one of that name already stated.
 
@@ -243,18 +258,43 @@ class MechanicalDescription:
         return {name: X for name, (X, _) in self.kinematics.items()}
 
     def total_kinetic_energy(self) -> sp.Expr:
-        """``T = (omega, diag(inertia) omega)/2`` plus the added terms."""
+        """``T = (omega, diag(inertia) omega)/2`` plus the added terms.
+
+        Returns
+        -------
+        sympy.Expr
+            The kinetic energy in ``omega`` (and whatever the added terms use: ``v``,
+            the space-fixed vectors, parameters, time).
+        """
         rotation = (self.omega.T * sp.diag(*self.inertia) * self.omega)[0] / 2
         return rotation + self.kinetic_energy
 
     def geometry(self) -> tuple[PoissonGroup, ...]:
-        """A frame when ``alpha, beta, gamma`` are all there, else unit vectors."""
+        """A frame when ``alpha, beta, gamma`` are all there, else unit vectors.
+
+        Returns
+        -------
+        tuple of PoissonGroup
+            One ``FRAME`` group ``(alpha, beta, gamma)``, or one ``UNIT_VECTOR`` group per
+            space-fixed vector, in the order of ``kinematics``.
+        """
         if {"alpha", "beta", "gamma"} <= set(self.kinematics):
             return (PoissonGroup(FRAME, ("alpha", "beta", "gamma")),)
         return tuple(PoissonGroup(UNIT_VECTOR, (name,)) for name in self.kinematics)
 
     def centre_velocity(self, red: ReducedEquations) -> sp.Matrix:
-        """The reference-point velocity on the admissible velocities."""
+        """The reference-point velocity on the admissible velocities.
+
+        Parameters
+        ----------
+        red : ReducedEquations
+            The engine's output; its ``velocity_map`` expresses ``v`` in ``omega``.
+
+        Returns
+        -------
+        sympy.Matrix, shape (3, 1)
+            ``v`` with the velocity map substituted (body frame).
+        """
         return sp.Matrix(self.v).subs(red.velocity_map)
 
 
@@ -518,6 +558,7 @@ def form_model(desc: MechanicalDescription, parameter_order: Sequence[str]) -> M
         # verifier samples them by solving for the momentum, which they are linear in
         invariant_relations=relations,
         relation_unknowns=tuple(M),
+        completion=tuple(desc.completion.items()),
         reparametrisation=reparametrisation,
         details=RigidBodyDetails(
             reduced_equations=red,

@@ -24,6 +24,9 @@ __all__ = [
     "MODEL_FORMAT_VERSION",
 ]
 
+#: Rules by which a missing state group is completed (see ``Model.completion``).
+COMPLETION_RULES = ("zero", "frame_bkm12_7")
+
 #: ``sampler(rng, point)`` writes an exact rational point of a model's phase space (and
 #: the parameters that shape it) into the dict ``point``; picklable (models are cached).
 PhaseSpaceSampler = Callable[[random.Random, dict], None]
@@ -140,6 +143,11 @@ class Model:
         System-specific derived objects (a typed record of the system's module).
     references : dict of str to str
         Claim IDs (FORMULAS.md) the parts of the model correspond to.
+    completion : tuple of ((str, ...), str)
+        How a partial initial state is completed, declared by the system or an effect:
+        groups and a rule of :data:`COMPLETION_RULES` (``"zero"``: start at 0;
+        ``"frame_bkm12_7"``: ``alpha = M x gamma/|M x gamma|``, ``beta = gamma x alpha``).
+        A group without a rule must be given. Not part of the hash.
 
     Raises
     ------
@@ -173,6 +181,7 @@ class Model:
     sampler: PhaseSpaceSampler | None = None
     details: ModelDetails | None = None
     references: dict[str, str] = field(default_factory=dict)
+    completion: tuple[tuple[tuple[str, ...], str], ...] = ()
 
     def __post_init__(self) -> None:
         self._validate()
@@ -205,6 +214,12 @@ class Model:
                 f"model {self.name}: parameters {', '.join(unused)} are used by no equation: "
                 "remove them from the parameters (an effect that is off leaves none behind)"
             )
+        for groups, rule in self.completion:
+            if rule not in COMPLETION_RULES or not set(groups) <= {n for n, _ in self.state_groups}:
+                raise DerivationError(
+                    f"model {self.name}: completion {groups} by {rule!r}: the rule must be one "
+                    f"of {', '.join(COMPLETION_RULES)} and the groups states of the model"
+                )
         if self.invariant_relations and not self.relation_unknowns:
             raise DerivationError(
                 f"model {self.name}: invariant relations need relation_unknowns (the state "
@@ -234,10 +249,43 @@ class Model:
         return tuple(s.name for s in self.params)
 
     def group(self, name: str) -> sp.Matrix:
-        """State group ``name`` as a column matrix."""
+        """State group ``name`` as a column matrix.
+
+        Parameters
+        ----------
+        name : str
+            Name of a state group (``"M"``, ``"gamma"``, ...).
+
+        Returns
+        -------
+        sympy.Matrix
+            Its state symbols, shape (len(group), 1).
+
+        Raises
+        ------
+        KeyError
+            If the model has no state group ``name``.
+        """
         return sp.Matrix(dict(self.state_groups)[name])
 
     def param_group(self, name: str) -> sp.Matrix:
+        """Parameter group ``name`` as a column matrix.
+
+        Parameters
+        ----------
+        name : str
+            Name of a :class:`ParameterSpec` of the model (``"I"``, ``"D"``, ...).
+
+        Returns
+        -------
+        sympy.Matrix
+            Its parameter symbols, shape (len(spec.symbols), 1).
+
+        Raises
+        ------
+        KeyError
+            If the model has no parameter group ``name``.
+        """
         for spec in self.parameters:
             if spec.name == name:
                 return sp.Matrix(spec.symbols)
@@ -259,8 +307,23 @@ class Model:
             done[sym] = expr.xreplace(done)
         return done
 
-    def expand_aux(self, expr):
-        """Substitute the auxiliary definitions: an expression in state and parameters."""
+    def expand_aux(
+        self, expr: sp.Expr | sp.MatrixBase | float
+    ) -> sp.Expr | sp.ImmutableDenseMatrix:
+        """Substitute the auxiliary definitions: an expression in state and parameters.
+
+        Parameters
+        ----------
+        expr : sympy.Expr or sympy.Matrix or float
+            An expression (or matrix of them) that may use the auxiliary symbols.
+
+        Returns
+        -------
+        sympy.Expr or sympy.ImmutableDenseMatrix
+            ``sympify(expr)`` with every auxiliary symbol replaced by its definition
+            (itself expanded), so only state, parameters and time remain; a matrix
+            comes back immutable, of the same shape.
+        """
         return sp.sympify(expr).xreplace(self._aux_expanded)
 
     @cached_property
@@ -269,6 +332,23 @@ class Model:
         return sp.Matrix([self.expand_aux(e) for e in self.rhs])
 
     def integral(self, name: str) -> sp.Expr:
+        """The first integral called ``name``.
+
+        Parameters
+        ----------
+        name : str
+            Name of an integral of the model (``"H"``, ``"F1"``, ...).
+
+        Returns
+        -------
+        sympy.Expr
+            Its expression (it may use auxiliary symbols; see :meth:`expand_aux`).
+
+        Raises
+        ------
+        KeyError
+            If the model has no integral ``name``.
+        """
         return dict(self.integrals)[name]
 
     @cached_property
@@ -279,7 +359,15 @@ class Model:
 
     # ----------------------------------------------------------------- identity
     def canonical_text(self) -> str:
-        """Deterministic text of everything that defines the model's code."""
+        """Deterministic text of everything that defines the model's code.
+
+        Returns
+        -------
+        str
+            One line each for the format version, system, effects, time, state groups,
+            parameters, auxiliary definitions, right-hand side, integrals, constraints
+            and density, written with ``sympy.srepr``.
+        """
         parts = [
             f"format {MODEL_FORMAT_VERSION}",
             f"system {self.system}",

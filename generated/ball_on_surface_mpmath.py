@@ -21,6 +21,8 @@ AUX = ('n1', 'n2', 'n3', 'ndot1', 'ndot2', 'ndot3')
 INTEGRALS = ('H', 'K', '(x,B^-1 x)')
 RELATIONS = ()
 GEOMETRY = ()
+CONSTRAINTS = ('-b1*b2*b3 + b1*b2*x_3**2 + b1*b3*x_2**2 + b2*b3*x_1**2 = 0',)
+COMPLETION = ()
 REFERENCES = (('density', 'M03-1Y'), ('energy', 'M03-1.3'), ('equations', 'M03-1.1'), ('integrals', 'M03-1.5'), ('normal', 'M03-1.2'))
 
 
@@ -358,4 +360,17 @@ def density(t, y, p):
     m, m_e, R, b1, b2, b3, = p
     return [
         2*mpmath.sqrt(x_3**2/b3**2 + x_2**2/b2**2 + x_1**2/b1**2),
+    ]
+
+
+def constraints(t, y, p):
+    """Phase-space constraints (CONSTRAINTS order), then their scales."""
+    omega1, omega2, omega3, x_1, x_2, x_3, = y
+    m, m_e, R, b1, b2, b3, = p
+    x0 = b1*b2
+    x1 = b3*x0
+    x2 = b1*b3*x_2**2 + b2*b3*x_1**2 + x0*x_3**2
+    return [
+        -x1 + x2,
+        x1 + x2,
     ]

@@ -21,6 +21,8 @@ AUX = ('Z', 'omega1', 'omega2', 'omega3')
 INTEGRALS = ('H', '(M,M)', '(M,gamma)', '(M,alpha)', '(M,beta)', '(alpha,alpha)', '(beta,beta)', '(alpha,beta)', '(gamma,alpha)', '(gamma,beta)', '(gamma,gamma)')
 RELATIONS = ()
 GEOMETRY = (('frame', ('alpha', 'beta', 'gamma')),)
+CONSTRAINTS = ('-alpha2*beta3 + alpha3*beta2 + gamma1 = 0', 'alpha1*beta3 - alpha3*beta1 + gamma2 = 0', '-alpha1*beta2 + alpha2*beta1 + gamma3 = 0', 'alpha1**2 + alpha2**2 + alpha3**2 - 1 = 0', 'beta1**2 + beta2**2 + beta3**2 - 1 = 0', 'alpha1*beta1 + alpha2*beta2 + alpha3*beta3 = 0')
+COMPLETION = ((('alpha', 'beta'), 'frame_bkm12_7'), (('x',), 'zero'), (('y',), 'zero'))
 REFERENCES = (('contact_point', 'BKM12-6'), ('density', 'BKM12-4'), ('equations', 'BKM12-2'), ('integrals', 'BKM12-5'), ('momentum', 'BKM12-1'), ('omega', 'BKM12-3'))
 
 
@@ -278,4 +280,35 @@ def density(t, y, p):
     I1, I2, I3, D, b, = p
     return [
         1/mpmath.sqrt(-gamma1**2/(D + I1) - gamma2**2/(D + I2) - gamma3**2/(D + I3) + 1/D),
+    ]
+
+
+def constraints(t, y, p):
+    """Phase-space constraints (CONSTRAINTS order), then their scales."""
+    M1, M2, M3, gamma1, gamma2, gamma3, alpha1, alpha2, alpha3, beta1, beta2, beta3, x, y, = y
+    I1, I2, I3, D, b, = p
+    x0 = alpha3*beta2
+    x1 = alpha2*beta3
+    x2 = alpha1*beta3
+    x3 = alpha3*beta1
+    x4 = alpha2*beta1
+    x5 = alpha1*beta2
+    x6 = alpha1**2 + alpha2**2 + alpha3**2
+    x7 = beta1**2 + beta2**2 + beta3**2
+    x8 = alpha1*beta1
+    x9 = alpha2*beta2
+    x10 = alpha3*beta3
+    return [
+        gamma1 + x0 - x1,
+        gamma2 + x2 - x3,
+        gamma3 + x4 - x5,
+        x6 - 1,
+        x7 - 1,
+        x10 + x8 + x9,
+        abs(gamma1) + abs(x0) + abs(x1),
+        abs(gamma2) + abs(x2) + abs(x3),
+        abs(gamma3) + abs(x4) + abs(x5),
+        x6 + 1,
+        x7 + 1,
+        abs(x10) + abs(x8) + abs(x9),
     ]

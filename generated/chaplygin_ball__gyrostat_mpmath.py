@@ -21,6 +21,8 @@ AUX = ('Z', 'omega1', 'omega2', 'omega3')
 INTEGRALS = ('H', '(M+K,M+K)', '(M+K,gamma)', '(gamma,gamma)')
 RELATIONS = ()
 GEOMETRY = (('unit_vector', ('gamma',)),)
+CONSTRAINTS = ('gamma1**2 + gamma2**2 + gamma3**2 - 1 = 0',)
+COMPLETION = ()
 REFERENCES = (('contact_point', 'BKM12-6'), ('density', 'BKM12-4'), ('equations', 'K01-4.1'), ('integrals', 'K01-4.2'), ('momentum', 'BKM12-1'), ('omega', 'BKM12-3'))
 
 
@@ -192,4 +194,15 @@ def density(t, y, p):
     I1, I2, I3, D, K1, K2, K3, = p
     return [
         1/mpmath.sqrt(-gamma1**2/(D + I1) - gamma2**2/(D + I2) - gamma3**2/(D + I3) + 1/D),
+    ]
+
+
+def constraints(t, y, p):
+    """Phase-space constraints (CONSTRAINTS order), then their scales."""
+    M1, M2, M3, gamma1, gamma2, gamma3, = y
+    I1, I2, I3, D, K1, K2, K3, = p
+    x0 = gamma1**2 + gamma2**2 + gamma3**2
+    return [
+        x0 - 1,
+        x0 + 1,
     ]

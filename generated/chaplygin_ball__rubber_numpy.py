@@ -21,6 +21,8 @@ AUX = ('Z', 'omega1', 'omega2', 'omega3', 'mu1')
 INTEGRALS = ('H', '(M,M)-(M,gamma)^2', '(omega,gamma)', '(gamma,gamma)')
 RELATIONS = ('(omega,gamma)',)
 GEOMETRY = (('unit_vector', ('gamma',)),)
+CONSTRAINTS = ('gamma1**2 + gamma2**2 + gamma3**2 - 1 = 0',)
+COMPLETION = ()
 REFERENCES = (('contact_point', 'BKM12-6'), ('density', 'BKM12-4'), ('equations', 'BKM12-2'), ('integrals', 'BKM12-5'), ('momentum', 'BKM12-1'), ('omega', 'BKM12-3'), ('rubber', 'BKM12 §3 (rubber ball)'))
 
 
@@ -481,4 +483,15 @@ def density(t, y, p):
     x10 = D*x4 + D*x6 + D*x8 - x0*x1*x2
     out = numpy.zeros((1,) + numpy.shape(M1), dtype=numpy.result_type(M1, *p))
     out[0] = numpy.sqrt(x9)*numpy.sqrt(-(D*x9 - x10)/x10)/(numpy.sqrt(x0)*numpy.sqrt(x1)*numpy.sqrt(x2)*numpy.sqrt(-x7/x2 - x5/x1 - x3/x0 + D**(-1.0)))
+    return out
+
+
+def constraints(t, y, p):
+    """Phase-space constraints (CONSTRAINTS order), then their scales."""
+    M1, M2, M3, gamma1, gamma2, gamma3, = y
+    I1, I2, I3, D, = p
+    x0 = gamma1**2 + gamma2**2 + gamma3**2
+    out = numpy.zeros((2,) + numpy.shape(M1), dtype=numpy.result_type(M1, *p))
+    out[0] = x0 - 1
+    out[1] = x0 + 1
     return out

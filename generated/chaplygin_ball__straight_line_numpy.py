@@ -21,6 +21,8 @@ AUX = ('Z', 'omega1', 'omega2', 'omega3', 'mu1')
 INTEGRALS = ('H', '(M,gamma)', '(M,beta)', '(alpha,alpha)', '(beta,beta)', '(alpha,beta)', '(gamma,alpha)', '(gamma,beta)', '(omega,alpha)', '(gamma,gamma)')
 RELATIONS = ('(omega,alpha)',)
 GEOMETRY = (('frame', ('alpha', 'beta', 'gamma')),)
+CONSTRAINTS = ('-alpha2*beta3 + alpha3*beta2 + gamma1 = 0', 'alpha1*beta3 - alpha3*beta1 + gamma2 = 0', '-alpha1*beta2 + alpha2*beta1 + gamma3 = 0', 'alpha1**2 + alpha2**2 + alpha3**2 - 1 = 0', 'beta1**2 + beta2**2 + beta3**2 - 1 = 0', 'alpha1*beta1 + alpha2*beta2 + alpha3*beta3 = 0')
+COMPLETION = ((('alpha', 'beta'), 'frame_bkm12_7'),)
 REFERENCES = (('contact_point', 'BKM12-6'), ('density', 'BKM12-4'), ('equations', 'BKM12-2'), ('integrals', 'BKM12-5'), ('momentum', 'BKM12-1'), ('omega', 'BKM12-3'), ('straight_line', 'BKM12-57'))
 
 
@@ -601,4 +603,35 @@ def density(t, y, p):
     x12 = D*(gamma1*x9 + gamma2*x10 + gamma3*x11)
     out = numpy.zeros((1,) + numpy.shape(M1), dtype=numpy.result_type(M1, *p))
     out[0] = numpy.sqrt((x10*(alpha2*x8 + gamma2*x12) + x11*(alpha3*x8 + gamma3*x12) + x9*(alpha1*x8 + gamma1*x12))/x8)/(numpy.sqrt(x0)*numpy.sqrt(x1)*numpy.sqrt(x2)*numpy.sqrt(-x5/x2 - x4/x1 - x3/x0 + D**(-1.0)))
+    return out
+
+
+def constraints(t, y, p):
+    """Phase-space constraints (CONSTRAINTS order), then their scales."""
+    M1, M2, M3, gamma1, gamma2, gamma3, alpha1, alpha2, alpha3, beta1, beta2, beta3, = y
+    I1, I2, I3, D, = p
+    x0 = alpha3*beta2
+    x1 = alpha2*beta3
+    x2 = alpha1*beta3
+    x3 = alpha3*beta1
+    x4 = alpha2*beta1
+    x5 = alpha1*beta2
+    x6 = alpha1**2 + alpha2**2 + alpha3**2
+    x7 = beta1**2 + beta2**2 + beta3**2
+    x8 = alpha1*beta1
+    x9 = alpha2*beta2
+    x10 = alpha3*beta3
+    out = numpy.zeros((12,) + numpy.shape(M1), dtype=numpy.result_type(M1, *p))
+    out[0] = gamma1 + x0 - x1
+    out[1] = gamma2 + x2 - x3
+    out[2] = gamma3 + x4 - x5
+    out[3] = x6 - 1
+    out[4] = x7 - 1
+    out[5] = x10 + x8 + x9
+    out[6] = abs(gamma1) + abs(x0) + abs(x1)
+    out[7] = abs(gamma2) + abs(x2) + abs(x3)
+    out[8] = abs(gamma3) + abs(x4) + abs(x5)
+    out[9] = x6 + 1
+    out[10] = x7 + 1
+    out[11] = abs(x10) + abs(x8) + abs(x9)
     return out

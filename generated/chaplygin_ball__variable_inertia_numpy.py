@@ -21,6 +21,8 @@ AUX = ('Z', 'omega1', 'omega2', 'omega3')
 INTEGRALS = ('(M,M)', '(M,gamma)', '(gamma,gamma)')
 RELATIONS = ()
 GEOMETRY = (('unit_vector', ('gamma',)),)
+CONSTRAINTS = ('gamma1**2 + gamma2**2 + gamma3**2 - 1 = 0',)
+COMPLETION = ()
 REFERENCES = (('contact_point', 'BKM12-6'), ('equations', 'BM20-2.5'), ('integrals', 'BM20-2.5int'), ('momentum', 'BKM12-1'), ('omega', 'BM20-2.5'))
 
 
@@ -196,4 +198,15 @@ def density(t, y, p):
     I1, I2, I3, D, J_off, delta, Omega, = p
     out = numpy.zeros((1,) + numpy.shape(M1), dtype=numpy.result_type(M1, *p))
     out[0] = 1
+    return out
+
+
+def constraints(t, y, p):
+    """Phase-space constraints (CONSTRAINTS order), then their scales."""
+    M1, M2, M3, gamma1, gamma2, gamma3, = y
+    I1, I2, I3, D, J_off, delta, Omega, = p
+    x0 = gamma1**2 + gamma2**2 + gamma3**2
+    out = numpy.zeros((2,) + numpy.shape(M1), dtype=numpy.result_type(M1, *p))
+    out[0] = x0 - 1
+    out[1] = x0 + 1
     return out

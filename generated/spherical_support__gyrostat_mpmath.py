@@ -21,6 +21,8 @@ AUX = ('Z_al', 'Z_be', 'omega1', 'omega2', 'omega3')
 INTEGRALS = ('H', '(M+K,alpha)', '(M+K,beta)', '(M+K,gamma)', '(M+K,M+K)', '(alpha,alpha)', '(beta,beta)', '(alpha,beta)', '(gamma,alpha)', '(gamma,beta)', '(gamma,gamma)')
 RELATIONS = ()
 GEOMETRY = (('frame', ('alpha', 'beta', 'gamma')),)
+CONSTRAINTS = ('-alpha2*beta3 + alpha3*beta2 + gamma1 = 0', 'alpha1*beta3 - alpha3*beta1 + gamma2 = 0', '-alpha1*beta2 + alpha2*beta1 + gamma3 = 0', 'alpha1**2 + alpha2**2 + alpha3**2 - 1 = 0', 'beta1**2 + beta2**2 + beta3**2 - 1 = 0', 'alpha1*beta1 + alpha2*beta2 + alpha3*beta3 = 0')
+COMPLETION = ()
 REFERENCES = (('density', 'BKM12-38'), ('equations', 'BKM12-2.3'), ('integrals', 'BKM12-2.3'), ('momentum', 'BKM12-33'), ('omega', 'BKM12-34'), ('rubber_balls', 'BKM12-2.2'))
 
 
@@ -291,4 +293,35 @@ def density(t, y, p):
     x2 = 1/(D_iso + I3)
     return [
         1/mpmath.sqrt(-(-alpha1*beta1*x0 - alpha2*beta2*x1 - alpha3*beta3*x2)**2 + (-alpha1**2*x0 - alpha2**2*x1 - alpha3**2*x2 + 1/D_al)*(-beta1**2*x0 - beta2**2*x1 - beta3**2*x2 + 1/D_be)),
+    ]
+
+
+def constraints(t, y, p):
+    """Phase-space constraints (CONSTRAINTS order), then their scales."""
+    M1, M2, M3, alpha1, alpha2, alpha3, beta1, beta2, beta3, gamma1, gamma2, gamma3, = y
+    I1, I2, I3, D_iso, D_al, D_be, K1, K2, K3, = p
+    x0 = alpha3*beta2
+    x1 = alpha2*beta3
+    x2 = alpha1*beta3
+    x3 = alpha3*beta1
+    x4 = alpha2*beta1
+    x5 = alpha1*beta2
+    x6 = alpha1**2 + alpha2**2 + alpha3**2
+    x7 = beta1**2 + beta2**2 + beta3**2
+    x8 = alpha1*beta1
+    x9 = alpha2*beta2
+    x10 = alpha3*beta3
+    return [
+        gamma1 + x0 - x1,
+        gamma2 + x2 - x3,
+        gamma3 + x4 - x5,
+        x6 - 1,
+        x7 - 1,
+        x10 + x8 + x9,
+        abs(gamma1) + abs(x0) + abs(x1),
+        abs(gamma2) + abs(x2) + abs(x3),
+        abs(gamma3) + abs(x4) + abs(x5),
+        x6 + 1,
+        x7 + 1,
+        abs(x10) + abs(x8) + abs(x9),
     ]

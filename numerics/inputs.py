@@ -188,6 +188,7 @@ def parse_number(text: Number | object, dps: int = 30) -> mpmath.mpf:
     Returns
     -------
     mpmath.mpf
+        The value at ``dps`` digits.
 
     Raises
     ------
@@ -253,11 +254,14 @@ def working_number(value: Number | object, precision: Precision) -> float | mpma
     Parameters
     ----------
     value : str or number
+        The user's number or its text (as for :func:`parse_number`).
     precision : Precision
+        The working precision.
 
     Returns
     -------
     float (double) or mpmath.mpf with ``precision.prec`` bits (quad, digits)
+        The value rounded to the working precision.
 
     Raises
     ------
@@ -447,19 +451,24 @@ def _working_values(name: str, raw: object, expected: int, precision: Precision)
     return _values(name, raw, expected, lambda v: working_number(v, precision))
 
 
-def pack_params(code: ModelCode, values: Mapping[str, object], precision: Precision) -> list:
+def pack_params(
+    code: ModelCode, values: Mapping[str, object], precision: Precision
+) -> list[float | mpmath.mpf]:
     """Parameter vector in the model's order, validated.
 
     Parameters
     ----------
     code : ModelCode
+        The model (its parameter groups, their domains and order).
     values : mapping of group name to values
         ``{"I": (1, 2, 3), "D": 1}``; strings are parsed safely.
     precision : Precision
+        The working precision.
 
     Returns
     -------
     list of float (double) or mpmath.mpf (digits)
+        The parameters in ``code.params`` order, each rounded once.
 
     Raises
     ------
@@ -490,17 +499,25 @@ def pack_params(code: ModelCode, values: Mapping[str, object], precision: Precis
     return [out[s] for s in code.params]
 
 
-def round_to(values: Sequence, precision: Precision) -> list:
+def round_to(values: Sequence[mpmath.mpf], precision: Precision) -> list[float | mpmath.mpf]:
     """Values (mpf at a guard precision) rounded once to the working precision.
 
     Parameters
     ----------
     values : sequence of mpmath.mpf
+        Values at a guard precision.
     precision : Precision
+        The working precision.
 
     Returns
     -------
     list of float (double) or mpmath.mpf with ``precision.prec`` bits
+        The values rounded to nearest (:func:`working_number`).
+
+    Raises
+    ------
+    UserInputError
+        A value that is not finite or overflows the working precision.
     """
     return [working_number(v, precision) for v in values]
 
@@ -523,18 +540,49 @@ def _unit(name: str, v: list) -> list:
     return [x / n for x in v]
 
 
-def pack_state(code: ModelCode, values: Mapping[str, object], precision: Precision) -> list:
-    """State vector in the model's order, validated and completed.
+def pack_state(
+    code: ModelCode, values: Mapping[str, object], precision: Precision
+) -> list[float | mpmath.mpf]:
+    """State vector in the model's order, validated and completed as the model declares.
 
-    ``gamma`` (and ``alpha``, ``beta``) must be unit vectors within
-    :data:`UNIT_TOLERANCE`; they are renormalised at the working precision. With the
-    contact point, a missing ``alpha, beta`` is the frame of BKM12-7 (``alpha = M x gamma /
-    |M x gamma|``; refused, with a message asking for an explicit frame, when ``M`` is
-    parallel to ``gamma``, where that formula is singular) and ``x, y`` default to 0.
+    The vectors of the model's Poisson groups (``code.geometry``: ``gamma``, or the frame
+    ``alpha, beta, gamma``) must be unit vectors (a frame orthonormal and right-handed)
+    within :data:`UNIT_TOLERANCE`; they are renormalised at the working precision. A group
+    the user omits is completed by the rule the model declares for it (``code.completion``:
+    with the contact point, ``alpha, beta`` by BKM12-7, ``alpha = M x gamma/|M x gamma|``,
+    refused with a message asking for an explicit frame when ``M`` is parallel to
+    ``gamma``, where that formula is singular; ``x, y`` start at 0); a group without a rule
+    must be given (the spherical support's eigenframe, the ball on a surface's ``x``). The
+    constraints that involve parameters (the ellipsoid) are checked by ``integrate``.
+
+    Parameters
+    ----------
+    code : ModelCode
+        The model (its state groups and state order).
+    values : mapping of str to value
+        Group name (``"M"``, ``"gamma"``, ``"alpha"``, ``"x"`` ...) -> its components: a
+        sequence, comma-separated text ``"a,b,c"`` or, for a one-component group, a single
+        value; each entry anything :func:`parse_number` reads.
+    precision : Precision
+        Working precision; the text is read at ``precision.parse_dps`` digits.
+
+    Returns
+    -------
+    list of float (double) or mpmath.mpf with ``precision.prec`` bits
+        The state in ``code.state`` order; groups kept as given are rounded once from their
+        own text, normalised or completed ones from the guard-precision values.
 
     Raises
     ------
     UserInputError
+        An unknown group, a wrong number of components, an unreadable number, a missing
+        group the model has no completion rule for, a vector off its variety (not a unit
+        vector, not an orthonormal right-handed frame), only one of ``alpha`` and ``beta``,
+        or no frame where ``M`` is parallel to ``gamma``.
+
+    References
+    ----------
+    BKM12-7 (FORMULAS.md).
     """
     groups = code.state_groups
     unknown = sorted(set(values) - set(groups))
@@ -548,29 +596,36 @@ def pack_state(code: ModelCode, values: Mapping[str, object], precision: Precisi
             name: _values(name, values[name], len(groups[name]), lambda v: parse_number(v, dps))
             for name in values
         }
-        for required in ("M", "gamma"):
-            if required in groups and required not in got:
-                raise UserInputError(
-                    f"missing initial value of {required}: give "
-                    + _argument("y0", required, 3, "V")
-                )
-        if "gamma" in got:
-            got["gamma"] = _unit("gamma", got["gamma"])
-        if "alpha" in groups:
-            got.update(_frame(got))
+        rules = {g: rule for names, rule in code.completion for g in names}
         for name, comps in groups.items():
-            if name not in got and len(comps) == 1:
-                got[name] = [mpmath.mpf(0)]
-        missing = [n for n in groups if n not in got]
-        if missing:  # pragma: no cover - every current group has a rule above
-            raise UserInputError(f"missing initial value of {missing[0]}")
+            if name not in got and name not in rules:
+                raise UserInputError(
+                    f"missing initial value of {name}: give "
+                    + _argument("y0", name, len(comps), "V")
+                )
+        for kind, names in code.geometry:
+            if kind == "unit_vector":
+                got[names[0]] = _unit(names[0], got[names[0]])
+            else:  # a frame alpha, beta, gamma: checked, or completed by its rule
+                alpha, beta, gamma = names
+                got[gamma] = _unit(gamma, got[gamma])
+                if (alpha in got) != (beta in got):
+                    raise UserInputError(
+                        f"give both {alpha} and {beta}, or neither (they are then computed)"
+                    )
+                if alpha in got or rules.get(alpha) == "frame_bkm12_7":
+                    got.update(_frame(got))
+        for name, rule in rules.items():
+            if name not in got and rule == "zero":
+                got[name] = [mpmath.mpf(0)] * len(groups[name])
         flat = {
             s: v for name, comps in groups.items() for s, v in zip(comps, got[name], strict=True)
         }
         state = [flat[s] for s in code.state]
     # groups given by the user and kept as they are are rounded once from their own text;
     # normalised or completed ones from the guard-precision values above
-    kept = {name for name in values if name not in ("gamma", "alpha", "beta")}
+    vectors = {n for _, names in code.geometry for n in names}
+    kept = {name for name in values if name not in vectors}
     direct = {
         s: v
         for name in kept

@@ -27,7 +27,17 @@ from .integrators import (
     get_integrator,
 )
 
-__all__ = ["IntegrationResult", "integrate", "METHODS", "Integrator", "get_integrator"]
+__all__ = [
+    "IntegrationResult",
+    "integrate",
+    "METHODS",
+    "Integrator",
+    "get_integrator",
+    "DEFAULT_MAX_WALL_S",
+]
+
+#: Default wall-time limit of one integration, in seconds (``max_wall_s``; None: none).
+DEFAULT_MAX_WALL_S = 3600.0
 
 
 def _check_relations(code: ModelCode, t0: float, y, p) -> None:
@@ -76,6 +86,49 @@ def _check_relations(code: ModelCode, t0: float, y, p) -> None:
     )
 
 
+def _check_constraints(code: ModelCode, t0, y: Sequence, p: Sequence) -> None:
+    """Refuse an initial state off the phase space the model declares.
+
+    Every phase-space constraint of the model (its generated ``constraints`` routine:
+    ``|gamma|^2 = 1``, the frame's orthonormality, the ellipsoid ``(x, B^-1 x) = 1`` ...)
+    must hold to :data:`UNIT_TOLERANCE` relative to its scale (the sum of the absolute
+    values of its terms), evaluated at 30 digits from the values the integration will use.
+
+    Parameters
+    ----------
+    code : ModelCode
+    t0 : number
+        Initial time.
+    y, p : sequence
+        State and parameters at the working precision.
+
+    Raises
+    ------
+    UserInputError
+        The constraint that fails, its value, and what to do.
+    """
+    names = code.constraint_names
+    if not names:
+        return
+    with mpmath.workdps(30):
+        values = code.mpmath.constraints(
+            mpmath.mpf(t0), [mpmath.mpf(v) for v in y], [mpmath.mpf(v) for v in p]
+        )
+        k = len(names)
+        for name, value, scale in zip(names, values[:k], values[k:], strict=True):
+            if not abs(value) <= UNIT_TOLERANCE * max(scale, mpmath.mpf(1)):
+                raise UserInputError(
+                    f"the initial state is off the phase space of {code.name}: {name} fails by "
+                    f"{mpmath.nstr(value, 6)} (allowed {UNIT_TOLERANCE:g} relative); give a "
+                    "state on it"
+                    + (
+                        " (for the ellipsoid, x = sqrt(b) u with a unit vector u)"
+                        if code.system == "ball_on_surface"
+                        else ""
+                    )
+                )
+
+
 def _tolerances(rtol, atol, precision: Precision) -> tuple[float, float]:
     """``rtol, atol`` as positive finite floats, the precision's defaults where None."""
     default_rtol, default_atol = NUMBER_TYPES[precision.kind].default_tolerances(precision)
@@ -105,6 +158,8 @@ def integrate(
     t_eval: Sequence[float] | None = None,
     events: Sequence | None = None,
     taylor_options: Mapping[str, object] | None = None,
+    max_steps: int | None = None,
+    max_wall_s: float | None = DEFAULT_MAX_WALL_S,
 ) -> IntegrationResult:
     """Integrate a model and report the drift of every first integral.
 
@@ -142,6 +197,15 @@ def integrate(
     taylor_options : mapping, optional
         ``order`` and/or ``step`` (fixed order, fixed step) or ``max_steps`` for the Taylor
         method.
+    max_steps : int, optional
+        Step limit (default: 10^7 for the Taylor method, 10^6 for the scipy methods, whose
+        steps are counted as right-hand-side calls over the method's stages); past it the
+        result has status -2 and says to raise the limit or shorten the span.
+    max_wall_s : float or None
+        Wall-time limit in seconds (default :data:`DEFAULT_MAX_WALL_S`, one hour; None: no
+        limit), checked between right-hand-side calls of the scipy methods and
+        ``mpmath.odefun`` and between steps of the Python Taylor loop; past it the result has
+        status -6. The compiled Taylor run is bounded by ``max_steps`` only.
 
     Returns
     -------
@@ -180,12 +244,30 @@ def integrate(
     if isinstance(params, Mapping):
         p = pack_params(code, params, prec)
     else:
-        p = _vector(params, len(code.params), "parameter vector", prec)
+        # a vector gets the same checks as named groups: split it by the model's groups
+        groups = {n: len(v[0]) for n, v in code.parameter_groups.items()}
+        p = pack_params(code, _by_groups(params, groups, code.params, "parameter vector"), prec)
     if isinstance(y0, Mapping):
         y = pack_state(code, y0, prec)
     else:
-        y = _vector(y0, len(code.state), "state vector", prec)
+        groups = {n: len(v) for n, v in code.state_groups.items()}
+        y = pack_state(code, _by_groups(y0, groups, code.state, "state vector"), prec)
+    _check_constraints(code, t_span[0], y, p)
     _check_relations(code, t_span[0], y, p)
+    _check_finite_start(code, t_span[0], y, p, prec)
+    if max_steps is not None and not (
+        isinstance(max_steps, int) and not isinstance(max_steps, bool) and max_steps >= 1
+    ):
+        raise UserInputError(f"max_steps must be a positive integer, got {max_steps!r}")
+    if max_wall_s is not None:
+        try:
+            max_wall_s = float(max_wall_s)
+        except (TypeError, ValueError):
+            raise UserInputError(
+                f"max_wall_s must be a positive number, got {max_wall_s!r}"
+            ) from None
+        if not max_wall_s > 0:
+            raise UserInputError(f"max_wall_s must be a positive number, got {max_wall_s!r}")
     problem = Problem(
         code=code,
         y0=y,
@@ -197,8 +279,58 @@ def integrate(
         t_eval=t_eval,
         events=list(events) if events else None,
         options=options,
+        max_steps=max_steps,
+        max_wall_s=max_wall_s,
     )
     return integrator.run(problem, backend, setup_s=time.perf_counter() - start)
+
+
+def _check_finite_start(code: ModelCode, t0, y: Sequence, p: Sequence, prec: Precision) -> None:
+    """Refuse a start where the right-hand side or an integral is not finite.
+
+    Evaluated in the working number type (double overflows where 30 digits do not: ``D =
+    1e300``); a method started there would loop on NaN steps or report NaN evidence.
+
+    Parameters
+    ----------
+    code : ModelCode
+    t0 : number
+    y, p : sequence
+        State and parameters at the working precision.
+    prec : Precision
+
+    Raises
+    ------
+    UserInputError
+        Which of the right-hand side and the integrals is not finite, and what to check.
+    """
+    if prec.is_double:
+        with np.errstate(all="ignore"):
+            yy, pp = np.asarray(y, dtype=float), np.asarray(p, dtype=float)
+            parts = {
+                "right-hand side": np.asarray(code.numpy.rhs(float(t0), yy, pp), dtype=float),
+                "first integrals": np.asarray(code.numpy.integrals(float(t0), yy, pp), dtype=float),
+            }
+        bad = [what for what, v in parts.items() if not np.all(np.isfinite(v))]
+    else:
+        bad = []
+        with mpmath.workprec(prec.prec):
+            for what, fn in (
+                ("right-hand side", code.mpmath.rhs),
+                ("first integrals", code.mpmath.integrals),
+            ):
+                try:
+                    finite = all(mpmath.isfinite(v) for v in fn(t0, list(y), list(p)))
+                except (ArithmeticError, ValueError):  # mpmath raises on 1/0
+                    finite = False
+                if not finite:
+                    bad.append(what)
+    if bad:
+        raise UserInputError(
+            f"the {' and the '.join(bad)} of {code.name} are not finite at the initial state "
+            f"in {prec!r} precision (overflow or division by zero): check the parameters and "
+            'state, or use a wider precision (precision="quad" or digits)'
+        )
 
 
 def _sequence(values, what: str) -> list:
@@ -207,11 +339,16 @@ def _sequence(values, what: str) -> list:
     return list(values)
 
 
-def _vector(values, n: int, what: str, prec: Precision) -> list:
+def _by_groups(values, groups: Mapping[str, int], order: Sequence[str], what: str) -> dict:
+    """A flat vector in the model's order as ``{group: values}`` (for the groups' checks)."""
     vals = _sequence(values, f"the {what}")
-    if len(vals) != n:
-        raise UserInputError(f"the {what} needs {n} entries, got {len(vals)}")
-    return [working_number(v, prec) for v in vals]
+    if len(vals) != len(order):
+        raise UserInputError(f"the {what} needs {len(order)} entries, got {len(vals)}")
+    out, i = {}, 0
+    for name, n in groups.items():
+        out[name] = tuple(vals[i : i + n])
+        i += n
+    return out
 
 
 def _time_span(t_span, prec: Precision) -> tuple:

@@ -72,7 +72,7 @@ def test_a_missing_requirement_is_refused_with_the_fix(monkeypatch):
     with pytest.raises(
         UserInputError,
         match=r"'needy' needs the effect\(s\) 'gyrostat'.*"
-        r"--effects gyrostat,needy",
+        r"effects=\"gyrostat,needy\"",
     ):
         parse_effects("needy", ("needy", "gyrostat"))
     assert parse_effects("needy,gyrostat", ("needy", "gyrostat")) == {"needy", "gyrostat"}

@@ -395,7 +395,7 @@ def test_terminal_event_with_direction_stops_there():
 
 
 def test_precision_errors_name_a_precision_that_works():
-    with pytest.raises(UserInputError, match="precision quad"):
+    with pytest.raises(UserInputError, match="precision=\"quad\""):
         integrate(BALL, REFERENCE_Y0, 1, REFERENCE_PARAMS, method="taylor", rtol=1e-20)
     with pytest.raises(UserInputError, match=r"quad precision.*precision=42"):
         integrate(BALL, REFERENCE_Y0, 1, REFERENCE_PARAMS, precision="quad", rtol=1e-40)

@@ -28,6 +28,7 @@ from . import (
     verify_cmd,
 )
 from .cli_common import EXIT_USAGE
+from .vocabulary import to_cli
 
 __all__ = ["main", "build_parser", "console", "COMMANDS"]
 
@@ -89,8 +90,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         return args.run(args)
-    except UserInputError as exc:
-        print(f"chaplygin: error: {exc}", file=sys.stderr)
+    except UserInputError as exc:  # the API speaks of arguments, the command line of flags
+        print(f"chaplygin: error: {to_cli(str(exc))}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt:  # pragma: no cover
         return 130

@@ -136,6 +136,22 @@ class ModelRoutines:
         exprs = [self.model.expand_aux(self.model.density if self.model.density is not None else 1)]
         return _cse("density", exprs, (1,))
 
+    @cached_property
+    def constraints(self) -> Routine:
+        """The phase-space constraints and their scales (Python emitters only).
+
+        Returns
+        -------
+        Routine
+            ``"constraints"``: ``2 k`` outputs for ``k`` constraints, first the value of
+            each (zero on the phase space: ``|gamma|^2 - 1``, ``(x, B^-1 x) - 1`` ...) then
+            its scale, the sum of the absolute values of its terms (what "small" is
+            measured against when a user's state is checked).
+        """
+        values = [sp.expand(self.model.expand_aux(c)) for c in self.model.constraints]
+        scales = [sum((sp.Abs(term) for term in sp.Add.make_args(v)), sp.S.Zero) for v in values]
+        return _cse("constraints", values + scales, (2 * len(values),))
+
     def all(self) -> tuple[Routine, ...]:
         """Every routine, in the order the emitters print them.
 

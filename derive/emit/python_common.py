@@ -31,6 +31,8 @@ def _metadata(model: Model) -> list[str]:
         f"INTEGRALS = {tuple(n for n, _ in model.integrals)!r}",
         "RELATIONS = " + repr(tuple(n for n, _ in model.invariant_relations)),
         f"GEOMETRY = {geometry!r}",
+        f"CONSTRAINTS = {tuple(f'{sp.sstr(c)} = 0' for c in model.constraints)!r}",
+        f"COMPLETION = {model.completion!r}",
         f"REFERENCES = {tuple(sorted(model.references.items()))!r}",
     ]
 
@@ -97,6 +99,11 @@ class PythonModuleEmitter(Emitter):
                 f"First integrals (INTEGRALS order), shape ({m}, ...).",
             ),
             (routines.density, "t, y, p", "Invariant-measure density, shape (1, ...)."),
+            (
+                routines.constraints,
+                "t, y, p",
+                "Phase-space constraints (CONSTRAINTS order), then their scales.",
+            ),
         ]
         for routine, signature, doc in specs:
             lines += ["", ""]

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import time
 import warnings
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from contextlib import AbstractContextManager, nullcontext
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
@@ -137,6 +137,10 @@ class Problem:
     events : list of callables or None
     options : dict
         Method options (``taylor_options``), validated by :meth:`Integrator.check`.
+    max_steps : int or None
+        Step limit (None: the method's default).
+    max_wall_s : float or None
+        Wall-time limit in seconds (None: none).
     """
 
     code: ModelCode
@@ -149,6 +153,71 @@ class Problem:
     t_eval: list | None = None
     events: list | None = None
     options: dict = field(default_factory=dict)
+    max_steps: int | None = None
+    max_wall_s: float | None = None
+
+
+class BudgetExceeded(Exception):
+    """Raised inside a wrapped right-hand side when a step or wall-time limit is reached."""
+
+    def __init__(self, status: int, message: str):
+        super().__init__(message)
+        self.status, self.message = status, message
+
+
+class Budget:
+    """Counts right-hand-side calls and watches the clock for one integration.
+
+    Parameters
+    ----------
+    max_calls : int or None
+        Calls allowed (None: no limit).
+    max_wall_s : float or None
+        Seconds allowed from now (None: no limit).
+    what : str
+        How the limit is named in the message (``"max_steps=1000000"``).
+    """
+
+    def __init__(self, max_calls: int | None, max_wall_s: float | None, what: str):
+        self.max_calls, self.max_wall_s, self.what = max_calls, max_wall_s, what
+        self.calls = 0
+        self.deadline = None if max_wall_s is None else time.perf_counter() + max_wall_s
+
+    def tick(self) -> None:
+        """Count one call; raise :class:`BudgetExceeded` past a limit (the clock is read
+        every 256 calls)."""
+        self.calls += 1
+        if self.max_calls is not None and self.calls > self.max_calls:
+            raise BudgetExceeded(
+                -2,
+                f"too many steps ({self.what}): raise max_steps, shorten the span or loosen "
+                "the tolerance",
+            )
+        if self.deadline is not None and not self.calls & 255:
+            if time.perf_counter() > self.deadline:
+                raise BudgetExceeded(
+                    -6,
+                    f"the wall-time limit max_wall_s={self.max_wall_s:g} was reached: raise "
+                    "max_wall_s (None: no limit) or shorten the span",
+                )
+
+    def wrap(self, fun: Callable) -> Callable:
+        """``fun`` with a :meth:`tick` before every call.
+
+        Parameters
+        ----------
+        fun : callable
+
+        Returns
+        -------
+        callable
+        """
+
+        def counted(*args):
+            self.tick()
+            return fun(*args)
+
+        return counted
 
 
 @dataclass
@@ -210,22 +279,34 @@ class Integrator:
         Parameters
         ----------
         precision : Precision
+            The working precision.
 
         Returns
         -------
         float
+            ``rtol_floor[precision.kind]`` times the precision's unit roundoff.
         """
         return self.rtol_floor[precision.kind] * precision.epsilon
 
-    def check(self, precision: Precision, rtol: float, events, options: Mapping) -> None:
+    def check(
+        self,
+        precision: Precision,
+        rtol: float,
+        events: Sequence[Callable] | Callable | None,
+        options: Mapping[str, Any],
+    ) -> None:
         """Refuse a precision, tolerance, events or options this method cannot honour.
 
         Parameters
         ----------
         precision : Precision
+            The requested precision.
         rtol : float
-        events : sequence or None
+            The requested relative tolerance (at least :meth:`floor`).
+        events : callable or sequence of callables or None
+            Event functions ``g(t, y)``; any needs a method that locates events.
         options : mapping
+            ``taylor_options`` (keys among :attr:`options`).
 
         Raises
         ------
@@ -267,13 +348,22 @@ class Integrator:
         Parameters
         ----------
         problem : Problem
+            Model code, initial state, span, parameters, precision and tolerances.
         backend : {"auto", "c", "numpy"}
+            Where the right-hand side runs: compiled C, numpy, or C when it is available.
         setup_s : float
             Set-up time already spent (reading the inputs), added to ``setup_s``.
 
         Returns
         -------
         IntegrationResult
+            Solution, status and message (status -1 for a non-finite solution, -5 for a
+            non-finite drift), the drift of every first integral, work counters and times.
+
+        Raises
+        ------
+        UserInputError
+            An unknown ``backend``.
         """
         start = time.perf_counter()
         if backend not in BACKENDS:

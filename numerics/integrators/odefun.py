@@ -5,7 +5,7 @@ from __future__ import annotations
 import mpmath
 import numpy as np
 
-from .base import Integrator, Problem, Solution
+from .base import Budget, BudgetExceeded, Integrator, Problem, Solution
 
 __all__ = ["MpmathOdefun"]
 
@@ -22,18 +22,29 @@ class MpmathOdefun(Integrator):
     rtol_floor = {"quad": 10.0, "digits": 10.0}
 
     def _solve(self, problem: Problem, backend: str) -> Solution:
-        counter = [0]
         rhs, p = problem.code.mpmath.rhs, problem.params
+        budget = Budget(problem.max_steps, problem.max_wall_s, f"max_steps={problem.max_steps}")
 
         def F(t, y):
-            counter[0] += 1
+            budget.tick()
             return rhs(t, y, p)
 
         t0, t1 = (mpmath.mpf(v) for v in problem.t_span)
         solution = mpmath.odefun(F, t0, list(problem.y0))
         t_eval = problem.t_eval
         times = list(t_eval) if t_eval is not None else list(mpmath.linspace(t0, t1, 11))
-        y = np.array([solution(mpmath.mpf(t)) for t in times], dtype=object).T
+        try:
+            y = np.array([solution(mpmath.mpf(t)) for t in times], dtype=object).T
+        except BudgetExceeded as stop:
+            return Solution(
+                t=np.array([t0], dtype=object),
+                y=np.array([list(problem.y0)], dtype=object).T,
+                status=stop.status,
+                message=stop.message,
+                nfev=budget.calls,
+                nsteps=0,
+            )
+        counter = [budget.calls]
         return Solution(
             t=np.array(times, dtype=object),
             y=y,

@@ -8,7 +8,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from ...derive.errors import UserInputError
-from .base import Integrator, Problem, Solution
+from .base import Budget, BudgetExceeded, Integrator, Problem, Solution
 
 __all__ = ["ScipyMethod", "RK45", "DOP853", "LSODA", "Radau", "BDF"]
 
@@ -31,6 +31,11 @@ class ScipyMethod(Integrator):
     implicit: ClassVar[bool] = False
     supports_events = True
     backends = ("c", "numpy")
+    #: steps allowed by default (``max_steps``)
+    default_max_steps: ClassVar[int] = 1_000_000
+    #: right-hand-side calls counted as one step by the step limit (the explicit methods'
+    #: stages; an allowance for the implicit ones' Newton iterations)
+    calls_per_step: ClassVar[int] = 20
 
     def _prepare(self, problem: Problem, backend: str) -> str:
         if backend == "numpy":
@@ -48,17 +53,30 @@ class ScipyMethod(Integrator):
         lib = code.compiled() if backend == "c" else code.numpy
         if self.implicit:
             kwargs["jac"] = lib.jac
-        sol = solve_ivp(
-            lib.rhs,
-            problem.t_span,
-            np.asarray(problem.y0, dtype=float),
-            method=self.name,
-            rtol=problem.rtol,
-            atol=problem.atol,
-            args=(np.asarray(problem.params, dtype=float),),
-            t_eval=problem.t_eval,
-            **kwargs,
-        )
+        steps = problem.max_steps or self.default_max_steps
+        budget = Budget(steps * self.calls_per_step, problem.max_wall_s, f"max_steps={steps}")
+        y0 = np.asarray(problem.y0, dtype=float)
+        try:
+            sol = solve_ivp(
+                budget.wrap(lib.rhs),
+                problem.t_span,
+                y0,
+                method=self.name,
+                rtol=problem.rtol,
+                atol=problem.atol,
+                args=(np.asarray(problem.params, dtype=float),),
+                t_eval=problem.t_eval,
+                **kwargs,
+            )
+        except BudgetExceeded as stop:  # scipy keeps no partial solution: the start only
+            return Solution(
+                t=np.array([problem.t_span[0]], dtype=float),
+                y=y0.reshape(-1, 1),
+                status=stop.status,
+                message=stop.message,
+                nfev=budget.calls,
+                nsteps=budget.calls // self.calls_per_step,
+            )
         message = sol.message
         if sol.status != 0:
             message += "; try a smaller rtol/atol, an implicit method (Radau, LSODA) or more digits"
@@ -79,12 +97,14 @@ class RK45(ScipyMethod):
     """scipy's explicit Runge-Kutta 5(4) (Dormand-Prince)."""
 
     name = "RK45"
+    calls_per_step = 6
 
 
 class DOP853(ScipyMethod):
     """scipy's explicit Runge-Kutta 8(5,3) (Hairer's DOP853)."""
 
     name = "DOP853"
+    calls_per_step = 12
 
 
 class LSODA(ScipyMethod):

@@ -64,7 +64,11 @@ class TaylorMethod(Integrator):
             t_eval=problem.t_eval,
             events=problem.events,
             lib=self.python_libs[kind] if backend == "numpy" else None,
-            **problem.options,
+            max_wall_s=problem.max_wall_s,
+            **{
+                **problem.options,
+                **({"max_steps": problem.max_steps} if problem.max_steps else {}),
+            },
         )
         return Solution(
             t=sol.t,
