@@ -137,7 +137,7 @@ def _check_output(path: str) -> None:
         raise UserInputError(f"--output {path!r} is a folder")
 
 
-def add_parser(subparsers) -> argparse.ArgumentParser:
+def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     """Register ``chaplygin integrate``.
 
     Parameters
