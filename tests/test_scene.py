@@ -77,6 +77,7 @@ def _write(tmp_path, text: str) -> Path:
         ("contact_trace =", "contact_trac =", "outputs.contact_trac", 21, ["contact_trace"]),
         ("effects = []", 'effects = ["gyrostatt"]', "effects[0]", 3, ["did you mean 'gyrostat'"]),
         ("rtol = 1e-12", "rtl = 1e-12", "run.rtl", 18, ["did you mean 'rtol'"]),
+        ("rtol = 1e-12", 'method = "taylorr"', "run.method", 18, ["did you mean 'taylor'"]),
     ],
 )
 def test_errors_name_file_path_line_and_choices(tmp_path, old, new, path, line, words):

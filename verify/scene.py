@@ -702,6 +702,19 @@ def _resolve(scene: Scene) -> Resolved:
             str(exc), src, "run.precision", _line_of(text, ("run", "precision"))
         ) from None
     t_span = _time_span(scene, prec, text)
+    method = scene.run_options.method
+    if method is not None:
+        from ..numerics.integrate import METHODS
+
+        if method not in METHODS:
+            loc = ("run", "method")
+            raise SceneError(
+                f"unknown method {method!r}; valid: {', '.join(METHODS)}"
+                f"{_did_you_mean(method, list(METHODS))}",
+                src,
+                _dotted(loc),
+                _line_of(text, loc),
+            )
     # parameters: exactly the model's groups
     groups = code.parameter_groups
     for name in scene.parameters:
