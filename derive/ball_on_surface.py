@@ -494,6 +494,19 @@ def ellipsoid_sampler(b: sp.Matrix, x: sp.Matrix) -> Callable[[random.Random, di
     physical one (positive ``b_i``). Points on the coordinate planes (where the
     potential of M03-1.6 is singular) are not drawn. The sampler is picklable (models
     are cached on disk).
+
+    Parameters
+    ----------
+    b : sympy.Matrix, shape (3, 1)
+        The semi-axis parameters ``b_1, b_2, b_3`` (squares of the semi-axes).
+    x : sympy.Matrix, shape (3, 1)
+        The centre's state symbols.
+
+    Returns
+    -------
+    callable ``(rng, point) -> None``
+        A :data:`~.model.PhaseSpaceSampler`: writes exact rational values of ``b`` and
+        ``x`` into the dict ``point``, drawing from ``rng`` (a ``random.Random``).
     """
     return functools.partial(_sample_ellipsoid, b, x)
 

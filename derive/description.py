@@ -258,18 +258,43 @@ class MechanicalDescription:
         return {name: X for name, (X, _) in self.kinematics.items()}
 
     def total_kinetic_energy(self) -> sp.Expr:
-        """``T = (omega, diag(inertia) omega)/2`` plus the added terms."""
+        """``T = (omega, diag(inertia) omega)/2`` plus the added terms.
+
+        Returns
+        -------
+        sympy.Expr
+            The kinetic energy in ``omega`` (and whatever the added terms use: ``v``,
+            the space-fixed vectors, parameters, time).
+        """
         rotation = (self.omega.T * sp.diag(*self.inertia) * self.omega)[0] / 2
         return rotation + self.kinetic_energy
 
     def geometry(self) -> tuple[PoissonGroup, ...]:
-        """A frame when ``alpha, beta, gamma`` are all there, else unit vectors."""
+        """A frame when ``alpha, beta, gamma`` are all there, else unit vectors.
+
+        Returns
+        -------
+        tuple of PoissonGroup
+            One ``FRAME`` group ``(alpha, beta, gamma)``, or one ``UNIT_VECTOR`` group per
+            space-fixed vector, in the order of ``kinematics``.
+        """
         if {"alpha", "beta", "gamma"} <= set(self.kinematics):
             return (PoissonGroup(FRAME, ("alpha", "beta", "gamma")),)
         return tuple(PoissonGroup(UNIT_VECTOR, (name,)) for name in self.kinematics)
 
     def centre_velocity(self, red: ReducedEquations) -> sp.Matrix:
-        """The reference-point velocity on the admissible velocities."""
+        """The reference-point velocity on the admissible velocities.
+
+        Parameters
+        ----------
+        red : ReducedEquations
+            The engine's output; its ``velocity_map`` expresses ``v`` in ``omega``.
+
+        Returns
+        -------
+        sympy.Matrix, shape (3, 1)
+            ``v`` with the velocity map substituted (body frame).
+        """
         return sp.Matrix(self.v).subs(red.velocity_map)
 
 

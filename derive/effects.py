@@ -70,6 +70,17 @@ class Gyrostat(Effect):
     """Constant gyrostatic momentum: ``T += (K, omega)`` (K01 §4, BKM12 §2.3)."""
 
     def apply(self, desc: MechanicalDescription) -> None:
+        """Add ``(K, omega)`` to ``T`` and the parameter ``K`` (K01-4.1, K01-4.2).
+
+        Parameters
+        ----------
+        desc : MechanicalDescription
+            Modified in place: kinetic energy, parameter ``K``, references.
+
+        References
+        ----------
+        K01-4.1, K01-4.2, BKM12 §2.3.
+        """
         K = vector("K", real=True)
         desc.add_kinetic_energy(dot(K, desc.omega))
         desc.add_parameter(
@@ -82,6 +93,18 @@ class ContactPoint(Effect):
     """The space-fixed horizontal frame and the contact point ``x, y`` (BKM12-6)."""
 
     def apply(self, desc: MechanicalDescription) -> None:
+        """Add the horizontal frame, the states ``x, y`` and the radius ``b`` (BKM12-6).
+
+        Parameters
+        ----------
+        desc : MechanicalDescription
+            Modified in place: frame ``alpha, beta``, states ``x, y`` moving with the
+            centre velocity projected on ``alpha`` and ``beta``, parameter ``b``.
+
+        References
+        ----------
+        BKM12-6.
+        """
         desc.add_frame()
         b = sp.Symbol("b", positive=True)
         x, y = sp.symbols("x y", real=True)
@@ -101,6 +124,13 @@ class Rubber(Effect):
     """No twist at the contact: the constraint ``(omega, gamma) = 0`` (BKM12 §3)."""
 
     def apply(self, desc: MechanicalDescription) -> None:
+        """Add the no-twist constraint ``(omega, gamma) = 0`` (BKM12 §3).
+
+        Parameters
+        ----------
+        desc : MechanicalDescription
+            Modified in place: the constraint (its reaction along ``gamma``) and a reference.
+        """
         desc.add_constraint(dot(desc.omega, desc.vectors["gamma"]), reacts_along="gamma")
         desc.references["rubber"] = "BKM12 §3 (rubber ball)"
 
@@ -109,6 +139,18 @@ class StraightLine(Effect):
     """Rolling along the space-fixed line ``alpha``: ``(omega, alpha) = 0`` (BKM12-57)."""
 
     def apply(self, desc: MechanicalDescription) -> None:
+        """Add the horizontal frame and the constraint ``(omega, alpha) = 0`` (BKM12-57).
+
+        Parameters
+        ----------
+        desc : MechanicalDescription
+            Modified in place: frame ``alpha, beta``, the constraint (its reaction along
+            ``alpha``) and a reference.
+
+        References
+        ----------
+        BKM12-57.
+        """
         desc.add_frame()
         desc.add_constraint(dot(desc.omega, desc.vectors["alpha"]), reacts_along="alpha")
         desc.add_completion(("alpha", "beta"), "frame_bkm12_7")
@@ -135,6 +177,23 @@ class VariableInertia(Effect):
     """``I(t) = diag(I1 + (J_off + delta sin(Omega t))^2, I2, I3 + (...)^2)`` (BM20-3.4)."""
 
     def apply(self, desc: MechanicalDescription) -> None:
+        """Make the inertia ``I(t)`` depend on time (BM20-3.4).
+
+        With ``desc.laws == "generic"`` the moments become undefined functions ``I1(t),
+        I2(t), I3(t)`` and the parameter ``I`` is removed; otherwise they follow BM20's
+        moving mass pair and the parameters ``J_off``, ``delta`` (and ``Omega``) are added.
+        The density is switched off and the system is marked non-conservative.
+
+        Parameters
+        ----------
+        desc : MechanicalDescription
+            Modified in place: ``inertia``, parameters, ``has_density``, ``conservative``,
+            references.
+
+        References
+        ----------
+        BM20-3.4, BM20-2.5, BM20-2.5int.
+        """
         t = desc.time
         Iv = vector("I", positive=True)
         if desc.laws == "generic":  # every law: undefined functions of time
@@ -176,6 +235,21 @@ class VariableGyrostat(Effect):
     then BM20's total momentum ``I omega + D gamma x (omega x gamma) + k(t)``."""
 
     def apply(self, desc: MechanicalDescription) -> None:
+        """Add ``(k(t), omega)`` to ``T`` with ``k(t) = K sin(Omega t)`` (BM20-3.5).
+
+        With ``desc.laws == "generic"`` ``k`` is three undefined functions of time; the
+        state ``M`` becomes the total momentum and the system non-conservative.
+
+        Parameters
+        ----------
+        desc : MechanicalDescription
+            Modified in place: kinetic energy, ``gyrostatic_momentum_of_time``,
+            ``total_momentum``, parameters, references.
+
+        References
+        ----------
+        BM20-3.5, BM20-2.5, BM20-2.5int.
+        """
         t = desc.time
         K = vector("K", real=True)
         if desc.laws == "generic":
@@ -226,7 +300,19 @@ class Potential(Effect):
     """
 
     def apply(self, desc: MechanicalDescription) -> None:
+        """Add the potential ``U`` on the centre (M03-1.6) and its term of ``K`` (M03-1.7).
 
+        Parameters
+        ----------
+        desc : MechanicalDescription
+            Modified in place: potential, parameters ``k`` and ``c``, the integral ``K``
+            and a reference. Needs the state group ``x`` and the parameter ``b`` of the
+            ball-on-ellipsoid model.
+
+        References
+        ----------
+        M03-1.6, M03-1.7.
+        """
         x = desc.state_group("x")
         b = desc.parameters["b"].symbols
         m, m_e, R = sp.symbols("m m_e R", positive=True)  # declared by the surface model
@@ -250,6 +336,18 @@ class RubberBalls(Effect):
     (BKM12-39); their spins are no longer free quasi-velocities."""
 
     def apply(self, desc: MechanicalDescription) -> None:
+        """Add ``(omega - omega_k, n_k) = 0`` for every supporting ball (BKM12-39).
+
+        Parameters
+        ----------
+        desc : MechanicalDescription
+            Modified in place: one constraint per body in ``desc.bodies``,
+            ``free_spins = False`` and a reference.
+
+        References
+        ----------
+        BKM12-39.
+        """
         for w, n in desc.bodies:
             desc.add_constraint(dot(desc.omega - w, n))
         desc.free_spins = False

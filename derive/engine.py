@@ -29,7 +29,7 @@ with ``A = J^-1``, BKM12-3), and by a generic solve otherwise.
 from __future__ import annotations
 
 import itertools
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 import sympy as sp
@@ -92,10 +92,34 @@ class StructuredInverse:
         return self.J.inv()
 
     def X(self) -> sp.Matrix:
+        """The capacitance matrix ``X = -(C^-1 + U^T A U)`` of the Woodbury form.
+
+        Returns
+        -------
+        sympy.Matrix, shape (k, k)
+            ``k`` the number of columns of ``U``; for the ball ``D^-1 - (gamma, A gamma)``
+            (BKM12-3).
+        """
         return -(self.C.inv() + self.U.T * self.A * self.U)
 
     def apply_inverse(self, u: sp.Matrix) -> sp.Matrix:
-        """``II^-1 u = A (u + U X^-1 U^T A u)`` on the phase space."""
+        """``II^-1 u = A (u + U X^-1 U^T A u)`` on the phase space.
+
+        Parameters
+        ----------
+        u : sympy.Matrix, shape (3, 1)
+            The vector to multiply by ``II^-1`` (a momentum, say).
+
+        Returns
+        -------
+        sympy.Matrix, shape (3, 1)
+            ``II^-1 u`` by the Woodbury identity (for the ball ``omega = A (M + Z gamma)``
+            when ``u = M``, BKM12-3).
+
+        References
+        ----------
+        BKM12-3.
+        """
         X = self.X()
         w = self.U.T * self.A * u
         z = X.LUsolve(w) if X.shape[0] > 1 else sp.Matrix([w[0] / X[0, 0]])
@@ -142,7 +166,9 @@ class ReducedEquations:
     omega_multipliers: tuple[sp.Symbol, ...] = ()
     time: sp.Symbol | None = None
 
-    def multiplier_solution(self, rate: sp.Matrix, apply_inverse) -> dict[sp.Symbol, sp.Expr]:
+    def multiplier_solution(
+        self, rate: sp.Matrix, apply_inverse: Callable[[sp.Matrix], sp.Matrix]
+    ) -> dict[sp.Symbol, sp.Expr]:
         """Multipliers of the constraints on omega alone, ``C omega = 0``.
 
         They follow from ``d/dt (C omega) = 0`` with ``omega' = II^-1 (M' - II' omega)``::
@@ -155,13 +181,13 @@ class ReducedEquations:
         ----------
         rate : sympy.Matrix, shape (3, 1)
             ``F``: the momentum rate without the multiplier terms (any variables).
-        apply_inverse : callable
-            ``u -> II^-1 u`` (a structured inverse, say).
+        apply_inverse : callable of sympy.Matrix to sympy.Matrix
+            ``u -> II^-1 u`` for columns of shape (3, 1) (a structured inverse, say).
 
         Returns
         -------
-        dict
-            ``mu_j -> expression``.
+        dict of sympy.Symbol to sympy.Expr
+            ``mu_j -> expression``; empty when there are no constraints on omega alone.
         """
         C = self.omega_constraints
         if C is None:
@@ -179,6 +205,18 @@ class ReducedEquations:
 
         ``R`` is what is left after the (expanded, exact) subtraction; it is zero for
         the Chaplygin ball with or without a gyrostat. ``M`` are the state symbols.
+
+        Parameters
+        ----------
+        M : sympy.Matrix, shape (3, 1)
+            The momentum state symbols.
+
+        Returns
+        -------
+        rhs : sympy.Matrix, shape (3, 1)
+            ``(M + P0) x omega + R`` (still in ``omega``, the space-fixed vectors and time).
+        R : sympy.Matrix, shape (3, 1)
+            The remainder ``M' - (II omega + P0) x omega``, expanded and factored termwise.
         """
         P_of_omega = self.inertia_operator * self.omega + self.gyrostatic_momentum
         remainder = (self.momentum_rate - cross(P_of_omega, self.omega)).applyfunc(
@@ -195,6 +233,22 @@ class ReducedEquations:
         ``J`` is constant (free of the space-fixed vectors), ``U`` holds the space-fixed
         vectors that occur in ``II``; ``J`` and ``C`` are found by matching the
         coefficients of the normal forms. Returns None when no such split exists.
+
+        Parameters
+        ----------
+        ideal : ConstraintIdeal
+            The phase-space constraints (``(gamma, gamma) = 1`` ...) the match is taken
+            modulo.
+        max_rank : int, default 3
+            Largest number of space-fixed vectors ``U`` may hold.
+
+        Returns
+        -------
+        StructuredInverse or None
+            ``J`` (3, 3), ``U`` (3, k), ``C`` (k, k); None when ``II`` depends on no
+            space-fixed vector, on more than ``max_rank`` of them, when the linear match
+            has no solution, when ``J`` still depends on a space-fixed vector, or when
+            ``J`` or ``C`` is singular.
         """
         II = self.inertia_operator
         config = [X for X, _ in self.kinematics.values() if set(X) & II.free_symbols]

@@ -7,7 +7,7 @@ effect or parameter, a non-physical value, a malformed number).
 
 from __future__ import annotations
 
-__all__ = ["ChaplyginError", "UserInputError", "DerivationError"]
+__all__ = ["ChaplyginError", "UserInputError", "DerivationError", "CacheError"]
 
 
 class ChaplyginError(Exception):
@@ -20,3 +20,8 @@ class UserInputError(ChaplyginError, ValueError):
 
 class DerivationError(ChaplyginError):
     """A mechanical description the derivation engine cannot turn into a model."""
+
+
+class CacheError(UserInputError):
+    """A cache folder cannot be used safely (others can write to it, it is not ours, or it
+    is read-only); the message says how to fix it (CHAPLYGIN_CACHE_DIR, chmod)."""

@@ -249,10 +249,43 @@ class Model:
         return tuple(s.name for s in self.params)
 
     def group(self, name: str) -> sp.Matrix:
-        """State group ``name`` as a column matrix."""
+        """State group ``name`` as a column matrix.
+
+        Parameters
+        ----------
+        name : str
+            Name of a state group (``"M"``, ``"gamma"``, ...).
+
+        Returns
+        -------
+        sympy.Matrix
+            Its state symbols, shape (len(group), 1).
+
+        Raises
+        ------
+        KeyError
+            If the model has no state group ``name``.
+        """
         return sp.Matrix(dict(self.state_groups)[name])
 
     def param_group(self, name: str) -> sp.Matrix:
+        """Parameter group ``name`` as a column matrix.
+
+        Parameters
+        ----------
+        name : str
+            Name of a :class:`ParameterSpec` of the model (``"I"``, ``"D"``, ...).
+
+        Returns
+        -------
+        sympy.Matrix
+            Its parameter symbols, shape (len(spec.symbols), 1).
+
+        Raises
+        ------
+        KeyError
+            If the model has no parameter group ``name``.
+        """
         for spec in self.parameters:
             if spec.name == name:
                 return sp.Matrix(spec.symbols)
@@ -274,8 +307,23 @@ class Model:
             done[sym] = expr.xreplace(done)
         return done
 
-    def expand_aux(self, expr):
-        """Substitute the auxiliary definitions: an expression in state and parameters."""
+    def expand_aux(
+        self, expr: sp.Expr | sp.MatrixBase | float
+    ) -> sp.Expr | sp.ImmutableDenseMatrix:
+        """Substitute the auxiliary definitions: an expression in state and parameters.
+
+        Parameters
+        ----------
+        expr : sympy.Expr or sympy.Matrix or float
+            An expression (or matrix of them) that may use the auxiliary symbols.
+
+        Returns
+        -------
+        sympy.Expr or sympy.ImmutableDenseMatrix
+            ``sympify(expr)`` with every auxiliary symbol replaced by its definition
+            (itself expanded), so only state, parameters and time remain; a matrix
+            comes back immutable, of the same shape.
+        """
         return sp.sympify(expr).xreplace(self._aux_expanded)
 
     @cached_property
@@ -284,6 +332,23 @@ class Model:
         return sp.Matrix([self.expand_aux(e) for e in self.rhs])
 
     def integral(self, name: str) -> sp.Expr:
+        """The first integral called ``name``.
+
+        Parameters
+        ----------
+        name : str
+            Name of an integral of the model (``"H"``, ``"F1"``, ...).
+
+        Returns
+        -------
+        sympy.Expr
+            Its expression (it may use auxiliary symbols; see :meth:`expand_aux`).
+
+        Raises
+        ------
+        KeyError
+            If the model has no integral ``name``.
+        """
         return dict(self.integrals)[name]
 
     @cached_property
@@ -294,7 +359,15 @@ class Model:
 
     # ----------------------------------------------------------------- identity
     def canonical_text(self) -> str:
-        """Deterministic text of everything that defines the model's code."""
+        """Deterministic text of everything that defines the model's code.
+
+        Returns
+        -------
+        str
+            One line each for the format version, system, effects, time, state groups,
+            parameters, auxiliary definitions, right-hand side, integrals, constraints
+            and density, written with ``sympy.srepr``.
+        """
         parts = [
             f"format {MODEL_FORMAT_VERSION}",
             f"system {self.system}",

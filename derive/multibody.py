@@ -115,10 +115,33 @@ class MultiBodyReduction:
     energy: sp.Expr
 
     def reduce(self, expr: sp.Expr) -> sp.Expr:
-        """Normal form of a polynomial (or constant-denominator fraction) on the phase space."""
+        """Normal form of a polynomial (or constant-denominator fraction) on the phase space.
+
+        Parameters
+        ----------
+        expr : sympy.Expr
+            An expression in the space-fixed vectors (and anything else).
+
+        Returns
+        -------
+        sympy.Expr
+            Its normal form modulo the phase-space constraints among the generators that
+            occur in it (expanded when none occur); equal to ``expr`` on the phase space.
+
+        Raises
+        ------
+        DerivationError
+            If ``expr`` is a fraction whose denominator does not reduce to a nonzero
+            constant on the phase space.
+        """
         return _reduce(expr, self.description.phase_space)
 
-    def reaction(self, body: str, omega_rate: sp.Matrix, quasi_rates=None) -> sp.Matrix:
+    def reaction(
+        self,
+        body: str,
+        omega_rate: sp.Matrix,
+        quasi_rates: Sequence[sp.Expr | float] | None = None,
+    ) -> sp.Matrix:
         """Reaction torque on ``body`` along a motion with ``omega' = omega_rate``.
 
         ``(Phi^T Lambda)_body = d/dt p_body - p_body x omega`` on the admissible velocities,
@@ -129,11 +152,25 @@ class MultiBodyReduction:
         body : str
             ``"omega"`` (the reference body) or a key of the description's bodies.
         omega_rate : sympy.Matrix, shape (3, 1)
+            ``omega'`` along the motion.
         quasi_rates : sequence of sympy.Expr, optional
+            Rates of the extra quasi-velocities (``len(independent) - 3`` of them); None
+            means all zero.
 
         Returns
         -------
         sympy.Matrix, shape (3, 1)
+            The reaction torque ``(Phi^T Lambda)_body``, each entry reduced on the phase
+            space (:meth:`reduce`).
+
+        Raises
+        ------
+        ValueError
+            If ``body`` is neither ``"omega"`` nor a body of the description.
+
+        References
+        ----------
+        BKM12-29, BKM12-40.
         """
         d = self.description
         q, vel = _velocities(d)

@@ -134,7 +134,22 @@ class SupportDerivation:
 
     def weight(self, k: int) -> sp.Expr:
         """Weight of ball ``k`` in the support tensor (``lambda_k/r_k^2``, rubber:
-        ``lambda_k (1/r_k^2 - 1)``)."""
+        ``lambda_k (1/r_k^2 - 1)``).
+
+        Parameters
+        ----------
+        k : int
+            Index of the ball, ``0 .. N-1``.
+
+        Returns
+        -------
+        sympy.Expr
+            ``lambda_k / r_k^2``, or ``lambda_k (1/r_k^2 - 1)`` with rubber balls.
+
+        References
+        ----------
+        BKM12-2.1M (the support tensor), BKM12-2.2 (rubber balls).
+        """
         lam, r = self.lambdas[k], self.ratios[k]
         return lam * (1 / r**2 - 1) if self.rubber else lam / r**2
 
@@ -657,14 +672,37 @@ class SupportParameters:
     directions: tuple[sp.Matrix, ...]
 
     def params(self, inertia: Sequence[sp.Expr] | None = None) -> dict[str, object]:
-        """``{"D_iso": ..., "D_al": ..., "D_be": ...}`` (+ ``"I"`` when given)."""
+        """``{"D_iso": ..., "D_al": ..., "D_be": ...}`` (+ ``"I"`` when given).
+
+        Parameters
+        ----------
+        inertia : sequence of sympy.Expr, optional
+            Principal moments ``I1, I2, I3`` of the body; None leaves ``"I"`` out.
+
+        Returns
+        -------
+        dict of str to object
+            Parameter values for the closed model: the three support parameters as
+            ``sympy.Expr`` and, when given, ``"I"`` as a tuple of three values.
+        """
         out: dict[str, object] = {"D_iso": self.D_iso, "D_al": self.D_al, "D_be": self.D_be}
         if inertia is not None:
             out["I"] = tuple(inertia)
         return out
 
     def eigen_coordinates(self, k: int) -> sp.Matrix:
-        """Components of direction ``k`` along ``alpha, beta, gamma``."""
+        """Components of direction ``k`` along ``alpha, beta, gamma``.
+
+        Parameters
+        ----------
+        k : int
+            Index of the contact direction, ``0 .. N-1``.
+
+        Returns
+        -------
+        sympy.Matrix, shape (3, 1)
+            ``frame * n_k``: the direction in the eigenframe of the support tensor.
+        """
         return self.frame * self.directions[k]
 
 

@@ -23,6 +23,7 @@ from pathlib import Path
 import mpmath
 import sympy as sp
 
+from .cachefiles import cache_root, check_private_dir, sign, verify_signature
 from .effects import parse_effects
 from .errors import UserInputError
 from .model import Model
@@ -109,6 +110,23 @@ _CACHE: dict[tuple[str, frozenset[str]], Model] = {}
 
 
 def get_system(name: str) -> System:
+    """The built-in system called ``name``.
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`SYSTEMS` (``"chaplygin_ball"``, ...).
+
+    Returns
+    -------
+    System
+        Its registry entry (builder, supported effects, generated variants ...).
+
+    Raises
+    ------
+    UserInputError
+        For an unknown name (the message lists the valid ones).
+    """
     try:
         return SYSTEMS[name]
     except (KeyError, TypeError):  # TypeError: an unhashable name (a list, a dict)
@@ -118,19 +136,36 @@ def get_system(name: str) -> System:
 
 
 def variant_name(system: str, effects: Iterable[str]) -> str:
-    """``system__effect1__effect2`` with the effects sorted."""
+    """``system__effect1__effect2`` with the effects sorted.
+
+    Parameters
+    ----------
+    system : str
+        System name.
+    effects : iterable of str
+        Effect names (any order); none gives the bare system name.
+
+    Returns
+    -------
+    str
+        The variant name, the key of the variant's files in ``generated/``.
+    """
     return "__".join([system, *sorted(effects)])
 
 
 def model_cache_dir() -> Path | None:
-    """Folder of derived models on disk: ``$CHAPLYGIN_CACHE_DIR/models`` (default
-    ``~/.cache/chaplygin/models``); None when ``CHAPLYGIN_MODEL_CACHE=0``."""
+    """Folder of derived models on disk.
+
+    Returns
+    -------
+    pathlib.Path or None
+        ``<cache root>/models`` (the root: ``$CHAPLYGIN_CACHE_DIR``, else
+        ``$XDG_CACHE_HOME/chaplygin``, else ``~/.cache/chaplygin``); None when
+        ``CHAPLYGIN_MODEL_CACHE=0``.
+    """
     if os.environ.get("CHAPLYGIN_MODEL_CACHE", "1") == "0":
         return None
-    root = os.environ.get("CHAPLYGIN_CACHE_DIR") or os.path.join(
-        os.path.expanduser("~"), ".cache", "chaplygin"
-    )
-    return Path(root) / "models"
+    return cache_root() / "models"
 
 
 @cache
@@ -154,33 +189,57 @@ def _cache_file(system: str, effects: frozenset[str]) -> Path | None:
     return folder / f"{variant_name(system, effects)}-{key.hexdigest()[:32]}.pickle"
 
 
+#: First line of a model file: the format, then the HMAC of the pickle that follows.
+_MODEL_MAGIC = b"chaplygin-model-1\n"
+
+
 def _load_cached(path: Path | None) -> Model | None:
+    """The cached model at ``path``, or None (absent, damaged, or not written by us).
+
+    The pickle is read only after its HMAC (made with the cache root's per-user secret when
+    we wrote it) checks out: a file anyone else put there is never unpickled.
+    """
     if path is None or not path.exists():
         return None
+    check_private_dir(path.parent)
     try:
-        with path.open("rb") as fh:
-            model = pickle.load(fh)  # our own cache (as trusted as the compiled C cache)
-    except Exception:  # a truncated or foreign file: derive again and overwrite it
+        blob = path.read_bytes()
+    except OSError:
+        return None
+    head, _, rest = blob.partition(b"\n")
+    tag, _, data = rest.partition(b"\n")
+    if head + b"\n" != _MODEL_MAGIC or not verify_signature(
+        path.parent, data, tag.decode("ascii", "replace")
+    ):
+        return None  # not ours (or damaged): derive again and overwrite it
+    try:
+        model = pickle.loads(data)  # signed by us: our own bytes
+    except Exception:  # an older class layout: derive again
         return None
     return model if isinstance(model, Model) else None
 
 
 def _store(path: Path | None, model: Model) -> None:
-    """Write atomically (parallel processes may derive the same model at once)."""
+    """Write atomically (parallel processes may derive the same model at once), signed."""
     if path is None:
         return
+    tmp = None
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
+        check_private_dir(path.parent)
+        data = pickle.dumps(model, protocol=pickle.HIGHEST_PROTOCOL)
+        tag = sign(path.parent, data).encode("ascii")
         fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
         with os.fdopen(fd, "wb") as fh:
-            pickle.dump(model, fh, protocol=pickle.HIGHEST_PROTOCOL)
+            fh.write(_MODEL_MAGIC + tag + b"\n" + data)
         os.replace(tmp, path)
     except (OSError, pickle.PicklingError, AttributeError, TypeError):
         # a read-only home or an unpicklable definition: the cache is only an aid
-        try:
-            os.unlink(tmp)
-        except (OSError, UnboundLocalError):
-            pass
+        if tmp is not None:
+            try:
+                os.unlink(tmp)
+            except OSError:
+                pass
 
 
 def build_model(
@@ -258,5 +317,12 @@ def variant_signature(
 
 
 def builtin_variants() -> list[tuple[str, frozenset[str]]]:
-    """Every (system, effects) combination whose code is committed in ``generated/``."""
+    """Every (system, effects) combination whose code is committed in ``generated/``.
+
+    Returns
+    -------
+    list of (str, frozenset of str)
+        ``(system name, effects)`` pairs, in the order of :data:`SYSTEMS` and of each
+        system's ``GENERATED_VARIANTS``.
+    """
     return [(s.name, frozenset(v)) for s in SYSTEMS.values() for v in s.variants]

@@ -55,7 +55,9 @@ def _sigma_functions():
     ]
 
 
-def sigma(i: int, C, Mg, I: Sequence[float], D: float):
+def sigma(
+    i: int, C: float | np.ndarray, Mg: float | np.ndarray, I: Sequence[float], D: float
+) -> float | np.ndarray:
     """Energy ``E = 2h`` on the derived curve ``Sigma_i`` (BKM12-Sigma_i, K01-3.2c).
 
     Parameters
@@ -73,6 +75,10 @@ def sigma(i: int, C, Mg, I: Sequence[float], D: float):
     -------
     float or numpy.ndarray
         ``E`` on the curve, shaped like the broadcast of ``C`` and ``Mg``.
+
+    References
+    ----------
+    BKM12-Sigma_i, K01-3.2c (FORMULAS.md).
     """
     return _sigma_functions()[i](C, Mg, *I, D)
 
@@ -171,6 +177,7 @@ def ball_energy(y: np.ndarray, I: Sequence[float], D: float) -> float:
     Returns
     -------
     float
+        ``E``, twice the energy integral ``H`` of the generated code.
     """
     return 2 * float(_ball_code().numpy.integrals(0.0, y, [*I, D])[0])
 
@@ -271,6 +278,10 @@ def support_sample(
         ``(g_al, g_be, position)``.
     drift : float
         Largest relative drift of the integrals.
+
+    References
+    ----------
+    BKM12-2.7c (FORMULAS.md).
     """
     rng = np.random.default_rng(seed)
     code = load_model_code("spherical_support")

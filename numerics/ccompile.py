@@ -26,7 +26,6 @@ import os
 import platform
 import shlex
 import shutil
-import stat
 import subprocess
 import sys
 import sysconfig
@@ -36,7 +35,8 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from ..derive.errors import ChaplyginError, UserInputError
+from ..derive.cachefiles import cache_root, check_private_dir
+from ..derive.errors import CacheError, ChaplyginError
 
 __all__ = [
     "CFLAGS",
@@ -83,11 +83,6 @@ class CompilationError(CompilerError):
 # --------------------------------------------------------------------------- compiling
 
 
-class CacheError(UserInputError):
-    """The cache folder cannot be used safely (others can write to it, it is not ours, or
-    it is read-only); the message says how to fix it (CHAPLYGIN_CACHE_DIR, chmod)."""
-
-
 def c_cache_dir(cache_dir: str | os.PathLike[str] | None = None) -> Path:
     """Directory holding the compiled libraries.
 
@@ -102,15 +97,7 @@ def c_cache_dir(cache_dir: str | os.PathLike[str] | None = None) -> Path:
     pathlib.Path
         ``<root>/c`` (not created here).
     """
-    if cache_dir is not None:
-        root = Path(cache_dir)
-    elif os.environ.get("CHAPLYGIN_CACHE_DIR"):
-        root = Path(os.environ["CHAPLYGIN_CACHE_DIR"])
-    else:
-        xdg = os.environ.get("XDG_CACHE_HOME")
-        base = Path(xdg) if xdg else Path.home() / ".cache"
-        root = base / "chaplygin"
-    return root.expanduser() / "c"
+    return cache_root(cache_dir) / "c"
 
 
 def find_compiler(compiler: str | None = None) -> list[str]:
@@ -228,22 +215,7 @@ def check_cache_dir(directory: str | os.PathLike[str]) -> None:
     CacheError
         The folder or its cache root is writable by others or owned by another user.
     """
-    path = Path(directory)
-    for folder in (path, path.parent):
-        try:
-            st = folder.stat()
-        except FileNotFoundError:
-            continue
-        if not hasattr(os, "getuid"):  # pragma: no cover - Windows
-            return
-        others_write = st.st_mode & (stat.S_IWGRP | stat.S_IWOTH)
-        if st.st_uid != os.getuid() or (others_write and not st.st_mode & stat.S_ISVTX):
-            raise CacheError(
-                f"the cache folder {folder} can be written by other users (mode "
-                f"{stat.filemode(st.st_mode)}, owner uid {st.st_uid}): code loaded from it "
-                "could be theirs; use a private folder (chmod go-w, or set "
-                "CHAPLYGIN_CACHE_DIR to a folder of your own)"
-            )
+    check_private_dir(directory)
 
 
 def _digest(path: Path) -> str:

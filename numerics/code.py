@@ -10,20 +10,32 @@ import importlib
 import json
 import types
 import warnings
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from functools import cached_property
 from importlib import resources
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..derive.effects import parse_effects
 from ..derive.emit.functions import module_from_source
 from ..derive.systems import get_system, variant_name
 
+if TYPE_CHECKING:  # the compiled model is loaded lazily by ModelCode.compiled
+    from .compiled import CompiledModel
+
 __all__ = ["ModelCode", "load_model_code", "generated_manifest"]
 
 
 def generated_manifest() -> dict[str, dict]:
-    """``generated/manifest.json``: variant -> hash, system, effects, files."""
+    """``generated/manifest.json``: variant -> hash, system, effects, files.
+
+    Returns
+    -------
+    dict of str to dict
+        Variant name -> ``{"hash", "system", "effects", "generator", "files"}``
+        (``files`` maps each of ``numpy``, ``mpmath``, ``c``, ``taylor_py``, ``taylor_c``
+        to its file name in ``generated/``).
+    """
     text = resources.files("chaplygin.generated").joinpath("manifest.json").read_text()
     return json.loads(text)
 
@@ -131,8 +143,22 @@ class ModelCode:
     def aux_names(self) -> tuple[str, ...]:
         return tuple(self.numpy.AUX)
 
-    def compiled(self):
-        """The compiled C model (cached per user), or None without a C compiler."""
+    def compiled(self) -> CompiledModel | None:
+        """The compiled C model (cached per user), or None without a C compiler.
+
+        Compiled on the first call only (:func:`chaplygin.numerics.compiled.load_c_model`);
+        later calls return the same object, or None again.
+
+        Returns
+        -------
+        CompiledModel or None
+            None, after a :class:`CompilerUnavailableWarning`, without a usable compiler.
+
+        Raises
+        ------
+        ModelHashMismatchError
+            If the compiled library reports another model hash than ``self.hash``.
+        """
         if not self._compile_tried:
             from .compiled import load_c_model
 
@@ -144,8 +170,23 @@ class ModelCode:
 _LOADED: dict[str, ModelCode] = {}
 
 
-def load_model_code(system: str, effects=None) -> ModelCode:
+def load_model_code(system: str, effects: str | Iterable[str] | None = None) -> ModelCode:
     """Code of ``system`` with ``effects``: from ``generated/`` when built in, else emitted.
+
+    Loaded once per variant and cached for the process.
+
+    Parameters
+    ----------
+    system : str
+        System name (``chaplygin_ball``).
+    effects : str or iterable of str, optional
+        Comma-separated string or names of the effects (``"gyrostat,contact_point"``);
+        None or ``""`` for none.
+
+    Returns
+    -------
+    ModelCode
+        The variant's generated modules and sources.
 
     Raises
     ------

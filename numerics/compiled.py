@@ -156,6 +156,7 @@ CHAPLYGIN__MANY(density, 1)
 
 # --------------------------------------------------------------------------- errors
 
+
 class ModelHashMismatchError(ChaplyginError, ValueError):
     """The compiled library reports a model hash other than the expected one."""
 
@@ -400,6 +401,7 @@ class CompiledModel:
         Returns
         -------
         ndarray, shape (n_aux,)
+            The auxiliary quantities at ``(t, y)``.
         """
         return self._call(self._aux, "aux", t, y, p, out)
 
@@ -416,6 +418,7 @@ class CompiledModel:
         Returns
         -------
         ndarray, shape (n_integrals,)
+            The first integrals at ``(t, y)``.
         """
         return self._call(self._integrals, "integrals", t, y, p, out)
 
@@ -491,23 +494,79 @@ class CompiledModel:
         return self._call_many("rhs", t, Y, p, out)
 
     def jac_many(self, t: float, Y: ArrayLike, p: ArrayLike, out: NDArray | None = None) -> NDArray:
-        """Jacobians at many states; returns shape (n_state, n_state, N). See :meth:`rhs_many`."""
+        """Jacobians at many states, evaluated in one C call.
+
+        Parameters
+        ----------
+        t, Y, p
+            Time, states as columns (shape ``(n_state, N)``) and parameters, as in
+            :meth:`rhs_many`.
+        out : ndarray, shape (n_state, n_state, N), optional
+            float64 C-contiguous array receiving the result.
+
+        Returns
+        -------
+        ndarray, shape (n_state, n_state, N)
+            ``out[i, k, j]`` is ``d rhs_i/d y_k`` at ``Y[:, j]``.
+        """
         return self._call_many("jac", t, Y, p, out)
 
     def aux_many(self, t: float, Y: ArrayLike, p: ArrayLike, out: NDArray | None = None) -> NDArray:
-        """Auxiliary quantities at many states; shape (n_aux, N). See :meth:`rhs_many`."""
+        """Auxiliary quantities at many states, evaluated in one C call.
+
+        Parameters
+        ----------
+        t, Y, p
+            Time, states as columns (shape ``(n_state, N)``) and parameters, as in
+            :meth:`rhs_many`.
+        out : ndarray, shape (n_aux, N), optional
+            float64 C-contiguous array receiving the result.
+
+        Returns
+        -------
+        ndarray, shape (n_aux, N)
+            Rows in the order of the numpy module's ``AUX`` names.
+        """
         return self._call_many("aux", t, Y, p, out)
 
     def integrals_many(
         self, t: float, Y: ArrayLike, p: ArrayLike, out: NDArray | None = None
     ) -> NDArray:
-        """First integrals at many states; shape (n_integrals, N). See :meth:`rhs_many`."""
+        """First integrals at many states, evaluated in one C call.
+
+        Parameters
+        ----------
+        t, Y, p
+            Time, states as columns (shape ``(n_state, N)``) and parameters, as in
+            :meth:`rhs_many`.
+        out : ndarray, shape (n_integrals, N), optional
+            float64 C-contiguous array receiving the result.
+
+        Returns
+        -------
+        ndarray, shape (n_integrals, N)
+            Rows in the order of the numpy module's ``INTEGRALS``.
+        """
         return self._call_many("integrals", t, Y, p, out)
 
     def density_many(
         self, t: float, Y: ArrayLike, p: ArrayLike, out: NDArray | None = None
     ) -> NDArray:
-        """Density at many states; shape (1, N). See :meth:`rhs_many`."""
+        """Density at many states, evaluated in one C call.
+
+        Parameters
+        ----------
+        t, Y, p
+            Time, states as columns (shape ``(n_state, N)``) and parameters, as in
+            :meth:`rhs_many`.
+        out : ndarray, shape (1, N), optional
+            float64 C-contiguous array receiving the result.
+
+        Returns
+        -------
+        ndarray, shape (1, N)
+            The invariant-measure density at each state.
+        """
         return self._call_many("density", t, Y, p, out)
 
 

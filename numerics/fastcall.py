@@ -110,8 +110,17 @@ PyMODINIT_FUNC PyInit_chaplygin_fastcall(void)
 
 @cache
 def load_fastcall() -> ModuleType | None:
-    """The compiled trampoline module (built into the C cache on first use), or None when
-    it cannot be built here (no compiler, no Python or numpy headers)."""
+    """The compiled trampoline module, or None when it cannot be built here.
+
+    Built into the C cache on first use (the interpreter and numpy versions are part of the
+    cache key); None without a compiler or without Python or numpy headers. Cached for the
+    process.
+
+    Returns
+    -------
+    types.ModuleType or None
+        The extension module ``chaplygin_fastcall``.
+    """
     include = sysconfig.get_paths().get("include")
     if not include:
         return None

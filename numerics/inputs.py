@@ -189,6 +189,7 @@ def parse_number(text: Number | object, dps: int = 30) -> mpmath.mpf:
     Returns
     -------
     mpmath.mpf
+        The value at ``dps`` digits.
 
     Raises
     ------
@@ -254,11 +255,14 @@ def working_number(value: Number | object, precision: Precision) -> float | mpma
     Parameters
     ----------
     value : str or number
+        The user's number or its text (as for :func:`parse_number`).
     precision : Precision
+        The working precision.
 
     Returns
     -------
     float (double) or mpmath.mpf with ``precision.prec`` bits (quad, digits)
+        The value rounded to the working precision.
 
     Raises
     ------
@@ -448,19 +452,24 @@ def _working_values(name: str, raw: object, expected: int, precision: Precision)
     return _values(name, raw, expected, lambda v: working_number(v, precision))
 
 
-def pack_params(code: ModelCode, values: Mapping[str, object], precision: Precision) -> list:
+def pack_params(
+    code: ModelCode, values: Mapping[str, object], precision: Precision
+) -> list[float | mpmath.mpf]:
     """Parameter vector in the model's order, validated.
 
     Parameters
     ----------
     code : ModelCode
+        The model (its parameter groups, their domains and order).
     values : mapping of group name to values
         ``{"I": (1, 2, 3), "D": 1}``; strings are parsed safely.
     precision : Precision
+        The working precision.
 
     Returns
     -------
     list of float (double) or mpmath.mpf (digits)
+        The parameters in ``code.params`` order, each rounded once.
 
     Raises
     ------
@@ -491,17 +500,25 @@ def pack_params(code: ModelCode, values: Mapping[str, object], precision: Precis
     return [out[s] for s in code.params]
 
 
-def round_to(values: Sequence, precision: Precision) -> list:
+def round_to(values: Sequence[mpmath.mpf], precision: Precision) -> list[float | mpmath.mpf]:
     """Values (mpf at a guard precision) rounded once to the working precision.
 
     Parameters
     ----------
     values : sequence of mpmath.mpf
+        Values at a guard precision.
     precision : Precision
+        The working precision.
 
     Returns
     -------
     list of float (double) or mpmath.mpf with ``precision.prec`` bits
+        The values rounded to nearest (:func:`working_number`).
+
+    Raises
+    ------
+    UserInputError
+        A value that is not finite or overflows the working precision.
     """
     return [working_number(v, precision) for v in values]
 
@@ -524,7 +541,9 @@ def _unit(name: str, v: list) -> list:
     return [x / n for x in v]
 
 
-def pack_state(code: ModelCode, values: Mapping[str, object], precision: Precision) -> list:
+def pack_state(
+    code: ModelCode, values: Mapping[str, object], precision: Precision
+) -> list[float | mpmath.mpf]:
     """State vector in the model's order, validated and completed as the model declares.
 
     The vectors of the model's Poisson groups (``code.geometry``: ``gamma``, or the frame
@@ -540,19 +559,31 @@ def pack_state(code: ModelCode, values: Mapping[str, object], precision: Precisi
     Parameters
     ----------
     code : ModelCode
-    values : mapping of group name to values
-        ``{"M": (0.7, -0.4, 0.5), "gamma": (...)}``; strings are parsed safely.
+        The model (its state groups and state order).
+    values : mapping of str to value
+        Group name (``"M"``, ``"gamma"``, ``"alpha"``, ``"x"`` ...) -> its components: a
+        sequence, comma-separated text ``"a,b,c"`` or, for a one-component group, a single
+        value; each entry anything :func:`parse_number` reads.
     precision : Precision
+        Working precision; the text is read at ``precision.parse_dps`` digits.
 
     Returns
     -------
-    list of float (double) or mpmath.mpf
-        The state in the model's order, each value rounded once to the working precision.
+    list of float (double) or mpmath.mpf with ``precision.prec`` bits
+        The state in ``code.state`` order; groups kept as given are rounded once from their
+        own text, normalised or completed ones from the guard-precision values.
 
     Raises
     ------
     UserInputError
-        Unknown or missing group, wrong length, a bad number, a vector off its variety.
+        An unknown group, a wrong number of components, an unreadable number, a missing
+        group the model has no completion rule for, a vector off its variety (not a unit
+        vector, not an orthonormal right-handed frame), only one of ``alpha`` and ``beta``,
+        or no frame where ``M`` is parallel to ``gamma``.
+
+    References
+    ----------
+    BKM12-7 (FORMULAS.md).
     """
     groups = code.state_groups
     unknown = sorted(set(values) - set(groups))

@@ -27,6 +27,7 @@ K01-2.17, K01-2.18, K01-2.22, K01-2.23, K01-2.26, K01-2.27
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from functools import lru_cache
 
@@ -110,10 +111,29 @@ class TorusQuadratures:
     details: dict = field(default_factory=dict)
 
 
-def spheroconical_coordinates(gamma, a):
+def spheroconical_coordinates(
+    gamma: Sequence[float | mpmath.mpf] | np.ndarray, a: Sequence[float | mpmath.mpf]
+) -> tuple[mpmath.mpf | np.ndarray, mpmath.mpf | np.ndarray]:
     """``q1 > q2``: the roots of ``sum_i gamma_i^2 prod_{j!=i}(a_j - x) = 0`` (K01-2.11).
 
     On the sphere the polynomial is ``x^2 - s x + p``.
+
+    Parameters
+    ----------
+    gamma : sequence of 3 numbers, or ndarray, shape (3,) or (3, N)
+        The vertical (normalised here, need not be a unit vector); an array evaluates many
+        states at once.
+    a : sequence of 3 numbers
+        ``a_i = 1/I_i``.
+
+    Returns
+    -------
+    q1, q2 : mpmath.mpf or ndarray, shape (N,)
+        ``q1 >= q2`` (a negative discriminant from rounding counts as zero).
+
+    References
+    ----------
+    K01-2.11 (FORMULAS.md).
     """
     g2 = [g * g for g in gamma]
     norm = g2[0] + g2[1] + g2[2]
@@ -135,8 +155,33 @@ def _check_separation_args(lam1, lam2, a, D) -> None:
     check_real(D, "D", positive=True)
 
 
-def separation_roots(lam1, lam2, a, D) -> list:
-    """Real roots of R (K01-2.17), ascending, by ``mpmath.polyroots`` at the working precision."""
+def separation_roots(
+    lam1: float | mpmath.mpf,
+    lam2: float | mpmath.mpf,
+    a: Sequence[float | mpmath.mpf],
+    D: float | mpmath.mpf,
+) -> list[mpmath.mpf]:
+    """Real roots of R (K01-2.17), ascending, by ``mpmath.polyroots`` at the working precision.
+
+    Parameters
+    ----------
+    lam1, lam2 : number
+        Separation constants ``lam1 = h``, ``lam2 = 2 D h - n`` (K01-2.18).
+    a : sequence of 3 numbers
+        ``a_i = 1/I_i``.
+    D : number
+        ``D = m b^2``.
+
+    Returns
+    -------
+    list of mpmath.mpf
+        The roots whose imaginary part is below ``10^(-dps/2) (1 + |r|)``, real parts,
+        ascending.
+
+    References
+    ----------
+    K01-2.17, K01-2.18 (FORMULAS.md).
+    """
     _check_separation_args(lam1, lam2, a, D)
     coeffs = _R_coefficients()(lam1, lam2, *a, D)
     roots = mpmath.polyroots(coeffs, maxsteps=200, extraprec=2 * mpmath.mp.prec)
@@ -168,32 +213,68 @@ def _state(I, D, M, gamma, dps):
     return I, D, M, gamma
 
 
-def separation_R(lam1, lam2, a, D):
-    """``R(q)`` of K01-2.17 (from ``derive/hamiltonisation.py``) as an mpmath function of q."""
+def separation_R(
+    lam1: float | mpmath.mpf,
+    lam2: float | mpmath.mpf,
+    a: Sequence[float | mpmath.mpf],
+    D: float | mpmath.mpf,
+) -> Callable[[mpmath.mpf], mpmath.mpf]:
+    """``R(q)`` of K01-2.17 (from ``derive/hamiltonisation.py``) as an mpmath function of q.
+
+    Parameters
+    ----------
+    lam1, lam2 : number
+        Separation constants (K01-2.18).
+    a : sequence of 3 numbers
+        ``a_i = 1/I_i``.
+    D : number
+        ``D = m b^2``.
+
+    Returns
+    -------
+    callable
+        ``q -> R(q)``, Horner's scheme on the coefficients computed once here.
+
+    References
+    ----------
+    K01-2.17 (FORMULAS.md).
+    """
     _check_separation_args(lam1, lam2, a, D)
     coeffs = _R_coefficients()(lam1, lam2, *a, D)
     return lambda q: mpmath.polyval(coeffs, q)
 
 
-def torus_quadratures(I, D, M, gamma, digits: int = 30) -> TorusQuadratures:
+def torus_quadratures(
+    I: Sequence[float | mpmath.mpf],
+    D: float | mpmath.mpf,
+    M: Sequence[float | mpmath.mpf],
+    gamma: Sequence[float | mpmath.mpf],
+    digits: int = 30,
+) -> TorusQuadratures:
     """Quadratures of the torus through ``(M, gamma)`` with ``(M, gamma) = 0``.
 
     Parameters
     ----------
     I : three numbers, ``I1 < I2 < I3``
+        Moments of inertia.
     D : number
+        ``D = m b^2``.
     M, gamma : three numbers each; ``gamma`` a unit vector, ``(M, gamma) = 0``
+        The state.
     digits : int
-        Working precision (decimal digits).
+        Working precision (decimal digits, at least 15).
 
     Returns
     -------
     TorusQuadratures
+        Integrals, roots, ranges, ``A``, ``B``, actions, frequencies and the rotation
+        number (computed at ``digits + 10``).
 
     Raises
     ------
     UserInputError
-        Non-physical parameters, ``(M, gamma) != 0``, or a state on a critical torus
+        ``digits`` not an integer ``>= 15``, non-physical parameters, ``(M, gamma) != 0``,
+        or a state on a critical torus
         (a range whose ends are not two simple roots of R).
 
     References
@@ -283,7 +364,13 @@ def torus_quadratures(I, D, M, gamma, digits: int = 30) -> TorusQuadratures:
     return out
 
 
-def rotation_number(I, D, M, gamma, digits: int = 30):
+def rotation_number(
+    I: Sequence[float | mpmath.mpf],
+    D: float | mpmath.mpf,
+    M: Sequence[float | mpmath.mpf],
+    gamma: Sequence[float | mpmath.mpf],
+    digits: int = 30,
+) -> mpmath.mpf:
     """Rotation number ``nu1/nu2`` (oscillations of ``q1`` per oscillation of ``q2``).
 
     Parameters
@@ -294,6 +381,12 @@ def rotation_number(I, D, M, gamma, digits: int = 30):
     Returns
     -------
     mpmath.mpf
+        ``B2/B1`` of :func:`torus_quadratures`.
+
+    Raises
+    ------
+    UserInputError
+        As :func:`torus_quadratures`.
 
     References
     ----------
@@ -359,7 +452,13 @@ def _bump(s):
 
 
 def measured_rotation_number(
-    I, D, M, gamma, t_end: float, samples_per_unit: float = 40.0, rtol: float = 1e-12
+    I: Sequence[float],
+    D: float,
+    M: Sequence[float],
+    gamma: Sequence[float],
+    t_end: float,
+    samples_per_unit: float = 40.0,
+    rtol: float = 1e-12,
 ) -> MeasuredRotation:
     """Measure ``nu1/nu2`` from a trajectory integrated in double precision (DOP853).
 
@@ -371,7 +470,7 @@ def measured_rotation_number(
 
     Parameters
     ----------
-    I, D, M, gamma
+    I, D, M, gamma : sequence of 3 floats, float, sequence of 3 floats each
         Parameters and a state with ``(M, gamma) = 0``.
     t_end : float
         Length of the trajectory (time t).
@@ -383,6 +482,17 @@ def measured_rotation_number(
     Returns
     -------
     MeasuredRotation
+        The weighted and the counted ratio, oscillation counts, frequencies in ``t``, the
+        mean of ``rho`` and the sampling evidence.
+
+    Raises
+    ------
+    RuntimeError
+        If the integration fails.
+
+    References
+    ----------
+    K01-2.7, K01-2.11, K01-2.27 (FORMULAS.md).
     """
     from .integrate import integrate
 

@@ -31,6 +31,7 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 
 import mpmath
+import numpy as np
 
 from ..derive.errors import UserInputError
 from .inputs import check_choice, check_count, check_inertia_vector, check_real
@@ -59,10 +60,27 @@ __all__ = [
 ]
 
 
-def check_inertia(I: Sequence, D) -> None:
+def check_inertia(I: Sequence[float | mpmath.mpf], D: float | mpmath.mpf) -> None:
     """Raise :class:`UserInputError` unless ``I1 < I2 < I3`` or ``I1 > I2 > I3``, all > 0.
 
     The separatrix of K01 §3.3 belongs to the middle axis ``I2``.
+
+    Parameters
+    ----------
+    I : sequence of 3 numbers
+        Moments of inertia ``I1, I2, I3``.
+    D : number
+        ``D = m b^2``.
+
+    Raises
+    ------
+    UserInputError
+        If ``I`` does not hold three values, a value is not finite and positive, or ``I2``
+        is not strictly between ``I1`` and ``I3``.
+
+    References
+    ----------
+    K01-3.4 (FORMULAS.md).
     """
     I, D = check_inertia_vector(I, D)
     if not (I[0] < I[1] < I[2] or I[0] > I[1] > I[2]):
@@ -73,21 +91,60 @@ def check_inertia(I: Sequence, D) -> None:
         )
 
 
-def mu_of(I: Sequence, D):
+def mu_of(I: Sequence[float | mpmath.mpf], D: float | mpmath.mpf) -> mpmath.mpf:
     """``mu = xi = kap/lam = 1/(J2 sqrt(a21 a32))``, ``J_i = I_i + D`` (K01-3.7).
+
+    Parameters
+    ----------
+    I : sequence of 3 numbers
+        Moments of inertia ``I1, I2, I3`` (``I2`` the middle one).
+    D : number
+        ``D = m b^2``.
+
+    Returns
+    -------
+    mpmath.mpf
+        ``mu`` at the current mpmath precision.
 
     Raises
     ------
     UserInputError
         ``I``, ``D`` refused by :func:`check_inertia` (``I2`` must be the middle moment).
+
+    References
+    ----------
+    K01-3.7 (FORMULAS.md).
     """
     check_inertia(I, D)
     J1, J2, J3 = (mpmath.mpf(v) + D for v in I)
     return 1 / (J2 * mpmath.sqrt((1 / J1 - 1 / J2) * (1 / J2 - 1 / J3)))
 
 
-def separatrix_quantities(I: Sequence, D, C=1) -> dict:
-    """``lam, kap, s32, s21, l`` for ``I1 < I2 < I3`` (mpmath at the current precision)."""
+def separatrix_quantities(
+    I: Sequence[float | mpmath.mpf], D: float | mpmath.mpf, C: float | mpmath.mpf = 1
+) -> dict[str, mpmath.mpf]:
+    """``lam, kap, s32, s21, l`` for ``I1 < I2 < I3`` (mpmath at the current precision).
+
+    Parameters
+    ----------
+    I : sequence of 3 numbers
+        Moments of inertia ``I1 < I2 < I3``.
+    D : number
+        ``D = m b^2``.
+    C : number
+        ``C = (M, gamma)`` on the segment ``M = C gamma``.
+
+    Returns
+    -------
+    dict of str to mpmath.mpf
+        ``lam = |C| J2/I2 sqrt(a21 a32)`` (the rate of ``ch(lam t)``), ``kap = C/I2``,
+        ``s32 = sqrt(a32/(a21 + a32))``, ``s21 = sqrt(a21/(a21 + a32))`` and
+        ``l = C J2/I2``, with ``a21 = 1/J1 - 1/J2``, ``a32 = 1/J2 - 1/J3``.
+
+    References
+    ----------
+    K01-3.4, K01-3.6 (FORMULAS.md).
+    """
     I1, I2, I3 = (mpmath.mpf(v) for v in I)
     D, C = mpmath.mpf(D), mpmath.mpf(C)
     J1, J2, J3 = I1 + D, I2 + D, I3 + D
@@ -102,10 +159,31 @@ def separatrix_quantities(I: Sequence, D, C=1) -> dict:
     }
 
 
-def separatrix_state(I: Sequence, D, C=1) -> list:
+def separatrix_state(
+    I: Sequence[float | mpmath.mpf], D: float | mpmath.mpf, C: float | mpmath.mpf = 1
+) -> list[mpmath.mpf]:
     """The corrected K01-3.4 solution at ``t = 0`` (``th = 0``, ``sech = 1``, ``c = 1``).
 
     State order of ``chaplygin_ball__contact_point``: ``M, gamma, alpha, beta, x, y``.
+
+    Parameters
+    ----------
+    I : sequence of 3 numbers
+        Moments of inertia ``I1 < I2 < I3``.
+    D : number
+        ``D = m b^2``.
+    C : number
+        ``C = (M, gamma)``; ``M = C gamma``.
+
+    Returns
+    -------
+    list of mpmath.mpf, length 14
+        ``M = C gamma``, ``gamma = (-s32, 0, -s21)``, ``alpha = e2``,
+        ``beta = (s21, 0, -s32)``, ``x = y = 0``.
+
+    References
+    ----------
+    K01-3.4 (FORMULAS.md; the corrected form for ``C > 0``).
     """
     check_inertia(I, D)
     check_real(C, "C", nonzero=True)
@@ -118,18 +196,60 @@ def separatrix_state(I: Sequence, D, C=1) -> list:
     return [C * g for g in gamma] + gamma + alpha + beta + [mpmath.mpf(0), mpmath.mpf(0)]
 
 
-def delta_closed_form(mu, b=1, dps: int = 30):
-    """(c) ``Delta = pi b / ch(pi mu/2)`` (K01-3.7, derived by residues)."""
+def delta_closed_form(
+    mu: float | mpmath.mpf, b: float | mpmath.mpf = 1, dps: int = 30
+) -> mpmath.mpf:
+    """(c) ``Delta = pi b / ch(pi mu/2)`` (K01-3.7, derived by residues).
+
+    Parameters
+    ----------
+    mu : number
+        ``mu = kap/lam`` (:func:`mu_of`).
+    b : number
+        Radius of the ball.
+    dps : int
+        Decimal digits of the evaluation.
+
+    Returns
+    -------
+    mpmath.mpf
+        ``Delta``, rounded to ``dps`` digits.
+
+    References
+    ----------
+    K01-3.7 (FORMULAS.md).
+    """
     _check_delta_args(mu, b, dps, "dps")
     with mpmath.workdps(dps):
         return +(mpmath.pi * b / mpmath.cosh(mpmath.pi * mpmath.mpf(mu) / 2))
 
 
-def tail_integral(mu, L, terms: int):
+def tail_integral(
+    mu: float | mpmath.mpf, L: float | mpmath.mpf, terms: int
+) -> tuple[mpmath.mpf, mpmath.mpf]:
     """``int_L^oo cos(mu s)/ch(s) ds`` from ``1/ch s = 2 sum (-1)^n exp(-(2n+1) s)``.
 
     Returns ``(value, bound)``: the bound of the omitted terms is
     ``2 exp(-(2N+1) L)/((2N+1)(1 - exp(-2L)))``.
+
+    Parameters
+    ----------
+    mu : number
+        Frequency ``mu = kap/lam`` of the integrand.
+    L : number
+        Lower limit (``L > 0``).
+    terms : int
+        Number ``N`` of terms of the series summed.
+
+    Returns
+    -------
+    value, bound : mpmath.mpf
+        The sum of the first ``N`` terms and the bound of the omitted ones (current
+        mpmath precision).
+
+    References
+    ----------
+    K01-3.7 (FORMULAS.md).
     """
     mu, L = mpmath.mpf(mu), mpmath.mpf(L)
     total = mpmath.mpf(0)
@@ -163,17 +283,39 @@ def _zero_points(mu, L) -> list:
     return z
 
 
-def delta_quadrature(mu, b=1, dps: int = 30, method: str = "zeros"):
+def delta_quadrature(
+    mu: float | mpmath.mpf, b: float | mpmath.mpf = 1, dps: int = 30, method: str = "zeros"
+) -> mpmath.mpf:
     """(b) ``b int_{-oo}^{oo} cos(mu s)/ch(s) ds`` (K01 (3.7) with ``s = lam t``).
 
     Parameters
     ----------
+    mu : number
+        ``mu = kap/lam`` (:func:`mu_of`).
+    b : number
+        Radius of the ball.
+    dps : int
+        Digits wanted; the quadrature runs at ``dps + 10``.
     method : {"zeros", "quadosc"}
         ``zeros``: Gauss-Legendre between consecutive zeros of ``cos(mu s)`` (the
         classical method for oscillatory integrands; the exponential decay makes a
         series acceleration unnecessary) up to ``L = (dps + 12) ln 10/3``, plus the tail
         series (:func:`tail_integral`, three terms, bound ``< 10^-(dps+10)``).
         ``quadosc``: ``mpmath.quadosc`` (slower, a cross-check).
+
+    Returns
+    -------
+    mpmath.mpf
+        ``Delta`` (at ``dps + 10`` digits).
+
+    Raises
+    ------
+    ValueError
+        An unknown ``method``.
+
+    References
+    ----------
+    K01-3.7 (FORMULAS.md).
     """
     _check_delta_args(mu, b, dps, "dps", mu_positive=True)
     check_choice(method, ("zeros", "quadosc"), "method")
@@ -208,8 +350,12 @@ _ENGINE_ALIASES = {"jet": "taylor"}
 
 
 def flow(
-    y0: Sequence, params: Sequence, t_end, digits: int, engine: str = "taylor"
-) -> tuple[list, int]:
+    y0: Sequence[float | mpmath.mpf],
+    params: Sequence[float | mpmath.mpf],
+    t_end: float | mpmath.mpf,
+    digits: int,
+    engine: str = "taylor",
+) -> tuple[list[mpmath.mpf], int]:
     """Integrate the full ``chaplygin_ball__contact_point`` equations from ``y0`` at t = 0.
 
     The one place the integrator is chosen: ``taylor`` (the generated Taylor integrator,
@@ -226,6 +372,7 @@ def flow(
     digits : int
         Working precision (decimal digits).
     engine : {"taylor", "odefun", "jet"}
+        The integrator (``jet`` is an alias of ``taylor``).
 
     Returns
     -------
@@ -280,14 +427,14 @@ def flow(
 
 
 def delta_ode(
-    I: Sequence,
-    D,
-    b,
+    I: Sequence[float | mpmath.mpf],
+    D: float | mpmath.mpf,
+    b: float | mpmath.mpf,
     digits: int,
-    C=1,
-    L=None,
+    C: float | mpmath.mpf = 1,
+    L: float | None = None,
     engine: str = "taylor",
-) -> dict:
+) -> dict[str, object]:
     """(a) Delta from the full equations, forward and backward from the separatrix point.
 
     Parameters
@@ -310,6 +457,15 @@ def delta_ode(
     dict
         ``delta`` (``|x(oo) - x(-oo)|``), ``signed`` (``x(oo) - x(-oo)``), ``y_shift``,
         ``tail``, ``tail_bound``, ``steps``, ``work_digits``, ``L``, ``seconds``.
+
+    Raises
+    ------
+    ValueError
+        From :func:`flow`: an unknown engine or a failed integration.
+
+    References
+    ----------
+    K01-3.4, K01-3.5, K01-3.6, K01-3.7 (FORMULAS.md).
     """
     start = time.perf_counter()
     I = list(I)
@@ -346,8 +502,22 @@ def delta_ode(
         }
 
 
-def agreeing_digits(values: Sequence, reference) -> float:
-    """``-log10(max |v/reference - 1|)`` (capped at the working precision)."""
+def agreeing_digits(values: Sequence[float | mpmath.mpf], reference: float | mpmath.mpf) -> float:
+    """``-log10(max |v/reference - 1|)`` (capped at the working precision).
+
+    Parameters
+    ----------
+    values : sequence of numbers
+        Values compared with ``reference`` (at least one).
+    reference : number
+        The reference value (nonzero).
+
+    Returns
+    -------
+    float
+        Number of agreeing decimal digits of the worst value; ``mpmath.mp.dps`` when
+        all values equal ``reference``.
+    """
     worst = max(abs(mpmath.mpf(v) / reference - 1) for v in values)
     if worst == 0:
         return float(mpmath.mp.dps)
@@ -379,21 +549,47 @@ class DeltaResult:
 
 
 def delta_three_ways(
-    I: Sequence,
-    D,
-    b,
+    I: Sequence[float | mpmath.mpf],
+    D: float | mpmath.mpf,
+    b: float | mpmath.mpf,
     digits: int,
-    C=1,
+    C: float | mpmath.mpf = 1,
     engine: str = "taylor",
     methods: Sequence[str] = ("ode", "quadrature", "closed"),
 ) -> DeltaResult:
     """Delta by the full equations, the quadrature (3.7) and the closed form, at ``digits``.
+
+    Parameters
+    ----------
+    I : sequence of 3 numbers
+        Moments of inertia (``I2`` the middle one).
+    D, b : number
+        ``D = m b^2`` and the radius.
+    digits : int
+        Digits wanted (the closed form is evaluated at ``digits + 10``).
+    C : number
+        ``C = (M, gamma)`` (the time scale of :func:`delta_ode`).
+    engine : {"taylor", "odefun", "jet"}
+        Integrator of :func:`delta_ode`.
+    methods : sequence of str
+        Which of ``"ode"`` and ``"quadrature"`` to run; the closed form always runs.
+
+    Returns
+    -------
+    DeltaResult
+        The values (``None`` for a method not run), their agreement with the closed
+        form (``digits`` when no other method ran), the times and :func:`delta_ode`'s
+        details.
 
     Raises
     ------
     UserInputError
         ``I``, ``D`` refused by :func:`check_inertia`, ``b <= 0`` (a radius), ``C = 0``,
         ``digits`` not a count, an unknown ``engine`` or method.
+
+    References
+    ----------
+    K01-3.7 (FORMULAS.md).
     """
     check_inertia(I, D)
     check_real(b, "b", positive=True)
@@ -430,7 +626,7 @@ def delta_three_ways(
         return DeltaResult(mu, ode, quad, closed, digits, agree, seconds, info)
 
 
-def near_separatrix_state(I: Sequence, D: float, h: float, C: float = 1.0):
+def near_separatrix_state(I: Sequence[float], D: float, h: float, C: float = 1.0) -> np.ndarray:
     """A state on ``M = C gamma`` with energy ``h`` in ``[C^2/(2 I3), C^2/(2 I1)]``.
 
     ``gamma = (cos psi, 0, sin psi)`` with ``(gamma, A gamma) = 1/(D + C^2/(2h))``
@@ -452,6 +648,10 @@ def near_separatrix_state(I: Sequence, D: float, h: float, C: float = 1.0):
     ------
     UserInputError
         If ``h`` is not on the segment ``n = C^2`` (or ``I``, ``D``, ``C`` are refused).
+
+    References
+    ----------
+    K01-3.3seg (FORMULAS.md).
     """
     import numpy as np
 
@@ -475,7 +675,9 @@ def _check_frame_args(I, D, h, C) -> None:
     check_real(C, "C", nonzero=True, double=True)
 
 
-def separatrix_trace(I: Sequence, D: float, b: float, C: float = 1.0, n: int = 2001):
+def separatrix_trace(
+    I: Sequence[float], D: float, b: float, C: float = 1.0, n: int = 2001
+) -> tuple[np.ndarray, np.ndarray]:
     """``x(t), y(t)`` of the contact point on the separatrix (K01 Fig. 4).
 
     Cumulative integrals (Simpson) of K01-3.5 with ``nu = -b lam`` over ``lam t`` in
@@ -493,6 +695,11 @@ def separatrix_trace(I: Sequence, D: float, b: float, C: float = 1.0, n: int = 2
     Returns
     -------
     x, y : numpy.ndarray, shape (n,)
+        The contact point at ``lam t = linspace(-25, 25, n)``, zero at ``lam t = -25``.
+
+    References
+    ----------
+    K01-3.5, K01-Fig4 (FORMULAS.md).
     """
     import numpy as np
     from scipy.integrate import cumulative_simpson
@@ -506,7 +713,9 @@ def separatrix_trace(I: Sequence, D: float, b: float, C: float = 1.0, n: int = 2
     return cumulative_simpson(xr, x=s, initial=0), cumulative_simpson(yr, x=s, initial=0)
 
 
-def frame_turn(I: Sequence, D: float, h: float, C: float = 1.0, rtol: float = 1e-12):
+def frame_turn(
+    I: Sequence[float], D: float, h: float, C: float = 1.0, rtol: float = 1e-12
+) -> tuple[float, float]:
     """Period of ``gamma(t)`` on ``M = C gamma`` at energy ``h`` and the turn of the frame.
 
     After one period ``T`` of ``gamma`` (an Euler top, K01-2.34) the space-fixed horizontal
@@ -515,10 +724,30 @@ def frame_turn(I: Sequence, D: float, h: float, C: float = 1.0, rtol: float = 1e
     ``Phi = 0 mod 2 pi`` (K01-Fig6f). Double precision (DOP853, numpy right-hand side),
     ``h`` in ``(h3, h1)``, ``h != h2``.
 
+    Parameters
+    ----------
+    I : sequence of 3 floats
+        Moments of inertia.
+    D, h, C : float
+        ``D = m b^2``, the energy and ``C = (M, gamma)``.
+    rtol : float
+        Relative and absolute tolerance of the DOP853 integration.
+
     Returns
     -------
     (T, Phi) : tuple of float
         ``Phi`` in ``(-pi, pi]``.
+
+    Raises
+    ------
+    ValueError
+        From :func:`near_separatrix_state`: ``h`` off the segment ``n = C^2``.
+    RuntimeError
+        If ``gamma`` does not return within ``t = 10^5``.
+
+    References
+    ----------
+    K01-2.34, K01-Fig6f (FORMULAS.md).
     """
     import numpy as np
     from scipy.integrate import solve_ivp
@@ -565,11 +794,38 @@ def frame_turn(I: Sequence, D: float, h: float, C: float = 1.0, rtol: float = 1e
     return float(T), float(np.arctan2(np.dot(aT, b0), np.dot(aT, a0)))
 
 
-def critical_energy(I: Sequence, D: float, bracket: tuple[float, float], C: float = 1.0) -> float:
+def critical_energy(
+    I: Sequence[float], D: float, bracket: tuple[float, float], C: float = 1.0
+) -> float:
     """The energy in ``bracket`` where :func:`frame_turn`'s ``Phi`` vanishes (Brent's method).
 
     Where the trace becomes unbounded (K01-Fig6f); accuracy limited by the double-precision
     integration (``rtol = 1e-12``): about 1e-9 in ``h``.
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+        Moments of inertia.
+    D : float
+        ``D = m b^2``.
+    bracket : (float, float)
+        Energies ``h`` where ``Phi`` has opposite signs, inside ``(h3, h1)``.
+    C : float
+        ``C = (M, gamma)``.
+
+    Returns
+    -------
+    float
+        The critical energy.
+
+    Raises
+    ------
+    ValueError
+        If ``Phi`` has the same sign at both ends of ``bracket`` (from Brent's method).
+
+    References
+    ----------
+    K01-Fig6f (FORMULAS.md).
     """
     from scipy.optimize import brentq
 

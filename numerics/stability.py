@@ -22,11 +22,13 @@ BKM12-1.5stab, BKM12-1.5stab8, K01-3.2stab, BKM12-Sigma45.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import cache, lru_cache
 
 import numpy as np
 import sympy as sp
+from numpy.typing import ArrayLike
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
@@ -34,7 +36,7 @@ from ..derive.bifurcation import steady_parameters, steady_rotation
 from ..derive.emit import emit_function
 from ..derive.errors import UserInputError
 from ..derive.systems import build_model
-from .code import load_model_code
+from .code import ModelCode, load_model_code
 from .inputs import check_choice, check_inertia_vector, check_real
 
 __all__ = [
@@ -115,14 +117,19 @@ def _params(I, D) -> list[float]:
     return [float(v) for v in (*I, D)]
 
 
-def critical_state(I, D, axis: int, C: float, Mg: float = 0.0, branch: int = 0):
+def critical_state(
+    I: Sequence[float], D: float, axis: int, C: float, Mg: float = 0.0, branch: int = 0
+) -> tuple[np.ndarray, float]:
     """A steady rotation about ``e_axis`` on the level ``(C, M_gamma)`` (BKM12-crit).
 
     Parameters
     ----------
     I : sequence of 3 floats
+        Moments of inertia.
     D : float
+        ``D = m b^2``.
     axis : {0, 1, 2}
+        The body axis of the rotation.
     C, Mg : float
         ``(M, M)`` and ``(M, gamma)``; ``Mg**2 < C``.
     branch : {0, 1}
@@ -131,8 +138,19 @@ def critical_state(I, D, axis: int, C: float, Mg: float = 0.0, branch: int = 0):
     Returns
     -------
     y0 : ndarray, shape (6,)
+        ``M, gamma`` at ``t = 0``.
     period : float
         ``2 pi/|w|``.
+
+    Raises
+    ------
+    UserInputError
+        Not three positive finite moments and a positive ``D``, or not ``C > 0`` and
+        ``Mg**2 < C``.
+
+    References
+    ----------
+    BKM12-25, BKM12-crit (FORMULAS.md).
     """
     p = _params(I, D)
     check_choice(axis, (0, 1, 2), "axis")
@@ -146,16 +164,40 @@ def critical_state(I, D, axis: int, C: float, Mg: float = 0.0, branch: int = 0):
     return y0, 2 * np.pi / abs(w)
 
 
-def euler_state(I, D, C: float, Ep: float, sign: int = 1):
+def euler_state(I: Sequence[float], D: float, C: float, Ep: float, sign: int = 1) -> np.ndarray:
     """A state with ``M = M_gamma gamma`` (``Sigma_4`` for sign +1, ``Sigma_5`` for -1).
 
     ``C = M_gamma^2`` and ``E' = E D/C``: the orbit lies on ``(gamma, A gamma) =
     E/(C + E D)`` (BKM12-Sigma45, Fig3); gamma(0) is taken in the plane of the axes of
     largest and smallest ``A_i``, which every such curve crosses.
 
+    Parameters
+    ----------
+    I : sequence of 3 floats
+        Moments of inertia.
+    D : float
+        ``D = m b^2``.
+    C : float
+        ``C = (M, M) = M_gamma^2``.
+    Ep : float
+        ``E' = E D/C``.
+    sign : {1, -1}
+        ``M = sign sqrt(C) gamma``: ``Sigma_4`` (+1) or ``Sigma_5`` (-1).
+
     Returns
     -------
     ndarray, shape (6,)
+        ``M, gamma`` at ``t = 0``.
+
+    Raises
+    ------
+    UserInputError
+        Bad ``I`` or ``D``, or ``E'`` outside the range of ``Sigma_4/5`` (the message
+        gives the range).
+
+    References
+    ----------
+    BKM12-Sigma45 (FORMULAS.md).
     """
     p = _params(I, D)
     A = 1 / (np.asarray(p[:3]) + p[3])
@@ -173,25 +215,62 @@ def euler_state(I, D, C: float, Ep: float, sign: int = 1):
     return np.concatenate([m * gamma, gamma])
 
 
-def integral_gradients(code, y, p) -> np.ndarray:
-    """``dF(y)`` of every integral of the model, complex-step derivatives, shape (k, n)."""
+def integral_gradients(code: ModelCode, y: ArrayLike, p: ArrayLike) -> np.ndarray:
+    """``dF(y)`` of every integral of the model, complex-step derivatives, shape (k, n).
+
+    Parameters
+    ----------
+    code : ModelCode
+        The model (its numpy ``integrals``, which must accept complex states).
+    y : array_like, shape (n,)
+        State.
+    p : array_like
+        Parameters of the generated code.
+
+    Returns
+    -------
+    ndarray, shape (k, n)
+        Row ``i``: the gradient of integral ``i`` (step ``1e-30``, exact to rounding).
+    """
     n = len(y)
     h = 1e-30
     Y = np.asarray(y, dtype=complex)[:, None] + 1j * h * np.eye(n)
     return np.imag(code.numpy.integrals(0.0, Y, p)) / h
 
 
-def return_period(I, D, y0, t_max: float, rtol: float = 1e-12) -> float:
+def return_period(
+    I: Sequence[float], D: float, y0: np.ndarray, t_max: float, rtol: float = 1e-12
+) -> float:
     """First return time of a periodic orbit to ``y0``.
 
     Zeros of ``(y(t) - y0, f(y0))`` from below, found on the dense output and refined
     with Brent's method; the one where ``|y(t) - y0|`` is smallest within the first
-    crossings is the period.
+    crossings is the period: the first crossing within ``1e-6 max(1, |y0|)`` of ``y0``.
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+        Moments of inertia.
+    D : float
+        ``D = m b^2``.
+    y0 : ndarray, shape (6,)
+        A state of the periodic orbit (``M, gamma``).
+    t_max : float
+        Longest time searched (4000 samples of the dense output).
+    rtol : float
+        Relative and absolute tolerance of the DOP853 integration.
+
+    Returns
+    -------
+    float
+        The period.
 
     Raises
     ------
     RuntimeError
         When the orbit does not come back within ``t_max``.
+    UserInputError
+        Bad ``I`` or ``D``.
     """
     p = _params(I, D)
     code = load_model_code(SYSTEM)
@@ -220,8 +299,42 @@ def return_period(I, D, y0, t_max: float, rtol: float = 1e-12) -> float:
     raise RuntimeError(f"no return to the initial state within t = {t_max} (closest: {best})")
 
 
-def monodromy(code, y0, T: float, p, rtol: float = 1e-12):
-    """``Phi(T)`` of the variational equations, and ``y(T)`` (DOP853, atol = rtol)."""
+def monodromy(
+    code: ModelCode, y0: np.ndarray, T: float, p: ArrayLike, rtol: float = 1e-12
+) -> tuple[np.ndarray, np.ndarray]:
+    """``Phi(T)`` of the variational equations, and ``y(T)`` (DOP853, atol = rtol).
+
+    ``Phi' = J(y) Phi``, ``Phi(0) = Id``, integrated together with ``y' = f(y)``.
+
+    Parameters
+    ----------
+    code : ModelCode
+        The model (numpy ``rhs`` and ``jac``).
+    y0 : ndarray, shape (n,)
+        Initial state.
+    T : float
+        End time (the period).
+    p : array_like
+        Parameters of the generated code.
+    rtol : float
+        Relative and absolute tolerance.
+
+    Returns
+    -------
+    Phi : ndarray, shape (n, n)
+        The monodromy matrix.
+    yT : ndarray, shape (n,)
+        The state at ``T``.
+
+    Raises
+    ------
+    RuntimeError
+        If the integration fails.
+
+    References
+    ----------
+    BKM12-1.5stab (FORMULAS.md).
+    """
     n = len(y0)
 
     def rhs(t, z):
@@ -239,23 +352,47 @@ def monodromy(code, y0, T: float, p, rtol: float = 1e-12):
 
 
 def floquet(
-    I,
-    D,
-    y0,
+    I: Sequence[float],
+    D: float,
+    y0: ArrayLike,
     T: float,
     rtol: float = 1e-12,
     *,
     system: str = SYSTEM,
-    params=None,
+    params: Sequence[float] | None = None,
 ) -> FloquetResult:
     """Floquet multipliers of the periodic solution through ``y0`` with period ``T``.
 
     ``system`` and ``params`` (the generated code's parameter vector) select another
     model (the spherical support); ``I, D`` are then ignored.
 
+    Parameters
+    ----------
+    I : sequence of 3 floats
+        Moments of inertia.
+    D : float
+        ``D = m b^2``.
+    y0 : array_like, shape (n,)
+        A state of the periodic solution.
+    T : float
+        Its period.
+    rtol : float
+        Tolerance of :func:`monodromy`; ``sqrt(rtol)`` is the stability tolerance.
+    system : str
+        Model name.
+    params : sequence of floats, optional
+        The generated code's parameter vector (replaces ``I, D``).
+
     Returns
     -------
     FloquetResult
+        All and the nontrivial multipliers, stability, closure, drift of the integrals
+        and the rank of ``dF(y0)``.
+
+    Raises
+    ------
+    UserInputError
+        Bad ``I`` or ``D`` (when ``params`` is None).
 
     References
     ----------
@@ -298,8 +435,8 @@ def floquet(
 
 
 def steady_rotation_floquet(
-    I,
-    D,
+    I: tuple[float, float, float],
+    D: float,
     C: float = 1.0,
     Mg: float = 0.0,
     rtol: float = 1e-12,
@@ -307,6 +444,27 @@ def steady_rotation_floquet(
     """:func:`floquet` of the steady rotations about ``e_1, e_2, e_3`` on ``(C, M_gamma)``.
 
     Results are memoised (on ``tuple(I)`` and the other arguments).
+
+    Parameters
+    ----------
+    I : tuple of 3 floats
+        Moments of inertia.
+    D : float
+        ``D = m b^2``.
+    C, Mg : float
+        ``(M, M)`` and ``(M, gamma)``; ``Mg**2 < C``.
+    rtol : float
+        Tolerance of :func:`floquet`.
+
+    Returns
+    -------
+    tuple of 3 FloquetResult
+        The rotations about ``e_1``, ``e_2``, ``e_3`` (branch 0 of :func:`critical_state`).
+
+    Raises
+    ------
+    UserInputError
+        From :func:`critical_state`.
 
     References
     ----------
@@ -328,9 +486,34 @@ def _steady_rotation_floquet(I, D, C, Mg, rtol) -> tuple[FloquetResult, ...]:
     return tuple(out)
 
 
-def euler_floquet(I, D, Ep: float, rtol: float = 1e-12) -> FloquetResult:
-    """:func:`floquet` of the Euler-top orbit ``M = gamma`` at ``E' = Ep`` (``Sigma_4``, C = 1),
-    its period from :func:`return_period` within 40 periods of the fastest rotation.
+def euler_floquet(I: Sequence[float], D: float, Ep: float, rtol: float = 1e-12) -> FloquetResult:
+    """:func:`floquet` of the Euler-top orbit ``M = gamma`` at ``E' = Ep`` (``Sigma_4``, C = 1).
+
+    Its period comes from :func:`return_period` within 40 periods of the fastest rotation.
+    Results are memoised (on ``tuple(I)``).
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+        Moments of inertia.
+    D : float
+        ``D = m b^2``.
+    Ep : float
+        ``E' = E D/C`` (:func:`euler_state`).
+    rtol : float
+        Tolerance of the integrations.
+
+    Returns
+    -------
+    FloquetResult
+        Multipliers and evidence of the orbit through :func:`euler_state` ``(I, D, 1, Ep)``.
+
+    Raises
+    ------
+    UserInputError
+        Arguments of a wrong type or non-physical, or from :func:`euler_state`.
+    RuntimeError
+        From :func:`return_period`: no return found.
 
     References
     ----------
@@ -359,20 +542,37 @@ def _support_functions(axis: int):
     return emit_function([fam.w, *frame, *model.params], state, name="support_state")
 
 
-def support_steady_state(params, axis: int, w: float, frame) -> tuple[np.ndarray, float]:
+def support_steady_state(
+    params: Sequence[float], axis: int, w: float, frame: ArrayLike
+) -> tuple[np.ndarray, float]:
     """Steady rotation ``omega = w e_axis`` of the spherical support (BKM12-2.7b).
 
     Parameters
     ----------
     params : sequence of 6 floats
         ``I1, I2, I3, D_iso, D_al, D_be``.
-    frame : array, shape (3, 3)
+    axis : {0, 1, 2}
+        The body axis of the rotation.
+    w : float
+        Angular velocity (nonzero).
+    frame : array_like, shape (3, 3)
         Rows ``alpha, beta, gamma`` at ``t = 0`` (orthonormal, right-handed).
 
     Returns
     -------
     y0 : ndarray, shape (12,)
+        The state of ``spherical_support`` at ``t = 0``.
     period : float
+        ``2 pi/|w|``.
+
+    Raises
+    ------
+    UserInputError
+        If ``frame`` is not three orthonormal rows.
+
+    References
+    ----------
+    BKM12-2.7b (FORMULAS.md).
     """
     F = np.asarray(frame, dtype=float)
     if F.shape != (3, 3) or not np.allclose(F @ F.T, np.eye(3), atol=1e-12):

@@ -34,7 +34,7 @@ import types
 import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import cffi
 import gmpy2
@@ -42,6 +42,9 @@ import mpmath
 import numpy as np
 
 from .compiled import CompilerError, CompilerUnavailableWarning, compile_c
+
+if TYPE_CHECKING:
+    from .code import ModelCode
 
 __all__ = [
     "TaylorSolution",
@@ -81,7 +84,20 @@ MAX_STEPS = 10_000_000
 
 
 def jorba_zou_order(eps: float, max_order: int = 80) -> int:
-    """Order ``ceil(-ln(eps)/2 + 1)`` of Jorba and Zou (2005), between 2 and ``max_order``."""
+    """Order ``ceil(-ln(eps)/2 + 1)`` of Jorba and Zou (2005), between 2 and ``max_order``.
+
+    Parameters
+    ----------
+    eps : float
+        Tolerance of the step (``atol`` or ``rtol``, see the module docstring), ``> 0``.
+    max_order : int
+        Largest order returned.
+
+    Returns
+    -------
+    int
+        The order ``p``.
+    """
     return int(min(max(math.ceil(-0.5 * math.log(eps) + 1.0), 2), max_order))
 
 
@@ -94,6 +110,22 @@ def encode_binary128(values: Sequence[Any]) -> np.ndarray:
     """IEEE binary128 bytes (little-endian) of ``values``, rounded to nearest (113 bits).
 
     Returns a ``uint8`` array of ``16 * len(values)`` bytes.
+
+    Parameters
+    ----------
+    values : sequence of numbers
+        Anything ``mpmath.mpf`` accepts (``mpmath.mpf`` values are rounded as they are).
+
+    Returns
+    -------
+    numpy.ndarray of uint8, shape (16 * len(values),)
+        The values one after the other, 16 bytes each.
+
+    Raises
+    ------
+    ValueError
+        For a value that is not finite or is outside the normal binary128 range
+        (subnormals included).
     """
     out = bytearray()
     with mpmath.workprec(113):
@@ -116,8 +148,22 @@ def encode_binary128(values: Sequence[Any]) -> np.ndarray:
     return np.frombuffer(bytes(out), dtype=np.uint8).copy()
 
 
-def decode_binary128(buf: np.ndarray | bytes, count: int | None = None) -> list:
-    """``mpmath.mpf`` values (exact at >= 113 bits) of little-endian binary128 bytes."""
+def decode_binary128(buf: np.ndarray | bytes, count: int | None = None) -> list[mpmath.mpf]:
+    """``mpmath.mpf`` values (exact at >= 113 bits) of little-endian binary128 bytes.
+
+    Parameters
+    ----------
+    buf : numpy.ndarray of uint8 or bytes
+        The bytes, 16 per value.
+    count : int, optional
+        Number of values to read (default all of ``buf``).
+
+    Returns
+    -------
+    list of mpmath.mpf
+        The values at ``max(mp.prec, 113)`` bits; infinities and NaN as ``mpmath.inf``,
+        ``mpmath.ninf``, ``mpmath.nan``.
+    """
     raw = bytes(buf)
     count = len(raw) // 16 if count is None else count
     out = []
@@ -257,23 +303,86 @@ class CompiledTaylor:
 
     # conversion between Python values and REAL buffers
     def pack(self, values: Sequence[Any]) -> np.ndarray:
-        """Buffer of ``values`` as the library's reals."""
+        """Buffer of ``values`` as the library's reals.
+
+        Parameters
+        ----------
+        values : sequence of numbers
+            Floats (double) or anything ``mpmath.mpf`` accepts (quad).
+
+        Returns
+        -------
+        numpy.ndarray
+            float64 array (double) or ``uint8`` binary128 bytes (quad).
+        """
         return self.real.pack(values)
 
-    def unpack(self, buf: np.ndarray, count: int | None = None) -> Any:
-        """The first ``count`` reals of ``buf`` (all by default)."""
+    def unpack(self, buf: np.ndarray, count: int | None = None) -> np.ndarray | list[mpmath.mpf]:
+        """The first ``count`` reals of ``buf`` (all by default).
+
+        Parameters
+        ----------
+        buf : numpy.ndarray
+            A buffer of the library's reals (:meth:`pack`, :meth:`empty`).
+        count : int, optional
+            Number of values (default all).
+
+        Returns
+        -------
+        numpy.ndarray or list of mpmath.mpf
+            float64 array (double, a view of ``buf``) or list of mpf (quad).
+        """
         return self.real.unpack(buf, count)
 
     def empty(self, count: int) -> np.ndarray:
-        """A zeroed buffer of ``count`` reals."""
+        """A zeroed buffer of ``count`` reals.
+
+        Parameters
+        ----------
+        count : int
+            Number of reals.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``count`` float64 zeros (double) or ``16 * count`` zero bytes (quad).
+        """
         return self.real.empty(count)
 
     @staticmethod
     def _ptr(a: np.ndarray):
         return _ffi.from_buffer("char[]", a, require_writable=False)
 
-    def coefficients(self, order: int, t0, y, p) -> Any:
-        """Normalised Taylor coefficients, ``n_state x (order + 1)`` (ndarray or mpf lists)."""
+    def coefficients(
+        self,
+        order: int,
+        t0: float | mpmath.mpf,
+        y: Sequence[float | mpmath.mpf],
+        p: Sequence[float | mpmath.mpf],
+    ) -> np.ndarray | list[list[mpmath.mpf]]:
+        """Normalised Taylor coefficients, ``n_state x (order + 1)`` (ndarray or mpf lists).
+
+        Parameters
+        ----------
+        order : int
+            Highest order, ``1 <= order <= max_order``.
+        t0 : number
+            Expansion time.
+        y : sequence of numbers, length n_state
+            State at ``t0``.
+        p : sequence of numbers, length n_param
+            Parameters.
+
+        Returns
+        -------
+        numpy.ndarray, shape (n_state, order + 1), or list of n_state lists of mpmath.mpf
+            Row ``i``, column ``k``: ``y_i^(k)(t0)/k!`` (double: float64 array; quad: lists).
+
+        Raises
+        ------
+        ValueError
+            If ``order`` is out of range.
+        """
         if not 1 <= order <= self.max_order:
             raise ValueError(f"order must be in 1..{self.max_order}")
         out = self.empty(self.n_state * (order + 1))
@@ -287,11 +396,29 @@ class CompiledTaylor:
 _LIBS: dict[tuple[str, str], CompiledTaylor | None] = {}
 
 
-def load_taylor_library(code, kind: str) -> CompiledTaylor | None:
+def load_taylor_library(code: ModelCode, kind: str) -> CompiledTaylor | None:
     """Compile (cached by source hash) and load the C Taylor integrator of ``code``.
 
     ``kind="quad"`` compiles with ``-DCHAPLYGIN_TAYLOR_QUAD`` and links ``-lquadmath``.
     Returns None, after a :class:`CompilerUnavailableWarning`, without a usable compiler.
+
+    Parameters
+    ----------
+    code : ModelCode
+        The model (its ``taylor_c_source`` and ``hash``).
+    kind : {"double", "quad"}
+        The C real type (a key of :data:`REAL_TYPES`).
+
+    Returns
+    -------
+    CompiledTaylor or None
+        The loaded library, the same object for every call with the same model and kind;
+        None (also cached) when compiling or loading failed.
+
+    Raises
+    ------
+    KeyError
+        An unknown ``kind``.
     """
     key = (code.hash, kind)
     if key in _LIBS:
@@ -321,6 +448,21 @@ def python_lib(kind: str) -> types.SimpleNamespace:
 
     ``"float"`` (math), ``"mpmath"`` (the ``mpmath.mp`` context) or ``"gmpy2"`` (MPFR at
     the precision of the active gmpy2 context).
+
+    Parameters
+    ----------
+    kind : {"float", "mpmath", "gmpy2"}
+        The number library.
+
+    Returns
+    -------
+    types.SimpleNamespace
+        ``mpf`` (the number constructor), ``sqrt``, ``exp``, ``sin``, ``cos``, ``log``.
+
+    Raises
+    ------
+    ValueError
+        An unknown ``kind``.
     """
     if kind == "float":
         return types.SimpleNamespace(
@@ -604,15 +746,15 @@ def _locate(g, t, C, h, g0, g1, eps):
 
 
 def taylor_solve(
-    code,
-    y0: Sequence,
-    t_span: tuple,
-    p: Sequence,
+    code: ModelCode,
+    y0: Sequence[float | mpmath.mpf],
+    t_span: tuple[float | mpmath.mpf, float | mpmath.mpf],
+    p: Sequence[float | mpmath.mpf],
     *,
     precision: str = "double",
     rtol: float,
     atol: float,
-    t_eval: Sequence | None = None,
+    t_eval: Sequence[float | mpmath.mpf] | None = None,
     events: Sequence[Callable] | Callable | None = None,
     order: int | None = None,
     step: float | None = None,
@@ -625,9 +767,11 @@ def taylor_solve(
     Parameters
     ----------
     code : ModelCode
+        The model (:func:`chaplygin.numerics.code.load_model_code`).
     y0, p : sequence
         State and parameters (floats in double, ``mpmath.mpf`` otherwise).
     t_span : (t0, t1)
+        Start and end times; ``t1 < t0`` integrates backward.
     precision : {"double", "quad", "digits"}
         ``digits`` uses the precision of the active ``mpmath.mp`` context.
     rtol, atol : float
@@ -646,9 +790,20 @@ def taylor_solve(
         Wall-time limit of the Python loop (status -6 past it); the compiled run is bounded
         by ``max_steps`` only.
 
+    max_steps : int
+        Largest number of steps (status -2 beyond it).
+
     Returns
     -------
     TaylorSolution
+        States at ``t_eval``, status (0: reached ``t1``) and message, step count, the orders
+        used, the backend and the events.
+
+    Raises
+    ------
+    ValueError
+        An unknown precision, a fixed order outside 2..80, ``t_eval`` not sorted in the
+        direction of integration, or ``lib="float"`` outside double precision.
     """
     if precision not in LOOP_NUMBERS:
         raise ValueError(f"unknown precision {precision!r}")

@@ -100,6 +100,17 @@ def chaplygin_coefficients(E: float, D: float, C: float, Mg: float) -> MapCoeffi
     D, C, Mg : float
         ``D``, ``(M, M)``, ``(M, gamma)`` (``Mg != 0``; at ``Mg = 0`` the map is the identity).
 
+    Returns
+    -------
+    MapCoefficients
+        ``m1, m2, c1, c2``, the new ``D~`` and ``E~``, the root ``f`` used, ``form =
+        "chaplygin"``.
+
+    Raises
+    ------
+    UserInputError
+        Unless ``E > 0``, ``D > 0`` and ``C > 0``.
+
     References
     ----------
     BKM12-22, BKM12-23, BKM12-1.4a.
@@ -115,6 +126,24 @@ def chaplygin_coefficients(E: float, D: float, C: float, Mg: float) -> MapCoeffi
 def kilin_coefficients(E: float, D: float, C: float, Mg: float) -> MapCoefficients:
     """K01-2.29 ... 2.33 (Kilin's normalisation ``(M~, M~) = n1``), inverted.
 
+    Parameters
+    ----------
+    E : float
+        ``2H = (M, omega)``.
+    D, C, Mg : float
+        ``D``, ``(M, M)``, ``(M, gamma)``.
+
+    Returns
+    -------
+    MapCoefficients
+        The inverse of Kilin's matrix as ``m1, m2, c1, c2``, ``D~``, ``E~ = 2 h1``, the
+        root ``f`` of Chaplygin's map, ``form = "kilin"``.
+
+    Raises
+    ------
+    UserInputError
+        Unless ``E > 0``, ``D > 0`` and ``C > Mg**2``.
+
     References
     ----------
     K01-2.29, K01-2.32, K01-2.33.
@@ -128,13 +157,49 @@ def kilin_coefficients(E: float, D: float, C: float, Mg: float) -> MapCoefficien
 
 
 def map_state(y: np.ndarray, k: MapCoefficients) -> np.ndarray:
-    """Map states ``(M, gamma)`` (shape ``(6, ...)``) to ``(M~, gamma~)``."""
+    """Map states ``(M, gamma)`` (shape ``(6, ...)``) to ``(M~, gamma~)``.
+
+    Parameters
+    ----------
+    y : ndarray, shape (6, ...)
+        States ``M, gamma`` (more rows are ignored).
+    k : MapCoefficients
+        The map.
+
+    Returns
+    -------
+    ndarray, shape (6, ...)
+        ``M~ = m1 M + m2 gamma``, ``gamma~ = c1 M + c2 gamma``.
+
+    References
+    ----------
+    BKM12-22, K01-2.29 (FORMULAS.md).
+    """
     M, g = y[:3], y[3:6]
     return np.concatenate([k.m1 * M + k.m2 * g, k.c1 * M + k.c2 * g])
 
 
 def mu_of_mapped(yt: np.ndarray, A: np.ndarray, k: MapCoefficients) -> np.ndarray:
-    """``mu = m1 + c1 Z~`` (BKM12-18, corrected) at mapped states (shape ``(6, N)``)."""
+    """``mu = m1 + c1 Z~`` (BKM12-18, corrected) at mapped states (shape ``(6, N)``).
+
+    Parameters
+    ----------
+    yt : ndarray, shape (6, N)
+        Mapped states ``M~, gamma~`` (:func:`map_state`).
+    A : array_like, shape (3,)
+        ``A_i = 1/(I_i + D)`` (unchanged by the map).
+    k : MapCoefficients
+        The map (``m1``, ``c1`` and ``D~``).
+
+    Returns
+    -------
+    ndarray, shape (N,)
+        ``mu`` at each state, ``ds/dt = 1/mu``.
+
+    References
+    ----------
+    BKM12-18, BKM12-19 (FORMULAS.md).
+    """
     Mt, gt = yt[:3], yt[3:6]
     A = np.asarray(A, dtype=float).reshape(3, 1)
     Zt = np.sum(A * Mt * gt, axis=0) / (1.0 / k.Dt - np.sum(A * gt * gt, axis=0))
@@ -192,8 +257,10 @@ def transformation_test(
 
     Parameters
     ----------
-    I, D : inertia and ``D = m b^2`` of the original ball.
-    M0, gamma0 : initial state (``|gamma0| = 1``, ``(M0, gamma0) != 0``).
+    I, D : tuple of 3 floats, float
+        Inertia and ``D = m b^2`` of the original ball.
+    M0, gamma0 : tuple of 3 floats each
+        Initial state (``|gamma0| = 1``, ``(M0, gamma0) != 0``).
     t_end : float
         Time span of the original trajectory.
     form : {"chaplygin", "kilin"}
@@ -316,13 +383,26 @@ def transformation_test(
 # ------------------------------------------------------------------ spherical support
 def support_coefficients(
     E: float, C: float, M_al: float, M_be: float, D_al: float, D_be: float
-) -> dict:
+) -> dict[str, np.ndarray]:
     """BKM12 Proposition 2: rows of ``Q_E`` from the roots of the cubic (55).
+
+    Parameters
+    ----------
+    E : float
+        Twice the energy.
+    C : float
+        ``(M, M)``.
+    M_al, M_be : float
+        ``(M, alpha)`` and ``(M, beta)``.
+    D_al, D_be : float
+        The support's ``D`` along ``alpha`` and ``beta``.
 
     Returns
     -------
-    dict
-        ``roots`` (ascending), ``Q`` (rows for the roots, first entry 1), ``Gamma``, ``g``.
+    dict of str to ndarray
+        ``roots`` (ascending, shape (3,)), ``Q`` (shape (3, 3): rows for the roots, first
+        entry 1), ``Gamma`` (3, 3), ``g`` (3, 3) and ``cubic`` (the cubic's coefficients,
+        highest degree first, shape (4,)).
 
     References
     ----------
@@ -350,9 +430,21 @@ def support_coefficients(
 
 
 def random_support_state(rng: np.random.Generator) -> tuple[float, ...]:
-    """``(E, C, M_al, M_be, D_al, D_be)`` of a random support state: a random orthonormal
-    pair alpha, beta, a normal random M, E in [0.2, 3], D_al, D_be in [0.2, 2] (the
-    arguments of :func:`support_coefficients`)."""
+    """``(E, C, M_al, M_be, D_al, D_be)`` of a random support state.
+
+    A random orthonormal pair alpha, beta, a normal random M, E in [0.2, 3], D_al, D_be in
+    [0.2, 2] (the arguments of :func:`support_coefficients`).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        Source of the random numbers.
+
+    Returns
+    -------
+    tuple of 6 floats
+        ``E, C = (M, M), (M, alpha), (M, beta), D_al, D_be``.
+    """
     Qr = random_orthonormal(rng)
     alpha, beta = Qr[:, 0], Qr[:, 1]
     M = rng.normal(size=3)

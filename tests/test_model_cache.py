@@ -57,7 +57,7 @@ def test_a_damaged_cache_file_is_derived_again(fresh_cache):
     systems._CACHE.clear()
     model = systems.build_model("chaplygin_ball")
     assert model.name == "chaplygin_ball"
-    assert isinstance(pickle.loads(stored.read_bytes()), type(model))  # rewritten
+    assert isinstance(systems._load_cached(stored), type(model))  # rewritten, signed
 
 
 def test_an_edit_of_the_derivation_changes_the_key(fresh_cache, monkeypatch):
@@ -70,3 +70,45 @@ def test_the_cache_can_be_switched_off(fresh_cache, monkeypatch):
     monkeypatch.setenv("CHAPLYGIN_MODEL_CACHE", "0")
     systems.build_model("chaplygin_ball")
     assert not fresh_cache.exists()
+
+
+# ------------------------------------------------------------------ what is loaded (issue 11)
+class _Payload:
+    """Unpickling this runs code: it must never happen for a file we did not write."""
+
+    def __init__(self, marker):
+        self.marker = marker
+
+    def __reduce__(self):
+        return (open, (str(self.marker), "w"))  # creates the marker file when unpickled
+
+
+def test_a_planted_pickle_is_never_unpickled(fresh_cache, tmp_path):
+
+    path = systems._cache_file("chaplygin_ball", frozenset())
+    path.parent.mkdir(parents=True, exist_ok=True)
+    marker = tmp_path / "ran"
+    path.write_bytes(pickle.dumps(_Payload(marker)))  # a foreign file, no signature
+    model = systems.build_model("chaplygin_ball")
+    assert not marker.exists()  # never unpickled
+    assert model.name == "chaplygin_ball" and systems._load_cached(path) is not None
+    # the same payload behind a forged header and a wrong tag: refused as well
+    path.write_bytes(b"chaplygin-model-1\n" + b"0" * 64 + b"\n" + pickle.dumps(_Payload(marker)))
+    assert systems._load_cached(path) is None and not marker.exists()
+
+
+def test_a_models_folder_others_can_write_is_refused(fresh_cache):
+    from chaplygin.derive.errors import CacheError
+
+    path = systems._cache_file("chaplygin_ball", frozenset())
+    path.parent.mkdir(parents=True, exist_ok=True)
+    systems._store(path, systems.build_model("chaplygin_ball", disk_cache=False))
+    path.parent.chmod(0o777)
+    with pytest.raises(CacheError, match="can be written by other users"):
+        systems._load_cached(path)
+
+
+def test_xdg_cache_home_is_honoured(tmp_path, monkeypatch):
+    monkeypatch.delenv("CHAPLYGIN_CACHE_DIR", raising=False)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    assert systems.model_cache_dir() == tmp_path / "xdg" / "chaplygin" / "models"

@@ -76,13 +76,26 @@ class BenchProblem:
     description: str
 
     def key(self) -> str:
+        """Cache key of the problem's reference solutions.
+
+        Returns
+        -------
+        str
+            The first 16 hex digits of the sha256 of the cache version, name, parameters
+            and initial state (not of the spans: those are part of the file name).
+        """
         data = [_CACHE_VERSION, self.name, self.params, self.y0]
         return hashlib.sha256(json.dumps(data, sort_keys=True, default=str).encode()).hexdigest()[
             :16
         ]
 
 
-def separatrix_state(I: Sequence = (1, 2, 3), D=1, C=1, dps: int = 250) -> dict:
+def separatrix_state(
+    I: Sequence[float | str] = (1, 2, 3),
+    D: float | str = 1,
+    C: float | str = 1,
+    dps: int = 250,
+) -> dict[str, tuple[str, ...]]:
     """``M`` and ``gamma`` at the separatrix point ``t = 0`` of K01-3.4 (C > 0 form).
 
     ``gamma = (-s32, 0, -s21)``, ``M = C gamma``, computed by
@@ -101,8 +114,13 @@ def separatrix_state(I: Sequence = (1, 2, 3), D=1, C=1, dps: int = 250) -> dict:
 
     Returns
     -------
-    dict
+    dict of str to tuple of str
         ``{"M": (3 str), "gamma": (3 str)}``.
+
+    Raises
+    ------
+    UserInputError
+        Unless ``I1 < I2 < I3``.
 
     References
     ----------
@@ -157,7 +175,14 @@ class BenchRow:
     nfev: int | None = None
     note: str = ""
 
-    def to_json(self) -> dict:
+    def to_json(self) -> dict[str, object]:
+        """The row as a JSON-ready dict.
+
+        Returns
+        -------
+        dict of str to object
+            ``dataclasses.asdict`` of the row: one entry per field.
+        """
         return asdict(self)
 
 
@@ -168,11 +193,35 @@ def _reference_file(out: Path, problem: BenchProblem, T: float, digits: int) -> 
     return out / f"reference_{problem.name}_{problem.key()}_T{T:g}_{digits}d.json"
 
 
-def reference_solution(problem: BenchProblem, T: float, digits: int, out: Path | None) -> list:
+def reference_solution(
+    problem: BenchProblem, T: float, digits: int, out: Path | None
+) -> list[mpmath.mpf]:
     """State at ``T`` with at least ``digits`` digits (Taylor; cached in ``out``).
 
     ``digits <= 34`` uses quad (C ``__float128``, 34 digits), else MPFR at ``digits``;
     the tolerance is the smallest the precision delivers.
+
+    Parameters
+    ----------
+    problem : BenchProblem
+        The initial-value problem (Chaplygin ball).
+    T : float
+        End time.
+    digits : int
+        Digits the reference must have at least.
+    out : pathlib.Path or None
+        Folder of the cached references (read when the file exists, written after a
+        computation); None computes without caching.
+
+    Returns
+    -------
+    list of mpmath.mpf
+        The state at ``T`` in model order (six components).
+
+    Raises
+    ------
+    RuntimeError
+        When the Taylor integration fails.
     """
     path = None if out is None else _reference_file(out, problem, T, digits)
     if path is not None and path.exists():
@@ -270,7 +319,13 @@ def _measure_integrate(
 
 
 def peers_available() -> dict[str, bool]:
-    """Whether the optional peers (``pip install chaplygin[peers]``) are importable."""
+    """Whether the optional peers (``pip install chaplygin[peers]``) are importable.
+
+    Returns
+    -------
+    dict of str to bool
+        ``{"heyoka": ..., "jitcode": ...}``.
+    """
     return {name: importlib.util.find_spec(name) is not None for name in ("heyoka", "jitcode")}
 
 
@@ -452,6 +507,17 @@ def rhs_call_times(number: int = 20000) -> dict[str, float]:
     with the trampoline switched off;
     ``C (rhs_many, per state)``: one batched C call on 1000 states, divided by 1000;
     ``numpy (per call)``: the generated numpy ``rhs``. Best of 5 repeats of ``number``.
+
+    Parameters
+    ----------
+    number : int, default 20000
+        Calls per repeat for the C timings (the numpy timing uses 2000).
+
+    Returns
+    -------
+    dict of str to float
+        Seconds per evaluation by label; only the numpy entry when the C code could not
+        be compiled.
     """
     code = load_model_code("chaplygin_ball")
     lib = code.compiled()
@@ -493,7 +559,15 @@ def rhs_call_times(number: int = 20000) -> dict[str, float]:
 
 
 def compile_times() -> dict[str, float]:
-    """Seconds to compile (from scratch, in a temporary cache) the model's C code."""
+    """Seconds to compile (from scratch, in a temporary cache) the model's C code.
+
+    Returns
+    -------
+    dict of str to float
+        Seconds by job (the right-hand side, and the Taylor code in double and quad when
+        there is one); a job that fails has ``nan`` and an entry ``"<job> (error)"``
+        holding the first 80 characters of the error message (a str).
+    """
     from ..numerics.ccompile import compile_c
 
     code = load_model_code("chaplygin_ball")
@@ -559,6 +633,27 @@ def run_study(
     ``quick``: one run per row, one tolerance per method, ``T`` shortened (double: 20,
     digits: 2; slow families -- numpy right-hand sides, RK45, Radau, 100 digits, odefun --
     double: 5, digits: 0.5); every shortened row says so in ``note``.
+
+    Parameters
+    ----------
+    out : pathlib.Path
+        Folder for the cached reference solutions (created).
+    quick : bool, default False
+        Shortened study (see above).
+    repeats : int, optional
+        Runs per row; default 1 when ``quick``, else 5.
+    problems : sequence of str, default ("reference", "separatrix")
+        Keys of :data:`PROBLEMS`.
+    progress : callable of str, optional
+        Called with a line of text before each measurement.
+
+    Returns
+    -------
+    dict
+        ``"rows"`` (list of :meth:`BenchRow.to_json` dicts, the peers' rows included,
+        or a row saying they are not installed), ``"rhs_call_s"``
+        (:func:`rhs_call_times`), ``"compile_s"`` (:func:`compile_times` and the peers'
+        compile/JIT times), ``"quick"`` and ``"repeats"``.
     """
     out.mkdir(parents=True, exist_ok=True)
     repeats = (1 if quick else 5) if repeats is None else repeats
@@ -640,7 +735,18 @@ def _fmt(x, spec=".2e") -> str:
 
 
 def render_markdown(study: dict) -> str:
-    """The study as Markdown: one table per problem, rhs-call and compile times, ratios."""
+    """The study as Markdown: one table per problem, rhs-call and compile times, ratios.
+
+    Parameters
+    ----------
+    study : dict
+        The output of :func:`run_study` (or the JSON it was saved as).
+
+    Returns
+    -------
+    str
+        The Markdown document, ending with a newline.
+    """
     rows = study["rows"]
     lines = ["# Work-precision study (chaplygin bench)", ""]
     if study.get("quick"):
@@ -685,6 +791,18 @@ def target_ratios(study: dict) -> list[str]:
 
     Against heyoka measured in the same run when it is installed, else against the times
     quoted in the issue (measured on other machines; marked as such).
+
+    Parameters
+    ----------
+    study : dict
+        The output of :func:`run_study`; only its ``reference`` rows and ``rhs_call_s``
+        are used.
+
+    Returns
+    -------
+    list of str
+        One sentence per target that the rows allow to assess (double and quad Taylor
+        against heyoka, 50 digits against ``mpmath.odefun``, the C right-hand-side call).
     """
     rows = [r for r in study["rows"] if r["problem"] == "reference"]
     msgs = []

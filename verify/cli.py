@@ -24,6 +24,7 @@ from . import (
     derive_cmd,
     integrate_cmd,
     rotation_cmd,
+    run_cmd,
     verify_cmd,
 )
 from .cli_common import EXIT_USAGE
@@ -40,6 +41,7 @@ COMMANDS = (
     delta_cmd,
     rotation_cmd,
     bifurcation_cmd,
+    run_cmd,
 )
 
 

@@ -45,6 +45,9 @@ def run(args: argparse.Namespace) -> int:
     for name, value in (("--rtol", args.rtol), ("--atol", args.atol)):
         if value is not None and not value > 0:
             raise UserInputError(f"{name} must be a positive number, got {value}")
+    t_eval = _t_eval(args, prec)
+    if args.output is not None:
+        _check_output(args.output)
     result = integrate(
         args.system,
         y0,
@@ -56,7 +59,16 @@ def run(args: argparse.Namespace) -> int:
         rtol=args.rtol,
         atol=args.atol,
         backend=args.backend,
+        t_eval=t_eval,
     )
+    if args.output is not None:
+        from chaplygin.numerics.code import load_model_code
+
+        from .trajectory import trajectory_columns, write_trajectory
+
+        code = load_model_code(args.system, args.effects)
+        columns = trajectory_columns(result.t, result.y, result.state_names, code.state_groups)
+        write_trajectory(args.output, columns, {"model": code.name, "model_hash": code.hash})
     digits = prec.digits
     final = {k: _format_number(v, digits) for k, v in result.y_final.items()}
     if args.json:
@@ -100,7 +112,32 @@ def run(args: argparse.Namespace) -> int:
     return EXIT_OK if result.success else EXIT_FAILED
 
 
-def add_parser(subparsers) -> argparse.ArgumentParser:
+def _t_eval(args: argparse.Namespace, prec) -> list | None:
+    """``--t-eval N``: N evenly spaced output times from --t-start to --t-end."""
+    if args.t_eval is None:
+        return None
+    if args.t_eval < 2:
+        raise UserInputError(f"--t-eval needs at least 2 points, got {args.t_eval}")
+    from chaplygin.numerics.inputs import working_number
+
+    t0, t1 = working_number(args.t_start, prec), working_number(args.t_end, prec)
+    n = args.t_eval
+    return [t0 + (t1 - t0) * i / (n - 1) for i in range(n)]
+
+
+def _check_output(path: str) -> None:
+    from pathlib import Path
+
+    out = Path(path)
+    if out.suffix not in (".nc", ".csv"):
+        raise UserInputError(f"--output must end in .nc (netCDF) or .csv, got {path!r}")
+    if not out.parent.is_dir():
+        raise UserInputError(f"--output: folder {str(out.parent)!r} does not exist")
+    if out.is_dir():
+        raise UserInputError(f"--output {path!r} is a folder")
+
+
+def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     """Register ``chaplygin integrate``.
 
     Parameters
@@ -144,5 +181,18 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "--effects", default=None, help="comma-separated effects, e.g. gyrostat,contact_point"
     )
     p.add_argument("--backend", default="auto", choices=("auto", "c", "numpy"))
+    p.add_argument(
+        "--t-eval",
+        type=int,
+        default=None,
+        metavar="N",
+        help="N evenly spaced output times from --t-start to --t-end",
+    )
+    p.add_argument(
+        "--output",
+        default=None,
+        metavar="FILE",
+        help="write the trajectory: FILE.nc (netCDF, names and units) or FILE.csv",
+    )
     p.add_argument("--json", action="store_true")
     return p

@@ -74,11 +74,14 @@ import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import sympy as sp
 from sympy.physics import mechanics as me
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..derive.model import Model
 
 __all__ = [
     "Rotor",
@@ -129,6 +132,18 @@ class Rotor:
     spin: float
 
     def unit_axis(self) -> np.ndarray:
+        """The rotor axis normalised to length 1.
+
+        Returns
+        -------
+        numpy.ndarray
+            Body-frame unit vector ``e``, shape (3,).
+
+        Raises
+        ------
+        ValueError
+            For a zero (or non-finite) axis or a non-positive moment of inertia.
+        """
         a = np.asarray(self.axis, dtype=float)
         n = float(np.linalg.norm(a))
         if not n > 0 or self.axial <= 0 or self.transverse <= 0:
@@ -136,7 +151,22 @@ class Rotor:
         return a / n
 
     def momentum(self) -> np.ndarray:
-        """Gyrostatic momentum ``K = Ia s e`` (body frame), the model's parameter ``K``."""
+        """Gyrostatic momentum ``K = Ia s e`` (body frame), the model's parameter ``K``.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``axial * spin * unit_axis()``, shape (3,).
+
+        Raises
+        ------
+        ValueError
+            As :meth:`unit_axis`.
+
+        References
+        ----------
+        K01-4.1 (the constant gyrostatic momentum ``K``).
+        """
         return self.axial * self.spin * self.unit_axis()
 
 
@@ -849,7 +879,7 @@ def _model_omega_dot(model: Any) -> tuple[Callable[..., Any], tuple[str, ...]]:
 
 
 def model_angular_acceleration(
-    model: Any,
+    model: Model,
     params: Mapping[str, float],
     M: Sequence[float],
     gamma: Sequence[float],
@@ -959,7 +989,19 @@ class KaneSample:
         return {"I1": self.I[0], "I2": self.I[1], "I3": self.I[2], "D": self.D * D_factor}
 
     def kane(self, **kwargs: Any) -> np.ndarray:
-        """:func:`kane_angular_acceleration` at this state (keyword arguments passed on)."""
+        """:func:`kane_angular_acceleration` at this state (keyword arguments passed on).
+
+        Parameters
+        ----------
+        **kwargs
+            Keyword arguments of :func:`kane_angular_acceleration` other than ``yaw``
+            (``g``, ``constraint``, ``rotor``).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``omega_dot`` in the body frame, shape (3,).
+        """
         return kane_angular_acceleration(
             self.I, self.D, self.b, self.M, self.gamma, yaw=self.yaw, **kwargs
         )
@@ -1023,14 +1065,33 @@ class ConstrainedSample:
         return self.base.gamma
 
     def kane(self) -> np.ndarray:
-        """The constrained Kane model's ``omega_dot`` at this state, shape (3,)."""
+        """The constrained Kane model's ``omega_dot`` at this state, shape (3,).
+
+        Returns
+        -------
+        numpy.ndarray
+            :func:`kane_angular_acceleration` with ``constraint=self.constraint``,
+            body frame, shape (3,).
+        """
         s = self.base
         return kane_angular_acceleration(
             s.I, s.D, s.b, self.M, s.gamma, yaw=s.yaw, constraint=self.constraint
         )
 
-    def ours(self, model: Any) -> np.ndarray:
-        """``omega_dot`` of ``model`` at this state (with ``alpha, beta`` if it has them)."""
+    def ours(self, model: Model) -> np.ndarray:
+        """``omega_dot`` of ``model`` at this state (with ``alpha, beta`` if it has them).
+
+        Parameters
+        ----------
+        model : chaplygin.derive.Model
+            The constrained variant (``chaplygin_ball`` with ``rubber`` or
+            ``straight_line``).
+
+        Returns
+        -------
+        numpy.ndarray
+            :func:`model_angular_acceleration` at this state, body frame, shape (3,).
+        """
         groups = {"alpha": self.alpha, "beta": self.beta}
         return model_angular_acceleration(model, self.base.params(), self.M, self.gamma, groups)
 
@@ -1090,7 +1151,20 @@ def rotor_samples(
 
 
 def gyrostat_params(s: KaneSample, K: Sequence[float]) -> dict[str, float]:
-    """The gyrostat model's parameters: ``s.params()`` and ``K1, K2, K3``."""
+    """The gyrostat model's parameters: ``s.params()`` and ``K1, K2, K3``.
+
+    Parameters
+    ----------
+    s : KaneSample
+        The state whose ``I1, I2, I3, D`` are used.
+    K : sequence of 3 floats
+        Gyrostatic momentum (body frame), e.g. :meth:`Rotor.momentum`.
+
+    Returns
+    -------
+    dict of str to float
+        ``I1, I2, I3, D, K1, K2, K3``.
+    """
     return {**s.params(), "K1": K[0], "K2": K[1], "K3": K[2]}
 
 
@@ -1108,7 +1182,13 @@ class MovingMassSample:
     t: float
 
     def params(self) -> dict[str, float]:
-        """The ``variable_inertia`` model's parameters."""
+        """The ``variable_inertia`` model's parameters.
+
+        Returns
+        -------
+        dict of str to float
+            ``I1, I2, I3, D, J_off, delta, Omega`` (BM20-3.4).
+        """
         J_off, delta, Omega = self.law
         I1, I2, I3 = self.I
         return {
@@ -1122,13 +1202,27 @@ class MovingMassSample:
         }
 
     def frozen_params(self) -> dict[str, float]:
-        """The plain ball's parameters with the inertia frozen at ``I(t)``."""
+        """The plain ball's parameters with the inertia frozen at ``I(t)``.
+
+        Returns
+        -------
+        dict of str to float
+            ``I1 + o^2, I2, I3 + o^2, D`` with ``o = J_off + delta sin(Omega t)``
+            (BM20-3.4).
+        """
         offset = self.law[0] + self.law[1] * np.sin(self.law[2] * self.t)
         I1, I2, I3 = self.I
         return {"I1": I1 + offset**2, "I2": I2, "I3": I3 + offset**2, "D": self.D}
 
     def kane(self) -> np.ndarray:
-        """The Kane model's ``omega_dot``, shape (3,)."""
+        """The Kane model's ``omega_dot``, shape (3,).
+
+        Returns
+        -------
+        numpy.ndarray
+            :func:`kane_moving_masses_angular_acceleration` at this state, body frame,
+            shape (3,).
+        """
         return kane_moving_masses_angular_acceleration(
             self.I, self.D, self.b, self.law, self.M, self.gamma, self.t
         )
@@ -1162,5 +1256,18 @@ def moving_mass_samples(n: int = 6, seed: int = SEED + 5) -> list[MovingMassSamp
 
 
 def relative_difference(reference: np.ndarray, other: np.ndarray) -> float:
-    """``|other - reference| / |reference|`` (Euclidean norms)."""
+    """``|other - reference| / |reference|`` (Euclidean norms).
+
+    Parameters
+    ----------
+    reference : numpy.ndarray
+        The value compared against (nonzero).
+    other : numpy.ndarray
+        The value compared, same shape.
+
+    Returns
+    -------
+    float
+        The relative difference.
+    """
     return float(np.linalg.norm(other - reference) / np.linalg.norm(reference))

@@ -37,6 +37,11 @@ __all__ = [
     "delta_of_mu_figure",
     "separatrix_traces_figure",
     "work_precision_figure",
+    "contact_trace_figure",
+    "body_trace_figure",
+    "series_figure",
+    "drift_figure",
+    "scene_diagram_figure",
 ]
 
 #: Bifurcation diagrams: name -> (system, default parameters, title).
@@ -573,5 +578,155 @@ def work_precision_figure(study: Mapping) -> Figure:
         ax.set_title(pname + (" (quick)" if study.get("quick") else ""))
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=6)
+    fig.tight_layout()
+    return fig
+
+
+# ---------------------------------------------------------------------------------- scenes
+def contact_trace_figure(x: np.ndarray, y: np.ndarray, title: str = "") -> Figure:
+    """The contact point's trace ``(x, y)`` in the plane (K01 Figs. 3, 4, 6, 7).
+
+    Parameters
+    ----------
+    x, y : ndarray
+        Coordinates along the space-fixed ``alpha``, ``beta``.
+    title : str
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig = _new_figure(figsize=(6, 6))
+    ax = fig.subplots()
+    ax.plot(x, y, lw=0.6)
+    ax.plot([x[0]], [y[0]], "o", color="tab:green", ms=4, label="start")
+    ax.plot([x[-1]], [y[-1]], "s", color="tab:red", ms=4, label="end")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x (along alpha)")
+    ax.set_ylabel("y (along beta)")
+    ax.set_title(title, fontsize=9)
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
+def body_trace_figure(gamma: np.ndarray, b: float, title: str = "") -> Figure:
+    """The contact point ``-b gamma`` on the ball's surface in the body frame (K01 Fig. 2b).
+
+    Parameters
+    ----------
+    gamma : ndarray, shape (3, n)
+    b : float
+        Ball radius.
+    title : str
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig = _new_figure(figsize=(6, 6))
+    ax = fig.add_subplot(projection="3d")
+    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 40), np.linspace(0, np.pi, 20))
+    ax.plot_wireframe(
+        b * np.cos(u) * np.sin(v), b * np.sin(u) * np.sin(v), b * np.cos(v), color="0.85", lw=0.4
+    )
+    p = -b * np.asarray(gamma, float)
+    ax.plot(p[0], p[1], p[2], lw=0.8)
+    ax.set_xlabel("e1")
+    ax.set_ylabel("e2")
+    ax.set_zlabel("e3")
+    ax.set_box_aspect((1, 1, 1))
+    ax.set_title(title, fontsize=9)
+    return fig
+
+
+def series_figure(t: np.ndarray, series: Mapping[str, np.ndarray], title: str = "") -> Figure:
+    """Time series of named quantities on one axis (BM20 Fig. 3: ``I_i(t)``).
+
+    Parameters
+    ----------
+    t : ndarray
+    series : mapping of str to ndarray
+    title : str
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig = _new_figure(figsize=(8, 4))
+    ax = fig.subplots()
+    for name, values in series.items():
+        ax.plot(t, values, lw=0.9, label=name)
+    ax.set_xlabel("t")
+    ax.set_title(title, fontsize=9)
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
+def drift_figure(t: np.ndarray, change: Mapping[str, np.ndarray], title: str = "") -> Figure:
+    """Change of the first integrals over time, log scale (zeros drawn at the floor).
+
+    Parameters
+    ----------
+    t : ndarray
+    change : mapping of str to ndarray
+        ``|F(t) - F(0)|`` (relative where ``F(0)`` is not ~0), per integral.
+    title : str
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig = _new_figure(figsize=(8, 4))
+    ax = fig.subplots()
+    floor = 1e-18
+    for name, values in change.items():
+        ax.semilogy(t, np.maximum(np.asarray(values, float), floor), lw=0.8, label=name)
+    ax.set_xlabel("t")
+    ax.set_ylabel("|F(t) - F(0)| (relative)")
+    ax.set_title(f"drift of the integrals: {title}", fontsize=9)
+    ax.legend(fontsize=7, ncol=2)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
+def scene_diagram_figure(
+    I: Sequence[float], D: float, C: float, n: float, h: float, title: str = "", samples: int = 30
+) -> Figure:
+    """K01's energy diagram in the (n, h) plane at ``C = (M, gamma)`` with one point marked.
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+    D, C : float
+    n, h : float
+        The scene's ``(M, M)`` and energy.
+    title : str
+    samples : int
+        Integrated random states drawn as dots.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig = _new_figure(figsize=(7, 5))
+    ax = fig.subplots()
+    I = tuple(float(v) for v in I)
+    _draw_kilin(ax, I, float(D), float(C), samples, 1)
+    n_max = 3.0 if C == 0 else 3.0 * C**2  # where _draw_kilin stops
+    if n > n_max:  # continue the branches to the scene's point (dotted)
+        from ..numerics.bifurcation import sigma
+
+        ext = np.linspace(n_max, 1.1 * n, 50)
+        for i in range(3):
+            ax.plot(ext, sigma(i, ext, C, I, D) / 2, ":", color=COLORS[i])
+    ax.plot([n], [h], "*", color="k", ms=12, label=f"scene: n = {n:.6g}, h = {h:.6g}")
+    ax.legend(fontsize=7, loc="best")
+    ax.set_title(f"{title}\nI = {tuple(I)}, D = {D:g}, C = {C:.6g}", fontsize=9)
+    ax.grid(alpha=0.3)
     fig.tight_layout()
     return fig

@@ -19,7 +19,19 @@ __all__ = ["plain_to_latex", "render_report", "render_coverage", "paper_of"]
 
 
 def paper_of(claim_id: str) -> str:
-    """``BKM12-4/control-...`` -> ``BKM12``; ``MODEL:...`` -> ``chaplygin models``."""
+    """``BKM12-4/control-...`` -> ``BKM12``; ``MODEL:...`` -> ``chaplygin models``.
+
+    Parameters
+    ----------
+    claim_id : str
+        A claim ID.
+
+    Returns
+    -------
+    str
+        The paper's key (the part before the first ``-``), or ``"chaplygin models"``
+        for the claims about our own models.
+    """
     if claim_id.startswith("MODEL:"):
         return "chaplygin models"
     return claim_id.split("-", 1)[0]
@@ -34,7 +46,19 @@ def _evidence(v: Verdict) -> str:
 
 def render_coverage(rows: Sequence[CoverageRow]) -> list[str]:
     """Markdown lines: per FORMULAS.md section, checkable entries with a verdict and the
-    ones without (a FAILED entry needs its ``/literal`` claim too)."""
+    ones without (a FAILED entry needs its ``/literal`` claim too).
+
+    Parameters
+    ----------
+    rows : sequence of CoverageRow
+        One per FORMULAS.md entry (:func:`~.coverage.coverage`).
+
+    Returns
+    -------
+    list of str
+        A Markdown table: header, separator and one line per section (in the order of
+        ``rows``).
+    """
     lines = [
         "| FORMULAS.md section | issue | checkable | covered | not covered yet |",
         "|---|---|---|---|---|",
@@ -58,7 +82,20 @@ def render_coverage(rows: Sequence[CoverageRow]) -> list[str]:
 
 
 def render_report(verdicts: Sequence[Verdict]) -> str:
-    """Markdown text of the report."""
+    """Markdown text of the report.
+
+    Parameters
+    ----------
+    verdicts : sequence of Verdict
+        The verdicts to report, in the order they are listed per paper.
+
+    Returns
+    -------
+    str
+        The report: overall count, summary per paper, errata (literal readings next to
+        their corrections), coverage of FORMULAS.md and one table of claims per paper;
+        it ends with a newline.
+    """
     lines = ["# chaplygin verification report", ""]
     bad = [v for v in verdicts if not v.ok]
     lines += [

@@ -103,8 +103,15 @@ class Verdict:
         claim = REGISTRY.get(self.id)
         return (claim.latex if claim is not None else "") or plain_to_latex(self.statement)
 
-    def to_json(self) -> dict:
-        """The fields as a JSON-ready dict, with ``ok`` (no ``witness`` when there is none)."""
+    def to_json(self) -> dict[str, object]:
+        """The fields as a JSON-ready dict, with ``ok`` (no ``witness`` when there is none).
+
+        Returns
+        -------
+        dict of str to object
+            ``dataclasses.asdict`` of the verdict plus ``"ok"``; the key ``"witness"``
+            only when there is a witness.
+        """
         out = asdict(self)
         out["ok"] = self.ok
         if out["witness"] is None:
@@ -216,7 +223,14 @@ def _verdict(
 
 
 def default_jobs() -> int:
-    """Worker processes for a verification: the CPUs this process may use."""
+    """Worker processes for a verification: the CPUs this process may use.
+
+    Returns
+    -------
+    int
+        The size of the process's CPU affinity set (``os.cpu_count()`` where that is
+        not available), at least 1.
+    """
     try:
         return max(1, len(os.sched_getaffinity(0)))
     except AttributeError:  # pragma: no cover  (not Linux)
@@ -317,6 +331,12 @@ def iter_verdicts(
     lookup : callable, optional
         How a worker process finds a claim by its ID: a picklable function (default
         :func:`registered_claim`).
+
+    Yields
+    ------
+    Verdict
+        One per claim, in the order of ``claims`` (as soon as it and all before it are
+        decided).
     """
     claims = list(claims)
     if (jobs <= 1 and timeout is None) or not claims:
@@ -382,5 +402,22 @@ def iter_verdicts(
 def check_claims(
     claims: Iterable[Claim], method: str = "auto", jobs: int = 1, timeout: float | None = None
 ) -> list[Verdict]:
-    """All verdicts of :func:`iter_verdicts`, as a list."""
+    """All verdicts of :func:`iter_verdicts`, as a list.
+
+    Parameters
+    ----------
+    claims : iterable of Claim
+        Registered claims.
+    method : {"auto", "symbolic", "exact-sampled", "numeric"}
+        How to decide them (see :func:`iter_verdicts`).
+    jobs : int
+        Worker processes.
+    timeout : float, optional
+        Seconds a single claim may take (see :func:`iter_verdicts`).
+
+    Returns
+    -------
+    list of Verdict
+        One per claim, in the order of ``claims``.
+    """
     return list(iter_verdicts(claims, method=method, jobs=jobs, timeout=timeout))

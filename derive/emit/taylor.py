@@ -110,6 +110,18 @@ class TaylorProgram:
         return len(self.state)
 
     def count(self, op: str) -> int:
+        """Number of nodes with operation ``op``.
+
+        Parameters
+        ----------
+        op : str
+            One of :data:`OPS` (``"mul"``, ``"sin"`` ...).
+
+        Returns
+        -------
+        int
+            How many nodes of the program apply ``op``.
+        """
         return sum(1 for n in self.nodes if n.op == op)
 
 
@@ -276,6 +288,17 @@ def build_taylor_program(model: Model) -> TaylorProgram:
     The aux expressions and the rhs are reduced together by ``sympy.cse`` (canonical order,
     deterministic); symbols (aux, temporaries) are bound lazily, so only what the rhs needs
     becomes a node.
+
+    Parameters
+    ----------
+    model : Model
+        The model: its auxiliary definitions and right-hand side are decomposed.
+
+    Returns
+    -------
+    TaylorProgram
+        The nodes in evaluation order (state components, time, then operations and
+        constants); ``outputs[i]`` is the node of ``d y_i / dt``.
     """
     exprs = [e for _, e in model.aux] + list(model.rhs)
     taken = {s.name for e in exprs for s in sp.sympify(e).free_symbols}
@@ -420,6 +443,18 @@ class TaylorPythonEmitter(Emitter):
     language = "taylor_py"
 
     def filename(self, model: Model) -> str:
+        """Name of the emitted module.
+
+        Parameters
+        ----------
+        model : Model
+            The model printed.
+
+        Returns
+        -------
+        str
+            ``"<model name>_taylor.py"``.
+        """
         return f"{model.name}_taylor.py"
 
     def _emit_files(self, model: Model, routines: ModelRoutines) -> list[tuple[str, str]]:
@@ -568,6 +603,13 @@ def _c_lines(prog: TaylorProgram, printer: _TaylorCPrinter) -> tuple[list, list]
 
 
 def read_taylor_template() -> str:
+    """Text of the C template of the Taylor integrator (package data).
+
+    Returns
+    -------
+    str
+        The contents of ``chaplygin/derive/templates/taylor.c`` (:data:`TAYLOR_TEMPLATE`).
+    """
     return resources.files("chaplygin.derive").joinpath("templates", TAYLOR_TEMPLATE).read_text()
 
 
@@ -578,6 +620,18 @@ class TaylorCEmitter(Emitter):
     language = "taylor_c"
 
     def filename(self, model: Model) -> str:
+        """Name of the emitted C file.
+
+        Parameters
+        ----------
+        model : Model
+            The model printed.
+
+        Returns
+        -------
+        str
+            ``"<model name>_taylor.c"``.
+        """
         return f"{model.name}_taylor.c"
 
     def _emit_files(self, model: Model, routines: ModelRoutines) -> list[tuple[str, str]]:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import time
 import warnings
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from contextlib import AbstractContextManager, nullcontext
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
@@ -279,22 +279,34 @@ class Integrator:
         Parameters
         ----------
         precision : Precision
+            The working precision.
 
         Returns
         -------
         float
+            ``rtol_floor[precision.kind]`` times the precision's unit roundoff.
         """
         return self.rtol_floor[precision.kind] * precision.epsilon
 
-    def check(self, precision: Precision, rtol: float, events, options: Mapping) -> None:
+    def check(
+        self,
+        precision: Precision,
+        rtol: float,
+        events: Sequence[Callable] | Callable | None,
+        options: Mapping[str, Any],
+    ) -> None:
         """Refuse a precision, tolerance, events or options this method cannot honour.
 
         Parameters
         ----------
         precision : Precision
+            The requested precision.
         rtol : float
-        events : sequence or None
+            The requested relative tolerance (at least :meth:`floor`).
+        events : callable or sequence of callables or None
+            Event functions ``g(t, y)``; any needs a method that locates events.
         options : mapping
+            ``taylor_options`` (keys among :attr:`options`).
 
         Raises
         ------
@@ -336,13 +348,22 @@ class Integrator:
         Parameters
         ----------
         problem : Problem
+            Model code, initial state, span, parameters, precision and tolerances.
         backend : {"auto", "c", "numpy"}
+            Where the right-hand side runs: compiled C, numpy, or C when it is available.
         setup_s : float
             Set-up time already spent (reading the inputs), added to ``setup_s``.
 
         Returns
         -------
         IntegrationResult
+            Solution, status and message (status -1 for a non-finite solution, -5 for a
+            non-finite drift), the drift of every first integral, work counters and times.
+
+        Raises
+        ------
+        UserInputError
+            An unknown ``backend``.
         """
         start = time.perf_counter()
         if backend not in BACKENDS:

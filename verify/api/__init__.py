@@ -54,6 +54,8 @@ _PUBLIC: dict[str, str] = {
     "separatrix_figures": "verify.plots:separatrix_figures",
     "bifurcation_figure": "verify.plots:bifurcation_figure",
     "work_precision_figure": "verify.plots:work_precision_figure",
+    # scenes (one experiment per TOML file)
+    "Scene": "verify.scene:Scene",
 }
 
 __all__ = ["__version__", *_PUBLIC]

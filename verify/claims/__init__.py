@@ -179,7 +179,13 @@ class Claim:
             raise ValueError(f"expected must be 'holds' or 'fails', got {self.expected!r}")
 
     def model(self) -> Model:
-        """The model the claim is about (derived, or loaded from the model cache)."""
+        """The model the claim is about (derived, or loaded from the model cache).
+
+        Returns
+        -------
+        Model
+            ``build_model(self.system, self.effects)``.
+        """
         return build_model(self.system, self.effects)
 
     def expected_verdict(self, check: Check | None = None, method: str = "auto") -> str:
@@ -225,7 +231,20 @@ class ComputedClaim(Claim):
         return None
 
     def expected_verdict(self, check: Check | None = None, method: str = "auto") -> str:
-        """``"numeric"`` for a claim that holds, ``"refuted"`` for one that fails."""
+        """``"numeric"`` for a claim that holds, ``"refuted"`` for one that fails.
+
+        Parameters
+        ----------
+        check : Check, optional
+            Ignored (a computed claim has no check).
+        method : {"auto", "symbolic", "exact-sampled", "numeric"}
+            Ignored: the verdict does not depend on the method asked for.
+
+        Returns
+        -------
+        str
+            ``"numeric"`` or ``"refuted"``.
+        """
         return "refuted" if self.expected == "fails" else "numeric"
 
 
@@ -250,13 +269,34 @@ class ClaimRegistry(Mapping[str, Claim]):
         self._modules: list[str] = []
 
     def add(self, claim: Claim) -> None:
-        """Register one claim (its ID must be new)."""
+        """Register one claim (its ID must be new).
+
+        Parameters
+        ----------
+        claim : Claim
+            The claim (or :class:`ComputedClaim`) to add under ``claim.id``.
+
+        Raises
+        ------
+        ValueError
+            If a claim with the same ID is already registered.
+        """
         if claim.id in self._claims:
             raise ValueError(f"duplicate claim ID {claim.id}")
         self._claims[claim.id] = claim
 
     def load(self, models: bool = True) -> None:
-        """Import the claim modules (the papers' first; ``models``: the model claims too)."""
+        """Import the claim modules (the papers' first; ``models``: the model claims too).
+
+        Modules already imported are skipped; a module whose import fails is imported
+        again (and raises again) at the next call.
+
+        Parameters
+        ----------
+        models : bool, default True
+            Also import :data:`_MODEL_MODULES` (the ``MODEL:...`` claims, which derive
+            every built-in model variant).
+        """
         if not self._modules:
             names = sorted(m.name for m in pkgutil.iter_modules(__path__))
             self._modules = sorted(

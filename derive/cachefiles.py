@@ -1,0 +1,137 @@
+"""Where the caches live, who may write there, and files only we can have written.
+
+Both caches (derived models, compiled libraries) live under one root:
+``$CHAPLYGIN_CACHE_DIR``, else ``$XDG_CACHE_HOME/chaplygin``, else ``~/.cache/chaplygin``.
+What is loaded from there can run code in our process (a pickle, a shared library), so a
+folder other users can write to is refused, and a model file is loaded only when it
+carries an HMAC made with a per-user secret key that only we can read.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import hmac
+import os
+import secrets
+import stat
+from pathlib import Path
+
+from .errors import CacheError
+
+__all__ = ["cache_root", "check_private_dir", "sign", "verify_signature", "KEY_FILE"]
+
+#: The per-user secret of the cache root (mode 0600), made on first use.
+KEY_FILE = "cache.key"
+
+
+def cache_root(cache_dir: str | os.PathLike[str] | None = None) -> Path:
+    """Root folder of the caches.
+
+    Parameters
+    ----------
+    cache_dir : path-like, optional
+        An explicit root (tests, the compile cache's argument).
+
+    Returns
+    -------
+    pathlib.Path
+        ``cache_dir``, else ``$CHAPLYGIN_CACHE_DIR``, else ``$XDG_CACHE_HOME/chaplygin``,
+        else ``~/.cache/chaplygin`` (not created here).
+    """
+    if cache_dir is not None:
+        root = Path(cache_dir)
+    elif os.environ.get("CHAPLYGIN_CACHE_DIR"):
+        root = Path(os.environ["CHAPLYGIN_CACHE_DIR"])
+    else:
+        xdg = os.environ.get("XDG_CACHE_HOME")
+        base = Path(xdg) if xdg else Path.home() / ".cache"
+        root = base / "chaplygin"
+    return root.expanduser()
+
+
+def check_private_dir(directory: str | os.PathLike[str]) -> None:
+    """Refuse a cache folder others could write to.
+
+    The folder must be owned by the current user and not writable by group or others; its
+    parent may be shared only with the sticky bit (like ``/tmp``), where others cannot
+    replace what is ours.
+
+    Parameters
+    ----------
+    directory : path-like
+        The folder (it may not exist yet: then only its parent is checked).
+
+    Raises
+    ------
+    CacheError
+        The folder or its parent can be written by other users.
+    """
+    if not hasattr(os, "getuid"):  # pragma: no cover - Windows
+        return
+    path = Path(directory)
+    for folder, sticky_ok in ((path, False), (path.parent, True)):
+        try:
+            st = folder.stat()
+        except FileNotFoundError:
+            continue
+        others_write = st.st_mode & (stat.S_IWGRP | stat.S_IWOTH)
+        shared = others_write and not (sticky_ok and st.st_mode & stat.S_ISVTX)
+        if (st.st_uid != os.getuid() and not sticky_ok) or shared:
+            raise CacheError(
+                f"the cache folder {folder} can be written by other users (mode "
+                f"{stat.filemode(st.st_mode)}, owner uid {st.st_uid}): what is loaded from it "
+                "could be theirs; use a private folder (chmod go-w, or set "
+                "CHAPLYGIN_CACHE_DIR to a folder of your own)"
+            )
+
+
+def _key(root: Path) -> bytes:
+    """The secret of ``root`` (made on first use, readable by us alone)."""
+    path = root / KEY_FILE
+    try:
+        key = path.read_bytes()
+        if len(key) == 32 and path.stat().st_uid == getattr(os, "getuid", lambda: -1)():
+            return key
+    except OSError:
+        pass
+    root.mkdir(parents=True, exist_ok=True)
+    key = secrets.token_bytes(32)
+    tmp = root / f".tmp-key-{secrets.token_hex(8)}"
+    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+    with os.fdopen(fd, "wb") as fh:
+        fh.write(key)
+    os.replace(tmp, path)
+    return key
+
+
+def sign(root: Path, data: bytes) -> str:
+    """HMAC-SHA256 of ``data`` with the secret of ``root``.
+
+    Parameters
+    ----------
+    root : pathlib.Path
+        The cache root holding the secret.
+    data : bytes
+
+    Returns
+    -------
+    str
+        The tag, 64 hex digits.
+    """
+    return hmac.new(_key(root), data, hashlib.sha256).hexdigest()
+
+
+def verify_signature(root: Path, data: bytes, tag: str) -> bool:
+    """True when ``tag`` is our HMAC of ``data`` (constant-time comparison).
+
+    Parameters
+    ----------
+    root : pathlib.Path
+    data : bytes
+    tag : str
+
+    Returns
+    -------
+    bool
+    """
+    return hmac.compare_digest(sign(root, data), tag)

@@ -1,0 +1,57 @@
+"""``chaplygin integrate --t-eval N --output FILE``: a trajectory without a scene."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from chaplygin.verify.cli import main
+from scipy.io import netcdf_file
+
+ARGS = [
+    "integrate",
+    "chaplygin_ball",
+    "--param",
+    "I=1,2,3",
+    "--param",
+    "D=1",
+    "--y0",
+    "M=0.7,-0.4,0.5",
+    "--y0",
+    "gamma=0.2,0.3,sqrt(0.87)",
+    "--t-end",
+    "10",
+    "--rtol",
+    "1e-12",
+    "--atol",
+    "1e-12",
+]
+
+
+def test_csv_and_netcdf_agree_and_keep_the_integrals(tmp_path):
+    csv, nc = tmp_path / "t.csv", tmp_path / "t.nc"
+    assert main([*ARGS, "--t-eval", "21", "--output", str(csv)]) == 0
+    assert main([*ARGS, "--t-eval", "21", "--output", str(nc)]) == 0
+    header = csv.read_text().splitlines()[0]
+    assert header.startswith("# t [time],M1 [mass*length^2/time]")
+    data = np.loadtxt(csv, delimiter=",")
+    assert data.shape == (21, 7) and np.allclose(data[:, 0], np.linspace(0, 10, 21))
+    with netcdf_file(nc, mmap=False) as f:
+        assert f.variables["gamma3"].units == b"1"
+        cols = [np.asarray(f.variables[n][:]) for n in ("t", "M1", "M2", "M3")]
+    assert np.array_equal(np.column_stack(cols), data[:, :4])
+    M = data[:, 1:4]
+    assert np.ptp(np.sum(M * M, axis=1)) < 1e-10  # (M, M) is an integral
+
+
+@pytest.mark.parametrize(
+    "extra, words",
+    [
+        (["--t-eval", "1"], "at least 2"),
+        (["--output", "x.txt"], ".nc"),
+        (["--output", "/nonexistent-folder/x.nc"], "does not exist"),
+    ],
+)
+def test_bad_output_flags_exit_2(extra, words, capsys):
+    assert main([*ARGS, *extra]) == 2
+    err = capsys.readouterr().err
+    assert words in err and err.count("\n") == 1

@@ -1,0 +1,71 @@
+"""Every example scene runs at reduced length, writes its outputs and keeps its integrals; every
+effect it uses is needed (dropping it changes an output or is refused) and no other is on."""
+
+from __future__ import annotations
+
+import json
+import tomllib
+from pathlib import Path
+
+import pytest
+from chaplygin.verify.cli import main
+from chaplygin.verify.scene import OUTPUT_EFFECTS, Scene, SceneError
+
+SCENES = sorted((Path(__file__).resolve().parents[1] / "examples" / "scenes").glob("*.toml"))
+T_END = 10.0
+
+
+def test_there_is_a_scene_per_trajectory_figure():
+    names = {p.stem for p in SCENES}
+    wanted = {"k01-fig2b", "k01-fig4a", "k01-fig4b", "bm20-fig3", "bm20-fig5"}
+    wanted |= {f"k01-fig3{c}" for c in "abcd"} | {f"k01-fig6{c}" for c in "abcdef"}
+    wanted |= {f"k01-fig7{c}" for c in "abcdf"}
+    assert wanted <= names
+
+
+@pytest.mark.parametrize("path", SCENES, ids=[p.stem for p in SCENES])
+def test_example_scene_runs(path, tmp_path, capsys):
+    text = path.read_text()
+    assert "omits" in text  # every example says what the paper omits
+    out = tmp_path / path.stem
+    status = main(["run", str(path), "--out", str(out), "--set", f"run.t_end={T_END}", "--quiet"])
+    assert status == 0, capsys.readouterr().err
+    summary = json.loads((out / "summary.json").read_text())
+    for name in summary["outputs"]:
+        assert (out / name).stat().st_size > 0
+    scene = tomllib.loads(text)
+    plots = [k for k, v in scene.get("outputs", {}).items() if k != "trajectory" and v.get("plot")]
+    for key in plots:
+        assert {f"{key}.png", f"{key}.svg"} <= set(summary["outputs"])
+    # drift bound from the tolerance: global error grows at most about linearly in time
+    rtol = scene["run"].get("rtol", 1e-10)
+    bound = 1000 * rtol * max(1.0, T_END)
+    drift = {k: v for k, v in summary["drift"].items()}
+    assert all(v is not None and v <= bound for v in drift.values()), (drift, bound)
+    # prescribed integrals hold at the start to the working precision
+    for name, r in summary["resolved"]["residuals"].items():
+        assert abs(r) < 1e-14, name
+
+
+@pytest.mark.parametrize("path", SCENES, ids=[p.stem for p in SCENES])
+def test_every_effect_is_needed_and_no_other_is_on(path):
+    data = tomllib.loads(path.read_text())
+    scene = Scene.from_dict(data)
+    res = scene.resolve()
+    needed = {e for key, es in OUTPUT_EFFECTS.items() if key in data.get("outputs", {}) for e in es}
+    # no unused effect: the model has exactly the named effects and those the outputs need
+    assert set(res.code.effects) == set(data.get("effects", [])) | needed
+    for effect in data.get("effects", []):
+        dropped = {**data, "effects": [e for e in data["effects"] if e != effect]}
+        with pytest.raises(SceneError):  # its parameters (or states) are then refused
+            Scene.from_dict(dropped).resolve()
+    if any(k in OUTPUT_EFFECTS for k in data.get("outputs", {})):
+        # without the output that needs it, the effect (and its states) is gone
+        outputs = {k: v for k, v in data["outputs"].items() if k not in OUTPUT_EFFECTS}
+        params = {k: v for k, v in data["parameters"].items() if k != "b"}
+        less = Scene.from_dict({**data, "outputs": outputs, "parameters": params}).resolve()
+        assert set(less.code.effects) == set(data.get("effects", []))
+        assert "x" not in less.code.state and len(less.code.state) < len(res.code.state)
+        # and b (a parameter of contact_point only) is then refused
+        with pytest.raises(SceneError, match="no parameter 'b'"):
+            Scene.from_dict({**data, "outputs": outputs}).resolve()

@@ -1,0 +1,141 @@
+"""``chaplygin run``: run scene files (a thin layer over :class:`chaplygin.verify.scene.Scene`).
+
+Every problem with a scene is one line on stderr and exit status 2, and nothing is written:
+all scenes are validated and resolved, and their output folders checked, before any runs;
+each run writes into a temporary folder that is moved into place at the end.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from .cli_common import EXIT_FAILED, EXIT_OK
+
+__all__ = ["add_parser", "run"]
+
+#: Keys of ``--json`` (a subset of ``summary.json``).
+JSON_KEYS = (
+    "title",
+    "system",
+    "effects",
+    "states",
+    "y",
+    "drift",
+    "status",
+    "method",
+    "precision",
+    "steps",
+    "wall_s",
+    "outputs",
+)
+
+
+def _out_folders(paths: list[str], out: str | None) -> list[Path]:
+    stems = [Path(p).stem for p in paths]
+    if len(paths) == 1:
+        return [Path(out) if out else Path("chaplygin-run") / stems[0]]
+    base = Path(out) if out else Path("chaplygin-run")
+    return [base / s for s in stems]
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run ``chaplygin run``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed flags of :func:`add_parser`.
+
+    Returns
+    -------
+    int
+        0 when every run reached its end, 1 otherwise (2 for a user error, raised).
+    """
+    from .scene import Scene, SceneError, prepare_output, scene_json_schema, write_atomically
+
+    if args.schema:
+        print(json.dumps(scene_json_schema(), indent=2, sort_keys=True))
+        return EXIT_OK
+    if not args.scenes:
+        raise SceneError("give at least one scene file (or --schema)")
+    folders = _out_folders(args.scenes, args.out)
+    if len(set(folders)) != len(folders):
+        raise SceneError("two scenes have the same file name: their output folders would clash")
+    scenes = [Scene.from_toml(path, args.set or ()) for path in args.scenes]
+    resolved = [scene.resolve() for scene in scenes]  # every user error before any work
+    if args.explain:
+        from .scene import explain_text
+
+        print("\n\n".join(explain_text(s, r) for s, r in zip(scenes, resolved, strict=True)))
+        return EXIT_OK
+    for folder in folders:
+        prepare_output(folder)
+    status = EXIT_OK
+    progress = not args.quiet and sys.stderr.isatty()
+    from .scene import run_resolved
+
+    for scene, res, folder in zip(scenes, resolved, folders, strict=True):
+        if res.code.origin != "generated/" and not args.quiet:
+            print(
+                f"note: {res.code.name} is not in generated/: derived and emitted in "
+                f"{res.load_s:.1f} s (the model is cached on disk unless "
+                "CHAPLYGIN_MODEL_CACHE=0; its C code is compiled and cached on first use)",
+                file=sys.stderr,
+            )
+        result = run_resolved(scene, res, progress)
+        written = write_atomically(result, folder)
+        summary = result.summary([str(folder / w) for w in written])
+        if not result.success:
+            status = EXIT_FAILED
+        if args.json:
+            print(json.dumps({k: summary[k] for k in JSON_KEYS}, indent=2, allow_nan=False))
+        elif not args.quiet:
+            worst = max(summary["drift"].values(), key=lambda v: -1 if v is None else v)
+            print(
+                f"{scene.source}: {result.integration.message} (status {summary['status']}); "
+                f"{summary['steps']} steps, {summary['wall_s']:.2f} s, max drift {worst:.2e} "
+                f"-> {folder}/"
+            )
+    return status
+
+
+def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    """Register ``chaplygin run``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        What ``ArgumentParser.add_subparsers`` returned.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The subcommand's parser.
+    """
+    p = subparsers.add_parser(
+        "run", help="run scene files (TOML): trajectory, summary and plots of one experiment"
+    )
+    p.add_argument("scenes", nargs="*", metavar="SCENE.toml", help="scene file(s)")
+    p.add_argument(
+        "--out",
+        default=None,
+        help="output folder (default chaplygin-run/STEM); with several scenes, their parent",
+    )
+    p.add_argument(
+        "--set",
+        action="append",
+        metavar="KEY=VALUE",
+        help="override a key, e.g. --set run.t_end=100 --set initial.h=0.17 (TOML values)",
+    )
+    p.add_argument("--json", action="store_true", help="print the summary as JSON")
+    p.add_argument("--explain", action="store_true", help="say what would run; run nothing")
+    p.add_argument("--quiet", action="store_true", help="no progress bar, no report line")
+    p.add_argument(
+        "--schema",
+        action="store_true",
+        help="print the JSON Schema of scene files (examples/scenes/scene.schema.json)",
+    )
+    return p
