@@ -18,10 +18,16 @@ import argparse
 import math
 
 from ..derive.errors import UserInputError
-from .cli_common import EXIT_OK, key_values
+from .cli_common import EXIT_OK, check_output_file, key_values
 from .plots import FIGURES
 
-__all__ = ["add_parser", "run"]
+__all__ = ["add_parser", "run", "MAX_SAMPLES", "MAX_SEED"]
+
+#: Most integrated states of one diagram (each is one short DOP853 integration, ~ms).
+MAX_SAMPLES = 10_000
+
+#: Largest --seed (seeds of numpy.random.default_rng are whole numbers >= 0).
+MAX_SEED = 2**32 - 1
 
 
 def _parse_params(items) -> dict:
@@ -66,6 +72,13 @@ def run(args: argparse.Namespace) -> int:
     """
     from .plots import bifurcation_figure
 
+    out = check_output_file(args.out, "--out", (".png",))
+    if not 1 <= args.samples <= MAX_SAMPLES:
+        raise UserInputError(
+            f"--samples must be a whole number in 1..{MAX_SAMPLES}, got {args.samples}"
+        )
+    if not 0 <= args.seed <= MAX_SEED:
+        raise UserInputError(f"--seed must be a whole number in 0..{MAX_SEED}, got {args.seed}")
     params = _parse_params(args.param)
     figure = args.figure or _default_figure(args.system, params)
     if figure not in FIGURES:
@@ -74,10 +87,8 @@ def run(args: argparse.Namespace) -> int:
         raise UserInputError(
             f"figure {figure} is a diagram of {FIGURES[figure][0]}, not {args.system}"
         )
-    if not args.out.lower().endswith(".png"):
-        raise UserInputError(f"--out must name a .png file, got {args.out!r}")
     fig, drift = bifurcation_figure(figure, params, samples=args.samples, seed=args.seed)
-    fig.savefig(args.out, dpi=110)
+    fig.savefig(out, dpi=110, format="png")
     print(
         f"wrote {args.out} ({figure}; {args.samples} integrated states, "
         f"largest relative drift of their integrals {drift:.1e})"
@@ -111,6 +122,11 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     )
     p.add_argument("--figure", default=None, help=", ".join(FIGURES))
     p.add_argument("--out", required=True, help="PNG file to write")
-    p.add_argument("--samples", type=int, default=60, help="integrated random states (default 60)")
-    p.add_argument("--seed", type=int, default=1)
+    p.add_argument(
+        "--samples",
+        type=int,
+        default=60,
+        help=f"integrated random states, 1..{MAX_SAMPLES} (default 60)",
+    )
+    p.add_argument("--seed", type=int, default=1, help=f"0..{MAX_SEED} (default 1)")
     return p

@@ -10,17 +10,25 @@ wall time (K01-3.4 ... 3.7, Fig. 4).
 from __future__ import annotations
 
 import argparse
-import json
 import time
-from pathlib import Path
 
 from chaplygin.derive.errors import UserInputError
 
-from .cli_common import EXIT_FAILED, EXIT_OK, key_values
+from .cli_common import (
+    EXIT_FAILED,
+    EXIT_OK,
+    check_output_dir,
+    check_output_file,
+    json_text,
+    key_values,
+)
 
-__all__ = ["add_parser", "run", "MIN_DIGITS", "MAX_DIGITS"]
+__all__ = ["add_parser", "run", "MIN_DIGITS", "MAX_DIGITS", "PLOT_SUFFIXES"]
 
 MIN_DIGITS, MAX_DIGITS = 5, 200
+
+#: The file types --plot writes (by its name's suffix, never added silently).
+PLOT_SUFFIXES = (".png", ".pdf", ".svg")
 
 
 def _params(items) -> dict:
@@ -73,6 +81,8 @@ def run(args: argparse.Namespace) -> int:
     import mpmath
     from chaplygin.numerics.separatrix import check_inertia, delta_three_ways
 
+    plot = None if args.plot is None else check_output_file(args.plot, "--plot", PLOT_SUFFIXES)
+    figures = None if args.figures is None else check_output_dir(args.figures, "--figures")
     digits = args.digits
     if not MIN_DIGITS <= digits <= MAX_DIGITS:
         raise UserInputError(
@@ -92,7 +102,7 @@ def run(args: argparse.Namespace) -> int:
     ok = r.digits_agree >= digits
     if args.json:
         print(
-            json.dumps(
+            json_text(
                 {
                     "mu": fmt(r.mu),
                     "delta_ode": fmt(r.ode),
@@ -110,7 +120,6 @@ def run(args: argparse.Namespace) -> int:
                     "ode_tail_bound": mpmath.nstr(r.ode_info.get("tail_bound"), 3),
                     "engine": args.engine,
                 },
-                indent=2,
             )
         )
     else:
@@ -130,17 +139,16 @@ def run(args: argparse.Namespace) -> int:
         print(f"agree on {agree:.1f} digits (requested {digits}): {'ok' if ok else 'NOT OK'}")
         times = ", ".join(f"{k} {v:.2f} s" for k, v in r.seconds.items())
         print(f"wall time {wall:.2f} s ({times})")
-    if args.plot or args.figures:
+    if plot is not None or figures is not None:
         from .plots import delta_of_mu_figure, separatrix_figures
 
-        if args.plot:
-            delta_of_mu_figure(float(P["b"])).savefig(args.plot, dpi=110)
-        if args.figures:
-            out = Path(args.figures)
-            out.mkdir(parents=True, exist_ok=True)
-            figures = separatrix_figures([float(v) for v in P["I"]], float(P["D"]), float(P["b"]))
-            for name, figure in figures.items():
-                figure.savefig(out / name, dpi=110)
+        if plot is not None:
+            delta_of_mu_figure(float(P["b"])).savefig(plot, dpi=110, format=plot.suffix[1:].lower())
+        if figures is not None:
+            figures.mkdir(exist_ok=True)
+            drawn = separatrix_figures([float(v) for v in P["I"]], float(P["D"]), float(P["b"]))
+            for name, figure in drawn.items():
+                figure.savefig(figures / name, dpi=110)
     return EXIT_OK if ok else EXIT_FAILED
 
 

@@ -3,14 +3,72 @@
 from __future__ import annotations
 
 import argparse
-import json
 import math
 
 from chaplygin.derive.errors import UserInputError
 
-from .cli_common import EXIT_FAILED, EXIT_OK, key_values, positive_float
+from .cli_common import EXIT_FAILED, EXIT_OK, json_text, key_values, positive_float
 
-__all__ = ["add_parser", "run"]
+__all__ = ["add_parser", "run", "DEFAULT_MAX_STEPS", "estimated_steps"]
+
+#: The step budget of 'chaplygin integrate' unless --max-steps raises it.
+DEFAULT_MAX_STEPS = 10_000_000
+
+#: Orders of the scipy methods: at unit frequency a step of an order-p method at relative
+#: tolerance rtol is about rtol**(1/(p+1)) time units long.
+_SCIPY_ORDERS = {"rk45": 5, "dop853": 8, "lsoda": 5, "radau": 5, "bdf": 5, "rk23": 3}
+
+#: Steps per time unit of the Taylor methods (taylor, odefun) at unit radius of
+#: convergence: the Jorba-Zou step is e^-2 times the radius, whatever the tolerance.
+_TAYLOR_STEPS_PER_TIME = math.e**2
+
+
+def estimated_steps(span: float, method: str | None, rtol: float | None, double: bool) -> float:
+    """Steps an integration over ``span`` time units needs at unit frequency (a guard).
+
+    Parameters
+    ----------
+    span : float
+        ``|t_end - t_start|``.
+    method : str or None
+        The ``--method`` (None: DOP853 in double, taylor otherwise).
+    rtol : float or None
+        The ``--rtol`` (None: 1e-10 in double; the Taylor step does not depend on it).
+    double : bool
+        Double precision (the scipy methods) or not.
+
+    Returns
+    -------
+    float
+        ``span * rtol**(-1/(p+1))`` for a scipy method of order p, ``span * e**2`` for the
+        Taylor methods. Faster motions (large momenta, small inertia) need more.
+    """
+    name = (method or ("DOP853" if double else "taylor")).lower()
+    if name in _SCIPY_ORDERS:
+        tol = 1e-10 if rtol is None else rtol
+        return span * tol ** (-1.0 / (_SCIPY_ORDERS[name] + 1))
+    return span * _TAYLOR_STEPS_PER_TIME
+
+
+def _check_step_budget(args: argparse.Namespace, prec) -> None:
+    """Refuse, before any work, a span whose estimated steps exceed the budget."""
+    from chaplygin.numerics.inputs import parse_number
+
+    if args.max_steps < 1:
+        raise UserInputError(f"--max-steps must be a positive whole number, got {args.max_steps}")
+    try:
+        span = abs(float(parse_number(args.t_end) - parse_number(args.t_start)))
+    except UserInputError:
+        return  # integrate() reports the malformed time, in its own words
+    if not math.isfinite(span):
+        return
+    steps = estimated_steps(span, args.method, args.rtol, prec.is_double)
+    if steps > args.max_steps:
+        raise UserInputError(
+            f"--t-end {args.t_end}: a span of {span:.3g} needs about {steps:.2g} steps (at unit "
+            f"frequency), beyond the budget of {args.max_steps:.3g}; shorten the span or raise "
+            f"--max-steps (default {DEFAULT_MAX_STEPS:.0e})"
+        )
 
 
 def _format_number(value, digits: int | None) -> str:
@@ -45,6 +103,7 @@ def run(args: argparse.Namespace) -> int:
     for name, value in (("--rtol", args.rtol), ("--atol", args.atol)):
         if value is not None and not value > 0:
             raise UserInputError(f"{name} must be a positive number, got {value}")
+    _check_step_budget(args, prec)
     result = integrate(
         args.system,
         y0,
@@ -83,7 +142,7 @@ def run(args: argparse.Namespace) -> int:
                 if isinstance(v, int | str) or (isinstance(v, float) and math.isfinite(v))
             },
         }
-        print(json.dumps(out, indent=2, allow_nan=False))
+        print(json_text(out))
     else:
         print(f"{result.model}: {result.message} (status {result.status})")
         print(
@@ -144,5 +203,15 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "--effects", default=None, help="comma-separated effects, e.g. gyrostat,contact_point"
     )
     p.add_argument("--backend", default="auto", choices=("auto", "c", "numpy"))
+    p.add_argument(
+        "--max-steps",
+        type=int,
+        default=DEFAULT_MAX_STEPS,
+        help=(
+            f"step budget (default {DEFAULT_MAX_STEPS:.0e}): a span needing more steps, "
+            "estimated at unit frequency (span * rtol^(-1/(p+1)) for an order-p scipy method, "
+            "span * e^2 for taylor and odefun), is refused before any work"
+        ),
+    )
     p.add_argument("--json", action="store_true")
     return p

@@ -8,9 +8,8 @@ K01-2.23, K01-2.26, K01-2.27 (with the true turning points, FORMULAS.md)
 from __future__ import annotations
 
 import argparse
-import json
 
-from .cli_common import EXIT_OK
+from .cli_common import EXIT_OK, json_text
 
 __all__ = ["add_parser", "run"]
 
@@ -49,6 +48,8 @@ def run(args: argparse.Namespace) -> int:
     D = _vector(args.D, "--D", 1, dps)[0]
     M = _vector(args.M, "--M", 3, dps)
     gamma = _vector(args.gamma, "--gamma", 3, dps)
+    if all(m == 0 for m in M):
+        raise UserInputError("--M must not be zero: a ball at rest has no torus")
     if args.simulate is not None and not (0 < args.simulate < 1e6):
         raise UserInputError("--simulate T needs 0 < T < 1e6")
     tq = torus_quadratures(I, D, M, gamma, digits=args.digits)
@@ -82,7 +83,7 @@ def run(args: argparse.Namespace) -> int:
             "drift_H": mr.drift["H"],
         }
     if args.json:
-        print(json.dumps(out, indent=1))
+        print(json_text(out, indent=1))
     else:
         for k, v in out.items():
             print(f"{k:16s} {v}")
