@@ -31,7 +31,7 @@ def run(args: argparse.Namespace) -> int:
     from .bench import PROBLEMS, render_markdown, run_study
     from .plots import work_precision_figure
 
-    out = check_output_dir(args.out, "--out")
+    out = check_output_dir(args.out, "--out", "the study")
     problems = [p.strip() for p in args.problems.split(",") if p.strip()]
     bad = [p for p in problems if p not in PROBLEMS]
     if bad or not problems:

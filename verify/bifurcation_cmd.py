@@ -72,7 +72,7 @@ def run(args: argparse.Namespace) -> int:
     """
     from .plots import bifurcation_figure
 
-    out = check_output_file(args.out, "--out", (".png",))
+    out = check_output_file(args.out, "--out", (".png",), "the diagram")
     if not 1 <= args.samples <= MAX_SAMPLES:
         raise UserInputError(
             f"--samples must be a whole number in 1..{MAX_SAMPLES}, got {args.samples}"

@@ -8,7 +8,7 @@ import json
 import math
 import os
 import tempfile
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from chaplygin.derive.errors import UserInputError
@@ -30,23 +30,23 @@ __all__ = [
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 3
 
 
-def _writable_folder(folder: Path, flag: str, text: str) -> None:
+def _writable_folder(folder: Path, refuse: Callable[[str], UserInputError]) -> None:
     """Refuse a folder that is missing or where no file can be created (tried, not guessed:
     permissions, read-only file systems and /proc all answer; the probe leaves nothing)."""
     if not folder.exists():
-        raise UserInputError(f"{flag} {text!r}: the folder {str(folder)!r} does not exist")
+        raise refuse(f"the parent folder {str(folder)!r} does not exist")
     if not folder.is_dir():
-        raise UserInputError(f"{flag} {text!r}: {str(folder)!r} is not a folder")
+        raise refuse(f"{str(folder)!r} is not a folder")
     try:
         with tempfile.TemporaryFile(dir=folder, prefix=".chaplygin-probe-"):
             pass
     except OSError as exc:
-        raise UserInputError(
-            f"{flag} {text!r}: cannot write in the folder {str(folder)!r} ({exc.strerror})"
-        ) from None
+        raise refuse(f"no file can be created in {str(folder)!r} ({exc.strerror})") from None
 
 
-def check_output_file(path: str, flag: str, suffixes: Sequence[str] = ()) -> Path:
+def check_output_file(
+    path: str, flag: str, suffixes: Sequence[str] = (), what: str = "the file"
+) -> Path:
     """Check, before any work, that a file can be written at ``path``.
 
     Parameters
@@ -58,6 +58,8 @@ def check_output_file(path: str, flag: str, suffixes: Sequence[str] = ()) -> Pat
     suffixes : sequence of str, optional
         Accepted suffixes (``(".png",)``, compared without case); the name must end with one
         of them, so that nothing appends a suffix silently. Empty: any name.
+    what : str, optional
+        What is written, for the error messages (``"the report"``).
 
     Returns
     -------
@@ -72,18 +74,22 @@ def check_output_file(path: str, flag: str, suffixes: Sequence[str] = ()) -> Pat
     """
     if not path or not path.strip():
         raise UserInputError(f"{flag} needs a file name, got an empty one")
+
+    def refuse(reason: str) -> UserInputError:
+        return UserInputError(f"{flag}: cannot write {what} to {path!r}: {reason}")
+
     target = Path(path)
     if target.is_dir() or path.endswith(("/", os.sep)):
-        raise UserInputError(f"{flag} {path!r} is a folder; give a file name")
+        raise refuse("it is a folder; give a file name")
     if suffixes and target.suffix.lower() not in {s.lower() for s in suffixes}:
         raise UserInputError(f"{flag} must name a {' or '.join(suffixes)} file, got {path!r}")
-    _writable_folder(target.parent, flag, path)
+    _writable_folder(target.parent, refuse)
     if target.exists() and not (target.is_file() and os.access(target, os.W_OK)):
-        raise UserInputError(f"{flag} {path!r} exists and cannot be overwritten")
+        raise refuse("it exists and cannot be overwritten")
     return target
 
 
-def check_output_dir(path: str, flag: str) -> Path:
+def check_output_dir(path: str, flag: str, what: str = "files") -> Path:
     """Check, before any work, that files can be written into the folder ``path``.
 
     The folder may not exist yet; then its parent must (only one level is created).
@@ -94,6 +100,8 @@ def check_output_dir(path: str, flag: str) -> Path:
         The flag's value.
     flag : str
         The flag's name, for the error messages (``"--out"``).
+    what : str, optional
+        What is written, for the error messages (``"the figures"``).
 
     Returns
     -------
@@ -107,13 +115,17 @@ def check_output_dir(path: str, flag: str) -> Path:
     """
     if not path or not path.strip():
         raise UserInputError(f"{flag} needs a folder name, got an empty one")
+
+    def refuse(reason: str) -> UserInputError:
+        return UserInputError(f"{flag}: cannot write {what} into {path!r}: {reason}")
+
     target = Path(path)
     if target.exists():
         if not target.is_dir():
-            raise UserInputError(f"{flag} {path!r} exists and is not a folder; give a folder")
-        _writable_folder(target, flag, path)
+            raise refuse("it exists and is not a folder; give a folder")
+        _writable_folder(target, refuse)
     else:
-        _writable_folder(target.parent, flag, path)
+        _writable_folder(target.parent, refuse)
     return target
 
 

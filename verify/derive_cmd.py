@@ -43,13 +43,13 @@ def run(args: argparse.Namespace) -> int:
     if args.out is None:
         directory = generated_dir()
         if not args.check:
-            check_output_dir(str(directory), "generated/ (the default of --out)")
+            check_output_dir(str(directory), "derive", "the generated code")
     elif args.check:  # read only: the folder need not be writable (or exist)
         if not args.out.strip():
             raise UserInputError("--out needs a folder name, got an empty one")
         directory = Path(args.out)
     else:
-        directory = check_output_dir(args.out, "--out")
+        directory = check_output_dir(args.out, "--out", "the generated code")
     if args.check:
         problems = check_generated(directory)
         if problems:

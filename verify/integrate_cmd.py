@@ -61,7 +61,7 @@ def _check_step_budget(args: argparse.Namespace, prec) -> None:
     except UserInputError:
         return  # integrate() reports the malformed time, in its own words
     if not math.isfinite(span):
-        return
+        return  # (beyond double: integrate() says so)
     steps = estimated_steps(span, args.method, args.rtol, prec.is_double)
     if steps > args.max_steps:
         raise UserInputError(

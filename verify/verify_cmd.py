@@ -36,7 +36,9 @@ def run(args: argparse.Namespace) -> int:
     from .claims import select_claims
     from .verdict import FAILURES, default_jobs, iter_verdicts
 
-    report = None if args.report is None else check_output_file(args.report, "--report")
+    report = None
+    if args.report is not None:
+        report = check_output_file(args.report, "--report", what="the report")
     if args.claims is not None and not args.claims.replace(",", "").strip():
         raise UserInputError(
             f"--claims {args.claims!r} names no claim; give globs over IDs like "
