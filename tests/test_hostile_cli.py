@@ -234,7 +234,10 @@ def integrate_hostile(draw) -> list[str]:
                 ]
             )
         )
-    if kind == 4:  # a span beyond the step budget (refused before any work)
+    if kind == 4:  # a span beyond the step budget (refused before any work), or a fast spin
+        if draw(st.booleans()):
+            spin = draw(st.sampled_from(["1e8", "1e12", "-3e9"]))
+            return [*argv[:7], f"M={spin},1,0", *argv[8:]]
         big = draw(st.sampled_from(["1e308", "1e300", "1e20", "1e12", "2e6", "10**9"]))
         return _with(argv, "--t-end", big)
     if kind == 5:
@@ -373,6 +376,10 @@ def bifurcation_hostile(draw) -> list[str]:
                     [*base, "--param", "I=1,2,-3"],
                     [*base, "--param", "D=-1"],
                     [*base, "--param", "Q=1"],
+                    [*base, "--param", "I=1,1000,2"],  # hours of work: beyond MAX_RATIO
+                    [*base, "--param", "D=1e6"],
+                    [*base, "--param", "I=1e300,2e300,3e300"],
+                    [*base, "--param", "C=1e300"],
                 ]
             )
         )
@@ -419,6 +426,8 @@ def delta_hostile(draw) -> list[str]:
                     [*DELTA[:6], "b=0", *DELTA[7:]],
                     [*DELTA[:6], "b=-1", *DELTA[7:]],
                     [*DELTA, "--param", "C=0"],
+                    [*DELTA[:4], "D=1e3", *DELTA[5:]],  # mu = 501: 7,000 steps
+                    [*DELTA[:4], "D=1e300", *DELTA[5:]],
                     [*DELTA, "--param", "Z=1"],
                     ["delta", "--param", "I=1,3,5", "--digits", "5"],
                     [*DELTA, "--engine", "euler"],
@@ -470,6 +479,8 @@ def rotation_hostile(draw) -> list[str]:
                     _with(ROTATION, "--gamma", "0,2,0"),
                     _with(ROTATION, "--gamma", "0,0,0"),
                     _with(ROTATION, "--M", "1,0"),
+                    _with(ROTATION, "--D", "1e30"),
+                    _with(ROTATION, "--I", "1e30,2e30,3e30"),
                 ]
             )
         )

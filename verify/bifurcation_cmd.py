@@ -21,7 +21,16 @@ from ..derive.errors import UserInputError
 from .cli_common import EXIT_OK, check_output_file, key_values
 from .plots import FIGURES
 
-__all__ = ["add_parser", "run", "MAX_SAMPLES", "MAX_SEED"]
+__all__ = ["add_parser", "run", "MAX_SAMPLES", "MAX_SEED", "MAX_MAGNITUDE", "MAX_RATIO"]
+
+#: Largest I_max/I_min and D/I_min (D_iso for the support): the periodic orbits and samples
+#: of a diagram take longer the further apart the moments are (a ratio of 100 takes about
+#: 50 s, 1000 more than ten minutes).
+MAX_RATIO = 100
+
+#: Every --param value is 0 or of magnitude between 1/MAX_MAGNITUDE and MAX_MAGNITUDE
+#: (the diagrams are computed in double precision: beyond, they overflow or lose all digits).
+MAX_MAGNITUDE = 1e6
 
 #: Most integrated states of one diagram (each is one short DOP853 integration, ~ms).
 MAX_SAMPLES = 10_000
@@ -41,10 +50,29 @@ def _parse_params(items) -> dict:
             raise UserInputError(f"--param {name}: {exc}") from None
         if not all(math.isfinite(v) for v in vals):
             raise UserInputError(f"--param {name}: values must be finite, got {value}")
+        if any(v != 0 and not 1 / MAX_MAGNITUDE <= abs(v) <= MAX_MAGNITUDE for v in vals):
+            raise UserInputError(
+                f"--param {name}={value}: give 0 or magnitudes between {1 / MAX_MAGNITUDE:g} and "
+                f"{MAX_MAGNITUDE:g} (the diagrams are drawn in double precision); rescale the units"
+            )
         out[name] = tuple(vals) if name == "I" else vals[0]
         if name != "I" and len(vals) != 1:
             raise UserInputError(f"--param {name} takes one value, got {len(vals)}")
     return out
+
+
+def _check_ratios(params: dict) -> None:
+    """Refuse moments further apart than :data:`MAX_RATIO` (before any work)."""
+    I = [float(v) for v in params["I"]]
+    if len(I) != 3 or min(I) <= 0:
+        return  # bifurcation_figure says what is wrong
+    D = float(params.get("D", params.get("D_iso", 0)))
+    if max(I) / min(I) > MAX_RATIO or D / min(I) > MAX_RATIO:
+        raise UserInputError(
+            f"I = {tuple(I)} and D = {D:g} are too far apart for a diagram: I_max/I_min and "
+            f"D/I_min must be at most {MAX_RATIO} (the work grows with them); rescale or "
+            "bring the moments closer"
+        )
 
 
 def _default_figure(system: str, params: dict) -> str:
@@ -87,6 +115,7 @@ def run(args: argparse.Namespace) -> int:
         raise UserInputError(
             f"figure {figure} is a diagram of {FIGURES[figure][0]}, not {args.system}"
         )
+    _check_ratios({**FIGURES[figure][1], **params})
     fig, drift = bifurcation_figure(figure, params, samples=args.samples, seed=args.seed)
     fig.savefig(out, dpi=110, format="png")
     print(

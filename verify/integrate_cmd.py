@@ -29,7 +29,8 @@ def estimated_steps(span: float, method: str | None, rtol: float | None, double:
     Parameters
     ----------
     span : float
-        ``|t_end - t_start|``.
+        ``|t_end - t_start|``, in units of the motion's time scale (the command multiplies
+        it by ``|f(t0, y0)|/|y0|`` when that is above 1).
     method : str or None
         The ``--method`` (None: DOP853 in double, taylor otherwise).
     rtol : float or None
@@ -50,6 +51,36 @@ def estimated_steps(span: float, method: str | None, rtol: float | None, double:
     return span * _TAYLOR_STEPS_PER_TIME
 
 
+def _rate(args: argparse.Namespace) -> float:
+    """``max(1, max_g |f_g(t0, y0)| / |y0_g|)`` over the state groups g (M, gamma, ...):
+    how fast the state moves at the start (a fast spin turns gamma at its rate).
+
+    Evaluated in double precision with the model's numpy code; 1 when that is not possible
+    (values beyond double, bad input: :func:`integrate` then says what is wrong).
+    """
+    import numpy as np
+    from chaplygin.numerics.code import load_model_code
+    from chaplygin.numerics.inputs import Precision, pack_params, pack_state, parse_number
+
+    double = Precision("double")
+    try:
+        code = load_model_code(args.system, args.effects)
+        p = np.array(pack_params(code, key_values(args.param, "--param"), double), float)
+        y = np.array(pack_state(code, key_values(args.y0, "--y0"), double), float)
+        t0 = float(parse_number(args.t_start))
+    except (UserInputError, OverflowError, ValueError, TypeError):
+        return 1.0
+    with np.errstate(all="ignore"):
+        f = np.asarray(code.numpy.rhs(t0, y, p), float)
+        rate = 1.0
+        for names in code.state_groups.values():
+            index = [code.state.index(n) for n in names]
+            size = float(np.linalg.norm(y[index]))
+            if size > 0:
+                rate = max(rate, float(np.linalg.norm(f[index])) / size)
+    return rate if math.isfinite(rate) else 1.0
+
+
 def _check_step_budget(args: argparse.Namespace, prec) -> None:
     """Refuse, before any work, a span whose estimated steps exceed the budget."""
     from chaplygin.numerics.inputs import parse_number
@@ -62,12 +93,14 @@ def _check_step_budget(args: argparse.Namespace, prec) -> None:
         return  # integrate() reports the malformed time, in its own words
     if not math.isfinite(span):
         return  # (beyond double: integrate() says so)
-    steps = estimated_steps(span, args.method, args.rtol, prec.is_double)
+    rate = _rate(args)
+    steps = estimated_steps(span * rate, args.method, args.rtol, prec.is_double)
     if steps > args.max_steps:
+        at = "" if rate == 1 else f" at a rate |f(y0)|/|y0| of {rate:.2g}"
         raise UserInputError(
-            f"--t-end {args.t_end}: a span of {span:.3g} needs about {steps:.2g} steps (at unit "
-            f"frequency), beyond the budget of {args.max_steps:.3g}; shorten the span or raise "
-            f"--max-steps (default {DEFAULT_MAX_STEPS:.0e})"
+            f"--t-end {args.t_end}: a span of {span:.3g}{at} needs about {steps:.2g} steps, "
+            f"beyond the budget of {args.max_steps:.3g}; shorten the span or raise --max-steps "
+            f"(default {DEFAULT_MAX_STEPS:.0e})"
         )
 
 
@@ -209,8 +242,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         default=DEFAULT_MAX_STEPS,
         help=(
             f"step budget (default {DEFAULT_MAX_STEPS:.0e}): a span needing more steps, "
-            "estimated at unit frequency (span * rtol^(-1/(p+1)) for an order-p scipy method, "
-            "span * e^2 for taylor and odefun), is refused before any work"
+            "estimated as T * rtol^(-1/(p+1)) for an order-p scipy method and T * e^2 for "
+            "taylor and odefun, T = span * max(1, |f(y0)|/|y0|), is refused before any work"
         ),
     )
     p.add_argument("--json", action="store_true")
