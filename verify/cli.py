@@ -91,8 +91,16 @@ REPORT_TO = (
 
 
 def _internal_error(exc: BaseException, debug: bool) -> int:
-    frame = traceback.extract_tb(exc.__traceback__)[-1:] if exc.__traceback__ else []
-    where = f" at {Path(frame[0].filename).name}:{frame[0].lineno}" if frame else ""
+    frames = traceback.extract_tb(exc.__traceback__) if exc.__traceback__ else []
+    where = ""
+    if frames:
+        # the innermost frame of this project (the place to look), and the raising one
+        ours = {Path(m.__file__).parent for n, m in list(sys.modules.items())
+                if n.startswith("chaplygin.") and getattr(m, "__file__", None)}
+        mine = [f for f in frames if Path(f.filename).parent in ours] or frames
+        where = f" at {Path(mine[-1].filename).name}:{mine[-1].lineno}"
+        if mine[-1] is not frames[-1]:
+            where += f" (raised in {Path(frames[-1].filename).name}:{frames[-1].lineno})"
     if debug:
         traceback.print_exception(exc, file=sys.stderr)
     message = " ".join(str(exc).split())[:200]
