@@ -271,7 +271,12 @@ def working_number(value: Number | object, precision: Precision) -> float | mpma
     """
     bits = precision.prec
     exact = _exact_mpf(value, bits)
-    if exact is None and isinstance(value, str) and _LITERAL.fullmatch(value.strip()):
+    if (
+        exact is None
+        and isinstance(value, str)
+        and len(value.strip()) <= MAX_TEXT  # longer: parse_number refuses it
+        and _LITERAL.fullmatch(value.strip())
+    ):
         with mpmath.workprec(bits):
             exact = mpmath.mpf(value.strip().replace("_", ""))
     if exact is None:

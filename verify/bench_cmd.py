@@ -3,15 +3,16 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
-from pathlib import Path
 
 from chaplygin.derive.errors import UserInputError
 
-from .cli_common import EXIT_OK
+from .cli_common import EXIT_OK, check_output_dir, json_text
 
-__all__ = ["add_parser", "run"]
+__all__ = ["add_parser", "run", "MAX_REPEATS"]
+
+#: Most runs per row 'chaplygin bench --repeats' accepts.
+MAX_REPEATS = 100
 
 
 def run(args: argparse.Namespace) -> int:
@@ -30,19 +31,17 @@ def run(args: argparse.Namespace) -> int:
     from .bench import PROBLEMS, render_markdown, run_study
     from .plots import work_precision_figure
 
-    out = Path(args.out)
-    if out.exists() and not out.is_dir():
-        raise UserInputError(f"--out {args.out!r} exists and is not a folder; give a folder")
-    if not out.exists() and not out.parent.exists():
-        raise UserInputError(f"--out {args.out!r}: its parent folder does not exist")
+    out = check_output_dir(args.out, "--out", "the study")
     problems = [p.strip() for p in args.problems.split(",") if p.strip()]
     bad = [p for p in problems if p not in PROBLEMS]
     if bad or not problems:
         raise UserInputError(
             f"unknown problem {bad[0] if bad else args.problems!r}; valid: {', '.join(PROBLEMS)}"
         )
-    if args.repeats is not None and args.repeats < 1:
-        raise UserInputError(f"--repeats must be a positive whole number, got {args.repeats}")
+    if args.repeats is not None and not 1 <= args.repeats <= MAX_REPEATS:
+        raise UserInputError(
+            f"--repeats must be a whole number in 1..{MAX_REPEATS}, got {args.repeats}"
+        )
 
     def progress(msg: str) -> None:
         if not args.json:
@@ -54,9 +53,9 @@ def run(args: argparse.Namespace) -> int:
     table = render_markdown(study)
     (out / "bench.md").write_text(table)
     work_precision_figure(study).savefig(out / "bench.png", dpi=110)
-    (out / "bench.json").write_text(json.dumps(study, indent=1))
+    (out / "bench.json").write_text(json_text(study, indent=1))
     if args.json:
-        print(json.dumps(study["rows"], indent=1))
+        print(json_text(study["rows"], indent=1))
     else:
         print(table)
         print(f"wrote {out / 'bench.md'}, {out / 'bench.png'} and {out / 'bench.json'}")
@@ -85,7 +84,12 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "--quick", action="store_true",
         help="one run per row, shortened spans (flagged in the table); for tests",
     )
-    p.add_argument("--repeats", type=int, default=None, help="runs per row (default 5; quick 1)")
+    p.add_argument(
+        "--repeats",
+        type=int,
+        default=None,
+        help=f"runs per row, 1..{MAX_REPEATS} (default 5; quick 1)",
+    )
     p.add_argument(
         "--problems", default="reference,separatrix", help="comma-separated: reference,separatrix"
     )

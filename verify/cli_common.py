@@ -1,16 +1,159 @@
-"""What the subcommands of ``chaplygin`` share: exit statuses and the parsing of their flags."""
+"""What the subcommands of ``chaplygin`` share: exit statuses, the parsing of their flags,
+the checks of output paths (made before any work) and JSON that is always valid."""
 
 from __future__ import annotations
 
 import argparse
-from collections.abc import Sequence
+import json
+import math
+import os
+import tempfile
+from collections.abc import Callable, Sequence
+from pathlib import Path
 
 from chaplygin.derive.errors import UserInputError
 
-__all__ = ["EXIT_OK", "EXIT_FAILED", "EXIT_USAGE", "key_values", "positive_float"]
+__all__ = [
+    "EXIT_OK",
+    "EXIT_FAILED",
+    "EXIT_USAGE",
+    "EXIT_INTERNAL",
+    "key_values",
+    "positive_float",
+    "check_output_file",
+    "check_output_dir",
+    "json_text",
+]
 
-#: Exit statuses: success, a check or run that failed, a user error (one line on stderr).
-EXIT_OK, EXIT_FAILED, EXIT_USAGE = 0, 1, 2
+#: Exit statuses: success, a check or run that failed, a user error (one line on stderr),
+#: an internal error (a bug: one line saying where to report it; the traceback with --debug).
+EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 3
+
+
+def _writable_folder(folder: Path, refuse: Callable[[str], UserInputError]) -> None:
+    """Refuse a folder that is missing or where no file can be created (tried, not guessed:
+    permissions, read-only file systems and /proc all answer; the probe leaves nothing)."""
+    if not folder.exists():
+        raise refuse(f"the parent folder {str(folder)!r} does not exist")
+    if not folder.is_dir():
+        raise refuse(f"{str(folder)!r} is not a folder")
+    try:
+        with tempfile.TemporaryFile(dir=folder, prefix=".chaplygin-probe-"):
+            pass
+    except OSError as exc:
+        raise refuse(f"no file can be created in {str(folder)!r} ({exc.strerror})") from None
+
+
+def check_output_file(
+    path: str, flag: str, suffixes: Sequence[str] = (), what: str = "the file"
+) -> Path:
+    """Check, before any work, that a file can be written at ``path``.
+
+    Parameters
+    ----------
+    path : str
+        The flag's value.
+    flag : str
+        The flag's name, for the error messages (``"--out"``).
+    suffixes : sequence of str, optional
+        Accepted suffixes (``(".png",)``, compared without case); the name must end with one
+        of them, so that nothing appends a suffix silently. Empty: any name.
+    what : str, optional
+        What is written, for the error messages (``"the report"``).
+
+    Returns
+    -------
+    pathlib.Path
+        The path, as given.
+
+    Raises
+    ------
+    UserInputError
+        An empty path, a folder (or a path ending in a separator), a missing or read-only
+        parent folder, an existing file that is not writable, or a wrong suffix.
+    """
+    if not path or not path.strip():
+        raise UserInputError(f"{flag} needs a file name, got an empty one")
+
+    def refuse(reason: str) -> UserInputError:
+        return UserInputError(f"{flag}: cannot write {what} to {path!r}: {reason}")
+
+    target = Path(path)
+    if target.is_dir() or path.endswith(("/", os.sep)):
+        raise refuse("it is a folder; give a file name")
+    if suffixes and target.suffix.lower() not in {s.lower() for s in suffixes}:
+        raise UserInputError(f"{flag} must name a {' or '.join(suffixes)} file, got {path!r}")
+    _writable_folder(target.parent, refuse)
+    if target.exists() and not (target.is_file() and os.access(target, os.W_OK)):
+        raise refuse("it exists and cannot be overwritten")
+    return target
+
+
+def check_output_dir(path: str, flag: str, what: str = "files") -> Path:
+    """Check, before any work, that files can be written into the folder ``path``.
+
+    The folder may not exist yet; then its parent must (only one level is created).
+
+    Parameters
+    ----------
+    path : str
+        The flag's value.
+    flag : str
+        The flag's name, for the error messages (``"--out"``).
+    what : str, optional
+        What is written, for the error messages (``"the figures"``).
+
+    Returns
+    -------
+    pathlib.Path
+        The path, as given.
+
+    Raises
+    ------
+    UserInputError
+        An empty path, an existing file, a read-only folder, or a missing parent folder.
+    """
+    if not path or not path.strip():
+        raise UserInputError(f"{flag} needs a folder name, got an empty one")
+
+    def refuse(reason: str) -> UserInputError:
+        return UserInputError(f"{flag}: cannot write {what} into {path!r}: {reason}")
+
+    target = Path(path)
+    if target.exists():
+        if not target.is_dir():
+            raise refuse("it exists and is not a folder; give a folder")
+        _writable_folder(target, refuse)
+    else:
+        _writable_folder(target.parent, refuse)
+    return target
+
+
+def _finite_or_none(value: object) -> object:
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: _finite_or_none(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_finite_or_none(v) for v in value]
+    return value
+
+
+def json_text(value: object, indent: int | None = 2) -> str:
+    """``value`` as strict JSON: NaN and infinities become ``null`` (never a bare ``NaN``).
+
+    Parameters
+    ----------
+    value : object
+        Dicts, lists, tuples, strings, numbers, booleans and None.
+    indent : int, optional
+        As for :func:`json.dumps`.
+
+    Returns
+    -------
+    str
+    """
+    return json.dumps(_finite_or_none(value), indent=indent, allow_nan=False)
 
 
 def key_values(items: Sequence[str] | None, flag: str) -> dict[str, str]:

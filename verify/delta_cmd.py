@@ -10,17 +10,40 @@ wall time (K01-3.4 ... 3.7, Fig. 4).
 from __future__ import annotations
 
 import argparse
-import json
 import time
-from pathlib import Path
 
 from chaplygin.derive.errors import UserInputError
 
-from .cli_common import EXIT_FAILED, EXIT_OK, key_values
+from .cli_common import (
+    EXIT_FAILED,
+    EXIT_OK,
+    check_output_dir,
+    check_output_file,
+    json_text,
+    key_values,
+)
 
-__all__ = ["add_parser", "run", "MIN_DIGITS", "MAX_DIGITS"]
+__all__ = [
+    "add_parser",
+    "run",
+    "MIN_DIGITS",
+    "MAX_DIGITS",
+    "PLOT_SUFFIXES",
+    "MAX_MU",
+    "MAX_MAGNITUDE",
+]
 
 MIN_DIGITS, MAX_DIGITS = 5, 200
+
+#: Largest mu = kap/lam: the steps of the full equations grow like 14 mu (mu = 500 takes
+#: 7,000 steps, 45 s), and Delta = pi b/ch(pi mu/2) is below 1e-67 b beyond it.
+MAX_MU = 100
+
+#: I, D, b and |C| must lie between 1/MAX_MAGNITUDE and MAX_MAGNITUDE.
+MAX_MAGNITUDE = 1e100
+
+#: The file types --plot writes (by its name's suffix, never added silently).
+PLOT_SUFFIXES = (".png", ".pdf", ".svg")
 
 
 def _params(items) -> dict:
@@ -48,6 +71,13 @@ def _params(items) -> dict:
             "b": parse_number(raw["b"], dps),
             "C": parse_number(raw.get("C", "1"), dps),
         }
+    for name, values in out.items():
+        for v in values if name == "I" else [values]:
+            if v != 0 and not 1 / MAX_MAGNITUDE <= abs(v) <= MAX_MAGNITUDE:
+                raise UserInputError(
+                    f"--param {name}: {mpmath.nstr(v, 6)} is beyond the range "
+                    f"{1 / MAX_MAGNITUDE:g}..{MAX_MAGNITUDE:g} of delta; rescale the units"
+                )
     if out["b"] <= 0:
         raise UserInputError("b (the radius) must be positive")
     if out["C"] == 0:
@@ -71,8 +101,13 @@ def run(args: argparse.Namespace) -> int:
         0 when the three values agree on the digits asked for, 1 otherwise.
     """
     import mpmath
-    from chaplygin.numerics.separatrix import check_inertia, delta_three_ways
+    from chaplygin.numerics.separatrix import check_inertia, delta_three_ways, mu_of
 
+    plot = figures = None
+    if args.plot is not None:
+        plot = check_output_file(args.plot, "--plot", PLOT_SUFFIXES, "the plot")
+    if args.figures is not None:
+        figures = check_output_dir(args.figures, "--figures", "the figures")
     digits = args.digits
     if not MIN_DIGITS <= digits <= MAX_DIGITS:
         raise UserInputError(
@@ -80,6 +115,17 @@ def run(args: argparse.Namespace) -> int:
         )
     P = _params(args.param)
     check_inertia(P["I"], P["D"])
+    with mpmath.workdps(digits + 10):
+        try:
+            mu = mu_of(P["I"], P["D"])
+        except ZeroDivisionError:  # J1, J2, J3 equal at this precision
+            mu = mpmath.inf
+    if not mu <= MAX_MU:
+        raise UserInputError(
+            f"mu = kap/lam = {mpmath.nstr(mu, 6)} is above {MAX_MU}: the moments I + D are "
+            f"too close (D much larger than the differences of I); Delta is below 1e-67 b there "
+            f"and the full equations would take about {mpmath.nstr(14 * mu, 2)} steps"
+        )
     start = time.perf_counter()
     r = delta_three_ways(P["I"], P["D"], P["b"], digits, C=abs(P["C"]), engine=args.engine)
     wall = time.perf_counter() - start
@@ -92,7 +138,7 @@ def run(args: argparse.Namespace) -> int:
     ok = r.digits_agree >= digits
     if args.json:
         print(
-            json.dumps(
+            json_text(
                 {
                     "mu": fmt(r.mu),
                     "delta_ode": fmt(r.ode),
@@ -110,7 +156,6 @@ def run(args: argparse.Namespace) -> int:
                     "ode_tail_bound": mpmath.nstr(r.ode_info.get("tail_bound"), 3),
                     "engine": args.engine,
                 },
-                indent=2,
             )
         )
     else:
@@ -130,17 +175,16 @@ def run(args: argparse.Namespace) -> int:
         print(f"agree on {agree:.1f} digits (requested {digits}): {'ok' if ok else 'NOT OK'}")
         times = ", ".join(f"{k} {v:.2f} s" for k, v in r.seconds.items())
         print(f"wall time {wall:.2f} s ({times})")
-    if args.plot or args.figures:
+    if plot is not None or figures is not None:
         from .plots import delta_of_mu_figure, separatrix_figures
 
-        if args.plot:
-            delta_of_mu_figure(float(P["b"])).savefig(args.plot, dpi=110)
-        if args.figures:
-            out = Path(args.figures)
-            out.mkdir(parents=True, exist_ok=True)
-            figures = separatrix_figures([float(v) for v in P["I"]], float(P["D"]), float(P["b"]))
-            for name, figure in figures.items():
-                figure.savefig(out / name, dpi=110)
+        if plot is not None:
+            delta_of_mu_figure(float(P["b"])).savefig(plot, dpi=110, format=plot.suffix[1:].lower())
+        if figures is not None:
+            figures.mkdir(exist_ok=True)
+            drawn = separatrix_figures([float(v) for v in P["I"]], float(P["D"]), float(P["b"]))
+            for name, figure in drawn.items():
+                figure.savefig(figures / name, dpi=110)
     return EXIT_OK if ok else EXIT_FAILED
 
 

@@ -7,7 +7,9 @@ import importlib.util
 import sys
 from pathlib import Path
 
-from .cli_common import EXIT_FAILED, EXIT_OK
+from chaplygin.derive.errors import UserInputError
+
+from .cli_common import EXIT_FAILED, EXIT_OK, check_output_dir
 
 __all__ = ["add_parser", "run", "generated_dir"]
 
@@ -38,7 +40,16 @@ def run(args: argparse.Namespace) -> int:
     """
     from chaplygin.derive.writer import check_generated, write_generated
 
-    directory = Path(args.out) if args.out else generated_dir()
+    if args.out is None:
+        directory = generated_dir()
+        if not args.check:
+            check_output_dir(str(directory), "derive", "the generated code")
+    elif args.check:  # read only: the folder need not be writable (or exist)
+        if not args.out.strip():
+            raise UserInputError("--out needs a folder name, got an empty one")
+        directory = Path(args.out)
+    else:
+        directory = check_output_dir(args.out, "--out", "the generated code")
     if args.check:
         problems = check_generated(directory)
         if problems:

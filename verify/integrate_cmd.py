@@ -3,14 +3,105 @@
 from __future__ import annotations
 
 import argparse
-import json
 import math
 
 from chaplygin.derive.errors import UserInputError
 
-from .cli_common import EXIT_FAILED, EXIT_OK, key_values, positive_float
+from .cli_common import EXIT_FAILED, EXIT_OK, json_text, key_values, positive_float
 
-__all__ = ["add_parser", "run"]
+__all__ = ["add_parser", "run", "DEFAULT_MAX_STEPS", "estimated_steps"]
+
+#: The step budget of 'chaplygin integrate' unless --max-steps raises it.
+DEFAULT_MAX_STEPS = 10_000_000
+
+#: Orders of the scipy methods: at unit frequency a step of an order-p method at relative
+#: tolerance rtol is about rtol**(1/(p+1)) time units long.
+_SCIPY_ORDERS = {"rk45": 5, "dop853": 8, "lsoda": 5, "radau": 5, "bdf": 5, "rk23": 3}
+
+#: Steps per time unit of the Taylor methods (taylor, odefun) at unit radius of
+#: convergence: the Jorba-Zou step is e^-2 times the radius, whatever the tolerance.
+_TAYLOR_STEPS_PER_TIME = math.e**2
+
+
+def estimated_steps(span: float, method: str | None, rtol: float | None, double: bool) -> float:
+    """Steps an integration over ``span`` time units needs at unit frequency (a guard).
+
+    Parameters
+    ----------
+    span : float
+        ``|t_end - t_start|``, in units of the motion's time scale (the command multiplies
+        it by ``|f(t0, y0)|/|y0|`` when that is above 1).
+    method : str or None
+        The ``--method`` (None: DOP853 in double, taylor otherwise).
+    rtol : float or None
+        The ``--rtol`` (None: 1e-10 in double; the Taylor step does not depend on it).
+    double : bool
+        Double precision (the scipy methods) or not.
+
+    Returns
+    -------
+    float
+        ``span * rtol**(-1/(p+1))`` for a scipy method of order p, ``span * e**2`` for the
+        Taylor methods. Faster motions (large momenta, small inertia) need more.
+    """
+    name = (method or ("DOP853" if double else "taylor")).lower()
+    if name in _SCIPY_ORDERS:
+        tol = 1e-10 if rtol is None else rtol
+        return span * tol ** (-1.0 / (_SCIPY_ORDERS[name] + 1))
+    return span * _TAYLOR_STEPS_PER_TIME
+
+
+def _rate(args: argparse.Namespace) -> float:
+    """``max(1, max_g |f_g(t0, y0)| / |y0_g|)`` over the state groups g (M, gamma, ...):
+    how fast the state moves at the start (a fast spin turns gamma at its rate).
+
+    Evaluated in double precision with the model's numpy code; 1 when that is not possible
+    (values beyond double, bad input: :func:`integrate` then says what is wrong).
+    """
+    import numpy as np
+    from chaplygin.numerics.code import load_model_code
+    from chaplygin.numerics.inputs import Precision, pack_params, pack_state, parse_number
+
+    double = Precision("double")
+    try:
+        code = load_model_code(args.system, args.effects)
+        p = np.array(pack_params(code, key_values(args.param, "--param"), double), float)
+        y = np.array(pack_state(code, key_values(args.y0, "--y0"), double), float)
+        t0 = float(parse_number(args.t_start))
+    except (UserInputError, OverflowError, ValueError, TypeError):
+        return 1.0
+    with np.errstate(all="ignore"):
+        f = np.asarray(code.numpy.rhs(t0, y, p), float)
+        rate = 1.0
+        for names in code.state_groups.values():
+            index = [code.state.index(n) for n in names]
+            size = float(np.linalg.norm(y[index]))
+            if size > 0:
+                rate = max(rate, float(np.linalg.norm(f[index])) / size)
+    return rate if math.isfinite(rate) else 1.0
+
+
+def _check_step_budget(args: argparse.Namespace, prec) -> None:
+    """Refuse, before any work, a span whose estimated steps exceed the budget."""
+    from chaplygin.numerics.inputs import parse_number
+
+    if args.max_steps < 1:
+        raise UserInputError(f"--max-steps must be a positive whole number, got {args.max_steps}")
+    try:
+        span = abs(float(parse_number(args.t_end) - parse_number(args.t_start)))
+    except UserInputError:
+        return  # integrate() reports the malformed time, in its own words
+    if not math.isfinite(span):
+        return  # (beyond double: integrate() says so)
+    rate = _rate(args)
+    steps = estimated_steps(span * rate, args.method, args.rtol, prec.is_double)
+    if steps > args.max_steps:
+        at = "" if rate == 1 else f" at a rate |f(y0)|/|y0| of {rate:.2g}"
+        raise UserInputError(
+            f"--t-end {args.t_end}: a span of {span:.3g}{at} needs about {steps:.2g} steps, "
+            f"beyond the budget of {args.max_steps:.3g}; shorten the span or raise --max-steps "
+            f"(default {DEFAULT_MAX_STEPS:.0e})"
+        )
 
 
 def _format_number(value, digits: int | None) -> str:
@@ -48,6 +139,7 @@ def run(args: argparse.Namespace) -> int:
     t_eval = _t_eval(args, prec)
     if args.output is not None:
         _check_output(args.output)
+    _check_step_budget(args, prec)
     result = integrate(
         args.system,
         y0,
@@ -60,6 +152,7 @@ def run(args: argparse.Namespace) -> int:
         atol=args.atol,
         backend=args.backend,
         t_eval=t_eval,
+        max_steps=args.max_steps,  # the integrator enforces the same budget while it runs
     )
     if args.output is not None:
         from chaplygin.numerics.code import load_model_code
@@ -95,7 +188,7 @@ def run(args: argparse.Namespace) -> int:
                 if isinstance(v, int | str) or (isinstance(v, float) and math.isfinite(v))
             },
         }
-        print(json.dumps(out, indent=2, allow_nan=False))
+        print(json_text(out))
     else:
         print(f"{result.model}: {result.message} (status {result.status})")
         print(
@@ -193,6 +286,16 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
         default=None,
         metavar="FILE",
         help="write the trajectory: FILE.nc (netCDF, names and units) or FILE.csv",
+    )
+    p.add_argument(
+        "--max-steps",
+        type=int,
+        default=DEFAULT_MAX_STEPS,
+        help=(
+            f"step budget (default {DEFAULT_MAX_STEPS:.0e}): a span needing more steps, "
+            "estimated as T * rtol^(-1/(p+1)) for an order-p scipy method and T * e^2 for "
+            "taylor and odefun, T = span * max(1, |f(y0)|/|y0|), is refused before any work"
+        ),
     )
     p.add_argument("--json", action="store_true")
     return p

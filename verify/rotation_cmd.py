@@ -8,11 +8,28 @@ K01-2.23, K01-2.26, K01-2.27 (with the true turning points, FORMULAS.md)
 from __future__ import annotations
 
 import argparse
-import json
 
-from .cli_common import EXIT_OK
+from .cli_common import EXIT_OK, json_text
 
 __all__ = ["add_parser", "run"]
+
+
+def _check_scale(values: dict, digits: int) -> None:
+    """Refuse I, D, |M| outside ``10**(-digits/2) .. 10**(digits/2)`` (before any work).
+
+    The separation roots and quadratures lose every digit beyond it (division by zero,
+    root finders that do not converge).
+    """
+    import mpmath
+    from chaplygin.derive.errors import UserInputError
+
+    bound = mpmath.mpf(10) ** (digits // 2)
+    for name, v in values.items():
+        if v != 0 and not 1 / bound <= abs(v) <= bound:
+            raise UserInputError(
+                f"{name} = {mpmath.nstr(v, 6)} is beyond 1e-{digits // 2}..1e{digits // 2}, "
+                f"what --digits {digits} resolves; rescale the units or raise --digits"
+            )
 
 
 def _vector(text: str, flag: str, n: int, dps: int) -> list:
@@ -49,6 +66,12 @@ def run(args: argparse.Namespace) -> int:
     D = _vector(args.D, "--D", 1, dps)[0]
     M = _vector(args.M, "--M", 3, dps)
     gamma = _vector(args.gamma, "--gamma", 3, dps)
+    if all(m == 0 for m in M):
+        raise UserInputError("--M must not be zero: a ball at rest has no torus")
+    with mpmath.workdps(dps):
+        scales = {f"I{i + 1}": v for i, v in enumerate(I)}
+        scales.update(D=D, **{"|M|": mpmath.sqrt(sum(m * m for m in M))})
+    _check_scale(scales, args.digits)
     if args.simulate is not None and not (0 < args.simulate < 1e6):
         raise UserInputError("--simulate T needs 0 < T < 1e6")
     tq = torus_quadratures(I, D, M, gamma, digits=args.digits)
@@ -82,7 +105,7 @@ def run(args: argparse.Namespace) -> int:
             "drift_H": mr.drift["H"],
         }
     if args.json:
-        print(json.dumps(out, indent=1))
+        print(json_text(out, indent=1))
     else:
         for k, v in out.items():
             print(f"{k:16s} {v}")

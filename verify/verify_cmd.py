@@ -3,20 +3,21 @@
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 import time
-from pathlib import Path
 
 from chaplygin.derive.errors import UserInputError
 
-from .cli_common import EXIT_FAILED, EXIT_OK
+from .cli_common import EXIT_FAILED, EXIT_OK, check_output_file, json_text
 
-__all__ = ["add_parser", "run", "DEFAULT_CLAIM_TIMEOUT"]
+__all__ = ["add_parser", "run", "DEFAULT_CLAIM_TIMEOUT", "MAX_JOBS"]
 
 #: Seconds one claim may take in 'chaplygin verify' (the slowest takes about 10 s).
 DEFAULT_CLAIM_TIMEOUT = 600.0
+
+#: Most worker processes 'chaplygin verify --jobs' starts.
+MAX_JOBS = 256
 
 
 def run(args: argparse.Namespace) -> int:
@@ -35,12 +36,21 @@ def run(args: argparse.Namespace) -> int:
     from .claims import select_claims
     from .verdict import FAILURES, default_jobs, iter_verdicts
 
-    if args.report:
-        target = Path(args.report)
-        if target.is_dir() or not target.parent.exists():
-            raise UserInputError(
-                f"cannot write the report to {args.report!r}: give a file in an existing folder"
-            )
+    report = None
+    if args.report is not None:
+        report = check_output_file(args.report, "--report", what="the report")
+    if args.claims is not None and not args.claims.replace(",", "").strip():
+        raise UserInputError(
+            f"--claims {args.claims!r} names no claim; give globs over IDs like "
+            "'BKM12-*,K01-2.2' (or leave --claims out to check every claim)"
+        )
+    jobs = default_jobs() if args.jobs is None else args.jobs
+    if not 1 <= jobs <= MAX_JOBS:
+        raise UserInputError(f"--jobs must be a whole number in 1..{MAX_JOBS}, got {jobs}")
+    if not (args.timeout >= 0 and math.isfinite(args.timeout)):
+        raise UserInputError(
+            f"--timeout must be a finite number of seconds >= 0 (0: none), got {args.timeout}"
+        )
     if args.coverage:
         from .coverage import coverage
         from .report import render_coverage
@@ -58,11 +68,6 @@ def run(args: argparse.Namespace) -> int:
         raise UserInputError(
             f"no claim matches {args.claims!r}; patterns are globs over IDs like 'BKM12-*,K01-2.2'"
         )
-    jobs = default_jobs() if args.jobs is None else args.jobs
-    if jobs < 1:
-        raise UserInputError(f"--jobs must be a positive whole number, got {jobs}")
-    if not (args.timeout >= 0 and math.isfinite(args.timeout)):
-        raise UserInputError(f"--timeout must be a number of seconds >= 0, got {args.timeout}")
     timeout = args.timeout or None
     verdicts = []
     started = time.perf_counter()
@@ -79,11 +84,11 @@ def run(args: argparse.Namespace) -> int:
                 print(f"{'':<72}residual {v.residual} at {v.witness}")
             sys.stdout.flush()
     if args.json:
-        print(json.dumps([v.to_json() for v in verdicts], indent=2))
-    if args.report:
+        print(json_text([v.to_json() for v in verdicts]))
+    if report is not None:
         from .report import render_report
 
-        Path(args.report).write_text(render_report(verdicts))
+        report.write_text(render_report(verdicts))
     bad = [v for v in verdicts if not v.ok]
     if not args.json:
         counts = {
@@ -143,7 +148,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "--jobs",
         type=int,
         default=None,
-        help="worker processes (default: the CPUs available)",
+        help=f"worker processes, 1..{MAX_JOBS} (default: the CPUs available)",
     )
     p.add_argument(
         "--timeout",
