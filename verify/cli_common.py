@@ -212,3 +212,47 @@ def positive_float(text: str) -> float:
     if not (value > 0 and value != float("inf")):
         raise argparse.ArgumentTypeError(f"{text!r} must be a positive finite number")
     return value
+
+
+def add_precision_digits(parser: argparse.ArgumentParser, default: int) -> None:
+    """``--precision N`` (digits) with ``--digits N`` kept as a hidden alias.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+    default : int
+        Digits when neither is given.
+    """
+    parser.add_argument(
+        "--precision",
+        type=int,
+        default=None,
+        metavar="DIGITS",
+        help=f"working precision in decimal digits (default {default})",
+    )
+    parser.add_argument("--digits", type=int, default=None, help=argparse.SUPPRESS)
+    parser.set_defaults(default_digits=default)
+
+
+def precision_digits(args: argparse.Namespace) -> int:
+    """The digits of ``--precision`` (or its old spelling ``--digits``).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    UserInputError
+        Both spellings given with different values.
+    """
+    if args.precision is not None and args.digits is not None and args.precision != args.digits:
+        raise UserInputError("give --precision once (--digits is its old name)")
+    for value in (args.precision, args.digits):
+        if value is not None:
+            return value
+    return args.default_digits

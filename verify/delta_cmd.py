@@ -1,6 +1,6 @@
 """``chaplygin delta``: the contact-point displacement per tumble along the separatrix.
 
-``chaplygin delta --param I=1,3,5 --param D=1 --param b=1 --digits 30 [--json]
+``chaplygin delta --param I=1,3,5 --param D=1 --param b=1 --precision 30 [--json]
 [--plot FILE.png] [--figures DIR]`` prints ``mu = xi = kap/lam``, Delta by the full
 equations (Taylor integration at high precision), by the quadrature of K01 (3.7) and by
 the closed form ``pi b/ch(pi mu/2)``, the number of digits on which they agree and the
@@ -17,10 +17,12 @@ from chaplygin.derive.errors import UserInputError
 from .cli_common import (
     EXIT_FAILED,
     EXIT_OK,
+    add_precision_digits,
     check_output_dir,
     check_output_file,
     json_text,
     key_values,
+    precision_digits,
 )
 
 __all__ = [
@@ -62,7 +64,7 @@ def _params(items) -> dict:
             raise UserInputError(
                 f"--param {need}=... is required (e.g. --param I=1,3,5 --param D=1 --param b=1)"
             )
-    # read at more digits than any --digits (was 60: --digits 100 lost the inputs' digits)
+    # read at more digits than any --precision (was 60: 100 digits lost the inputs' digits)
     dps = MAX_DIGITS + 10
     with mpmath.workdps(dps):
         out = {
@@ -108,10 +110,10 @@ def run(args: argparse.Namespace) -> int:
         plot = check_output_file(args.plot, "--plot", PLOT_SUFFIXES, "the plot")
     if args.figures is not None:
         figures = check_output_dir(args.figures, "--figures", "the figures")
-    digits = args.digits
+    digits = precision_digits(args)
     if not MIN_DIGITS <= digits <= MAX_DIGITS:
         raise UserInputError(
-            f"--digits {digits}: give between {MIN_DIGITS} and {MAX_DIGITS} digits"
+            f"--precision {digits}: give between {MIN_DIGITS} and {MAX_DIGITS} digits"
         )
     P = _params(args.param)
     check_inertia(P["I"], P["D"])
@@ -211,7 +213,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
         metavar="NAME=VALUE[,VALUE...]",
         help="I=I1,I2,I3 (I2 the middle moment), D=m b^2, b=radius, C=(M,gamma)",
     )
-    p.add_argument("--digits", type=int, default=30, help="digits wanted (default 30)")
+    add_precision_digits(p, 30)
     p.add_argument("--json", action="store_true", help="values as decimal strings in JSON")
     p.add_argument(
         "--engine",

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import argparse
 
-from .cli_common import EXIT_OK, json_text
+from .cli_common import EXIT_OK, add_precision_digits, json_text, key_values, precision_digits
 
 __all__ = ["add_parser", "run"]
 
@@ -28,7 +28,7 @@ def _check_scale(values: dict, digits: int) -> None:
         if v != 0 and not 1 / bound <= abs(v) <= bound:
             raise UserInputError(
                 f"{name} = {mpmath.nstr(v, 6)} is beyond 1e-{digits // 2}..1e{digits // 2}, "
-                f"what --digits {digits} resolves; rescale the units or raise --digits"
+                f"what --precision {digits} resolves; rescale the units or raise --precision"
             )
 
 
@@ -40,6 +40,42 @@ def _vector(text: str, flag: str, n: int, dps: int) -> list:
     if len(items) != n:
         raise UserInputError(f"{flag} needs {n} comma-separated numbers, got {text!r}")
     return [parse_number(s, dps) for s in items]
+
+
+def _named_values(args: argparse.Namespace) -> dict[str, str]:
+    """``I, D`` from ``--param`` and ``M, gamma`` from ``--y0`` (or their old flags)."""
+    from chaplygin.derive.errors import UserInputError
+
+    params, y0 = key_values(args.param, "--param"), key_values(args.y0, "--y0")
+    for flag, got, names in (("--param", params, ("I", "D")), ("--y0", y0, ("M", "gamma"))):
+        unknown = sorted(set(got) - set(names))
+        if unknown:
+            raise UserInputError(
+                f"{flag} {unknown[0]}: rotation takes {flag} " + " and ".join(names)
+            )
+    out = {}
+    for flag, got, name in (
+        ("--param", params, "I"),
+        ("--param", params, "D"),
+        ("--y0", y0, "M"),
+        ("--y0", y0, "gamma"),
+    ):
+        old = getattr(args, name)
+        if name in got and old is not None:
+            raise UserInputError(f"give {name} once: {flag} {name}=... (--{name} is its old form)")
+        value = got.get(name, old)
+        if value is None:
+            raise UserInputError(f"missing {flag} {name}=... (e.g. {_EXAMPLE[name]})")
+        out[name] = value
+    return out
+
+
+_EXAMPLE = {
+    "I": "--param I=1,1.5,3",
+    "D": "--param D=1",
+    "M": "--y0 M=0.48,0.5,-0.36",
+    "gamma": "--y0 gamma=0.6,0,0.8",
+}
 
 
 def run(args: argparse.Namespace) -> int:
@@ -59,23 +95,25 @@ def run(args: argparse.Namespace) -> int:
     from chaplygin.derive.errors import UserInputError
     from chaplygin.numerics.quadratures import measured_rotation_number, torus_quadratures
 
-    if args.digits < 15 or args.digits > 1000:
-        raise UserInputError("--digits must be between 15 and 1000")
-    dps = args.digits + 10
-    I = _vector(args.I, "--I", 3, dps)
-    D = _vector(args.D, "--D", 1, dps)[0]
-    M = _vector(args.M, "--M", 3, dps)
-    gamma = _vector(args.gamma, "--gamma", 3, dps)
+    digits = precision_digits(args)
+    given = _named_values(args)
+    if digits < 15 or digits > 1000:
+        raise UserInputError("--precision must be between 15 and 1000 digits")
+    dps = digits + 10
+    I = _vector(given["I"], "--param I", 3, dps)
+    D = _vector(given["D"], "--param D", 1, dps)[0]
+    M = _vector(given["M"], "--y0 M", 3, dps)
+    gamma = _vector(given["gamma"], "--y0 gamma", 3, dps)
     if all(m == 0 for m in M):
         raise UserInputError("--M must not be zero: a ball at rest has no torus")
     with mpmath.workdps(dps):
         scales = {f"I{i + 1}": v for i, v in enumerate(I)}
         scales.update(D=D, **{"|M|": mpmath.sqrt(sum(m * m for m in M))})
-    _check_scale(scales, args.digits)
+    _check_scale(scales, digits)
     if args.simulate is not None and not (0 < args.simulate < 1e6):
         raise UserInputError("--simulate T needs 0 < T < 1e6")
-    tq = torus_quadratures(I, D, M, gamma, digits=args.digits)
-    d = args.digits
+    tq = torus_quadratures(I, D, M, gamma, digits=digits)
+    d = digits
 
     def s(x):
         return mpmath.nstr(x, d)
@@ -129,11 +167,22 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
         "rotation",
         help="rotation number, frequencies and actions of a torus at (M, gamma) = 0 (K01-2.27)",
     )
-    p.add_argument("--I", required=True, help="I1,I2,I3 with I1 < I2 < I3")
-    p.add_argument("--D", required=True, help="D = m b^2")
-    p.add_argument("--M", required=True, help="M1,M2,M3 with (M, gamma) = 0")
-    p.add_argument("--gamma", required=True, help="gamma1,gamma2,gamma3 (unit vector)")
-    p.add_argument("--digits", type=int, default=30)
+    p.add_argument(
+        "--param",
+        action="append",
+        metavar="NAME=VALUE",
+        help="I=I1,I2,I3 (I1 < I2 < I3) and D=m b^2, as for integrate",
+    )
+    p.add_argument(
+        "--y0",
+        action="append",
+        metavar="NAME=VALUE",
+        help="M=M1,M2,M3 and gamma=g1,g2,g3 (unit vector) with (M, gamma) = 0",
+    )
+    # the old spellings (before the one vocabulary), kept working
+    for old in ("--I", "--D", "--M", "--gamma"):
+        p.add_argument(old, default=None, help=argparse.SUPPRESS)
+    add_precision_digits(p, 30)
     p.add_argument(
         "--simulate",
         type=float,
