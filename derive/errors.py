@@ -7,7 +7,7 @@ effect or parameter, a non-physical value, a malformed number).
 
 from __future__ import annotations
 
-__all__ = ["ChaplyginError", "UserInputError", "DerivationError", "CacheError"]
+__all__ = ["ChaplyginError", "UserInputError", "DerivationError", "CacheError", "ComputationError"]
 
 
 class ChaplyginError(Exception):
@@ -25,3 +25,8 @@ class DerivationError(ChaplyginError):
 class CacheError(UserInputError):
     """A cache folder cannot be used safely (others can write to it, it is not ours, or it
     is read-only); the message says how to fix it (CHAPLYGIN_CACHE_DIR, chmod)."""
+
+
+class ComputationError(ChaplyginError, RuntimeError):
+    """A numerical computation did not reach its result (an integration that failed, a return
+    to the initial state that was not found); the message says what happened."""

@@ -76,6 +76,8 @@ class Precision:
             self.digits, self.is_quad = self.QUAD_DIGITS, True
         else:
             try:
+                if isinstance(value, float) and not value.is_integer():
+                    raise ValueError  # 20.7 digits is not a number of digits
                 digits = int(value)
             except (TypeError, ValueError, OverflowError):
                 raise UserInputError(

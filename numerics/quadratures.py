@@ -37,7 +37,7 @@ import sympy as sp
 
 from ..derive import hamiltonisation as hz
 from ..derive.emit import emit_function
-from ..derive.errors import UserInputError
+from ..derive.errors import ComputationError, UserInputError
 from .code import load_model_code
 from .inputs import check_count, check_inertia_vector, check_real, check_vector
 
@@ -519,7 +519,7 @@ def measured_rotation_number(
         t_eval=t_eval,
     )
     if not res.success:
-        raise RuntimeError(res.message)
+        raise ComputationError(res.message)
     y = np.asarray(res.y, dtype=float)
     Mv, g = y[:3], y[3:6]
     Iv = np.asarray(I, dtype=float)

@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 import mpmath
 import numpy as np
 
-from ..derive.errors import UserInputError
+from ..derive.errors import ComputationError, UserInputError
 from .inputs import check_choice, check_count, check_inertia_vector, check_real
 
 #: Digits the separatrix functions accept (``digits``, ``dps``).
@@ -785,7 +785,7 @@ def frame_turn(
         if times:
             ev = (times[0], sol.y_events[0][list(sol.t_events[0]).index(times[0])])
         elif t_end > 1e5:
-            raise RuntimeError("no return of gamma found")
+            raise ComputationError("no return of gamma found")
         else:
             t_end *= 4
     T, yT = ev

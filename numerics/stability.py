@@ -34,7 +34,7 @@ from scipy.optimize import brentq
 
 from ..derive.bifurcation import steady_parameters, steady_rotation
 from ..derive.emit import emit_function
-from ..derive.errors import UserInputError
+from ..derive.errors import ComputationError, UserInputError
 from ..derive.systems import build_model
 from .code import ModelCode, load_model_code
 from .inputs import check_choice, check_inertia_vector, check_real
@@ -296,7 +296,7 @@ def return_period(
                 return float(t)
             if best is None or dist < best[1]:
                 best = (t, dist)
-    raise RuntimeError(f"no return to the initial state within t = {t_max} (closest: {best})")
+    raise ComputationError(f"no return to the initial state within t = {t_max} (closest: {best})")
 
 
 def monodromy(
@@ -346,7 +346,7 @@ def monodromy(
     z0 = np.concatenate([y0, np.eye(n).ravel()])
     sol = solve_ivp(rhs, (0, T), z0, method="DOP853", rtol=rtol, atol=rtol)
     if not sol.success:  # pragma: no cover - a smooth periodic orbit
-        raise RuntimeError(sol.message)
+        raise ComputationError(sol.message)
     z = sol.y[:, -1]
     return z[n:].reshape(n, n), z[:n]
 

@@ -286,3 +286,9 @@ def test_a_value_double_cannot_hold_is_refused_in_double(text):
         working_number(text, Precision("double"))
     with mpmath.workprec(Precision(30).prec):
         assert working_number(text, Precision(30)) == mpmath.mpf(text)
+
+
+def test_a_fractional_number_of_digits_is_refused():
+    with pytest.raises(UserInputError, match="20.7"):
+        Precision(20.7)
+    assert Precision(20.0).digits == 20

@@ -36,6 +36,9 @@ _PUBLIC: dict[str, str] = {
     "Model": "derive.model:Model",
     "EFFECTS": "derive.effects:EFFECTS",
     "UserInputError": "derive.errors:UserInputError",
+    "ChaplyginError": "derive.errors:ChaplyginError",
+    "ComputationError": "derive.errors:ComputationError",
+    "CacheError": "derive.errors:CacheError",
     # numerics
     "integrate": "numerics.integrate:integrate",
     "IntegrationResult": "numerics.integrate:IntegrationResult",
