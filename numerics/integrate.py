@@ -134,9 +134,11 @@ def _tolerances(rtol, atol, precision: Precision) -> tuple[float, float]:
     default_rtol, default_atol = NUMBER_TYPES[precision.kind].default_tolerances(precision)
     rtol = default_rtol if rtol is None else rtol
     atol = default_atol if atol is None else atol
+    if isinstance(rtol, bool | str) or isinstance(atol, bool | str):
+        raise UserInputError("rtol and atol must be positive finite numbers, not True/False/text")
     try:
         rtol, atol = float(rtol), float(atol)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise UserInputError("rtol and atol must be positive finite numbers") from None
     if not (rtol > 0 and atol > 0 and np.isfinite(rtol) and np.isfinite(atol)):
         raise UserInputError("rtol and atol must be positive finite numbers")

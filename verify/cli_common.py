@@ -139,7 +139,7 @@ def _finite_or_none(value: object) -> object:
     return value
 
 
-def json_text(value: object, indent: int | None = 2) -> str:
+def json_text(value: object, indent: int | None = 2, sort_keys: bool = False) -> str:
     """``value`` as strict JSON: NaN and infinities become ``null`` (never a bare ``NaN``).
 
     Parameters
@@ -148,12 +148,14 @@ def json_text(value: object, indent: int | None = 2) -> str:
         Dicts, lists, tuples, strings, numbers, booleans and None.
     indent : int, optional
         As for :func:`json.dumps`.
+    sort_keys : bool
+        As for :func:`json.dumps`.
 
     Returns
     -------
     str
     """
-    return json.dumps(_finite_or_none(value), indent=indent, allow_nan=False)
+    return json.dumps(_finite_or_none(value), indent=indent, allow_nan=False, sort_keys=sort_keys)
 
 
 def key_values(items: Sequence[str] | None, flag: str) -> dict[str, str]:

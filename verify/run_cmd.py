@@ -8,11 +8,10 @@ each run writes into a temporary folder that is moved into place at the end.
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from pathlib import Path
 
-from .cli_common import EXIT_FAILED, EXIT_OK
+from .cli_common import EXIT_FAILED, EXIT_OK, json_text
 
 __all__ = ["add_parser", "run"]
 
@@ -57,7 +56,7 @@ def run(args: argparse.Namespace) -> int:
     from .scene import Scene, SceneError, prepare_output, scene_json_schema, write_atomically
 
     if args.schema:
-        print(json.dumps(scene_json_schema(), indent=2, sort_keys=True))
+        print(json_text(scene_json_schema(), indent=2, sort_keys=True))
         return EXIT_OK
     if not args.scenes:
         raise SceneError("give at least one scene file (or --schema)")
@@ -91,7 +90,7 @@ def run(args: argparse.Namespace) -> int:
         if not result.success:
             status = EXIT_FAILED
         if args.json:
-            print(json.dumps({k: summary[k] for k in JSON_KEYS}, indent=2, allow_nan=False))
+            print(json_text({k: summary[k] for k in JSON_KEYS}, indent=2))
         elif not args.quiet:
             worst = max(summary["drift"].values(), key=lambda v: -1 if v is None else v)
             print(
