@@ -134,7 +134,21 @@ def spheroconical_coordinates(
     References
     ----------
     K01-2.11 (FORMULAS.md).
+
+    Raises
+    ------
+    UserInputError
+        ``a`` not three positive numbers; ``gamma`` not three finite numbers (or a (3, N)
+        array of them) or zero.
     """
+    check_vector(a, "a", positive=True)
+    if isinstance(gamma, np.ndarray) and gamma.ndim == 2:
+        if gamma.shape[0] != 3 or not np.all(np.isfinite(gamma)):
+            raise UserInputError(f"gamma must be finite with shape (3, N), got {gamma.shape}")
+        if np.any(np.sum(gamma * gamma, axis=0) == 0):
+            raise UserInputError("gamma must not be zero (it is normalised here)")
+    elif all(v == 0 for v in check_vector(gamma, "gamma")):
+        raise UserInputError("gamma must not be zero (it is normalised here)")
     g2 = [g * g for g in gamma]
     norm = g2[0] + g2[1] + g2[2]
     s = (g2[0] * (a[1] + a[2]) + g2[1] * (a[0] + a[2]) + g2[2] * (a[0] + a[1])) / norm
