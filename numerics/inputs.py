@@ -18,6 +18,7 @@ from fractions import Fraction
 
 import gmpy2
 import mpmath
+import numpy as np
 from mpmath.libmp import dps_to_prec, from_rational, round_nearest
 
 from ..derive.errors import UserInputError
@@ -143,6 +144,9 @@ Number = str | int | float | Fraction | Decimal | mpmath.mpf
 _LITERAL = re.compile(r"[+-]?(?:\d[\d_]*\.?[\d_]*|\.\d[\d_]*)(?:[eE][+-]?\d+)?")
 
 
+_MPFR = type(gmpy2.mpfr(0))
+
+
 def _exact_mpf(value: object, prec: int) -> mpmath.mpf | None:
     """``value`` rounded once to ``prec`` bits, for the number types that carry an exact value.
 
@@ -159,12 +163,12 @@ def _exact_mpf(value: object, prec: int) -> mpmath.mpf | None:
         if not value.is_finite():
             return mpmath.mpf("nan")
         return _exact_mpf(Fraction(value), prec)
-    if isinstance(value, (float,)) or type(value).__name__ in ("float64", "float32", "float16"):
+    if isinstance(value, float | np.floating):
         with mpmath.workprec(max(prec, 53)):
             x = mpmath.mpf(float(value))
         with mpmath.workprec(prec):
             return +x
-    if type(value).__name__ == "mpfr":
+    if isinstance(value, _MPFR):
         if not gmpy2.is_finite(value):
             return mpmath.mpf("nan")
         return _exact_mpf(Fraction(*value.as_integer_ratio()), prec)
@@ -599,9 +603,20 @@ def pack_state(
             f"unknown state variable {unknown[0]!r} for {code.name}; valid: {', '.join(groups)}"
         )
     dps = precision.parse_dps
+    # the vectors of the model's Poisson groups are read at a guard precision (they are
+    # renormalised or complete a frame); every other group is rounded once to the working
+    # precision from its own text, and the frame of BKM12-7 is built from those values
+    vectors = {n for _, names in code.geometry for n in names}
     with mpmath.workdps(dps):
         got = {
-            name: _values(name, values[name], len(groups[name]), lambda v: parse_number(v, dps))
+            name: [
+                mpmath.mpf(v)
+                for v in (
+                    _values(name, values[name], len(groups[name]), lambda v: parse_number(v, dps))
+                    if name in vectors
+                    else _working_values(name, values[name], len(groups[name]), precision)
+                )
+            ]
             for name in values
         }
         rules = {g: rule for names, rule in code.completion for g in names}
@@ -630,21 +645,8 @@ def pack_state(
             s: v for name, comps in groups.items() for s, v in zip(comps, got[name], strict=True)
         }
         state = [flat[s] for s in code.state]
-    # groups given by the user and kept as they are are rounded once from their own text;
-    # normalised or completed ones from the guard-precision values above
-    vectors = {n for _, names in code.geometry for n in names}
-    kept = {name for name in values if name not in vectors}
-    direct = {
-        s: v
-        for name in kept
-        for s, v in zip(
-            groups[name],
-            _working_values(name, values[name], len(groups[name]), precision),
-            strict=True,
-        )
-    }
-    rounded = round_to(state, precision)
-    return [direct.get(s, r) for s, r in zip(code.state, rounded, strict=True)]
+    # one rounding to the working precision (exact for the groups already at it)
+    return round_to(state, precision)
 
 
 def _frame(got: dict) -> dict:

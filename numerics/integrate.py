@@ -119,13 +119,8 @@ def _check_constraints(code: ModelCode, t0, y: Sequence, p: Sequence) -> None:
             if not abs(value) <= UNIT_TOLERANCE * max(scale, mpmath.mpf(1)):
                 raise UserInputError(
                     f"the initial state is off the phase space of {code.name}: {name} fails by "
-                    f"{mpmath.nstr(value, 6)} (allowed {UNIT_TOLERANCE:g} relative); give a "
-                    "state on it"
-                    + (
-                        " (for the ellipsoid, x = sqrt(b) u with a unit vector u)"
-                        if code.system == "ball_on_surface"
-                        else ""
-                    )
+                    f"{mpmath.nstr(value, 6)} (allowed {UNIT_TOLERANCE:g} relative to its "
+                    f"scale {mpmath.nstr(scale, 6)}); give a state on it"
                 )
 
 

@@ -256,6 +256,8 @@ def test_a_float_is_its_exact_binary_value():
     x = working_number(0.1, prec)
     assert _as_fraction(x) == Fraction(0.1)
     assert working_number(np.float64(0.1), prec) == x
+    # a numpy float32 too is its own binary value (not the double nearest to 0.1)
+    assert _as_fraction(working_number(np.float32(0.1), prec)) == Fraction(float(np.float32(0.1)))
     assert working_number("0.1", prec) != x
 
 

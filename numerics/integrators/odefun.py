@@ -44,12 +44,11 @@ class MpmathOdefun(Integrator):
                 nfev=budget.calls,
                 nsteps=0,
             )
-        counter = [budget.calls]
         return Solution(
             t=np.array(times, dtype=object),
             y=y,
             status=0,
             message="reached t_end",
-            nfev=counter[0],
+            nfev=budget.calls,
             nsteps=len(times) - 1,
         )
