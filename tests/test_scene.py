@@ -338,3 +338,31 @@ atol = 1e-12
     assert summary["code_origin"] == "emitted in memory"
     assert summary["resolved"]["effects"] == {"variable_gyrostat": "named in the scene"}
     assert max(summary["drift"].values()) < 1e-9  # its integrals (M,M), (M,gamma) hold
+
+
+def test_write_dataset_round_trip_and_refuses_inconsistent_dimensions(tmp_path):
+    from chaplygin.verify.trajectory import write_dataset
+    from scipy.io import netcdf_file
+
+    z = np.linspace(-1, 1, 7) / 3
+    n = np.arange(7, dtype=np.int64)
+    path = tmp_path / "poincare.nc"
+    write_dataset(
+        path,
+        {
+            "z": (("point",), z, {"long_name": "M3/G", "units": "1"}),
+            "iteration": (("point",), n, {"long_name": "map iteration", "units": "1"}),
+            "grid": (("point", "k"), np.outer(z, [1.0, 2.0]), {"units": "1"}),
+        },
+        {"title": "t"},
+    )
+    with netcdf_file(path, mmap=False) as nc:
+        assert nc.title == b"t"
+        assert np.array_equal(nc.variables["z"][:], z)
+        assert np.array_equal(nc.variables["iteration"][:], n)
+        assert nc.variables["grid"].shape == (7, 2)
+        assert nc.variables["z"].units == b"1"
+    with pytest.raises(ValueError, match="lengths"):
+        write_dataset(tmp_path / "bad.nc", {"a": (("p",), z, {}), "b": (("p",), z[:3], {})})
+    with pytest.raises(ValueError, match="dimensions"):
+        write_dataset(tmp_path / "bad.nc", {"a": (("p", "q"), z, {})})

@@ -28,6 +28,7 @@ JSON_KEYS = (
     "precision",
     "steps",
     "wall_s",
+    "analyses",
     "outputs",
 )
 
@@ -90,7 +91,12 @@ def run(args: argparse.Namespace) -> int:
         if not result.success:
             status = EXIT_FAILED
         if args.json:
-            print(json_text({k: summary[k] for k in JSON_KEYS}, indent=2))
+            print(json_text({k: summary[k] for k in JSON_KEYS if k in summary}, indent=2))
+        elif not args.quiet and result.integration is None:
+            print(
+                f"{scene.source}: {', '.join(result.analyses)} in {summary['wall_s']:.2f} s "
+                f"-> {folder}/"
+            )
         elif not args.quiet:
             worst = max(summary["drift"].values(), key=lambda v: -1 if v is None else v)
             print(

@@ -53,6 +53,7 @@ from pydantic import (
 
 from ..derive.errors import UserInputError
 from ..derive.systems import SYSTEMS
+from .analyses import AnalysisResult, requested
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -683,6 +684,9 @@ def _resolve(scene: Scene) -> Resolved:
         if getattr(scene.outputs, key) is not None:
             for e in needs:
                 reasons.setdefault(e, f"needed by outputs.{key}")
+    for key, (analysis, _) in requested(scene.outputs).items():
+        for e in analysis.effects:
+            reasons.setdefault(e, f"needed by outputs.{key}")
     supported = SYSTEMS[scene.system].effects
     for e in reasons:
         if e not in supported:
@@ -992,6 +996,9 @@ def _check_outputs(scene: Scene, code: Any, text: str | None) -> None:
             _dotted(loc),
             _line_of(text, loc),
         )
+    for analysis, spec in requested(scene.outputs).values():
+        if analysis.check is not None:
+            analysis.check(scene, code, spec)
 
 
 def _num(value: object, dps: int):
@@ -1114,6 +1121,10 @@ def explain_text(scene: Scene, res: Resolved) -> str:
             f"code: {code.name} is not in generated/: derived and emitted in memory "
             f"({res.load_s:.1f} s); method {method}"
         )
+    if not needs_trajectory(scene):
+        lines.append("trajectory: none (the outputs are analyses; add [outputs.trajectory])")
+    for key, (analysis, _) in requested(scene.outputs).items():
+        lines.append(f"analysis {key}: {analysis.description}")
     return "\n".join(lines)
 
 
@@ -1166,6 +1177,38 @@ def run_resolved(scene: Scene, res: Resolved, progress: bool) -> SceneResult:
     SceneError
         The integrator refused the run settings.
     """
+    started = time.perf_counter()
+    result = _integrate_trajectory(scene, res, progress) if needs_trajectory(scene) else None
+    done = {}
+    for key, (analysis, spec) in requested(scene.outputs).items():
+        done[key] = analysis.run(scene, res, spec, progress)
+    wall = time.perf_counter() - started
+    return SceneResult(scene, res, result, wall, done)
+
+
+#: Outputs drawn from the scene's trajectory.
+TRAJECTORY_OUTPUTS = ("contact_trace", "body_trace", "series", "drift", "diagram")
+
+
+def needs_trajectory(scene: Scene) -> bool:
+    """Whether a run integrates the scene's trajectory: a trajectory output is asked for, or
+    ``[outputs.trajectory]`` is given, or the scene asks for no analysis.
+
+    Parameters
+    ----------
+    scene : Scene
+
+    Returns
+    -------
+    bool
+    """
+    outputs = scene.outputs
+    if "trajectory" in outputs.model_fields_set or not requested(outputs):
+        return True
+    return any(getattr(outputs, key) is not None for key in TRAJECTORY_OUTPUTS)
+
+
+def _integrate_trajectory(scene: Scene, res: Resolved, progress: bool) -> Any:
     import mpmath
 
     from ..numerics.inputs import Precision
@@ -1181,7 +1224,6 @@ def run_resolved(scene: Scene, res: Resolved, progress: bool) -> SceneResult:
             t_eval = [t0 + (t1 - t0) * mpmath.mpf(i) / (n - 1) for i in range(n)]
     method = scene.run_options.method
     event, bar = _progress_event(t0, t1, progress and method != "odefun")
-    started = time.perf_counter()
     try:
         result = integrate(
             res.code,
@@ -1201,8 +1243,7 @@ def run_resolved(scene: Scene, res: Resolved, progress: bool) -> SceneResult:
     finally:
         if bar is not None:
             bar.close()
-    wall = time.perf_counter() - started
-    return SceneResult(scene, res, result, wall)
+    return result
 
 
 @dataclass
@@ -1213,37 +1254,52 @@ class SceneResult:
     ----------
     scene : Scene
     resolved : Resolved
-    integration : IntegrationResult
+    integration : IntegrationResult or None
+        The scene's trajectory; None when its outputs are analyses only
+        (:func:`needs_trajectory`).
     wall_s : float
         Wall time of the whole run (set-up included).
+    analyses : dict of str to AnalysisResult
+        The analyses' results by output key (:mod:`chaplygin.verify.analyses`).
     """
 
     scene: Scene
     resolved: Resolved
     integration: Any
     wall_s: float
+    analyses: dict[str, AnalysisResult] = field(default_factory=dict)
+
+    def _trajectory(self) -> Any:
+        if self.integration is None:
+            raise SceneError(
+                "this run integrated no trajectory (its outputs are analyses only); "
+                "add [outputs.trajectory] to the scene to get one",
+                self.scene.source,
+                "outputs",
+            )
+        return self.integration
 
     # ------------------------------------------------------------------- arrays
     @property
     def t(self) -> np.ndarray:
         """Output times (float64)."""
-        return np.asarray(self.integration.t, dtype=float)
+        return np.asarray(self._trajectory().t, dtype=float)
 
     @property
     def y(self) -> dict[str, np.ndarray]:
         """State components by name (float64 arrays)."""
-        arr = np.asarray(self.integration.y, dtype=float)
+        arr = np.asarray(self._trajectory().y, dtype=float)
         return dict(zip(self.integration.state_names, arr, strict=True))
 
     @property
     def drift(self) -> dict[str, float]:
         """Largest relative change of every integral (absolute where its start is ~0)."""
-        return dict(self.integration.drift)
+        return dict(self._trajectory().drift)
 
     @property
     def success(self) -> bool:
-        """True when the integration reached ``t_end``."""
-        return self.integration.success
+        """True when the trajectory reached ``t_end`` (True without a trajectory)."""
+        return self.integration is None or self.integration.success
 
     def _p(self) -> np.ndarray:
         return np.asarray([float(v) for v in self.resolved.params.values()])
@@ -1265,7 +1321,7 @@ class SceneResult:
             An unknown name (the message lists the valid ones).
         """
         code = self.resolved.code
-        y = np.asarray(self.integration.y, dtype=float)
+        y = np.asarray(self._trajectory().y, dtype=float)
         if name in code.state:
             return y[code.state.index(name)]
         if name in code.aux_names:
@@ -1425,6 +1481,10 @@ class SceneResult:
             spec = getattr(self.scene.outputs, key)
             if spec is not None and spec.plot:
                 out[key] = make()
+        for key, done in self.analyses.items():
+            if getattr(getattr(self.scene.outputs, key), "plot", True):
+                for name, make in done.figures.items():
+                    out[name] = make()
         return out
 
     def _title(self) -> str:
@@ -1449,8 +1509,7 @@ class SceneResult:
 
         r, res = self.integration, self.resolved
         digits = res.digits
-        final = {k: _decimal(v, digits) for k, v in r.y_final.items()}
-        return {
+        summary = {
             "title": self.scene.title,
             "source": self.scene.source,
             "scene": self.scene._given,
@@ -1467,25 +1526,13 @@ class SceneResult:
             "system": self.scene.system,
             "effects": sorted(res.effects),
             "states": list(res.code.state),
-            "y": final,
-            "t_end": _decimal(r.t[-1], digits),
-            "drift": {k: (v if math.isfinite(v) else None) for k, v in r.drift.items()},
-            "drift_absolute": list(r.drift_absolute),
-            "status": r.status,
-            "message": r.message,
             "model_hash": res.code.hash,
             "code_origin": res.code.origin,
             "code_load_s": res.load_s,
-            "method": r.method,
-            "backend": r.backend,
-            "precision": r.precision,
+            "precision": str(self.scene.run_options.precision),
             "rtol": self.scene.run_options.rtol,
             "atol": self.scene.run_options.atol,
-            "steps": r.nsteps,
-            "nfev": r.nfev,
             "wall_s": self.wall_s,
-            "integration_wall_s": r.wall_s,
-            "setup_s": r.setup_s,
             "versions": {
                 "chaplygin": _version(),
                 "python": platform.python_version(),
@@ -1494,8 +1541,29 @@ class SceneResult:
                 "sympy": sympy.__version__,
                 "mpmath": mpmath.__version__,
             },
-            "outputs": list(outputs),
         }
+        if r is not None:
+            summary.update(
+                {
+                    "y": {k: _decimal(v, digits) for k, v in r.y_final.items()},
+                    "t_end": _decimal(r.t[-1], digits),
+                    "drift": {k: (v if math.isfinite(v) else None) for k, v in r.drift.items()},
+                    "drift_absolute": list(r.drift_absolute),
+                    "status": r.status,
+                    "message": r.message,
+                    "method": r.method,
+                    "backend": r.backend,
+                    "precision": r.precision,
+                    "steps": r.nsteps,
+                    "nfev": r.nfev,
+                    "integration_wall_s": r.wall_s,
+                    "setup_s": r.setup_s,
+                }
+            )
+        if self.analyses:
+            summary["analyses"] = {key: done.summary for key, done in self.analyses.items()}
+        summary["outputs"] = list(outputs)
+        return summary
 
     def write(self, folder: str | Path) -> list[str]:
         """Write the outputs into an existing empty ``folder``.
@@ -1509,15 +1577,22 @@ class SceneResult:
         list of str
             The files written (names relative to ``folder``), ``summary.json`` last.
         """
+        from .trajectory import write_dataset
+
         folder = Path(folder)
         written = []
-        fmt = self.scene.outputs.trajectory.format
+        fmt = self.scene.outputs.trajectory.format if self.integration is not None else None
         if fmt in ("netcdf", "both"):
             self._write_netcdf(folder / "trajectory.nc")
             written.append("trajectory.nc")
         if fmt in ("csv", "both"):
             self._write_csv(folder / "trajectory.csv")
             written.append("trajectory.csv")
+        for key, done in self.analyses.items():
+            if done.arrays:
+                attrs = {"title": self.scene.title or "", "model": self.resolved.code.name}
+                write_dataset(folder / f"{key}.nc", done.arrays, attrs)
+                written.append(f"{key}.nc")
         for key, fig in self.figures().items():
             for ext in ("png", "svg"):
                 fig.savefig(folder / f"{key}.{ext}", dpi=120)
@@ -1548,6 +1623,11 @@ class SceneResult:
 
     # ------------------------------------------------------------------ display
     def __repr__(self) -> str:
+        if self.integration is None:
+            return (
+                f"<SceneResult {self.resolved.code.name}: analyses "
+                f"{', '.join(self.analyses)}, {self.wall_s:.3g} s>"
+            )
         worst = max(self.drift.values(), default=0.0)
         return (
             f"<SceneResult {self.resolved.code.name}: t = {self.t[-1]:g}, "
@@ -1556,6 +1636,8 @@ class SceneResult:
         )
 
     def _repr_html_(self) -> str:
+        if self.integration is None:
+            return f"<pre>{html.escape(repr(self))}</pre>"
         rows = "".join(
             f"<tr><td>{html.escape(k)}</td><td>{v:.3e}</td></tr>" for k, v in self.drift.items()
         )

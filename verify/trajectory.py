@@ -85,3 +85,48 @@ def write_trajectory(
     header = ",".join(f"{n} [{u}]" for n, _, u, _ in columns)
     data = np.column_stack([c[1] for c in columns])
     np.savetxt(path, data, delimiter=",", header=header, comments="# ", fmt="%.17g")
+
+
+def write_dataset(
+    path: str | Path,
+    variables: Mapping[str, tuple[tuple[str, ...], np.ndarray, Mapping[str, str]]],
+    attributes: Mapping[str, str] | None = None,
+) -> None:
+    """Write named arrays with their dimensions to a netCDF3 file (an analysis's ``<key>.nc``).
+
+    Parameters
+    ----------
+    path : str or Path
+    variables : mapping of str to (dimensions, values, attributes)
+        Each variable's dimension names (one per axis of ``values``) and attributes
+        (``long_name``, ``units``); a dimension shared by several variables must have one length.
+    attributes : mapping of str to str, optional
+        Global attributes.
+
+    Raises
+    ------
+    ValueError
+        A dimension has two lengths, or a variable's dimensions do not match its shape.
+    """
+    from scipy.io import netcdf_file
+
+    sizes: dict[str, int] = {}
+    for name, (dims, values, _) in variables.items():
+        shape = np.shape(values)
+        if len(dims) != len(shape):
+            raise ValueError(f"{name}: dimensions {dims} for an array of shape {shape}")
+        for d, n in zip(dims, shape, strict=True):
+            if sizes.setdefault(d, n) != n:
+                raise ValueError(f"dimension {d} has lengths {sizes[d]} and {n}")
+    with netcdf_file(Path(path), "w", version=2) as nc:
+        for key, value in (attributes or {}).items():
+            setattr(nc, key, value)
+        for d, n in sizes.items():
+            nc.createDimension(d, n)
+        for name, (dims, values, attrs) in variables.items():
+            arr = np.asarray(values)
+            kind = "i" if np.issubdtype(arr.dtype, np.integer) else "d"
+            var = nc.createVariable(name, kind, dims)
+            var[...] = arr.astype("i4" if kind == "i" else "f8")
+            for k, v in attrs.items():
+                setattr(var, k, v)
