@@ -29,6 +29,7 @@ JSON_KEYS = (
     "steps",
     "wall_s",
     "outputs",
+    "separatrix_delta",  # when the scene asks for it
 )
 
 
@@ -90,7 +91,7 @@ def run(args: argparse.Namespace) -> int:
         if not result.success:
             status = EXIT_FAILED
         if args.json:
-            print(json_text({k: summary[k] for k in JSON_KEYS}, indent=2))
+            print(json_text({k: summary[k] for k in JSON_KEYS if k in summary}, indent=2))
         elif not args.quiet:
             worst = max(summary["drift"].values(), key=lambda v: -1 if v is None else v)
             print(

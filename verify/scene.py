@@ -77,6 +77,7 @@ __all__ = [
 OUTPUT_EFFECTS: dict[str, tuple[str, ...]] = {
     "contact_trace": ("contact_point",),
     "body_trace": ("contact_point",),
+    "separatrix_delta": ("contact_point",),
 }
 
 #: Andoyer-Deprit variables of BM20 (3.7), in their order.
@@ -163,6 +164,12 @@ class Outputs(_Table):
     drift: PlotOutput | None = Field(None, description="the integrals' relative change over time")
     diagram: PlotOutput | None = Field(
         None, description="the energy diagram (n, h) of K01 with the scene's point"
+    )
+    separatrix_delta: PlotOutput | None = Field(
+        None,
+        description="on the separatrix (M || gamma, h = h2): integrate backward too, mark the "
+        "two asymptotic centres of the contact-point trace and Delta between them, and compare "
+        "it with pi b/ch(pi mu/2) (K01-3.7) (needs contact_point)",
     )
 
 
@@ -865,6 +872,13 @@ def _resolve(scene: Scene) -> Resolved:
     residuals = {}
     if prescribed:
         residuals = integral_residuals(code, y0, p, prescribed, max(prec.digits or 17, 17))
+    if scene.outputs.separatrix_delta is not None:
+        from .scene_delta import separatrix_delta_problem
+
+        problem = separatrix_delta_problem(scene.system, code, params, y0)
+        if problem:
+            loc = ("outputs", "separatrix_delta")
+            raise SceneError(problem, src, _dotted(loc), _line_of(text, loc))
     return Resolved(
         code, reasons, params, y0, prescribed, residuals, how, load_s, t_span, prec.digits
     )
@@ -1182,27 +1196,36 @@ def run_resolved(scene: Scene, res: Resolved, progress: bool) -> SceneResult:
     method = scene.run_options.method
     event, bar = _progress_event(t0, t1, progress and method != "odefun")
     started = time.perf_counter()
-    try:
-        result = integrate(
+
+    def run_over(t_end, times, events=None):
+        return integrate(
             res.code,
             res.y0,
-            (t0, t1),
+            (t0, t_end),
             [res.params[k] for k in res.code.params],
             method=method,
             precision=scene.run_options.precision,
             rtol=scene.run_options.rtol,
             atol=scene.run_options.atol,
             backend=scene.run_options.backend,
-            t_eval=t_eval,
-            events=[event] if event else None,
+            t_eval=times,
+            events=events,
         )
+
+    try:
+        result = run_over(t1, t_eval, [event] if event else None)
     except UserInputError as exc:
         raise SceneError(str(exc), scene.source, "run") from None
     finally:
         if bar is not None:
             bar.close()
+    backward = None
+    if scene.outputs.separatrix_delta is not None and result.success:
+        # the same run mirrored about t_start: the trace's other asymptotic centre
+        t_back = [2 * t0 - t for t in t_eval]
+        backward = run_over(t_back[-1], t_back)
     wall = time.perf_counter() - started
-    return SceneResult(scene, res, result, wall)
+    return SceneResult(scene, res, result, wall, backward)
 
 
 @dataclass
@@ -1216,12 +1239,17 @@ class SceneResult:
     integration : IntegrationResult
     wall_s : float
         Wall time of the whole run (set-up included).
+    backward : IntegrationResult or None
+        With ``outputs.separatrix_delta``: the run from ``t_start`` back to
+        ``2 t_start - t_end``.
     """
 
     scene: Scene
     resolved: Resolved
     integration: Any
     wall_s: float
+    backward: Any = None
+    _delta_report: dict | None = field(default=None, repr=False)
 
     # ------------------------------------------------------------------- arrays
     @property
@@ -1406,6 +1434,54 @@ class SceneResult:
         I = [float(p[f"I{i}"]) for i in (1, 2, 3)]
         return scene_diagram_figure(I, float(p["D"]), C, n, F0[names.index("H")], self._title())
 
+    def separatrix_delta(self) -> dict:
+        """Delta measured between the trace's two asymptotic centres, against K01-3.7.
+
+        See :func:`chaplygin.verify.scene_delta.separatrix_delta_report` (computed once).
+
+        Returns
+        -------
+        dict
+
+        Raises
+        ------
+        SceneError
+            The scene did not ask for ``separatrix_delta`` or its run failed.
+        """
+        if self.backward is None:
+            raise SceneError(
+                "Delta needs outputs.separatrix_delta and a run that reached its end",
+                self.scene.source,
+                "outputs.separatrix_delta",
+            )
+        if self._delta_report is None:
+            from ..numerics.inputs import Precision
+            from ..numerics.integrators import NUMBER_TYPES
+            from .scene_delta import separatrix_delta_report
+
+            rtol = self.scene.run_options.rtol
+            if rtol is None:
+                prec = Precision(self.scene.run_options.precision)
+                rtol = NUMBER_TYPES[prec.kind].default_tolerances(prec)[0]
+            self._delta_report = separatrix_delta_report(self, float(rtol))
+        return self._delta_report
+
+    def separatrix_delta_figure(self) -> Figure:
+        """Both halves of the separatrix trace with their centres and Delta marked.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+
+        Raises
+        ------
+        SceneError
+            As :meth:`separatrix_delta`.
+        """
+        from .scene_delta import separatrix_delta_figure
+
+        return separatrix_delta_figure(self, self.separatrix_delta(), self._title())
+
     def figures(self) -> dict:
         """The figures the scene asks for (``outputs.* .plot = true``).
 
@@ -1419,6 +1495,7 @@ class SceneResult:
             "series": self.series_figure,
             "drift": self.drift_figure,
             "diagram": self.diagram_figure,
+            "separatrix_delta": self.separatrix_delta_figure,
         }
         out = {}
         for key, make in makers.items():
@@ -1495,6 +1572,11 @@ class SceneResult:
                 "mpmath": mpmath.__version__,
             },
             "outputs": list(outputs),
+            **(
+                {"separatrix_delta": self.separatrix_delta()}
+                if self.scene.outputs.separatrix_delta is not None and self.backward is not None
+                else {}
+            ),
         }
 
     def write(self, folder: str | Path) -> list[str]:
