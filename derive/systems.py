@@ -38,6 +38,7 @@ __all__ = [
     "variant_signature",
     "VariantSignature",
     "model_cache_dir",
+    "variant_cache_key",
 ]
 
 #: Bumped when the layout of the on-disk model cache changes.
@@ -181,12 +182,31 @@ def _derivation_digest() -> str:
     return h.hexdigest()
 
 
+def variant_cache_key(system: str, effects: Iterable[str]) -> str:
+    """Key of a variant's derived files in the on-disk caches (models, first-use code).
+
+    It changes with any edit of this package's sources and with the versions of Python,
+    sympy and mpmath, so a cache entry never outlives what it was derived with.
+
+    Parameters
+    ----------
+    system : str
+    effects : iterable of str
+
+    Returns
+    -------
+    str
+        32 hexadecimal digits.
+    """
+    key = hashlib.sha256(f"{_derivation_digest()} {variant_name(system, effects)}".encode())
+    return key.hexdigest()[:32]
+
+
 def _cache_file(system: str, effects: frozenset[str]) -> Path | None:
     folder = model_cache_dir()
     if folder is None:
         return None
-    key = hashlib.sha256(f"{_derivation_digest()} {variant_name(system, effects)}".encode())
-    return folder / f"{variant_name(system, effects)}-{key.hexdigest()[:32]}.pickle"
+    return folder / f"{variant_name(system, effects)}-{variant_cache_key(system, effects)}.pickle"
 
 
 #: First line of a model file: the format, then the HMAC of the pickle that follows.

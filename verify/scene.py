@@ -1124,10 +1124,7 @@ def explain_text(scene: Scene, res: Resolved) -> str:
             which = f"{files['c']} (compiled on first use, cached) or {files['numpy']}"
         lines.append(f"code: generated/{which}; method {method}")
     else:
-        lines.append(
-            f"code: {code.name} is not in generated/: derived and emitted in memory "
-            f"({res.load_s:.1f} s); method {method}"
-        )
+        lines.append(f"code: {code.note}; method {method}")
     return "\n".join(lines)
 
 
@@ -1553,6 +1550,7 @@ class SceneResult:
             "model_hash": res.code.hash,
             "code_origin": res.code.origin,
             "code_load_s": res.load_s,
+            **({"code_note": res.code.note} if res.code.note else {}),
             "method": r.method,
             "backend": r.backend,
             "precision": r.precision,
