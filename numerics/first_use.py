@@ -15,13 +15,11 @@ users can write to is refused. The compiled C library is cached by
 from __future__ import annotations
 
 import json
-import os
-import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..derive.cachefiles import check_private_dir, sign, verify_signature
+from ..derive.cachefiles import read_signed, write_signed
 from ..derive.systems import model_cache_dir, variant_cache_key, variant_name
 
 __all__ = ["FirstUse", "emitted_sources", "emitted_cache_file", "SOURCE_KINDS"]
@@ -76,18 +74,8 @@ def emitted_cache_file(system: str, effects: frozenset[str]) -> Path | None:
 
 
 def _load(path: Path | None) -> dict[str, str] | None:
-    if path is None or not path.is_file():
-        return None
-    check_private_dir(path.parent)
-    try:
-        blob = path.read_bytes()
-    except OSError:
-        return None
-    head, _, rest = blob.partition(b"\n")
-    tag, _, data = rest.partition(b"\n")
-    if head + b"\n" != _MAGIC or not verify_signature(
-        path.parent, data, tag.decode("ascii", "replace")
-    ):
+    data = read_signed(path, _MAGIC)
+    if data is None:
         return None  # not ours, or damaged: derive again and overwrite it
     try:
         sources = json.loads(data)
@@ -99,27 +87,8 @@ def _load(path: Path | None) -> dict[str, str] | None:
 
 
 def _store(path: Path | None, sources: dict[str, str]) -> Path | None:
-    """Write atomically and signed; None when the cache cannot be written (it is an aid)."""
-    if path is None:
-        return None
-    tmp = None
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
-        check_private_dir(path.parent)
-        data = json.dumps(sources).encode()
-        tag = sign(path.parent, data).encode("ascii")
-        fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(_MAGIC + tag + b"\n" + data)
-        os.replace(tmp, path)
-        return path
-    except OSError:
-        if tmp is not None:
-            try:
-                os.unlink(tmp)
-            except OSError:
-                pass
-        return None
+    """Write signed; None when the cache is off or cannot be written (it is an aid)."""
+    return path if write_signed(path, _MAGIC, json.dumps(sources).encode()) else None
 
 
 def emitted_sources(system: str, effects: frozenset[str]) -> FirstUse:
