@@ -995,17 +995,13 @@ def _check_outputs(scene: Scene, code: Any, text: str | None) -> None:
                     _dotted(loc),
                     _line_of(text, loc),
                 )
-    if scene.outputs.diagram is not None and (
-        scene.system != "chaplygin_ball" or set(code.effects) - {"contact_point"}
-    ):
-        loc = ("outputs", "diagram")
-        raise SceneError(
-            "the energy diagram (K01 Figs. 2, 3) is drawn for chaplygin_ball with no effect but "
-            f"contact_point; this model is {code.name}",
-            src,
-            _dotted(loc),
-            _line_of(text, loc),
-        )
+    if scene.outputs.diagram is not None:
+        from .scene_diagram import diagram_problem
+
+        problem = diagram_problem(scene.system, code.effects, code.name)
+        if problem:
+            loc = ("outputs", "diagram")
+            raise SceneError(problem, src, _dotted(loc), _line_of(text, loc))
 
 
 def _num(value: object, dps: int):
@@ -1397,7 +1393,11 @@ class SceneResult:
         return drift_figure(self.t, self.integral_change(), self._title())
 
     def diagram_figure(self) -> Figure:
-        """K01's energy diagram (n, h) at this ``C`` with the scene's point.
+        """The energy diagram (n, h) at this ``C`` with the scene's point.
+
+        K01's diagram for the ball (``C = (M, gamma)``, ``n = (M, M)``); with the gyrostat the
+        diagram at ``C = (M + K, gamma)``, ``n = (M + K, M + K)``
+        (:func:`chaplygin.verify.scene_diagram.gyrostat_diagram_figure`).
 
         Returns
         -------
@@ -1406,14 +1406,16 @@ class SceneResult:
         Raises
         ------
         SceneError
-            A system without the diagram (only the ball without gyrostat has it).
+            A model without a diagram (the message lists those that have one).
         """
         from .plots import scene_diagram_figure
+        from .scene_diagram import diagram_kind, diagram_problem, gyrostat_diagram_figure
 
         code = self.resolved.code
-        if self.scene.system != "chaplygin_ball" or "H" not in code.integral_names:
+        kind = diagram_kind(self.scene.system, code.effects)
+        if kind is None:
             raise SceneError(
-                "the energy diagram exists for chaplygin_ball with an energy integral only",
+                diagram_problem(self.scene.system, code.effects, code.name),
                 self.scene.source,
                 "outputs.diagram",
             )
@@ -1424,12 +1426,15 @@ class SceneResult:
             ),
             float,
         )[:, 0]
-        key = "(M+K," if "(M+K,gamma)" in names else "(M,"
-        C = F0[names.index(key + "gamma)")]
-        n = F0[names.index("(M+K,M+K)" if key == "(M+K," else "(M,M)")]
         p = self.resolved.params
         I = [float(p[f"I{i}"]) for i in (1, 2, 3)]
-        return scene_diagram_figure(I, float(p["D"]), C, n, F0[names.index("H")], self._title())
+        h = F0[names.index("H")]
+        if kind == "gyrostat":
+            C, n = F0[names.index("(M+K,gamma)")], F0[names.index("(M+K,M+K)")]
+            K = [float(p[f"K{i}"]) for i in (1, 2, 3)]
+            return gyrostat_diagram_figure(I, float(p["D"]), K, C, n, h, self._title())
+        C, n = F0[names.index("(M,gamma)")], F0[names.index("(M,M)")]
+        return scene_diagram_figure(I, float(p["D"]), C, n, h, self._title())
 
     def separatrix_delta(self) -> dict:
         """Delta measured between the trace's two asymptotic centres, against K01-3.7.
