@@ -159,3 +159,25 @@ def test_diagram_refused_where_none_exists(tmp_path, capsys):
     err_text = capsys.readouterr().err
     assert err_text.count("\n") == 1 and "vi.toml:15: outputs.diagram" in err_text
     assert not out.exists()
+
+
+def test_support_scene_marks_its_point_on_bkm12_fig5():
+    c, s = np.cos(0.4), np.sin(0.4)
+    alpha, beta, gamma = [1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]
+    M = [0.3, -0.7, 0.45]
+    scene = Scene.from_dict(
+        {
+            "system": "spherical_support",
+            "parameters": {"I": [1, 1.5, 3], "D_iso": 0.5, "D_al": 0.3, "D_be": -0.2},
+            "initial": {"M": M, "alpha": alpha, "beta": beta, "gamma": gamma},
+            "run": {"t_end": 1, "rtol": 1e-10},
+            "outputs": {"diagram": {}},
+        }
+    )
+    fig = scene.run().diagram_figure()
+    Mv = np.array(M)
+    g = [Mv @ v / np.linalg.norm(Mv) for v in map(np.array, (alpha, beta, gamma))]
+    for ax in fig.axes[:4]:
+        star = ax.lines[-1]
+        assert star.get_marker() == "*"
+        assert np.allclose([star.get_xdata()[0], star.get_ydata()[0]], g[:2], rtol=1e-12)

@@ -1397,7 +1397,8 @@ class SceneResult:
 
         K01's diagram for the ball (``C = (M, gamma)``, ``n = (M, M)``); with the gyrostat the
         diagram at ``C = (M + K, gamma)``, ``n = (M + K, M + K)``
-        (:func:`chaplygin.verify.scene_diagram.gyrostat_diagram_figure`).
+        (:func:`chaplygin.verify.scene_diagram.gyrostat_diagram_figure`); BKM12 Fig. 5's for
+        the spherical support (:func:`chaplygin.verify.scene_diagram.support_diagram_figure`).
 
         Returns
         -------
@@ -1409,7 +1410,12 @@ class SceneResult:
             A model without a diagram (the message lists those that have one).
         """
         from .plots import scene_diagram_figure
-        from .scene_diagram import diagram_kind, diagram_problem, gyrostat_diagram_figure
+        from .scene_diagram import (
+            diagram_kind,
+            diagram_problem,
+            gyrostat_diagram_figure,
+            support_diagram_figure,
+        )
 
         code = self.resolved.code
         kind = diagram_kind(self.scene.system, code.effects)
@@ -1433,6 +1439,11 @@ class SceneResult:
             C, n = F0[names.index("(M+K,gamma)")], F0[names.index("(M+K,M+K)")]
             K = [float(p[f"K{i}"]) for i in (1, 2, 3)]
             return gyrostat_diagram_figure(I, float(p["D"]), K, C, n, h, self._title())
+        if kind == "support":
+            C = F0[names.index("(M,M)")]
+            g = [F0[names.index(f"(M,{v})")] / np.sqrt(C) for v in ("alpha", "beta", "gamma")]
+            params = [float(v) for v in p.values()]
+            return support_diagram_figure(params, g, 2 * h / C, self._title())
         C, n = F0[names.index("(M,gamma)")], F0[names.index("(M,M)")]
         return scene_diagram_figure(I, float(p["D"]), C, n, h, self._title())
 

@@ -5,7 +5,10 @@
 * ``chaplygin_ball`` with ``gyrostat`` (and optionally ``contact_point``): the (n, h) diagram at
   ``C = (M + K, gamma)`` of :mod:`chaplygin.numerics.gyrostat_diagram` (the steady rotations
   ``J omega + K = lam omega``, the segment ``M + K || gamma`` and the region of motion; the
-  setting of K01 Fig. 7).
+  setting of K01 Fig. 7);
+* ``spherical_support``: BKM12 Fig. 5's surfaces ``E'_i = E/C`` over the sphere of
+  ``g = ((M, alpha), (M, beta), (M, gamma))/sqrt(C)``, ``C = (M, M)``
+  (:func:`chaplygin.verify.plots.bifurcation_figure`), with the scene's ``g`` marked.
 
 Any other model has no diagram here (its energy is not conserved, or no bifurcation code
 exists for it): :func:`diagram_problem` says so and lists those that have one.
@@ -19,12 +22,19 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["DIAGRAMS", "diagram_kind", "diagram_problem", "gyrostat_diagram_figure"]
+__all__ = [
+    "DIAGRAMS",
+    "diagram_kind",
+    "diagram_problem",
+    "gyrostat_diagram_figure",
+    "support_diagram_figure",
+]
 
 #: Effect sets (besides contact_point, which leaves the energy diagram unchanged) that have
 #: a diagram: system -> {frozenset of effects: kind}.
 DIAGRAMS = {
     "chaplygin_ball": {frozenset(): "ball", frozenset({"gyrostat"}): "gyrostat"},
+    "spherical_support": {frozenset(): "support"},
 }
 
 
@@ -66,6 +76,45 @@ def diagram_problem(system: str, effects: Sequence[str], name: str) -> str | Non
         for e in kinds
     )
     return f"no energy diagram exists for {name}; diagrams exist for: {have}"
+
+
+def support_diagram_figure(
+    params: Sequence[float], g: Sequence[float], Ep: float, title: str = ""
+) -> Figure:
+    """BKM12 Fig. 5's diagram of the spherical support with the scene's point marked.
+
+    Parameters
+    ----------
+    params : sequence of 6 floats
+        ``(I1, I2, I3, D_iso, D_al, D_be)``.
+    g : sequence of 3 floats
+        ``((M, alpha), (M, beta), (M, gamma))/sqrt((M, M))`` of the scene's state.
+    Ep : float
+        ``E' = E/C = 2 h/(M, M)`` of the scene's state.
+    title : str
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from .plots import bifurcation_figure
+
+    I = tuple(float(v) for v in params[:3])
+    D_iso, D_al, D_be = (float(v) for v in params[3:6])
+    fig, _ = bifurcation_figure(
+        "bkm12-5", {"I": I, "D_iso": D_iso, "D_al": D_al, "D_be": D_be}, samples=60, seed=1
+    )
+    J = [v + D_iso for v in I]
+    surfaces = [g[0] ** 2 / (Ji - D_al) + g[1] ** 2 / (Ji - D_be) + g[2] ** 2 / Ji for Ji in J]
+    for ax in fig.axes[:4]:
+        ax.plot([g[0]], [g[1]], "*", color="k", ms=12)
+    fig.suptitle(
+        f"{title}: BKM12 Fig. 5's surfaces E'_i at the scene's g = "
+        f"({g[0]:.4g}, {g[1]:.4g}, {g[2]:.4g}) (star): E' = {Ep:.6g}, E'_i there = "
+        + ", ".join(f"{v:.6g}" for v in surfaces),
+        fontsize=9,
+    )
+    return fig
 
 
 def gyrostat_diagram_figure(
