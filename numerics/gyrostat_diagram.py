@@ -231,8 +231,7 @@ def steady_rotation_branches(
 
 def _existence_ends(family, x, exists, C, D) -> np.ndarray:
     """Parameters where ``s^2 = |omega|^2`` between neighbouring samples that differ in
-    existence (Brent's method on ``|omega|^2 - s^2``)."""
-    from scipy.optimize import brentq
+    existence (bisection of ``|omega|^2 - s^2 >= 0`` to rounding)."""
 
     def margin(v):
         omega, lam = family(np.atleast_1d(v))
@@ -243,9 +242,13 @@ def _existence_ends(family, x, exists, C, D) -> np.ndarray:
         a, b = x[k], x[k + 1]
         fa, fb = margin(a), margin(b)
         if np.isfinite(fa) and np.isfinite(fb) and fa * fb < 0:
-            root = brentq(margin, a, b, xtol=1e-15, rtol=1e-15)
-            # the side where it exists (rounding may put the root just outside)
-            ends.append(root if margin(root) >= 0 else (a if fa >= 0 else b))
+            inside, outside = (a, b) if fa >= 0 else (b, a)
+            for _ in range(200):  # bisection to the last parameter where it exists
+                mid = (inside + outside) / 2
+                if mid in (inside, outside):
+                    break
+                inside, outside = (mid, outside) if margin(mid) >= 0 else (inside, mid)
+            ends.append(inside)
     return np.asarray(ends, float)
 
 

@@ -181,3 +181,20 @@ def test_support_scene_marks_its_point_on_bkm12_fig5():
         star = ax.lines[-1]
         assert star.get_marker() == "*"
         assert np.allclose([star.get_xdata()[0], star.get_ydata()[0]], g[:2], rtol=1e-12)
+
+
+@pytest.mark.parametrize("p", [FIG7, GENERIC], ids=["fig7", "generic"])
+def test_curves_end_on_the_segment_where_gamma_is_parallel_to_omega(p):
+    # at the end of a family gamma || omega, so M + K = lam omega - D s gamma || gamma: n = C^2
+    n_max = 3.0
+    branches = steady_rotation_branches(p["I"], p["D"], p["K"], p["C"], n_max)
+    on_segment = 0
+    for b in branches:
+        step = np.max(np.abs(np.diff(b["n"])))
+        for end in (b["n"][0], b["n"][-1]):
+            # an end is where the family stops existing (then on n = C^2) or the clip at n_max
+            if end == pytest.approx(p["C"] ** 2, rel=1e-12):
+                on_segment += 1
+            else:
+                assert end > n_max - step, (b["axis"], end)
+    assert on_segment >= 2

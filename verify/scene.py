@@ -130,7 +130,8 @@ class _Table(BaseModel):
 
 
 class PlotOutput(_Table):
-    """A plot output (``contact_trace``, ``body_trace``, ``drift``, ``diagram``)."""
+    """A plot output (``contact_trace``, ``body_trace``, ``drift``, ``diagram``,
+    ``separatrix_delta``)."""
 
     plot: StrictBool = Field(True, description="write the picture as PNG and SVG")
 
@@ -163,7 +164,9 @@ class Outputs(_Table):
     series: SeriesOutput | None = None
     drift: PlotOutput | None = Field(None, description="the integrals' relative change over time")
     diagram: PlotOutput | None = Field(
-        None, description="the energy diagram (n, h) of K01 with the scene's point"
+        None,
+        description="the energy diagram with the scene's point: K01's (n, h) for the ball, "
+        "(n, h) at C = (M + K, gamma) with the gyrostat, BKM12 Fig. 5 for the spherical support",
     )
     separatrix_delta: PlotOutput | None = Field(
         None,
