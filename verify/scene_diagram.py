@@ -71,7 +71,8 @@ def diagram_problem(system: str, effects: Sequence[str], name: str) -> str | Non
     if diagram_kind(system, effects) is not None:
         return None
     have = "; ".join(
-        f"{s} with effects [{', '.join(sorted(e)) or 'none'}] (contact_point allowed)"
+        f"{s} with effects [{', '.join(sorted(e)) or 'none'}]"
+        + (" (contact_point allowed)" if s == "chaplygin_ball" else "")
         for s, kinds in DIAGRAMS.items()
         for e in kinds
     )
