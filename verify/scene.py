@@ -1516,6 +1516,8 @@ class SceneResult:
         out = {}
         for key, make in makers.items():
             spec = getattr(self.scene.outputs, key)
+            if key == "separatrix_delta" and self.backward is None:
+                continue  # the forward run failed: there is no Delta to draw
             if spec is not None and spec.plot:
                 out[key] = make()
         return out

@@ -140,7 +140,8 @@ def separatrix_delta_report(result: Any, rtol: float) -> dict:
         ``differences`` (measured minus each), ``tolerance``, ``agrees`` (with the closed
         form), ``centre_forward``/``centre_backward`` (``[x, y]``), ``plateau_spread``,
         ``lambda_t_covered`` (``lam`` times each half of the span), ``energy_offset``
-        (``h/h2 - 1`` at the start) and ``parallel_offset`` (``|M x gamma|/|M|``); numbers
+        (``h/h2 - 1`` at the start), ``parallel_offset`` (``|M x gamma|/|M|``) and ``status``
+        (of the forward and the backward run); numbers
         as floats, the references also as decimal strings (``*_text``).
     """
     import mpmath
@@ -197,6 +198,7 @@ def separatrix_delta_report(result: Any, rtol: float) -> dict:
         "centre_backward": [m["centre_backward"].real, m["centre_backward"].imag],
         "plateau_spread": m["spread"],
         "read_at_t": [float(t_f[m["index_forward"]]), float(t_b[m["index_backward"]])],
+        "status": [int(result.integration.status), int(result.backward.status)],
         "lambda": lam,
         "lambda_t_covered": lam * span,
         "energy_offset": h / h2 - 1,
