@@ -14,11 +14,20 @@ import hmac
 import os
 import secrets
 import stat
+import tempfile
 from pathlib import Path
 
 from .errors import CacheError
 
-__all__ = ["cache_root", "check_private_dir", "sign", "verify_signature", "KEY_FILE"]
+__all__ = [
+    "cache_root",
+    "check_private_dir",
+    "sign",
+    "verify_signature",
+    "read_signed",
+    "write_signed",
+    "KEY_FILE",
+]
 
 #: The per-user secret of the cache root (mode 0600), made on first use.
 KEY_FILE = "cache.key"
@@ -135,3 +144,82 @@ def verify_signature(root: Path, data: bytes, tag: str) -> bool:
     bool
     """
     return hmac.compare_digest(sign(root, data), tag)
+
+
+def read_signed(path: Path | None, magic: bytes) -> bytes | None:
+    """The data of a file :func:`write_signed` wrote, or None (absent, damaged, not ours).
+
+    The file is ``magic``, the HMAC of the data (a line), then the data; nothing of it is
+    returned unless the HMAC, made with the folder's per-user secret, checks out.
+
+    Parameters
+    ----------
+    path : pathlib.Path or None
+    magic : bytes
+        The first line, ending in a newline (the format and its version).
+
+    Returns
+    -------
+    bytes or None
+
+    Raises
+    ------
+    CacheError
+        The folder can be written by other users.
+    """
+    if path is None or not path.is_file():
+        return None
+    check_private_dir(path.parent)
+    try:
+        blob = path.read_bytes()
+    except OSError:
+        return None
+    head, _, rest = blob.partition(b"\n")
+    tag, _, data = rest.partition(b"\n")
+    if head + b"\n" != magic or not verify_signature(
+        path.parent, data, tag.decode("ascii", "replace")
+    ):
+        return None
+    return data
+
+
+def write_signed(path: Path | None, magic: bytes, data: bytes) -> bool:
+    """Write ``data`` signed (see :func:`read_signed`), atomically: parallel processes may
+    write the same file at once.
+
+    Parameters
+    ----------
+    path : pathlib.Path or None
+        None: nothing is written.
+    magic : bytes
+    data : bytes
+
+    Returns
+    -------
+    bool
+        False when the file could not be written (a read-only home: the caches are an aid).
+
+    Raises
+    ------
+    CacheError
+        The folder can be written by other users.
+    """
+    if path is None:
+        return False
+    tmp = None
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        check_private_dir(path.parent)
+        tag = sign(path.parent, data).encode("ascii")
+        fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(magic + tag + b"\n" + data)
+        os.replace(tmp, path)
+        return True
+    except OSError:
+        if tmp is not None:
+            try:
+                os.unlink(tmp)
+            except OSError:
+                pass
+        return False

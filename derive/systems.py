@@ -14,7 +14,6 @@ import importlib
 import os
 import pickle
 import sys
-import tempfile
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from functools import cache
@@ -23,7 +22,7 @@ from pathlib import Path
 import mpmath
 import sympy as sp
 
-from .cachefiles import cache_root, check_private_dir, sign, verify_signature
+from .cachefiles import cache_root, read_signed, write_signed
 from .effects import parse_effects
 from .errors import UserInputError
 from .model import Model
@@ -38,6 +37,7 @@ __all__ = [
     "variant_signature",
     "VariantSignature",
     "model_cache_dir",
+    "variant_cache_key",
 ]
 
 #: Bumped when the layout of the on-disk model cache changes.
@@ -181,12 +181,31 @@ def _derivation_digest() -> str:
     return h.hexdigest()
 
 
+def variant_cache_key(system: str, effects: Iterable[str]) -> str:
+    """Key of a variant's derived files in the on-disk caches (models, first-use code).
+
+    It changes with any edit of this package's sources and with the versions of Python,
+    sympy and mpmath, so a cache entry never outlives what it was derived with.
+
+    Parameters
+    ----------
+    system : str
+    effects : iterable of str
+
+    Returns
+    -------
+    str
+        32 hexadecimal digits.
+    """
+    key = hashlib.sha256(f"{_derivation_digest()} {variant_name(system, effects)}".encode())
+    return key.hexdigest()[:32]
+
+
 def _cache_file(system: str, effects: frozenset[str]) -> Path | None:
     folder = model_cache_dir()
     if folder is None:
         return None
-    key = hashlib.sha256(f"{_derivation_digest()} {variant_name(system, effects)}".encode())
-    return folder / f"{variant_name(system, effects)}-{key.hexdigest()[:32]}.pickle"
+    return folder / f"{variant_name(system, effects)}-{variant_cache_key(system, effects)}.pickle"
 
 
 #: First line of a model file: the format, then the HMAC of the pickle that follows.
@@ -199,18 +218,8 @@ def _load_cached(path: Path | None) -> Model | None:
     The pickle is read only after its HMAC (made with the cache root's per-user secret when
     we wrote it) checks out: a file anyone else put there is never unpickled.
     """
-    if path is None or not path.exists():
-        return None
-    check_private_dir(path.parent)
-    try:
-        blob = path.read_bytes()
-    except OSError:
-        return None
-    head, _, rest = blob.partition(b"\n")
-    tag, _, data = rest.partition(b"\n")
-    if head + b"\n" != _MODEL_MAGIC or not verify_signature(
-        path.parent, data, tag.decode("ascii", "replace")
-    ):
+    data = read_signed(path, _MODEL_MAGIC)
+    if data is None:
         return None  # not ours (or damaged): derive again and overwrite it
     try:
         model = pickle.loads(data)  # signed by us: our own bytes
@@ -223,23 +232,11 @@ def _store(path: Path | None, model: Model) -> None:
     """Write atomically (parallel processes may derive the same model at once), signed."""
     if path is None:
         return
-    tmp = None
     try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        check_private_dir(path.parent)
         data = pickle.dumps(model, protocol=pickle.HIGHEST_PROTOCOL)
-        tag = sign(path.parent, data).encode("ascii")
-        fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(_MODEL_MAGIC + tag + b"\n" + data)
-        os.replace(tmp, path)
-    except (OSError, pickle.PicklingError, AttributeError, TypeError):
-        # a read-only home or an unpicklable definition: the cache is only an aid
-        if tmp is not None:
-            try:
-                os.unlink(tmp)
-            except OSError:
-                pass
+    except (pickle.PicklingError, AttributeError, TypeError):
+        return  # an unpicklable definition: the cache is only an aid
+    write_signed(path, _MODEL_MAGIC, data)
 
 
 def build_model(

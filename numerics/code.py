@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import importlib
 import json
+import time
 import types
 import warnings
 from collections.abc import Iterable
@@ -58,6 +59,10 @@ class ModelCode:
         Taylor-coefficient recurrences ``taylor_coefficients(t0, y, p, order, lib)``.
     taylor_c_source : str
         C Taylor integrator (``double``; ``__float128`` with ``CHAPLYGIN_TAYLOR_QUAD``).
+    origin : str
+        ``"generated/"``, ``"derived on first use"`` or ``"cache of first-use code"``.
+    note : str or None
+        For a variant not in ``generated/``: how it was obtained and how long it took.
     """
 
     name: str
@@ -67,6 +72,7 @@ class ModelCode:
     origin: str
     taylor: types.ModuleType | None = None
     taylor_c_source: str | None = None
+    note: str | None = None
     _compiled: Any = field(default=None, repr=False)
     _compile_tried: bool = field(default=False, repr=False)
 
@@ -212,33 +218,40 @@ def load_model_code(system: str, effects: str | Iterable[str] | None = None) -> 
             .joinpath(files["taylor_c"])
             .read_text(),
         )
-    else:  # pragma: no cover - every variant of the current systems is built in
-        from ..derive.emit import (
-            CEmitter,
-            ModelRoutines,
-            MpmathEmitter,
-            NumpyEmitter,
-            TaylorCEmitter,
-            TaylorPythonEmitter,
-        )
-        from ..derive.systems import build_model
-
-        warnings.warn(f"{name} is not in generated/: deriving it now", stacklevel=2)
-        model = build_model(system, chosen)
-        routines = ModelRoutines(model)
-        ((_, np_src),) = NumpyEmitter().emit(model, routines)
-        ((_, mp_src),) = MpmathEmitter().emit(model, routines)
-        ((_, c_src),) = CEmitter().emit(model, routines)
-        ((_, tp_src),) = TaylorPythonEmitter().emit(model, routines)
-        ((_, tc_src),) = TaylorCEmitter().emit(model, routines)
-        code = ModelCode(
-            name=name,
-            numpy=module_from_source(f"{name}_numpy", np_src),
-            mpmath=module_from_source(f"{name}_mpmath", mp_src),
-            c_source=c_src,
-            origin="emitted in memory",
-            taylor=module_from_source(f"{name}_taylor", tp_src),
-            taylor_c_source=tc_src,
-        )
+    else:  # derived, emitted and compiled on first use; cached on disk (numerics.first_use)
+        code = _first_use_code(system, chosen, name)
     _LOADED[name] = code
+    return code
+
+
+def _first_use_code(system: str, chosen: frozenset[str], name: str) -> ModelCode:
+    """A variant not in ``generated/``: from the first-use cache, else derived, emitted and
+    compiled now (:mod:`chaplygin.numerics.first_use`); its ``note`` says which and how long."""
+    from .first_use import emitted_sources
+
+    start = time.perf_counter()
+    first = emitted_sources(system, chosen)
+    src = first.sources
+    code = ModelCode(
+        name=name,
+        numpy=module_from_source(f"{name}_numpy", src["numpy"]),
+        mpmath=module_from_source(f"{name}_mpmath", src["mpmath"]),
+        c_source=src["c"],
+        origin="derived on first use" if first.derived else "cache of first-use code",
+        taylor=module_from_source(f"{name}_taylor", src["taylor_py"]),
+        taylor_c_source=src["taylor_c"],
+    )
+    where = f"cached in {first.cache_file.parent}" if first.cache_file else "not cached"
+    if first.derived:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # no compiler: the numpy code runs, said elsewhere
+            compiled = code.compiled() is not None
+        seconds = time.perf_counter() - start
+        done = "derived, emitted and compiled" if compiled else "derived and emitted"
+        code.note = f"{name} is not in generated/: {done} on first use in {seconds:.1f} s ({where})"
+    else:
+        code.note = (
+            f"{name} is not in generated/: loaded from the first-use cache in "
+            f"{time.perf_counter() - start:.2f} s ({where})"
+        )
     return code

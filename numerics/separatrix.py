@@ -57,6 +57,8 @@ __all__ = [
     "separatrix_trace",
     "frame_turn",
     "critical_energy",
+    "spiral_centre",
+    "delta_from_traces",
 ]
 
 
@@ -837,3 +839,101 @@ def critical_energy(
         check_real(h, f"bracket[{i}]", positive=True, double=True)
 
     return float(brentq(lambda h: frame_turn(I, D, h, C)[1], *bracket, xtol=1e-12))
+
+
+def spiral_centre(z: Sequence[complex] | np.ndarray, lag: int) -> tuple[complex, float, int]:
+    """The point a contact-point trace spirals into, from the trace alone (K01 Fig. 4).
+
+    Near its asymptotic centre ``z_oo`` the trace ``z = x + i y`` of a separatrix motion is a
+    logarithmic spiral, ``z(t) - z_oo ~ A exp((-lam + i kap) t)`` (K01-3.6), so equally spaced
+    samples form a complex geometric sequence and Aitken's extrapolation
+    ``z_oo ~ z2 - (z2 - z1)^2/(z2 - 2 z1 + z0)`` removes that term exactly; what remains is
+    ``O(exp(-3 lam t))``. Further along, the separatrix's instability (a deviation ``delta``
+    grows like ``delta exp(lam t)``) spoils the trace, so the estimate taken is the one of the
+    window where consecutive estimates agree best (the plateau between the two errors).
+
+    Parameters
+    ----------
+    z : sequence of complex
+        The trace ``x + i y`` at equally spaced times, in the direction of the limit
+        (forward for ``t -> +oo``, backward for ``t -> -oo``); at least ``3 lag + 1`` points.
+    lag : int
+        Samples between the three points of one extrapolation (about ``1/(lam dt)``: well
+        conditioned when the spiral contracts by a factor ``e`` between them).
+
+    Returns
+    -------
+    centre : complex
+        The extrapolated centre.
+    spread : float
+        ``|E_k+lag - E_k|`` at the chosen window: how far consecutive estimates differ there.
+    index : int
+        Index of the first sample of the chosen window.
+
+    Raises
+    ------
+    UserInputError
+        ``lag`` not a positive integer, or fewer than ``3 lag + 1`` samples.
+
+    References
+    ----------
+    K01-3.6, K01-3.7, K01-Fig4 (FORMULAS.md).
+    """
+    z = np.asarray(z, dtype=complex)
+    if isinstance(lag, bool) or not isinstance(lag, int | np.integer) or lag < 1:
+        raise UserInputError(f"lag = {lag!r} must be a positive integer")
+    if z.ndim != 1 or len(z) < 3 * lag + 1:
+        raise UserInputError(
+            f"the trace has {len(z)} points: the spiral's centre needs at least {3 * lag + 1}"
+        )
+    z0, z1, z2 = z[: -2 * lag], z[lag:-lag], z[2 * lag :]
+    den = z2 - 2 * z1 + z0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        estimate = np.where(den != 0, z2 - (z2 - z1) ** 2 / den, z2)
+    change = np.abs(estimate[lag:] - estimate[:-lag])
+    change[~np.isfinite(change)] = np.inf
+    k = int(np.argmin(change))
+    return complex(estimate[k]), float(change[k]), k
+
+
+def delta_from_traces(
+    z_forward: Sequence[complex] | np.ndarray,
+    z_backward: Sequence[complex] | np.ndarray,
+    lag: int,
+) -> dict[str, object]:
+    """Delta measured on a trace: the distance between its two asymptotic centres.
+
+    Parameters
+    ----------
+    z_forward, z_backward : sequence of complex
+        The trace ``x + i y`` from the same start forward and backward in time, equally
+        spaced (see :func:`spiral_centre`).
+    lag : int
+        See :func:`spiral_centre`.
+
+    Returns
+    -------
+    dict
+        ``delta`` (``|z(+oo) - z(-oo)|``), ``centre_forward``, ``centre_backward`` (complex),
+        ``spread`` (the larger of the two plateau spreads), ``index_forward``,
+        ``index_backward``.
+
+    Raises
+    ------
+    UserInputError
+        From :func:`spiral_centre`.
+
+    References
+    ----------
+    K01-3.7, K01-Fig4 (FORMULAS.md).
+    """
+    fwd, s_f, k_f = spiral_centre(z_forward, lag)
+    bwd, s_b, k_b = spiral_centre(z_backward, lag)
+    return {
+        "delta": abs(fwd - bwd),
+        "centre_forward": fwd,
+        "centre_backward": bwd,
+        "spread": max(s_f, s_b),
+        "index_forward": k_f,
+        "index_backward": k_b,
+    }

@@ -47,7 +47,10 @@ ANDOYER = {
 VALID_KEYS = {
     (): {"title", "system", "effects", "parameters", "initial", "run", "outputs"},
     ("run",): {"t_end", "t_start", "precision", "method", "rtol", "atol", "points", "backend"},
-    ("outputs",): {"trajectory", "contact_trace", "body_trace", "series", "drift", "diagram"},
+    ("outputs",): {
+        *("trajectory", "contact_trace", "body_trace", "series", "drift", "diagram"),
+        "separatrix_delta",
+    },
     ("initial",): {
         *("M", "gamma", "alpha", "beta", "x", "y", "h", "C", "n", "parallel", "point"),
         *("G", "z", "l", "g", "rest"),

@@ -30,6 +30,7 @@ JSON_KEYS = (
     "wall_s",
     "analyses",
     "outputs",
+    "separatrix_delta",  # when the scene asks for it
 )
 
 
@@ -78,13 +79,8 @@ def run(args: argparse.Namespace) -> int:
     from .scene import run_resolved
 
     for scene, res, folder in zip(scenes, resolved, folders, strict=True):
-        if res.code.origin != "generated/" and not args.quiet:
-            print(
-                f"note: {res.code.name} is not in generated/: derived and emitted in "
-                f"{res.load_s:.1f} s (the model is cached on disk unless "
-                "CHAPLYGIN_MODEL_CACHE=0; its C code is compiled and cached on first use)",
-                file=sys.stderr,
-            )
+        if res.code.note and not args.quiet:
+            print(f"note: {res.code.note}", file=sys.stderr)
         result = run_resolved(scene, res, progress)
         written = write_atomically(result, folder)
         summary = result.summary([str(folder / w) for w in written])

@@ -78,6 +78,7 @@ __all__ = [
 OUTPUT_EFFECTS: dict[str, tuple[str, ...]] = {
     "contact_trace": ("contact_point",),
     "body_trace": ("contact_point",),
+    "separatrix_delta": ("contact_point",),
 }
 
 #: Andoyer-Deprit variables of BM20 (3.7), in their order.
@@ -130,7 +131,8 @@ class _Table(BaseModel):
 
 
 class PlotOutput(_Table):
-    """A plot output (``contact_trace``, ``body_trace``, ``drift``, ``diagram``)."""
+    """A plot output (``contact_trace``, ``body_trace``, ``drift``, ``diagram``,
+    ``separatrix_delta``)."""
 
     plot: StrictBool = Field(True, description="write the picture as PNG and SVG")
 
@@ -163,7 +165,15 @@ class Outputs(_Table):
     series: SeriesOutput | None = None
     drift: PlotOutput | None = Field(None, description="the integrals' relative change over time")
     diagram: PlotOutput | None = Field(
-        None, description="the energy diagram (n, h) of K01 with the scene's point"
+        None,
+        description="the energy diagram with the scene's point: K01's (n, h) for the ball, "
+        "(n, h) at C = (M + K, gamma) with the gyrostat, BKM12 Fig. 5 for the spherical support",
+    )
+    separatrix_delta: PlotOutput | None = Field(
+        None,
+        description="on the separatrix (M || gamma, h = h2): integrate backward too, mark the "
+        "two asymptotic centres of the contact-point trace and Delta between them, and compare "
+        "it with pi b/ch(pi mu/2) (K01-3.7) (needs contact_point)",
     )
 
 
@@ -869,6 +879,13 @@ def _resolve(scene: Scene) -> Resolved:
     residuals = {}
     if prescribed:
         residuals = integral_residuals(code, y0, p, prescribed, max(prec.digits or 17, 17))
+    if scene.outputs.separatrix_delta is not None:
+        from .scene_delta import separatrix_delta_problem
+
+        problem = separatrix_delta_problem(scene.system, code, params, y0)
+        if problem:
+            loc = ("outputs", "separatrix_delta")
+            raise SceneError(problem, src, _dotted(loc), _line_of(text, loc))
     return Resolved(
         code, reasons, params, y0, prescribed, residuals, how, load_s, t_span, prec.digits
     )
@@ -985,17 +1002,13 @@ def _check_outputs(scene: Scene, code: Any, text: str | None) -> None:
                     _dotted(loc),
                     _line_of(text, loc),
                 )
-    if scene.outputs.diagram is not None and (
-        scene.system != "chaplygin_ball" or set(code.effects) - {"contact_point"}
-    ):
-        loc = ("outputs", "diagram")
-        raise SceneError(
-            "the energy diagram (K01 Figs. 2, 3) is drawn for chaplygin_ball with no effect but "
-            f"contact_point; this model is {code.name}",
-            src,
-            _dotted(loc),
-            _line_of(text, loc),
-        )
+    if scene.outputs.diagram is not None:
+        from .scene_diagram import diagram_problem
+
+        problem = diagram_problem(scene.system, code.effects, code.name)
+        if problem:
+            loc = ("outputs", "diagram")
+            raise SceneError(problem, src, _dotted(loc), _line_of(text, loc))
     for analysis, spec in requested(scene.outputs).values():
         if analysis.check is not None:
             analysis.check(scene, code, spec)
@@ -1117,10 +1130,7 @@ def explain_text(scene: Scene, res: Resolved) -> str:
             which = f"{files['c']} (compiled on first use, cached) or {files['numpy']}"
         lines.append(f"code: generated/{which}; method {method}")
     else:
-        lines.append(
-            f"code: {code.name} is not in generated/: derived and emitted in memory "
-            f"({res.load_s:.1f} s); method {method}"
-        )
+        lines.append(f"code: {code.note}; method {method}")
     if not needs_trajectory(scene):
         lines.append("trajectory: none (the outputs are analyses; add [outputs.trajectory])")
     for key, (analysis, _) in requested(scene.outputs).items():
@@ -1178,16 +1188,25 @@ def run_resolved(scene: Scene, res: Resolved, progress: bool) -> SceneResult:
         The integrator refused the run settings.
     """
     started = time.perf_counter()
-    result = _integrate_trajectory(scene, res, progress) if needs_trajectory(scene) else None
+    result = backward = None
+    if needs_trajectory(scene):
+        result, backward = _integrate_trajectory(scene, res, progress)
     done = {}
     for key, (analysis, spec) in requested(scene.outputs).items():
         done[key] = analysis.run(scene, res, spec, progress)
     wall = time.perf_counter() - started
-    return SceneResult(scene, res, result, wall, done)
+    return SceneResult(scene, res, result, wall, done, backward)
 
 
 #: Outputs drawn from the scene's trajectory.
-TRAJECTORY_OUTPUTS = ("contact_trace", "body_trace", "series", "drift", "diagram")
+TRAJECTORY_OUTPUTS = (
+    "contact_trace",
+    "body_trace",
+    "series",
+    "drift",
+    "diagram",
+    "separatrix_delta",
+)
 
 
 def needs_trajectory(scene: Scene) -> bool:
@@ -1208,7 +1227,7 @@ def needs_trajectory(scene: Scene) -> bool:
     return any(getattr(outputs, key) is not None for key in TRAJECTORY_OUTPUTS)
 
 
-def _integrate_trajectory(scene: Scene, res: Resolved, progress: bool) -> Any:
+def _integrate_trajectory(scene: Scene, res: Resolved, progress: bool) -> tuple[Any, Any]:
     import mpmath
 
     from ..numerics.inputs import Precision
@@ -1224,26 +1243,35 @@ def _integrate_trajectory(scene: Scene, res: Resolved, progress: bool) -> Any:
             t_eval = [t0 + (t1 - t0) * mpmath.mpf(i) / (n - 1) for i in range(n)]
     method = scene.run_options.method
     event, bar = _progress_event(t0, t1, progress and method != "odefun")
-    try:
-        result = integrate(
+
+    def run_over(t_end, times, events=None):
+        return integrate(
             res.code,
             res.y0,
-            (t0, t1),
+            (t0, t_end),
             [res.params[k] for k in res.code.params],
             method=method,
             precision=scene.run_options.precision,
             rtol=scene.run_options.rtol,
             atol=scene.run_options.atol,
             backend=scene.run_options.backend,
-            t_eval=t_eval,
-            events=[event] if event else None,
+            t_eval=times,
+            events=events,
         )
+
+    try:
+        result = run_over(t1, t_eval, [event] if event else None)
     except UserInputError as exc:
         raise SceneError(str(exc), scene.source, "run") from None
     finally:
         if bar is not None:
             bar.close()
-    return result
+    backward = None
+    if scene.outputs.separatrix_delta is not None and result.success:
+        # the same run mirrored about t_start: the trace's other asymptotic centre
+        t_back = [2 * t0 - t for t in t_eval]
+        backward = run_over(t_back[-1], t_back)
+    return result, backward
 
 
 @dataclass
@@ -1261,6 +1289,9 @@ class SceneResult:
         Wall time of the whole run (set-up included).
     analyses : dict of str to AnalysisResult
         The analyses' results by output key (:mod:`chaplygin.verify.analyses`).
+    backward : IntegrationResult or None
+        With ``outputs.separatrix_delta``: the run from ``t_start`` back to
+        ``2 t_start - t_end``.
     """
 
     scene: Scene
@@ -1278,6 +1309,9 @@ class SceneResult:
                 "outputs",
             )
         return self.integration
+
+    backward: Any = None
+    _delta_report: dict | None = field(default=None, repr=False)
 
     # ------------------------------------------------------------------- arrays
     @property
@@ -1428,7 +1462,12 @@ class SceneResult:
         return drift_figure(self.t, self.integral_change(), self._title())
 
     def diagram_figure(self) -> Figure:
-        """K01's energy diagram (n, h) at this ``C`` with the scene's point.
+        """The energy diagram (n, h) at this ``C`` with the scene's point.
+
+        K01's diagram for the ball (``C = (M, gamma)``, ``n = (M, M)``); with the gyrostat the
+        diagram at ``C = (M + K, gamma)``, ``n = (M + K, M + K)``
+        (:func:`chaplygin.verify.scene_diagram.gyrostat_diagram_figure`); BKM12 Fig. 5's for
+        the spherical support (:func:`chaplygin.verify.scene_diagram.support_diagram_figure`).
 
         Returns
         -------
@@ -1437,14 +1476,21 @@ class SceneResult:
         Raises
         ------
         SceneError
-            A system without the diagram (only the ball without gyrostat has it).
+            A model without a diagram (the message lists those that have one).
         """
         from .plots import scene_diagram_figure
+        from .scene_diagram import (
+            diagram_kind,
+            diagram_problem,
+            gyrostat_diagram_figure,
+            support_diagram_figure,
+        )
 
         code = self.resolved.code
-        if self.scene.system != "chaplygin_ball" or "H" not in code.integral_names:
+        kind = diagram_kind(self.scene.system, code.effects)
+        if kind is None:
             raise SceneError(
-                "the energy diagram exists for chaplygin_ball with an energy integral only",
+                diagram_problem(self.scene.system, code.effects, code.name),
                 self.scene.source,
                 "outputs.diagram",
             )
@@ -1455,12 +1501,68 @@ class SceneResult:
             ),
             float,
         )[:, 0]
-        key = "(M+K," if "(M+K,gamma)" in names else "(M,"
-        C = F0[names.index(key + "gamma)")]
-        n = F0[names.index("(M+K,M+K)" if key == "(M+K," else "(M,M)")]
         p = self.resolved.params
         I = [float(p[f"I{i}"]) for i in (1, 2, 3)]
-        return scene_diagram_figure(I, float(p["D"]), C, n, F0[names.index("H")], self._title())
+        h = F0[names.index("H")]
+        if kind == "gyrostat":
+            C, n = F0[names.index("(M+K,gamma)")], F0[names.index("(M+K,M+K)")]
+            K = [float(p[f"K{i}"]) for i in (1, 2, 3)]
+            return gyrostat_diagram_figure(I, float(p["D"]), K, C, n, h, self._title())
+        if kind == "support":
+            C = F0[names.index("(M,M)")]
+            g = [F0[names.index(f"(M,{v})")] / np.sqrt(C) for v in ("alpha", "beta", "gamma")]
+            params = [float(v) for v in p.values()]
+            return support_diagram_figure(params, g, 2 * h / C, self._title())
+        C, n = F0[names.index("(M,gamma)")], F0[names.index("(M,M)")]
+        return scene_diagram_figure(I, float(p["D"]), C, n, h, self._title())
+
+    def separatrix_delta(self) -> dict:
+        """Delta measured between the trace's two asymptotic centres, against K01-3.7.
+
+        See :func:`chaplygin.verify.scene_delta.separatrix_delta_report` (computed once).
+
+        Returns
+        -------
+        dict
+
+        Raises
+        ------
+        SceneError
+            The scene did not ask for ``separatrix_delta`` or its run failed.
+        """
+        if self.backward is None:
+            raise SceneError(
+                "Delta needs outputs.separatrix_delta and a run that reached its end",
+                self.scene.source,
+                "outputs.separatrix_delta",
+            )
+        if self._delta_report is None:
+            from ..numerics.inputs import Precision
+            from ..numerics.integrators import NUMBER_TYPES
+            from .scene_delta import separatrix_delta_report
+
+            rtol = self.scene.run_options.rtol
+            if rtol is None:
+                prec = Precision(self.scene.run_options.precision)
+                rtol = NUMBER_TYPES[prec.kind].default_tolerances(prec)[0]
+            self._delta_report = separatrix_delta_report(self, float(rtol))
+        return self._delta_report
+
+    def separatrix_delta_figure(self) -> Figure:
+        """Both halves of the separatrix trace with their centres and Delta marked.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+
+        Raises
+        ------
+        SceneError
+            As :meth:`separatrix_delta`.
+        """
+        from .scene_delta import separatrix_delta_figure
+
+        return separatrix_delta_figure(self, self.separatrix_delta(), self._title())
 
     def figures(self) -> dict:
         """The figures the scene asks for (``outputs.* .plot = true``).
@@ -1475,10 +1577,13 @@ class SceneResult:
             "series": self.series_figure,
             "drift": self.drift_figure,
             "diagram": self.diagram_figure,
+            "separatrix_delta": self.separatrix_delta_figure,
         }
         out = {}
         for key, make in makers.items():
             spec = getattr(self.scene.outputs, key)
+            if key == "separatrix_delta" and self.backward is None:
+                continue  # the forward run failed: there is no Delta to draw
             if spec is not None and spec.plot:
                 out[key] = make()
         for key, done in self.analyses.items():
@@ -1529,6 +1634,7 @@ class SceneResult:
             "model_hash": res.code.hash,
             "code_origin": res.code.origin,
             "code_load_s": res.load_s,
+            **({"code_note": res.code.note} if res.code.note else {}),
             "precision": str(self.scene.run_options.precision),
             "rtol": self.scene.run_options.rtol,
             "atol": self.scene.run_options.atol,
@@ -1541,6 +1647,11 @@ class SceneResult:
                 "sympy": sympy.__version__,
                 "mpmath": mpmath.__version__,
             },
+            **(
+                {"separatrix_delta": self.separatrix_delta()}
+                if self.scene.outputs.separatrix_delta is not None and self.backward is not None
+                else {}
+            ),
         }
         if r is not None:
             summary.update(
