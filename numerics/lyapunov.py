@@ -383,7 +383,8 @@ def lyapunov_spectrum(
     start = time.perf_counter()
     if spectrum not in SPECTRA:
         raise UserInputError(f"unknown spectrum {spectrum!r}: choose one of {', '.join(SPECTRA)}")
-    intervals, transient, states, windows = (int(v) for v in (intervals, transient, states, windows))
+    intervals, transient = int(intervals), int(transient)
+    states, windows = int(states), int(windows)
     if windows < 2:
         raise UserInputError("at least 2 windows are needed for the batch-means error")
     if intervals < windows:
@@ -442,9 +443,9 @@ def lyapunov_spectrum(
         running[s] = np.cumsum(logs, axis=0)[checkpoints - 1] / (checkpoints[:, None] * tau)
         if with_density:
             t_end = t_start + intervals * tau
-            density_rate[s] = -(_log_density(code, t_end, y, p) - _log_density(
-                code, t_start, y_start, p
-            )) / (intervals * tau)
+            density_rate[s] = -(
+                _log_density(code, t_end, y, p) - _log_density(code, t_start, y_start, p)
+            ) / (intervals * tau)
     exponents = per_state.mean(axis=0)
     window_errors = np.sqrt((window_se**2).sum(axis=0)) / states
     state_errors = (

@@ -33,8 +33,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..derive.errors import ComputationError, UserInputError
-from .code import ModelCode
 from .ccompile import CacheError, CompilerError, compile_c
+from .code import ModelCode
 from .compiled import CompilerUnavailableWarning
 
 __all__ = ["VariationalSystem", "TangentFlow", "flow_with_jacobian", "variational_system"]
@@ -304,8 +304,8 @@ class VariationalSystem:
         if self._lib is not None:
             out = np.zeros((max(m, 1), self.n))
             self._lib.chaplygin_var_integral_gradients(
-                float(t), _ffi.from_buffer("double[]", y), _ffi.from_buffer("double[]", self.params),
-                _ffi.from_buffer("double[]", out, True),
+                float(t), _ffi.from_buffer("double[]", y),
+                _ffi.from_buffer("double[]", self.params), _ffi.from_buffer("double[]", out, True),
             )  # fmt: skip
             return out[:m]
         out = np.zeros((m, self.n))

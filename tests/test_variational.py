@@ -12,7 +12,6 @@ import math
 import mpmath
 import numpy as np
 import pytest
-
 from chaplygin.derive.errors import ComputationError, UserInputError
 from chaplygin.numerics import variational
 from chaplygin.numerics.code import load_model_code
