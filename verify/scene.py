@@ -54,6 +54,7 @@ from pydantic import (
 from ..derive.errors import UserInputError
 from ..derive.systems import SYSTEMS
 from .analyses import AnalysisResult, requested
+from .lyapunov_output import LyapunovOutput
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -164,6 +165,9 @@ class Outputs(_Table):
     drift: PlotOutput | None = Field(None, description="the integrals' relative change over time")
     diagram: PlotOutput | None = Field(
         None, description="the energy diagram (n, h) of K01 with the scene's point"
+    )
+    lyapunov: LyapunovOutput | None = Field(
+        None, description="Lyapunov spectra with error bars (an analysis: no trajectory needed)"
     )
 
 
