@@ -23,12 +23,13 @@ running estimates behind the convergence plot. The integration uses ``[run] rtol
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Annotated, Any, Literal
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, StrictBool, StrictFloat, StrictInt
 
 from .analyses import Analysis, AnalysisResult, register_analysis
+from .lyapunov_table import LyapunovOutput
+from .scene import SceneError
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -38,43 +39,7 @@ if TYPE_CHECKING:
 __all__ = ["LyapunovOutput", "convergence_figure", "run_lyapunov"]
 
 
-class LyapunovOutput(BaseModel):
-    """Lyapunov spectra by Benettin's QR method (variational equations in C)."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
-    iterations: Annotated[StrictInt, Field(ge=10, le=10_000_000)] = Field(
-        10_000,
-        description="renormalisation intervals averaged per initial state (map iterations when "
-        "the interval is the forcing period)",
-    )
-    transient: Annotated[StrictInt, Field(ge=0, le=10_000_000)] = Field(
-        500, description="intervals discarded before averaging"
-    )
-    interval: Annotated[StrictFloat | StrictInt, Field(gt=0)] | None = Field(
-        None,
-        description="time between re-orthonormalisations (default: the forcing period "
-        "2 pi/Omega; required for autonomous models)",
-    )
-    spectrum: Literal["level_set", "full", "both"] = Field(
-        "level_set",
-        description="tangent vectors on the level set of the integrals, all of them, or both",
-    )
-    states: Annotated[StrictInt, Field(ge=1, le=20)] = Field(
-        3, description="initial states (the scene's and neighbours on its level set)"
-    )
-    spread: Annotated[StrictFloat, Field(gt=0, le=0.5)] = Field(
-        0.01, description="relative distance of the neighbouring initial states"
-    )
-    windows: Annotated[StrictInt, Field(ge=2, le=1000)] = Field(
-        10, description="windows of the batch-means error bar"
-    )
-    plot: StrictBool = Field(True, description="write the convergence plot (PNG and SVG)")
-
-
 def _check(scene: Any, code: Any, spec: LyapunovOutput) -> None:
-    from .scene import SceneError
-
     if str(scene.run_options.precision) != "double":
         raise SceneError(
             "the lyapunov output runs in double precision (DOP853 with the variational "
@@ -174,8 +139,6 @@ def run_lyapunov(scene: Any, resolved: Any, spec: LyapunovOutput, progress: bool
     from ..derive.errors import UserInputError
     from ..numerics.lyapunov import lyapunov_spectrum
     from ..numerics.variational import VariationalSystem
-    from .scene import SceneError
-
     code = resolved.code
     params = [float(resolved.params[name]) for name in code.params]
     y0 = [float(v) for v in resolved.y0]

@@ -54,7 +54,7 @@ from pydantic import (
 from ..derive.errors import UserInputError
 from ..derive.systems import SYSTEMS
 from .analyses import AnalysisResult, requested
-from .lyapunov_output import LyapunovOutput
+from .lyapunov_table import LyapunovOutput
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
