@@ -54,6 +54,7 @@ from pydantic import (
 from ..derive.errors import UserInputError
 from ..derive.systems import SYSTEMS
 from .analyses import AnalysisResult, requested
+from .lyapunov_table import LyapunovOutput
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -174,6 +175,9 @@ class Outputs(_Table):
         description="on the separatrix (M || gamma, h = h2): integrate backward too, mark the "
         "two asymptotic centres of the contact-point trace and Delta between them, and compare "
         "it with pi b/ch(pi mu/2) (K01-3.7) (needs contact_point)",
+    )
+    lyapunov: LyapunovOutput | None = Field(
+        None, description="Lyapunov spectra with error bars (an analysis: no trajectory needed)"
     )
 
 

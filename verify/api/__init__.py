@@ -47,6 +47,8 @@ _PUBLIC: dict[str, str] = {
     "load_model_code": "numerics.code:load_model_code",
     "delta": "numerics.separatrix:delta_three_ways",
     "torus_quadratures": "numerics.quadratures:torus_quadratures",
+    "flow_with_jacobian": "numerics.variational:flow_with_jacobian",
+    "lyapunov_spectrum": "numerics.lyapunov:lyapunov_spectrum",
     # claims and verdicts (verify)
     "claims": "verify.claims:select_claims",
     "check": "verify.check:check",

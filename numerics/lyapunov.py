@@ -1,0 +1,482 @@
+"""Lyapunov spectra by Benettin's method (QR re-orthonormalisation of tangent vectors).
+
+Two spectra (``spectrum=``):
+
+* ``"level_set"`` -- the tangent vectors are kept in the tangent space of the level set of the
+  model's first integrals (projected onto the orthogonal complement of the integrals' gradients
+  before every QR), so there are ``n - r`` exponents (``r`` the rank of the gradients): three for
+  BM20's ball at fixed ``G = |M|``, ``(M, gamma) = 0`` and ``|gamma| = 1``.
+* ``"full"`` -- all ``n`` exponents; ``r`` of them vanish because the integrals are conserved,
+  which is reported as a check (:attr:`LyapunovSpectrum.forced_zeros`).
+
+Units: exponents are given **per unit time** and, for a time-periodic model (a parameter
+``Omega``, forcing period ``2 pi/Omega``), **per map iteration** (per forcing period), which is
+how BM20 quotes them. Error bars are standard errors: from batch means over windows of each
+run, and from the spread over several initial states; the larger is reported.
+
+The symbolic tie: the sum of the full spectrum equals the time average of ``div f = tr J``
+(Liouville's formula ``d/dt log det Phi = tr J``); the exponents come from the QR route, the
+average divergence from a quadrature of ``tr J`` integrated with the orbit, so both are reported
+with their difference. Where the model ships a proved invariant density ``rho`` (its
+``REFERENCES`` name one, e.g. BKM12-4 for the ball), ``div f = -d/dt log rho`` along orbits, so
+the average divergence is also ``-(log rho(end) - log rho(start))/T``, a third route, which
+tends to zero for bounded ``rho``.
+
+References
+----------
+G. Benettin, L. Galgani, A. Giorgilli, J.-M. Strelcyn, Meccanica 15 (1980) 9-30.
+BM20 (FORMULAS.md: BM20-Lyap).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..derive.errors import UserInputError
+from .code import ModelCode
+from .variational import VariationalSystem
+
+__all__ = [
+    "SPECTRA",
+    "LyapunovSpectrum",
+    "forcing_period",
+    "lyapunov_spectrum",
+    "states_on_level_set",
+]
+
+#: The spectra :func:`lyapunov_spectrum` computes.
+SPECTRA = ("level_set", "full")
+
+#: Running estimates kept per initial state for the convergence plot.
+CONVERGENCE_POINTS = 200
+
+UNITS_PER_TIME = "per unit time"
+UNITS_PER_ITERATION = "per map iteration (per forcing period 2 pi/Omega)"
+
+
+@dataclass
+class LyapunovSpectrum:
+    """A Lyapunov spectrum with its error bars and checks.
+
+    Attributes
+    ----------
+    spectrum : str
+        ``"level_set"`` or ``"full"``.
+    exponents : ndarray, shape (k,)
+        Exponents per unit time, largest first (mean over the initial states).
+    errors : ndarray, shape (k,)
+        Their error bars per unit time (one standard error: the larger of
+        `window_errors` and `state_errors`).
+    window_errors, state_errors : ndarray, shape (k,)
+        Standard error from batch means over windows (combined over the states), and from the
+        spread over the initial states (NaN with one state).
+    per_state : ndarray, shape (n_states, k)
+        Each initial state's exponents per unit time.
+    interval : float
+        Renormalisation interval (time between QRs).
+    period : float or None
+        Forcing period ``2 pi/Omega`` of a time-periodic model, else None.
+    intervals, transient : int
+        Intervals averaged, and intervals discarded before them, per state.
+    windows : int
+        Windows of the batch means.
+    sum_of_exponents : float
+        Sum of `exponents` (per unit time).
+    mean_divergence : float
+        Time average of ``div f`` along the orbits (quadrature of ``tr J``), per unit time.
+    density_rate : float or None
+        ``-(log rho(end) - log rho(start))/T`` averaged over the states, per unit time, where
+        the model ships an invariant density, else None.
+    forced_zeros : ndarray or None
+        For the full spectrum, the ``r`` exponents closest to zero (per unit time), which the
+        ``r`` independent integrals force to vanish; None for the level set.
+    integral_rank : int
+        ``r``, the rank of the integrals' gradients at the first initial state.
+    convergence_iterations : ndarray, shape (m,)
+        Interval counts at which the running estimates were taken.
+    convergence : ndarray, shape (n_states, m, k)
+        Running estimates per unit time (for the convergence plot).
+    initial_states : ndarray, shape (n_states, n)
+        The initial states used.
+    work : dict
+        ``steps``, ``rejected``, ``evaluations`` summed over the runs.
+    wall_time : float
+        Seconds.
+    rtol, atol : float
+        The integrator's tolerances.
+    """
+
+    spectrum: str
+    exponents: NDArray
+    errors: NDArray
+    window_errors: NDArray
+    state_errors: NDArray
+    per_state: NDArray
+    interval: float
+    period: float | None
+    intervals: int
+    transient: int
+    windows: int
+    sum_of_exponents: float
+    mean_divergence: float
+    density_rate: float | None
+    forced_zeros: NDArray | None
+    integral_rank: int
+    convergence_iterations: NDArray
+    convergence: NDArray
+    initial_states: NDArray
+    work: dict[str, int] = field(default_factory=dict)
+    wall_time: float = 0.0
+    rtol: float = 0.0
+    atol: float = 0.0
+
+    @property
+    def divergence_difference(self) -> float:
+        """``sum_of_exponents - mean_divergence`` (per unit time).
+
+        Returns
+        -------
+        float
+        """
+        return self.sum_of_exponents - self.mean_divergence
+
+    def per_iteration(self, values: ArrayLike) -> NDArray:
+        """Values per unit time converted to per map iteration (times the forcing period).
+
+        Parameters
+        ----------
+        values : array_like
+            Rates per unit time.
+
+        Returns
+        -------
+        ndarray
+            Rates per forcing period ``2 pi/Omega``.
+
+        Raises
+        ------
+        UserInputError
+            The model is not time-periodic (no map iteration).
+        """
+        if self.period is None:
+            raise UserInputError("an autonomous model has no map iteration: use per unit time")
+        return np.asarray(values, dtype=float) * self.period
+
+    def summary(self) -> dict[str, Any]:
+        """JSON-able numbers with their units spelled out.
+
+        Returns
+        -------
+        dict
+            ``per_unit_time`` (and ``per_iteration`` for a time-periodic model) with
+            ``exponents``, ``errors``, ``sum``, ``mean_divergence``, ``difference``; the run's
+            settings and work counters.
+        """
+
+        def block(scale: float, units: str) -> dict[str, Any]:
+            out: dict[str, Any] = {
+                "units": units,
+                "exponents": [float(v) * scale for v in self.exponents],
+                "errors": [float(v) * scale for v in self.errors],
+                "window_errors": [float(v) * scale for v in self.window_errors],
+                "state_errors": [
+                    None if math.isnan(v) else float(v) * scale for v in self.state_errors
+                ],
+                "sum_of_exponents": self.sum_of_exponents * scale,
+                "mean_divergence": self.mean_divergence * scale,
+                "difference": self.divergence_difference * scale,
+            }
+            if self.density_rate is not None:
+                out["minus_mean_dlog_density_dt"] = self.density_rate * scale
+            if self.forced_zeros is not None:
+                out["forced_zeros"] = [float(v) * scale for v in self.forced_zeros]
+            return out
+
+        out: dict[str, Any] = {
+            "spectrum": self.spectrum,
+            "per_unit_time": block(1.0, UNITS_PER_TIME),
+        }
+        if self.period is not None:
+            out["per_iteration"] = block(self.period, UNITS_PER_ITERATION)
+            out["period"] = self.period
+        out.update(
+            interval=self.interval,
+            intervals=self.intervals,
+            transient=self.transient,
+            windows=self.windows,
+            initial_states=int(self.per_state.shape[0]),
+            integral_rank=self.integral_rank,
+            rtol=self.rtol,
+            atol=self.atol,
+            work=dict(self.work),
+            wall_time_s=round(self.wall_time, 3),
+        )
+        return out
+
+
+def forcing_period(code: ModelCode, params: ArrayLike) -> float | None:
+    """``2 pi/Omega`` for a model with a forcing frequency ``Omega``, else None.
+
+    Parameters
+    ----------
+    code : ModelCode
+    params : array_like, shape (n_param,)
+        Parameter values in ``code.params`` order.
+
+    Returns
+    -------
+    float or None
+
+    Raises
+    ------
+    UserInputError
+        ``Omega`` is not positive.
+    """
+    if "Omega" not in code.params:
+        return None
+    omega = float(np.asarray(params, dtype=float)[code.params.index("Omega")])
+    if not omega > 0:
+        raise UserInputError(f"Omega must be > 0 for a forcing period, got {omega}")
+    return 2 * math.pi / omega
+
+
+def states_on_level_set(
+    system: VariationalSystem,
+    y0: ArrayLike,
+    count: int,
+    *,
+    spread: float = 1e-2,
+    t: float = 0.0,
+    seed: int = 20200,
+) -> NDArray:
+    """``y0`` and ``count - 1`` states near it on the same level set of the integrals.
+
+    Each is ``y0`` moved by ``spread |y0|`` along a random direction of the level set's tangent
+    space, then pulled back onto the level set by Gauss-Newton steps on the integrals.
+
+    Parameters
+    ----------
+    system : VariationalSystem
+    y0 : array_like, shape (n,)
+    count : int
+        Number of states (the first is ``y0``).
+    spread : float
+        Relative size of the displacement.
+    t : float
+        Time (for time-dependent integrals).
+    seed : int
+        Seed of the random directions (reproducible).
+
+    Returns
+    -------
+    ndarray, shape (count, n)
+
+    Raises
+    ------
+    UserInputError
+        ``count < 1`` or ``spread`` not finite and positive.
+    """
+    if count < 1:
+        raise UserInputError("at least one initial state is needed")
+    if not (math.isfinite(spread) and spread > 0):
+        raise UserInputError(f"spread must be finite and > 0, got {spread}")
+    y0 = np.asarray(y0, dtype=float)
+    code, p = system.code, system.params
+    target = np.asarray(code.numpy.integrals(t, y0, p), dtype=float)
+    rng = np.random.default_rng(seed)
+    states = [y0.copy()]
+    scale = spread * max(float(np.linalg.norm(y0)), 1.0)
+    for _ in range(count - 1):
+        _, tangent = system.level_set_basis(t, y0)
+        y = y0 + scale * tangent @ rng.standard_normal(tangent.shape[1]) / math.sqrt(
+            tangent.shape[1]
+        )
+        for _ in range(20):  # Gauss-Newton onto F(y) = F(y0)
+            r = np.asarray(code.numpy.integrals(t, y, p), dtype=float) - target
+            if np.all(np.abs(r) <= 4 * np.finfo(float).eps * np.maximum(1, np.abs(target))):
+                break
+            G = system.integral_gradients(t, y)
+            y = y - np.linalg.lstsq(G, r, rcond=None)[0]
+        states.append(y)
+    return np.array(states)
+
+
+def _log_density(code: ModelCode, t: float, y: NDArray, p: NDArray) -> float:
+    return float(np.log(np.asarray(code.numpy.density(t, y, p), dtype=float).ravel()[0]))
+
+
+def _has_density(code: ModelCode) -> bool:
+    return "density" in dict(getattr(code.numpy, "REFERENCES", ()))
+
+
+def lyapunov_spectrum(
+    code: ModelCode,
+    params: ArrayLike,
+    y0: ArrayLike,
+    *,
+    spectrum: Literal["level_set", "full"] = "level_set",
+    intervals: int = 10_000,
+    transient: int = 500,
+    interval: float | None = None,
+    t0: float = 0.0,
+    states: int = 1,
+    spread: float = 1e-2,
+    windows: int = 10,
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    seed: int = 20200,
+    system: VariationalSystem | None = None,
+) -> LyapunovSpectrum:
+    """Lyapunov exponents of the orbit of ``y0`` (and of ``states - 1`` neighbours).
+
+    Parameters
+    ----------
+    code : ModelCode
+        The model's generated code.
+    params : array_like, shape (n_param,)
+        Parameter values in ``code.params`` order (double precision).
+    y0 : array_like, shape (n,)
+        Initial state.
+    spectrum : {"level_set", "full"}
+        Tangent vectors in the tangent space of the integrals' level set, or all ``n``.
+    intervals : int
+        Renormalisation intervals averaged per state (map iterations when `interval` is the
+        forcing period).
+    transient : int
+        Intervals discarded first (the tangent vectors align, the orbit reaches the attractor).
+    interval : float, optional
+        Time between QRs; default the forcing period ``2 pi/Omega`` (required for autonomous
+        models).
+    t0 : float
+        Start time.
+    states : int
+        Number of initial states (``y0`` and neighbours on its level set, see
+        :func:`states_on_level_set`) for the spread error bar.
+    spread : float
+        Relative distance of the neighbours.
+    windows : int
+        Windows of the batch means (at least 2).
+    rtol, atol : float
+        Integrator tolerances.
+    seed : int
+        Seed of the neighbours and of the initial tangent vectors.
+    system : VariationalSystem, optional
+        A prepared system (its tolerances are used instead of `rtol`, `atol`).
+
+    Returns
+    -------
+    LyapunovSpectrum
+
+    Raises
+    ------
+    UserInputError
+        Bad settings (unknown spectrum, counts, no interval for an autonomous model).
+    ComputationError
+        An integration failed.
+    """
+    start = time.perf_counter()
+    if spectrum not in SPECTRA:
+        raise UserInputError(f"unknown spectrum {spectrum!r}: choose one of {', '.join(SPECTRA)}")
+    intervals, transient = int(intervals), int(transient)
+    states, windows = int(states), int(windows)
+    if windows < 2:
+        raise UserInputError("at least 2 windows are needed for the batch-means error")
+    if intervals < windows:
+        raise UserInputError(f"intervals ({intervals}) must be at least windows ({windows})")
+    if transient < 0:
+        raise UserInputError("transient must be >= 0")
+    vs = system if system is not None else VariationalSystem(code, params, rtol=rtol, atol=atol)
+    p = vs.params
+    period = forcing_period(code, p)
+    if interval is None:
+        if period is None:
+            raise UserInputError(
+                f"{code.name} is autonomous: give the renormalisation interval (a time)"
+            )
+        interval = period
+    tau = float(interval)
+    if not (math.isfinite(tau) and tau > 0):
+        raise UserInputError(f"the renormalisation interval must be > 0, got {interval}")
+    y_first = vs._state(y0)
+    normal, tangent = vs.level_set_basis(t0, y_first)
+    rank = normal.shape[1]
+    starts = states_on_level_set(vs, y_first, states, spread=spread, t=t0, seed=seed)
+    rng = np.random.default_rng(seed + 1)
+    n = vs.n
+    k = tangent.shape[1] if spectrum == "level_set" else n
+    if k == 0:
+        raise UserInputError(f"the level set of {code.name}'s integrals is a point: no exponents")
+    checkpoints = np.unique(np.geomspace(1, intervals, CONVERGENCE_POINTS).astype(int))
+    per_state = np.zeros((states, k))
+    window_se = np.zeros((states, k))
+    divergence = np.zeros(states)
+    density_rate = np.zeros(states)
+    running = np.zeros((states, checkpoints.size, k))
+    work = {"steps": 0, "rejected": 0, "evaluations": 0}
+    with_density = _has_density(code)
+    for s, y in enumerate(starts):
+        _, tangent_s = vs.level_set_basis(t0, y)
+        basis = tangent_s if spectrum == "level_set" else np.eye(n)
+        V = basis @ np.linalg.qr(rng.standard_normal((basis.shape[1], k)))[0]
+        project = spectrum == "level_set"
+        t = t0
+        if transient:
+            _, _, y, V, w = vs.renormalised(y, V, t, tau, transient, project=project)
+            t = t0 + transient * tau
+            for key in work:
+                work[key] += w[key]
+        y_start, t_start = y, t
+        logs, divs, y, V, w = vs.renormalised(y, V, t, tau, intervals, project=project)
+        for key in work:
+            work[key] += w[key]
+        per_state[s] = logs.mean(axis=0) / tau
+        usable = (intervals // windows) * windows
+        batches = logs[intervals - usable :].reshape(windows, -1, k).mean(axis=1) / tau
+        window_se[s] = batches.std(axis=0, ddof=1) / math.sqrt(windows)
+        divergence[s] = divs.mean() / tau
+        running[s] = np.cumsum(logs, axis=0)[checkpoints - 1] / (checkpoints[:, None] * tau)
+        if with_density:
+            t_end = t_start + intervals * tau
+            density_rate[s] = -(
+                _log_density(code, t_end, y, p) - _log_density(code, t_start, y_start, p)
+            ) / (intervals * tau)
+    exponents = per_state.mean(axis=0)
+    window_errors = np.sqrt((window_se**2).sum(axis=0)) / states
+    state_errors = (
+        per_state.std(axis=0, ddof=1) / math.sqrt(states) if states > 1 else np.full(k, np.nan)
+    )
+    errors = np.fmax(window_errors, state_errors)
+    forced = None
+    if spectrum == "full" and rank:
+        forced = np.sort(exponents[np.argsort(np.abs(exponents))[:rank]])[::-1]
+    return LyapunovSpectrum(
+        spectrum=spectrum,
+        exponents=exponents,
+        errors=errors,
+        window_errors=window_errors,
+        state_errors=state_errors,
+        per_state=per_state,
+        interval=tau,
+        period=period,
+        intervals=intervals,
+        transient=transient,
+        windows=windows,
+        sum_of_exponents=float(exponents.sum()),
+        mean_divergence=float(divergence.mean()),
+        density_rate=float(density_rate.mean()) if with_density else None,
+        forced_zeros=forced,
+        integral_rank=rank,
+        convergence_iterations=checkpoints,
+        convergence=running,
+        initial_states=starts,
+        work=work,
+        wall_time=time.perf_counter() - start,
+        rtol=vs.rtol,
+        atol=vs.atol,
+    )

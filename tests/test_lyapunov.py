@@ -1,0 +1,142 @@
+"""Lyapunov spectra (numerics/lyapunov.py): the QR machinery against an independent flow, the
+sum of the spectrum against the average divergence, the density bound of the autonomous ball
+(BKM12-4), BM20's dissipative attractor, units and bad input."""
+
+from __future__ import annotations
+
+import math
+
+import mpmath
+import numpy as np
+import pytest
+from chaplygin.derive.errors import UserInputError
+from chaplygin.numerics import variational
+from chaplygin.numerics.code import load_model_code
+from chaplygin.numerics.initial_state import state_from_andoyer
+from chaplygin.numerics.lyapunov import (
+    UNITS_PER_ITERATION,
+    UNITS_PER_TIME,
+    lyapunov_spectrum,
+    states_on_level_set,
+)
+from chaplygin.numerics.variational import VariationalSystem
+
+BM20 = ("chaplygin_ball", "variable_gyrostat,variable_inertia")
+# BM20 Fig. 5: I = diag(4, 3, 2), d = 4.385, J = 0, delta = 2, K = (-6, -3, -9), Omega = 1.07
+FIG5_PARAMS = [4, 3, 2, 4.385, 0, 2, -6, -3, -9, 1.07]
+RTOL = 1e-10
+
+
+def _fig5_state():
+    s = state_from_andoyer(mpmath.mpf(3), mpmath.mpf("0.5"), mpmath.mpf(1), mpmath.mpf(1))
+    return np.array([float(v) for v in s["M"] + s["gamma"]])
+
+
+@pytest.mark.parametrize("project", [False, True], ids=["full", "level-set"])
+def test_qr_logs_are_the_volume_growth_of_an_independent_flow(monkeypatch, project):
+    """sum of log R_jj (j < m) over the intervals = log of the m-volume spanned by Phi V0.
+
+    Phi comes from scipy's DOP853 on the same system with the numpy Jacobian (another
+    integrator, another code path). The exact flow maps the level set's tangent space to
+    itself, so projecting leaves the identity intact. About 50 steps per period, 8 periods:
+    a global error below 400 local tolerances, so 1e3 rtol bounds the difference.
+    """
+    code = load_model_code(*BM20)
+    y0 = _fig5_state()
+    compiled = VariationalSystem(code, FIG5_PARAMS, rtol=RTOL)
+    _, tangent = compiled.level_set_basis(0.0, y0)
+    V0 = tangent if project else np.eye(6)[:, [0, 2, 4]] + 0.3 * np.eye(6)[:, [1, 3, 5]]
+    V0 = np.linalg.qr(V0)[0]
+    period = 2 * math.pi / 1.07
+    logs, *_ = compiled.renormalised(y0, V0, 0.0, period, 8, project=project)
+    monkeypatch.setitem(variational._LIBRARIES, code.hash, None)
+    reference = VariationalSystem(code, FIG5_PARAMS, rtol=RTOL / 10, atol=1e-14)
+    W = reference.flow(y0, 0.0, 8 * period, V0).V
+    for m in (1, 2, 3):
+        volume = 0.5 * math.log(np.linalg.det(W[:, :m].T @ W[:, :m]))
+        assert abs(logs[:, :m].sum() - volume) < 1e3 * RTOL
+    # negative control through the same identity: the volume after 7 periods is another one
+    W7 = reference.flow(y0, 0.0, 7 * period, V0).V
+    assert abs(logs[:, :1].sum() - math.log(np.linalg.norm(W7[:, 0]))) > 1e3 * RTOL
+
+
+def _log_density_range(I, D):
+    """(max - min) of log rho on |gamma| = 1, rho = (1/D - sum gamma_i^2/(D + I_i))^(-1/2)
+    (BKM12-4): the quadratic form lies between 1/D - 1/(D + min I) and 1/D - 1/(D + max I)."""
+    lo = 1 / D - 1 / (D + min(I))
+    hi = 1 / D - 1 / (D + max(I))
+    return 0.5 * abs(math.log(hi / lo))
+
+
+def test_autonomous_ball_average_divergence_is_bounded_by_its_density():
+    """div f = -d/dt log rho (BKM12-4), so |mean div| <= range(log rho)/T; the sum of the full
+    spectrum (QR route) equals it (Liouville) and so does the density route. BM20's ball, which
+    has no invariant density, breaks the same bound (negative control)."""
+    code = load_model_code("chaplygin_ball")
+    I, D = (2.1, 3.3, 4.7), 1.3
+    y0 = [0.3, -0.7, 1.1, 0.36, 0.48, 0.8]
+    res = lyapunov_spectrum(
+        code, [*I, D], y0, spectrum="full", interval=1.7, intervals=600, transient=0
+    )
+    T = res.intervals * res.interval
+    bound = _log_density_range(I, D) / T
+    assert abs(res.mean_divergence) <= bound
+    assert abs(res.density_rate - res.mean_divergence) < 1e3 * RTOL
+    assert abs(res.divergence_difference) < 1e3 * RTOL
+    assert res.integral_rank == 4 and res.forced_zeros.size == 4
+    assert res.period is None and "per_iteration" not in res.summary()
+    assert res.summary()["per_unit_time"]["units"] == UNITS_PER_TIME
+    with pytest.raises(UserInputError):
+        res.per_iteration(res.exponents)
+    # negative control: BM20's field over the same time has a mean divergence beyond the bound
+    bm20 = lyapunov_spectrum(
+        load_model_code(*BM20), FIG5_PARAMS, _fig5_state(), intervals=int(T / 5.87) + 1,
+        transient=0,
+    )  # fmt: skip
+    assert abs(bm20.mean_divergence) > 10 * bound
+    assert bm20.density_rate is None
+
+
+def test_bm20_attractor_is_dissipative():
+    """On Fig. 5's attractor the full spectrum sums to a negative number and the average
+    divergence (quadrature of tr J) is the same negative number; the level-set spectrum has one
+    positive exponent and the same sum (the normal directions contribute zero)."""
+    code = load_model_code(*BM20)
+    full = lyapunov_spectrum(
+        code, FIG5_PARAMS, _fig5_state(), spectrum="full", intervals=1000, transient=300
+    )
+    assert full.exponents.shape == (6,)
+    assert full.mean_divergence < 0 and full.sum_of_exponents < 0
+    assert abs(full.divergence_difference) < 1e3 * RTOL
+    level = lyapunov_spectrum(code, FIG5_PARAMS, _fig5_state(), intervals=1000, transient=300)
+    assert level.exponents.shape == (3,)
+    assert level.exponents[0] > 3 * level.errors[0]  # chaotic
+    assert abs(level.divergence_difference) < 1e-4 * abs(level.mean_divergence)
+    summary = level.summary()
+    assert summary["per_iteration"]["units"] == UNITS_PER_ITERATION
+    np.testing.assert_allclose(
+        summary["per_iteration"]["exponents"], level.exponents * 2 * math.pi / 1.07, rtol=1e-15
+    )
+    assert level.convergence.shape[2] == 3
+
+
+def test_states_on_level_set_keep_the_integrals():
+    code = load_model_code(*BM20)
+    vs = VariationalSystem(code, FIG5_PARAMS)
+    y0 = _fig5_state()
+    states = states_on_level_set(vs, y0, 4, spread=0.02)
+    F0 = code.numpy.integrals(0.0, y0, vs.params)
+    for y in states[1:]:
+        assert np.linalg.norm(y - y0) > 1e-3
+        np.testing.assert_allclose(code.numpy.integrals(0.0, y, vs.params), F0, atol=1e-13)
+
+
+def test_bad_settings_raise_user_input_error():
+    code = load_model_code(*BM20)
+    y0 = _fig5_state()
+    with pytest.raises(UserInputError, match="unknown spectrum"):
+        lyapunov_spectrum(code, FIG5_PARAMS, y0, spectrum="both")
+    with pytest.raises(UserInputError, match="windows"):
+        lyapunov_spectrum(code, FIG5_PARAMS, y0, intervals=5, windows=10)
+    with pytest.raises(UserInputError, match="autonomous"):
+        lyapunov_spectrum(load_model_code("chaplygin_ball"), [1, 2, 3, 1], [0, 0, 1, 0, 0, 1])
