@@ -465,7 +465,8 @@ def _frame_turn(ctx: PointContext) -> dict:
 
     h = float(parse_number(initial.h))
     C = float(parse_number(initial.C)) if initial.C is not None else 1.0
-    T, phi = frame_turn([float(v) for v in I], float(D), h, C)
+    rtol = ctx.scene.run_options.rtol or 1e-12
+    T, phi = frame_turn([float(v) for v in I], float(D), h, C, rtol=float(rtol))
     return {"frame_turn_period": T, "frame_turn_phi": phi}
 
 
@@ -1084,7 +1085,7 @@ def _refine(plan: SweepPlan, group: Any) -> list[str]:
     zeros = []
     for a, b in brackets:
         scale = max(abs(a), abs(b))
-        root = brentq(f, a, b, xtol=scale * 10.0 ** (-opts.digits - 2), rtol=4e-16)
+        root = brentq(f, a, b, xtol=scale * 10.0 ** (-opts.digits - 2), rtol=1e-15)
         zeros.append(f"{root:.{opts.digits + 2}g}")
     import zarr
 
