@@ -316,3 +316,44 @@ def test_full_disk_is_a_clear_error_and_the_store_stays_valid(client, reference,
 
 def test_registry_names():
     assert {"final_state", "drift", "trace", "period", "delta", "frame_turn"} <= set(REDUCERS)
+
+
+def test_bm20_chart_example_on_a_tiny_grid(client, tmp_path):
+    """The chart's example, 2 x 1 points and short runs: the period reducer classifies the map
+    sampled by the Taylor integrator; DOP853 (another integrator) gives the same classes."""
+    text = (EXAMPLES / "bm20-fig6-chart.toml").read_text()
+    text = text.replace('num = 11 }\n"parameters.D"', 'num = 2 }\n"parameters.D"')
+    text = text.replace(
+        "start = 4.37, stop = 4.39, num = 11", "start = 4.385, stop = 4.385, num = 1"
+    )
+    text = text.replace("transient = 500, recorded = 200", "transient = 40, recorded = 30")
+    periods = {}
+    for method in ("taylor", "DOP853"):
+        path = _scene(
+            tmp_path, text.replace('method = "taylor"', f'method = "{method}"'), f"{method}.toml"
+        )
+        run_sweep(Scene.from_toml(path), tmp_path / f"{method}.zarr", client=client)
+        ds = _load(tmp_path / f"{method}.zarr")
+        assert ds["period"].shape == (2, 1) and (ds["status"].values == 0).all()
+        periods[method] = ds["period"].values
+    assert np.array_equal(periods["taylor"], periods["DOP853"])
+    assert ((periods["taylor"] >= 0) & (periods["taylor"] <= 14)).all()
+
+
+def test_cli_without_the_dask_extra_says_how_to_get_it(tmp_path, monkeypatch, capsys):
+    from chaplygin.verify.cli import main
+
+    monkeypatch.setitem(sys.modules, "zarr", None)  # import zarr raises ImportError
+    assert main(["sweep", str(_scene(tmp_path)), "--out", str(tmp_path / "s.zarr")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "chaplygin[dask]" in err[0]
+    assert not (tmp_path / "s.zarr").exists()
+
+
+def test_cli_bad_scene_is_one_line_and_writes_nothing(tmp_path, capsys):
+    from chaplygin.verify.cli import main
+
+    bad = _scene(tmp_path, TINY.replace('"trace"]', '"nonsense"]'))
+    assert main(["sweep", str(bad), "--out", str(tmp_path / "s.zarr")]) == 2
+    assert len(capsys.readouterr().err.strip().splitlines()) == 1
+    assert not (tmp_path / "s.zarr").exists()
