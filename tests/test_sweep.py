@@ -357,3 +357,33 @@ def test_cli_bad_scene_is_one_line_and_writes_nothing(tmp_path, capsys):
     assert main(["sweep", str(bad), "--out", str(tmp_path / "s.zarr")]) == 2
     assert len(capsys.readouterr().err.strip().splitlines()) == 1
     assert not (tmp_path / "s.zarr").exists()
+
+
+def test_region_of_motion_example_matches_the_lines_p1_p3(client, tmp_path):
+    """BKM12 Fig. 2 on a tiny grid: a state exists between p1: h = n/(2 J1) and
+    p3: h = n/(2 J3) (K01-3.2c at C = 0, J_i = I_i + D), none outside; the integrals at the
+    states found are the prescribed ones."""
+    text = (EXAMPLES / "bkm12-fig2-region.toml").read_text()
+    text = text.replace("start = 0.05, stop = 2, num = 40", "start = 0.7, stop = 1.3, num = 2")
+    text = text.replace("start = 0.005, stop = 0.6, num = 41", "start = 0.05, stop = 0.45, num = 9")
+    store = tmp_path / "region.zarr"
+    run_sweep(Scene.from_toml(_scene(tmp_path, text)), store, client=client)
+    ds = _load(store)
+    J1, J3 = 1 + 1, 3 + 1
+    n, h = np.meshgrid(ds["n"].values, ds["h"].values, indexing="ij")
+    inside = (h > n / (2 * J3) * (1 + 1e-3)) & (h < n / (2 * J1) * (1 - 1e-3))
+    outside = (h < n / (2 * J3) * (1 - 1e-3)) | (h > n / (2 * J1) * (1 + 1e-3))
+    status = ds["status"].values
+    assert inside.any() and outside.any()
+    assert (status[inside] == 0).all() and (status[outside] == 1).all()
+    values = ds["initial_integrals"].sel(integral=["H", "(M,M)", "(M,gamma)"]).values
+    np.testing.assert_allclose(values[inside][:, 0], h[inside], rtol=1e-12)
+    np.testing.assert_allclose(values[inside][:, 1], n[inside], rtol=1e-12)
+    assert np.abs(values[inside][:, 2]).max() < 1e-12
+
+
+def test_an_axis_the_model_does_not_have_is_refused(tmp_path):
+    with pytest.raises(SceneError, match="did you mean 'D'"):
+        plan_sweep(
+            Scene.from_toml(_scene(tmp_path, TINY.replace('"parameters.D"', '"parameters.DD"')))
+        )

@@ -404,6 +404,30 @@ register_reducer(
 )
 
 
+def _integrals(ctx: PointContext) -> dict:
+    res = ctx.resolved
+    p = np.asarray([float(res.params[k]) for k in res.code.params])
+    y0 = np.asarray([float(v) for v in res.y0])
+    values = res.code.numpy.integrals(float(res.t_span[0]), y0, p)
+    return {"initial_integrals": np.asarray(values, dtype=float)}
+
+
+register_reducer(
+    Reducer(
+        "integrals",
+        lambda code, sweep: {
+            "initial_integrals": Variable(
+                ("integral",), attrs={"long_name": "the integrals at the initial state"}
+            )
+        },
+        _integrals,
+        lambda code: {"integral": list(code.integral_names)},
+        "the integrals at the initial state (no integration: where a point exists is the "
+        "region of motion; status 1 where the scene finds no state)",
+    )
+)
+
+
 def _inertia(ctx: PointContext) -> tuple[list, Any, Any]:
     names = ("I1", "I2", "I3", "D", "b")
     if any(n not in ctx.resolved.params for n in names):
@@ -661,13 +685,16 @@ def plan_sweep(scene: Any) -> SweepPlan:
             chunks.append(tuple(slice(i, i + 1) for i in index) + (last,))
     first = {key: vals[0] for key, _, vals in axes}
     try:
-        res = point_scene(base, first, scene.source).resolve()
+        code = point_scene(base, first, scene.source).resolve().code
     except SceneError as exc:
-        exc.args = (f"{exc.args[0]} (at the sweep's first point {first})",)
-        raise
-    code = res.code
-    if sweep.refine is not None:
-        pass  # checked below, after the variables are known
+        # a point may lie where the scene finds no state (that point's status says so); the
+        # scene as written must resolve then
+        try:
+            code = point_scene(base, {}, scene.source).resolve().code
+        except SceneError:
+            exc.args = (f"{exc.args[0]} (at the sweep's first point {first})",)
+            raise exc from None
+    _check_axis_keys(scene, code)
     variables: dict[str, Variable] = {}
     extra: dict[str, list] = {}
     for name in sweep.reduce:
@@ -699,6 +726,27 @@ def plan_sweep(scene: Any) -> SweepPlan:
     return SweepPlan(
         scene, base, axes, coords, dims, shape, chunks, variables, extra, code, fingerprint
     )
+
+
+def _check_axis_keys(scene: Any, code: Any) -> None:
+    """Refuse an axis that names no parameter, initial key or run setting of this model (it
+    would make every point refused)."""
+    from .scene import Initial, Run, SceneError, _did_you_mean
+
+    valid = {
+        "parameters": list(code.parameter_groups) + list(code.params),
+        "initial": list(Initial.model_fields) + list(code.state_groups),
+        "run": [f.alias or n for n, f in Run.model_fields.items()],
+    }
+    for key in scene.sweep.axes:
+        root, name = key.split(".")
+        if name not in valid[root]:
+            raise SceneError(
+                f"axis {key!r}: {code.name} has no {root} key {name!r}; valid: "
+                f"{', '.join(valid[root])}{_did_you_mean(name, valid[root])}",
+                scene.source,
+                "sweep.axes",
+            )
 
 
 # ---------------------------------------------------------------------------- computation

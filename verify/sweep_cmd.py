@@ -12,7 +12,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from .cli_common import EXIT_FAILED, EXIT_OK, json_text
+from .cli_common import EXIT_FAILED, EXIT_OK, check_output_file, json_text
 
 __all__ = ["add_parser", "run"]
 
@@ -44,11 +44,20 @@ def run(args: argparse.Namespace) -> int:
         raise UserInputError(f"--workers {args.workers}: give at least 1")
     if args.workers is not None and args.scheduler:
         raise UserInputError("--workers is for the local cluster; not with --scheduler")
+    plot = check_output_file(args.plot, "--plot", (".png", ".svg", ".pdf")) if args.plot else None
     scene = Scene.from_toml(args.scene, args.set or ())
     out = Path(args.out) if args.out else Path("chaplygin-sweep") / f"{Path(args.scene).stem}.zarr"
     progress = not args.quiet and sys.stderr.isatty()
     summary = run_sweep(scene, out, args.scheduler, args.workers, progress)
     summary["store"] = str(out)
+    if plot is not None:
+        import xarray as xr
+
+        from .sweep_plots import sweep_figure
+
+        with xr.open_zarr(out, consolidated=False) as ds:
+            sweep_figure(ds.load()).savefig(plot, dpi=120)
+        summary["plot"] = str(plot)
     if args.json:
         print(json_text(summary, indent=2))
     elif not args.quiet:
@@ -96,6 +105,9 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     )
     p.add_argument(
         "--set", action="append", metavar="KEY=VALUE", help="override a key of the scene"
+    )
+    p.add_argument(
+        "--plot", default=None, metavar="FILE.png", help="draw the store (.png/.svg/.pdf)"
     )
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.add_argument("--quiet", action="store_true", help="no progress bar, no report line")
