@@ -14,7 +14,7 @@ import numpy as np
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["sweep_figure", "period_chart_figure", "curve_figure"]
+__all__ = ["sweep_figure", "period_chart_figure", "curve_figure", "status_figure"]
 
 
 def period_chart_figure(ds: Any) -> Figure:
@@ -85,6 +85,40 @@ def curve_figure(ds: Any, names: list[str]) -> Figure:
     return fig
 
 
+def status_figure(ds: Any) -> Figure:
+    """Where the points of a 2-D grid exist: status 0 (a state was found and reduced), 1 (the
+    scene finds no state there: outside the region of motion), 2 (failed).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.colors import ListedColormap
+    from matplotlib.figure import Figure
+
+    y_name, x_name = ds["status"].dims
+    fig = Figure(figsize=(6, 5))
+    ax = fig.add_subplot()
+    cmap = ListedColormap(["tab:green", "whitesmoke", "tab:red"])
+    ax.pcolormesh(
+        ds[x_name].values,
+        ds[y_name].values,
+        ds["status"].values,
+        cmap=cmap,
+        vmin=-0.5,
+        vmax=2.5,
+        shading="nearest",
+    )
+    ax.set_xlabel(x_name)
+    ax.set_ylabel(y_name)
+    ax.set_title(f"{ds.attrs.get('title', '')}\ngreen: a state exists; grey: none", fontsize=9)
+    return fig
+
+
 def sweep_figure(ds: Any) -> Figure:
     """The picture a store calls for: the period chart, Delta over mu (log scale), the frame
     turn with its zeros, or the first numbers per point over the first axis.
@@ -112,6 +146,8 @@ def sweep_figure(ds: Any) -> Figure:
         ax.legend(fontsize=8)
         ax.set_title(ds.attrs.get("title", ""), fontsize=9)
         return fig
+    if ds["status"].ndim == 2:
+        return status_figure(ds)
     scalars = [
         n for n, v in ds.data_vars.items() if v.ndim == 1 and n not in ("status", "computed")
     ]
