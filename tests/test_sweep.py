@@ -387,3 +387,72 @@ def test_an_axis_the_model_does_not_have_is_refused(tmp_path):
         plan_sweep(
             Scene.from_toml(_scene(tmp_path, TINY.replace('"parameters.D"', '"parameters.DD"')))
         )
+
+
+@pytest.mark.slow
+def test_scheduler_killed_then_restarted_resumes_bit_identical(reference, tmp_path):
+    """An external scheduler (``dask scheduler``) killed mid-sweep: the client stops with one
+    line and exit 1, the finished chunks stay; a new scheduler and the same command finish."""
+    import socket
+
+    import zarr
+
+    dask = str(Path(sys.executable).with_name("dask"))
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        port = sock.getsockname()[1]
+    address = f"tcp://127.0.0.1:{port}"
+    started = []
+
+    def start(*args):
+        proc = subprocess.Popen(
+            [dask, *args],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+            start_new_session=True,
+        )
+        started.append(proc)
+        return proc
+
+    def cluster():
+        scheduler = start("scheduler", "--port", str(port), "--no-dashboard")
+        start("worker", address, "--nworkers", "1", "--nthreads", "1", "--no-dashboard")
+        return scheduler
+
+    scene = _scene(tmp_path, TINY.replace("t_end = 6", "t_end = 40"))
+    store = tmp_path / "sched.zarr"
+    try:
+        scheduler = cluster()
+        client = _cli([str(scene), "--out", str(store), "--scheduler", address, "--quiet"])
+        deadline = time.monotonic() + 240
+        while time.monotonic() < deadline:
+            try:
+                done = int(np.asarray(zarr.open_group(str(store), mode="r")["computed"][...]).sum())
+            except Exception:
+                done = 0
+            if done >= 2:
+                break
+            time.sleep(0.2)
+        os.killpg(scheduler.pid, signal.SIGKILL)
+        _, err = client.communicate(timeout=120)
+        if client.returncode != 0:  # it may have finished just before the kill
+            assert client.returncode == 1
+            assert len(err.strip().splitlines()) == 1 and "run the same command" in err, err
+        for proc in started:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+        started.clear()
+        cluster()
+        again = _cli([str(scene), "--out", str(store), "--scheduler", address, "--json"])
+        out, err = again.communicate(timeout=300)
+        assert again.returncode == 0, err
+    finally:
+        for proc in started:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+    # the reference ran t_end = 6; run the t_end = 40 scene uninterrupted to compare
+    plain = tmp_path / "plain.zarr"
+    ref = _cli([str(scene), "--out", str(plain), "--workers", "1", "--quiet"])
+    _, err = ref.communicate(timeout=300)
+    assert ref.returncode == 0, err
+    _assert_identical(store, plain)

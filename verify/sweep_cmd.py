@@ -9,6 +9,7 @@ scene, grid or code version. Needs the ``dask`` extra (``pip install 'chaplygin[
 from __future__ import annotations
 
 import argparse
+import logging
 import sys
 from pathlib import Path
 
@@ -35,11 +36,17 @@ def run(args: argparse.Namespace) -> int:
     UserInputError
         A bad scene, a missing dask extra, a store of another sweep, a bad flag.
     """
-    from ..derive.errors import UserInputError
+    from ..derive.errors import ComputationError, UserInputError
     from .scene import Scene
     from .sweep import require_dask, run_sweep
 
     require_dask()
+    # Dask logs a lost connection as tracebacks; the command says it in one line
+    import distributed.client  # noqa: F401  (its loggers exist from here on)
+
+    for name in list(logging.root.manager.loggerDict):
+        if name.split(".")[0] in ("distributed", "asyncio"):
+            logging.getLogger(name).setLevel(logging.CRITICAL + 1)
     if args.workers is not None and args.workers < 1:
         raise UserInputError(f"--workers {args.workers}: give at least 1")
     if args.workers is not None and args.scheduler:
@@ -48,7 +55,15 @@ def run(args: argparse.Namespace) -> int:
     scene = Scene.from_toml(args.scene, args.set or ())
     out = Path(args.out) if args.out else Path("chaplygin-sweep") / f"{Path(args.scene).stem}.zarr"
     progress = not args.quiet and sys.stderr.isatty()
-    summary = run_sweep(scene, out, args.scheduler, args.workers, progress)
+    try:
+        summary = run_sweep(scene, out, args.scheduler, args.workers, progress)
+    except ComputationError as exc:  # the finished chunks are stored: the same command continues
+        print(
+            f"chaplygin: error: {' '.join(str(exc).split())}; the chunks finished are stored in "
+            f"{out}: run the same command again to continue",
+            file=sys.stderr,
+        )
+        return EXIT_FAILED
     summary["store"] = str(out)
     if plot is not None:
         import xarray as xr
