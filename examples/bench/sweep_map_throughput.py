@@ -20,7 +20,6 @@ import sys
 import time
 
 import numpy as np
-
 from chaplygin.verify.scene import Scene
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -48,7 +47,6 @@ def heyoka_rows(res, periods: int) -> dict:
     """heyoka 1 point and batch of 4 (the same point four times), per period per point."""
     import heyoka as hy
     import sympy
-
     from chaplygin.derive.systems import build_model
 
     model = build_model("chaplygin_ball", res.code.effects)
