@@ -456,3 +456,29 @@ def test_scheduler_killed_then_restarted_resumes_bit_identical(reference, tmp_pa
     _, err = ref.communicate(timeout=300)
     assert ref.returncode == 0, err
     _assert_identical(store, plain)
+
+
+def test_trace_bounded_where_the_frame_turns_and_not_at_a_critical_energy(client, tmp_path):
+    """K01-Fig6f by two routes: the trace reducer (the contact point over a long run) says
+    unbounded at the zero of the frame turn Phi found by the frame_turn reducer's refinement,
+    bounded where Phi is far from 0 (I = (1, 3, 5), M || gamma, C = 1)."""
+    text = (EXAMPLES / "k01-fig6f-critical-135.toml").read_text()
+    text = text.replace(
+        "start = 0.101, stop = 0.499, num = 100", "start = 0.176, stop = 0.184, num = 3"
+    )
+    found = run_sweep(
+        Scene.from_toml(_scene(tmp_path, text, "phi.toml")), tmp_path / "phi.zarr", client=client
+    )
+    (critical,) = found["refined"]
+    trace = TINY.replace("I = [1, 1.5, 2]", "I = [1, 3, 5]").replace("t_end = 6", "t_end = 1500")
+    trace = trace.replace("points = 61", "points = 3001").replace(
+        '"parameters.D" = [0.7, "sqrt(2)", 1.9]\n'
+        '"initial.h" = { start = 0.27, stop = 0.47, num = 4 }',
+        f'"initial.h" = [0.25, "{critical}"]',
+    )
+    trace = trace.replace('reduce = ["final_state", "drift", "trace"]', 'reduce = ["trace"]')
+    store = tmp_path / "trace.zarr"
+    run_sweep(Scene.from_toml(_scene(tmp_path, trace, "trace.toml")), store, client=client)
+    ds = _load(store)
+    assert list(ds["trace_bounded"].values) == [1, 0]
+    assert ds["trace_radius"].values[1] > 10 * ds["trace_radius"].values[0]
