@@ -904,6 +904,8 @@ def open_store(plan: SweepPlan, store: str | Path) -> Any:
     store = Path(store)
     if not store.exists():
         store.parent.mkdir(parents=True, exist_ok=True)
+        for stale in store.parent.glob(f".{store.name}.partial-*"):  # a creation killed midway
+            shutil.rmtree(stale, ignore_errors=True)
         tmp = Path(tempfile.mkdtemp(prefix=f".{store.name}.partial-", dir=store.parent))
         try:
             ds = _template(plan)
