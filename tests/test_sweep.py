@@ -482,3 +482,9 @@ def test_trace_bounded_where_the_frame_turns_and_not_at_a_critical_energy(client
     ds = _load(store)
     assert list(ds["trace_bounded"].values) == [1, 0]
     assert ds["trace_radius"].values[1] > 10 * ds["trace_radius"].values[0]
+
+
+def test_period_without_a_forcing_parameter_is_refused(tmp_path):
+    text = TINY.replace('reduce = ["final_state", "drift", "trace"]', 'reduce = ["period"]')
+    with pytest.raises(SceneError, match="forcing frequency 'Omega'"):
+        plan_sweep(Scene.from_toml(_scene(tmp_path, text)))

@@ -695,6 +695,13 @@ def plan_sweep(scene: Any) -> SweepPlan:
             exc.args = (f"{exc.args[0]} (at the sweep's first point {first})",)
             raise exc from None
     _check_axis_keys(scene, code)
+    if "period" in sweep.reduce and sweep.period.forcing not in code.params:
+        raise SceneError(
+            f"reduce = period needs the forcing frequency {sweep.period.forcing!r}, a parameter "
+            f"of {code.name} (params: {', '.join(code.params)}); set period.forcing",
+            scene.source,
+            "sweep.period.forcing",
+        )
     variables: dict[str, Variable] = {}
     extra: dict[str, list] = {}
     for name in sweep.reduce:
