@@ -488,3 +488,16 @@ def test_period_without_a_forcing_parameter_is_refused(tmp_path):
     text = TINY.replace('reduce = ["final_state", "drift", "trace"]', 'reduce = ["period"]')
     with pytest.raises(SceneError, match="forcing frequency 'Omega'"):
         plan_sweep(Scene.from_toml(_scene(tmp_path, text)))
+
+
+def test_list_grid_pairs_the_values(tmp_path):
+    text = TINY.replace("[sweep]\n", '[sweep]\ngrid = "list"\n').replace(
+        '"parameters.D" = [0.7, "sqrt(2)", 1.9]', '"parameters.D" = [0.7, "sqrt(2)", 1.9, 2.5]'
+    )
+    plan = plan_sweep(Scene.from_toml(_scene(tmp_path, text)))
+    assert plan.dims == ("point",) and plan.shape == (4,) and len(plan.chunks) == 4
+    points = [p for region in plan.chunks for p in plan.points(region)]
+    assert [p["parameters.D"] for p in points] == [0.7, "sqrt(2)", 1.9, 2.5]
+    assert [float(p["initial.h"]) for p in points] == pytest.approx(
+        [0.27, 0.27 + 0.2 / 3, 0.27 + 0.4 / 3, 0.47]
+    )
