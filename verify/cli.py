@@ -31,6 +31,7 @@ from . import (
     integrate_cmd,
     rotation_cmd,
     run_cmd,
+    sweep_cmd,
     verify_cmd,
 )
 from .cli_common import EXIT_FAILED, EXIT_INTERNAL, EXIT_USAGE
@@ -48,6 +49,7 @@ COMMANDS = (
     rotation_cmd,
     bifurcation_cmd,
     run_cmd,
+    sweep_cmd,
 )
 
 

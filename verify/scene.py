@@ -55,6 +55,7 @@ from ..derive.errors import UserInputError
 from ..derive.systems import SYSTEMS
 from .analyses import AnalysisResult, requested
 from .lyapunov_table import LyapunovOutput
+from .sweep_table import Sweep
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -257,6 +258,9 @@ class Scene(BaseModel):
     initial: Initial
     run_options: Run = Field(alias="run", description="how to integrate")
     outputs: Outputs = Outputs()
+    sweep: Sweep | None = Field(
+        None, description="a grid of points for `chaplygin sweep` (ignored by `chaplygin run`)"
+    )
 
     @field_validator("effects")
     @classmethod

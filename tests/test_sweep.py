@@ -1,0 +1,503 @@
+"""Sweeps (verify/sweep.py, ``chaplygin sweep``): reducers against independent routes, the store's
+identity checks, and nothing lost when the client, a worker or the disk fails.
+
+The cluster tests share one LocalCluster (two worker processes); the kill tests run the CLI in
+its own process group and end that group (client, scheduler and workers) with SIGKILL.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import random
+import signal
+import subprocess
+import sys
+import textwrap
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from chaplygin.derive.errors import UserInputError
+from chaplygin.verify.scene import Scene, SceneError
+from chaplygin.verify.sweep import (
+    REDUCERS,
+    period_of_orbit,
+    plan_sweep,
+    run_sweep,
+    zeros_along_axis,
+)
+
+distributed = pytest.importorskip("distributed")
+xr = pytest.importorskip("xarray")
+pytest.importorskip("zarr")
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = ROOT / "examples" / "sweeps"
+
+#: A cheap sweep: the ball with its contact point over a 3 x 4 grid of (D, h), 12 chunks.
+TINY = """
+title = "tiny sweep"
+system = "chaplygin_ball"
+effects = ["contact_point"]
+
+[parameters]
+I = [1, 1.5, 2]
+D = 1
+b = 1
+
+[initial]
+C = 1
+parallel = true
+h = 0.3
+
+[run]
+t_end = 6
+rtol = 1e-10
+atol = 1e-10
+points = 61
+
+[sweep]
+chunk = 1
+reduce = ["final_state", "drift", "trace"]
+
+[sweep.axes]
+"parameters.D" = [0.7, "sqrt(2)", 1.9]
+"initial.h" = { start = 0.27, stop = 0.47, num = 4 }
+"""
+
+
+def _scene(tmp_path: Path, text: str = TINY, name: str = "tiny.toml") -> Path:
+    path = tmp_path / name
+    path.write_text(textwrap.dedent(text))
+    return path
+
+
+def _load(store: Path) -> xr.Dataset:
+    return xr.open_zarr(store, consolidated=False).load()
+
+
+def _assert_identical(a: Path, b: Path) -> None:
+    da, db = _load(a), _load(b)
+    assert set(da.data_vars) == set(db.data_vars)
+    for name in da.data_vars:
+        # bit-identical (NaN where both are NaN)
+        assert np.array_equal(da[name].values, db[name].values, equal_nan=True), name
+    assert int(da["computed"].min()) == 1
+
+
+@pytest.fixture(scope="module")
+def client():
+    cluster = distributed.LocalCluster(
+        n_workers=2,
+        threads_per_worker=1,
+        processes=True,
+        dashboard_address=None,
+        silence_logs=50,
+    )
+    with distributed.Client(cluster) as c:
+        yield c
+    cluster.close()
+
+
+@pytest.fixture(scope="module")
+def reference(client, tmp_path_factory) -> Path:
+    """The tiny sweep, uninterrupted."""
+    folder = tmp_path_factory.mktemp("ref")
+    store = folder / "ref.zarr"
+    run_sweep(Scene.from_toml(_scene(folder)), store, client=client)
+    return store
+
+
+# ---------------------------------------------------------------------------------- units
+def test_period_of_orbit_finds_the_period_and_refutes_a_wrong_one():
+    rng = np.random.default_rng(7)
+    cycle = rng.normal(size=(6, 5))
+    orbit = np.tile(cycle, (40, 1)) + 1e-10 * rng.normal(size=(240, 5))
+    assert period_of_orbit(orbit, 14, 1e-8) == 6
+    # negative control: the same orbit read with a period bound below 6 has none
+    assert period_of_orbit(orbit, 5, 1e-8) == 0
+    # a rotation by an irrational angle (quasi-periodic) has no period
+    k = np.arange(300)
+    quasi = np.c_[np.cos(k * math.sqrt(2)), np.sin(k * math.sqrt(2))]
+    assert period_of_orbit(quasi, 14, 1e-6) == 0
+    # noise above the tolerance is not a period
+    assert (
+        period_of_orbit(np.tile(cycle, (40, 1)) + 1e-5 * rng.normal(size=(240, 5)), 14, 1e-8) == 0
+    )
+    with pytest.raises(UserInputError):
+        period_of_orbit(orbit[:10], 14, 1e-8)
+
+
+def test_zeros_along_axis_skips_the_wrap_of_an_angle():
+    x = np.linspace(0, 1, 6)
+    phi = np.array([-0.5, -0.1, 0.2, 3.0, -3.0, -2.0])
+    assert zeros_along_axis(phi, x, math.pi) == [(x[1], x[2])]
+    assert len(zeros_along_axis(phi, x)) == 2  # without wrap the jump counts
+
+
+def test_sweep_table_is_checked(tmp_path):
+    bad_key = TINY.replace('"initial.h" =', '"outputs.h" =')
+    with pytest.raises(SceneError, match="TABLE.NAME"):
+        Scene.from_toml(_scene(tmp_path, bad_key))
+    unequal = TINY.replace("[sweep]\n", '[sweep]\ngrid = "list"\n')
+    with pytest.raises(SceneError, match="same length"):
+        Scene.from_toml(_scene(tmp_path, unequal))
+    unknown = TINY.replace('"trace"]', '"traec"]')
+    with pytest.raises(SceneError, match="did you mean"):
+        plan_sweep(Scene.from_toml(_scene(tmp_path, unknown)))
+
+
+def test_plan_grid_and_chunks(tmp_path):
+    plan = plan_sweep(Scene.from_toml(_scene(tmp_path)))
+    assert plan.dims == ("D", "h") and plan.shape == (3, 4)
+    assert len(plan.chunks) == 12
+    # values reach the scene as written: text stays text, a range is 30-digit text
+    points = [p for region in plan.chunks for p in plan.points(region)]
+    assert points[4] == {"parameters.D": "sqrt(2)", "initial.h": "0.27"}
+    assert float(points[1]["initial.h"]) == pytest.approx(0.27 + 0.2 / 3, abs=1e-15)
+    assert plan.coords["D"][1] == math.sqrt(2)
+
+
+# ------------------------------------------------------------------------ through a cluster
+def test_final_state_matches_a_single_run_by_another_method(client, reference, tmp_path):
+    from chaplygin.verify.sweep import point_scene
+
+    ds = _load(reference)
+    assert (ds["status"].values == 0).all()
+    plan = plan_sweep(Scene.from_toml(_scene(tmp_path)))
+    base = dict(plan.base, run={**plan.base["run"], "method": "taylor"})
+    for i, j in [(1, 0), (2, 3)]:
+        point = {"parameters.D": plan.axes[0][2][i], "initial.h": plan.axes[1][2][j]}
+        direct = point_scene(base, point).run().integration  # Taylor, not DOP853
+        want = np.array([float(v) for v in direct.y_final.values()])
+        got = ds["final_state"].values[i, j]
+        # two integrators at rtol = atol = 1e-10 over t = 6: within a few hundred times rtol
+        assert (np.abs(got - want) <= 500 * 1e-10 * (1 + np.abs(want))).all(), (got, want)
+        drift = ds["drift"].values[i, j]
+        assert np.nanmax(drift) < 1e-8  # the integrals of the ball hold at rtol = 1e-10
+    # the radius of the trace is the largest distance from the start (the origin): never below
+    # the final one
+    x, y = np.moveaxis(ds["final_state"].sel(state=["x", "y"]).values, -1, 0)
+    assert (ds["trace_radius"].values >= np.hypot(x, y) - 1e-12).all()
+
+
+def test_delta_sweep_matches_the_closed_form_at_every_point(client, tmp_path):
+    text = (EXAMPLES / "k01-fig5-delta.toml").read_text()
+    text = text.replace("num = 24", "num = 3").replace("digits = 12", "digits = 10")
+    store = tmp_path / "delta.zarr"
+    run_sweep(Scene.from_toml(_scene(tmp_path, text)), store, client=client)
+    ds = _load(store)
+    for D, measured in zip(ds["D"].values, ds["delta_measured"].values, strict=True):
+        # K01-3.7, computed here from its formula: mu = 1/(J2 sqrt(a21 a32)), Delta = pi/ch(pi mu/2)
+        J1, J2, J3 = 1 + D, 1.5 + D, 2 + D
+        mu = 1 / (J2 * math.sqrt((1 / J1 - 1 / J2) * (1 / J2 - 1 / J3)))
+        closed = math.pi / math.cosh(math.pi * mu / 2)
+        assert measured == pytest.approx(closed, rel=1e-9)
+    assert (ds["delta_digits"].values >= 9).all()
+
+
+def test_critical_energy_refined_to_ten_digits(client, tmp_path):
+    text = (EXAMPLES / "k01-fig6f-critical-135.toml").read_text()
+    text = text.replace(
+        "start = 0.101, stop = 0.499, num = 100", "start = 0.176, stop = 0.184, num = 3"
+    )
+    roots = {}
+    for rtol in ("1e-12", "1e-13"):
+        path = _scene(
+            tmp_path, text.replace("t_end = 1 ", f"t_end = 1\nrtol = {rtol} "), f"{rtol}.toml"
+        )
+        out = run_sweep(Scene.from_toml(path), tmp_path / f"{rtol}.zarr", client=client)
+        assert len(out["refined"]) == 1
+        roots[rtol] = float(out["refined"][0])
+    # two tolerances, one zero: ten digits
+    assert abs(roots["1e-12"] - roots["1e-13"]) <= 1e-10 * roots["1e-13"]
+    assert roots["1e-13"] == pytest.approx(0.1803189, abs=5e-8)  # examples/scenes/k01-fig6f
+
+
+def test_store_of_another_sweep_is_refused(client, reference, tmp_path):
+    other_scene = TINY.replace("b = 1\n", "b = 2\n")
+    with pytest.raises(UserInputError, match="different scene"):
+        run_sweep(Scene.from_toml(_scene(tmp_path, other_scene)), reference, client=client)
+    other_grid = TINY.replace("num = 4", "num = 5")
+    with pytest.raises(UserInputError, match="different grid"):
+        run_sweep(Scene.from_toml(_scene(tmp_path, other_grid)), reference, client=client)
+    (tmp_path / "junk").mkdir()
+    with pytest.raises(UserInputError, match="not a chaplygin sweep store"):
+        run_sweep(Scene.from_toml(_scene(tmp_path)), tmp_path / "junk", client=client)
+
+
+def test_a_worker_killed_mid_chunk_loses_nothing(client, reference, tmp_path):
+    store = tmp_path / "worker.zarr"
+    killed = []
+
+    def kill_a_busy_worker():
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline and not killed:
+            busy = [w for w, tasks in client.processing().items() if tasks]
+            if busy:
+                pid = client.run(os.getpid, workers=[busy[0]])[busy[0]]
+                os.kill(pid, signal.SIGKILL)
+                killed.append(pid)
+            time.sleep(0.05)
+
+    thread = threading.Thread(target=kill_a_busy_worker)
+    thread.start()
+    run_sweep(Scene.from_toml(_scene(tmp_path)), store, client=client)
+    thread.join()
+    assert killed, "no worker was busy"
+    _assert_identical(store, reference)
+    client.wait_for_workers(2, timeout=60)  # the nanny restarts it
+
+
+# ---------------------------------------------------------------- the CLI, killed and resumed
+def _cli(args: list[str], **kw) -> subprocess.Popen:
+    env = dict(os.environ)
+    return subprocess.Popen(
+        [sys.executable, "-m", "chaplygin.verify.cli", "sweep", *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=env,
+        start_new_session=True,  # its own process group: client, scheduler and workers
+        **kw,
+    )
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_sweep_killed_at_a_random_moment_resumes_bit_identical(seed, reference, tmp_path):
+    scene = _scene(tmp_path)
+    store = tmp_path / "killed.zarr"
+    proc = _cli([str(scene), "--out", str(store), "--workers", "1", "--quiet"])
+    time.sleep(random.Random(seed).uniform(2.0, 9.0))
+    os.killpg(proc.pid, signal.SIGKILL)  # the whole group at once: client, scheduler, workers
+    proc.communicate()
+    again = _cli([str(scene), "--out", str(store), "--workers", "1", "--json"])
+    out, err = again.communicate(timeout=300)
+    assert again.returncode == 0, err
+    _assert_identical(store, reference)
+
+
+@pytest.mark.slow
+def test_full_disk_is_a_clear_error_and_the_store_stays_valid(client, reference, tmp_path):
+    import resource
+
+    from chaplygin.verify.sweep import open_store
+
+    scene = _scene(tmp_path)
+    store = tmp_path / "full.zarr"
+    open_store(plan_sweep(Scene.from_toml(scene)), store)  # the store exists, nothing computed
+
+    def tiny_files():  # in the child: files may hold 8 bytes, writes beyond fail with EFBIG
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (8, 8))
+
+    # the client (which writes the store) is limited; the workers (the test's cluster) are not
+    args = [str(scene), "--out", str(store), "--scheduler", client.scheduler.address, "--quiet"]
+    proc = subprocess.run(
+        [sys.executable, "-m", "chaplygin.verify.cli", "sweep", *args],
+        capture_output=True,
+        text=True,
+        preexec_fn=tiny_files,
+        timeout=300,
+    )
+    assert proc.returncode == 1, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and "too large" in lines[0].lower(), proc.stderr
+    assert int(_load(store)["computed"].max()) == 0  # nothing half-stored counts as done
+    again = _cli([str(scene), "--out", str(store), "--workers", "1", "--quiet"])
+    _, err = again.communicate(timeout=300)
+    assert again.returncode == 0, err
+    _assert_identical(store, reference)
+
+
+def test_registry_names():
+    assert {"final_state", "drift", "trace", "period", "delta", "frame_turn"} <= set(REDUCERS)
+
+
+def test_bm20_chart_example_on_a_tiny_grid(client, tmp_path):
+    """The chart's example, 2 x 1 points and short runs: the period reducer classifies the map
+    sampled by the Taylor integrator; DOP853 (another integrator) gives the same classes."""
+    text = (EXAMPLES / "bm20-fig6-chart.toml").read_text()
+    text = text.replace('num = 11 }\n"parameters.D"', 'num = 2 }\n"parameters.D"')
+    text = text.replace(
+        "start = 4.37, stop = 4.39, num = 11", "start = 4.385, stop = 4.385, num = 1"
+    )
+    text = text.replace("transient = 500, recorded = 200", "transient = 40, recorded = 30")
+    periods = {}
+    for method in ("taylor", "DOP853"):
+        path = _scene(
+            tmp_path, text.replace('method = "taylor"', f'method = "{method}"'), f"{method}.toml"
+        )
+        run_sweep(Scene.from_toml(path), tmp_path / f"{method}.zarr", client=client)
+        ds = _load(tmp_path / f"{method}.zarr")
+        assert ds["period"].shape == (2, 1) and (ds["status"].values == 0).all()
+        periods[method] = ds["period"].values
+    assert np.array_equal(periods["taylor"], periods["DOP853"])
+    assert ((periods["taylor"] >= 0) & (periods["taylor"] <= 14)).all()
+
+
+def test_cli_without_the_dask_extra_says_how_to_get_it(tmp_path, monkeypatch, capsys):
+    from chaplygin.verify.cli import main
+
+    monkeypatch.setitem(sys.modules, "zarr", None)  # import zarr raises ImportError
+    assert main(["sweep", str(_scene(tmp_path)), "--out", str(tmp_path / "s.zarr")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "chaplygin[dask]" in err[0]
+    assert not (tmp_path / "s.zarr").exists()
+
+
+def test_cli_bad_scene_is_one_line_and_writes_nothing(tmp_path, capsys):
+    from chaplygin.verify.cli import main
+
+    bad = _scene(tmp_path, TINY.replace('"trace"]', '"nonsense"]'))
+    assert main(["sweep", str(bad), "--out", str(tmp_path / "s.zarr")]) == 2
+    assert len(capsys.readouterr().err.strip().splitlines()) == 1
+    assert not (tmp_path / "s.zarr").exists()
+
+
+def test_region_of_motion_example_matches_the_lines_p1_p3(client, tmp_path):
+    """BKM12 Fig. 2 on a tiny grid: a state exists between p1: h = n/(2 J1) and
+    p3: h = n/(2 J3) (K01-3.2c at C = 0, J_i = I_i + D), none outside; the integrals at the
+    states found are the prescribed ones."""
+    text = (EXAMPLES / "bkm12-fig2-region.toml").read_text()
+    text = text.replace("start = 0.05, stop = 2, num = 40", "start = 0.7, stop = 1.3, num = 2")
+    text = text.replace("start = 0.005, stop = 0.6, num = 41", "start = 0.05, stop = 0.45, num = 9")
+    store = tmp_path / "region.zarr"
+    run_sweep(Scene.from_toml(_scene(tmp_path, text)), store, client=client)
+    ds = _load(store)
+    J1, J3 = 1 + 1, 3 + 1
+    n, h = np.meshgrid(ds["n"].values, ds["h"].values, indexing="ij")
+    inside = (h > n / (2 * J3) * (1 + 1e-3)) & (h < n / (2 * J1) * (1 - 1e-3))
+    outside = (h < n / (2 * J3) * (1 - 1e-3)) | (h > n / (2 * J1) * (1 + 1e-3))
+    status = ds["status"].values
+    assert inside.any() and outside.any()
+    assert (status[inside] == 0).all() and (status[outside] == 1).all()
+    values = ds["initial_integrals"].sel(integral=["H", "(M,M)", "(M,gamma)"]).values
+    np.testing.assert_allclose(values[inside][:, 0], h[inside], rtol=1e-12)
+    np.testing.assert_allclose(values[inside][:, 1], n[inside], rtol=1e-12)
+    assert np.abs(values[inside][:, 2]).max() < 1e-12
+
+
+def test_an_axis_the_model_does_not_have_is_refused(tmp_path):
+    with pytest.raises(SceneError, match="did you mean 'D'"):
+        plan_sweep(
+            Scene.from_toml(_scene(tmp_path, TINY.replace('"parameters.D"', '"parameters.DD"')))
+        )
+
+
+@pytest.mark.slow
+def test_scheduler_killed_then_restarted_resumes_bit_identical(reference, tmp_path):
+    """An external scheduler (``dask scheduler``) killed mid-sweep: the client stops with one
+    line and exit 1, the finished chunks stay; a new scheduler and the same command finish."""
+    import socket
+
+    import zarr
+
+    dask = str(Path(sys.executable).with_name("dask"))
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        port = sock.getsockname()[1]
+    address = f"tcp://127.0.0.1:{port}"
+    started = []
+
+    def start(*args):
+        proc = subprocess.Popen(
+            [dask, *args],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+            start_new_session=True,
+        )
+        started.append(proc)
+        return proc
+
+    def cluster():
+        scheduler = start("scheduler", "--port", str(port), "--no-dashboard")
+        start("worker", address, "--nworkers", "1", "--nthreads", "1", "--no-dashboard")
+        return scheduler
+
+    scene = _scene(tmp_path, TINY.replace("t_end = 6", "t_end = 40"))
+    store = tmp_path / "sched.zarr"
+    try:
+        scheduler = cluster()
+        client = _cli([str(scene), "--out", str(store), "--scheduler", address, "--quiet"])
+        deadline = time.monotonic() + 240
+        while time.monotonic() < deadline:
+            try:
+                done = int(np.asarray(zarr.open_group(str(store), mode="r")["computed"][...]).sum())
+            except Exception:
+                done = 0
+            if done >= 2:
+                break
+            time.sleep(0.2)
+        os.killpg(scheduler.pid, signal.SIGKILL)
+        _, err = client.communicate(timeout=120)
+        if client.returncode != 0:  # it may have finished just before the kill
+            assert client.returncode == 1
+            assert len(err.strip().splitlines()) == 1 and "run the same command" in err, err
+        for proc in started:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+        started.clear()
+        cluster()
+        again = _cli([str(scene), "--out", str(store), "--scheduler", address, "--json"])
+        out, err = again.communicate(timeout=300)
+        assert again.returncode == 0, err
+    finally:
+        for proc in started:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+    # the reference ran t_end = 6; run the t_end = 40 scene uninterrupted to compare
+    plain = tmp_path / "plain.zarr"
+    ref = _cli([str(scene), "--out", str(plain), "--workers", "1", "--quiet"])
+    _, err = ref.communicate(timeout=300)
+    assert ref.returncode == 0, err
+    _assert_identical(store, plain)
+
+
+def test_trace_bounded_where_the_frame_turns_and_not_at_a_critical_energy(client, tmp_path):
+    """K01-Fig6f by two routes: the trace reducer (the contact point over a long run) says
+    unbounded at the zero of the frame turn Phi found by the frame_turn reducer's refinement,
+    bounded where Phi is far from 0 (I = (1, 3, 5), M || gamma, C = 1)."""
+    text = (EXAMPLES / "k01-fig6f-critical-135.toml").read_text()
+    text = text.replace(
+        "start = 0.101, stop = 0.499, num = 100", "start = 0.176, stop = 0.184, num = 3"
+    )
+    found = run_sweep(
+        Scene.from_toml(_scene(tmp_path, text, "phi.toml")), tmp_path / "phi.zarr", client=client
+    )
+    (critical,) = found["refined"]
+    trace = TINY.replace("I = [1, 1.5, 2]", "I = [1, 3, 5]").replace("t_end = 6", "t_end = 1500")
+    trace = trace.replace("points = 61", "points = 3001").replace(
+        '"parameters.D" = [0.7, "sqrt(2)", 1.9]\n'
+        '"initial.h" = { start = 0.27, stop = 0.47, num = 4 }',
+        f'"initial.h" = [0.25, "{critical}"]',
+    )
+    trace = trace.replace('reduce = ["final_state", "drift", "trace"]', 'reduce = ["trace"]')
+    store = tmp_path / "trace.zarr"
+    run_sweep(Scene.from_toml(_scene(tmp_path, trace, "trace.toml")), store, client=client)
+    ds = _load(store)
+    assert list(ds["trace_bounded"].values) == [1, 0]
+    assert ds["trace_radius"].values[1] > 10 * ds["trace_radius"].values[0]
+
+
+def test_period_without_a_forcing_parameter_is_refused(tmp_path):
+    text = TINY.replace('reduce = ["final_state", "drift", "trace"]', 'reduce = ["period"]')
+    with pytest.raises(SceneError, match="forcing frequency 'Omega'"):
+        plan_sweep(Scene.from_toml(_scene(tmp_path, text)))
+
+
+def test_list_grid_pairs_the_values(tmp_path):
+    text = TINY.replace("[sweep]\n", '[sweep]\ngrid = "list"\n').replace(
+        '"parameters.D" = [0.7, "sqrt(2)", 1.9]', '"parameters.D" = [0.7, "sqrt(2)", 1.9, 2.5]'
+    )
+    plan = plan_sweep(Scene.from_toml(_scene(tmp_path, text)))
+    assert plan.dims == ("point",) and plan.shape == (4,) and len(plan.chunks) == 4
+    points = [p for region in plan.chunks for p in plan.points(region)]
+    assert [p["parameters.D"] for p in points] == [0.7, "sqrt(2)", 1.9, 2.5]
+    assert [float(p["initial.h"]) for p in points] == pytest.approx(
+        [0.27, 0.27 + 0.2 / 3, 0.27 + 0.4 / 3, 0.47]
+    )

@@ -1,0 +1,1151 @@
+"""Sweeps: a scene plus a grid (its ``[sweep]`` table, :mod:`chaplygin.verify.sweep_table`), each
+point reduced to numbers, computed in chunks on Dask and stored chunk by chunk in Zarr.
+
+* **Grid.** Each axis is a dotted key of the scene (``parameters.D``, ``initial.h``) and its
+  values; ``grid = "product"`` takes every combination (C order, the last axis fastest),
+  ``grid = "list"`` the i-th values of all axes as the i-th point. A point is the scene with
+  those keys replaced (values reach the scene as the user wrote them, or as 30-digit text for a
+  ``{start, stop, num}`` range), resolved and checked like any scene.
+* **Reducers** (:data:`REDUCERS`): what a point is reduced to. Each declares its variables
+  (names, extra dimensions, units) and computes them from a :class:`PointContext`. A reducer is
+  added with :func:`register_reducer` (e.g. the largest Lyapunov exponent, once
+  :mod:`chaplygin.numerics.lyapunov` exists).
+* **Store.** An xarray Dataset in Zarr: the grid as coordinates, one Zarr chunk per sweep chunk
+  (``chunk`` points along the last axis), ``status`` per point (0 done, 1 input refused at that
+  point, 2 computation failed) and ``computed`` (1 once the point's chunk is stored; written
+  after the chunk's data, so a chunk is either complete or computed again). The store is first
+  built in a temporary folder and renamed into place. Its attributes hold the scene, the grid,
+  the versions and the model hash, and a fingerprint of all of these: a store made by another
+  scene, grid or code version is refused, never mixed.
+* **Resumable.** Tasks are chunks (Dask distributed: a LocalCluster, or ``--scheduler``); the
+  client writes each finished chunk at once (Zarr writes each chunk file atomically). A sweep
+  killed at any moment and started again skips the chunks marked ``computed`` and computes the
+  others; every point is computed by the same deterministic code, so the results are
+  bit-identical to an uninterrupted run.
+"""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import json
+import math
+import os
+import shutil
+import sys
+import tempfile
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from itertools import product
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..derive.errors import ComputationError, UserInputError
+
+__all__ = [
+    "REDUCERS",
+    "Reducer",
+    "Variable",
+    "PointContext",
+    "SweepPlan",
+    "register_reducer",
+    "plan_sweep",
+    "compute_chunk",
+    "evaluate_point",
+    "run_sweep",
+    "open_store",
+    "require_dask",
+    "period_of_orbit",
+    "zeros_along_axis",
+    "STORE_FORMAT",
+]
+
+#: Version of the store layout (part of the fingerprint).
+STORE_FORMAT = 1
+
+#: ``status`` values.
+STATUS_DONE, STATUS_REFUSED, STATUS_FAILED = 0, 1, 2
+
+#: Relative radius growth above which a contact trace counts as unbounded (second half of the
+#: run against the first: a drift at constant speed gives 2, a bounded trace about 1).
+UNBOUNDED_GROWTH = 1.5
+
+
+def require_dask() -> None:
+    """Check that the ``dask`` extra (dask.distributed, xarray, zarr) is installed.
+
+    Raises
+    ------
+    UserInputError
+        One line saying how to install it.
+    """
+    missing = []
+    for name in ("distributed", "xarray", "zarr"):
+        try:
+            __import__(name)
+        except ImportError:
+            missing.append(name)
+    if missing:
+        raise UserInputError(
+            f"chaplygin sweep needs {', '.join(missing)}: pip install 'chaplygin[dask]' "
+            '(from a source tree: pip install -e ".[dask]")'
+        )
+
+
+# ------------------------------------------------------------------------------- reducers
+@dataclass(frozen=True)
+class Variable:
+    """One stored result of a reducer.
+
+    Attributes
+    ----------
+    dims : tuple of str
+        Extra dimensions after the grid's (``("state",)``), empty for a number per point.
+    dtype : str
+        ``"float64"``, ``"int16"`` or ``"int8"``.
+    attrs : dict
+        ``long_name`` and ``units``.
+    """
+
+    dims: tuple[str, ...] = ()
+    dtype: str = "float64"
+    attrs: dict = field(default_factory=dict)
+
+    @property
+    def fill(self) -> float | int:
+        """The value of a point not (yet) computed: NaN, or -1 for integers."""
+        return math.nan if self.dtype.startswith("float") else -1
+
+
+@dataclass
+class PointContext:
+    """What a reducer sees of one point.
+
+    Attributes
+    ----------
+    scene : chaplygin.verify.scene.Scene
+        The scene with the point's keys replaced.
+    resolved : chaplygin.verify.scene.Resolved
+    sweep : chaplygin.verify.sweep_table.Sweep
+        The sweep table (reducer options).
+    """
+
+    scene: Any
+    resolved: Any
+    sweep: Any
+    _trajectory: Any = None
+
+    def trajectory(self) -> Any:
+        """The scene's trajectory (integrated once, shared by the reducers).
+
+        Returns
+        -------
+        chaplygin.numerics.integrate.IntegrationResult
+        """
+        if self._trajectory is None:
+            from .scene import _integrate_trajectory
+
+            self._trajectory = _integrate_trajectory(self.scene, self.resolved, False)
+        return self._trajectory
+
+    def param(self, name: str) -> Any:
+        """A parameter's value at the working precision.
+
+        Parameters
+        ----------
+        name : str
+
+        Returns
+        -------
+        number
+
+        Raises
+        ------
+        UserInputError
+            The model has no such parameter.
+        """
+        try:
+            return self.resolved.params[name]
+        except KeyError:
+            raise UserInputError(
+                f"the model {self.resolved.code.name} has no parameter {name!r}"
+            ) from None
+
+
+@dataclass(frozen=True)
+class Reducer:
+    """One way to reduce a point to numbers.
+
+    Attributes
+    ----------
+    name : str
+        Its name in ``reduce = [...]``.
+    variables : callable
+        ``variables(code, sweep) -> dict name -> Variable``.
+    run : callable
+        ``run(context) -> dict name -> value`` (arrays shaped by the variable's dims).
+    coords : callable or None
+        ``coords(code) -> dict dim -> list of labels`` for its extra dimensions.
+    description : str
+    """
+
+    name: str
+    variables: Callable[[Any, Any], dict[str, Variable]]
+    run: Callable[[PointContext], dict[str, Any]]
+    coords: Callable[[Any], dict[str, list]] | None = None
+    description: str = ""
+
+
+#: Reducers by name (see :func:`register_reducer`).
+REDUCERS: dict[str, Reducer] = {}
+
+
+def register_reducer(reducer: Reducer) -> Reducer:
+    """Make a reducer available to ``reduce = [...]``.
+
+    Parameters
+    ----------
+    reducer : Reducer
+
+    Returns
+    -------
+    Reducer
+        The same object.
+    """
+    REDUCERS[reducer.name] = reducer
+    return reducer
+
+
+def _final_state(ctx: PointContext) -> dict:
+    r = ctx.trajectory()
+    if not r.success:
+        raise ComputationError(r.message)
+    return {"final_state": np.asarray([float(v) for v in r.y_final.values()])}
+
+
+register_reducer(
+    Reducer(
+        "final_state",
+        lambda code, sweep: {
+            "final_state": Variable(("state",), attrs={"long_name": "state at t_end"})
+        },
+        _final_state,
+        lambda code: {"state": list(code.state)},
+        "the state at t_end (float64)",
+    )
+)
+
+
+def _drift(ctx: PointContext) -> dict:
+    r = ctx.trajectory()
+    names = ctx.resolved.code.integral_names
+    return {"drift": np.asarray([float(r.drift.get(n, math.nan)) for n in names])}
+
+
+register_reducer(
+    Reducer(
+        "drift",
+        lambda code, sweep: {
+            "drift": Variable(
+                ("integral",),
+                attrs={"long_name": "largest relative change of the integral", "units": "1"},
+            )
+        },
+        _drift,
+        lambda code: {"integral": list(code.integral_names)},
+        "each integral's largest relative change",
+    )
+)
+
+
+def _trace(ctx: PointContext) -> dict:
+    code = ctx.resolved.code
+    if "x" not in code.state or "y" not in code.state:
+        raise UserInputError("reduce = trace needs the contact_point effect (x, y)")
+    r = ctx.trajectory()
+    y = np.asarray(r.y, dtype=float)
+    x_, y_ = y[code.state.index("x")], y[code.state.index("y")]
+    radius = np.hypot(x_ - x_[0], y_ - y_[0])
+    half = len(radius) // 2
+    first, second = radius[: half + 1].max(), radius[half:].max()
+    bounded = second <= UNBOUNDED_GROWTH * first
+    return {"trace_radius": float(radius.max()), "trace_bounded": int(bounded)}
+
+
+register_reducer(
+    Reducer(
+        "trace",
+        lambda code, sweep: {
+            "trace_radius": Variable(
+                attrs={
+                    "long_name": "largest distance of the contact point from its start",
+                    "units": "b",
+                }
+            ),
+            "trace_bounded": Variable(
+                dtype="int8",
+                attrs={
+                    "long_name": "1 when the trace's radius over the second half of the run is "
+                    f"at most {UNBOUNDED_GROWTH} times that over the first",
+                    "units": "1",
+                },
+            ),
+        },
+        _trace,
+        None,
+        "the contact trace's radius, and whether it is bounded",
+    )
+)
+
+
+def period_of_orbit(points: np.ndarray, max_period: int, tol: float) -> int:
+    """The period of a recorded map orbit: the smallest ``p <= max_period`` with every
+    ``|y[k+p] - y[k]| <= tol * max|y|``, or 0 (quasi-periodic, chaotic or a longer period).
+
+    Parameters
+    ----------
+    points : array, shape (n, dim)
+        Successive iterates (after the transient).
+    max_period : int
+    tol : float
+        Relative tolerance.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    UserInputError
+        Fewer than ``max_period + 1`` points.
+    """
+    points = np.asarray(points, dtype=float)
+    n = len(points)
+    if n < max_period + 1:
+        raise UserInputError(
+            f"{n} recorded iterates cannot show a period up to {max_period} "
+            "(record at least max_period + 1)"
+        )
+    scale = max(float(np.abs(points).max()), np.finfo(float).tiny)
+    for p in range(1, max_period + 1):
+        if float(np.abs(points[p:] - points[:-p]).max()) <= tol * scale:
+            return p
+    return 0
+
+
+def _map_columns(code: Any) -> list[int]:
+    """State components of the stroboscopic map: ``M`` and ``gamma`` (the reduced system; the
+    frame ``alpha, beta`` and the contact point do not act back on it), else all but x, y."""
+    groups = code.state_groups
+    if "M" in groups and "gamma" in groups:
+        names = [n for n in code.state if n[:-1] in ("M", "gamma")]
+    else:
+        names = [n for n in code.state if n not in ("x", "y")]
+    return [code.state.index(n) for n in names]
+
+
+def _period(ctx: PointContext) -> dict:
+    import mpmath
+
+    from ..numerics.inputs import Precision
+    from ..numerics.integrate import integrate
+
+    opts = ctx.sweep.period
+    scene, res = ctx.scene, ctx.resolved
+    omega = ctx.param(opts.forcing)
+    prec = Precision(scene.run_options.precision)
+    n = opts.transient + opts.recorded
+    t0 = res.t_span[0]
+    if prec.is_double:
+        period = 2 * math.pi / float(omega)
+        t_eval = [float(t0) + k * period for k in range(n + 1)]
+    else:
+        with mpmath.workprec(prec.prec):
+            period = 2 * mpmath.pi / omega
+            t_eval = [t0 + k * period for k in range(n + 1)]
+    r = integrate(
+        res.code,
+        res.y0,
+        (t_eval[0], t_eval[-1]),
+        [res.params[k] for k in res.code.params],
+        method=scene.run_options.method,
+        precision=scene.run_options.precision,
+        rtol=scene.run_options.rtol,
+        atol=scene.run_options.atol,
+        backend=scene.run_options.backend,
+        t_eval=t_eval,
+    )
+    if not r.success:
+        raise ComputationError(r.message)
+    y = np.asarray(r.y, dtype=float)[_map_columns(res.code)].T[opts.transient + 1 :]
+    return {"period": period_of_orbit(y, opts.max_period, opts.tol)}
+
+
+register_reducer(
+    Reducer(
+        "period",
+        lambda code, sweep: {
+            "period": Variable(
+                dtype="int16",
+                attrs={
+                    "long_name": "period of the stroboscopic map's attractor (forcing periods); "
+                    f"0: none up to max_period = {sweep.period.max_period} (quasi-periodic or "
+                    "chaotic)",
+                    "units": "1",
+                },
+            )
+        },
+        _period,
+        None,
+        "the period of the stroboscopic map's orbit after a transient (0: none)",
+    )
+)
+
+
+def _integrals(ctx: PointContext) -> dict:
+    res = ctx.resolved
+    p = np.asarray([float(res.params[k]) for k in res.code.params])
+    y0 = np.asarray([float(v) for v in res.y0])
+    values = res.code.numpy.integrals(float(res.t_span[0]), y0, p)
+    return {"initial_integrals": np.asarray(values, dtype=float)}
+
+
+register_reducer(
+    Reducer(
+        "integrals",
+        lambda code, sweep: {
+            "initial_integrals": Variable(
+                ("integral",), attrs={"long_name": "the integrals at the initial state"}
+            )
+        },
+        _integrals,
+        lambda code: {"integral": list(code.integral_names)},
+        "the integrals at the initial state (no integration: where a point exists is the "
+        "region of motion; status 1 where the scene finds no state)",
+    )
+)
+
+
+def _inertia(ctx: PointContext) -> tuple[list, Any, Any]:
+    names = ("I1", "I2", "I3", "D", "b")
+    if any(n not in ctx.resolved.params for n in names):
+        raise UserInputError("this reducer needs the ball's I, D and b")
+    p = ctx.resolved.params
+    return [p["I1"], p["I2"], p["I3"]], p["D"], p["b"]
+
+
+def _delta(ctx: PointContext) -> dict:
+    import mpmath
+
+    from ..numerics.separatrix import agreeing_digits, delta_closed_form, delta_ode, mu_of
+
+    I, D, b = _inertia(ctx)
+    digits = ctx.sweep.delta.digits
+    with mpmath.workdps(digits + 10):
+        I_m = [mpmath.mpf(v) for v in I]
+        mu = mu_of(I_m, mpmath.mpf(D))
+        closed = delta_closed_form(mu, mpmath.mpf(b), digits + 10)
+    measured = delta_ode(I, D, b, digits)["delta"]
+    return {
+        "mu": float(mu),
+        "delta_closed_form": float(closed),
+        "delta_measured": float(measured),
+        "delta_digits": float(agreeing_digits([measured], closed)),
+    }
+
+
+register_reducer(
+    Reducer(
+        "delta",
+        lambda code, sweep: {
+            "mu": Variable(attrs={"long_name": "mu = kap/lam (K01-3.7)", "units": "1"}),
+            "delta_closed_form": Variable(
+                attrs={"long_name": "Delta = pi b/ch(pi mu/2) (K01-3.7)", "units": "b"}
+            ),
+            "delta_measured": Variable(
+                attrs={"long_name": "Delta from the full equations (Taylor)", "units": "b"}
+            ),
+            "delta_digits": Variable(
+                attrs={"long_name": "digits on which measured and closed form agree", "units": "1"}
+            ),
+        },
+        _delta,
+        None,
+        "Delta of K01 per tumble: closed form and measured (full equations)",
+    )
+)
+
+
+def _frame_turn(ctx: PointContext) -> dict:
+    from ..numerics.separatrix import frame_turn
+
+    I, D, _ = _inertia(ctx)
+    initial = ctx.scene.initial
+    if initial.h is None:
+        raise UserInputError("reduce = frame_turn needs initial.h (and parallel = true)")
+    from ..numerics.inputs import parse_number
+
+    h = float(parse_number(initial.h))
+    C = float(parse_number(initial.C)) if initial.C is not None else 1.0
+    rtol = ctx.scene.run_options.rtol or 1e-12
+    T, phi = frame_turn([float(v) for v in I], float(D), h, C, rtol=float(rtol))
+    return {"frame_turn_period": T, "frame_turn_phi": phi}
+
+
+register_reducer(
+    Reducer(
+        "frame_turn",
+        lambda code, sweep: {
+            "frame_turn_period": Variable(
+                attrs={"long_name": "period of gamma on M = C gamma (K01-2.34)", "units": "time"}
+            ),
+            "frame_turn_phi": Variable(
+                attrs={
+                    "long_name": "turn of the horizontal frame per period; the trace is "
+                    "unbounded where it vanishes (K01-Fig6f)",
+                    "units": "rad",
+                }
+            ),
+        },
+        _frame_turn,
+        None,
+        "period and frame turn on M || gamma (K01 Fig. 6f)",
+    )
+)
+
+
+# ---------------------------------------------------------------------------------- the plan
+@dataclass
+class SweepPlan:
+    """A sweep made concrete: axes, points, chunks, variables and fingerprint.
+
+    Attributes
+    ----------
+    scene : Scene
+        The scene as written (its ``sweep`` table included).
+    base : dict
+        The scene's data without ``sweep`` (each point replaces some keys of it).
+    axes : list of (str, str, list)
+        ``(key path, dimension name, values as given)``.
+    coords : dict of str to numpy.ndarray
+        Float64 coordinates of each axis.
+    dims : tuple of str
+    shape : tuple of int
+    chunks : list of tuple of slice
+        Region of each chunk in the grid.
+    variables : dict of str to Variable
+    extra_coords : dict of str to list
+    code : ModelCode
+        The model of the first point.
+    fingerprint : dict of str to str
+        Hashes of the scene, the grid and the code version.
+    """
+
+    scene: Any
+    base: dict
+    axes: list[tuple[str, str, list]]
+    coords: dict[str, np.ndarray]
+    dims: tuple[str, ...]
+    shape: tuple[int, ...]
+    chunks: list[tuple[slice, ...]]
+    variables: dict[str, Variable]
+    extra_coords: dict[str, list]
+    code: Any
+    fingerprint: dict[str, str]
+
+    def points(self, region: tuple[slice, ...]) -> list[dict[str, Any]]:
+        """The points of a chunk: key path -> value as given, in C order.
+
+        Parameters
+        ----------
+        region : tuple of slice
+
+        Returns
+        -------
+        list of dict
+        """
+        ranges = [range(s.start, s.stop) for s in region]
+        out = []
+        for index in product(*ranges):
+            if len(self.dims) == 1 and self.dims[0] == "point":  # a list grid
+                out.append({key: values[index[0]] for key, _, values in self.axes})
+            else:
+                out.append(
+                    {key: values[i] for (key, _, values), i in zip(self.axes, index, strict=True)}
+                )
+        return out
+
+    @property
+    def total(self) -> str:
+        """The fingerprint as one hex string."""
+        return _sha(self.fingerprint)
+
+
+def _sha(data: object) -> str:
+    return hashlib.sha256(json.dumps(data, sort_keys=True, default=str).encode()).hexdigest()
+
+
+def _axis_values(spec: Any) -> list:
+    import mpmath
+
+    from ..numerics.inputs import parse_number
+
+    if isinstance(spec, list):
+        return list(spec)
+
+    def exact(value: object) -> Any:  # a TOML float as the decimal written
+        return parse_number(repr(value) if isinstance(value, float) else value, 30)
+
+    with mpmath.workdps(30):
+        a, b = exact(spec.start), exact(spec.stop)
+        if spec.num == 1:
+            return [mpmath.nstr(a, 30)]
+        step = (b - a) / (spec.num - 1)
+        return [mpmath.nstr(a + step * i, 30) for i in range(spec.num)]
+
+
+def point_scene(base: Mapping, overrides: Mapping[str, Any], source: str | None = None) -> Any:
+    """The scene of one point: ``base`` with dotted keys replaced.
+
+    Parameters
+    ----------
+    base : mapping
+        A scene's data (without ``sweep``).
+    overrides : mapping of str to value
+        ``"parameters.D" -> 4.39`` (values as a scene holds them).
+    source : str, optional
+        For messages.
+
+    Returns
+    -------
+    Scene
+
+    Raises
+    ------
+    SceneError
+    """
+    from .scene import Scene
+
+    data = copy.deepcopy(dict(base))
+    for key, value in overrides.items():
+        root, name = key.split(".")
+        data.setdefault(root, {})[name] = value
+    return Scene.from_dict(data, source=source)
+
+
+def plan_sweep(scene: Any) -> SweepPlan:
+    """Resolve a scene's sweep: axes, chunks, variables, fingerprint; the first point is
+    resolved to check the keys and load the model.
+
+    Parameters
+    ----------
+    scene : Scene
+        With a ``[sweep]`` table.
+
+    Returns
+    -------
+    SweepPlan
+
+    Raises
+    ------
+    SceneError
+        No ``[sweep]`` table, an unknown reducer, a key the scene refuses.
+    """
+    from .scene import SceneError, _did_you_mean, _version
+
+    sweep = scene.sweep
+    if sweep is None:
+        raise SceneError("the scene has no [sweep] table", scene.source, "sweep")
+    for name in sweep.reduce:
+        if name not in REDUCERS:
+            raise SceneError(
+                f"unknown reducer {name!r}; valid: {', '.join(REDUCERS)}"
+                f"{_did_you_mean(name, list(REDUCERS))}",
+                scene.source,
+                "sweep.reduce",
+            )
+    base = {k: v for k, v in scene._given.items() if k != "sweep"}
+    axes = [(key, key.split(".")[1], _axis_values(v)) for key, v in sweep.axes.items()]
+    from ..numerics.inputs import parse_number
+
+    coords = {name: np.asarray([float(parse_number(v)) for v in vals]) for _, name, vals in axes}
+    if sweep.grid == "list":
+        dims: tuple[str, ...] = ("point",)
+        shape: tuple[int, ...] = (len(axes[0][2]),)
+    else:
+        dims = tuple(name for _, name, _ in axes)
+        shape = tuple(len(vals) for _, _, vals in axes)
+    chunks = []
+    outer = [range(n) for n in shape[:-1]]
+    for index in product(*outer):
+        for start in range(0, shape[-1], sweep.chunk):
+            last = slice(start, min(start + sweep.chunk, shape[-1]))
+            chunks.append(tuple(slice(i, i + 1) for i in index) + (last,))
+    first = {key: vals[0] for key, _, vals in axes}
+    try:
+        code = point_scene(base, first, scene.source).resolve().code
+    except SceneError as exc:
+        # a point may lie where the scene finds no state (that point's status says so); the
+        # scene as written must resolve then
+        try:
+            code = point_scene(base, {}, scene.source).resolve().code
+        except SceneError:
+            exc.args = (f"{exc.args[0]} (at the sweep's first point {first})",)
+            raise exc from None
+    _check_axis_keys(scene, code)
+    if "period" in sweep.reduce and sweep.period.forcing not in code.params:
+        raise SceneError(
+            f"reduce = period needs the forcing frequency {sweep.period.forcing!r}, a parameter "
+            f"of {code.name} (params: {', '.join(code.params)}); set period.forcing",
+            scene.source,
+            "sweep.period.forcing",
+        )
+    variables: dict[str, Variable] = {}
+    extra: dict[str, list] = {}
+    for name in sweep.reduce:
+        reducer = REDUCERS[name]
+        variables.update(reducer.variables(code, sweep))
+        if reducer.coords is not None:
+            extra.update(reducer.coords(code))
+    variables["status"] = Variable(
+        dtype="int8",
+        attrs={
+            "long_name": "0 done, 1 input refused at this point, 2 computation failed",
+            "units": "1",
+        },
+    )
+    if sweep.refine is not None and (
+        sweep.refine.variable not in variables or variables[sweep.refine.variable].dims
+    ):
+        raise SceneError(
+            f"refine.variable {sweep.refine.variable!r} is not a number per point of this sweep; "
+            f"valid: {', '.join(k for k, v in variables.items() if not v.dims)}",
+            scene.source,
+            "sweep.refine.variable",
+        )
+    fingerprint = {
+        "scene": _sha(base),
+        "grid": _sha({"sweep": scene._given.get("sweep"), "axes": axes, "dims": dims}),
+        "code": _sha({"chaplygin": _version(), "model_hash": code.hash, "format": STORE_FORMAT}),
+    }
+    return SweepPlan(
+        scene, base, axes, coords, dims, shape, chunks, variables, extra, code, fingerprint
+    )
+
+
+def _check_axis_keys(scene: Any, code: Any) -> None:
+    """Refuse an axis that names no parameter, initial key or run setting of this model (it
+    would make every point refused)."""
+    from .scene import Initial, Run, SceneError, _did_you_mean
+
+    valid = {
+        "parameters": list(code.parameter_groups) + list(code.params),
+        "initial": list(Initial.model_fields) + list(code.state_groups),
+        "run": [f.alias or n for n, f in Run.model_fields.items()],
+    }
+    for key in scene.sweep.axes:
+        root, name = key.split(".")
+        if name not in valid[root]:
+            raise SceneError(
+                f"axis {key!r}: {code.name} has no {root} key {name!r}; valid: "
+                f"{', '.join(valid[root])}{_did_you_mean(name, valid[root])}",
+                scene.source,
+                "sweep.axes",
+            )
+
+
+# ---------------------------------------------------------------------------- computation
+def evaluate_point(
+    base: Mapping, overrides: Mapping[str, Any], sweep: Any, source: str | None = None
+) -> tuple[int, dict[str, Any]]:
+    """Reduce one point.
+
+    Parameters
+    ----------
+    base : mapping
+        The scene's data without ``sweep``.
+    overrides : mapping
+        The point's keys.
+    sweep : Sweep
+    source : str, optional
+
+    Returns
+    -------
+    (status, values) : (int, dict)
+        ``STATUS_DONE`` with every variable, or ``STATUS_REFUSED`` / ``STATUS_FAILED`` with
+        none (those points keep the fill values).
+    """
+    try:
+        scene = point_scene(base, overrides, source)
+        ctx = PointContext(scene, scene.resolve(), sweep)
+        values: dict[str, Any] = {}
+        for name in sweep.reduce:
+            values.update(REDUCERS[name].run(ctx))
+    except UserInputError:
+        return STATUS_REFUSED, {}
+    except (ComputationError, ArithmeticError, ValueError, RuntimeError):
+        return STATUS_FAILED, {}
+    return STATUS_DONE, values
+
+
+def compute_chunk(payload: Mapping, points: Sequence[Mapping[str, Any]]) -> dict[str, np.ndarray]:
+    """Reduce a chunk of points (a Dask task; runs on a worker).
+
+    Parameters
+    ----------
+    payload : mapping
+        ``base`` (scene data), ``sweep`` (the table as data), ``source``, ``variables``
+        (name -> (extra shape, dtype)).
+    points : sequence of mapping
+        The points' keys.
+
+    Returns
+    -------
+    dict of str to numpy.ndarray
+        Each variable, shaped ``(len(points), *extra)``.
+    """
+    from .sweep_table import Sweep
+
+    sweep = Sweep.model_validate(payload["sweep"])
+    out = {
+        name: np.full((len(points), *shape), -1 if dtype.startswith("int") else np.nan, dtype)
+        for name, (shape, dtype) in payload["variables"].items()
+    }
+    for i, point in enumerate(points):
+        status, values = evaluate_point(payload["base"], point, sweep, payload.get("source"))
+        out["status"][i] = status
+        for name, value in values.items():
+            out[name][i] = value
+    return out
+
+
+# ---------------------------------------------------------------------------------- the store
+def _attrs(plan: SweepPlan) -> dict:
+    import platform
+
+    import mpmath
+    import scipy
+    import sympy
+
+    from .scene import _version
+
+    return {
+        "title": plan.scene.title,
+        "source": plan.scene.source or "",
+        "scene": json.dumps(plan.scene._given, sort_keys=True, default=str),
+        "axes": json.dumps([[k, n, [str(v) for v in vals]] for k, n, vals in plan.axes]),
+        "model": plan.code.name,
+        "model_hash": plan.code.hash,
+        "versions": json.dumps(
+            {
+                "chaplygin": _version(),
+                "python": platform.python_version(),
+                "numpy": np.__version__,
+                "scipy": scipy.__version__,
+                "sympy": sympy.__version__,
+                "mpmath": mpmath.__version__,
+            }
+        ),
+        "fingerprint": json.dumps(plan.fingerprint, sort_keys=True),
+        "store_format": STORE_FORMAT,
+    }
+
+
+def _extra_shape(plan: SweepPlan, var: Variable) -> tuple[int, ...]:
+    return tuple(len(plan.extra_coords[d]) for d in var.dims)
+
+
+def _template(plan: SweepPlan) -> Any:
+    import xarray as xr
+
+    data_vars = {}
+    for name, var in plan.variables.items():
+        shape = plan.shape + _extra_shape(plan, var)
+        data_vars[name] = (plan.dims + var.dims, np.full(shape, var.fill, var.dtype), var.attrs)
+    data_vars["computed"] = (
+        plan.dims,
+        np.zeros(plan.shape, "uint8"),
+        {"long_name": "1 once the point's chunk is stored", "units": "1"},
+    )
+    coords: dict[str, Any] = {}
+    if plan.dims == ("point",):
+        for key, name, _ in plan.axes:
+            coords[name] = ("point", plan.coords[name], {"key": key})
+    else:
+        for key, name, _ in plan.axes:
+            coords[name] = (name, plan.coords[name], {"key": key})
+    for dim, labels in plan.extra_coords.items():
+        coords[dim] = (dim, np.asarray(labels, dtype=str))
+    return xr.Dataset(data_vars, coords=coords, attrs=_attrs(plan))
+
+
+def _zarr_chunks(plan: SweepPlan, var_dims: tuple[str, ...]) -> tuple[int, ...]:
+    chunk = plan.scene.sweep.chunk
+    grid = (1,) * (len(plan.shape) - 1) + (min(chunk, plan.shape[-1]),)
+    return grid + tuple(len(plan.extra_coords[d]) for d in var_dims)
+
+
+def open_store(plan: SweepPlan, store: str | Path) -> Any:
+    """Open the sweep's Zarr store, creating it (atomically) if absent.
+
+    Parameters
+    ----------
+    plan : SweepPlan
+    store : str or Path
+
+    Returns
+    -------
+    zarr.Group
+        Opened for writing.
+
+    Raises
+    ------
+    UserInputError
+        ``store`` exists but is not a sweep store, or was made by another scene, grid or code
+        version (the message says which).
+    """
+    import zarr
+
+    store = Path(store)
+    if not store.exists():
+        store.parent.mkdir(parents=True, exist_ok=True)
+        for stale in store.parent.glob(f".{store.name}.partial-*"):  # a creation killed midway
+            shutil.rmtree(stale, ignore_errors=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{store.name}.partial-", dir=store.parent))
+        try:
+            ds = _template(plan)
+            encoding = {
+                name: {"chunks": _zarr_chunks(plan, var.dims)}
+                for name, var in plan.variables.items()
+            }
+            encoding["computed"] = {"chunks": _zarr_chunks(plan, ())}
+            ds.to_zarr(tmp, mode="w", encoding=encoding, consolidated=True, zarr_format=2)
+            os.replace(tmp, store)
+        except BaseException:
+            shutil.rmtree(tmp, ignore_errors=True)
+            raise
+    try:
+        group = zarr.open_group(str(store), mode="r+", zarr_format=2)
+        stored = json.loads(group.attrs["fingerprint"])
+    except Exception:
+        raise UserInputError(
+            f"--out {store} exists and is not a chaplygin sweep store: choose another path"
+        ) from None
+    differs = [k for k in ("scene", "grid", "code") if stored.get(k) != plan.fingerprint[k]]
+    if differs:
+        what = {
+            "scene": "a different scene",
+            "grid": "a different grid",
+            "code": "a different code version (chaplygin or model)",
+        }
+        raise UserInputError(
+            f"--out {store} holds a sweep made by {' and '.join(what[k] for k in differs)}; "
+            "it is not mixed with this one: choose another --out, or delete it to start again"
+        )
+    return group
+
+
+def _done_chunks(plan: SweepPlan, group: Any) -> set[int]:
+    computed = np.asarray(group["computed"][...])
+    return {k for k, region in enumerate(plan.chunks) if computed[region].all()}
+
+
+def _write_chunk(plan: SweepPlan, group: Any, region: tuple[slice, ...], result: Mapping) -> None:
+    sizes = tuple(s.stop - s.start for s in region)
+    for name in plan.variables:
+        values = np.asarray(result[name])
+        group[name][region] = values.reshape(sizes + values.shape[1:])
+    group["computed"][region] = np.ones(sizes, "uint8")  # last: the chunk is complete
+
+
+# ------------------------------------------------------------------------------- the driver
+def _client(scheduler: str | None, workers: int | None) -> tuple[Any, Any]:
+    from distributed import Client, LocalCluster
+
+    if scheduler:
+        try:
+            return Client(scheduler, timeout="20s"), None
+        except OSError as exc:
+            raise UserInputError(f"--scheduler {scheduler}: cannot connect ({exc})") from None
+    n = workers or os.cpu_count() or 1
+    cluster = LocalCluster(
+        n_workers=n,
+        threads_per_worker=1,
+        processes=True,
+        dashboard_address=None,
+        silence_logs=40,
+    )
+    return Client(cluster), cluster
+
+
+def run_sweep(
+    scene: Any,
+    store: str | Path,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    progress: bool = False,
+    client: Any = None,
+) -> dict:
+    """Run (or continue) a scene's sweep into a Zarr store.
+
+    Parameters
+    ----------
+    scene : Scene
+        With a ``[sweep]`` table.
+    store : str or Path
+        The Zarr store (a folder); continued if it holds this sweep.
+    scheduler : str, optional
+        Address of a Dask scheduler (``tcp://host:8786``); default a LocalCluster.
+    workers : int, optional
+        Worker processes of the LocalCluster (default: one per core).
+    progress : bool
+        Show a tqdm bar on stderr.
+    client : distributed.Client, optional
+        Use this client (tests); ``scheduler`` and ``workers`` are then ignored.
+
+    Returns
+    -------
+    dict
+        ``chunks`` (total), ``computed`` (now), ``skipped`` (already stored), ``points``,
+        ``refused``, ``failed``, ``refined`` (zeros, if asked).
+
+    Raises
+    ------
+    SceneError
+        The scene or its sweep is invalid.
+    UserInputError
+        The dask extra is missing, or ``store`` belongs to another sweep.
+    ComputationError
+        A task failed on every worker it was tried on.
+    """
+    require_dask()
+    plan = plan_sweep(scene)
+    group = open_store(plan, store)
+    done = _done_chunks(plan, group)
+    pending = [k for k in range(len(plan.chunks)) if k not in done]
+    payload = {
+        "base": plan.base,
+        "sweep": scene.sweep.model_dump(mode="json"),
+        "source": scene.source,
+        "variables": {
+            name: (_extra_shape(plan, var), var.dtype) for name, var in plan.variables.items()
+        },
+    }
+    if pending:
+        own = client is None
+        cluster = None
+        if own:
+            client, cluster = _client(scheduler, workers)
+        try:
+            _compute(plan, group, payload, pending, client, progress, len(done))
+        finally:
+            if own:
+                client.close()
+                if cluster is not None:
+                    cluster.close()
+    status = np.asarray(group["status"][...])
+    summary = {
+        "chunks": len(plan.chunks),
+        "computed": len(pending),
+        "skipped": len(done),
+        "points": int(np.prod(plan.shape)),
+        "refused": int((status == STATUS_REFUSED).sum()),
+        "failed": int((status == STATUS_FAILED).sum()),
+    }
+    if scene.sweep.refine is not None:
+        summary["refined"] = _refine(plan, group)
+    return summary
+
+
+def _compute(plan, group, payload, pending, client, progress, already) -> None:
+    from distributed import as_completed
+    from tqdm import tqdm
+
+    from .scene import _version
+
+    payload_future = client.scatter(payload, broadcast=True)
+    futures = {}
+    for k in pending:
+        region = plan.chunks[k]
+        key = f"chaplygin-sweep-{plan.total[:12]}-{_version()}-{k}"
+        fut = client.submit(compute_chunk, payload_future, plan.points(region), key=key, retries=2)
+        futures[fut] = k
+    bar = tqdm(
+        total=len(plan.chunks),
+        initial=already,
+        disable=not progress,
+        unit="chunk",
+        file=sys.stderr,
+        desc="sweep",
+    )
+    try:
+        for fut in as_completed(list(futures)):
+            k = futures[fut]
+            try:
+                result = fut.result()
+            except Exception as exc:
+                raise ComputationError(f"chunk {k} failed: {type(exc).__name__}: {exc}") from None
+            _write_chunk(plan, group, plan.chunks[k], result)
+            bar.update(1)
+            fut.release()
+    finally:
+        bar.close()
+
+
+# ------------------------------------------------------------------------------ refinement
+def zeros_along_axis(values: np.ndarray, coords: np.ndarray, wrap: float | None = None) -> list:
+    """Brackets ``(a, b)`` of the axis where ``values`` changes sign through zero.
+
+    Parameters
+    ----------
+    values, coords : 1-D arrays
+    wrap : float, optional
+        For an angle in ``(-wrap, wrap]``: a sign change by a jump larger than ``wrap`` is the
+        angle wrapping round, not a zero.
+
+    Returns
+    -------
+    list of (float, float)
+    """
+    out = []
+    for i in range(len(values) - 1):
+        a, b = values[i], values[i + 1]
+        if not (np.isfinite(a) and np.isfinite(b)) or a * b > 0:
+            continue
+        if wrap is not None and abs(a - b) > wrap:
+            continue
+        out.append((float(coords[i]), float(coords[i + 1])))
+    return out
+
+
+def _refine(plan: SweepPlan, group: Any) -> list[str]:
+    from scipy.optimize import brentq
+
+    sweep = plan.scene.sweep
+    opts = sweep.refine
+    stored = group.attrs.get("refined")
+    if stored is not None:
+        return json.loads(stored)
+    ((key, name, _),) = plan.axes
+    values = np.asarray(group[opts.variable][...], dtype=float)
+    units = plan.variables[opts.variable].attrs.get("units")
+    brackets = zeros_along_axis(values, plan.coords[name], math.pi if units == "rad" else None)
+
+    def f(x: float) -> float:
+        status, out = evaluate_point(plan.base, {key: repr(x)}, sweep, plan.scene.source)
+        if status != STATUS_DONE:
+            raise ComputationError(f"refine: the point {key} = {x!r} could not be computed")
+        return float(out[opts.variable])
+
+    zeros = []
+    for a, b in brackets:
+        scale = max(abs(a), abs(b))
+        root = brentq(f, a, b, xtol=scale * 10.0 ** (-opts.digits - 2), rtol=1e-15)
+        zeros.append(f"{root:.{opts.digits + 2}g}")
+    import zarr
+
+    group.attrs["refined"] = json.dumps(zeros)
+    zarr.consolidate_metadata(group.store)
+    return zeros

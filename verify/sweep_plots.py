@@ -1,0 +1,156 @@
+"""Pictures of sweep stores (``chaplygin sweep --plot``): a chart of regimes, a curve over one
+axis, zeros found by the refinement.
+
+Each function takes the store's xarray Dataset and returns a matplotlib Figure.
+"""
+
+from __future__ import annotations
+
+import json
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+__all__ = ["sweep_figure", "period_chart_figure", "curve_figure", "status_figure"]
+
+
+def period_chart_figure(ds: Any) -> Figure:
+    """The chart of dynamical regimes: one colour per period 1..max, chaos (0) black, points
+    not computed white (as BM20 Fig. 6).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A store with ``period`` over two axes.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+    from matplotlib.figure import Figure
+
+    period = np.asarray(ds["period"].values, dtype=float)
+    y_name, x_name = ds["period"].dims
+    top = max(int(np.nanmax(period)) if np.isfinite(period).any() else 1, 14)
+    colours = ["black"] + [
+        tuple(c) for c in __import__("matplotlib").colormaps["tab20"](np.arange(top) % 20)
+    ]
+    cmap = ListedColormap(colours)
+    cmap.set_under("white")
+    norm = BoundaryNorm(np.arange(-0.5, top + 1.5), cmap.N)
+    fig = Figure(figsize=(7, 5))
+    ax = fig.add_subplot()
+    mesh = ax.pcolormesh(
+        ds[x_name].values, ds[y_name].values, period, cmap=cmap, norm=norm, shading="nearest"
+    )
+    bar = fig.colorbar(mesh, ax=ax, ticks=range(top + 1))
+    bar.set_label("period of the map's attractor (0: none up to max_period)")
+    ax.set_xlabel(x_name)
+    ax.set_ylabel(y_name)
+    ax.set_title(ds.attrs.get("title", ""), fontsize=9)
+    return fig
+
+
+def curve_figure(ds: Any, names: list[str]) -> Figure:
+    """Numbers over a single axis, with the refined zeros marked.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+    names : list of str
+        Variables to draw (numbers per point).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.figure import Figure
+
+    (dim,) = ds[names[0]].dims
+    x = ds[dim].values
+    fig = Figure(figsize=(7, 4))
+    ax = fig.add_subplot()
+    for name in names:
+        ax.plot(x, ds[name].values, ".-", ms=3, label=ds[name].attrs.get("long_name", name))
+    for z in json.loads(ds.attrs.get("refined", "[]")):
+        ax.axvline(float(z), color="red", lw=0.6)
+    ax.axhline(0, color="grey", lw=0.4)
+    ax.set_xlabel(dim)
+    ax.legend(fontsize=7)
+    ax.set_title(ds.attrs.get("title", ""), fontsize=9)
+    return fig
+
+
+def status_figure(ds: Any) -> Figure:
+    """Where the points of a 2-D grid exist: status 0 (a state was found and reduced), 1 (the
+    scene finds no state there: outside the region of motion), 2 (failed).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.colors import ListedColormap
+    from matplotlib.figure import Figure
+
+    y_name, x_name = ds["status"].dims
+    fig = Figure(figsize=(6, 5))
+    ax = fig.add_subplot()
+    cmap = ListedColormap(["tab:green", "whitesmoke", "tab:red"])
+    ax.pcolormesh(
+        ds[x_name].values,
+        ds[y_name].values,
+        ds["status"].values,
+        cmap=cmap,
+        vmin=-0.5,
+        vmax=2.5,
+        shading="nearest",
+    )
+    ax.set_xlabel(x_name)
+    ax.set_ylabel(y_name)
+    ax.set_title(f"{ds.attrs.get('title', '')}\ngreen: a state exists; grey: none", fontsize=9)
+    return fig
+
+
+def sweep_figure(ds: Any) -> Figure:
+    """The picture a store calls for: the period chart, Delta over mu (log scale), the frame
+    turn with its zeros, or the first numbers per point over the first axis.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    if "period" in ds and ds["period"].ndim == 2:
+        return period_chart_figure(ds)
+    if "delta_measured" in ds:
+        from matplotlib.figure import Figure
+
+        fig = Figure(figsize=(7, 4))
+        ax = fig.add_subplot()
+        mu = ds["mu"].values
+        ax.semilogy(mu, ds["delta_closed_form"].values, "-", label="pi b/ch(pi mu/2) (K01-3.7)")
+        ax.semilogy(mu, ds["delta_measured"].values, "o", ms=3, label="full equations")
+        ax.set_xlabel("mu = kap/lam")
+        ax.set_ylabel("Delta / b")
+        ax.legend(fontsize=8)
+        ax.set_title(ds.attrs.get("title", ""), fontsize=9)
+        return fig
+    if ds["status"].ndim == 2:
+        return status_figure(ds)
+    scalars = [
+        n for n, v in ds.data_vars.items() if v.ndim == 1 and n not in ("status", "computed")
+    ]
+    if "frame_turn_phi" in ds:
+        scalars = ["frame_turn_phi"]
+    return curve_figure(ds, scalars[:3])
