@@ -99,6 +99,11 @@ class PoincareOutput(_Table):
         description="more starts on the initial level set: initial.point = 1..level_points "
         "(for an initial state given by integrals)",
     )
+    vary: dict[StrictStr, list[Number]] = Field(
+        default_factory=dict,
+        description="more starts: the initial state with one key replaced by each value "
+        "(e.g. vary = { n = [3.5, 4, 5] } on an energy level)",
+    )
     mark_rotations: StrictBool = Field(
         False,
         description="mark where the steady rotations p1, p2, p3 of K01 (3.2) at the scene's C "
@@ -175,6 +180,9 @@ def _check(scene: Any, code: Any, spec: PoincareOutput) -> None:
             )
         if len(start) != want:
             raise _fail(scene, f"a start has {want} numbers ({', '.join(coords)})", "starts", i)
+    for key in spec.vary:
+        if key not in type(scene.initial).model_fields:
+            raise _fail(scene, f"{key!r} is not a key of [initial]", "vary", key)
     if spec.mark_rotations and (
         scene.system != "chaplygin_ball" or set(code.effects) - {"contact_point"}
         or scene.initial.h is None or scene.initial.C is None
@@ -267,6 +275,16 @@ def _starts(scene: Any, res: Any, spec: PoincareOutput) -> list[tuple[str, list]
             out.append((f"level point {k}", list(other.resolve().y0)))
         except UserInputError as exc:
             raise _fail(scene, f"level point {k}: {exc}", "level_points") from None
+    for key, values in spec.vary.items():
+        for k, value in enumerate(values):
+            other = scene.model_copy(
+                update={"initial": scene.initial.model_copy(update={key: value})}
+            )
+            object.__setattr__(other, "_text", scene._text)
+            try:
+                out.append((f"{key} = {value}", list(other.resolve().y0)))
+            except UserInputError as exc:
+                raise _fail(scene, str(exc), "vary", key, k) from None
     return out
 
 
