@@ -28,19 +28,30 @@ def test_example_scene_runs(path, tmp_path, capsys):
     text = path.read_text()
     assert "omits" in text  # every example says what the paper omits
     out = tmp_path / path.stem
-    status = main(["run", str(path), "--out", str(out), "--set", f"run.t_end={T_END}", "--quiet"])
+    scene = tomllib.loads(text)
+    shorter = []
+    if "poincare" in scene.get("outputs", {}):  # maps count iterations, not time
+        shorter = ["--set", "outputs.poincare.iterations=4", "--set", "outputs.poincare.transient=1"]
+        if "mark_rotations" in scene["outputs"]["poincare"]:
+            shorter += ["--set", "outputs.poincare.vary={}"]
+    status = main(
+        ["run", str(path), "--out", str(out), "--set", f"run.t_end={T_END}", "--quiet", *shorter]
+    )
     assert status == 0, capsys.readouterr().err
     summary = json.loads((out / "summary.json").read_text())
     for name in summary["outputs"]:
         assert (out / name).stat().st_size > 0
-    scene = tomllib.loads(text)
     plots = [k for k, v in scene.get("outputs", {}).items() if k != "trajectory" and v.get("plot")]
     for key in plots:
         assert {f"{key}.png", f"{key}.svg"} <= set(summary["outputs"])
     # drift bound from the tolerance: global error grows at most about linearly in time
     rtol = scene["run"].get("rtol", 1e-10)
     bound = 1000 * rtol * max(1.0, T_END)
-    drift = {k: v for k, v in summary["drift"].items()}
+    drift = dict(summary.get("drift", {}))
+    if "poincare" in summary.get("analyses", {}):  # along the map
+        done = summary["analyses"]["poincare"]
+        assert done["complete"] and done["points"] >= 4
+        drift.update(done["drift_max"])
     assert all(v is not None and v <= bound for v in drift.values()), (drift, bound)
     # prescribed integrals hold at the start to the working precision
     for name, r in summary["resolved"]["residuals"].items():
