@@ -1,0 +1,245 @@
+"""Poincaré maps: the stroboscopic map against an independent integration, crossings of a
+surface against bisection on scipy's dense output, Andoyer-Deprit and cylindrical round trips
+(poles, G = 0, 50 digits), safe state expressions, and bad ``[outputs.poincare]`` tables."""
+
+from __future__ import annotations
+
+import math
+import re
+
+import mpmath
+import numpy as np
+import pytest
+from chaplygin.derive.errors import UserInputError
+from chaplygin.numerics.code import load_model_code
+from chaplygin.numerics.map_coordinates import (
+    StateExpression,
+    andoyer_deprit,
+    cylindrical,
+    from_andoyer_deprit,
+    from_cylindrical,
+)
+from chaplygin.numerics.poincare import EventSection, StroboscopicMap
+from chaplygin.verify.scene import Scene, SceneError
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+
+BM20 = {"I": (4, 3, 2), "D": 4.385, "J_off": 0, "delta": 2, "K": (-6, -3, -9), "Omega": 1.07}
+K01 = {"I": (1, 1.5, 3), "D": 1}
+
+
+@pytest.fixture(scope="module")
+def bm20_code():
+    return load_model_code("chaplygin_ball", ["variable_inertia", "variable_gyrostat"])
+
+
+@pytest.fixture(scope="module")
+def ball_code():
+    return load_model_code("chaplygin_ball")
+
+
+def _start():
+    M, gamma = from_andoyer_deprit(3.0, 0.37, 1.13, -0.61)  # generic, non-dyadic
+    return [*M, *gamma]
+
+
+def _scipy_flow(code, params, y0, t1, rtol=1e-13, atol=1e-15):
+    p = np.array([params[n] for n in code.params], float)
+    return solve_ivp(
+        lambda t, y: code.numpy.rhs(t, y, p), (0.0, t1), y0, method="DOP853",
+        rtol=rtol, atol=atol, dense_output=True,
+    )  # fmt: skip
+
+
+def _bm20_vector(code):
+    flat = {"I1": 4, "I2": 3, "I3": 2, "D": 4.385, "J_off": 0, "delta": 2, "K1": -6, "K2": -3,
+            "K3": -9, "Omega": 1.07}  # fmt: skip
+    return flat
+
+
+def test_stroboscopic_step_matches_scipy_over_one_period(bm20_code):
+    rtol = 1e-12
+    strobe = StroboscopicMap(bm20_code, BM20, rtol=rtol, atol=1e-14)
+    period = 2 * math.pi / 1.07
+    assert strobe.period == pytest.approx(period, rel=4e-16)
+    y0 = _start()
+    y1 = strobe.step(y0)
+    ref = _scipy_flow(bm20_code, _bm20_vector(bm20_code), y0, period).y[:, -1]
+    # both local tolerances ~1e-12 over ~10^2 steps: scaled error below 100
+    err = np.abs(y1 - ref) / (1e-14 + rtol * np.abs(ref))
+    assert err.max() < 100, err
+
+
+def test_orbit_transient_drops_the_first_iterations(bm20_code):
+    strobe = StroboscopicMap(bm20_code, BM20, rtol=1e-12, atol=1e-14)
+    y0 = _start()
+    whole = strobe.orbit(y0, 5)
+    late = strobe.orbit(y0, 3, transient=2)
+    assert np.allclose(whole.y[0], y0, rtol=0, atol=0)
+    assert np.allclose(late.y, whole.y[2:], rtol=1e-10, atol=1e-12)
+    assert late.t[0] == pytest.approx(2 * strobe.period, rel=1e-15)
+    assert max(whole.drift.values()) < 1e-10
+
+
+def test_quad_map_keeps_the_integrals_to_quad_precision(bm20_code):
+    strobe = StroboscopicMap(bm20_code, BM20, precision="quad")
+    orbit = strobe.orbit(_start(), 3)
+    assert orbit.y.dtype == object and isinstance(orbit.y[0, 0], mpmath.mpf)
+    assert max(orbit.drift.values()) < 1e-28  # binary128: eps = 1.9e-34
+    double = StroboscopicMap(bm20_code, BM20, rtol=1e-13, atol=1e-15).orbit(_start(), 3)
+    assert np.allclose(orbit.y.astype(float), double.y, rtol=0, atol=1e-9)
+
+
+def test_stroboscopic_map_refuses_an_autonomous_model(ball_code):
+    with pytest.raises(UserInputError, match="Omega"):
+        StroboscopicMap(ball_code, K01)
+
+
+def test_section_crossings_match_bisection_on_scipy_dense_output(ball_code):
+    text = "M2*gamma1 - M1*gamma2"
+    section = EventSection(ball_code, K01, text, direction=1, rtol=1e-13, atol=1e-15)
+    g3 = math.sqrt(1 - 0.2**2 - 0.3**2)
+    y0 = [0.7, -0.4, 0.5, 0.2, 0.3, g3]
+    found = section.crossings(y0, 3)
+    assert len(found) == 3
+    sol = _scipy_flow(ball_code, {"I1": 1, "I2": 1.5, "I3": 3, "D": 1}, y0, float(found.t[-1]) + 1)
+
+    def surface(t):
+        y = sol.sol(t)
+        return y[1] * y[3] - y[0] * y[4]
+
+    for t_c in found.t:
+        t_ref = brentq(surface, t_c - 0.05, t_c + 0.05, xtol=1e-14, rtol=1e-15)
+        assert abs(t_c - t_ref) < 1e-9, (t_c, t_ref)
+    # the recorded states lie on the surface and were crossed upwards
+    y = found.y
+    assert np.abs(y[:, 1] * y[:, 3] - y[:, 0] * y[:, 4]).max() < 1e-12
+    assert max(found.drift.values()) < 1e-10
+
+
+def test_section_transient_and_direction(ball_code):
+    y0 = [0.7, -0.4, 0.5, 0.2, 0.3, math.sqrt(1 - 0.13)]
+    up = EventSection(ball_code, K01, "M2*gamma1 - M1*gamma2", direction=1)
+    both = EventSection(ball_code, K01, "M2*gamma1 - M1*gamma2", direction=0)
+    a = up.crossings(y0, 4)
+    b = up.crossings(y0, 2, transient=2)
+    assert np.allclose(a.t[2:], b.t, rtol=1e-12)
+    c = both.crossings(y0, 4)
+    assert c.t[0] < a.t[0] or np.isclose(c.t[0], a.t[0])
+    assert len(set(np.round(c.t, 8)) - set(np.round(a.t, 8))) >= 1  # the downward ones too
+
+
+@pytest.mark.parametrize(
+    "G, z, l, g",
+    [(3.0, 0.37, 1.13, -0.61), (0.7, -0.93, -2.9, 3.0), (2.2, 0.0, 0.1, -3.1)],
+)
+def test_andoyer_deprit_round_trip_double(G, z, l, g):
+    M, gamma = from_andoyer_deprit(G, z, l, g)
+    assert abs(np.dot(M, gamma)) < 1e-15 and abs(np.dot(gamma, gamma) - 1) < 4e-16
+    back = andoyer_deprit(M, gamma)
+    assert np.allclose(back, (G, z, l, g), rtol=0, atol=2e-15)
+
+
+@pytest.mark.parametrize("z", [1.0, -1.0])
+def test_andoyer_deprit_at_the_poles_gives_back_the_state(z):
+    # at z = +-1 only l + g (z = 1) or g - l (z = -1) is defined: l = 0 is returned
+    M, gamma = from_andoyer_deprit(2.5, z, 0.7, 1.9)
+    G, z2, l, g = andoyer_deprit(M, gamma)
+    assert (G, z2, l) == (pytest.approx(2.5), z, 0.0)
+    assert g == pytest.approx(1.9 + 0.7 * z, abs=2e-15)
+    M2, gamma2 = from_andoyer_deprit(G, z2, l, g)
+    assert np.allclose(M2, M, atol=1e-15) and np.allclose(gamma2, gamma, atol=1e-15)
+
+
+def test_andoyer_deprit_round_trip_50_digits_and_arrays():
+    with mpmath.workdps(50):
+        G, z, l, g = (mpmath.mpf(v) for v in ("2.7182818", "-0.3141592", "2.2360679", "-1.4142135"))
+        M, gamma = from_andoyer_deprit(G, z, l, g)
+        back = andoyer_deprit(M, gamma)
+        for a, b in zip(back, (G, z, l, g), strict=True):
+            assert abs(a - b) < mpmath.mpf(10) ** -47
+    rng = np.random.default_rng(7)
+    z = rng.uniform(-1, 1, 50)
+    l, g = rng.uniform(-np.pi, np.pi, (2, 50))
+    M, gamma = from_andoyer_deprit(np.full(50, 1.3), z, l, g)
+    G2, z2, l2, g2 = andoyer_deprit(M, gamma)
+    assert np.allclose(z2, z, atol=1e-14) and np.allclose(l2, l, atol=1e-13)
+    assert np.allclose(np.angle(np.exp(1j * (g2 - g))), 0, atol=1e-13)
+
+
+def test_cylindrical_round_trip_and_from_rest_coordinates():
+    z, l = cylindrical([0.6 * math.sin(1.3), 0.6 * math.cos(1.3), 0.8])
+    assert (z, l) == (pytest.approx(0.8), pytest.approx(1.3))
+    assert np.allclose(from_cylindrical(z, l), [0.6 * math.sin(1.3), 0.6 * math.cos(1.3), 0.8])
+    assert cylindrical([0.0, 0.0, -1.0]) == (-1.0, 0.0)
+    # G = 0 (from rest): z, l of M are undefined, g keeps gamma
+    G, _, _, g = andoyer_deprit([0.0, 0.0, 0.0], [0.6, 0.8, 0.0])
+    assert G == 0 and np.allclose(from_andoyer_deprit(0.0, 1.0, 0.0, g)[1], [0.6, 0.8, 0.0])
+
+
+def test_state_expression_is_safe_and_keeps_precision():
+    names = ("M1", "M2", "gamma3")
+    e = StateExpression("atan2(M1, M2) + 0.1*sqrt(gamma3**2)", names)
+    assert e.evaluate({"M1": 1.0, "M2": 2.0, "gamma3": -0.5}) == pytest.approx(
+        math.atan2(1, 2) + 0.05
+    )
+    with mpmath.workdps(40):
+        v = e.evaluate({"M1": mpmath.mpf(1), "M2": mpmath.mpf(2), "gamma3": mpmath.mpf(-0.5)})
+        assert abs(v - (mpmath.atan2(1, 2) + mpmath.mpf("0.05"))) < mpmath.mpf(10) ** -38
+    for bad in ("__import__('os')", "M1.real", "M4 + 1", "open('x')", "M1 if M2 else 0", ""):
+        with pytest.raises(UserInputError):
+            StateExpression(bad, names)
+
+
+SCENE = {
+    "system": "chaplygin_ball",
+    "effects": ["variable_inertia", "variable_gyrostat"],
+    "parameters": BM20,
+    "initial": {"G": 3, "z": 0.5, "l": 1, "g": 1},
+    "run": {},
+    "outputs": {"poincare": {"iterations": 3}},
+}
+
+
+@pytest.mark.parametrize(
+    "table, path",
+    [
+        ({"section": "M1 + __import__('os')"}, "outputs.poincare.section"),
+        ({"section": "M9"}, "outputs.poincare.section"),
+        ({"coordinates": ["M1", "bogus"]}, "outputs.poincare.coordinates[1]"),
+        ({"projections": [["l", "q"]]}, "outputs.poincare.projections[0][1]"),
+        ({"coordinates": "cylindrical", "plot3d": True}, "outputs.poincare.plot3d"),
+        ({"starts": [[0.1, 0.2]]}, "outputs.poincare.starts[0]"),
+        ({"mark_rotations": True}, "outputs.poincare.mark_rotations"),
+        ({"vary": {"bogus": [1]}}, "outputs.poincare.vary.bogus"),
+    ],
+)
+def test_bad_poincare_tables_are_refused_with_their_key_path(table, path):
+    data = {**SCENE, "outputs": {"poincare": {"iterations": 3, **table}}}
+    with pytest.raises(SceneError, match=re.escape(path)):
+        Scene.from_dict(data).resolve()
+
+
+def test_stroboscopic_section_on_an_autonomous_model_is_refused():
+    data = {
+        "system": "chaplygin_ball", "parameters": K01, "initial": {"h": 1, "C": 1, "n": 3.1},
+        "run": {}, "outputs": {"poincare": {}},
+    }  # fmt: skip
+    with pytest.raises(SceneError, match=r"outputs\.poincare\.section.*Omega"):
+        Scene.from_dict(data).resolve()
+
+
+def test_a_trajectory_scene_still_needs_t_end():
+    data = {**SCENE, "outputs": {"drift": {"plot": False}}}
+    with pytest.raises(SceneError, match=r"run\.t_end"):
+        Scene.from_dict(data).resolve()
+
+
+def test_map_scene_summary_and_arrays():
+    result = Scene.from_dict({**SCENE, "outputs": {"poincare": {"iterations": 3, "transient": 1,
+                                                                  "plot": False}}}).run()  # fmt: skip
+    done = result.analyses["poincare"]
+    assert done.summary["points"] == 3 and done.summary["complete"]
+    assert max(done.summary["drift_max"].values()) < 1e-9
+    assert done.arrays["z"][1].shape == (1, 3) and np.all(np.abs(done.arrays["z"][1]) <= 1)
+    assert float(done.summary["time_span"][0]) == pytest.approx(2 * math.pi / 1.07, rel=1e-15)
