@@ -272,7 +272,9 @@ class StateExpression:
         try:
             tree = ast.parse(self.text.strip(), mode="eval")
         except SyntaxError:
-            raise UserInputError(f"cannot read {self.text!r} as an expression of the state") from None
+            raise UserInputError(
+                f"cannot read {self.text!r} as an expression of the state"
+            ) from None
         depth, stack = 0, [(tree, 0)]
         while stack:
             node, d = stack.pop()

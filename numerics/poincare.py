@@ -290,9 +290,7 @@ class StroboscopicMap(_MapBase):
         """
         return self.orbit(y, 2, t0=t0).y[1]
 
-    def orbit(
-        self, y0: Mapping | Sequence, n: int, transient: int = 0, t0: object = 0
-    ) -> MapOrbit:
+    def orbit(self, y0: Mapping | Sequence, n: int, transient: int = 0, t0: object = 0) -> MapOrbit:
         """``n`` points ``P^(transient + k)(y0)``, ``k = 0 .. n-1`` (``y0`` itself first when
         ``transient = 0``).
 
@@ -461,7 +459,10 @@ class EventSection(_MapBase):
         event.direction = direction  # type: ignore[attr-defined]
         y = self._state(y0)
         t = working_number(t0, self.precision)
-        stop = working_number(t_max, self.precision) if t_max is not None else t + 10_000 * self.chunk
+        if t_max is None:
+            stop = t + 10_000 * self.chunk
+        else:
+            stop = working_number(t_max, self.precision)
         ts: list = []
         ys: list = []
         nsteps = 0

@@ -236,8 +236,8 @@ def test_a_trajectory_scene_still_needs_t_end():
 
 
 def test_map_scene_summary_and_arrays():
-    result = Scene.from_dict({**SCENE, "outputs": {"poincare": {"iterations": 3, "transient": 1,
-                                                                  "plot": False}}}).run()  # fmt: skip
+    table = {"iterations": 3, "transient": 1, "plot": False}
+    result = Scene.from_dict({**SCENE, "outputs": {"poincare": table}}).run()
     done = result.analyses["poincare"]
     assert done.summary["points"] == 3 and done.summary["complete"]
     assert max(done.summary["drift_max"].values()) < 1e-9

@@ -31,7 +31,8 @@ def test_example_scene_runs(path, tmp_path, capsys):
     scene = tomllib.loads(text)
     shorter = []
     if "poincare" in scene.get("outputs", {}):  # maps count iterations, not time
-        shorter = ["--set", "outputs.poincare.iterations=4", "--set", "outputs.poincare.transient=1"]
+        shorter = ["--set", "outputs.poincare.iterations=4"]
+        shorter += ["--set", "outputs.poincare.transient=1"]
         if "mark_rotations" in scene["outputs"]["poincare"]:
             shorter += ["--set", "outputs.poincare.vary={}"]
     status = main(

@@ -38,7 +38,6 @@ if TYPE_CHECKING:
 __all__ = ["PoincareOutput", "ANALYSIS", "map_points"]
 
 
-
 def _number(value: object) -> object:
     from ..numerics.inputs import parse_number
 
@@ -55,9 +54,10 @@ class _Table(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
 
-Coordinates = Literal["andoyer", "cylindrical"] | Annotated[
-    list[StrictStr], Field(min_length=1, max_length=3)
-]
+Coordinates = (
+    Literal["andoyer", "cylindrical"]
+    | Annotated[list[StrictStr], Field(min_length=1, max_length=3)]
+)
 
 
 class PoincareOutput(_Table):
@@ -82,12 +82,10 @@ class PoincareOutput(_Table):
         description="'andoyer' (z, l, g of BM20 (3.7); needs (M, gamma) = 0), 'cylindrical' "
         "(z, l of gamma, BM20 §3.1) or a list of 1-3 expressions of the state",
     )
-    projections: list[Annotated[list[StrictStr], Field(min_length=2, max_length=2)]] | None = (
-        Field(
-            None,
-            description="pairs of coordinate names to plot (default: the first two; for "
-            "andoyer (l, z) and (l, g))",
-        )
+    projections: list[Annotated[list[StrictStr], Field(min_length=2, max_length=2)]] | None = Field(
+        None,
+        description="pairs of coordinate names to plot (default: the first two; for "
+        "andoyer (l, z) and (l, g))",
     )
     starts: list[list[Number]] = Field(
         default_factory=list,
@@ -141,7 +139,7 @@ def _check(scene: Any, code: Any, spec: PoincareOutput) -> None:
                 scene,
                 f"a stroboscopic map needs a time-periodic model (parameter Omega: effects "
                 f"variable_inertia or variable_gyrostat); {code.name} is autonomous: give a "
-                "surface, e.g. section = \"M2*gamma1 - M1*gamma2\"",
+                'surface, e.g. section = "M2*gamma1 - M1*gamma2"',
                 "section",
             )
     else:
@@ -170,9 +168,11 @@ def _check(scene: Any, code: Any, spec: PoincareOutput) -> None:
                 )
     if spec.plot3d and len(coords) < 3:
         raise _fail(scene, "plot3d needs three coordinates", "plot3d")
-    want = {"andoyer": 3, "cylindrical": 2}.get(spec.coordinates) if isinstance(
-        spec.coordinates, str
-    ) else None
+    want = (
+        {"andoyer": 3, "cylindrical": 2}.get(spec.coordinates)
+        if isinstance(spec.coordinates, str)
+        else None
+    )
     for i, start in enumerate(spec.starts):
         if want is None:
             raise _fail(
@@ -226,7 +226,9 @@ def map_points(orbit: Any, spec_coordinates: Any, code: Any, params: list) -> di
     values = {n: y[:, i] for n, i in idx.items()}
     if any(a in " ".join(spec_coordinates) for a in code.aux_names):
         p = np.asarray(params, float)
-        aux = np.array([code.numpy.aux(float(t), row, p) for t, row in zip(orbit.t, y, strict=True)])
+        aux = np.array(
+            [code.numpy.aux(float(t), row, p) for t, row in zip(orbit.t, y, strict=True)]
+        )
         values.update({a: aux[:, k] for k, a in enumerate(code.aux_names)})
     return {
         text: np.asarray(StateExpression(text, tuple(values)).evaluate(values), float)
@@ -267,9 +269,7 @@ def _starts(scene: Any, res: Any, spec: PoincareOutput) -> list[tuple[str, list]
                 raise _fail(scene, "starts need a model without the contact point", "starts")
         out.append((f"start {i + 1}", [working_number(v, prec) for v in y]))
     for k in range(1, spec.level_points + 1):
-        other = scene.model_copy(
-            update={"initial": scene.initial.model_copy(update={"point": k})}
-        )
+        other = scene.model_copy(update={"initial": scene.initial.model_copy(update={"point": k})})
         object.__setattr__(other, "_text", scene._text)
         try:
             out.append((f"level point {k}", list(other.resolve().y0)))
@@ -390,9 +390,7 @@ def _run(scene: Any, res: Any, spec: PoincareOutput, progress: bool) -> Analysis
             padded([np.asarray(o.y[:, k], float) for o in orbits]),
             {"long_name": f"state {sname} at the map points", "units": "model units"},
         )
-    drift = {
-        n: max(o.drift[n] for o in orbits) for n in code.integral_names
-    }
+    drift = {n: max(o.drift[n] for o in orbits) for n in code.integral_names}
     summary: dict[str, Any] = {
         "section": spec.section,
         "coordinates": list(coords),
@@ -419,8 +417,8 @@ def _run(scene: Any, res: Any, spec: PoincareOutput, progress: bool) -> Analysis
         summary["rotation_marks"] = {
             k: {c: [round(float(x), 10) for x in v[c]] for c in coords} for k, v in marks.items()
         }
-    projections = [tuple(p) for p in spec.projections] if spec.projections else _default_pairs(
-        spec, coords
+    projections = (
+        [tuple(p) for p in spec.projections] if spec.projections else _default_pairs(spec, coords)
     )
     title = scene.title or code.name
     figures = {}

@@ -644,7 +644,6 @@ def _period_map_displacement(J_off: float, rtol: float = 1e-12):
 
     def run():
         import numpy as np
-
         from chaplygin.numerics.code import load_model_code
         from chaplygin.numerics.map_coordinates import from_cylindrical
         from chaplygin.numerics.poincare import StroboscopicMap
