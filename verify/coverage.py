@@ -197,7 +197,7 @@ FORMULAS_ENTRIES: tuple[tuple[str, str, bool, bool], ...] = (
     ("BM20-3.5", "3", False, False),
     ("BM20-3.6", "3", True, False),
     ("BM20-map", "3", True, False),
-    ("BM20-3.1obs", "3", True, False),
+    ("BM20-3.1obs", "3", False, False),
     ("BM20-3.7", "3", True, False),
     ("BM20-3.2rem", "3", True, False),
     ("BM20-Lyap", "3", False, False),

@@ -54,7 +54,7 @@ from pydantic import (
 from ..derive.errors import UserInputError
 from ..derive.systems import SYSTEMS
 from .analyses import AnalysisResult, requested
-from .poincare_output import PoincareOutput
+from .poincare_table import PoincareOutput
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
