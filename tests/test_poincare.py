@@ -243,3 +243,58 @@ def test_map_scene_summary_and_arrays():
     assert max(done.summary["drift_max"].values()) < 1e-9
     assert done.arrays["z"][1].shape == (1, 3) and np.all(np.abs(done.arrays["z"][1]) <= 1)
     assert float(done.summary["time_span"][0]) == pytest.approx(2 * math.pi / 1.07, rel=1e-15)
+
+
+def test_steady_rotations_are_periodic_points_of_the_section():
+    # K01 Fig. 2a: the steady rotations (K01 (3.2)) cross the section at fixed points (p1, p2
+    # and their opposites)
+    data = {
+        "system": "chaplygin_ball", "parameters": K01, "initial": {"h": 1, "C": 1, "n": 3.1},
+        "run": {"rtol": 1e-12, "atol": 1e-14},
+        "outputs": {"poincare": {"section": "M2*gamma1 - M1*gamma2", "iterations": 2,
+                                 "coordinates": ["atan2(M1, M2)", "M3/sqrt(M1**2+M2**2+M3**2)"],
+                                 "mark_rotations": True, "plot": False}},
+    }  # fmt: skip
+    summary = Scene.from_dict(data).run().analyses["poincare"].summary
+    marks = summary["rotation_marks"]
+    assert set(marks) == {"p1", "p1'", "p2", "p2'"}
+    for name, coords in marks.items():
+        for values in coords.values():
+            v = np.asarray(values)
+            assert np.abs(v[1:] - v[:-1]).max() < 1e-8, (name, values)
+    # on the rotation about e3 the horizontal parts of M and gamma are parallel:
+    # M2 gamma1 - M1 gamma2 = 0 all along it, the orbit lies in the section
+    assert set(summary["rotations_in_section"]) == {"p3", "p3'"}
+    # p1 is the rotation about e1 in the plane of the section: l = pi/2 there
+    assert marks["p1"]["atan2(M1, M2)"][0] == pytest.approx(math.pi / 2, abs=1e-9)
+
+
+def test_section_in_quad_agrees_with_double_and_keeps_its_digits(ball_code):
+    y0 = [0.7, -0.4, 0.5, 0.2, 0.3, "sqrt(0.87)"]
+    text = "M2*gamma1 - M1*gamma2"
+    quad = EventSection(ball_code, K01, text, precision="quad").crossings(y0, 2)
+    double = EventSection(ball_code, K01, text, rtol=1e-13, atol=1e-15).crossings(
+        [*y0[:5], math.sqrt(0.87)], 2
+    )
+    assert isinstance(quad.t[0], mpmath.mpf)
+    assert np.allclose(quad.t.astype(float), double.t, rtol=0, atol=1e-10)
+    with mpmath.workprec(113):
+        y = quad.y[0]
+        assert abs(y[1] * y[3] - y[0] * y[4]) < mpmath.mpf(2) ** -100
+    assert max(quad.drift.values()) < 1e-28
+
+
+def test_map_scene_starts_from_rest_in_cylindrical_coordinates():
+    data = {
+        **SCENE,
+        "parameters": {**BM20, "Omega": 0.4},
+        "initial": {"rest": True, "gamma": [0.6, 0, 0.8]},
+        "outputs": {"poincare": {"coordinates": "cylindrical", "iterations": 2, "plot": False,
+                                 "starts": [["0.3", 1.1], [-0.7, "pi/3"]]}},
+    }  # fmt: skip
+    done = Scene.from_dict(data).run().analyses["poincare"]
+    z = done.arrays["z"][1]
+    assert done.summary["orbits"] == 3 and z.shape == (3, 2)
+    assert z[1, 0] == pytest.approx(0.3, abs=1e-15) and z[2, 0] == pytest.approx(-0.7, abs=1e-15)
+    assert done.arrays["l"][1][2, 0] == pytest.approx(math.pi / 3, abs=1e-15)
+    assert np.all(done.arrays["M1"][1] == 0)  # from rest M stays 0 (G = 0 is kept)

@@ -235,13 +235,36 @@ def _rotation_marks(scene: Any, res: Any, section: Any, spec: PoincareOutput) ->
         except (UserInputError, ValueError, ZeroDivisionError):
             continue
         y = [float(v) for g in ("M", "gamma") for v in s.values[g]]
-        try:
-            orbit = section.crossings(y, 4, t_max=200)
-        except (UserInputError, ComputationError):
-            continue
-        if len(orbit):
-            marks[f"p{axis}"] = map_points(orbit, spec.coordinates, code, p)
+        # (M, gamma, t) -> (-M, -gamma, -t) maps solutions to solutions and keeps C, n, h:
+        # the opposite rotation about the same axis (marked with a prime)
+        for label, state in ((f"p{axis}", y), (f"p{axis}'", [-v for v in y])):
+            try:
+                curve = _in_surface(section, state)
+                if curve is not None:  # S = 0 all along it: drawn as a curve, not a point
+                    marks[label] = {**map_points(curve, spec.coordinates, code, p), "in": True}
+                    continue
+                orbit = section.crossings(state, 4, t_max=200)
+            except (UserInputError, ComputationError):
+                continue
+            if len(orbit):
+                marks[label] = map_points(orbit, spec.coordinates, code, p)
     return marks
+
+
+def _in_surface(section: Any, y: list) -> Any:
+    """The orbit of ``y`` sampled at 200 points over 20 time units when the surface function
+    vanishes all along it (to 1e-9 of the state's squared size), else None: K01's rotation
+    about e3 lies in the section g = 0 (``M`` and ``gamma`` have parallel horizontal parts)."""
+    from types import SimpleNamespace
+
+    t = np.linspace(0.0, 20.0, 200)
+    r = section._integrate(y, (0.0, 20.0), t_eval=list(t))
+    states = np.asarray(r.y, float).T
+    values = np.array([float(section._g(tk, row)) for tk, row in zip(t, states, strict=True)])
+    scale = max(1.0, float(np.max(np.sum(states**2, axis=1))))
+    if np.max(np.abs(values)) > 1e-9 * scale:
+        return None
+    return SimpleNamespace(t=t, y=states)
 
 
 def _run(scene: Any, res: Any, spec: PoincareOutput, progress: bool) -> AnalysisResult:
@@ -330,8 +353,11 @@ def _run(scene: Any, res: Any, spec: PoincareOutput, progress: bool) -> Analysis
         summary["last_crossing_time"] = f"{max(last)}" if last else None
     if marks:
         summary["rotation_marks"] = {
-            k: {c: [round(float(x), 10) for x in v[c]] for c in coords} for k, v in marks.items()
+            k: {c: [round(float(x), 10) for x in v[c]] for c in coords}
+            for k, v in marks.items()
+            if "in" not in v
         }
+        summary["rotations_in_section"] = [k for k, v in marks.items() if "in" in v]
     projections = (
         [tuple(p) for p in spec.projections] if spec.projections else _default_pairs(spec, coords)
     )
@@ -373,7 +399,8 @@ def poincare_figure(
     projections : list of (str, str)
         ``(x, y)`` coordinate names per panel.
     marks : dict of str to dict of str to ndarray
-        Marked points (steady rotations) by label.
+        Marked points (steady rotations) by label; those with a key ``"in"`` lie in the
+        section and are drawn as dashed curves.
     title : str
 
     Returns
@@ -389,7 +416,10 @@ def poincare_figure(
         for pts, label in zip(points, labels, strict=True):
             ax.scatter(pts[x], pts[y], s=size, lw=0, label=label if len(points) <= 8 else None)
         for name, pts in marks.items():
-            ax.scatter(pts[x], pts[y], s=60, marker="x", color="k", zorder=5)
+            if "in" in pts:  # lies in the section: a curve
+                ax.plot(pts[x], pts[y], "k--", lw=0.8, zorder=5)
+            else:
+                ax.scatter(pts[x], pts[y], s=60, marker="x", color="k", zorder=5)
             ax.annotate(name, (float(pts[x][0]), float(pts[y][0])), fontsize=9,
                         xytext=(4, 4), textcoords="offset points")  # fmt: skip
         ax.set_xlabel(x)
