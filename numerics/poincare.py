@@ -183,7 +183,7 @@ class _MapBase:
     def _state(self, y: Mapping | Sequence) -> list:
         if isinstance(y, Mapping):
             return pack_state(self.code, y, self.precision)
-        y = list(np.asarray(y, dtype=object if not self.precision.is_double else float).ravel())
+        y = list(np.asarray(y, dtype=object).ravel())
         if len(y) != len(self.code.state):
             raise UserInputError(
                 f"a state of {self.code.name} has {len(self.code.state)} components "

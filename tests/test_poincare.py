@@ -282,6 +282,9 @@ def test_section_in_quad_agrees_with_double_and_keeps_its_digits(ball_code):
         y = quad.y[0]
         assert abs(y[1] * y[3] - y[0] * y[4]) < mpmath.mpf(2) ** -100
     assert max(quad.drift.values()) < 1e-28
+    # 24 digits (MPFR Taylor loop) against binary128: the same crossing to ~10^-24
+    digits = EventSection(ball_code, K01, text, precision=24).crossings(y0, 1)
+    assert abs(digits.t[0] - quad.t[0]) < mpmath.mpf(10) ** -22
 
 
 def test_map_scene_starts_from_rest_in_cylindrical_coordinates():
