@@ -301,3 +301,20 @@ def test_map_scene_starts_from_rest_in_cylindrical_coordinates():
     assert z[1, 0] == pytest.approx(0.3, abs=1e-15) and z[2, 0] == pytest.approx(-0.7, abs=1e-15)
     assert done.arrays["l"][1][2, 0] == pytest.approx(math.pi / 3, abs=1e-15)
     assert np.all(done.arrays["M1"][1] == 0)  # from rest M stays 0 (G = 0 is kept)
+
+
+def test_section_scene_more_starts_on_the_level_set_and_at_other_n():
+    data = {
+        "system": "chaplygin_ball", "parameters": K01, "initial": {"h": 1, "C": 1, "n": 3.1},
+        "run": {"rtol": 1e-12, "atol": 1e-14},
+        "outputs": {"poincare": {"section": "M2*gamma1 - M1*gamma2", "iterations": 2,
+                                 "coordinates": ["M3"], "level_points": 1,
+                                 "vary": {"n": ["4.7"]}, "plot": False}},
+    }  # fmt: skip
+    done = Scene.from_dict(data).run().analyses["poincare"]
+    assert done.summary["orbits"] == 3
+    M = np.stack([done.arrays[f"M{i}"][1] for i in (1, 2, 3)])
+    n = np.sum(M**2, axis=0)  # (M, M) at every point of every orbit
+    assert np.allclose(n[:2], 3.1, rtol=0, atol=1e-10)  # the initial level set, two points
+    assert np.allclose(n[2], 4.7, rtol=0, atol=1e-10)
+    assert not np.allclose(M[:, 0, 0], M[:, 1, 0])  # level point 1 is another start
