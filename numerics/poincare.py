@@ -438,7 +438,8 @@ class EventSection(_MapBase):
         Returns
         -------
         MapOrbit
-            ``info["complete"]`` is False when ``t_max`` came first.
+            ``info["complete"]`` is False when ``t_max`` came first; ``info["crossings"]``
+            counts every crossing located, the transient ones included.
 
         Raises
         ------
@@ -473,6 +474,7 @@ class EventSection(_MapBase):
             ts.extend(r.t_events[0])
             ys.extend(list(row) for row in r.y_events[0])
             t, y = t1, list(r.y[:, -1])
+        found = len(ts)
         ts, ys = ts[transient : transient + n], ys[transient : transient + n]
         T = np.array(ts, dtype=float if self.precision.is_double else object)
         Y = self._array(ys) if ys else np.empty((0, len(self.code.state)))
@@ -482,6 +484,6 @@ class EventSection(_MapBase):
             integral_names=self.code.integral_names, drift=drift, transient=transient,
             nsteps=nsteps, wall_s=time.perf_counter() - start,
             precision=str(self.precision), method=self.method,
-            info={"complete": len(ts) == n, "surface": self.surface_text,
-                  "direction": direction},
+            info={"complete": len(ts) == n, "crossings": found,
+                  "surface": self.surface_text, "direction": direction},
         )  # fmt: skip

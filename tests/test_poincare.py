@@ -312,7 +312,7 @@ def test_section_scene_more_starts_on_the_level_set_and_at_other_n():
                                  "vary": {"n": ["4.7"]}, "plot": False}},
     }  # fmt: skip
     done = Scene.from_dict(data).run().analyses["poincare"]
-    assert done.summary["orbits"] == 3
+    assert done.summary["orbits"] == 3 and done.summary["crossings"] == 6
     M = np.stack([done.arrays[f"M{i}"][1] for i in (1, 2, 3)])
     n = np.sum(M**2, axis=0)  # (M, M) at every point of every orbit
     assert np.allclose(n[:2], 3.1, rtol=0, atol=1e-10)  # the initial level set, two points

@@ -349,8 +349,11 @@ def _run(scene: Any, res: Any, spec: PoincareOutput, progress: bool) -> Analysis
             f"{section.time(spec.transient + spec.iterations - 1, t0)}",
         ]
     else:
+        # crossings located, the discarded transient ones included
+        summary["crossings"] = int(sum(o.info["crossings"] for o in orbits))
+        first = [o.t[0] for o in orbits if len(o)]
         last = [o.t[-1] for o in orbits if len(o)]
-        summary["last_crossing_time"] = f"{max(last)}" if last else None
+        summary["time_span"] = [f"{min(first)}", f"{max(last)}"] if last else None
     if marks:
         summary["rotation_marks"] = {
             k: {c: [round(float(x), 10) for x in v[c]] for c in coords}
