@@ -474,7 +474,7 @@ class EventSection(_MapBase):
             ts.extend(r.t_events[0])
             ys.extend(list(row) for row in r.y_events[0])
             t, y = t1, list(r.y[:, -1])
-        found = len(ts)
+        found = min(len(ts), transient + n)  # up to the last one kept (chunks overshoot)
         ts, ys = ts[transient : transient + n], ys[transient : transient + n]
         T = np.array(ts, dtype=float if self.precision.is_double else object)
         Y = self._array(ys) if ys else np.empty((0, len(self.code.state)))
