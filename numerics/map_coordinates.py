@@ -37,6 +37,8 @@ __all__ = [
     "cylindrical",
     "from_cylindrical",
     "wrap_angle",
+    "reduced_point",
+    "state_from_reduced",
     "StateExpression",
     "COORDINATE_SYSTEMS",
 ]
@@ -224,6 +226,85 @@ def from_cylindrical(z: Any, l: Any) -> list:
     z_ = np.asarray(z)
     s = ops.sqrt(np.maximum(1 - z_ * z_, 0) if z_.dtype != object else 1 - z_ * z_)
     return [_out(s * ops.sin(l)), _out(s * ops.cos(l)), _out(z_)]
+
+
+# ------------------------------------------------------------- BM20's reduced 3-D map (G fixed)
+def _indices(state_names: Sequence[str]) -> tuple[list[int], list[int]]:
+    try:
+        M = [list(state_names).index(f"M{i}") for i in (1, 2, 3)]
+        gamma = [list(state_names).index(f"gamma{i}") for i in (1, 2, 3)]
+    except ValueError:
+        raise UserInputError(
+            f"reduced coordinates need the states M1..M3, gamma1..gamma3; got "
+            f"{', '.join(state_names)}"
+        ) from None
+    return M, gamma
+
+
+def reduced_point(y: Sequence, state_names: Sequence[str]) -> tuple[Any, np.ndarray]:
+    """A state on BM20's level set ``(M, gamma) = 0`` as ``G`` and the point ``(z, l, g)`` of the
+    3-D map (BM20 §3.2).
+
+    Parameters
+    ----------
+    y : sequence
+        The state vector (float or mpf) in the model's order.
+    state_names : sequence of str
+        The model's state names (``ModelCode.state``).
+
+    Returns
+    -------
+    G : number
+    x : ndarray, shape (3,)
+        ``(z, l, g)``; at the poles ``z = +-1``, ``l = 0`` (see :func:`andoyer_deprit`).
+
+    Raises
+    ------
+    UserInputError
+        The model has no ``M`` and ``gamma``.
+
+    References
+    ----------
+    BM20-3.7.
+    """
+    iM, ig = _indices(state_names)
+    G, z, l, g = andoyer_deprit([y[i] for i in iM], [y[i] for i in ig])
+    return G, np.array([z, l, g], dtype=object if _is_exact(G) else float)
+
+
+def state_from_reduced(
+    x: Sequence, G: Any, y_template: Sequence, state_names: Sequence[str]
+) -> list:
+    """The state with Andoyer-Deprit ``(G, z, l, g)``, ``x = (z, l, g)``; inverse of
+    :func:`reduced_point`.
+
+    Parameters
+    ----------
+    x : sequence of 3 numbers
+        ``(z, l, g)``; ``|z| <= 1`` (clipped to it: a Newton step may overshoot the pole).
+    G : number
+        ``|M|``.
+    y_template : sequence
+        A state supplying the other components (none for BM20's ``M, gamma``).
+    state_names : sequence of str
+
+    Returns
+    -------
+    list
+        The state vector.
+
+    References
+    ----------
+    BM20-3.7.
+    """
+    iM, ig = _indices(state_names)
+    z = x[0]
+    z = max(min(z, 1), -1)
+    M, gamma = from_andoyer_deprit(G, z, x[1], x[2])
+    y = list(y_template)
+    for k in range(3):
+        y[iM[k]], y[ig[k]] = M[k], gamma[k]
+    return y
 
 
 # --------------------------------------------------------------------- expressions of the state

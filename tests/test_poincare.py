@@ -318,3 +318,21 @@ def test_section_scene_more_starts_on_the_level_set_and_at_other_n():
     assert np.allclose(n[:2], 3.1, rtol=0, atol=1e-10)  # the initial level set, two points
     assert np.allclose(n[2], 4.7, rtol=0, atol=1e-10)
     assert not np.allclose(M[:, 0, 0], M[:, 1, 0])  # level point 1 is another start
+
+
+def test_reduced_map_is_the_stroboscopic_map_in_andoyer_deprit_coordinates(bm20_code):
+    from chaplygin.numerics.map_coordinates import reduced_point, state_from_reduced
+
+    strobe = StroboscopicMap(bm20_code, BM20, rtol=1e-12, atol=1e-14)
+    x = np.array([0.37, 1.13, -0.61])
+    y = state_from_reduced(x, 3.0, [0.0] * 6, bm20_code.state)
+    G, back = reduced_point(y, bm20_code.state)
+    assert G == pytest.approx(3.0, rel=1e-15) and np.allclose(back, x, atol=2e-15)
+    x1 = strobe.reduced_step(x, 3.0)
+    G1, ref = reduced_point(strobe.step(y), bm20_code.state)
+    assert np.array_equal(x1, ref)
+    assert G1 == pytest.approx(3.0, rel=1e-10)  # |M| is an integral of the flow
+    # a pole start: z = 1 exactly (l undefined) maps to the same point as l = 0, g = l + g
+    a = strobe.reduced_step([1.0, 0.4, 0.9], 3.0)
+    b = strobe.reduced_step([1.0, 0.0, 1.3], 3.0)
+    assert np.allclose(a, b, atol=1e-9)
