@@ -113,11 +113,14 @@ def wrap_angle(angle: Any) -> Any:
 
 
 def andoyer_deprit(M: Sequence, gamma: Sequence) -> tuple[Any, Any, Any, Any]:
-    """BM20's Andoyer-Deprit variables ``(G, z, l, g)`` of states with ``(M, gamma) = 0``.
+    """Andoyer-Deprit variables ``(G, z, l, g)`` (BM20 (3.7)) of a state.
 
-    ``G = |M|``, ``z = M3/G``, ``l = atan2(M1, M2)``; ``sin g = gamma1 cos l - gamma2 sin l`` and
-    ``cos g = z (gamma1 sin l + gamma2 cos l) - sqrt(1 - z^2) gamma3`` (both from (3.7); the
-    combination for ``cos g`` is well conditioned at every ``z``, including the poles).
+    ``G = |M|``, ``z = M3/G`` (Deprit's ``L/G``), ``l = atan2(M1, M2)``; ``g`` is the angle of
+    the part of ``gamma`` normal to ``M`` in the frame ``e_a, e_b`` of :func:`from_andoyer_deprit`:
+    ``sin g ~ gamma1 cos l - gamma2 sin l``, ``cos g ~ z (gamma1 sin l + gamma2 cos l) -
+    sqrt(1 - z^2) gamma3`` (both from (3.7), and well conditioned at every ``z``, poles
+    included). On BM20's level ``(M, gamma) = 0`` this inverts (3.7); for ``(M, gamma) = H != 0``
+    (K01) it gives Deprit's variables, inverted by ``from_andoyer_deprit(..., H=H)``.
 
     Parameters
     ----------
@@ -153,31 +156,42 @@ def andoyer_deprit(M: Sequence, gamma: Sequence) -> tuple[Any, Any, Any, Any]:
     return _out(G), _out(z), _out(wrap_angle(l_)), _out(wrap_angle(g))
 
 
-def from_andoyer_deprit(G: Any, z: Any, l: Any, g: Any) -> tuple[list, list]:
-    """``M, gamma`` from BM20's Andoyer-Deprit variables (BM20 (3.7)); inverse of
-    :func:`andoyer_deprit`.
+def from_andoyer_deprit(G: Any, z: Any, l: Any, g: Any, H: Any = 0) -> tuple[list, list]:
+    """``M, gamma`` from Andoyer-Deprit variables; inverse of :func:`andoyer_deprit`.
+
+    With ``m = M/G = (s sin l, s cos l, z)``, ``e_a = (z sin l, z cos l, -s)`` and
+    ``e_b = (cos l, -sin l, 0)`` (an orthonormal frame, ``s = sqrt(1 - z^2)``):
+    ``gamma = (H/G) m + sqrt(1 - H^2/G^2) (cos g e_a + sin g e_b)``, ``H = (M, gamma)``.
+    For ``H = 0`` this is BM20 (3.7) term by term.
 
     Parameters
     ----------
     G, z, l, g : numbers or arrays of one shape
         ``G >= 0``, ``|z| <= 1`` (not checked here: see
         :func:`chaplygin.numerics.initial_state.state_from_andoyer` for user input).
+    H : number, optional
+        The constant of areas ``(M, gamma)``, ``|H| <= G`` (default 0, BM20's level set).
 
     Returns
     -------
     M, gamma : list of 3 numbers or arrays
-        ``(M, gamma) = 0``, ``|gamma| = 1``, ``|M| = G`` to rounding.
+        ``(M, gamma) = H``, ``|gamma| = 1``, ``|M| = G`` to rounding.
 
     References
     ----------
     BM20-3.7.
     """
-    ops = _ops(G, z, l, g)
+    ops = _ops(G, z, l, g, H)
     z_ = np.asarray(z)
     s = ops.sqrt(np.maximum(1 - z_ * z_, 0) if z_.dtype != object else 1 - z_ * z_)
     sl, cl, sg, cg = ops.sin(l), ops.cos(l), ops.sin(g), ops.cos(g)
     M = [G * s * sl, G * s * cl, G * z_]
     gamma = [z_ * cg * sl + sg * cl, z_ * cg * cl - sg * sl, -s * cg]
+    if np.any(np.asarray(H) != 0):
+        c = H / np.asarray(G)
+        rho = ops.sqrt(1 - c * c)
+        m = [s * sl, s * cl, z_]
+        gamma = [c * mk + rho * gk for mk, gk in zip(m, gamma, strict=True)]
     return [_out(c) for c in M], [_out(c) for c in gamma]
 
 

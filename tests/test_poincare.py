@@ -336,3 +336,12 @@ def test_reduced_map_is_the_stroboscopic_map_in_andoyer_deprit_coordinates(bm20_
     a = strobe.reduced_step([1.0, 0.4, 0.9], 3.0)
     b = strobe.reduced_step([1.0, 0.0, 1.3], 3.0)
     assert np.allclose(a, b, atol=1e-9)
+
+
+def test_andoyer_deprit_with_a_constant_of_areas():
+    # K01's level C = (M, gamma) = 0.8: Deprit's variables, gamma tilted towards M by H/G
+    G, z, l, g, H = 1.7, -0.42, 2.6, 0.35, 0.8
+    M, gamma = from_andoyer_deprit(G, z, l, g, H=H)
+    assert np.dot(M, gamma) == pytest.approx(H, abs=1e-15)
+    assert np.dot(gamma, gamma) == pytest.approx(1, abs=4e-16)
+    assert np.allclose(andoyer_deprit(M, gamma), (G, z, l, g), atol=2e-15)
