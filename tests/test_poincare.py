@@ -345,3 +345,16 @@ def test_andoyer_deprit_with_a_constant_of_areas():
     assert np.dot(M, gamma) == pytest.approx(H, abs=1e-15)
     assert np.dot(gamma, gamma) == pytest.approx(1, abs=4e-16)
     assert np.allclose(andoyer_deprit(M, gamma), (G, z, l, g), atol=2e-15)
+
+
+def test_bm20_31obs_holds_and_its_control_is_refuted_by_the_same_computation():
+    from chaplygin.verify.claims import REGISTRY
+    from reference import verdict
+
+    v = verdict("BM20-3.1obs")
+    assert v.verdict == "numeric" and v.ok
+    result = REGISTRY["BM20-3.1obs"].compute()
+    # the period map from rest with J = 0 is the identity: displacement at rounding level
+    assert result.holds and result.error < 1e-12
+    control = REGISTRY["BM20-3.1obs/control-J"].compute()
+    assert not control.holds and control.error > 0.1
