@@ -493,13 +493,9 @@ def state_from_andoyer(
         )
     if G < 0:
         raise UserInputError(f"Andoyer-Deprit G = |M| must be 0 or more, got {mpmath.nstr(G, 10)}")
-    s = mpmath.sqrt(1 - z * z)
-    M = [G * s * mpmath.sin(l), G * s * mpmath.cos(l), G * z]
-    gamma = [
-        z * mpmath.cos(g) * mpmath.sin(l) + mpmath.sin(g) * mpmath.cos(l),
-        z * mpmath.cos(g) * mpmath.cos(l) - mpmath.sin(g) * mpmath.sin(l),
-        -s * mpmath.cos(g),
-    ]
+    from .map_coordinates import from_andoyer_deprit
+
+    M, gamma = from_andoyer_deprit(*(mpmath.mpf(v) for v in (G, z, l, g)))
     return {"M": M, "gamma": gamma}
 
 

@@ -16,6 +16,7 @@ T_END = 10.0
 #: Analyses shortened like t_end (their own counts; their numbers are tested elsewhere).
 SHORT_ANALYSES = {
     "lyapunov": ("iterations=40", "transient=10", "windows=4", "states=2"),
+    "poincare": ("iterations=4", "transient=1"),  # maps count iterations, not time
 }
 
 
@@ -40,6 +41,8 @@ def test_example_scene_runs(path, tmp_path, capsys):
         for item in settings
         for a in ("--set", f"outputs.{key}.{item}")
     ]
+    if "mark_rotations" in scene.get("outputs", {}).get("poincare", {}):
+        shorter += ["--set", "outputs.poincare.vary={}"]
     argv = ["run", str(path), "--out", str(out), "--set", f"run.t_end={T_END}", "--quiet"]
     status = main(argv + shorter)
     assert status == 0, capsys.readouterr().err
@@ -52,11 +55,14 @@ def test_example_scene_runs(path, tmp_path, capsys):
     # drift bound from the tolerance: global error grows at most about linearly in time
     rtol = scene["run"].get("rtol", 1e-10)
     bound = 1000 * rtol * max(1.0, T_END)
-    if "drift" in summary:
-        drift = {k: v for k, v in summary["drift"].items()}
-        assert all(v is not None and v <= bound for v in drift.values()), (drift, bound)
-    else:  # analyses only: no trajectory, no drift to bound
+    drift = dict(summary.get("drift", {}))
+    if "poincare" in summary.get("analyses", {}):  # along the map
+        done = summary["analyses"]["poincare"]
+        assert done["complete"] and done["points"] >= 4
+        drift.update(done["drift_max"])
+    if "drift" not in summary:  # analyses only: no trajectory
         assert set(summary["analyses"]) and set(summary["analyses"]) <= set(SHORT_ANALYSES)
+    assert all(v is not None and v <= bound for v in drift.values()), (drift, bound)
     # prescribed integrals hold at the start to the working precision
     for name, r in summary["resolved"]["residuals"].items():
         assert abs(r) < 1e-14, name

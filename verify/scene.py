@@ -55,6 +55,7 @@ from ..derive.errors import UserInputError
 from ..derive.systems import SYSTEMS
 from .analyses import AnalysisResult, requested
 from .lyapunov_table import LyapunovOutput
+from .poincare_table import PoincareOutput
 from .sweep_table import Sweep
 
 if TYPE_CHECKING:
@@ -180,12 +181,17 @@ class Outputs(_Table):
     lyapunov: LyapunovOutput | None = Field(
         None, description="Lyapunov spectra with error bars (an analysis: no trajectory needed)"
     )
+    poincare: PoincareOutput | None = Field(
+        None, description="a Poincaré map: stroboscopic or a section by a surface"
+    )
 
 
 class Run(_Table):
     """How to integrate."""
 
-    t_end: Number = Field(description="final time")
+    t_end: Number | None = Field(
+        None, description="final time (required unless the outputs are analyses only)"
+    )
     t_start: Number = 0
     precision: StrictStr | StrictInt = Field(
         "double", description="'double', 'quad' or a number of decimal digits"
@@ -963,6 +969,15 @@ def _time_span(scene: Scene, prec: Any, text: str | None) -> tuple:
 
     src = scene.source
     out = []
+    if scene.run_options.t_end is None:
+        if needs_trajectory(scene):
+            loc = ("run", "t_end")
+            raise SceneError(
+                "run.t_end is required: this scene integrates a trajectory", src, _dotted(loc),
+                _line_of(text, ("run",)),
+            )  # fmt: skip
+        start = working_number(scene.run_options.t_start, prec)
+        return (start, start + 1)  # analyses only: they choose their own spans
     for key in ("t_start", "t_end"):
         loc = ("run", key)
         try:

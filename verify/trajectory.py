@@ -120,7 +120,8 @@ def write_dataset(
                 raise ValueError(f"dimension {d} has lengths {sizes[d]} and {n}")
     with netcdf_file(Path(path), "w", version=2) as nc:
         for key, value in (attributes or {}).items():
-            setattr(nc, key, value)
+            # netCDF3 text attributes are bytes: UTF-8 keeps a title such as "Poincaré"
+            setattr(nc, key, value.encode() if isinstance(value, str) else value)
         for d, n in sizes.items():
             nc.createDimension(d, n)
         for name, (dims, values, attrs) in variables.items():
@@ -129,4 +130,4 @@ def write_dataset(
             var = nc.createVariable(name, kind, dims)
             var[...] = arr.astype("i4" if kind == "i" else "f8")
             for k, v in attrs.items():
-                setattr(var, k, v)
+                setattr(var, k, v.encode() if isinstance(v, str) else v)

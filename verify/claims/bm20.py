@@ -723,3 +723,69 @@ register(
         expected="fails",
     ),
 )
+
+
+# ------------------------------------------------------------ BM20-3.1obs: from rest, J = 0
+def _period_map_displacement(J_off: float, rtol: float = 1e-12):
+    """Largest ``|P(gamma) - gamma|`` of the period map from rest (G = 0, BM20 §3.1) over
+    eight starts spread over the sphere, at BM20 Fig. 2's K = (3, -1, -2), d = 1.5,
+    delta = 1.2 and both printed Omega = 0.18, 0.4, with the given J.
+
+    Found: for J = 0, ``gamma' = -gamma x A(t) k(t)`` is odd in t (A(t) even, k(t) odd) and
+    tau-periodic, so every solution is even about t = 0 and t = tau/2: ``gamma(tau) = gamma(0)``,
+    the period map is the identity and every motion from rest is periodic (BM20's "only
+    periodic modes"). The bound is the integration's: 1000 rtol (about 10^2 Taylor steps per
+    period, each within rtol)."""
+
+    def run():
+        import numpy as np
+        from chaplygin.numerics.code import load_model_code
+        from chaplygin.numerics.map_coordinates import from_cylindrical
+        from chaplygin.numerics.poincare import StroboscopicMap
+
+        code = load_model_code("chaplygin_ball", ["variable_inertia", "variable_gyrostat"])
+        starts = [(0.83, 0.1), (0.41, 1.7), (-0.27, -2.3), (-0.9, 2.9), (0.05, -0.8),
+                  (0.62, -1.9), (-0.55, 0.6), (0.97, 2.2)]  # fmt: skip
+        worst, values = 0.0, {}
+        for omega in (0.18, 0.4):
+            params = {"I": (4, 3, 2), "D": 1.5, "J_off": J_off, "delta": 1.2,
+                      "K": (3, -1, -2), "Omega": omega}  # fmt: skip
+            strobe = StroboscopicMap(code, params, rtol=rtol, atol=rtol / 100)
+            for z, l in starts:
+                y0 = [0.0, 0.0, 0.0, *from_cylindrical(z, l)]
+                y1 = strobe.step(y0)
+                d = float(np.max(np.abs(np.asarray(y1, float) - y0)))
+                worst = max(worst, d)
+                values[f"Omega={omega} z={z} l={l}"] = f"{d:.3g}"
+        return Computed(
+            error=worst,
+            bound=1000 * rtol,
+            what=f"max |P(gamma) - gamma| of the period map from rest (J = {J_off}), 16 starts",
+            values=values,
+        )
+
+    return run
+
+
+register(
+    ComputedClaim(
+        id="BM20-3.1obs",
+        source="BM20 §3.1",
+        kind="solution",
+        statement="from rest with J = 0 only periodic modes: the period map 2 pi/Omega is the "
+        "identity at Fig. 2's K, d, delta and Omega = 0.18, 0.4 (every motion from rest periodic)",
+        system="chaplygin_ball",
+        compute=_period_map_displacement(0.0),
+    )
+)
+register(
+    ComputedClaim(
+        id="BM20-3.1obs/control-J",
+        source="control",
+        kind="solution",
+        statement="(wrong) with Fig. 2's J = -0.5 the period map from rest is the identity too",
+        system="chaplygin_ball",
+        compute=_period_map_displacement(-0.5),
+        expected="fails",
+    )
+)
