@@ -1,0 +1,182 @@
+/* chaplygin.numerics.batch_map: the stroboscopic map of many points in one call, in C.
+ *
+ * Appended to a model's emitted C source (generated/<model>.c: chaplygin_rhs) followed by
+ * numerics/templates/variational.c, whose DOP853 tableau (DOP_C, DOP_A, DOP_B, DOP_E3, DOP_E5)
+ * it reuses. Each of N points has its own state, parameter vector and sampling times
+ *     t_k = t0 + k tau,  tau = tau_hi + tau_lo (a double-double: tau to ~32 digits),
+ * t_k rounded once from k tau_hi (exact product by fma) + k tau_lo + t0, so that t_k does not
+ * accumulate k roundings. The plain system y' = f(t, y) is integrated by the adaptive DOP853 of
+ * Hairer's dop853.f (the error estimate and step control of variational.c's chaplygin_var_flow,
+ * on y alone), every step landing exactly on the next t_k; the step size is carried from one
+ * period to the next. Points are independent: a point that fails (non-finite value, step
+ * underflow, step limit) stops with its own status and the others go on.
+ *
+ * chaplygin_batch_map(N, Y0, P, T0, TAU_HI, TAU_LO, transient, n_record, rtol, atol,
+ *                     max_steps, OUT, STATS, STATUS)
+ *   Y0   N x n_state       initial states (row per point)
+ *   P    N x n_param       parameters (row per point)
+ *   OUT  N x n_record x n_state: y(t_k), k = transient .. transient + n_record - 1
+ *        (NaN after a failure)
+ *   STATS N x 3: accepted steps, rejected steps, evaluations of f
+ *   STATUS N: 0 done, 1 step limit (max_steps per period), 2 step-size underflow, 3 non-finite
+ */
+#include <float.h>
+#include <math.h>
+
+#define BM_N CHAPLYGIN_N_STATE
+
+/* RMS norm of v / (atol + rtol |y|) */
+static double bm_norm(const double *v, const double *y, double rtol, double atol)
+{
+    double s = 0.0;
+    for (int i = 0; i < BM_N; ++i) {
+        double r = v[i] / (atol + rtol * fabs(y[i]));
+        s += r * r;
+    }
+    return sqrt(s / BM_N);
+}
+
+/* The starting step of dop853.f (hinit), order 8. */
+static double bm_initial_step(double t, const double *y, const double *f0, const double *P,
+                              double rtol, double atol, double span)
+{
+    double y1[BM_N], f1[BM_N];
+    double d0 = bm_norm(y, y, rtol, atol), d1 = bm_norm(f0, y, rtol, atol);
+    double h0 = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
+    if (h0 > span) h0 = span;
+    for (int i = 0; i < BM_N; ++i) y1[i] = y[i] + h0 * f0[i];
+    chaplygin_rhs(t + h0, y1, P, f1);
+    for (int i = 0; i < BM_N; ++i) f1[i] -= f0[i];
+    double d2 = bm_norm(f1, y, rtol, atol) / h0;
+    double dm = d1 > d2 ? d1 : d2;
+    double h1 = dm <= 1e-15 ? fmax(1e-6, h0 * 1e-3) : pow(0.01 / dm, 1.0 / 8.0);
+    double h = fmin(100.0 * h0, h1);
+    return h < span ? h : span;
+}
+
+/* t0 + k (tau_hi + tau_lo), rounded once (up to the last bit of the small correction). */
+static double bm_time(double t0, long k, double tau_hi, double tau_lo)
+{
+    const double kd = (double)k;
+    const double p = kd * tau_hi;
+    const double e = fma(kd, tau_hi, -p); /* exact error of the product */
+    const double s = t0 + p;
+    const double bb = s - t0;
+    const double es = (t0 - (s - bb)) + (p - bb); /* exact error of the sum */
+    return s + (es + e + kd * tau_lo);
+}
+
+/* Advance one point from t to t1 (> t). K[0] holds f(t, y) on entry and f(t1, y1) on exit;
+ * *h is the step size to try, updated. Returns 0 or a status. */
+static int bm_advance(double *t_io, double t1, double *y, const double *P, double rtol,
+                      double atol, long max_steps, double *h_io, double K[][BM_N],
+                      double *stats)
+{
+    double ys[BM_N], yn[BM_N];
+    double t = *t_io, h = *h_io;
+    int rejected_last = 0;
+    long steps = 0;
+    while (t1 - t > 0.0) {
+        if (++steps > max_steps) return 1;
+        const double hmin = 10.0 * DBL_EPSILON * fmax(fabs(t), fabs(t1));
+        if (h < hmin) return 2;
+        double hs = h;
+        int last = 0;
+        if (hs >= t1 - t) {
+            hs = t1 - t;
+            last = 1;
+        }
+        for (int s = 1; s < CV_STAGES; ++s) {
+            for (int i = 0; i < BM_N; ++i) {
+                double a = 0.0;
+                for (int r = 0; r < s; ++r) a += DOP_A[s * CV_STAGES + r] * K[r][i];
+                ys[i] = y[i] + hs * a;
+            }
+            chaplygin_rhs(t + DOP_C[s] * hs, ys, P, K[s]);
+        }
+        for (int i = 0; i < BM_N; ++i) {
+            double b = 0.0;
+            for (int r = 0; r < CV_STAGES; ++r) b += DOP_B[r] * K[r][i];
+            yn[i] = y[i] + hs * b;
+        }
+        const double tn = last ? t1 : t + hs;
+        chaplygin_rhs(tn, yn, P, K[CV_STAGES]);
+        stats[2] += CV_STAGES;
+        double n5 = 0.0, n3 = 0.0;
+        for (int i = 0; i < BM_N; ++i) {
+            double a5 = 0.0, a3 = 0.0;
+            for (int r = 0; r <= CV_STAGES; ++r) {
+                a5 += DOP_E5[r] * K[r][i];
+                a3 += DOP_E3[r] * K[r][i];
+            }
+            const double sc = atol + rtol * fmax(fabs(y[i]), fabs(yn[i]));
+            n5 += (a5 / sc) * (a5 / sc);
+            n3 += (a3 / sc) * (a3 / sc);
+        }
+        double err = 0.0;
+        if (n5 > 0.0 || n3 > 0.0) err = hs * n5 / sqrt((n5 + 0.01 * n3) * BM_N);
+        if (!isfinite(err) && !cv_finite(yn, BM_N)) err = INFINITY;
+        if (err <= 1.0) {
+            double fac = err == 0.0 ? 10.0 : 0.9 * pow(err, -1.0 / 8.0);
+            if (fac > 10.0) fac = 10.0;
+            if (rejected_last && fac > 1.0) fac = 1.0;
+            if (fac < 0.2) fac = 0.2;
+            t = tn;
+            for (int i = 0; i < BM_N; ++i) {
+                y[i] = yn[i];
+                K[0][i] = K[CV_STAGES][i];
+            }
+            stats[0] += 1;
+            if (!last || fac < 1.0) h = hs * fac;
+            rejected_last = 0;
+            if (!cv_finite(y, BM_N)) return 3;
+        } else {
+            double fac = isfinite(err) ? 0.9 * pow(err, -1.0 / 8.0) : 0.2;
+            if (fac < 0.2) fac = 0.2;
+            h = hs * fac;
+            rejected_last = 1;
+            stats[1] += 1;
+        }
+    }
+    *t_io = t;
+    *h_io = h;
+    return 0;
+}
+
+void chaplygin_batch_map(long N, const double *Y0, const double *P, const double *T0,
+                         const double *TAU_HI, const double *TAU_LO, long transient,
+                         long n_record, double rtol, double atol, long max_steps, double *OUT,
+                         double *STATS, int *STATUS)
+{
+    for (long j = 0; j < N; ++j) {
+        const double *p = P + j * CHAPLYGIN_N_PARAM;
+        double *out = OUT + j * n_record * BM_N;
+        double *stats = STATS + 3 * j;
+        double K[CV_STAGES + 1][BM_N];
+        double y[BM_N];
+        for (int i = 0; i < BM_N; ++i) y[i] = Y0[j * BM_N + i];
+        for (long i = 0; i < n_record * BM_N; ++i) out[i] = NAN;
+        stats[0] = stats[1] = stats[2] = 0.0;
+        int status = cv_finite(y, BM_N) ? 0 : 3;
+        double t = T0[j];
+        double h = 0.0;
+        if (!status) {
+            chaplygin_rhs(t, y, p, K[0]);
+            stats[2] += 1;
+        }
+        for (long k = 0; k < transient + n_record && !status; ++k) {
+            if (k > 0) {
+                const double t1 = bm_time(T0[j], k, TAU_HI[j], TAU_LO[j]);
+                if (h == 0.0) {
+                    h = bm_initial_step(t, y, K[0], p, rtol, atol, t1 - t);
+                    stats[2] += 1;
+                }
+                status = bm_advance(&t, t1, y, p, rtol, atol, max_steps, &h, K, stats);
+                if (status) break;
+            }
+            if (k >= transient)
+                for (int i = 0; i < BM_N; ++i) out[(k - transient) * BM_N + i] = y[i];
+        }
+        STATUS[j] = status;
+    }
+}
