@@ -86,29 +86,37 @@ static int bm_advance(double *t_io, double t1, double *y, const double *P, doubl
             hs = t1 - t;
             last = 1;
         }
+        /* sums over r in the same order as variational.c, loops over i innermost (independent,
+         * vectorisable), zero coefficients skipped (adding 0 * K changes no finite sum) */
         for (int s = 1; s < CV_STAGES; ++s) {
-            for (int i = 0; i < BM_N; ++i) {
-                double a = 0.0;
-                for (int r = 0; r < s; ++r) a += DOP_A[s * CV_STAGES + r] * K[r][i];
-                ys[i] = y[i] + hs * a;
+            double a[BM_N] = {0.0};
+            for (int r = 0; r < s; ++r) {
+                const double c = DOP_A[s * CV_STAGES + r];
+                if (c == 0.0) continue;
+                for (int i = 0; i < BM_N; ++i) a[i] += c * K[r][i];
             }
+            for (int i = 0; i < BM_N; ++i) ys[i] = y[i] + hs * a[i];
             chaplygin_rhs(t + DOP_C[s] * hs, ys, P, K[s]);
         }
-        for (int i = 0; i < BM_N; ++i) {
-            double b = 0.0;
-            for (int r = 0; r < CV_STAGES; ++r) b += DOP_B[r] * K[r][i];
-            yn[i] = y[i] + hs * b;
+        double b[BM_N] = {0.0};
+        for (int r = 0; r < CV_STAGES; ++r) {
+            if (DOP_B[r] == 0.0) continue;
+            for (int i = 0; i < BM_N; ++i) b[i] += DOP_B[r] * K[r][i];
         }
+        for (int i = 0; i < BM_N; ++i) yn[i] = y[i] + hs * b[i];
         const double tn = last ? t1 : t + hs;
         chaplygin_rhs(tn, yn, P, K[CV_STAGES]);
         stats[2] += CV_STAGES;
-        double n5 = 0.0, n3 = 0.0;
+        double n5 = 0.0, n3 = 0.0, e5[BM_N] = {0.0}, e3[BM_N] = {0.0};
+        for (int r = 0; r <= CV_STAGES; ++r) {
+            const double c5 = DOP_E5[r], c3 = DOP_E3[r];
+            if (c5 != 0.0)
+                for (int i = 0; i < BM_N; ++i) e5[i] += c5 * K[r][i];
+            if (c3 != 0.0)
+                for (int i = 0; i < BM_N; ++i) e3[i] += c3 * K[r][i];
+        }
         for (int i = 0; i < BM_N; ++i) {
-            double a5 = 0.0, a3 = 0.0;
-            for (int r = 0; r <= CV_STAGES; ++r) {
-                a5 += DOP_E5[r] * K[r][i];
-                a3 += DOP_E3[r] * K[r][i];
-            }
+            const double a5 = e5[i], a3 = e3[i];
             const double sc = atol + rtol * fmax(fabs(y[i]), fabs(yn[i]));
             n5 += (a5 / sc) * (a5 / sc);
             n3 += (a3 / sc) * (a3 / sc);
