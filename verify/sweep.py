@@ -53,6 +53,8 @@ __all__ = [
     "register_reducer",
     "plan_sweep",
     "compute_chunk",
+    "chunk_payload",
+    "linear_growth_rate",
     "evaluate_point",
     "run_sweep",
     "open_store",
@@ -499,12 +501,32 @@ def _lyapunov_max(ctx: PointContext) -> dict:
         atol=run.atol if run.atol is not None else 1e-12,
     )
     lam, err = float(spec.exponents[0]), float(spec.errors[0])
+    per_iteration, per_iteration_error = lam * spec.period, err * spec.period
     return {
         "lyapunov_max": lam,
         "lyapunov_max_error": err,
-        "lyapunov_max_per_iteration": lam * spec.period,
-        "lyapunov_max_per_iteration_error": err * spec.period,
+        "lyapunov_max_per_iteration": per_iteration,
+        "lyapunov_max_per_iteration_error": per_iteration_error,
+        "chaotic": int(
+            per_iteration - 3 * per_iteration_error > linear_growth_rate(opts.intervals)
+        ),
     }
+
+
+def linear_growth_rate(iterations: int) -> float:
+    """The exponent per iteration that a tangent vector growing linearly (``|v_N| = N |v_0|``,
+    as on an invariant torus or a periodic orbit) shows after ``N`` iterations: ``ln(N)/N``.
+
+    Parameters
+    ----------
+    iterations : int
+
+    Returns
+    -------
+    float
+        Per map iteration.
+    """
+    return math.log(iterations) / iterations
 
 
 def _lyapunov_variables(code: Any, sweep: Any) -> dict[str, Variable]:
@@ -523,6 +545,14 @@ def _lyapunov_variables(code: Any, sweep: Any) -> dict[str, Variable]:
         ),
         "lyapunov_max_per_iteration_error": Variable(
             attrs={"long_name": error, "units": UNITS_PER_ITERATION}
+        ),
+        "chaotic": Variable(
+            dtype="int8",
+            attrs={
+                "long_name": "1 when the largest exponent per iteration minus 3 error bars "
+                "exceeds ln(N)/N (what linear growth over N iterations shows), else 0",
+                "units": "1",
+            },
         ),
     }
 
@@ -948,6 +978,28 @@ def _reduce_point(ctx: PointContext) -> tuple[int, dict[str, Any]]:
     return STATUS_DONE, values
 
 
+def chunk_payload(plan: SweepPlan) -> dict[str, Any]:
+    """What every task of a sweep receives besides its points (see :func:`compute_chunk`).
+
+    Parameters
+    ----------
+    plan : SweepPlan
+
+    Returns
+    -------
+    dict
+        ``base``, ``sweep``, ``source``, ``variables``.
+    """
+    return {
+        "base": plan.base,
+        "sweep": plan.scene.sweep.model_dump(mode="json"),
+        "source": plan.scene.source,
+        "variables": {
+            name: (_extra_shape(plan, var), var.dtype) for name, var in plan.variables.items()
+        },
+    }
+
+
 def compute_chunk(payload: Mapping, points: Sequence[Mapping[str, Any]]) -> dict[str, np.ndarray]:
     """Reduce a chunk of points (a Dask task; runs on a worker).
 
@@ -1192,14 +1244,7 @@ def run_sweep(
     group = open_store(plan, store)
     done = _done_chunks(plan, group)
     pending = [k for k in range(len(plan.chunks)) if k not in done]
-    payload = {
-        "base": plan.base,
-        "sweep": scene.sweep.model_dump(mode="json"),
-        "source": scene.source,
-        "variables": {
-            name: (_extra_shape(plan, var), var.dtype) for name, var in plan.variables.items()
-        },
-    }
+    payload = chunk_payload(plan)
     if pending:
         own = client is None
         cluster = None
