@@ -64,12 +64,33 @@ def test_a_failing_point_spoils_no_other():
     params = [PARAMS[0], PARAMS[0], PARAMS[1], PARAMS[1], PARAMS[2]]
     bm = BatchStroboscopicMap(CODE, rtol=1e-10, atol=1e-10)
     r = bm.run(rows, params, n=4, transient=2)
+    assert r.lockstep == bm.lockstep_available
     assert list(r.status) == [0, 3, 0, r.status[3], 0] and r.status[3] != 0
     assert np.isnan(r.y[1]).all() and np.isnan(r.y[3]).all()
     for j, (y, p) in zip((0, 2, 4), zip(y0, PARAMS, strict=True), strict=True):
         alone = bm.run([y], [p], n=4, transient=2)
         assert np.array_equal(alone.y[0], r.y[j])
         assert alone.evaluations[0] == r.evaluations[j]
+
+
+def test_lockstep_lanes_are_bit_identical_to_one_point_at_a_time():
+    """Seven points (more than the 4 lanes, so lanes are refilled; one fails at once, one has
+    its own Omega and D) in vector lanes give the bits and the work counts of the one-point
+    driver: each lane does the same IEEE operations."""
+    bm = BatchStroboscopicMap(CODE, rtol=1e-11, atol=1e-11)
+    if not bm.lockstep_available:
+        pytest.skip("the model's right-hand side has no vector form")
+    y0 = _states()
+    rows = [y0[0], y0[1], [math.nan, *y0[2][1:]], y0[2], y0[0], y0[1], y0[2]]
+    params = [PARAMS[0], PARAMS[1], PARAMS[2], PARAMS[2], PARAMS[1], PARAMS[0], PARAMS[2]]
+    params[4] = [*PARAMS[1][:3], 1.7320508, *PARAMS[1][4:9], 0.6180339]
+    lanes = bm.run(rows, params, n=3, transient=2, lockstep=True)
+    single = bm.run(rows, params, n=3, transient=2, lockstep=False)
+    assert lanes.lockstep and not single.lockstep
+    assert list(lanes.status) == list(single.status) == [0, 0, 3, 0, 0, 0, 0]
+    assert np.array_equal(lanes.y, single.y, equal_nan=True)
+    for counter in ("steps", "rejected", "evaluations"):
+        assert np.array_equal(getattr(lanes, counter), getattr(single, counter)), counter
 
 
 def test_work_is_counted():

@@ -16,9 +16,17 @@
  *   Y0   N x n_state       initial states (row per point)
  *   P    N x n_param       parameters (row per point)
  *   OUT  N x n_record x n_state: y(t_k), k = transient .. transient + n_record - 1
- *        (NaN after a failure)
+ *        (all NaN for a point that failed)
  *   STATS N x 3: accepted steps, rejected steps, evaluations of f
  *   STATUS N: 0 done, 1 step limit (max_steps per period), 2 step-size underflow, 3 non-finite
+ *
+ * chaplygin_batch_map_lockstep(same arguments): the same computation, BM_W points at a time in
+ * the lanes of GCC vector types (BM_VEC_RHS defined: batch_map.py appends bm_rhs_vec, the
+ * generated chaplygin_rhs with every double a vector of BM_W lanes). Every lane takes its own
+ * steps (own t, h, accept/reject, sampling times); the stage sums and the right-hand side run
+ * on all lanes at once, each lane with the same IEEE operations in the same order as
+ * chaplygin_batch_map (no contraction, lane-wise libm calls), so the results are bit-identical
+ * to it. A lane whose point is done (or failed) takes the next point of the batch.
  */
 #include <float.h>
 #include <math.h>
@@ -185,6 +193,246 @@ void chaplygin_batch_map(long N, const double *Y0, const double *P, const double
             if (k >= transient)
                 for (int i = 0; i < BM_N; ++i) out[(k - transient) * BM_N + i] = y[i];
         }
+        if (status)
+            for (long i = 0; i < n_record * BM_N; ++i) out[i] = NAN;
         STATUS[j] = status;
     }
 }
+
+#ifdef BM_VEC_RHS
+#ifndef BM_W
+#define BM_W 4
+#endif
+typedef double bm_vec __attribute__((vector_size(BM_W * sizeof(double))));
+
+#define BM_LANEWISE(name)                                                                      \
+    static inline bm_vec bm_v_##name(bm_vec x)                                                 \
+    {                                                                                          \
+        bm_vec r;                                                                              \
+        for (int l = 0; l < BM_W; ++l) r[l] = name(x[l]);                                      \
+        return r;                                                                              \
+    }
+BM_LANEWISE(sin)
+BM_LANEWISE(cos)
+BM_LANEWISE(exp)
+BM_LANEWISE(log)
+BM_LANEWISE(sqrt)
+BM_LANEWISE(fabs)
+
+static void bm_rhs_vec(bm_vec T, const bm_vec *restrict Y, const bm_vec *restrict P,
+                       bm_vec *restrict OUT);
+
+typedef struct {
+    long point;   /* index in the batch, -1: idle */
+    long k;       /* sampling times reached */
+    double t, t1, h;
+    int rejected_last;
+    long steps;   /* steps in the current period */
+} bm_lane;
+
+/* Put point j into lane l (state, parameters, f(t0, y0)); record its first point. Returns 0,
+ * or the status of a point that fails at once. */
+static int bm_load(long j, int l, bm_lane *lane, bm_vec *y, bm_vec *P, bm_vec K[][BM_N],
+                   const double *Y0, const double *PP, const double *T0, long transient,
+                   double *OUT, long n_record, double *STATS)
+{
+    double yj[BM_N], f[BM_N];
+    const double *p = PP + j * CHAPLYGIN_N_PARAM;
+    double *out = OUT + j * n_record * BM_N;
+    for (long i = 0; i < n_record * BM_N; ++i) out[i] = NAN;
+    STATS[3 * j] = STATS[3 * j + 1] = STATS[3 * j + 2] = 0.0;
+    for (int i = 0; i < BM_N; ++i) yj[i] = Y0[j * BM_N + i];
+    lane->point = j;
+    lane->k = 0;
+    lane->t = lane->t1 = T0[j];
+    lane->h = 0.0;
+    lane->rejected_last = 0;
+    lane->steps = 0;
+    if (!cv_finite(yj, BM_N)) return 3;
+    chaplygin_rhs(lane->t, yj, p, f);
+    STATS[3 * j + 2] += 1;
+    for (int i = 0; i < BM_N; ++i) {
+        y[i][l] = yj[i];
+        K[0][i][l] = f[i];
+    }
+    for (int i = 0; i < CHAPLYGIN_N_PARAM; ++i) P[i][l] = p[i];
+    if (transient == 0)
+        for (int i = 0; i < BM_N; ++i) out[i] = yj[i];
+    return 0;
+}
+
+void chaplygin_batch_map_lockstep(long N, const double *Y0, const double *PP, const double *T0,
+                                  const double *TAU_HI, const double *TAU_LO, long transient,
+                                  long n_record, double rtol, double atol, long max_steps,
+                                  double *OUT, double *STATS, int *STATUS)
+{
+    const long last_k = transient + n_record - 1;
+    bm_vec y[BM_N], ys[BM_N], yn[BM_N], P[CHAPLYGIN_N_PARAM], K[CV_STAGES + 1][BM_N];
+    bm_lane lane[BM_W];
+    long next = 0;
+    int active = 0;
+    for (int i = 0; i < BM_N; ++i) y[i] = (bm_vec){0};
+    for (int i = 0; i < CHAPLYGIN_N_PARAM; ++i) P[i] = (bm_vec){0};
+    for (int r = 0; r <= CV_STAGES; ++r)
+        for (int i = 0; i < BM_N; ++i) K[r][i] = (bm_vec){0};
+    /* fill a lane with the next point that needs work; idle lanes keep their (finite) values */
+    #define BM_REFILL(l)                                                                       \
+        do {                                                                                   \
+            lane[l].point = -1;                                                                \
+            while (next < N) {                                                                 \
+                long j_ = next++;                                                              \
+                int st_ = bm_load(j_, l, &lane[l], y, P, K, Y0, PP, T0, transient, OUT,        \
+                                  n_record, STATS);                                            \
+                STATUS[j_] = st_;                                                              \
+                if (st_ == 0 && last_k > 0) break;                                             \
+                lane[l].point = -1;                                                            \
+            }                                                                                  \
+        } while (0)
+    for (int l = 0; l < BM_W; ++l) {
+        BM_REFILL(l);
+        if (lane[l].point >= 0) ++active;
+    }
+    if (active > 0) { /* idle lanes copy a working lane so that they compute finite numbers */
+        int w = 0;
+        while (lane[w].point < 0) ++w;
+        for (int l = 0; l < BM_W; ++l) {
+            if (lane[l].point >= 0) continue;
+            for (int i = 0; i < BM_N; ++i) {
+                y[i][l] = y[i][w];
+                K[0][i][l] = K[0][i][w];
+            }
+            for (int i = 0; i < CHAPLYGIN_N_PARAM; ++i) P[i][l] = P[i][w];
+            lane[l].t = lane[w].t;
+        }
+    }
+    while (active > 0) {
+        bm_vec hs = {0}, tv = {0};
+        int last[BM_W];
+        for (int l = 0; l < BM_W; ++l) {
+            bm_lane *L = &lane[l];
+            tv[l] = L->t;
+            last[l] = 0;
+            if (L->point < 0) continue;
+            const long j = L->point;
+            if (L->steps == 0 && L->t1 <= L->t) /* a new period: its end */
+                L->t1 = bm_time(T0[j], L->k + 1, TAU_HI[j], TAU_LO[j]);
+            if (L->h == 0.0) {
+                double yl[BM_N], fl[BM_N], pl[CHAPLYGIN_N_PARAM];
+                for (int i = 0; i < BM_N; ++i) {
+                    yl[i] = y[i][l];
+                    fl[i] = K[0][i][l];
+                }
+                for (int i = 0; i < CHAPLYGIN_N_PARAM; ++i) pl[i] = P[i][l];
+                L->h = bm_initial_step(L->t, yl, fl, pl, rtol, atol, L->t1 - L->t);
+                STATS[3 * j + 2] += 1;
+            }
+            int status = 0;
+            if (++L->steps > max_steps) status = 1;
+            else if (L->h < 10.0 * DBL_EPSILON * fmax(fabs(L->t), fabs(L->t1))) status = 2;
+            if (status) {
+                STATUS[j] = status;
+                for (long i = 0; i < n_record * BM_N; ++i) OUT[j * n_record * BM_N + i] = NAN;
+                BM_REFILL(l);
+                if (L->point < 0) { --active; continue; }
+                --l; /* the new point starts in this lane: prepare its step */
+                continue;
+            }
+            double h = L->h;
+            if (h >= L->t1 - L->t) {
+                h = L->t1 - L->t;
+                last[l] = 1;
+            }
+            hs[l] = h;
+        }
+        if (active == 0) break;
+        for (int s = 1; s < CV_STAGES; ++s) {
+            bm_vec a[BM_N];
+            for (int i = 0; i < BM_N; ++i) a[i] = (bm_vec){0};
+            for (int r = 0; r < s; ++r) {
+                const double c = DOP_A[s * CV_STAGES + r];
+                if (c == 0.0) continue;
+                for (int i = 0; i < BM_N; ++i) a[i] += c * K[r][i];
+            }
+            for (int i = 0; i < BM_N; ++i) ys[i] = y[i] + hs * a[i];
+            bm_rhs_vec(tv + DOP_C[s] * hs, ys, P, K[s]);
+        }
+        bm_vec b[BM_N], tn = tv + hs;
+        for (int i = 0; i < BM_N; ++i) b[i] = (bm_vec){0};
+        for (int r = 0; r < CV_STAGES; ++r) {
+            if (DOP_B[r] == 0.0) continue;
+            for (int i = 0; i < BM_N; ++i) b[i] += DOP_B[r] * K[r][i];
+        }
+        for (int i = 0; i < BM_N; ++i) yn[i] = y[i] + hs * b[i];
+        for (int l = 0; l < BM_W; ++l)
+            if (last[l]) tn[l] = lane[l].t1;
+        bm_rhs_vec(tn, yn, P, K[CV_STAGES]);
+        bm_vec e5[BM_N], e3[BM_N];
+        for (int i = 0; i < BM_N; ++i) e5[i] = e3[i] = (bm_vec){0};
+        for (int r = 0; r <= CV_STAGES; ++r) {
+            const double c5 = DOP_E5[r], c3 = DOP_E3[r];
+            if (c5 != 0.0)
+                for (int i = 0; i < BM_N; ++i) e5[i] += c5 * K[r][i];
+            if (c3 != 0.0)
+                for (int i = 0; i < BM_N; ++i) e3[i] += c3 * K[r][i];
+        }
+        for (int l = 0; l < BM_W; ++l) {
+            bm_lane *L = &lane[l];
+            if (L->point < 0) continue;
+            const long j = L->point;
+            double *stats = STATS + 3 * j;
+            stats[2] += CV_STAGES;
+            double n5 = 0.0, n3 = 0.0, ynl[BM_N];
+            for (int i = 0; i < BM_N; ++i) {
+                const double a5 = e5[i][l], a3 = e3[i][l];
+                ynl[i] = yn[i][l];
+                const double sc = atol + rtol * fmax(fabs(y[i][l]), fabs(ynl[i]));
+                n5 += (a5 / sc) * (a5 / sc);
+                n3 += (a3 / sc) * (a3 / sc);
+            }
+            const double h = hs[l];
+            double err = 0.0;
+            if (n5 > 0.0 || n3 > 0.0) err = h * n5 / sqrt((n5 + 0.01 * n3) * BM_N);
+            if (!isfinite(err) && !cv_finite(ynl, BM_N)) err = INFINITY;
+            if (err > 1.0) {
+                double fac = isfinite(err) ? 0.9 * pow(err, -1.0 / 8.0) : 0.2;
+                if (fac < 0.2) fac = 0.2;
+                L->h = h * fac;
+                L->rejected_last = 1;
+                stats[1] += 1;
+                continue;
+            }
+            double fac = err == 0.0 ? 10.0 : 0.9 * pow(err, -1.0 / 8.0);
+            if (fac > 10.0) fac = 10.0;
+            if (L->rejected_last && fac > 1.0) fac = 1.0;
+            if (fac < 0.2) fac = 0.2;
+            L->t = tn[l];
+            for (int i = 0; i < BM_N; ++i) {
+                y[i][l] = ynl[i];
+                K[0][i][l] = K[CV_STAGES][i][l];
+            }
+            stats[0] += 1;
+            if (!last[l] || fac < 1.0) L->h = h * fac;
+            L->rejected_last = 0;
+            int status = cv_finite(ynl, BM_N) ? 0 : 3;
+            if (!status && last[l]) { /* reached t_k */
+                L->k += 1;
+                L->steps = 0;
+                L->rejected_last = 0;
+                if (L->k >= transient) {
+                    double *out = OUT + (j * n_record + (L->k - transient)) * BM_N;
+                    for (int i = 0; i < BM_N; ++i) out[i] = ynl[i];
+                }
+                if (L->k < last_k) continue;
+            } else if (!status) {
+                continue;
+            }
+            STATUS[j] = status;
+            if (status)
+                for (long i = 0; i < n_record * BM_N; ++i) OUT[j * n_record * BM_N + i] = NAN;
+            BM_REFILL(l);
+            if (L->point < 0) --active;
+        }
+    }
+    #undef BM_REFILL
+}
+#endif
