@@ -74,6 +74,61 @@ static double bm_time(double t0, long k, double tau_hi, double tau_lo)
     return s + (es + e + kd * tau_lo);
 }
 
+/* The DOP853 sums of a step, for one point (double) or for the lanes (bm_vec) alike: stage s's
+ * increment a = sum_r A[s][r] K[r], the solution's b = sum_r B[r] K[r], and the error
+ * estimates e5, e3; sums over r in the same order as variational.c, loops over the components
+ * innermost (independent, vectorisable), zero coefficients skipped (adding 0 * K changes no
+ * finite sum). The accumulators must be zero on entry. */
+#define BM_STAGE_SUM(a, s, K)                                                                  \
+    for (int r_ = 0; r_ < (s); ++r_) {                                                         \
+        const double c_ = DOP_A[(s) * CV_STAGES + r_];                                         \
+        if (c_ == 0.0) continue;                                                               \
+        for (int i_ = 0; i_ < BM_N; ++i_) (a)[i_] += c_ * (K)[r_][i_];                         \
+    }
+#define BM_SOLUTION_SUM(b, K)                                                                  \
+    for (int r_ = 0; r_ < CV_STAGES; ++r_) {                                                   \
+        if (DOP_B[r_] == 0.0) continue;                                                        \
+        for (int i_ = 0; i_ < BM_N; ++i_) (b)[i_] += DOP_B[r_] * (K)[r_][i_];                  \
+    }
+#define BM_ERROR_SUMS(e5, e3, K)                                                               \
+    for (int r_ = 0; r_ <= CV_STAGES; ++r_) {                                                  \
+        const double c5_ = DOP_E5[r_], c3_ = DOP_E3[r_];                                       \
+        if (c5_ != 0.0)                                                                        \
+            for (int i_ = 0; i_ < BM_N; ++i_) (e5)[i_] += c5_ * (K)[r_][i_];                   \
+        if (c3_ != 0.0)                                                                        \
+            for (int i_ = 0; i_ < BM_N; ++i_) (e3)[i_] += c3_ * (K)[r_][i_];                   \
+    }
+
+/* The error of a step of size hs (dop853.f: err5 and err3 combined), INFINITY when the new
+ * state is not finite. */
+static double bm_step_error(const double *e5, const double *e3, const double *y,
+                            const double *yn, double hs, double rtol, double atol)
+{
+    double n5 = 0.0, n3 = 0.0;
+    for (int i = 0; i < BM_N; ++i) {
+        const double sc = atol + rtol * fmax(fabs(y[i]), fabs(yn[i]));
+        n5 += (e5[i] / sc) * (e5[i] / sc);
+        n3 += (e3[i] / sc) * (e3[i] / sc);
+    }
+    double err = 0.0;
+    if (n5 > 0.0 || n3 > 0.0) err = hs * n5 / sqrt((n5 + 0.01 * n3) * BM_N);
+    if (!isfinite(err) && !cv_finite(yn, BM_N)) err = INFINITY;
+    return err;
+}
+
+/* The factor of the next step size after a step with error err (accepted when err <= 1). */
+static double bm_step_factor(double err, int rejected_last)
+{
+    if (err > 1.0) {
+        double fac = isfinite(err) ? 0.9 * pow(err, -1.0 / 8.0) : 0.2;
+        return fac < 0.2 ? 0.2 : fac;
+    }
+    double fac = err == 0.0 ? 10.0 : 0.9 * pow(err, -1.0 / 8.0);
+    if (fac > 10.0) fac = 10.0;
+    if (rejected_last && fac > 1.0) fac = 1.0;
+    return fac < 0.2 ? 0.2 : fac;
+}
+
 /* Advance one point from t to t1 (> t). K[0] holds f(t, y) on entry and f(t1, y1) on exit;
  * *h is the step size to try, updated. Returns 0 or a status. */
 static int bm_advance(double *t_io, double t1, double *y, const double *P, double rtol,
@@ -94,49 +149,22 @@ static int bm_advance(double *t_io, double t1, double *y, const double *P, doubl
             hs = t1 - t;
             last = 1;
         }
-        /* sums over r in the same order as variational.c, loops over i innermost (independent,
-         * vectorisable), zero coefficients skipped (adding 0 * K changes no finite sum) */
         for (int s = 1; s < CV_STAGES; ++s) {
             double a[BM_N] = {0.0};
-            for (int r = 0; r < s; ++r) {
-                const double c = DOP_A[s * CV_STAGES + r];
-                if (c == 0.0) continue;
-                for (int i = 0; i < BM_N; ++i) a[i] += c * K[r][i];
-            }
+            BM_STAGE_SUM(a, s, K)
             for (int i = 0; i < BM_N; ++i) ys[i] = y[i] + hs * a[i];
             chaplygin_rhs(t + DOP_C[s] * hs, ys, P, K[s]);
         }
-        double b[BM_N] = {0.0};
-        for (int r = 0; r < CV_STAGES; ++r) {
-            if (DOP_B[r] == 0.0) continue;
-            for (int i = 0; i < BM_N; ++i) b[i] += DOP_B[r] * K[r][i];
-        }
+        double b[BM_N] = {0.0}, e5[BM_N] = {0.0}, e3[BM_N] = {0.0};
+        BM_SOLUTION_SUM(b, K)
         for (int i = 0; i < BM_N; ++i) yn[i] = y[i] + hs * b[i];
         const double tn = last ? t1 : t + hs;
         chaplygin_rhs(tn, yn, P, K[CV_STAGES]);
         stats[2] += CV_STAGES;
-        double n5 = 0.0, n3 = 0.0, e5[BM_N] = {0.0}, e3[BM_N] = {0.0};
-        for (int r = 0; r <= CV_STAGES; ++r) {
-            const double c5 = DOP_E5[r], c3 = DOP_E3[r];
-            if (c5 != 0.0)
-                for (int i = 0; i < BM_N; ++i) e5[i] += c5 * K[r][i];
-            if (c3 != 0.0)
-                for (int i = 0; i < BM_N; ++i) e3[i] += c3 * K[r][i];
-        }
-        for (int i = 0; i < BM_N; ++i) {
-            const double a5 = e5[i], a3 = e3[i];
-            const double sc = atol + rtol * fmax(fabs(y[i]), fabs(yn[i]));
-            n5 += (a5 / sc) * (a5 / sc);
-            n3 += (a3 / sc) * (a3 / sc);
-        }
-        double err = 0.0;
-        if (n5 > 0.0 || n3 > 0.0) err = hs * n5 / sqrt((n5 + 0.01 * n3) * BM_N);
-        if (!isfinite(err) && !cv_finite(yn, BM_N)) err = INFINITY;
+        BM_ERROR_SUMS(e5, e3, K)
+        const double err = bm_step_error(e5, e3, y, yn, hs, rtol, atol);
+        const double fac = bm_step_factor(err, rejected_last);
         if (err <= 1.0) {
-            double fac = err == 0.0 ? 10.0 : 0.9 * pow(err, -1.0 / 8.0);
-            if (fac > 10.0) fac = 10.0;
-            if (rejected_last && fac > 1.0) fac = 1.0;
-            if (fac < 0.2) fac = 0.2;
             t = tn;
             for (int i = 0; i < BM_N; ++i) {
                 y[i] = yn[i];
@@ -147,8 +175,6 @@ static int bm_advance(double *t_io, double t1, double *y, const double *P, doubl
             rejected_last = 0;
             if (!cv_finite(y, BM_N)) return 3;
         } else {
-            double fac = isfinite(err) ? 0.9 * pow(err, -1.0 / 8.0) : 0.2;
-            if (fac < 0.2) fac = 0.2;
             h = hs * fac;
             rejected_last = 1;
             stats[1] += 1;
@@ -348,63 +374,40 @@ void chaplygin_batch_map_lockstep(long N, const double *Y0, const double *PP, co
         for (int s = 1; s < CV_STAGES; ++s) {
             bm_vec a[BM_N];
             for (int i = 0; i < BM_N; ++i) a[i] = (bm_vec){0};
-            for (int r = 0; r < s; ++r) {
-                const double c = DOP_A[s * CV_STAGES + r];
-                if (c == 0.0) continue;
-                for (int i = 0; i < BM_N; ++i) a[i] += c * K[r][i];
-            }
+            BM_STAGE_SUM(a, s, K)
             for (int i = 0; i < BM_N; ++i) ys[i] = y[i] + hs * a[i];
             bm_rhs_vec(tv + DOP_C[s] * hs, ys, P, K[s]);
         }
-        bm_vec b[BM_N], tn = tv + hs;
-        for (int i = 0; i < BM_N; ++i) b[i] = (bm_vec){0};
-        for (int r = 0; r < CV_STAGES; ++r) {
-            if (DOP_B[r] == 0.0) continue;
-            for (int i = 0; i < BM_N; ++i) b[i] += DOP_B[r] * K[r][i];
-        }
+        bm_vec b[BM_N], e5[BM_N], e3[BM_N], tn = tv + hs;
+        for (int i = 0; i < BM_N; ++i) b[i] = e5[i] = e3[i] = (bm_vec){0};
+        BM_SOLUTION_SUM(b, K)
         for (int i = 0; i < BM_N; ++i) yn[i] = y[i] + hs * b[i];
         for (int l = 0; l < BM_W; ++l)
             if (last[l]) tn[l] = lane[l].t1;
         bm_rhs_vec(tn, yn, P, K[CV_STAGES]);
-        bm_vec e5[BM_N], e3[BM_N];
-        for (int i = 0; i < BM_N; ++i) e5[i] = e3[i] = (bm_vec){0};
-        for (int r = 0; r <= CV_STAGES; ++r) {
-            const double c5 = DOP_E5[r], c3 = DOP_E3[r];
-            if (c5 != 0.0)
-                for (int i = 0; i < BM_N; ++i) e5[i] += c5 * K[r][i];
-            if (c3 != 0.0)
-                for (int i = 0; i < BM_N; ++i) e3[i] += c3 * K[r][i];
-        }
+        BM_ERROR_SUMS(e5, e3, K)
         for (int l = 0; l < BM_W; ++l) {
             bm_lane *L = &lane[l];
             if (L->point < 0) continue;
             const long j = L->point;
             double *stats = STATS + 3 * j;
             stats[2] += CV_STAGES;
-            double n5 = 0.0, n3 = 0.0, ynl[BM_N];
+            double ynl[BM_N], yl[BM_N], e5l[BM_N], e3l[BM_N];
             for (int i = 0; i < BM_N; ++i) {
-                const double a5 = e5[i][l], a3 = e3[i][l];
                 ynl[i] = yn[i][l];
-                const double sc = atol + rtol * fmax(fabs(y[i][l]), fabs(ynl[i]));
-                n5 += (a5 / sc) * (a5 / sc);
-                n3 += (a3 / sc) * (a3 / sc);
+                yl[i] = y[i][l];
+                e5l[i] = e5[i][l];
+                e3l[i] = e3[i][l];
             }
             const double h = hs[l];
-            double err = 0.0;
-            if (n5 > 0.0 || n3 > 0.0) err = h * n5 / sqrt((n5 + 0.01 * n3) * BM_N);
-            if (!isfinite(err) && !cv_finite(ynl, BM_N)) err = INFINITY;
+            const double err = bm_step_error(e5l, e3l, yl, ynl, h, rtol, atol);
+            const double fac = bm_step_factor(err, L->rejected_last);
             if (err > 1.0) {
-                double fac = isfinite(err) ? 0.9 * pow(err, -1.0 / 8.0) : 0.2;
-                if (fac < 0.2) fac = 0.2;
                 L->h = h * fac;
                 L->rejected_last = 1;
                 stats[1] += 1;
                 continue;
             }
-            double fac = err == 0.0 ? 10.0 : 0.9 * pow(err, -1.0 / 8.0);
-            if (fac > 10.0) fac = 10.0;
-            if (L->rejected_last && fac > 1.0) fac = 1.0;
-            if (fac < 0.2) fac = 0.2;
             L->t = tn[l];
             for (int i = 0; i < BM_N; ++i) {
                 y[i][l] = ynl[i];
