@@ -119,3 +119,18 @@ def test_bad_input_is_a_user_error(kwargs, match):
 def test_an_autonomous_model_is_refused():
     with pytest.raises(UserInputError, match="Omega"):
         BatchStroboscopicMap(load_model_code("chaplygin_ball"))
+
+
+def test_map_throughput_reports_the_work_it_did():
+    """The bench section (no timing asserted): every row present, the batch map's counts
+    consistent (12 evaluations per step attempt, 2 to start), its first periods near the Taylor
+    run's."""
+    from chaplygin.verify.bench import map_throughput
+
+    row = map_throughput(periods=12, repeats=1, peers=False)
+    for name in ("ours_taylor_c", "ours_batch1", "ours_batch4", "ours_batch16"):
+        assert row[f"{name}_us"] > 0 and row[f"{name}_cpu_us"] >= 0
+    steps = row["ours_batch_steps_per_period"] + row["ours_batch_rejected_per_period"]
+    assert row["ours_batch_rhs_per_period"] == pytest.approx(12 * steps + 2 / 12, rel=1e-12)
+    # 10 periods of about 70 steps, each within rtol = 1e-12 (and the Taylor run's own error)
+    assert row["ours_batch_vs_taylor_first_10_periods"] < 1e-12 * 12 * 70 * 10
