@@ -150,7 +150,7 @@ class PointContext:
         if self._trajectory is None:
             from .scene import _integrate_trajectory
 
-            self._trajectory = _integrate_trajectory(self.scene, self.resolved, False)
+            self._trajectory, _ = _integrate_trajectory(self.scene, self.resolved, False)
         return self._trajectory
 
     def param(self, name: str) -> Any:
