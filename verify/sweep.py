@@ -53,6 +53,8 @@ __all__ = [
     "register_reducer",
     "plan_sweep",
     "compute_chunk",
+    "chunk_payload",
+    "linear_growth_rate",
     "evaluate_point",
     "run_sweep",
     "open_store",
@@ -136,6 +138,7 @@ class PointContext:
     resolved: Any
     sweep: Any
     _trajectory: Any = None
+    batched: dict[str, Any] = field(default_factory=dict)
 
     def trajectory(self) -> Any:
         """The scene's trajectory (integrated once, shared by the reducers).
@@ -147,7 +150,7 @@ class PointContext:
         if self._trajectory is None:
             from .scene import _integrate_trajectory
 
-            self._trajectory = _integrate_trajectory(self.scene, self.resolved, False)
+            self._trajectory, _ = _integrate_trajectory(self.scene, self.resolved, False)
         return self._trajectory
 
     def param(self, name: str) -> Any:
@@ -189,6 +192,10 @@ class Reducer:
     coords : callable or None
         ``coords(code) -> dict dim -> list of labels`` for its extra dimensions.
     description : str
+    batch : callable or None
+        ``batch(contexts) -> list`` for all resolved points of a chunk at once: per point the
+        values (as from ``run``), an exception (raised for that point alone) or None (that
+        point goes through ``run``).
     """
 
     name: str
@@ -196,6 +203,7 @@ class Reducer:
     run: Callable[[PointContext], dict[str, Any]]
     coords: Callable[[Any], dict[str, list]] | None = None
     description: str = ""
+    batch: Callable[[list[PointContext]], list[Any]] | None = None
 
 
 #: Reducers by name (see :func:`register_reducer`).
@@ -383,6 +391,78 @@ def _period(ctx: PointContext) -> dict:
     return {"period": period_of_orbit(y, opts.max_period, opts.tol)}
 
 
+#: Tolerances of the batch map when the scene gives none.
+BATCH_DEFAULT_TOL = 1e-12
+
+
+def _batch_eligible(ctx: PointContext) -> bool:
+    """Whether the ``period`` reducer takes this point through the compiled batch map."""
+    from ..numerics.batch_map import batch_map_available
+    from ..numerics.inputs import Precision
+
+    opts, run = ctx.sweep.period, ctx.scene.run_options
+    if opts.engine == "scene":
+        return False
+    usable = (
+        Precision(run.precision).is_double
+        and opts.forcing == "Omega"
+        and batch_map_available(ctx.resolved.code)
+    )
+    if opts.engine == "batch" and not usable:
+        raise UserInputError(
+            'period engine = "batch" needs double precision, forcing = "Omega" and a C '
+            'compiler; use engine = "scene"'
+        )
+    return usable
+
+
+def _period_batch(contexts: list[PointContext]) -> list[Any]:
+    """The ``period`` reducer for a chunk: the eligible points (double precision, a compiler)
+    through :class:`~chaplygin.numerics.batch_map.BatchStroboscopicMap`, one call per model and
+    tolerances; the others are left to :func:`_period`."""
+    from ..numerics.batch_map import STATUS_MESSAGES, BatchStroboscopicMap
+
+    out: list[Any] = [None] * len(contexts)
+    groups: dict[tuple, list[int]] = {}
+    for i, ctx in enumerate(contexts):
+        try:
+            if not _batch_eligible(ctx):
+                continue
+        except UserInputError as exc:
+            out[i] = exc
+            continue
+        run = ctx.scene.run_options
+        key = (ctx.resolved.code.hash, run.rtol, run.atol)
+        groups.setdefault(key, []).append(i)
+    for indices in groups.values():
+        first = contexts[indices[0]]
+        code, run, opts = first.resolved.code, first.scene.run_options, first.sweep.period
+        bm = BatchStroboscopicMap(
+            code,
+            rtol=run.rtol if run.rtol is not None else BATCH_DEFAULT_TOL,
+            atol=run.atol if run.atol is not None else BATCH_DEFAULT_TOL,
+        )
+        res = [contexts[i].resolved for i in indices]
+        try:
+            r = bm.run(
+                [[float(v) for v in x.y0] for x in res],
+                [[float(x.params[k]) for k in code.params] for x in res],
+                n=opts.recorded,
+                transient=opts.transient + 1,
+                t0=[float(x.t_span[0]) for x in res],
+            )
+        except UserInputError:  # e.g. one point's Omega <= 0: each point on its own then
+            continue
+        columns = _map_columns(code)
+        for j, i in enumerate(indices):
+            if r.status[j]:
+                out[i] = ComputationError(STATUS_MESSAGES[int(r.status[j])])
+            else:
+                y = r.y[j][:, columns]
+                out[i] = {"period": period_of_orbit(y, opts.max_period, opts.tol)}
+    return out
+
+
 register_reducer(
     Reducer(
         "period",
@@ -400,6 +480,91 @@ register_reducer(
         _period,
         None,
         "the period of the stroboscopic map's orbit after a transient (0: none)",
+        _period_batch,
+    )
+)
+
+
+def _lyapunov_max(ctx: PointContext) -> dict:
+    from ..numerics.lyapunov import lyapunov_spectrum
+
+    opts, run, res = ctx.sweep.lyapunov, ctx.scene.run_options, ctx.resolved
+    spec = lyapunov_spectrum(
+        res.code,
+        [float(res.params[k]) for k in res.code.params],
+        [float(v) for v in res.y0],
+        spectrum="level_set",
+        intervals=opts.intervals,
+        transient=opts.transient,
+        t0=float(res.t_span[0]),
+        rtol=run.rtol if run.rtol is not None else 1e-10,
+        atol=run.atol if run.atol is not None else 1e-12,
+    )
+    lam, err = float(spec.exponents[0]), float(spec.errors[0])
+    per_iteration, per_iteration_error = lam * spec.period, err * spec.period
+    return {
+        "lyapunov_max": lam,
+        "lyapunov_max_error": err,
+        "lyapunov_max_per_iteration": per_iteration,
+        "lyapunov_max_per_iteration_error": per_iteration_error,
+        "chaotic": int(
+            per_iteration - 3 * per_iteration_error > linear_growth_rate(opts.intervals)
+        ),
+    }
+
+
+def linear_growth_rate(iterations: int) -> float:
+    """The exponent per iteration that a tangent vector growing linearly (``|v_N| = N |v_0|``,
+    as on an invariant torus or a periodic orbit) shows after ``N`` iterations: ``ln(N)/N``.
+
+    Parameters
+    ----------
+    iterations : int
+
+    Returns
+    -------
+    float
+        Per map iteration.
+    """
+    return math.log(iterations) / iterations
+
+
+def _lyapunov_variables(code: Any, sweep: Any) -> dict[str, Variable]:
+    from ..numerics.lyapunov import UNITS_PER_ITERATION, UNITS_PER_TIME
+
+    what = (
+        "largest Lyapunov exponent on the integrals' level set (Benettin/QR, one QR per forcing "
+        f"period, {sweep.lyapunov.intervals} periods after {sweep.lyapunov.transient})"
+    )
+    error = "its error bar (one standard error)"
+    return {
+        "lyapunov_max": Variable(attrs={"long_name": what, "units": UNITS_PER_TIME}),
+        "lyapunov_max_error": Variable(attrs={"long_name": error, "units": UNITS_PER_TIME}),
+        "lyapunov_max_per_iteration": Variable(
+            attrs={"long_name": what, "units": UNITS_PER_ITERATION}
+        ),
+        "lyapunov_max_per_iteration_error": Variable(
+            attrs={"long_name": error, "units": UNITS_PER_ITERATION}
+        ),
+        "chaotic": Variable(
+            dtype="int8",
+            attrs={
+                "long_name": "1 when the largest exponent per iteration minus 3 error bars "
+                "exceeds ln(N)/N (what linear growth over N iterations shows), else 0",
+                "units": "1",
+            },
+        ),
+    }
+
+
+register_reducer(
+    Reducer(
+        "lyapunov_max",
+        _lyapunov_variables,
+        _lyapunov_max,
+        None,
+        "the largest Lyapunov exponent (per unit time and per forcing period) with its error "
+        "bar: about 0 quasi-periodic or periodic, > 0 chaotic (time-periodic models, double)",
     )
 )
 
@@ -777,17 +942,62 @@ def evaluate_point(
         ``STATUS_DONE`` with every variable, or ``STATUS_REFUSED`` / ``STATUS_FAILED`` with
         none (those points keep the fill values).
     """
+    ctx = _point_context(base, overrides, sweep, source)
+    return ctx if isinstance(ctx, tuple) else _reduce_point(ctx)
+
+
+_FAILURES = (ComputationError, ArithmeticError, ValueError, RuntimeError)
+
+
+def _point_context(
+    base: Mapping, overrides: Mapping[str, Any], sweep: Any, source: str | None
+) -> PointContext | tuple[int, dict]:
+    """The point's resolved scene, or ``(status, {})`` when it cannot be resolved."""
     try:
         scene = point_scene(base, overrides, source)
-        ctx = PointContext(scene, scene.resolve(), sweep)
-        values: dict[str, Any] = {}
-        for name in sweep.reduce:
-            values.update(REDUCERS[name].run(ctx))
+        return PointContext(scene, scene.resolve(), sweep)
     except UserInputError:
         return STATUS_REFUSED, {}
-    except (ComputationError, ArithmeticError, ValueError, RuntimeError):
+    except _FAILURES:
+        return STATUS_FAILED, {}
+
+
+def _reduce_point(ctx: PointContext) -> tuple[int, dict[str, Any]]:
+    """Run the sweep's reducers on one point (taking a chunk's batch results where present)."""
+    try:
+        values: dict[str, Any] = {}
+        for name in ctx.sweep.reduce:
+            done = ctx.batched.get(name)
+            if isinstance(done, Exception):
+                raise done
+            values.update(done if done is not None else REDUCERS[name].run(ctx))
+    except UserInputError:
+        return STATUS_REFUSED, {}
+    except _FAILURES:
         return STATUS_FAILED, {}
     return STATUS_DONE, values
+
+
+def chunk_payload(plan: SweepPlan) -> dict[str, Any]:
+    """What every task of a sweep receives besides its points (see :func:`compute_chunk`).
+
+    Parameters
+    ----------
+    plan : SweepPlan
+
+    Returns
+    -------
+    dict
+        ``base``, ``sweep``, ``source``, ``variables``.
+    """
+    return {
+        "base": plan.base,
+        "sweep": plan.scene.sweep.model_dump(mode="json"),
+        "source": plan.scene.source,
+        "variables": {
+            name: (_extra_shape(plan, var), var.dtype) for name, var in plan.variables.items()
+        },
+    }
 
 
 def compute_chunk(payload: Mapping, points: Sequence[Mapping[str, Any]]) -> dict[str, np.ndarray]:
@@ -813,8 +1023,17 @@ def compute_chunk(payload: Mapping, points: Sequence[Mapping[str, Any]]) -> dict
         name: np.full((len(points), *shape), -1 if dtype.startswith("int") else np.nan, dtype)
         for name, (shape, dtype) in payload["variables"].items()
     }
-    for i, point in enumerate(points):
-        status, values = evaluate_point(payload["base"], point, sweep, payload.get("source"))
+    contexts = [
+        _point_context(payload["base"], point, sweep, payload.get("source")) for point in points
+    ]
+    live = [c for c in contexts if isinstance(c, PointContext)]
+    for name in sweep.reduce:
+        batch = REDUCERS[name].batch
+        if batch is not None and live:
+            for ctx, result in zip(live, batch(live), strict=True):
+                ctx.batched[name] = result
+    for i, ctx in enumerate(contexts):
+        status, values = ctx if isinstance(ctx, tuple) else _reduce_point(ctx)
         out["status"][i] = status
         for name, value in values.items():
             out[name][i] = value
@@ -1025,14 +1244,7 @@ def run_sweep(
     group = open_store(plan, store)
     done = _done_chunks(plan, group)
     pending = [k for k in range(len(plan.chunks)) if k not in done]
-    payload = {
-        "base": plan.base,
-        "sweep": scene.sweep.model_dump(mode="json"),
-        "source": scene.source,
-        "variables": {
-            name: (_extra_shape(plan, var), var.dtype) for name, var in plan.variables.items()
-        },
-    }
+    payload = chunk_payload(plan)
     if pending:
         own = client is None
         cluster = None

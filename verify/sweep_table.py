@@ -86,6 +86,24 @@ class PeriodOptions(_Table):
         description="a recorded orbit has period p when every y[k+p] - y[k] is within tol "
         "(relative to the largest |y|)",
     )
+    engine: Literal["auto", "batch", "scene"] = Field(
+        "auto",
+        description="batch: all points of a chunk in one compiled call (DOP853 in C, double, the "
+        "scene's rtol/atol); scene: each point with the scene's method and precision; auto: "
+        "batch for double precision when a C compiler is present",
+    )
+
+
+class LyapunovOptions(_Table):
+    """The largest Lyapunov exponent on the integrals' level set (Benettin/QR, one QR per
+    forcing period), with its error bar."""
+
+    transient: Annotated[StrictInt, Field(ge=0, le=1_000_000)] = Field(
+        200, description="forcing periods discarded first"
+    )
+    intervals: Annotated[StrictInt, Field(ge=10, le=10_000_000)] = Field(
+        2000, description="forcing periods averaged"
+    )
 
 
 class DeltaOptions(_Table):
@@ -125,6 +143,7 @@ class Sweep(_Table):
     )
     period: PeriodOptions = PeriodOptions()
     delta: DeltaOptions = DeltaOptions()
+    lyapunov: LyapunovOptions = LyapunovOptions()
     refine: RefineOptions | None = None
 
     @field_validator("axes")

@@ -1,0 +1,136 @@
+"""The compiled batch map (numerics/batch_map.py): against the single-point StroboscopicMap (the
+Taylor method at a much tighter tolerance, an independent route), points independent of each
+other (a failing point spoils no other), and the sweep reducers that use it."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from chaplygin.derive.errors import UserInputError
+from chaplygin.numerics.batch_map import BatchStroboscopicMap, batch_map_available
+from chaplygin.numerics.code import load_model_code
+from chaplygin.numerics.poincare import StroboscopicMap
+
+CODE = load_model_code("chaplygin_ball", ["variable_inertia", "variable_gyrostat"])
+
+pytestmark = pytest.mark.skipif(not batch_map_available(CODE), reason="no C compiler")
+
+#: Generic non-dyadic parameters (I1, I2, I3, D, J_off, delta, K1, K2, K3, Omega), one row per
+#: point: BM20 Fig. 5's neighbourhood, Fig. 2's, and a third set.
+PARAMS = [
+    [4.1, 3.3, 2.2, 4.385, 0.13, 2.0, -6.0, -3.0, -9.0, 1.07],
+    [3.7, 2.9, 2.3, 1.5, -0.21, 1.2, 3.0, -1.0, -2.0, 0.43],
+    [4.0, 3.1, 1.9, 2.7, 0.05, 0.7, 1.3, -2.2, 0.9, 1.9],
+]
+
+
+def _states() -> list[list[float]]:
+    rows = [
+        [2.18, 1.40, 1.5, 0.68, -0.56, -0.47],
+        [0.3, -0.7, 1.1, 0.6, 0.64, -0.48],
+        [-1.3, 0.2, 0.9, -0.36, 0.48, 0.8],
+    ]
+    return [[*y[:3], *(np.array(y[3:]) / np.linalg.norm(y[3:]))] for y in rows]
+
+
+def test_batch_matches_the_taylor_map_within_the_accumulated_tolerance():
+    """Every point (its own parameters and period) against StroboscopicMap at rtol = 1e-15:
+    the relative error after k periods stays within the sum of the local tolerances of the
+    steps taken (rtol per step, no amplification allowed), and shrinks with rtol."""
+    y0 = _states()
+    n, transient = 3, 1
+    errors = {}
+    for rtol in (1e-8, 1e-12):
+        r = BatchStroboscopicMap(CODE, rtol=rtol, atol=rtol).run(y0, PARAMS, n, transient)
+        assert (r.status == 0).all() and r.y.shape == (3, n, 6)
+        for j, p in enumerate(PARAMS):
+            ref = StroboscopicMap(CODE, p, rtol=1e-15, atol=1e-15).orbit(y0[j], n, transient).y
+            err = float(np.abs(r.y[j] - ref).max() / np.abs(ref).max())
+            assert err <= rtol * r.steps[j], (rtol, j, err, int(r.steps[j]))
+            errors[rtol, j] = err
+    for j in range(3):  # tolerance proportionality: 4 decades of rtol buy at least 2 of error
+        assert errors[1e-12, j] <= 1e-2 * errors[1e-8, j]
+
+
+def test_a_failing_point_spoils_no_other():
+    """A non-finite state and an overflowing one fail with their own status (NaN points); the
+    other points are bit-identical to the same points run alone."""
+    y0 = _states()
+    bad_nan = [math.nan, *y0[0][1:]]
+    bad_huge = [1e300, 1e300, -1e300, *y0[1][3:]]
+    rows = [y0[0], bad_nan, y0[1], bad_huge, y0[2]]
+    params = [PARAMS[0], PARAMS[0], PARAMS[1], PARAMS[1], PARAMS[2]]
+    bm = BatchStroboscopicMap(CODE, rtol=1e-10, atol=1e-10)
+    r = bm.run(rows, params, n=4, transient=2)
+    assert r.lockstep == bm.lockstep_available
+    assert list(r.status) == [0, 3, 0, r.status[3], 0] and r.status[3] != 0
+    assert np.isnan(r.y[1]).all() and np.isnan(r.y[3]).all()
+    for j, (y, p) in zip((0, 2, 4), zip(y0, PARAMS, strict=True), strict=True):
+        alone = bm.run([y], [p], n=4, transient=2)
+        assert np.array_equal(alone.y[0], r.y[j])
+        assert alone.evaluations[0] == r.evaluations[j]
+
+
+def test_lockstep_lanes_are_bit_identical_to_one_point_at_a_time():
+    """Seven points (more than the 4 lanes, so lanes are refilled; one fails at once, one has
+    its own Omega and D) in vector lanes give the bits and the work counts of the one-point
+    driver: each lane does the same IEEE operations."""
+    bm = BatchStroboscopicMap(CODE, rtol=1e-11, atol=1e-11)
+    if not bm.lockstep_available:
+        pytest.skip("the model's right-hand side has no vector form")
+    y0 = _states()
+    rows = [y0[0], y0[1], [math.nan, *y0[2][1:]], y0[2], y0[0], y0[1], y0[2]]
+    params = [PARAMS[0], PARAMS[1], PARAMS[2], PARAMS[2], PARAMS[1], PARAMS[0], PARAMS[2]]
+    params[4] = [*PARAMS[1][:3], 1.7320508, *PARAMS[1][4:9], 0.6180339]
+    lanes = bm.run(rows, params, n=3, transient=2, lockstep=True)
+    single = bm.run(rows, params, n=3, transient=2, lockstep=False)
+    assert lanes.lockstep and not single.lockstep
+    assert list(lanes.status) == list(single.status) == [0, 0, 3, 0, 0, 0, 0]
+    assert np.array_equal(lanes.y, single.y, equal_nan=True)
+    for counter in ("steps", "rejected", "evaluations"):
+        assert np.array_equal(getattr(lanes, counter), getattr(single, counter)), counter
+
+
+def test_work_is_counted():
+    r = BatchStroboscopicMap(CODE, rtol=1e-12).run([_states()[0]], [PARAMS[0]], n=5)
+    # DOP853: 12 evaluations per step attempt, plus the first evaluation and the starting step
+    assert r.evaluations[0] == 12 * (r.steps[0] + r.rejected[0]) + 2
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        ({"y0": [[1, 2, 3]]}, "shape"),
+        ({"params": [PARAMS[0][:-1]]}, "shape"),
+        ({"n": 0}, "n >= 1"),
+        ({"params": [[*PARAMS[0][:9], -1.07]]}, "Omega must be positive"),
+        ({"params": [[*PARAMS[0][:9], math.inf]]}, "finite"),
+    ],
+)
+def test_bad_input_is_a_user_error(kwargs, match):
+    args = {"y0": [_states()[0]], "params": [PARAMS[0]], "n": 2}
+    args.update(kwargs)
+    with pytest.raises(UserInputError, match=match):
+        BatchStroboscopicMap(CODE).run(**args)
+
+
+def test_an_autonomous_model_is_refused():
+    with pytest.raises(UserInputError, match="Omega"):
+        BatchStroboscopicMap(load_model_code("chaplygin_ball"))
+
+
+def test_map_throughput_reports_the_work_it_did():
+    """The bench section (no timing asserted): every row present, the batch map's counts
+    consistent (12 evaluations per step attempt, 2 to start), its first periods near the Taylor
+    run's."""
+    from chaplygin.verify.bench import map_throughput
+
+    row = map_throughput(periods=12, repeats=1, peers=False)
+    for name in ("ours_taylor_c", "ours_batch1", "ours_batch4", "ours_batch16"):
+        assert row[f"{name}_us"] > 0 and row[f"{name}_cpu_us"] >= 0
+    steps = row["ours_batch_steps_per_period"] + row["ours_batch_rejected_per_period"]
+    assert row["ours_batch_rhs_per_period"] == pytest.approx(12 * steps + 2 / 12, rel=1e-12)
+    # 10 periods of about 70 steps, each within rtol = 1e-12 (and the Taylor run's own error)
+    assert row["ours_batch_vs_taylor_first_10_periods"] < 1e-12 * 12 * 70 * 10

@@ -1,0 +1,111 @@
+"""Sweep reducers on the compiled batch map and the Lyapunov exponent (verify/sweep.py):
+``period`` through the batch map agrees with the scene's own integrator point by point, and
+``lyapunov_max`` tells BM20 Fig. 5's chaotic attractor from periodic motion."""
+
+from __future__ import annotations
+
+import textwrap
+
+import numpy as np
+import pytest
+from chaplygin.numerics.batch_map import batch_map_available
+from chaplygin.numerics.code import load_model_code
+from chaplygin.verify.scene import Scene
+from chaplygin.verify.sweep import chunk_payload, compute_chunk, linear_growth_rate, plan_sweep
+
+pytestmark = pytest.mark.skipif(
+    not batch_map_available(
+        load_model_code("chaplygin_ball", ["variable_inertia", "variable_gyrostat"])
+    ),
+    reason="no C compiler",
+)
+
+#: BM20 Fig. 2's system from rest (BM20-3.1obs: with J = 0 the period map is the identity, so
+#: every point has period 1); J = -0.5 and -0.23 are other motions (BM20-3.1obs/control-J).
+FROM_REST = """
+title = "from rest"
+system = "chaplygin_ball"
+effects = ["variable_inertia", "variable_gyrostat"]
+
+[parameters]
+I = [4, 3, 2]
+D = 1.5
+J_off = 0
+delta = 1.2
+K = [3, -1, -2]
+Omega = 0.4
+
+[initial]
+rest = true
+gamma = [0.6, 0.0, 0.8]
+
+[run]
+t_end = 1
+rtol = 1e-11
+atol = 1e-13
+
+[sweep]
+chunk = 6
+reduce = ["period"]
+period = { transient = 20, recorded = 20, max_period = 6, tol = 1e-6, engine = "ENGINE" }
+
+[sweep.axes]
+"parameters.Omega" = [0.18, 0.4]
+"parameters.J_off" = [0, -0.5, -0.23]
+"""
+
+
+def _chunk(tmp_path, text: str) -> tuple[dict, tuple]:
+    path = tmp_path / "s.toml"
+    path.write_text(textwrap.dedent(text))
+    plan = plan_sweep(Scene.from_toml(path))
+    points = [p for region in plan.chunks for p in plan.points(region)]
+    return compute_chunk(chunk_payload(plan), points), plan.shape
+
+
+def test_period_by_the_batch_map_equals_the_scenes_integrator(tmp_path):
+    """One chunk of 6 points (two Omega, three J) in one batch call against the Taylor method
+    point by point; J = 0 from rest has period 1 (BM20-3.1obs)."""
+    out = {}
+    for engine in ("batch", "scene"):
+        out[engine], shape = _chunk(tmp_path, FROM_REST.replace("ENGINE", engine))
+        assert (out[engine]["status"] == 0).all()
+    assert np.array_equal(out["batch"]["period"], out["scene"]["period"])
+    period = out["batch"]["period"].reshape(shape)
+    assert (period[:, 0] == 1).all()  # J = 0: the period map is the identity
+    assert (period[:, 1:] != 1).any()  # the control: not every motion is a fixed point
+    print("periods (Omega x J_off):", period.tolist())
+
+
+def test_lyapunov_max_tells_chaos_from_periodic_motion(tmp_path):
+    """BM20 Fig. 5's attractor (Omega = 1.07, d = 4.385; BM20-Lyap: 0.041 +- 0.009 per
+    iteration) is chaotic; from rest with J = 0 (period map = identity, BM20-3.1obs) it is not,
+    by the same criterion."""
+    text = FROM_REST.replace(', engine = "ENGINE"', "").replace(
+        'reduce = ["period"]',
+        'reduce = ["lyapunov_max"]\nlyapunov = { transient = 200, intervals = 2000 }',
+    )
+    text = text.replace(
+        '"parameters.Omega" = [0.18, 0.4]\n"parameters.J_off" = [0, -0.5, -0.23]',
+        '"parameters.Omega" = [0.4]',
+    )
+    rest, _ = _chunk(tmp_path, text)
+    fig5 = text.replace("D = 1.5", "D = 4.385").replace("delta = 1.2", "delta = 2")
+    fig5 = (
+        fig5.replace("K = [3, -1, -2]", "K = [-6, -3, -9]")
+        .replace("rest = true\ngamma = [0.6, 0.0, 0.8]", "G = 3\nz = 0.5\nl = 1\ng = 1")
+        .replace('"parameters.Omega" = [0.4]', '"parameters.Omega" = [1.07]')
+    )
+    chaotic, _ = _chunk(tmp_path, fig5)
+    assert (rest["status"] == 0).all() and (chaotic["status"] == 0).all()
+    lam, err = (
+        chaotic["lyapunov_max_per_iteration"][0],
+        chaotic["lyapunov_max_per_iteration_error"][0],
+    )
+    assert abs(lam - 0.041) <= 3 * np.hypot(err, 0.009)  # BM20-Lyap
+    assert chaotic["chaotic"][0] == 1 and rest["chaotic"][0] == 0
+    assert rest["lyapunov_max_per_iteration"][0] < linear_growth_rate(2000)
+    # units: per unit time times the forcing period is per iteration
+    assert np.isclose(
+        chaotic["lyapunov_max"][0] * 2 * np.pi / 1.07, lam, rtol=4 * np.finfo(float).eps
+    )
