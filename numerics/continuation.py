@@ -49,7 +49,7 @@ __all__ = [
     "Branch",
     "ContinuationResult",
     "continue_periodic_orbit",
-    "test_functions",
+    "bifurcation_indicators",
     "EVENT_KINDS",
 ]
 
@@ -142,7 +142,7 @@ class ContinuationResult:
         return [e.parameter for e in self.events if e.kind == "period-doubling"]
 
 
-def test_functions(multipliers: Any) -> dict[str, float]:
+def bifurcation_indicators(multipliers: Any) -> dict[str, float]:
     """The three test functions of a monodromy with the given multipliers.
 
     Parameters
@@ -201,14 +201,14 @@ class _Continuer:
 
     def correct(
         self, u: NDArray, normal: NDArray, anchor: NDArray, max_iter: int = 8
-    ) -> tuple[NDArray, NDArray, int] | None:
-        """Newton on G(u) = 0, normal . (u - anchor) = 0. Returns (u, A, iterations)."""
+    ) -> tuple[NDArray, NDArray, int, NDArray] | None:
+        """Newton on G(u) = 0, normal . (u - anchor) = 0: (u, A, iterations, DG) or None."""
         for it in range(max_iter + 1):
             g, DG, A = self.jacobian(u[:-1], u[-1])
             if not (np.all(np.isfinite(g)) and np.all(np.isfinite(DG))):
                 return None
             if np.max(np.abs(g)) <= self.tol:
-                return u, A, it
+                return u, A, it, DG
             if it == max_iter:
                 return None
             r = normal @ (u - anchor)
@@ -366,12 +366,13 @@ def _follow(
     max_multiplier_change: float = 0.25,
 ) -> tuple[Branch, tuple[NDArray, float, float] | None]:
     u = np.append(x, p)
+    p_start = p
     g, DG, A = c.jacobian(x, p)
     t = c.tangent(DG, None)
     if t[-1] * direction < 0:
         t = -t
     params, points, mults = [p], [x.copy()], [_multipliers(A)]
-    tests = [test_functions(mults[-1])]
+    tests = [bifurcation_indicators(mults[-1])]
     found: list[BifurcationEvent] = []
     message = ""
     h = step
@@ -387,13 +388,12 @@ def _follow(
                 message = f"step below {min_step:.1e} at p = {u[-1]:.10g}: Newton fails there"
                 break
             continue
-        u_new, A_new, its = res
+        u_new, A_new, its, DG_new = res
         mu = _multipliers(A_new)
         if np.max(np.abs(mu - mults[-1])) > max_multiplier_change and h > min_step:
             h = max(h / 2, min_step)  # the multipliers moved too far: a smaller step
             continue
-        tf = test_functions(mu)
-        _, DG_new, _ = c.jacobian(u_new[:-1], u_new[-1])
+        tf = bifurcation_indicators(mu)
         t_new = c.tangent(DG_new, t)
         # events between u and u_new
         switch_to = None
@@ -423,6 +423,9 @@ def _follow(
             break
         if (u[-1] - p_end) * direction >= 0:
             message = f"reached p = {u[-1]:.10g}"
+            break
+        if (u[-1] - p_start) * direction < 0:
+            message = f"the branch turned back out of the range at p = {u[-1]:.10g}"
             break
         h = min(max_step, h * 1.5) if its <= 3 else (h / 2 if its >= 6 else h)
         h = max(h, min_step)
@@ -460,8 +463,8 @@ def _locate(
         res = c.correct(anchor, normal, anchor)
         if res is None:
             return None
-        u_mid, A_mid, _ = res
-        fm = test_functions(_multipliers(A_mid))[kind]
+        u_mid, A_mid, _, _ = res
+        fm = bifurcation_indicators(_multipliers(A_mid))[kind]
         if fm == 0:
             a = b = s
             break
@@ -515,7 +518,7 @@ def _switch(
             res = doubled.correct(anchor, row, anchor, max_iter=12)
             if res is None:
                 continue
-            u, _, _ = res
+            u, _, _, _ = res
             dp = u[-1] - p_star
             small = abs(dp) <= h
             genuine = np.max(np.abs(c.G(u[:-1], u[-1]))) > 100 * c.tol

@@ -257,8 +257,9 @@ def _eigenvalues(A, digits: int | None):
     if digits is None:
         ev = np.linalg.eigvals(A)
         return ev[np.argsort(-np.abs(ev), kind="stable")]
-    ev = mpmath.eig(A, left=False, right=False)
-    return sorted(ev, key=lambda m: -abs(m))
+    if A.rows == 1:  # mpmath.eig returns a tuple for 1x1 matrices
+        return [A[0, 0]]
+    return sorted(mpmath.eig(A, left=False, right=False), key=lambda m: -abs(m))
 
 
 def _as_point(x, smap: SmoothMap):
@@ -446,3 +447,133 @@ def as_numpy_points(orbit: PeriodicOrbit) -> NDArray[np.float64]:
     ndarray
     """
     return np.array([[float(e) for e in x] for x in orbit.points], dtype=float)
+
+
+# ------------------------------------------------------------------ BM20 stroboscopic map
+# Private adapter until the poincare and lyapunov branches merge: replaced by
+# numerics.variational.flow_with_jacobian (the state-transition matrix) and
+# numerics.map_coordinates.andoyer_deprit (the reduced coordinates) at merge.
+BM20_EFFECTS = "variable_gyrostat,variable_inertia"
+#: Parameter order of the BM20 model (I1, I2, I3, D, J_off, delta, K1, K2, K3, Omega).
+_OMEGA = 9
+
+
+def _andoyer_to_state(x: NDArray, G: float) -> NDArray:
+    """BM20 (3.7): ``(z, l, g) -> (M, gamma)`` at ``|M| = G``, ``(M, gamma) = 0``."""
+    z, l, g = x
+    s = np.sqrt(max(0.0, 1 - z * z))
+    sl, cl, sg, cg = np.sin(l), np.cos(l), np.sin(g), np.cos(g)
+    return np.array(
+        [G * s * sl, G * s * cl, G * z, z * cg * sl + sg * cl, z * cg * cl - sg * sl, -s * cg]
+    )
+
+
+def _andoyer_tangent(x: NDArray, G: float) -> NDArray:
+    """``d(M, gamma)/d(z, l, g)``, shape (6, 3) (|z| < 1)."""
+    z, l, g = x
+    s = np.sqrt(1 - z * z)
+    ds = -z / s
+    sl, cl, sg, cg = np.sin(l), np.cos(l), np.sin(g), np.cos(g)
+    return np.array(
+        [
+            [G * ds * sl, G * s * cl, 0.0],
+            [G * ds * cl, -G * s * sl, 0.0],
+            [G, 0.0, 0.0],
+            [cg * sl, z * cg * cl - sg * sl, -z * sg * sl + cg * cl],
+            [cg * cl, -z * cg * sl - sg * cl, -z * sg * cl - cg * sl],
+            [-ds * cg, 0.0, s * sg],
+        ]
+    )
+
+
+def _state_to_andoyer(y: NDArray) -> NDArray:
+    """The inverse of (3.7) on ``(M, gamma) = 0``: ``(z, l, g)`` (angles in ``(-pi, pi]``)."""
+    M, gamma = y[:3], y[3:]
+    G = np.linalg.norm(M)
+    z = M[2] / G
+    l = np.arctan2(M[0], M[1])
+    s = np.sqrt(max(0.0, 1 - z * z))
+    sin_g = gamma[0] * np.cos(l) - gamma[1] * np.sin(l)
+    cos_g = z * (gamma[0] * np.sin(l) + gamma[1] * np.cos(l)) - s * gamma[2]
+    return np.array([z, l, np.arctan2(sin_g, cos_g)])
+
+
+def _bm20_map_with_jacobian(
+    params: Sequence[float], G: float, *, rtol: float = 1e-11, backward: bool = False
+) -> SmoothMap:
+    """BM20's stroboscopic map in Andoyer-Deprit ``(z, l, g)`` (BM20-3.7, BM20-map), with
+    ``Omega`` as its parameter (replaced by ``variational.flow_with_jacobian`` at merge).
+
+    One step integrates ``y' = f(t, y)``, ``Phi' = J(t, y) Phi`` (the generated Jacobian)
+    over one forcing period ``2 pi/Omega`` from ``t = 0`` (``backward``: to ``-2 pi/Omega``,
+    the inverse map) with DOP853 at ``rtol = atol``; the reduced Jacobian solves
+    ``E(x1) J = Phi E(x0)`` (``E = d(M, gamma)/d(z, l, g)``, ``Phi`` maps the tangent space
+    of the level set ``|M| = G``, ``(M, gamma) = 0``, ``|gamma| = 1`` into itself).
+
+    Parameters
+    ----------
+    params : sequence of float
+        The model's parameter vector (``Omega`` at index 9 is replaced by the map's argument).
+    G : float
+        The level ``|M| = G`` (BM20: ``G = 3``).
+    rtol : float
+    backward : bool
+
+    Returns
+    -------
+    SmoothMap
+        ``f(x, Omega)``, ``df(x, Omega)`` on points ``(z, l, g)``; ``angles = (1, 2)``;
+        ``accuracy = 100 rtol``.
+    """
+    from scipy.integrate import solve_ivp
+
+    from .code import load_model_code
+
+    code = load_model_code("chaplygin_ball", BM20_EFFECTS)
+    compiled = code.compiled()
+    rhs = compiled.rhs if compiled is not None else code.numpy.rhs
+    jac = compiled.jac if compiled is not None else code.numpy.jac
+    base = np.array(params, dtype=float)
+    sign = -1.0 if backward else 1.0
+
+    def period(Omega: float) -> tuple[float, NDArray]:
+        p = base.copy()
+        p[_OMEGA] = Omega
+        return sign * 2 * np.pi / Omega, p
+
+    def f(x: NDArray, Omega: float) -> NDArray:
+        T, p = period(Omega)
+        y0 = _andoyer_to_state(np.asarray(x, dtype=float), G)
+        sol = solve_ivp(
+            lambda t, y: rhs(t, y, p), (0.0, T), y0, method="DOP853", rtol=rtol, atol=rtol
+        )
+        if not sol.success:
+            raise ComputationError(f"BM20 map at Omega = {Omega}: {sol.message}")
+        return _state_to_andoyer(sol.y[:, -1])
+
+    def df(x: NDArray, Omega: float) -> tuple[NDArray, NDArray]:
+        T, p = period(Omega)
+        x = np.asarray(x, dtype=float)
+        y0 = _andoyer_to_state(x, G)
+
+        def vf(t: float, u: NDArray) -> NDArray:
+            y = u[:6]
+            return np.concatenate([rhs(t, y, p), (jac(t, y, p) @ u[6:].reshape(6, 6)).ravel()])
+
+        sol = solve_ivp(
+            vf,
+            (0.0, T),
+            np.concatenate([y0, np.eye(6).ravel()]),
+            method="DOP853",
+            rtol=rtol,
+            atol=rtol,
+        )
+        if not sol.success:
+            raise ComputationError(f"BM20 map at Omega = {Omega}: {sol.message}")
+        y1 = sol.y[:6, -1]
+        Phi = sol.y[6:, -1].reshape(6, 6)
+        x1 = _state_to_andoyer(y1)
+        J, *_ = np.linalg.lstsq(_andoyer_tangent(x1, G), Phi @ _andoyer_tangent(x, G), rcond=None)
+        return x1, J
+
+    return SmoothMap(f, df, 3, angles=(1, 2), accuracy=100 * rtol)
