@@ -499,7 +499,12 @@ def _state_to_andoyer(y: NDArray) -> NDArray:
 
 
 def _bm20_map_with_jacobian(
-    params: Sequence[float], G: float, *, rtol: float = 1e-11, backward: bool = False
+    params: Sequence[float],
+    G: float,
+    *,
+    vary: str = "Omega",
+    rtol: float = 1e-11,
+    backward: bool = False,
 ) -> SmoothMap:
     """BM20's stroboscopic map in Andoyer-Deprit ``(z, l, g)`` (BM20-3.7, BM20-map), with
     ``Omega`` as its parameter (replaced by ``variational.flow_with_jacobian`` at merge).
@@ -516,6 +521,9 @@ def _bm20_map_with_jacobian(
         The model's parameter vector (``Omega`` at index 9 is replaced by the map's argument).
     G : float
         The level ``|M| = G`` (BM20: ``G = 3``).
+    vary : str
+        The map's parameter: a scalar parameter of the model (``"Omega"``, ``"D"``,
+        ``"delta"``, ``"J_off"``).
     rtol : float
     backward : bool
 
@@ -534,25 +542,29 @@ def _bm20_map_with_jacobian(
     rhs = compiled.rhs if compiled is not None else code.numpy.rhs
     jac = compiled.jac if compiled is not None else code.numpy.jac
     base = np.array(params, dtype=float)
+    names = code.numpy.PARAMS
+    if vary not in ("Omega", "D", "delta", "J_off"):
+        raise UserInputError(f"the BM20 map varies Omega, D, delta or J_off, not {vary!r}")
+    index = names.index(vary)
     sign = -1.0 if backward else 1.0
 
-    def period(Omega: float) -> tuple[float, NDArray]:
+    def period(value: float) -> tuple[float, NDArray]:
         p = base.copy()
-        p[_OMEGA] = Omega
-        return sign * 2 * np.pi / Omega, p
+        p[index] = value
+        return sign * 2 * np.pi / p[_OMEGA], p
 
-    def f(x: NDArray, Omega: float) -> NDArray:
-        T, p = period(Omega)
+    def f(x: NDArray, value: float) -> NDArray:
+        T, p = period(value)
         y0 = _andoyer_to_state(np.asarray(x, dtype=float), G)
         sol = solve_ivp(
             lambda t, y: rhs(t, y, p), (0.0, T), y0, method="DOP853", rtol=rtol, atol=rtol
         )
         if not sol.success:
-            raise ComputationError(f"BM20 map at Omega = {Omega}: {sol.message}")
+            raise ComputationError(f"BM20 map at {vary} = {value}: {sol.message}")
         return _state_to_andoyer(sol.y[:, -1])
 
-    def df(x: NDArray, Omega: float) -> tuple[NDArray, NDArray]:
-        T, p = period(Omega)
+    def df(x: NDArray, value: float) -> tuple[NDArray, NDArray]:
+        T, p = period(value)
         x = np.asarray(x, dtype=float)
         y0 = _andoyer_to_state(x, G)
 
@@ -569,7 +581,7 @@ def _bm20_map_with_jacobian(
             atol=rtol,
         )
         if not sol.success:
-            raise ComputationError(f"BM20 map at Omega = {Omega}: {sol.message}")
+            raise ComputationError(f"BM20 map at {vary} = {value}: {sol.message}")
         y1 = sol.y[:6, -1]
         Phi = sol.y[6:, -1].reshape(6, 6)
         x1 = _state_to_andoyer(y1)
