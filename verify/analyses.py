@@ -33,7 +33,7 @@ __all__ = [
 ]
 
 #: Modules of chaplygin.verify that register an analysis when imported.
-ANALYSIS_MODULES: tuple[str, ...] = ()
+ANALYSIS_MODULES: tuple[str, ...] = ("periodic_output",)
 
 _REGISTRY: dict[str, Analysis] = {}
 

@@ -54,6 +54,7 @@ from pydantic import (
 from ..derive.errors import UserInputError
 from ..derive.systems import SYSTEMS
 from .analyses import AnalysisResult, requested
+from .periodic_output import PeriodicOrbitsOutput
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -164,6 +165,11 @@ class Outputs(_Table):
     drift: PlotOutput | None = Field(None, description="the integrals' relative change over time")
     diagram: PlotOutput | None = Field(
         None, description="the energy diagram (n, h) of K01 with the scene's point"
+    )
+    periodic_orbits: PeriodicOrbitsOutput | None = Field(
+        None,
+        description="periodic orbit of the stroboscopic map: period, Newton, multipliers, "
+        "continuation with its bifurcations",
     )
 
 
