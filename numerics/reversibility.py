@@ -28,6 +28,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
 from ..derive.errors import ComputationError, UserInputError
+from .code import ModelCode
 
 __all__ = [
     "set_distance",
@@ -78,7 +79,7 @@ def set_distance(a: ArrayLike, b: ArrayLike, quantile: float = 0.9) -> float:
 
 
 def stroboscopic_samples(
-    code,
+    code: ModelCode,
     params: Sequence[float],
     y0: ArrayLike,
     n: int,
@@ -164,7 +165,7 @@ class AttractorRepellerPair:
 
 
 def attractor_repeller_pair(
-    code,
+    code: ModelCode,
     params: Sequence[float],
     starts: Sequence[ArrayLike],
     *,

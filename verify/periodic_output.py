@@ -22,14 +22,18 @@ method has refined it to ``10 k`` times the map's accuracy (``100 rtol``).
 
 from __future__ import annotations
 
-from typing import Annotated, Any, Literal
+from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, StrictBool, StrictFloat, StrictInt
 
+from ..derive.errors import UserInputError
 from .analyses import Analysis, AnalysisResult, register_analysis
 
-__all__ = ["PeriodicOrbitsOutput", "ContinuationSpec", "PERIODIC_ORBITS"]
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+__all__ = ["PeriodicOrbitsOutput", "ContinuationSpec", "PERIODIC_ORBITS", "multipliers_figure"]
 
 Positive = Annotated[StrictFloat | StrictInt, Field(gt=0)]
 
@@ -39,9 +43,9 @@ class _Table(BaseModel):
 
 
 def _scene_error(message: str, path: str) -> Exception:
-    from .scene import SceneError  # scene imports this module's tables
-
-    return SceneError(message, path=path)
+    # a UserInputError naming the key path (SceneError is in verify.scene, which imports this
+    # module's tables: importing it here would make an import cycle)
+    return UserInputError(f"{path}: {message}")
 
 
 class ContinuationSpec(_Table):
@@ -253,7 +257,13 @@ def _continue(smap, orbit, vary, value, cspec, progress, continue_periodic_orbit
     return out, arrays, figure
 
 
-def multipliers_figure(parameter, period, multipliers, events, name: str):
+def multipliers_figure(
+    parameter: np.ndarray,
+    period: np.ndarray,
+    multipliers: np.ndarray,
+    events: list,
+    name: str,
+) -> Figure:
     """|multipliers| and their arguments along the branches, with the events marked.
 
     Parameters
