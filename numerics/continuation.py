@@ -390,7 +390,9 @@ def _follow(
             continue
         u_new, A_new, its, DG_new = res
         mu = _multipliers(A_new)
-        if np.max(np.abs(mu - mults[-1])) > max_multiplier_change and h > min_step:
+        # how far the multipliers moved, as sets (their order by modulus may swap)
+        moved = np.max(np.min(np.abs(mu[:, None] - mults[-1][None, :]), axis=1))
+        if moved > max_multiplier_change and h > min_step:
             h = max(h / 2, min_step)  # the multipliers moved too far: a smaller step
             continue
         tf = bifurcation_indicators(mu)
