@@ -339,6 +339,9 @@ def refine_periodic_orbit(
 ) -> PeriodicOrbit:
     """Newton's method on ``F(x) = P^k(x) - x`` with ``DF = J_{k-1} ... J_0 - Id``.
 
+    Once the residual is within ``tol``, one more Newton step polishes the orbit (kept only
+    if it closes better), so an initial guess that already closes is still refined.
+
     Parameters
     ----------
     smap : SmoothMap
@@ -380,19 +383,29 @@ def refine_periodic_orbit(
         eye = _identity(smap.dim, digits)
         history: list[float] = []
         converged = False
+        best = None  # (x, points, product, residual) of an iterate within tol
         for it in range(max_iter + 1):
             points, product = orbit_jacobian(smap, x, p, period)
             F = smap.difference(points[-1], x)
             residual = _norm(F, digits)
             history.append(residual)
-            if residual <= tol:
+            if best is not None:
+                # after the polishing step: keep whichever iterate closes better
+                if residual > best[3]:
+                    x, points, product, residual = best
                 converged = True
                 break
+            if residual <= tol:
+                best = (x, points, product, residual)  # within tol: one more (polishing) step
             if it == max_iter:
+                converged = best is not None
                 break
             try:
                 dx = _solve(product - eye, -F, digits)
             except (np.linalg.LinAlgError, ZeroDivisionError) as exc:
+                if best is not None:  # already within tol: no polishing at a fold
+                    converged = True
+                    break
                 raise ComputationError(
                     f"Newton's matrix D P^{period} - Id is singular at parameter {p}: a "
                     "multiplier equals 1 (a fold, or a continuum of periodic orbits)"
