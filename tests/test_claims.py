@@ -75,6 +75,7 @@ SAMPLE = [
     "K01-3.2stab",  # computed quantities: Floquet multipliers, a region, Proposition 2
     "BKM12-Fig2region",
     "BKM12-49-54",
+    "BM20-3.3pair",  # the attractor-repeller pair (sampled sets)
     "BKM12-8",  # hamiltonisation
     "K01-2.11",
     "K01-3.3seg",  # k01_separatrix

@@ -17,6 +17,7 @@ T_END = 10.0
 SHORT_ANALYSES = {
     "lyapunov": ("iterations=40", "transient=10", "windows=4", "states=2"),
     "poincare": ("iterations=4", "transient=1"),  # maps count iterations, not time
+    "periodic_orbits": ("continuation.max_points=3",),
 }
 
 

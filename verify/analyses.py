@@ -33,7 +33,7 @@ __all__ = [
 ]
 
 #: Modules of chaplygin.verify that register an analysis when imported.
-ANALYSIS_MODULES: tuple[str, ...] = ("poincare_output", "lyapunov_output")
+ANALYSIS_MODULES: tuple[str, ...] = ("poincare_output", "lyapunov_output", "periodic_output")
 
 _REGISTRY: dict[str, Analysis] = {}
 

@@ -55,6 +55,7 @@ from ..derive.errors import UserInputError
 from ..derive.systems import SYSTEMS
 from .analyses import AnalysisResult, requested
 from .lyapunov_table import LyapunovOutput
+from .periodic_output import PeriodicOrbitsOutput
 from .poincare_table import PoincareOutput
 from .sweep_table import Sweep
 
@@ -183,6 +184,11 @@ class Outputs(_Table):
     )
     poincare: PoincareOutput | None = Field(
         None, description="a Poincaré map: stroboscopic or a section by a surface"
+    )
+    periodic_orbits: PeriodicOrbitsOutput | None = Field(
+        None,
+        description="periodic orbit of the stroboscopic map: period, Newton, multipliers, "
+        "continuation with its bifurcations",
     )
 
 

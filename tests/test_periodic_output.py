@@ -1,0 +1,145 @@
+"""The ``periodic_orbits`` scene output on BM20 Fig. 7A (Omega = 1.06675, d = 4.385).
+
+The multipliers from the variational equations (the map's Jacobian) are checked against an
+independent route: central differences of ``P^7`` itself (no variational equations), whose
+error is ``~ accuracy / h + h^2 |D^3 P^7|``. The Neimark–Sacker point found by the
+continuation is checked by refining the orbit on both sides of it (the pair's modulus below
+and above 1).
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from chaplygin.numerics.periodic_orbits import _bm20_map_with_jacobian, refine_periodic_orbit
+from chaplygin.verify.cli import main
+
+BM20 = """title = "BM20 Fig. 7A period"
+system = "chaplygin_ball"
+effects = ["variable_inertia", "variable_gyrostat"]
+[parameters]
+I = [4, 3, 2]
+D = 4.385
+J_off = 0
+delta = 2
+K = [-6, -3, -9]
+Omega = {omega}
+[initial]
+G = 3
+z = 0.5
+l = 1
+g = 1
+[run]
+t_end = 1
+[outputs.periodic_orbits]
+transient = {transient}
+max_period = 16
+rtol = 1e-10
+"""
+
+CONTINUATION = """[outputs.periodic_orbits.continuation]
+parameter = "Omega"
+range = [1.06675, 1.0671]
+step = 2e-4
+follow_doublings = 0
+"""
+
+PARAMS = [4, 3, 2, 4.385, 0, 2, -6, -3, -9, 1.06675]
+
+
+def _run(tmp_path, text, capsys):
+    scene = tmp_path / "scene.toml"
+    scene.write_text(text)
+    status = main(["run", str(scene), "--out", str(tmp_path / "out"), "--json", "--quiet"])
+    captured = capsys.readouterr()
+    return status, captured
+
+
+def test_model_without_forcing_is_refused(tmp_path, capsys):
+    text = """title = "x"
+system = "chaplygin_ball"
+[parameters]
+I = [1, 2, 3]
+D = 1
+[initial]
+M = [0.1, 0.2, 0.3]
+gamma = [0, 0, 1]
+[run]
+t_end = 1
+[outputs.periodic_orbits]
+"""
+    status, captured = _run(tmp_path, text, capsys)
+    assert status == 2
+    assert "time-periodic" in captured.err and captured.err.count("\n") == 1
+    assert not (tmp_path / "out").exists()
+
+
+def test_unknown_key_is_refused(tmp_path, capsys):
+    text = BM20.format(omega=1.06675, transient=10) + "max_periods = 3\n"
+    status, captured = _run(tmp_path, text, capsys)
+    assert status == 2 and "max_periods" in captured.err
+
+
+@pytest.mark.slow
+def test_period_seven_and_its_multipliers(tmp_path, capsys):
+    status, captured = _run(tmp_path, BM20.format(omega=1.06675, transient=12000), capsys)
+    assert status == 0, captured.err
+    out = json.loads(captured.out)["analyses"]["periodic_orbits"]
+    assert out["period"] == 7 and out["converged"] and out["stable"]
+    assert out["residual"] <= out["tolerance"]
+    mult = np.array([complex(m) for m in out["multipliers"]])
+    # independent route: central differences of P^7 (the map only, no Jacobian)
+    smap = _bm20_map_with_jacobian(PARAMS, 3.0, rtol=1e-10)
+    x0 = np.array([float(v) for v in out["orbit (z, l, g)"][0]])
+    h = 1e-4
+
+    def p7(x):
+        for _ in range(7):
+            x = smap.f(x, 1.06675)
+        return x
+
+    def fd_moduli(step):
+        cols = [
+            smap.difference(p7(x0 + step * e), p7(x0 - step * e)) / (2 * step) for e in np.eye(3)
+        ]
+        return np.sort(np.abs(np.linalg.eigvals(np.array(cols).T)))
+
+    fd, fd2 = fd_moduli(h), fd_moduli(2 * h)
+    # error of the differences: the map's accuracy over h, plus the truncation O(h^2),
+    # estimated from the step 2h (Richardson: |fd(2h) - fd(h)| = 3 c h^2)
+    bound = 10 * 7 * smap.accuracy / h + np.max(np.abs(fd2 - fd))
+    assert np.max(np.abs(fd - np.sort(np.abs(mult)))) <= bound
+    assert (tmp_path / "out" / "periodic_orbits.nc").stat().st_size > 0
+
+
+@pytest.mark.slow
+def test_chaotic_attractor_has_no_short_period(tmp_path, capsys):
+    # control: at Omega = 1.07 (Fig. 5, the strange attractor) no period <= 16 closes
+    status, captured = _run(tmp_path, BM20.format(omega=1.07, transient=3000), capsys)
+    assert status == 0, captured.err
+    out = json.loads(captured.out)["analyses"]["periodic_orbits"]
+    assert out["period"] is None and "no period" in out["message"]
+
+
+@pytest.mark.slow
+def test_neimark_sacker_of_the_period_seven_orbit(tmp_path, capsys):
+    text = BM20.format(omega=1.06675, transient=12000) + CONTINUATION
+    status, captured = _run(tmp_path, text, capsys)
+    assert status == 0, captured.err
+    cont = json.loads(captured.out)["analyses"]["periodic_orbits"]["continuation"]
+    (ns,) = cont["events"]
+    assert ns["kind"] == "neimark-sacker" and ns["period"] == 7
+    omega_ns = float(ns["parameter"])
+    # the pair's modulus crosses 1 there: refine on both sides (shift by 100x the Newton
+    # tolerance's effect on the parameter, far above the located uncertainty)
+    smap = _bm20_map_with_jacobian(PARAMS, 3.0, rtol=1e-10)
+    orbit_text = json.loads(captured.out)["analyses"]["periodic_orbits"]["orbit (z, l, g)"]
+    start = np.array([float(v) for v in orbit_text[0]])
+    moduli = []
+    for om in (omega_ns - 2e-5, omega_ns + 2e-5):
+        orbit = refine_periodic_orbit(smap, start, 7, om)
+        assert orbit.converged
+        moduli.append(max(abs(m) for m in orbit.multipliers if abs(m.imag) > 0))
+    assert moduli[0] < 1 < moduli[1]

@@ -1,0 +1,336 @@
+"""The ``periodic_orbits`` scene output: the period of the stroboscopic map's attractor,
+its Newton refinement and Floquet multipliers, and (optionally) its continuation in a
+parameter with the bifurcations met.
+
+A scene of BM20's model (time-periodic ``I(t)``, ``k(t)``; ``(M, gamma) = 0``) asks for::
+
+    [outputs.periodic_orbits]
+    transient = 12000        # map iterations discarded before the period search
+    max_period = 64
+    [outputs.periodic_orbits.continuation]
+    parameter = "Omega"
+    range = [1.0662, 1.075]
+    step = 2e-4
+
+The map is the stroboscopic map ``t -> t + 2 pi/Omega`` from ``t = 0`` in BM20's
+Andoyer–Deprit coordinates ``(z, l, g)`` (BM20-3.7) on the level ``|M| = G`` of the scene's
+initial state; its Jacobian comes from the variational equations with the generated
+Jacobian (:func:`chaplygin.numerics.periodic_orbits._bm20_map_with_jacobian`). A period is
+a candidate when the orbit closes within ``detect_tol``; it counts only once Newton's
+method has refined it to ``10 k`` times the map's accuracy (``100 rtol``).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Annotated, Any, Literal
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, StrictBool, StrictFloat, StrictInt
+
+from ..derive.errors import UserInputError
+from .analyses import Analysis, AnalysisResult, register_analysis
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+__all__ = ["PeriodicOrbitsOutput", "ContinuationSpec", "PERIODIC_ORBITS", "multipliers_figure"]
+
+Positive = Annotated[StrictFloat | StrictInt, Field(gt=0)]
+
+
+class _Table(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+def _scene_error(message: str, path: str) -> Exception:
+    # a UserInputError naming the key path (SceneError is in verify.scene, which imports this
+    # module's tables: importing it here would make an import cycle)
+    return UserInputError(f"{path}: {message}")
+
+
+class ContinuationSpec(_Table):
+    """Continuation of the periodic orbit found, in one parameter of the model."""
+
+    parameter: Literal["Omega", "D", "delta", "J_off"] = Field(
+        "Omega", description="the parameter varied (the scene's value is the start)"
+    )
+    range: Annotated[list[StrictFloat | StrictInt], Field(min_length=2, max_length=2)] = Field(
+        description="[a, b]: the branch is followed from the scene's value to a and to b"
+    )
+    step: Positive = Field(description="initial arclength step (in (x, parameter))")
+    max_points: Annotated[StrictInt, Field(ge=2, le=5000)] = Field(
+        200, description="points per branch at most"
+    )
+    follow_doublings: Annotated[StrictInt, Field(ge=0, le=12)] = Field(
+        3, description="period doublings at which to switch to the doubled branch"
+    )
+
+
+class PeriodicOrbitsOutput(_Table):
+    """Periodic orbit of the stroboscopic map: period search, Newton, multipliers."""
+
+    transient: Annotated[StrictInt, Field(ge=0, le=10_000_000)] = Field(
+        5000, description="map iterations discarded before the period search"
+    )
+    max_period: Annotated[StrictInt, Field(ge=1, le=4096)] = Field(
+        64, description="largest period tried"
+    )
+    detect_tol: Annotated[StrictFloat, Field(gt=0, lt=1)] = Field(
+        1e-4,
+        description="closing tolerance of a candidate period (the candidate is then refined "
+        "by Newton to the integration's accuracy)",
+    )
+    rtol: Annotated[StrictFloat, Field(gt=0, lt=1e-4)] = Field(
+        1e-11, description="integration tolerance of the map and its Jacobian"
+    )
+    continuation: ContinuationSpec | None = Field(
+        None, description="continue the orbit in a parameter, locating its bifurcations"
+    )
+    plot: StrictBool = Field(True, description="write the multipliers' picture")
+
+
+def _check(scene: Any, code: Any, spec: PeriodicOrbitsOutput) -> None:
+    if "Omega" not in code.numpy.PARAMS:
+        raise _scene_error(
+            "periodic_orbits needs a time-periodic model (effects variable_inertia and/or "
+            "variable_gyrostat: the stroboscopic map has period 2 pi/Omega)",
+            "outputs.periodic_orbits",
+        )
+    if tuple(code.numpy.STATE) != ("M1", "M2", "M3", "gamma1", "gamma2", "gamma3"):
+        raise _scene_error(
+            "periodic_orbits works in BM20's coordinates (z, l, g): a model with state "
+            "(M, gamma) only (no contact_point)",
+            "outputs.periodic_orbits",
+        )
+
+
+def _param_vector(res: Any) -> list[float]:
+    return [float(res.params[n]) for n in res.code.numpy.PARAMS]
+
+
+def _complex_text(m: complex) -> str:
+    return f"{m.real:.12g}{m.imag:+.12g}j"
+
+
+def _run(scene: Any, res: Any, spec: PeriodicOrbitsOutput, progress: Any) -> AnalysisResult:
+    from ..derive.errors import ComputationError
+    from ..numerics.continuation import continue_periodic_orbit
+    from ..numerics.periodic_orbits import (
+        _bm20_map_with_jacobian,
+        _state_to_andoyer,
+        detect_period,
+        refine_periodic_orbit,
+    )
+    from ..numerics.reversibility import stroboscopic_samples
+
+    y0 = np.array([float(v) for v in res.y0])
+    M, gamma = y0[:3], y0[3:]
+    G = float(np.linalg.norm(M))
+    if G == 0 or abs(M @ gamma) > 1e-9 * G:
+        raise _scene_error(
+            "periodic_orbits needs (M, gamma) = 0 and |M| = G > 0 (BM20's level set); give "
+            "the initial state by G, z, l, g",
+            "initial",
+        )
+    params = _param_vector(res)
+    samples = stroboscopic_samples(
+        res.code, params, y0, 2 * spec.max_period, transient=spec.transient, rtol=spec.rtol
+    )
+    points = np.array([_state_to_andoyer(y) for y in samples])
+    period = detect_period(points, spec.max_period, spec.detect_tol, angles=(1, 2))
+    summary: dict[str, Any] = {
+        "map": "stroboscopic, t = 0 mod 2 pi/Omega, coordinates (z, l, g) (BM20-3.7)",
+        "level G": f"{G:.15g}",
+        "transient": spec.transient,
+        "detect_tol": spec.detect_tol,
+        "rtol": spec.rtol,
+        "period": period,
+    }
+    arrays: dict[str, tuple] = {
+        "attractor": (
+            ("sample", "coordinate"),
+            points,
+            {"long_name": "map points after the transient (z, l, g)", "units": "1, rad, rad"},
+        )
+    }
+    figures: dict = {}
+    if period is None:
+        summary["message"] = (
+            f"no period <= {spec.max_period} closes within {spec.detect_tol:g} after "
+            f"{spec.transient} iterations (chaotic, quasi-periodic or a longer transient)"
+        )
+        return AnalysisResult(summary=summary, arrays=arrays, figures=figures)
+    vary = spec.continuation.parameter if spec.continuation else "Omega"
+    smap = _bm20_map_with_jacobian(params, G, vary=vary, rtol=spec.rtol)
+    value = float(res.params[vary])
+    try:
+        orbit = refine_periodic_orbit(smap, points[-1], period, value)
+    except ComputationError as exc:
+        raise _scene_error(f"periodic_orbits: {exc}", "outputs.periodic_orbits") from None
+    summary.update(
+        {
+            "newton": orbit.message,
+            "converged": orbit.converged,
+            "residual": orbit.residual,
+            "tolerance": orbit.tolerance,
+            "multipliers": [_complex_text(complex(m)) for m in orbit.multipliers],
+            "max |multiplier|": orbit.max_abs_multiplier,
+            "multiplier_tolerance": orbit.multiplier_tolerance,
+            "stable": orbit.stable,
+            "orbit (z, l, g)": [[f"{v:.15g}" for v in x] for x in orbit.points],
+        }
+    )
+    if spec.continuation is not None and orbit.converged:
+        summary["continuation"], arrays_c, fig = _continue(
+            smap, orbit, vary, value, spec.continuation, progress, continue_periodic_orbit
+        )
+        arrays.update(arrays_c)
+        figures["periodic_orbits_multipliers"] = fig
+    return AnalysisResult(summary=summary, arrays=arrays, figures=figures)
+
+
+def _continue(smap, orbit, vary, value, cspec, progress, continue_periodic_orbit):
+    say = (lambda m: print(f"periodic_orbits: {m}", flush=True)) if progress else None
+    runs = []
+    for end in cspec.range:
+        if float(end) == value:
+            continue
+        runs.append(
+            continue_periodic_orbit(
+                smap,
+                orbit.points[0],
+                orbit.period,
+                value,
+                float(end),
+                step=float(cspec.step),
+                max_points=cspec.max_points,
+                follow_doublings=cspec.follow_doublings,
+                progress=say,
+            )
+        )
+    branches = [b for r in runs for b in r.branches]
+    events = [e for r in runs for e in r.events]
+    doublings = sorted(e.parameter for e in events if e.kind == "period-doubling")
+    out: dict[str, Any] = {
+        "parameter": vary,
+        "range": [float(v) for v in cspec.range],
+        "events": [
+            {
+                "kind": e.kind,
+                "parameter": f"{e.parameter:.15g}",
+                "uncertainty": e.uncertainty,
+                "period": e.period,
+                "multipliers": [_complex_text(complex(m)) for m in e.multipliers],
+            }
+            for e in events
+        ],
+        "branches": [
+            {"period": b.period, "points": len(b.parameters), "message": b.message}
+            for b in branches
+        ],
+    }
+    if len(doublings) >= 3:
+        d = np.diff(doublings)
+        out["doubling ratios"] = [f"{r:.6g}" for r in d[:-1] / d[1:]]
+        out["feigenbaum delta"] = "4.669201609102990"
+    par = np.concatenate([b.parameters for b in branches])
+    per = np.concatenate([np.full(len(b.parameters), b.period) for b in branches])
+    mul = np.concatenate([b.multipliers for b in branches])
+    arrays = {
+        "branch_parameter": (("branch_point",), par, {"long_name": vary, "units": "1"}),
+        "branch_period": (("branch_point",), per, {"long_name": "period", "units": "1"}),
+        "multiplier_abs": (
+            ("branch_point", "multiplier"),
+            np.abs(mul),
+            {"long_name": "|Floquet multiplier|", "units": "1"},
+        ),
+        "multiplier_arg": (
+            ("branch_point", "multiplier"),
+            np.angle(mul),
+            {"long_name": "arg Floquet multiplier", "units": "rad"},
+        ),
+    }
+
+    def figure():
+        return multipliers_figure(par, per, mul, events, vary)
+
+    return out, arrays, figure
+
+
+def multipliers_figure(
+    parameter: np.ndarray,
+    period: np.ndarray,
+    multipliers: np.ndarray,
+    events: list,
+    name: str,
+) -> Figure:
+    """|multipliers| and their arguments along the branches, with the events marked.
+
+    Parameters
+    ----------
+    parameter : ndarray, shape (n,)
+    period : ndarray, shape (n,)
+        Period of the branch each point belongs to.
+    multipliers : ndarray, shape (n, dim)
+    events : list of BifurcationEvent
+    name : str
+        The parameter's name.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(8, 6.4), layout="constrained")
+    top, bottom = fig.subplots(2, 1, sharex=True)
+    order = np.argsort(parameter, kind="stable")
+    colours = {"period-doubling": "C3", "saddle-node": "C2", "neimark-sacker": "C4"}
+    for k in np.unique(period):
+        sel = order[period[order] == k]
+        for j in range(multipliers.shape[1]):
+            top.plot(
+                parameter[sel],
+                np.abs(multipliers[sel, j]),
+                ".",
+                ms=2.5,
+                label=f"period {k}" if j == 0 else None,
+                color=f"C{int(np.log2(k)) % 10}",
+            )
+            bottom.plot(
+                parameter[sel],
+                np.angle(multipliers[sel, j]),
+                ".",
+                ms=2.5,
+                color=f"C{int(np.log2(k)) % 10}",
+            )
+    top.axhline(1.0, color="0.5", lw=0.8)
+    for e in events:
+        for ax in (top, bottom):
+            ax.axvline(e.parameter, color=colours.get(e.kind, "k"), lw=0.8, ls="--")
+        top.annotate(
+            f"{e.kind}\n{e.parameter:.7g}",
+            (e.parameter, top.get_ylim()[1]),
+            fontsize=7,
+            rotation=90,
+            va="top",
+            ha="right",
+        )
+    top.set_ylabel("|multiplier|")
+    bottom.set_ylabel("arg multiplier (rad)")
+    bottom.set_xlabel(name)
+    top.legend(fontsize=8, loc="lower left")
+    top.set_title("Floquet multipliers of the periodic orbit along its branch")
+    return fig
+
+
+PERIODIC_ORBITS = register_analysis(
+    Analysis(
+        key="periodic_orbits",
+        run=_run,
+        check=_check,
+        description="period of the stroboscopic map's attractor, Newton refinement, Floquet "
+        "multipliers; continuation in a parameter with period-doubling, saddle-node and "
+        "Neimark-Sacker events",
+    )
+)
