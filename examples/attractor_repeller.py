@@ -68,14 +68,14 @@ def mean_log_det(J_off: float, points: np.ndarray) -> tuple[float, float]:
     """Mean of log|det DP| (the phase-volume change per iteration; along an orbit it is the
     sum of the Lyapunov exponents) at points of the attractor (M/G, gamma), with its
     standard error."""
-    from chaplygin.numerics.periodic_orbits import _bm20_map_with_jacobian, _state_to_andoyer
+    from chaplygin.numerics.periodic_orbits import bm20_map_with_jacobian, bm20_point
 
     params = list(_FIG5)
     params[4] = J_off
-    smap = _bm20_map_with_jacobian(params, 3.0, rtol=1e-9)
+    smap = bm20_map_with_jacobian(params, 3.0, rtol=1e-9)
     logs = []
     for y in points:
-        x = _state_to_andoyer(np.concatenate([3.0 * y[:3], y[3:]]))
+        x = bm20_point(np.concatenate([3.0 * y[:3], y[3:]]))
         logs.append(np.log(abs(np.linalg.det(smap.df(x, params[9])[1]))))
     return float(np.mean(logs)), float(np.std(logs) / np.sqrt(len(logs)))
 

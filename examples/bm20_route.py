@@ -21,9 +21,9 @@ import numpy as np
 from chaplygin.numerics import load_model_code
 from chaplygin.numerics.continuation import continue_periodic_orbit
 from chaplygin.numerics.periodic_orbits import (
-    _andoyer_to_state,
-    _bm20_map_with_jacobian,
-    _state_to_andoyer,
+    bm20_map_with_jacobian,
+    bm20_point,
+    bm20_state,
     detect_period,
     refine_periodic_orbit,
 )
@@ -37,9 +37,9 @@ def attractor(code, d: float, omega: float, transient: int, n: int = 1200) -> np
     """``n`` map points (z, l, g) after ``transient`` iterations from the Fig. 5 start."""
     params = list(BODY)
     params[3], params[9] = d, omega
-    start = _andoyer_to_state(np.array([0.5, 1.0, 1.0]), 3.0)
+    start = bm20_state(np.array([0.5, 1.0, 1.0]), 3.0)
     states = stroboscopic_samples(code, params, start, n, transient=transient, rtol=RTOL)
-    return np.array([_state_to_andoyer(y) for y in states])
+    return np.array([bm20_point(y) for y in states])
 
 
 def report_events(title: str, result) -> None:
@@ -60,7 +60,7 @@ def main() -> None:
         k = detect_period(points, 512, 1e-4, angles=(1, 2), window=600)
         line = f"Omega = {omega}: period {k}"
         if k is not None:
-            smap = _bm20_map_with_jacobian(BODY, 3.0, rtol=RTOL)
+            smap = bm20_map_with_jacobian(BODY, 3.0, rtol=RTOL)
             orbit = refine_periodic_orbit(smap, points[-1], k, omega)
             mult = ", ".join(f"{abs(m):.4f} exp({np.angle(m):+.3f} i)" for m in orbit.multipliers)
             line += f"; {orbit.message}; multipliers {mult}"
@@ -68,13 +68,13 @@ def main() -> None:
         print(line, flush=True)
     # 2. continuation of the period-7 orbit
     x7 = seven.points[0]
-    by_omega = _bm20_map_with_jacobian(BODY, 3.0, rtol=RTOL)
+    by_omega = bm20_map_with_jacobian(BODY, 3.0, rtol=RTOL)
     for end in (1.0662, 1.0727):
         r = continue_periodic_orbit(by_omega, x7, 7, 1.06675, end, step=5e-4, max_points=300)
         report_events(f"period 7 in Omega, 1.06675 -> {end}:", r)
     body = list(BODY)
     body[9] = 1.06675
-    by_d = _bm20_map_with_jacobian(body, 3.0, vary="D", rtol=RTOL)
+    by_d = bm20_map_with_jacobian(body, 3.0, vary="D", rtol=RTOL)
     for end in (4.37, 4.40):
         r = continue_periodic_orbit(by_d, x7, 7, 4.385, end, step=5e-4, max_points=300)
         report_events(f"period 7 in d at Omega = 1.06675, 4.385 -> {end}:", r)

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 from chaplygin.numerics import load_model_code
-from chaplygin.numerics.periodic_orbits import _andoyer_to_state, _state_to_andoyer, detect_period
+from chaplygin.numerics.periodic_orbits import bm20_point, bm20_state, detect_period
 from chaplygin.numerics.reversibility import stroboscopic_samples
 from matplotlib.figure import Figure
 
@@ -28,14 +28,14 @@ D_RANGE, OMEGA_RANGE = (4.37, 4.39), (1.060, 1.075)
 
 def main(n_d: int = 11, n_omega: int = 11, omega_range: tuple[float, float] = OMEGA_RANGE) -> None:
     code = load_model_code("chaplygin_ball", "variable_gyrostat,variable_inertia")
-    start = _andoyer_to_state(np.array([0.5, 1.0, 1.0]), 3.0)
+    start = bm20_state(np.array([0.5, 1.0, 1.0]), 3.0)
     ds, omegas = np.linspace(*D_RANGE, n_d), np.linspace(*omega_range, n_omega)
     periods = np.zeros((n_omega, n_d), dtype=int)
     for i, omega in enumerate(omegas):
         for j, d in enumerate(ds):
             params = [4, 3, 2, d, 0, 2, -6, -3, -9, omega]
             states = stroboscopic_samples(code, params, start, 128, transient=6000, rtol=1e-9)
-            points = np.array([_state_to_andoyer(y) for y in states])
+            points = np.array([bm20_point(y) for y in states])
             periods[i, j] = detect_period(points, 64, 1e-4, angles=(1, 2)) or 0
             print(f"d = {d:.4f}, Omega = {omega:.5f}: period {periods[i, j]}", flush=True)
     out = Path(__file__).resolve().parent / "figures" / "dynamics"

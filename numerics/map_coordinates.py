@@ -321,6 +321,49 @@ def state_from_reduced(
     return y
 
 
+def reduced_tangent(x: Sequence, G: float) -> np.ndarray:
+    """The derivative ``d(M, gamma)/d(z, l, g)`` of :func:`state_from_reduced` (double).
+
+    Parameters
+    ----------
+    x : sequence of 3 floats
+        ``(z, l, g)`` with ``|z| < 1`` (the chart is singular at the poles).
+    G : float
+        ``|M|``.
+
+    Returns
+    -------
+    ndarray, shape (6, 3)
+        Rows ``M1, M2, M3, gamma1, gamma2, gamma3``; columns ``z, l, g``.
+
+    Raises
+    ------
+    UserInputError
+        ``|z| >= 1``.
+
+    References
+    ----------
+    BM20-3.7.
+    """
+    z, l, g = (float(v) for v in x)
+    if not abs(z) < 1:
+        raise UserInputError(f"the Andoyer-Deprit chart is singular at z = {z} (|z| must be < 1)")
+    G = float(G)
+    s = math.sqrt(1 - z * z)
+    ds = -z / s
+    sl, cl, sg, cg = math.sin(l), math.cos(l), math.sin(g), math.cos(g)
+    return np.array(
+        [
+            [G * ds * sl, G * s * cl, 0.0],
+            [G * ds * cl, -G * s * sl, 0.0],
+            [G, 0.0, 0.0],
+            [cg * sl, z * cg * cl - sg * sl, -z * sg * sl + cg * cl],
+            [cg * cl, -z * cg * sl - sg * cl, -z * sg * cl - cg * sl],
+            [-ds * cg, 0.0, s * sg],
+        ]
+    )
+
+
 # --------------------------------------------------------------------- expressions of the state
 _BINARY: dict[type, Callable[[Any, Any], Any]] = {
     ast.Add: lambda a, b: a + b,

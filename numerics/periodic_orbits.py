@@ -24,6 +24,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from contextlib import nullcontext
 from dataclasses import dataclass, field
+from functools import partial
 from typing import Any
 
 import mpmath
@@ -40,6 +41,9 @@ __all__ = [
     "floquet_multipliers",
     "orbit_jacobian",
     "as_numpy_points",
+    "bm20_map_with_jacobian",
+    "bm20_point",
+    "bm20_state",
 ]
 
 TWO_PI = 2 * np.pi
@@ -463,55 +467,49 @@ def as_numpy_points(orbit: PeriodicOrbit) -> NDArray[np.float64]:
 
 
 # ------------------------------------------------------------------ BM20 stroboscopic map
-# Private adapter until the poincare and lyapunov branches merge: replaced by
-# numerics.variational.flow_with_jacobian (the state-transition matrix) and
-# numerics.map_coordinates.andoyer_deprit (the reduced coordinates) at merge.
 BM20_EFFECTS = "variable_gyrostat,variable_inertia"
 #: Parameter order of the BM20 model (I1, I2, I3, D, J_off, delta, K1, K2, K3, Omega).
 _OMEGA = 9
+#: The BM20 model's state (without contact_point).
+BM20_STATE = ("M1", "M2", "M3", "gamma1", "gamma2", "gamma3")
 
 
-def _andoyer_to_state(x: NDArray, G: float) -> NDArray:
-    """BM20 (3.7): ``(z, l, g) -> (M, gamma)`` at ``|M| = G``, ``(M, gamma) = 0``."""
-    z, l, g = x
-    s = np.sqrt(max(0.0, 1 - z * z))
-    sl, cl, sg, cg = np.sin(l), np.cos(l), np.sin(g), np.cos(g)
-    return np.array(
-        [G * s * sl, G * s * cl, G * z, z * cg * sl + sg * cl, z * cg * cl - sg * sl, -s * cg]
-    )
+def bm20_state(x: ArrayLike, G: float) -> NDArray[np.float64]:
+    """BM20 (3.7): the state ``(M, gamma)`` of the map point ``x = (z, l, g)`` at ``|M| = G``,
+    ``(M, gamma) = 0`` (:func:`~chaplygin.numerics.map_coordinates.state_from_reduced`).
+
+    Parameters
+    ----------
+    x : array_like, shape (3,)
+    G : float
+
+    Returns
+    -------
+    ndarray, shape (6,)
+    """
+    from .map_coordinates import state_from_reduced
+
+    return np.array(state_from_reduced(np.asarray(x, float), G, [0.0] * 6, BM20_STATE), float)
 
 
-def _andoyer_tangent(x: NDArray, G: float) -> NDArray:
-    """``d(M, gamma)/d(z, l, g)``, shape (6, 3) (|z| < 1)."""
-    z, l, g = x
-    s = np.sqrt(1 - z * z)
-    ds = -z / s
-    sl, cl, sg, cg = np.sin(l), np.cos(l), np.sin(g), np.cos(g)
-    return np.array(
-        [
-            [G * ds * sl, G * s * cl, 0.0],
-            [G * ds * cl, -G * s * sl, 0.0],
-            [G, 0.0, 0.0],
-            [cg * sl, z * cg * cl - sg * sl, -z * sg * sl + cg * cl],
-            [cg * cl, -z * cg * sl - sg * cl, -z * sg * cl - cg * sl],
-            [-ds * cg, 0.0, s * sg],
-        ]
-    )
+def bm20_point(y: ArrayLike) -> NDArray[np.float64]:
+    """The map point ``(z, l, g)`` of a BM20 state ``(M, gamma)`` (inverse of
+    :func:`bm20_state`; :func:`~chaplygin.numerics.map_coordinates.reduced_point`).
+
+    Parameters
+    ----------
+    y : array_like, shape (6,)
+
+    Returns
+    -------
+    ndarray, shape (3,)
+    """
+    from .map_coordinates import reduced_point
+
+    return np.asarray(reduced_point(np.asarray(y, float), BM20_STATE)[1], dtype=float)
 
 
-def _state_to_andoyer(y: NDArray) -> NDArray:
-    """The inverse of (3.7) on ``(M, gamma) = 0``: ``(z, l, g)`` (angles in ``(-pi, pi]``)."""
-    M, gamma = y[:3], y[3:]
-    G = np.linalg.norm(M)
-    z = M[2] / G
-    l = np.arctan2(M[0], M[1])
-    s = np.sqrt(max(0.0, 1 - z * z))
-    sin_g = gamma[0] * np.cos(l) - gamma[1] * np.sin(l)
-    cos_g = z * (gamma[0] * np.sin(l) + gamma[1] * np.cos(l)) - s * gamma[2]
-    return np.array([z, l, np.arctan2(sin_g, cos_g)])
-
-
-def _bm20_map_with_jacobian(
+def bm20_map_with_jacobian(
     params: Sequence[float],
     G: float,
     *,
@@ -520,11 +518,15 @@ def _bm20_map_with_jacobian(
     backward: bool = False,
 ) -> SmoothMap:
     """BM20's stroboscopic map in Andoyer-Deprit ``(z, l, g)`` (BM20-3.7, BM20-map), with
-    ``Omega`` as its parameter (replaced by ``variational.flow_with_jacobian`` at merge).
+    one scalar parameter of the model as the map's parameter.
 
-    One step integrates ``y' = f(t, y)``, ``Phi' = J(t, y) Phi`` (the generated Jacobian)
-    over one forcing period ``2 pi/Omega`` from ``t = 0`` (``backward``: to ``-2 pi/Omega``,
-    the inverse map) with DOP853 at ``rtol = atol``; the reduced Jacobian solves
+    One step integrates ``y' = f(t, y)``, ``Phi' = J(t, y) Phi`` (the variational equations
+    in C with the generated right-hand side and Jacobian,
+    :class:`~chaplygin.numerics.variational.VariationalSystem`) over one forcing period
+    ``2 pi/Omega`` from ``t = 0`` (``backward``: to ``-2 pi/Omega``, the inverse map) with
+    DOP853 at ``rtol = atol``; coordinates by
+    :func:`~chaplygin.numerics.map_coordinates.reduced_point` and its inverse; the reduced
+    Jacobian solves
     ``E(x1) J = Phi E(x0)`` (``E = d(M, gamma)/d(z, l, g)``, ``Phi`` maps the tangent space
     of the level set ``|M| = G``, ``(M, gamma) = 0``, ``|gamma| = 1`` into itself).
 
@@ -546,59 +548,37 @@ def _bm20_map_with_jacobian(
         ``f(x, Omega)``, ``df(x, Omega)`` on points ``(z, l, g)``; ``angles = (1, 2)``;
         ``accuracy = 100 rtol``.
     """
-    from scipy.integrate import solve_ivp
-
     from .code import load_model_code
+    from .map_coordinates import reduced_tangent
+    from .variational import VariationalSystem
 
     code = load_model_code("chaplygin_ball", BM20_EFFECTS)
-    compiled = code.compiled()
-    rhs = compiled.rhs if compiled is not None else code.numpy.rhs
-    jac = compiled.jac if compiled is not None else code.numpy.jac
+    names = code.params
     base = np.array(params, dtype=float)
-    names = code.numpy.PARAMS
     if vary not in ("Omega", "D", "delta", "J_off"):
         raise UserInputError(f"the BM20 map varies Omega, D, delta or J_off, not {vary!r}")
     index = names.index(vary)
     sign = -1.0 if backward else 1.0
 
-    def period(value: float) -> tuple[float, NDArray]:
+    def system(value: float) -> tuple[float, VariationalSystem]:
         p = base.copy()
         p[index] = value
-        return sign * 2 * np.pi / p[_OMEGA], p
+        return sign * 2 * np.pi / p[_OMEGA], VariationalSystem(code, p, rtol=rtol, atol=rtol)
+
+    to_state, to_point = partial(bm20_state, G=G), bm20_point
 
     def f(x: NDArray, value: float) -> NDArray:
-        T, p = period(value)
-        y0 = _andoyer_to_state(np.asarray(x, dtype=float), G)
-        sol = solve_ivp(
-            lambda t, y: rhs(t, y, p), (0.0, T), y0, method="DOP853", rtol=rtol, atol=rtol
-        )
-        if not sol.success:
-            raise ComputationError(f"BM20 map at {vary} = {value}: {sol.message}")
-        return _state_to_andoyer(sol.y[:, -1])
+        T, var = system(value)
+        # one zero tangent vector: the state alone drives the error control
+        flow = var.flow(to_state(x), 0.0, T, V0=np.zeros((len(code.state), 1)))
+        return to_point(flow.y)
 
     def df(x: NDArray, value: float) -> tuple[NDArray, NDArray]:
-        T, p = period(value)
+        T, var = system(value)
         x = np.asarray(x, dtype=float)
-        y0 = _andoyer_to_state(x, G)
-
-        def vf(t: float, u: NDArray) -> NDArray:
-            y = u[:6]
-            return np.concatenate([rhs(t, y, p), (jac(t, y, p) @ u[6:].reshape(6, 6)).ravel()])
-
-        sol = solve_ivp(
-            vf,
-            (0.0, T),
-            np.concatenate([y0, np.eye(6).ravel()]),
-            method="DOP853",
-            rtol=rtol,
-            atol=rtol,
-        )
-        if not sol.success:
-            raise ComputationError(f"BM20 map at {vary} = {value}: {sol.message}")
-        y1 = sol.y[:6, -1]
-        Phi = sol.y[6:, -1].reshape(6, 6)
-        x1 = _state_to_andoyer(y1)
-        J, *_ = np.linalg.lstsq(_andoyer_tangent(x1, G), Phi @ _andoyer_tangent(x, G), rcond=None)
+        flow = var.flow(to_state(x), 0.0, T)
+        x1 = to_point(flow.y)
+        J, *_ = np.linalg.lstsq(reduced_tangent(x1, G), flow.V @ reduced_tangent(x, G), rcond=None)
         return x1, J
 
     return SmoothMap(f, df, 3, angles=(1, 2), accuracy=100 * rtol)

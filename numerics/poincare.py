@@ -230,11 +230,14 @@ class StroboscopicMap(_MapBase):
     method : str, optional
         Integration method (default ``"taylor"``).
     backend : {"auto", "c", "numpy"}
+    backward : bool
+        The inverse map ``y(t0) -> y(t0 - tau)`` (a repeller of the map is an attractor of
+        its inverse).
 
     Attributes
     ----------
     period : float or mpmath.mpf
-        ``2 pi/Omega`` at the working precision.
+        ``2 pi/Omega`` at the working precision (``-2 pi/Omega`` for the inverse map).
 
     Raises
     ------
@@ -246,7 +249,15 @@ class StroboscopicMap(_MapBase):
     BM20-map.
     """
 
-    def __init__(self, code: ModelCode, params: Mapping[str, object] | Sequence, **options: Any):
+    def __init__(
+        self,
+        code: ModelCode,
+        params: Mapping[str, object] | Sequence,
+        *,
+        backward: bool = False,
+        **options: Any,
+    ):
+        self._sign = -1 if backward else 1
         if "Omega" not in code.params:
             raise UserInputError(
                 f"{code.name} is not time-periodic (no parameter Omega): a stroboscopic map needs "
@@ -259,7 +270,8 @@ class StroboscopicMap(_MapBase):
         self.period = self.time(1)
 
     def time(self, k: int, t0: object = 0) -> float | mpmath.mpf:
-        """``t0 + k tau`` computed with 10 guard digits and rounded once to the working precision.
+        """``t0 + k tau`` (``t0 - k tau`` for the inverse map) computed with 10 guard digits and
+        rounded once to the working precision.
 
         Parameters
         ----------
@@ -271,7 +283,7 @@ class StroboscopicMap(_MapBase):
         float or mpmath.mpf
         """
         with mpmath.workdps(self.precision.parse_dps + 10):
-            value = mpmath.mpf(t0) + k * 2 * mpmath.pi / mpmath.mpf(self._omega)
+            value = mpmath.mpf(t0) + self._sign * k * 2 * mpmath.pi / mpmath.mpf(self._omega)
             return working_number(value, self.precision)
 
     def step(self, y: Mapping | Sequence, t0: object = 0) -> np.ndarray:

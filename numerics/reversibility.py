@@ -27,7 +27,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
-from ..derive.errors import ComputationError, UserInputError
+from ..derive.errors import UserInputError
 from .code import ModelCode
 
 __all__ = [
@@ -88,9 +88,8 @@ def stroboscopic_samples(
     backward: bool = False,
     rtol: float = 1e-10,
 ) -> NDArray[np.float64]:
-    """States at ``t = j 2 pi/Omega`` (``-j`` when ``backward``) after a transient.
-
-    (A stand-in for ``poincare.StroboscopicMap.orbit``, replaced by it at merge.)
+    """States at ``t = j 2 pi/Omega`` (``-j`` when ``backward``), ``j = transient + 1 ..
+    transient + n``: :meth:`~chaplygin.numerics.poincare.StroboscopicMap.orbit` in double.
 
     Parameters
     ----------
@@ -118,25 +117,11 @@ def stroboscopic_samples(
     ComputationError
         The integration failed.
     """
-    from .integrate import integrate
+    from .poincare import StroboscopicMap
 
-    p = np.asarray(params, dtype=float)
-    omega = p[list(code.numpy.PARAMS).index("Omega")]
-    tau = (-1 if backward else 1) * 2 * np.pi / omega
-    times = np.arange(transient + n + 1) * tau
-    r = integrate(
-        code,
-        np.asarray(y0, dtype=float),
-        (0.0, times[-1]),
-        p,
-        method="taylor",
-        rtol=rtol,
-        atol=rtol,
-        t_eval=times,
-    )
-    if not r.success:
-        raise ComputationError(f"the stroboscopic samples: {r.message}")
-    return np.asarray(r.y, dtype=float).T[transient + 1 :]
+    strobe = StroboscopicMap(code, params, rtol=rtol, atol=rtol, backward=backward)
+    orbit = strobe.orbit(np.asarray(y0, dtype=float), n, transient=transient + 1)
+    return np.asarray(orbit.y, dtype=float)
 
 
 @dataclass

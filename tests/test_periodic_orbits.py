@@ -301,26 +301,27 @@ def test_continuation_bad_input():
 
 # ------------------------------------------------------------------ BM20 reduced coordinates
 def test_andoyer_deprit_round_trip_and_tangent():
-    from chaplygin.numerics.periodic_orbits import (
-        _andoyer_tangent,
-        _andoyer_to_state,
-        _state_to_andoyer,
-    )
+    from chaplygin.numerics.map_coordinates import reduced_tangent
+    from chaplygin.numerics.periodic_orbits import bm20_point, bm20_state
 
     G = 2.7183
     x = np.array([0.3141, -2.2718, 1.4142])
-    y = _andoyer_to_state(x, G)
+    y = bm20_state(x, G)
     # on BM20's level set: |M| = G, (M, gamma) = 0, |gamma| = 1 (BM20-3.7)
     assert abs(np.linalg.norm(y[:3]) - G) <= 10 * EPS * G
     assert abs(y[:3] @ y[3:]) <= 10 * EPS * G
     assert abs(np.linalg.norm(y[3:]) - 1) <= 10 * EPS
-    assert np.max(np.abs(_state_to_andoyer(y) - x)) <= 100 * EPS
+    assert np.max(np.abs(bm20_point(y) - x)) <= 100 * EPS
     # the tangent against central differences (error h^2 |y'''| / 6 + eps/h)
     h = 1e-5
     fd = np.array(
-        [
-            (_andoyer_to_state(x + h * e, G) - _andoyer_to_state(x - h * e, G)) / (2 * h)
-            for e in np.eye(3)
-        ]
+        [(bm20_state(x + h * e, G) - bm20_state(x - h * e, G)) / (2 * h) for e in np.eye(3)]
     ).T
-    assert np.max(np.abs(fd - _andoyer_tangent(x, G))) <= G * (h**2 + 10 * EPS / h)
+    assert np.max(np.abs(fd - reduced_tangent(x, G))) <= G * (h**2 + 10 * EPS / h)
+
+
+def test_reduced_tangent_refuses_the_poles():
+    from chaplygin.numerics.map_coordinates import reduced_tangent
+
+    with pytest.raises(UserInputError, match="singular"):
+        reduced_tangent((1.0, 0.3, 0.2), 3.0)

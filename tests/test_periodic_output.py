@@ -13,7 +13,7 @@ import json
 
 import numpy as np
 import pytest
-from chaplygin.numerics.periodic_orbits import _bm20_map_with_jacobian, refine_periodic_orbit
+from chaplygin.numerics.periodic_orbits import bm20_map_with_jacobian, refine_periodic_orbit
 from chaplygin.verify.cli import main
 
 BM20 = """title = "BM20 Fig. 7A period"
@@ -91,7 +91,7 @@ def test_period_seven_and_its_multipliers(tmp_path, capsys):
     assert out["residual"] <= out["tolerance"]
     mult = np.array([complex(m) for m in out["multipliers"]])
     # independent route: central differences of P^7 (the map only, no Jacobian)
-    smap = _bm20_map_with_jacobian(PARAMS, 3.0, rtol=1e-10)
+    smap = bm20_map_with_jacobian(PARAMS, 3.0, rtol=1e-10)
     x0 = np.array([float(v) for v in out["orbit (z, l, g)"][0]])
     h = 1e-4
 
@@ -134,7 +134,7 @@ def test_neimark_sacker_of_the_period_seven_orbit(tmp_path, capsys):
     omega_ns = float(ns["parameter"])
     # the pair's modulus crosses 1 there: refine on both sides (shift by 100x the Newton
     # tolerance's effect on the parameter, far above the located uncertainty)
-    smap = _bm20_map_with_jacobian(PARAMS, 3.0, rtol=1e-10)
+    smap = bm20_map_with_jacobian(PARAMS, 3.0, rtol=1e-10)
     orbit_text = json.loads(captured.out)["analyses"]["periodic_orbits"]["orbit (z, l, g)"]
     start = np.array([float(v) for v in orbit_text[0]])
     moduli = []

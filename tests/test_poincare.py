@@ -70,6 +70,23 @@ def test_stroboscopic_step_matches_scipy_over_one_period(bm20_code):
     assert err.max() < 100, err
 
 
+def test_inverse_map_matches_scipy_backward_and_undoes_the_map(bm20_code):
+    rtol = 1e-12
+    inverse = StroboscopicMap(bm20_code, BM20, rtol=rtol, atol=1e-14, backward=True)
+    period = 2 * math.pi / 1.07
+    assert inverse.period == pytest.approx(-period, rel=4e-16)
+    y0 = _start()
+    y_back = inverse.step(y0)
+    ref = _scipy_flow(bm20_code, _bm20_vector(bm20_code), y0, -period).y[:, -1]
+    err = np.abs(y_back - ref) / (1e-14 + rtol * np.abs(ref))
+    assert err.max() < 100, err
+    # P^-1(P(y0)) = y0 up to the two integrations' errors (the map expands by < 10 here)
+    forward = StroboscopicMap(bm20_code, BM20, rtol=rtol, atol=1e-14)
+    there_and_back = inverse.step(forward.step(y0))
+    assert np.max(np.abs(there_and_back - y0)) < 1000 * rtol * np.max(np.abs(y0))
+    assert np.max(np.abs(y_back - forward.step(y0))) > 1e-3  # the inverse is another map
+
+
 def test_orbit_transient_drops_the_first_iterations(bm20_code):
     strobe = StroboscopicMap(bm20_code, BM20, rtol=1e-12, atol=1e-14)
     y0 = _start()

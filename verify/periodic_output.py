@@ -15,7 +15,7 @@ A scene of BM20's model (time-periodic ``I(t)``, ``k(t)``; ``(M, gamma) = 0``) a
 The map is the stroboscopic map ``t -> t + 2 pi/Omega`` from ``t = 0`` in BM20's
 Andoyer–Deprit coordinates ``(z, l, g)`` (BM20-3.7) on the level ``|M| = G`` of the scene's
 initial state; its Jacobian comes from the variational equations with the generated
-Jacobian (:func:`chaplygin.numerics.periodic_orbits._bm20_map_with_jacobian`). A period is
+Jacobian (:func:`chaplygin.numerics.periodic_orbits.bm20_map_with_jacobian`). A period is
 a candidate when the orbit closes within ``detect_tol``; it counts only once Newton's
 method has refined it to ``10 k`` times the map's accuracy (``100 rtol``).
 """
@@ -116,8 +116,8 @@ def _run(scene: Any, res: Any, spec: PeriodicOrbitsOutput, progress: Any) -> Ana
     from ..derive.errors import ComputationError
     from ..numerics.continuation import continue_periodic_orbit
     from ..numerics.periodic_orbits import (
-        _bm20_map_with_jacobian,
-        _state_to_andoyer,
+        bm20_map_with_jacobian,
+        bm20_point,
         detect_period,
         refine_periodic_orbit,
     )
@@ -136,7 +136,7 @@ def _run(scene: Any, res: Any, spec: PeriodicOrbitsOutput, progress: Any) -> Ana
     samples = stroboscopic_samples(
         res.code, params, y0, 2 * spec.max_period, transient=spec.transient, rtol=spec.rtol
     )
-    points = np.array([_state_to_andoyer(y) for y in samples])
+    points = np.array([bm20_point(y) for y in samples])
     period = detect_period(points, spec.max_period, spec.detect_tol, angles=(1, 2))
     summary: dict[str, Any] = {
         "map": "stroboscopic, t = 0 mod 2 pi/Omega, coordinates (z, l, g) (BM20-3.7)",
@@ -161,7 +161,7 @@ def _run(scene: Any, res: Any, spec: PeriodicOrbitsOutput, progress: Any) -> Ana
         )
         return AnalysisResult(summary=summary, arrays=arrays, figures=figures)
     vary = spec.continuation.parameter if spec.continuation else "Omega"
-    smap = _bm20_map_with_jacobian(params, G, vary=vary, rtol=spec.rtol)
+    smap = bm20_map_with_jacobian(params, G, vary=vary, rtol=spec.rtol)
     value = float(res.params[vary])
     try:
         orbit = refine_periodic_orbit(smap, points[-1], period, value)

@@ -807,13 +807,13 @@ _PAIR_N, _PAIR_TRANSIENT, _PAIR_RTOL = 4000, 300, 1e-9
 def _pair(J_off: float):
     import numpy as np
     from chaplygin.numerics import load_model_code
-    from chaplygin.numerics.periodic_orbits import _andoyer_to_state
+    from chaplygin.numerics.periodic_orbits import bm20_state
     from chaplygin.numerics.reversibility import attractor_repeller_pair
 
     code = load_model_code(BALL, VB)
     params = list(_FIG5)
     params[4] = J_off
-    starts = [_andoyer_to_state(np.array(x), 3.0) for x in _PAIR_STARTS]
+    starts = [bm20_state(np.array(x), 3.0) for x in _PAIR_STARTS]
     return attractor_repeller_pair(
         code, params, starts, n=_PAIR_N, transient=_PAIR_TRANSIENT, rtol=_PAIR_RTOL
     )
