@@ -346,6 +346,37 @@ def test_bm20_chart_example_on_a_tiny_grid(client, tmp_path):
     assert ((periods["taylor"] >= 0) & (periods["taylor"] <= 14)).all()
 
 
+def test_bm20_tongue_example_finds_the_continued_period_seven_cycle(client, tmp_path):
+    """The tongue example on a 2-point list: the batch map's period reducer finds period 7 at
+    Fig. 7A's Omega = 1.06675 and none at Fig. 5's 1.07, as the periodic-orbit route says
+    independently (Newton on P^7 with the variational equations, stable multipliers at 1.06675;
+    unstable beyond the Neimark-Sacker at 1.06707)."""
+    from chaplygin.numerics.periodic_orbits import (
+        bm20_map_with_jacobian,
+        bm20_point,
+        bm20_state,
+        refine_periodic_orbit,
+    )
+
+    text = (EXAMPLES / "bm20-fig6-tongue.toml").read_text()
+    axes = text.index("[sweep.axes]")
+    text = text[:axes] + '[sweep.axes]\n"parameters.Omega" = [1.06675, 1.07]\n'
+    text = text.replace('grid = "product"', 'grid = "list"').replace("chunk = 41", "chunk = 2")
+    run_sweep(Scene.from_toml(_scene(tmp_path, text, "tongue.toml")), tmp_path / "t.zarr",
+              client=client)  # fmt: skip
+    ds = _load(tmp_path / "t.zarr")
+    assert (ds["status"].values == 0).all()
+    assert ds["period"].values.tolist() == [7, 0]
+    # the independent route: the refined cycle through a late point of the same orbit
+    params = [4, 3, 2, 4.385, 0, 2, -6, -3, -9, 1.06675]
+    smap = bm20_map_with_jacobian(params, 3.0, rtol=1e-10)
+    x = bm20_point(bm20_state([0.5, 1.0, 1.0], 3.0))
+    for _ in range(8000):
+        x = smap.f(x, 1.06675)
+    orbit = refine_periodic_orbit(smap, x, 7, 1.06675)
+    assert orbit.converged and orbit.stable
+
+
 def test_cli_without_the_dask_extra_says_how_to_get_it(tmp_path, monkeypatch, capsys):
     from chaplygin.verify.cli import main
 
