@@ -516,6 +516,7 @@ def bm20_map_with_jacobian(
     vary: str = "Omega",
     rtol: float = 1e-11,
     backward: bool = False,
+    digits: int | None = None,
 ) -> SmoothMap:
     """BM20's stroboscopic map in Andoyer-Deprit ``(z, l, g)`` (BM20-3.7, BM20-map), with
     one scalar parameter of the model as the map's parameter.
@@ -530,23 +531,34 @@ def bm20_map_with_jacobian(
     ``E(x1) J = Phi E(x0)`` (``E = d(M, gamma)/d(z, l, g)``, ``Phi`` maps the tangent space
     of the level set ``|M| = G``, ``(M, gamma) = 0``, ``|gamma| = 1`` into itself).
 
+    With ``digits``, the map itself runs at that many decimal digits (the Taylor integrator of
+    :class:`~chaplygin.numerics.poincare.StroboscopicMap`, tolerance ``10^-digits``) on
+    mpmath points, and the Jacobian stays the double-precision one: Newton then converges
+    linearly, gaining about ``-log10(rtol)`` digits per step, to an orbit that closes at the
+    working precision; its multipliers carry double-precision accuracy.
+
     Parameters
     ----------
-    params : sequence of float
-        The model's parameter vector (``Omega`` at index 9 is replaced by the map's argument).
+    params : sequence of numbers or decimal strings
+        The model's parameter vector (``Omega`` at index 9 is replaced by the map's argument);
+        with ``digits``, each is rounded once to the working precision (pass text such as
+        ``"4.385"`` to keep a decimal value exact).
     G : float
         The level ``|M| = G`` (BM20: ``G = 3``).
     vary : str
         The map's parameter: a scalar parameter of the model (``"Omega"``, ``"D"``,
         ``"delta"``, ``"J_off"``).
     rtol : float
+        Tolerance of the double-precision variational equations.
     backward : bool
+    digits : int, optional
+        Decimal digits of the map (None: double).
 
     Returns
     -------
     SmoothMap
         ``f(x, Omega)``, ``df(x, Omega)`` on points ``(z, l, g)``; ``angles = (1, 2)``;
-        ``accuracy = 100 rtol``.
+        ``accuracy = 100 rtol`` (``10^(3 - digits)`` with ``digits``).
     """
     from .code import load_model_code
     from .map_coordinates import reduced_tangent
@@ -554,7 +566,8 @@ def bm20_map_with_jacobian(
 
     code = load_model_code("chaplygin_ball", BM20_EFFECTS)
     names = code.params
-    base = np.array(params, dtype=float)
+    exact = list(params)
+    base = np.array([float(mpmath.mpf(v)) for v in exact], dtype=float)
     if vary not in ("Omega", "D", "delta", "J_off"):
         raise UserInputError(f"the BM20 map varies Omega, D, delta or J_off, not {vary!r}")
     index = names.index(vary)
@@ -581,4 +594,34 @@ def bm20_map_with_jacobian(
         J, *_ = np.linalg.lstsq(reduced_tangent(x1, G), flow.V @ reduced_tangent(x, G), rcond=None)
         return x1, J
 
-    return SmoothMap(f, df, 3, angles=(1, 2), accuracy=100 * rtol)
+    if digits is None:
+        return SmoothMap(f, df, 3, angles=(1, 2), accuracy=100 * rtol)
+    return _bm20_map_at_digits(code, exact, index, G, df, backward, int(digits))
+
+
+def _bm20_map_at_digits(code, exact, index, G, df_double, backward, digits) -> SmoothMap:
+    """The BM20 map at ``digits`` digits with the double-precision Jacobian (see
+    :func:`bm20_map_with_jacobian`)."""
+    from .map_coordinates import reduced_point, state_from_reduced
+    from .poincare import StroboscopicMap
+
+    tol = mpmath.mpf(10) ** (-digits)
+
+    def strobe(value: Any) -> StroboscopicMap:
+        p = list(exact)
+        p[index] = value
+        return StroboscopicMap(code, p, precision=digits, rtol=tol, atol=tol, backward=backward)
+
+    def f(x: Any, value: Any) -> Any:
+        with mpmath.workdps(digits):
+            y = state_from_reduced(list(x), G, [0] * len(code.state), code.state)
+            y1 = strobe(value).step(y)
+            return mpmath.matrix(list(reduced_point(list(y1), code.state)[1]))
+
+    def df(x: Any, value: Any) -> tuple[Any, Any]:
+        x1 = f(x, value)
+        _, J = df_double(np.array([float(v) for v in x]), float(value))
+        with mpmath.workdps(digits):
+            return x1, mpmath.matrix(J.tolist())
+
+    return SmoothMap(f, df, 3, angles=(1, 2), digits=digits, accuracy=float(1000 * tol))

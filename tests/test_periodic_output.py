@@ -143,3 +143,43 @@ def test_neimark_sacker_of_the_period_seven_orbit(tmp_path, capsys):
         assert orbit.converged
         moduli.append(max(abs(m) for m in orbit.multipliers if abs(m.imag) > 0))
     assert moduli[0] < 1 < moduli[1]
+
+
+@pytest.mark.slow
+def test_period_seven_cycle_refined_at_30_digits():
+    """Newton at 30 digits (the map at 30 digits, the Jacobian in double) closes the period-7
+    cycle of Fig. 7A to the working precision; the double orbit agrees to its own accuracy,
+    and P^7 of the refined point computed independently at 40 digits returns to it."""
+    import mpmath
+    from chaplygin.numerics.code import load_model_code
+    from chaplygin.numerics.map_coordinates import reduced_point, state_from_reduced
+    from chaplygin.numerics.periodic_orbits import (
+        bm20_map_with_jacobian,
+        bm20_point,
+        bm20_state,
+    )
+    from chaplygin.numerics.poincare import StroboscopicMap
+
+    exact = ["4", "3", "2", "4.385", "0", "2", "-6", "-3", "-9", "1.06675"]
+    double = bm20_map_with_jacobian([float(v) for v in exact], 3.0, rtol=1e-11)
+    x = bm20_point(bm20_state([0.5, 1.0, 1.0], 3.0))
+    for _ in range(8000):
+        x = double.f(x, 1.06675)
+    coarse = refine_periodic_orbit(double, x, 7, 1.06675)
+    assert coarse.converged
+    fine_map = bm20_map_with_jacobian(exact, 3.0, rtol=1e-11, digits=30)
+    # the parameter as text: rounded once to 30 digits by the map (an mpf made here would be
+    # rounded to the context's 53 bits first)
+    fine = refine_periodic_orbit(fine_map, mpmath.matrix(list(coarse.points[0])), 7, "1.06675")
+    assert fine.converged and fine.residual <= 1e-24
+    start = list(fine.points[0])  # mpf at 30 digits (no re-rounding to the context)
+    assert max(abs(float(a) - b) for a, b in zip(start, coarse.points[0], strict=True)) < 1e-8
+    # an independent run at 40 digits (other precision, other tolerance) closes the cycle
+    code = load_model_code("chaplygin_ball", "variable_gyrostat,variable_inertia")
+    with mpmath.workdps(40):
+        strobe = StroboscopicMap(code, exact, precision=40, rtol=1e-38, atol=1e-38)
+        y = state_from_reduced(start, 3, [0] * 6, code.state)
+        y7 = strobe.orbit(y, 1, transient=7).y[0]
+        back = reduced_point(list(y7), code.state)[1]
+        gap = max(abs(mpmath.mpf(a) - b) for a, b in zip(back, start, strict=True))
+    assert gap < 1e-24
