@@ -18,8 +18,13 @@ Backends
   integration (one call per step when events are requested);
 * ``quad`` -- the same C code in ``__float128`` (libquadmath), values crossing the
   interface as exact binary128 bytes, converted to and from ``mpmath.mpf``;
-* digits -- the Python recurrences with ``gmpy2`` (MPFR) numbers at the working precision
-  of ``mpmath.mp`` (``mpmath`` numbers when ``lib="mpmath"``).
+* digits up to 31 (``mpmath.mp.prec <= 106`` bits) -- the same C code in double-double
+  (``-DCHAPLYGIN_TAYLOR_DD``: two doubles, 106 bits, error-free transformations), the
+  working numbers split exactly into their two limbs and the results rounded once back to
+  the working precision;
+* more digits -- the Python recurrences with ``gmpy2`` (MPFR) numbers at the working
+  precision of ``mpmath.mp`` (``mpmath`` numbers when ``lib="mpmath"``, or ``"gmpy2"``
+  forced at any digits).
 
 Without a C compiler double and quad fall back to the Python recurrences (floats, or MPFR at
 113 bits) with a :class:`~chaplygin.numerics.compiled.CompilerUnavailableWarning`.
@@ -54,6 +59,11 @@ __all__ = [
     "jorba_zou_order",
     "encode_binary128",
     "decode_binary128",
+    "encode_double_double",
+    "decode_double_double",
+    "DD_BITS",
+    "DIGITS_REAL_TYPES",
+    "digits_real_type",
     "python_lib",
     "RealType",
     "REAL_TYPES",
@@ -273,6 +283,123 @@ REAL_TYPES: dict[str, RealType] = {
 }
 
 
+#: Significand bits of double-double (two doubles, 53 + 53): the digits precisions up to
+#: these bits (31 digits) run in the compiled double-double integrator.
+DD_BITS = 106
+_DD_DEFINE = "#define CHAPLYGIN_TAYLOR_DD 1\n"
+
+
+def encode_double_double(values: Sequence[Any]) -> np.ndarray:
+    """Double-double limbs ``(hi, lo)`` of ``values``, exactly: ``hi + lo == value``.
+
+    ``hi`` is the value rounded to the nearest double, ``lo`` the exact remainder (itself
+    a double when the value has at most :data:`DD_BITS` significant bits).
+
+    Parameters
+    ----------
+    values : sequence of numbers
+        ``mpmath.mpf``, ``gmpy2.mpfr``, ``int`` or ``float`` values of at most
+        :data:`DD_BITS` significant bits (any working number of up to 31 digits).
+
+    Returns
+    -------
+    numpy.ndarray of float64, shape (2 * len(values),)
+        ``hi, lo`` of every value, one after the other.
+
+    Raises
+    ------
+    ValueError
+        For a value that is not finite, overflows a double, or is not exactly a
+        double-double (more than :data:`DD_BITS` bits, or below the normal range).
+    """
+    out = np.empty(2 * len(values))
+    for i, v in enumerate(values):
+        x = _to_mpf(v) if not isinstance(v, int | float) else mpmath.mpf(v)
+        if not mpmath.isfinite(x):
+            raise ValueError(f"cannot encode {x} as double-double")
+        with mpmath.workprec(53):
+            hi = float(+x)  # round to nearest (mpmath's default rounding)
+        if not math.isfinite(hi):
+            raise ValueError(f"{x} overflows a double")
+        with mpmath.workprec(max(mpmath.mp.prec, 4 * DD_BITS)):
+            rest = x - hi  # exact: x and hi share the leading bits
+            lo = float(rest)
+            if mpmath.mpf(lo) != rest or (lo != 0 and abs(lo) < 2.0**-1021):
+                raise ValueError(f"{x} is not exactly a double-double (hi + lo)")
+        out[2 * i], out[2 * i + 1] = hi, lo
+    return out
+
+
+def decode_double_double(buf: np.ndarray, count: int | None = None) -> list[mpmath.mpf]:
+    """``mpmath.mpf`` values of double-double limbs: ``hi + lo`` rounded once to ``mp.prec``.
+
+    Parameters
+    ----------
+    buf : numpy.ndarray of float64
+        Limbs ``hi, lo`` one value after the other.
+    count : int, optional
+        Number of values (default ``len(buf) // 2``).
+
+    Returns
+    -------
+    list of mpmath.mpf
+        The values at the working precision of ``mpmath.mp`` (infinities and NaN as
+        mpmath's).
+    """
+    limbs = np.asarray(buf, dtype=float)
+    count = len(limbs) // 2 if count is None else count
+    mpf = mpmath.mpf
+    return [mpf(limbs[2 * i]) + mpf(limbs[2 * i + 1]) for i in range(count)]
+
+
+def _times_working(values: Sequence) -> np.ndarray:
+    return np.array([mpmath.mpf(v) for v in values], dtype=object)
+
+
+#: C real types of the ``digits`` precisions, with the largest ``mpmath.mp.prec`` each
+#: carries: double-double (``-DCHAPLYGIN_TAYLOR_DD``) up to :data:`DD_BITS` bits.
+DIGITS_REAL_TYPES: dict[str, tuple[RealType, int]] = {
+    "dd": (
+        RealType(
+            size=16,
+            define=_DD_DEFINE,
+            ldlibs=("-lquadmath",),  # the transcendental functions at order 0
+            pack=encode_double_double,
+            unpack=decode_double_double,
+            empty=lambda count: np.zeros(2 * count),
+            rows=_rows_lists,
+            times=_times_working,
+            dtype=object,
+        ),
+        DD_BITS,
+    ),
+}
+_C_REAL_TYPES: dict[str, RealType] = {
+    **REAL_TYPES,
+    **{k: real for k, (real, _) in DIGITS_REAL_TYPES.items()},
+}
+
+
+def digits_real_type(bits: int) -> str | None:
+    """The C real type that carries ``bits`` of working precision, if there is one.
+
+    Parameters
+    ----------
+    bits : int
+        The working precision (``mpmath.mp.prec``).
+
+    Returns
+    -------
+    str or None
+        A key of :data:`DIGITS_REAL_TYPES` (the narrowest that holds ``bits``), or None
+        past the widest (the Python recurrences with MPFR).
+    """
+    for kind, (_, most) in sorted(DIGITS_REAL_TYPES.items(), key=lambda kv: kv[1][1]):
+        if bits <= most:
+            return kind
+    return None
+
+
 # --------------------------------------------------------------------------- C library
 
 
@@ -282,14 +409,14 @@ class CompiledTaylor:
     Parameters
     ----------
     library : path-like
-    kind : {"double", "quad"}
+    kind : {"double", "quad", "dd"}
     expected_hash : str, optional
     """
 
     def __init__(self, library: os.PathLike | str, kind: str, expected_hash: str | None = None):
         self.lib = _ffi.dlopen(os.fspath(library))
         self.kind = kind
-        self.real = REAL_TYPES[kind]
+        self.real = _C_REAL_TYPES[kind]
         self.model_hash = _ffi.string(self.lib.chaplygin_taylor_model_hash()).decode()
         if expected_hash is not None and self.model_hash != expected_hash:
             raise ValueError(
@@ -399,15 +526,17 @@ _LIBS: dict[tuple[str, str], CompiledTaylor | None] = {}
 def load_taylor_library(code: ModelCode, kind: str) -> CompiledTaylor | None:
     """Compile (cached by source hash) and load the C Taylor integrator of ``code``.
 
-    ``kind="quad"`` compiles with ``-DCHAPLYGIN_TAYLOR_QUAD`` and links ``-lquadmath``.
+    ``kind="quad"`` compiles with ``-DCHAPLYGIN_TAYLOR_QUAD``, ``kind="dd"`` (double-double,
+    for up to :data:`DD_BITS` bits of the digits precisions) with ``-DCHAPLYGIN_TAYLOR_DD``;
+    both link ``-lquadmath``.
     Returns None, after a :class:`CompilerUnavailableWarning`, without a usable compiler.
 
     Parameters
     ----------
     code : ModelCode
         The model (its ``taylor_c_source`` and ``hash``).
-    kind : {"double", "quad"}
-        The C real type (a key of :data:`REAL_TYPES`).
+    kind : {"double", "quad", "dd"}
+        The C real type (a key of :data:`REAL_TYPES` or :data:`DIGITS_REAL_TYPES`).
 
     Returns
     -------
@@ -423,7 +552,7 @@ def load_taylor_library(code: ModelCode, kind: str) -> CompiledTaylor | None:
     key = (code.hash, kind)
     if key in _LIBS:
         return _LIBS[key]
-    real = REAL_TYPES[kind]
+    real = _C_REAL_TYPES[kind]
     source, ldlibs = real.define + code.taylor_c_source, real.ldlibs
     try:
         path = compile_c(source, ldlibs=ldlibs)
@@ -613,7 +742,7 @@ class _Stepper:
             self.h = lib.empty(1)
             self.ty = lib.empty(lib.n_state + 1)
             self.ord = _ffi.new("int *")
-            self.backend = f"c-{kind}"
+            self.backend = f"c-{lib.kind}"
         else:
             self.lib_kind = "mpmath" if kind == "digits-mpmath" else LOOP_NUMBERS[kind].python_lib
             self.lib = python_lib(self.lib_kind)
@@ -785,7 +914,8 @@ def taylor_solve(
     order, step : optional
         Fixed order and/or fixed step (for convergence studies); default adaptive.
     lib : {"c", "gmpy2", "mpmath", "float"}, optional
-        Force a backend (default: C for double and quad, gmpy2 for digits).
+        Force a backend (default: C for double and quad, and for digits up to
+        :data:`DD_BITS` bits in double-double; gmpy2 for more digits).
     max_wall_s : float, optional
         Wall-time limit of the Python loop (status -6 past it); the compiled run is bounded
         by ``max_steps`` only.
@@ -821,6 +951,11 @@ def taylor_solve(
     clib = None
     if numbers.compiled and lib in (None, "c"):
         clib = load_taylor_library(code, precision)
+    elif precision == "digits" and lib in (None, "c"):
+        # fixed-size multi-double arithmetic in C where it carries the working precision
+        c_kind = digits_real_type(mpmath.mp.prec)
+        if c_kind is not None:
+            clib = load_taylor_library(code, c_kind)
     kind = precision
     if clib is None and lib == "mpmath":
         kind = "digits-mpmath"
