@@ -1,0 +1,202 @@
+"""The compiled double-double Taylor integrator (digits up to 31, issue 15).
+
+Every working number of up to 106 bits is split exactly into two doubles, the C code
+(``-DCHAPLYGIN_TAYLOR_DD``) runs the same recurrences as the double and binary128 builds,
+and results come back rounded once to the working precision. References are independent
+routes: the Python recurrences in MPFR at 60 digits (coefficients), the 60-digit Taylor run
+and ``mpmath.odefun`` at 45 digits (solutions). Tolerances: double-double operations have
+relative errors of a few ``u = 2^-106`` (Hida, Li and Bailey); the bounds allow ``2^10 u``
+per coefficient relative to the largest coefficient of the same order, and ``10 * rtol`` per
+step summed over the steps for solutions (the rule of ``test_input_precision.py``).
+"""
+
+from __future__ import annotations
+
+import gmpy2
+import mpmath
+import pytest
+from chaplygin.numerics import integrate, load_model_code
+from chaplygin.numerics.inputs import Precision, pack_state
+from chaplygin.numerics.taylor import (
+    DD_BITS,
+    decode_double_double,
+    digits_real_type,
+    encode_double_double,
+    load_taylor_library,
+    python_lib,
+)
+from reference import REFERENCE_PARAMS, REFERENCE_Y0
+
+U_DD = 2.0**-DD_BITS
+
+# non-dyadic decimals of 31 significant digits
+STATE_31 = {
+    "M": ("0.7123456789012345678901234567891", "-0.4098765432109876543210987654321", "0.5"),
+    "gamma": ("0.2", "0.3", "sqrt(0.87)"),
+}
+PARAMS = {"I": ("1.2716", "2.9031", "4.4187"), "D": "0.6513"}
+
+
+def test_limbs_are_exact_and_keep_the_last_bit():
+    """hi + lo equals a 106-bit working number exactly; the last bit changes the limbs."""
+    with mpmath.workdps(31):
+        assert mpmath.mp.prec == DD_BITS
+        x = mpmath.mpf(1) / 7
+        y = x + mpmath.ldexp(1, mpmath.mag(x) - DD_BITS)  # next number up at 106 bits
+        assert y != x
+        limbs = encode_double_double([x, y, -x, mpmath.mpf(0), 3])
+        with mpmath.workprec(400):
+            for i, v in enumerate([x, y, -x, 0, 3]):
+                assert mpmath.mpf(limbs[2 * i]) + mpmath.mpf(limbs[2 * i + 1]) == v
+        assert tuple(limbs[:2]) != tuple(limbs[2:4])
+        assert abs(limbs[1]) <= abs(limbs[0]) * 2.0**-53  # normalised: |lo| <= ulp(hi)/2
+        back = decode_double_double(limbs)
+        assert back[:3] == [x, y, -x] and back[3] == 0 and back[4] == 3
+        # gmpy2 numbers are split the same way
+        with gmpy2.context(gmpy2.get_context(), precision=DD_BITS):
+            g = gmpy2.mpfr(1) / 7
+        assert list(encode_double_double([g])) == list(limbs[:2])
+
+
+def test_a_value_wider_than_double_double_is_refused():
+    """A 150-bit number has no exact two-double form: refused, not rounded silently."""
+    with mpmath.workprec(150):
+        x = mpmath.mpf(1) / 3
+    with pytest.raises(ValueError, match="not exactly a double-double"):
+        encode_double_double([x])
+    with pytest.raises(ValueError):
+        encode_double_double([mpmath.inf])
+
+
+def test_digits_up_to_106_bits_choose_double_double():
+    """31 digits (106 bits) run in C double-double, 32 digits (110 bits) in MPFR."""
+    assert digits_real_type(Precision(31).prec) == "dd"
+    assert digits_real_type(Precision(32).prec) is None
+    r31 = integrate("chaplygin_ball", REFERENCE_Y0, 0.5, REFERENCE_PARAMS, precision=31)
+    r32 = integrate("chaplygin_ball", REFERENCE_Y0, 0.5, REFERENCE_PARAMS, precision=32)
+    assert r31.backend == "c-dd" and r32.backend == "python-gmpy2"
+
+
+def _coefficient_error(code, kind_lib, t0, y, p, order):
+    """Largest |c_dd - c_ref| / max_i |c_ref[i][k]| over the state coefficients."""
+    with mpmath.workdps(60), gmpy2.context(gmpy2.get_context(), precision=mpmath.mp.prec):
+        L = python_lib("gmpy2")
+        ref = code.taylor.taylor_coefficients(
+            gmpy2.mpfr(str(t0)), [gmpy2.mpfr(str(v)) for v in y],
+            [gmpy2.mpfr(str(v)) for v in p], order, L,
+        )
+        ref = [[mpmath.mpf(str(c)) for c in row] for row in ref]
+    with mpmath.workdps(31):
+        got = kind_lib.coefficients(order, t0, y, p)
+    worst = mpmath.mpf(0)
+    with mpmath.workdps(60):
+        for k in range(order + 1):
+            scale = max(abs(row[k]) for row in ref)
+            if scale == 0:
+                continue
+            for g, r in zip(got, ref, strict=True):
+                worst = max(worst, abs(g[k] - r[k]) / scale)
+    return worst
+
+
+# chaplygin_ball: products and a quotient; the potential surface: sin/cos and a rational
+# power (the transcendental functions of the double-double build)
+@pytest.mark.parametrize(
+    "system,effects", [("chaplygin_ball", ()), ("ball_on_surface", ("potential",))]
+)
+def test_coefficients_match_mpfr_recurrences(system, effects):
+    """Order-24 coefficients at generic non-dyadic data, against MPFR at 60 digits (the
+    refutation of a double-rounded parameter by this comparison: next test)."""
+    code = load_model_code(system, effects)
+    lib = load_taylor_library(code, "dd")
+    assert lib is not None and lib.kind == "dd"
+    with mpmath.workdps(31):
+        n, m = len(code.state), len(code.params)
+        y = [mpmath.mpf(3 + i) / (11 + 2 * i) * (-1) ** i for i in range(n)]
+        p = [mpmath.mpf(13 + 3 * i) / (7 + i) for i in range(m)]
+        t0 = mpmath.mpf(3) / 10
+    order = 24
+    err = _coefficient_error(code, lib, t0, y, p, order)
+    assert err < 2**10 * U_DD, err
+    # negative control: the first parameter rounded to double (the bug this path must not have)
+    p_double = [mpmath.mpf(float(p[0])), *p[1:]]
+    with mpmath.workdps(31):
+        wrong = lib.coefficients(order, t0, y, p_double)
+        right = lib.coefficients(order, t0, y, p)
+    assert wrong != right  # the parameter's low limb reaches the recurrences
+
+
+def test_double_rounded_parameter_is_refuted_by_the_coefficient_check():
+    """The comparison of the previous test detects a parameter rounded to double."""
+    code = load_model_code("chaplygin_ball")
+    lib = load_taylor_library(code, "dd")
+    with mpmath.workdps(31):
+        y = [mpmath.mpf(3 + i) / (11 + 2 * i) for i in range(6)]
+        p = [mpmath.mpf(13 + 3 * i) / (7 + i) for i in range(4)]
+
+        class Rounded:
+            """The library with its first parameter rounded to double on the way in."""
+
+            def coefficients(self, order, t0, y, p):
+                return lib.coefficients(order, t0, y, [mpmath.mpf(float(p[0])), *p[1:]])
+
+    err = _coefficient_error(code, Rounded(), mpmath.mpf(0), y, p, 16)
+    assert err > 2**10 * U_DD * 1e6, err
+
+
+def test_inputs_reach_the_compiled_code_to_the_last_digit():
+    """The output at t0 comes back from the C run: it equals the 31-digit working state."""
+    prec = Precision(31)
+    r = integrate("chaplygin_ball", STATE_31, (0, 1.25), PARAMS, precision=31,
+                  t_eval=[0, "1.25"])
+    assert r.backend == "c-dd"
+    with mpmath.workdps(31):
+        y0 = pack_state(load_model_code("chaplygin_ball"), STATE_31, prec)
+        assert list(r.y[:, 0]) == list(y0)
+        assert r.t[-1] == mpmath.mpf("1.25")
+
+
+@pytest.mark.parametrize("digits", [20, 30, 31])
+def test_solution_agrees_with_mpfr_and_odefun(digits):
+    """To T = 1.25 with non-dyadic inputs: double-double within the tolerance bound of a
+    60-digit Taylor reference, and that reference within 1e-40 of mpmath.odefun (45
+    digits); the MPFR recurrences at the same digits meet the same bound."""
+    T = "1.25"
+    kw = {"t_eval": [0, T]}
+    r = integrate("chaplygin_ball", STATE_31, (0, T), PARAMS, precision=digits, **kw)
+    g = integrate("chaplygin_ball", STATE_31, (0, T), PARAMS, precision=digits,
+                  backend="numpy", **kw)
+    ref = integrate("chaplygin_ball", STATE_31, (0, T), PARAMS, precision=60, **kw)
+    odefun = integrate("chaplygin_ball", STATE_31, (0, T), PARAMS, precision=45,
+                       method="odefun", **kw)
+    assert r.backend == "c-dd" and g.backend == "python-gmpy2"
+    rtol = r.info["rtol"]
+    with mpmath.workdps(60):
+        scale = max(1, max(abs(v) for v in ref.y[:, -1]))
+        bound = 10 * rtol * r.nsteps * scale
+        assert max(abs(a - b) for a, b in zip(odefun.y[:, -1], ref.y[:, -1])) < 1e-40
+        for res in (r, g):
+            err = max(abs(a - b) for a, b in zip(res.y[:, -1], ref.y[:, -1], strict=True))
+            assert err < bound, (res.backend, err, bound)
+    assert max(r.drift.values()) < 10 * rtol * r.nsteps
+
+
+def _gamma3(t, y):
+    return y[5]
+
+
+def test_events_on_the_double_double_polynomial():
+    """Zero crossings of gamma3 at 30 digits: the same crossings as the MPFR path, times
+    equal to the working precision times the steps' tolerance."""
+    kw = {"events": [_gamma3], "precision": 30}
+    r = integrate("chaplygin_ball", REFERENCE_Y0, 12, REFERENCE_PARAMS, **kw)
+    g = integrate("chaplygin_ball", REFERENCE_Y0, 12, REFERENCE_PARAMS, backend="numpy", **kw)
+    assert r.backend == "c-dd" and g.backend == "python-gmpy2"
+    te, tg = r.t_events[0], g.t_events[0]
+    assert len(te) == len(tg) >= 2
+    rtol = r.info["rtol"]
+    with mpmath.workdps(30):
+        for a, b in zip(te, tg, strict=True):
+            assert abs(a - b) < 10 * rtol * r.nsteps * max(1, abs(b))
+        for ye in r.y_events[0]:
+            assert abs(ye[5]) < 10 * rtol
