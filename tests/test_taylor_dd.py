@@ -174,7 +174,8 @@ def test_solution_agrees_with_mpfr_and_odefun(digits):
     with mpmath.workdps(60):
         scale = max(1, max(abs(v) for v in ref.y[:, -1]))
         bound = 10 * rtol * r.nsteps * scale
-        assert max(abs(a - b) for a, b in zip(odefun.y[:, -1], ref.y[:, -1])) < 1e-40
+        pairs = zip(odefun.y[:, -1], ref.y[:, -1], strict=True)
+        assert max(abs(a - b) for a, b in pairs) < 1e-40
         for res in (r, g):
             err = max(abs(a - b) for a, b in zip(res.y[:, -1], ref.y[:, -1], strict=True))
             assert err < bound, (res.backend, err, bound)
