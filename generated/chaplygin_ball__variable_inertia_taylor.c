@@ -9,9 +9,10 @@ parameters: I1, I2, I3, D, J_off, delta, Omega
 /* Taylor integrator of one chaplygin model (emitted by chaplygin.derive.emit.taylor).
  *
  * REAL is double, IEEE binary128 __float128 (libquadmath) when compiled with
- * -DCHAPLYGIN_TAYLOR_QUAD, or double-double with -DCHAPLYGIN_TAYLOR_DD; arithmetic on REAL
- * goes through the R_* macros (the C operators for double and __float128). Every REAL crosses the interface through a pointer (cffi does not
- * know __float128), so the same declarations serve both builds.
+ * -DCHAPLYGIN_TAYLOR_QUAD, double-double with -DCHAPLYGIN_TAYLOR_DD or quad-double with
+ * -DCHAPLYGIN_TAYLOR_QD; arithmetic on REAL goes through the R_* macros (the C operators for
+ * double and __float128). Every REAL crosses the interface through a pointer (cffi does not
+ * know __float128), so the same declarations serve every build.
  *
  *   chaplygin_taylor_coefficients(order, T0, Y, P, OUT)   OUT[i*(order+1)+k] = y_i^(k)(t0)/k!
  *   chaplygin_taylor_step(TY, P, CTRL, T_END, COEFFS, H, ORDER)   one adaptive step
@@ -22,31 +23,23 @@ parameters: I1, I2, I3, D, J_off, delta, Omega
  * p = ceil(-ln(eps)/2 + 1) and the step h = rho e^-2 e^(-0.7/(p-1)) with
  * rho = min((scale/|y_[p-1]|)^(1/(p-1)), (scale/|y_[p]|)^(1/p)).
  */
-#if defined(CHAPLYGIN_TAYLOR_DD)
+#if defined(CHAPLYGIN_TAYLOR_DD) || defined(CHAPLYGIN_TAYLOR_QD)
 #include <math.h>
-#include <quadmath.h>
-/* Double-double: the unevaluated sum hi + lo of two doubles, |lo| <= ulp(hi)/2 (106-bit
- * significand, about 32 digits). Arithmetic by the error-free transformations of Dekker
- * (1971) and Knuth (TwoSum), in the accurate ("IEEE") variants of Hida, Li and Bailey's QD
- * library (relative error of + - * / a few 2^-106; compiled without FMA contraction, which
- * the splitting needs). Transcendental functions (once per step, at order 0) go through
- * libquadmath: hi + lo is rounded to binary128 (113 bits), the function is evaluated there
- * and the result split back, so their error is also a few 2^-106. */
-typedef struct { double hi, lo; } REAL;
-static inline REAL dd_make(double hi, double lo) { REAL r = {hi, lo}; return r; }
-static inline double dd_two_sum(double a, double b, double *err)
+/* Error-free transformations of doubles (Knuth's TwoSum, Dekker's splitting product; no FMA
+ * contraction: the build uses -ffp-contract=off): a op b = result + *err exactly. */
+static inline double md_two_sum(double a, double b, double *err)
 {
     double s = a + b, bb = s - a;
     *err = (a - (s - bb)) + (b - bb);
     return s;
 }
-static inline double dd_quick_two_sum(double a, double b, double *err)
+static inline double md_quick_two_sum(double a, double b, double *err) /* |a| >= |b| */
 {
     double s = a + b;
     *err = b - (s - a);
     return s;
 }
-static inline double dd_two_prod(double a, double b, double *err)
+static inline double md_two_prod(double a, double b, double *err)
 {
     const double split = 134217729.0; /* 2^27 + 1 */
     double p = a * b, t = split * a, ah = t - (t - a), al = a - ah;
@@ -55,22 +48,33 @@ static inline double dd_two_prod(double a, double b, double *err)
     *err = ((ah * bh - p) + ah * bl + al * bh) + al * bl;
     return p;
 }
+#endif
+#if defined(CHAPLYGIN_TAYLOR_DD)
+#include <quadmath.h>
+/* Double-double: the unevaluated sum hi + lo of two doubles, |lo| <= ulp(hi)/2 (106-bit
+ * significand, about 32 digits), in the accurate ("IEEE") variants of Hida, Li and Bailey's
+ * QD library (relative error of + - * / a few 2^-106). Transcendental functions (once per
+ * step, at order 0) go through libquadmath: hi + lo is rounded to binary128 (113 bits), the
+ * function is evaluated there and the result split back, so their error is also a few
+ * 2^-106. */
+typedef struct { double hi, lo; } REAL;
+static inline REAL dd_make(double hi, double lo) { REAL r = {hi, lo}; return r; }
 static inline REAL dd_add(REAL a, REAL b)
 {
-    double s2, t2, s1 = dd_two_sum(a.hi, b.hi, &s2), t1 = dd_two_sum(a.lo, b.lo, &t2);
+    double s2, t2, s1 = md_two_sum(a.hi, b.hi, &s2), t1 = md_two_sum(a.lo, b.lo, &t2);
     s2 += t1;
-    s1 = dd_quick_two_sum(s1, s2, &s2);
+    s1 = md_quick_two_sum(s1, s2, &s2);
     s2 += t2;
-    s1 = dd_quick_two_sum(s1, s2, &s2);
+    s1 = md_quick_two_sum(s1, s2, &s2);
     return dd_make(s1, s2);
 }
 static inline REAL dd_neg(REAL a) { return dd_make(-a.hi, -a.lo); }
 static inline REAL dd_sub(REAL a, REAL b) { return dd_add(a, dd_neg(b)); }
 static inline REAL dd_mul(REAL a, REAL b)
 {
-    double p2, p1 = dd_two_prod(a.hi, b.hi, &p2);
+    double p2, p1 = md_two_prod(a.hi, b.hi, &p2);
     p2 += a.hi * b.lo + a.lo * b.hi;
-    p1 = dd_quick_two_sum(p1, p2, &p2);
+    p1 = md_quick_two_sum(p1, p2, &p2);
     return dd_make(p1, p2);
 }
 static inline REAL dd_div(REAL a, REAL b)
@@ -80,7 +84,7 @@ static inline REAL dd_div(REAL a, REAL b)
     double q2 = r.hi / b.hi;
     r = dd_sub(r, dd_mul(b, dd_make(q2, 0.0)));
     double q3 = r.hi / b.hi;
-    q1 = dd_quick_two_sum(q1, q2, &q2);
+    q1 = md_quick_two_sum(q1, q2, &q2);
     return dd_add(dd_make(q1, q2), dd_make(q3, 0.0));
 }
 static inline int dd_lt(REAL a, REAL b) { return a.hi < b.hi || (a.hi == b.hi && a.lo < b.lo); }
@@ -117,6 +121,223 @@ static inline REAL dd_pow(REAL a, REAL b) { return dd_from_q(powq(dd_to_q(a), dd
 #define R_FABS dd_fabs
 #define R_PI dd_from_q(M_PIq)
 #define R_ISFINITE(x) (isfinite((x).hi) && isfinite((x).lo))
+#elif defined(CHAPLYGIN_TAYLOR_QD)
+/* Quad-double: the unevaluated sum of four doubles, each at most half an ulp of the one
+ * before (212-bit significand, about 64 digits), with the algorithms of Hida, Li and Bailey
+ * (QD library, "sloppy" add and multiply: relative error a few 2^-209 of the operands; the
+ * division is the accurate one). sqrt by Newton's iteration, exp by argument reduction
+ * (k ln 2, then 2^-10) and its series, log by Newton on exp, sin and cos by reduction modulo
+ * pi/2 and their series: the transcendental functions are evaluated once per step (order 0),
+ * to about 2^-200 for arguments below 1e6. */
+typedef struct { double x[4]; } REAL;
+static inline REAL qd_make(double a, double b, double c, double d)
+{
+    REAL r = {{a, b, c, d}};
+    return r;
+}
+static inline void qd_three_sum(double *a, double *b, double *c)
+{
+    double t2, t3, t1 = md_two_sum(*a, *b, &t2);
+    *a = md_two_sum(*c, t1, &t3);
+    *b = md_two_sum(t2, t3, c);
+}
+static inline void qd_three_sum2(double *a, double *b, double *c)
+{
+    double t2, t3, t1 = md_two_sum(*a, *b, &t2);
+    *a = md_two_sum(*c, t1, &t3);
+    *b = t2 + t3;
+}
+static inline REAL qd_renorm(double c0, double c1, double c2, double c3, double c4)
+{
+    double s0, s1, s2 = 0.0, s3 = 0.0;
+    if (!isfinite(c0)) return qd_make(c0, c1, c2, c3);
+    s0 = md_quick_two_sum(c3, c4, &c4);
+    s0 = md_quick_two_sum(c2, s0, &c3);
+    s0 = md_quick_two_sum(c1, s0, &c2);
+    c0 = md_quick_two_sum(c0, s0, &c1);
+    s0 = c0;
+    s1 = c1;
+    if (s1 != 0.0) {
+        s1 = md_quick_two_sum(s1, c2, &s2);
+        if (s2 != 0.0) {
+            s2 = md_quick_two_sum(s2, c3, &s3);
+            if (s3 != 0.0) s3 += c4;
+            else s2 += c4;
+        } else {
+            s1 = md_quick_two_sum(s1, c3, &s2);
+            if (s2 != 0.0) s2 = md_quick_two_sum(s2, c4, &s3);
+            else s1 = md_quick_two_sum(s1, c4, &s2);
+        }
+    } else {
+        s0 = md_quick_two_sum(s0, c2, &s1);
+        if (s1 != 0.0) {
+            s1 = md_quick_two_sum(s1, c3, &s2);
+            if (s2 != 0.0) s2 = md_quick_two_sum(s2, c4, &s3);
+            else s1 = md_quick_two_sum(s1, c4, &s2);
+        } else {
+            s0 = md_quick_two_sum(s0, c3, &s1);
+            if (s1 != 0.0) s1 = md_quick_two_sum(s1, c4, &s2);
+            else s0 = md_quick_two_sum(s0, c4, &s1);
+        }
+    }
+    return qd_make(s0, s1, s2, s3);
+}
+static inline REAL qd_add(REAL a, REAL b)
+{
+    double t0, t1, t2, t3;
+    double s0 = md_two_sum(a.x[0], b.x[0], &t0);
+    double s1 = md_two_sum(a.x[1], b.x[1], &t1);
+    double s2 = md_two_sum(a.x[2], b.x[2], &t2);
+    double s3 = md_two_sum(a.x[3], b.x[3], &t3);
+    s1 = md_two_sum(s1, t0, &t0);
+    qd_three_sum(&s2, &t0, &t1);
+    qd_three_sum2(&s3, &t0, &t2);
+    t0 = t0 + t1 + t3;
+    return qd_renorm(s0, s1, s2, s3, t0);
+}
+static inline REAL qd_neg(REAL a) { return qd_make(-a.x[0], -a.x[1], -a.x[2], -a.x[3]); }
+static inline REAL qd_sub(REAL a, REAL b) { return qd_add(a, qd_neg(b)); }
+static inline REAL qd_mul(REAL a, REAL b)
+{
+    double q0, q1, q2, q3, q4, q5, t0, t1;
+    double p0 = md_two_prod(a.x[0], b.x[0], &q0);
+    double p1 = md_two_prod(a.x[0], b.x[1], &q1);
+    double p2 = md_two_prod(a.x[1], b.x[0], &q2);
+    double p3 = md_two_prod(a.x[0], b.x[2], &q3);
+    double p4 = md_two_prod(a.x[1], b.x[1], &q4);
+    double p5 = md_two_prod(a.x[2], b.x[0], &q5);
+    qd_three_sum(&p1, &p2, &q0);
+    qd_three_sum(&p2, &q1, &q2);
+    qd_three_sum(&p3, &p4, &p5);
+    double s0 = md_two_sum(p2, p3, &t0);
+    double s1 = md_two_sum(q1, p4, &t1);
+    double s2 = q2 + p5;
+    s1 = md_two_sum(s1, t0, &t0);
+    s2 += (t0 + t1);
+    s1 += a.x[0] * b.x[3] + a.x[1] * b.x[2] + a.x[2] * b.x[1] + a.x[3] * b.x[0] + q0 + q3 + q4
+          + q5;
+    return qd_renorm(p0, p1, s0, s1, s2);
+}
+static inline REAL qd_from_double(double d) { return qd_make(d, 0.0, 0.0, 0.0); }
+static inline REAL qd_div(REAL a, REAL b)
+{
+    double q0 = a.x[0] / b.x[0];
+    REAL r = qd_sub(a, qd_mul(b, qd_from_double(q0)));
+    double q1 = r.x[0] / b.x[0];
+    r = qd_sub(r, qd_mul(b, qd_from_double(q1)));
+    double q2 = r.x[0] / b.x[0];
+    r = qd_sub(r, qd_mul(b, qd_from_double(q2)));
+    double q3 = r.x[0] / b.x[0];
+    r = qd_sub(r, qd_mul(b, qd_from_double(q3)));
+    double q4 = r.x[0] / b.x[0];
+    return qd_renorm(q0, q1, q2, q3, q4);
+}
+static inline int qd_lt(REAL a, REAL b)
+{
+    for (int i = 0; i < 4; ++i)
+        if (a.x[i] != b.x[i]) return a.x[i] < b.x[i];
+    return 0;
+}
+static inline int qd_eq(REAL a, REAL b)
+{
+    return a.x[0] == b.x[0] && a.x[1] == b.x[1] && a.x[2] == b.x[2] && a.x[3] == b.x[3];
+}
+static inline REAL qd_fabs(REAL a) { return a.x[0] < 0 ? qd_neg(a) : a; }
+static inline REAL qd_ldexp(REAL a, int e)
+{
+    return qd_make(ldexp(a.x[0], e), ldexp(a.x[1], e), ldexp(a.x[2], e), ldexp(a.x[3], e));
+}
+#define QD_PI qd_make(0x1.921fb54442d18p+1, 0x1.1a62633145c07p-53, -0x1.f1976b7ed8fbcp-109, \
+                      0x1.4cf98e804177dp-163)
+#define QD_PI_2 qd_make(0x1.921fb54442d18p+0, 0x1.1a62633145c07p-54, -0x1.f1976b7ed8fbcp-110, \
+                        0x1.4cf98e804177dp-164)
+#define QD_LN2 qd_make(0x1.62e42fefa39efp-1, 0x1.abc9e3b39803fp-56, 0x1.7b57a079a1934p-111, \
+                       -0x1.ace93a4ebe5d1p-165)
+static REAL qd_sqrt(REAL a)
+{
+    if (a.x[0] <= 0) return qd_from_double(a.x[0] == 0 ? 0.0 : NAN);
+    REAL x = qd_from_double(sqrt(a.x[0]));
+    for (int i = 0; i < 3; ++i) /* Newton: 53 -> 106 -> 212 bits, one more for the rounding */
+        x = qd_mul(qd_from_double(0.5), qd_add(x, qd_div(a, x)));
+    return x;
+}
+static REAL qd_exp(REAL a)
+{
+    if (a.x[0] > 709.0) return qd_from_double(INFINITY);
+    if (a.x[0] < -745.0) return qd_from_double(0.0);
+    double k = nearbyint(a.x[0] / 0.69314718055994530942);
+    /* r = (a - k ln 2) / 2^10, |r| <= 3.4e-4: exp(r) - 1 by its series to 2^-220 */
+    REAL r = qd_ldexp(qd_sub(a, qd_mul(QD_LN2, qd_from_double(k))), -10);
+    REAL term = r, s = r;
+    for (int n = 2; n < 24; ++n) {
+        term = qd_div(qd_mul(term, r), qd_from_double(n));
+        s = qd_add(s, term);
+        if (fabs(term.x[0]) < 1e-70 * fabs(s.x[0])) break;
+    }
+    for (int i = 0; i < 10; ++i) s = qd_add(qd_ldexp(s, 1), qd_mul(s, s)); /* e^2r - 1 */
+    return qd_ldexp(qd_add(s, qd_from_double(1.0)), (int)k);
+}
+static REAL qd_log(REAL a)
+{
+    if (a.x[0] <= 0) return qd_from_double(a.x[0] == 0 ? -INFINITY : NAN);
+    REAL y = qd_from_double(log(a.x[0]));
+    for (int i = 0; i < 3; ++i) /* Newton on exp(y) = a: y + a exp(-y) - 1 */
+        y = qd_sub(qd_add(y, qd_mul(a, qd_exp(qd_neg(y)))), qd_from_double(1.0));
+    return y;
+}
+static REAL qd_pow(REAL a, REAL b) { return qd_exp(qd_mul(b, qd_log(a))); }
+/* sin and cos of a: reduced by k pi/2, the series of sin r and cos r (|r| <= pi/4) */
+static void qd_sincos(REAL a, REAL *sin_a, REAL *cos_a)
+{
+    double k = nearbyint(a.x[0] / 1.57079632679489661923);
+    REAL r = qd_sub(a, qd_mul(QD_PI_2, qd_from_double(k)));
+    REAL r2 = qd_mul(r, r), term = r, s = r, c = qd_from_double(1.0), cterm = c;
+    for (int n = 1; n < 40; ++n) {
+        cterm = qd_neg(qd_div(qd_mul(cterm, r2), qd_from_double((2.0 * n - 1) * (2.0 * n))));
+        c = qd_add(c, cterm);
+        term = qd_neg(qd_div(qd_mul(term, r2), qd_from_double((2.0 * n) * (2.0 * n + 1))));
+        s = qd_add(s, term);
+        if (fabs(cterm.x[0]) < 1e-70 && fabs(term.x[0]) < 1e-70) break;
+    }
+    long q = ((long)fmod(k, 4.0) + 4) % 4;
+    REAL sv = q == 0 ? s : q == 1 ? c : q == 2 ? qd_neg(s) : qd_neg(c);
+    REAL cv = q == 0 ? c : q == 1 ? qd_neg(s) : q == 2 ? qd_neg(c) : s;
+    *sin_a = sv;
+    *cos_a = cv;
+}
+static REAL qd_sin(REAL a)
+{
+    REAL s, c;
+    qd_sincos(a, &s, &c);
+    return s;
+}
+static REAL qd_cos(REAL a)
+{
+    REAL s, c;
+    qd_sincos(a, &s, &c);
+    return c;
+}
+#define R_ADD(a, b) qd_add((a), (b))
+#define R_SUB(a, b) qd_sub((a), (b))
+#define R_MUL(a, b) qd_mul((a), (b))
+#define R_DIV(a, b) qd_div((a), (b))
+#define R_NEG(a) qd_neg(a)
+#define R_INT(i) qd_from_double((double)(i))
+#define R_FROM_DOUBLE(d) qd_from_double(d)
+#define R_TO_DOUBLE(a) ((a).x[0] + (a).x[1])
+#define R_LT(a, b) qd_lt((a), (b))
+#define R_LE(a, b) (!qd_lt((b), (a)))
+#define R_EQ(a, b) qd_eq((a), (b))
+#define R_LOG_RATIO(a, b) (log((a).x[0]) - log((b).x[0]))
+#define R_SQRT qd_sqrt
+#define R_EXP qd_exp
+#define R_SIN qd_sin
+#define R_COS qd_cos
+#define R_POW qd_pow
+#define R_FABS qd_fabs
+#define R_PI QD_PI
+#define R_ISFINITE(v) (isfinite((v).x[0]) && isfinite((v).x[1]) && isfinite((v).x[2]) \
+                       && isfinite((v).x[3]))
 #elif defined(CHAPLYGIN_TAYLOR_QUAD)
 #include <quadmath.h>
 typedef __float128 REAL;

@@ -19,8 +19,9 @@ Backends
 * ``quad`` -- the same C code in ``__float128`` (libquadmath), values crossing the
   interface as exact binary128 bytes, converted to and from ``mpmath.mpf``;
 * digits up to 31 (``mpmath.mp.prec <= 106`` bits) -- the same C code in double-double
-  (``-DCHAPLYGIN_TAYLOR_DD``: two doubles, 106 bits, error-free transformations), the
-  working numbers split exactly into their two limbs and the results rounded once back to
+  (``-DCHAPLYGIN_TAYLOR_DD``: two doubles, 106 bits, error-free transformations), and up to
+  60 digits (203 bits) in quad-double (``-DCHAPLYGIN_TAYLOR_QD``, four doubles); the
+  working numbers are split exactly into their limbs and the results rounded once back to
   the working precision;
 * more digits -- the Python recurrences with ``gmpy2`` (MPFR) numbers at the working
   precision of ``mpmath.mp`` (``mpmath`` numbers when ``lib="mpmath"``, or ``"gmpy2"``
@@ -59,9 +60,10 @@ __all__ = [
     "jorba_zou_order",
     "encode_binary128",
     "decode_binary128",
-    "encode_double_double",
-    "decode_double_double",
+    "encode_multi_double",
+    "decode_multi_double",
     "DD_BITS",
+    "QD_BITS",
     "DIGITS_REAL_TYPES",
     "digits_real_type",
     "python_lib",
@@ -286,59 +288,68 @@ REAL_TYPES: dict[str, RealType] = {
 #: Significand bits of double-double (two doubles, 53 + 53): the digits precisions up to
 #: these bits (31 digits) run in the compiled double-double integrator.
 DD_BITS = 106
-_DD_DEFINE = "#define CHAPLYGIN_TAYLOR_DD 1\n"
+#: Bits of quad-double that the digits precisions may use (60 digits: 203 of the 212 bits
+#: of four doubles; the "sloppy" quad-double sums keep about 209).
+QD_BITS = 203
 
 
-def encode_double_double(values: Sequence[Any]) -> np.ndarray:
-    """Double-double limbs ``(hi, lo)`` of ``values``, exactly: ``hi + lo == value``.
+def encode_multi_double(values: Sequence[Any], limbs: int = 2) -> np.ndarray:
+    """Multi-double limbs of ``values``, exactly: ``x_0 + ... + x_(limbs-1) == value``.
 
-    ``hi`` is the value rounded to the nearest double, ``lo`` the exact remainder (itself
-    a double when the value has at most :data:`DD_BITS` significant bits).
+    Each limb is the remainder so far rounded to the nearest double, so the limbs are
+    normalised (each at most half an ulp of the one before) and exact for a value of at most
+    ``53 * limbs`` significant bits (double-double: 106, quad-double: 212).
 
     Parameters
     ----------
     values : sequence of numbers
-        ``mpmath.mpf``, ``gmpy2.mpfr``, ``int`` or ``float`` values of at most
-        :data:`DD_BITS` significant bits (any working number of up to 31 digits).
+        ``mpmath.mpf``, ``gmpy2.mpfr``, ``int`` or ``float`` values (working numbers).
+    limbs : int, default 2
+        Doubles per value (2: double-double, 4: quad-double).
 
     Returns
     -------
-    numpy.ndarray of float64, shape (2 * len(values),)
-        ``hi, lo`` of every value, one after the other.
+    numpy.ndarray of float64, shape (limbs * len(values),)
+        The limbs of every value, one value after the other.
 
     Raises
     ------
     ValueError
-        For a value that is not finite, overflows a double, or is not exactly a
-        double-double (more than :data:`DD_BITS` bits, or below the normal range).
+        For a value that is not finite, overflows a double, or is not exactly a sum of
+        ``limbs`` doubles (too many bits, or below the normal range).
     """
-    out = np.empty(2 * len(values))
+    out = np.empty(limbs * len(values))
     for i, v in enumerate(values):
         x = _to_mpf(v) if not isinstance(v, int | float) else mpmath.mpf(v)
         if not mpmath.isfinite(x):
-            raise ValueError(f"cannot encode {x} as double-double")
-        with mpmath.workprec(53):
-            hi = float(+x)  # round to nearest (mpmath's default rounding)
-        if not math.isfinite(hi):
-            raise ValueError(f"{x} overflows a double")
-        with mpmath.workprec(max(mpmath.mp.prec, 4 * DD_BITS)):
-            rest = x - hi  # exact: x and hi share the leading bits
-            lo = float(rest)
-            if mpmath.mpf(lo) != rest or (lo != 0 and abs(lo) < 2.0**-1021):
-                raise ValueError(f"{x} is not exactly a double-double (hi + lo)")
-        out[2 * i], out[2 * i + 1] = hi, lo
+            raise ValueError(f"cannot encode {x} as {limbs} doubles")
+        with mpmath.workprec(max(mpmath.mp.prec, 4 * 53 * limbs)):
+            rest = +x
+            for j in range(limbs):
+                with mpmath.workprec(53):
+                    limb = float(+rest)  # round to nearest (mpmath's default rounding)
+                if not math.isfinite(limb) or (limb != 0 and abs(limb) < 2.0**-1021):
+                    raise ValueError(f"{x} is outside the range of {limbs} doubles")
+                out[limbs * i + j] = limb
+                rest = rest - limb  # exact at this precision
+            if rest != 0:
+                raise ValueError(f"{x} is not exactly a sum of {limbs} doubles")
     return out
 
 
-def decode_double_double(buf: np.ndarray, count: int | None = None) -> list[mpmath.mpf]:
-    """``mpmath.mpf`` values of double-double limbs: ``hi + lo`` rounded once to ``mp.prec``.
+def decode_multi_double(
+    buf: np.ndarray, count: int | None = None, limbs: int = 2
+) -> list[mpmath.mpf]:
+    """``mpmath.mpf`` values of multi-double limbs: their sum rounded once to ``mp.prec``.
 
     Parameters
     ----------
     buf : numpy.ndarray of float64
-        Limbs ``hi, lo`` one value after the other.
+        Limbs, ``limbs`` per value, one value after the other.
     count : int, optional
-        Number of values (default ``len(buf) // 2``).
+        Number of values (default ``len(buf) // limbs``).
+    limbs : int, default 2
+        Doubles per value.
 
     Returns
     -------
@@ -346,33 +357,47 @@ def decode_double_double(buf: np.ndarray, count: int | None = None) -> list[mpma
         The values at the working precision of ``mpmath.mp`` (infinities and NaN as
         mpmath's).
     """
-    limbs = np.asarray(buf, dtype=float)
-    count = len(limbs) // 2 if count is None else count
-    mpf = mpmath.mpf
-    return [mpf(limbs[2 * i]) + mpf(limbs[2 * i + 1]) for i in range(count)]
+    parts = np.asarray(buf, dtype=float)
+    count = len(parts) // limbs if count is None else count
+    out = []
+    for i in range(count):
+        group = [float(v) for v in parts[limbs * i : limbs * (i + 1)]]
+        if not all(math.isfinite(v) for v in group):
+            out.append(mpmath.mpf(math.fsum(group)))
+            continue
+        exact = mpmath.mpf(0)
+        with mpmath.workprec(max(mpmath.mp.prec, 53) + 2200):  # every double is exact
+            for v in group:
+                exact += v
+        out.append(+exact)
+    return out
 
 
 def _times_working(values: Sequence) -> np.ndarray:
     return np.array([mpmath.mpf(v) for v in values], dtype=object)
 
 
+def _multi_double(limbs: int, define: str, ldlibs: tuple[str, ...]) -> RealType:
+    return RealType(
+        size=8 * limbs,
+        define=define,
+        ldlibs=ldlibs,
+        pack=lambda values: encode_multi_double(values, limbs),
+        unpack=lambda buf, count=None: decode_multi_double(buf, count, limbs),
+        empty=lambda count: np.zeros(limbs * count),
+        rows=_rows_lists,
+        times=_times_working,
+        dtype=object,
+    )
+
+
 #: C real types of the ``digits`` precisions, with the largest ``mpmath.mp.prec`` each
-#: carries: double-double (``-DCHAPLYGIN_TAYLOR_DD``) up to :data:`DD_BITS` bits.
+#: carries: double-double (``-DCHAPLYGIN_TAYLOR_DD``, transcendental functions through
+#: libquadmath) up to :data:`DD_BITS` bits, quad-double (``-DCHAPLYGIN_TAYLOR_QD``) up to
+#: :data:`QD_BITS`.
 DIGITS_REAL_TYPES: dict[str, tuple[RealType, int]] = {
-    "dd": (
-        RealType(
-            size=16,
-            define=_DD_DEFINE,
-            ldlibs=("-lquadmath",),  # the transcendental functions at order 0
-            pack=encode_double_double,
-            unpack=decode_double_double,
-            empty=lambda count: np.zeros(2 * count),
-            rows=_rows_lists,
-            times=_times_working,
-            dtype=object,
-        ),
-        DD_BITS,
-    ),
+    "dd": (_multi_double(2, "#define CHAPLYGIN_TAYLOR_DD 1\n", ("-lquadmath",)), DD_BITS),
+    "qd": (_multi_double(4, "#define CHAPLYGIN_TAYLOR_QD 1\n", ()), QD_BITS),
 }
 _C_REAL_TYPES: dict[str, RealType] = {
     **REAL_TYPES,
@@ -409,7 +434,7 @@ class CompiledTaylor:
     Parameters
     ----------
     library : path-like
-    kind : {"double", "quad", "dd"}
+    kind : {"double", "quad", "dd", "qd"}
     expected_hash : str, optional
     """
 
@@ -527,15 +552,16 @@ def load_taylor_library(code: ModelCode, kind: str) -> CompiledTaylor | None:
     """Compile (cached by source hash) and load the C Taylor integrator of ``code``.
 
     ``kind="quad"`` compiles with ``-DCHAPLYGIN_TAYLOR_QUAD``, ``kind="dd"`` (double-double,
-    for up to :data:`DD_BITS` bits of the digits precisions) with ``-DCHAPLYGIN_TAYLOR_DD``;
-    both link ``-lquadmath``.
+    for up to :data:`DD_BITS` bits of the digits precisions) with ``-DCHAPLYGIN_TAYLOR_DD``
+    (both link ``-lquadmath``), ``kind="qd"`` (quad-double, up to :data:`QD_BITS` bits) with
+    ``-DCHAPLYGIN_TAYLOR_QD``.
     Returns None, after a :class:`CompilerUnavailableWarning`, without a usable compiler.
 
     Parameters
     ----------
     code : ModelCode
         The model (its ``taylor_c_source`` and ``hash``).
-    kind : {"double", "quad", "dd"}
+    kind : {"double", "quad", "dd", "qd"}
         The C real type (a key of :data:`REAL_TYPES` or :data:`DIGITS_REAL_TYPES`).
 
     Returns
@@ -915,7 +941,8 @@ def taylor_solve(
         Fixed order and/or fixed step (for convergence studies); default adaptive.
     lib : {"c", "gmpy2", "mpmath", "float"}, optional
         Force a backend (default: C for double and quad, and for digits up to
-        :data:`DD_BITS` bits in double-double; gmpy2 for more digits).
+        :data:`DD_BITS` bits in double-double, up to :data:`QD_BITS` in quad-double; gmpy2
+        for more digits).
     max_wall_s : float, optional
         Wall-time limit of the Python loop (status -6 past it); the compiled run is bounded
         by ``max_steps`` only.
