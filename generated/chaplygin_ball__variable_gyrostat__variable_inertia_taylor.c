@@ -41,12 +41,18 @@ static inline double md_quick_two_sum(double a, double b, double *err) /* |a| >=
 }
 static inline double md_two_prod(double a, double b, double *err)
 {
+#ifdef __FMA__ /* the hardware fused multiply-add gives the same exact error, faster */
+    double p = a * b;
+    *err = __builtin_fma(a, b, -p);
+    return p;
+#else
     const double split = 134217729.0; /* 2^27 + 1 */
     double p = a * b, t = split * a, ah = t - (t - a), al = a - ah;
     t = split * b;
     double bh = t - (t - b), bl = b - bh;
     *err = ((ah * bh - p) + ah * bl + al * bh) + al * bl;
     return p;
+#endif
 }
 #endif
 #if defined(CHAPLYGIN_TAYLOR_DD)
@@ -452,7 +458,6 @@ static void taylor_coefficients(int order, REAL T0, const REAL *restrict Y,
                                 const REAL *restrict P, REAL *restrict X)
 {
     const int S = order + 1;
-    for (int i = 0; i < S * CHAPLYGIN_TAYLOR_N_NODES; ++i) X[i] = R_INT(0);
     const REAL p_I1 = P[0];
     const REAL p_I2 = P[1];
     const REAL p_I3 = P[2];
@@ -559,6 +564,19 @@ static void taylor_coefficients(int order, REAL T0, const REAL *restrict Y,
     REAL *restrict a83 = X + 83 * S;
     REAL *restrict a84 = X + 84 * S;
     REAL *restrict a85 = X + 85 * S;
+    for (int k = 0; k < S; ++k) a6[k] = R_INT(0);
+    for (int k = 0; k < S; ++k) a7[k] = R_INT(0);
+    for (int k = 0; k < S; ++k) a12[k] = R_INT(0);
+    for (int k = 0; k < S; ++k) a14[k] = R_INT(0);
+    for (int k = 0; k < S; ++k) a17[k] = R_INT(0);
+    for (int k = 0; k < S; ++k) a19[k] = R_INT(0);
+    for (int k = 0; k < S; ++k) a21[k] = R_INT(0);
+    for (int k = 0; k < S; ++k) a23[k] = R_INT(0);
+    for (int k = 0; k < S; ++k) a26[k] = R_INT(0);
+    for (int k = 0; k < S; ++k) a28[k] = R_INT(0);
+    for (int k = 0; k < S; ++k) a38[k] = R_INT(0);
+    for (int k = 0; k < S; ++k) a40[k] = R_INT(0);
+    for (int k = 0; k < S; ++k) a45[k] = R_INT(0);
     a0[0] = Y[0];
     a1[0] = Y[1];
     a2[0] = Y[2];

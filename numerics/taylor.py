@@ -245,6 +245,8 @@ class RealType:
         Times as the output array (float64, or mpf at 113 bits).
     dtype : type
         dtype of the output arrays.
+    cflags : tuple of str
+        Extra compiler flags tried first (without them when the compiler refuses them).
     """
 
     size: int
@@ -256,6 +258,7 @@ class RealType:
     rows: Callable[[Any, int, int], Any]
     times: Callable[[Sequence], np.ndarray]
     dtype: type
+    cflags: tuple[str, ...] = ()
 
 
 #: The C integrator's real types (``double`` and ``__float128``).
@@ -388,6 +391,9 @@ def _multi_double(limbs: int, define: str, ldlibs: tuple[str, ...]) -> RealType:
         rows=_rows_lists,
         times=_times_working,
         dtype=object,
+        # inlining of the limb arithmetic, and the hardware FMA for the exact products
+        # (the same bits as Dekker's splitting: both are error-free)
+        cflags=("-O3", "-march=native"),
     )
 
 
@@ -581,7 +587,12 @@ def load_taylor_library(code: ModelCode, kind: str) -> CompiledTaylor | None:
     real = _C_REAL_TYPES[kind]
     source, ldlibs = real.define + code.taylor_c_source, real.ldlibs
     try:
-        path = compile_c(source, ldlibs=ldlibs)
+        try:
+            path = compile_c(source, ldlibs=ldlibs, cflags=real.cflags)
+        except CompilerError:
+            if not real.cflags:
+                raise
+            path = compile_c(source, ldlibs=ldlibs)  # a compiler without -march=native
         lib = CompiledTaylor(path, kind, expected_hash=code.hash)
     except (CompilerError, OSError) as exc:
         warnings.warn(
@@ -612,7 +623,8 @@ def python_lib(kind: str) -> types.SimpleNamespace:
     Returns
     -------
     types.SimpleNamespace
-        ``mpf`` (the number constructor), ``sqrt``, ``exp``, ``sin``, ``cos``, ``log``.
+        ``mpf`` (the number constructor), ``sqrt``, ``exp``, ``sin``, ``cos``, ``log``;
+        gmpy2 also ``fsum`` (correctly rounded sums of the recurrences).
 
     Raises
     ------
@@ -640,8 +652,15 @@ def python_lib(kind: str) -> types.SimpleNamespace:
             sin=gmpy2.sin,
             cos=gmpy2.cos,
             log=gmpy2.log,
+            fsum=_mpfr_sum,
         )
     raise ValueError(f"unknown number library {kind!r}")
+
+
+def _mpfr_sum(values) -> gmpy2.mpfr:
+    """Correctly rounded sum (``mpfr_sum``) of the values: one call instead of one Python
+    addition per term, and no rounding of the partial sums."""
+    return gmpy2.fsum(list(values))
 
 
 def _to_mpf(x) -> mpmath.mpf:
@@ -778,7 +797,9 @@ class _Stepper:
 
     # values used by Python-side event code: floats (double) or mpf
     def step(self, t, y, t_end):
-        """Advance one step: ``(t_new, y_new, poly)``; ``poly(s)`` is the state at t + s."""
+        """Advance one step: ``(t_new, y_new, coefficients, h, order, status)``;
+        ``coefficients()`` gives the step's Taylor coefficients (the state at ``t + s`` by
+        :func:`_eval_poly`), to be called before the next step."""
         if self.clib is not None:
             return self._c_step(t, y, t_end)
         return self._py_step(t, y, t_end)
@@ -801,10 +822,14 @@ class _Stepper:
         )
         p = self.ord[0]
         S = p + 1
-        C = lib.real.rows(lib.unpack(self.coeffs, n * S), n, S)
+        coeffs = self.coeffs
+
+        def coefficients():  # read before the next step overwrites the buffer
+            return lib.real.rows(lib.unpack(coeffs, n * S), n, S)
+
         (h,) = lib.unpack(self.h, 1)
         vals = lib.unpack(ty, n + 1)
-        return vals[0], vals[1:], C, h, p, status
+        return vals[0], vals[1:], coefficients, h, p, status
 
     def _py_step(self, t, y, t_end):
         L, kind = self.lib, self.lib_kind
@@ -839,11 +864,12 @@ class _Stepper:
         y_new = [_horner(c, h) for c in C]
         status = 0 if all(math.isfinite(float(v)) for v in y_new) else -1
         if kind == "float":
-            return t_new, np.array(y_new), np.array(C), h, p, status
+            C = np.array(C)
+            return t_new, np.array(y_new), lambda: C, h, p, status
         return (
             _to_mpf(t_new),
             [_to_mpf(v) for v in y_new],
-            [[_to_mpf(v) for v in c] for c in C],
+            lambda: [[_to_mpf(v) for v in c] for c in C],  # only for dense output, events
             _to_mpf(h),
             p,
             status,
@@ -1075,7 +1101,8 @@ def _py_run(stepper, y0, t_span, t_eval, events, max_steps, precision, max_wall_
         if deadline is not None and time.perf_counter() > deadline:
             status = -6
             break
-        t_new, y_new, C, h, p, status = stepper.step(t, y, t1)
+        t_new, y_new, coefficients, h, p, status = stepper.step(t, y, t1)
+        C = None  # the step's polynomial, converted when an event or output needs it
         nsteps += 1
         omin, omax = min(omin, p), max(omax, p)
         if h == 0:
@@ -1088,6 +1115,7 @@ def _py_run(stepper, y0, t_span, t_eval, events, max_steps, precision, max_wall_
             crossing = (g0 < 0 < g_new) or (g0 > 0 > g_new) or (g_new == 0 and g0 != 0)
             want = getattr(g, "direction", 0)
             if crossing and (want == 0 or (want > 0) == (g_new > g0)):
+                C = coefficients() if C is None else C
                 s = _locate(g, t, C, h, g0, g_new, eps)
                 te = t + s
                 ye = _eval_poly(C, s)
@@ -1097,6 +1125,7 @@ def _py_run(stepper, y0, t_span, t_eval, events, max_steps, precision, max_wall_
                     stop, t_stop, y_stop = True, te, list(ye)
             g_prev[i] = g_new
         while j < len(t_eval) and direction * (t_eval[j] - t_stop) <= 0:
+            C = coefficients() if C is None else C
             ts.append(t_eval[j])
             ys.append(list(_eval_poly(C, t_eval[j] - t)))
             j += 1

@@ -483,12 +483,13 @@ class TaylorPythonEmitter(Emitter):
             "def taylor_coefficients(t0, y, p, order, lib):",
             '    """Normalised Taylor coefficients ``y_i^(k)(t0) / k!``, ``k = 0..order``.',
             "",
-            "    ``lib`` provides ``mpf, sqrt, exp, sin, cos`` (``mpmath`` or a gmpy2 namespace);",
+            "    ``lib`` provides ``mpf, sqrt, exp, sin, cos`` (``mpmath`` or a gmpy2 namespace)",
+            "    and optionally ``fsum`` (sums of products; default the built-in ``sum``);",
             "    the working precision is the caller's. Returns ``n_state`` lists of",
             "    ``order + 1`` numbers.",
             '    """',
             "    _mpf, _sqrt, _exp, _sin, _cos = lib.mpf, lib.sqrt, lib.exp, lib.sin, lib.cos",
-            "    _sum, _map = sum, map",
+            "    _sum, _map = getattr(lib, 'fsum', sum), map",
             "    _zero = _mpf(0)",
             "    S = order + 1",
         ]
@@ -752,9 +753,16 @@ class TaylorCEmitter(Emitter):
             "                                const REAL *restrict P, REAL *restrict X)",
             "{",
             "    const int S = order + 1;",
-            "    for (int i = 0; i < S * CHAPLYGIN_TAYLOR_N_NODES; ++i) X[i] = R_INT(0);",
             *params,
             *decl,
+            # only the time and constant nodes have coefficients that no recurrence writes
+            # (every other node's k = 0..order-1 and the state's 0..order are computed
+            # before they are read): zero those rows, not the whole workspace
+            *[
+                f"    for (int k = 0; k < S; ++k) a{i}[k] = R_INT(0);"
+                for i, node in enumerate(prog.nodes)
+                if node.op in ("time", "const")
+            ],
             *zero,
             "    for (int k = 0; k < order; ++k) {",
             "        if (k > 0) {",

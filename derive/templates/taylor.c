@@ -36,12 +36,18 @@ static inline double md_quick_two_sum(double a, double b, double *err) /* |a| >=
 }
 static inline double md_two_prod(double a, double b, double *err)
 {
+#ifdef __FMA__ /* the hardware fused multiply-add gives the same exact error, faster */
+    double p = a * b;
+    *err = __builtin_fma(a, b, -p);
+    return p;
+#else
     const double split = 134217729.0; /* 2^27 + 1 */
     double p = a * b, t = split * a, ah = t - (t - a), al = a - ah;
     t = split * b;
     double bh = t - (t - b), bl = b - bh;
     *err = ((ah * bh - p) + ah * bl + al * bh) + al * bl;
     return p;
+#endif
 }
 #endif
 #if defined(CHAPLYGIN_TAYLOR_DD)
