@@ -804,12 +804,13 @@ int chaplygin_taylor_step(REAL *TY, const REAL *P, const REAL *CTRL, int fixed_o
 }
 
 /* Integrate from T01[0] to T01[1]. Output at the N_EVAL times T_EVAL (sorted in the direction
- * of integration, inside the span) into Y_EVAL (N_EVAL x n_state), final state in Y_END.
- * STATS = {steps, maximum order, minimum order}. Returns 0, -1 (not finite), -2 (more than
- * MAX_STEPS steps), -3 (step size underflow), -4 (no memory). */
+ * of integration, inside the span) into Y_EVAL (N_EVAL x n_state), final state in Y_END and
+ * its time in T_REACHED (a run stopped after MAX_STEPS steps resumes from them exactly).
+ * STATS = {steps, maximum order, minimum order, outputs written}. Returns 0, -1 (not
+ * finite), -2 (more than MAX_STEPS steps), -3 (step size underflow), -4 (no memory). */
 int chaplygin_taylor_run(const REAL *T01, const REAL *Y0, const REAL *P, const REAL *CTRL,
                          int fixed_order, long n_eval, const REAL *T_EVAL, REAL *Y_EVAL,
-                         REAL *Y_END, long max_steps, long *STATS)
+                         REAL *Y_END, REAL *T_REACHED, long max_steps, long *STATS)
 {
     const int n = CHAPLYGIN_TAYLOR_N_STATE;
     REAL *X = malloc(sizeof(REAL) * (CHAPLYGIN_TAYLOR_MAX_ORDER + 1) * CHAPLYGIN_TAYLOR_N_NODES);
@@ -848,6 +849,7 @@ int chaplygin_taylor_run(const REAL *T01, const REAL *Y0, const REAL *P, const R
         if (status) break;
     }
     for (int i = 0; i < n; ++i) Y_END[i] = y[i];
+    *T_REACHED = t;
     STATS[0] = steps;
     STATS[1] = pmax;
     STATS[2] = steps ? pmin : 0;

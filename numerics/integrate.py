@@ -201,8 +201,8 @@ def integrate(
     max_wall_s : float or None
         Wall-time limit in seconds (default :data:`DEFAULT_MAX_WALL_S`, one hour; None: no
         limit), checked between right-hand-side calls of the scipy methods and
-        ``mpmath.odefun`` and between steps of the Python Taylor loop; past it the result has
-        status -6. The compiled Taylor run is bounded by ``max_steps`` only.
+        ``mpmath.odefun``, between steps of the Python Taylor loop and between blocks of
+        steps of the compiled one; past it the result has status -6.
 
     Returns
     -------

@@ -66,6 +66,7 @@ __all__ = [
     "QD_BITS",
     "DIGITS_REAL_TYPES",
     "digits_real_type",
+    "C_CHUNK_STEPS",
     "python_lib",
     "RealType",
     "REAL_TYPES",
@@ -83,7 +84,7 @@ int chaplygin_taylor_step(void *TY, const void *P, const void *CTRL, int fixed_o
                           const void *T_END, void *COEFFS, void *H, int *ORDER);
 int chaplygin_taylor_run(const void *T01, const void *Y0, const void *P, const void *CTRL,
                          int fixed_order, long n_eval, const void *T_EVAL, void *Y_EVAL,
-                         void *Y_END, long max_steps, long *STATS);
+                         void *Y_END, void *T_REACHED, long max_steps, long *STATS);
 """
 _ffi = cffi.FFI()
 _ffi.cdef(_CDEF)
@@ -970,8 +971,9 @@ def taylor_solve(
         :data:`DD_BITS` bits in double-double, up to :data:`QD_BITS` in quad-double; gmpy2
         for more digits).
     max_wall_s : float, optional
-        Wall-time limit of the Python loop (status -6 past it); the compiled run is bounded
-        by ``max_steps`` only.
+        Wall-time limit (status -6 past it), checked between steps of the Python loop and
+        between calls of :data:`C_CHUNK_STEPS` steps of the compiled loop (which resume
+        exactly: the results do not depend on the limit).
 
     max_steps : int
         Largest number of steps (status -2 beyond it).
@@ -1015,7 +1017,9 @@ def taylor_solve(
     if clib is None and lib == "float" and numbers.python_lib != "float":
         raise ValueError("lib='float' works in double precision only")
     if clib is not None and not events:
-        return _c_run(clib, y0, (t0, t1), p, rtol, atol, t_eval, order, step, max_steps)
+        return _c_run(
+            clib, y0, (t0, t1), p, rtol, atol, t_eval, order, step, max_steps, max_wall_s
+        )
     bits = numbers.bits()
     if clib is None and kind == precision and bits is not None:
         # gmpy2/MPFR at the working precision (113 bits for the quad fallback). The stepper
@@ -1039,39 +1043,68 @@ _MESSAGES = {
 }
 
 
-def _c_run(clib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps):
+#: Steps per call of the compiled loop when a wall-time limit is set (checked between
+#: calls); a run resumes from the exact state and time the previous call reached, so the
+#: steps and results are those of one uninterrupted call.
+C_CHUNK_STEPS = {"double": 65536, "quad": 256, "dd": 1024, "qd": 128}
+
+
+def _c_run(clib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps, max_wall_s=None):
     n = clib.n_state
     ptr = CompiledTaylor._ptr
     m = len(t_eval)
     y_eval = clib.empty(max(m, 1) * n)
-    y_end = clib.empty(n)
+    t_eval_buf = clib.pack(t_eval) if m else clib.empty(1)
+    size = clib.real.size
+    width = size // np.dtype(t_eval_buf.dtype).itemsize  # buffer items per real
+    t01 = clib.pack(t_span)
+    y = clib.pack(y0)
+    P, ctrl = clib.pack(p), clib.pack([rtol, atol, step or 0])
+    y_end, t_reached = clib.empty(n), clib.empty(1)
     stats = np.zeros(4, dtype=np.int64)
-    status = clib.lib.chaplygin_taylor_run(
-        ptr(clib.pack(t_span)),
-        ptr(clib.pack(y0)),
-        ptr(clib.pack(p)),
-        ptr(clib.pack([rtol, atol, step or 0])),
-        order or 0,
-        m,
-        ptr(clib.pack(t_eval)),
-        ptr(y_eval),
-        ptr(y_end),
-        max_steps,
-        _ffi.cast("long *", stats.ctypes.data),
-    )
-    done = int(stats[3])
+    chunk = max_steps if max_wall_s is None else C_CHUNK_STEPS.get(clib.kind, 256)
+    deadline = None if max_wall_s is None else time.perf_counter() + max_wall_s
+    steps, pmax, pmin, done = 0, 0, 10**9, 0
+    while True:
+        left = max_steps - steps
+        status = clib.lib.chaplygin_taylor_run(
+            ptr(t01),
+            ptr(y),
+            ptr(P),
+            ptr(ctrl),
+            order or 0,
+            m - done,
+            ptr(t_eval_buf[done * width :]) if done < m else ptr(t_eval_buf),
+            ptr(y_eval[done * n * width :]) if done < m else ptr(y_eval),
+            ptr(y_end),
+            ptr(t_reached),
+            min(chunk, left),
+            _ffi.cast("long *", stats.ctypes.data),
+        )
+        steps += int(stats[0])
+        if stats[0]:
+            pmax, pmin = max(pmax, int(stats[1])), min(pmin, int(stats[2]))
+        done += int(stats[3])
+        if status != -2 or steps >= max_steps:
+            break
+        if deadline is not None and time.perf_counter() > deadline:
+            status = -6
+            break
+        # resume exactly where the call stopped: its time and state, as they are in C
+        t01 = np.concatenate([t_reached, t01[width:]])
+        y = y_end.copy()
     real = clib.real
     rows = real.rows(real.unpack(y_eval, done * n), done, n)
-    y = np.array(rows, dtype=real.dtype).reshape(done, n).T.copy()
+    y_out = np.array(rows, dtype=real.dtype).reshape(done, n).T.copy()
     t = real.times(t_eval[:done])
     return TaylorSolution(
         t=t,
-        y=y,
+        y=y_out,
         status=int(status),
         message=_MESSAGES.get(int(status), "failed"),
-        nsteps=int(stats[0]),
-        order_min=int(stats[2]),
-        order_max=int(stats[1]),
+        nsteps=steps,
+        order_min=pmin if steps else 0,
+        order_max=pmax,
         backend=f"c-{clib.kind}",
     )
 

@@ -246,3 +246,32 @@ def test_events_on_the_multi_double_polynomial(digits, kind):
             assert abs(a - b) < 10 * rtol * r.nsteps * max(1, abs(b))
         for ye in r.y_events[0]:
             assert abs(ye[5]) < 10 * rtol
+
+
+@pytest.mark.parametrize("precision,digits", [("double", None), ("quad", None), ("digits", 30),
+                                              ("digits", 50)])
+def test_compiled_runs_resume_exactly_in_blocks(monkeypatch, precision, digits):
+    """With a wall-time limit the compiled loop runs in blocks of steps (3 here), each
+    resuming from the exact time and state the last reached: the same steps, orders and
+    bits as one uninterrupted call, outputs inside and across blocks included."""
+    import numpy as np
+    from chaplygin.numerics import taylor
+
+    code = load_model_code("chaplygin_ball")
+    with mpmath.workdps(digits or 34):
+        number = float if precision == "double" else mpmath.mpf
+        y0 = [number(v) for v in ("0.7", "-0.4", "0.5", "0.2", "0.3")]
+        y0.append(number(mpmath.sqrt(1 - sum(mpmath.mpf(v) ** 2 for v in y0[3:]))))
+        p = [number(v) for v in (1, 2, 3, 1)]
+        T = number(9)
+        t_eval = [number(v) / 4 for v in range(0, 37, 5)]
+        tol = 1e-12 if precision == "double" else 1e-20
+        kw = {"precision": precision, "rtol": tol, "atol": tol, "t_eval": t_eval}
+        whole = taylor.taylor_solve(code, y0, (number(0), T), p, **kw)
+        monkeypatch.setitem(taylor.C_CHUNK_STEPS, whole.backend[2:], 3)
+        blocks = taylor.taylor_solve(code, y0, (number(0), T), p, max_wall_s=1e6, **kw)
+    assert whole.backend.startswith("c-") and whole.nsteps > 3 * 3
+    assert (blocks.nsteps, blocks.order_min, blocks.order_max, blocks.status) == (
+        whole.nsteps, whole.order_min, whole.order_max, 0)
+    assert list(blocks.t) == list(whole.t) and len(blocks.t) == len(t_eval)
+    assert np.array_equal(blocks.y, whole.y)
