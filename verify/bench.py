@@ -15,7 +15,9 @@ Every row is one (method, precision, tolerance): the final error is the max-norm
 of the state at ``T`` from a reference computed at (at least) twice the digits of the
 row's precision with the Taylor method (cached in the output folder), the drift of every
 first integral comes from :func:`~chaplygin.numerics.integrate.integrate`, and the time is
-the median wall time of ``repeats`` runs (integration only; compilation timed separately).
+the median wall time of ``repeats`` runs (integration only; compilation timed separately);
+our rows also give the median of the whole public call ``integrate(...)`` split into set-up,
+steps and evidence, and its ratio to heyoka's ``propagate_until`` when heyoka ran.
 
 References
 ----------
