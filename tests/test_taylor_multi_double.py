@@ -275,3 +275,20 @@ def test_compiled_runs_resume_exactly_in_blocks(monkeypatch, precision, digits):
         whole.nsteps, whole.order_min, whole.order_max, 0)
     assert list(blocks.t) == list(whole.t) and len(blocks.t) == len(t_eval)
     assert np.array_equal(blocks.y, whole.y)
+
+
+def test_without_a_compiler_digits_fall_back_to_mpfr(tmp_path, monkeypatch):
+    """No C compiler: 30 digits run the MPFR recurrences after a CompilerUnavailableWarning,
+    with the same result as the MPFR path asked for directly."""
+    from chaplygin.numerics import taylor
+    from chaplygin.numerics.compiled import CompilerUnavailableWarning
+
+    expected = integrate("chaplygin_ball", REFERENCE_Y0, 0.5, REFERENCE_PARAMS, precision=30,
+                         backend="numpy")
+    monkeypatch.setattr(taylor, "_LIBS", {})
+    monkeypatch.setenv("CHAPLYGIN_CACHE_DIR", str(tmp_path))
+    monkeypatch.setenv("CC", "chaplygin-no-such-cc")
+    with pytest.warns(CompilerUnavailableWarning, match="dd Taylor integrator unavailable"):
+        r = integrate("chaplygin_ball", REFERENCE_Y0, 0.5, REFERENCE_PARAMS, precision=30)
+    assert r.backend == "python-gmpy2" and r.success
+    assert list(r.y[:, -1]) == list(expected.y[:, -1])
