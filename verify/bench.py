@@ -316,9 +316,11 @@ def _measure_integrate(
     parts: list[tuple[float, float, float]] = []
     med, r = _median_run(once, repeats)
     if method == "taylor":
-        label_rhs = {"c-dd": "C double-double", "python-gmpy2": "MPFR (gmpy2)"}.get(
-            r.backend, label_rhs
-        )
+        label_rhs = {
+            "c-dd": "C double-double",
+            "c-qd": "C quad-double",
+            "python-gmpy2": "MPFR (gmpy2)",
+        }.get(r.backend, label_rhs)
     call_s, setup_s, evidence_s = (statistics.median(v) for v in zip(*parts, strict=True))
     error = _error(list(r.y[:, -1]), ref, ref_digits) if r.success and r.y.shape[1] else math.inf
     return BenchRow(
