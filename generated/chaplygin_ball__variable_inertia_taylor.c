@@ -41,7 +41,8 @@ static inline double md_quick_two_sum(double a, double b, double *err) /* |a| >=
 }
 static inline double md_two_prod(double a, double b, double *err)
 {
-#ifdef __FMA__ /* the hardware fused multiply-add gives the same exact error, faster */
+#if defined(__FMA__) || defined(__ARM_FEATURE_FMA) /* hardware fused multiply-add: the same
+                                                      exact error, faster */
     double p = a * b;
     *err = __builtin_fma(a, b, -p);
     return p;

@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import math
 import os
+import platform
 import time
 import types
 import warnings
@@ -394,8 +395,24 @@ def _multi_double(limbs: int, define: str, ldlibs: tuple[str, ...]) -> RealType:
         dtype=object,
         # inlining of the limb arithmetic, and the hardware FMA for the exact products
         # (the same bits as Dekker's splitting: both are error-free)
-        cflags=("-O3", "-march=native"),
+        cflags=("-O3", *_fma_flags()),
     )
+
+
+def _fma_flags() -> tuple[str, ...]:
+    """``-mfma`` when this x86-64 CPU has the fused multiply-add (Linux ``/proc/cpuinfo``),
+    else nothing (aarch64 has it without a flag). The flags are part of the compile-cache
+    key, so a library built with ``-mfma`` is never loaded by a process on a CPU without it."""
+    if platform.machine().lower() not in ("x86_64", "amd64"):
+        return ()
+    try:
+        with open("/proc/cpuinfo", encoding="ascii", errors="replace") as fh:
+            for line in fh:
+                if line.startswith("flags"):
+                    return ("-mfma",) if " fma " in f" {line.split(':', 1)[-1].strip()} " else ()
+    except OSError:
+        pass
+    return ()
 
 
 #: C real types of the ``digits`` precisions, with the largest ``mpmath.mp.prec`` each
@@ -593,7 +610,7 @@ def load_taylor_library(code: ModelCode, kind: str) -> CompiledTaylor | None:
         except CompilerError:
             if not real.cflags:
                 raise
-            path = compile_c(source, ldlibs=ldlibs)  # a compiler without -march=native
+            path = compile_c(source, ldlibs=ldlibs)  # a compiler that refuses the flags
         lib = CompiledTaylor(path, kind, expected_hash=code.hash)
     except (CompilerError, OSError) as exc:
         warnings.warn(

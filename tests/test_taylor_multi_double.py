@@ -24,11 +24,14 @@ from chaplygin.numerics.taylor import (
     QD_BITS,
     _from_mpf,
     _to_mpf,
-        decode_multi_double,
+    decode_multi_double,
     digits_real_type,
     encode_multi_double,
-        load_taylor_library,
+    load_taylor_library,
     python_lib,
+)
+from chaplygin.numerics.taylor import (
+    _fma_flags as taylor_fma_flags,
 )
 from reference import REFERENCE_PARAMS, REFERENCE_Y0
 
@@ -292,3 +295,26 @@ def test_without_a_compiler_digits_fall_back_to_mpfr(tmp_path, monkeypatch):
         r = integrate("chaplygin_ball", REFERENCE_Y0, 0.5, REFERENCE_PARAMS, precision=30)
     assert r.backend == "python-gmpy2" and r.success
     assert list(r.y[:, -1]) == list(expected.y[:, -1])
+
+
+@pytest.mark.skipif(not taylor_fma_flags(), reason="no x86-64 FMA here")
+def test_hardware_fma_gives_the_bits_of_dekkers_product():
+    """The quad-double build with -mfma (exact products by fused multiply-add) and without
+    (Dekker's splitting): the same coefficients and run, bit for bit."""
+    import numpy as np
+    from chaplygin.numerics.ccompile import compile_c
+    from chaplygin.numerics.taylor import DIGITS_REAL_TYPES, CompiledTaylor, _c_run
+
+    code = load_model_code("chaplygin_ball")
+    real = DIGITS_REAL_TYPES["qd"][0]
+    source = real.define + code.taylor_c_source
+    libs = [CompiledTaylor(compile_c(source, cflags=flags), "qd") for flags in
+            (("-O3",), ("-O3", "-mfma"))]
+    with mpmath.workdps(50):
+        y = [mpmath.mpf(3 + i) / (11 + 2 * i) for i in range(6)]
+        p = [mpmath.mpf(13 + 3 * i) / (7 + i) for i in range(4)]
+        span, tol = (mpmath.mpf(0), mpmath.mpf(40)), 1e-45
+        runs = [_c_run(lib, y, span, p, tol, tol, [span[1]], None, None, 10**5) for lib in libs]
+        coefficients = [lib.coefficients(20, span[0], y, p) for lib in libs]
+    assert runs[0].nsteps == runs[1].nsteps > 1
+    assert np.array_equal(runs[0].y, runs[1].y) and coefficients[0] == coefficients[1]
