@@ -21,12 +21,13 @@ OPS = (('add', 10), ('addc', 2), ('cdiv', 1), ('const', 6), ('mul', 46), ('mulc'
 def taylor_coefficients(t0, y, p, order, lib):
     """Normalised Taylor coefficients ``y_i^(k)(t0) / k!``, ``k = 0..order``.
 
-    ``lib`` provides ``mpf, sqrt, exp, sin, cos`` (``mpmath`` or a gmpy2 namespace);
+    ``lib`` provides ``mpf, sqrt, exp, sin, cos`` (``mpmath`` or a gmpy2 namespace)
+    and optionally ``fsum`` (sums of products; default the built-in ``sum``);
     the working precision is the caller's. Returns ``n_state`` lists of
     ``order + 1`` numbers.
     """
     _mpf, _sqrt, _exp, _sin, _cos = lib.mpf, lib.sqrt, lib.exp, lib.sin, lib.cos
-    _sum, _map = sum, map
+    _sum, _map = getattr(lib, 'fsum', sum), map
     _zero = _mpf(0)
     S = order + 1
     p_I1, p_I2, p_I3, p_D_iso, p_D_al, p_D_be, = p

@@ -178,7 +178,8 @@ def integrate(
         ``mpmath.odefun`` (for comparison).
     precision : "double", "quad" or int
         IEEE double, IEEE binary128 (``__float128``, 34 digits; Taylor in C) or a number
-        of decimal digits (mpmath/MPFR).
+        of decimal digits (Taylor in C double-double up to 31 digits, quad-double up to 60,
+        MPFR beyond; ``mpmath`` for ``odefun``).
     rtol, atol : float, optional
         Tolerances. Default 1e-10 and 1e-12 in double; in quad and digits both default to
         the smallest the precision delivers (:attr:`Precision.min_rtol`: 10 eps).
@@ -201,8 +202,8 @@ def integrate(
     max_wall_s : float or None
         Wall-time limit in seconds (default :data:`DEFAULT_MAX_WALL_S`, one hour; None: no
         limit), checked between right-hand-side calls of the scipy methods and
-        ``mpmath.odefun`` and between steps of the Python Taylor loop; past it the result has
-        status -6. The compiled Taylor run is bounded by ``max_steps`` only.
+        ``mpmath.odefun``, between steps of the Python Taylor loop and between blocks of
+        steps of the compiled one; past it the result has status -6.
 
     Returns
     -------

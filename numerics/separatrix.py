@@ -361,8 +361,9 @@ def flow(
     """Integrate the full ``chaplygin_ball__contact_point`` equations from ``y0`` at t = 0.
 
     The one place the integrator is chosen: ``taylor`` (the generated Taylor integrator,
-    :func:`chaplygin.numerics.taylor.taylor_solve`, MPFR at ``digits`` with local
-    tolerance ``10^-digits``; ``jet`` is an alias) or ``odefun`` (``mpmath.odefun``, a
+    :func:`chaplygin.numerics.taylor.taylor_solve` at ``digits``: compiled double-double or
+    quad-double up to 60 digits, MPFR beyond; local tolerance ``10^-digits``; ``jet`` is an
+    alias) or ``odefun`` (``mpmath.odefun``, a
     cross-check).
 
     Parameters

@@ -18,8 +18,14 @@ Backends
   integration (one call per step when events are requested);
 * ``quad`` -- the same C code in ``__float128`` (libquadmath), values crossing the
   interface as exact binary128 bytes, converted to and from ``mpmath.mpf``;
-* digits -- the Python recurrences with ``gmpy2`` (MPFR) numbers at the working precision
-  of ``mpmath.mp`` (``mpmath`` numbers when ``lib="mpmath"``).
+* digits up to 31 (``mpmath.mp.prec <= 106`` bits) -- the same C code in double-double
+  (``-DCHAPLYGIN_TAYLOR_DD``: two doubles, 106 bits, error-free transformations), and up to
+  60 digits (203 bits) in quad-double (``-DCHAPLYGIN_TAYLOR_QD``, four doubles); the
+  working numbers are split exactly into their limbs and the results rounded once back to
+  the working precision;
+* more digits -- the Python recurrences with ``gmpy2`` (MPFR) numbers at the working
+  precision of ``mpmath.mp`` (``mpmath`` numbers when ``lib="mpmath"``, or ``"gmpy2"``
+  forced at any digits).
 
 Without a C compiler double and quad fall back to the Python recurrences (floats, or MPFR at
 113 bits) with a :class:`~chaplygin.numerics.compiled.CompilerUnavailableWarning`.
@@ -29,6 +35,7 @@ from __future__ import annotations
 
 import math
 import os
+import platform
 import time
 import types
 import warnings
@@ -54,6 +61,13 @@ __all__ = [
     "jorba_zou_order",
     "encode_binary128",
     "decode_binary128",
+    "encode_multi_double",
+    "decode_multi_double",
+    "DD_BITS",
+    "QD_BITS",
+    "DIGITS_REAL_TYPES",
+    "digits_real_type",
+    "C_CHUNK_STEPS",
     "python_lib",
     "RealType",
     "REAL_TYPES",
@@ -71,7 +85,7 @@ int chaplygin_taylor_step(void *TY, const void *P, const void *CTRL, int fixed_o
                           const void *T_END, void *COEFFS, void *H, int *ORDER);
 int chaplygin_taylor_run(const void *T01, const void *Y0, const void *P, const void *CTRL,
                          int fixed_order, long n_eval, const void *T_EVAL, void *Y_EVAL,
-                         void *Y_END, long max_steps, long *STATS);
+                         void *Y_END, void *T_REACHED, long max_steps, long *STATS);
 """
 _ffi = cffi.FFI()
 _ffi.cdef(_CDEF)
@@ -233,6 +247,8 @@ class RealType:
         Times as the output array (float64, or mpf at 113 bits).
     dtype : type
         dtype of the output arrays.
+    cflags : tuple of str
+        Extra compiler flags tried first (without them when the compiler refuses them).
     """
 
     size: int
@@ -244,6 +260,7 @@ class RealType:
     rows: Callable[[Any, int, int], Any]
     times: Callable[[Sequence], np.ndarray]
     dtype: type
+    cflags: tuple[str, ...] = ()
 
 
 #: The C integrator's real types (``double`` and ``__float128``).
@@ -273,6 +290,165 @@ REAL_TYPES: dict[str, RealType] = {
 }
 
 
+#: Significand bits of double-double (two doubles, 53 + 53): the digits precisions up to
+#: these bits (31 digits) run in the compiled double-double integrator.
+DD_BITS = 106
+#: Bits of quad-double that the digits precisions may use (60 digits: 203 of the 212 bits
+#: of four doubles; the "sloppy" quad-double sums keep about 209).
+QD_BITS = 203
+
+
+def encode_multi_double(values: Sequence[Any], limbs: int = 2) -> np.ndarray:
+    """Multi-double limbs of ``values``, exactly: ``x_0 + ... + x_(limbs-1) == value``.
+
+    Each limb is the remainder so far rounded to the nearest double, so the limbs are
+    normalised (each at most half an ulp of the one before) and exact for a value of at most
+    ``53 * limbs`` significant bits (double-double: 106, quad-double: 212).
+
+    Parameters
+    ----------
+    values : sequence of numbers
+        ``mpmath.mpf``, ``gmpy2.mpfr``, ``int`` or ``float`` values (working numbers).
+    limbs : int, default 2
+        Doubles per value (2: double-double, 4: quad-double).
+
+    Returns
+    -------
+    numpy.ndarray of float64, shape (limbs * len(values),)
+        The limbs of every value, one value after the other.
+
+    Raises
+    ------
+    ValueError
+        For a value that is not finite, overflows a double, or is not exactly a sum of
+        ``limbs`` doubles (too many bits, or below the normal range).
+    """
+    out = np.empty(limbs * len(values))
+    for i, v in enumerate(values):
+        x = _to_mpf(v) if not isinstance(v, int | float) else mpmath.mpf(v)
+        if not mpmath.isfinite(x):
+            raise ValueError(f"cannot encode {x} as {limbs} doubles")
+        with mpmath.workprec(max(mpmath.mp.prec, 4 * 53 * limbs)):
+            rest = +x
+            for j in range(limbs):
+                with mpmath.workprec(53):
+                    limb = float(+rest)  # round to nearest (mpmath's default rounding)
+                if not math.isfinite(limb) or (limb != 0 and abs(limb) < 2.0**-1021):
+                    raise ValueError(f"{x} is outside the range of {limbs} doubles")
+                out[limbs * i + j] = limb
+                rest = rest - limb  # exact at this precision
+            if rest != 0:
+                raise ValueError(f"{x} is not exactly a sum of {limbs} doubles")
+    return out
+
+
+def decode_multi_double(
+    buf: np.ndarray, count: int | None = None, limbs: int = 2
+) -> list[mpmath.mpf]:
+    """``mpmath.mpf`` values of multi-double limbs: their sum rounded once to ``mp.prec``.
+
+    Parameters
+    ----------
+    buf : numpy.ndarray of float64
+        Limbs, ``limbs`` per value, one value after the other.
+    count : int, optional
+        Number of values (default ``len(buf) // limbs``).
+    limbs : int, default 2
+        Doubles per value.
+
+    Returns
+    -------
+    list of mpmath.mpf
+        The values at the working precision of ``mpmath.mp`` (infinities and NaN as
+        mpmath's).
+    """
+    parts = np.asarray(buf, dtype=float)
+    count = len(parts) // limbs if count is None else count
+    out = []
+    for i in range(count):
+        group = [float(v) for v in parts[limbs * i : limbs * (i + 1)]]
+        if not all(math.isfinite(v) for v in group):
+            out.append(mpmath.mpf(math.fsum(group)))
+            continue
+        exact = mpmath.mpf(0)
+        with mpmath.workprec(max(mpmath.mp.prec, 53) + 2200):  # every double is exact
+            for v in group:
+                exact += v
+        out.append(+exact)
+    return out
+
+
+def _times_working(values: Sequence) -> np.ndarray:
+    return np.array([mpmath.mpf(v) for v in values], dtype=object)
+
+
+def _multi_double(limbs: int, define: str, ldlibs: tuple[str, ...]) -> RealType:
+    return RealType(
+        size=8 * limbs,
+        define=define,
+        ldlibs=ldlibs,
+        pack=lambda values: encode_multi_double(values, limbs),
+        unpack=lambda buf, count=None: decode_multi_double(buf, count, limbs),
+        empty=lambda count: np.zeros(limbs * count),
+        rows=_rows_lists,
+        times=_times_working,
+        dtype=object,
+        # inlining of the limb arithmetic, and the hardware FMA for the exact products
+        # (the same bits as Dekker's splitting: both are error-free)
+        cflags=("-O3", *_fma_flags()),
+    )
+
+
+def _fma_flags() -> tuple[str, ...]:
+    """``-mfma`` when this x86-64 CPU has the fused multiply-add (Linux ``/proc/cpuinfo``),
+    else nothing (aarch64 has it without a flag). The flags are part of the compile-cache
+    key, so a library built with ``-mfma`` is never loaded by a process on a CPU without it."""
+    if platform.machine().lower() not in ("x86_64", "amd64"):
+        return ()
+    try:
+        with open("/proc/cpuinfo", encoding="ascii", errors="replace") as fh:
+            for line in fh:
+                if line.startswith("flags"):
+                    return ("-mfma",) if " fma " in f" {line.split(':', 1)[-1].strip()} " else ()
+    except OSError:
+        pass
+    return ()
+
+
+#: C real types of the ``digits`` precisions, with the largest ``mpmath.mp.prec`` each
+#: carries: double-double (``-DCHAPLYGIN_TAYLOR_DD``, transcendental functions through
+#: libquadmath) up to :data:`DD_BITS` bits, quad-double (``-DCHAPLYGIN_TAYLOR_QD``) up to
+#: :data:`QD_BITS`.
+DIGITS_REAL_TYPES: dict[str, tuple[RealType, int]] = {
+    "dd": (_multi_double(2, "#define CHAPLYGIN_TAYLOR_DD 1\n", ("-lquadmath",)), DD_BITS),
+    "qd": (_multi_double(4, "#define CHAPLYGIN_TAYLOR_QD 1\n", ()), QD_BITS),
+}
+_C_REAL_TYPES: dict[str, RealType] = {
+    **REAL_TYPES,
+    **{k: real for k, (real, _) in DIGITS_REAL_TYPES.items()},
+}
+
+
+def digits_real_type(bits: int) -> str | None:
+    """The C real type that carries ``bits`` of working precision, if there is one.
+
+    Parameters
+    ----------
+    bits : int
+        The working precision (``mpmath.mp.prec``).
+
+    Returns
+    -------
+    str or None
+        A key of :data:`DIGITS_REAL_TYPES` (the narrowest that holds ``bits``), or None
+        past the widest (the Python recurrences with MPFR).
+    """
+    for kind, (_, most) in sorted(DIGITS_REAL_TYPES.items(), key=lambda kv: kv[1][1]):
+        if bits <= most:
+            return kind
+    return None
+
+
 # --------------------------------------------------------------------------- C library
 
 
@@ -282,14 +458,14 @@ class CompiledTaylor:
     Parameters
     ----------
     library : path-like
-    kind : {"double", "quad"}
+    kind : {"double", "quad", "dd", "qd"}
     expected_hash : str, optional
     """
 
     def __init__(self, library: os.PathLike | str, kind: str, expected_hash: str | None = None):
         self.lib = _ffi.dlopen(os.fspath(library))
         self.kind = kind
-        self.real = REAL_TYPES[kind]
+        self.real = _C_REAL_TYPES[kind]
         self.model_hash = _ffi.string(self.lib.chaplygin_taylor_model_hash()).decode()
         if expected_hash is not None and self.model_hash != expected_hash:
             raise ValueError(
@@ -399,15 +575,18 @@ _LIBS: dict[tuple[str, str], CompiledTaylor | None] = {}
 def load_taylor_library(code: ModelCode, kind: str) -> CompiledTaylor | None:
     """Compile (cached by source hash) and load the C Taylor integrator of ``code``.
 
-    ``kind="quad"`` compiles with ``-DCHAPLYGIN_TAYLOR_QUAD`` and links ``-lquadmath``.
+    ``kind="quad"`` compiles with ``-DCHAPLYGIN_TAYLOR_QUAD``, ``kind="dd"`` (double-double,
+    for up to :data:`DD_BITS` bits of the digits precisions) with ``-DCHAPLYGIN_TAYLOR_DD``
+    (both link ``-lquadmath``), ``kind="qd"`` (quad-double, up to :data:`QD_BITS` bits) with
+    ``-DCHAPLYGIN_TAYLOR_QD``.
     Returns None, after a :class:`CompilerUnavailableWarning`, without a usable compiler.
 
     Parameters
     ----------
     code : ModelCode
         The model (its ``taylor_c_source`` and ``hash``).
-    kind : {"double", "quad"}
-        The C real type (a key of :data:`REAL_TYPES`).
+    kind : {"double", "quad", "dd", "qd"}
+        The C real type (a key of :data:`REAL_TYPES` or :data:`DIGITS_REAL_TYPES`).
 
     Returns
     -------
@@ -423,10 +602,15 @@ def load_taylor_library(code: ModelCode, kind: str) -> CompiledTaylor | None:
     key = (code.hash, kind)
     if key in _LIBS:
         return _LIBS[key]
-    real = REAL_TYPES[kind]
+    real = _C_REAL_TYPES[kind]
     source, ldlibs = real.define + code.taylor_c_source, real.ldlibs
     try:
-        path = compile_c(source, ldlibs=ldlibs)
+        try:
+            path = compile_c(source, ldlibs=ldlibs, cflags=real.cflags)
+        except CompilerError:
+            if not real.cflags:
+                raise
+            path = compile_c(source, ldlibs=ldlibs)  # a compiler that refuses the flags
         lib = CompiledTaylor(path, kind, expected_hash=code.hash)
     except (CompilerError, OSError) as exc:
         warnings.warn(
@@ -457,7 +641,8 @@ def python_lib(kind: str) -> types.SimpleNamespace:
     Returns
     -------
     types.SimpleNamespace
-        ``mpf`` (the number constructor), ``sqrt``, ``exp``, ``sin``, ``cos``, ``log``.
+        ``mpf`` (the number constructor), ``sqrt``, ``exp``, ``sin``, ``cos``, ``log``;
+        gmpy2 also ``fsum`` (correctly rounded sums of the recurrences).
 
     Raises
     ------
@@ -485,8 +670,15 @@ def python_lib(kind: str) -> types.SimpleNamespace:
             sin=gmpy2.sin,
             cos=gmpy2.cos,
             log=gmpy2.log,
+            fsum=_mpfr_sum,
         )
     raise ValueError(f"unknown number library {kind!r}")
+
+
+def _mpfr_sum(values) -> gmpy2.mpfr:
+    """Correctly rounded sum (``mpfr_sum``) of the values: one call instead of one Python
+    addition per term, and no rounding of the partial sums."""
+    return gmpy2.fsum(list(values))
 
 
 def _to_mpf(x) -> mpmath.mpf:
@@ -613,7 +805,7 @@ class _Stepper:
             self.h = lib.empty(1)
             self.ty = lib.empty(lib.n_state + 1)
             self.ord = _ffi.new("int *")
-            self.backend = f"c-{kind}"
+            self.backend = f"c-{lib.kind}"
         else:
             self.lib_kind = "mpmath" if kind == "digits-mpmath" else LOOP_NUMBERS[kind].python_lib
             self.lib = python_lib(self.lib_kind)
@@ -623,7 +815,9 @@ class _Stepper:
 
     # values used by Python-side event code: floats (double) or mpf
     def step(self, t, y, t_end):
-        """Advance one step: ``(t_new, y_new, poly)``; ``poly(s)`` is the state at t + s."""
+        """Advance one step: ``(t_new, y_new, coefficients, h, order, status)``;
+        ``coefficients()`` gives the step's Taylor coefficients (the state at ``t + s`` by
+        :func:`_eval_poly`), to be called before the next step."""
         if self.clib is not None:
             return self._c_step(t, y, t_end)
         return self._py_step(t, y, t_end)
@@ -646,10 +840,14 @@ class _Stepper:
         )
         p = self.ord[0]
         S = p + 1
-        C = lib.real.rows(lib.unpack(self.coeffs, n * S), n, S)
+        coeffs = self.coeffs
+
+        def coefficients():  # read before the next step overwrites the buffer
+            return lib.real.rows(lib.unpack(coeffs, n * S), n, S)
+
         (h,) = lib.unpack(self.h, 1)
         vals = lib.unpack(ty, n + 1)
-        return vals[0], vals[1:], C, h, p, status
+        return vals[0], vals[1:], coefficients, h, p, status
 
     def _py_step(self, t, y, t_end):
         L, kind = self.lib, self.lib_kind
@@ -684,11 +882,12 @@ class _Stepper:
         y_new = [_horner(c, h) for c in C]
         status = 0 if all(math.isfinite(float(v)) for v in y_new) else -1
         if kind == "float":
-            return t_new, np.array(y_new), np.array(C), h, p, status
+            C = np.array(C)
+            return t_new, np.array(y_new), lambda: C, h, p, status
         return (
             _to_mpf(t_new),
             [_to_mpf(v) for v in y_new],
-            [[_to_mpf(v) for v in c] for c in C],
+            lambda: [[_to_mpf(v) for v in c] for c in C],  # only for dense output, events
             _to_mpf(h),
             p,
             status,
@@ -785,10 +984,13 @@ def taylor_solve(
     order, step : optional
         Fixed order and/or fixed step (for convergence studies); default adaptive.
     lib : {"c", "gmpy2", "mpmath", "float"}, optional
-        Force a backend (default: C for double and quad, gmpy2 for digits).
+        Force a backend (default: C for double and quad, and for digits up to
+        :data:`DD_BITS` bits in double-double, up to :data:`QD_BITS` in quad-double; gmpy2
+        for more digits).
     max_wall_s : float, optional
-        Wall-time limit of the Python loop (status -6 past it); the compiled run is bounded
-        by ``max_steps`` only.
+        Wall-time limit (status -6 past it), checked between steps of the Python loop and
+        between calls of :data:`C_CHUNK_STEPS` steps of the compiled loop (which resume
+        exactly: the results do not depend on the limit).
 
     max_steps : int
         Largest number of steps (status -2 beyond it).
@@ -821,13 +1023,20 @@ def taylor_solve(
     clib = None
     if numbers.compiled and lib in (None, "c"):
         clib = load_taylor_library(code, precision)
+    elif precision == "digits" and lib in (None, "c"):
+        # fixed-size multi-double arithmetic in C where it carries the working precision
+        c_kind = digits_real_type(mpmath.mp.prec)
+        if c_kind is not None:
+            clib = load_taylor_library(code, c_kind)
     kind = precision
     if clib is None and lib == "mpmath":
         kind = "digits-mpmath"
     if clib is None and lib == "float" and numbers.python_lib != "float":
         raise ValueError("lib='float' works in double precision only")
     if clib is not None and not events:
-        return _c_run(clib, y0, (t0, t1), p, rtol, atol, t_eval, order, step, max_steps)
+        return _c_run(
+            clib, y0, (t0, t1), p, rtol, atol, t_eval, order, step, max_steps, max_wall_s
+        )
     bits = numbers.bits()
     if clib is None and kind == precision and bits is not None:
         # gmpy2/MPFR at the working precision (113 bits for the quad fallback). The stepper
@@ -851,39 +1060,68 @@ _MESSAGES = {
 }
 
 
-def _c_run(clib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps):
+#: Steps per call of the compiled loop when a wall-time limit is set (checked between
+#: calls); a run resumes from the exact state and time the previous call reached, so the
+#: steps and results are those of one uninterrupted call.
+C_CHUNK_STEPS = {"double": 65536, "quad": 256, "dd": 1024, "qd": 128}
+
+
+def _c_run(clib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps, max_wall_s=None):
     n = clib.n_state
     ptr = CompiledTaylor._ptr
     m = len(t_eval)
     y_eval = clib.empty(max(m, 1) * n)
-    y_end = clib.empty(n)
+    t_eval_buf = clib.pack(t_eval) if m else clib.empty(1)
+    size = clib.real.size
+    width = size // np.dtype(t_eval_buf.dtype).itemsize  # buffer items per real
+    t01 = clib.pack(t_span)
+    y = clib.pack(y0)
+    P, ctrl = clib.pack(p), clib.pack([rtol, atol, step or 0])
+    y_end, t_reached = clib.empty(n), clib.empty(1)
     stats = np.zeros(4, dtype=np.int64)
-    status = clib.lib.chaplygin_taylor_run(
-        ptr(clib.pack(t_span)),
-        ptr(clib.pack(y0)),
-        ptr(clib.pack(p)),
-        ptr(clib.pack([rtol, atol, step or 0])),
-        order or 0,
-        m,
-        ptr(clib.pack(t_eval)),
-        ptr(y_eval),
-        ptr(y_end),
-        max_steps,
-        _ffi.cast("long *", stats.ctypes.data),
-    )
-    done = int(stats[3])
+    chunk = max_steps if max_wall_s is None else C_CHUNK_STEPS.get(clib.kind, 256)
+    deadline = None if max_wall_s is None else time.perf_counter() + max_wall_s
+    steps, pmax, pmin, done = 0, 0, 10**9, 0
+    while True:
+        left = max_steps - steps
+        status = clib.lib.chaplygin_taylor_run(
+            ptr(t01),
+            ptr(y),
+            ptr(P),
+            ptr(ctrl),
+            order or 0,
+            m - done,
+            ptr(t_eval_buf[done * width :]) if done < m else ptr(t_eval_buf),
+            ptr(y_eval[done * n * width :]) if done < m else ptr(y_eval),
+            ptr(y_end),
+            ptr(t_reached),
+            min(chunk, left),
+            _ffi.cast("long *", stats.ctypes.data),
+        )
+        steps += int(stats[0])
+        if stats[0]:
+            pmax, pmin = max(pmax, int(stats[1])), min(pmin, int(stats[2]))
+        done += int(stats[3])
+        if status != -2 or steps >= max_steps:
+            break
+        if deadline is not None and time.perf_counter() > deadline:
+            status = -6
+            break
+        # resume exactly where the call stopped: its time and state, as they are in C
+        t01 = np.concatenate([t_reached, t01[width:]])
+        y = y_end.copy()
     real = clib.real
     rows = real.rows(real.unpack(y_eval, done * n), done, n)
-    y = np.array(rows, dtype=real.dtype).reshape(done, n).T.copy()
+    y_out = np.array(rows, dtype=real.dtype).reshape(done, n).T.copy()
     t = real.times(t_eval[:done])
     return TaylorSolution(
         t=t,
-        y=y,
+        y=y_out,
         status=int(status),
         message=_MESSAGES.get(int(status), "failed"),
-        nsteps=int(stats[0]),
-        order_min=int(stats[2]),
-        order_max=int(stats[1]),
+        nsteps=steps,
+        order_min=pmin if steps else 0,
+        order_max=pmax,
         backend=f"c-{clib.kind}",
     )
 
@@ -913,7 +1151,8 @@ def _py_run(stepper, y0, t_span, t_eval, events, max_steps, precision, max_wall_
         if deadline is not None and time.perf_counter() > deadline:
             status = -6
             break
-        t_new, y_new, C, h, p, status = stepper.step(t, y, t1)
+        t_new, y_new, coefficients, h, p, status = stepper.step(t, y, t1)
+        C = None  # the step's polynomial, converted when an event or output needs it
         nsteps += 1
         omin, omax = min(omin, p), max(omax, p)
         if h == 0:
@@ -926,6 +1165,7 @@ def _py_run(stepper, y0, t_span, t_eval, events, max_steps, precision, max_wall_
             crossing = (g0 < 0 < g_new) or (g0 > 0 > g_new) or (g_new == 0 and g0 != 0)
             want = getattr(g, "direction", 0)
             if crossing and (want == 0 or (want > 0) == (g_new > g0)):
+                C = coefficients() if C is None else C
                 s = _locate(g, t, C, h, g0, g_new, eps)
                 te = t + s
                 ye = _eval_poly(C, s)
@@ -935,6 +1175,7 @@ def _py_run(stepper, y0, t_span, t_eval, events, max_steps, precision, max_wall_
                     stop, t_stop, y_stop = True, te, list(ye)
             g_prev[i] = g_new
         while j < len(t_eval) and direction * (t_eval[j] - t_stop) <= 0:
+            C = coefficients() if C is None else C
             ts.append(t_eval[j])
             ys.append(list(_eval_poly(C, t_eval[j] - t)))
             j += 1

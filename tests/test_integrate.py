@@ -52,10 +52,10 @@ def test_other_scipy_methods_run_and_report_drift(method):
         assert r.njev > 0  # the generated Jacobian was used
 
 
-def test_high_precision_path_keeps_its_digits():
-    digits = 30
+@pytest.mark.parametrize("digits,backend", [(30, "c-dd"), (50, "c-qd"), (70, "python-gmpy2")])
+def test_high_precision_path_keeps_its_digits(digits, backend):
     r = integrate(BALL, REFERENCE_Y0, 2, REFERENCE_PARAMS, precision=digits)
-    assert r.success and r.method == "taylor" and r.backend == "python-gmpy2"
+    assert r.success and r.method == "taylor" and r.backend == backend
     assert isinstance(r.y[0, -1], mpmath.mpf)
     assert max(r.drift.values()) <= 10.0 ** (5 - digits)
     assert r.precision == f"{digits} digits"

@@ -290,11 +290,15 @@ def test_quad_gives_30_digits_on_the_reference_problem():
     assert max(r.drift.values()) < 1e-31
 
 
-def test_digits_path_meets_tolerance_and_agrees_with_odefun():
-    """30 digits, gmpy2 recurrences, vs mpmath.odefun at 40 digits (independent method)."""
-    r = integrate(BALL, REFERENCE_Y0, 1, REFERENCE_PARAMS, precision=30)
+@pytest.mark.parametrize(
+    "backend,ran_on", [("auto", "c-dd"), ("numpy", "python-gmpy2")]
+)
+def test_digits_path_meets_tolerance_and_agrees_with_odefun(backend, ran_on):
+    """30 digits, C double-double (default) and gmpy2 recurrences, vs mpmath.odefun at 40
+    digits (independent method)."""
+    r = integrate(BALL, REFERENCE_Y0, 1, REFERENCE_PARAMS, precision=30, backend=backend)
     ref = integrate(BALL, REFERENCE_Y0, 1, REFERENCE_PARAMS, precision=40, method="odefun")
-    assert r.method == "taylor" and r.backend == "python-gmpy2" and ref.method == "odefun"
+    assert r.method == "taylor" and r.backend == ran_on and ref.method == "odefun"
     rtol = r.info["rtol"]
     for j in range(r.y.shape[1]):
         with mpmath.workdps(40):

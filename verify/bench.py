@@ -15,7 +15,9 @@ Every row is one (method, precision, tolerance): the final error is the max-norm
 of the state at ``T`` from a reference computed at (at least) twice the digits of the
 row's precision with the Taylor method (cached in the output folder), the drift of every
 first integral comes from :func:`~chaplygin.numerics.integrate.integrate`, and the time is
-the median wall time of ``repeats`` runs (integration only; compilation timed separately).
+the median wall time of ``repeats`` runs (integration only; compilation timed separately);
+our rows also give the median of the whole public call ``integrate(...)`` split into set-up,
+steps and evidence, and its ratio to heyoka's ``propagate_until`` when heyoka ran.
 
 References
 ----------
@@ -162,7 +164,13 @@ PROBLEMS: dict[str, BenchProblem] = {
 
 @dataclass
 class BenchRow:
-    """One measured (or unavailable) configuration."""
+    """One measured (or unavailable) configuration.
+
+    ``median_s`` is the integration alone (``IntegrationResult.wall_s``); for our rows
+    ``call_s`` is the median of the whole public call ``integrate(...)`` and ``setup_s``,
+    ``evidence_s`` its parts before and after the integration (reading the inputs, loading
+    the compiled code; drift evidence and result), all medians of the same runs.
+    """
 
     problem: str
     method: str
@@ -177,6 +185,9 @@ class BenchRow:
     steps: int | None = None
     nfev: int | None = None
     note: str = ""
+    call_s: float | None = None
+    setup_s: float | None = None
+    evidence_s: float | None = None
 
     def to_json(self) -> dict[str, object]:
         """The row as a JSON-ready dict.
@@ -288,6 +299,7 @@ def _measure_integrate(
         label_rhs = "mpmath"
 
     def once():
+        start = time.perf_counter()
         r = integrate(
             "chaplygin_ball",
             problem.y0,
@@ -300,9 +312,19 @@ def _measure_integrate(
             backend=backend,
             t_eval=[0, T],
         )
+        call = time.perf_counter() - start
+        parts.append((call, r.setup_s, call - r.setup_s - r.wall_s))
         return r.wall_s, r
 
+    parts: list[tuple[float, float, float]] = []
     med, r = _median_run(once, repeats)
+    if method == "taylor":
+        label_rhs = {
+            "c-dd": "C double-double",
+            "c-qd": "C quad-double",
+            "python-gmpy2": "MPFR (gmpy2)",
+        }.get(r.backend, label_rhs)
+    call_s, setup_s, evidence_s = (statistics.median(v) for v in zip(*parts, strict=True))
     error = _error(list(r.y[:, -1]), ref, ref_digits) if r.success and r.y.shape[1] else math.inf
     return BenchRow(
         problem=problem.name,
@@ -318,6 +340,9 @@ def _measure_integrate(
         steps=r.nsteps if method == "taylor" else None,
         nfev=r.nfev if method != "taylor" else None,
         note="" if r.success else f"failed: {r.message}",
+        call_s=call_s,
+        setup_s=setup_s,
+        evidence_s=evidence_s,
     )
 
 
@@ -761,7 +786,8 @@ def render_markdown(study: dict) -> str:
         lines += [f"## {pname}: {prob.description}", ""]
         names = sorted({k for r in rows if r["problem"] == pname for k in r["drift"]})
         head = ["method", "rhs", "precision", "rtol", "T", "final error", *(
-            f"drift {n}" for n in names), "median s", "runs", "steps", "rhs calls", "note"]
+            f"drift {n}" for n in names), "median s", "runs", "steps", "rhs calls",
+            "integrate() s (set-up + steps + evidence, ms)", "x heyoka", "note"]
         lines += ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
         for r in rows:
             if r["problem"] != pname:
@@ -770,7 +796,8 @@ def render_markdown(study: dict) -> str:
                      _fmt(r["T"], "g"), _fmt(r["error"]),
                      *(_fmt(r["drift"].get(n)) for n in names),
                      _fmt(r["median_s"], ".4g"), str(r["runs"]), _fmt(r["steps"], "d"),
-                     _fmt(r.get("nfev"), "d"), r["note"]]
+                     _fmt(r.get("nfev"), "d"), _call_parts(r), _heyoka_ratio(r, rows),
+                     r["note"]]
             lines.append("| " + " | ".join(cells) + " |")
         lines.append("")
     lines += ["## Right-hand side called from Python (seconds per evaluation)", ""]
@@ -787,6 +814,30 @@ def render_markdown(study: dict) -> str:
     lines += ["", "## Targets of issue 5 (ratios from this run)", ""]
     lines += [f"- {t}" for t in target_ratios(study)]
     return "\n".join(lines) + "\n"
+
+
+def _call_parts(row: dict) -> str:
+    """``call (setup + steps + evidence)`` of one of our rows, or ``-``."""
+    if row.get("call_s") is None:
+        return "-"
+    ms = [1e3 * row[k] for k in ("setup_s", "median_s", "evidence_s")]
+    return f"{row['call_s']:.4g} ({ms[0]:.2f} + {ms[1]:.2f} + {ms[2]:.2f})"
+
+
+def _heyoka_ratio(row: dict, rows: list[dict]) -> str:
+    """Our whole ``integrate(...)`` call over heyoka's ``propagate_until`` (same problem,
+    precision, span and tolerance or heyoka's default), or ``-``."""
+    if row.get("call_s") is None or row["method"] == "heyoka":
+        return "-"
+    label = {"quad": "quad (real128)"}.get(row["precision"], row["precision"])
+    peers = [r for r in rows if r["method"] == "heyoka" and r["problem"] == row["problem"]
+             and r["precision"] == label and r["T"] == row["T"] and r["median_s"]]
+    same_tol = [r for r in peers if r["rtol"] == row["rtol"]]
+    # double: only at the same tolerance; the high precisions: heyoka's default (its eps)
+    peer = (same_tol or ([] if row["precision"] == "double" else peers) or [None])[0]
+    if peer is None:
+        return "-"
+    return f"{row['call_s'] / peer['median_s']:.2f}"
 
 
 def _best(rows, **want):

@@ -483,12 +483,13 @@ class TaylorPythonEmitter(Emitter):
             "def taylor_coefficients(t0, y, p, order, lib):",
             '    """Normalised Taylor coefficients ``y_i^(k)(t0) / k!``, ``k = 0..order``.',
             "",
-            "    ``lib`` provides ``mpf, sqrt, exp, sin, cos`` (``mpmath`` or a gmpy2 namespace);",
+            "    ``lib`` provides ``mpf, sqrt, exp, sin, cos`` (``mpmath`` or a gmpy2 namespace)",
+            "    and optionally ``fsum`` (sums of products; default the built-in ``sum``);",
             "    the working precision is the caller's. Returns ``n_state`` lists of",
             "    ``order + 1`` numbers.",
             '    """',
             "    _mpf, _sqrt, _exp, _sin, _cos = lib.mpf, lib.sqrt, lib.exp, lib.sin, lib.cos",
-            "    _sum, _map = sum, map",
+            "    _sum, _map = getattr(lib, 'fsum', sum), map",
             "    _zero = _mpf(0)",
             "    S = order + 1",
         ]
@@ -544,7 +545,99 @@ class _TaylorCPrinter(ChaplyginCPrinter):
         return "R_PI"
 
 
-def _c_lines(prog: TaylorProgram, printer: _TaylorCPrinter) -> tuple[list, list]:
+class _TaylorMacroPrinter:
+    """Constants (expressions in the parameters) with the template's ``R_*`` macros only,
+    for a ``REAL`` without C operators (double-double). Integers up to 2^53 are exact
+    (``R_INT`` goes through a double)."""
+
+    _FUNCTIONS = {sp.sin: "R_SIN", sp.cos: "R_COS", sp.exp: "R_EXP"}
+
+    def __init__(self, names: dict[sp.Symbol, str]):
+        self._names = names
+
+    def doprint(self, expr: sp.Expr) -> str:
+        """C expression of ``expr`` built from ``R_*`` macros.
+
+        Parameters
+        ----------
+        expr : sympy.Expr
+            A constant of the Taylor program (parameters, rationals, ``pi``, ``sqrt``,
+            ``sin``, ``cos``, ``exp``, powers).
+
+        Returns
+        -------
+        str
+            The C expression.
+
+        Raises
+        ------
+        NotImplementedError
+            For another function, or an integer too large for a double.
+        """
+        return self._print(sp.sympify(expr))
+
+    def _int(self, n: int) -> str:
+        if abs(n) > 2**53:
+            raise NotImplementedError(f"integer {n} is not exact in a double")
+        return f"R_INT({n})"
+
+    def _print(self, e: sp.Expr) -> str:
+        if e.is_Symbol:
+            return self._names.get(e, e.name)
+        if e.is_Integer:
+            return self._int(int(e))
+        if e.is_Rational:
+            return f"R_DIV({self._int(int(e.p))}, {self._int(int(e.q))})"
+        if e is sp.pi:
+            return "R_PI"
+        if e.is_Add:
+            terms = list(e.as_ordered_terms())
+            out = self._print(terms[0])
+            for term in terms[1:]:
+                if term.could_extract_minus_sign():
+                    out = f"R_SUB({out}, {self._print(-term)})"
+                else:
+                    out = f"R_ADD({out}, {self._print(term)})"
+            return out
+        if e.is_Mul:
+            if e.could_extract_minus_sign():
+                return f"R_NEG({self._print(-e)})"
+            num, den = [], []
+            for factor in e.as_ordered_factors():
+                if factor.is_Pow and factor.exp.is_Rational and factor.exp < 0:
+                    den.append(factor.base ** (-factor.exp))
+                elif factor.is_Rational and factor.q != 1:
+                    num.append(sp.Integer(factor.p))
+                    den.append(sp.Integer(factor.q))
+                else:
+                    num.append(factor)
+            out = self._product(num) if num else "R_INT(1)"
+            return f"R_DIV({out}, {self._product(den)})" if den else out
+        if e.is_Pow:
+            base, x = e.base, e.exp
+            if x.is_Integer and x < 0:
+                return f"R_DIV(R_INT(1), {self._print(base ** (-x))})"
+            if x.is_Integer:
+                return self._product([base] * int(x))
+            if x == sp.Rational(1, 2):
+                return f"R_SQRT({self._print(base)})"
+            return f"R_POW({self._print(base)}, {self._print(x)})"
+        if e.func in self._FUNCTIONS:
+            return f"{self._FUNCTIONS[e.func]}({self._print(e.args[0])})"
+        raise NotImplementedError(f"no R_* form of {type(e).__name__}: {e}")
+
+    def _product(self, factors: list) -> str:
+        out = self._print(factors[0])
+        for f in factors[1:]:
+            out = f"R_MUL({out}, {self._print(f)})"
+        return out
+
+
+def _c_lines(
+    prog: TaylorProgram, printer: _TaylorCPrinter, macro_printer: _TaylorMacroPrinter
+) -> tuple[list, list]:
+    """(order 0, per-order body) lines of ``taylor_coefficients``; arithmetic on ``REAL``
+    through the template's ``R_*`` macros, so one text serves every ``REAL`` type."""
     zero, body = [], []
     a = [f"a{i}" for i in range(len(prog.nodes))]
     for i, node in enumerate(prog.nodes):
@@ -554,40 +647,48 @@ def _c_lines(prog: TaylorProgram, printer: _TaylorCPrinter) -> tuple[list, list]
         if op == "var":
             zero.append(f"    {x}[0] = Y[{node.index}];")
         elif op == "time":
-            zero.append(f"    {x}[0] = T0; if (S > 1) {x}[1] = 1;")
+            zero.append(f"    {x}[0] = T0; if (S > 1) {x}[1] = R_INT(1);")
         elif op == "const":
+            # C operators where REAL has them (the double and binary128 text, unchanged);
+            # R_* macros for the other types
+            zero.append("#ifdef R_OPERATORS")
             zero.append(f"    {x}[0] = {printer.doprint(node.expr)};")
+            zero.append("#else")
+            zero.append(f"    {x}[0] = {macro_printer.doprint(node.expr)};")
+            zero.append("#endif")
         elif op in ("add", "sub"):
-            sign = "+" if op == "add" else "-"
-            zero.append(f"    {x}[0] = {ar[0]}[0] {sign} {ar[1]}[0];")
-            body.append(f"        {x}[k] = {ar[0]}[k] {sign} {ar[1]}[k];")
+            fn = "R_ADD" if op == "add" else "R_SUB"
+            zero.append(f"    {x}[0] = {fn}({ar[0]}[0], {ar[1]}[0]);")
+            body.append(f"        {x}[k] = {fn}({ar[0]}[k], {ar[1]}[k]);")
         elif op == "neg":
-            zero.append(f"    {x}[0] = -{ar[0]}[0];")
-            body.append(f"        {x}[k] = -{ar[0]}[k];")
+            zero.append(f"    {x}[0] = R_NEG({ar[0]}[0]);")
+            body.append(f"        {x}[k] = R_NEG({ar[0]}[k]);")
         elif op == "addc":
-            zero.append(f"    {x}[0] = {ar[0]}[0] + {ar[1]}[0];")
+            zero.append(f"    {x}[0] = R_ADD({ar[0]}[0], {ar[1]}[0]);")
             body.append(f"        {x}[k] = {ar[0]}[k];")
         elif op == "mulc":
-            zero.append(f"    {x}[0] = {ar[0]}[0] * {ar[1]}[0];")
-            body.append(f"        {x}[k] = {ar[0]}[k] * {ar[1]}[0];")
+            zero.append(f"    {x}[0] = R_MUL({ar[0]}[0], {ar[1]}[0]);")
+            body.append(f"        {x}[k] = R_MUL({ar[0]}[k], {ar[1]}[0]);")
         elif op == "mul":
-            zero.append(f"    {x}[0] = {ar[0]}[0] * {ar[1]}[0];")
+            zero.append(f"    {x}[0] = R_MUL({ar[0]}[0], {ar[1]}[0]);")
             body.append(f"        {x}[k] = tc_mul({ar[0]}, {ar[1]}, k);")
         elif op == "sq":
-            zero.append(f"    {x}[0] = {ar[0]}[0] * {ar[0]}[0];")
+            zero.append(f"    {x}[0] = R_MUL({ar[0]}[0], {ar[0]}[0]);")
             body.append(f"        {x}[k] = tc_sq({ar[0]}, k);")
         elif op == "div":
-            zero.append(f"    {x}[0] = {ar[0]}[0] / {ar[1]}[0];")
+            zero.append(f"    {x}[0] = R_DIV({ar[0]}[0], {ar[1]}[0]);")
             body.append(f"        {x}[k] = tc_div({ar[0]}[k], {ar[1]}, {x}, k);")
         elif op == "cdiv":
-            zero.append(f"    {x}[0] = {ar[0]}[0] / {ar[1]}[0];")
-            body.append(f"        {x}[k] = tc_div(0, {ar[1]}, {x}, k);")
+            zero.append(f"    {x}[0] = R_DIV({ar[0]}[0], {ar[1]}[0]);")
+            body.append(f"        {x}[k] = tc_div(R_INT(0), {ar[1]}, {x}, k);")
         elif op == "sqrt":
             zero.append(f"    {x}[0] = R_SQRT({ar[0]}[0]);")
             body.append(f"        {x}[k] = tc_sqrt({ar[0]}, {x}, k);")
         elif op == "pow":
             r = sp.Rational(node.expr)
-            zero.append(f"    {x}[0] = R_POW({ar[0]}[0], {printer.doprint(r)});")
+            zero.append(
+                f"    {x}[0] = R_POW({ar[0]}[0], R_DIV(R_INT({int(r.p)}), R_INT({int(r.q)})));"
+            )
             body.append(f"        {x}[k] = tc_pow({ar[0]}, {x}, {int(r.p)}, {int(r.q)}, k);")
         elif op == "exp":
             zero.append(f"    {x}[0] = R_EXP({ar[0]}[0]);")
@@ -595,8 +696,8 @@ def _c_lines(prog: TaylorProgram, printer: _TaylorCPrinter) -> tuple[list, list]
         elif op in ("sin", "cos"):
             fn = "R_SIN" if op == "sin" else "R_COS"
             zero.append(f"    {x}[0] = {fn}({ar[0]}[0]);")
-            sign = "" if op == "sin" else "-"
-            body.append(f"        {x}[k] = {sign}tc_exp({ar[0]}, {ar[1]}, k);")
+            call = f"tc_exp({ar[0]}, {ar[1]}, k)"
+            body.append(f"        {x}[k] = {call if op == 'sin' else f'R_NEG({call})'};")
         else:  # pragma: no cover
             raise ValueError(op)
     return zero, body
@@ -638,20 +739,30 @@ class TaylorCEmitter(Emitter):
         prog = build_taylor_program(model)
         names = {s: f"p_{s.name}" for s in model.params}
         printer = _TaylorCPrinter(names)
-        zero, body = _c_lines(prog, printer)
+        zero, body = _c_lines(prog, printer, _TaylorMacroPrinter(names))
         nodes = len(prog.nodes)
         decl = [f"    REAL *restrict a{i} = X + {i} * S;" for i in range(nodes)]
         params = [f"    const REAL p_{s.name} = P[{i}];" for i, s in enumerate(model.params)]
         params += [f"    (void)p_{s.name};" for s in model.params]
-        out = [f"        a{i}[k + 1] = a{o}[k] / (k + 1);" for i, o in enumerate(prog.outputs)]
+        out = [
+            f"        a{i}[k + 1] = R_DIV(a{o}[k], R_INT(k + 1));"
+            for i, o in enumerate(prog.outputs)
+        ]
         fn = [
             "static void taylor_coefficients(int order, REAL T0, const REAL *restrict Y,",
             "                                const REAL *restrict P, REAL *restrict X)",
             "{",
             "    const int S = order + 1;",
-            "    for (int i = 0; i < S * CHAPLYGIN_TAYLOR_N_NODES; ++i) X[i] = 0;",
             *params,
             *decl,
+            # only the time and constant nodes have coefficients that no recurrence writes
+            # (every other node's k = 0..order-1 and the state's 0..order are computed
+            # before they are read): zero those rows, not the whole workspace
+            *[
+                f"    for (int k = 0; k < S; ++k) a{i}[k] = R_INT(0);"
+                for i, node in enumerate(prog.nodes)
+                if node.op in ("time", "const")
+            ],
             *zero,
             "    for (int k = 0; k < order; ++k) {",
             "        if (k > 0) {",
