@@ -460,6 +460,21 @@ class BatchStroboscopicMap:
         if not np.all(omega > 0):
             raise UserInputError("Omega must be positive for a stroboscopic map")
         T0 = np.ascontiguousarray(np.broadcast_to(np.asarray(t0, dtype=np.float64), (N,)))
+        return self._advance(Y0, P, T0, n, transient, lockstep)
+
+    def _advance(
+        self,
+        Y0: NDArray[np.float64],
+        P: NDArray[np.float64],
+        T0: NDArray[np.float64],
+        n: int,
+        transient: int,
+        lockstep: bool,
+    ) -> BatchMapResult:
+        """The C call of :meth:`run` on checked arrays (C-contiguous, shapes (N, n_state),
+        (N, n_param), (N,))."""
+        N, n_state = Y0.shape
+        omega = P[:, self._omega]
         tau_hi, tau_lo = np.empty(N), np.empty(N)
         with mpmath.workdps(40):
             for j, w in enumerate(omega):
