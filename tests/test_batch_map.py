@@ -134,6 +134,12 @@ def test_map_throughput_reports_the_work_it_did():
     assert row["ours_batch_rhs_per_period"] == pytest.approx(12 * steps + 2 / 12, rel=1e-12)
     # 10 periods of about 70 steps, each within rtol = 1e-12 (and the Taylor run's own error)
     assert row["ours_batch_vs_taylor_first_10_periods"] < 1e-12 * 12 * 70 * 10
+    for name in ("ours_taylor_batch1", "ours_taylor_batch4", "ours_taylor_batch16"):
+        assert row[f"{name}_us"] > 0 and row[f"{name}_cpu_us"] >= 0
+    # the Taylor batch takes the single-point Taylor run's steps: the same map points up to
+    # the rounding of the sampling times (a few rtol)
+    assert row["ours_taylor_batch_vs_taylor_first_10_periods"] < 4e-12 * 10
+    assert row["ours_taylor_batch_steps_per_period"] > 0
 
 
 # --------------------------------------------------------------- the Taylor batch (method="taylor")
