@@ -224,8 +224,9 @@ def _c_function(source: str, name: str) -> str:
 
 def _taylor_library(code: ModelCode) -> Any | None:
     """The compiled Taylor batch library of ``code`` (cached per process): the model's
-    generated Taylor C source (double) + ``bm_time`` of batch_map.c + taylor_batch_map.c;
-    None without a compiler or without generated Taylor code."""
+    generated Taylor C source (double) + ``bm_time`` of batch_map.c + taylor_batch_map.c,
+    compiled with the default flags; None without a compiler or without generated Taylor
+    code."""
     if code.hash in _TAYLOR_LIBRARIES:
         return _TAYLOR_LIBRARIES[code.hash]
     lib = None
@@ -239,8 +240,9 @@ def _taylor_library(code: ModelCode) -> Any | None:
                 templates.joinpath("taylor_batch_map.c").read_text(),
             )
         )
-        try:
-            lib = _compile_native(source)
+        try:  # the flags of the single-point Taylor library (-O2): -O3 (with or without
+            # -march=native) made it about 1.6 times slower here (vectorised short recurrences)
+            lib = _ffi.dlopen(str(compile_c(source)))
         except CacheError:
             raise
         except (CompilerError, OSError) as exc:
