@@ -17,7 +17,14 @@ The library is built with ``-O3 -march=native`` (the CPU's identity in the cache
 value, step-size underflow, step limit) gets its own status and NaN points, and the others are
 unaffected. Double precision only.
 
-This is the fast path of the sweep's ``period`` reducer (:mod:`chaplygin.verify.sweep`); the
+``BatchStroboscopicMap(code, method="taylor")`` runs the same call through the model's generated
+Taylor integrator instead (``numerics/templates/taylor_batch_map.c`` appended to the double build
+of the model's Taylor C source: ``chaplygin_taylor_run`` per point from C, the step polynomials
+evaluated at the sampling times; the steps of ``StroboscopicMap(method="taylor")`` and its map
+points up to the rounding of the sampling times; one point after another, no vector lanes).
+
+This is the fast path of the sweep's ``period`` reducer (:mod:`chaplygin.verify.sweep`; DOP853
+for ``period.engine`` "auto" and "batch", Taylor for "taylor-batch"); the
 single-point :class:`~chaplygin.numerics.poincare.StroboscopicMap` (Taylor method, any
 precision) is the reference it is tested against.
 

@@ -120,3 +120,11 @@ def test_period_by_the_taylor_batch_equals_the_scenes_integrator(tmp_path):
         assert (out[engine]["status"] == 0).all()
     assert np.array_equal(out["taylor-batch"]["period"], out["scene"]["period"])
     assert (out["taylor-batch"]["period"].reshape(shape)[:, 0] == 1).all()  # BM20-3.1obs
+
+
+def test_taylor_batch_engine_refuses_a_precision_it_does_not_have(tmp_path):
+    """engine = "taylor-batch" is double only: with precision = "quad" every point fails with
+    its own status (no silent fallback); the double run above succeeds."""
+    text = FROM_REST.replace("ENGINE", "taylor-batch")
+    out, _ = _chunk(tmp_path, text.replace("atol = 1e-13", 'atol = 1e-13\nprecision = "quad"'))
+    assert (out["status"] != 0).all() and (out["period"] == -1).all()
