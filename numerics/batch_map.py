@@ -398,7 +398,10 @@ class BatchStroboscopicMap:
         self.rtol, self.atol, self.max_steps = float(rtol), float(atol), int(max_steps)
         self._lib = _taylor_library(code) if method == "taylor" else _library(code)
         if self._lib is None:
-            raise ComputationError("the batch map needs a C compiler; use StroboscopicMap")
+            raise ComputationError(
+                "the batch map needs a C compiler (the Taylor one also the model's generated "
+                "Taylor code); use StroboscopicMap"
+            )
         self._omega = code.params.index("Omega")
 
     def _rows(self, values: ArrayLike, width: int, what: str) -> NDArray[np.float64]:
