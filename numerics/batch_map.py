@@ -17,7 +17,14 @@ The library is built with ``-O3 -march=native`` (the CPU's identity in the cache
 value, step-size underflow, step limit) gets its own status and NaN points, and the others are
 unaffected. Double precision only.
 
-This is the fast path of the sweep's ``period`` reducer (:mod:`chaplygin.verify.sweep`); the
+``BatchStroboscopicMap(code, method="taylor")`` runs the same call through the model's generated
+Taylor integrator instead (``numerics/templates/taylor_batch_map.c`` appended to the double build
+of the model's Taylor C source: ``chaplygin_taylor_run`` per point from C, the step polynomials
+evaluated at the sampling times; the steps of ``StroboscopicMap(method="taylor")`` and its map
+points up to the rounding of the sampling times; one point after another, no vector lanes).
+
+This is the fast path of the sweep's ``period`` reducer (:mod:`chaplygin.verify.sweep`; DOP853
+for ``period.engine`` "auto" and "batch", Taylor for "taylor-batch"); the
 single-point :class:`~chaplygin.numerics.poincare.StroboscopicMap` (Taylor method, any
 precision) is the reference it is tested against.
 
@@ -77,6 +84,10 @@ void chaplygin_batch_map_lockstep(long N, const double *Y0, const double *P, con
                                   const double *TAU_HI, const double *TAU_LO, long transient,
                                   long n_record, double rtol, double atol, long max_steps,
                                   double *OUT, double *STATS, int *STATUS);
+void chaplygin_taylor_batch_map(long N, const double *Y0, const double *P, const double *T0,
+                                const double *TAU_HI, const double *TAU_LO, long transient,
+                                long n_record, double rtol, double atol, long max_steps,
+                                double *OUT, double *STATS, int *STATUS);
 """
 
 #: libm functions the vector right-hand side applies lane by lane (batch_map.c BM_LANEWISE).
@@ -91,7 +102,11 @@ STATUS_MESSAGES = {
     1: "the step limit of one period was reached (max_steps)",
     2: "the step size underflowed: the solution is probably singular here",
     3: "a non-finite value appeared in the state",
+    4: "out of memory",
 }
+
+#: The integration methods of :class:`BatchStroboscopicMap`.
+METHODS = ("dop853", "taylor")
 
 #: Extra compiler flags of the batch library (part of the compile cache key), tried first:
 #: -march=native lets the vector lanes use the CPU's widest instructions (AVX2: 4 doubles). The
@@ -103,6 +118,7 @@ NATIVE_CFLAGS = ("-O3", "-march=native")
 BATCH_CFLAGS = ("-O3",)
 
 _LIBRARIES: dict[str, Any] = {}
+_TAYLOR_LIBRARIES: dict[str, Any] = {}
 _LOCKSTEP: dict[str, bool] = {}
 
 
@@ -179,12 +195,7 @@ def _library(code: ModelCode) -> Any | None:
         )
     )
     try:
-        try:
-            native = (*NATIVE_CFLAGS, f"-DCHAPLYGIN_CPU_ID=cpu_{cpu_identity()}")
-            path = compile_c(source, cflags=native)
-        except CompilationError:  # e.g. a compiler without -march=native
-            path = compile_c(source, cflags=BATCH_CFLAGS)
-        lib = _ffi.dlopen(str(path))
+        lib = _compile_native(source)
         _LOCKSTEP[code.hash] = vector_rhs is not None
     except CacheError:  # cache directory problems are the user's to fix
         raise
@@ -199,18 +210,81 @@ def _library(code: ModelCode) -> Any | None:
     return lib
 
 
-def batch_map_available(code: ModelCode) -> bool:
+def _compile_native(source: str) -> Any:
+    """Compile ``source`` with :data:`NATIVE_CFLAGS` (else :data:`BATCH_CFLAGS`) and load it."""
+    try:
+        native = (*NATIVE_CFLAGS, f"-DCHAPLYGIN_CPU_ID=cpu_{cpu_identity()}")
+        path = compile_c(source, cflags=native)
+    except CompilationError:  # e.g. a compiler without -march=native
+        path = compile_c(source, cflags=BATCH_CFLAGS)
+    return _ffi.dlopen(str(path))
+
+
+def _c_function(source: str, name: str) -> str:
+    """The text of the C function ``name`` of ``source`` (from its declaration to the first
+    ``}`` in column 0)."""
+    start = re.search(rf"^static \w+ {name}\(", source, re.MULTILINE)
+    if start is None:
+        raise ComputationError(f"no C function {name} in the batch map templates")
+    return source[start.start() : source.index("\n}\n", start.start()) + 3]
+
+
+def _taylor_library(code: ModelCode) -> Any | None:
+    """The compiled Taylor batch library of ``code`` (cached per process): the model's
+    generated Taylor C source (double) + ``bm_time`` of batch_map.c + taylor_batch_map.c,
+    compiled with the default flags; None without a compiler or without generated Taylor
+    code."""
+    if code.hash in _TAYLOR_LIBRARIES:
+        return _TAYLOR_LIBRARIES[code.hash]
+    lib = None
+    if code.taylor_c_source:
+        templates = resources.files("chaplygin.numerics").joinpath("templates")
+        source = "\n".join(
+            (
+                code.taylor_c_source,
+                "#include <float.h>",
+                _c_function(templates.joinpath("batch_map.c").read_text(), "bm_time"),
+                templates.joinpath("taylor_batch_map.c").read_text(),
+            )
+        )
+        try:  # the flags of the single-point Taylor library (-O2): -O3 (with or without
+            # -march=native) made it about 1.6 times slower here (vectorised short recurrences)
+            lib = _ffi.dlopen(str(compile_c(source)))
+        except CacheError:
+            raise
+        except (CompilerError, OSError) as exc:
+            warnings.warn(
+                f"the compiled Taylor batch map is unavailable ({exc}); use StroboscopicMap",
+                CompilerUnavailableWarning,
+                stacklevel=3,
+            )
+    _TAYLOR_LIBRARIES[code.hash] = lib
+    return lib
+
+
+def batch_map_available(code: ModelCode, method: str = "dop853") -> bool:
     """Whether the compiled batch map can be built for ``code`` (a C compiler is present).
 
     Parameters
     ----------
     code : ModelCode
+    method : {"dop853", "taylor"}
+        The integrator of the batch (see :class:`BatchStroboscopicMap`).
 
     Returns
     -------
     bool
+
+    Raises
+    ------
+    UserInputError
+        An unknown ``method``.
     """
-    return "Omega" in code.params and _library(code) is not None
+    if method not in METHODS:
+        raise UserInputError(f"the batch map's method must be one of {METHODS}, got {method!r}")
+    if "Omega" not in code.params:
+        return False
+    return (_taylor_library(code) if method == "taylor" else _library(code)) is not None
 
 
 @dataclass
@@ -225,13 +299,19 @@ class BatchMapResult:
     status : ndarray of int, shape (N,)
         0 done, else a key of :data:`STATUS_MESSAGES`.
     steps, rejected, evaluations : ndarray of int, shape (N,)
-        Accepted and rejected DOP853 steps and right-hand-side evaluations per point.
+        DOP853: accepted and rejected steps and right-hand-side evaluations per point. Taylor:
+        steps, zeros (a Taylor step is never rejected) and the evaluations of the Taylor
+        coefficients (one per step).
     periods : int
         Forcing periods advanced per point (``transient + n - 1``).
     wall_s : float
         Wall time of the call.
     lockstep : bool
         Whether the points ran 4 at a time in vector lanes (else one after another).
+    method : str
+        ``"dop853"`` or ``"taylor"``.
+    orders : ndarray of int, shape (N, 2), or None
+        Taylor: the lowest and highest order of each point's steps (None for DOP853).
     """
 
     y: NDArray[np.float64]
@@ -242,6 +322,8 @@ class BatchMapResult:
     periods: int
     wall_s: float
     lockstep: bool = False
+    method: str = "dop853"
+    orders: NDArray[np.int64] | None = None
 
     @property
     def ok(self) -> NDArray[np.bool_]:
@@ -257,19 +339,31 @@ class BatchMapResult:
 class BatchStroboscopicMap:
     """The period map ``y(t0) -> y(t0 + tau)`` of a time-periodic model for many points at once.
 
+    With ``method="taylor"`` every point is integrated by the model's generated Taylor
+    integrator (``chaplygin_taylor_run`` of the double build, called per point from C by
+    ``numerics/templates/taylor_batch_map.c``): the steps of
+    ``integrate(method="taylor")`` from ``t0`` to the last sampling time, the map points
+    being the step polynomials evaluated at the sampling times; one point after another (no
+    vector lanes).
+
     Parameters
     ----------
     code : ModelCode
         A model with the parameter ``Omega`` (BM20's ``variable_inertia``/``variable_gyrostat``).
     rtol, atol : float
-        Tolerances of the DOP853 error control (per component, ``atol + rtol |y|``).
+        Tolerances of the DOP853 error control (per component, ``atol + rtol |y|``), or of the
+        Taylor method (its order and step size, Jorba & Zou).
     max_steps : int
-        Cap on the steps of one forcing period of one point.
+        Cap on the steps of one forcing period of one point (Taylor: on a point's steps
+        divided by its periods).
+    method : {"dop853", "taylor"}
+        The integrator.
 
     Raises
     ------
     UserInputError
-        The model has no ``Omega``; tolerances out of (0, 1); ``max_steps < 1``.
+        The model has no ``Omega``; tolerances out of (0, 1); ``max_steps < 1``; an unknown
+        ``method``.
     ComputationError
         No C compiler (use :class:`~chaplygin.numerics.poincare.StroboscopicMap`).
 
@@ -285,6 +379,7 @@ class BatchStroboscopicMap:
         rtol: float = 1e-12,
         atol: float = 1e-12,
         max_steps: int = 100_000,
+        method: str = "dop853",
     ) -> None:
         if "Omega" not in code.params:
             raise UserInputError(
@@ -296,11 +391,17 @@ class BatchStroboscopicMap:
                 raise UserInputError(f"{name} must be in (0, 1), got {tol}")
         if int(max_steps) < 1:
             raise UserInputError(f"max_steps must be at least 1, got {max_steps}")
+        if method not in METHODS:
+            raise UserInputError(f"the batch map's method must be one of {METHODS}, got {method!r}")
         self.code = code
+        self.method = method
         self.rtol, self.atol, self.max_steps = float(rtol), float(atol), int(max_steps)
-        self._lib = _library(code)
+        self._lib = _taylor_library(code) if method == "taylor" else _library(code)
         if self._lib is None:
-            raise ComputationError("the batch map needs a C compiler; use StroboscopicMap")
+            raise ComputationError(
+                "the batch map needs a C compiler (the Taylor one also the model's generated "
+                "Taylor code); use StroboscopicMap"
+            )
         self._omega = code.params.index("Omega")
 
     def _rows(self, values: ArrayLike, width: int, what: str) -> NDArray[np.float64]:
@@ -318,7 +419,7 @@ class BatchStroboscopicMap:
         -------
         bool
         """
-        return _LOCKSTEP.get(self.code.hash, False)
+        return self.method == "dop853" and _LOCKSTEP.get(self.code.hash, False)
 
     def run(
         self,
@@ -345,7 +446,8 @@ class BatchStroboscopicMap:
             Phase of the section (default 0).
         lockstep : bool, default True
             Advance 4 points at a time in vector lanes where available (bit-identical to one
-            after another, faster); False: one after another.
+            after another, faster); False: one after another. Ignored by the Taylor method
+            (always one after another).
 
         Returns
         -------
@@ -370,6 +472,21 @@ class BatchStroboscopicMap:
         if not np.all(omega > 0):
             raise UserInputError("Omega must be positive for a stroboscopic map")
         T0 = np.ascontiguousarray(np.broadcast_to(np.asarray(t0, dtype=np.float64), (N,)))
+        return self._advance(Y0, P, T0, n, transient, lockstep)
+
+    def _advance(
+        self,
+        Y0: NDArray[np.float64],
+        P: NDArray[np.float64],
+        T0: NDArray[np.float64],
+        n: int,
+        transient: int,
+        lockstep: bool,
+    ) -> BatchMapResult:
+        """The C call of :meth:`run` on checked arrays (C-contiguous, shapes (N, n_state),
+        (N, n_param), (N,))."""
+        N, n_state = Y0.shape
+        omega = P[:, self._omega]
         tau_hi, tau_lo = np.empty(N), np.empty(N)
         with mpmath.workdps(40):
             for j, w in enumerate(omega):
@@ -383,15 +500,27 @@ class BatchStroboscopicMap:
         def buf(a: np.ndarray, kind: str = "double[]") -> Any:
             return _ffi.from_buffer(kind, a, require_writable=False)
 
-        use_lockstep = lockstep and self.lockstep_available and N > 1
         lib = self._lib
-        driver = lib.chaplygin_batch_map_lockstep if use_lockstep else lib.chaplygin_batch_map
+        use_lockstep = self.method == "dop853" and lockstep and self.lockstep_available and N > 1
+        if self.method == "taylor":
+            driver = lib.chaplygin_taylor_batch_map
+        elif use_lockstep:
+            driver = lib.chaplygin_batch_map_lockstep
+        else:
+            driver = lib.chaplygin_batch_map
         start = time.perf_counter()
         driver(
             N, buf(Y0), buf(P), buf(T0), buf(tau_hi), buf(tau_lo), transient, n,
             self.rtol, self.atol, self.max_steps, buf(out), buf(stats), buf(status, "int[]"),
         )  # fmt: skip
         wall = time.perf_counter() - start
+        if self.method == "taylor":  # STATS: steps, lowest order, highest order
+            steps = stats[:, 0].astype(np.int64)
+            return BatchMapResult(
+                y=out, status=status, steps=steps, rejected=np.zeros(N, dtype=np.int64),
+                evaluations=steps.copy(), periods=transient + n - 1, wall_s=wall,
+                lockstep=False, method="taylor", orders=stats[:, 1:].astype(np.int64),
+            )  # fmt: skip
         return BatchMapResult(
             y=out,
             status=status,

@@ -134,3 +134,88 @@ def test_map_throughput_reports_the_work_it_did():
     assert row["ours_batch_rhs_per_period"] == pytest.approx(12 * steps + 2 / 12, rel=1e-12)
     # 10 periods of about 70 steps, each within rtol = 1e-12 (and the Taylor run's own error)
     assert row["ours_batch_vs_taylor_first_10_periods"] < 1e-12 * 12 * 70 * 10
+    for name in ("ours_taylor_batch1", "ours_taylor_batch4", "ours_taylor_batch16"):
+        assert row[f"{name}_us"] > 0 and row[f"{name}_cpu_us"] >= 0
+    # the Taylor batch takes the single-point Taylor run's steps: the same map points up to
+    # the rounding of the sampling times (a few rtol)
+    assert row["ours_taylor_batch_vs_taylor_first_10_periods"] < 4e-12 * 10
+    assert row["ours_taylor_batch_steps_per_period"] > 0
+
+
+# --------------------------------------------------------------- the Taylor batch (method="taylor")
+
+
+def test_taylor_batch_equals_the_single_point_taylor_map():
+    """The same method (the generated Taylor steps, dense output at the sampling times) as
+    StroboscopicMap with method "taylor" at the same tolerances: every point, with its own
+    parameters and period, agrees to a few rtol (the sampling times are the only difference:
+    rounded once from a double-double here, from 40 digits there)."""
+    y0 = _states()
+    n, transient, rtol = 4, 2, 1e-11
+    r = BatchStroboscopicMap(CODE, rtol=rtol, atol=rtol, method="taylor").run(
+        y0, PARAMS, n, transient
+    )
+    assert r.method == "taylor" and not r.lockstep and r.y.shape == (3, n, 6)
+    assert (r.status == 0).all() and (r.steps > 0).all() and (r.rejected == 0).all()
+    for j, p in enumerate(PARAMS):
+        ref = StroboscopicMap(CODE, p, rtol=rtol, atol=rtol, method="taylor").orbit(
+            y0[j], n, transient
+        )
+        assert r.steps[j] == ref.nsteps  # the same steps
+        assert float(np.abs(r.y[j] - ref.y).max() / np.abs(ref.y).max()) <= 4 * rtol
+
+
+def test_taylor_batch_agrees_with_the_dop853_batch():
+    """An independent method: the Taylor batch against the DOP853 batch at the same rtol; the
+    difference stays within the two methods' accumulated local tolerances (rtol per step of
+    each) and shrinks with rtol (the control: 4 decades of rtol buy at least 2 of agreement)."""
+    y0 = _states()
+    n, transient = 3, 3
+    diffs = {}
+    for rtol in (1e-7, 1e-11):
+        t = BatchStroboscopicMap(CODE, rtol=rtol, atol=rtol, method="taylor").run(
+            y0, PARAMS, n, transient
+        )
+        d = BatchStroboscopicMap(CODE, rtol=rtol, atol=rtol).run(y0, PARAMS, n, transient)
+        assert (t.status == 0).all() and (d.status == 0).all()
+        for j in range(len(PARAMS)):
+            diff = float(np.abs(t.y[j] - d.y[j]).max() / np.abs(d.y[j]).max())
+            assert diff <= rtol * (t.steps[j] + d.steps[j]), (rtol, j, diff)
+            diffs[rtol, j] = diff
+    for j in range(len(PARAMS)):
+        assert diffs[1e-11, j] <= 1e-2 * diffs[1e-7, j]
+
+
+def test_taylor_batch_a_failing_point_spoils_no_other():
+    """A NaN parameter (D, given straight to the C entry point: run() refuses non-finite
+    parameters), a NaN state and an overflowing state fail with their own status and NaN map
+    points; the other points are bit-identical to the same points run alone."""
+    y0 = _states()
+    bm = BatchStroboscopicMap(CODE, rtol=1e-10, atol=1e-10, method="taylor")
+    nan_d = [*PARAMS[1][:3], math.nan, *PARAMS[1][4:]]
+    rows = [y0[0], y0[1], [math.nan, *y0[2][1:]], y0[2], [1e300, 1e300, -1e300, *y0[1][3:]]]
+    params = [PARAMS[0], nan_d, PARAMS[2], PARAMS[2], PARAMS[1]]
+    r = bm._advance(np.array(rows), np.array(params), np.zeros(5), 4, 2, lockstep=False)
+    assert list(r.status[:4]) == [0, 3, 3, 0] and r.status[4] != 0
+    assert np.isnan(r.y[[1, 2, 4]]).all() and not np.isnan(r.y[[0, 3]]).any()
+    for j, (y, p) in ((0, (y0[0], PARAMS[0])), (3, (y0[2], PARAMS[2]))):
+        alone = bm.run([y], [p], n=4, transient=2)
+        assert np.array_equal(alone.y[0], r.y[j]) and alone.steps[0] == r.steps[j]
+
+
+def test_taylor_batch_lands_on_the_sampling_times_from_t0():
+    """transient = 0 records y0 itself first; a phase t0 != 0 shifts the sampling times (the
+    same map points as the single-point map from that phase)."""
+    y0, p, rtol = _states()[1], PARAMS[1], 1e-12
+    bm = BatchStroboscopicMap(CODE, rtol=rtol, atol=rtol, method="taylor")
+    r = bm.run([y0], [p], n=3, t0=0.37)
+    assert np.array_equal(r.y[0, 0], y0)
+    ref = StroboscopicMap(CODE, p, rtol=rtol, atol=rtol).orbit(y0, 3, t0=0.37).y
+    assert float(np.abs(r.y[0] - ref).max() / np.abs(ref).max()) <= 4 * rtol
+
+
+def test_an_unknown_batch_method_is_a_user_error():
+    with pytest.raises(UserInputError, match="method"):
+        BatchStroboscopicMap(CODE, method="rk4")
+    with pytest.raises(UserInputError, match="method"):
+        batch_map_available(CODE, "rk4")

@@ -109,3 +109,22 @@ def test_lyapunov_max_tells_chaos_from_periodic_motion(tmp_path):
     assert np.isclose(
         chaotic["lyapunov_max"][0] * 2 * np.pi / 1.07, lam, rtol=4 * np.finfo(float).eps
     )
+
+
+def test_period_by_the_taylor_batch_equals_the_scenes_integrator(tmp_path):
+    """period.engine = "taylor-batch": the chunk in one call of the Taylor batch map gives the
+    periods of the scene's own integrator (the Taylor method, point by point)."""
+    out = {}
+    for engine in ("taylor-batch", "scene"):
+        out[engine], shape = _chunk(tmp_path, FROM_REST.replace("ENGINE", engine))
+        assert (out[engine]["status"] == 0).all()
+    assert np.array_equal(out["taylor-batch"]["period"], out["scene"]["period"])
+    assert (out["taylor-batch"]["period"].reshape(shape)[:, 0] == 1).all()  # BM20-3.1obs
+
+
+def test_taylor_batch_engine_refuses_a_precision_it_does_not_have(tmp_path):
+    """engine = "taylor-batch" is double only: with precision = "quad" every point fails with
+    its own status (no silent fallback); the double run above succeeds."""
+    text = FROM_REST.replace("ENGINE", "taylor-batch")
+    out, _ = _chunk(tmp_path, text.replace("atol = 1e-13", 'atol = 1e-13\nprecision = "quad"'))
+    assert (out["status"] != 0).all() and (out["period"] == -1).all()

@@ -978,7 +978,8 @@ def map_throughput(
 ) -> dict[str, Any]:
     """Microseconds per forcing period per point of BM20's stroboscopic map (issue 14): our
     Taylor integrator (one point per call), our compiled batch map
-    (:class:`~chaplygin.numerics.batch_map.BatchStroboscopicMap`, 1, 4 and 16 points per call)
+    (:class:`~chaplygin.numerics.batch_map.BatchStroboscopicMap`, 1, 4 and 16 points per call;
+    DOP853 rows ``ours_batch<n>``, Taylor rows ``ours_taylor_batch<n>``)
     and heyoka (one point, batch of 4) when installed, in one run.
 
     Medians of ``repeats`` runs, interleaved so that the machine's load affects all alike; wall
@@ -999,7 +1000,8 @@ def map_throughput(
     -------
     dict
         ``<row>_us`` and ``<row>_cpu_us`` per row; the batch map's steps, rejected steps and
-        right-hand-side evaluations per period, heyoka's steps per period; the largest
+        right-hand-side evaluations per period, the Taylor batch's steps per period and its
+        highest order, heyoka's steps per period; the largest
         difference of the first 10 periods from the Taylor run; the load average before and
         after; ratios to heyoka's batch mode.
 
@@ -1020,6 +1022,7 @@ def map_throughput(
     t_eval = [k * tau for k in range(periods + 1)]
     have_heyoka = peers and peers_available()["heyoka"]
     have_batch = batch_map_available(code)
+    have_taylor_batch = batch_map_available(code, "taylor")
     runs: dict[str, list[float]] = {}
     row: dict[str, Any] = {"periods": periods, "repeats": repeats, "rtol": rtol}
     row["load_before"] = os.getloadavg()[0]
@@ -1041,6 +1044,12 @@ def map_throughput(
                 cpu = time.process_time()
                 b = bm.run(np.repeat([y0], n, 0), np.repeat([p], n, 0), n=periods + 1)
                 record(f"ours_batch{n}", b.wall_s, time.process_time() - cpu, n)
+        if have_taylor_batch:
+            tbm = BatchStroboscopicMap(code, rtol=rtol, atol=rtol, method="taylor")
+            for n in (1, 4, 16):
+                cpu = time.process_time()
+                tb = tbm.run(np.repeat([y0], n, 0), np.repeat([p], n, 0), n=periods + 1)
+                record(f"ours_taylor_batch{n}", tb.wall_s, time.process_time() - cpu, n)
         if have_heyoka:
             peer = _heyoka_map_rows(code, p, y0, periods, rtol)
             for name in ("heyoka_one", "heyoka_batch4"):
@@ -1053,6 +1062,12 @@ def map_throughput(
         row["ours_batch_rhs_per_period"] = float(b.evaluations[0]) / periods
         row["ours_batch_vs_taylor_first_10_periods"] = float(
             np.abs(b.y[0][:11] - taylor[:11]).max()
+        )
+    if have_taylor_batch:
+        row["ours_taylor_batch_steps_per_period"] = float(tb.steps[0]) / periods
+        row["ours_taylor_batch_max_order"] = int(tb.orders[0, 1])
+        row["ours_taylor_batch_vs_taylor_first_10_periods"] = float(
+            np.abs(tb.y[0][:11] - taylor[:11]).max()
         )
     if have_heyoka:
         row["heyoka_steps_per_period"] = peer["heyoka_steps_per_period"]

@@ -395,8 +395,14 @@ def _period(ctx: PointContext) -> dict:
 BATCH_DEFAULT_TOL = 1e-12
 
 
+#: The batch map's integrator for each ``period.engine`` that uses it (``"auto"`` keeps DOP853,
+#: whatever ``[run] method`` says; ``"taylor-batch"`` asks for the Taylor method).
+BATCH_ENGINE_METHODS = {"auto": "dop853", "batch": "dop853", "taylor-batch": "taylor"}
+
+
 def _batch_eligible(ctx: PointContext) -> bool:
-    """Whether the ``period`` reducer takes this point through the compiled batch map."""
+    """Whether the ``period`` reducer takes this point through the compiled batch map
+    (``period.engine`` "auto", "batch": DOP853; "taylor-batch": the Taylor method)."""
     from ..numerics.batch_map import batch_map_available
     from ..numerics.inputs import Precision
 
@@ -406,12 +412,12 @@ def _batch_eligible(ctx: PointContext) -> bool:
     usable = (
         Precision(run.precision).is_double
         and opts.forcing == "Omega"
-        and batch_map_available(ctx.resolved.code)
+        and batch_map_available(ctx.resolved.code, BATCH_ENGINE_METHODS[opts.engine])
     )
-    if opts.engine == "batch" and not usable:
+    if opts.engine != "auto" and not usable:
         raise UserInputError(
-            'period engine = "batch" needs double precision, forcing = "Omega" and a C '
-            'compiler; use engine = "scene"'
+            f'period engine = "{opts.engine}" needs double precision, forcing = "Omega" and a '
+            'C compiler; use engine = "scene"'
         )
     return usable
 
@@ -432,7 +438,8 @@ def _period_batch(contexts: list[PointContext]) -> list[Any]:
             out[i] = exc
             continue
         run = ctx.scene.run_options
-        key = (ctx.resolved.code.hash, run.rtol, run.atol)
+        method = BATCH_ENGINE_METHODS[ctx.sweep.period.engine]
+        key = (ctx.resolved.code.hash, run.rtol, run.atol, method)
         groups.setdefault(key, []).append(i)
     for indices in groups.values():
         first = contexts[indices[0]]
@@ -441,6 +448,7 @@ def _period_batch(contexts: list[PointContext]) -> list[Any]:
             code,
             rtol=run.rtol if run.rtol is not None else BATCH_DEFAULT_TOL,
             atol=run.atol if run.atol is not None else BATCH_DEFAULT_TOL,
+            method=BATCH_ENGINE_METHODS[opts.engine],
         )
         res = [contexts[i].resolved for i in indices]
         try:

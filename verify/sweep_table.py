@@ -86,11 +86,12 @@ class PeriodOptions(_Table):
         description="a recorded orbit has period p when every y[k+p] - y[k] is within tol "
         "(relative to the largest |y|)",
     )
-    engine: Literal["auto", "batch", "scene"] = Field(
+    engine: Literal["auto", "batch", "taylor-batch", "scene"] = Field(
         "auto",
         description="batch: all points of a chunk in one compiled call (DOP853 in C, double, the "
-        "scene's rtol/atol); scene: each point with the scene's method and precision; auto: "
-        "batch for double precision when a C compiler is present",
+        "scene's rtol/atol); taylor-batch: the same call with the model's Taylor integrator; "
+        "scene: each point with the scene's method and precision; auto: batch (DOP853) for "
+        "double precision when a C compiler is present",
     )
 
 
