@@ -1157,10 +1157,13 @@ def explain_text(scene: Scene, res: Resolved) -> str:
             which = files["taylor_c"] + " (compiled Taylor integrator) or " + files["taylor_py"]
         else:
             which = f"{files['c']} (compiled on first use, cached) or {files['numpy']}"
-        lines.append(f"code: generated/{which}; method {method}")
+        code_line = f"code: generated/{which}"
     else:
-        lines.append(f"code: {code.note}; method {method}")
-    if not needs_trajectory(scene):
+        code_line = f"code: {code.note}"
+    if needs_trajectory(scene):
+        lines.append(f"{code_line}; trajectory method {method}")
+    else:
+        lines.append(code_line)
         lines.append("trajectory: none (the outputs are analyses; add [outputs.trajectory])")
     for key, (analysis, _) in requested(scene.outputs).items():
         lines.append(f"analysis {key}: {analysis.description}")
