@@ -275,6 +275,12 @@ def working_number(value: Number | object, precision: Precision) -> float | mpma
     UserInputError
         Malformed or non-finite input, or a value that overflows the working precision.
     """
+    if precision.is_double and isinstance(value, float | int) and not isinstance(value, bool):
+        # fast path, same result: a double is its own rounding; an int within 2^53 is exact
+        if isinstance(value, float) and math.isfinite(value):
+            return float(value)
+        if isinstance(value, int) and abs(value) <= 2**53:
+            return float(value)
     bits = precision.prec
     exact = _exact_mpf(value, bits)
     if (

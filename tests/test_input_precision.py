@@ -26,6 +26,8 @@ import pytest
 from chaplygin.derive.errors import UserInputError
 from chaplygin.numerics import integrate, load_model_code
 from chaplygin.numerics.inputs import Precision, pack_params, working_number
+from hypothesis import given
+from hypothesis import strategies as st
 
 T_END = "1.37"
 
@@ -294,3 +296,32 @@ def test_a_fractional_number_of_digits_is_refused():
     with pytest.raises(UserInputError, match="20.7"):
         Precision(20.7)
     assert Precision(20.0).digits == 20
+
+
+# ------------------------------------------------ double fast path: same as rounding once
+
+
+@given(st.floats(allow_nan=False, allow_infinity=False))
+def test_double_fast_path_of_floats_is_the_exact_value(x):
+    got = working_number(x, Precision("double"))
+    assert got == x and np.signbit(got) == np.signbit(x)  # -0.0 and subnormals kept
+    assert working_number(np.float64(x), Precision("double")) == x
+    # the general route (the exact value, then rounded once) agrees
+    assert working_number(Fraction(x), Precision("double")) == x
+
+
+@given(st.integers(min_value=-(2**62), max_value=2**62))
+def test_double_fast_path_of_ints_rounds_once_correctly(n):
+    # Fraction -> float is correctly rounded (half to even): an independent route
+    assert working_number(n, Precision("double")) == float(Fraction(n))
+
+
+@pytest.mark.parametrize("bad", [float("nan"), float("inf"), -float("inf"), np.float64("nan")])
+def test_double_fast_path_still_refuses_non_finite(bad):
+    with pytest.raises(UserInputError, match="not finite"):
+        working_number(bad, Precision("double"))
+
+
+def test_double_fast_path_refuses_bools():
+    with pytest.raises(UserInputError):
+        working_number(True, Precision("double"))
