@@ -119,7 +119,7 @@ static inline REAL dd_pow(REAL a, REAL b) { return dd_from_q(powq(dd_to_q(a), dd
 #define R_LT(a, b) dd_lt((a), (b))
 #define R_LE(a, b) dd_le((a), (b))
 #define R_EQ(a, b) ((a).hi == (b).hi && (a).lo == (b).lo)
-#define R_LOG_RATIO(a, b) (log((a).hi) - log((b).hi))
+#define R_LOG_D(a) log((a).hi)
 #define R_SQRT dd_sqrt
 #define R_EXP dd_exp
 #define R_SIN dd_sin
@@ -335,7 +335,7 @@ static REAL qd_cos(REAL a)
 #define R_LT(a, b) qd_lt((a), (b))
 #define R_LE(a, b) (!qd_lt((b), (a)))
 #define R_EQ(a, b) qd_eq((a), (b))
-#define R_LOG_RATIO(a, b) (log((a).x[0]) - log((b).x[0]))
+#define R_LOG_D(a) log((a).x[0])
 #define R_SQRT qd_sqrt
 #define R_EXP qd_exp
 #define R_SIN qd_sin
@@ -355,6 +355,8 @@ typedef __float128 REAL;
 #define R_POW powq
 #define R_FABS fabsq
 #define R_LOG logq
+/* ln a as a double; libquadmath only where a is outside the normal doubles */
+#define R_LOG_D(a) ((a) > 1e-300Q && (a) < 1e300Q ? log((double)(a)) : (double)logq(a))
 #define R_PI M_PIq
 #define R_ISFINITE(x) (finiteq(x))
 #else
@@ -367,6 +369,7 @@ typedef double REAL;
 #define R_POW pow
 #define R_FABS fabs
 #define R_LOG log
+#define R_LOG_D(a) log(a)
 #define R_PI 3.14159265358979323846264338327950288
 #define R_ISFINITE(x) (isfinite(x))
 #endif
@@ -383,7 +386,6 @@ typedef double REAL;
 #define R_LT(a, b) ((a) < (b))
 #define R_LE(a, b) ((a) <= (b))
 #define R_EQ(a, b) ((a) == (b))
-#define R_LOG_RATIO(a, b) ((double)(R_LOG(a) - R_LOG(b)))
 #endif
 #include <math.h>
 #include <stddef.h>
@@ -406,28 +408,44 @@ void chaplygin_taylor_sizes(int *OUT)
 }
 
 /* ------------------------------------------------------------------ recurrences */
+/* Convolutions sum the terms of the coefficients known before order k first (j = 1 .. k-1, in
+ * increasing j), then add the two terms that involve the order-k coefficients just computed:
+ * the long sums do not wait for this order, which keeps the chain from one order to the next
+ * short. numerics/taylor_unroll.py writes the same sums out for a fixed order: keep the two in
+ * the same order of operations (the unrolled code is bit-identical to this one). */
+
+/* c = a b: c_k = sum_{j=1..k-1} a_j b_{k-j} + (a_0 b_k + a_k b_0) (k >= 1) */
 static inline REAL tc_mul(const REAL *restrict a, const REAL *restrict b, int k)
 {
-    REAL s = R_INT(0);
-    for (int j = 0; j <= k; ++j) s = R_ADD(s, R_MUL(a[j], b[k - j]));
-    return s;
+    REAL last = R_ADD(R_MUL(a[0], b[k]), R_MUL(a[k], b[0]));
+    if (k < 2) return last;
+    REAL s = R_MUL(a[1], b[k - 1]);
+    for (int j = 2; j < k; ++j) s = R_ADD(s, R_MUL(a[j], b[k - j]));
+    return R_ADD(s, last);
 }
 
+/* c = a^2: c_k = 2 (sum_{1 <= j < k-j} a_j a_{k-j} + a_0 a_k) [+ a_{k/2}^2] (k >= 1) */
 static inline REAL tc_sq(const REAL *restrict a, int k)
 {
-    REAL s = R_INT(0);
-    for (int j = 0; j < (k + 1) / 2; ++j) s = R_ADD(s, R_MUL(a[j], a[k - j]));
+    REAL s = R_MUL(a[0], a[k]);
+    if (k >= 3) {
+        REAL o = R_MUL(a[1], a[k - 1]);
+        for (int j = 2; j < (k + 1) / 2; ++j) o = R_ADD(o, R_MUL(a[j], a[k - j]));
+        s = R_ADD(o, s);
+    }
     s = R_ADD(s, s);
     if (k % 2 == 0) s = R_ADD(s, R_MUL(a[k / 2], a[k / 2]));
     return s;
 }
 
-/* c = a / b: c_k = (a_k - sum_{j=1..k} b_j c_{k-j}) / b_0 */
+/* c = a / b: c_k = ((a_k - b_k c_0) - sum_{j=1..k-1} b_j c_{k-j}) / b_0 (k >= 1) */
 static inline REAL tc_div(REAL ak, const REAL *restrict b, const REAL *restrict c, int k)
 {
-    REAL s = ak;
-    for (int j = 1; j <= k; ++j) s = R_SUB(s, R_MUL(b[j], c[k - j]));
-    return R_DIV(s, b[0]);
+    REAL last = R_SUB(ak, R_MUL(b[k], c[0]));
+    if (k < 2) return R_DIV(last, b[0]);
+    REAL s = R_MUL(b[1], c[k - 1]);
+    for (int j = 2; j < k; ++j) s = R_ADD(s, R_MUL(b[j], c[k - j]));
+    return R_DIV(R_SUB(last, s), b[0]);
 }
 
 /* c = sqrt(a): c_k = (a_k - sum_{j=1..k-1} c_j c_{k-j}) / (2 c_0) */
@@ -696,13 +714,18 @@ static void taylor_coefficients(int order, REAL T0, const REAL *restrict Y,
     }
 }
 
+/* chaplygin: the coefficients written out for fixed orders go here */
+#ifndef TAYLOR_COEFFICIENTS
+#define TAYLOR_COEFFICIENTS taylor_coefficients
+#endif
+
 void chaplygin_taylor_coefficients(int order, const REAL *T0, const REAL *Y, const REAL *P,
                                    REAL *OUT)
 {
     const int n = CHAPLYGIN_TAYLOR_N_STATE, S = order + 1;
     REAL *X = malloc(sizeof(REAL) * (size_t)S * CHAPLYGIN_TAYLOR_N_NODES);
     if (X == NULL) return;
-    taylor_coefficients(order, *T0, Y, P, X);
+    TAYLOR_COEFFICIENTS(order, *T0, Y, P, X);
     for (int i = 0; i < n * S; ++i) OUT[i] = X[i];
     free(X);
 }
@@ -716,6 +739,29 @@ static int taylor_order(double eps)
     return p;
 }
 
+/* What the step control needs from ctrl = {rtol, atol, fixed_h}, worked out once per run: the
+ * order and the safety factor e^-2 e^(-0.7/(p-1)) under relative [0] and absolute [1] control
+ * (fixed_order > 0 forces the order). */
+typedef struct {
+    REAL rtol, atol, fixed_h;
+    int order[2];
+    double safety[2];
+} taylor_control;
+
+static taylor_control taylor_control_of(const REAL *restrict ctrl, int fixed_order)
+{
+    taylor_control c;
+    c.rtol = ctrl[0];
+    c.atol = ctrl[1];
+    c.fixed_h = ctrl[2];
+    for (int a = 0; a < 2; ++a) {
+        int p = fixed_order > 0 ? fixed_order : taylor_order(R_TO_DOUBLE(ctrl[a]));
+        c.order[a] = p;
+        c.safety[a] = exp(-2.0) * exp(-0.7 / (p - 1));
+    }
+    return c;
+}
+
 static REAL inf_norm(const REAL *restrict X, int S, int k)
 {
     REAL m = R_INT(0);
@@ -727,39 +773,40 @@ static REAL inf_norm(const REAL *restrict X, int S, int k)
 }
 
 /* Coefficients at (t, y) in X (stride order+1); returns the step (signed, capped at t_end).
- * ctrl = {rtol, atol, fixed_h}: fixed_h > 0 forces the step, fixed_order > 0 the order. */
+ * fixed_h > 0 forces the step. rho = min((scale/|y_[p-1]|)^(1/(p-1)), (scale/|y_[p]|)^(1/p))
+ * is taken in logarithms (one exp); logs in double: rho needs a few digits only. */
 static REAL taylor_step_size(REAL t, const REAL *restrict y, const REAL *restrict P,
-                             const REAL *restrict ctrl, int fixed_order, REAL t_end,
-                             REAL *restrict X, int *order_out)
+                             const taylor_control *restrict c, REAL t_end, REAL *restrict X,
+                             int *order_out)
 {
-    const REAL rtol = ctrl[0], atol = ctrl[1], fixed_h = ctrl[2];
     REAL xn = R_INT(0);
     for (int i = 0; i < CHAPLYGIN_TAYLOR_N_STATE; ++i)
         if (R_LT(xn, R_FABS(y[i]))) xn = R_FABS(y[i]);
-    int absolute = R_LE(R_MUL(rtol, xn), atol);
-    REAL scale = absolute ? R_INT(1) : xn;
-    int p = fixed_order > 0 ? fixed_order : taylor_order(R_TO_DOUBLE(absolute ? atol : rtol));
+    const int absolute = R_LE(R_MUL(c->rtol, xn), c->atol);
+    const int p = c->order[absolute];
     *order_out = p;
     const int S = p + 1;
-    taylor_coefficients(p, t, y, P, X);
+    TAYLOR_COEFFICIENTS(p, t, y, P, X);
     REAL remaining = R_SUB(t_end, t);
     REAL dir = R_LT(remaining, R_INT(0)) ? R_INT(-1) : R_INT(1);
     REAL h;
-    if (R_LT(R_INT(0), fixed_h)) {
-        h = fixed_h;
+    if (R_LT(R_INT(0), c->fixed_h)) {
+        h = c->fixed_h;
     } else {
-        double rho = INFINITY;
+        double e = INFINITY;
+        const double log_scale = absolute ? 0.0 : R_LOG_D(xn);
         REAL n1 = inf_norm(X, S, p - 1), n2 = inf_norm(X, S, p);
         if (R_LT(R_INT(0), n1)) {
-            double r = exp(R_LOG_RATIO(scale, n1) / (p - 1));
-            if (r < rho) rho = r;
+            double r = (log_scale - R_LOG_D(n1)) / (p - 1);
+            if (r < e) e = r;
         }
         if (R_LT(R_INT(0), n2)) {
-            double r = exp(R_LOG_RATIO(scale, n2) / p);
-            if (r < rho) rho = r;
+            double r = (log_scale - R_LOG_D(n2)) / p;
+            if (r < e) e = r;
         }
+        double rho = exp(e);
         if (isinf(rho)) h = R_FABS(remaining);
-        else h = R_FROM_DOUBLE(rho * exp(-2.0) * exp(-0.7 / (p - 1)));
+        else h = R_FROM_DOUBLE(rho * c->safety[absolute]);
     }
     if (R_LE(R_FABS(remaining), h)) return remaining;
     return R_MUL(dir, h);
@@ -788,7 +835,8 @@ int chaplygin_taylor_step(REAL *TY, const REAL *P, const REAL *CTRL, int fixed_o
     if (X == NULL) return -4;
     int p;
     REAL t = TY[0];
-    REAL h = taylor_step_size(t, TY + 1, P, CTRL, fixed_order, *T_END, X, &p);
+    const taylor_control c = taylor_control_of(CTRL, fixed_order);
+    REAL h = taylor_step_size(t, TY + 1, P, &c, *T_END, X, &p);
     for (int i = 0; i < n * (p + 1); ++i) COEFFS[i] = X[i];
     REAL y[CHAPLYGIN_TAYLOR_N_STATE];
     taylor_eval(X, p, h, y);
@@ -819,6 +867,7 @@ int chaplygin_taylor_run(const REAL *T01, const REAL *Y0, const REAL *P, const R
     REAL t = T01[0];
     const REAL t_end = T01[1];
     const REAL dir = R_LT(t_end, t) ? R_INT(-1) : R_INT(1);
+    const taylor_control c = taylor_control_of(CTRL, fixed_order);
     REAL y[CHAPLYGIN_TAYLOR_N_STATE], ynew[CHAPLYGIN_TAYLOR_N_STATE];
     for (int i = 0; i < n; ++i) y[i] = Y0[i];
     long steps = 0, j = 0;
@@ -830,7 +879,7 @@ int chaplygin_taylor_run(const REAL *T01, const REAL *Y0, const REAL *P, const R
     while (R_LT(R_INT(0), R_MUL(dir, R_SUB(t_end, t)))) {
         if (steps >= max_steps) { status = -2; break; }
         int p;
-        REAL h = taylor_step_size(t, y, P, CTRL, fixed_order, t_end, X, &p);
+        REAL h = taylor_step_size(t, y, P, &c, t_end, X, &p);
         if (R_EQ(h, R_INT(0)) || R_EQ(R_ADD(t, h), t)) { status = -3; break; }
         if (p > pmax) pmax = p;
         if (p < pmin) pmin = p;

@@ -49,6 +49,7 @@ import mpmath
 import numpy as np
 
 from .compiled import CompilerError, CompilerUnavailableWarning, compile_c
+from .taylor_unroll import unrolled_source
 
 if TYPE_CHECKING:
     from .code import ModelCode
@@ -57,6 +58,7 @@ __all__ = [
     "TaylorSolution",
     "CompiledTaylor",
     "load_taylor_library",
+    "run_orders",
     "taylor_solve",
     "jorba_zou_order",
     "encode_binary128",
@@ -569,10 +571,36 @@ class CompiledTaylor:
         return self.real.rows(self.unpack(out), self.n_state, order + 1)
 
 
-_LIBS: dict[tuple[str, str], CompiledTaylor | None] = {}
+_LIBS: dict[tuple[str, str, tuple[int, ...]], CompiledTaylor | None] = {}
+
+#: Real types whose coefficients are written out for the orders a run uses (double: the
+#: loop's overhead is most of a step; the wider types spend their time in arithmetic).
+UNROLLED_KINDS = ("double",)
 
 
-def load_taylor_library(code: ModelCode, kind: str) -> CompiledTaylor | None:
+def run_orders(rtol: float, atol: float, order: int | None = None) -> tuple[int, ...]:
+    """The orders the C step control can choose for these tolerances (or the fixed order).
+
+    Parameters
+    ----------
+    rtol, atol : float
+        Tolerances (relative control uses the order of ``rtol``, absolute that of ``atol``).
+    order : int, optional
+        A fixed order.
+
+    Returns
+    -------
+    tuple of int
+        One or two orders (:func:`jorba_zou_order`, capped at the C limit 80).
+    """
+    if order:
+        return (int(order),)
+    return tuple(sorted({jorba_zou_order(float(rtol)), jorba_zou_order(float(atol))}))
+
+
+def load_taylor_library(
+    code: ModelCode, kind: str, orders: Sequence[int] = ()
+) -> CompiledTaylor | None:
     """Compile (cached by source hash) and load the C Taylor integrator of ``code``.
 
     ``kind="quad"`` compiles with ``-DCHAPLYGIN_TAYLOR_QUAD``, ``kind="dd"`` (double-double,
@@ -587,6 +615,11 @@ def load_taylor_library(code: ModelCode, kind: str) -> CompiledTaylor | None:
         The model (its ``taylor_c_source`` and ``hash``).
     kind : {"double", "quad", "dd", "qd"}
         The C real type (a key of :data:`REAL_TYPES` or :data:`DIGITS_REAL_TYPES`).
+    orders : sequence of int, optional
+        Orders whose coefficients are written out (:mod:`chaplygin.numerics.taylor_unroll`;
+        double only, the same bits as the loop, faster): one more library per set of orders,
+        compiled once and cached like the others. Without a compiler or with a source the
+        unroller does not read, the library of the loop.
 
     Returns
     -------
@@ -599,11 +632,19 @@ def load_taylor_library(code: ModelCode, kind: str) -> CompiledTaylor | None:
     KeyError
         An unknown ``kind``.
     """
-    key = (code.hash, kind)
+    unroll = tuple(sorted({int(p) for p in orders})) if kind in UNROLLED_KINDS else ()
+    key = (code.hash, kind, unroll)
     if key in _LIBS:
         return _LIBS[key]
     real = _C_REAL_TYPES[kind]
     source, ldlibs = real.define + code.taylor_c_source, real.ldlibs
+    if unroll:
+        written_out = unrolled_source(source, unroll)
+        if written_out is None:  # not of the shape the unroller reads: the loop
+            lib = load_taylor_library(code, kind)
+            _LIBS[key] = lib
+            return lib
+        source = written_out
     try:
         try:
             path = compile_c(source, ldlibs=ldlibs, cflags=real.cflags)
@@ -1022,7 +1063,7 @@ def taylor_solve(
     events = list(events or [])
     clib = None
     if numbers.compiled and lib in (None, "c"):
-        clib = load_taylor_library(code, precision)
+        clib = load_taylor_library(code, precision, run_orders(rtol, atol, order))
     elif precision == "digits" and lib in (None, "c"):
         # fixed-size multi-double arithmetic in C where it carries the working precision
         c_kind = digits_real_type(mpmath.mp.prec)

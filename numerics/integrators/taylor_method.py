@@ -38,7 +38,7 @@ class TaylorMethod(Integrator):
     }
 
     def _prepare(self, problem: Problem, backend: str) -> str:
-        from ..taylor import digits_real_type, load_taylor_library
+        from ..taylor import digits_real_type, load_taylor_library, run_orders
 
         kind = problem.precision.kind
         if backend == "numpy":
@@ -50,8 +50,10 @@ class TaylorMethod(Integrator):
             if c_kind is not None and load_taylor_library(problem.code, c_kind) is not None:
                 return "c"
             return "mpmath"
-        # compile or load now: set-up, not wall time
-        if load_taylor_library(problem.code, kind) is None and backend == "c":
+        # compile or load now (the coefficients written out for the run's orders): set-up,
+        # not wall time
+        orders = run_orders(problem.rtol, problem.atol, problem.options.get("order"))
+        if load_taylor_library(problem.code, kind, orders) is None and backend == "c":
             raise UserInputError("backend 'c' needs a C compiler (install gcc or set CC)")
         return "c"
 
