@@ -577,6 +577,11 @@ _LIBS: dict[tuple[str, str, tuple[int, ...]], CompiledTaylor | None] = {}
 #: loop's overhead is most of a step; the wider types spend their time in arithmetic).
 UNROLLED_KINDS = ("double",)
 
+#: Extra flags for the written-out code: scheduling before register allocation, aware of
+#: register pressure (gcc; measured 3-8 % faster steps on the bench's reference problem).
+#: They change the instruction order only, not the arithmetic (no -ffast-math).
+UNROLLED_CFLAGS = ("-fschedule-insns", "-fsched-pressure")
+
 
 def run_orders(rtol: float, atol: float, order: int | None = None) -> tuple[int, ...]:
     """The orders the C step control can choose for these tolerances (or the fixed order).
@@ -645,11 +650,12 @@ def load_taylor_library(
             _LIBS[key] = lib
             return lib
         source = written_out
+    cflags = (*real.cflags, *UNROLLED_CFLAGS) if unroll else real.cflags
     try:
         try:
-            path = compile_c(source, ldlibs=ldlibs, cflags=real.cflags)
+            path = compile_c(source, ldlibs=ldlibs, cflags=cflags)
         except CompilerError:
-            if not real.cflags:
+            if not cflags:
                 raise
             path = compile_c(source, ldlibs=ldlibs)  # a compiler that refuses the flags
         lib = CompiledTaylor(path, kind, expected_hash=code.hash)

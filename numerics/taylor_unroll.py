@@ -42,6 +42,8 @@ _POW = re.compile(r"tc_pow\(a(\d+), a(\d+), (-?\d+), (-?\d+), k\)")
 _EXP = re.compile(r"tc_exp\(a(\d+), a(\d+), k\)")
 _SQRT = re.compile(r"tc_sqrt\(a(\d+), a(\d+), k\)")
 _OPERAND = re.compile(r"a(\d+)\[(k|0)\]")
+_ORDER0 = re.compile(r"a(\d+)\[0\] = (.*);")
+_ORDER0_OPERAND = re.compile(r"a(\d+)\[0\]")
 #: what may remain of a line once the recurrences and operands are replaced
 _ALLOWED = re.compile(r"^[\sA-Za-z0-9_(),.+\-*/]*$")
 
@@ -54,7 +56,7 @@ class _Unrolled:
 
     def ref(self, node: str, k: int) -> str:
         if k == 0:
-            return f"a{node}[0]"
+            return f"a{node}_0"
         if node == self.time_node:
             return "R_INT(1)" if k == 1 else "R_INT(0)"
         if node in self.zero:
@@ -140,7 +142,7 @@ class _Unrolled:
         if "tc_" in out:
             return None
         out = _OPERAND.sub(lambda m: self.ref(m[1], k if m[2] == "k" else 0), out)
-        return out if _ALLOWED.match(re.sub(r"a\d+\[0\]", "", out)) else None
+        return out if _ALLOWED.match(out) else None
 
 
 def _function(source: str) -> tuple[str, str, list[str], list[str]] | None:
@@ -162,6 +164,27 @@ def _function(source: str) -> tuple[str, str, list[str], list[str]] | None:
     body = [line.strip() for line in rest[:close]]
     updates = [line.strip() for line in rest[close + 1 :] if line.strip() != "}"]
     return head, source[start:source.index("{", start)], body, updates
+
+
+def _order_zero_locals(head: str, time_node: str | None) -> str | None:
+    """The prologue with every order-0 value also in a ``const`` local ``aN_0`` (kept in a
+    register instead of being loaded again for every product); None if a node's order-0
+    value is not set by one line ``aN[0] = ...;``."""
+    out, defined = [], set()
+    for line in head.splitlines():
+        stripped = line.strip()
+        m = _ORDER0.fullmatch(stripped)
+        if time_node is not None and _TIME.fullmatch(stripped):
+            line = f"    const REAL a{time_node}_0 = T0; {stripped}"
+            defined.add(time_node)
+        elif m is not None:
+            rhs = _ORDER0_OPERAND.sub(lambda o: f"a{o[1]}_0", m[2])
+            line = f"    const REAL a{m[1]}_0 = {rhs}; a{m[1]}[0] = a{m[1]}_0;"
+            defined.add(m[1])
+        elif _ORDER0_OPERAND.search(stripped) and not stripped.startswith("#"):
+            return None
+        out.append(line)
+    return "\n".join(out) + "\n"
 
 
 def unrolled_source(source: str, orders: Iterable[int]) -> str | None:
@@ -191,6 +214,9 @@ def unrolled_source(source: str, orders: Iterable[int]) -> str | None:
     zero = set(_ZERO.findall(head))
     time = _TIME.search(head)
     time_node = time[1] if time else None
+    head = _order_zero_locals(head, time_node)
+    if head is None:
+        return None
     assigned = []
     for line in body:
         m = _ASSIGN.fullmatch(line)

@@ -1,0 +1,154 @@
+"""The Taylor coefficients written out for fixed orders (numerics/taylor_unroll.py).
+
+The written-out code must give the same bits as the template's loop (it is a speed-up, never
+a change of result): coefficients of every kind of recurrence (products, squares, quotients,
+powers, sines and cosines) at several orders, and whole adaptive runs with dense output,
+compared bit for bit against the loop's library; every generated variant is read; a line
+the unroller does not know makes it decline (and the loop is used).
+"""
+
+from __future__ import annotations
+
+import random
+
+import numpy as np
+import pytest
+from chaplygin.derive.systems import builtin_variants
+from chaplygin.numerics import load_model_code
+from chaplygin.numerics.taylor import (
+    _c_run,
+    load_taylor_library,
+    run_orders,
+    taylor_solve,
+)
+from chaplygin.numerics.taylor_unroll import MARKER, UNROLL_MAX_ORDER, unrolled_source
+from reference import REFERENCE_PARAMS, REFERENCE_Y0
+
+VARIANTS = [(s, tuple(sorted(e))) for s, e in builtin_variants()]
+#: variants whose recurrences cover every form: products, squares and quotients (the ball),
+#: powers (the ball on a surface), sines and cosines (the ball along a line), the rubber
+#: ball's longer chains
+COVERING = [
+    ("chaplygin_ball", ()),
+    ("chaplygin_ball", ("rubber",)),
+    ("ball_on_surface", ()),
+    ("chaplygin_ball", ("straight_line",)),
+]
+
+
+def _bits(values) -> np.ndarray:
+    return np.asarray(values, dtype=np.float64).view(np.int64)
+
+
+def _point(code, seed: int):
+    """A generic non-dyadic point: state in (-0.9, 0.9), parameters in (1.1, 2.9)."""
+    rng = random.Random(seed)
+    y = [rng.uniform(-0.9, 0.9) / 3 * 7 / 3 for _ in code.state]
+    p = [1.1 + 1.8 * rng.random() for _ in code.params]
+    return y, p
+
+
+@pytest.mark.parametrize("system,effects", VARIANTS)
+def test_every_generated_variant_is_read(system, effects):
+    source = load_model_code(system, effects).taylor_c_source
+    assert MARKER in source
+    out = unrolled_source(source, (2, 3, 12, UNROLL_MAX_ORDER, UNROLL_MAX_ORDER + 1))
+    assert out is not None
+    for p in (2, 3, 12, UNROLL_MAX_ORDER):
+        assert f"static void taylor_coefficients_{p}(" in out
+    assert f"taylor_coefficients_{UNROLL_MAX_ORDER + 1}(" not in out  # above the limit: loop
+    # every recurrence of the loop body became single assignments: no loop call left in them
+    body = out[out.index("static void taylor_coefficients_2(") : out.index(
+        "static void taylor_coefficients_unrolled("
+    )]
+    assert "tc_" not in body
+
+
+def test_an_unknown_line_makes_it_decline():
+    source = load_model_code("chaplygin_ball", ()).taylor_c_source
+    assert unrolled_source(source, (12,)) is not None
+    changed = source.replace("= tc_mul(", "= tc_mystery(", 1)
+    assert unrolled_source(changed, (12,)) is None
+    assert unrolled_source(source.replace(MARKER, ""), (12,)) is None
+    assert unrolled_source(source, (1, UNROLL_MAX_ORDER + 1)) is None  # no order in range
+
+
+@pytest.mark.parametrize("system,effects", COVERING)
+def test_coefficients_are_bit_identical_to_the_loop(system, effects):
+    code = load_model_code(system, effects)
+    orders = (2, 3, 4, 7, 12)
+    loop = load_taylor_library(code, "double")
+    written = load_taylor_library(code, "double", orders)
+    assert loop is not None and written is not None and written is not loop
+    compared = 0
+    for seed in range(3):
+        y, p = _point(code, seed)
+        for order in orders:
+            a = loop.coefficients(order, 0.3, y, p)
+            b = written.coefficients(order, 0.3, y, p)
+            assert np.array_equal(_bits(a), _bits(b)), (system, effects, order, seed)
+            compared += np.isfinite(np.asarray(a, dtype=float)).sum()
+    assert compared > 0  # finite values were compared, not only NaNs
+
+
+def test_a_different_recurrence_order_would_be_seen():
+    """Negative control for the bit comparison: the same products summed with another
+    association ((s + p) + q for s + (p + q), the two new terms) differ in the last bits
+    somewhere, so equal bits above are not a tautology."""
+    code = load_model_code("chaplygin_ball", ())
+    source = unrolled_source(code.taylor_c_source, (12,))
+    assert source is not None
+    import re
+
+    i = source.index("static void taylor_coefficients_12(")
+    j = source.index("static void taylor_coefficients_unrolled(")
+    part = re.sub(
+        r"= R_ADD\((.*), R_ADD\((R_MUL\(a\d+_0, a\d+_\d+\)), (R_MUL\(a\d+_\d+, a\d+_0\))\)\);$",
+        r"= R_ADD(R_ADD(\1, \2), \3);",
+        source[i:j],
+        flags=re.MULTILINE,
+    )
+    assert part != source[i:j]
+    from chaplygin.numerics.ccompile import compile_c
+    from chaplygin.numerics.taylor import CompiledTaylor
+
+    changed = CompiledTaylor(compile_c(source[:i] + part + source[j:]), "double")
+    loop = load_taylor_library(code, "double")
+    differs = 0
+    for seed in range(5):
+        y, p = _point(code, seed)
+        a, b = loop.coefficients(12, 0.3, y, p), changed.coefficients(12, 0.3, y, p)
+        differs += not np.array_equal(_bits(a), _bits(b))
+        # ... while agreeing to rounding: the same numbers summed in another order
+        np.testing.assert_allclose(b, a, rtol=1e-12, atol=1e-300)
+    assert differs > 0
+
+
+@pytest.mark.parametrize("rtol", [1e-9, 1e-12, 3e-15])
+def test_adaptive_runs_are_bit_identical_to_the_loop(rtol):
+    code = load_model_code("chaplygin_ball", ())
+    from chaplygin.numerics.inputs import Precision, pack_params, pack_state
+
+    prec = Precision("double")
+    y0 = pack_state(code, REFERENCE_Y0, prec)
+    p = pack_params(code, REFERENCE_PARAMS, prec)
+    t_eval = list(np.linspace(0.0, 37.3, 29))
+    orders = run_orders(rtol, rtol / 7)
+    assert len(orders) == 2  # relative and absolute control at different orders
+    loop = load_taylor_library(code, "double")
+    runs = [
+        _c_run(lib, y0, (0.0, 37.3), p, rtol, rtol / 7, t_eval, None, None, 10**6)
+        for lib in (loop, load_taylor_library(code, "double", orders))
+    ]
+    assert runs[0].status == runs[1].status == 0
+    assert runs[0].nsteps == runs[1].nsteps > 10
+    assert np.array_equal(_bits(runs[0].y), _bits(runs[1].y))
+    # and taylor_solve (what integrate runs) takes the written-out library
+    sol = taylor_solve(code, y0, (0.0, 37.3), p, rtol=rtol, atol=rtol / 7, t_eval=t_eval)
+    assert np.array_equal(_bits(sol.y), _bits(runs[0].y))
+
+
+def test_run_orders():
+    assert run_orders(1e-12, 1e-12) == (15,)
+    assert run_orders(1e-9, 1e-12) == (12, 15)
+    assert run_orders(1e-9, 1e-12, order=7) == (7,)
