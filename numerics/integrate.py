@@ -28,6 +28,7 @@ from .integrators import (
 )
 
 __all__ = [
+    "prepare_problem",
     "IntegrationResult",
     "integrate",
     "METHODS",
@@ -224,6 +225,60 @@ def integrate(
     True
     """
     start = time.perf_counter()
+    integrator, problem = prepare_problem(
+        system,
+        y0,
+        t_span,
+        params,
+        effects=effects,
+        method=method,
+        precision=precision,
+        rtol=rtol,
+        atol=atol,
+        t_eval=t_eval,
+        events=events,
+        taylor_options=taylor_options,
+        max_steps=max_steps,
+        max_wall_s=max_wall_s,
+    )
+    return integrator.run(problem, backend, setup_s=time.perf_counter() - start)
+
+
+def prepare_problem(
+    system: str | ModelCode,
+    y0: Mapping[str, object] | Sequence[float],
+    t_span: tuple[float, float] | float,
+    params: Mapping[str, object] | Sequence[float],
+    *,
+    effects: Sequence[str] | str | None = None,
+    method: str | Integrator | type[Integrator] | None = None,
+    precision: str | int = "double",
+    rtol: float | None = None,
+    atol: float | None = None,
+    t_eval: Sequence[float] | None = None,
+    events: Sequence | None = None,
+    taylor_options: Mapping[str, object] | None = None,
+    max_steps: int | None = None,
+    max_wall_s: float | None = DEFAULT_MAX_WALL_S,
+) -> tuple[Integrator, Problem]:
+    """Read and check the inputs of :func:`integrate` (all of its checks, nothing run).
+
+    Parameters
+    ----------
+    system, y0, t_span, params, effects, method, precision, rtol, atol, t_eval, events, \
+taylor_options, max_steps, max_wall_s
+        As for :func:`integrate`.
+
+    Returns
+    -------
+    (Integrator, Problem)
+        The method and the problem, every number at the working precision.
+
+    Raises
+    ------
+    UserInputError
+        As :func:`integrate`.
+    """
     if not isinstance(system, ModelCode):
         _refuse_bad_input_before_deriving(system, effects, y0, params, precision)
     code = system if isinstance(system, ModelCode) else load_model_code(system, effects)
@@ -266,7 +321,7 @@ def integrate(
             ) from None
         if not max_wall_s > 0:
             raise UserInputError(f"max_wall_s must be a positive number, got {max_wall_s!r}")
-    problem = Problem(
+    return integrator, Problem(
         code=code,
         y0=y,
         t_span=t_span,
@@ -280,7 +335,6 @@ def integrate(
         max_steps=max_steps,
         max_wall_s=max_wall_s,
     )
-    return integrator.run(problem, backend, setup_s=time.perf_counter() - start)
 
 
 def _check_finite_start(code: ModelCode, t0, y: Sequence, p: Sequence, prec: Precision) -> None:

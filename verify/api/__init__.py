@@ -41,6 +41,7 @@ _PUBLIC: dict[str, str] = {
     "CacheError": "derive.errors:CacheError",
     # numerics
     "integrate": "numerics.integrate:integrate",
+    "Propagator": "numerics.propagator:Propagator",
     "IntegrationResult": "numerics.integrate:IntegrationResult",
     "METHODS": "numerics.integrate:METHODS",
     "Precision": "numerics.inputs:Precision",
