@@ -116,3 +116,40 @@ def test_bench_out_is_a_file(capsys, tmp_path):
     assert main(["bench", "--quick", "--out", str(f)]) == 2
     assert "not a folder" in capsys.readouterr().err
     assert f.read_text() == "x"
+
+
+def _row(method, precision, rtol, error, median_s, **kw):
+    base = {"problem": "reference", "method": method, "rhs": "C", "precision": precision,
+            "rtol": rtol, "T": 50.0, "error": error, "drift": {}, "median_s": median_s,
+            "runs": 5, "steps": None, "nfev": None, "note": "", "call_s": None,
+            "setup_s": None, "evidence_s": None, "propagate_s": None}
+    return {**base, **kw}
+
+
+def test_speed_targets_compare_at_equal_or_better_error():
+    """The fastest of our rows whose error is at most EQUAL_ERROR_FACTOR x heyoka's is
+    compared; a faster row with a worse error is not; no row reaching it says so."""
+    from chaplygin.verify.bench import EQUAL_ERROR_FACTOR, speed_targets
+
+    rows = [
+        _row("heyoka", "30 digits", 1e-30, 2.0e-29, 0.060),
+        _row("heyoka", "50 digits", 1e-50, 3.0e-49, 0.190),
+        # fast but 10x worse than heyoka: not eligible
+        _row("taylor", "30 digits", 1e-26, 2.0e-28, 0.001, call_s=0.002, setup_s=1e-4,
+             evidence_s=1e-4, propagate_s=0.0015),
+        # eligible (within the factor), slower
+        _row("taylor", "30 digits", 1e-28, EQUAL_ERROR_FACTOR * 2.0e-29, 0.010, call_s=0.012,
+             setup_s=1e-3, evidence_s=1e-3, propagate_s=0.011),
+        _row("taylor", "50 digits", 1e-48, 1e-47, 0.1, call_s=0.15, setup_s=1e-3,
+             evidence_s=1e-3, propagate_s=0.14),
+    ]
+    lines = speed_targets({"rows": rows})
+    assert len(lines) == 2
+    assert "30 digits" in lines[0] and "ratio 0.20 / 0.18" in lines[0] and "met)" in lines[0]
+    assert "integrate() 12 ms" in lines[0] and "rtol 1e-28" in lines[0]
+    assert "50 digits" in lines[1] and "no Taylor row" in lines[1] and "missed" in lines[1]
+    # a ratio above one with the Propagator below one is reported as such
+    rows[3]["call_s"], rows[3]["propagate_s"] = 0.07, 0.05
+    assert "met by Propagator only" in speed_targets({"rows": rows})[0]
+    rows[3]["propagate_s"] = 0.08
+    assert "missed" in speed_targets({"rows": rows})[0]

@@ -43,7 +43,7 @@ from typing import Any
 import mpmath
 import numpy as np
 
-from ..derive.errors import UserInputError
+from ..derive.errors import ComputationError, UserInputError
 from ..numerics.code import load_model_code
 from ..numerics.inputs import Precision
 from ..numerics.integrate import integrate
@@ -61,6 +61,7 @@ __all__ = [
     "map_throughput",
     "peers_available",
     "render_markdown",
+    "speed_targets",
     "target_ratios",
 ]
 
@@ -169,7 +170,10 @@ class BenchRow:
     ``median_s`` is the integration alone (``IntegrationResult.wall_s``); for our rows
     ``call_s`` is the median of the whole public call ``integrate(...)`` and ``setup_s``,
     ``evidence_s`` its parts before and after the integration (reading the inputs, loading
-    the compiled code; drift evidence and result), all medians of the same runs.
+    the compiled code; drift evidence and result), all medians of the same runs. For the
+    Taylor rows ``propagate_s`` is the median of ``Propagator.propagate_until(T)`` (inputs
+    checked and the integrator loaded once, as heyoka's ``taylor_adaptive``; the same steps
+    and bits as the ``integrate`` call, drift evidence included).
     """
 
     problem: str
@@ -188,6 +192,7 @@ class BenchRow:
     call_s: float | None = None
     setup_s: float | None = None
     evidence_s: float | None = None
+    propagate_s: float | None = None
 
     def to_json(self) -> dict[str, object]:
         """The row as a JSON-ready dict.
@@ -318,6 +323,9 @@ def _measure_integrate(
 
     parts: list[tuple[float, float, float]] = []
     med, r = _median_run(once, repeats)
+    propagate_s = None
+    if method == "taylor" and r.success:
+        propagate_s = _measure_propagator(problem, precision, rtol, T, backend, repeats, r)
     if method == "taylor":
         label_rhs = {
             "c-dd": "C double-double",
@@ -343,7 +351,25 @@ def _measure_integrate(
         call_s=call_s,
         setup_s=setup_s,
         evidence_s=evidence_s,
+        propagate_s=propagate_s,
     )
+
+
+def _measure_propagator(problem, precision, rtol, T, backend, repeats, integrated) -> float:
+    """Median time of ``Propagator.propagate_until(T)`` from the problem's start, prepared
+    once; checked to give the ``integrate`` call's end state bit for bit."""
+    from ..numerics.propagator import Propagator
+
+    times = []
+    for _ in range(repeats):  # prepared anew each time (not timed): every run from t = 0
+        prop = Propagator("chaplygin_ball", problem.y0, problem.params, precision=precision,
+                          rtol=rtol, atol=rtol, backend=backend)
+        start = time.perf_counter()
+        r = prop.propagate_until(T)
+        times.append(time.perf_counter() - start)
+    if [str(v) for v in r.y[:, -1]] != [str(v) for v in integrated.y[:, -1]]:
+        raise ComputationError("Propagator and integrate() disagree on the bench problem")
+    return statistics.median(times)
 
 
 def peers_available() -> dict[str, bool]:
@@ -787,7 +813,8 @@ def render_markdown(study: dict) -> str:
         names = sorted({k for r in rows if r["problem"] == pname for k in r["drift"]})
         head = ["method", "rhs", "precision", "rtol", "T", "final error", *(
             f"drift {n}" for n in names), "median s", "runs", "steps", "rhs calls",
-            "integrate() s (set-up + steps + evidence, ms)", "x heyoka", "note"]
+            "integrate() s (set-up + steps + evidence, ms)", "x heyoka",
+            "propagate_until() s", "x heyoka", "note"]
         lines += ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
         for r in rows:
             if r["problem"] != pname:
@@ -797,7 +824,8 @@ def render_markdown(study: dict) -> str:
                      *(_fmt(r["drift"].get(n)) for n in names),
                      _fmt(r["median_s"], ".4g"), str(r["runs"]), _fmt(r["steps"], "d"),
                      _fmt(r.get("nfev"), "d"), _call_parts(r), _heyoka_ratio(r, rows),
-                     r["note"]]
+                     _fmt(r.get("propagate_s"), ".4g"),
+                     _heyoka_ratio(r, rows, "propagate_s"), r["note"]]
             lines.append("| " + " | ".join(cells) + " |")
         lines.append("")
     lines += ["## Right-hand side called from Python (seconds per evaluation)", ""]
@@ -811,6 +839,8 @@ def render_markdown(study: dict) -> str:
         lines += ["", "## BM20's stroboscopic map (us per forcing period per point)", ""]
         lines += [f"- {k}: {v:.4g}" if isinstance(v, float) else f"- {k}: {v}"
                   for k, v in study["map_throughput"].items()]  # fmt: skip
+    lines += ["", "## Against heyoka at equal or better final error (issue 15, this run)", ""]
+    lines += [f"- {t}" for t in speed_targets(study)] or ["- heyoka not installed"]
     lines += ["", "## Targets of issue 5 (ratios from this run)", ""]
     lines += [f"- {t}" for t in target_ratios(study)]
     return "\n".join(lines) + "\n"
@@ -824,20 +854,85 @@ def _call_parts(row: dict) -> str:
     return f"{row['call_s']:.4g} ({ms[0]:.2f} + {ms[1]:.2f} + {ms[2]:.2f})"
 
 
-def _heyoka_ratio(row: dict, rows: list[dict]) -> str:
-    """Our whole ``integrate(...)`` call over heyoka's ``propagate_until`` (same problem,
-    precision, span and tolerance or heyoka's default), or ``-``."""
-    if row.get("call_s") is None or row["method"] == "heyoka":
-        return "-"
+def _heyoka_peer(row: dict, rows: list[dict]) -> dict | None:
+    """heyoka's row for one of ours: same problem, precision and span; in double the same
+    tolerance, in the wider precisions heyoka's default (its epsilon)."""
+    if row["method"] == "heyoka":
+        return None
     label = {"quad": "quad (real128)"}.get(row["precision"], row["precision"])
     peers = [r for r in rows if r["method"] == "heyoka" and r["problem"] == row["problem"]
              and r["precision"] == label and r["T"] == row["T"] and r["median_s"]]
     same_tol = [r for r in peers if r["rtol"] == row["rtol"]]
-    # double: only at the same tolerance; the high precisions: heyoka's default (its eps)
-    peer = (same_tol or ([] if row["precision"] == "double" else peers) or [None])[0]
-    if peer is None:
+    return (same_tol or ([] if row["precision"] == "double" else peers) or [None])[0]
+
+
+def _heyoka_ratio(row: dict, rows: list[dict], key: str = "call_s") -> str:
+    """Our ``integrate(...)`` call (``key="call_s"``) or ``Propagator.propagate_until``
+    (``"propagate_s"``) over heyoka's ``propagate_until``, or ``-``."""
+    peer = _heyoka_peer(row, rows)
+    if row.get(key) is None or peer is None:
         return "-"
-    return f"{row['call_s'] / peer['median_s']:.2f}"
+    return f"{row[key] / peer['median_s']:.2f}"
+
+
+#: "Equal or better final error" (issue 15): at most this factor above heyoka's error (the
+#: same method at the same tolerance gives errors that differ in their third digit).
+EQUAL_ERROR_FACTOR = 1.25
+
+
+def speed_targets(study: dict) -> list[str]:
+    """Issue 15's comparison with heyoka, one sentence per problem and precision.
+
+    For each heyoka row (double at its two tolerances, real128, 30, 50 and 100 digits) the
+    fastest of our Taylor rows in the same precision and span whose final error is at most
+    :data:`EQUAL_ERROR_FACTOR` times heyoka's: the whole ``integrate(...)`` call and
+    ``Propagator.propagate_until`` (both with the drift evidence) over heyoka's
+    ``propagate_until``; target <= 1.0.
+
+    Parameters
+    ----------
+    study : dict
+        The output of :func:`run_study` (or its JSON).
+
+    Returns
+    -------
+    list of str
+        One sentence per heyoka row (none when heyoka is not installed).
+    """
+    rows = study["rows"]
+    out = []
+    for peer in rows:
+        if peer["method"] != "heyoka" or not peer.get("median_s") or peer["error"] is None:
+            continue
+        if peer["precision"] == "double" and peer["rtol"] not in (1e-9, 1e-12):
+            continue
+        precision = {"quad (real128)": "quad"}.get(peer["precision"], peer["precision"])
+        ours = [r for r in rows if r["method"] == "taylor" and r["problem"] == peer["problem"]
+                and r["precision"] == precision and r["T"] == peer["T"]
+                and r.get("call_s") and r["error"] is not None
+                and r["error"] <= EQUAL_ERROR_FACTOR * peer["error"]]
+        what = f"{peer['problem']}, {peer['precision']}" + (
+            f" tol {peer['rtol']:.0e}" if precision == "double" else "") + f", T={peer['T']:g}"
+        if not ours:
+            out.append(f"{what}: no Taylor row of ours reached heyoka's error "
+                       f"{peer['error']:.1e} (target missed)")
+            continue
+        best = min(ours, key=lambda r: r["call_s"])
+        ratio = best["call_s"] / peer["median_s"]
+        prop = best.get("propagate_s")
+        pratio = prop / peer["median_s"] if prop else None
+        verdict = "met" if ratio <= 1.0 else (
+            "met by Propagator only" if pratio is not None and pratio <= 1.0 else "missed")
+        out.append(
+            f"{what}: integrate() {best['call_s'] * 1e3:.3g} ms (set-up {best['setup_s'] * 1e3:.2f}"
+            f" + steps {best['median_s'] * 1e3:.3g} + evidence {best['evidence_s'] * 1e3:.2f}"
+            f" ms, rtol {best['rtol']:.0e}, error {best['error']:.1e})"
+            + (f", Propagator {prop * 1e3:.3g} ms" if prop else "")
+            + f"; heyoka {peer['median_s'] * 1e3:.3g} ms (error {peer['error']:.1e}); ratio "
+            f"{ratio:.2f}" + (f" / {pratio:.2f}" if pratio is not None else "")
+            + f" (target <= 1.0: {verdict})"
+        )
+    return out
 
 
 def _best(rows, **want):
