@@ -114,7 +114,27 @@ class Propagator:
         self.code: ModelCode = self._problem.code
         self.time = self._problem.t_span[0]
         self._state = list(self._problem.y0)
+        self._fast = self._compiled_double()
         self.setup_s = time.perf_counter() - start
+
+    def _compiled_double(self):
+        """The compiled double library, the packed parameters and step control and the
+        step limit, when each call can go straight to the C loop (double precision, C
+        backend); else None (each call runs the method's whole path)."""
+        problem = self._problem
+        if not (problem.precision.is_double and self._backend == "c"):
+            return None
+        from .taylor import MAX_STEPS, load_taylor_library, run_orders
+
+        options = problem.options
+        lib = load_taylor_library(
+            problem.code, "double", run_orders(problem.rtol, problem.atol, options.get("order"))
+        )
+        if lib is None:
+            return None
+        packed = (lib.pack(problem.params),
+                  lib.pack([problem.rtol, problem.atol, options.get("step") or 0]))
+        return lib, packed, options.get("max_steps") or MAX_STEPS
 
     @property
     def state(self) -> np.ndarray:
@@ -167,7 +187,20 @@ class Propagator:
         problem = dataclasses.replace(
             self._problem, y0=list(self._state), t_span=(self.time, t_end), t_eval=outputs
         )
-        result = self._integrator.run(problem, self._requested_backend)
+        if self._fast is None:
+            result = self._integrator.run(problem, self._requested_backend)
+        else:  # the C loop with the library and buffers kept: what run() would do, less work
+            from .taylor import _c_run
+
+            lib, packed, max_steps = self._fast
+            start = time.perf_counter()
+            sol = _c_run(lib, problem.y0, problem.t_span, problem.params, problem.rtol,
+                         problem.atol, outputs, problem.options.get("order"),
+                         problem.options.get("step"), max_steps, problem.max_wall_s, packed)
+            wall = time.perf_counter() - start
+            result = self._integrator._result(
+                problem, self._integrator._solution(problem, sol), "c", wall, 0.0
+            )
         if result.success and result.y.shape[1] and outputs[-1] == t_end:
             self._state = list(result.y[:, -1])
             self.time = t_end

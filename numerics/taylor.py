@@ -1113,7 +1113,9 @@ _MESSAGES = {
 C_CHUNK_STEPS = {"double": 65536, "quad": 256, "dd": 1024, "qd": 128}
 
 
-def _c_run(clib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps, max_wall_s=None):
+def _c_run(
+    clib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps, max_wall_s=None, packed=None
+):
     n = clib.n_state
     ptr = CompiledTaylor._ptr
     m = len(t_eval)
@@ -1123,7 +1125,8 @@ def _c_run(clib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps, max_
     width = size // np.dtype(t_eval_buf.dtype).itemsize  # buffer items per real
     t01 = clib.pack(t_span)
     y = clib.pack(y0)
-    P, ctrl = clib.pack(p), clib.pack([rtol, atol, step or 0])
+    # parameters and step control in the library's format (a Propagator packs them once)
+    P, ctrl = packed or (clib.pack(p), clib.pack([rtol, atol, step or 0]))
     y_end, t_reached = clib.empty(n), clib.empty(1)
     stats = np.zeros(4, dtype=np.int64)
     chunk = max_steps if max_wall_s is None else C_CHUNK_STEPS.get(clib.kind, 256)

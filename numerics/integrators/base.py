@@ -40,11 +40,23 @@ BACKENDS = ("auto", "c", "numpy")
 # --------------------------------------------------------------------------- precisions
 
 
+#: Up to this many output points the integrals are evaluated point by point on Python floats
+#: (numpy's per-call cost on short arrays is most of a short run's evidence otherwise).
+_POINTWISE_INTEGRALS = 4
+
+
 def _integral_change_numpy(code: ModelCode, t, y, p) -> tuple:
     # t has one entry per output point: integrals may depend on time explicitly
-    values = np.asarray(
-        code.numpy.integrals(np.asarray(t, dtype=float), y, np.asarray(p, dtype=float))
-    )
+    if len(t) <= _POINTWISE_INTEGRALS:
+        pf = [float(v) for v in p]
+        values = np.array(
+            [code.numpy.integrals(float(tj), y[:, j].tolist(), pf) for j, tj in enumerate(t)],
+            dtype=float,
+        ).T.reshape(len(code.integral_names), len(t))
+    else:
+        values = np.asarray(
+            code.numpy.integrals(np.asarray(t, dtype=float), y, np.asarray(p, dtype=float))
+        )
     F0 = values[:, :1]
     return np.max(np.abs(values - F0), axis=1), np.abs(F0[:, 0])
 
@@ -378,7 +390,14 @@ class Integrator:
         start = time.perf_counter()
         with number_type.context(prec):
             sol = self._solve(problem, chosen)
-        wall = time.perf_counter() - start
+        return self._result(problem, sol, chosen, time.perf_counter() - start, setup_s)
+
+    def _result(
+        self, problem: Problem, sol: Solution, chosen: str, wall: float, setup_s: float
+    ) -> IntegrationResult:
+        """The result of a solve with its evidence: the finiteness check and the drift of
+        every first integral over the outputs (what :meth:`run` returns)."""
+        prec = problem.precision
         status, message = int(sol.status), str(sol.message)
         if not _all_finite(sol.y):
             status = -1

@@ -78,6 +78,11 @@ class TaylorMethod(Integrator):
                 **({"max_steps": problem.max_steps} if problem.max_steps else {}),
             },
         )
+        return self._solution(problem, sol)
+
+    @staticmethod
+    def _solution(problem: Problem, sol) -> Solution:
+        """A :class:`~chaplygin.numerics.taylor.TaylorSolution` as the protocol's Solution."""
         return Solution(
             t=sol.t,
             y=sol.y,
