@@ -22,6 +22,7 @@ QUICK_MODULES = frozenset(
         "test_hamiltonisation",
         "test_identity",
         "test_integrate",
+        "test_propagator",
         "test_model_cache",
         "test_rotation_number",
         "test_transformation",
