@@ -357,12 +357,19 @@ def _check_finite_start(code: ModelCode, t0, y: Sequence, p: Sequence, prec: Pre
         Which of the right-hand side and the integrals is not finite, and what to check.
     """
     if prec.is_double:
+        # on Python floats (numpy's per-call cost on length-6 arrays is most of the time);
+        # only finiteness is used
         with np.errstate(all="ignore"):
-            yy, pp = np.asarray(y, dtype=float), np.asarray(p, dtype=float)
-            parts = {
-                "right-hand side": np.asarray(code.numpy.rhs(float(t0), yy, pp), dtype=float),
-                "first integrals": np.asarray(code.numpy.integrals(float(t0), yy, pp), dtype=float),
-            }
+            yy, pp = [float(v) for v in y], [float(v) for v in p]
+            try:
+                parts = {
+                    "right-hand side": np.asarray(code.numpy.rhs(float(t0), yy, pp), dtype=float),
+                    "first integrals": np.asarray(
+                        code.numpy.integrals(float(t0), yy, pp), dtype=float
+                    ),
+                }
+            except (ZeroDivisionError, OverflowError, ValueError):  # float raises where
+                parts = {"right-hand side or the first integrals": np.array([np.nan])}
         bad = [what for what, v in parts.items() if not np.all(np.isfinite(v))]
     else:
         bad = []
