@@ -666,9 +666,11 @@ def _configs(quick: bool):
         ),
         ("taylor", "c", "double", [1e-9, 1e-12, 2.3e-14] if not quick else [1e-12], False),
         ("taylor", "c", "quad", [1e-20, 2e-33] if not quick else [2e-33], False),
-        ("taylor", "auto", 30, [1e-28], False),
-        ("taylor", "auto", 50, [1e-48], False),
-        ("taylor", "auto", 100, [1e-98], True),
+        # two tolerances per digits precision: 100 eps, and eps (heyoka's default tol is its
+        # eps, the comparison is at equal or better final error)
+        ("taylor", "auto", 30, [1e-28, 1e-30] if not quick else [1e-30], False),
+        ("taylor", "auto", 50, [1e-48, 1e-50] if not quick else [1e-50], False),
+        ("taylor", "auto", 100, [1e-98, 1e-100] if not quick else [1e-100], True),
         ("odefun", "auto", 30, [None], True),
         ("odefun", "auto", 50, [None], True),
     ]
