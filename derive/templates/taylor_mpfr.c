@@ -1,0 +1,358 @@
+/*
+{{HEADER}}
+*/
+/* Taylor integrator of one chaplygin model in MPFR (emitted by chaplygin.derive.emit.taylor,
+ * language taylor_mpfr), for working precisions past quad-double. The recurrences are those
+ * of the Taylor program of taylor.c and of the Python module (*_taylor.py), written as
+ * in-place MPFR calls at the run's precision (round to nearest):
+ *
+ *   convolutions      mpfr_dot (MPFR >= 4.1, correctly rounded sum of exact products) on
+ *                     arrays of pointers to the coefficients, one forward and one reversed
+ *                     per node, so sum_j a_j b_(k-j) is one call;
+ *   divisions by k    mpfr_div_ui.
+ *
+ * Numbers cross the interface exactly, as text: inputs are tokens separated by blanks in any
+ * form mpfr_strtofr reads in base 16 ("-1a3fp-40", hexadecimal significand and binary
+ * exponent: every binary number is exact), outputs are written by mpfr_snprintf "%Ra" (exact
+ * hexadecimal) into fixed-width slots. The working storage (every node series, the pointer
+ * arrays, the temporaries) is allocated once per call at the run's precision and order.
+ *
+ * Order and step follow numerics/taylor.py's Python stepper to the bit (Jorba & Zou 2005):
+ * eps = atol if rtol |y|_inf <= atol (absolute control, scale 1) else eps = rtol, order
+ * p = ceil(-ln(eps)/2 + 1) (at most MAX_ORDER), step h = rho e^f with
+ * rho = min_k (scale/|y_[k]|_inf)^(1/k) over k = p-1, p (the logarithms in MPFR, their
+ * difference rounded to double) and f = min(-2, ln(eps)/(p-1)) - 0.7/(p-1).
+ *
+ *   chaplygin_taylor_mpfr_coefficients(prec, order, T0, Y, P, OUT, width)
+ *   chaplygin_taylor_mpfr_run(prec, T01, Y0, P, CTRL, FIXED_H, fixed_order, n_eval, T_EVAL,
+ *                             Y_EVAL, width, Y_END, T_REACHED, max_steps, STATS)
+ */
+#include <math.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <gmp.h>
+#include <mpfr.h>
+
+#if MPFR_VERSION < MPFR_VERSION_NUM(4, 1, 0)
+#error "the MPFR Taylor integrator needs mpfr_dot (MPFR >= 4.1)"
+#endif
+
+#define CHAPLYGIN_TAYLOR_N_STATE {{N_STATE}}
+#define CHAPLYGIN_TAYLOR_N_PARAM {{N_PARAM}}
+#define CHAPLYGIN_TAYLOR_N_NODES {{N_NODES}}
+/* rows of the workspace: the nodes, then the series j a_j of the exp/sin/cos arguments */
+#define CHAPLYGIN_TAYLOR_N_ROWS {{N_ROWS}}
+#define CHAPLYGIN_TAYLOR_N_CONST_TMP {{N_CONST_TMP}}
+#define CHAPLYGIN_TAYLOR_MAX_ORDER {{MAX_ORDER}}
+
+const char *chaplygin_taylor_model_hash(void) { return "{{MODEL_HASH}}"; }
+
+/* the version of the MPFR library this code runs with (not of the header it was built with) */
+const char *chaplygin_taylor_mpfr_version(void) { return mpfr_get_version(); }
+
+void chaplygin_taylor_sizes(int *OUT)
+{
+    OUT[0] = CHAPLYGIN_TAYLOR_N_STATE;
+    OUT[1] = CHAPLYGIN_TAYLOR_N_PARAM;
+    OUT[2] = CHAPLYGIN_TAYLOR_N_NODES;
+    OUT[3] = CHAPLYGIN_TAYLOR_MAX_ORDER;
+    OUT[4] = 0; /* no fixed-size REAL */
+}
+
+/* ------------------------------------------------------------------ workspace */
+typedef struct {
+    int S;                 /* coefficients per row: largest order of the run + 1 */
+    mpfr_t *X;             /* N_ROWS x S series */
+    mpfr_ptr *fwd, *rev;   /* fwd[i S + j] = X[i S + j], rev[i S + m] = X[i S + S - 1 - m] */
+    mpfr_t T0, s, t, e;    /* expansion time, sum and product temporaries, exponent */
+    mpfr_t Y[CHAPLYGIN_TAYLOR_N_STATE];
+    mpfr_t P[CHAPLYGIN_TAYLOR_N_PARAM + 1];
+    mpfr_t c[CHAPLYGIN_TAYLOR_N_CONST_TMP + 1];  /* temporaries of the constants */
+} ws_t;
+
+#define A(i, k) (w->X[(size_t)(i) * w->S + (k)])
+#define FWD(i, j) (w->fwd + (size_t)(i) * w->S + (j))
+/* {x_k, x_(k-1), ..., x_0}: the reversed series ending at coefficient k */
+#define REV(i, k) (w->rev + (size_t)(i) * w->S + (w->S - 1 - (k)))
+
+static void ws_clear(ws_t *w)
+{
+    if (w->X != NULL) {
+        for (size_t i = 0; i < (size_t)CHAPLYGIN_TAYLOR_N_ROWS * w->S; ++i) mpfr_clear(w->X[i]);
+    }
+    free(w->X);
+    free(w->fwd);
+    free(w->rev);
+    mpfr_clears(w->T0, w->s, w->t, w->e, (mpfr_ptr)0);
+    for (int i = 0; i < CHAPLYGIN_TAYLOR_N_STATE; ++i) mpfr_clear(w->Y[i]);
+    for (int i = 0; i <= CHAPLYGIN_TAYLOR_N_PARAM; ++i) mpfr_clear(w->P[i]);
+    for (int i = 0; i <= CHAPLYGIN_TAYLOR_N_CONST_TMP; ++i) mpfr_clear(w->c[i]);
+}
+
+/* All series at precision prec, zero (the time's and constants' rows stay zero past the
+ * coefficients the recurrences write). Returns 0, or -4 without memory. */
+static int ws_init(ws_t *w, mpfr_prec_t prec, int max_order)
+{
+    const size_t S = (size_t)max_order + 1, n = (size_t)CHAPLYGIN_TAYLOR_N_ROWS * S;
+    w->S = (int)S;
+    mpfr_inits2(prec, w->T0, w->s, w->t, w->e, (mpfr_ptr)0);
+    for (int i = 0; i < CHAPLYGIN_TAYLOR_N_STATE; ++i) mpfr_init2(w->Y[i], prec);
+    for (int i = 0; i <= CHAPLYGIN_TAYLOR_N_PARAM; ++i) mpfr_init2(w->P[i], prec);
+    for (int i = 0; i <= CHAPLYGIN_TAYLOR_N_CONST_TMP; ++i) mpfr_init2(w->c[i], prec);
+    w->X = malloc(sizeof(mpfr_t) * n);
+    w->fwd = malloc(sizeof(mpfr_ptr) * n);
+    w->rev = malloc(sizeof(mpfr_ptr) * n);
+    if (w->X == NULL || w->fwd == NULL || w->rev == NULL) {
+        free(w->X);
+        w->X = NULL;
+        ws_clear(w);
+        return -4;
+    }
+    for (size_t i = 0; i < n; ++i) {
+        mpfr_init2(w->X[i], prec);
+        mpfr_set_zero(w->X[i], 1);
+    }
+    for (size_t r = 0; r < (size_t)CHAPLYGIN_TAYLOR_N_ROWS; ++r)
+        for (size_t j = 0; j < S; ++j) {
+            w->fwd[r * S + j] = w->X[r * S + j];
+            w->rev[r * S + j] = w->X[r * S + (S - 1 - j)];
+        }
+    return 0;
+}
+
+/* ------------------------------------------------------------------ recurrences */
+/* rop = sum_{j<n} a[j] b[j], correctly rounded (0 for n = 0) */
+static inline void tc_dot(mpfr_ptr rop, mpfr_ptr *a, mpfr_ptr *b, unsigned long n)
+{
+    if (n == 0) mpfr_set_zero(rop, 1);
+    else mpfr_dot(rop, a, b, n, MPFR_RNDN);
+}
+
+/* c = a^(p/q): c_k = sum_{j<k} (p (k-j) - q j) a_{k-j} c_j / (q k a_0) */
+static inline void tc_pow(ws_t *w, int a, int c, long p, long q, int k)
+{
+    mpfr_set_zero(w->s, 1);
+    for (int j = 0; j < k; ++j) {
+        mpfr_mul(w->t, A(a, k - j), A(c, j), MPFR_RNDN);
+        mpfr_mul_si(w->t, w->t, p * (k - j) - q * j, MPFR_RNDN);
+        mpfr_add(w->s, w->s, w->t, MPFR_RNDN);
+    }
+    mpfr_mul_si(w->t, A(a, 0), q * k, MPFR_RNDN);
+    mpfr_div(A(c, k), w->s, w->t, MPFR_RNDN);
+}
+
+{{COEFFICIENTS}}
+
+/* ------------------------------------------------------------------ text interface */
+/* Read n numbers (base 16 tokens separated by blanks) from *text into x; advances *text.
+ * Returns 0, or -5 for a malformed token. */
+static int read_numbers(const char **text, mpfr_t *x, int n)
+{
+    const char *s = *text;
+    for (int i = 0; i < n; ++i) {
+        char *end;
+        while (*s == ' ') ++s;
+        mpfr_strtofr(x[i], s, &end, 16, MPFR_RNDN);
+        if (end == s) return -5;
+        s = end;
+    }
+    *text = s;
+    return 0;
+}
+
+static int read_number(const char **text, mpfr_ptr x)
+{
+    mpfr_t *slot = (mpfr_t *)x; /* an mpfr_t is an array of one struct */
+    return read_numbers(text, slot, 1);
+}
+
+static void write_number(char *out, int width, mpfr_srcptr x)
+{
+    mpfr_snprintf(out, (size_t)width, "%Ra", x);
+}
+
+static int taylor_order(double eps)
+{
+    int p = (int)ceil(-0.5 * log(eps) + 1.0);
+    if (p < 2) p = 2;
+    if (p > CHAPLYGIN_TAYLOR_MAX_ORDER) p = CHAPLYGIN_TAYLOR_MAX_ORDER;
+    return p;
+}
+
+/* Normalised Taylor coefficients y_i^(k)(t0)/k!, k = 0..order, at precision prec, written
+ * row by row (n_state x (order+1) slots of width chars). Returns 0, -4 (no memory), -5 (a
+ * malformed number), -7 (order out of range). */
+int chaplygin_taylor_mpfr_coefficients(long prec, int order, const char *T0, const char *Y,
+                                       const char *P, char *OUT, int width)
+{
+    if (order < 1 || order > CHAPLYGIN_TAYLOR_MAX_ORDER) return -7;
+    ws_t w;
+    if (ws_init(&w, (mpfr_prec_t)prec, order)) return -4;
+    int status = read_number(&T0, w.T0);
+    if (!status) status = read_numbers(&Y, w.Y, CHAPLYGIN_TAYLOR_N_STATE);
+    if (!status) status = read_numbers(&P, w.P, CHAPLYGIN_TAYLOR_N_PARAM);
+    if (!status) {
+        taylor_coefficients(order, &w);
+        for (int i = 0; i < CHAPLYGIN_TAYLOR_N_STATE; ++i)
+            for (int k = 0; k <= order; ++k)
+                write_number(OUT + (size_t)(i * (order + 1) + k) * width, width,
+                             w.X[(size_t)i * w.S + k]);
+    }
+    ws_clear(&w);
+    return status;
+}
+
+/* ------------------------------------------------------------------ the loop */
+/* |x|_inf of column k of the state rows into m */
+static void state_norm(ws_t *w, int k, mpfr_ptr m)
+{
+    mpfr_set_zero(m, 1);
+    for (int i = 0; i < CHAPLYGIN_TAYLOR_N_STATE; ++i)
+        if (mpfr_cmpabs(A(i, k), m) > 0) mpfr_abs(m, A(i, k), MPFR_RNDN);
+}
+
+/* y(t + s) of the step's polynomial (Horner), state i into out */
+static void taylor_eval(ws_t *w, int p, mpfr_srcptr s, int i, mpfr_ptr out)
+{
+    mpfr_set(out, A(i, p), MPFR_RNDN);
+    for (int k = p - 1; k >= 0; --k) {
+        mpfr_mul(out, out, s, MPFR_RNDN);
+        mpfr_add(out, out, A(i, k), MPFR_RNDN);
+    }
+}
+
+/* Integrate from T01 = "t0 t1" at precision prec. CTRL = {rtol, atol}; FIXED_H a number
+ * ("" for the adaptive step), fixed_order > 0 fixes the order. Output at the N_EVAL times
+ * T_EVAL (sorted in the direction of integration, inside the span) into Y_EVAL (N_EVAL x
+ * n_state slots of width chars), final state into Y_END (n_state slots), its time into
+ * T_REACHED (a run stopped after MAX_STEPS steps resumes from them exactly).
+ * STATS = {steps, maximum order, minimum order, outputs written}. Returns 0, -1 (not
+ * finite), -2 (more than MAX_STEPS steps), -3 (step size underflow), -4 (no memory), -5 (a
+ * malformed number). */
+int chaplygin_taylor_mpfr_run(long prec, const char *T01, const char *Y0, const char *P,
+                              const double *CTRL, const char *FIXED_H, int fixed_order,
+                              long n_eval, const char *T_EVAL, char *Y_EVAL, int width,
+                              char *Y_END, char *T_REACHED, long max_steps, long *STATS)
+{
+    const int n = CHAPLYGIN_TAYLOR_N_STATE;
+    const double rtol = CTRL[0], atol = CTRL[1];
+    /* the largest order of the run: of the smaller tolerance */
+    const int order_ws = fixed_order > 0 ? fixed_order : taylor_order(rtol < atol ? rtol : atol);
+    if (order_ws < 2 || order_ws > CHAPLYGIN_TAYLOR_MAX_ORDER) return -7;
+    ws_t w_;
+    ws_t *w = &w_;
+    if (ws_init(w, (mpfr_prec_t)prec, order_ws)) return -4;
+    mpfr_t t, t_end, h, rem, xn, scale, nk, l1, l2, fixed_h, te, ynew[CHAPLYGIN_TAYLOR_N_STATE];
+    mpfr_inits2((mpfr_prec_t)prec, t, t_end, h, rem, xn, scale, nk, l1, l2, fixed_h, te,
+                (mpfr_ptr)0);
+    for (int i = 0; i < n; ++i) mpfr_init2(ynew[i], (mpfr_prec_t)prec);
+    int status = read_number(&T01, t);
+    if (!status) status = read_number(&T01, t_end);
+    if (!status) status = read_numbers(&Y0, w->Y, n);
+    if (!status) status = read_numbers(&P, w->P, CHAPLYGIN_TAYLOR_N_PARAM);
+    int have_fixed_h = 0;
+    if (!status && FIXED_H != NULL && FIXED_H[0] != '\0') {
+        status = read_number(&FIXED_H, fixed_h);
+        have_fixed_h = mpfr_sgn(fixed_h) > 0;
+    }
+    const int dir = mpfr_cmp(t_end, t) < 0 ? -1 : 1;
+    long steps = 0, j = 0;
+    int pmax = 0, pmin = CHAPLYGIN_TAYLOR_MAX_ORDER, pseen = 0;
+    const char *next_eval = T_EVAL;
+    int have_te = 0;
+    /* the next output time (read lazily, one token at a time) */
+#define NEXT_TE() (have_te || j >= n_eval ? 0 : (have_te = !read_number(&next_eval, te), !have_te))
+    if (!status && NEXT_TE()) status = -5;
+    while (!status && have_te && dir * mpfr_cmp(te, t) <= 0) { /* outputs at t0 */
+        for (int i = 0; i < n; ++i)
+            write_number(Y_EVAL + (size_t)(j * n + i) * width, width, w->Y[i]);
+        ++j;
+        have_te = 0;
+        if (NEXT_TE()) status = -5;
+    }
+    while (!status && dir * mpfr_cmp(t_end, t) > 0) {
+        if (steps >= max_steps) {
+            status = -2;
+            break;
+        }
+        /* order and step: as _Stepper._py_step */
+        mpfr_set_zero(xn, 1);
+        for (int i = 0; i < n; ++i)
+            if (mpfr_cmpabs(w->Y[i], xn) > 0) mpfr_abs(xn, w->Y[i], MPFR_RNDN);
+        const int absolute = rtol * mpfr_get_d(xn, MPFR_RNDN) <= atol;
+        if (absolute) mpfr_set_ui(scale, 1, MPFR_RNDN);
+        else mpfr_set(scale, xn, MPFR_RNDN);
+        const double eps = absolute ? atol : rtol;
+        const int p = fixed_order > 0 ? fixed_order : taylor_order(eps);
+        mpfr_set(w->T0, t, MPFR_RNDN);
+        taylor_coefficients(p, w);
+        mpfr_sub(rem, t_end, t, MPFR_RNDN);
+        if (have_fixed_h) {
+            mpfr_set(h, fixed_h, MPFR_RNDN);
+        } else {
+            double rho = INFINITY;
+            for (int k = p - 1; k <= p; ++k) {
+                state_norm(w, k, nk);
+                if (mpfr_sgn(nk) > 0) {
+                    mpfr_log(l1, scale, MPFR_RNDN);
+                    mpfr_log(l2, nk, MPFR_RNDN);
+                    mpfr_sub(l1, l1, l2, MPFR_RNDN);
+                    double r = exp(mpfr_get_d(l1, MPFR_RNDN) / k);
+                    if (r < rho) rho = r;
+                }
+            }
+            double f = log(eps) / (p - 1);
+            if (f > -2.0) f = -2.0;
+            f -= 0.7 / (p - 1);
+            if (isinf(rho)) mpfr_abs(h, rem, MPFR_RNDN);
+            else mpfr_set_d(h, rho * exp(f), MPFR_RNDN);
+        }
+        int last = mpfr_cmpabs(h, rem) >= 0;
+        if (last) mpfr_set(h, rem, MPFR_RNDN);
+        else if (mpfr_sgn(rem) < 0) mpfr_neg(h, h, MPFR_RNDN);
+        if (mpfr_zero_p(h)) {
+            status = -3;
+            break;
+        }
+        ++steps;
+        pseen = 1;
+        if (p > pmax) pmax = p;
+        if (p < pmin) pmin = p;
+        /* the new time (l1) and the outputs inside the step */
+        if (last) mpfr_set(l1, t_end, MPFR_RNDN);
+        else mpfr_add(l1, t, h, MPFR_RNDN);
+        if (mpfr_equal_p(l1, t)) {
+            status = -3;
+            break;
+        }
+        while (!status && have_te && dir * mpfr_cmp(te, l1) <= 0) {
+            mpfr_sub(l2, te, t, MPFR_RNDN);
+            for (int i = 0; i < n; ++i) {
+                taylor_eval(w, p, l2, i, nk);
+                write_number(Y_EVAL + (size_t)(j * n + i) * width, width, nk);
+            }
+            ++j;
+            have_te = 0;
+            if (NEXT_TE()) status = -5;
+        }
+        for (int i = 0; i < n; ++i) {
+            taylor_eval(w, p, h, i, ynew[i]);
+            if (!mpfr_number_p(ynew[i])) status = status ? status : -1;
+        }
+        for (int i = 0; i < n; ++i) mpfr_set(w->Y[i], ynew[i], MPFR_RNDN);
+        mpfr_set(t, l1, MPFR_RNDN);
+    }
+#undef NEXT_TE
+    for (int i = 0; i < n; ++i) write_number(Y_END + (size_t)i * width, width, w->Y[i]);
+    write_number(T_REACHED, width, t);
+    STATS[0] = steps;
+    STATS[1] = pseen ? pmax : 0;
+    STATS[2] = pseen ? pmin : 0;
+    STATS[3] = j;
+    mpfr_clears(t, t_end, h, rem, xn, scale, nk, l1, l2, fixed_h, te, (mpfr_ptr)0);
+    for (int i = 0; i < n; ++i) mpfr_clear(ynew[i]);
+    ws_clear(w);
+    return status;
+}
