@@ -96,9 +96,28 @@ static void ws_clear(ws_t *w)
     for (int i = 0; i <= CHAPLYGIN_TAYLOR_N_CONST_TMP; ++i) mpfr_clear(w->c[i]);
 }
 
-/* All series at precision prec, zero (the time's and constants' rows stay zero past the
- * coefficients the recurrences write). Returns 0, or -4 without memory. */
-static int ws_init(ws_t *w, mpfr_prec_t prec, int max_order)
+/* Bits of coefficient k: prec, or with taper (the adaptive loop) prec less 2k/ln 2 plus
+ * TAPER_GUARD bits, at least TAPER_FLOOR. The step makes |y_[k]| h^k about scale e^(-2k)
+ * (Jorba & Zou: h = rho e^-2 .., rho^-k the coefficients' decay), so a relative error
+ * 2^-(prec - 2k/ln 2) of y_[k] adds about scale 2^-prec e^(-2k) e^(2k) = scale 2^-prec to the
+ * new state: the rounding of the high orders stays 2^-TAPER_GUARD below the working
+ * precision. (When the decay is slower than the estimate the truncation error grows by the
+ * same factor, and stays TAPER_GUARD bits above this one.) */
+#define TAPER_GUARD 32
+#define TAPER_FLOOR 64
+static mpfr_prec_t coefficient_prec(mpfr_prec_t prec, int k, int taper)
+{
+    if (!taper) return prec;
+    long bits = (long)prec - (long)(2.8853900817779268 * k) + TAPER_GUARD;
+    if (bits > (long)prec) bits = (long)prec;
+    if (bits < TAPER_FLOOR) bits = prec < TAPER_FLOOR ? (long)prec : TAPER_FLOOR;
+    return (mpfr_prec_t)bits;
+}
+
+/* All series, zero (the time's and constants' rows stay zero past the coefficients the
+ * recurrences write); coefficient k at coefficient_prec(prec, k, taper). Returns 0, or -4
+ * without memory. */
+static int ws_init(ws_t *w, mpfr_prec_t prec, int max_order, int taper)
 {
     const size_t S = (size_t)max_order + 1, n = (size_t)CHAPLYGIN_TAYLOR_N_ROWS * S;
     w->S = (int)S;
@@ -116,7 +135,7 @@ static int ws_init(ws_t *w, mpfr_prec_t prec, int max_order)
         return -4;
     }
     for (size_t i = 0; i < n; ++i) {
-        mpfr_init2(w->X[i], prec);
+        mpfr_init2(w->X[i], coefficient_prec(prec, (int)(i % S), taper));
         mpfr_set_zero(w->X[i], 1);
     }
     for (size_t r = 0; r < (size_t)CHAPLYGIN_TAYLOR_N_ROWS; ++r)
@@ -136,7 +155,7 @@ static inline void tc_dot(mpfr_ptr rop, mpfr_ptr *a, mpfr_ptr *b, unsigned long 
 }
 
 /* c = a^(p/q): c_k = sum_{j<k} (p (k-j) - q j) a_{k-j} c_j / (q k a_0) */
-static void tc_pow(ws_t *w, int a, int c, long p, long q, int k)
+static inline void tc_pow(ws_t *w, int a, int c, long p, long q, int k)
 {
     mpfr_set_zero(w->s, 1);
     for (int j = 0; j < k; ++j) {
@@ -470,7 +489,7 @@ int chaplygin_taylor_mpfr_coefficients(long prec, int order, const char *T0, con
 {
     if (order < 1 || order > CHAPLYGIN_TAYLOR_MAX_ORDER) return -7;
     ws_t w;
-    if (ws_init(&w, (mpfr_prec_t)prec, order)) return -4;
+    if (ws_init(&w, (mpfr_prec_t)prec, order, 0)) return -4;
     int status = read_number(&T0, w.T0);
     if (!status) status = read_numbers(&Y, w.Y, CHAPLYGIN_TAYLOR_N_STATE);
     if (!status) status = read_numbers(&P, w.P, CHAPLYGIN_TAYLOR_N_PARAM);
@@ -513,7 +532,7 @@ static void taylor_eval(ws_t *w, int p, mpfr_srcptr s, int i, mpfr_ptr out)
  * finite), -2 (more than MAX_STEPS steps), -3 (step size underflow), -4 (no memory), -5 (a
  * malformed number). */
 int chaplygin_taylor_mpfr_run(long prec, const char *T01, const char *Y0, const char *P,
-                              const double *CTRL, const char *FIXED_H, int fixed_order,
+                              const double *CTRL, const char *FIXED_H, int fixed_order, int taper,
                               long n_eval, const char *T_EVAL, char *Y_EVAL, int width,
                               char *Y_END, char *T_REACHED, long max_steps, long *STATS)
 {
@@ -524,7 +543,7 @@ int chaplygin_taylor_mpfr_run(long prec, const char *T01, const char *Y0, const 
     if (order_ws < 2 || order_ws > CHAPLYGIN_TAYLOR_MAX_ORDER) return -7;
     ws_t w_;
     ws_t *w = &w_;
-    if (ws_init(w, (mpfr_prec_t)prec, order_ws)) return -4;
+    if (ws_init(w, (mpfr_prec_t)prec, order_ws, taper)) return -4;
     mpfr_t t, t_end, h, rem, xn, scale, nk, l1, l2, fixed_h, te, ynew[CHAPLYGIN_TAYLOR_N_STATE];
     mpfr_inits2((mpfr_prec_t)prec, t, t_end, h, rem, xn, scale, nk, l1, l2, fixed_h, te,
                 (mpfr_ptr)0);

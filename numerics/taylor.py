@@ -637,11 +637,16 @@ int chaplygin_taylor_mpfr_coefficients(long prec, int order, const char *T0, con
                                        const char *P, char *OUT, int width);
 int chaplygin_taylor_mpfr_run(long prec, const char *T01, const char *Y0, const char *P,
                               const double *CTRL, const char *FIXED_H, int fixed_order,
-                              long n_eval, const char *T_EVAL, char *Y_EVAL, int width,
+                              int taper, long n_eval, const char *T_EVAL, char *Y_EVAL, int width,
                               char *Y_END, char *T_REACHED, long max_steps, long *STATS);
 """
 _mpfr_ffi = cffi.FFI()
 _mpfr_ffi.cdef(_MPFR_CDEF)
+
+
+#: Whether the MPFR loop computes the high-order coefficients at lower precision (see
+#: ``coefficient_prec`` in ``derive/templates/taylor_mpfr.c``); never with a fixed step.
+MPFR_TAPER = True
 
 
 def mpfr_build_flags() -> tuple[tuple[str, ...], tuple[str, ...]]:
@@ -1386,6 +1391,7 @@ def _mpfr_run(mlib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps, m
             ctrl,
             fixed_h,
             order or 0,
+            MPFR_TAPER and not step,
             m - done,
             " ".join(tokens[done:]).encode("ascii"),
             y_eval + done * n * width,
