@@ -11,9 +11,9 @@ parameters: m, m_e, R, b1, b2, b3, k, c1, c2, c3
  * of the Taylor program of taylor.c and of the Python module (*_taylor.py), written as
  * in-place MPFR calls at the run's precision (round to nearest):
  *
- *   convolutions      mpfr_dot (MPFR >= 4.1, correctly rounded sum of exact products) on
- *                     arrays of pointers to the coefficients, one forward and one reversed
- *                     per node, so sum_j a_j b_(k-j) is one call;
+ *   convolutions      tc_dot: exact products of the significands (mpn_mul) summed in fixed
+ *                     point, rounded once, on arrays of pointers to the coefficients, one
+ *                     forward and one reversed per node, so sum_j a_j b_(k-j) is one call;
  *   divisions by k    mpfr_div_ui.
  *
  * Numbers cross the interface exactly, as text: inputs are tokens separated by blanks in any
@@ -75,6 +75,8 @@ typedef struct {
     mpfr_t Y[CHAPLYGIN_TAYLOR_N_STATE];
     mpfr_t P[CHAPLYGIN_TAYLOR_N_PARAM + 1];
     mpfr_t c[CHAPLYGIN_TAYLOR_N_CONST_TMP + 1];  /* temporaries of the constants */
+    mp_size_t window;                            /* limbs of the dot accumulators, + 1 */
+    mp_limb_t *acc, *prod, *shifted;             /* 2 window, 2 limbs(prec), + 1 */
 } ws_t;
 
 #define A(i, k) (w->X[(size_t)(i) * w->S + (k)])
@@ -90,6 +92,7 @@ static void ws_clear(ws_t *w)
     free(w->X);
     free(w->fwd);
     free(w->rev);
+    free(w->acc);
     mpfr_clears(w->T0, w->s, w->t, w->e, (mpfr_ptr)0);
     for (int i = 0; i < CHAPLYGIN_TAYLOR_N_STATE; ++i) mpfr_clear(w->Y[i]);
     for (int i = 0; i <= CHAPLYGIN_TAYLOR_N_PARAM; ++i) mpfr_clear(w->P[i]);
@@ -125,10 +128,17 @@ static int ws_init(ws_t *w, mpfr_prec_t prec, int max_order, int taper)
     for (int i = 0; i < CHAPLYGIN_TAYLOR_N_STATE; ++i) mpfr_init2(w->Y[i], prec);
     for (int i = 0; i <= CHAPLYGIN_TAYLOR_N_PARAM; ++i) mpfr_init2(w->P[i], prec);
     for (int i = 0; i <= CHAPLYGIN_TAYLOR_N_CONST_TMP; ++i) mpfr_init2(w->c[i], prec);
+    /* the dot accumulators: limbs(prec) + 1 fraction limbs below the largest product's
+     * exponent (64 bits past the working precision) and one limb for the carries */
+    const mp_size_t nl = (mp_size_t)((prec + GMP_NUMB_BITS - 1) / GMP_NUMB_BITS);
+    w->window = nl + 2;
+    w->acc = malloc(sizeof(mp_limb_t) * (size_t)(2 * w->window + 2 * nl + 2 * nl + 1));
+    w->prod = w->acc == NULL ? NULL : w->acc + 2 * w->window;
+    w->shifted = w->prod == NULL ? NULL : w->prod + 2 * nl;
     w->X = malloc(sizeof(mpfr_t) * n);
     w->fwd = malloc(sizeof(mpfr_ptr) * n);
     w->rev = malloc(sizeof(mpfr_ptr) * n);
-    if (w->X == NULL || w->fwd == NULL || w->rev == NULL) {
+    if (w->X == NULL || w->fwd == NULL || w->rev == NULL || w->acc == NULL) {
         free(w->X);
         w->X = NULL;
         ws_clear(w);
@@ -147,11 +157,98 @@ static int ws_init(ws_t *w, mpfr_prec_t prec, int max_order, int taper)
 }
 
 /* ------------------------------------------------------------------ recurrences */
-/* rop = sum_{j<n} a[j] b[j], correctly rounded (0 for n = 0) */
-static inline void tc_dot(mpfr_ptr rop, mpfr_ptr *a, mpfr_ptr *b, unsigned long n)
+/* acc (window limbs) += p (np limbs) 2^pos, the bits below 2^0 dropped (pos < 0) */
+static void acc_add(ws_t *w, mp_limb_t *acc, const mp_limb_t *p, mp_size_t np, long pos)
 {
-    if (n == 0) mpfr_set_zero(rop, 1);
-    else mpfr_dot(rop, a, b, n, MPFR_RNDN);
+    const mp_size_t W = w->window;
+    mp_limb_t *tmp = w->shifted;
+    if (pos >= 0) {
+        const mp_size_t off = pos / GMP_NUMB_BITS;
+        const unsigned sh = (unsigned)(pos % GMP_NUMB_BITS);
+        if (off >= W) return; /* cannot happen: products are below the largest */
+        if (sh) tmp[np] = mpn_lshift(tmp, p, np, sh);
+        else {
+            memcpy(tmp, p, sizeof(mp_limb_t) * (size_t)np);
+            tmp[np] = 0;
+        }
+        mp_size_t len = np + 1;
+        if (off + len > W) len = W - off; /* the limbs past the window are zero */
+        mp_limb_t cy = mpn_add_n(acc + off, acc + off, tmp, len);
+        if (cy && off + len < W) mpn_add_1(acc + off + len, acc + off + len, W - off - len, cy);
+    } else {
+        const long r = -pos;
+        const mp_size_t drop = r / GMP_NUMB_BITS;
+        const unsigned sh = (unsigned)(r % GMP_NUMB_BITS);
+        if (drop >= np) return;
+        mp_size_t m = np - drop;
+        if (sh) mpn_rshift(tmp, p + drop, m, sh);
+        else memcpy(tmp, p + drop, sizeof(mp_limb_t) * (size_t)m);
+        if (m > W) m = W; /* the limbs past the window are zero */
+        mp_limb_t cy = mpn_add_n(acc, acc, tmp, m);
+        if (cy && m < W) mpn_add_1(acc + m, acc + m, W - m, cy);
+    }
+}
+
+/* rop = sum_{j<n} a[j] b[j] (0 for n = 0). The products are formed exactly on the limbs
+ * (mpn_mul) and added in fixed point, positive and negative apart, on a window of
+ * limbs(prec) + 1 limbs below the largest product's exponent 2^E; bits below the window are
+ * dropped, so the sum is exact to n 2^(E - 64 (limbs(prec) + 1)) -- at least 64 bits below
+ * the working precision relative to the largest term -- and then rounded once to rop.
+ * (mpfr_dot is correctly rounded but costs about twice as much: it is the fallback for NaN
+ * and infinite terms.) */
+static void tc_dot(ws_t *w, mpfr_ptr rop, mpfr_ptr *a, mpfr_ptr *b, unsigned long n)
+{
+    mpfr_exp_t emax = 0;
+    int any = 0;
+    for (unsigned long j = 0; j < n; ++j) {
+        if (mpfr_zero_p(a[j]) || mpfr_zero_p(b[j])) continue;
+        if (!mpfr_regular_p(a[j]) || !mpfr_regular_p(b[j])) {
+            mpfr_dot(rop, a, b, n, MPFR_RNDN);
+            return;
+        }
+        mpfr_exp_t e = mpfr_get_exp(a[j]) + mpfr_get_exp(b[j]);
+        if (!any || e > emax) emax = e;
+        any = 1;
+    }
+    if (!any) {
+        mpfr_set_zero(rop, 1);
+        return;
+    }
+    const mp_size_t W = w->window;
+    mp_limb_t *pos = w->acc, *neg = w->acc + W;
+    memset(w->acc, 0, sizeof(mp_limb_t) * (size_t)(2 * W));
+    /* accumulator unit: 2^(emax - 64 (W - 1)); a product of na + nb limbs is
+     * P 2^(ea + eb - 64 (na + nb)) */
+    for (unsigned long j = 0; j < n; ++j) {
+        if (mpfr_zero_p(a[j]) || mpfr_zero_p(b[j])) continue;
+        mpfr_srcptr x = a[j], y = b[j];
+        mp_size_t nx = (mp_size_t)((mpfr_get_prec(x) + GMP_NUMB_BITS - 1) / GMP_NUMB_BITS);
+        mp_size_t ny = (mp_size_t)((mpfr_get_prec(y) + GMP_NUMB_BITS - 1) / GMP_NUMB_BITS);
+        if (nx < ny) {
+            mpfr_srcptr tz = x;
+            x = y;
+            y = tz;
+            mp_size_t tn = nx;
+            nx = ny;
+            ny = tn;
+        }
+        mpn_mul(w->prod, (const mp_limb_t *)mpfr_custom_get_significand(x), nx,
+                (const mp_limb_t *)mpfr_custom_get_significand(y), ny);
+        const long e = (long)(mpfr_get_exp(x) + mpfr_get_exp(y));
+        const long shift = e - (long)GMP_NUMB_BITS * (long)(nx + ny) - (long)emax
+                           + (long)GMP_NUMB_BITS * (long)(W - 1);
+        const int negative = (mpfr_signbit(x) != 0) != (mpfr_signbit(y) != 0);
+        acc_add(w, negative ? neg : pos, w->prod, nx + ny, shift);
+    }
+    int sign = 1;
+    if (mpn_cmp(pos, neg, W) >= 0) mpn_sub_n(pos, pos, neg, W);
+    else {
+        mpn_sub_n(pos, neg, pos, W);
+        sign = -1;
+    }
+    mpz_t z;
+    mpz_roinit_n(z, pos, sign * W);
+    mpfr_set_z_2exp(rop, z, emax - (mpfr_exp_t)GMP_NUMB_BITS * (W - 1), MPFR_RNDN);
 }
 
 /* c = a^(p/q): c_k = sum_{j<k} (p (k-j) - q j) a_{k-j} c_j / (q k a_0) */
@@ -348,21 +445,21 @@ static void taylor_coefficients(int order, ws_t *w)
     mpfr_mul(A(159, 0), A(158, 0), A(117, 0), MPFR_RNDN);
     for (int k = 0; k < order; ++k) {
         if (k > 0) {
-            tc_dot(A(7, k), FWD(5, 0), REV(5, k), (k + 1) / 2);
+            tc_dot(w, A(7, k), FWD(5, 0), REV(5, k), (k + 1) / 2);
             mpfr_mul_2ui(A(7, k), A(7, k), 1, MPFR_RNDN);
             if (k % 2 == 0) { mpfr_sqr(w->t, A(5, k / 2), MPFR_RNDN); mpfr_add(A(7, k), A(7, k), w->t, MPFR_RNDN); }
-            tc_dot(A(8, k), FWD(7, 0), REV(5, k), k + 1);
-            tc_dot(w->s, FWD(8, 1), REV(10, k - 1), k);
+            tc_dot(w, A(8, k), FWD(7, 0), REV(5, k), k + 1);
+            tc_dot(w, w->s, FWD(8, 1), REV(10, k - 1), k);
             mpfr_neg(w->s, w->s, MPFR_RNDN);
             mpfr_div(A(10, k), w->s, A(8, 0), MPFR_RNDN);
             mpfr_mul(A(12, k), A(5, k), A(11, 0), MPFR_RNDN);
             mpfr_sub(A(13, k), A(10, k), A(12, k), MPFR_RNDN);
             mpfr_mul(A(15, k), A(13, k), A(14, 0), MPFR_RNDN);
-            tc_dot(A(16, k), FWD(3, 0), REV(3, k), (k + 1) / 2);
+            tc_dot(w, A(16, k), FWD(3, 0), REV(3, k), (k + 1) / 2);
             mpfr_mul_2ui(A(16, k), A(16, k), 1, MPFR_RNDN);
             if (k % 2 == 0) { mpfr_sqr(w->t, A(3, k / 2), MPFR_RNDN); mpfr_add(A(16, k), A(16, k), w->t, MPFR_RNDN); }
             mpfr_mul(A(18, k), A(16, k), A(17, 0), MPFR_RNDN);
-            tc_dot(A(19, k), FWD(4, 0), REV(4, k), (k + 1) / 2);
+            tc_dot(w, A(19, k), FWD(4, 0), REV(4, k), (k + 1) / 2);
             mpfr_mul_2ui(A(19, k), A(19, k), 1, MPFR_RNDN);
             if (k % 2 == 0) { mpfr_sqr(w->t, A(4, k / 2), MPFR_RNDN); mpfr_add(A(19, k), A(19, k), w->t, MPFR_RNDN); }
             mpfr_mul(A(21, k), A(19, k), A(20, 0), MPFR_RNDN);
@@ -371,82 +468,82 @@ static void taylor_coefficients(int order, ws_t *w)
             mpfr_add(A(25, k), A(24, k), A(23, k), MPFR_RNDN);
             tc_pow(w, 25, 26, -1L, 2L, k);
             mpfr_mul(A(28, k), A(26, k), A(27, 0), MPFR_RNDN);
-            tc_dot(A(29, k), FWD(28, 0), REV(4, k), k + 1);
-            tc_dot(A(30, k), FWD(15, 0), REV(29, k), k + 1);
+            tc_dot(w, A(29, k), FWD(28, 0), REV(4, k), k + 1);
+            tc_dot(w, A(30, k), FWD(15, 0), REV(29, k), k + 1);
             mpfr_mul(A(32, k), A(26, k), A(31, 0), MPFR_RNDN);
-            tc_dot(A(33, k), FWD(32, 0), REV(5, k), k + 1);
+            tc_dot(w, A(33, k), FWD(32, 0), REV(5, k), k + 1);
             mpfr_mul(A(35, k), A(26, k), A(34, 0), MPFR_RNDN);
-            tc_dot(A(36, k), FWD(35, 0), REV(3, k), k + 1);
-            tc_dot(A(37, k), FWD(36, 0), REV(1, k), k + 1);
+            tc_dot(w, A(36, k), FWD(35, 0), REV(3, k), k + 1);
+            tc_dot(w, A(37, k), FWD(36, 0), REV(1, k), k + 1);
             mpfr_mul(A(39, k), A(37, k), A(38, 0), MPFR_RNDN);
-            tc_dot(A(40, k), FWD(29, 0), REV(0, k), k + 1);
+            tc_dot(w, A(40, k), FWD(29, 0), REV(0, k), k + 1);
             mpfr_mul(A(41, k), A(40, k), A(38, 0), MPFR_RNDN);
             mpfr_sub(A(42, k), A(41, k), A(39, k), MPFR_RNDN);
             tc_pow(w, 25, 43, -3L, 2L, k);
-            tc_dot(A(44, k), FWD(43, 0), REV(7, k), k + 1);
+            tc_dot(w, A(44, k), FWD(43, 0), REV(7, k), k + 1);
             mpfr_mul(A(46, k), A(44, k), A(45, 0), MPFR_RNDN);
             mpfr_sub(A(47, k), A(32, k), A(46, k), MPFR_RNDN);
-            tc_dot(A(48, k), FWD(42, 0), REV(47, k), k + 1);
+            tc_dot(w, A(48, k), FWD(42, 0), REV(47, k), k + 1);
             mpfr_mul(A(49, k), A(2, k), A(38, 0), MPFR_RNDN);
-            tc_dot(A(50, k), FWD(49, 0), REV(36, k), k + 1);
-            tc_dot(A(51, k), FWD(33, 0), REV(0, k), k + 1);
+            tc_dot(w, A(50, k), FWD(49, 0), REV(36, k), k + 1);
+            tc_dot(w, A(51, k), FWD(33, 0), REV(0, k), k + 1);
             mpfr_mul(A(52, k), A(51, k), A(38, 0), MPFR_RNDN);
             mpfr_sub(A(53, k), A(50, k), A(52, k), MPFR_RNDN);
-            tc_dot(A(54, k), FWD(43, 0), REV(4, k), k + 1);
-            tc_dot(A(55, k), FWD(53, 0), REV(54, k), k + 1);
+            tc_dot(w, A(54, k), FWD(43, 0), REV(4, k), k + 1);
+            tc_dot(w, A(55, k), FWD(53, 0), REV(54, k), k + 1);
             mpfr_mul(A(56, k), A(55, k), A(20, 0), MPFR_RNDN);
-            tc_dot(A(57, k), FWD(56, 0), REV(5, k), k + 1);
+            tc_dot(w, A(57, k), FWD(56, 0), REV(5, k), k + 1);
             mpfr_mul(A(58, k), A(57, k), A(31, 0), MPFR_RNDN);
-            tc_dot(A(59, k), FWD(43, 0), REV(5, k), k + 1);
-            tc_dot(A(60, k), FWD(49, 0), REV(29, k), k + 1);
-            tc_dot(A(61, k), FWD(33, 0), REV(1, k), k + 1);
+            tc_dot(w, A(59, k), FWD(43, 0), REV(5, k), k + 1);
+            tc_dot(w, A(60, k), FWD(49, 0), REV(29, k), k + 1);
+            tc_dot(w, A(61, k), FWD(33, 0), REV(1, k), k + 1);
             mpfr_mul(A(62, k), A(61, k), A(38, 0), MPFR_RNDN);
             mpfr_sub(A(63, k), A(62, k), A(60, k), MPFR_RNDN);
-            tc_dot(A(64, k), FWD(63, 0), REV(3, k), k + 1);
+            tc_dot(w, A(64, k), FWD(63, 0), REV(3, k), k + 1);
             mpfr_mul(A(65, k), A(64, k), A(17, 0), MPFR_RNDN);
-            tc_dot(A(66, k), FWD(59, 0), REV(65, k), k + 1);
+            tc_dot(w, A(66, k), FWD(59, 0), REV(65, k), k + 1);
             mpfr_mul(A(67, k), A(66, k), A(31, 0), MPFR_RNDN);
             mpfr_sub(A(68, k), A(48, k), A(58, k), MPFR_RNDN);
             mpfr_sub(A(69, k), A(68, k), A(67, k), MPFR_RNDN);
-            tc_dot(A(70, k), FWD(33, 0), REV(69, k), k + 1);
+            tc_dot(w, A(70, k), FWD(33, 0), REV(69, k), k + 1);
             mpfr_mul(A(72, k), A(70, k), A(71, 0), MPFR_RNDN);
-            tc_dot(A(73, k), FWD(72, 0), REV(0, k), k + 1);
-            tc_dot(A(74, k), FWD(43, 0), REV(16, k), k + 1);
+            tc_dot(w, A(73, k), FWD(72, 0), REV(0, k), k + 1);
+            tc_dot(w, A(74, k), FWD(43, 0), REV(16, k), k + 1);
             mpfr_mul(A(76, k), A(74, k), A(75, 0), MPFR_RNDN);
             mpfr_sub(A(77, k), A(35, k), A(76, k), MPFR_RNDN);
-            tc_dot(A(78, k), FWD(63, 0), REV(77, k), k + 1);
+            tc_dot(w, A(78, k), FWD(63, 0), REV(77, k), k + 1);
             mpfr_mul(A(79, k), A(3, k), A(34, 0), MPFR_RNDN);
-            tc_dot(A(80, k), FWD(79, 0), REV(56, k), k + 1);
+            tc_dot(w, A(80, k), FWD(79, 0), REV(56, k), k + 1);
             mpfr_mul(A(81, k), A(42, k), A(22, 0), MPFR_RNDN);
-            tc_dot(A(82, k), FWD(79, 0), REV(59, k), k + 1);
-            tc_dot(A(83, k), FWD(82, 0), REV(81, k), k + 1);
+            tc_dot(w, A(82, k), FWD(79, 0), REV(59, k), k + 1);
+            tc_dot(w, A(83, k), FWD(82, 0), REV(81, k), k + 1);
             mpfr_sub(A(84, k), A(78, k), A(80, k), MPFR_RNDN);
             mpfr_sub(A(85, k), A(84, k), A(83, k), MPFR_RNDN);
             mpfr_mul(A(86, k), A(85, k), A(71, 0), MPFR_RNDN);
-            tc_dot(A(87, k), FWD(86, 0), REV(29, k), k + 1);
-            tc_dot(A(88, k), FWD(87, 0), REV(1, k), k + 1);
-            tc_dot(A(89, k), FWD(86, 0), REV(33, k), k + 1);
-            tc_dot(A(90, k), FWD(89, 0), REV(2, k), k + 1);
-            tc_dot(A(91, k), FWD(43, 0), REV(19, k), k + 1);
+            tc_dot(w, A(87, k), FWD(86, 0), REV(29, k), k + 1);
+            tc_dot(w, A(88, k), FWD(87, 0), REV(1, k), k + 1);
+            tc_dot(w, A(89, k), FWD(86, 0), REV(33, k), k + 1);
+            tc_dot(w, A(90, k), FWD(89, 0), REV(2, k), k + 1);
+            tc_dot(w, A(91, k), FWD(43, 0), REV(19, k), k + 1);
             mpfr_mul(A(93, k), A(91, k), A(92, 0), MPFR_RNDN);
             mpfr_sub(A(94, k), A(28, k), A(93, k), MPFR_RNDN);
-            tc_dot(A(95, k), FWD(53, 0), REV(94, k), k + 1);
+            tc_dot(w, A(95, k), FWD(53, 0), REV(94, k), k + 1);
             mpfr_mul(A(96, k), A(54, k), A(27, 0), MPFR_RNDN);
-            tc_dot(A(97, k), FWD(96, 0), REV(65, k), k + 1);
-            tc_dot(A(98, k), FWD(81, 0), REV(96, k), k + 1);
-            tc_dot(A(99, k), FWD(98, 0), REV(5, k), k + 1);
+            tc_dot(w, A(97, k), FWD(96, 0), REV(65, k), k + 1);
+            tc_dot(w, A(98, k), FWD(81, 0), REV(96, k), k + 1);
+            tc_dot(w, A(99, k), FWD(98, 0), REV(5, k), k + 1);
             mpfr_sub(A(100, k), A(95, k), A(97, k), MPFR_RNDN);
             mpfr_sub(A(101, k), A(100, k), A(99, k), MPFR_RNDN);
             mpfr_mul(A(102, k), A(101, k), A(71, 0), MPFR_RNDN);
-            tc_dot(A(103, k), FWD(102, 0), REV(29, k), k + 1);
-            tc_dot(A(104, k), FWD(103, 0), REV(0, k), k + 1);
-            tc_dot(A(105, k), FWD(19, 0), REV(4, k), k + 1);
-            tc_dot(w->s, FWD(105, 1), REV(107, k - 1), k);
+            tc_dot(w, A(103, k), FWD(102, 0), REV(29, k), k + 1);
+            tc_dot(w, A(104, k), FWD(103, 0), REV(0, k), k + 1);
+            tc_dot(w, A(105, k), FWD(19, 0), REV(4, k), k + 1);
+            tc_dot(w, w->s, FWD(105, 1), REV(107, k - 1), k);
             mpfr_neg(w->s, w->s, MPFR_RNDN);
             mpfr_div(A(107, k), w->s, A(105, 0), MPFR_RNDN);
             mpfr_mul(A(108, k), A(4, k), A(11, 0), MPFR_RNDN);
             mpfr_sub(A(109, k), A(107, k), A(108, k), MPFR_RNDN);
-            tc_dot(A(110, k), FWD(109, 0), REV(33, k), k + 1);
+            tc_dot(w, A(110, k), FWD(109, 0), REV(33, k), k + 1);
             mpfr_mul(A(111, k), A(110, k), A(14, 0), MPFR_RNDN);
             mpfr_add(A(112, k), A(30, k), A(88, k), MPFR_RNDN);
             mpfr_add(A(113, k), A(112, k), A(90, k), MPFR_RNDN);
@@ -454,22 +551,22 @@ static void taylor_coefficients(int order, ws_t *w)
             mpfr_sub(A(115, k), A(114, k), A(104, k), MPFR_RNDN);
             mpfr_sub(A(116, k), A(115, k), A(111, k), MPFR_RNDN);
             mpfr_mul(A(118, k), A(116, k), A(117, 0), MPFR_RNDN);
-            tc_dot(A(119, k), FWD(37, 0), REV(86, k), k + 1);
-            tc_dot(A(120, k), FWD(72, 0), REV(1, k), k + 1);
-            tc_dot(A(121, k), FWD(15, 0), REV(36, k), k + 1);
-            tc_dot(A(122, k), FWD(16, 0), REV(3, k), k + 1);
-            tc_dot(w->s, FWD(122, 1), REV(124, k - 1), k);
+            tc_dot(w, A(119, k), FWD(37, 0), REV(86, k), k + 1);
+            tc_dot(w, A(120, k), FWD(72, 0), REV(1, k), k + 1);
+            tc_dot(w, A(121, k), FWD(15, 0), REV(36, k), k + 1);
+            tc_dot(w, A(122, k), FWD(16, 0), REV(3, k), k + 1);
+            tc_dot(w, w->s, FWD(122, 1), REV(124, k - 1), k);
             mpfr_neg(w->s, w->s, MPFR_RNDN);
             mpfr_div(A(124, k), w->s, A(122, 0), MPFR_RNDN);
             mpfr_mul(A(125, k), A(3, k), A(11, 0), MPFR_RNDN);
             mpfr_sub(A(126, k), A(124, k), A(125, k), MPFR_RNDN);
-            tc_dot(A(127, k), FWD(126, 0), REV(33, k), k + 1);
+            tc_dot(w, A(127, k), FWD(126, 0), REV(33, k), k + 1);
             mpfr_mul(A(128, k), A(127, k), A(14, 0), MPFR_RNDN);
-            tc_dot(A(129, k), FWD(36, 0), REV(101, k), k + 1);
-            tc_dot(A(130, k), FWD(129, 0), REV(0, k), k + 1);
+            tc_dot(w, A(129, k), FWD(36, 0), REV(101, k), k + 1);
+            tc_dot(w, A(130, k), FWD(129, 0), REV(0, k), k + 1);
             mpfr_mul(A(131, k), A(130, k), A(71, 0), MPFR_RNDN);
-            tc_dot(A(132, k), FWD(33, 0), REV(101, k), k + 1);
-            tc_dot(A(133, k), FWD(132, 0), REV(2, k), k + 1);
+            tc_dot(w, A(132, k), FWD(33, 0), REV(101, k), k + 1);
+            tc_dot(w, A(133, k), FWD(132, 0), REV(2, k), k + 1);
             mpfr_mul(A(134, k), A(133, k), A(71, 0), MPFR_RNDN);
             mpfr_add(A(135, k), A(128, k), A(131, k), MPFR_RNDN);
             mpfr_add(A(136, k), A(135, k), A(134, k), MPFR_RNDN);
@@ -477,18 +574,18 @@ static void taylor_coefficients(int order, ws_t *w)
             mpfr_sub(A(138, k), A(137, k), A(120, k), MPFR_RNDN);
             mpfr_sub(A(139, k), A(138, k), A(121, k), MPFR_RNDN);
             mpfr_mul(A(140, k), A(139, k), A(117, 0), MPFR_RNDN);
-            tc_dot(A(141, k), FWD(109, 0), REV(36, k), k + 1);
+            tc_dot(w, A(141, k), FWD(109, 0), REV(36, k), k + 1);
             mpfr_mul(A(142, k), A(141, k), A(14, 0), MPFR_RNDN);
-            tc_dot(A(143, k), FWD(86, 0), REV(36, k), k + 1);
-            tc_dot(A(144, k), FWD(143, 0), REV(2, k), k + 1);
-            tc_dot(A(145, k), FWD(103, 0), REV(2, k), k + 1);
-            tc_dot(A(146, k), FWD(126, 0), REV(29, k), k + 1);
+            tc_dot(w, A(143, k), FWD(86, 0), REV(36, k), k + 1);
+            tc_dot(w, A(144, k), FWD(143, 0), REV(2, k), k + 1);
+            tc_dot(w, A(145, k), FWD(103, 0), REV(2, k), k + 1);
+            tc_dot(w, A(146, k), FWD(126, 0), REV(29, k), k + 1);
             mpfr_mul(A(147, k), A(146, k), A(14, 0), MPFR_RNDN);
-            tc_dot(A(148, k), FWD(36, 0), REV(69, k), k + 1);
-            tc_dot(A(149, k), FWD(148, 0), REV(0, k), k + 1);
+            tc_dot(w, A(148, k), FWD(36, 0), REV(69, k), k + 1);
+            tc_dot(w, A(149, k), FWD(148, 0), REV(0, k), k + 1);
             mpfr_mul(A(150, k), A(149, k), A(71, 0), MPFR_RNDN);
-            tc_dot(A(151, k), FWD(29, 0), REV(69, k), k + 1);
-            tc_dot(A(152, k), FWD(151, 0), REV(1, k), k + 1);
+            tc_dot(w, A(151, k), FWD(29, 0), REV(69, k), k + 1);
+            tc_dot(w, A(152, k), FWD(151, 0), REV(1, k), k + 1);
             mpfr_mul(A(153, k), A(152, k), A(71, 0), MPFR_RNDN);
             mpfr_add(A(154, k), A(142, k), A(150, k), MPFR_RNDN);
             mpfr_add(A(155, k), A(154, k), A(153, k), MPFR_RNDN);

@@ -11,9 +11,9 @@ parameters: I1, I2, I3, D, K1, K2, K3
  * of the Taylor program of taylor.c and of the Python module (*_taylor.py), written as
  * in-place MPFR calls at the run's precision (round to nearest):
  *
- *   convolutions      mpfr_dot (MPFR >= 4.1, correctly rounded sum of exact products) on
- *                     arrays of pointers to the coefficients, one forward and one reversed
- *                     per node, so sum_j a_j b_(k-j) is one call;
+ *   convolutions      tc_dot: exact products of the significands (mpn_mul) summed in fixed
+ *                     point, rounded once, on arrays of pointers to the coefficients, one
+ *                     forward and one reversed per node, so sum_j a_j b_(k-j) is one call;
  *   divisions by k    mpfr_div_ui.
  *
  * Numbers cross the interface exactly, as text: inputs are tokens separated by blanks in any
@@ -75,6 +75,8 @@ typedef struct {
     mpfr_t Y[CHAPLYGIN_TAYLOR_N_STATE];
     mpfr_t P[CHAPLYGIN_TAYLOR_N_PARAM + 1];
     mpfr_t c[CHAPLYGIN_TAYLOR_N_CONST_TMP + 1];  /* temporaries of the constants */
+    mp_size_t window;                            /* limbs of the dot accumulators, + 1 */
+    mp_limb_t *acc, *prod, *shifted;             /* 2 window, 2 limbs(prec), + 1 */
 } ws_t;
 
 #define A(i, k) (w->X[(size_t)(i) * w->S + (k)])
@@ -90,6 +92,7 @@ static void ws_clear(ws_t *w)
     free(w->X);
     free(w->fwd);
     free(w->rev);
+    free(w->acc);
     mpfr_clears(w->T0, w->s, w->t, w->e, (mpfr_ptr)0);
     for (int i = 0; i < CHAPLYGIN_TAYLOR_N_STATE; ++i) mpfr_clear(w->Y[i]);
     for (int i = 0; i <= CHAPLYGIN_TAYLOR_N_PARAM; ++i) mpfr_clear(w->P[i]);
@@ -125,10 +128,17 @@ static int ws_init(ws_t *w, mpfr_prec_t prec, int max_order, int taper)
     for (int i = 0; i < CHAPLYGIN_TAYLOR_N_STATE; ++i) mpfr_init2(w->Y[i], prec);
     for (int i = 0; i <= CHAPLYGIN_TAYLOR_N_PARAM; ++i) mpfr_init2(w->P[i], prec);
     for (int i = 0; i <= CHAPLYGIN_TAYLOR_N_CONST_TMP; ++i) mpfr_init2(w->c[i], prec);
+    /* the dot accumulators: limbs(prec) + 1 fraction limbs below the largest product's
+     * exponent (64 bits past the working precision) and one limb for the carries */
+    const mp_size_t nl = (mp_size_t)((prec + GMP_NUMB_BITS - 1) / GMP_NUMB_BITS);
+    w->window = nl + 2;
+    w->acc = malloc(sizeof(mp_limb_t) * (size_t)(2 * w->window + 2 * nl + 2 * nl + 1));
+    w->prod = w->acc == NULL ? NULL : w->acc + 2 * w->window;
+    w->shifted = w->prod == NULL ? NULL : w->prod + 2 * nl;
     w->X = malloc(sizeof(mpfr_t) * n);
     w->fwd = malloc(sizeof(mpfr_ptr) * n);
     w->rev = malloc(sizeof(mpfr_ptr) * n);
-    if (w->X == NULL || w->fwd == NULL || w->rev == NULL) {
+    if (w->X == NULL || w->fwd == NULL || w->rev == NULL || w->acc == NULL) {
         free(w->X);
         w->X = NULL;
         ws_clear(w);
@@ -147,11 +157,98 @@ static int ws_init(ws_t *w, mpfr_prec_t prec, int max_order, int taper)
 }
 
 /* ------------------------------------------------------------------ recurrences */
-/* rop = sum_{j<n} a[j] b[j], correctly rounded (0 for n = 0) */
-static inline void tc_dot(mpfr_ptr rop, mpfr_ptr *a, mpfr_ptr *b, unsigned long n)
+/* acc (window limbs) += p (np limbs) 2^pos, the bits below 2^0 dropped (pos < 0) */
+static void acc_add(ws_t *w, mp_limb_t *acc, const mp_limb_t *p, mp_size_t np, long pos)
 {
-    if (n == 0) mpfr_set_zero(rop, 1);
-    else mpfr_dot(rop, a, b, n, MPFR_RNDN);
+    const mp_size_t W = w->window;
+    mp_limb_t *tmp = w->shifted;
+    if (pos >= 0) {
+        const mp_size_t off = pos / GMP_NUMB_BITS;
+        const unsigned sh = (unsigned)(pos % GMP_NUMB_BITS);
+        if (off >= W) return; /* cannot happen: products are below the largest */
+        if (sh) tmp[np] = mpn_lshift(tmp, p, np, sh);
+        else {
+            memcpy(tmp, p, sizeof(mp_limb_t) * (size_t)np);
+            tmp[np] = 0;
+        }
+        mp_size_t len = np + 1;
+        if (off + len > W) len = W - off; /* the limbs past the window are zero */
+        mp_limb_t cy = mpn_add_n(acc + off, acc + off, tmp, len);
+        if (cy && off + len < W) mpn_add_1(acc + off + len, acc + off + len, W - off - len, cy);
+    } else {
+        const long r = -pos;
+        const mp_size_t drop = r / GMP_NUMB_BITS;
+        const unsigned sh = (unsigned)(r % GMP_NUMB_BITS);
+        if (drop >= np) return;
+        mp_size_t m = np - drop;
+        if (sh) mpn_rshift(tmp, p + drop, m, sh);
+        else memcpy(tmp, p + drop, sizeof(mp_limb_t) * (size_t)m);
+        if (m > W) m = W; /* the limbs past the window are zero */
+        mp_limb_t cy = mpn_add_n(acc, acc, tmp, m);
+        if (cy && m < W) mpn_add_1(acc + m, acc + m, W - m, cy);
+    }
+}
+
+/* rop = sum_{j<n} a[j] b[j] (0 for n = 0). The products are formed exactly on the limbs
+ * (mpn_mul) and added in fixed point, positive and negative apart, on a window of
+ * limbs(prec) + 1 limbs below the largest product's exponent 2^E; bits below the window are
+ * dropped, so the sum is exact to n 2^(E - 64 (limbs(prec) + 1)) -- at least 64 bits below
+ * the working precision relative to the largest term -- and then rounded once to rop.
+ * (mpfr_dot is correctly rounded but costs about twice as much: it is the fallback for NaN
+ * and infinite terms.) */
+static void tc_dot(ws_t *w, mpfr_ptr rop, mpfr_ptr *a, mpfr_ptr *b, unsigned long n)
+{
+    mpfr_exp_t emax = 0;
+    int any = 0;
+    for (unsigned long j = 0; j < n; ++j) {
+        if (mpfr_zero_p(a[j]) || mpfr_zero_p(b[j])) continue;
+        if (!mpfr_regular_p(a[j]) || !mpfr_regular_p(b[j])) {
+            mpfr_dot(rop, a, b, n, MPFR_RNDN);
+            return;
+        }
+        mpfr_exp_t e = mpfr_get_exp(a[j]) + mpfr_get_exp(b[j]);
+        if (!any || e > emax) emax = e;
+        any = 1;
+    }
+    if (!any) {
+        mpfr_set_zero(rop, 1);
+        return;
+    }
+    const mp_size_t W = w->window;
+    mp_limb_t *pos = w->acc, *neg = w->acc + W;
+    memset(w->acc, 0, sizeof(mp_limb_t) * (size_t)(2 * W));
+    /* accumulator unit: 2^(emax - 64 (W - 1)); a product of na + nb limbs is
+     * P 2^(ea + eb - 64 (na + nb)) */
+    for (unsigned long j = 0; j < n; ++j) {
+        if (mpfr_zero_p(a[j]) || mpfr_zero_p(b[j])) continue;
+        mpfr_srcptr x = a[j], y = b[j];
+        mp_size_t nx = (mp_size_t)((mpfr_get_prec(x) + GMP_NUMB_BITS - 1) / GMP_NUMB_BITS);
+        mp_size_t ny = (mp_size_t)((mpfr_get_prec(y) + GMP_NUMB_BITS - 1) / GMP_NUMB_BITS);
+        if (nx < ny) {
+            mpfr_srcptr tz = x;
+            x = y;
+            y = tz;
+            mp_size_t tn = nx;
+            nx = ny;
+            ny = tn;
+        }
+        mpn_mul(w->prod, (const mp_limb_t *)mpfr_custom_get_significand(x), nx,
+                (const mp_limb_t *)mpfr_custom_get_significand(y), ny);
+        const long e = (long)(mpfr_get_exp(x) + mpfr_get_exp(y));
+        const long shift = e - (long)GMP_NUMB_BITS * (long)(nx + ny) - (long)emax
+                           + (long)GMP_NUMB_BITS * (long)(W - 1);
+        const int negative = (mpfr_signbit(x) != 0) != (mpfr_signbit(y) != 0);
+        acc_add(w, negative ? neg : pos, w->prod, nx + ny, shift);
+    }
+    int sign = 1;
+    if (mpn_cmp(pos, neg, W) >= 0) mpn_sub_n(pos, pos, neg, W);
+    else {
+        mpn_sub_n(pos, neg, pos, W);
+        sign = -1;
+    }
+    mpz_t z;
+    mpz_roinit_n(z, pos, sign * W);
+    mpfr_set_z_2exp(rop, z, emax - (mpfr_exp_t)GMP_NUMB_BITS * (W - 1), MPFR_RNDN);
 }
 
 /* c = a^(p/q): c_k = sum_{j<k} (p (k-j) - q j) a_{k-j} c_j / (q k a_0) */
@@ -247,15 +344,15 @@ static void taylor_coefficients(int order, ws_t *w)
     for (int k = 0; k < order; ++k) {
         if (k > 0) {
             mpfr_set(A(8, k), A(1, k), MPFR_RNDN);
-            tc_dot(A(9, k), FWD(3, 0), REV(3, k), (k + 1) / 2);
+            tc_dot(w, A(9, k), FWD(3, 0), REV(3, k), (k + 1) / 2);
             mpfr_mul_2ui(A(9, k), A(9, k), 1, MPFR_RNDN);
             if (k % 2 == 0) { mpfr_sqr(w->t, A(3, k / 2), MPFR_RNDN); mpfr_add(A(9, k), A(9, k), w->t, MPFR_RNDN); }
             mpfr_mul(A(11, k), A(9, k), A(10, 0), MPFR_RNDN);
-            tc_dot(A(12, k), FWD(4, 0), REV(4, k), (k + 1) / 2);
+            tc_dot(w, A(12, k), FWD(4, 0), REV(4, k), (k + 1) / 2);
             mpfr_mul_2ui(A(12, k), A(12, k), 1, MPFR_RNDN);
             if (k % 2 == 0) { mpfr_sqr(w->t, A(4, k / 2), MPFR_RNDN); mpfr_add(A(12, k), A(12, k), w->t, MPFR_RNDN); }
             mpfr_mul(A(14, k), A(12, k), A(13, 0), MPFR_RNDN);
-            tc_dot(A(15, k), FWD(5, 0), REV(5, k), (k + 1) / 2);
+            tc_dot(w, A(15, k), FWD(5, 0), REV(5, k), (k + 1) / 2);
             mpfr_mul_2ui(A(15, k), A(15, k), 1, MPFR_RNDN);
             if (k % 2 == 0) { mpfr_sqr(w->t, A(5, k / 2), MPFR_RNDN); mpfr_add(A(15, k), A(15, k), w->t, MPFR_RNDN); }
             mpfr_mul(A(17, k), A(15, k), A(16, 0), MPFR_RNDN);
@@ -263,45 +360,45 @@ static void taylor_coefficients(int order, ws_t *w)
             mpfr_sub(A(19, k), A(18, k), A(14, k), MPFR_RNDN);
             mpfr_sub(A(20, k), A(19, k), A(17, k), MPFR_RNDN);
             mpfr_set(A(22, k), A(20, k), MPFR_RNDN);
-            tc_dot(A(23, k), FWD(0, 0), REV(3, k), k + 1);
+            tc_dot(w, A(23, k), FWD(0, 0), REV(3, k), k + 1);
             mpfr_mul(A(24, k), A(23, k), A(10, 0), MPFR_RNDN);
-            tc_dot(A(25, k), FWD(1, 0), REV(4, k), k + 1);
+            tc_dot(w, A(25, k), FWD(1, 0), REV(4, k), k + 1);
             mpfr_mul(A(26, k), A(25, k), A(13, 0), MPFR_RNDN);
-            tc_dot(A(27, k), FWD(2, 0), REV(5, k), k + 1);
+            tc_dot(w, A(27, k), FWD(2, 0), REV(5, k), k + 1);
             mpfr_mul(A(28, k), A(27, k), A(16, 0), MPFR_RNDN);
             mpfr_add(A(29, k), A(24, k), A(26, k), MPFR_RNDN);
             mpfr_add(A(30, k), A(29, k), A(28, k), MPFR_RNDN);
-            tc_dot(w->s, FWD(22, 1), REV(31, k - 1), k);
+            tc_dot(w, w->s, FWD(22, 1), REV(31, k - 1), k);
             mpfr_sub(w->s, A(30, k), w->s, MPFR_RNDN);
             mpfr_div(A(31, k), w->s, A(22, 0), MPFR_RNDN);
-            tc_dot(A(32, k), FWD(31, 0), REV(5, k), k + 1);
+            tc_dot(w, A(32, k), FWD(31, 0), REV(5, k), k + 1);
             mpfr_add(A(33, k), A(2, k), A(32, k), MPFR_RNDN);
             mpfr_mul(A(34, k), A(33, k), A(16, 0), MPFR_RNDN);
-            tc_dot(A(35, k), FWD(8, 0), REV(34, k), k + 1);
+            tc_dot(w, A(35, k), FWD(8, 0), REV(34, k), k + 1);
             mpfr_set(A(37, k), A(2, k), MPFR_RNDN);
-            tc_dot(A(38, k), FWD(31, 0), REV(4, k), k + 1);
+            tc_dot(w, A(38, k), FWD(31, 0), REV(4, k), k + 1);
             mpfr_add(A(39, k), A(1, k), A(38, k), MPFR_RNDN);
             mpfr_mul(A(40, k), A(39, k), A(13, 0), MPFR_RNDN);
-            tc_dot(A(41, k), FWD(37, 0), REV(40, k), k + 1);
+            tc_dot(w, A(41, k), FWD(37, 0), REV(40, k), k + 1);
             mpfr_sub(A(42, k), A(35, k), A(41, k), MPFR_RNDN);
-            tc_dot(A(43, k), FWD(31, 0), REV(3, k), k + 1);
+            tc_dot(w, A(43, k), FWD(31, 0), REV(3, k), k + 1);
             mpfr_add(A(44, k), A(0, k), A(43, k), MPFR_RNDN);
             mpfr_mul(A(45, k), A(44, k), A(10, 0), MPFR_RNDN);
-            tc_dot(A(46, k), FWD(37, 0), REV(45, k), k + 1);
+            tc_dot(w, A(46, k), FWD(37, 0), REV(45, k), k + 1);
             mpfr_set(A(48, k), A(0, k), MPFR_RNDN);
-            tc_dot(A(49, k), FWD(48, 0), REV(34, k), k + 1);
+            tc_dot(w, A(49, k), FWD(48, 0), REV(34, k), k + 1);
             mpfr_sub(A(50, k), A(46, k), A(49, k), MPFR_RNDN);
-            tc_dot(A(51, k), FWD(48, 0), REV(40, k), k + 1);
-            tc_dot(A(52, k), FWD(8, 0), REV(45, k), k + 1);
+            tc_dot(w, A(51, k), FWD(48, 0), REV(40, k), k + 1);
+            tc_dot(w, A(52, k), FWD(8, 0), REV(45, k), k + 1);
             mpfr_sub(A(53, k), A(51, k), A(52, k), MPFR_RNDN);
-            tc_dot(A(54, k), FWD(4, 0), REV(34, k), k + 1);
-            tc_dot(A(55, k), FWD(5, 0), REV(40, k), k + 1);
+            tc_dot(w, A(54, k), FWD(4, 0), REV(34, k), k + 1);
+            tc_dot(w, A(55, k), FWD(5, 0), REV(40, k), k + 1);
             mpfr_sub(A(56, k), A(54, k), A(55, k), MPFR_RNDN);
-            tc_dot(A(57, k), FWD(5, 0), REV(45, k), k + 1);
-            tc_dot(A(58, k), FWD(3, 0), REV(34, k), k + 1);
+            tc_dot(w, A(57, k), FWD(5, 0), REV(45, k), k + 1);
+            tc_dot(w, A(58, k), FWD(3, 0), REV(34, k), k + 1);
             mpfr_sub(A(59, k), A(57, k), A(58, k), MPFR_RNDN);
-            tc_dot(A(60, k), FWD(3, 0), REV(40, k), k + 1);
-            tc_dot(A(61, k), FWD(4, 0), REV(45, k), k + 1);
+            tc_dot(w, A(60, k), FWD(3, 0), REV(40, k), k + 1);
+            tc_dot(w, A(61, k), FWD(4, 0), REV(45, k), k + 1);
             mpfr_sub(A(62, k), A(60, k), A(61, k), MPFR_RNDN);
         }
         mpfr_div_ui(A(0, k + 1), A(42, k), (unsigned long)(k + 1), MPFR_RNDN);

@@ -925,12 +925,12 @@ def _mpfr_lines(
             body.append(f"mpfr_mul({xk}, A({ar[0]}, k), A({ar[1]}, 0), {rn});")
         elif op == "mul":
             zero.append(f"mpfr_mul({x0}, A({ar[0]}, 0), A({ar[1]}, 0), {rn});")
-            body.append(f"tc_dot({xk}, FWD({ar[0]}, 0), REV({ar[1]}, k), k + 1);")
+            body.append(f"tc_dot(w, {xk}, FWD({ar[0]}, 0), REV({ar[1]}, k), k + 1);")
         elif op == "sq":
             a = ar[0]
             zero.append(f"mpfr_sqr({x0}, A({a}, 0), {rn});")
             # 2 sum_{j < (k+1)/2} a_j a_(k-j) (+ a_(k/2)^2 for even k)
-            body.append(f"tc_dot({xk}, FWD({a}, 0), REV({a}, k), (k + 1) / 2);")
+            body.append(f"tc_dot(w, {xk}, FWD({a}, 0), REV({a}, k), (k + 1) / 2);")
             body.append(f"mpfr_mul_2ui({xk}, {xk}, 1, {rn});")
             body.append(
                 f"if (k % 2 == 0) {{ mpfr_sqr(w->t, A({a}, k / 2), {rn}); "
@@ -938,7 +938,7 @@ def _mpfr_lines(
             )
         elif op in ("div", "cdiv"):
             zero.append(f"mpfr_div({x0}, A({ar[0]}, 0), A({ar[1]}, 0), {rn});")
-            body.append(f"tc_dot(w->s, FWD({ar[1]}, 1), REV({i}, k - 1), k);")
+            body.append(f"tc_dot(w, w->s, FWD({ar[1]}, 1), REV({i}, k - 1), k);")
             if op == "div":
                 body.append(f"mpfr_sub(w->s, A({ar[0]}, k), w->s, {rn});")
             else:
@@ -946,7 +946,7 @@ def _mpfr_lines(
             body.append(f"mpfr_div({xk}, w->s, A({ar[1]}, 0), {rn});")
         elif op == "sqrt":
             zero.append(f"mpfr_sqrt({x0}, A({ar[0]}, 0), {rn});")
-            body.append(f"tc_dot(w->s, FWD({i}, 1), REV({i}, k - 1), k - 1);")
+            body.append(f"tc_dot(w, w->s, FWD({i}, 1), REV({i}, k - 1), k - 1);")
             body.append(f"mpfr_sub(w->s, A({ar[0]}, k), w->s, {rn});")
             body.append(f"mpfr_div({xk}, w->s, A({i}, 0), {rn});")
             body.append(f"mpfr_div_2ui({xk}, {xk}, 1, {rn});")
@@ -968,7 +968,7 @@ def _mpfr_lines(
             if op != "cos":
                 body.append(f"mpfr_mul_ui(A({d}, k), A({ar[0]}, k), (unsigned long)k, {rn});")
             partner = i if op == "exp" else ar[1]
-            body.append(f"tc_dot(w->s, FWD({d}, 1), REV({partner}, k - 1), k);")
+            body.append(f"tc_dot(w, w->s, FWD({d}, 1), REV({partner}, k - 1), k);")
             if op == "cos":
                 body.append(f"mpfr_neg(w->s, w->s, {rn});")
             body.append(f"mpfr_div_ui({xk}, w->s, (unsigned long)k, {rn});")
