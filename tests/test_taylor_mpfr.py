@@ -22,15 +22,13 @@ from chaplygin.numerics.compiled import CompilerUnavailableWarning
 from chaplygin.numerics.inputs import Precision, pack_state
 from chaplygin.numerics.taylor import (
     CompiledTaylorMPFR,
-    _from_mpf,
     _mpfr_text,
     _parse_mpfr,
-    _to_mpf,
     digits_real_type,
     load_taylor_mpfr_library,
-    python_lib,
     taylor_solve,
 )
+from test_taylor_multi_double import _coefficient_error  # the same comparison as there
 
 # non-dyadic decimals (more digits than a double or quad-double holds)
 STATE = {
@@ -73,32 +71,6 @@ def test_more_than_60_digits_run_in_mpfr():
     assert ran == ["c-qd", "c-mpfr", "c-mpfr"]
     forced = integrate("chaplygin_ball", STATE, 0.5, PARAMS, precision=80, backend="numpy")
     assert forced.backend == "python-gmpy2"
-
-
-def _coefficient_error(code, lib, t0, y, p, order, digits):
-    """Largest |c - c_ref| / max_i |c_ref[i][k]| over the state coefficients: ``lib``'s at
-    ``digits``, the reference by the Python recurrences in MPFR at ``digits + 30``."""
-    with mpmath.workdps(digits + 30):
-        with gmpy2.context(gmpy2.get_context(), precision=mpmath.mp.prec):
-            ref = code.taylor.taylor_coefficients(
-                _from_mpf(t0, "gmpy2"),
-                [_from_mpf(v, "gmpy2") for v in y],
-                [_from_mpf(v, "gmpy2") for v in p],
-                order,
-                python_lib("gmpy2"),
-            )
-            ref = [[_to_mpf(c) for c in row] for row in ref]
-    with mpmath.workdps(digits):
-        got = lib.coefficients(order, t0, y, p)
-    worst = mpmath.mpf(0)
-    with mpmath.workdps(digits + 30):
-        for k in range(order + 1):
-            scale = max(abs(row[k]) for row in ref)
-            if scale == 0:
-                continue
-            for g, r in zip(got, ref, strict=True):
-                worst = max(worst, abs(g[k] - r[k]) / scale)
-    return worst
 
 
 def _generic_inputs(code, digits):
@@ -287,3 +259,19 @@ def test_without_a_compiler_digits_fall_back_to_python_mpfr(tmp_path, monkeypatc
         r = integrate("chaplygin_ball", STATE, 0.5, PARAMS, precision=80)
     assert r.backend == "python-gmpy2" and r.success
     assert list(r.y[:, -1]) == list(expected.y[:, -1])
+
+
+@pytest.mark.parametrize("spread", [10, 60, 300])
+def test_coefficients_of_far_apart_magnitudes(spread):
+    """State components 10^(+-spread) apart (the terms of one convolution span up to
+    2 spread decades: products below the fixed-point window of the sums, products at its
+    top): against the Python recurrences in MPFR at 30 more digits, relative to the largest
+    state coefficient of the same order."""
+    code = load_model_code("chaplygin_ball")
+    lib = load_taylor_mpfr_library(code)
+    digits, order = 90, 24
+    t0, y, p = _generic_inputs(code, digits)
+    with mpmath.workdps(digits):
+        y = [v * mpmath.mpf(10) ** (spread * (-1) ** i) for i, v in enumerate(y)]
+    err = _coefficient_error(code, lib, t0, y, p, order, digits)
+    assert err < 2**10 * 2.0 ** -Precision(digits).prec, err
