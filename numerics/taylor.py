@@ -23,9 +23,11 @@ Backends
   60 digits (203 bits) in quad-double (``-DCHAPLYGIN_TAYLOR_QD``, four doubles); the
   working numbers are split exactly into their limbs and the results rounded once back to
   the working precision;
-* more digits -- the Python recurrences with ``gmpy2`` (MPFR) numbers at the working
-  precision of ``mpmath.mp`` (``mpmath`` numbers when ``lib="mpmath"``, or ``"gmpy2"``
-  forced at any digits).
+* more digits -- C on MPFR (``generated/*_taylor_mpfr.c``, linked to gmpy2's own MPFR;
+  backend ``c-mpfr``) at the working precision of ``mpmath.mp``, numbers crossing as exact
+  base-16 text; its order and step are those of the Python stepper to the bit; events at
+  these digits, ``lib="gmpy2"`` and a missing compiler or MPFR: the Python recurrences with
+  ``gmpy2`` (MPFR) numbers (``mpmath`` numbers when ``lib="mpmath"``).
 
 Without a C compiler double and quad fall back to the Python recurrences (floats, or MPFR at
 113 bits) with a :class:`~chaplygin.numerics.compiled.CompilerUnavailableWarning`.
@@ -1218,8 +1220,8 @@ def taylor_solve(
         Fixed order and/or fixed step (for convergence studies); default adaptive.
     lib : {"c", "gmpy2", "mpmath", "float"}, optional
         Force a backend (default: C for double and quad, and for digits up to
-        :data:`DD_BITS` bits in double-double, up to :data:`QD_BITS` in quad-double; gmpy2
-        for more digits).
+        :data:`DD_BITS` bits in double-double, up to :data:`QD_BITS` in quad-double, on
+        MPFR for more digits -- gmpy2 in Python when events are asked for there).
     max_wall_s : float, optional
         Wall-time limit (status -6 past it), checked between steps of the Python loop and
         between calls of :data:`C_CHUNK_STEPS` steps of the compiled loop (which resume

@@ -275,3 +275,21 @@ def test_coefficients_of_far_apart_magnitudes(spread):
         y = [v * mpmath.mpf(10) ** (spread * (-1) ** i) for i, v in enumerate(y)]
     err = _coefficient_error(code, lib, t0, y, p, order, digits)
     assert err < 2**10 * 2.0 ** -Precision(digits).prec, err
+
+
+def test_fixed_order_and_step_match_the_python_stepper():
+    """A fixed order (30) and step (0.1; every coefficient at full precision): the compiled
+    MPFR loop and the Python recurrences take the same 30 steps (to T = 3) and agree to the
+    rounding of their sums."""
+    code = load_model_code("chaplygin_ball")
+    kw = {"order": 30, "step": mpmath.mpf(1) / 10}
+    with mpmath.workdps(75):
+        r = _run(code, 75, **kw)
+    assert r.backend == "c-mpfr" and r.nsteps == 30 and r.order_max == r.order_min == 30
+    with mpmath.workdps(75):
+        g = _run(code, 75, lib="gmpy2", **kw)
+    assert g.backend == "python-gmpy2" and g.nsteps == r.nsteps
+    with mpmath.workdps(75):
+        scale = max(1, max(abs(v) for v in g.y.ravel()))
+        same = max(abs(a - b) for a, b in zip(r.y.ravel(), g.y.ravel(), strict=True))
+        assert same < 2**10 * r.nsteps * 2.0 ** -Precision(75).prec * scale, same
