@@ -730,43 +730,116 @@ static void taylor_eval(ws_t *w, int p, mpfr_srcptr s, int i, mpfr_ptr out)
     }
 }
 
+/* Step control state: the scratch numbers of one step (at the run's precision) */
+typedef struct {
+    mpfr_t h, rem, xn, scale, nk, l1, l2, fixed_h;
+    int have_fixed_h;
+} step_t;
+
+static void step_init(step_t *c, mpfr_prec_t prec)
+{
+    mpfr_inits2(prec, c->h, c->rem, c->xn, c->scale, c->nk, c->l1, c->l2, c->fixed_h,
+                (mpfr_ptr)0);
+    c->have_fixed_h = 0;
+}
+
+static void step_clear(step_t *c)
+{
+    mpfr_clears(c->h, c->rem, c->xn, c->scale, c->nk, c->l1, c->l2, c->fixed_h, (mpfr_ptr)0);
+}
+
+/* One step from (t, w->Y) towards t_end, as _Stepper._py_step: the coefficients in w, the
+ * signed step in c->h, the new time in t_new, the order in *p_out. Returns 0, or -3 (step
+ * size underflow). */
+static int take_step(ws_t *w, step_t *c, mpfr_srcptr t, mpfr_srcptr t_end, double rtol,
+                     double atol, int fixed_order, mpfr_ptr t_new, int *p_out)
+{
+    const int n = CHAPLYGIN_TAYLOR_N_STATE;
+    mpfr_set_zero(c->xn, 1);
+    for (int i = 0; i < n; ++i)
+        if (mpfr_cmpabs(w->Y[i], c->xn) > 0) mpfr_abs(c->xn, w->Y[i], MPFR_RNDN);
+    const int absolute = rtol * mpfr_get_d(c->xn, MPFR_RNDN) <= atol;
+    if (absolute) mpfr_set_ui(c->scale, 1, MPFR_RNDN);
+    else mpfr_set(c->scale, c->xn, MPFR_RNDN);
+    const double eps = absolute ? atol : rtol;
+    const int p = fixed_order > 0 ? fixed_order : taylor_order(eps);
+    *p_out = p;
+    mpfr_set(w->T0, t, MPFR_RNDN);
+    taylor_coefficients(p, w);
+    mpfr_sub(c->rem, t_end, t, MPFR_RNDN);
+    if (c->have_fixed_h) {
+        mpfr_set(c->h, c->fixed_h, MPFR_RNDN);
+    } else {
+        double rho = INFINITY;
+        for (int k = p - 1; k <= p; ++k) {
+            state_norm(w, k, c->nk);
+            if (mpfr_sgn(c->nk) > 0) {
+                mpfr_log(c->l1, c->scale, MPFR_RNDN);
+                mpfr_log(c->l2, c->nk, MPFR_RNDN);
+                mpfr_sub(c->l1, c->l1, c->l2, MPFR_RNDN);
+                double r = exp(mpfr_get_d(c->l1, MPFR_RNDN) / k);
+                if (r < rho) rho = r;
+            }
+        }
+        double f = log(eps) / (p - 1);
+        if (f > -2.0) f = -2.0;
+        f -= 0.7 / (p - 1);
+        if (isinf(rho)) mpfr_abs(c->h, c->rem, MPFR_RNDN);
+        else mpfr_set_d(c->h, rho * exp(f), MPFR_RNDN);
+    }
+    const int last = mpfr_cmpabs(c->h, c->rem) >= 0;
+    if (last) mpfr_set(c->h, c->rem, MPFR_RNDN);
+    else if (mpfr_sgn(c->rem) < 0) mpfr_neg(c->h, c->h, MPFR_RNDN);
+    if (mpfr_zero_p(c->h)) return -3;
+    if (last) mpfr_set(t_new, t_end, MPFR_RNDN);
+    else mpfr_add(t_new, t, c->h, MPFR_RNDN);
+    return mpfr_equal_p(t_new, t) ? -3 : 0;
+}
+
+/* the largest order of a run: of the smaller tolerance, or the fixed one (0: out of range) */
+static int run_order(const double *CTRL, int fixed_order)
+{
+    const double rtol = CTRL[0], atol = CTRL[1];
+    const int p = fixed_order > 0 ? fixed_order : taylor_order(rtol < atol ? rtol : atol);
+    return p < 2 || p > CHAPLYGIN_TAYLOR_MAX_ORDER ? 0 : p;
+}
+
 /* Integrate from T01 = "t0 t1" at precision prec. CTRL = {rtol, atol}; FIXED_H a number
- * ("" for the adaptive step), fixed_order > 0 fixes the order. Output at the N_EVAL times
- * T_EVAL (sorted in the direction of integration, inside the span) into Y_EVAL (N_EVAL x
- * n_state slots of width chars), final state into Y_END (n_state slots), its time into
- * T_REACHED (a run stopped after MAX_STEPS steps resumes from them exactly).
- * STATS = {steps, maximum order, minimum order, outputs written}. Returns 0, -1 (not
- * finite), -2 (more than MAX_STEPS steps), -3 (step size underflow), -4 (no memory), -5 (a
- * malformed number). */
+ * ("" for the adaptive step), fixed_order > 0 fixes the order, taper != 0 lowers the
+ * precision of the high orders (coefficient_prec). Output at the N_EVAL times T_EVAL (sorted
+ * in the direction of integration, inside the span) into Y_EVAL (N_EVAL x n_state slots of
+ * width chars), final state into Y_END (n_state slots), its time into T_REACHED (a run
+ * stopped after MAX_STEPS steps resumes from them exactly). STATS = {steps, maximum order,
+ * minimum order, outputs written}. Returns 0, -1 (not finite), -2 (more than MAX_STEPS
+ * steps), -3 (step size underflow), -4 (no memory), -5 (a malformed number), -7 (order out
+ * of range). */
 int chaplygin_taylor_mpfr_run(long prec, const char *T01, const char *Y0, const char *P,
                               const double *CTRL, const char *FIXED_H, int fixed_order, int taper,
                               long n_eval, const char *T_EVAL, char *Y_EVAL, int width,
                               char *Y_END, char *T_REACHED, long max_steps, long *STATS)
 {
     const int n = CHAPLYGIN_TAYLOR_N_STATE;
-    const double rtol = CTRL[0], atol = CTRL[1];
-    /* the largest order of the run: of the smaller tolerance */
-    const int order_ws = fixed_order > 0 ? fixed_order : taylor_order(rtol < atol ? rtol : atol);
-    if (order_ws < 2 || order_ws > CHAPLYGIN_TAYLOR_MAX_ORDER) return -7;
+    const int order_ws = run_order(CTRL, fixed_order);
+    if (!order_ws) return -7;
     ws_t w_;
     ws_t *w = &w_;
     if (ws_init(w, (mpfr_prec_t)prec, order_ws, taper)) return -4;
-    mpfr_t t, t_end, h, rem, xn, scale, nk, l1, l2, fixed_h, te, ynew[CHAPLYGIN_TAYLOR_N_STATE];
-    mpfr_inits2((mpfr_prec_t)prec, t, t_end, h, rem, xn, scale, nk, l1, l2, fixed_h, te,
-                (mpfr_ptr)0);
+    step_t c;
+    step_init(&c, (mpfr_prec_t)prec);
+    mpfr_t t, t_end, t_new, s, te, ynew[CHAPLYGIN_TAYLOR_N_STATE];
+    mpfr_inits2((mpfr_prec_t)prec, t, t_end, t_new, s, te, (mpfr_ptr)0);
     for (int i = 0; i < n; ++i) mpfr_init2(ynew[i], (mpfr_prec_t)prec);
     int status = read_number(&T01, t);
     if (!status) status = read_number(&T01, t_end);
     if (!status) status = read_numbers(&Y0, w->Y, n);
     if (!status) status = read_numbers(&P, w->P, CHAPLYGIN_TAYLOR_N_PARAM);
-    int have_fixed_h = 0;
     if (!status && FIXED_H != NULL && FIXED_H[0] != '\0') {
-        status = read_number(&FIXED_H, fixed_h);
-        have_fixed_h = mpfr_sgn(fixed_h) > 0;
+        status = read_number(&FIXED_H, c.fixed_h);
+        c.have_fixed_h = mpfr_sgn(c.fixed_h) > 0;
     }
     const int dir = mpfr_cmp(t_end, t) < 0 ? -1 : 1;
     long steps = 0, j = 0;
-    int pmax = 0, pmin = CHAPLYGIN_TAYLOR_MAX_ORDER, pseen = 0;
+    int pmax = 0, pmin = CHAPLYGIN_TAYLOR_MAX_ORDER;
     const char *next_eval = T_EVAL;
     int have_te = 0;
     /* the next output time (read lazily, one token at a time) */
@@ -784,82 +857,117 @@ int chaplygin_taylor_mpfr_run(long prec, const char *T01, const char *Y0, const 
             status = -2;
             break;
         }
-        /* order and step: as _Stepper._py_step */
-        mpfr_set_zero(xn, 1);
-        for (int i = 0; i < n; ++i)
-            if (mpfr_cmpabs(w->Y[i], xn) > 0) mpfr_abs(xn, w->Y[i], MPFR_RNDN);
-        const int absolute = rtol * mpfr_get_d(xn, MPFR_RNDN) <= atol;
-        if (absolute) mpfr_set_ui(scale, 1, MPFR_RNDN);
-        else mpfr_set(scale, xn, MPFR_RNDN);
-        const double eps = absolute ? atol : rtol;
-        const int p = fixed_order > 0 ? fixed_order : taylor_order(eps);
-        mpfr_set(w->T0, t, MPFR_RNDN);
-        taylor_coefficients(p, w);
-        mpfr_sub(rem, t_end, t, MPFR_RNDN);
-        if (have_fixed_h) {
-            mpfr_set(h, fixed_h, MPFR_RNDN);
-        } else {
-            double rho = INFINITY;
-            for (int k = p - 1; k <= p; ++k) {
-                state_norm(w, k, nk);
-                if (mpfr_sgn(nk) > 0) {
-                    mpfr_log(l1, scale, MPFR_RNDN);
-                    mpfr_log(l2, nk, MPFR_RNDN);
-                    mpfr_sub(l1, l1, l2, MPFR_RNDN);
-                    double r = exp(mpfr_get_d(l1, MPFR_RNDN) / k);
-                    if (r < rho) rho = r;
-                }
-            }
-            double f = log(eps) / (p - 1);
-            if (f > -2.0) f = -2.0;
-            f -= 0.7 / (p - 1);
-            if (isinf(rho)) mpfr_abs(h, rem, MPFR_RNDN);
-            else mpfr_set_d(h, rho * exp(f), MPFR_RNDN);
-        }
-        int last = mpfr_cmpabs(h, rem) >= 0;
-        if (last) mpfr_set(h, rem, MPFR_RNDN);
-        else if (mpfr_sgn(rem) < 0) mpfr_neg(h, h, MPFR_RNDN);
-        if (mpfr_zero_p(h)) {
-            status = -3;
-            break;
-        }
+        int p;
+        status = take_step(w, &c, t, t_end, CTRL[0], CTRL[1], fixed_order, t_new, &p);
+        if (status) break;
         ++steps;
-        pseen = 1;
         if (p > pmax) pmax = p;
         if (p < pmin) pmin = p;
-        /* the new time (l1) and the outputs inside the step */
-        if (last) mpfr_set(l1, t_end, MPFR_RNDN);
-        else mpfr_add(l1, t, h, MPFR_RNDN);
-        if (mpfr_equal_p(l1, t)) {
-            status = -3;
-            break;
-        }
-        while (!status && have_te && dir * mpfr_cmp(te, l1) <= 0) {
-            mpfr_sub(l2, te, t, MPFR_RNDN);
+        while (!status && have_te && dir * mpfr_cmp(te, t_new) <= 0) { /* outputs inside */
+            mpfr_sub(s, te, t, MPFR_RNDN);
             for (int i = 0; i < n; ++i) {
-                taylor_eval(w, p, l2, i, nk);
-                write_number(Y_EVAL + (size_t)(j * n + i) * width, width, nk);
+                taylor_eval(w, p, s, i, ynew[i]);
+                write_number(Y_EVAL + (size_t)(j * n + i) * width, width, ynew[i]);
             }
             ++j;
             have_te = 0;
             if (NEXT_TE()) status = -5;
         }
         for (int i = 0; i < n; ++i) {
-            taylor_eval(w, p, h, i, ynew[i]);
+            taylor_eval(w, p, c.h, i, ynew[i]);
             if (!mpfr_number_p(ynew[i])) status = status ? status : -1;
         }
         for (int i = 0; i < n; ++i) mpfr_set(w->Y[i], ynew[i], MPFR_RNDN);
-        mpfr_set(t, l1, MPFR_RNDN);
+        mpfr_set(t, t_new, MPFR_RNDN);
     }
 #undef NEXT_TE
     for (int i = 0; i < n; ++i) write_number(Y_END + (size_t)i * width, width, w->Y[i]);
     write_number(T_REACHED, width, t);
     STATS[0] = steps;
-    STATS[1] = pseen ? pmax : 0;
-    STATS[2] = pseen ? pmin : 0;
+    STATS[1] = steps ? pmax : 0;
+    STATS[2] = steps ? pmin : 0;
     STATS[3] = j;
-    mpfr_clears(t, t_end, h, rem, xn, scale, nk, l1, l2, fixed_h, te, (mpfr_ptr)0);
+    mpfr_clears(t, t_end, t_new, s, te, (mpfr_ptr)0);
     for (int i = 0; i < n; ++i) mpfr_clear(ynew[i]);
+    step_clear(&c);
     ws_clear(w);
+    return status;
+}
+
+/* ------------------------------------------------------------------ one step at a time */
+/* A stepper (for event location outside C): its work space, allocated once, at precision
+ * prec for the orders of CTRL/fixed_order. NULL without memory or with an order out of
+ * range. */
+typedef struct {
+    ws_t w;
+    step_t c;
+    mpfr_t t, t_end, t_new;
+    mpfr_prec_t prec;
+} stepper_t;
+
+void *chaplygin_taylor_mpfr_stepper_new(long prec, const double *CTRL, int fixed_order,
+                                        int taper)
+{
+    const int order_ws = run_order(CTRL, fixed_order);
+    if (!order_ws) return NULL;
+    stepper_t *st = malloc(sizeof(stepper_t));
+    if (st == NULL) return NULL;
+    if (ws_init(&st->w, (mpfr_prec_t)prec, order_ws, taper)) {
+        free(st);
+        return NULL;
+    }
+    step_init(&st->c, (mpfr_prec_t)prec);
+    mpfr_inits2((mpfr_prec_t)prec, st->t, st->t_end, st->t_new, (mpfr_ptr)0);
+    st->prec = (mpfr_prec_t)prec;
+    return st;
+}
+
+void chaplygin_taylor_mpfr_stepper_free(void *ST)
+{
+    stepper_t *st = ST;
+    if (st == NULL) return;
+    mpfr_clears(st->t, st->t_end, st->t_new, (mpfr_ptr)0);
+    step_clear(&st->c);
+    ws_clear(&st->w);
+    free(st);
+}
+
+/* One step of the stepper from TY = "t y..." towards T_END, the parameters P, as one step of
+ * chaplygin_taylor_mpfr_run (CTRL, FIXED_H, fixed_order as there). TY_OUT receives the new
+ * time and state (n_state + 1 slots of width chars), COEFFS the step's state coefficients
+ * (n_state x (ORDER + 1) slots, row-major; room for the largest order of the stepper), H the
+ * step taken. Returns 0, -1 (not finite), -3 (step size underflow), -5 (a malformed number). */
+int chaplygin_taylor_mpfr_step(void *ST, const char *TY, const char *P, const double *CTRL,
+                               const char *FIXED_H, int fixed_order, const char *T_END,
+                               char *TY_OUT, char *COEFFS, char *H, int *ORDER, int width)
+{
+    stepper_t *st = ST;
+    ws_t *w = &st->w;
+    const int n = CHAPLYGIN_TAYLOR_N_STATE;
+    int status = read_number(&TY, st->t);
+    if (!status) status = read_numbers(&TY, w->Y, n);
+    if (!status) status = read_numbers(&P, w->P, CHAPLYGIN_TAYLOR_N_PARAM);
+    if (!status) status = read_number(&T_END, st->t_end);
+    st->c.have_fixed_h = 0;
+    if (!status && FIXED_H != NULL && FIXED_H[0] != '\0') {
+        status = read_number(&FIXED_H, st->c.fixed_h);
+        st->c.have_fixed_h = mpfr_sgn(st->c.fixed_h) > 0;
+    }
+    if (status) return status;
+    int p;
+    status = take_step(w, &st->c, st->t, st->t_end, CTRL[0], CTRL[1], fixed_order, st->t_new,
+                       &p);
+    *ORDER = p;
+    write_number(H, width, st->c.h);
+    if (status) return status;
+    for (int i = 0; i < n; ++i)
+        for (int k = 0; k <= p; ++k)
+            write_number(COEFFS + (size_t)(i * (p + 1) + k) * width, width, A(i, k));
+    write_number(TY_OUT, width, st->t_new);
+    for (int i = 0; i < n; ++i) {
+        taylor_eval(w, p, st->c.h, i, st->c.nk);
+        if (!mpfr_number_p(st->c.nk)) status = -1;
+        write_number(TY_OUT + (size_t)(i + 1) * width, width, st->c.nk);
+    }
     return status;
 }

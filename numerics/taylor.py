@@ -25,9 +25,10 @@ Backends
   the working precision;
 * more digits -- C on MPFR (``generated/*_taylor_mpfr.c``, linked to gmpy2's own MPFR;
   backend ``c-mpfr``) at the working precision of ``mpmath.mp``, numbers crossing as exact
-  base-16 text; its order and step are those of the Python stepper to the bit; events at
-  these digits, ``lib="gmpy2"`` and a missing compiler or MPFR: the Python recurrences with
-  ``gmpy2`` (MPFR) numbers (``mpmath`` numbers when ``lib="mpmath"``).
+  base-16 text; its order and step are those of the Python stepper to the bit (one call
+  per step when events are asked for); ``lib="gmpy2"`` and a missing compiler or MPFR: the
+  Python recurrences with ``gmpy2`` (MPFR) numbers (``mpmath`` numbers when
+  ``lib="mpmath"``).
 
 Without a C compiler double and quad fall back to the Python recurrences (floats, or MPFR at
 113 bits) with a :class:`~chaplygin.numerics.compiled.CompilerUnavailableWarning`.
@@ -641,6 +642,12 @@ int chaplygin_taylor_mpfr_run(long prec, const char *T01, const char *Y0, const 
                               const double *CTRL, const char *FIXED_H, int fixed_order,
                               int taper, long n_eval, const char *T_EVAL, char *Y_EVAL, int width,
                               char *Y_END, char *T_REACHED, long max_steps, long *STATS);
+void *chaplygin_taylor_mpfr_stepper_new(long prec, const double *CTRL, int fixed_order,
+                                        int taper);
+void chaplygin_taylor_mpfr_stepper_free(void *ST);
+int chaplygin_taylor_mpfr_step(void *ST, const char *TY, const char *P, const double *CTRL,
+                               const char *FIXED_H, int fixed_order, const char *T_END,
+                               char *TY_OUT, char *COEFFS, char *H, int *ORDER, int width);
 """
 _mpfr_ffi = cffi.FFI()
 _mpfr_ffi.cdef(_MPFR_CDEF)
@@ -1221,7 +1228,7 @@ def taylor_solve(
     lib : {"c", "gmpy2", "mpmath", "float"}, optional
         Force a backend (default: C for double and quad, and for digits up to
         :data:`DD_BITS` bits in double-double, up to :data:`QD_BITS` in quad-double, on
-        MPFR for more digits -- gmpy2 in Python when events are asked for there).
+        MPFR for more digits).
     max_wall_s : float, optional
         Wall-time limit (status -6 past it), checked between steps of the Python loop and
         between calls of :data:`C_CHUNK_STEPS` steps of the compiled loop (which resume
@@ -1260,15 +1267,20 @@ def taylor_solve(
         clib = load_taylor_library(code, precision)
     elif precision == "digits" and lib in (None, "c"):
         # fixed-size multi-double arithmetic in C where it carries the working precision,
-        # MPFR in C beyond (the Python stepper when events are asked for)
+        # MPFR in C beyond (one call per step when events are asked for)
         c_kind = digits_real_type(mpmath.mp.prec)
         if c_kind is not None:
             clib = load_taylor_library(code, c_kind)
-        elif not events:
+        else:
             mlib = load_taylor_mpfr_library(code)
-            if mlib is not None:
+            if mlib is not None and not events:
                 return _mpfr_run(
                     mlib, y0, (t0, t1), p, rtol, atol, t_eval, order, step, max_steps, max_wall_s
+                )
+            if mlib is not None:  # events located in Python on the compiled steps
+                stepper = _MpfrStepper(mlib, p, rtol, atol, order, step)
+                return _py_run(
+                    stepper, y0, (t0, t1), t_eval, events, max_steps, precision, max_wall_s
                 )
     kind = precision
     if clib is None and lib == "mpmath":
@@ -1364,6 +1376,66 @@ def _c_run(clib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps, max_
         order_max=pmax,
         backend=f"c-{clib.kind}",
     )
+
+
+class _MpfrStepper:
+    """One adaptive step at a time of the compiled MPFR integrator (for event location in
+    Python), the same steps as :func:`_mpfr_run` and ``_Stepper._py_step``; its work space is
+    allocated once, at the working precision of ``mpmath.mp`` when it is made."""
+
+    def __init__(self, mlib: CompiledTaylorMPFR, p, rtol, atol, order, step):
+        ffi = _mpfr_ffi
+        self.mlib = mlib
+        self.width = mlib.width(mpmath.mp.prec)
+        self.ctrl = ffi.new("double[2]", [float(rtol), float(atol)])
+        self.p_text = _mpfr_text(p)
+        self.fixed_h = _mpfr_text([step]) if step else b""
+        self.order = order or 0
+        handle = mlib.lib.chaplygin_taylor_mpfr_stepper_new(
+            mpmath.mp.prec, self.ctrl, self.order, MPFR_TAPER and not step
+        )
+        if handle == ffi.NULL:
+            raise ValueError("the MPFR Taylor stepper has no memory or an order out of range")
+        self.handle = ffi.gc(handle, mlib.lib.chaplygin_taylor_mpfr_stepper_free)
+        n = mlib.n_state
+        most = self.order or jorba_zou_order(min(rtol, atol), max_order=mlib.max_order)
+        self.ty = ffi.new("char[]", (n + 1) * self.width)
+        self.coeffs = ffi.new("char[]", n * (most + 1) * self.width)
+        self.h = ffi.new("char[]", self.width)
+        self.ord = ffi.new("int *")
+        self.backend = "c-mpfr"
+
+    def step(self, t, y, t_end):
+        """Advance one step: ``(t_new, y_new, coefficients, h, order, status)`` as
+        ``_Stepper.step`` (``h = 0`` and status -3 when the step size underflows)."""
+        lib, n, width = self.mlib, self.mlib.n_state, self.width
+        status = lib.lib.chaplygin_taylor_mpfr_step(
+            self.handle,
+            _mpfr_text([t, *y]),
+            self.p_text,
+            self.ctrl,
+            self.fixed_h,
+            self.order,
+            _mpfr_text([t_end]),
+            self.ty,
+            self.coeffs,
+            self.h,
+            self.ord,
+            width,
+        )
+        if status == -5:
+            raise ValueError("the MPFR Taylor stepper could not read a number")
+        p = self.ord[0]
+        if status == -3:
+            return t, y, list, mpmath.mpf(0), p, -3
+        vals = lib._slots(self.ty, n + 1, width)
+        (h,) = lib._slots(self.h, 1, width)
+        coeffs = self.coeffs
+
+        def coefficients():  # read before the next step overwrites the buffer
+            return _rows_lists(lib._slots(coeffs, n * (p + 1), width), n, p + 1)
+
+        return vals[0], vals[1:], coefficients, h, p, status
 
 
 def _mpfr_run(mlib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps, max_wall_s):

@@ -293,3 +293,31 @@ def test_fixed_order_and_step_match_the_python_stepper():
         scale = max(1, max(abs(v) for v in g.y.ravel()))
         same = max(abs(a - b) for a, b in zip(r.y.ravel(), g.y.ravel(), strict=True))
         assert same < 2**10 * r.nsteps * 2.0 ** -Precision(75).prec * scale, same
+
+
+def _gamma3(t, y):
+    return y[5]
+
+
+def test_events_on_the_compiled_mpfr_steps():
+    """Zero crossings of gamma3 at 70 digits, located in Python on the compiled steps (one
+    call per step): the same steps and crossings as the Python recurrences, the crossing
+    times equal to the rounding of the sums, gamma3 zero there to the tolerance."""
+    from reference import REFERENCE_PARAMS, REFERENCE_Y0
+
+    kw = {"events": [_gamma3], "precision": 70, "t_eval": [0, 12]}
+    r = integrate("chaplygin_ball", REFERENCE_Y0, 12, REFERENCE_PARAMS, **kw)
+    g = integrate("chaplygin_ball", REFERENCE_Y0, 12, REFERENCE_PARAMS, backend="numpy", **kw)
+    assert r.backend == "c-mpfr" and g.backend == "python-gmpy2"
+    assert r.nsteps == g.nsteps
+    te, tg = r.t_events[0], g.t_events[0]
+    assert len(te) == len(tg) >= 2
+    rtol = r.info["rtol"]
+    eps = 2.0 ** -Precision(70).prec
+    with mpmath.workdps(70):
+        for a, b in zip(te, tg, strict=True):
+            assert abs(a - b) < 2**10 * r.nsteps * eps * max(1, abs(b)), (a, b)
+        for ye in r.y_events[0]:
+            assert abs(ye[5]) < 10 * rtol
+        final = max(abs(a - b) for a, b in zip(r.y[:, -1], g.y[:, -1], strict=True))
+        assert final < 2**10 * r.nsteps * eps, final
