@@ -775,7 +775,7 @@ class CompiledTaylorMPFR:
         -------
         int
         """
-        return prec // 4 + 32
+        return prec // 4 + 48
 
     def _slots(self, buf, count: int, width: int) -> list[mpmath.mpf]:
         raw = _mpfr_ffi.buffer(buf)
