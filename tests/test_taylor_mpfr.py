@@ -321,3 +321,17 @@ def test_events_on_the_compiled_mpfr_steps():
             assert abs(ye[5]) < 10 * rtol
         final = max(abs(a - b) for a, b in zip(r.y[:, -1], g.y[:, -1], strict=True))
         assert final < 2**10 * r.nsteps * eps, final
+
+
+def test_backward_run_matches_the_python_stepper():
+    """From t = 0 back to t = -1.25 at 66 digits: the same steps as the Python recurrences,
+    agreement to the rounding of the sums, outputs at the requested (decreasing) times."""
+    kw = {"precision": 66, "t_eval": [0, "-0.5", "-1.25"]}
+    r = integrate("chaplygin_ball", STATE, (0, "-1.25"), PARAMS, **kw)
+    g = integrate("chaplygin_ball", STATE, (0, "-1.25"), PARAMS, backend="numpy", **kw)
+    assert r.backend == "c-mpfr" and r.success and r.nsteps == g.nsteps
+    assert r.y.shape == g.y.shape == (6, 3)
+    with mpmath.workdps(66):
+        assert list(r.t) == [0, mpmath.mpf("-0.5"), mpmath.mpf("-1.25")]
+        same = max(abs(a - b) for a, b in zip(r.y.ravel(), g.y.ravel(), strict=True))
+        assert same < 2**10 * r.nsteps * 2.0 ** -Precision(66).prec, same
