@@ -59,6 +59,8 @@ class ModelCode:
         Taylor-coefficient recurrences ``taylor_coefficients(t0, y, p, order, lib)``.
     taylor_c_source : str
         C Taylor integrator (``double``; ``__float128`` with ``CHAPLYGIN_TAYLOR_QUAD``).
+    taylor_mpfr_source : str or None
+        C Taylor integrator on MPFR numbers (precisions past quad-double).
     origin : str
         ``"generated/"``, ``"derived on first use"`` or ``"cache of first-use code"``.
     note : str or None
@@ -72,6 +74,7 @@ class ModelCode:
     origin: str
     taylor: types.ModuleType | None = None
     taylor_c_source: str | None = None
+    taylor_mpfr_source: str | None = None
     note: str | None = None
     _compiled: Any = field(default=None, repr=False)
     _compile_tried: bool = field(default=False, repr=False)
@@ -217,6 +220,11 @@ def load_model_code(system: str, effects: str | Iterable[str] | None = None) -> 
             taylor_c_source=resources.files("chaplygin.generated")
             .joinpath(files["taylor_c"])
             .read_text(),
+            taylor_mpfr_source=resources.files("chaplygin.generated")
+            .joinpath(files["taylor_mpfr"])
+            .read_text()
+            if "taylor_mpfr" in files
+            else None,
         )
     else:  # derived, emitted and compiled on first use; cached on disk (numerics.first_use)
         code = _first_use_code(system, chosen, name)
@@ -240,6 +248,7 @@ def _first_use_code(system: str, chosen: frozenset[str], name: str) -> ModelCode
         origin="derived on first use" if first.derived else "cache of first-use code",
         taylor=module_from_source(f"{name}_taylor", src["taylor_py"]),
         taylor_c_source=src["taylor_c"],
+        taylor_mpfr_source=src["taylor_mpfr"],
     )
     where = f"cached in {first.cache_file.parent}" if first.cache_file else "not cached"
     if first.derived:

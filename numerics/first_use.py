@@ -1,10 +1,10 @@
 """Code of an effect combination that is not in ``generated/``: derived, emitted and compiled on
 first use, and cached on disk so that later processes only load it.
 
-The five emitted sources (numpy, mpmath, C, Taylor Python, Taylor C) of a variant are stored
-in ``<cache root>/emitted/<variant>-<key>.src`` (the root: ``$CHAPLYGIN_CACHE_DIR``, else
-``$XDG_CACHE_HOME/chaplygin``, else ``~/.cache/chaplygin``; none with
-``CHAPLYGIN_MODEL_CACHE=0``). The key (:func:`chaplygin.derive.systems.variant_cache_key`)
+The six emitted sources (numpy, mpmath, C, Taylor Python, Taylor C, Taylor C on MPFR) of a
+variant are stored in ``<cache root>/emitted/<variant>-<key>.src`` (the root:
+``$CHAPLYGIN_CACHE_DIR``, else ``$XDG_CACHE_HOME/chaplygin``, else ``~/.cache/chaplygin``;
+none with ``CHAPLYGIN_MODEL_CACHE=0``). The key (:func:`chaplygin.derive.systems.variant_cache_key`)
 changes with any edit of ``derive/`` and with the versions of Python, sympy and mpmath. The
 Python sources are executed when loaded, so a file is used only when it carries the HMAC made
 with the cache root's per-user secret (:mod:`chaplygin.derive.cachefiles`), and a folder other
@@ -25,7 +25,7 @@ from ..derive.systems import model_cache_dir, variant_cache_key, variant_name
 __all__ = ["FirstUse", "emitted_sources", "emitted_cache_file", "SOURCE_KINDS"]
 
 #: The emitted sources of a variant, in the order of ``generated/manifest.json``'s files.
-SOURCE_KINDS = ("numpy", "mpmath", "c", "taylor_py", "taylor_c")
+SOURCE_KINDS = ("numpy", "mpmath", "c", "taylor_py", "taylor_c", "taylor_mpfr")
 
 #: First line of a cache file: the format, then the HMAC of the JSON that follows.
 _MAGIC = b"chaplygin-emitted-1\n"
@@ -120,13 +120,21 @@ def emitted_sources(system: str, effects: frozenset[str]) -> FirstUse:
         MpmathEmitter,
         NumpyEmitter,
         TaylorCEmitter,
+        TaylorMpfrEmitter,
         TaylorPythonEmitter,
     )
     from ..derive.systems import build_model
 
     model = build_model(system, effects)
     routines = ModelRoutines(model)
-    emitters = (NumpyEmitter, MpmathEmitter, CEmitter, TaylorPythonEmitter, TaylorCEmitter)
+    emitters = (
+        NumpyEmitter,
+        MpmathEmitter,
+        CEmitter,
+        TaylorPythonEmitter,
+        TaylorCEmitter,
+        TaylorMpfrEmitter,
+    )
     sources = {}
     for kind, emitter in zip(SOURCE_KINDS, emitters, strict=True):
         ((_, text),) = emitter().emit(model, routines)

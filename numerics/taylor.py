@@ -23,9 +23,12 @@ Backends
   60 digits (203 bits) in quad-double (``-DCHAPLYGIN_TAYLOR_QD``, four doubles); the
   working numbers are split exactly into their limbs and the results rounded once back to
   the working precision;
-* more digits -- the Python recurrences with ``gmpy2`` (MPFR) numbers at the working
-  precision of ``mpmath.mp`` (``mpmath`` numbers when ``lib="mpmath"``, or ``"gmpy2"``
-  forced at any digits).
+* more digits -- C on MPFR (``generated/*_taylor_mpfr.c``, linked to gmpy2's own MPFR;
+  backend ``c-mpfr``) at the working precision of ``mpmath.mp``, numbers crossing as exact
+  base-16 text; its order and step are those of the Python stepper to the bit (one call
+  per step when events are asked for); ``lib="gmpy2"`` and a missing compiler or MPFR: the
+  Python recurrences with ``gmpy2`` (MPFR) numbers (``mpmath`` numbers when
+  ``lib="mpmath"``).
 
 Without a C compiler double and quad fall back to the Python recurrences (floats, or MPFR at
 113 bits) with a :class:`~chaplygin.numerics.compiled.CompilerUnavailableWarning`.
@@ -59,6 +62,9 @@ __all__ = [
     "CompiledTaylor",
     "load_taylor_library",
     "run_orders",
+    "CompiledTaylorMPFR",
+    "load_taylor_mpfr_library",
+    "mpfr_build_flags",
     "taylor_solve",
     "jorba_zou_order",
     "encode_binary128",
@@ -671,6 +677,242 @@ def load_taylor_library(
     return lib
 
 
+# --------------------------------------------------------------------------- C, MPFR
+
+_MPFR_CDEF = """
+const char *chaplygin_taylor_model_hash(void);
+const char *chaplygin_taylor_mpfr_version(void);
+void chaplygin_taylor_sizes(int *OUT);
+int chaplygin_taylor_mpfr_coefficients(long prec, int order, const char *T0, const char *Y,
+                                       const char *P, char *OUT, int width);
+int chaplygin_taylor_mpfr_run(long prec, const char *T01, const char *Y0, const char *P,
+                              const double *CTRL, const char *FIXED_H, int fixed_order,
+                              int taper, long n_eval, const char *T_EVAL, char *Y_EVAL, int width,
+                              char *Y_END, char *T_REACHED, long max_steps, long *STATS);
+void *chaplygin_taylor_mpfr_stepper_new(long prec, const double *CTRL, int fixed_order,
+                                        int taper);
+void chaplygin_taylor_mpfr_stepper_free(void *ST);
+int chaplygin_taylor_mpfr_step(void *ST, const char *TY, const char *P, const double *CTRL,
+                               const char *FIXED_H, int fixed_order, const char *T_END,
+                               char *TY_OUT, char *COEFFS, char *H, int *ORDER, int width);
+"""
+_mpfr_ffi = cffi.FFI()
+_mpfr_ffi.cdef(_MPFR_CDEF)
+
+
+#: Whether the MPFR loop computes the high-order coefficients at lower precision (see
+#: ``coefficient_prec`` in ``derive/templates/taylor_mpfr.c``); never with a fixed step.
+MPFR_TAPER = True
+
+
+def mpfr_build_flags() -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """Compiler flags and libraries of the MPFR Taylor integrator: gmpy2's own MPFR.
+
+    The gmpy2 wheel ships ``mpfr.h`` and ``gmp.h`` in its package folder and the shared
+    libraries in ``gmpy2.libs``: the source is compiled against those headers and linked to
+    those files by path with an rpath, so the library runs with the very MPFR that gmpy2 has
+    loaded (no system package, no network). Without them (a gmpy2 built against a system
+    MPFR) the system's ``-lmpfr -lgmp`` are tried; :class:`CompiledTaylorMPFR` checks that
+    the versions agree.
+
+    Returns
+    -------
+    (tuple of str, tuple of str)
+        Extra compiler flags (``-O2``, ``-I<gmpy2 folder>``) and libraries to link.
+    """
+    folder = os.path.dirname(os.path.abspath(gmpy2.__file__))
+    libs = os.path.join(os.path.dirname(folder), "gmpy2.libs")
+    headers = all(os.path.isfile(os.path.join(folder, h)) for h in ("mpfr.h", "gmp.h"))
+    found = {}
+    if os.path.isdir(libs):
+        for name in sorted(os.listdir(libs)):
+            for stem in ("libmpfr", "libgmp"):
+                if name.startswith(stem + "-") and ".so" in name:
+                    found.setdefault(stem, os.path.join(libs, name))
+    if headers and len(found) == 2:
+        return (
+            ("-O2", f"-I{folder}"),
+            (found["libmpfr"], found["libgmp"], f"-Wl,-rpath,{libs}"),
+        )
+    return (("-O2", *((f"-I{folder}",) if headers else ())), ("-lmpfr", "-lgmp"))
+
+
+def _mpfr_token(value: Any) -> str:
+    """Exact base-16 text of a number for ``mpfr_strtofr``: hexadecimal integer significand,
+    ``p``, decimal binary exponent."""
+    if isinstance(value, int):
+        value = mpmath.mpf(value) if abs(value) < 2**53 else _exact_int(value)
+    x = _to_mpf(value)
+    if not mpmath.isfinite(x):
+        return "nan" if mpmath.isnan(x) else ("-inf" if x < 0 else "inf")
+    sign, man, exp, _ = x._mpf_
+    if not man:
+        return "0"
+    return f"{'-' if sign else ''}{int(man):x}p{int(exp)}"
+
+
+def _exact_int(value: int) -> mpmath.mpf:
+    with mpmath.workprec(max(value.bit_length(), 53)):
+        return mpmath.mpf(value)
+
+
+def _mpfr_text(values: Sequence[Any]) -> bytes:
+    return " ".join(_mpfr_token(v) for v in values).encode("ascii")
+
+
+def _parse_mpfr(text: bytes) -> mpmath.mpf:
+    """The number of one ``%Ra`` slot (``-0x1.8p+1``, ``inf``, ``nan``), rounded once to the
+    working precision of ``mpmath.mp`` (exact when it is the run's precision)."""
+    s = text.decode("ascii").strip()
+    negative = s.startswith("-")
+    s = s.lstrip("+-")
+    if s.startswith("inf"):
+        return mpmath.ninf if negative else mpmath.inf
+    if not s.startswith("0x"):
+        return mpmath.nan
+    significand, exponent = s[2:].split("p")
+    whole, _, fraction = significand.partition(".")
+    man = int(whole + fraction, 16)
+    return mpmath.mpf((-man if negative else man, int(exponent) - 4 * len(fraction)))
+
+
+class CompiledTaylorMPFR:
+    """The compiled MPFR Taylor integrator of one model (precision chosen per call).
+
+    Parameters
+    ----------
+    library : path-like
+    expected_hash : str, optional
+
+    Raises
+    ------
+    ValueError
+        The library is of another model, or runs with another MPFR version than gmpy2's.
+    """
+
+    kind = "mpfr"
+
+    def __init__(self, library: os.PathLike | str, expected_hash: str | None = None):
+        self.lib = _mpfr_ffi.dlopen(os.fspath(library))
+        self.model_hash = _mpfr_ffi.string(self.lib.chaplygin_taylor_model_hash()).decode()
+        if expected_hash is not None and self.model_hash != expected_hash:
+            raise ValueError(
+                f"Taylor library {library} has hash {self.model_hash}, expected {expected_hash}"
+            )
+        self.mpfr_version = _mpfr_ffi.string(self.lib.chaplygin_taylor_mpfr_version()).decode()
+        wanted = gmpy2.mpfr_version().split()[-1]
+        if self.mpfr_version != wanted:
+            raise ValueError(
+                f"{library} runs with MPFR {self.mpfr_version}, gmpy2 with MPFR {wanted}"
+            )
+        sizes = _mpfr_ffi.new("int[5]")
+        self.lib.chaplygin_taylor_sizes(sizes)
+        self.n_state, self.n_param, self.n_nodes, self.max_order, _ = list(sizes)
+
+    @staticmethod
+    def width(prec: int) -> int:
+        """Characters of one output slot at ``prec`` bits (exact ``%Ra`` text and NUL).
+
+        Parameters
+        ----------
+        prec : int
+            Working precision in bits.
+
+        Returns
+        -------
+        int
+        """
+        return prec // 4 + 48
+
+    def _slots(self, buf, count: int, width: int) -> list[mpmath.mpf]:
+        raw = _mpfr_ffi.buffer(buf)
+        return [
+            _parse_mpfr(raw[i * width : (i + 1) * width].split(b"\0", 1)[0]) for i in range(count)
+        ]
+
+    def coefficients(
+        self,
+        order: int,
+        t0: Any,
+        y: Sequence[Any],
+        p: Sequence[Any],
+    ) -> list[list[mpmath.mpf]]:
+        """Normalised Taylor coefficients at the working precision of ``mpmath.mp``.
+
+        Parameters
+        ----------
+        order : int
+            Highest order, ``1 <= order <= max_order``.
+        t0 : number
+            Expansion time.
+        y : sequence of numbers, length n_state
+            State at ``t0``.
+        p : sequence of numbers, length n_param
+            Parameters.
+
+        Returns
+        -------
+        list of n_state lists of mpmath.mpf
+            Row ``i``, column ``k``: ``y_i^(k)(t0)/k!``.
+
+        Raises
+        ------
+        ValueError
+            If ``order`` is out of range.
+        """
+        if not 1 <= order <= self.max_order:
+            raise ValueError(f"order must be in 1..{self.max_order}")
+        prec = mpmath.mp.prec
+        width = self.width(prec)
+        count = self.n_state * (order + 1)
+        out = _mpfr_ffi.new("char[]", count * width)
+        status = self.lib.chaplygin_taylor_mpfr_coefficients(
+            prec, order, _mpfr_text([t0]), _mpfr_text(y), _mpfr_text(p), out, width
+        )
+        if status:
+            raise ValueError(f"the MPFR Taylor coefficients failed (status {status})")
+        return _rows_lists(self._slots(out, count, width), self.n_state, order + 1)
+
+
+def load_taylor_mpfr_library(code: ModelCode) -> CompiledTaylorMPFR | None:
+    """Compile (cached by source hash) and load the MPFR Taylor integrator of ``code``.
+
+    Returns None, after a :class:`CompilerUnavailableWarning`, without a usable compiler,
+    without MPFR's headers and library, or when the library's MPFR is not gmpy2's.
+
+    Parameters
+    ----------
+    code : ModelCode
+        The model (its ``taylor_mpfr_source`` and ``hash``).
+
+    Returns
+    -------
+    CompiledTaylorMPFR or None
+        The loaded library, the same object for every call with the same model; None (also
+        cached) when compiling or loading failed.
+    """
+    key = (code.hash, "mpfr")
+    if key in _LIBS:
+        return _LIBS[key]  # type: ignore[return-value]
+    lib: CompiledTaylorMPFR | None
+    try:
+        if code.taylor_mpfr_source is None:
+            raise OSError(f"{code.name} has no MPFR Taylor source")
+        cflags, ldlibs = mpfr_build_flags()
+        path = compile_c(code.taylor_mpfr_source, ldlibs=ldlibs, cflags=cflags)
+        lib = CompiledTaylorMPFR(path, expected_hash=code.hash)
+    except (CompilerError, OSError, ValueError) as exc:
+        warnings.warn(
+            f"compiled MPFR Taylor integrator unavailable, using the (much slower) Python "
+            f"recurrences instead: {exc}",
+            CompilerUnavailableWarning,
+            stacklevel=2,
+        )
+        lib = None
+    _LIBS[key] = lib  # type: ignore[assignment]
+    return lib
+
+
 # --------------------------------------------------------------------------- Python libs
 
 
@@ -1032,8 +1274,8 @@ def taylor_solve(
         Fixed order and/or fixed step (for convergence studies); default adaptive.
     lib : {"c", "gmpy2", "mpmath", "float"}, optional
         Force a backend (default: C for double and quad, and for digits up to
-        :data:`DD_BITS` bits in double-double, up to :data:`QD_BITS` in quad-double; gmpy2
-        for more digits).
+        :data:`DD_BITS` bits in double-double, up to :data:`QD_BITS` in quad-double, on
+        MPFR for more digits).
     max_wall_s : float, optional
         Wall-time limit (status -6 past it), checked between steps of the Python loop and
         between calls of :data:`C_CHUNK_STEPS` steps of the compiled loop (which resume
@@ -1071,19 +1313,29 @@ def taylor_solve(
     if numbers.compiled and lib in (None, "c"):
         clib = load_taylor_library(code, precision, run_orders(rtol, atol, order))
     elif precision == "digits" and lib in (None, "c"):
-        # fixed-size multi-double arithmetic in C where it carries the working precision
+        # fixed-size multi-double arithmetic in C where it carries the working precision,
+        # MPFR in C beyond (one call per step when events are asked for)
         c_kind = digits_real_type(mpmath.mp.prec)
         if c_kind is not None:
             clib = load_taylor_library(code, c_kind)
+        else:
+            mlib = load_taylor_mpfr_library(code)
+            if mlib is not None and not events:
+                return _mpfr_run(
+                    mlib, y0, (t0, t1), p, rtol, atol, t_eval, order, step, max_steps, max_wall_s
+                )
+            if mlib is not None:  # events located in Python on the compiled steps
+                stepper = _MpfrStepper(mlib, p, rtol, atol, order, step)
+                return _py_run(
+                    stepper, y0, (t0, t1), t_eval, events, max_steps, precision, max_wall_s
+                )
     kind = precision
     if clib is None and lib == "mpmath":
         kind = "digits-mpmath"
     if clib is None and lib == "float" and numbers.python_lib != "float":
         raise ValueError("lib='float' works in double precision only")
     if clib is not None and not events:
-        return _c_run(
-            clib, y0, (t0, t1), p, rtol, atol, t_eval, order, step, max_steps, max_wall_s
-        )
+        return _c_run(clib, y0, (t0, t1), p, rtol, atol, t_eval, order, step, max_steps, max_wall_s)
     bits = numbers.bits()
     if clib is None and kind == precision and bits is not None:
         # gmpy2/MPFR at the working precision (113 bits for the quad fallback). The stepper
@@ -1110,7 +1362,7 @@ _MESSAGES = {
 #: Steps per call of the compiled loop when a wall-time limit is set (checked between
 #: calls); a run resumes from the exact state and time the previous call reached, so the
 #: steps and results are those of one uninterrupted call.
-C_CHUNK_STEPS = {"double": 65536, "quad": 256, "dd": 1024, "qd": 128}
+C_CHUNK_STEPS = {"double": 65536, "quad": 256, "dd": 1024, "qd": 128, "mpfr": 4}
 
 
 def _c_run(
@@ -1173,6 +1425,131 @@ def _c_run(
         order_min=pmin if steps else 0,
         order_max=pmax,
         backend=f"c-{clib.kind}",
+    )
+
+
+class _MpfrStepper:
+    """One adaptive step at a time of the compiled MPFR integrator (for event location in
+    Python), the same steps as :func:`_mpfr_run` and ``_Stepper._py_step``; its work space is
+    allocated once, at the working precision of ``mpmath.mp`` when it is made."""
+
+    def __init__(self, mlib: CompiledTaylorMPFR, p, rtol, atol, order, step):
+        ffi = _mpfr_ffi
+        self.mlib = mlib
+        self.width = mlib.width(mpmath.mp.prec)
+        self.ctrl = ffi.new("double[2]", [float(rtol), float(atol)])
+        self.p_text = _mpfr_text(p)
+        self.fixed_h = _mpfr_text([step]) if step else b""
+        self.order = order or 0
+        handle = mlib.lib.chaplygin_taylor_mpfr_stepper_new(
+            mpmath.mp.prec, self.ctrl, self.order, MPFR_TAPER and not step
+        )
+        if handle == ffi.NULL:
+            raise ValueError("the MPFR Taylor stepper has no memory or an order out of range")
+        self.handle = ffi.gc(handle, mlib.lib.chaplygin_taylor_mpfr_stepper_free)
+        n = mlib.n_state
+        most = self.order or jorba_zou_order(min(rtol, atol), max_order=mlib.max_order)
+        self.ty = ffi.new("char[]", (n + 1) * self.width)
+        self.coeffs = ffi.new("char[]", n * (most + 1) * self.width)
+        self.h = ffi.new("char[]", self.width)
+        self.ord = ffi.new("int *")
+        self.backend = "c-mpfr"
+
+    def step(self, t, y, t_end):
+        """Advance one step: ``(t_new, y_new, coefficients, h, order, status)`` as
+        ``_Stepper.step`` (``h = 0`` and status -3 when the step size underflows)."""
+        lib, n, width = self.mlib, self.mlib.n_state, self.width
+        status = lib.lib.chaplygin_taylor_mpfr_step(
+            self.handle,
+            _mpfr_text([t, *y]),
+            self.p_text,
+            self.ctrl,
+            self.fixed_h,
+            self.order,
+            _mpfr_text([t_end]),
+            self.ty,
+            self.coeffs,
+            self.h,
+            self.ord,
+            width,
+        )
+        if status == -5:
+            raise ValueError("the MPFR Taylor stepper could not read a number")
+        p = self.ord[0]
+        if status == -3:
+            return t, y, list, mpmath.mpf(0), p, -3
+        vals = lib._slots(self.ty, n + 1, width)
+        (h,) = lib._slots(self.h, 1, width)
+        coeffs = self.coeffs
+
+        def coefficients():  # read before the next step overwrites the buffer
+            return _rows_lists(lib._slots(coeffs, n * (p + 1), width), n, p + 1)
+
+        return vals[0], vals[1:], coefficients, h, p, status
+
+
+def _mpfr_run(mlib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps, max_wall_s):
+    """The compiled MPFR loop at the working precision of ``mpmath.mp``; numbers cross as
+    exact text, a run cut into chunks (wall-time limit) resumes from the exact state."""
+    ffi, n, prec = _mpfr_ffi, mlib.n_state, mpmath.mp.prec
+    width = mlib.width(prec)
+    m = len(t_eval)
+    y_eval = ffi.new("char[]", max(m, 1) * n * width)
+    y_end, t_reached = ffi.new("char[]", n * width), ffi.new("char[]", width)
+    t_text, y_text = _mpfr_text(t_span), _mpfr_text(y0)
+    p_text = _mpfr_text(p)
+    ctrl = ffi.new("double[2]", [float(rtol), float(atol)])
+    fixed_h = _mpfr_text([step]) if step else b""
+    stats = ffi.new("long[4]")
+    tokens = [_mpfr_token(v) for v in t_eval]
+    chunk = max_steps if max_wall_s is None else C_CHUNK_STEPS["mpfr"]
+    deadline = None if max_wall_s is None else time.perf_counter() + max_wall_s
+    steps, pmax, pmin, done = 0, 0, 10**9, 0
+    while True:
+        left = max_steps - steps
+        status = mlib.lib.chaplygin_taylor_mpfr_run(
+            prec,
+            t_text,
+            y_text,
+            p_text,
+            ctrl,
+            fixed_h,
+            order or 0,
+            MPFR_TAPER and not step,
+            m - done,
+            " ".join(tokens[done:]).encode("ascii"),
+            y_eval + done * n * width,
+            width,
+            y_end,
+            t_reached,
+            min(chunk, left),
+            stats,
+        )
+        if status in (-4, -5, -7):
+            raise ValueError(f"the MPFR Taylor integrator failed (status {status})")
+        steps += int(stats[0])
+        if stats[0]:
+            pmax, pmin = max(pmax, int(stats[1])), min(pmin, int(stats[2]))
+        done += int(stats[3])
+        if status != -2 or steps >= max_steps:
+            break
+        if deadline is not None and time.perf_counter() > deadline:
+            status = -6
+            break
+        # resume exactly where the call stopped: its time and state, as MPFR holds them
+        t_text = ffi.string(t_reached) + b" " + _mpfr_text(t_span[1:])
+        y_text = b" ".join(ffi.string(y_end + i * width) for i in range(n))
+    flat = mlib._slots(y_eval, done * n, width)
+    y_out = np.array(_rows_lists(flat, done, n), dtype=object).reshape(done, n).T.copy()
+    return TaylorSolution(
+        t=_times_working(t_eval[:done]),
+        y=y_out,
+        status=int(status),
+        message=_MESSAGES.get(int(status), "failed"),
+        nsteps=steps,
+        order_min=pmin if steps else 0,
+        order_max=pmax,
+        backend="c-mpfr",
     )
 
 

@@ -93,11 +93,11 @@ def test_first_use_derives_compiles_says_so_and_the_second_run_uses_the_cache(
 
 
 def test_a_cache_file_that_is_not_ours_is_not_loaded(tmp_path, monkeypatch):
-    from chaplygin.numerics.first_use import _load, _store, emitted_cache_file
+    from chaplygin.numerics.first_use import SOURCE_KINDS, _load, _store, emitted_cache_file
 
     monkeypatch.setenv("CHAPLYGIN_CACHE_DIR", str(tmp_path / "cache"))
     path = emitted_cache_file("chaplygin_ball", frozenset({"rubber", "contact_point"}))
-    sources = {k: f"# {k}\n" for k in ("numpy", "mpmath", "c", "taylor_py", "taylor_c")}
+    sources = {k: f"# {k}\n" for k in SOURCE_KINDS}
     assert _store(path, sources) == path
     assert _load(path) == sources
     blob = path.read_bytes()

@@ -52,7 +52,7 @@ def test_other_scipy_methods_run_and_report_drift(method):
         assert r.njev > 0  # the generated Jacobian was used
 
 
-@pytest.mark.parametrize("digits,backend", [(30, "c-dd"), (50, "c-qd"), (70, "python-gmpy2")])
+@pytest.mark.parametrize("digits,backend", [(30, "c-dd"), (50, "c-qd"), (70, "c-mpfr")])
 def test_high_precision_path_keeps_its_digits(digits, backend):
     r = integrate(BALL, REFERENCE_Y0, 2, REFERENCE_PARAMS, precision=digits)
     assert r.success and r.method == "taylor" and r.backend == backend

@@ -12,7 +12,12 @@ from .c_emitter import CEmitter
 from .functions import emit_function, function_source, module_from_source
 from .mpmath_emitter import MpmathEmitter
 from .numpy_emitter import NumpyEmitter
-from .taylor import TaylorCEmitter, TaylorPythonEmitter, build_taylor_program
+from .taylor import (
+    TaylorCEmitter,
+    TaylorMpfrEmitter,
+    TaylorPythonEmitter,
+    build_taylor_program,
+)
 
 __all__ = [
     "EMITTERS",
@@ -22,6 +27,7 @@ __all__ = [
     "MpmathEmitter",
     "CEmitter",
     "TaylorCEmitter",
+    "TaylorMpfrEmitter",
     "TaylorPythonEmitter",
     "build_taylor_program",
     "emit_function",

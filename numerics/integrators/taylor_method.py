@@ -15,9 +15,9 @@ class TaylorMethod(Integrator):
     """Taylor method generated from the model (:mod:`chaplygin.numerics.taylor`).
 
     Adaptive order and step (Jorba-Zou) from rtol/atol, dense output, event location.
-    ``double``, ``quad`` and up to 31 digits (double-double) run in compiled C
-    (``backend="numpy"`` or no compiler: the Python recurrences), more digits in Python with
-    MPFR numbers. Its step control works to
+    ``double``, ``quad``, up to 31 digits (double-double), up to 60 (quad-double) and more
+    digits (MPFR) run in compiled C (``backend="numpy"`` or no compiler: the Python
+    recurrences, with MPFR numbers past double). Its step control works to
     the unit roundoff: the tolerance floor is 1 eps in every precision.
     """
 
@@ -38,16 +38,23 @@ class TaylorMethod(Integrator):
     }
 
     def _prepare(self, problem: Problem, backend: str) -> str:
-        from ..taylor import digits_real_type, load_taylor_library, run_orders
+        from ..taylor import (
+            digits_real_type,
+            load_taylor_library,
+            load_taylor_mpfr_library,
+            run_orders,
+        )
 
         kind = problem.precision.kind
         if backend == "numpy":
             return "numpy"
         if kind not in self.compiled:
-            # up to 31 digits: double-double in C (compiled or loaded now: set-up time);
-            # more digits: MPFR in Python, nothing to compile
+            # up to 31 digits double-double, up to 60 quad-double, more digits MPFR, all in C
+            # (compiled or loaded now: set-up time); without a compiler MPFR in Python
             c_kind = digits_real_type(problem.precision.prec)
             if c_kind is not None and load_taylor_library(problem.code, c_kind) is not None:
+                return "c"
+            if c_kind is None and load_taylor_mpfr_library(problem.code) is not None:
                 return "c"
             return "mpmath"
         # compile or load now (the coefficients written out for the run's orders): set-up,
