@@ -330,6 +330,7 @@ def _measure_integrate(
         label_rhs = {
             "c-dd": "C double-double",
             "c-qd": "C quad-double",
+            "c-mpfr": "C MPFR",
             "python-gmpy2": "MPFR (gmpy2)",
         }.get(r.backend, label_rhs)
     call_s, setup_s, evidence_s = (statistics.median(v) for v in zip(*parts, strict=True))
