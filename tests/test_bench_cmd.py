@@ -148,6 +148,7 @@ def test_speed_targets_compare_at_equal_or_better_error():
     assert "30 digits" in lines[0] and "ratio 0.20 / 0.18" in lines[0] and "met)" in lines[0]
     assert "integrate() 12 ms" in lines[0] and "rtol 1e-28" in lines[0]
     assert "50 digits" in lines[1] and "no Taylor row" in lines[1] and "missed" in lines[1]
+    assert "closest: 1.0e-47 at rtol 1e-48, 33.3x heyoka's error, in 0.79x its time" in lines[1]
     # a ratio above one with the Propagator below one is reported as such
     rows[3]["call_s"], rows[3]["propagate_s"] = 0.07, 0.05
     assert "met by Propagator only" in speed_targets({"rows": rows})[0]
