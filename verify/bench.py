@@ -1011,7 +1011,7 @@ def target_ratios(study: dict) -> list[str]:
         extra = ""
         if h50:
             extra = (f"; heyoka 50 digits {h50['median_s']:.3f} s "
-                     f"({t50['median_s'] / h50['median_s']:.1f}x faster than ours)")
+                     f"(ours takes {t50['median_s'] / h50['median_s']:.2f}x its time)")
         msgs.append(
             f"50 digits, T={t50['T']:g}: Taylor {t50['median_s']:.3f} s vs mpmath.odefun "
             f"{o50['median_s']:.3f} s: {ratio:.1f}x faster (target >= 10x){extra}"
