@@ -368,3 +368,20 @@ def test_write_dataset_round_trip_and_refuses_inconsistent_dimensions(tmp_path):
         write_dataset(tmp_path / "bad.nc", {"a": (("p",), z, {}), "b": (("p",), z[:3], {})})
     with pytest.raises(ValueError, match="dimensions"):
         write_dataset(tmp_path / "bad.nc", {"a": (("p", "q"), z, {})})
+
+
+@pytest.mark.parametrize(
+    "precision,named",
+    [
+        ("double", "chaplygin_ball__contact_point_taylor.c (compiled Taylor integrator, double; "
+                   "the coefficients written out"),
+        ("quad", "chaplygin_ball__contact_point_taylor.c (compiled Taylor integrator, __float128"),
+        ("25", "chaplygin_ball__contact_point_taylor.c (compiled Taylor integrator, double-double"),
+        ("40", "chaplygin_ball__contact_point_taylor.c (compiled Taylor integrator, quad-double"),
+        ("100", "chaplygin_ball__contact_point_taylor_mpfr.c (compiled Taylor integrator, MPFR"),
+    ],
+)
+def test_explain_names_the_taylor_code_that_runs(precision, named):
+    scene = Scene.from_toml(FIG6F, [f"run.precision={precision}", "run.method=taylor"])
+    text = scene.explain()
+    assert named in text, text

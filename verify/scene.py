@@ -1154,7 +1154,7 @@ def explain_text(scene: Scene, res: Resolved) -> str:
     if code.name in manifest:
         files = manifest[code.name]["files"]
         if method == "taylor":
-            which = files["taylor_c"] + " (compiled Taylor integrator) or " + files["taylor_py"]
+            which = _taylor_files(files, scene.run_options.precision)
         else:
             which = f"{files['c']} (compiled on first use, cached) or {files['numpy']}"
         code_line = f"code: generated/{which}"
@@ -1168,6 +1168,25 @@ def explain_text(scene: Scene, res: Resolved) -> str:
     for key, (analysis, _) in requested(scene.outputs).items():
         lines.append(f"analysis {key}: {analysis.description}")
     return "\n".join(lines)
+
+
+def _taylor_files(files: Mapping[str, str], precision) -> str:
+    """Which generated Taylor source runs at ``precision`` (what --explain names)."""
+    from ..numerics.inputs import Precision
+    from ..numerics.taylor import digits_real_type
+
+    prec = Precision(precision)
+    fallback = f"; generated/{files['taylor_py']} without a compiler)"
+    if prec.is_double:
+        what = "double; the coefficients written out for the run's orders"
+    elif prec.is_quad:
+        what = "__float128"
+    else:
+        kind = digits_real_type(prec.prec)
+        if kind is None and "taylor_mpfr" in files:
+            return f"{files['taylor_mpfr']} (compiled Taylor integrator, MPFR" + fallback
+        what = {"dd": "double-double", "qd": "quad-double"}.get(kind or "", "MPFR in Python")
+    return f"{files['taylor_c']} (compiled Taylor integrator, {what}" + fallback
 
 
 # ---------------------------------------------------------------------------------------- run
