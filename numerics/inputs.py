@@ -281,6 +281,12 @@ def working_number(value: Number | object, precision: Precision) -> float | mpma
             return float(value)
         if isinstance(value, int) and abs(value) <= 2**53:
             return float(value)
+    if precision.is_double and isinstance(value, mpmath.mpf):
+        # fast path, same result: an mpf of at most 53 significant bits in the normal range
+        # of doubles is a double exactly (float() of it rounds nothing)
+        _, man, exp, bc = value._mpf_
+        if value._mpf_ == (0, 0, 0, 0) or (man and bc <= 53 and -1021 <= exp + bc <= 1024):
+            return float(value)
     bits = precision.prec
     exact = _exact_mpf(value, bits)
     if (

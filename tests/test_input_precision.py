@@ -16,6 +16,7 @@ reference's own error (40 digits) is negligible against it.
 
 from __future__ import annotations
 
+import math
 from decimal import Decimal
 from fractions import Fraction
 
@@ -325,3 +326,32 @@ def test_double_fast_path_still_refuses_non_finite(bad):
 def test_double_fast_path_refuses_bools():
     with pytest.raises(UserInputError):
         working_number(True, Precision("double"))
+
+
+@given(
+    st.integers(min_value=-(2**70), max_value=2**70),
+    st.integers(min_value=-1200, max_value=1100),
+)
+def test_double_fast_path_of_mpf_rounds_once_correctly(m, e):
+    """An mpf of any size (the fast path takes those of at most 53 bits in the normal range,
+    the others go the general way): rounded to nearest once, as Fraction -> float does
+    (an independent route; overflow refused either way)."""
+    with mpmath.workprec(200):
+        x = mpmath.ldexp(mpmath.mpf(m), e)
+    exact = Fraction(m) * Fraction(2) ** e
+    try:
+        want = float(exact)
+    except OverflowError:
+        with pytest.raises(UserInputError):
+            working_number(x, Precision("double"))
+        return
+    if math.isinf(want):  # pragma: no cover - float(Fraction) raises instead
+        return
+    try:
+        got = working_number(x, Precision("double"))
+    except UserInputError:  # refused: rounds to infinity, or a nonzero value to zero
+        assert abs(exact) >= Fraction(2) ** 1024 * (1 - Fraction(1, 2**54)) or (
+            want == 0 and exact != 0
+        )
+        return
+    assert got == want
