@@ -9,6 +9,7 @@ returns an :class:`~chaplygin.numerics.integrators.IntegrationResult` with its e
 
 from __future__ import annotations
 
+import itertools
 import time
 from collections.abc import Mapping, Sequence
 
@@ -28,6 +29,7 @@ from .integrators import (
 )
 
 __all__ = [
+    "check_output_times",
     "prepare_problem",
     "IntegrationResult",
     "integrate",
@@ -294,6 +296,7 @@ taylor_options, max_steps, max_wall_s
     t_span = _time_span(t_span, prec)
     if t_eval is not None:
         t_eval = [working_number(v, prec) for v in _sequence(t_eval, "t_eval")]
+        check_output_times(t_eval, t_span)
     if isinstance(params, Mapping):
         p = pack_params(code, params, prec)
     else:
@@ -335,6 +338,30 @@ taylor_options, max_steps, max_wall_s
         max_steps=max_steps,
         max_wall_s=max_wall_s,
     )
+
+
+def check_output_times(t_eval: Sequence, t_span: tuple) -> None:
+    """Refuse output times out of order for the direction of integration.
+
+    Parameters
+    ----------
+    t_eval : sequence of numbers
+        Output times at the working precision.
+    t_span : (t0, t1)
+        The span (``t1 < t0`` integrates backward).
+
+    Raises
+    ------
+    UserInputError
+        Two consecutive output times in the wrong order.
+    """
+    direction = 1 if t_span[1] > t_span[0] else -1
+    for a, b in itertools.pairwise(t_eval):
+        if direction * (b - a) < 0:
+            raise UserInputError(
+                f"t_eval must be sorted in the direction of integration (from {t_span[0]} to "
+                f"{t_span[1]}): {a} is followed by {b}"
+            )
 
 
 def _check_finite_start(code: ModelCode, t0, y: Sequence, p: Sequence, prec: Precision) -> None:

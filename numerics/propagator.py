@@ -29,7 +29,7 @@ import numpy as np
 from ..derive.errors import UserInputError
 from .code import ModelCode
 from .inputs import working_number
-from .integrate import DEFAULT_MAX_WALL_S, prepare_problem
+from .integrate import DEFAULT_MAX_WALL_S, check_output_times, prepare_problem
 from .integrators import IntegrationResult
 
 __all__ = ["Propagator"]
@@ -157,7 +157,8 @@ class Propagator:
         t : float or str
             The end time, read at the working precision.
         t_eval : sequence of float, optional
-            Output times inside the span (default: its two ends).
+            Output times inside the span, sorted in its direction (default: its two ends);
+            ``t`` is appended when it is not the last.
 
         Returns
         -------
@@ -184,6 +185,9 @@ class Propagator:
             lo, hi = min(self.time, t_end), max(self.time, t_end)
             if any(not lo <= v <= hi for v in outputs):
                 raise UserInputError("t_eval must lie inside the span of the call")
+            check_output_times(outputs, (self.time, t_end))
+            if not outputs or outputs[-1] != t_end:  # the end is always an output: the
+                outputs.append(t_end)  # next call starts from its state
         problem = dataclasses.replace(
             self._problem, y0=list(self._state), t_span=(self.time, t_end), t_eval=outputs
         )
@@ -201,7 +205,7 @@ class Propagator:
             result = self._integrator._result(
                 problem, self._integrator._solution(problem, sol), "c", wall, 0.0
             )
-        if result.success and result.y.shape[1] and outputs[-1] == t_end:
+        if result.success and result.y.shape[1]:
             self._state = list(result.y[:, -1])
             self.time = t_end
         return result

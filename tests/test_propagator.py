@@ -82,3 +82,24 @@ def test_bad_input_is_refused_and_changes_nothing():
     with pytest.raises(UserInputError, match="inside the span"):
         prop.propagate_until(5.0, t_eval=[1, 6])
     assert prop.time == 0.0 and np.array_equal(_bits(prop.state), _bits(y0))
+
+
+def test_the_end_is_always_an_output():
+    prop = Propagator(BALL, REFERENCE_Y0, REFERENCE_PARAMS, rtol=1e-11, atol=1e-11)
+    r = prop.propagate_until(5.0, t_eval=[1.0, 2.5])
+    assert r.success and list(r.t) == [1.0, 2.5, 5.0] and prop.time == 5.0
+    assert np.array_equal(_bits(prop.state), _bits(r.y[:, -1]))
+    back = prop.propagate_for(-5.0, t_eval=[4.0, 1.0, 0.0])
+    assert back.success and list(back.t) == [4.0, 1.0, 0.0] and prop.time == 0.0
+
+
+@pytest.mark.parametrize("method", ["taylor", "DOP853"])
+def test_output_times_out_of_order_are_refused(method):
+    with pytest.raises(UserInputError, match="sorted in the direction"):
+        integrate(BALL, REFERENCE_Y0, 10, REFERENCE_PARAMS, method=method, t_eval=[0, 5, 2, 10])
+    with pytest.raises(UserInputError, match="sorted in the direction"):
+        integrate(BALL, REFERENCE_Y0, (10, 0), REFERENCE_PARAMS, method=method, t_eval=[10, 2, 5])
+    prop = Propagator(BALL, REFERENCE_Y0, REFERENCE_PARAMS)
+    with pytest.raises(UserInputError, match="sorted in the direction"):
+        prop.propagate_until(10, t_eval=[5, 2])
+    assert prop.time == 0.0
