@@ -93,7 +93,8 @@ int chaplygin_taylor_step(void *TY, const void *P, const void *CTRL, int fixed_o
                           const void *T_END, void *COEFFS, void *H, int *ORDER);
 int chaplygin_taylor_run(const void *T01, const void *Y0, const void *P, const void *CTRL,
                          int fixed_order, long n_eval, const void *T_EVAL, void *Y_EVAL,
-                         void *Y_END, void *T_REACHED, long max_steps, long *STATS);
+                         void *Y_END, void *T_REACHED, long max_steps, long *STATS,
+                         void *Y_LO);
 """
 _ffi = cffi.FFI()
 _ffi.cdef(_CDEF)
@@ -1380,6 +1381,9 @@ def _c_run(
     # parameters and step control in the library's format (a Propagator packs them once)
     P, ctrl = packed or (clib.pack(p), clib.pack([rtol, atol, step or 0]))
     y_end, t_reached = clib.empty(n), clib.empty(1)
+    # the compensation of the state (double and quad: the rounding error the loop carries),
+    # zero at the start, handed from one block of steps to the next
+    y_lo = clib.pack([0] * n)
     stats = np.zeros(4, dtype=np.int64)
     chunk = max_steps if max_wall_s is None else C_CHUNK_STEPS.get(clib.kind, 256)
     deadline = None if max_wall_s is None else time.perf_counter() + max_wall_s
@@ -1399,6 +1403,7 @@ def _c_run(
             ptr(t_reached),
             min(chunk, left),
             _ffi.cast("long *", stats.ctypes.data),
+            ptr(y_lo),
         )
         steps += int(stats[0])
         if stats[0]:
@@ -1409,7 +1414,8 @@ def _c_run(
         if deadline is not None and time.perf_counter() > deadline:
             status = -6
             break
-        # resume exactly where the call stopped: its time and state, as they are in C
+        # resume exactly where the call stopped: its time, state and compensation, as they
+        # are in C (y_lo is updated in place)
         t01 = np.concatenate([t_reached, t01[width:]])
         y = y_end.copy()
     real = clib.real

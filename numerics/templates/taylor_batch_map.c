@@ -60,7 +60,7 @@ void chaplygin_taylor_batch_map(long N, const double *Y0, const double *P, const
             double y_end[CHAPLYGIN_TAYLOR_N_STATE], t_reached;
             long run_stats[4] = {0, 0, 0, 0};
             const int run = chaplygin_taylor_run(t01, y0, p, ctrl, 0, n_record, times, out,
-                                                 y_end, &t_reached, budget, run_stats);
+                                                 y_end, &t_reached, budget, run_stats, NULL);
             stats[0] = (double)run_stats[0];
             stats[1] = (double)run_stats[2];
             stats[2] = (double)run_stats[1];
