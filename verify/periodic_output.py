@@ -191,6 +191,10 @@ def _run(scene: Any, res: Any, spec: PeriodicOrbitsOutput, progress: Any) -> Ana
 
 def _continue(smap, orbit, vary, value, cspec, progress, continue_periodic_orbit):
     say = (lambda m: print(f"periodic_orbits: {m}", flush=True)) if progress else None
+    # start from the point of the cycle farthest from the poles z = +-1 of the reduced
+    # coordinates, where l is undefined and the corrections are ill-conditioned (which of the
+    # points comes first depends on where the transient ended)
+    start = max(orbit.points, key=lambda x: 1 - abs(float(x[0])))
     runs = []
     for end in cspec.range:
         if float(end) == value:
@@ -198,7 +202,7 @@ def _continue(smap, orbit, vary, value, cspec, progress, continue_periodic_orbit
         runs.append(
             continue_periodic_orbit(
                 smap,
-                orbit.points[0],
+                start,
                 orbit.period,
                 value,
                 float(end),
