@@ -28,7 +28,7 @@ import numpy as np
 
 from ..derive.errors import UserInputError
 from .code import ModelCode
-from .inputs import working_number
+from .inputs import Precision, working_number
 from .integrate import DEFAULT_MAX_WALL_S, check_output_times, prepare_problem
 from .integrators import IntegrationResult
 
@@ -92,7 +92,7 @@ class Propagator:
     ) -> None:
         start = time.perf_counter()
         # the span only has to pass integrate's checks here; each call sets its own
-        t0_value = working_number(t0, _precision_of(precision))
+        t0_value = working_number(t0, Precision(precision))
         self._integrator, self._problem = prepare_problem(
             system,
             y0,
@@ -232,8 +232,3 @@ class Propagator:
         """
         return self.propagate_until(self.time + working_number(dt, self._problem.precision), t_eval)
 
-
-def _precision_of(precision):
-    from .inputs import Precision
-
-    return Precision(precision)

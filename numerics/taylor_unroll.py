@@ -145,8 +145,8 @@ class _Unrolled:
         return out if _ALLOWED.match(out) else None
 
 
-def _function(source: str) -> tuple[str, str, list[str], list[str]] | None:
-    """(prologue and order-0 text, signature line, loop-body lines, update lines) of the
+def _function(source: str) -> tuple[str, list[str], list[str]] | None:
+    """(prologue and order-0 text, loop-body lines, update lines) of the
     generated ``taylor_coefficients``; None if the text is not of the emitter's shape."""
     start = source.find(_FUNCTION)
     if start < 0:
@@ -163,7 +163,7 @@ def _function(source: str) -> tuple[str, str, list[str], list[str]] | None:
         return None
     body = [line.strip() for line in rest[:close]]
     updates = [line.strip() for line in rest[close + 1 :] if line.strip() != "}"]
-    return head, source[start:source.index("{", start)], body, updates
+    return head, body, updates
 
 
 def _order_zero_locals(head: str, time_node: str | None) -> str | None:
@@ -210,7 +210,7 @@ def unrolled_source(source: str, orders: Iterable[int]) -> str | None:
     parts = _function(source)
     if parts is None:
         return None
-    head, _, body, updates = parts
+    head, body, updates = parts
     zero = set(_ZERO.findall(head))
     time = _TIME.search(head)
     time_node = time[1] if time else None

@@ -10,12 +10,18 @@ the unroller does not know makes it decline (and the loop is used).
 from __future__ import annotations
 
 import random
+import re
 
+import cffi
+import chaplygin.numerics.taylor as taylor
 import numpy as np
 import pytest
 from chaplygin.derive.systems import builtin_variants
 from chaplygin.numerics import load_model_code
+from chaplygin.numerics.ccompile import compile_c
+from chaplygin.numerics.inputs import Precision, pack_params, pack_state
 from chaplygin.numerics.taylor import (
+    CompiledTaylor,
     _c_run,
     load_taylor_library,
     run_orders,
@@ -98,7 +104,6 @@ def test_a_different_recurrence_order_would_be_seen():
     code = load_model_code("chaplygin_ball", ())
     source = unrolled_source(code.taylor_c_source, (12,))
     assert source is not None
-    import re
 
     i = source.index("static void taylor_coefficients_12(")
     j = source.index("static void taylor_coefficients_unrolled(")
@@ -109,8 +114,6 @@ def test_a_different_recurrence_order_would_be_seen():
         flags=re.MULTILINE,
     )
     assert part != source[i:j]
-    from chaplygin.numerics.ccompile import compile_c
-    from chaplygin.numerics.taylor import CompiledTaylor
 
     changed = CompiledTaylor(compile_c(source[:i] + part + source[j:]), "double")
     loop = load_taylor_library(code, "double")
@@ -127,7 +130,6 @@ def test_a_different_recurrence_order_would_be_seen():
 @pytest.mark.parametrize("rtol", [1e-9, 1e-12, 3e-15])
 def test_adaptive_runs_are_bit_identical_to_the_loop(rtol):
     code = load_model_code("chaplygin_ball", ())
-    from chaplygin.numerics.inputs import Precision, pack_params, pack_state
 
     prec = Precision("double")
     y0 = pack_state(code, REFERENCE_Y0, prec)
@@ -160,8 +162,6 @@ def test_runs_in_blocks_hand_over_the_compensation(kind, monkeypatch):
     into blocks of 7 steps (as a wall-time limit cuts it) hands it from block to block and
     gives the bits of the uncut run; without the handover the bits would differ (the
     compensation is active: it changes the state in its last bits)."""
-    import chaplygin.numerics.taylor as taylor
-    from chaplygin.numerics.inputs import Precision, pack_params, pack_state
 
     code = load_model_code("chaplygin_ball", ())
     prec = Precision(kind)
@@ -182,7 +182,6 @@ def test_runs_in_blocks_hand_over_the_compensation(kind, monkeypatch):
     real = lib.real
     ptr = lib._ptr
     n = lib.n_state
-    import cffi
 
     ffi = cffi.FFI()
     t01, y = lib.pack([0, 23.3]), lib.pack(y0)
