@@ -12,6 +12,7 @@ from __future__ import annotations
 import itertools
 import time
 from collections.abc import Mapping, Sequence
+from fractions import Fraction
 
 import mpmath
 import numpy as np
@@ -297,20 +298,7 @@ taylor_options, max_steps, max_wall_s
     if t_eval is not None:
         t_eval = [working_number(v, prec) for v in _sequence(t_eval, "t_eval")]
         check_output_times(t_eval, t_span)
-    if isinstance(params, Mapping):
-        p = pack_params(code, params, prec)
-    else:
-        # a vector gets the same checks as named groups: split it by the model's groups
-        groups = {n: len(v[0]) for n, v in code.parameter_groups.items()}
-        p = pack_params(code, _by_groups(params, groups, code.params, "parameter vector"), prec)
-    if isinstance(y0, Mapping):
-        y = pack_state(code, y0, prec)
-    else:
-        groups = {n: len(v) for n, v in code.state_groups.items()}
-        y = pack_state(code, _by_groups(y0, groups, code.state, "state vector"), prec)
-    _check_constraints(code, t_span[0], y, p)
-    _check_relations(code, t_span[0], y, p)
-    _check_finite_start(code, t_span[0], y, p, prec)
+    p, y = _read_start(code, y0, params, prec, t_span[0])
     if max_steps is not None and not (
         isinstance(max_steps, int) and not isinstance(max_steps, bool) and max_steps >= 1
     ):
@@ -338,6 +326,70 @@ taylor_options, max_steps, max_wall_s
         max_steps=max_steps,
         max_wall_s=max_wall_s,
     )
+
+
+#: Start states and parameters already read and checked (:func:`_read_start`), by input.
+_STARTS: dict[tuple, tuple[tuple, tuple]] = {}
+_STARTS_MAX = 256
+
+
+def _input_key(value: object) -> tuple | None:
+    """A hashable key of an input as typed (its type and its exact value), or None for
+    inputs that are not memoised (any other type, NaN: read anew every time)."""
+    if isinstance(value, bool):
+        return None
+    if isinstance(value, str | int | Fraction | mpmath.mpf):
+        return (type(value).__name__, value)
+    if isinstance(value, float):
+        return ("float", value) if value == value else None
+    if isinstance(value, Mapping):
+        items = []
+        for k, v in value.items():
+            key = _input_key(v)
+            if not isinstance(k, str) or key is None:
+                return None
+            items.append((k, key))
+        return ("map", tuple(sorted(items)))
+    if isinstance(value, np.ndarray):
+        if value.dtype.kind not in "if":
+            return None
+        value = value.tolist()
+    if isinstance(value, list | tuple):
+        keys = tuple(_input_key(v) for v in value)
+        return None if None in keys else ("seq", keys)
+    return None
+
+
+def _read_start(code: ModelCode, y0, params, prec: Precision, t0) -> tuple[list, list]:
+    """Parameters and initial state at the working precision, every check of the start
+    passed (constraints, relations, finite right-hand side); the same inputs again are not
+    read again (the strings of a separatrix state at a guard precision cost most of a short
+    run's set-up): results are memoised by model, precision, start time and the inputs as
+    typed."""
+    key = (code.hash, repr(prec), mpmath.mp.prec, _input_key(t0), _input_key(y0),
+           _input_key(params))
+    hit = _STARTS.get(key) if None not in key else None
+    if hit is not None:
+        return list(hit[0]), list(hit[1])
+    if isinstance(params, Mapping):
+        p = pack_params(code, params, prec)
+    else:
+        # a vector gets the same checks as named groups: split it by the model's groups
+        groups = {n: len(v[0]) for n, v in code.parameter_groups.items()}
+        p = pack_params(code, _by_groups(params, groups, code.params, "parameter vector"), prec)
+    if isinstance(y0, Mapping):
+        y = pack_state(code, y0, prec)
+    else:
+        groups = {n: len(v) for n, v in code.state_groups.items()}
+        y = pack_state(code, _by_groups(y0, groups, code.state, "state vector"), prec)
+    _check_constraints(code, t0, y, p)
+    _check_relations(code, t0, y, p)
+    _check_finite_start(code, t0, y, p, prec)
+    if None not in key:
+        if len(_STARTS) >= _STARTS_MAX:
+            del _STARTS[next(iter(_STARTS))]
+        _STARTS[key] = (tuple(p), tuple(y))
+    return list(p), list(y)
 
 
 def check_output_times(t_eval: Sequence, t_span: tuple) -> None:

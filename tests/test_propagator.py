@@ -103,3 +103,52 @@ def test_output_times_out_of_order_are_refused(method):
     with pytest.raises(UserInputError, match="sorted in the direction"):
         prop.propagate_until(10, t_eval=[5, 2])
     assert prop.time == 0.0
+
+
+def test_reset_goes_back_to_the_start_bit_for_bit():
+    prop = Propagator(BALL, REFERENCE_Y0, REFERENCE_PARAMS, rtol=1e-12, atol=1e-12)
+    first = prop.propagate_until(11.3, t_eval=[0, 4.1, 11.3])
+    prop.propagate_until(15.0)
+    prop.reset()
+    assert prop.time == 0.0
+    again = prop.propagate_until(11.3, t_eval=[0, 4.1, 11.3])
+    assert np.array_equal(_bits(first.y), _bits(again.y)) and first.drift == again.drift
+
+
+def test_reset_to_a_new_state_reads_it_as_integrate_does():
+    other = {"M": ("0.31", "-0.52", "0.77"), "gamma": ("0.6", "-0.48", "sqrt(0.4096)")}
+    prop = Propagator(BALL, REFERENCE_Y0, REFERENCE_PARAMS, rtol=1e-12, atol=1e-12)
+    prop.reset(other, t0="0.25")
+    r = prop.propagate_until(9.0)
+    ref = integrate(BALL, other, ("0.25", 9.0), REFERENCE_PARAMS, method="taylor",
+                    rtol=1e-12, atol=1e-12, t_eval=["0.25", 9.0])
+    assert np.array_equal(_bits(r.y), _bits(ref.y)) and r.drift == ref.drift
+
+
+def test_reset_refuses_a_bad_state_and_changes_nothing():
+    prop = Propagator(BALL, REFERENCE_Y0, REFERENCE_PARAMS, rtol=1e-12, atol=1e-12)
+    prop.propagate_until(3.0)
+    before, t = prop.state, prop.time
+    with pytest.raises(UserInputError, match="unit vector"):
+        prop.reset({"M": (0.7, -0.4, 0.5), "gamma": (0.2, 0.3, 0.3)})
+    with pytest.raises(UserInputError):
+        prop.reset(t0="nan")
+    assert prop.time == t and np.array_equal(_bits(prop.state), _bits(before))
+
+
+def test_blocks_of_the_compiled_loop_give_the_uncut_run(monkeypatch):
+    """With a wall-time limit the compiled loop runs in blocks resumed from the exact state,
+    time and compensation; blocks of 7 steps give the bits of one uninterrupted call, the
+    outputs that fall in later blocks included (the buffers are addressed past the first)."""
+    import chaplygin.numerics.taylor as taylor
+
+    t_eval = list(np.linspace(0.0, 40.0, 23))
+    whole = Propagator(BALL, REFERENCE_Y0, REFERENCE_PARAMS, rtol=1e-12, atol=1e-12,
+                       max_wall_s=None).propagate_until(40.0, t_eval)
+    monkeypatch.setitem(taylor.C_CHUNK_STEPS, "double", 7)
+    cut = Propagator(BALL, REFERENCE_Y0, REFERENCE_PARAMS, rtol=1e-12, atol=1e-12)
+    assert cut._fast is not None and cut._fast.chunk == 7
+    r = cut.propagate_until(40.0, t_eval)
+    assert whole.success and r.success and r.nsteps == whole.nsteps > 7 * 5
+    assert np.array_equal(_bits(r.t), _bits(whole.t))
+    assert np.array_equal(_bits(r.y), _bits(whole.y))

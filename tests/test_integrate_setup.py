@@ -1,0 +1,107 @@
+"""What ``integrate`` and ``Propagator`` do once instead of every call (issue 15): the start
+read and checked once per input (memoised by value and type), the drift evidence of C runs
+from the compiled model."""
+
+from __future__ import annotations
+
+import importlib
+import math
+
+import numpy as np
+import pytest
+from chaplygin.derive.errors import UserInputError
+from chaplygin.numerics import integrate
+from chaplygin.numerics.code import load_model_code
+from chaplygin.numerics.inputs import Precision
+from chaplygin.numerics.integrators.base import _drift
+from reference import REFERENCE_PARAMS, REFERENCE_Y0
+
+# the module (its name is shadowed by the function in chaplygin.numerics)
+integrate_module = importlib.import_module("chaplygin.numerics.integrate")
+BALL = "chaplygin_ball"
+EPS = float(np.finfo(float).eps)
+
+
+@pytest.fixture
+def counted(monkeypatch):
+    """pack_state wrapped to count the reads (the memo emptied first)."""
+    calls = []
+    real = integrate_module.pack_state
+
+    def pack_state(*args, **kw):
+        calls.append(args)
+        return real(*args, **kw)
+
+    monkeypatch.setattr(integrate_module, "pack_state", pack_state)
+    monkeypatch.setattr(integrate_module, "_STARTS", {})
+    return calls
+
+
+def test_the_same_start_is_read_once(counted):
+    code, prec = load_model_code(BALL), Precision("double")
+    y0 = {"M": ("0.7", "-0.4", "0.5"), "gamma": ("0.2", "0.3", "sqrt(0.87)")}
+    p1, s1 = integrate_module._read_start(code, y0, REFERENCE_PARAMS, prec, 0.0)
+    p2, s2 = integrate_module._read_start(code, dict(y0), REFERENCE_PARAMS, prec, 0.0)
+    assert len(counted) == 1 and s1 == s2 and p1 == p2
+    s2[0] = 99.0  # a caller's copy: the memo keeps its own
+    _, s3 = integrate_module._read_start(code, y0, REFERENCE_PARAMS, prec, 0.0)
+    assert s3 == s1 and len(counted) == 1
+    # another value, another type of the same value, another precision: read again
+    integrate_module._read_start(code, {**y0, "M": ("0.7", "-0.4", "0.51")}, REFERENCE_PARAMS,
+                                 prec, 0.0)
+    integrate_module._read_start(code, {**y0, "M": (0.7, -0.4, 0.5)}, REFERENCE_PARAMS, prec, 0.0)
+    integrate_module._read_start(code, y0, REFERENCE_PARAMS, Precision("quad"), 0.0)
+    assert len(counted) == 4
+
+
+def test_a_mutated_input_is_read_anew(counted):
+    y0 = {"M": [0.7, -0.4, 0.5], "gamma": [0.2, 0.3, "sqrt(0.87)"]}
+    a = integrate(BALL, y0, 1.0, REFERENCE_PARAMS, method="taylor", rtol=1e-12, atol=1e-12)
+    y0["M"][2] = 0.25
+    b = integrate(BALL, y0, 1.0, REFERENCE_PARAMS, method="taylor", rtol=1e-12, atol=1e-12)
+    assert len(counted) == 2 and b.y[2, 0] == 0.25 and a.y[2, 0] == 0.5
+
+
+def test_refused_inputs_are_refused_every_time(counted):
+    bad = {"M": (0.7, -0.4, 0.5), "gamma": (0.2, 0.3, 0.3)}
+    for _ in range(2):
+        with pytest.raises(UserInputError, match="unit vector"):
+            integrate(BALL, bad, 1.0, REFERENCE_PARAMS, method="taylor")
+    assert len(counted) == 2 and integrate_module._STARTS == {}
+
+
+def test_keys_keep_types_apart():
+    key = integrate_module._input_key
+    assert key(True) is None and key(float("nan")) is None and key(object()) is None
+    assert key(1) != key(1.0) and key("1") != key(1)
+    assert key([1.0, 2.0]) == key(np.array([1.0, 2.0])) == key((1.0, 2.0))
+    assert key({"a": [1.0]}) == key({"a": (1.0,)}) and key({1: 2.0}) is None
+
+
+def test_compiled_evidence_agrees_with_the_numpy_module():
+    """A C run's drift from the compiled integrals against the same outputs' drift from the
+    generated numpy module: the integrals are the same expressions, each evaluated with a
+    relative error of a few eps, so the relative drifts differ by at most 8 eps."""
+    code = load_model_code(BALL)
+    r = integrate(BALL, REFERENCE_Y0, 30.0, REFERENCE_PARAMS, method="taylor", rtol=1e-9,
+                  atol=1e-9, t_eval=[0, 11.0, 30.0])
+    assert r.backend == "c-double" and r.success
+    prec = Precision("double")
+    numpy_drift, absolute = _drift(code, r.t, r.y, list(r.params.values()), prec)
+    assert absolute == r.drift_absolute
+    for name, value in r.drift.items():
+        assert abs(value - numpy_drift[name]) <= 8 * EPS, (name, value, numpy_drift[name])
+    assert max(r.drift.values()) > 100 * EPS  # rtol 1e-9 drifts: not a comparison of zeros
+
+
+def test_compiled_evidence_sees_a_value_that_is_not_finite():
+    code = load_model_code(BALL)
+    p = [1.0, 2.0, 3.0, 1.0]  # I1, I2, I3, D
+    y = np.array([[0.7, 0.7], [-0.4, math.nan], [0.5, 0.5], [0.2, 0.2], [0.3, 0.3],
+                  [0.87**0.5, 0.87**0.5]])
+    prec = Precision("double")
+    drift, _ = _drift(code, [0.0, 1.0], y, p, prec, code.compiled())
+    ref, _ = _drift(code, [0.0, 1.0], y, p, prec)
+    assert all(math.isnan(drift[k]) == math.isnan(ref[k]) for k in ref)
+    assert any(math.isnan(v) for v in drift.values())
+
