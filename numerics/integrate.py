@@ -336,6 +336,14 @@ _STARTS_MAX = 256
 def _input_key(value: object) -> tuple | None:
     """A hashable key of an input as typed (its type and its exact value), or None for
     inputs that are not memoised (any other type, NaN: read anew every time)."""
+    kind = type(value)
+    if kind is str or kind is int:  # the common inputs first (a key is made every call)
+        return (kind.__name__, value)
+    if kind is float:
+        return ("float", value) if value == value else None
+    if kind is tuple or kind is list:
+        keys = tuple(_input_key(v) for v in value)
+        return None if None in keys else ("seq", keys)
     if isinstance(value, bool):
         return None
     if isinstance(value, str | int | Fraction | mpmath.mpf):
