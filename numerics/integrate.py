@@ -10,6 +10,7 @@ returns an :class:`~chaplygin.numerics.integrators.IntegrationResult` with its e
 from __future__ import annotations
 
 import itertools
+import threading
 import time
 from collections.abc import Mapping, Sequence
 from fractions import Fraction
@@ -331,6 +332,7 @@ taylor_options, max_steps, max_wall_s
 #: Start states and parameters already read and checked (:func:`_read_start`), by input.
 _STARTS: dict[tuple, tuple[tuple, tuple]] = {}
 _STARTS_MAX = 256
+_STARTS_LOCK = threading.Lock()
 
 
 def _input_key(value: object) -> tuple | None:
@@ -394,9 +396,10 @@ def _read_start(code: ModelCode, y0, params, prec: Precision, t0) -> tuple[list,
     _check_relations(code, t0, y, p)
     _check_finite_start(code, t0, y, p, prec)
     if None not in key:
-        if len(_STARTS) >= _STARTS_MAX:
-            del _STARTS[next(iter(_STARTS))]
-        _STARTS[key] = (tuple(p), tuple(y))
+        with _STARTS_LOCK:  # threads (a Dask worker's) may read starts at the same time
+            if len(_STARTS) >= _STARTS_MAX:
+                del _STARTS[next(iter(_STARTS))]
+            _STARTS[key] = (tuple(p), tuple(y))
     return list(p), list(y)
 
 

@@ -105,3 +105,15 @@ def test_compiled_evidence_sees_a_value_that_is_not_finite():
     assert all(math.isnan(drift[k]) == math.isnan(ref[k]) for k in ref)
     assert any(math.isnan(v) for v in drift.values())
 
+
+
+def test_the_memo_is_bounded(counted, monkeypatch):
+    monkeypatch.setattr(integrate_module, "_STARTS_MAX", 3)
+    code, prec = load_model_code(BALL), Precision("double")
+    starts = [{"M": (0.7, -0.4, 0.1 * k), "gamma": (0.2, 0.3, "sqrt(0.87)")} for k in range(5)]
+    for y0 in starts:
+        integrate_module._read_start(code, y0, REFERENCE_PARAMS, prec, 0.0)
+    assert len(integrate_module._STARTS) == 3 and len(counted) == 5
+    integrate_module._read_start(code, starts[-1], REFERENCE_PARAMS, prec, 0.0)  # kept
+    integrate_module._read_start(code, starts[0], REFERENCE_PARAMS, prec, 0.0)  # evicted
+    assert len(counted) == 6
