@@ -338,20 +338,21 @@ _STARTS_LOCK = threading.Lock()
 def _input_key(value: object) -> tuple | None:
     """A hashable key of an input as typed (its type and its exact value), or None for
     inputs that are not memoised (any other type, NaN: read anew every time)."""
-    kind = type(value)
-    if kind is str or kind is int:  # the common inputs first (a key is made every call)
-        return (kind.__name__, value)
-    if kind is float:
+    if isinstance(value, str):  # the common inputs first: a key is made every call
+        return ("str", value)
+    if isinstance(value, float):
         return ("float", value) if value == value else None
-    if kind is tuple or kind is list:
+    if isinstance(value, np.ndarray):
+        if value.dtype.kind not in "if":
+            return None
+        value = value.tolist()
+    if isinstance(value, list | tuple):
         keys = tuple(_input_key(v) for v in value)
         return None if None in keys else ("seq", keys)
     if isinstance(value, bool):
         return None
-    if isinstance(value, str | int | Fraction | mpmath.mpf):
+    if isinstance(value, int | Fraction | mpmath.mpf):
         return (type(value).__name__, value)
-    if isinstance(value, float):
-        return ("float", value) if value == value else None
     if isinstance(value, Mapping):
         items = []
         for k, v in value.items():
@@ -360,13 +361,6 @@ def _input_key(value: object) -> tuple | None:
                 return None
             items.append((k, key))
         return ("map", tuple(sorted(items)))
-    if isinstance(value, np.ndarray):
-        if value.dtype.kind not in "if":
-            return None
-        value = value.tolist()
-    if isinstance(value, list | tuple):
-        keys = tuple(_input_key(v) for v in value)
-        return None if None in keys else ("seq", keys)
     return None
 
 

@@ -31,8 +31,6 @@ from .code import ModelCode
 from .inputs import Precision, working_number
 from .integrate import DEFAULT_MAX_WALL_S, _read_start, check_output_times, prepare_problem
 from .integrators import IntegrationResult
-from .integrators.base import Solution
-from .taylor import _MESSAGES
 
 __all__ = ["Propagator"]
 
@@ -125,15 +123,17 @@ class Propagator:
         problem = self._problem
         if not (problem.precision.is_double and self._backend == "c"):
             return None
-        from .taylor import MAX_STEPS, load_taylor_library, run_orders
+        from .taylor import MAX_STEPS, CompiledTaylorRun, load_taylor_library, run_orders
 
         options = problem.options
-        lib = load_taylor_library(
-            problem.code, "double", run_orders(problem.rtol, problem.atol, options.get("order"))
-        )
+        order = options.get("order")
+        lib = load_taylor_library(problem.code, "double",
+                                  run_orders(problem.rtol, problem.atol, order))
         if lib is None:
             return None
-        return _DoubleLoop(lib, problem, options.get("max_steps") or MAX_STEPS)
+        return CompiledTaylorRun(lib, problem.params, problem.rtol, problem.atol, order,
+                                 options.get("step"), options.get("max_steps") or MAX_STEPS,
+                                 problem.max_wall_s)
 
     def reset(self, y0: Mapping[str, object] | Sequence[float] | None = None,
               t0: float | str | None = None) -> None:
@@ -218,9 +218,14 @@ class Propagator:
                 self._problem, y0=list(self._state), t_span=(self.time, t_end), t_eval=outputs
             )
             result = self._integrator.run(problem, self._requested_backend)
-        else:  # the C loop with the library and buffers kept: what run() would do, less work
-            result = self._fast.propagate(self._integrator, self._state, self.time, t_end,
-                                          outputs)
+        else:  # the C loop with its arguments converted once: what run() does, less work
+            start = time.perf_counter()
+            sol = self._fast.run(self._state, (self.time, t_end), outputs)
+            wall = time.perf_counter() - start
+            view = _RunView(self._problem, self.time, t_end, outputs)
+            result = self._integrator._result(
+                view, self._integrator._solution(view, sol), "c", wall, 0.0
+            )
         if result.success and result.y.shape[1]:
             self._state = result.y[:, -1].tolist()
             self.time = t_end
@@ -250,91 +255,9 @@ class Propagator:
 
 
 
-class _DoubleLoop:
-    """The compiled double Taylor loop of one prepared problem, its arguments converted to
-    pointers once: a call packs the start, runs the loop (in blocks when a wall-time limit
-    is set, resumed exactly as :func:`~chaplygin.numerics.taylor._c_run` does) and builds
-    the result with :meth:`Integrator._result`, the code ``integrate`` uses."""
-
-    def __init__(self, lib, problem, max_steps: int):
-        from .taylor import C_CHUNK_STEPS, CompiledTaylor, _ffi
-
-        ptr = CompiledTaylor._ptr
-        n = lib.n_state
-        self.lib, self.problem, self.max_steps, self.n = lib, problem, max_steps, n
-        self.run_c = lib.lib.chaplygin_taylor_run
-        self.chunk = max_steps if problem.max_wall_s is None else C_CHUNK_STEPS["double"]
-        self.P = lib.pack(problem.params)
-        self.ctrl = lib.pack([problem.rtol, problem.atol, problem.options.get("step") or 0])
-        self.t01, self.y, self.y_lo = np.zeros(2), np.zeros(n), np.zeros(n)
-        self.y_end, self.t_reached = np.zeros(n), np.zeros(1)
-        self.stats = np.zeros(4, dtype=np.int64)
-        self.args = [ptr(self.t01), ptr(self.y), ptr(self.P), ptr(self.ctrl),
-                     problem.options.get("order") or 0, 0, None, None, ptr(self.y_end),
-                     ptr(self.t_reached), 0, _ffi.cast("long *", self.stats.ctypes.data),
-                     ptr(self.y_lo)]
-        self.ptr = ptr
-        self._outputs = {}  # number of outputs -> (t buffer, y buffer, their pointers)
-        self._output_buffers(2)  # the default: the two ends
-
-    def _output_buffers(self, m: int):
-        bufs = self._outputs.get(m)
-        if bufs is None:
-            t_buf, y_buf = np.zeros(max(m, 1)), np.zeros(max(m, 1) * self.n)
-            bufs = (t_buf, y_buf, self.ptr(t_buf), self.ptr(y_buf))
-            if len(self._outputs) < 8:
-                self._outputs[m] = bufs
-        return bufs
-
-    def propagate(self, integrator, y0, t0, t_end, outputs):
-        problem, n, m = self.problem, self.n, len(outputs)
-        start = time.perf_counter()
-        t_buf, y_buf, t_ptr, y_ptr = self._output_buffers(m)
-        t_buf[:m] = outputs
-        self.t01[0], self.t01[1] = t0, t_end
-        self.y[:] = y0
-        self.y_lo[:] = 0.0  # the compensation starts at zero, as in integrate()
-        args, stats = self.args, self.stats
-        deadline = None if problem.max_wall_s is None else start + problem.max_wall_s
-        steps, pmax, pmin, done = 0, 0, 10**9, 0
-        while True:
-            args[5] = m - done
-            args[6] = t_ptr + 8 * done if done < m else t_ptr  # bytes: char pointers
-            args[7] = y_ptr + 8 * done * n if done < m else y_ptr
-            args[10] = min(self.chunk, self.max_steps - steps)
-            status = self.run_c(*args)
-            s0 = int(stats[0])
-            steps += s0
-            if s0:
-                pmax, pmin = max(pmax, int(stats[1])), min(pmin, int(stats[2]))
-            done += int(stats[3])
-            if status != -2 or steps >= self.max_steps:
-                break
-            if deadline is not None and time.perf_counter() > deadline:
-                status = -6
-                break
-            self.t01[0] = self.t_reached[0]  # resume exactly where the block stopped
-            self.y[:] = self.y_end
-        wall = time.perf_counter() - start
-        backend = "c-double"
-        message = _MESSAGES.get(int(status), "failed")
-        sol = Solution(
-            t=np.array(outputs[:done], dtype=float),
-            y=y_buf[: done * n].reshape(done, n).T.copy(),
-            status=int(status),
-            message=f"{message}; orders {pmin if steps else 0}..{pmax} ({backend})",
-            nfev=steps,
-            nsteps=steps,
-            backend=backend,
-            info={"order_min": pmin if steps else 0, "order_max": pmax,
-                  "taylor_backend": backend, "rtol": problem.rtol, "atol": problem.atol},
-        )
-        run_problem = _RunView(problem, t0, t_end, outputs)
-        return integrator._result(run_problem, sol, "c", wall, 0.0)
-
-
 class _RunView:
-    """The prepared problem seen with one call's span (what ``_result`` reads of it)."""
+    """The prepared problem seen with one call's span (what ``_solution`` and ``_result``
+    read of it; ``dataclasses.replace`` of the problem costs as much as the evidence)."""
 
     __slots__ = ("code", "params", "precision", "rtol", "atol", "t_span", "t_eval")
 

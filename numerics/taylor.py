@@ -1366,71 +1366,117 @@ _MESSAGES = {
 C_CHUNK_STEPS = {"double": 65536, "quad": 256, "dd": 1024, "qd": 128, "mpfr": 4}
 
 
-def _c_run(
-    clib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps, max_wall_s=None, packed=None
-):
-    n = clib.n_state
-    ptr = CompiledTaylor._ptr
-    m = len(t_eval)
-    y_eval = clib.empty(max(m, 1) * n)
-    t_eval_buf = clib.pack(t_eval) if m else clib.empty(1)
-    size = clib.real.size
-    width = size // np.dtype(t_eval_buf.dtype).itemsize  # buffer items per real
-    t01 = clib.pack(t_span)
-    y = clib.pack(y0)
-    # parameters and step control in the library's format (a Propagator packs them once)
-    P, ctrl = packed or (clib.pack(p), clib.pack([rtol, atol, step or 0]))
-    y_end, t_reached = clib.empty(n), clib.empty(1)
-    # the compensation of the state (double and quad: the rounding error the loop carries),
-    # zero at the start, handed from one block of steps to the next
-    y_lo = clib.pack([0] * n)
-    stats = np.zeros(4, dtype=np.int64)
-    chunk = max_steps if max_wall_s is None else C_CHUNK_STEPS.get(clib.kind, 256)
-    deadline = None if max_wall_s is None else time.perf_counter() + max_wall_s
-    steps, pmax, pmin, done = 0, 0, 10**9, 0
-    while True:
-        left = max_steps - steps
-        status = clib.lib.chaplygin_taylor_run(
-            ptr(t01),
-            ptr(y),
-            ptr(P),
-            ptr(ctrl),
-            order or 0,
-            m - done,
-            ptr(t_eval_buf[done * width :]) if done < m else ptr(t_eval_buf),
-            ptr(y_eval[done * n * width :]) if done < m else ptr(y_eval),
-            ptr(y_end),
-            ptr(t_reached),
-            min(chunk, left),
-            _ffi.cast("long *", stats.ctypes.data),
-            ptr(y_lo),
+class CompiledTaylorRun:
+    """The compiled loop of one problem (library, parameters, tolerances, order, step and
+    limits) with its arguments converted to C pointers once: :meth:`run` packs a start, runs
+    the loop, in blocks of :data:`C_CHUNK_STEPS` when a wall-time limit is set (each block
+    resumes from the exact time, state and compensation the previous one reached, so the
+    steps and results are those of one uninterrupted call), and returns the solution.
+    ``integrate`` makes one per call (:func:`_c_run`); a
+    :class:`~chaplygin.numerics.propagator.Propagator` keeps one."""
+
+    def __init__(self, clib, p, rtol, atol, order, step, max_steps, max_wall_s=None):
+        ptr = CompiledTaylor._ptr
+        n = clib.n_state
+        self.clib, self.n, self.max_steps, self.max_wall_s = clib, n, max_steps, max_wall_s
+        self.order = order
+        self.chunk = max_steps if max_wall_s is None else C_CHUNK_STEPS.get(clib.kind, 256)
+        self.size = clib.real.size  # bytes per real: pointers below are char pointers
+        # parameters and step control in the library's format
+        self.P, self.ctrl = clib.pack(p), clib.pack([rtol, atol, step or 0])
+        self.t01, self.y, self.y_end, self.t_reached = (
+            clib.empty(2), clib.empty(n), clib.empty(n), clib.empty(1)
         )
-        steps += int(stats[0])
-        if stats[0]:
-            pmax, pmin = max(pmax, int(stats[1])), min(pmin, int(stats[2]))
-        done += int(stats[3])
-        if status != -2 or steps >= max_steps:
-            break
-        if deadline is not None and time.perf_counter() > deadline:
-            status = -6
-            break
-        # resume exactly where the call stopped: its time, state and compensation, as they
-        # are in C (y_lo is updated in place)
-        t01 = np.concatenate([t_reached, t01[width:]])
-        y = y_end.copy()
-    real = clib.real
-    rows = real.rows(real.unpack(y_eval, done * n), done, n)
-    y_out = np.array(rows, dtype=real.dtype).reshape(done, n).T.copy()
-    t = real.times(t_eval[:done])
-    return TaylorSolution(
-        t=t,
-        y=y_out,
-        status=int(status),
-        message=_MESSAGES.get(int(status), "failed"),
-        nsteps=steps,
-        order_min=pmin if steps else 0,
-        order_max=pmax,
-        backend=f"c-{clib.kind}",
+        # the compensation of the state (double and quad: the rounding error the loop
+        # carries), zero at the start, handed from one block of steps to the next in place
+        self.y_lo = clib.empty(n)
+        self.stats = np.zeros(4, dtype=np.int64)
+        self.args = [ptr(self.t01), ptr(self.y), ptr(self.P), ptr(self.ctrl), order or 0, 0,
+                     None, None, ptr(self.y_end), ptr(self.t_reached), 0,
+                     _ffi.cast("long *", self.stats.ctypes.data), ptr(self.y_lo)]
+        self._outputs: dict[int, tuple] = {}  # number of outputs -> buffers and pointers
+
+    def _output_buffers(self, m: int) -> tuple:
+        bufs = self._outputs.get(m)
+        if bufs is None:
+            t_buf, y_buf = self.clib.empty(max(m, 1)), self.clib.empty(max(m, 1) * self.n)
+            bufs = (t_buf, y_buf, CompiledTaylor._ptr(t_buf), CompiledTaylor._ptr(y_buf))
+            if len(self._outputs) < 8:
+                self._outputs[m] = bufs
+        return bufs
+
+    def run(
+        self, y0: Sequence[Any], t_span: Sequence[Any], t_eval: Sequence[Any]
+    ) -> TaylorSolution:
+        """Integrate from ``y0`` over ``t_span`` with output at ``t_eval``.
+
+        Parameters
+        ----------
+        y0 : sequence of numbers
+            The initial state (working numbers of the library's kind).
+        t_span : (t0, t1)
+            The span (``t1 < t0``: backward).
+        t_eval : sequence of numbers
+            Output times, sorted in the direction of integration, inside the span.
+
+        Returns
+        -------
+        TaylorSolution
+            Outputs reached, status and message, steps and orders, backend ``c-<kind>``.
+        """
+        clib, n, m, size = self.clib, self.n, len(t_eval), self.size
+        t_buf, y_buf, t_ptr, y_ptr = self._output_buffers(m)
+        # float64 buffers take the numbers as they are (numpy converts); others are packed
+        pack = _same if clib.kind == "double" else clib.pack
+        if m:
+            t_buf[:] = pack(t_eval)  # m reals: the buffer of m outputs
+        self.t01[:] = pack(t_span)
+        self.y[:] = pack(y0)
+        self.y_lo[:] = 0
+        args, stats = self.args, self.stats
+        deadline = None if self.max_wall_s is None else time.perf_counter() + self.max_wall_s
+        steps, pmax, pmin, done = 0, 0, 10**9, 0
+        while True:
+            args[5] = m - done
+            args[6] = t_ptr + size * done if done < m else t_ptr
+            args[7] = y_ptr + size * done * n if done < m else y_ptr
+            args[10] = min(self.chunk, self.max_steps - steps)
+            status = clib.lib.chaplygin_taylor_run(*args)
+            steps += int(stats[0])
+            if stats[0]:
+                pmax, pmin = max(pmax, int(stats[1])), min(pmin, int(stats[2]))
+            done += int(stats[3])
+            if status != -2 or steps >= self.max_steps:
+                break
+            if deadline is not None and time.perf_counter() > deadline:
+                status = -6
+                break
+            # resume exactly where the call stopped: its time, state and compensation, as
+            # they are in C (y_lo is updated in place)
+            self.t01[: len(self.t_reached)] = self.t_reached
+            self.y[:] = self.y_end
+        real = clib.real
+        rows = real.rows(real.unpack(y_buf, done * n), done, n)
+        y_out = np.array(rows, dtype=real.dtype).reshape(done, n).T.copy()
+        return TaylorSolution(
+            t=real.times(t_eval[:done]),
+            y=y_out,
+            status=int(status),
+            message=_MESSAGES.get(int(status), "failed"),
+            nsteps=steps,
+            order_min=pmin if steps else 0,
+            order_max=pmax,
+            backend=f"c-{clib.kind}",
+        )
+
+
+def _same(values):
+    return values
+
+
+def _c_run(clib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps, max_wall_s=None):
+    return CompiledTaylorRun(clib, p, rtol, atol, order, step, max_steps, max_wall_s).run(
+        y0, t_span, t_eval
     )
 
 
