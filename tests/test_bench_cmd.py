@@ -154,3 +154,20 @@ def test_speed_targets_compare_at_equal_or_better_error():
     assert "met by Propagator only" in speed_targets({"rows": rows})[0]
     rows[3]["propagate_s"] = 0.08
     assert "missed" in speed_targets({"rows": rows})[0]
+
+
+def test_short_runs_are_repeated_to_a_time_budget():
+    from chaplygin.verify.bench import SHORT_RUN_BUDGET_S, SHORT_RUNS_MAX, _runs, _timed_runs
+
+    assert _runs(1.0, 5) == 5  # long runs: the asked number
+    assert _runs(SHORT_RUN_BUDGET_S / 50, 5) == 50
+    assert _runs(1e-9, 5) == SHORT_RUNS_MAX
+    assert _runs(1e-9, 1) == 1  # one run asked for: one run
+    calls = []
+
+    def fn():
+        calls.append(1)
+        return SHORT_RUN_BUDGET_S / 20, len(calls)
+
+    times, last = _timed_runs(fn, 5)
+    assert len(times) == len(calls) == last == 20

@@ -285,12 +285,35 @@ def _error(y_final, ref, digits: int) -> float:
 # --------------------------------------------------------------------------- measuring
 
 
-def _median_run(fn: Callable[[], tuple[float, object]], repeats: int):
-    times, last = [], None
-    for _ in range(repeats):
+#: Runs shorter than this in all are repeated until their total reaches it (at most
+#: :data:`SHORT_RUNS_MAX` runs): a median of 5 calls of 10 us is mostly the machine's noise.
+#: Applied alike to our rows and the peers'.
+SHORT_RUN_BUDGET_S = 0.05
+SHORT_RUNS_MAX = 500
+
+
+def _runs(first_s: float, repeats: int) -> int:
+    """How many runs to time when one takes ``first_s`` (at least ``repeats``; exactly one
+    when one is asked for)."""
+    if first_s <= 0 or repeats <= 1:  # one run asked for (--quick, --repeats 1): one run
+        return repeats
+    return max(repeats, min(SHORT_RUNS_MAX, int(SHORT_RUN_BUDGET_S / first_s)))
+
+
+def _timed_runs(fn: Callable[[], object], repeats: int) -> tuple[list[float], object]:
+    """The wall times of ``fn()`` (its set-up outside: ``fn`` times itself and returns
+    ``(seconds, value)``), as many runs as :func:`_runs` says; and the last value."""
+    wall, last = fn()
+    times = [wall]
+    for _ in range(_runs(wall, repeats) - 1):
         wall, last = fn()
         times.append(wall)
-    return statistics.median(times), last
+    return times, last
+
+
+def _median_run(fn: Callable[[], tuple[float, object]], repeats: int):
+    times, last = _timed_runs(fn, repeats)
+    return statistics.median(times), last, len(times)
 
 
 def _measure_integrate(
@@ -322,7 +345,7 @@ def _measure_integrate(
         return r.wall_s, r
 
     parts: list[tuple[float, float, float]] = []
-    med, r = _median_run(once, repeats)
+    med, r, runs = _median_run(once, repeats)
     propagate_s = None
     if method == "taylor" and r.success:
         propagate_s = _measure_propagator(problem, precision, rtol, T, backend, repeats, r)
@@ -345,7 +368,7 @@ def _measure_integrate(
         error=error,
         drift={k: float(v) for k, v in r.drift.items()},
         median_s=med,
-        runs=repeats,
+        runs=runs,
         steps=r.nsteps if method == "taylor" else None,
         nfev=r.nfev if method != "taylor" else None,
         note="" if r.success else f"failed: {r.message}",
@@ -365,12 +388,14 @@ def _measure_propagator(problem, precision, rtol, T, backend, repeats, integrate
 
     prop = Propagator("chaplygin_ball", problem.y0, problem.params, precision=precision,
                       rtol=rtol, atol=rtol, backend=backend)
-    times = []
-    for _ in range(repeats):
+
+    def once():
         prop.reset()
         start = time.perf_counter()
-        r = prop.propagate_until(T)
-        times.append(time.perf_counter() - start)
+        result = prop.propagate_until(T)
+        return time.perf_counter() - start, result
+
+    times, r = _timed_runs(once, repeats)
     if [str(v) for v in r.y[:, -1]] != [str(v) for v in integrated.y[:, -1]]:
         raise ComputationError("Propagator and integrate() disagree on the bench problem")
     return statistics.median(times)
@@ -467,14 +492,16 @@ def _heyoka_rows(problem, quick, repeats, reference, compile_s, say) -> list[Ben
         start = time.perf_counter()
         ta = hy.taylor_adaptive(sys_, np.array(y0), **kw)
         compile_s[f"heyoka {label} (JIT, {problem.name})"] = time.perf_counter() - start
-        t0 = ta.time
-        times = []
-        for _ in range(repeats):
+        t0, end = ta.time, conv(T) if not is_double else T
+
+        def once(ta=ta, t0=t0, y0=y0, end=end):
             ta.time = t0
             ta.state[:] = y0
             start = time.perf_counter()
-            outcome = ta.propagate_until(conv(T) if not is_double else T)
-            times.append(time.perf_counter() - start)
+            outcome = ta.propagate_until(end)
+            return time.perf_counter() - start, outcome
+
+        times, outcome = _timed_runs(once, repeats)
         with mpmath.workdps(2 * own + 10):  # parse heyoka's decimal output at full precision
             state = [mpmath.mpf(str(v)) if not is_double else float(v) for v in ta.state]
             error = _error(state, ref, 2 * own)
@@ -491,7 +518,7 @@ def _heyoka_rows(problem, quick, repeats, reference, compile_s, say) -> list[Ben
         ok = str(outcome[0]).endswith("time_limit")
         rows.append(BenchRow(
             problem.name, "heyoka", "LLVM JIT", label, tol if tol else ta.tol if is_double
-            else float(ta.tol), T, error, drift, statistics.median(times), repeats,
+            else float(ta.tol), T, error, drift, statistics.median(times), len(times),
             steps=None, nfev=None,
             note="; ".join(x for x in ("" if ok else f"outcome {outcome[0]}", note,
                                        "drift at the end point only") if x),
@@ -534,13 +561,15 @@ def _jitcode_rows(problem, quick, repeats, reference, compile_s, say) -> list[Be
     rows = []
     for tol in ([1e-10] if quick else [1e-8, 1e-12]):
         say(f"{problem.name}: jitcode dop853 rtol={tol} T={T:g}")
-        times = []
-        for _ in range(repeats):
+
+        def once(ode=ode, tol=tol):
             ode.set_integrator("dop853", rtol=tol, atol=tol, nsteps=10**8)
             ode.set_initial_value(y0, 0.0)
             start = time.perf_counter()
             state = ode.integrate(T)
-            times.append(time.perf_counter() - start)
+            return time.perf_counter() - start, state
+
+        times, state = _timed_runs(once, repeats)
         F0 = code.numpy.integrals(0.0, np.array(y0), p)
         F1 = code.numpy.integrals(T, np.asarray(state, dtype=float), p)
         drift = {
@@ -550,7 +579,7 @@ def _jitcode_rows(problem, quick, repeats, reference, compile_s, say) -> list[Be
         rows.append(BenchRow(
             problem.name, "jitcode", "C (dop853)", "double", tol, T,
             _error([float(v) for v in state], ref, 32), drift, statistics.median(times),
-            repeats, note="; ".join(x for x in (
+            len(times), note="; ".join(x for x in (
                 "drift at the end point only", f"quick: T={T:g}, 1 run" if quick else "") if x),
         ))
     return rows
