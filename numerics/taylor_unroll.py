@@ -266,7 +266,7 @@ def _pairs(ex: _Expressions, state: list[str]) -> list[tuple[str, str]]:
 
 
 def _vector(ex: _Expressions, lane: dict[str, tuple[int, int]], x: str, y: str,
-            k: int) -> str:
+            k: int, gathered: set[str], before: list[str]) -> str:
     """Order ``k`` of the pair (``x``, ``y``): their shared expression with a vector for
     each operand (a pair's vector, else the two coefficients gathered, else the one
     coefficient both lanes read)."""
@@ -279,7 +279,11 @@ def _vector(ex: _Expressions, lane: dict[str, tuple[int, int]], x: str, y: str,
             out.append(f"v{lane[u][0]}_{j}")
             shared = False
         else:
-            out.append(f"((vreal){{a{u}_{j}, a{v}_{j}}})")
+            name = f"g{u}x{v}_{j}"
+            if name not in gathered:
+                gathered.add(name)
+                before.append(f"    const vreal {name} = {{a{u}_{j}, a{v}_{j}}};")
+            out.append(name)
             shared = False
         out.append(parts[3 * i + 3])
     if shared:  # both lanes the same scalar at this order (a copy of a shared node)
@@ -309,10 +313,14 @@ def _written_out(u: _Unrolled, assigned: list[tuple[str, str]],
         schedule = sorted(schedule, key=lambda n: (ex.level[n], schedule.index(n)))
     out = [f"    const vreal v{i}_0 = {{a{x}_0, a{y}_0}};" for i, (x, y) in enumerate(pairs)]
 
+    gathered: set[str] = set()
+
     def pair_lines(i: int, k: int) -> list[str]:
         x, y = pairs[i]
-        return [f"    const vreal v{i}_{k} = {_vector(ex, lane, x, y, k)};",
-                f"    const REAL a{x}_{k} = v{i}_{k}[0], a{y}_{k} = v{i}_{k}[1];"]
+        before: list[str] = []
+        value = _vector(ex, lane, x, y, k, gathered, before)
+        return before + [f"    const vreal v{i}_{k} = {value};",
+                         f"    const REAL a{x}_{k} = v{i}_{k}[0], a{y}_{k} = v{i}_{k}[1];"]
 
     for k in range(p):
         if k > 0:
@@ -357,21 +365,27 @@ def _function(source: str) -> tuple[str, list[str], list[str]] | None:
     return head, body, updates
 
 
-def _order_zero_locals(head: str, time_node: str | None) -> str | None:
-    """The prologue with every order-0 value also in a ``const`` local ``aN_0`` (kept in a
-    register instead of being loaded again for every product); None if a node's order-0
-    value is not set by one line ``aN[0] = ...;``."""
-    out, defined = [], set()
+def _order_zero_locals(head: str, time_node: str | None, state: set[str]) -> str | None:
+    """The prologue with every order-0 value in a ``const`` local ``aN_0`` (kept in a
+    register instead of being loaded again for every product), stored in ``X`` for the state
+    nodes only (the rows the caller reads; the written-out code reads the locals, and a
+    constant's higher orders are the literal 0); None if a node's order-0 value is not set
+    by one line ``aN[0] = ...;``."""
+    out = []
     for line in head.splitlines():
         stripped = line.strip()
         m = _ORDER0.fullmatch(stripped)
+        zero = _ZERO.fullmatch(stripped)
         if time_node is not None and _TIME.fullmatch(stripped):
-            line = f"    const REAL a{time_node}_0 = T0; {stripped}"
-            defined.add(time_node)
+            kept = f" {stripped}" if time_node in state else ""
+            line = f"    const REAL a{time_node}_0 = T0;{kept}"
+        elif zero is not None:
+            if zero[1] not in state:
+                continue
         elif m is not None:
             rhs = _ORDER0_OPERAND.sub(lambda o: f"a{o[1]}_0", m[2])
-            line = f"    const REAL a{m[1]}_0 = {rhs}; a{m[1]}[0] = a{m[1]}_0;"
-            defined.add(m[1])
+            kept = f" a{m[1]}[0] = a{m[1]}_0;" if m[1] in state else ""
+            line = f"    const REAL a{m[1]}_0 = {rhs};{kept}"
         elif _ORDER0_OPERAND.search(stripped) and not stripped.startswith("#"):
             return None
         out.append(line)
@@ -409,9 +423,6 @@ def unrolled_source(source: str, orders: Iterable[int], vectors: bool = True) ->
     zero = set(_ZERO.findall(head))
     time = _TIME.search(head)
     time_node = time[1] if time else None
-    head = _order_zero_locals(head, time_node)
-    if head is None:
-        return None
     assigned = []
     for line in body:
         m = _ASSIGN.fullmatch(line)
@@ -425,6 +436,9 @@ def unrolled_source(source: str, orders: Iterable[int], vectors: bool = True) ->
         if m is None:
             return None
         state.append((m[1], m[2]))
+    head = _order_zero_locals(head, time_node, {n for n, _ in state})
+    if head is None:
+        return None
     u = _Unrolled(zero, time_node)
     def function(p: int, lines: list[str]) -> str:
         stores = [f"    a{node}[{k}] = a{node}_{k};" for node, _ in state for k in range(1, p + 1)]
