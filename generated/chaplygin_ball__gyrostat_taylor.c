@@ -870,7 +870,29 @@ static void taylor_eval_compensated(const REAL *restrict X, int p, REAL s,
                                     REAL *restrict ylo_out)
 {
     const int S = p + 1;
-    for (int i = 0; i < CHAPLYGIN_TAYLOR_N_STATE; ++i) {
+    int i = 0;
+#ifdef TAYLOR_VREAL
+    /* double with the written-out coefficients (numerics/taylor_unroll.py): two components
+     * at a time in a GNU C vector of 2 doubles, each lane the scalar loop's operations
+     * below (the same bits) */
+    for (; i + 1 < CHAPLYGIN_TAYLOR_N_STATE; i += 2) {
+        const REAL *c = X + i * S, *e = X + (i + 1) * S;
+        vreal v = {c[p], e[p]};
+        for (int k = p - 1; k >= 1; --k) v = v * s + (vreal){c[k], e[k]};
+        const vreal d = v * s + (vreal){ylo[i], ylo[i + 1]};
+        const vreal a = {c[0], e[0]};
+        const vreal y = a + d;
+        if (ylo_out != NULL) {
+            const vreal bb = y - a;
+            const vreal lo = (a - (y - bb)) + (d - bb);
+            ylo_out[i] = lo[0];
+            ylo_out[i + 1] = lo[1];
+        }
+        out[i] = y[0];
+        out[i + 1] = y[1];
+    }
+#endif
+    for (; i < CHAPLYGIN_TAYLOR_N_STATE; ++i) {
         const REAL *c = X + i * S;
         REAL v = c[p];
         for (int k = p - 1; k >= 1; --k) v = R_ADD(R_MUL(v, s), c[k]);

@@ -163,6 +163,7 @@ _TOKEN = re.compile(r"\ba(\d+)_(\d+)\b")
 _VECTOR_SAFE = re.compile(r"^(?:[\s(),@0-9]|R_ADD|R_SUB|R_MUL|R_DIV|R_NEG|R_INT|_twice|p_\w+)*$")
 #: the vector type and the doubling of the squares' sums, for the pairs
 VECTOR_PRELUDE = (
+    "#define TAYLOR_VREAL 1 /* the state update too, two components at a time */\n"
     "typedef double vreal __attribute__((vector_size(16)));\n"
     "static inline vreal _vtwice(vreal s) { return s + s; }\n"
 )

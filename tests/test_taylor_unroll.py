@@ -79,7 +79,8 @@ def test_every_generated_variant_is_read(system, effects):
     # compilers, the same text as without vectors
     assert VECTOR_PRELUDE in out and "const vreal v0_1 = " in body
     scalar = unrolled_source(source, (2, 3, 12, UNROLL_MAX_ORDER), vectors=False)
-    assert scalar is not None and "vreal" not in scalar
+    assert scalar is not None
+    assert "TAYLOR_VREAL 1" not in scalar and "const vreal v0_1" not in scalar
     for p in (2, 3, 12, UNROLL_MAX_ORDER):
         start = scalar.index(f"static void taylor_coefficients_{p}(")
         function = scalar[start : scalar.index("\n}\n", start) + 3]
@@ -233,3 +234,30 @@ def test_runs_in_blocks_hand_over_the_compensation(kind, monkeypatch):
         y_lo = lib.pack([0] * n)  # dropped
     dropped = real.unpack(y_end, n)
     assert any(a != b for a, b in zip(dropped, whole.y[:, -1], strict=True))
+
+
+def test_the_state_update_runs_two_components_at_a_time():
+    """With the written-out coefficients the compensated state update runs two components
+    per vector (template ``TAYLOR_VREAL``): the runs above are bit-identical to the loop's
+    through it, and it is the code that runs -- dropping its compensation (the TwoSum's low
+    part) changes the bits of the same run."""
+    code = load_model_code("chaplygin_ball", ())
+    prec = Precision("double")
+    y0 = pack_state(code, REFERENCE_Y0, prec)
+    p = pack_params(code, REFERENCE_PARAMS, prec)
+    source = unrolled_source(code.taylor_c_source, (12,))
+    assert source is not None and "#define TAYLOR_VREAL 1" in source
+    twosum = "const vreal lo = (a - (y - bb)) + (d - bb);"
+    assert source.count(twosum) == 1
+    changed = source.replace(twosum, "const vreal lo = {0.0, 0.0};")
+
+    def run(text):
+        lib = CompiledTaylor(compile_c(text), "double")
+        return _c_run(lib, y0, (0.0, 37.3), p, 1e-9, 1e-9, [37.3], None, None, 10**6)
+
+    same, dropped = run(source), run(changed)
+    loop = _c_run(load_taylor_library(code, "double"), y0, (0.0, 37.3), p, 1e-9, 1e-9, [37.3],
+                  None, None, 10**6)
+    assert same.status == dropped.status == loop.status == 0
+    assert np.array_equal(_bits(same.y), _bits(loop.y))
+    assert not np.array_equal(_bits(dropped.y), _bits(loop.y))
