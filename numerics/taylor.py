@@ -36,9 +36,11 @@ Without a C compiler double and quad fall back to the Python recurrences (floats
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 import platform
+import threading
 import time
 import types
 import warnings
@@ -106,6 +108,7 @@ PY_MAX_ORDER = 400
 MAX_STEPS = 10_000_000
 
 
+@functools.lru_cache(maxsize=256)
 def jorba_zou_order(eps: float, max_order: int = 80) -> int:
     """Order ``ceil(-ln(eps)/2 + 1)`` of Jorba and Zou (2005), between 2 and ``max_order``.
 
@@ -1474,10 +1477,31 @@ def _same(values):
     return values
 
 
+#: The compiled runs of recent problems, per thread (a run's buffers are its own while it
+#: runs): ``integrate`` called again with the same model, parameters and control reuses the
+#: pointers and buffers instead of converting them again (the outputs are copied out).
+_RUNS = threading.local()
+_RUNS_MAX = 16
+
+
 def _c_run(clib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps, max_wall_s=None):
-    return CompiledTaylorRun(clib, p, rtol, atol, order, step, max_steps, max_wall_s).run(
-        y0, t_span, t_eval
-    )
+    try:
+        key = (clib, tuple(p), rtol, atol, order, step, max_steps, max_wall_s,
+               C_CHUNK_STEPS.get(clib.kind))
+        hash(key)
+    except TypeError:  # pragma: no cover - working numbers are hashable
+        key = None
+    runs = getattr(_RUNS, "runs", None)
+    if runs is None:
+        runs = _RUNS.runs = {}
+    run = runs.get(key) if key is not None else None
+    if run is None:
+        run = CompiledTaylorRun(clib, p, rtol, atol, order, step, max_steps, max_wall_s)
+        if key is not None:
+            if len(runs) >= _RUNS_MAX:
+                del runs[next(iter(runs))]
+            runs[key] = run
+    return run.run(y0, t_span, t_eval)
 
 
 class _MpfrStepper:
