@@ -117,3 +117,45 @@ def test_the_memo_is_bounded(counted, monkeypatch):
     integrate_module._read_start(code, starts[-1], REFERENCE_PARAMS, prec, 0.0)  # kept
     integrate_module._read_start(code, starts[0], REFERENCE_PARAMS, prec, 0.0)  # evicted
     assert len(counted) == 6
+
+
+def test_the_compiled_run_of_a_problem_is_kept_per_thread(monkeypatch):
+    """integrate called again with the same model, parameters and control reuses its
+    compiled run (pointers and buffers), gets the same bits and a result of its own; other
+    parameters or another thread get another run."""
+    import threading
+
+    taylor = importlib.import_module("chaplygin.numerics.taylor")
+    monkeypatch.setattr(taylor, "_RUNS", threading.local())
+    made = []
+    real = taylor.CompiledTaylorRun
+
+    class Counted(real):
+        def __init__(self, *args, **kw):
+            made.append(args)
+            super().__init__(*args, **kw)
+
+    monkeypatch.setattr(taylor, "CompiledTaylorRun", Counted)
+
+    def run(params=REFERENCE_PARAMS, y0=REFERENCE_Y0):
+        return integrate(BALL, y0, 3.7, params, method="taylor", rtol=1e-11, atol=1e-11,
+                         backend="c", t_eval=[0.0, 1.3, 3.7])
+
+    a = run()
+    b = run()
+    assert len(made) == 1 and a.success and b.success
+    assert np.array_equal(a.y, b.y) and a.y is not b.y
+    b.y[:] = 0.0  # a result of its own: the first is untouched, the next is fresh
+    assert np.array_equal(run().y, a.y) and not np.array_equal(a.y, b.y)
+    # another start, same problem: the same run; other parameters: another one
+    other = {**REFERENCE_Y0, "M": (0.6, -0.4, 0.5)}
+    c = run(y0=other)
+    assert len(made) == 1 and not np.array_equal(c.y, a.y)
+    run(params={**REFERENCE_PARAMS, "D": 1.3})
+    assert len(made) == 2
+    # another thread makes its own (a run's buffers are in use while it runs)
+    box = []
+    worker = threading.Thread(target=lambda: box.append(run()))
+    worker.start()
+    worker.join()
+    assert len(made) == 3 and np.array_equal(box[0].y, a.y)
