@@ -654,20 +654,28 @@ def load_taylor_library(
     real = _C_REAL_TYPES[kind]
     source, ldlibs = real.define + code.taylor_c_source, real.ldlibs
     if unroll:
-        written_out = unrolled_source(source, unroll)
-        if written_out is None:  # not of the shape the unroller reads: the loop
-            lib = load_taylor_library(code, kind)
+        # written out with the pairs in GNU C vectors, else written out without them, else
+        # (a compiler that refuses both, a source the unroller does not read) the loop: the
+        # same bits every way
+        for vectors in (True, False):
+            written_out = unrolled_source(source, unroll, vectors=vectors)
+            if written_out is None:
+                break
+            try:
+                path = _compile_quietly(written_out, ldlibs, (*real.cflags, *UNROLLED_CFLAGS))
+                lib = CompiledTaylor(path, kind, expected_hash=code.hash)
+            except (CompilerError, OSError):
+                continue
             _LIBS[key] = lib
             return lib
-        source = written_out
-    cflags = (*real.cflags, *UNROLLED_CFLAGS) if unroll else real.cflags
+        lib = load_taylor_library(code, kind)
+        _LIBS[key] = lib
+        return lib
     try:
-        try:
-            path = compile_c(source, ldlibs=ldlibs, cflags=cflags)
-        except CompilerError:
-            if not cflags:
-                raise
-            path = compile_c(source, ldlibs=ldlibs)  # a compiler that refuses the flags
+        if real.cflags:
+            path = _compile_quietly(source, ldlibs, real.cflags)
+        else:
+            path = compile_c(source, ldlibs=ldlibs)
         lib = CompiledTaylor(path, kind, expected_hash=code.hash)
     except (CompilerError, OSError) as exc:
         warnings.warn(
@@ -679,6 +687,14 @@ def load_taylor_library(
         lib = None
     _LIBS[key] = lib
     return lib
+
+
+def _compile_quietly(source: str, ldlibs, cflags) -> str:
+    """Compile with ``cflags``, or without them for a compiler that refuses them."""
+    try:
+        return compile_c(source, ldlibs=ldlibs, cflags=cflags)
+    except CompilerError:
+        return compile_c(source, ldlibs=ldlibs)
 
 
 # --------------------------------------------------------------------------- C, MPFR

@@ -261,3 +261,35 @@ def test_the_state_update_runs_two_components_at_a_time():
     assert same.status == dropped.status == loop.status == 0
     assert np.array_equal(_bits(same.y), _bits(loop.y))
     assert not np.array_equal(_bits(dropped.y), _bits(loop.y))
+
+
+def test_a_compiler_without_gnu_vectors_gets_the_scalar_code_then_the_loop(monkeypatch):
+    """A compiler that refuses the vector code gets the written-out scalar code, one that
+    refuses both the loop: never the (much slower) Python recurrences, always the bits."""
+    code = load_model_code("chaplygin_ball", ())
+    y, p = _point(code, 7)
+    loop = load_taylor_library(code, "double")
+    real_compile = taylor.compile_c
+    compiled = []
+
+    def refusing(marker):
+        def compile_c(source, **kw):
+            if marker in source:
+                raise taylor.CompilerError("refused")
+            compiled.append(source)
+            return real_compile(source, **kw)
+        return compile_c
+
+    monkeypatch.setattr(taylor, "_LIBS", {})
+    monkeypatch.setattr(taylor, "compile_c", refusing("#define TAYLOR_VREAL 1"))
+    scalar = load_taylor_library(code, "double", (12,))
+    assert scalar is not None and "taylor_coefficients_12(" in compiled[-1]
+    assert np.array_equal(_bits(scalar.coefficients(12, 0.3, y, p)),
+                          _bits(loop.coefficients(12, 0.3, y, p)))
+
+    monkeypatch.setattr(taylor, "_LIBS", {})
+    monkeypatch.setattr(taylor, "compile_c", refusing("taylor_coefficients_12("))
+    fallback = load_taylor_library(code, "double", (12,))
+    assert fallback is not None and "taylor_coefficients_12(" not in compiled[-1]
+    assert np.array_equal(_bits(fallback.coefficients(12, 0.3, y, p)),
+                          _bits(loop.coefficients(12, 0.3, y, p)))
