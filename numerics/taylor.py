@@ -1475,8 +1475,11 @@ class CompiledTaylorRun:
             self.t01[: len(self.t_reached)] = self.t_reached
             self.y[:] = self.y_end
         real = clib.real
-        rows = real.rows(real.unpack(y_buf, done * n), done, n)
-        y_out = np.array(rows, dtype=real.dtype).reshape(done, n).T.copy()
+        if clib.kind == "double":  # the float64 buffer as it is: one copy, transposed
+            y_out = y_buf[: done * n].reshape(done, n).T.copy()
+        else:
+            rows = real.rows(real.unpack(y_buf, done * n), done, n)
+            y_out = np.array(rows, dtype=real.dtype).reshape(done, n).T.copy()
         return TaylorSolution(
             t=real.times(t_eval[:done]),
             y=y_out,

@@ -159,3 +159,17 @@ def test_the_compiled_run_of_a_problem_is_kept_per_thread(monkeypatch):
     worker.start()
     worker.join()
     assert len(made) == 3 and np.array_equal(box[0].y, a.y)
+
+
+@pytest.mark.parametrize("size", [3, 12, 65, 400])
+def test_the_finiteness_check_sees_nan_and_infinity(size):
+    """_all_finite (the check behind status -1): on Python floats for a few outputs, numpy
+    for many; both see a NaN or an infinity anywhere."""
+    from chaplygin.numerics.integrators.base import _all_finite
+
+    y = np.linspace(-1.0, 1.0, size).reshape(-1, 1) if size % 2 else np.ones((2, size // 2))
+    assert _all_finite(y)
+    for bad in (math.nan, math.inf, -math.inf):
+        z = y.copy()
+        z.flat[size // 3] = bad
+        assert not _all_finite(z)
