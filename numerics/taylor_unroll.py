@@ -18,7 +18,7 @@ pair of state components through the expressions that make them (the Chaplygin b
 the convolutions left two by two. A lane does its node's operations in the scalar order, and
 a vector operation rounds each lane as the scalar operation would (no FMA: the library is
 compiled with ``-ffp-contract=off``), so the pairs too give **the same bits**; they halve
-the multiplications of the paired convolutions (the ball at order 15: 2610 -> 1530). The
+the multiplications of the paired convolutions (the ball at order 15: 2610 -> 1572). The
 scalar functions are kept for compilers without GNU C vectors (``#if defined(__GNUC__)``).
 
 The text transformed is the loop body the emitter writes (``derive/emit/taylor.py``
