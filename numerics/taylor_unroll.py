@@ -199,14 +199,21 @@ class _Expressions:
             self.level[node] = 1 + max((self.level.get(d, 0) for d in same_order - {node}),
                                        default=0)
         self.state = {n for n, _ in state}
+        self.safe = {n: all(_VECTOR_SAFE.match(t) for t in sh) for n, sh in self.shape.items()}
+        self._pairs: dict[tuple[str, str], frozenset | None] = {}
 
-    def operand_pairs(self, x: str, y: str) -> set[tuple[str, str]] | None:
+    def operand_pairs(self, x: str, y: str) -> frozenset[tuple[str, str]] | None:
         """The node pairs (lane 0, lane 1) met in the operands of ``x`` and ``y`` written side
         by side; None if they cannot share a vector: other expressions, other depths (a pack
         must not wait for itself), a function GNU C does not apply to vectors."""
+        key = (x, y)
+        if key not in self._pairs:
+            self._pairs[key] = self._operand_pairs(x, y)
+        return self._pairs[key]
+
+    def _operand_pairs(self, x: str, y: str) -> frozenset[tuple[str, str]] | None:
         if (self.level[x] != self.level[y] or self.shape[x] != self.shape[y]
-                or (x in self.state) != (y in self.state)
-                or not all(_VECTOR_SAFE.match(t) for t in self.shape[x])):
+                or (x in self.state) != (y in self.state) or not self.safe[x]):
             return None
         out = set()
         for k, tx in self.tokens[x].items():
@@ -215,7 +222,7 @@ class _Expressions:
                     return None
                 if u != v:
                     out.add((u, v))
-        return out
+        return frozenset(out)
 
 
 def _pairs(ex: _Expressions, state: list[str]) -> list[tuple[str, str]]:
