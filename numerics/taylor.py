@@ -1385,6 +1385,10 @@ _MESSAGES = {
 C_CHUNK_STEPS = {"double": 65536, "quad": 256, "dd": 1024, "qd": 128, "mpfr": 4}
 
 
+#: Output buffers of at most this many points are kept by a compiled run between calls.
+_KEPT_OUTPUTS_MAX = 4096
+
+
 class CompiledTaylorRun:
     """The compiled loop of one problem (library, parameters, tolerances, order, step and
     limits) with its arguments converted to C pointers once: :meth:`run` packs a start, runs
@@ -1420,7 +1424,8 @@ class CompiledTaylorRun:
         if bufs is None:
             t_buf, y_buf = self.clib.empty(max(m, 1)), self.clib.empty(max(m, 1) * self.n)
             bufs = (t_buf, y_buf, CompiledTaylor._ptr(t_buf), CompiledTaylor._ptr(y_buf))
-            if len(self._outputs) < 8:
+            # kept for the next call when small (a kept run must not hold a long output)
+            if len(self._outputs) < 8 and m <= _KEPT_OUTPUTS_MAX:
                 self._outputs[m] = bufs
         return bufs
 

@@ -173,3 +173,21 @@ def test_the_finiteness_check_sees_nan_and_infinity(size):
         z = y.copy()
         z.flat[size // 3] = bad
         assert not _all_finite(z)
+
+
+def test_a_kept_run_does_not_hold_a_long_output():
+    """The compiled run kept between calls keeps the buffers of a few outputs, not those of
+    a long output (memory returned after the call); both give the same bits as a new run."""
+    taylor = importlib.import_module("chaplygin.numerics.taylor")
+    code = load_model_code(BALL)
+    prec = Precision("double")
+    p, y = integrate_module._read_start(code, REFERENCE_Y0, REFERENCE_PARAMS, prec, 0.0)
+    lib = taylor.load_taylor_library(code, "double", taylor.run_orders(1e-10, 1e-10))
+    run = taylor.CompiledTaylorRun(lib, p, 1e-10, 1e-10, None, None, 10**6)
+    short = run.run(y, (0.0, 5.0), [0.0, 2.5, 5.0])
+    long_eval = list(np.linspace(0.0, 5.0, taylor._KEPT_OUTPUTS_MAX + 1))
+    long = run.run(y, (0.0, 5.0), long_eval)
+    assert set(run._outputs) == {3}
+    fresh = taylor.CompiledTaylorRun(lib, p, 1e-10, 1e-10, None, None, 10**6)
+    assert np.array_equal(fresh.run(y, (0.0, 5.0), long_eval).y, long.y)
+    assert np.array_equal(fresh.run(y, (0.0, 5.0), [0.0, 2.5, 5.0]).y, short.y)
