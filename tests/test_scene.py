@@ -374,7 +374,7 @@ def test_write_dataset_round_trip_and_refuses_inconsistent_dimensions(tmp_path):
     "precision,named",
     [
         ("double", "chaplygin_ball__contact_point_taylor.c (compiled Taylor integrator, double; "
-                   "the coefficients written out"),
+                   "the coefficients written out for the run's orders, pairs of nodes in vectors"),
         ("quad", "chaplygin_ball__contact_point_taylor.c (compiled Taylor integrator, __float128"),
         ("25", "chaplygin_ball__contact_point_taylor.c (compiled Taylor integrator, double-double"),
         ("40", "chaplygin_ball__contact_point_taylor.c (compiled Taylor integrator, quad-double"),

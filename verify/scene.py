@@ -1178,7 +1178,8 @@ def _taylor_files(files: Mapping[str, str], precision) -> str:
     prec = Precision(precision)
     fallback = f"; generated/{files['taylor_py']} without a compiler)"
     if prec.is_double:
-        what = "double; the coefficients written out for the run's orders"
+        what = ("double; the coefficients written out for the run's orders, pairs of nodes "
+                "in vectors of two doubles")
     elif prec.is_quad:
         what = "__float128"
     else:
