@@ -338,46 +338,24 @@ _STARTS_LOCK = threading.Lock()
 def _input_key(value: object) -> tuple | None:
     """A hashable key of an input as typed (its type and its exact value), or None for
     inputs that are not memoised (any other type, NaN: read anew every time)."""
-    kind = type(value)
-    # the common inputs first, by exact type (a key is made every call)
-    if kind is str:
-        return ("str", value)
-    if kind is float:
-        return ("float", value) if value == value else None
-    if kind is int:
-        return ("int", value)
-    if kind is tuple or kind is list:
-        keys = tuple(
-            ("str", v) if type(v) is str
-            else ("int", v) if type(v) is int
-            else _input_key(v)
-            for v in value
-        )
-        return None if None in keys else ("seq", keys)
-    if kind is dict:
-        items = []
-        for k, v in value.items():
-            key = _input_key(v)
-            if type(k) is not str or key is None:
-                return None
-            items.append((k, key))
-        return ("map", tuple(sorted(items)))
-    # subclasses and the other accepted types
+    # the common inputs first (a key is made every call): numbers as text, floats, vectors,
+    # groups by name
     if isinstance(value, str):
-        return ("str", str(value))
+        return ("str", value)
     if isinstance(value, float):
-        return ("float", float(value)) if value == value else None
+        return ("float", value) if value == value else None
     if isinstance(value, np.ndarray):
         if value.dtype.kind not in "if":
             return None
         value = value.tolist()
     if isinstance(value, list | tuple):
-        keys = tuple(_input_key(v) for v in value)
+        # strings and integers, the common entries, keyed here (a call per entry is most of
+        # the cost of a key)
+        keys = tuple(
+            ("str", v) if type(v) is str else ("int", v) if type(v) is int else _input_key(v)
+            for v in value
+        )
         return None if None in keys else ("seq", keys)
-    if isinstance(value, bool):
-        return None
-    if isinstance(value, int | Fraction | mpmath.mpf):
-        return (type(value).__name__, value)
     if isinstance(value, Mapping):
         items = []
         for k, v in value.items():
@@ -386,6 +364,10 @@ def _input_key(value: object) -> tuple | None:
                 return None
             items.append((k, key))
         return ("map", tuple(sorted(items)))
+    if isinstance(value, bool):
+        return None
+    if isinstance(value, int | Fraction | mpmath.mpf):
+        return (type(value).__name__, value)
     return None
 
 
