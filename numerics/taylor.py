@@ -633,8 +633,9 @@ def load_taylor_library(
     orders : sequence of int, optional
         Orders whose coefficients are written out (:mod:`chaplygin.numerics.taylor_unroll`;
         double only, the same bits as the loop, faster): one more library per set of orders,
-        compiled once and cached like the others. Without a compiler or with a source the
-        unroller does not read, the library of the loop.
+        compiled once and cached like the others, with pairs of nodes in GNU C vectors; a
+        compiler that refuses the vectors gets the written-out scalar code, one that refuses
+        that (or a source the unroller does not read) the library of the loop.
 
     Returns
     -------
