@@ -13,12 +13,14 @@ Tests, numerics and the verifier draw points here.
 
 from __future__ import annotations
 
+import math
 import random
 from collections.abc import Iterable, Sequence
 
 import numpy as np
 import sympy as sp
 
+from ..arith import detlinalg
 from .model import Model
 
 __all__ = [
@@ -198,7 +200,7 @@ def random_unit(rng: np.random.Generator, n: int | None = None) -> np.ndarray:
 
 
 def random_orthonormal(rng: np.random.Generator) -> np.ndarray:
-    """A random orthogonal matrix (QR of a normal one; its determinant is +-1).
+    """A random orthogonal matrix (QR of uniform columns; its determinant is +-1).
 
     Parameters
     ----------
@@ -209,8 +211,10 @@ def random_orthonormal(rng: np.random.Generator) -> np.ndarray:
     numpy.ndarray, shape (3, 3)
         Orthonormal columns.
     """
-    q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
-    return q
+    while True:  # Householder QR of uniform columns, fixed operation order (arith.detlinalg)
+        q, r = detlinalg.qr(2.0 * rng.random((3, 3)) - 1.0)
+        if np.min(np.diag(r)) > 1e-3:
+            return q
 
 
 def random_frame(rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -225,7 +229,7 @@ def random_frame(rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray, np.n
     tuple of numpy.ndarray, each shape (3,)
     """
     q = random_orthonormal(rng)
-    if np.linalg.det(q) < 0:
+    if math.fsum(float(v) for v in np.cross(q[:, 0], q[:, 1]) * q[:, 2]) < 0:  # det q
         q[:, 0] *= -1
     alpha, beta = q[:, 0], q[:, 1]
     return alpha, beta, np.cross(alpha, beta)

@@ -20,6 +20,7 @@ from functools import cache, lru_cache
 import numpy as np
 import sympy as sp
 
+from ..arith import detlinalg, detmath
 from ..derive.bifurcation import bifurcation_curve
 from ..derive.emit import emit_function
 from ..derive.systems import build_model
@@ -140,10 +141,10 @@ def support_stability(params: tuple[float, ...]) -> list[tuple[bool, float]]:
     list of (bool, float)
         ``(stable, max |multiplier|)`` per axis.
     """
-    c, s = np.cos(0.7), np.sin(0.7)
+    c, s = detmath.cos(0.7), detmath.sin(0.7)
     R1 = np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
     R2 = np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])
-    frame = R1 @ R2
+    frame = detlinalg.matmul(R1, R2)
     out = []
     for i in range(3):
         y0, T = support_steady_state(params, i, 1.0, frame)
@@ -153,8 +154,7 @@ def support_stability(params: tuple[float, ...]) -> list[tuple[bool, float]]:
 
 
 def _random_unit(rng, n):
-    v = rng.normal(size=(n, 3))
-    return v / np.linalg.norm(v, axis=1)[:, None]
+    return detlinalg.unit_vectors(rng, n, 3)
 
 
 @cache
@@ -227,9 +227,9 @@ def sample_levels(
     out, drift, states = [], 0.0, []
     for k in range(n):
         C = rng.uniform(*C_range)
-        perp = rng.normal(size=3)
-        perp -= perp.dot(gam[k]) * gam[k]
-        perp /= np.linalg.norm(perp)
+        perp = detlinalg.unit_vectors(rng, 1, 3)[0]
+        perp -= detlinalg.dot(perp, gam[k]) * gam[k]
+        perp /= detlinalg.norm(perp)
         if Mg is not None:
             mg = Mg
         elif g is not None:
@@ -247,7 +247,7 @@ def sample_levels(
         )
         y = r.y[:, -1]
         Mv, gv = y[:3], y[3:]
-        out.append((Mv @ Mv, Mv @ gv, ball_energy(y, I, D)))
+        out.append((detlinalg.dot(Mv, Mv), detlinalg.dot(Mv, gv), ball_energy(y, I, D)))
         states.append(y)
         drift = max(drift, max(r.drift.values()))
     return np.array(out), drift, np.array(states)
@@ -289,8 +289,7 @@ def support_sample(
     J = np.asarray(I, float) + D_iso
     out, drift = [], 0.0
     for _ in range(n):
-        q = rng.normal(size=4)
-        q /= np.linalg.norm(q)
+        q = detlinalg.unit_vectors(rng, 1, 4)[0]
         w, x, y, z = q
         R = np.array(
             [
@@ -299,14 +298,14 @@ def support_sample(
                 [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
             ]
         )
-        M = rng.normal(size=3)
+        M = 2.0 * rng.random(3) - 1.0
         y0 = {"M": tuple(M), "alpha": tuple(R[0]), "beta": tuple(R[1]), "gamma": tuple(R[2])}
         p = {"I": tuple(I), "D_iso": D_iso, "D_al": D_al, "D_be": D_be}
         r = integrate("spherical_support", y0, t_end, p, rtol=1e-10, atol=1e-12)
         yv = r.y[:, -1]
         Mv, al, be, ga = yv[:3], yv[3:6], yv[6:9], yv[9:12]
-        C = Mv @ Mv
-        gx = np.array([Mv @ al, Mv @ be, Mv @ ga]) / np.sqrt(C)
+        C = detlinalg.dot(Mv, Mv)
+        gx = np.array([detlinalg.dot(Mv, v) for v in (al, be, ga)]) / np.sqrt(C)
         E = 2 * float(code.numpy.integrals(0.0, yv, [*I, D_iso, D_al, D_be])[0])
         surf = [
             gx[0] ** 2 / (J[i] - D_al) + gx[1] ** 2 / (J[i] - D_be) + gx[2] ** 2 / J[i]

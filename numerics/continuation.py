@@ -41,6 +41,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ..arith import detlinalg
 from ..derive.errors import UserInputError
 from .periodic_orbits import SmoothMap, orbit_jacobian, refine_periodic_orbit
 
@@ -193,9 +194,8 @@ class _Continuer:
         return g, np.hstack([A - np.eye(self.dim), gp[:, None]]), A
 
     def tangent(self, DG: NDArray, previous: NDArray | None) -> NDArray:
-        _, _, vt = np.linalg.svd(DG)
-        t = vt[-1]
-        if previous is not None and t @ previous < 0:
+        t = detlinalg.null_vector(DG)
+        if previous is not None and detlinalg.dot(t, previous) < 0:
             t = -t
         return t
 
@@ -211,18 +211,18 @@ class _Continuer:
                 return u, A, it, DG
             if it == max_iter:
                 return None
-            r = normal @ (u - anchor)
+            r = detlinalg.dot(normal, u - anchor)
             M = np.vstack([DG, normal])
             try:
-                du = np.linalg.solve(M, -np.append(g, r))
-            except np.linalg.LinAlgError:
+                du = detlinalg.solve(M, -np.append(g, r))
+            except detlinalg.LinAlgError:
                 return None
             u = u + du
         return None
 
 
 def _multipliers(A: NDArray) -> NDArray:
-    ev = np.linalg.eigvals(A)
+    ev = detlinalg.eigvals(A)
     return ev[np.argsort(-np.abs(ev), kind="stable")]
 
 
@@ -450,7 +450,7 @@ def _locate(
     if kind == "saddle-node":
         fold = np.sign(ta[-1]) != np.sign(tb[-1])
     chord = ub - ua
-    length = np.linalg.norm(chord)
+    length = detlinalg.norm(chord)
     normal = chord / length
     a, b = 0.0, 1.0
     side = 0
@@ -507,9 +507,9 @@ def _switch(
     """A point of the period-2k branch born at the doubling ``ev``: ``(x, p, step)``."""
     x_star, p_star = ev.point, ev.parameter
     _, A = orbit_jacobian(c.smap, x_star, p_star, c.period)
-    w, V = np.linalg.eig(A)
+    w, V = detlinalg.eig(A)
     v = np.real(V[:, np.argmin(np.abs(w + 1))])
-    v /= np.linalg.norm(v)
+    v /= detlinalg.norm(v)
     doubled = _Continuer(c.smap, 2 * c.period, c.tol, c.dp)
     scale = max(1.0, float(np.max(np.abs(x_star))))
     eps = 1e-2 * scale

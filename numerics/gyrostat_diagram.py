@@ -28,10 +28,12 @@ K01-4.1, K01-4.2, K01-4.3, K01-3.2, K01-Fig7 (FORMULAS.md).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import numpy as np
 
+from ..arith import detlinalg, detmath
 from .code import load_model_code
 
 __all__ = [
@@ -145,11 +147,11 @@ def _families(I, D, K, samples):
     ends = [-np.inf, *poles, np.inf]
     for lo, hi in zip(ends[:-1], ends[1:], strict=True):
         if np.isinf(lo):
-            x = hi - scale * np.exp(tau / 2)
+            x = hi - scale * detmath.exp(tau / 2)
         elif np.isinf(hi):
-            x = lo + scale * np.exp(tau / 2)
+            x = lo + scale * detmath.exp(tau / 2)
         else:
-            x = lo + (hi - lo) / (1 + np.exp(-tau))
+            x = lo + (hi - lo) / (1 + detmath.exp(-tau))
             x = x[(x > lo) & (x < hi)]
         out.append((lam_family, np.unique(x)))
     for i in range(3):
@@ -165,7 +167,7 @@ def _families(I, D, K, samples):
         def free_family(w, base=base, i=i):
             return base[:, None] + np.outer(np.eye(3)[i], w), np.full(len(w), J[i])
 
-        w = scale * np.exp(tau / 2)
+        w = scale * detmath.exp(tau / 2)
         out.append((free_family, np.concatenate([-w[::-1], w])))
     return out
 
@@ -295,9 +297,9 @@ def _sphere(count: int) -> np.ndarray:
     """A Fibonacci grid of ``count`` unit vectors (columns)."""
     k = np.arange(count) + 0.5
     z = 1 - 2 * k / count
-    phi = np.pi * (1 + 5**0.5) * k
+    phi = np.pi * (1 + math.sqrt(5)) * k
     r = np.sqrt(1 - z * z)
-    return np.vstack([r * np.cos(phi), r * np.sin(phi), z])
+    return np.vstack([r * detmath.cos(phi), r * detmath.sin(phi), z])
 
 
 def parallel_segment(
@@ -352,9 +354,8 @@ def level_samples(
         ``"n"``, ``"h"``, ``"states"`` (shape (6, samples)).
     """
     rng = np.random.default_rng(seed)
-    gamma = rng.normal(size=(3, samples))
-    gamma /= np.linalg.norm(gamma, axis=0)
-    u = rng.normal(size=(3, samples))
+    gamma = detlinalg.unit_vectors(rng, samples, 3).T.copy()
+    u = detlinalg.unit_vectors(rng, samples, 3).T.copy()
     u -= gamma * np.sum(u * gamma, axis=0)
     u /= np.linalg.norm(u, axis=0)
     radius = np.sqrt(rng.uniform(0, max(float(n_max) - float(C) ** 2, 0.0), samples))

@@ -36,6 +36,7 @@ from dataclasses import dataclass, field
 import mpmath
 import numpy as np
 
+from ..arith import detlinalg, detmath
 from ..derive.errors import UserInputError
 from .code import ModelCode
 
@@ -336,11 +337,12 @@ def _circle_ranges(code: ModelCode, p, C, r, K, candidates) -> np.ndarray:
     k = np.argmin(np.abs(g) + np.arange(3) * 1e-15, axis=1)  # same rule as _perp_basis
     e = np.eye(3)[k]
     e1 = e - np.sum(e * g, axis=1)[:, None] * g
-    e1 /= np.linalg.norm(e1, axis=1)[:, None]
+    e1 /= np.sqrt(np.sum(e1 * e1, axis=1))[:, None]
     e2 = np.cross(g, e1)
     phi = 2 * np.pi * np.arange(16) / 16
     u = float(r) * (
-        np.cos(phi)[None, :, None] * e1[:, None, :] + np.sin(phi)[None, :, None] * e2[:, None, :]
+        detmath.cos(phi)[None, :, None] * e1[:, None, :]
+        + detmath.sin(phi)[None, :, None] * e2[:, None, :]
     )
     M = float(C) * g[:, None, :] + u - np.array([float(v) for v in K])[None, None, :]
     gam = np.broadcast_to(g[:, None, :], M.shape)
@@ -378,7 +380,7 @@ def _grid_crossings(points, values) -> list[tuple[int, int]]:
     arr = np.array([[float(c) for c in g] for g in points])
     out = []
     for i in range(len(points)):
-        d = arr @ arr[i]
+        d = detlinalg.matmul(arr, arr[i])
         near = np.argsort(-d)[1:7]
         for j in sorted(int(j) for j in near):
             if j > i and (values[i] > 0) != (values[j] > 0):

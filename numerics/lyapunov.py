@@ -38,6 +38,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..arith import detlinalg, detmath
 from ..derive.errors import UserInputError
 from .code import ModelCode
 from .variational import VariationalSystem
@@ -291,24 +292,29 @@ def states_on_level_set(
     target = np.asarray(code.numpy.integrals(t, y0, p), dtype=float)
     rng = np.random.default_rng(seed)
     states = [y0.copy()]
-    scale = spread * max(float(np.linalg.norm(y0)), 1.0)
+    scale = spread * max(detlinalg.norm(y0), 1.0)
     for _ in range(count - 1):
         _, tangent = system.level_set_basis(t, y0)
-        y = y0 + scale * tangent @ rng.standard_normal(tangent.shape[1]) / math.sqrt(
-            tangent.shape[1]
-        )
+        direction = detlinalg.matmul(tangent, detlinalg.unit_vectors(rng, 1, tangent.shape[1])[0])
+        y = y0 + scale * direction
         for _ in range(20):  # Gauss-Newton onto F(y) = F(y0)
             r = np.asarray(code.numpy.integrals(t, y, p), dtype=float) - target
             if np.all(np.abs(r) <= 4 * np.finfo(float).eps * np.maximum(1, np.abs(target))):
                 break
             G = system.integral_gradients(t, y)
-            y = y - np.linalg.lstsq(G, r, rcond=None)[0]
+            y = y - detlinalg.lstsq(G, r)
         states.append(y)
     return np.array(states)
 
 
+def _uniform_matrix(rng: np.random.Generator, rows: int, cols: int) -> NDArray:
+    """Entries uniform in [-1, 1): the generator's integers scaled exactly (a normal deviate's
+    tail uses libm's log, whose bits depend on the processor)."""
+    return 2.0 * rng.random((rows, cols)) - 1.0
+
+
 def _log_density(code: ModelCode, t: float, y: NDArray, p: NDArray) -> float:
-    return float(np.log(np.asarray(code.numpy.density(t, y, p), dtype=float).ravel()[0]))
+    return detmath.log(float(np.asarray(code.numpy.density(t, y, p), dtype=float).ravel()[0]))
 
 
 def _has_density(code: ModelCode) -> bool:
@@ -423,7 +429,7 @@ def lyapunov_spectrum(
     for s, y in enumerate(starts):
         _, tangent_s = vs.level_set_basis(t0, y)
         basis = tangent_s if spectrum == "level_set" else np.eye(n)
-        V = basis @ np.linalg.qr(rng.standard_normal((basis.shape[1], k)))[0]
+        V = detlinalg.matmul(basis, detlinalg.qr(_uniform_matrix(rng, basis.shape[1], k))[0])
         project = spectrum == "level_set"
         t = t0
         if transient:

@@ -28,6 +28,7 @@ from typing import Any
 import mpmath
 import numpy as np
 
+from ..arith import detmath
 from ..derive.errors import UserInputError
 from .inputs import MAX_DEPTH, MAX_TEXT, parse_number
 
@@ -64,8 +65,9 @@ class _Ops:
             self.pi = +mpmath.pi
             self.zero = mpmath.mpf(0)
         else:
-            self.sqrt, self.sin, self.cos = np.sqrt, np.sin, np.cos
-            self.atan2, self.exp, self.log = np.arctan2, np.exp, np.log
+            # the project's kernels, not numpy's processor-dispatched ones: the same bits anywhere
+            self.sqrt, self.sin, self.cos = np.sqrt, detmath.sin, detmath.cos
+            self.atan2, self.exp, self.log = detmath.atan2, detmath.exp, detmath.log
             self.pi = math.pi
             self.zero = 0.0
 
@@ -351,7 +353,7 @@ def reduced_tangent(x: Sequence, G: float) -> np.ndarray:
     G = float(G)
     s = math.sqrt(1 - z * z)
     ds = -z / s
-    sl, cl, sg, cg = math.sin(l), math.cos(l), math.sin(g), math.cos(g)
+    sl, cl, sg, cg = detmath.sin(l), detmath.cos(l), detmath.sin(g), detmath.cos(g)
     return np.array(
         [
             [G * ds * sl, G * s * cl, 0.0],

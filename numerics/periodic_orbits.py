@@ -31,6 +31,7 @@ import mpmath
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..arith import detlinalg
 from ..derive.errors import ComputationError, UserInputError
 
 __all__ = [
@@ -253,13 +254,13 @@ def _norm(v, digits: int | None) -> float:
 
 def _solve(A, b, digits: int | None):
     if digits is None:
-        return np.linalg.solve(A, b)
+        return detlinalg.solve(A, b)
     return mpmath.lu_solve(A, b)
 
 
 def _eigenvalues(A, digits: int | None):
     if digits is None:
-        ev = np.linalg.eigvals(A)
+        ev = detlinalg.eigvals(A)
         return ev[np.argsort(-np.abs(ev), kind="stable")]
     if A.rows == 1:  # mpmath.eig returns a tuple for 1x1 matrices
         return [A[0, 0]]
@@ -302,7 +303,7 @@ def orbit_jacobian(smap: SmoothMap, x0: Any, p: Any, period: int) -> tuple[list,
     product = _identity(smap.dim, smap.digits)
     for _ in range(period):
         x1, J = smap.df(points[-1], p)
-        product = J @ product if smap.digits is None else J * product
+        product = detlinalg.matmul(J, product) if smap.digits is None else J * product
         points.append(x1)
     return points, product
 
@@ -406,7 +407,7 @@ def refine_periodic_orbit(
                 break
             try:
                 dx = _solve(product - eye, -F, digits)
-            except (np.linalg.LinAlgError, ZeroDivisionError) as exc:
+            except (detlinalg.LinAlgError, ZeroDivisionError) as exc:
                 if best is not None:  # already within tol: no polishing at a fold
                     converged = True
                     break
@@ -591,7 +592,7 @@ def bm20_map_with_jacobian(
         x = np.asarray(x, dtype=float)
         flow = var.flow(to_state(x), 0.0, T)
         x1 = to_point(flow.y)
-        J, *_ = np.linalg.lstsq(reduced_tangent(x1, G), flow.V @ reduced_tangent(x, G), rcond=None)
+        J = detlinalg.lstsq(reduced_tangent(x1, G), detlinalg.matmul(flow.V, reduced_tangent(x, G)))
         return x1, J
 
     if digits is None:

@@ -35,6 +35,7 @@ import mpmath
 import numpy as np
 import sympy as sp
 
+from ..arith import detmath
 from ..derive import hamiltonisation as hz
 from ..derive.emit import emit_function
 from ..derive.errors import ComputationError, UserInputError
@@ -461,7 +462,7 @@ def _bump(s):
     out = np.zeros_like(s)
     inside = (s > 0) & (s < 1)
     x = s[inside]
-    out[inside] = np.exp(-1.0 / (x * (1.0 - x)))
+    out[inside] = detmath.exp(-1.0 / (x * (1.0 - x)))
     return out
 
 
@@ -557,7 +558,7 @@ def measured_rotation_number(
         qd = -dP_dt / dP_dq
         c = (q.max() + q.min()) / 2
         s = (q.max() - q.min()) / 2 / max(np.abs(qd).max(), 1e-300)
-        th = np.unwrap(np.arctan2(s * qd, q - c))
+        th = np.unwrap(detmath.atan2(s * qd, q - c))
         thetas.append(th)
     wts = _bump(t_eval / t_end)[:-1]
     inc = [np.diff(th) for th in thetas]

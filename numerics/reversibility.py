@@ -27,6 +27,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
+from ..arith import detlinalg
 from ..derive.errors import UserInputError
 from .code import ModelCode
 
@@ -187,7 +188,7 @@ def attractor_repeller_pair(
     """
     if len(starts) != 3:
         raise UserInputError("give three initial states: attractor, its second sample, repeller")
-    G = float(np.linalg.norm(np.asarray(starts[0], dtype=float)[:3]))
+    G = detlinalg.norm(np.asarray(starts[0], dtype=float)[:3])
     scale = np.array([1 / G] * 3 + [1.0] * 3) if G > 0 else np.ones(6)
 
     def sample(y0, backward):

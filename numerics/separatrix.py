@@ -752,49 +752,36 @@ def frame_turn(
     ----------
     K01-2.34, K01-Fig6f (FORMULAS.md).
     """
-    import numpy as np
-    from scipy.integrate import solve_ivp
-
+    from ..arith import detlinalg, detmath
     from .code import load_model_code
+    from .poincare import EventSection
 
     _check_frame_args(I, D, h, C)
     check_real(rtol, "rtol", positive=True, double=True)
     code = load_model_code("chaplygin_ball", ("contact_point",))
-    p = np.array([float(v) for v in I] + [float(D), 1.0])
+    p = [float(v) for v in I] + [float(D), 1.0]
     y0 = near_separatrix_state(I, D, h, C)
     # start off the plane gamma2 = 0 crossing: a full period returns to gamma2 = 0 going
     # the same way
     f0 = code.numpy.rhs(0.0, y0, p)
-    direction = 1.0 if f0[4] > 0 else -1.0
+    direction = 1 if f0[4] > 0 else -1
 
-    def crossing(t, y):
+    def gamma2(t, y):
         return y[4]
 
-    crossing.direction = direction
-    crossing.terminal = False
-    # integrate until the first return with the same direction (events at t > 0)
-    t_end, ev = 50.0, None
-    while ev is None:
-        sol = solve_ivp(
-            lambda t, y: code.numpy.rhs(t, y, p),
-            (0.0, t_end),
-            y0,
-            method="DOP853",
-            rtol=rtol,
-            atol=rtol,
-            events=crossing,
-        )
-        times = [t for t in sol.t_events[0] if t > 1e-9]
-        if times:
-            ev = (times[0], sol.y_events[0][list(sol.t_events[0]).index(times[0])])
-        elif t_end > 1e5:
-            raise ComputationError("no return of gamma found")
-        else:
-            t_end *= 4
-    T, yT = ev
+    # the first return with the same direction (crossings at t > 0), located on the Taylor
+    # polynomial of the deterministic C integrator
+    section = EventSection(
+        code, p, gamma2, direction=direction, rtol=rtol, atol=rtol, chunk=50.0
+    )
+    orbit = section.crossings(list(y0), 2, t_max=1e5)
+    later = [k for k in range(len(orbit.t)) if orbit.t[k] > 1e-9]
+    if not later:
+        raise ComputationError("no return of gamma found")
+    T, yT = float(orbit.t[later[0]]), orbit.y[later[0]]
     a0, b0 = y0[6:9], y0[9:12]
     aT = yT[6:9]
-    return float(T), float(np.arctan2(np.dot(aT, b0), np.dot(aT, a0)))
+    return T, detmath.atan2(detlinalg.dot(aT, b0), detlinalg.dot(aT, a0))
 
 
 def critical_energy(

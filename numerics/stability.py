@@ -29,15 +29,16 @@ from functools import cache, lru_cache
 import numpy as np
 import sympy as sp
 from numpy.typing import ArrayLike
-from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
+from ..arith import detlinalg
 from ..derive.bifurcation import steady_parameters, steady_rotation
 from ..derive.emit import emit_function
 from ..derive.errors import ComputationError, UserInputError
 from ..derive.systems import build_model
 from .code import ModelCode, load_model_code
 from .inputs import check_choice, check_inertia_vector, check_real
+from .variational import VariationalSystem
 
 __all__ = [
     "FloquetResult",
@@ -274,25 +275,30 @@ def return_period(
     """
     p = _params(I, D)
     code = load_model_code(SYSTEM)
-    f0 = code.numpy.rhs(0.0, y0, p)
-    sol = solve_ivp(
-        lambda t, y: code.numpy.rhs(t, y, p),
-        (0, t_max),
-        y0,
-        method="DOP853",
-        rtol=rtol,
-        atol=rtol,
-        dense_output=True,
-    )
+    y0 = np.asarray(y0, dtype=float)
+    f0 = np.asarray(code.numpy.rhs(0.0, y0, p), dtype=float)
+    flow = VariationalSystem(code, p, rtol=rtol, atol=rtol)
+    no_tangent = np.zeros((len(y0), 1))  # the state alone drives the error control
+
+    def advance(y: np.ndarray, t0: float, t1: float) -> np.ndarray:
+        return flow.flow(y, t0, t1, V0=no_tangent).y
+
     ts = np.linspace(0, t_max, 4000)
-    ys = sol.sol(ts)
-    h = (ys - y0[:, None]).T @ f0
+    ys = [y0]
+    for k in range(1, ts.size):
+        ys.append(advance(ys[-1], float(ts[k - 1]), float(ts[k])))
+    h = [detlinalg.dot(y - y0, f0) for y in ys]
+    scale = max(1.0, detlinalg.norm(y0))
     best = None
     for k in range(1, len(ts) - 1):
         if h[k] < 0 <= h[k + 1]:
-            t = brentq(lambda s: (sol.sol(s) - y0) @ f0, ts[k], ts[k + 1], xtol=1e-14)
-            dist = np.linalg.norm(sol.sol(t) - y0)
-            if dist < 1e-6 * max(1.0, np.linalg.norm(y0)):
+            yk, tk = ys[k], float(ts[k])
+            t = brentq(
+                lambda s, yk=yk, tk=tk: detlinalg.dot(advance(yk, tk, s) - y0, f0),
+                tk, float(ts[k + 1]), xtol=1e-14,
+            )  # fmt: skip
+            dist = detlinalg.norm(advance(yk, tk, t) - y0)
+            if dist < 1e-6 * scale:
                 return float(t)
             if best is None or dist < best[1]:
                 best = (t, dist)
@@ -335,20 +341,8 @@ def monodromy(
     ----------
     BKM12-1.5stab (FORMULAS.md).
     """
-    n = len(y0)
-
-    def rhs(t, z):
-        y = z[:n]
-        Phi = z[n:].reshape(n, n)
-        J = np.asarray(code.numpy.jac(t, y, p), dtype=float)
-        return np.concatenate([code.numpy.rhs(t, y, p), (J @ Phi).ravel()])
-
-    z0 = np.concatenate([y0, np.eye(n).ravel()])
-    sol = solve_ivp(rhs, (0, T), z0, method="DOP853", rtol=rtol, atol=rtol)
-    if not sol.success:  # pragma: no cover - a smooth periodic orbit
-        raise ComputationError(sol.message)
-    z = sol.y[:, -1]
-    return z[n:].reshape(n, n), z[:n]
+    res = VariationalSystem(code, p, rtol=rtol, atol=rtol).flow(y0, 0.0, float(T))
+    return res.V, res.y
 
 
 def floquet(
@@ -403,31 +397,30 @@ def floquet(
     y0 = np.asarray(y0, dtype=float)
     Phi, yT = monodromy(code, y0, T, p, rtol)
     dF = integral_gradients(code, y0, p)
-    _, s, Vt = np.linalg.svd(dF)
-    rank = int(np.sum(s > 1e-8 * s[0]))
-    K = Vt[rank:].T  # orthonormal basis of ker dF, shape (n, n - rank)
-    f = code.numpy.rhs(0.0, y0, p)
-    f = f / np.linalg.norm(f)
+    normal, K = detlinalg.orthonormal_split(dF, rtol=1e-8)  # K: orthonormal basis of ker dF
+    rank = normal.shape[1]
+    f = np.asarray(code.numpy.rhs(0.0, y0, p), dtype=float)
+    f = f / detlinalg.norm(f)
     # quotient by the flow direction: basis of ker dF orthogonal to f
-    fk = K.T @ f
-    Q, _ = np.linalg.qr(np.column_stack([fk, np.eye(len(fk))]))
-    B = K @ Q[:, 1:]  # (n, n - rank - 1), orthonormal, orthogonal to f
+    fk = detlinalg.matmul(K.T, f)
+    _, B_k = detlinalg.orthonormal_split(fk[None, :])
+    B = detlinalg.matmul(K, B_k)  # (n, n - rank - 1), orthonormal, orthogonal to f
     # induced map on ker dF / span f: project Phi B back onto B along f
-    P = np.eye(len(y0)) - np.outer(f, f)
-    Mq = B.T @ P @ Phi @ B
-    nontrivial = np.linalg.eigvals(Mq)
+    P = np.eye(len(y0)) - f[:, None] * f[None, :]
+    Mq = detlinalg.matmul(B.T, detlinalg.matmul(P, detlinalg.matmul(Phi, B)))
+    nontrivial = detlinalg.eigvals(Mq)
     F0 = code.numpy.integrals(0.0, y0, p)
     FT = code.numpy.integrals(0.0, yT, p)
     tol = float(np.sqrt(rtol))
     max_abs = float(np.max(np.abs(nontrivial)))
     return FloquetResult(
         period=float(T),
-        multipliers=np.linalg.eigvals(Phi),
+        multipliers=detlinalg.eigvals(Phi),
         nontrivial=nontrivial,
         max_abs=max_abs,
         tolerance=tol,
         stable=abs(max_abs - 1) <= tol,
-        closure=float(np.linalg.norm(yT - y0)),
+        closure=detlinalg.norm(yT - y0),
         drift=float(np.max(np.abs(FT - F0))),
         rank=rank,
         y0=y0,
@@ -575,7 +568,7 @@ def support_steady_state(
     BKM12-2.7b (FORMULAS.md).
     """
     F = np.asarray(frame, dtype=float)
-    if F.shape != (3, 3) or not np.allclose(F @ F.T, np.eye(3), atol=1e-12):
+    if F.shape != (3, 3) or not np.allclose(detlinalg.matmul(F, F.T), np.eye(3), atol=1e-12):
         raise UserInputError("the frame must be three orthonormal rows alpha, beta, gamma")
     y = _support_functions(axis)(w, *F.ravel(), *[float(v) for v in params])
     return np.array([float(v) for v in y]), 2 * np.pi / abs(w)

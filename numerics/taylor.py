@@ -53,6 +53,7 @@ import gmpy2
 import mpmath
 import numpy as np
 
+from ..arith import detmath
 from .compiled import CompilerError, CompilerUnavailableWarning, compile_c
 from .taylor_unroll import unrolled_source
 
@@ -124,7 +125,7 @@ def jorba_zou_order(eps: float, max_order: int = 80) -> int:
     int
         The order ``p``.
     """
-    return int(min(max(math.ceil(-0.5 * math.log(eps) + 1.0), 2), max_order))
+    return int(min(max(math.ceil(-0.5 * detmath.log(eps) + 1.0), 2), max_order))
 
 
 # --------------------------------------------------------------------------- binary128
@@ -961,7 +962,8 @@ def python_lib(kind: str) -> types.SimpleNamespace:
     """
     if kind == "float":
         return types.SimpleNamespace(
-            mpf=float, sqrt=math.sqrt, exp=math.exp, sin=math.sin, cos=math.cos, log=math.log
+            mpf=float, sqrt=math.sqrt, exp=detmath.exp, sin=detmath.sin, cos=detmath.cos,
+            log=detmath.log,
         )
     if kind == "mpmath":
         return types.SimpleNamespace(
@@ -1179,11 +1181,11 @@ class _Stepper:
             for k in (p - 1, p):
                 nk = max(abs(c[k]) for c in C)
                 if nk > 0:
-                    rho = min(rho, math.exp(float(L.log(scale) - L.log(nk)) / k))
+                    rho = min(rho, detmath.exp(float(L.log(scale) - L.log(nk)) / k))
             # e^-2 is eps^(1/(p-1)) at the Jorba-Zou order; a lower (fixed or capped) order
             # needs the smaller eps^(1/(p-1)) to keep the truncation error below eps
-            factor = min(-2.0, math.log(eps) / (p - 1)) - 0.7 / (p - 1)
-            h = abs(remaining) if math.isinf(rho) else L.mpf(rho * math.exp(factor))
+            factor = min(-2.0, detmath.log(eps) / (p - 1)) - 0.7 / (p - 1)
+            h = abs(remaining) if math.isinf(rho) else L.mpf(rho * detmath.exp(factor))
         if h >= abs(remaining):
             h, t_new = remaining, _from_mpf(t_end, kind)
         else:

@@ -32,6 +32,7 @@ import cffi
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..arith import detlinalg, detmath
 from ..derive.errors import ComputationError, UserInputError
 from .ccompile import CacheError, CompilerError, compile_c
 from .code import ModelCode
@@ -162,7 +163,6 @@ class VariationalSystem:
         self.atol = float(atol)
         self.max_steps = int(max_steps)
         self._lib = _library(code)
-        self._h = 0.0  # last step size, reused by the next call
 
     @property
     def compiled(self) -> bool:
@@ -229,7 +229,8 @@ class VariationalSystem:
             return self._flow_scipy(y, V, t0, t1)
         z = self._pack(y, V)
         stats = np.zeros(4)
-        stats[3] = self._h
+        # no step size carried over from an earlier call: a result depends on its inputs only
+        # (not on which points a sweep chunk ran before it)
         status = self._lib.chaplygin_var_flow(
             t0, t1, _ffi.from_buffer("double[]", z, True), k,
             _ffi.from_buffer("double[]", self.params), self.rtol, self.atol, self.max_steps,
@@ -237,7 +238,6 @@ class VariationalSystem:
         )  # fmt: skip
         if status:
             self._raise(status, t0)
-        self._h = float(stats[3])
         n = self.n
         return TangentFlow(
             y=z[:n].copy(),
@@ -259,7 +259,7 @@ class VariationalSystem:
             J = np.asarray(jac(t, z[:n], p), dtype=np.float64)
             out = np.empty_like(z)
             out[:n] = rhs(t, z[:n], p)
-            out[n:-1] = (J @ z[n:-1].reshape(n, k)).ravel()
+            out[n:-1] = detlinalg.matmul(J, z[n:-1].reshape(n, k)).ravel()
             out[-1] = np.trace(J)
             return out
 
@@ -341,12 +341,7 @@ class VariationalSystem:
         UserInputError
             Wrong shape or non-finite state.
         """
-        G = self.integral_gradients(t, y)
-        if G.shape[0] == 0:
-            return np.zeros((self.n, 0)), np.eye(self.n)
-        u, s, vt = np.linalg.svd(G)
-        rank = int(np.sum(s > 1e-8 * max(s[0], np.finfo(float).tiny)))
-        return vt[:rank].T.copy(), vt[rank:].T.copy()
+        return detlinalg.orthonormal_split(self.integral_gradients(t, y), rtol=1e-8)
 
     def renormalised(
         self,
@@ -411,7 +406,8 @@ class VariationalSystem:
             return self._renormalised_python(y, V, float(t0), float(tau), logs, divs, project)
         z = self._pack(y, V)
         stats = np.zeros(4)
-        stats[3] = self._h
+        # no step size carried over from an earlier call: a result depends on its inputs only
+        # (not on which points a sweep chunk ran before it)
         status = self._lib.chaplygin_var_renormalised(
             float(t0), float(tau), n_intervals, _ffi.from_buffer("double[]", z, True), k,
             _ffi.from_buffer("double[]", self.params), self.rtol, self.atol, int(bool(project)),
@@ -420,7 +416,6 @@ class VariationalSystem:
         )  # fmt: skip
         if status:
             self._raise(status, float(t0))
-        self._h = float(stats[3])
         n = self.n
         work = {"steps": int(stats[0]), "rejected": int(stats[1]), "evaluations": int(stats[2])}
         return logs, divs, z[:n].copy(), z[n : n + n * k].reshape(n, k).copy(), work
@@ -445,11 +440,9 @@ class VariationalSystem:
             work["evaluations"] += res.evaluations
             if project:
                 normal, _ = self.level_set_basis(tb, y)
-                V = V - normal @ (normal.T @ V)
-            Q, R = np.linalg.qr(V)
-            signs = np.sign(np.diag(R))
-            logs[i] = np.log(np.abs(np.diag(R)))
-            V = Q * signs
+                V = V - detlinalg.matmul(normal, detlinalg.matmul(normal.T, V))
+            V, R = detlinalg.qr(V)
+            logs[i] = detmath.log(np.diag(R).copy())
         return logs, divs, y, V, work
 
 

@@ -16,8 +16,7 @@ from fractions import Fraction
 import mpmath
 import numpy as np
 import pytest
-
-from chaplygin.numerics import detlinalg as dl
+from chaplygin.arith import detlinalg as dl
 
 pytestmark = pytest.mark.quick
 
@@ -189,7 +188,7 @@ def test_results_do_not_depend_on_the_blas_kernel():
     linalg do change: that is the negative control)."""
     script = (
         "import numpy as np, hashlib\n"
-        "from chaplygin.numerics import detlinalg as dl\n"
+        "from chaplygin.arith import detlinalg as dl\n"
         "rng = np.random.default_rng(5); A = 2*rng.random((9, 9)) - 1.1\n"
         "out = [dl.matmul(A, A), dl.qr(A)[0], dl.solve(A, A[0]), dl.orthonormal_split(A[:3])[1]]\n"
         "ref = [A @ A @ A @ A, np.linalg.qr(A)[0], np.linalg.solve(A, A[0])]\n"

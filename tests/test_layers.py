@@ -1,4 +1,4 @@
-"""The layers of the package: derive < generated < numerics < verify.
+"""The layers of the package: arith < derive < generated < numerics < verify.
 
 Imports are read from the source with :mod:`ast` (function-level imports included, since
 they are cycles all the same once both functions run): no module imports a higher layer and
@@ -18,7 +18,7 @@ from pathlib import Path
 import pytest
 
 #: Layers from the lowest up; a module may import its own layer and the ones below.
-LAYERS = ("derive", "generated", "numerics", "verify")
+LAYERS = ("arith", "derive", "generated", "numerics", "verify")
 
 
 def _package_dir(layer: str) -> Path:
