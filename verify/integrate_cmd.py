@@ -7,6 +7,7 @@ import math
 
 from chaplygin.derive.errors import UserInputError
 
+from ..arith import detlinalg
 from .cli_common import EXIT_FAILED, EXIT_OK, json_text, key_values, positive_float
 
 __all__ = ["add_parser", "run", "DEFAULT_MAX_STEPS", "estimated_steps"]
@@ -75,9 +76,9 @@ def _rate(args: argparse.Namespace) -> float:
         rate = 1.0
         for names in code.state_groups.values():
             index = [code.state.index(n) for n in names]
-            size = float(np.linalg.norm(y[index]))
+            size = detlinalg.norm(y[index])
             if size > 0:
-                rate = max(rate, float(np.linalg.norm(f[index])) / size)
+                rate = max(rate, detlinalg.norm(f[index]) / size)
     return rate if math.isfinite(rate) else 1.0
 
 

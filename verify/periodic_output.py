@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, StrictBool, StrictFloat, StrictInt
 
+from ..arith import detlinalg
 from ..derive.errors import UserInputError
 from .analyses import Analysis, AnalysisResult, register_analysis
 
@@ -125,8 +126,8 @@ def _run(scene: Any, res: Any, spec: PeriodicOrbitsOutput, progress: Any) -> Ana
 
     y0 = np.array([float(v) for v in res.y0])
     M, gamma = y0[:3], y0[3:]
-    G = float(np.linalg.norm(M))
-    if G == 0 or abs(M @ gamma) > 1e-9 * G:
+    G = detlinalg.norm(M)
+    if G == 0 or abs(detlinalg.dot(M, gamma)) > 1e-9 * G:
         raise _scene_error(
             "periodic_orbits needs (M, gamma) = 0 and |M| = G > 0 (BM20's level set); give "
             "the initial state by G, z, l, g",

@@ -51,6 +51,7 @@ from pydantic import (
     model_validator,
 )
 
+from ..arith import detmath
 from ..derive.errors import UserInputError
 from ..derive.systems import SYSTEMS
 from .analyses import AnalysisResult, requested
@@ -1421,7 +1422,9 @@ class SceneResult:
             base = float(p[f"I{m.group(1)}"])
             if m.group(1) == "2" or "J_off" not in p:
                 return base * np.ones_like(self.t)
-            off = float(p["J_off"]) + float(p["delta"]) * np.sin(float(p["Omega"]) * self.t)
+            off = float(p["J_off"]) + float(p["delta"]) * detmath.sin(
+                float(p["Omega"]) * np.asarray(self.t, dtype=float)
+            )
             return base + off**2
         valid = self.quantity_names()
         raise SceneError(

@@ -24,6 +24,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..arith import detlinalg, detmath
+
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
@@ -202,10 +204,10 @@ def separatrix_delta_report(result: Any, rtol: float) -> dict:
         "lambda": lam,
         "lambda_t_covered": lam * span,
         "energy_offset": h / h2 - 1,
-        "parallel_offset": float(np.linalg.norm(np.cross(M, g)) / np.linalg.norm(M)),
+        "parallel_offset": detlinalg.norm(np.cross(M, g)) / detlinalg.norm(M),
     }
     # the extrapolation needs exp(lam t) ~ rtol^(-1/4) on each side (see the module docstring)
-    needed = 0.25 * np.log(1 / max(float(rtol), float(np.finfo(float).eps))) + 3
+    needed = 0.25 * detmath.log(1 / max(float(rtol), float(np.finfo(float).eps))) + 3
     if lam * span < needed:
         report["note"] = (
             f"lambda t reaches {lam * span:.3g} on each side, the centres need about "

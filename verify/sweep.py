@@ -42,6 +42,7 @@ from typing import Any
 
 import numpy as np
 
+from ..arith import detmath
 from ..derive.errors import ComputationError, UserInputError
 
 __all__ = [
@@ -275,7 +276,7 @@ def _trace(ctx: PointContext) -> dict:
     r = ctx.trajectory()
     y = np.asarray(r.y, dtype=float)
     x_, y_ = y[code.state.index("x")], y[code.state.index("y")]
-    radius = np.hypot(x_ - x_[0], y_ - y_[0])
+    radius = detmath.hypot(x_ - x_[0], y_ - y_[0])
     half = len(radius) // 2
     first, second = radius[: half + 1].max(), radius[half:].max()
     bounded = second <= UNBOUNDED_GROWTH * first
@@ -534,7 +535,7 @@ def linear_growth_rate(iterations: int) -> float:
     float
         Per map iteration.
     """
-    return math.log(iterations) / iterations
+    return detmath.log(float(iterations)) / iterations
 
 
 def _lyapunov_variables(code: Any, sweep: Any) -> dict[str, Variable]:

@@ -19,11 +19,20 @@ _SMALL_POWER = 4
 C_TEMPLATE = "model.c"
 
 
+#: sympy functions printed as the project's kernels (``arith/templates/detmath.h``, inlined in
+#: every emitted source): libm picks FMA/AVX2 variants of these by processor.
+DETMATH_FUNCTIONS = {
+    name: f"chaplygin_{name}"
+    for name in ("sin", "cos", "exp", "log", "atan", "atan2", "asin", "acos", "sinh", "cosh")
+}
+
+
 class ChaplyginCPrinter(C99CodePrinter):
-    """C99 printer: small integer powers become products; symbols are renamed."""
+    """C99 printer: small integer powers become products, half-integer powers ``sqrt``, the
+    elementary functions the project's kernels; symbols are renamed."""
 
     def __init__(self, names: dict[sp.Symbol, str]):
-        super().__init__()
+        super().__init__({"user_functions": dict(DETMATH_FUNCTIONS)})
         self._names = names
 
     def _print_Symbol(self, expr):
@@ -37,7 +46,15 @@ class ChaplyginCPrinter(C99CodePrinter):
             return f"({product})" if exp > 0 else f"(1.0/({product}))"
         if exp == -1:
             return f"(1.0/{self.parenthesize(base, 100)})"
-        return super()._print_Pow(expr)
+        if exp.is_Rational and exp.q == 2 and abs(exp.p) <= 2 * _SMALL_POWER + 1:
+            b = self.parenthesize(base, 100)
+            root = f"sqrt({self._print(base)})"
+            k = abs(int(exp.p)) // 2
+            value = root if k == 0 else f"({'*'.join([b] * k)}*{root})"
+            return value if exp > 0 else f"(1.0/{value})"
+        if exp.is_Number and float(exp) == int(float(exp)) and 1 <= abs(int(float(exp))) <= 4:
+            return self._print_Pow(sp.Pow(base, sp.Integer(int(float(exp))), evaluate=False))
+        return f"chaplygin_pow({self._print(base)}, {self._print(exp)})"
 
 
 def read_template() -> str:
