@@ -12,7 +12,9 @@ loading the library is :mod:`.compiled`'s part (and :mod:`.fastcall`'s for its t
 
 The flags are ``-O2 -shared -fPIC -std=c99 -ffp-contract=off`` and ``-lm``: no ``-ffast-math``
 and no fused multiply-add contraction, so results are IEEE double precision and reproducible
-(clang contracts ``a*b + c`` into an FMA by default, hence the explicit ``-ffp-contract=off``).
+(clang contracts ``a*b + c`` into an FMA by default, hence the explicit ``-ffp-contract=off``;
+gcc does on aarch64). ``CHAPLYGIN_OPT_LEVEL`` (``0``..``3``, ``s``) replaces the
+optimisation level, for the determinism test (the same bits at every level).
 
 The cache lives in ``$CHAPLYGIN_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/chaplygin`` or
 ``~/.cache/chaplygin``; libraries go into its ``c/`` subfolder (see :func:`c_cache_dir`).
@@ -50,6 +52,7 @@ __all__ = [
     "c_cache_dir",
     "compile_c",
     "find_compiler",
+    "optimisation_override",
 ]
 
 #: Compiler flags (IEEE-exact: no ``-ffast-math``, no FMA contraction).
@@ -264,6 +267,38 @@ def _remove_stale_temporaries(directory: Path) -> None:
             continue
 
 
+#: Optimisation levels ``CHAPLYGIN_OPT_LEVEL`` may select.
+OPT_LEVELS = ("0", "1", "2", "3", "s")
+
+
+def optimisation_override() -> tuple[str, ...]:
+    """``("-O<level>",)`` from ``CHAPLYGIN_OPT_LEVEL`` (one of :data:`OPT_LEVELS`), else ``()``.
+
+    The level is applied after every other flag (and is part of the cache key). The results
+    do not depend on it -- the generated code is IEEE-exact at every level (no FMA
+    contraction, the project's own elementary functions) -- which the determinism test
+    checks; the variable exists so that it can.
+
+    Returns
+    -------
+    tuple of str
+
+    Raises
+    ------
+    CompilerError
+        The variable holds anything else.
+    """
+    level = os.environ.get("CHAPLYGIN_OPT_LEVEL", "").strip()
+    if not level:
+        return ()
+    if level not in OPT_LEVELS:
+        raise CompilerError(
+            f"CHAPLYGIN_OPT_LEVEL={level!r} is not an optimisation level: use one of "
+            f"{', '.join(OPT_LEVELS)}"
+        )
+    return (f"-O{level}",)
+
+
 def compile_c(
     source: str,
     *,
@@ -313,6 +348,7 @@ def compile_c(
     are safe and the final library is never seen half-written.
     """
     argv = find_compiler(compiler)
+    cflags = (*cflags, *optimisation_override())
     flags = (*CFLAGS, *cflags, *LDLIBS, *ldlibs)
     key = _cache_key(source, _compiler_identity(argv), flags)
     directory = c_cache_dir(cache_dir)
