@@ -9,3 +9,20 @@ BLAS/LAPACK would otherwise decide:
   in C, inlined into every generated C source (built with ``-ffp-contract=off``), bit for bit;
 * :mod:`.detlinalg` -- small dense linear algebra in a fixed operation order.
 """
+
+from importlib import resources
+
+__all__ = ["DETMATH_HEADER", "c_header"]
+
+#: The C header of the elementary functions, shipped as package data.
+DETMATH_HEADER = "detmath.h"
+
+
+def c_header() -> str:
+    """Text of ``templates/detmath.h``, which emitters inline into every C source they write.
+
+    Returns
+    -------
+    str
+    """
+    return resources.files("chaplygin.arith").joinpath("templates", DETMATH_HEADER).read_text()

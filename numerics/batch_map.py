@@ -90,8 +90,11 @@ void chaplygin_taylor_batch_map(long N, const double *Y0, const double *P, const
                                 double *OUT, double *STATS, int *STATUS);
 """
 
-#: libm functions the vector right-hand side applies lane by lane (batch_map.c BM_LANEWISE).
-_LANEWISE = frozenset({"sin", "cos", "exp", "log", "sqrt", "fabs"})
+#: Functions the vector right-hand side applies lane by lane (batch_map.c BM_LANEWISE): the
+#: project's elementary functions (arith/templates/detmath.h) and the exact sqrt, fabs.
+_LANEWISE = frozenset(
+    {"chaplygin_sin", "chaplygin_cos", "chaplygin_exp", "chaplygin_log", "sqrt", "fabs"}
+)
 
 _ffi = cffi.FFI()
 _ffi.cdef(_CDEF)

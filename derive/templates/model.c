@@ -12,6 +12,8 @@
 #include <math.h>
 #include <stddef.h>
 
+{{DETMATH}}
+
 #define CHAPLYGIN_N_STATE {{N_STATE}}
 #define CHAPLYGIN_N_PARAM {{N_PARAM}}
 #define CHAPLYGIN_N_AUX {{N_AUX}}

@@ -19,6 +19,7 @@
  * p = ceil(-ln(eps)/2 + 1) and the step h = rho e^-2 e^(-0.7/(p-1)) with
  * rho = min((scale/|y_[p-1]|)^(1/(p-1)), (scale/|y_[p]|)^(1/p)).
  */
+{{DETMATH}}
 #if defined(CHAPLYGIN_TAYLOR_DD) || defined(CHAPLYGIN_TAYLOR_QD)
 #include <math.h>
 /* Error-free transformations of doubles (Knuth's TwoSum, Dekker's splitting product; no FMA
@@ -115,7 +116,7 @@ static inline REAL dd_pow(REAL a, REAL b) { return dd_from_q(powq(dd_to_q(a), dd
 #define R_LT(a, b) dd_lt((a), (b))
 #define R_LE(a, b) dd_le((a), (b))
 #define R_EQ(a, b) ((a).hi == (b).hi && (a).lo == (b).lo)
-#define R_LOG_D(a) log((a).hi)
+#define R_LOG_D(a) chaplygin_log((a).hi)
 #define R_SQRT dd_sqrt
 #define R_EXP dd_exp
 #define R_SIN dd_sin
@@ -283,7 +284,7 @@ static REAL qd_exp(REAL a)
 static REAL qd_log(REAL a)
 {
     if (a.x[0] <= 0) return qd_from_double(a.x[0] == 0 ? -INFINITY : NAN);
-    REAL y = qd_from_double(log(a.x[0]));
+    REAL y = qd_from_double(chaplygin_log(a.x[0]));
     for (int i = 0; i < 3; ++i) /* Newton on exp(y) = a: y + a exp(-y) - 1 */
         y = qd_sub(qd_add(y, qd_mul(a, qd_exp(qd_neg(y)))), qd_from_double(1.0));
     return y;
@@ -331,7 +332,7 @@ static REAL qd_cos(REAL a)
 #define R_LT(a, b) qd_lt((a), (b))
 #define R_LE(a, b) (!qd_lt((b), (a)))
 #define R_EQ(a, b) qd_eq((a), (b))
-#define R_LOG_D(a) log((a).x[0])
+#define R_LOG_D(a) chaplygin_log((a).x[0])
 #define R_SQRT qd_sqrt
 #define R_EXP qd_exp
 #define R_SIN qd_sin
@@ -352,20 +353,20 @@ typedef __float128 REAL;
 #define R_FABS fabsq
 #define R_LOG logq
 /* ln a as a double; libquadmath only where a is outside the normal doubles */
-#define R_LOG_D(a) ((a) > 1e-300Q && (a) < 1e300Q ? log((double)(a)) : (double)logq(a))
+#define R_LOG_D(a) ((a) > 1e-300Q && (a) < 1e300Q ? chaplygin_log((double)(a)) : (double)logq(a))
 #define R_PI M_PIq
 #define R_ISFINITE(x) (finiteq(x))
 #else
 #include <math.h>
 typedef double REAL;
 #define R_SQRT sqrt
-#define R_EXP exp
-#define R_SIN sin
-#define R_COS cos
-#define R_POW pow
+#define R_EXP chaplygin_exp
+#define R_SIN chaplygin_sin
+#define R_COS chaplygin_cos
+#define R_POW chaplygin_pow
 #define R_FABS fabs
-#define R_LOG log
-#define R_LOG_D(a) log(a)
+#define R_LOG chaplygin_log
+#define R_LOG_D(a) chaplygin_log(a)
 #define R_PI 3.14159265358979323846264338327950288
 #define R_ISFINITE(x) (isfinite(x))
 #endif
@@ -490,7 +491,7 @@ void chaplygin_taylor_coefficients(int order, const REAL *T0, const REAL *Y, con
 /* ------------------------------------------------------------------ step control */
 static int taylor_order(double eps)
 {
-    int p = (int)ceil(-0.5 * log(eps) + 1.0);
+    int p = (int)ceil(-0.5 * chaplygin_log(eps) + 1.0);
     if (p < 2) p = 2;
     if (p > CHAPLYGIN_TAYLOR_MAX_ORDER) p = CHAPLYGIN_TAYLOR_MAX_ORDER;
     return p;
@@ -514,7 +515,7 @@ static taylor_control taylor_control_of(const REAL *restrict ctrl, int fixed_ord
     for (int a = 0; a < 2; ++a) {
         int p = fixed_order > 0 ? fixed_order : taylor_order(R_TO_DOUBLE(ctrl[a]));
         c.order[a] = p;
-        c.safety[a] = exp(-2.0) * exp(-0.7 / (p - 1));
+        c.safety[a] = chaplygin_exp(-2.0) * chaplygin_exp(-0.7 / (p - 1));
     }
     return c;
 }
@@ -561,7 +562,7 @@ static REAL taylor_step_size(REAL t, const REAL *restrict y, const REAL *restric
             double r = (log_scale - R_LOG_D(n2)) / p;
             if (r < e) e = r;
         }
-        double rho = exp(e);
+        double rho = chaplygin_exp(e);
         if (isinf(rho)) h = R_FABS(remaining);
         else h = R_FROM_DOUBLE(rho * c->safety[absolute]);
     }

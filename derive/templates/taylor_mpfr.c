@@ -28,6 +28,7 @@
  *                             Y_EVAL, width, Y_END, T_REACHED, max_steps, STATS)
  */
 #include <math.h>
+{{DETMATH}}
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -291,7 +292,7 @@ static void write_number(char *out, int width, mpfr_srcptr x)
 
 static int taylor_order(double eps)
 {
-    int p = (int)ceil(-0.5 * log(eps) + 1.0);
+    int p = (int)ceil(-0.5 * chaplygin_log(eps) + 1.0);
     if (p < 2) p = 2;
     if (p > CHAPLYGIN_TAYLOR_MAX_ORDER) p = CHAPLYGIN_TAYLOR_MAX_ORDER;
     return p;
@@ -386,15 +387,15 @@ static int take_step(ws_t *w, step_t *c, mpfr_srcptr t, mpfr_srcptr t_end, doubl
                 mpfr_log(c->l1, c->scale, MPFR_RNDN);
                 mpfr_log(c->l2, c->nk, MPFR_RNDN);
                 mpfr_sub(c->l1, c->l1, c->l2, MPFR_RNDN);
-                double r = exp(mpfr_get_d(c->l1, MPFR_RNDN) / k);
+                double r = chaplygin_exp(mpfr_get_d(c->l1, MPFR_RNDN) / k);
                 if (r < rho) rho = r;
             }
         }
-        double f = log(eps) / (p - 1);
+        double f = chaplygin_log(eps) / (p - 1);
         if (f > -2.0) f = -2.0;
         f -= 0.7 / (p - 1);
         if (isinf(rho)) mpfr_abs(c->h, c->rem, MPFR_RNDN);
-        else mpfr_set_d(c->h, rho * exp(f), MPFR_RNDN);
+        else mpfr_set_d(c->h, rho * chaplygin_exp(f), MPFR_RNDN);
     }
     const int last = mpfr_cmpabs(c->h, c->rem) >= 0;
     if (last) mpfr_set(c->h, c->rem, MPFR_RNDN);

@@ -57,7 +57,7 @@ static double bm_initial_step(double t, const double *y, const double *f0, const
     for (int i = 0; i < BM_N; ++i) f1[i] -= f0[i];
     double d2 = bm_norm(f1, y, rtol, atol) / h0;
     double dm = d1 > d2 ? d1 : d2;
-    double h1 = dm <= 1e-15 ? fmax(1e-6, h0 * 1e-3) : pow(0.01 / dm, 1.0 / 8.0);
+    double h1 = dm <= 1e-15 ? fmax(1e-6, h0 * 1e-3) : chaplygin_pow(0.01 / dm, 1.0 / 8.0);
     double h = fmin(100.0 * h0, h1);
     return h < span ? h : span;
 }
@@ -120,10 +120,10 @@ static double bm_step_error(const double *e5, const double *e3, const double *y,
 static double bm_step_factor(double err, int rejected_last)
 {
     if (err > 1.0) {
-        double fac = isfinite(err) ? 0.9 * pow(err, -1.0 / 8.0) : 0.2;
+        double fac = isfinite(err) ? 0.9 * chaplygin_pow(err, -1.0 / 8.0) : 0.2;
         return fac < 0.2 ? 0.2 : fac;
     }
-    double fac = err == 0.0 ? 10.0 : 0.9 * pow(err, -1.0 / 8.0);
+    double fac = err == 0.0 ? 10.0 : 0.9 * chaplygin_pow(err, -1.0 / 8.0);
     if (fac > 10.0) fac = 10.0;
     if (rejected_last && fac > 1.0) fac = 1.0;
     return fac < 0.2 ? 0.2 : fac;
@@ -238,10 +238,10 @@ typedef double bm_vec __attribute__((vector_size(BM_W * sizeof(double))));
         for (int l = 0; l < BM_W; ++l) r[l] = name(x[l]);                                      \
         return r;                                                                              \
     }
-BM_LANEWISE(sin)
-BM_LANEWISE(cos)
-BM_LANEWISE(exp)
-BM_LANEWISE(log)
+BM_LANEWISE(chaplygin_sin)
+BM_LANEWISE(chaplygin_cos)
+BM_LANEWISE(chaplygin_exp)
+BM_LANEWISE(chaplygin_log)
 BM_LANEWISE(sqrt)
 BM_LANEWISE(fabs)
 

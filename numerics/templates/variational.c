@@ -22,7 +22,7 @@
  *   chaplygin_var_integral_gradients  d(integral_i)/dy_j by central differences (exact up to
  *                               rounding for integrals quadratic in y, as the ball's are).
  * stats: [0] accepted steps, [1] rejected steps, [2] evaluations of the augmented system,
- *        [3] the last step size (reused by the next call when passed in as h).
+ *        [3] the step size to start with (0: estimated), then the last step size.
  */
 #include <float.h>
 #include <math.h>
@@ -287,7 +287,7 @@ static double cv_initial_step(double t, const double *z, const double *f0, int k
     for (int i = 0; i < mz; ++i) f1[i] -= f0[i];
     double d2 = cv_norm(f1, z, m, rtol, atol) / h0;
     double dm = d1 > d2 ? d1 : d2;
-    double h1 = dm <= 1e-15 ? fmax(1e-6, h0 * 1e-3) : pow(0.01 / dm, 1.0 / 8.0);
+    double h1 = dm <= 1e-15 ? fmax(1e-6, h0 * 1e-3) : chaplygin_pow(0.01 / dm, 1.0 / 8.0);
     double h = fmin(100.0 * h0, h1);
     return h < span ? h : span;
 }
@@ -358,7 +358,7 @@ int chaplygin_var_flow(double t0, double t1, double *z, int k, const double *P, 
             if (!cv_finite(zn, mz)) err = INFINITY;
         }
         if (err <= 1.0) {
-            double fac = err == 0.0 ? 10.0 : 0.9 * pow(err, -1.0 / 8.0);
+            double fac = err == 0.0 ? 10.0 : 0.9 * chaplygin_pow(err, -1.0 / 8.0);
             if (fac > 10.0) fac = 10.0;
             if (rejected_last && fac > 1.0) fac = 1.0;
             if (fac < 0.2) fac = 0.2;
@@ -372,7 +372,7 @@ int chaplygin_var_flow(double t0, double t1, double *z, int k, const double *P, 
             rejected_last = 0;
             if (!cv_finite(z, mz)) return 3;
         } else {
-            double fac = isfinite(err) ? 0.9 * pow(err, -1.0 / 8.0) : 0.2;
+            double fac = isfinite(err) ? 0.9 * chaplygin_pow(err, -1.0 / 8.0) : 0.2;
             if (fac < 0.2) fac = 0.2;
             h = hs * fac;
             rejected_last = 1;
@@ -389,7 +389,7 @@ void chaplygin_var_integral_gradients(double t, const double *y, const double *P
     const int ni = CHAPLYGIN_N_INTEGRALS;
     for (int i = 0; i < CV_N; ++i) e[i] = y[i];
     for (int j = 0; j < CV_N; ++j) {
-        const double h = cbrt(DBL_EPSILON) * fmax(1.0, fabs(y[j]));
+        const double h = chaplygin_cbrt(DBL_EPSILON) * fmax(1.0, fabs(y[j]));
         e[j] = y[j] + h;
         const double hp = e[j] - y[j];
         chaplygin_integrals(t, e, P, fp);
@@ -469,7 +469,7 @@ int chaplygin_var_renormalised(double t0, double tau, long n_intervals, double *
             for (int l = 0; l < CV_N; ++l) rjj += V[l * k + j] * V[l * k + j];
             rjj = sqrt(rjj);
             if (!(rjj > 0.0) || !isfinite(rjj)) return 3;
-            logs[it * k + j] = log(rjj);
+            logs[it * k + j] = chaplygin_log(rjj);
             for (int l = 0; l < CV_N; ++l) V[l * k + j] /= rjj;
         }
     }
