@@ -10,12 +10,7 @@ BLAS/LAPACK would otherwise decide:
 * :mod:`.detlinalg` -- small dense linear algebra in a fixed operation order.
 """
 
-from importlib import resources
-
-__all__ = ["DETMATH_HEADER", "c_header"]
-
-#: The C header of the elementary functions, shipped as package data.
-DETMATH_HEADER = "detmath.h"
+__all__ = ["c_header"]
 
 
 def c_header() -> str:
@@ -25,4 +20,6 @@ def c_header() -> str:
     -------
     str
     """
-    return resources.files("chaplygin.arith").joinpath("templates", DETMATH_HEADER).read_text()
+    from .detmath import header_text
+
+    return header_text()
