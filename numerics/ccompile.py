@@ -26,6 +26,7 @@ import hashlib
 import json
 import os
 import platform
+import re
 import shlex
 import shutil
 import subprocess
@@ -52,6 +53,7 @@ __all__ = [
     "c_cache_dir",
     "compile_c",
     "find_compiler",
+    "inline_project_headers",
     "optimisation_override",
 ]
 
@@ -267,6 +269,35 @@ def _remove_stale_temporaries(directory: Path) -> None:
             continue
 
 
+#: ``#include "<name>"`` lines of emitted code that :func:`compile_c` replaces by the
+#: project's header (the compiled text, and so the cache key, holds the header itself).
+_PROJECT_HEADER = re.compile(r'^#include "(detmath\.h)"[^\n]*$', re.MULTILINE)
+
+
+def inline_project_headers(source: str) -> str:
+    """``source`` with ``#include "detmath.h"`` replaced by the text of the header.
+
+    Emitted C sources (``generated/*.c``) include the project's elementary functions
+    (``chaplygin/arith/templates/detmath.h``) by name; the header's text goes into the
+    translation unit here, so no include path depends on where the package is installed and
+    a change of the header changes the cache key.
+
+    Parameters
+    ----------
+    source : str
+
+    Returns
+    -------
+    str
+    """
+    if '"detmath.h"' not in source:
+        return source
+    from ..arith import c_header
+
+    header = c_header()
+    return _PROJECT_HEADER.sub(lambda _m: header, source)
+
+
 #: Optimisation levels ``CHAPLYGIN_OPT_LEVEL`` may select.
 OPT_LEVELS = ("0", "1", "2", "3", "s")
 
@@ -348,6 +379,7 @@ def compile_c(
     are safe and the final library is never seen half-written.
     """
     argv = find_compiler(compiler)
+    source = inline_project_headers(source)
     cflags = (*cflags, *optimisation_override())
     flags = (*CFLAGS, *cflags, *LDLIBS, *ldlibs)
     key = _cache_key(source, _compiler_identity(argv), flags)

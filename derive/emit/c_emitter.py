@@ -8,7 +8,6 @@ from importlib import resources
 import sympy as sp
 from sympy.printing.c import C99CodePrinter
 
-from ...arith import c_header
 from ..model import Model
 from .base import Emitter, ModelRoutines, Routine, header_lines, register
 
@@ -130,7 +129,6 @@ class CEmitter(Emitter):
             "N_INTEGRALS": str(len(model.integrals)),
             "MODEL_HASH": model.hash,
             "ROUTINES": body,
-            "DETMATH": c_header(),
         }.items():
             text = text.replace("{{" + key + "}}", value)
         return [(self.filename(model), text)]

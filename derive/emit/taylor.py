@@ -42,7 +42,6 @@ from importlib import resources
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
-from ...arith import c_header
 from ..model import Model
 from .base import Emitter, ModelRoutines, _temporaries, header_lines, register
 from .c_emitter import ChaplyginCPrinter
@@ -784,7 +783,6 @@ class TaylorCEmitter(Emitter):
             "N_NODES": str(nodes),
             "MAX_ORDER": str(TAYLOR_MAX_ORDER),
             "MODEL_HASH": model.hash,
-            "DETMATH": c_header(),
             "COEFFICIENTS": "\n".join(fn),
         }.items():
             text = text.replace("{{" + key + "}}", value)
@@ -1045,7 +1043,6 @@ class TaylorMpfrEmitter(Emitter):
             "N_CONST_TMP": str(printer.depth),
             "MAX_ORDER": str(TAYLOR_MPFR_MAX_ORDER),
             "MODEL_HASH": model.hash,
-            "DETMATH": c_header(),
             "COEFFICIENTS": "\n".join(fn),
         }.items():
             text = text.replace("{{" + key + "}}", value)

@@ -12,7 +12,7 @@
 #include <math.h>
 #include <stddef.h>
 
-{{DETMATH}}
+#include "detmath.h" /* chaplygin/arith/templates/detmath.h, inlined when compiled */
 
 #define CHAPLYGIN_N_STATE {{N_STATE}}
 #define CHAPLYGIN_N_PARAM {{N_PARAM}}

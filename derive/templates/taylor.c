@@ -19,7 +19,7 @@
  * p = ceil(-ln(eps)/2 + 1) and the step h = rho e^-2 e^(-0.7/(p-1)) with
  * rho = min((scale/|y_[p-1]|)^(1/(p-1)), (scale/|y_[p]|)^(1/p)).
  */
-{{DETMATH}}
+#include "detmath.h" /* chaplygin/arith/templates/detmath.h, inlined when compiled */
 #if defined(CHAPLYGIN_TAYLOR_DD) || defined(CHAPLYGIN_TAYLOR_QD)
 #include <math.h>
 /* Error-free transformations of doubles (Knuth's TwoSum, Dekker's splitting product; no FMA

@@ -28,7 +28,7 @@
  *                             Y_EVAL, width, Y_END, T_REACHED, max_steps, STATS)
  */
 #include <math.h>
-{{DETMATH}}
+#include "detmath.h" /* chaplygin/arith/templates/detmath.h, inlined when compiled */
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
