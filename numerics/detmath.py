@@ -320,8 +320,22 @@ def _integer_kind(y: float) -> int:
     return 1 if k & 1 else 2
 
 
+def _pow_abs(ax: float, y: float) -> float:
+    lh, ll = _log_dd(ax)
+    ph, pe = _two_prod(y, lh)
+    pl = pe + y * ll
+    if ph > 709.8:
+        return _INF
+    if ph < -746.0:
+        return 0.0
+    h, l, m = _exp_kernel(ph, pl)
+    return _scale(h, l, m)
+
+
 def _pow_s(x: float, y: float) -> float:
     ax = abs(x)
+    if 0.0 < x < _INF and abs(y) < 2.0**64:
+        return _pow_abs(x, y)
     if y == 0.0 or x == 1.0:
         return 1.0
     if x != x or y != y:
@@ -346,16 +360,7 @@ def _pow_s(x: float, y: float) -> float:
         if ax == 1.0:
             return 1.0
         return _INF if (ax > 1.0) == (y > 0.0) else 0.0
-    lh, ll = _log_dd(ax)
-    ph, pe = _two_prod(y, lh)
-    pl = pe + y * ll
-    if ph > 709.8:
-        res = _INF
-    elif ph < -746.0:
-        res = 0.0
-    else:
-        h, l, m = _exp_kernel(ph, pl)
-        res = _scale(h, l, m)
+    res = _pow_abs(ax, y)
     return -res if negative else res
 
 
@@ -432,6 +437,19 @@ def _rem_pio2(ax: float) -> tuple[int, float, float]:
     return n & 3, (-h if neg else h), (-l if neg else l)
 
 
+def _trig_split(rh: float, rl: float) -> tuple[float, float, float, float, float, int]:
+    sg = -1.0 if rh < 0.0 else 1.0
+    xh = sg * rh
+    idd = (xh * 128.0 + _SHIFT) - _SHIFT
+    xl = sg * rl
+    i = int(idd) - 16
+    dh = xh - idd * 2.0**-7
+    dz = dh * dh
+    sd = (dh * dz) * (_SIND_POLY[0] + dz * _SIND_POLY[1])
+    cd = dz * (_COSD_POLY[0] + dz * (_COSD_POLY[1] + dz * _COSD_POLY[2]))
+    return sg, xl, dh, sd, cd, i
+
+
 def _sin_kernel(rh: float, rl: float) -> float:
     if abs(rh) < 0.125:
         c = _SIN_POLY
@@ -439,15 +457,7 @@ def _sin_kernel(rh: float, rl: float) -> float:
         z2 = z * z
         P = (c[0] + z * c[1]) + z2 * ((c[2] + z * c[3]) + z2 * c[4])
         return rh + (rl + ((rh * z) * P - (0.5 * z) * rl))
-    sg = -1.0 if rh < 0.0 else 1.0
-    xh = sg * rh
-    xl = sg * rl
-    idd = (xh * 128.0 + _SHIFT) - _SHIFT
-    i = int(idd) - 16
-    dh = xh - idd * 2.0**-7
-    dz = dh * dh
-    sd = (dh * dz) * (_SIND_POLY[0] + dz * _SIND_POLY[1])
-    cd = dz * (_COSD_POLY[0] + dz * (_COSD_POLY[1] + dz * _COSD_POLY[2]))
+    sg, xl, dh, sd, cd, i = _trig_split(rh, rl)
     S, Sl = _T["TRIG_S_HI"][i], _T["TRIG_S_LO"][i]
     C, Cl = _T["TRIG_C_HI"][i], _T["TRIG_C_LO"][i]
     s, e = _fast_two_sum(S, C * dh)
@@ -465,15 +475,7 @@ def _cos_kernel(rh: float, rl: float) -> float:
         err = (1.0 - w) - hz
         Q = (c[1] + z * c[2]) + z2 * (c[3] + z * c[4])
         return w + (err + (z2 * Q - rh * rl))
-    sg = -1.0 if rh < 0.0 else 1.0
-    xh = sg * rh
-    xl = sg * rl
-    idd = (xh * 128.0 + _SHIFT) - _SHIFT
-    i = int(idd) - 16
-    dh = xh - idd * 2.0**-7
-    dz = dh * dh
-    sd = (dh * dz) * (_SIND_POLY[0] + dz * _SIND_POLY[1])
-    cd = dz * (_COSD_POLY[0] + dz * (_COSD_POLY[1] + dz * _COSD_POLY[2]))
+    _, xl, dh, sd, cd, i = _trig_split(rh, rl)
     S, Sl = _T["TRIG_S_HI"][i], _T["TRIG_S_LO"][i]
     C, Cl = _T["TRIG_C_HI"][i], _T["TRIG_C_LO"][i]
     s, e = _fast_two_sum(C, -(S * dh))
@@ -1063,8 +1065,8 @@ def _vrem_pio2(ax: Float) -> tuple[NDArray[np.int64], Float, Float]:
     return n, rh, rl
 
 
-def _vtrig_table(rh: Float, rl: Float) -> tuple[Float, Float, Float, Float, Float, Float, Float]:
-    """Shared part of the table paths: sg, xl, dh, sd, cd and the index i (as an array)."""
+def _vtrig_split(rh: Float, rl: Float) -> tuple[Any, ...]:
+    """The table path of the kernels: sg, xl, dh, sd, cd and the table row i."""
     sg = np.where(rh < 0.0, -1.0, 1.0)
     xh = sg * rh
     xl = sg * rl
@@ -1074,7 +1076,7 @@ def _vtrig_table(rh: Float, rl: Float) -> tuple[Float, Float, Float, Float, Floa
     dz = dh * dh
     sd = (dh * dz) * (_SIND_POLY[0] + dz * _SIND_POLY[1])
     cd = dz * (_COSD_POLY[0] + dz * (_COSD_POLY[1] + dz * _COSD_POLY[2]))
-    return sg, xl, dh, sd, cd, i  # type: ignore[return-value]
+    return sg, xl, dh, sd, cd, i
 
 
 def _vsin_kernel(rh: Float, rl: Float) -> Float:
@@ -1083,7 +1085,7 @@ def _vsin_kernel(rh: Float, rl: Float) -> Float:
     z2 = z * z
     P = (c[0] + z * c[1]) + z2 * ((c[2] + z * c[3]) + z2 * c[4])
     small = rh + (rl + ((rh * z) * P - (0.5 * z) * rl))
-    sg, xl, dh, sd, cd, i = _vtrig_table(rh, rl)
+    sg, xl, dh, sd, cd, i = _vtrig_split(rh, rl)
     S, Sl = _A["TRIG_S_HI"][i], _A["TRIG_S_LO"][i]
     C, Cl = _A["TRIG_C_HI"][i], _A["TRIG_C_LO"][i]
     s, e = _vfast_two_sum(S, C * dh)
@@ -1101,7 +1103,7 @@ def _vcos_kernel(rh: Float, rl: Float) -> Float:
     err = (1.0 - w) - hz
     Q = (c[1] + z * c[2]) + z2 * (c[3] + z * c[4])
     small = w + (err + (z2 * Q - rh * rl))
-    sg, xl, dh, sd, cd, i = _vtrig_table(rh, rl)
+    sg, xl, dh, sd, cd, i = _vtrig_split(rh, rl)
     S, Sl = _A["TRIG_S_HI"][i], _A["TRIG_S_LO"][i]
     C, Cl = _A["TRIG_C_HI"][i], _A["TRIG_C_LO"][i]
     s, e = _vfast_two_sum(C, -(S * dh))
