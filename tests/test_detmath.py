@@ -27,7 +27,7 @@ import numpy as np
 import pytest
 from chaplygin.derive import detmath_tables
 from chaplygin.numerics import detmath
-from chaplygin.numerics.ccompile import compile_c
+from chaplygin.numerics.ccompile import CFLAGS, compile_c
 from mpmath import mpf
 
 UNARY = ("exp", "log", "log2", "log10", "sin", "cos", "atan", "asin", "acos", "cbrt", "sinh",
@@ -438,6 +438,21 @@ def test_exact_results():
     assert np.array_equal(detmath.hypot(x, 0.0), np.abs(x))
 
 
+def test_scalars_arrays_shapes_and_broadcasting():
+    x = np.array([[0.5, 2.0, 3.0], [4.0, 5.0, 6.0]])
+    out = detmath.exp(x)
+    assert out.shape == (2, 3) and out.dtype == np.float64
+    assert isinstance(detmath.exp(0.5), float) and isinstance(detmath.exp(1), float)
+    assert detmath.exp(0.5) == out[0, 0] == detmath.exp([0.5])[0] == detmath.exp(np.float64(0.5))
+    assert detmath.exp(np.array(0.5)).shape == ()
+    assert detmath.pow(x, 2.0).shape == (2, 3)
+    pairwise = [[detmath.atan2(a, b) for a, b in zip(row, x[0], strict=True)] for row in x]
+    assert np.array_equal(detmath.atan2(x, x[0]), pairwise)
+    assert detmath.hypot([3.0], [[4.0], [5.0]]).shape == (2, 1)
+    # non-contiguous input views
+    assert np.array_equal(detmath.sin(x[:, ::2]), detmath.sin(np.ascontiguousarray(x[:, ::2])))
+
+
 def test_sin_cos_at_the_hardest_reduction():
     # the double closest to a multiple of pi/2 (Muller's Handbook): |x mod pi/2| ~ 2^-60.9
     x = 6381956970095103 * 2.0**797
@@ -494,3 +509,46 @@ def test_compilers_and_optimisation_levels_give_the_same_bits(compiler, cflags):
         args = arguments(name)
         a, b = c_call(reference, name, *args), c_call(other, name, *args)
         assert np.array_equal(bits(a), bits(b)), (name, np.flatnonzero(bits(a) != bits(b))[:5])
+
+
+#: Targets with fused multiply-add instructions: (compiler, its target flags, FMA mnemonics).
+FMA_TARGETS = [
+    ("gcc", ("-march=haswell",), ("vfmadd", "vfmsub", "vfnmadd", "vfnmsub")),
+    ("clang", ("-march=haswell",), ("vfmadd", "vfmsub", "vfnmadd", "vfnmsub")),
+    ("clang", ("--target=aarch64-linux-gnu", "-ffreestanding"), ("fmadd", "fmsub", "fnmadd",
+                                                                  "fnmsub")),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize(("compiler", "target", "mnemonics"), FMA_TARGETS)
+def test_no_fused_multiply_add_on_targets_that_have_it(compiler, target, mnemonics, tmp_path):
+    """With the project's flags the compiler emits no FMA even where the target has one (x86-64
+    with FMA3, AArch64): a contracted a*b + c would round once instead of twice and change the
+    bits. The control -ffp-contract=fast (gcc's default in the GNU modes) does emit them."""
+    _need_compiler(compiler)
+    source = tmp_path / "all.c"
+    calls = " + ".join(f"chaplygin_{n}(x)" if n in UNARY else f"chaplygin_{n}(x, y)"
+                       for n in FUNCTIONS)  # fmt: skip
+    source.write_text('#include "detmath.h"\n'
+                      f"double all(double x, double y) {{ return {calls}; }}\n")  # fmt: skip
+    (tmp_path / "detmath.h").write_text(detmath.header_text())
+    if "-ffreestanding" in target:  # no AArch64 C library here: the three declarations it needs
+        (tmp_path / "math.h").write_text("double fabs(double);\ndouble sqrt(double);\n")
+        (tmp_path / "string.h").write_text(
+            "typedef __SIZE_TYPE__ size_t;\nvoid *memcpy(void *, const void *, size_t);\n")
+    flags = [f for f in CFLAGS if f not in ("-shared", "-fPIC")]
+
+    def fused(*extra: str) -> int:
+        asm = tmp_path / "all.s"
+        command = [compiler, *flags, *target, *extra, "-isystem", str(tmp_path), "-S",
+                   str(source), "-o", str(asm)]  # fmt: skip
+        proc = subprocess.run(command, capture_output=True, text=True, check=False)
+        if proc.returncode != 0:
+            if "target" in proc.stderr or "unknown" in proc.stderr:
+                pytest.skip(f"{compiler} cannot build for {target}: {proc.stderr[:200]}")
+            raise AssertionError(proc.stderr)
+        words = asm.read_text().split()
+        return sum(w.startswith(mnemonics) for w in words)
+
+    assert fused() == 0
+    assert fused("-ffp-contract=fast") > 0  # the control

@@ -1010,9 +1010,9 @@ static inline double chaplygin_exp(double x)
  * u = m r_j - 1 = uh + *ul exactly (r_j has at most 11 significant bits). Returns j + 75. */
 static inline int chaplygin_dm__log_reduce(double x, int *e, double *uh, double *ul)
 {
-    uint64_t ix = chaplygin_dm__bits(x), top;
-    double m, jd, r, mh, ml, t1, t2;
-    int idx, adj = 0;
+    uint64_t ix = chaplygin_dm__bits(x), top, mb;
+    double m, r, mh, ml, t1, t2;
+    int idx, adj = 0, below, sh;
     if (ix < UINT64_C(0x0010000000000000)) { /* subnormal */
         ix = chaplygin_dm__bits(x * 0x1p54);
         adj = -54;
@@ -1020,11 +1020,16 @@ static inline int chaplygin_dm__log_reduce(double x, int *e, double *uh, double 
     /* e = floor(log2(x / (sqrt2/2))), m = x 2^-e, without a branch */
     top = (ix + ((UINT64_C(1024) << 52) - chaplygin_dm__bits(0.5 * chaplygin_dm_LOG_SQRT2))) >> 52;
     *e = (int)top - 1024 + adj;
-    m = chaplygin_dm__double(ix - (top << 52) + (UINT64_C(1024) << 52));
-    jd = ((m - 1.0) * 256.0 + CHAPLYGIN_DM_SHIFT) - CHAPLYGIN_DM_SHIFT;
-    idx = (int)jd + 75;
+    mb = ix - (top << 52) + (UINT64_C(1024) << 52); /* the bits of m */
+    m = chaplygin_dm__double(mb);
+    /* j = 256 (m - 1) rounded half up, from the 52 fraction bits f: round(f 2^-44) for m >= 1,
+     * round(f 2^-45) - 128 for m < 1 (m = (1 + f 2^-52) / 2) */
+    below = (int)(1023 - (mb >> 52));
+    sh = 44 + below;
+    idx = (int)(((mb & UINT64_C(0x000fffffffffffff)) + (UINT64_C(1) << (sh - 1))) >> sh) -
+          128 * below + 75;
     r = chaplygin_dm_LOG_R[idx];
-    mh = chaplygin_dm__double(chaplygin_dm__bits(m) & ~UINT64_C(0x7ff)); /* 42 significant bits */
+    mh = chaplygin_dm__double(mb & ~UINT64_C(0x7ff)); /* 42 significant bits */
     ml = m - mh;
     t1 = mh * r - 1.0; /* mh r exact (53 bits), - 1 exact (Sterbenz) */
     t2 = ml * r;       /* exact */
@@ -1193,7 +1198,8 @@ static inline double chaplygin_pow(double x, double y)
 static inline uint64_t chaplygin_dm__mul64(uint64_t a, uint64_t b, uint64_t *hi)
 {
 #if defined(__SIZEOF_INT128__) && !defined(CHAPLYGIN_DETMATH_NO_INT128)
-    unsigned __int128 p = (unsigned __int128)a * b;
+    __extension__ typedef unsigned __int128 u128; /* __extension__: no -pedantic warning */
+    u128 p = (u128)a * b;
     *hi = (uint64_t)(p >> 64);
     return (uint64_t)p;
 #else
