@@ -47,7 +47,13 @@ TWO_OVER_PI_WORDS = 20  # 64 zero bits, then 1216 bits of 2/pi
 
 
 def header_path() -> Path:
-    """Path of ``templates/detmath.h`` next to this module."""
+    """Path of the header whose constants block this module writes.
+
+    Returns
+    -------
+    pathlib.Path
+        ``templates/detmath.h`` next to this module.
+    """
     return Path(__file__).resolve().parent / "templates" / "detmath.h"
 
 
@@ -403,7 +409,18 @@ def write_header(path: Path | None = None) -> bool:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Command line: print the block, or ``--write`` it into the header."""
+    """Command line: print the block, or ``--write`` it into the header.
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        The arguments (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status, 0.
+    """
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--write", action="store_true", help="write the block into detmath.h")
     args = parser.parse_args(argv)

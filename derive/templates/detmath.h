@@ -36,22 +36,28 @@
  *      (-ffp-contract=on); gcc's GNU modes (-std=gnu*) default to -ffp-contract=fast, which on a
  *      target with FMA (every AArch64; x86-64 with -mfma or -march=native) fuses a*b + c and
  *      changes the bits -- a contracted Dekker product no longer yields the exact error (measured
- *      with -march=native -ffp-contract=fast: other bits for all 15 functions with gcc, for 6
- *      with clang);
+ *      with -march=native -ffp-contract=fast on 80000 arguments: other bits for 14 of the 15
+ *      functions with gcc, up to 10% of the arguments for hypot, and for 6 with clang);
  *  (2) double arithmetic is evaluated in double precision (FLT_EVAL_METHOD == 0: SSE2 on x86-64,
  *      every AArch64); x87 extended precision (32-bit x86) is refused below;
  *  (3) no -ffast-math (refused below) and the default rounding mode, round to nearest.
  * The Payne-Hanek reduction multiplies 64-bit integers with unsigned __int128 (gcc and clang on
  * 64-bit targets, x86-64 and AArch64) or, without it or with CHAPLYGIN_DETMATH_NO_INT128 defined,
  * with 32-bit halves; integer products are exact, so both paths give the same bits.
- * Tested here (x86-64): gcc 12 and clang 14 at -O0 and -O2 (also -O3 -march=native), both
- * Payne-Hanek paths and the Python/numpy port give identical bits on 1.5 million arguments. On
- * AArch64 the same source gives the same bits by (1)-(3) (IEEE double, correctly rounded sqrt,
- * __int128 available); FMA instructions exist there, so -ffp-contract=off is essential -- not run
- * on an ARM machine here.
+ * Tested here (x86-64, tests/test_detmath.py): gcc 12 and clang 14 at -O0 and -O2 (by hand also
+ * -O3 -march=native), both Payne-Hanek paths and the Python/numpy port give identical bits on 1.5
+ * million arguments. AArch64: the same source gives the same bits by (1)-(3) (IEEE double,
+ * correctly rounded sqrt, __int128 available); it has FMA instructions, so -ffp-contract=off is
+ * essential: clang 14 targeting aarch64 with the project's flags emits no fused multiply-add
+ * (checked on the assembly, 193 with -ffp-contract=fast); not run on ARM hardware here.
  *
- * Speed (tests/benchmarks/test_bench_detmath.py, loops of 10^4 calls, x86-64 with FMA, glibc
- * 2.36): @SPEED@
+ * Speed, ns per call, detmath / glibc 2.36 (examples/bench/detmath_speed.py: best of 200 loops of
+ * 10^4 random arguments, shared x86-64 machine with FMA): exp 5.5 / 6.1, log 7.0 / 4.3, log2
+ * 8.6 / 4.0, log10 8.7 / 8.4, pow 28 / 14, sin 28 / 19 (|x| ~ 1e100: 36 / 72), cos 26 / 18, atan
+ * 18-22 / 10, atan2 33 / 23, asin 35 / 13-16, acos 36 / 14-16, cbrt 20 / 16, hypot 20 / 17,
+ * sinh 15 / 20, cosh 12 / 7. Within 2x of glibc except log2, pow and atan (about 2.1x) and asin,
+ * acos (2.3-2.6x): the exact products and double-double steps that replace FMA cost most where
+ * glibc's FMA code is shortest.
  *
  * The algorithms are this project's own (range reduction + Taylor polynomials, no code taken from
  * fdlibm, musl or glibc); every constant is computed with mpmath by derive/detmath_tables.py.
@@ -1546,23 +1552,22 @@ static inline double chaplygin_asin(double x)
         return x;
     if (ax == 1.0)
         res = chaplygin_dm_PIO2_HI;
-    else {
+    else { /* atan(|x| / s) if |x| <= s = sqrt(1 - x^2), else pi/2 - atan(s / |x|); selects */
+        int first;
         sh = chaplygin_dm__sqrt1mx2(ax, &sl);
-        if (ax <= sh) { /* atan(ax / sqrt(1 - x^2)) */
-            h = chaplygin_dm__atan_kernel(ax, 0.0, sh, sl, &l);
-            res = h + l;
-        } else { /* pi/2 - atan(sqrt(1 - x^2) / ax) */
-            h = chaplygin_dm__atan_kernel(sh, sl, ax, 0.0, &l);
-            res = chaplygin_dm__angle(chaplygin_dm_PIO2_HI, chaplygin_dm_PIO2_LO, -1.0, h, l);
-        }
+        first = ax <= sh;
+        h = chaplygin_dm__atan_kernel(first ? ax : sh, first ? 0.0 : sl, first ? sh : ax,
+                                      first ? sl : 0.0, &l);
+        res = chaplygin_dm__angle(first ? 0.0 : chaplygin_dm_PIO2_HI,
+                                  first ? 0.0 : chaplygin_dm_PIO2_LO, first ? 1.0 : -1.0, h, l);
     }
     return x < 0.0 ? -res : res;
 }
 
 static inline double chaplygin_acos(double x)
 {
-    double ax = fabs(x), sh, sl, h, l;
-    int xneg = x < 0.0;
+    double ax = fabs(x), sh, sl, h, l, bh, bl;
+    int xneg = x < 0.0, first;
     if (!(ax <= 1.0))
         return chaplygin_dm__nan();
     if (ax < 0x1p-60) /* pi/2 - x rounds to pi/2 */
@@ -1570,15 +1575,19 @@ static inline double chaplygin_acos(double x)
     if (ax == 1.0)
         return xneg ? chaplygin_dm_PI_HI : 0.0;
     sh = chaplygin_dm__sqrt1mx2(ax, &sl);
-    /* acos |x| = atan(sqrt(1 - x^2) / |x|); acos x = pi - acos |x| for x < 0 */
-    if (sh <= ax) {
-        h = chaplygin_dm__atan_kernel(sh, sl, ax, 0.0, &l);
-        if (xneg)
-            return chaplygin_dm__angle(chaplygin_dm_PI_HI, chaplygin_dm_PI_LO, -1.0, h, l);
-        return h + l;
+    /* acos |x| = atan(s / |x|) with s = sqrt(1 - x^2), or pi/2 - atan(|x| / s) when s > |x|;
+     * acos x = pi - acos |x| for x < 0 (selects, no branch) */
+    first = sh <= ax;
+    h = chaplygin_dm__atan_kernel(first ? sh : ax, first ? sl : 0.0, first ? ax : sh,
+                                  first ? 0.0 : sl, &l);
+    if (first) {
+        bh = xneg ? chaplygin_dm_PI_HI : 0.0;
+        bl = xneg ? chaplygin_dm_PI_LO : 0.0;
+    } else {
+        bh = chaplygin_dm_PIO2_HI;
+        bl = chaplygin_dm_PIO2_LO;
     }
-    h = chaplygin_dm__atan_kernel(ax, 0.0, sh, sl, &l);
-    return chaplygin_dm__angle(chaplygin_dm_PIO2_HI, chaplygin_dm_PIO2_LO, xneg ? 1.0 : -1.0, h, l);
+    return chaplygin_dm__angle(bh, bl, first == xneg ? -1.0 : 1.0, h, l);
 }
 
 /* --------------------------------------------------------------------------------------- cbrt */
