@@ -1224,27 +1224,36 @@ def _vcosh(x: Float) -> Float:
 # =========================================================================== public functions
 
 
-def _unary(scalar: Any, vector: Any, x: Any) -> Any:
-    if isinstance(x, float | int) and not isinstance(x, bool | np.ndarray):
-        return scalar(float(x))
-    arr = np.asarray(x, dtype=np.float64)
+#: Elements per numpy pass: the temporaries of a kernel stay in the cache (3-5x faster than one
+#: pass over 10^6 elements); element-wise, so the bits do not depend on it.
+_CHUNK = 16384
+
+
+def _is_scalar(x: Any) -> bool:
+    return isinstance(x, float | int) and not isinstance(x, bool | np.ndarray)
+
+
+def _apply(vector: Any, *arrays: Any) -> Any:
+    """``vector`` on broadcast float64 copies of ``arrays``, chunk by chunk, in the input shape."""
+    flat = [np.ascontiguousarray(a).reshape(-1)
+            for a in np.broadcast_arrays(*(np.asarray(a, dtype=np.float64) for a in arrays))]
+    shape = np.broadcast_shapes(*(np.shape(a) for a in arrays))
+    out = np.empty(flat[0].size)
     with np.errstate(all="ignore"):
-        out = vector(np.ascontiguousarray(arr).reshape(-1)).reshape(arr.shape)
+        for start in range(0, out.size, _CHUNK):
+            out[start : start + _CHUNK] = vector(*(f[start : start + _CHUNK] for f in flat))
+    out = out.reshape(shape)
     return out[()] if out.ndim == 0 else out
+
+
+def _unary(scalar: Any, vector: Any, x: Any) -> Any:
+    return scalar(float(x)) if _is_scalar(x) else _apply(vector, x)
 
 
 def _binary(scalar: Any, vector: Any, a: Any, b: Any) -> Any:
-    scalar_types = float | int
-    if (isinstance(a, scalar_types) and isinstance(b, scalar_types)
-            and not isinstance(a, bool | np.ndarray) and not isinstance(b, bool | np.ndarray)):
+    if _is_scalar(a) and _is_scalar(b):
         return scalar(float(a), float(b))
-    a_arr, b_arr = np.broadcast_arrays(np.asarray(a, dtype=np.float64),
-                                       np.asarray(b, dtype=np.float64))  # fmt: skip
-    shape = a_arr.shape
-    with np.errstate(all="ignore"):
-        out = vector(np.ascontiguousarray(a_arr).reshape(-1),
-                     np.ascontiguousarray(b_arr).reshape(-1)).reshape(shape)  # fmt: skip
-    return out[()] if out.ndim == 0 else out
+    return _apply(vector, a, b)
 
 
 def exp(x: float | ArrayLike) -> Any:

@@ -449,6 +449,7 @@ def test_scalars_arrays_shapes_and_broadcasting():
     pairwise = [[detmath.atan2(a, b) for a, b in zip(row, x[0], strict=True)] for row in x]
     assert np.array_equal(detmath.atan2(x, x[0]), pairwise)
     assert detmath.hypot([3.0], [[4.0], [5.0]]).shape == (2, 1)
+    assert detmath.exp(np.zeros((0, 3))).shape == (0, 3)
     # non-contiguous input views
     assert np.array_equal(detmath.sin(x[:, ::2]), detmath.sin(np.ascontiguousarray(x[:, ::2])))
 
