@@ -127,13 +127,12 @@ _COSD_POLY: tuple[float, ...] = _K["COSD_POLY"]
 _ATAN_POLY: tuple[float, ...] = _K["ATAN_POLY"]
 _SINH_POLY: tuple[float, ...] = _K["SINH_POLY"]
 _CBRT_POLY: tuple[float, ...] = _K["CBRT_POLY"]
-_CBRT_2J: tuple[float, ...] = _K["CBRT_2J"]
 _TWO_OVER_PI_BITS: tuple[int, ...] = _K["TWO_OVER_PI_BITS"]
 # tables (tuples for the scalar path, arrays for the numpy path)
 _TABLE_NAMES = (
     "EXP_T_HI", "EXP_T_LO", "LOG_R", "LOG_L_HI", "LOG_L_LO", "TRIG_S_HI", "TRIG_S_LO",
     "TRIG_C_HI", "TRIG_C_LO", "ATAN_HI", "ATAN_LO", "LOG2_L_HI", "LOG2_L_LO", "LOG2_POLY",
-    "LOG10_L_HI", "LOG10_L_LO", "LOG10_POLY",
+    "LOG10_L_HI", "LOG10_L_LO", "LOG10_POLY", "CBRT_2J",
 )  # fmt: skip
 _T: dict[str, tuple[float, ...]] = {name: _K[name] for name in _TABLE_NAMES}
 _A: dict[str, Float] = {name: np.array(_K[name], dtype=np.float64) for name in _TABLE_NAMES}
@@ -157,33 +156,98 @@ _unpack_q = struct.Struct("<Q").unpack
 _NAN: float = _unpack_d(_pack_q(_NAN_BITS))[0]
 
 
-# =========================================================================== scalar port
+# =========================================================================== shared arithmetic
+#
+# The floating-point kernels below are written once and run on Python floats (the scalar port)
+# and on float64 arrays (the numpy port): + - * / are the same IEEE operations on both. What
+# differs -- bit fields, table rows, integer parts, selections -- goes through an "ops" object,
+# _S for Python floats and ints, _V for numpy arrays. Each kernel is the C function of the same
+# name, operation for operation.
 
 
-def _bits(x: float) -> int:
-    return _unpack_q(_pack_d(x))[0]
+class _ScalarOps:
+    """Bit fields, table rows and integer parts of Python floats (exact)."""
+
+    @staticmethod
+    def bits(x: float) -> int:
+        return _unpack_q(_pack_d(x))[0]
+
+    @staticmethod
+    def double(u: int) -> float:
+        return _unpack_d(_pack_q(u & _M64))[0]
+
+    @staticmethod
+    def pow2(k: int) -> float:
+        return _ScalarOps.double((k + 1023) << 52)
+
+    @staticmethod
+    def index(x: float, lo: int, hi: int) -> int:  # x is integral
+        return int(x)
+
+    @staticmethod
+    def take(table: str, i: int) -> float:
+        return _T[table][i]
+
+    @staticmethod
+    def tofloat(k: int) -> float:
+        return float(k)
+
+    @staticmethod
+    def select(c: bool, a: Any, b: Any) -> Any:
+        return a if c else b
+
+    sqrt = staticmethod(math.sqrt)
 
 
-def _double(u: int) -> float:
-    return _unpack_d(_pack_q(u & _M64))[0]
+class _ArrayOps:
+    """The same on float64 arrays (lanes of a branch not taken may hold garbage: clipped)."""
+
+    @staticmethod
+    def bits(x: Any) -> NDArray[np.uint64]:
+        return np.ascontiguousarray(x, dtype=np.float64).view(np.uint64)
+
+    @staticmethod
+    def double(u: Any) -> Float:
+        return np.ascontiguousarray(u, dtype=np.uint64).view(np.float64)
+
+    @staticmethod
+    def pow2(k: Any) -> Float:
+        return _ArrayOps.double((np.asarray(k) + 1023).astype(np.uint64) << _U52)
+
+    @staticmethod
+    def index(x: Any, lo: int, hi: int) -> NDArray[np.int64]:
+        return np.clip(np.asarray(x).astype(np.int64), lo, hi)
+
+    @staticmethod
+    def take(table: str, i: Any) -> Float:
+        return _A[table][i]
+
+    @staticmethod
+    def tofloat(k: Any) -> Float:
+        return np.asarray(k).astype(np.float64)
+
+    select = staticmethod(np.where)
+    sqrt = staticmethod(np.sqrt)
 
 
-def _pow2(k: int) -> float:
-    return _double((k + 1023) << 52)
+_S = _ScalarOps
+_V = _ArrayOps
+_U52 = np.uint64(52)
+_U63 = np.uint64(63)
 
 
-def _fast_two_sum(a: float, b: float) -> tuple[float, float]:
+def _fast_two_sum(a: Any, b: Any) -> tuple[Any, Any]:
     s = a + b
     return s, b - (s - a)
 
 
-def _two_sum(a: float, b: float) -> tuple[float, float]:
+def _two_sum(a: Any, b: Any) -> tuple[Any, Any]:
     s = a + b
     bb = s - a
     return s, (a - (s - bb)) + (b - bb)
 
 
-def _two_prod(a: float, b: float) -> tuple[float, float]:
+def _two_prod(a: Any, b: Any) -> tuple[Any, Any]:
     p = a * b
     ca = 134217729.0 * a
     ah = ca - (ca - a)
@@ -194,26 +258,10 @@ def _two_prod(a: float, b: float) -> tuple[float, float]:
     return p, (((ah * bh - p) + ah * bl) + al * bh) + al * bl
 
 
-def _scale(h: float, l: float, k: int) -> float:
-    v = h + l
-    if k > 1000:
-        return (v * _pow2(k - 100)) * 2.0**100
-    if k >= -1021:
-        return v * _pow2(k)
-    G = _pow2(-1022 - k)
-    if v >= G:
-        return (v * _pow2(k + 200)) * 2.0**-200
-    d = (h + G) - G
-    f = (h - d) + l
-    S = 1.5 * G
-    g = (f + S) - S
-    return ((d + g) * _pow2(k + 200)) * 2.0**-200
-
-
-def _exp_kernel(xh: float, xl: float) -> tuple[float, float, int]:
+def _exp_kernel(xh: Any, xl: Any, o: Any) -> tuple[Any, Any, Any]:
     z = xh * _EXP_INV_LN2_N
     kd = (z + _SHIFT) - _SHIFT
-    k = int(kd)
+    k = o.index(kd, -(2**40), 2**40)
     j = k & 127
     t = xh - kd * _EXP_LN2_N_HI
     r = t + (xl - kd * _EXP_LN2_N_LO)
@@ -221,10 +269,202 @@ def _exp_kernel(xh: float, xl: float) -> tuple[float, float, int]:
     c = _EXP_POLY
     q = (c[0] + r * c[1]) + r2 * ((c[2] + r * c[3]) + r2 * c[4])
     p = r + r2 * q
-    th = _T["EXP_T_HI"][j]
-    small = _T["EXP_T_LO"][j] + th * p
+    th = o.take("EXP_T_HI", j)
+    small = o.take("EXP_T_LO", j) + th * p
     h, l = _fast_two_sum(th, small)
     return h, l, (k - j) // 128
+
+
+def _exp_pm(ax: Any, o: Any) -> tuple[Any, Any, Any, Any]:
+    h, l, m = _exp_kernel(-ax, 0.0, o)
+    f = o.pow2(m)
+    ih, il = h * f, l * f
+    h, l, m = _exp_kernel(ax, 0.0, o)
+    f = o.pow2(m)
+    return h * f, l * f, ih, il
+
+
+def _log_poly(uh: Any, c: tuple[float, ...]) -> Any:
+    u2 = uh * uh
+    return ((c[0] + uh * c[1]) + u2 * (c[2] + uh * c[3])) + (u2 * u2) * (c[4] + uh * c[5])
+
+
+def _log_core(idx: Any, e: Any, uh: Any, ul: Any, o: Any) -> Any:
+    ed = o.tofloat(e)
+    H = ed * _LN2_HI + o.take("LOG_L_HI", idx)
+    lo = ed * _LN2_LO + o.take("LOG_L_LO", idx)
+    s, es = _fast_two_sum(H, uh)
+    return s + (es + (ul + (lo + (uh * uh) * _log_poly(uh, _LOG_POLY))))
+
+
+def _log_base_core(idx: Any, e: Any, uh: Any, ul: Any, base: str, o: Any) -> Any:
+    eh, el, lh, ll, kh, kl, poly = _LOG_BASES[base]
+    ed = o.tofloat(e)
+    H = ed * eh + o.take(lh, idx)
+    lo = ed * el + o.take(ll, idx)
+    p, pe = _two_prod(uh, kh)
+    s, es = _fast_two_sum(H, p)
+    q = _log_poly(uh, _T[poly])
+    return s + (es + ((pe + (uh * kl + ul * kh)) + (lo + (uh * uh) * q)))
+
+
+def _log_dd_core(idx: Any, e: Any, uh: Any, ul: Any, o: Any) -> tuple[Any, Any]:
+    ed = o.tofloat(e)
+    H = ed * _LN2_HI + o.take("LOG_L_HI", idx)
+    lo = ed * _LN2_LO + o.take("LOG_L_LO", idx)
+    s1, e1 = _fast_two_sum(H, uh)
+    q, qe = _two_prod(uh, uh)
+    s2, e2 = _fast_two_sum(s1, -0.5 * q)
+    c = _LOGDD_POLY
+    R = ((c[0] + uh * c[1]) + q * (c[2] + uh * c[3])) + (q * q) * (c[4] + uh * c[5])
+    tail = ((e1 + e2) + (ul - 0.5 * qe)) + ((lo - uh * ul) + (uh * q) * R)
+    return _fast_two_sum(s2, tail)
+
+
+def _sin_small(rh: Any, rl: Any) -> Any:
+    c = _SIN_POLY
+    z = rh * rh
+    z2 = z * z
+    P = (c[0] + z * c[1]) + z2 * ((c[2] + z * c[3]) + z2 * c[4])
+    return rh + (rl + ((rh * z) * P - (0.5 * z) * rl))
+
+
+def _cos_small(rh: Any, rl: Any) -> Any:
+    c = _COS_POLY
+    z = rh * rh
+    z2 = z * z
+    hz = 0.5 * z
+    w = 1.0 - hz
+    err = (1.0 - w) - hz
+    Q = (c[1] + z * c[2]) + z2 * (c[3] + z * c[4])
+    return w + (err + (z2 * Q - rh * rl))
+
+
+def _trig_split(rh: Any, rl: Any, o: Any) -> tuple[Any, ...]:
+    """The table path of the kernels: sign, xl, dh, sin d - d, cos d - 1, table row."""
+    sg = o.select(rh < 0.0, -1.0, 1.0)
+    xh = sg * rh
+    idd = (xh * 128.0 + _SHIFT) - _SHIFT
+    xl = sg * rl
+    i = o.index(idd, 16, len(_T["TRIG_S_HI"]) + 15) - 16
+    dh = xh - idd * 2.0**-7
+    dz = dh * dh
+    sd = (dh * dz) * (_SIND_POLY[0] + dz * _SIND_POLY[1])
+    cd = dz * (_COSD_POLY[0] + dz * (_COSD_POLY[1] + dz * _COSD_POLY[2]))
+    return sg, xl, dh, sd, cd, i
+
+
+def _sin_table(rh: Any, rl: Any, o: Any) -> Any:
+    sg, xl, dh, sd, cd, i = _trig_split(rh, rl, o)
+    S, Sl = o.take("TRIG_S_HI", i), o.take("TRIG_S_LO", i)
+    C, Cl = o.take("TRIG_C_HI", i), o.take("TRIG_C_LO", i)
+    s, e = _fast_two_sum(S, C * dh)
+    tail = Sl + (C * xl + Cl * dh) + (S * cd + C * sd)
+    return sg * (s + (e + tail))
+
+
+def _cos_table(rh: Any, rl: Any, o: Any) -> Any:
+    _, xl, dh, sd, cd, i = _trig_split(rh, rl, o)
+    S, Sl = o.take("TRIG_S_HI", i), o.take("TRIG_S_LO", i)
+    C, Cl = o.take("TRIG_C_HI", i), o.take("TRIG_C_LO", i)
+    s, e = _fast_two_sum(C, -(S * dh))
+    tail = Cl - (S * xl + Sl * dh) + (C * cd - S * sd)
+    return s + (e + tail)
+
+
+def _atan_kernel(uh: Any, ul: Any, vh: Any, vl: Any, o: Any) -> tuple[Any, Any]:
+    c = _ATAN_POLY
+    q = uh / vh
+    idd = (q * 64.0 + _SHIFT) - _SHIFT
+    i = o.index(idd, 0, 64)
+    ci = idd * 2.0**-6
+    vhh = o.double(o.bits(vh) & (~0x3F & _M64))
+    vhl = vh - vhh
+    uhh = o.double(o.bits(uh) & (~0x3F & _M64))
+    uhl = uh - uhh
+    n1 = uh - ci * vhh
+    N1, ne = _two_sum(n1, -(ci * vhl))
+    Nl = ne + (ul - ci * vl)
+    D1, de = _fast_two_sum(vh, ci * uhh)
+    Dl = de + (ci * uhl + (vl + ci * ul))
+    inv = 1.0 / D1
+    th = N1 * inv
+    p, pe = _two_prod(th, D1)
+    tl = (((N1 - p) - pe) + (Nl - th * Dl)) * inv
+    z = th * th
+    P = (c[0] + z * c[1]) + (z * z) * (c[2] + z * c[3])
+    tail = tl + (th * z) * P
+    h, e = _fast_two_sum(o.take("ATAN_HI", i), th)
+    return h, e + (o.take("ATAN_LO", i) + tail)
+
+
+def _angle(bh: Any, bl: Any, sign: Any, h: Any, l: Any) -> Any:
+    s, e = _fast_two_sum(bh, sign * h)
+    return s + (e + (bl + sign * l))
+
+
+def _sqrt1mx2(ax: Any, o: Any) -> tuple[Any, Any]:
+    d, de = _fast_two_sum(1.0, -ax)
+    a, ae = _fast_two_sum(1.0, ax)
+    wh, pe = _two_prod(d, a)
+    wl = pe + (d * ae + de * a)
+    s = o.sqrt(wh)
+    q, qe = _two_prod(s, s)
+    return s, (((wh - q) - qe) + wl) / (s + s)
+
+
+def _cbrt_core(m: Any, j: Any, o: Any) -> Any:
+    """cbrt(m 2^j) for m in [1, 2), j in {0, 1, 2}: guess, Halley, Newton with exact residual."""
+    c = _CBRT_POLY
+    a = m * o.pow2(j)
+    y = (((((c[0] * m + c[1]) * m + c[2]) * m + c[3]) * m + c[4]) * m + c[5]) * o.take(
+        "CBRT_2J", j)
+    y3 = (y * y) * y
+    y = y * ((y3 + 2.0 * a) / (2.0 * y3 + a))
+    p, pe = _two_prod(y, y)
+    cc, ce = _two_prod(y, p)
+    res = ((a - cc) - ce) - y * pe
+    return y + res / (3.0 * p)
+
+
+def _hypot_core(M: Any, m: Any, o: Any) -> tuple[Any, Any]:
+    """sqrt(M^2 + m^2) as a double-double for M in [1, 2), m in [2^-60, M]."""
+    a, ae = _two_prod(M, M)
+    b, be = _two_prod(m, m)
+    s, se = _fast_two_sum(a, b)
+    t = se + (ae + be)
+    wh, wl = _fast_two_sum(s, t)
+    r = o.sqrt(wh)
+    q, qe = _two_prod(r, r)
+    corr = (((wh - q) - qe) + wl) / (r + r)
+    return _fast_two_sum(r, corr)
+
+
+def _sinh_small(ax: Any) -> Any:
+    c = _SINH_POLY
+    z = ax * ax
+    z2 = z * z
+    P = ((c[0] + z * c[1]) + z2 * (c[2] + z * c[3])) + (z2 * z2) * (c[4] + z * c[5])
+    return ax + (ax * z) * P
+
+
+# =========================================================================== scalar port
+
+
+def _scale(h: float, l: float, k: int) -> float:
+    v = h + l
+    if k > 1000:
+        return (v * _S.pow2(k - 100)) * 2.0**100
+    if k >= -1021:
+        return v * _S.pow2(k)
+    G = _S.pow2(-1022 - k)
+    if v >= G:
+        return (v * _S.pow2(k + 200)) * 2.0**-200
+    d = (h + G) - G
+    f = (h - d) + l
+    S = 1.5 * G
+    g = (f + S) - S
+    return ((d + g) * _S.pow2(k + 200)) * 2.0**-200
 
 
 def _exp_s(x: float) -> float:
@@ -232,23 +472,25 @@ def _exp_s(x: float) -> float:
         return _NAN if x != x else _INF
     if x < -746.0:
         return 0.0
-    h, l, m = _exp_kernel(x, 0.0)
+    h, l, m = _exp_kernel(x, 0.0, _S)
     return _scale(h, l, m)
 
 
 def _log_reduce(x: float) -> tuple[int, int, float, float]:
-    ix = _bits(x)
+    ix = _S.bits(x)
     adj = 0
     if ix < 0x0010000000000000:
-        ix = _bits(x * 2.0**54)
+        ix = _S.bits(x * 2.0**54)
         adj = -54
     top = (ix + ((1024 << 52) - _SQRT2_HALF_BITS)) >> 52
     e = top - 1024 + adj
-    m = _double(ix - (top << 52) + (1024 << 52))
-    jd = ((m - 1.0) * 256.0 + _SHIFT) - _SHIFT
-    idx = int(jd) + 75
+    mb = ix - (top << 52) + (1024 << 52)
+    m = _S.double(mb)
+    below = 1023 - (mb >> 52)
+    sh = 44 + below
+    idx = (((mb & 0x000FFFFFFFFFFFFF) + (1 << (sh - 1))) >> sh) - 128 * below + 75
     r = _T["LOG_R"][idx]
-    mh = _double(_bits(m) & ~0x7FF)
+    mh = _S.double(mb & ~0x7FF)
     ml = m - mh
     t1 = mh * r - 1.0
     t2 = ml * r
@@ -257,7 +499,7 @@ def _log_reduce(x: float) -> tuple[int, int, float, float]:
 
 
 def _log_special(x: float) -> float | None:
-    ix = _bits(x)
+    ix = _S.bits(x)
     if 0 < ix < 0x7FF0000000000000:
         return None
     if x == 0.0:
@@ -269,45 +511,12 @@ def _log_special(x: float) -> float | None:
 
 def _log_s(x: float) -> float:
     special = _log_special(x)
-    if special is not None:
-        return special
-    idx, e, uh, ul = _log_reduce(x)
-    H = float(e) * _LN2_HI + _T["LOG_L_HI"][idx]
-    lo = float(e) * _LN2_LO + _T["LOG_L_LO"][idx]
-    s, es = _fast_two_sum(H, uh)
-    u2 = uh * uh
-    c = _LOG_POLY
-    q = ((c[0] + uh * c[1]) + u2 * (c[2] + uh * c[3])) + (u2 * u2) * (c[4] + uh * c[5])
-    return s + (es + (ul + (lo + u2 * q)))
+    return _log_core(*_log_reduce(x), _S) if special is None else special
 
 
 def _log_base_s(x: float, base: str) -> float:
     special = _log_special(x)
-    if special is not None:
-        return special
-    eh, el, lh, ll, kh, kl, poly = _LOG_BASES[base]
-    idx, e, uh, ul = _log_reduce(x)
-    H = float(e) * eh + _T[lh][idx]
-    lo = float(e) * el + _T[ll][idx]
-    p, pe = _two_prod(uh, kh)
-    s, es = _fast_two_sum(H, p)
-    u2 = uh * uh
-    c = _T[poly]
-    q = ((c[0] + uh * c[1]) + u2 * (c[2] + uh * c[3])) + (u2 * u2) * (c[4] + uh * c[5])
-    return s + (es + ((pe + (uh * kl + ul * kh)) + (lo + u2 * q)))
-
-
-def _log_dd(x: float) -> tuple[float, float]:
-    idx, e, uh, ul = _log_reduce(x)
-    H = float(e) * _LN2_HI + _T["LOG_L_HI"][idx]
-    lo = float(e) * _LN2_LO + _T["LOG_L_LO"][idx]
-    s1, e1 = _fast_two_sum(H, uh)
-    q, qe = _two_prod(uh, uh)
-    s2, e2 = _fast_two_sum(s1, -0.5 * q)
-    c = _LOGDD_POLY
-    R = ((c[0] + uh * c[1]) + q * (c[2] + uh * c[3])) + (q * q) * (c[4] + uh * c[5])
-    tail = ((e1 + e2) + (ul - 0.5 * qe)) + ((lo - uh * ul) + (uh * q) * R)
-    return _fast_two_sum(s2, tail)
+    return _log_base_core(*_log_reduce(x), base, _S) if special is None else special
 
 
 def _integer_kind(y: float) -> int:
@@ -320,14 +529,28 @@ def _integer_kind(y: float) -> int:
     return 1 if k & 1 else 2
 
 
+def _pow_abs(ax: float, y: float) -> float:
+    lh, ll = _log_dd_core(*_log_reduce(ax), _S)
+    ph, pe = _two_prod(y, lh)
+    pl = pe + y * ll
+    if ph > 709.8:
+        return _INF
+    if ph < -746.0:
+        return 0.0
+    h, l, m = _exp_kernel(ph, pl, _S)
+    return _scale(h, l, m)
+
+
 def _pow_s(x: float, y: float) -> float:
     ax = abs(x)
+    if 0.0 < x < _INF and abs(y) < 2.0**64:
+        return _pow_abs(x, y)
     if y == 0.0 or x == 1.0:
         return 1.0
     if x != x or y != y:
         return _NAN
     kind = _integer_kind(y)
-    negative = (_bits(x) >> 63) == 1 and kind == 1
+    negative = (_S.bits(x) >> 63) == 1 and kind == 1
     if x == 0.0:
         if y < 0.0:
             return -_INF if negative else _INF
@@ -346,38 +569,16 @@ def _pow_s(x: float, y: float) -> float:
         if ax == 1.0:
             return 1.0
         return _INF if (ax > 1.0) == (y > 0.0) else 0.0
-    lh, ll = _log_dd(ax)
-    ph, pe = _two_prod(y, lh)
-    pl = pe + y * ll
-    if ph > 709.8:
-        res = _INF
-    elif ph < -746.0:
-        res = 0.0
-    else:
-        h, l, m = _exp_kernel(ph, pl)
-        res = _scale(h, l, m)
+    res = _pow_abs(ax, y)
     return -res if negative else res
 
 
 def _clz64(x: int) -> int:
     n = 0
-    if x < (1 << 32):
-        n += 32
-        x = (x << 32) & _M64
-    if x < (1 << 48):
-        n += 16
-        x = (x << 16) & _M64
-    if x < (1 << 56):
-        n += 8
-        x = (x << 8) & _M64
-    if x < (1 << 60):
-        n += 4
-        x = (x << 4) & _M64
-    if x < (1 << 62):
-        n += 2
-        x = (x << 2) & _M64
-    if x < (1 << 63):
-        n += 1
+    for width in (32, 16, 8, 4, 2, 1):
+        if x < (1 << (64 - width)):
+            n += width
+            x = (x << width) & _M64
     return n
 
 
@@ -388,15 +589,14 @@ def _shl2(x: int, y: int, s: int) -> int:
 def _rem_pio2(ax: float) -> tuple[int, float, float]:
     if ax < 2.0**20:
         nd = (ax * _INV_PIO2 + _SHIFT) - _SHIFT
-        n = int(nd)
         t1 = ax - nd * _CW_P1
         t2, e2 = _two_sum(t1, -(nd * _CW_P2))
         t3, e3 = _two_sum(t2, -(nd * _CW_P3))
         lo = (e2 + e3) - nd * _CW_P4
         rh, rl = _fast_two_sum(t3, lo)
-        return n & 3, rh, rl
+        return int(nd) & 3, rh, rl
     T = _TWO_OVER_PI_BITS
-    ix = _bits(ax)
+    ix = _S.bits(ax)
     ex = (ix >> 52) - 1023
     M = (ix & 0x000FFFFFFFFFFFFF) | 0x0010000000000000
     t0 = ex + 10
@@ -424,61 +624,12 @@ def _rem_pio2(ax: float) -> tuple[int, float, float]:
     z = _clz64(r0)
     a = _shl2(r0, r1, z)
     b = _shl2(r1, r2, z)
-    fh = float(a >> 11) * _pow2(-51 - z - sh)
-    fl = float(((a & 0x7FF) << 42) | (b >> 22)) * _pow2(-104 - z - sh)
+    fh = float(a >> 11) * _S.pow2(-51 - z - sh)
+    fl = float(((a & 0x7FF) << 42) | (b >> 22)) * _S.pow2(-104 - z - sh)
     ph, pe = _two_prod(fh, _PIO2_HI)
     lo = pe + (fh * _PIO2_LO + fl * _PIO2_HI)
     h, l = _fast_two_sum(ph, lo)
     return n & 3, (-h if neg else h), (-l if neg else l)
-
-
-def _sin_kernel(rh: float, rl: float) -> float:
-    if abs(rh) < 0.125:
-        c = _SIN_POLY
-        z = rh * rh
-        z2 = z * z
-        P = (c[0] + z * c[1]) + z2 * ((c[2] + z * c[3]) + z2 * c[4])
-        return rh + (rl + ((rh * z) * P - (0.5 * z) * rl))
-    sg = -1.0 if rh < 0.0 else 1.0
-    xh = sg * rh
-    xl = sg * rl
-    idd = (xh * 128.0 + _SHIFT) - _SHIFT
-    i = int(idd) - 16
-    dh = xh - idd * 2.0**-7
-    dz = dh * dh
-    sd = (dh * dz) * (_SIND_POLY[0] + dz * _SIND_POLY[1])
-    cd = dz * (_COSD_POLY[0] + dz * (_COSD_POLY[1] + dz * _COSD_POLY[2]))
-    S, Sl = _T["TRIG_S_HI"][i], _T["TRIG_S_LO"][i]
-    C, Cl = _T["TRIG_C_HI"][i], _T["TRIG_C_LO"][i]
-    s, e = _fast_two_sum(S, C * dh)
-    tail = Sl + (C * xl + Cl * dh) + (S * cd + C * sd)
-    return sg * (s + (e + tail))
-
-
-def _cos_kernel(rh: float, rl: float) -> float:
-    if abs(rh) < 0.125:
-        c = _COS_POLY
-        z = rh * rh
-        z2 = z * z
-        hz = 0.5 * z
-        w = 1.0 - hz
-        err = (1.0 - w) - hz
-        Q = (c[1] + z * c[2]) + z2 * (c[3] + z * c[4])
-        return w + (err + (z2 * Q - rh * rl))
-    sg = -1.0 if rh < 0.0 else 1.0
-    xh = sg * rh
-    xl = sg * rl
-    idd = (xh * 128.0 + _SHIFT) - _SHIFT
-    i = int(idd) - 16
-    dh = xh - idd * 2.0**-7
-    dz = dh * dh
-    sd = (dh * dz) * (_SIND_POLY[0] + dz * _SIND_POLY[1])
-    cd = dz * (_COSD_POLY[0] + dz * (_COSD_POLY[1] + dz * _COSD_POLY[2]))
-    S, Sl = _T["TRIG_S_HI"][i], _T["TRIG_S_LO"][i]
-    C, Cl = _T["TRIG_C_HI"][i], _T["TRIG_C_LO"][i]
-    s, e = _fast_two_sum(C, -(S * dh))
-    tail = Cl - (S * xl + Sl * dh) + (C * cd - S * sd)
-    return s + (e + tail)
 
 
 def _sincos(ax: float, odd: int) -> float:
@@ -487,7 +638,10 @@ def _sincos(ax: float, odd: int) -> float:
     else:
         n, rh, rl = _rem_pio2(ax)
     n += odd
-    v = _cos_kernel(rh, rl) if n & 1 else _sin_kernel(rh, rl)
+    if n & 1:
+        v = _cos_small(rh, rl) if abs(rh) < 0.125 else _cos_table(rh, rl, _S)
+    else:
+        v = _sin_small(rh, rl) if abs(rh) < 0.125 else _sin_table(rh, rl, _S)
     return -v if n & 2 else v
 
 
@@ -510,37 +664,6 @@ def _cos_s(x: float) -> float:
     return _sincos(ax, 1)
 
 
-def _atan_kernel(uh: float, ul: float, vh: float, vl: float) -> tuple[float, float]:
-    c = _ATAN_POLY
-    q = uh / vh
-    idd = (q * 64.0 + _SHIFT) - _SHIFT
-    i = int(idd)
-    ci = idd * 2.0**-6
-    vhh = _double(_bits(vh) & ~0x3F)
-    vhl = vh - vhh
-    uhh = _double(_bits(uh) & ~0x3F)
-    uhl = uh - uhh
-    n1 = uh - ci * vhh
-    N1, ne = _two_sum(n1, -(ci * vhl))
-    Nl = ne + (ul - ci * vl)
-    D1, de = _fast_two_sum(vh, ci * uhh)
-    Dl = de + (ci * uhl + (vl + ci * ul))
-    inv = 1.0 / D1
-    th = N1 * inv
-    p, pe = _two_prod(th, D1)
-    tl = (((N1 - p) - pe) + (Nl - th * Dl)) * inv
-    z = th * th
-    P = (c[0] + z * c[1]) + (z * z) * (c[2] + z * c[3])
-    tail = tl + (th * z) * P
-    h, e = _fast_two_sum(_T["ATAN_HI"][i], th)
-    return h, e + (_T["ATAN_LO"][i] + tail)
-
-
-def _angle(bh: float, bl: float, sign: float, h: float, l: float) -> float:
-    s, e = _fast_two_sum(bh, sign * h)
-    return s + (e + (bl + sign * l))
-
-
 def _atan_s(x: float) -> float:
     ax = abs(x)
     if ax < 2.0**-27:
@@ -550,10 +673,10 @@ def _atan_s(x: float) -> float:
             return _NAN
         return -_PIO2_HI if x < 0.0 else _PIO2_HI
     if ax <= 1.0:
-        h, l = _atan_kernel(ax, 0.0, 1.0, 0.0)
+        h, l = _atan_kernel(ax, 0.0, 1.0, 0.0, _S)
         res = h + l
     else:
-        h, l = _atan_kernel(1.0, 0.0, ax, 0.0)
+        h, l = _atan_kernel(1.0, 0.0, ax, 0.0, _S)
         s, e = _fast_two_sum(_PIO2_HI, -h)
         res = s + (e + (_PIO2_LO - l))
     return -res if x < 0.0 else res
@@ -562,7 +685,7 @@ def _atan_s(x: float) -> float:
 def _atan2_s(y: float, x: float) -> float:
     ax = abs(x)
     ay = abs(y)
-    xneg = (_bits(x) >> 63) == 1
+    xneg = (_S.bits(x) >> 63) == 1
     if x != x or y != y:
         return _NAN
     if ay == 0.0:
@@ -586,14 +709,13 @@ def _atan2_s(y: float, x: float) -> float:
         elif sv < 2.0**-1000:
             su *= 2.0**600
             sv *= 2.0**600
-        k = (_bits(sv) >> 52) - 1023
-        f = _pow2(-k)
+        f = _S.pow2(1023 - (_S.bits(sv) >> 52))
         su *= f
         sv *= f
         if su < 2.0**-62:
             h, l = u / v, 0.0
         else:
-            h, l = _atan_kernel(su, 0.0, sv, 0.0)
+            h, l = _atan_kernel(su, 0.0, sv, 0.0, _S)
         if swap:
             bh, bl, sign = _PIO2_HI, _PIO2_LO, (1.0 if xneg else -1.0)
         elif xneg:
@@ -601,17 +723,7 @@ def _atan2_s(y: float, x: float) -> float:
         else:
             bh, bl, sign = 0.0, 0.0, 1.0
         res = _angle(bh, bl, sign, h, l)
-    return -res if (_bits(y) >> 63) == 1 else res
-
-
-def _sqrt1mx2(ax: float) -> tuple[float, float]:
-    d, de = _fast_two_sum(1.0, -ax)
-    a, ae = _fast_two_sum(1.0, ax)
-    wh, pe = _two_prod(d, a)
-    wl = pe + (d * ae + de * a)
-    s = math.sqrt(wh)
-    q, qe = _two_prod(s, s)
-    return s, (((wh - q) - qe) + wl) / (s + s)
+    return -res if (_S.bits(y) >> 63) == 1 else res
 
 
 def _asin_s(x: float) -> float:
@@ -623,12 +735,12 @@ def _asin_s(x: float) -> float:
     if ax == 1.0:
         res = _PIO2_HI
     else:
-        sh, sl = _sqrt1mx2(ax)
+        sh, sl = _sqrt1mx2(ax, _S)
         if ax <= sh:
-            h, l = _atan_kernel(ax, 0.0, sh, sl)
-            res = h + l
+            h, l = _atan_kernel(ax, 0.0, sh, sl, _S)
+            res = _angle(0.0, 0.0, 1.0, h, l)
         else:
-            h, l = _atan_kernel(sh, sl, ax, 0.0)
+            h, l = _atan_kernel(sh, sl, ax, 0.0, _S)
             res = _angle(_PIO2_HI, _PIO2_LO, -1.0, h, l)
     return -res if x < 0.0 else res
 
@@ -642,18 +754,18 @@ def _acos_s(x: float) -> float:
         return _PIO2_HI
     if ax == 1.0:
         return _PI_HI if xneg else 0.0
-    sh, sl = _sqrt1mx2(ax)
-    if sh <= ax:
-        h, l = _atan_kernel(sh, sl, ax, 0.0)
-        if xneg:
-            return _angle(_PI_HI, _PI_LO, -1.0, h, l)
-        return h + l
-    h, l = _atan_kernel(ax, 0.0, sh, sl)
-    return _angle(_PIO2_HI, _PIO2_LO, 1.0 if xneg else -1.0, h, l)
+    sh, sl = _sqrt1mx2(ax, _S)
+    first = sh <= ax
+    if first:
+        h, l = _atan_kernel(sh, sl, ax, 0.0, _S)
+        bh, bl = (_PI_HI, _PI_LO) if xneg else (0.0, 0.0)
+    else:
+        h, l = _atan_kernel(ax, 0.0, sh, sl, _S)
+        bh, bl = _PIO2_HI, _PIO2_LO
+    return _angle(bh, bl, -1.0 if first == xneg else 1.0, h, l)
 
 
 def _cbrt_s(x: float) -> float:
-    c = _CBRT_POLY
     ax = abs(x)
     if ax == 0.0 or ax == _INF:
         return x
@@ -663,19 +775,11 @@ def _cbrt_s(x: float) -> float:
     if ax < 2.0**-1022:
         ax *= 2.0**54
         adj = -18
-    ia = _bits(ax)
+    ia = _S.bits(ax)
     e = (ia >> 52) - 1023
-    m = _double((ia & 0x000FFFFFFFFFFFFF) | 0x3FF0000000000000)
+    m = _S.double((ia & 0x000FFFFFFFFFFFFF) | 0x3FF0000000000000)
     q = (e + 3075) // 3 - 1025
-    j = e - 3 * q
-    a = m * _pow2(j)
-    y = (((((c[0] * m + c[1]) * m + c[2]) * m + c[3]) * m + c[4]) * m + c[5]) * _CBRT_2J[j]
-    y3 = (y * y) * y
-    y = y * ((y3 + 2.0 * a) / (2.0 * y3 + a))
-    p, pe = _two_prod(y, y)
-    cc, ce = _two_prod(y, p)
-    res = ((a - cc) - ce) - y * pe
-    r = (y + res / (3.0 * p)) * _pow2(q + adj)
+    r = _cbrt_core(m, e - 3 * q, _S) * _S.pow2(q + adj)
     return -r if x < 0.0 else r
 
 
@@ -699,55 +803,33 @@ def _hypot_s(x: float, y: float) -> float:
         M *= 2.0**600
         m *= 2.0**600
         K = -600
-    k = (_bits(M) >> 52) - 1023
-    f = _pow2(-k)
+    k = (_S.bits(M) >> 52) - 1023
+    f = _S.pow2(-k)
     M *= f
     m *= f
-    K += k
     if m < 2.0**-60:
         return ax if ax > ay else ay
-    a, ae = _two_prod(M, M)
-    b, be = _two_prod(m, m)
-    s, se = _fast_two_sum(a, b)
-    t = se + (ae + be)
-    wh, wl = _fast_two_sum(s, t)
-    r = math.sqrt(wh)
-    q, qe = _two_prod(r, r)
-    corr = (((wh - q) - qe) + wl) / (r + r)
-    hh, hl = _fast_two_sum(r, corr)
-    return _scale(hh, hl, K)
-
-
-def _exp_pm(ax: float) -> tuple[float, float, float, float]:
-    h, l, m = _exp_kernel(-ax, 0.0)
-    f = _pow2(m)
-    ih, il = h * f, l * f
-    h, l, m = _exp_kernel(ax, 0.0)
-    f = _pow2(m)
-    return h * f, l * f, ih, il
+    hh, hl = _hypot_core(M, m, _S)
+    return _scale(hh, hl, K + k)
 
 
 def _sinh_s(x: float) -> float:
     ax = abs(x)
     if ax < 0.25:
-        c = _SINH_POLY
-        z = ax * ax
-        z2 = z * z
-        P = ((c[0] + z * c[1]) + z2 * (c[2] + z * c[3])) + (z2 * z2) * (c[4] + z * c[5])
-        res = ax + (ax * z) * P
+        res = _sinh_small(ax)
     elif ax != ax:
         return _NAN
     elif ax > 22.0:
         if ax > 711.0:
             res = _INF
         else:
-            h, l, m = _exp_kernel(ax, 0.0)
+            h, l, m = _exp_kernel(ax, 0.0, _S)
             res = _scale(h, l, m - 1)
     else:
-        eh, el, ih, il = _exp_pm(ax)
+        eh, el, ih, il = _exp_pm(ax, _S)
         s, e = _fast_two_sum(eh, -ih)
         res = 0.5 * (s + (e + (el - il)))
-    return -res if (_bits(x) >> 63) == 1 else res
+    return -res if (_S.bits(x) >> 63) == 1 else res
 
 
 def _cosh_s(x: float) -> float:
@@ -759,99 +841,43 @@ def _cosh_s(x: float) -> float:
     if ax > 22.0:
         if ax > 711.0:
             return _INF
-        h, l, m = _exp_kernel(ax, 0.0)
+        h, l, m = _exp_kernel(ax, 0.0, _S)
         return _scale(h, l, m - 1)
-    eh, el, ih, il = _exp_pm(ax)
+    eh, el, ih, il = _exp_pm(ax, _S)
     s, e = _fast_two_sum(eh, ih)
     return 0.5 * (s + (e + (el + il)))
 
 
 # =========================================================================== numpy port
 #
-# The same operations on float64 arrays: a branch of the C code becomes a partition of the
-# elements (each element follows exactly its own branch's operations), tables are gathered with
-# integer indices, bit fields come from .view(np.uint64).  Lanes of a branch not taken may hold
-# garbage (never used), hence np.errstate(all="ignore") around every public call.
-
-_U52 = np.uint64(52)
-_U63 = np.uint64(63)
-
-
-def _vbits(x: Float) -> NDArray[np.uint64]:
-    return np.ascontiguousarray(x, dtype=np.float64).view(np.uint64)
-
-
-def _vdouble(u: NDArray[np.uint64]) -> Float:
-    return np.ascontiguousarray(u, dtype=np.uint64).view(np.float64)
-
-
-def _vpow2(k: NDArray[np.int64]) -> Float:
-    return _vdouble((k + 1023).astype(np.uint64) << _U52)
-
-
-def _vfast_two_sum(a: Float, b: Float) -> tuple[Float, Float]:
-    s = a + b
-    return s, b - (s - a)
-
-
-def _vtwo_sum(a: Float, b: Float) -> tuple[Float, Float]:
-    s = a + b
-    bb = s - a
-    return s, (a - (s - bb)) + (b - bb)
-
-
-def _vtwo_prod(a: Any, b: Any) -> tuple[Float, Float]:
-    p = a * b
-    ca = 134217729.0 * a
-    ah = ca - (ca - a)
-    al = a - ah
-    cb = 134217729.0 * b
-    bh = cb - (cb - b)
-    bl = b - bh
-    return p, (((ah * bh - p) + ah * bl) + al * bh) + al * bl
+# A branch of the C code becomes a partition of the elements: each element follows exactly its
+# own branch's operations (the others' lanes are computed on harmless stand-in values and
+# discarded by np.where), hence np.errstate(all="ignore") around every public call.
 
 
 def _vscale(h: Float, l: Float, k: NDArray[np.int64]) -> Float:
     v = h + l
-    out = v * _vpow2(np.clip(k, -1021, 1000))
+    out = v * _V.pow2(np.clip(k, -1021, 1000))
     big = np.nonzero(k > 1000)[0]
     if big.size:
-        out[big] = (v[big] * _vpow2(k[big] - 100)) * 2.0**100
+        out[big] = (v[big] * _V.pow2(k[big] - 100)) * 2.0**100
     tiny = np.nonzero(k < -1021)[0]
     if tiny.size:
         kt, vt, ht, lt = k[tiny], v[tiny], h[tiny], l[tiny]
-        G = _vpow2(-1022 - kt)
-        normal = (vt * _vpow2(kt + 200)) * 2.0**-200
+        G = _V.pow2(-1022 - kt)
+        normal = (vt * _V.pow2(kt + 200)) * 2.0**-200
         d = (ht + G) - G
         f = (ht - d) + lt
         S = 1.5 * G
         g = (f + S) - S
-        sub = ((d + g) * _vpow2(kt + 200)) * 2.0**-200
+        sub = ((d + g) * _V.pow2(kt + 200)) * 2.0**-200
         out[tiny] = np.where(vt >= G, normal, sub)
     return out
 
 
-def _vexp_kernel(xh: Float, xl: Float) -> tuple[Float, Float, NDArray[np.int64]]:
-    z = xh * _EXP_INV_LN2_N
-    kd = (z + _SHIFT) - _SHIFT
-    k = kd.astype(np.int64)
-    j = k & 127
-    t = xh - kd * _EXP_LN2_N_HI
-    r = t + (xl - kd * _EXP_LN2_N_LO)
-    r2 = r * r
-    c = _EXP_POLY
-    q = (c[0] + r * c[1]) + r2 * ((c[2] + r * c[3]) + r2 * c[4])
-    p = r + r2 * q
-    th = _A["EXP_T_HI"][j]
-    small = _A["EXP_T_LO"][j] + th * p
-    h, l = _vfast_two_sum(th, small)
-    return h, l, (k - j) // 128
-
-
 def _vexp(x: Float) -> Float:
     ok = (x <= 709.8) & (x >= -746.0)
-    xs = np.where(ok, x, 0.0)
-    h, l, m = _vexp_kernel(xs, np.zeros_like(xs))
+    h, l, m = _exp_kernel(np.where(ok, x, 0.0), 0.0, _V)
     out = _vscale(h, l, m)
     out = np.where(x < -746.0, 0.0, out)
     out = np.where(x > 709.8, _INF, out)
@@ -859,73 +885,41 @@ def _vexp(x: Float) -> Float:
 
 
 def _vlog_reduce(x: Float) -> tuple[NDArray[np.int64], NDArray[np.int64], Float, Float]:
-    ix = _vbits(x).copy()
+    ix = _V.bits(x).copy()
     sub = ix < np.uint64(0x0010000000000000)
-    ix[sub] = _vbits(x[sub] * 2.0**54)
+    ix[sub] = _V.bits(x[sub] * 2.0**54)
     adj = np.where(sub, -54, 0)
     top = (ix + np.uint64((1024 << 52) - _SQRT2_HALF_BITS)) >> _U52
     e = top.astype(np.int64) - 1024 + adj
-    m = _vdouble(ix - (top << _U52) + np.uint64(1024 << 52))
-    jd = ((m - 1.0) * 256.0 + _SHIFT) - _SHIFT
-    idx = jd.astype(np.int64) + 75
+    mb = ix - (top << _U52) + np.uint64(1024 << 52)
+    m = _V.double(mb)
+    below = (np.uint64(1023) - (mb >> _U52)).astype(np.int64)
+    sh = (44 + below).astype(np.uint64)
+    rounded = ((mb & np.uint64(0x000FFFFFFFFFFFFF)) + (np.uint64(1) << (sh - np.uint64(1)))) >> sh
+    idx = rounded.astype(np.int64) - 128 * below + 75
     r = _A["LOG_R"][idx]
-    mh = _vdouble(_vbits(m) & np.uint64(~0x7FF & _M64))
+    mh = _V.double(mb & np.uint64(~0x7FF & _M64))
     ml = m - mh
     t1 = mh * r - 1.0
     t2 = ml * r
-    uh, ul = _vfast_two_sum(t1, t2)
+    uh, ul = _fast_two_sum(t1, t2)
     return idx, e, uh, ul
 
 
-def _vlog_sanitize(x: Float) -> tuple[Float, NDArray[np.bool_], Float]:
-    """x with special lanes replaced by 1.0, the mask of regular lanes, the special results."""
+def _vlog_family(x: Float, core: Any) -> Float:
+    """log, log2 or log10 (``core`` after the reduction) with the special values."""
     ok = (x > 0.0) & (x < _INF)
     special = np.where(x == 0.0, -_INF, np.where(x == _INF, _INF, _NAN))
-    return np.where(ok, x, 1.0), ok, special
+    out = core(*_vlog_reduce(np.where(ok, x, 1.0)))
+    return np.where(ok, out, special)
 
 
 def _vlog(x: Float) -> Float:
-    xs, ok, special = _vlog_sanitize(x)
-    idx, e, uh, ul = _vlog_reduce(xs)
-    ed = e.astype(np.float64)
-    H = ed * _LN2_HI + _A["LOG_L_HI"][idx]
-    lo = ed * _LN2_LO + _A["LOG_L_LO"][idx]
-    s, es = _vfast_two_sum(H, uh)
-    u2 = uh * uh
-    c = _LOG_POLY
-    q = ((c[0] + uh * c[1]) + u2 * (c[2] + uh * c[3])) + (u2 * u2) * (c[4] + uh * c[5])
-    out = s + (es + (ul + (lo + u2 * q)))
-    return np.where(ok, out, special)
+    return _vlog_family(x, lambda *reduced: _log_core(*reduced, _V))
 
 
 def _vlog_base(x: Float, base: str) -> Float:
-    eh, el, lh, ll, kh, kl, poly = _LOG_BASES[base]
-    xs, ok, special = _vlog_sanitize(x)
-    idx, e, uh, ul = _vlog_reduce(xs)
-    ed = e.astype(np.float64)
-    H = ed * eh + _A[lh][idx]
-    lo = ed * el + _A[ll][idx]
-    p, pe = _vtwo_prod(uh, kh)
-    s, es = _vfast_two_sum(H, p)
-    u2 = uh * uh
-    c = _T[poly]
-    q = ((c[0] + uh * c[1]) + u2 * (c[2] + uh * c[3])) + (u2 * u2) * (c[4] + uh * c[5])
-    out = s + (es + ((pe + (uh * kl + ul * kh)) + (lo + u2 * q)))
-    return np.where(ok, out, special)
-
-
-def _vlog_dd(x: Float) -> tuple[Float, Float]:
-    idx, e, uh, ul = _vlog_reduce(x)
-    ed = e.astype(np.float64)
-    H = ed * _LN2_HI + _A["LOG_L_HI"][idx]
-    lo = ed * _LN2_LO + _A["LOG_L_LO"][idx]
-    s1, e1 = _vfast_two_sum(H, uh)
-    q, qe = _vtwo_prod(uh, uh)
-    s2, e2 = _vfast_two_sum(s1, -0.5 * q)
-    c = _LOGDD_POLY
-    R = ((c[0] + uh * c[1]) + q * (c[2] + uh * c[3])) + (q * q) * (c[4] + uh * c[5])
-    tail = ((e1 + e2) + (ul - 0.5 * qe)) + ((lo - uh * ul) + (uh * q) * R)
-    return _vfast_two_sum(s2, tail)
+    return _vlog_family(x, lambda *reduced: _log_base_core(*reduced, base, _V))
 
 
 def _vpow(x: Float, y: Float) -> Float:
@@ -933,34 +927,31 @@ def _vpow(x: Float, y: Float) -> Float:
     ay = np.abs(y)
     # integer kind of y: 0 not an integer, 1 odd, 2 even (|y| >= 2^53 and infinities even)
     small = ay < 2.0**53
-    k = np.where(small, ay, 0.0).astype(np.int64)
-    kind = np.where(k.astype(np.float64) != np.where(small, ay, 0.0), 0, np.where(k & 1, 1, 2))
-    kind = np.where(small, kind, 2)
-    negative = ((_vbits(x) >> _U63) == 1) & (kind == 1)
+    ays = np.where(small, ay, 0.0)
+    k = ays.astype(np.int64)
+    kind = np.where(small, np.where(k.astype(np.float64) != ays, 0, np.where(k & 1, 1, 2)), 2)
+    negative = ((_V.bits(x) >> _U63) == 1) & (kind == 1)
     xinf = ax == _INF
     yinf = ay == _INF
     # the general path on sanitised lanes
     general = ~((y == 0.0) | (x == 1.0) | np.isnan(x) | np.isnan(y) | (x == 0.0) | yinf | xinf
-                | ((x < 0.0) & (kind == 0)) | ~(ay < 2.0**64))
-    axs = np.where(general, ax, 2.0)
+                | ((x < 0.0) & (kind == 0)) | ~(ay < 2.0**64))  # fmt: skip
     ys = np.where(general, y, 1.0)
-    lh, ll = _vlog_dd(axs)
-    ph, pe = _vtwo_prod(ys, lh)
+    lh, ll = _log_dd_core(*_vlog_reduce(np.where(general, ax, 2.0)), _V)
+    ph, pe = _two_prod(ys, lh)
     pl = pe + ys * ll
     mid = (ph <= 709.8) & (ph >= -746.0)
-    h, l, m = _vexp_kernel(np.where(mid, ph, 0.0), np.where(mid, pl, 0.0))
+    h, l, m = _exp_kernel(np.where(mid, ph, 0.0), np.where(mid, pl, 0.0), _V)
     res = _vscale(h, l, m)
     res = np.where(ph > 709.8, _INF, np.where(ph < -746.0, 0.0, res))
     res = np.where(negative, -res, res)
-    # the special cases, last one first
-    inf = np.full_like(res, _INF)
-    zero = np.zeros_like(res)
-    big_y = np.where(ax == 1.0, 1.0, np.where((ax > 1.0) == (y > 0.0), inf, zero))
+    # the special cases, the C code's order reversed
+    big_y = np.where(ax == 1.0, 1.0, np.where((ax > 1.0) == (y > 0.0), _INF, 0.0))
     res = np.where(~(ay < 2.0**64), big_y, res)
     res = np.where((x < 0.0) & (kind == 0), _NAN, res)
     x_inf = np.where(y < 0.0, np.where(negative, -0.0, 0.0), np.where(negative, -_INF, _INF))
     res = np.where(xinf, x_inf, res)
-    y_inf = np.where(ax == 1.0, 1.0, np.where((ax < 1.0) == (y < 0.0), inf, zero))
+    y_inf = np.where(ax == 1.0, 1.0, np.where((ax < 1.0) == (y < 0.0), _INF, 0.0))
     res = np.where(yinf, y_inf, res)
     x_zero = np.where(y < 0.0, np.where(negative, -_INF, _INF), np.where(negative, -0.0, 0.0))
     res = np.where(x == 0.0, x_zero, res)
@@ -969,24 +960,22 @@ def _vpow(x: Float, y: Float) -> Float:
 
 
 def _vclz64(x: NDArray[np.uint64]) -> NDArray[np.int64]:
-    x = x.copy()
     n = np.zeros(x.shape, dtype=np.int64)
-    for width in (32, 16, 8, 4, 2):
+    for width in (32, 16, 8, 4, 2, 1):
         below = x < np.uint64(1 << (64 - width))
         n += np.where(below, width, 0)
         x = np.where(below, x << np.uint64(width), x)
-    n += np.where(x < np.uint64(1 << 63), 1, 0)
     return n
 
 
 def _vshl2(x: NDArray[np.uint64], y: NDArray[np.uint64], s: NDArray[np.int64]) -> Any:
-    su = s.astype(np.uint64)
-    shifted = (x << su) | (y >> ((64 - s) % 64).astype(np.uint64))
+    shifted = (x << s.astype(np.uint64)) | (y >> ((64 - s) % 64).astype(np.uint64))
     return np.where(s == 0, x, shifted)
 
 
 _M32 = np.uint64(0xFFFFFFFF)
 _U32 = np.uint64(32)
+_TWO_OVER_PI_ARRAY = np.array(_TWO_OVER_PI_BITS, dtype=np.uint64)
 
 
 def _vmul64(a: NDArray[np.uint64], b: NDArray[np.uint64]) -> tuple[Any, Any]:
@@ -998,12 +987,9 @@ def _vmul64(a: NDArray[np.uint64], b: NDArray[np.uint64]) -> tuple[Any, Any]:
     return hi, (mid << _U32) | (p00 & _M32)
 
 
-_TWO_OVER_PI_ARRAY = np.array(_TWO_OVER_PI_BITS, dtype=np.uint64)
-
-
 def _vpayne_hanek(ax: Float) -> tuple[NDArray[np.int64], Float, Float]:
     T = _TWO_OVER_PI_ARRAY
-    ix = _vbits(ax)
+    ix = _V.bits(ax)
     ex = (ix >> _U52).astype(np.int64) - 1023
     M = (ix & np.uint64(0x000FFFFFFFFFFFFF)) | np.uint64(0x0010000000000000)
     t0 = ex + 10
@@ -1033,12 +1019,12 @@ def _vpayne_hanek(ax: Float) -> tuple[NDArray[np.int64], Float, Float]:
     z = _vclz64(np.where(r0 == 0, np.uint64(1), r0))
     a = _vshl2(r0, r1, z)
     b = _vshl2(r1, r2, z)
-    fh = (a >> np.uint64(11)).astype(np.float64) * _vpow2(-51 - z - sh)
+    fh = (a >> np.uint64(11)).astype(np.float64) * _V.pow2(-51 - z - sh)
     low = ((a & np.uint64(0x7FF)) << np.uint64(42)) | (b >> np.uint64(22))
-    fl = low.astype(np.float64) * _vpow2(-104 - z - sh)
-    ph, pe = _vtwo_prod(fh, _PIO2_HI)
+    fl = low.astype(np.float64) * _V.pow2(-104 - z - sh)
+    ph, pe = _two_prod(fh, _PIO2_HI)
     lo = pe + (fh * _PIO2_LO + fl * _PIO2_HI)
-    h, l = _vfast_two_sum(ph, lo)
+    h, l = _fast_two_sum(ph, lo)
     return n & 3, np.where(neg, -h, h), np.where(neg, -l, l)
 
 
@@ -1052,10 +1038,10 @@ def _vrem_pio2(ax: Float) -> tuple[NDArray[np.int64], Float, Float]:
         a = ax[cw]
         nd = (a * _INV_PIO2 + _SHIFT) - _SHIFT
         t1 = a - nd * _CW_P1
-        t2, e2 = _vtwo_sum(t1, -(nd * _CW_P2))
-        t3, e3 = _vtwo_sum(t2, -(nd * _CW_P3))
+        t2, e2 = _two_sum(t1, -(nd * _CW_P2))
+        t3, e3 = _two_sum(t2, -(nd * _CW_P3))
         lo = (e2 + e3) - nd * _CW_P4
-        rh[cw], rl[cw] = _vfast_two_sum(t3, lo)
+        rh[cw], rl[cw] = _fast_two_sum(t3, lo)
         n[cw] = nd.astype(np.int64) & 3
     ph = np.nonzero(~(ax < 2.0**20))[0]
     if ph.size:
@@ -1063,57 +1049,9 @@ def _vrem_pio2(ax: Float) -> tuple[NDArray[np.int64], Float, Float]:
     return n, rh, rl
 
 
-def _vtrig_table(rh: Float, rl: Float) -> tuple[Float, Float, Float, Float, Float, Float, Float]:
-    """Shared part of the table paths: sg, xl, dh, sd, cd and the index i (as an array)."""
-    sg = np.where(rh < 0.0, -1.0, 1.0)
-    xh = sg * rh
-    xl = sg * rl
-    idd = (xh * 128.0 + _SHIFT) - _SHIFT
-    i = np.clip(idd.astype(np.int64) - 16, 0, len(_T["TRIG_S_HI"]) - 1)
-    dh = xh - idd * 2.0**-7
-    dz = dh * dh
-    sd = (dh * dz) * (_SIND_POLY[0] + dz * _SIND_POLY[1])
-    cd = dz * (_COSD_POLY[0] + dz * (_COSD_POLY[1] + dz * _COSD_POLY[2]))
-    return sg, xl, dh, sd, cd, i  # type: ignore[return-value]
-
-
-def _vsin_kernel(rh: Float, rl: Float) -> Float:
-    c = _SIN_POLY
-    z = rh * rh
-    z2 = z * z
-    P = (c[0] + z * c[1]) + z2 * ((c[2] + z * c[3]) + z2 * c[4])
-    small = rh + (rl + ((rh * z) * P - (0.5 * z) * rl))
-    sg, xl, dh, sd, cd, i = _vtrig_table(rh, rl)
-    S, Sl = _A["TRIG_S_HI"][i], _A["TRIG_S_LO"][i]
-    C, Cl = _A["TRIG_C_HI"][i], _A["TRIG_C_LO"][i]
-    s, e = _vfast_two_sum(S, C * dh)
-    tail = Sl + (C * xl + Cl * dh) + (S * cd + C * sd)
-    table = sg * (s + (e + tail))
-    return np.where(np.abs(rh) < 0.125, small, table)
-
-
-def _vcos_kernel(rh: Float, rl: Float) -> Float:
-    c = _COS_POLY
-    z = rh * rh
-    z2 = z * z
-    hz = 0.5 * z
-    w = 1.0 - hz
-    err = (1.0 - w) - hz
-    Q = (c[1] + z * c[2]) + z2 * (c[3] + z * c[4])
-    small = w + (err + (z2 * Q - rh * rl))
-    sg, xl, dh, sd, cd, i = _vtrig_table(rh, rl)
-    S, Sl = _A["TRIG_S_HI"][i], _A["TRIG_S_LO"][i]
-    C, Cl = _A["TRIG_C_HI"][i], _A["TRIG_C_LO"][i]
-    s, e = _vfast_two_sum(C, -(S * dh))
-    tail = Cl - (S * xl + Sl * dh) + (C * cd - S * sd)
-    table = s + (e + tail)
-    return np.where(np.abs(rh) < 0.125, small, table)
-
-
 def _vsincos(x: Float, odd: int) -> Float:
     ax = np.abs(x)
-    regular = (ax >= 2.0**-27) & (ax < _INF)
-    a = np.where(regular, ax, 1.0)
+    a = np.where((ax >= 2.0**-27) & (ax < _INF), ax, 1.0)
     n = np.zeros(a.shape, dtype=np.int64)
     rh = a.copy()
     rl = np.zeros_like(a)
@@ -1121,61 +1059,26 @@ def _vsincos(x: Float, odd: int) -> Float:
     if far.size:
         n[far], rh[far], rl[far] = _vrem_pio2(a[far])
     n = n + odd
-    v = np.where(n & 1, _vcos_kernel(rh, rl), _vsin_kernel(rh, rl))
+    small = np.abs(rh) < 0.125
+    cos_v = np.where(small, _cos_small(rh, rl), _cos_table(rh, rl, _V))
+    sin_v = np.where(small, _sin_small(rh, rl), _sin_table(rh, rl, _V))
+    v = np.where(n & 1, cos_v, sin_v)
     v = np.where(n & 2, -v, v)
     if odd == 0:
-        v = np.where(x < 0.0, -v, v)
-        v = np.where(ax < 2.0**-27, x, v)
+        v = np.where(ax < 2.0**-27, x, np.where(x < 0.0, -v, v))
     else:
         v = np.where(ax < 2.0**-27, 1.0, v)
     return np.where(ax < _INF, v, _NAN)
 
 
-def _vatan_kernel(uh: Any, ul: Any, vh: Any, vl: Any) -> tuple[Float, Float]:
-    uh, ul, vh, vl = np.broadcast_arrays(*(np.asarray(a, dtype=np.float64) for a in
-                                           (uh, ul, vh, vl)))  # fmt: skip
-    c = _ATAN_POLY
-    q = uh / vh
-    idd = (q * 64.0 + _SHIFT) - _SHIFT
-    i = np.clip(idd.astype(np.int64), 0, 64)
-    ci = idd * 2.0**-6
-    mask = np.uint64(~0x3F & _M64)
-    vhh = _vdouble(_vbits(vh) & mask)
-    vhl = vh - vhh
-    uhh = _vdouble(_vbits(uh) & mask)
-    uhl = uh - uhh
-    n1 = uh - ci * vhh
-    N1, ne = _vtwo_sum(n1, -(ci * vhl))
-    Nl = ne + (ul - ci * vl)
-    D1, de = _vfast_two_sum(vh, ci * uhh)
-    Dl = de + (ci * uhl + (vl + ci * ul))
-    inv = 1.0 / D1
-    th = N1 * inv
-    p, pe = _vtwo_prod(th, D1)
-    tl = (((N1 - p) - pe) + (Nl - th * Dl)) * inv
-    z = th * th
-    P = (c[0] + z * c[1]) + (z * z) * (c[2] + z * c[3])
-    tail = tl + (th * z) * P
-    h, e = _vfast_two_sum(_A["ATAN_HI"][i], th)
-    return h, e + (_A["ATAN_LO"][i] + tail)
-
-
-def _vangle(bh: Any, bl: Any, sign: Any, h: Float, l: Float) -> Float:
-    s, e = _vfast_two_sum(bh, sign * h)
-    return s + (e + (bl + sign * l))
-
-
 def _vatan(x: Float) -> Float:
     ax = np.abs(x)
-    regular = (ax >= 2.0**-27) & (ax <= 2.0**60)
-    a = np.where(regular, ax, 0.5)
+    a = np.where((ax >= 2.0**-27) & (ax <= 2.0**60), ax, 0.5)
     inside = a <= 1.0
-    h1, l1 = _vatan_kernel(np.where(inside, a, 0.5), 0.0, 1.0, 0.0)
-    res_in = h1 + l1
-    h2, l2 = _vatan_kernel(1.0, 0.0, np.where(inside, 2.0, a), 0.0)
-    s, e = _vfast_two_sum(_PIO2_HI, -h2)
-    res_out = s + (e + (_PIO2_LO - l2))
-    res = np.where(inside, res_in, res_out)
+    h1, l1 = _atan_kernel(np.where(inside, a, 0.5), 0.0, 1.0, 0.0, _V)
+    h2, l2 = _atan_kernel(1.0, 0.0, np.where(inside, 2.0, a), 0.0, _V)
+    s, e = _fast_two_sum(_PIO2_HI, -h2)
+    res = np.where(inside, h1 + l1, s + (e + (_PIO2_LO - l2)))
     res = np.where(ax > 2.0**60, _PIO2_HI, res)
     res = np.where(x < 0.0, -res, res)
     res = np.where(ax < 2.0**-27, x, res)
@@ -1185,7 +1088,7 @@ def _vatan(x: Float) -> Float:
 def _vatan2(y: Float, x: Float) -> Float:
     ax = np.abs(x)
     ay = np.abs(y)
-    xneg = (_vbits(x) >> _U63) == 1
+    xneg = (_V.bits(x) >> _U63) == 1
     regular = (ax > 0.0) & (ay > 0.0) & (ax < _INF) & (ay < _INF)
     ax_r = np.where(regular, ax, 1.0)
     ay_r = np.where(regular, ay, 1.0)
@@ -1196,51 +1099,37 @@ def _vatan2(y: Float, x: Float) -> Float:
     tiny = v < 2.0**-1000
     su = np.where(big, u * 2.0**-600, np.where(tiny, u * 2.0**600, u))
     sv = np.where(big, v * 2.0**-600, np.where(tiny, v * 2.0**600, v))
-    k = (_vbits(sv) >> _U52).astype(np.int64) - 1023
-    f = _vpow2(-k)
+    f = _V.pow2(1023 - (_V.bits(sv) >> _U52).astype(np.int64))
     su = su * f
     sv = sv * f
     ratio_tiny = su < 2.0**-62
-    kh, kl = _vatan_kernel(np.where(ratio_tiny, 0.5, su), 0.0, np.where(ratio_tiny, 1.0, sv),
-                           0.0)  # fmt: skip
+    kh, kl = _atan_kernel(np.where(ratio_tiny, 0.5, su), 0.0, np.where(ratio_tiny, 1.0, sv),
+                          0.0, _V)  # fmt: skip
     h = np.where(ratio_tiny, u / v, kh)
     l = np.where(ratio_tiny, 0.0, kl)
     bh = np.where(swap, _PIO2_HI, np.where(xneg, _PI_HI, 0.0))
     bl = np.where(swap, _PIO2_LO, np.where(xneg, _PI_LO, 0.0))
     sign = np.where(swap, np.where(xneg, 1.0, -1.0), np.where(xneg, -1.0, 1.0))
-    res = _vangle(bh, bl, sign, h, l)
+    res = np.where(regular, _angle(bh, bl, sign, h, l), 0.0)
     # special cases, the C code's order reversed
-    res = np.where(regular, res, 0.0)
     res = np.where((ax < _INF) & (ay == _INF), _PIO2_HI, res)
     x_inf = np.where(ay == _INF, np.where(xneg, _PI3O4, _PI_O4), np.where(xneg, _PI_HI, 0.0))
     res = np.where((ax == _INF) & (ay > 0.0), x_inf, res)
     res = np.where((ax == 0.0) & (ay > 0.0), _PIO2_HI, res)
     res = np.where(ay == 0.0, np.where(xneg, _PI_HI, 0.0), res)
-    res = np.where((_vbits(y) >> _U63) == 1, -res, res)
+    res = np.where((_V.bits(y) >> _U63) == 1, -res, res)
     return np.where(np.isnan(x) | np.isnan(y), _NAN, res)
-
-
-def _vsqrt1mx2(ax: Float) -> tuple[Float, Float]:
-    d, de = _vfast_two_sum(1.0, -ax)
-    a, ae = _vfast_two_sum(1.0, ax)
-    wh, pe = _vtwo_prod(d, a)
-    wl = pe + (d * ae + de * a)
-    s = np.sqrt(wh)
-    q, qe = _vtwo_prod(s, s)
-    return s, (((wh - q) - qe) + wl) / (s + s)
 
 
 def _vasin(x: Float) -> Float:
     ax = np.abs(x)
-    regular = (ax >= 2.0**-27) & (ax < 1.0)
-    a = np.where(regular, ax, 0.5)
-    sh, sl = _vsqrt1mx2(a)
+    a = np.where((ax >= 2.0**-27) & (ax < 1.0), ax, 0.5)
+    sh, sl = _sqrt1mx2(a, _V)
     first = a <= sh
-    h1, l1 = _vatan_kernel(np.where(first, a, 0.5), 0.0, np.where(first, sh, 1.0),
-                           np.where(first, sl, 0.0))  # fmt: skip
-    h2, l2 = _vatan_kernel(np.where(first, 0.5, sh), np.where(first, 0.0, sl),
-                           np.where(first, 1.0, a), 0.0)  # fmt: skip
-    res = np.where(first, h1 + l1, _vangle(_PIO2_HI, _PIO2_LO, -1.0, h2, l2))
+    h, l = _atan_kernel(np.where(first, a, sh), np.where(first, 0.0, sl),
+                        np.where(first, sh, a), np.where(first, sl, 0.0), _V)  # fmt: skip
+    res = _angle(np.where(first, 0.0, _PIO2_HI), np.where(first, 0.0, _PIO2_LO),
+                 np.where(first, 1.0, -1.0), h, l)  # fmt: skip
     res = np.where(ax == 1.0, _PIO2_HI, res)
     res = np.where(x < 0.0, -res, res)
     res = np.where(ax < 2.0**-27, x, res)
@@ -1250,44 +1139,30 @@ def _vasin(x: Float) -> Float:
 def _vacos(x: Float) -> Float:
     ax = np.abs(x)
     xneg = x < 0.0
-    regular = (ax >= 2.0**-60) & (ax < 1.0)
-    a = np.where(regular, ax, 0.5)
-    sh, sl = _vsqrt1mx2(a)
+    a = np.where((ax >= 2.0**-60) & (ax < 1.0), ax, 0.5)
+    sh, sl = _sqrt1mx2(a, _V)
     first = sh <= a
-    h1, l1 = _vatan_kernel(np.where(first, sh, 0.5), np.where(first, sl, 0.0),
-                           np.where(first, a, 1.0), 0.0)  # fmt: skip
-    res1 = np.where(xneg, _vangle(_PI_HI, _PI_LO, -1.0, h1, l1), h1 + l1)
-    h2, l2 = _vatan_kernel(np.where(first, 0.5, a), 0.0, np.where(first, 1.0, sh),
-                           np.where(first, 0.0, sl))  # fmt: skip
-    res2 = _vangle(_PIO2_HI, _PIO2_LO, np.where(xneg, 1.0, -1.0), h2, l2)
-    res = np.where(first, res1, res2)
+    h, l = _atan_kernel(np.where(first, sh, a), np.where(first, sl, 0.0),
+                        np.where(first, a, sh), np.where(first, 0.0, sl), _V)  # fmt: skip
+    bh = np.where(first, np.where(xneg, _PI_HI, 0.0), _PIO2_HI)
+    bl = np.where(first, np.where(xneg, _PI_LO, 0.0), _PIO2_LO)
+    res = _angle(bh, bl, np.where(first == xneg, -1.0, 1.0), h, l)
     res = np.where(ax == 1.0, np.where(xneg, _PI_HI, 0.0), res)
     res = np.where(ax < 2.0**-60, _PIO2_HI, res)
     return np.where(ax <= 1.0, res, _NAN)
 
 
 def _vcbrt(x: Float) -> Float:
-    c = _CBRT_POLY
     ax0 = np.abs(x)
     regular = (ax0 > 0.0) & (ax0 < _INF)
     ax = np.where(regular, ax0, 1.0)
     sub = ax < 2.0**-1022
     ax = np.where(sub, ax * 2.0**54, ax)
-    adj = np.where(sub, -18, 0)
-    ia = _vbits(ax)
+    ia = _V.bits(ax)
     e = (ia >> _U52).astype(np.int64) - 1023
-    m = _vdouble((ia & np.uint64(0x000FFFFFFFFFFFFF)) | np.uint64(0x3FF0000000000000))
+    m = _V.double((ia & np.uint64(0x000FFFFFFFFFFFFF)) | np.uint64(0x3FF0000000000000))
     q = (e + 3075) // 3 - 1025
-    j = e - 3 * q
-    a = m * _vpow2(j)
-    y = (((((c[0] * m + c[1]) * m + c[2]) * m + c[3]) * m + c[4]) * m + c[5]) * np.array(
-        _CBRT_2J)[j]
-    y3 = (y * y) * y
-    y = y * ((y3 + 2.0 * a) / (2.0 * y3 + a))
-    p, pe = _vtwo_prod(y, y)
-    cc, ce = _vtwo_prod(y, p)
-    res = ((a - cc) - ce) - y * pe
-    r = (y + res / (3.0 * p)) * _vpow2(q + adj)
+    r = _cbrt_core(m, e - 3 * q, _V) * _V.pow2(q + np.where(sub, -18, 0))
     r = np.where(x < 0.0, -r, r)
     r = np.where(regular, r, x)
     return np.where(np.isnan(x), _NAN, r)
@@ -1305,67 +1180,40 @@ def _vhypot(x: Float, y: Float) -> Float:
     tiny = M < 2.0**-1000
     M = np.where(big, M * 2.0**-600, np.where(tiny, M * 2.0**600, M))
     m = np.where(big, m * 2.0**-600, np.where(tiny, m * 2.0**600, m))
-    K = np.where(big, 600, np.where(tiny, -600, 0))
-    k = (_vbits(M) >> _U52).astype(np.int64) - 1023
-    f = _vpow2(-k)
+    k = (_V.bits(M) >> _U52).astype(np.int64) - 1023
+    f = _V.pow2(-k)
     M = M * f
     m = m * f
-    K = K + k
-    a, ae = _vtwo_prod(M, M)
-    b, be = _vtwo_prod(m, m)
-    s, se = _vfast_two_sum(a, b)
-    t = se + (ae + be)
-    wh, wl = _vfast_two_sum(s, t)
-    r = np.sqrt(wh)
-    q, qe = _vtwo_prod(r, r)
-    corr = (((wh - q) - qe) + wl) / (r + r)
-    hh, hl = _vfast_two_sum(r, corr)
-    res = _vscale(hh, hl, K)
+    hh, hl = _hypot_core(M, m, _V)
+    res = _vscale(hh, hl, np.where(big, 600, np.where(tiny, -600, 0)) + k)
     res = np.where(m < 2.0**-60, M0, res)
     res = np.where(m0 == 0.0, M0, res)
     res = np.where(np.isnan(ax) | np.isnan(ay), _NAN, res)
     return np.where((ax == _INF) | (ay == _INF), _INF, res)
 
 
-def _vexp_pm(ax: Float) -> tuple[Float, Float, Float, Float]:
-    h, l, m = _vexp_kernel(-ax, np.zeros_like(ax))
-    f = _vpow2(m)
-    ih, il = h * f, l * f
-    h, l, m = _vexp_kernel(ax, np.zeros_like(ax))
-    f = _vpow2(m)
-    return h * f, l * f, ih, il
-
-
 def _vexp_half(ax: Float) -> Float:
     """e^ax / 2 for 22 < ax (inf above 711)."""
-    a = np.where(ax <= 711.0, ax, 0.0)
-    h, l, m = _vexp_kernel(a, np.zeros_like(a))
+    h, l, m = _exp_kernel(np.where(ax <= 711.0, ax, 0.0), 0.0, _V)
     return np.where(ax > 711.0, _INF, _vscale(h, l, m - 1))
 
 
 def _vsinh(x: Float) -> Float:
     ax = np.abs(x)
-    c = _SINH_POLY
-    z = ax * ax
-    z2 = z * z
-    P = ((c[0] + z * c[1]) + z2 * (c[2] + z * c[3])) + (z2 * z2) * (c[4] + z * c[5])
-    res_small = ax + (ax * z) * P
-    mid = np.where((ax >= 0.25) & (ax <= 22.0), ax, 1.0)
-    eh, el, ih, il = _vexp_pm(mid)
-    s, e = _vfast_two_sum(eh, -ih)
+    eh, el, ih, il = _exp_pm(np.where((ax >= 0.25) & (ax <= 22.0), ax, 1.0), _V)
+    s, e = _fast_two_sum(eh, -ih)
     res_mid = 0.5 * (s + (e + (el - il)))
     large = ax > 22.0
     res_large = _vexp_half(np.where(large, ax, 23.0))
-    res = np.where(ax < 0.25, res_small, np.where(large, res_large, res_mid))
-    res = np.where((_vbits(x) >> _U63) == 1, -res, res)
+    res = np.where(ax < 0.25, _sinh_small(ax), np.where(large, res_large, res_mid))
+    res = np.where((_V.bits(x) >> _U63) == 1, -res, res)
     return np.where(np.isnan(x), _NAN, res)
 
 
 def _vcosh(x: Float) -> Float:
     ax = np.abs(x)
-    mid = np.where((ax >= 2.0**-27) & (ax <= 22.0), ax, 1.0)
-    eh, el, ih, il = _vexp_pm(mid)
-    s, e = _vfast_two_sum(eh, ih)
+    eh, el, ih, il = _exp_pm(np.where((ax >= 2.0**-27) & (ax <= 22.0), ax, 1.0), _V)
+    s, e = _fast_two_sum(eh, ih)
     res = 0.5 * (s + (e + (el + il)))
     large = ax > 22.0
     res = np.where(large, _vexp_half(np.where(large, ax, 23.0)), res)
@@ -1376,27 +1224,36 @@ def _vcosh(x: Float) -> Float:
 # =========================================================================== public functions
 
 
-def _unary(scalar: Any, vector: Any, x: Any) -> Any:
-    if isinstance(x, float | int) and not isinstance(x, bool | np.ndarray):
-        return scalar(float(x))
-    arr = np.asarray(x, dtype=np.float64)
+#: Elements per numpy pass: the temporaries of a kernel stay in the cache (3-5x faster than one
+#: pass over 10^6 elements); element-wise, so the bits do not depend on it.
+_CHUNK = 16384
+
+
+def _is_scalar(x: Any) -> bool:
+    return isinstance(x, float | int) and not isinstance(x, bool | np.ndarray)
+
+
+def _apply(vector: Any, *arrays: Any) -> Any:
+    """``vector`` on broadcast float64 copies of ``arrays``, chunk by chunk, in the input shape."""
+    flat = [np.ascontiguousarray(a).reshape(-1)
+            for a in np.broadcast_arrays(*(np.asarray(a, dtype=np.float64) for a in arrays))]
+    shape = np.broadcast_shapes(*(np.shape(a) for a in arrays))
+    out = np.empty(flat[0].size)
     with np.errstate(all="ignore"):
-        out = vector(np.ascontiguousarray(arr).reshape(-1)).reshape(arr.shape)
+        for start in range(0, out.size, _CHUNK):
+            out[start : start + _CHUNK] = vector(*(f[start : start + _CHUNK] for f in flat))
+    out = out.reshape(shape)
     return out[()] if out.ndim == 0 else out
+
+
+def _unary(scalar: Any, vector: Any, x: Any) -> Any:
+    return scalar(float(x)) if _is_scalar(x) else _apply(vector, x)
 
 
 def _binary(scalar: Any, vector: Any, a: Any, b: Any) -> Any:
-    scalar_types = float | int
-    if (isinstance(a, scalar_types) and isinstance(b, scalar_types)
-            and not isinstance(a, bool | np.ndarray) and not isinstance(b, bool | np.ndarray)):
+    if _is_scalar(a) and _is_scalar(b):
         return scalar(float(a), float(b))
-    a_arr, b_arr = np.broadcast_arrays(np.asarray(a, dtype=np.float64),
-                                       np.asarray(b, dtype=np.float64))  # fmt: skip
-    shape = a_arr.shape
-    with np.errstate(all="ignore"):
-        out = vector(np.ascontiguousarray(a_arr).reshape(-1),
-                     np.ascontiguousarray(b_arr).reshape(-1)).reshape(shape)  # fmt: skip
-    return out[()] if out.ndim == 0 else out
+    return _apply(vector, a, b)
 
 
 def exp(x: float | ArrayLike) -> Any:

@@ -15,8 +15,8 @@ Run at development time (the test ``tests/test_detmath.py`` re-runs it and check
 The polynomials are truncated Taylor series with exactly rounded coefficients: on the small
 intervals used their truncation error is bounded by the first omitted term (alternating series)
 or by the Lagrange remainder, so the design bounds quoted in ``detmath.h`` follow from this file
-without any fitting.  Only the starting guess of cbrt (refined by Halley and Newton steps) is a
-Chebyshev fit.
+without any fitting.  Only the starting guess of cbrt (refined by Halley and Newton steps) is an
+interpolating polynomial (at Chebyshev nodes).
 """
 
 from __future__ import annotations
@@ -47,7 +47,13 @@ TWO_OVER_PI_WORDS = 20  # 64 zero bits, then 1216 bits of 2/pi
 
 
 def header_path() -> Path:
-    """Path of ``templates/detmath.h`` next to this module."""
+    """Path of the header whose constants block this module writes.
+
+    Returns
+    -------
+    pathlib.Path
+        ``templates/detmath.h`` next to this module.
+    """
     return Path(__file__).resolve().parent / "templates" / "detmath.h"
 
 
@@ -314,10 +320,12 @@ def _constants() -> tuple[list[tuple[str, str, object]], list[str]]:
     )
     table("SINH_POLY", _taylor_coeffs("sinh", n_sinh))
 
-    # ---- cbrt: starting guess p(m) ~ cbrt(m) on [1, 2] (Chebyshev fit), cbrt(2^j) j = 0,1,2
-    with mpmath.workprec(200):
-        poly, err = mpmath.chebyfit(mpmath.cbrt, [1, 2], 6, error=True)
-    cb = [_rn(c) for c in poly]  # highest degree first
+    # ---- cbrt: starting guess p(m) ~ cbrt(m) on [1, 2] (degree 5, interpolating at the six
+    # Chebyshev nodes), cbrt(2^j) j = 0,1,2
+    nodes = [mpf(3) / 2 + mpmath.cos((2 * k + 1) * pi / 12) / 2 for k in range(6)]
+    vandermonde = mpmath.matrix([[x ** (5 - d) for d in range(6)] for x in nodes])
+    poly = mpmath.lu_solve(vandermonde, mpmath.matrix([mpmath.cbrt(x) for x in nodes]))
+    cb = [_rn(poly[d]) for d in range(6)]  # highest degree first
     worst = max(
         abs(mpmath.polyval([mpf(c) for c in cb], x) / mpmath.cbrt(x) - 1)
         for x in mpmath.linspace(1, 2, 2001)
@@ -403,7 +411,18 @@ def write_header(path: Path | None = None) -> bool:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Command line: print the block, or ``--write`` it into the header."""
+    """Command line: print the block, or ``--write`` it into the header.
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        The arguments (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status, 0.
+    """
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--write", action="store_true", help="write the block into detmath.h")
     args = parser.parse_args(argv)
