@@ -80,6 +80,8 @@ import numpy as np
 import sympy as sp
 from sympy.physics import mechanics as me
 
+from ..arith import detlinalg
+
 if TYPE_CHECKING:  # pragma: no cover
     from ..derive.model import Model
 
@@ -145,7 +147,7 @@ class Rotor:
             For a zero (or non-finite) axis or a non-positive moment of inertia.
         """
         a = np.asarray(self.axis, dtype=float)
-        n = float(np.linalg.norm(a))
+        n = float(detlinalg.norm(a))
         if not n > 0 or self.axial <= 0 or self.transverse <= 0:
             raise ValueError("a rotor needs a non-zero axis and positive moments of inertia")
         return a / n
@@ -456,7 +458,7 @@ def space_axes_in_body(gamma: Sequence[float], yaw: float = 0.0) -> np.ndarray:
     """
     q = euler_angles_for_gamma(gamma, yaw)
     axes = np.asarray(_space_axes_function()(q), dtype=float)
-    if np.linalg.norm(axes[2] - np.asarray(gamma, dtype=float)) > 1e-12:  # pragma: no cover
+    if detlinalg.norm(axes[2] - np.asarray(gamma, dtype=float)) > 1e-12:  # pragma: no cover
         raise AssertionError(f"Euler angles give gamma={axes[2]}, wanted {gamma}")
     return axes
 
@@ -485,7 +487,7 @@ def euler_angles_for_gamma(gamma: Sequence[float], yaw: float = 0.0) -> np.ndarr
     g = np.asarray(gamma, dtype=float)
     if g.shape != (3,):
         raise ValueError(f"gamma must have shape (3,), got {g.shape}")
-    if abs(float(np.linalg.norm(g)) - 1.0) > 1e-10:
+    if abs(float(detlinalg.norm(g)) - 1.0) > 1e-10:
         raise ValueError("gamma must be a unit vector")
     if abs(g[0]) > GAMMA1_LIMIT:
         raise ValueError(f"|gamma1| = {abs(g[0])} is too close to the 3-2-1 Euler singularity")
@@ -516,8 +518,8 @@ def omega_from_momentum(
         ``omega``, shape (3,).
     """
     g = np.asarray(gamma, dtype=float)
-    J = np.diag(np.asarray(I, dtype=float)) + D * (np.eye(3) - np.outer(g, g))
-    return np.linalg.solve(J, np.asarray(M, dtype=float))
+    J = np.diag(np.asarray(I, dtype=float)) + D * (np.eye(3) - g[:, None] * g[None, :])
+    return detlinalg.solve(J, np.asarray(M, dtype=float))
 
 
 def _kane_point(
@@ -540,7 +542,7 @@ def _kane_point(
     extra = [] if rotor is None else [*rotor.unit_axis(), rotor.axial, rotor.transverse, rotor.spin]
     p = np.array([*map(float, I), D / b**2, b, g, *extra])
     gamma_kane = np.asarray(sys_.gamma(q, np.zeros(5), p), dtype=float).ravel()
-    if np.linalg.norm(gamma_kane - np.asarray(gamma, dtype=float)) > 1e-12:  # pragma: no cover
+    if detlinalg.norm(gamma_kane - np.asarray(gamma, dtype=float)) > 1e-12:  # pragma: no cover
         raise AssertionError(f"Euler angles give gamma={gamma_kane}, wanted {gamma}")
     u = np.concatenate([np.asarray(omega, dtype=float), [0.0, 0.0]])
     u[3:] = np.asarray(sys_.dependent_speeds(q, u, p), dtype=float).ravel()
@@ -570,11 +572,11 @@ def _kane_constrained_point(
     p = np.array([*map(float, I), D / b**2, b, g])
     omega = omega_from_momentum(I, D, M, gamma)
     C = np.asarray(sys_.body_from_space(q, np.zeros(5), p), dtype=float)
-    omega_space = C.T @ omega
-    if abs(omega_space[sys_.axis]) > ADMISSIBLE_RTOL * np.linalg.norm(omega):
+    omega_space = detlinalg.matmul(C.T, omega)
+    if abs(omega_space[sys_.axis]) > ADMISSIBLE_RTOL * detlinalg.norm(omega):
         raise ValueError(
             f"state violates the {constraint!r} constraint: omega . N_{'xyz'[sys_.axis]} = "
-            f"{omega_space[sys_.axis]:.3e} (|omega| = {np.linalg.norm(omega):.3e})"
+            f"{omega_space[sys_.axis]:.3e} (|omega| = {detlinalg.norm(omega):.3e})"
         )
     u = np.concatenate([omega_space, [0.0, 0.0]])
     u[list(sys_.dependent)] = np.asarray(sys_.dependent_speeds(q, u, p), dtype=float).ravel()
@@ -587,7 +589,7 @@ def _kane_constrained_rates(
     """``(u1', ..., u5')`` in the natural order from Kane's equations."""
     A = np.asarray(sys_.mass_matrix(q, u, p), dtype=float)
     f = np.asarray(sys_.forcing(q, u, p), dtype=float).ravel()
-    solved = np.linalg.solve(A, f)
+    solved = detlinalg.solve(A, f)
     udot = np.empty(5)
     for name, value in zip(sys_.speed_order, solved, strict=True):
         udot[int(name[1:]) - 1] = value
@@ -657,12 +659,12 @@ def kane_angular_acceleration(
         if rotor is not None:
             raise ValueError("a rotor and an extra constraint are not combined here")
         sys_c, q, u, p, C = _kane_constrained_point(I, D, b, M, gamma, yaw, g, constraint)
-        return C @ _kane_constrained_rates(sys_c, q, u, p)[:3]
+        return detlinalg.matmul(C, _kane_constrained_rates(sys_c, q, u, p)[:3])
     omega = omega_from_momentum(I, D, M, gamma)
     sys_, q, u, p = _kane_point(I, D, b, omega, gamma, yaw, g, rotor)
     A = np.asarray(sys_.mass_matrix(q, u, p), dtype=float)
     f = np.asarray(sys_.forcing(q, u, p), dtype=float).ravel()
-    udot = np.linalg.solve(A, f)
+    udot = detlinalg.solve(A, f)
     return udot[:3].copy()
 
 
@@ -727,16 +729,16 @@ def kane_energy_and_rate(
         qdot = np.asarray(sys_c.qdot(q, u, p), dtype=float).ravel()
         grad = np.asarray(sys_c.energy_gradient(q, u, p), dtype=float).ravel()
         T = float(sys_c.energy(q, u, p))
-        return T, float(grad[:5] @ qdot + grad[5:] @ udot)
+        return T, detlinalg.dot(grad[:5], qdot) + detlinalg.dot(grad[5:], udot)
     omega = omega_from_momentum(I, D, M, gamma)
     sys_, q, u, p = _kane_point(I, D, b, omega, gamma, yaw, 9.81)
     A = np.asarray(sys_.mass_matrix(q, u, p), dtype=float)
     f = np.asarray(sys_.forcing(q, u, p), dtype=float).ravel()
-    udot = np.linalg.solve(A, f)
+    udot = detlinalg.solve(A, f)
     qdot = np.asarray(sys_.qdot(q, u, p), dtype=float).ravel()
     grad = np.asarray(sys_.energy_gradient(q, u, p), dtype=float).ravel()
     T = float(sys_.energy(q, u, p))
-    return T, float(grad[:5] @ qdot + grad[5:] @ udot)
+    return T, detlinalg.dot(grad[:5], qdot) + detlinalg.dot(grad[5:], udot)
 
 
 @lru_cache(maxsize=1)
@@ -854,7 +856,7 @@ def kane_moving_masses_angular_acceleration(
     u[3:] = np.asarray(dependent(q, u, p, t), dtype=float).ravel()
     A = np.asarray(mass_matrix(q, u, p, t), dtype=float)
     f = np.asarray(forcing(q, u, p, t), dtype=float).ravel()
-    return np.linalg.solve(A, f)[:3].copy()
+    return detlinalg.solve(A, f)[:3].copy()
 
 
 @lru_cache(maxsize=8)
@@ -932,7 +934,7 @@ def model_angular_acceleration(
         state += group
     jac, rhs, explicit = f(state, [float(params[n]) for n in names], float(t))
     jac, rhs = np.asarray(jac, dtype=float), np.asarray(rhs, dtype=float)
-    return (jac @ rhs).ravel() + np.asarray(explicit, dtype=float).ravel()
+    return detlinalg.matmul(jac, rhs).ravel() + np.asarray(explicit, dtype=float).ravel()
 
 
 # ------------------------------------------------------------------------------------------
@@ -1029,7 +1031,7 @@ def random_samples(n: int = N_STATES, seed: int = SEED) -> list[KaneSample]:
         M = rng.normal(size=3)
         while True:
             gamma = rng.normal(size=3)
-            gamma /= np.linalg.norm(gamma)
+            gamma /= detlinalg.norm(gamma)
             if abs(gamma[0]) <= GAMMA1_MAX:
                 break
         yaw = float(rng.uniform(-np.pi, np.pi))
@@ -1118,10 +1120,12 @@ def constrained_samples(
         alpha, beta, gamma = space_axes_in_body(s.gamma, s.yaw)
         normal = (alpha, beta, gamma)[CONSTRAINT_AXIS[constraint]]
         omega = rng.normal(size=3)
-        omega -= (omega @ normal) * normal
-        omega *= rng.uniform(0.5, 2.0) / np.linalg.norm(omega)  # |omega| away from 0
-        II = np.diag(s.I) + s.D * (np.eye(3) - np.outer(s.gamma, s.gamma))
-        out.append(ConstrainedSample(s, constraint, omega, II @ omega, alpha, beta))
+        omega -= detlinalg.dot(omega, normal) * normal
+        omega *= rng.uniform(0.5, 2.0) / detlinalg.norm(omega)  # |omega| away from 0
+        g = np.asarray(s.gamma, dtype=float)
+        II = np.diag(s.I) + s.D * (np.eye(3) - g[:, None] * g[None, :])
+        momentum = detlinalg.matmul(II, omega)
+        out.append(ConstrainedSample(s, constraint, omega, momentum, alpha, beta))
     return out
 
 
@@ -1249,7 +1253,7 @@ def moving_mass_samples(n: int = 6, seed: int = SEED + 5) -> list[MovingMassSamp
         law = (float(rng.uniform(-1, 1)), float(rng.uniform(0.2, 2)), float(rng.uniform(0.3, 2)))
         M = rng.normal(size=3)
         gamma = rng.normal(size=3)
-        gamma /= np.linalg.norm(gamma)
+        gamma /= detlinalg.norm(gamma)
         if abs(gamma[0]) <= GAMMA1_MAX:
             out.append(MovingMassSample(I, D, b, law, M, gamma, float(rng.uniform(-5, 5))))
     return out
@@ -1270,4 +1274,4 @@ def relative_difference(reference: np.ndarray, other: np.ndarray) -> float:
     float
         The relative difference.
     """
-    return float(np.linalg.norm(other - reference) / np.linalg.norm(reference))
+    return float(detlinalg.norm(other - reference) / detlinalg.norm(reference))

@@ -4,7 +4,7 @@
  * the same names with the special values of C99 Annex F (pow, atan2, hypot included): chaplygin_exp,
  * _log, _log2, _log10, _pow, _sin, _cos, _atan, _atan2, _asin, _acos, _cbrt, _hypot, _sinh, _cosh.
  * errno is never set; every NaN result is the positive quiet NaN 0x7ff8000000000000 (the payload
- * of a NaN argument is not kept). chaplygin.numerics.detmath performs the same operations on
+ * of a NaN argument is not kept). chaplygin.arith.detmath performs the same operations on
  * Python floats and numpy arrays and gives the same bits.
  *
  * WHAT IS GUARANTEED
@@ -60,7 +60,7 @@
  * glibc's FMA code is shortest.
  *
  * The algorithms are this project's own (range reduction + Taylor polynomials, no code taken from
- * fdlibm, musl or glibc); every constant is computed with mpmath by derive/detmath_tables.py.
+ * fdlibm, musl or glibc); every constant is computed with mpmath by arith/detmath_tables.py.
  */
 #ifndef CHAPLYGIN_DETMATH_H
 #define CHAPLYGIN_DETMATH_H

@@ -16,7 +16,7 @@ import time
 
 import cffi
 import numpy as np
-from chaplygin.numerics import detmath
+from chaplygin.arith import detmath
 from chaplygin.numerics.ccompile import compile_c
 
 N = 10_000

@@ -12,7 +12,7 @@ from __future__ import annotations
 import cffi
 import numpy as np
 import pytest
-from chaplygin.numerics import detmath
+from chaplygin.arith import detmath
 from chaplygin.numerics.ccompile import compile_c
 
 pytestmark = pytest.mark.benchmark

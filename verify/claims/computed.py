@@ -16,6 +16,7 @@ from functools import cache
 import mpmath
 import numpy as np
 
+from ...arith import detlinalg
 from . import Computed, ComputedClaim, register
 
 BALL = "chaplygin_ball"
@@ -239,9 +240,9 @@ _TORUS = ((0.6, 0.0, 0.8), (0.8, 0.5, -0.6))
 
 def _torus_state():
     g = np.array(_TORUS[0], float)
-    g /= np.linalg.norm(g)
+    g /= detlinalg.norm(g)
     m = np.array(_TORUS[1], float)
-    m -= np.dot(m, g) * g
+    m -= detlinalg.dot(m, g) * g
     return tuple(m), tuple(g)
 
 
@@ -511,13 +512,16 @@ def _proposition2(wrong_sign: bool = False, seeds: int = 3):
             roots, g, Gam, Q = out["roots"], out["g"], out["Gamma"], out["Q"]
             if wrong_sign:  # the control: lam + D in the denominators of the rows
                 Q = np.array([[1.0, Ma * Da / (lam + Da), Mb * Db / (lam + Db)] for lam in roots])
-            L, G = Q @ Gam @ Q.T, Q @ g @ Q.T
+            mm = detlinalg.matmul
+            L, G = mm(mm(Q, Gam), Q.T), mm(mm(Q, g), Q.T)
             res = [np.max(np.abs(Mx - np.diag(np.diag(Mx)))) / np.max(np.abs(Mx)) for Mx in (L, G)]
-            Gd = np.diag(np.diag(G))
-            res.append(np.max(np.abs(np.linalg.inv(Q.T) - np.linalg.inv(Gd) @ Q @ g)))
+            inv_QT = detlinalg.solve(Q.T, np.eye(3))
+            res.append(np.max(np.abs(inv_QT - mm(Q, g) / np.diag(G)[:, None])))
             res.append(np.max(np.abs(np.diag(L) / np.diag(G) - roots) / roots))
-            # rounding of a congruence with Q: eps times cond(Q)^2 (and the cubic's roots)
-            bound = max(bound, 1e2 * EPS * np.linalg.cond(Q) ** 2)
+            # rounding of a congruence with Q: eps times cond(Q)^2 (and the cubic's roots);
+            # cond_2(Q)^2 = the ratio of the extreme eigenvalues of Q^T Q
+            sv2 = np.abs(detlinalg.eigvals(mm(Q.T, Q)).real)
+            bound = max(bound, 1e2 * EPS * float(np.max(sv2) / np.min(sv2)))
             worst = max(worst, *res)
             values[f"seed {seed}"] = f"roots {roots.tolist()}, residuals {[float(x) for x in res]}"
         return Computed(
