@@ -25,8 +25,7 @@ import cffi
 import mpmath
 import numpy as np
 import pytest
-from chaplygin.arith import detmath_tables
-from chaplygin.arith import detmath
+from chaplygin.arith import detmath, detmath_tables
 from chaplygin.numerics.ccompile import CFLAGS, compile_c
 from mpmath import mpf
 
