@@ -381,6 +381,8 @@ def _eig_mp(A: NDArray[np.float64], vectors: bool):  # noqa: ANN202 - mpmath obj
         raise LinAlgError("eigenvalues: non-finite entries")
     with mpmath.workprec(EIG_BITS):
         M = mpmath.matrix([[mpmath.mpf(float(v)) for v in row] for row in A])
+        if A.shape[0] == 1:  # mpmath.eig's 1 x 1 answer has another shape
+            return [M[0, 0]], mpmath.matrix([[1]])
         if vectors:
             return mpmath.eig(M, left=False, right=True)
         return mpmath.eig(M, left=False, right=False), None

@@ -205,3 +205,13 @@ def test_results_do_not_depend_on_the_blas_kernel():
         seen[core] = out
     assert len({v[0] for v in seen.values()}) == 1, seen
     assert len({v[1] for v in seen.values()}) > 1, "negative control: numpy's BLAS kept its bits"
+
+
+def test_one_by_one_and_two_by_two_eigenproblems():
+    assert dl.eigvals([[-0.35320768999999835]]).tolist() == [-0.35320768999999835 + 0j]
+    w, v = dl.eig([[2.5]])
+    assert w.tolist() == [2.5 + 0j] and v.tolist() == [[1 + 0j]]
+    # a rotation by 0.7 scaled by 1.3: a conjugate pair 1.3 e^(+-0.7i)
+    c, s = 1.3 * math.cos(0.7), 1.3 * math.sin(0.7)
+    w = dl.eigvals([[c, -s], [s, c]])
+    assert w[0] == np.conj(w[1]) and abs(abs(w[0]) - 1.3) <= 4 * EPS
