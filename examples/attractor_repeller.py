@@ -42,7 +42,7 @@ def main() -> None:
         ax.set_xlim(-np.pi, np.pi)
     axes[0].set_ylabel("z = M3/G")
     fig.suptitle(
-        "BM20 Fig. 5 (Omega = 1.07, d = 4.385, J = 0): 0.9-quantile Hausdorff distances "
+        "BM20 Fig. 5 (Omega = 1.07, d = 4.385, J = 0): median (0.5-quantile) Hausdorff distances "
         f"d(R1 A, rep) = {r.image_distance['R1 (M, gamma) -> (-M, gamma)']:.3f}, "
         f"d(A, A') = {r.sampling_distance:.3f}, d(A, rep) = {r.attractor_distance:.3f}",
         fontsize=9,

@@ -12,7 +12,8 @@ Two spectra (``spectrum=``):
 Units: exponents are given **per unit time** and, for a time-periodic model (a parameter
 ``Omega``, forcing period ``2 pi/Omega``), **per map iteration** (per forcing period), which is
 how BM20 quotes them. Error bars are standard errors: from batch means over windows of each
-run, and from the spread over several initial states; the larger is reported.
+run, and from the spread over several initial states; the larger is reported. The average
+divergence carries its own standard error, computed the same way.
 
 The symbolic tie: the sum of the full spectrum equals the time average of ``div f = tr J``
 (Liouville's formula ``d/dt log det Phi = tr J``); the exponents come from the QR route, the
@@ -91,6 +92,9 @@ class LyapunovSpectrum:
         Sum of `exponents` (per unit time).
     mean_divergence : float
         Time average of ``div f`` along the orbits (quadrature of ``tr J``), per unit time.
+    divergence_error : float
+        Its standard error per unit time: the larger of batch means over the windows (combined
+        over the states) and the spread over the initial states (as for `errors`).
     density_rate : float or None
         ``-(log rho(end) - log rho(start))/T`` averaged over the states, per unit time, where
         the model ships an invariant density, else None.
@@ -126,6 +130,7 @@ class LyapunovSpectrum:
     windows: int
     sum_of_exponents: float
     mean_divergence: float
+    divergence_error: float
     density_rate: float | None
     forced_zeros: NDArray | None
     integral_rank: int
@@ -176,8 +181,8 @@ class LyapunovSpectrum:
         -------
         dict
             ``per_unit_time`` (and ``per_iteration`` for a time-periodic model) with
-            ``exponents``, ``errors``, ``sum``, ``mean_divergence``, ``difference``; the run's
-            settings and work counters.
+            ``exponents``, ``errors``, ``sum``, ``mean_divergence`` (and its error),
+            ``difference``; the run's settings and work counters.
         """
 
         def block(scale: float, units: str) -> dict[str, Any]:
@@ -191,6 +196,7 @@ class LyapunovSpectrum:
                 ],
                 "sum_of_exponents": self.sum_of_exponents * scale,
                 "mean_divergence": self.mean_divergence * scale,
+                "mean_divergence_error": self.divergence_error * scale,
                 "difference": self.divergence_difference * scale,
             }
             if self.density_rate is not None:
@@ -422,6 +428,7 @@ def lyapunov_spectrum(
     per_state = np.zeros((states, k))
     window_se = np.zeros((states, k))
     divergence = np.zeros(states)
+    divergence_se = np.zeros(states)
     density_rate = np.zeros(states)
     running = np.zeros((states, checkpoints.size, k))
     work = {"steps": 0, "rejected": 0, "evaluations": 0}
@@ -446,6 +453,8 @@ def lyapunov_spectrum(
         batches = logs[intervals - usable :].reshape(windows, -1, k).mean(axis=1) / tau
         window_se[s] = batches.std(axis=0, ddof=1) / math.sqrt(windows)
         divergence[s] = divs.mean() / tau
+        div_batches = divs[intervals - usable :].reshape(windows, -1).mean(axis=1) / tau
+        divergence_se[s] = div_batches.std(ddof=1) / math.sqrt(windows)
         running[s] = np.cumsum(logs, axis=0)[checkpoints - 1] / (checkpoints[:, None] * tau)
         if with_density:
             t_end = t_start + intervals * tau
@@ -458,6 +467,9 @@ def lyapunov_spectrum(
         per_state.std(axis=0, ddof=1) / math.sqrt(states) if states > 1 else np.full(k, np.nan)
     )
     errors = np.fmax(window_errors, state_errors)
+    divergence_error = math.sqrt(float((divergence_se**2).sum())) / states
+    if states > 1:
+        divergence_error = max(divergence_error, float(divergence.std(ddof=1)) / math.sqrt(states))
     forced = None
     if spectrum == "full" and rank:
         forced = np.sort(exponents[np.argsort(np.abs(exponents))[:rank]])[::-1]
@@ -475,6 +487,7 @@ def lyapunov_spectrum(
         windows=windows,
         sum_of_exponents=float(exponents.sum()),
         mean_divergence=float(divergence.mean()),
+        divergence_error=divergence_error,
         density_rate=float(density_rate.mean()) if with_density else None,
         forced_zeros=forced,
         integral_rank=rank,

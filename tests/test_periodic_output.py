@@ -5,6 +5,19 @@ independent route: central differences of ``P^7`` itself (no variational equatio
 error is ``~ accuracy / h + h^2 |D^3 P^7|``. The Neimark–Sacker point found by the
 continuation is checked by refining the orbit on both sides of it (the pair's modulus below
 and above 1).
+
+No test here rests on where a chaotic orbit goes. From Fig. 5's start (z, l, g) = (0.5, 1, 1)
+the map at Omega = 1.06675 reaches the period-7 cycle (or its gamma -> -gamma mirror, g + pi)
+only after a chaotic transient whose length is decided by the last bits: 825 to 8112 periods
+on 48 starts perturbed by 1e-12 (relative), one of which had not closed within 1e-4 after 8000
+(the compiled batch map, DOP853 at rtol 1e-12). The cycle's tests therefore start at
+``NEAR_CYCLE``, 3e-3 from a point of the cycle, in its basin: the orbit converges without chaos
+(its distance to the cycle after 2000 periods agreed to 2 digits on every perturbed start).
+After ``CYCLE_TRANSIENT`` = 3000 periods the 7-cycle closes within 0.004 of ``detect_tol``
+(period 14: 0.005) while every period that is not a multiple of 7 stays 2.3e4 times
+``detect_tol`` open: a margin over 200 both ways. At Omega = 1.07 (the strange attractor) no
+period <= 16 closes within 1.6e4 times ``detect_tol`` after 3000 periods on 12 perturbed
+starts (the scene's Taylor map at rtol 1e-10).
 """
 
 from __future__ import annotations
@@ -28,9 +41,7 @@ K = [-6, -3, -9]
 Omega = {omega}
 [initial]
 G = 3
-z = 0.5
-l = 1
-g = 1
+{start}
 [run]
 t_end = 1
 [outputs.periodic_orbits]
@@ -47,6 +58,12 @@ follow_doublings = 0
 """
 
 PARAMS = [4, 3, 2, 4.385, 0, 2, -6, -3, -9, 1.06675]
+#: Fig. 5's start (BM20 (3.7)) and a start 3e-3 from a point of the period-7 cycle of Fig. 7A
+#: (the cycle found from Fig. 5's start, rounded to two decimals), in the cycle's basin.
+FIG5_START = "z = 0.5\nl = 1\ng = 1"
+NEAR_CYCLE = (-0.44, 1.46, -1.01)
+NEAR_CYCLE_START = "z = {}\nl = {}\ng = {}".format(*NEAR_CYCLE)
+CYCLE_TRANSIENT = 3000
 
 
 def _run(tmp_path, text, capsys):
@@ -77,14 +94,15 @@ t_end = 1
 
 
 def test_unknown_key_is_refused(tmp_path, capsys):
-    text = BM20.format(omega=1.06675, transient=10) + "max_periods = 3\n"
+    text = BM20.format(omega=1.06675, transient=10, start=FIG5_START) + "max_periods = 3\n"
     status, captured = _run(tmp_path, text, capsys)
     assert status == 2 and "max_periods" in captured.err
 
 
 @pytest.mark.slow
 def test_period_seven_and_its_multipliers(tmp_path, capsys):
-    status, captured = _run(tmp_path, BM20.format(omega=1.06675, transient=12000), capsys)
+    text = BM20.format(omega=1.06675, transient=CYCLE_TRANSIENT, start=NEAR_CYCLE_START)
+    status, captured = _run(tmp_path, text, capsys)
     assert status == 0, captured.err
     out = json.loads(captured.out)["analyses"]["periodic_orbits"]
     assert out["period"] == 7 and out["converged"] and out["stable"]
@@ -117,7 +135,8 @@ def test_period_seven_and_its_multipliers(tmp_path, capsys):
 @pytest.mark.slow
 def test_chaotic_attractor_has_no_short_period(tmp_path, capsys):
     # control: at Omega = 1.07 (Fig. 5, the strange attractor) no period <= 16 closes
-    status, captured = _run(tmp_path, BM20.format(omega=1.07, transient=3000), capsys)
+    text = BM20.format(omega=1.07, transient=3000, start=FIG5_START)
+    status, captured = _run(tmp_path, text, capsys)
     assert status == 0, captured.err
     out = json.loads(captured.out)["analyses"]["periodic_orbits"]
     assert out["period"] is None and "no period" in out["message"]
@@ -125,7 +144,8 @@ def test_chaotic_attractor_has_no_short_period(tmp_path, capsys):
 
 @pytest.mark.slow
 def test_neimark_sacker_of_the_period_seven_orbit(tmp_path, capsys):
-    text = BM20.format(omega=1.06675, transient=12000) + CONTINUATION
+    text = BM20.format(omega=1.06675, transient=CYCLE_TRANSIENT, start=NEAR_CYCLE_START)
+    text += CONTINUATION
     status, captured = _run(tmp_path, text, capsys)
     assert status == 0, captured.err
     cont = json.loads(captured.out)["analyses"]["periodic_orbits"]["continuation"]
@@ -162,8 +182,8 @@ def test_period_seven_cycle_refined_at_30_digits():
 
     exact = ["4", "3", "2", "4.385", "0", "2", "-6", "-3", "-9", "1.06675"]
     double = bm20_map_with_jacobian([float(v) for v in exact], 3.0, rtol=1e-11)
-    x = bm20_point(bm20_state([0.5, 1.0, 1.0], 3.0))
-    for _ in range(8000):
+    x = bm20_point(bm20_state(list(NEAR_CYCLE), 3.0))
+    for _ in range(CYCLE_TRANSIENT):
         x = double.f(x, 1.06675)
     coarse = refine_periodic_orbit(double, x, 7, 1.06675)
     assert coarse.converged
