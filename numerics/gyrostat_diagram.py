@@ -32,10 +32,14 @@ K01-4.1, K01-4.2, K01-4.3, K01-3.2, K01-Fig7 (FORMULAS.md).
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .code import load_model_code
+
+if TYPE_CHECKING:
+    from .stability import FloquetResult
 
 __all__ = [
     "steady_rotation_states",
@@ -377,7 +381,7 @@ def steady_rotation_stability(
     K: Sequence[float],
     state: np.ndarray,
     rtol: float = 1e-12,
-):
+) -> FloquetResult:
     """Floquet multipliers of the steady rotation through ``state`` (``M, gamma``).
 
     ``omega`` is constant, so ``gamma`` turns about it with period ``T = 2 pi/|omega|``

@@ -45,7 +45,7 @@ K01-2.34, K01-3.3q, K01-3.5, K01-3.6, K01-3.7, K01-Fig6f, K01-4.3, K01-4.4 (FORM
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from functools import lru_cache
 
@@ -106,6 +106,9 @@ class TracePeriod:
         Samples of one period (times and ``x + i y``).
     y0 : ndarray
         The start (state of ``chaplygin_ball__contact_point[__gyrostat]``).
+    sol : object
+        The dense output over the period: ``sol.sol(t)`` is the state at ``t`` (scalar or
+        array).
     """
 
     h: float
@@ -143,7 +146,11 @@ def _params(I, D, K, b=1.0) -> np.ndarray:
 
 
 def segment_state(
-    I: Sequence[float], D: float, gamma: Sequence[float], C: float = 1.0, K=None
+    I: Sequence[float],
+    D: float,
+    gamma: Sequence[float],
+    C: float = 1.0,
+    K: Sequence[float] | None = None,
 ) -> np.ndarray:
     """The state on ``M + K = C gamma`` at ``gamma`` (``K = 0``: ``M = C gamma``), trace at 0.
 
@@ -167,8 +174,7 @@ def segment_state(
         ``M, gamma, alpha, beta, x, y``.
     """
     I, D, K, C = _check_body(I, D, K, C)
-    g = np.asarray(check_vector(gamma, "gamma", double=True), float)
-    g = g / np.linalg.norm(g)
+    g = _unit_vector(gamma, "gamma")
     e = np.zeros(3)
     e[int(np.argmin(np.abs(g)))] = 1.0
     a = e - g * (e @ g)
@@ -177,8 +183,21 @@ def segment_state(
     return np.concatenate([C * g - np.asarray(K), g, a, beta, [0.0, 0.0]])
 
 
+def _unit_vector(v, name: str) -> np.ndarray:
+    """``v`` (three finite numbers, not all zero) normalised; errors name ``name``."""
+    g = np.asarray([float(x) for x in check_vector(v, name, double=True)], float)
+    norm = float(np.linalg.norm(g))
+    if not norm > 0:
+        raise UserInputError(f"{name} = {v!r} must be a nonzero vector (a direction)")
+    return g / norm
+
+
 def segment_energy(
-    I: Sequence[float], D: float, gamma: np.ndarray, C: float = 1.0, K=None
+    I: Sequence[float],
+    D: float,
+    gamma: np.ndarray,
+    C: float = 1.0,
+    K: Sequence[float] | None = None,
 ) -> np.ndarray:
     """Energy ``h`` on ``M + K = C gamma`` at unit vectors ``gamma`` (generated integrals).
 
@@ -284,7 +303,7 @@ def trace_period(
     D: float,
     h: float | None = None,
     C: float = 1.0,
-    K=None,
+    K: Sequence[float] | None = None,
     gamma0: Sequence[float] | None = None,
     rtol: float = 1e-12,
 ) -> TracePeriod:
@@ -331,9 +350,9 @@ def trace_period(
             raise UserInputError("give gamma0 (the start on M + K = C gamma), or h for the ball")
         from .separatrix import near_separatrix_state
 
-        y0 = near_separatrix_state(I, D, float(h), C)
+        y0 = near_separatrix_state(I, D, float(check_real(h, "h", positive=True, double=True)), C)
     else:
-        y0 = segment_state(I, D, gamma0, C, K)
+        y0 = segment_state(I, D, _unit_vector(gamma0, "gamma0"), C, K)
     return _trace_period(I, D, K, C, tuple(y0), float(rtol))
 
 
@@ -692,7 +711,14 @@ def gradient_line(
 
 
 def turning_critical_energy(
-    line_at, I, D, K, C, bracket: tuple[float, float], m: int, rtol: float = 1e-12
+    line_at: Callable[[float], np.ndarray] | None,
+    I: Sequence[float],
+    D: float,
+    K: Sequence[float] | None,
+    C: float,
+    bracket: tuple[float, float],
+    m: int,
+    rtol: float = 1e-12,
 ) -> float:
     """The energy in ``bracket`` where ``Theta = 2 pi m`` along a family (Brent).
 
