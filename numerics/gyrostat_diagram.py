@@ -282,24 +282,7 @@ def steady_rotation_energies(
     ndarray
         The energies, sorted.
     """
-    from scipy.optimize import brentq
-
-    out = []
-    families = _families(I, D, K, 4000)
-    for family, x in families:
-
-        def excess(values, family=family):
-            omega, lam = family(np.atleast_1d(values))
-            states, exists = steady_rotation_states(I, D, K, C, omega, lam)
-            vals = level_integrals(np.nan_to_num(states), I, D, K)
-            return np.where(exists, vals["n"] - n, np.nan), vals["h"]
-
-        f, _ = excess(x)
-        ok = np.isfinite(f[:-1]) & np.isfinite(f[1:]) & (np.sign(f[:-1]) != np.sign(f[1:]))
-        for k in np.flatnonzero(ok):
-            root = brentq(lambda v: excess(v)[0][0], x[k], x[k + 1], xtol=1e-15, rtol=1e-15)
-            out.append(excess(root)[1][0])
-    return np.sort(np.asarray(out, float))
+    return np.sort(np.asarray([r["h"] for r in _rotations_where(I, D, K, C, "n", n)], float))
 
 
 def _sphere(count: int) -> np.ndarray:
@@ -529,9 +512,12 @@ def steady_rotations_at_energy(
     return sorted(_rotations_where(I, D, K, C, "h", h, rtol), key=lambda e: e["n"])
 
 
-def _rotations_where(I, D, K, C, key: str, value: float, rtol: float) -> list[dict]:
+def _rotations_where(
+    I, D, K, C, key: str, value: float, rtol: float | None = None
+) -> list[dict]:
     """The steady rotations where the integral ``key`` (``"n"`` or ``"h"``) equals ``value``:
-    sign changes along every family, refined by Brent's method."""
+    sign changes along every family, refined by Brent's method; with ``rtol`` also their
+    Floquet multipliers."""
     from scipy.optimize import brentq
 
     J = np.asarray(I, float) + float(D)
@@ -549,18 +535,16 @@ def _rotations_where(I, D, K, C, key: str, value: float, rtol: float) -> list[di
         for k in np.flatnonzero(ok):
             root = brentq(lambda v: excess(v)[0][0], x[k], x[k + 1], xtol=1e-15, rtol=1e-15)
             _, vals, states, omega, lam = excess(root)
-            r = steady_rotation_stability(I, D, K, states[:, 0], rtol)
-            out.append(
-                {
-                    "h": float(vals["h"][0]),
-                    "n": float(vals["n"][0]),
-                    "state": states[:, 0],
-                    "lam": float(lam[0]),
-                    "omega": omega[:, 0],
-                    "period": r.period,
-                    "stable": bool(r.stable),
-                    "max_abs": float(r.max_abs),
-                    "axis": int(np.argmin(np.abs(J - float(lam[0])))),
-                }
-            )
+            rotation = {
+                "h": float(vals["h"][0]),
+                "n": float(vals["n"][0]),
+                "state": states[:, 0],
+                "lam": float(lam[0]),
+                "omega": omega[:, 0],
+                "axis": int(np.argmin(np.abs(J - float(lam[0])))),
+            }
+            if rtol is not None:
+                r = steady_rotation_stability(I, D, K, states[:, 0], rtol)
+                rotation |= {"period": r.period, "stable": bool(r.stable), "max_abs": r.max_abs}
+            out.append(rotation)
     return out
