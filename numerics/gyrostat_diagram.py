@@ -18,8 +18,11 @@ Its diagram at fixed ``C`` is drawn from
 * **the region of motion**: ``(n, h)`` of seeded random states on the level ``C``.
 
 Energies and integrals are evaluated with the generated code of ``chaplygin_ball__gyrostat``
-(its ``integrals``), so the curves use the model's own energy. The stability of the families
-is not computed here.
+(its ``integrals``), so the curves use the model's own energy. The stability of each steady
+rotation is that of the ball's diagrams: the Floquet multipliers of the periodic solution
+(:func:`chaplygin.numerics.stability.floquet` on the gyrostat's generated code, period
+``2 pi/|omega|``), stable where both nontrivial multipliers lie on the unit circle
+(:func:`steady_rotation_stability`, :func:`branch_stability`).
 
 References
 ----------
@@ -30,11 +33,15 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..arith import detlinalg, detmath
 from .code import load_model_code
+
+if TYPE_CHECKING:
+    from .stability import FloquetResult
 
 __all__ = [
     "steady_rotation_states",
@@ -43,6 +50,10 @@ __all__ = [
     "parallel_segment",
     "level_samples",
     "level_integrals",
+    "steady_rotation_stability",
+    "branch_stability",
+    "steady_rotations_on_level",
+    "steady_rotations_at_energy",
 ]
 
 
@@ -273,24 +284,7 @@ def steady_rotation_energies(
     ndarray
         The energies, sorted.
     """
-    from scipy.optimize import brentq
-
-    out = []
-    families = _families(I, D, K, 4000)
-    for family, x in families:
-
-        def excess(values, family=family):
-            omega, lam = family(np.atleast_1d(values))
-            states, exists = steady_rotation_states(I, D, K, C, omega, lam)
-            vals = level_integrals(np.nan_to_num(states), I, D, K)
-            return np.where(exists, vals["n"] - n, np.nan), vals["h"]
-
-        f, _ = excess(x)
-        ok = np.isfinite(f[:-1]) & np.isfinite(f[1:]) & (np.sign(f[:-1]) != np.sign(f[1:]))
-        for k in np.flatnonzero(ok):
-            root = brentq(lambda v: excess(v)[0][0], x[k], x[k + 1], xtol=1e-15, rtol=1e-15)
-            out.append(excess(root)[1][0])
-    return np.sort(np.asarray(out, float))
+    return np.sort(np.asarray([r["h"] for r in _rotations_where(I, D, K, C, "n", n)], float))
 
 
 def _sphere(count: int) -> np.ndarray:
@@ -363,3 +357,195 @@ def level_samples(
     states = np.vstack([M, gamma])
     vals = level_integrals(states, I, D, K)
     return {"n": vals["n"], "h": vals["h"], "states": states}
+
+
+def steady_rotation_stability(
+    I: Sequence[float],
+    D: float,
+    K: Sequence[float],
+    state: np.ndarray,
+    rtol: float = 1e-12,
+) -> FloquetResult:
+    """Floquet multipliers of the steady rotation through ``state`` (``M, gamma``).
+
+    ``omega`` is constant, so ``gamma`` turns about it with period ``T = 2 pi/|omega|``
+    and so does ``M = J omega - D (omega, gamma) gamma``: the state is periodic with period
+    ``T``, and its monodromy matrix (variational equations of the generated Jacobian,
+    DOP853) gives the multipliers (:func:`chaplygin.numerics.stability.floquet`).
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+    D : float
+    K : sequence of 3 floats
+    state : ndarray, shape (6,)
+        ``M, gamma`` of a steady rotation (:func:`steady_rotation_branches`).
+    rtol : float
+        Tolerance of the monodromy; ``sqrt(rtol)`` is the stability tolerance.
+
+    Returns
+    -------
+    FloquetResult
+
+    References
+    ----------
+    K01-4.1, BKM12-1.5stab (FORMULAS.md).
+    """
+    from .stability import floquet
+
+    y0 = np.asarray(state, float)
+    A = 1 / (np.asarray(I, float) + float(D))
+    M, g = y0[:3], y0[3:]
+    s = (A * g) @ M / (1 / float(D) - (A * g) @ g)
+    omega = A * (M + s * g)
+    T = 2 * np.pi / float(np.linalg.norm(omega))
+    return floquet(
+        None, None, y0, T, rtol=rtol, system="chaplygin_ball", params=_params(I, D, K),
+        effects=("gyrostat",),
+    )  # fmt: skip
+
+
+def branch_stability(
+    I: Sequence[float],
+    D: float,
+    K: Sequence[float],
+    C: float,
+    branch: dict[str, np.ndarray],
+    points: int = 9,
+    rtol: float = 1e-12,
+) -> list[tuple[int, int, bool, float]]:
+    """Stability along one branch of :func:`steady_rotation_branches`, piece by piece.
+
+    The multipliers are computed at ``points`` samples spread over the branch (its ends
+    excepted: there ``gamma || omega`` and the orbit is a fixed point of the reduced
+    flow); where two neighbours differ, the change is located by bisection in the
+    branch's samples.
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+    D : float
+    K : sequence of 3 floats
+    C : float
+    branch : dict
+        One entry of :func:`steady_rotation_branches`.
+    points : int
+        Samples of the multipliers before bisection.
+    rtol : float
+
+    Returns
+    -------
+    list of (start, stop, stable, max_abs)
+        Index ranges ``[start, stop)`` of the branch's samples with one stability, and the
+        largest ``max |multiplier|`` met in each.
+    """
+    states = branch["states"]
+    N = states.shape[1]
+    cache: dict[int, tuple[bool, float]] = {}
+
+    def at(k: int) -> tuple[bool, float]:
+        if k not in cache:
+            r = steady_rotation_stability(I, D, K, states[:, k], rtol)
+            cache[k] = (bool(r.stable), float(r.max_abs))
+        return cache[k]
+
+    lo, hi = (1, N - 2) if N > 4 else (0, N - 1)
+    ks = sorted({int(round(v)) for v in np.linspace(lo, hi, max(points, 2))})
+    changes = []
+    for a, b in zip(ks[:-1], ks[1:], strict=True):
+        if at(a)[0] != at(b)[0]:
+            while b - a > 1:
+                m = (a + b) // 2
+                a, b = (m, b) if at(m)[0] == at(a)[0] else (a, m)
+            changes.append(b)
+    bounds = [0, *changes, N]
+    pieces = []
+    for start, stop in zip(bounds[:-1], bounds[1:], strict=True):
+        inside = [k for k in cache if start <= k < stop]
+        stable = at(inside[0] if inside else min(max(start, lo), hi))[0]
+        worst = max(cache[k][1] for k in inside) if inside else float("nan")
+        pieces.append((start, stop, stable, worst))
+    return pieces
+
+
+def steady_rotations_on_level(
+    I: Sequence[float], D: float, K: Sequence[float], C: float, n: float, rtol: float = 1e-12
+) -> list[dict[str, object]]:
+    """Every steady rotation on the level ``(C, n)``, with its energy and stability.
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+    D : float
+    K : sequence of 3 floats
+    C, n : float
+    rtol : float
+        Tolerance of the Floquet multipliers.
+
+    Returns
+    -------
+    list of dict
+        ``h``, ``n``, ``state`` (``M, gamma``), ``lam`` (``J omega + K = lam omega``),
+        ``omega``, ``period``, ``stable``, ``max_abs``, ``axis`` (the ``J_i`` nearest ``lam``),
+        sorted by ``h``.
+    """
+    return sorted(_rotations_where(I, D, K, C, "n", n, rtol), key=lambda e: e["h"])
+
+
+def steady_rotations_at_energy(
+    I: Sequence[float], D: float, K: Sequence[float], C: float, h: float, rtol: float = 1e-12
+) -> list[dict[str, object]]:
+    """Every steady rotation with energy ``h`` at ``C``, with its ``n`` and stability.
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+    D : float
+    K : sequence of 3 floats
+    C, h : float
+    rtol : float
+
+    Returns
+    -------
+    list of dict
+        As :func:`steady_rotations_on_level`, sorted by ``n``.
+    """
+    return sorted(_rotations_where(I, D, K, C, "h", h, rtol), key=lambda e: e["n"])
+
+
+def _rotations_where(
+    I, D, K, C, key: str, value: float, rtol: float | None = None
+) -> list[dict]:
+    """The steady rotations where the integral ``key`` (``"n"`` or ``"h"``) equals ``value``:
+    sign changes along every family, refined by Brent's method; with ``rtol`` also their
+    Floquet multipliers."""
+    from scipy.optimize import brentq
+
+    J = np.asarray(I, float) + float(D)
+    out = []
+    for family, x in _families(I, D, K, 4000):
+
+        def excess(values, family=family):
+            omega, lam = family(np.atleast_1d(values))
+            states, exists = steady_rotation_states(I, D, K, C, omega, lam)
+            vals = level_integrals(np.nan_to_num(states), I, D, K)
+            return np.where(exists, vals[key] - value, np.nan), vals, states, omega, lam
+
+        f = excess(x)[0]
+        ok = np.isfinite(f[:-1]) & np.isfinite(f[1:]) & (np.sign(f[:-1]) != np.sign(f[1:]))
+        for k in np.flatnonzero(ok):
+            root = brentq(lambda v: excess(v)[0][0], x[k], x[k + 1], xtol=1e-15, rtol=1e-15)
+            _, vals, states, omega, lam = excess(root)
+            rotation = {
+                "h": float(vals["h"][0]),
+                "n": float(vals["n"][0]),
+                "state": states[:, 0],
+                "lam": float(lam[0]),
+                "omega": omega[:, 0],
+                "axis": int(np.argmin(np.abs(J - float(lam[0])))),
+            }
+            if rtol is not None:
+                r = steady_rotation_stability(I, D, K, states[:, 0], rtol)
+                rotation |= {"period": r.period, "stable": bool(r.stable), "max_abs": r.max_abs}
+            out.append(rotation)
+    return out

@@ -354,11 +354,13 @@ def floquet(
     *,
     system: str = SYSTEM,
     params: Sequence[float] | None = None,
+    effects: Sequence[str] = (),
 ) -> FloquetResult:
     """Floquet multipliers of the periodic solution through ``y0`` with period ``T``.
 
-    ``system`` and ``params`` (the generated code's parameter vector) select another
-    model (the spherical support); ``I, D`` are then ignored.
+    ``system``, ``effects`` and ``params`` (the generated code's parameter vector) select
+    another model (the spherical support, the ball with a gyrostat); ``I, D`` are then
+    ignored.
 
     Parameters
     ----------
@@ -376,6 +378,8 @@ def floquet(
         Model name.
     params : sequence of floats, optional
         The generated code's parameter vector (replaces ``I, D``).
+    effects : sequence of str
+        Effects of the model (``("gyrostat",)``).
 
     Returns
     -------
@@ -393,7 +397,7 @@ def floquet(
     BKM12-1.5stab, BKM12-1.5stab8.
     """
     p = _params(I, D) if params is None else [float(v) for v in params]
-    code = load_model_code(system)
+    code = load_model_code(system, tuple(effects))
     y0 = np.asarray(y0, dtype=float)
     Phi, yT = monodromy(code, y0, T, p, rtol)
     dF = integral_gradients(code, y0, p)

@@ -602,3 +602,39 @@ def test_bifurcation_figure(case):
 )
 def test_work_precision_figure(study):
     assert_refused(lambda: plots.work_precision_figure(study), ("study",))
+
+
+@SETTINGS
+@given(
+    spoil(
+        {**SEP, "h": 0.15, "C": 1, "rtol": 1e-8},
+        {
+            "I": pool(BAD_MIDDLE),
+            "D": pool(BAD_POSITIVE + ["1"], floats=NEG_FLOATS),
+            "h": pool(BAD_POSITIVE + [1e6, 1e-6, "0.15"], floats=NEG_FLOATS),
+            "C": pool(BAD_REAL + [0, 1e-320]),
+            "rtol": pool(BAD_POSITIVE, floats=NEG_FLOATS),
+        },
+    )
+)
+def test_trace_period(case):
+    from chaplygin.numerics import trace_geometry
+
+    check(trace_geometry.trace_period, case)
+
+
+@SETTINGS
+@given(
+    spoil(
+        {**SEP, "h": None, "C": 1, "K": (0.1, 0.1, 0.2), "gamma0": (0.3, -0.5, 0.81)},
+        {
+            "K": pool([v for v in BAD_VECTOR if v is not None]),
+            "gamma0": pool(BAD_VECTOR + [[0, 0, 0]]),
+            "C": pool(BAD_REAL + [0]),
+        },
+    )
+)
+def test_trace_period_with_gyrostat(case):
+    from chaplygin.numerics import trace_geometry
+
+    check(trace_geometry.trace_period, case)

@@ -385,3 +385,106 @@ def test_explain_names_the_taylor_code_that_runs(precision, named):
     scene = Scene.from_toml(FIG6F, [f"run.precision={precision}", "run.method=taylor"])
     text = scene.explain()
     assert named in text, text
+
+
+# ------------------------------------------------------------- titles after --set (issue 22)
+def test_title_placeholders_show_the_values_that_run():
+    scene = Scene.from_toml(SCENES / "k01-fig7a.toml", ["initial.h=0.1"])
+    assert scene.title == "K01 Fig. 7(a): gyrostat, M + K || gamma, h = 0.1"
+    assert "0.1366" not in scene.title
+    scene = Scene.from_toml(SCENES / "k01-fig3b.toml", ["parameters.I=[1, 2, 3]"])
+    assert "(I = (1, 2, 3), C = 1)" in scene.title and "h = 0.6" in scene.title
+    # the raw title stays in the summary's copy of the scene
+    assert scene._given["title"].endswith("(I = {parameters.I}, C = {initial.C})")
+
+
+def test_a_title_without_the_placeholder_says_what_set_changed(tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text(ISSUE_EXAMPLE)
+    plain = Scene.from_toml(path)
+    assert plain.title == "K01 Fig. 6(f): critical energy on M || gamma, the trace drifts away"
+    changed = Scene.from_toml(path, ["initial.h=0.1", "run.t_end=100"])
+    assert changed.title.startswith(plain.title)
+    assert "--set initial.h = 0.1, run.t_end = 100" in changed.title
+    assert "the scene file's" in changed.title
+    # --set title=... replaces the title: nothing to mark
+    assert Scene.from_toml(path, ["title=mine h = {initial.h}"]).title == "mine h = 0.1803189"
+
+
+def test_title_braces_and_unknown_placeholders(tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text(ISSUE_EXAMPLE.replace('the trace drifts away"', '{{set}} at {run.t_end}"'))
+    assert Scene.from_toml(path).title.endswith("{set} at 3000")
+    path.write_text(ISSUE_EXAMPLE.replace('the trace drifts away"', 'h = {initial.hh}"'))
+    with pytest.raises(SceneError, match=r"\{initial.hh\} in the title names no key") as err:
+        Scene.from_toml(path)
+    assert err.value.line == 1
+
+
+def test_plots_carry_the_shown_title(tmp_path, capsys):
+    out = tmp_path / "o"
+    argv = ["run", str(SCENES / "k01-fig6a.toml"), "--out", str(out), "--quiet"]
+    argv += ["--set", "run.t_end=2", "--set", "initial.h=0.45"]
+    assert main(argv) == 0, capsys.readouterr().err
+    summary = json.loads((out / "summary.json").read_text())
+    assert (
+        summary["title"] == "K01 Fig. 6(a): M || gamma, h = 0.45 (I = (1, 3, 5), C = 1) [run "
+        "with --set run.t_end = 2; the title's own values are the scene file's]"
+    )
+    svg = (out / "contact_trace.svg").read_text()
+    assert "h = 0.45" in svg and "0.4993" not in svg
+
+
+# ------------------------------------------------------------------- contact-trace aspect
+def test_contact_trace_aspect_auto_shows_the_oscillation():
+    from chaplygin.derive.errors import UserInputError
+    from chaplygin.verify.plots import contact_trace_figure
+
+    x = np.linspace(0, 100, 500)
+    y = 0.3 * np.sin(x)
+    equal = contact_trace_figure(x, y, "t").axes[0]
+    auto = contact_trace_figure(x, y, "t", "auto").axes[0]
+    assert equal.get_aspect() == 1.0 and auto.get_aspect() == "auto"
+    # the oscillation spans the auto axes, and the axes say the scales differ
+    lo, hi = auto.get_ylim()
+    assert hi - lo < 1.0 and "different scales" in auto.get_xlabel()
+    with pytest.raises(UserInputError):
+        contact_trace_figure(x, y, "t", "square")
+    with pytest.raises(SceneError, match="aspect"):
+        Scene.from_toml(SCENES / "k01-fig3a.toml", ['outputs.contact_trace={aspect="square"}'])
+    for c in "abcd":
+        assert Scene.from_toml(SCENES / f"k01-fig3{c}.toml").outputs.contact_trace.aspect == "auto"
+
+
+# --------------------------------------------------------- integrals with a given gamma
+def test_integrals_with_a_given_gamma_resolve_at_that_gamma():
+    g = [0.3, -0.5, 0.81]
+    data = {
+        "system": "chaplygin_ball",
+        "effects": ["gyrostat"],
+        "parameters": {"I": [1, 3, 5], "D": 1, "K": [0.1, 0.1, 0.2]},
+        "initial": {"C": 1, "n": 2.3, "h": "0.41", "gamma": g},
+        "run": {"t_end": 1},
+    }
+    resolved = Scene.from_dict(data).resolve()
+    y = np.array([float(v) for v in resolved.y0])
+    assert np.allclose(y[3:6], np.array(g) / np.linalg.norm(g), rtol=0, atol=1e-15)
+    assert max(abs(float(v)) for v in resolved.residuals.values()) < 1e-14
+
+
+def test_fig7f_scene_starts_at_the_elliptic_rotations_gamma():
+    from chaplygin.verify.claims.k01_trace import fig7f_rotation
+
+    scene = Scene.from_toml(SCENES / "k01-fig7f.toml")
+    given = np.array([float(v) for v in scene.initial.gamma])
+    rotation = fig7f_rotation()
+    assert np.allclose(given, rotation["state"][3:], rtol=0, atol=1e-15)
+    assert rotation["floquet"].stable
+    assert float(scene.initial.n) < rotation["n"] < float(scene.initial.n) + 0.01
+
+
+def test_bifurcation_k01_2_is_titled_fig_2a():
+    from chaplygin.verify.plots import FIGURES
+
+    assert FIGURES["k01-2"][2] == "K01 Fig. 2(a)"
+    assert not any("2b" in title for _, _, title in FIGURES.values())

@@ -198,3 +198,72 @@ def test_curves_end_on_the_segment_where_gamma_is_parallel_to_omega(p):
             else:
                 assert end > n_max - step, (b["axis"], end)
     assert on_segment >= 2
+
+
+def test_steady_rotation_stability_without_k_is_the_balls():
+    """K = 0: the multipliers of a branch state (J omega = lam omega, numerics) are those of
+    the ball's derived steady rotation on the same level (numerics.stability, derive)."""
+    from chaplygin.numerics.gyrostat_diagram import steady_rotation_stability
+    from chaplygin.numerics.stability import steady_rotation_floquet
+
+    p = GENERIC
+    K0 = (0.0, 0.0, 0.0)
+    checked = set()
+    for b in steady_rotation_branches(p["I"], p["D"], K0, p["C"], 3.0):
+        k = len(b["n"]) // 2
+        state = b["states"][:, k]
+        M, g = state[:3], state[3:]
+        r = steady_rotation_stability(p["I"], p["D"], K0, state)
+        ball = steady_rotation_floquet(tuple(p["I"]), p["D"], float(M @ M), float(M @ g))
+        axis = int(np.argmax(np.abs(M)))
+        assert r.stable == ball[axis].stable
+        assert r.max_abs == pytest.approx(ball[axis].max_abs, rel=1e-6)
+        checked.add((axis, r.stable))
+    # the middle axis (I2) is the unstable one, the others stable
+    assert {(0, True), (1, False), (2, True)} <= checked
+
+
+def test_a_hyperbolic_rotation_separates_neighbours_by_its_multiplier():
+    """K01 Fig. 7 at n = 2: the rotation at h = 0.260845 has max|mu| = 38.2; a neighbouring
+    state separates from it by that factor per period (the variational equations are not
+    used: two integrations of the full equations)."""
+    from chaplygin.numerics.gyrostat_diagram import steady_rotations_on_level
+
+    p = FIG7
+    level = steady_rotations_on_level(p["I"], p["D"], p["K"], p["C"], 2.0)
+    unstable = [r for r in level if not r["stable"]]
+    assert [round(r["h"], 6) for r in unstable] == [0.260845, 0.341014]
+    rot = unstable[0]
+    T = rot["period"]
+    y0 = np.asarray(rot["state"], float)
+    dy = 1e-10 * np.array([0.3, -0.7, 0.2, 0.5, 0.1, -0.4])
+    runs = [
+        integrate("chaplygin_ball", y, 4 * T, {"I": p["I"], "D": p["D"], "K": p["K"]},
+                  effects=("gyrostat",), rtol=1e-13, atol=1e-15, t_eval=[3 * T, 4 * T]).y
+        for y in (y0, y0 + dy)
+    ]  # fmt: skip
+    gap = np.linalg.norm(runs[1] - runs[0], axis=0)
+    assert gap[1] / gap[0] == pytest.approx(rot["max_abs"], rel=0.05)
+    # the elliptic ones do not separate so
+    stable = next(r for r in level if r["stable"])
+    ys = [
+        integrate("chaplygin_ball", y, 4 * stable["period"], {"I": p["I"], "D": p["D"],
+                  "K": p["K"]}, effects=("gyrostat",), rtol=1e-13, atol=1e-15).y[:, -1]
+        for y in (stable["state"], np.asarray(stable["state"]) + dy)
+    ]  # fmt: skip
+    assert np.linalg.norm(ys[1] - ys[0]) < 100 * np.linalg.norm(dy)
+
+
+def test_gyrostat_diagram_draws_stability():
+    from chaplygin.verify.scene_diagram import gyrostat_diagram_figure
+
+    p = FIG7
+    fig = gyrostat_diagram_figure(p["I"], p["D"], p["K"], p["C"], 2.7, 0.3, "t", samples=50)
+    ax = fig.axes[0]
+    styles = {
+        (line.get_color(), line.get_linestyle()) for line in ax.lines if len(line.get_xdata()) > 2
+    }
+    # the branches with lam near J2 (red) are dashed (hyperbolic), the others solid
+    assert ("tab:red", "--") in styles and ("tab:red", "-") not in styles
+    assert ("tab:green", "-") in styles and ("tab:blue", "-") in styles
+    assert "stability by Floquet multipliers" in ax.get_title()

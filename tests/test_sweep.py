@@ -552,3 +552,18 @@ def test_list_grid_pairs_the_values(tmp_path):
     assert [float(p["initial.h"]) for p in points] == pytest.approx(
         [0.27, 0.27 + 0.2 / 3, 0.27 + 0.4 / 3, 0.47]
     )
+
+
+def test_frame_turn_reducer_refuses_the_gyrostat():
+    """The plain ball's frame turn would silently ignore K: the reducer refuses the gyrostat."""
+    from types import SimpleNamespace
+
+    from chaplygin.verify.sweep import REDUCERS
+
+    ctx = SimpleNamespace(
+        resolved=SimpleNamespace(effects={"gyrostat": "named", "contact_point": "named"}),
+        scene=None,
+        sweep=None,
+    )
+    with pytest.raises(UserInputError, match="with the gyrostat"):
+        REDUCERS["frame_turn"].run(ctx)

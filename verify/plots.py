@@ -52,7 +52,7 @@ MAX_MU = 100.0
 
 FIGURES = {
     "k01-1": ("chaplygin_ball", {"I": (1, 1.5, 3), "D": 1, "C": 0}, "K01 Fig. 1"),
-    "k01-2": ("chaplygin_ball", {"I": (1, 1.5, 3), "D": 1, "C": 1}, "K01 Fig. 2b"),
+    "k01-2": ("chaplygin_ball", {"I": (1, 1.5, 3), "D": 1, "C": 1}, "K01 Fig. 2(a)"),
     "k01-3": ("chaplygin_ball", {"I": (1, 1.5, 3), "D": 1, "C": 1}, "K01 Fig. 3"),
     "bkm12-2": ("chaplygin_ball", {"I": (1, 1.5, 3), "D": 1}, "BKM12 Fig. 2"),
     "bkm12-3": ("chaplygin_ball", {"I": (1, 1.5, 3), "D": 1}, "BKM12 Fig. 3"),
@@ -583,7 +583,9 @@ def work_precision_figure(study: Mapping) -> Figure:
 
 
 # ---------------------------------------------------------------------------------- scenes
-def contact_trace_figure(x: np.ndarray, y: np.ndarray, title: str = "") -> Figure:
+def contact_trace_figure(
+    x: np.ndarray, y: np.ndarray, title: str = "", aspect: str = "equal"
+) -> Figure:
     """The contact point's trace ``(x, y)`` in the plane (K01 Figs. 3, 4, 6, 7).
 
     Parameters
@@ -591,18 +593,28 @@ def contact_trace_figure(x: np.ndarray, y: np.ndarray, title: str = "") -> Figur
     x, y : ndarray
         Coordinates along the space-fixed ``alpha``, ``beta``.
     title : str
+    aspect : {"equal", "auto"}
+        ``equal``: one scale for both axes (the trace's true shape); ``auto``: each axis
+        spans the picture, so that a small oscillation about a long drift (K01 Fig. 3) is
+        seen; the axis labels then say that the scales differ.
 
     Returns
     -------
     matplotlib.figure.Figure
     """
-    fig = _new_figure(figsize=(6, 6))
+    if aspect not in ("equal", "auto"):
+        raise UserInputError(f"aspect = {aspect!r}: 'equal' or 'auto'")
+    fig = _new_figure(figsize=(6, 6) if aspect == "equal" else (9, 4.5))
     ax = fig.subplots()
     ax.plot(x, y, lw=0.6)
     ax.plot([x[0]], [y[0]], "o", color="tab:green", ms=4, label="start")
     ax.plot([x[-1]], [y[-1]], "s", color="tab:red", ms=4, label="end")
-    ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel("x (along alpha)")
+    scales = ""
+    if aspect == "equal":
+        ax.set_aspect("equal", adjustable="datalim")
+    else:
+        scales = " (x and y to different scales)"
+    ax.set_xlabel("x (along alpha)" + scales)
     ax.set_ylabel("y (along beta)")
     ax.set_title(title, fontsize=9)
     ax.legend(fontsize=7)

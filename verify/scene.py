@@ -71,6 +71,7 @@ __all__ = [
     "OUTPUT_EFFECTS",
     "scene_json_schema",
     "apply_overrides",
+    "render_title",
     "load_scene",
     "explain_text",
     "run_resolved",
@@ -142,6 +143,16 @@ class PlotOutput(_Table):
     plot: StrictBool = Field(True, description="write the picture as PNG and SVG")
 
 
+class TraceOutput(PlotOutput):
+    """The contact-point trace in the plane (``contact_trace``)."""
+
+    aspect: Literal["equal", "auto"] = Field(
+        "equal",
+        description="equal: x and y to one scale (true shapes); auto: each axis spans the "
+        "picture (a small oscillation about a long drift shows; the axes say so)",
+    )
+
+
 class SeriesOutput(_Table):
     """Time series of chosen quantities (state components, omega1.., integrals, I1(t)..)."""
 
@@ -161,7 +172,7 @@ class Outputs(_Table):
     """What a run writes besides ``summary.json``."""
 
     trajectory: TrajectoryOutput = TrajectoryOutput()
-    contact_trace: PlotOutput | None = Field(
+    contact_trace: TraceOutput | None = Field(
         None, description="the contact point (x, y) in the plane (needs contact_point)"
     )
     body_trace: PlotOutput | None = Field(
@@ -261,7 +272,11 @@ class Scene(BaseModel):
         extra="forbid", frozen=True, json_schema_extra={"title": "chaplygin scene"}
     )
 
-    title: StrictStr = ""
+    title: StrictStr = Field(
+        "",
+        description="shown on the plots and in the summary; {initial.h} (any dotted key) shows "
+        "that key's value as run, {{ }} are braces",
+    )
     system: Literal[tuple(sorted(SYSTEMS))]  # type: ignore[valid-type]
     effects: list[StrictStr] = Field(
         default_factory=list,
@@ -338,6 +353,14 @@ class Scene(BaseModel):
             ) from None
         text = _mask_overridden(text, overrides)
         scene = cls.from_dict(apply_overrides(data, overrides, name), source=name, text=text)
+        stale = _stale_overrides(data.get("title", ""), overrides, scene._given)
+        if stale:
+            # the title names the file's values and --set changed some it does not refer to
+            # by a placeholder: it says so, with the values that ran
+            scene = scene.model_copy(
+                update={"title": f"{scene.title} [run with --set {stale}; the title's own "
+                        "values are the scene file's]"}
+            )  # fmt: skip
         scene._text = text
         return scene
 
@@ -371,8 +394,15 @@ class Scene(BaseModel):
             raise SceneError(
                 exc.message, source, _dotted(exc.loc), _line_of(text, exc.loc)
             ) from None
+        given = json.loads(json.dumps(dict(data), default=str))
+        try:
+            shown = render_title(scene.title, given)
+        except UserInputError as exc:
+            raise SceneError(str(exc), source, "title", _line_of(text, ("title",))) from None
+        if shown != scene.title:
+            scene = scene.model_copy(update={"title": shown})
         scene._source = source
-        scene._given = json.loads(json.dumps(dict(data), default=str))
+        scene._given = given
         return scene
 
     @property
@@ -574,6 +604,78 @@ def _scene_error(
 def _short(value: object) -> str:
     text = repr(value)
     return text if len(text) <= 40 else text[:37] + "..."
+
+
+#: ``{initial.h}`` in a title: the value of that key (``{{`` and ``}}`` are literal braces).
+_PLACEHOLDER = re.compile(r"\{\{|\}\}|\{([A-Za-z0-9_\-]+(?:\.[A-Za-z0-9_\-]+)*)\}")
+
+
+def _title_value(value: object) -> str:
+    """A scene value as a title shows it: text as written, lists as ``(a, b, c)``."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, list | tuple):
+        return "(" + ", ".join(_title_value(v) for v in value) + ")"
+    return str(value)
+
+
+def _placeholders(title: str) -> list[str]:
+    return [m.group(1) for m in _PLACEHOLDER.finditer(title) if m.group(1)]
+
+
+def render_title(title: str, given: Mapping) -> str:
+    """The title with each ``{dotted.key}`` replaced by that key's value in the scene.
+
+    A title written with placeholders (``"K01 Fig. 7(a): h = {initial.h}"``) shows the values
+    that run, also after ``--set``; ``{{`` and ``}}`` are literal braces.
+
+    Parameters
+    ----------
+    title : str
+    given : mapping
+        The scene as given (``--set`` applied).
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    UserInputError
+        A placeholder that names no key of the scene.
+    """
+
+    def value(match: re.Match) -> str:
+        if match.group(0) in ("{{", "}}"):
+            return match.group(0)[0]
+        node: object = given
+        for part in match.group(1).split("."):
+            if not isinstance(node, Mapping) or part not in node:
+                raise UserInputError(
+                    f"{{{match.group(1)}}} in the title names no key of the scene "
+                    "(write a dotted key such as {initial.h}, or {{ }} for braces)"
+                )
+            node = node[part]
+        return _title_value(node)
+
+    return _PLACEHOLDER.sub(value, title)
+
+
+def _stale_overrides(title: object, overrides: Sequence[str], given: Mapping) -> str:
+    """``--set`` items (as run) whose keys the title does not show by a placeholder."""
+    shown = _placeholders(title) if isinstance(title, str) else []
+    out = []
+    for item in overrides:
+        key = item.partition("=")[0].strip()
+        if key == "title" or any(
+            key == k or key.startswith(k + ".") or k.startswith(key + ".") for k in shown
+        ):
+            continue
+        node: object = given
+        for part in key.split("."):
+            node = node.get(part) if isinstance(node, Mapping) else None
+        out.append(f"{key} = {_title_value(node)}")
+    return ", ".join(out)
 
 
 def _mask_overridden(text: str, overrides: Sequence[str]) -> str:
@@ -860,8 +962,12 @@ def _resolve(scene: Scene) -> Resolved:
         if "gamma" in given:
             request["gamma"] = given["gamma"]
         try:
-            num = {k: (v if isinstance(v, bool) else _num(v, dps)) for k, v in request.items()}
-            if "gamma" in num:
+            num = {
+                k: (v if isinstance(v, bool) else _num(v, dps))
+                for k, v in request.items()
+                if k != "gamma"
+            }
+            if "gamma" in request:
                 num["gamma"] = [_num(v, dps) for v in request["gamma"]]
             resolved = state_from_integrals(
                 code, {k: mpmath.mpf(v) for k, v in params.items()}, num, dps
@@ -1472,7 +1578,9 @@ class SceneResult:
         from .plots import contact_trace_figure
 
         y = self.y
-        return contact_trace_figure(y["x"], y["y"], self._title())
+        spec = self.scene.outputs.contact_trace
+        aspect = spec.aspect if spec is not None else "equal"
+        return contact_trace_figure(y["x"], y["y"], self._title(), aspect)
 
     def body_trace_figure(self) -> Figure:
         """The contact point ``-b gamma`` on the ball's surface, in the body frame.

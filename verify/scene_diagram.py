@@ -4,8 +4,9 @@
   ``C = (M, gamma)`` (:func:`chaplygin.verify.plots.scene_diagram_figure`, K01 Figs. 2, 3);
 * ``chaplygin_ball`` with ``gyrostat`` (and optionally ``contact_point``): the (n, h) diagram at
   ``C = (M + K, gamma)`` of :mod:`chaplygin.numerics.gyrostat_diagram` (the steady rotations
-  ``J omega + K = lam omega``, the segment ``M + K || gamma`` and the region of motion; the
-  setting of K01 Fig. 7);
+  ``J omega + K = lam omega``, solid where their Floquet multipliers lie on the unit circle and
+  dashed elsewhere, the segment ``M + K || gamma`` and the region of motion; the setting of
+  K01 Fig. 7);
 * ``spherical_support``: BKM12 Fig. 5's surfaces ``E'_i = E/C`` over the sphere of
   ``g = ((M, alpha), (M, beta), (M, gamma))/sqrt(C)``, ``C = (M, M)``
   (:func:`chaplygin.verify.plots.bifurcation_figure`), with the scene's ``g`` marked.
@@ -149,11 +150,12 @@ def gyrostat_diagram_figure(
     from matplotlib.figure import Figure
 
     from ..numerics.gyrostat_diagram import (
+        branch_stability,
         level_samples,
         parallel_segment,
         steady_rotation_branches,
     )
-    from .plots import COLORS
+    from .plots import COLORS, _stability_legend, _style
 
     I = tuple(float(v) for v in I)
     K = tuple(float(v) for v in K)
@@ -163,14 +165,21 @@ def gyrostat_diagram_figure(
     ax = fig.subplots()
     cloud = level_samples(I, D, K, C, n_max, samples)
     ax.plot(cloud["n"], cloud["h"], ".", color="0.6", ms=2, label="random states on the level C")
-    labelled = set()
+    worst: dict[int, float] = {}
     for branch in steady_rotation_branches(I, D, K, C, n_max, samples=20000):
         axis = branch["axis"]
-        label = None
-        if axis not in labelled:
-            label = f"steady rotations, lam near J{axis + 1}"
-            labelled.add(axis)
-        ax.plot(branch["n"], branch["h"], "-", color=COLORS[axis], lw=1.4, label=label)
+        for start, stop, stable, max_abs in branch_stability(I, D, K, C, branch):
+            stop = min(stop + 1, len(branch["n"]))  # pieces meet at their common sample
+            ax.plot(
+                branch["n"][start:stop], branch["h"][start:stop], _style(stable),
+                color=COLORS[axis], lw=1.4,
+            )  # fmt: skip
+            worst[axis] = max(worst.get(axis, 0.0), max_abs)
+    for axis in sorted(worst):
+        ax.plot(
+            [], [], "-", color=COLORS[axis], lw=1.4,
+            label=f"steady rotations, lam near J{axis + 1} (max|mu| = {worst[axis]:.3g})",
+        )  # fmt: skip
     lo, hi = parallel_segment(I, D, K, C)
     ax.plot([C**2, C**2], [lo, hi], "-", color=COLORS[3], lw=2.5, label="n = C^2 (M + K || gamma)")
     ax.plot([n], [h], "*", color="k", ms=12, label=f"scene: n = {n:.6g}, h = {h:.6g}")
@@ -178,10 +187,11 @@ def gyrostat_diagram_figure(
     ax.set_xlabel("n = (M + K, M + K)")
     ax.set_ylabel("h = (M, omega)/2")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, loc="best")
+    handles, _ = ax.get_legend_handles_labels()
+    ax.legend(handles=handles + _stability_legend()[:2], fontsize=7, loc="best")
     ax.set_title(
         f"{title}\nball with gyrostat: I = {I}, D = {D:g}, K = {K}, C = (M + K, gamma) = {C:.6g}"
-        "\n(steady rotations J omega + K = lam omega; their stability is not computed)",
+        "\n(steady rotations J omega + K = lam omega; stability by Floquet multipliers)",
         fontsize=8,
     )
     fig.tight_layout()

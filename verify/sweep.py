@@ -655,6 +655,12 @@ register_reducer(
 def _frame_turn(ctx: PointContext) -> dict:
     from ..numerics.separatrix import frame_turn
 
+    if "gyrostat" in ctx.resolved.effects:
+        raise UserInputError(
+            "reduce = frame_turn is the plain ball's on M || gamma; with the gyrostat the orbits "
+            "of an energy are several: chaplygin.numerics.trace_geometry (trace_period along a "
+            "gradient_line, examples/k01_turning.py) follows each family"
+        )
     I, D, _ = _inertia(ctx)
     initial = ctx.scene.initial
     if initial.h is None:

@@ -475,9 +475,10 @@ register(
         id="K01-Fig6f",
         source="K01 §3.3, Fig. 6f",
         kind="value",
-        statement="I = (1, 3, 5), C = D = 1, M || gamma: at h = 0.180278 the contact-point trace "
-        "is "
-        "unbounded (the resonance where the frame turns by 0 per period)",
+        statement="I = (1, 3, 5), C = D = 1, M || gamma: the critical energy where the "
+        "contact-point trace becomes unbounded (the frame turns by 0 per period), 0.1803189, "
+        "agrees with the printed h = 0.180278 to 3 significant digits (at the printed energy "
+        "itself the trace is bounded: K01-Fig6f.circle, K01-Fig6f/literal)",
         system=BALL,
         compute=_fig6f(H_FIG6F),
     )

@@ -1,0 +1,747 @@
+"""The contact point's trace on ``M || gamma`` (K01 §3.3) and ``M + K || gamma`` (K01 §4),
+period by period.
+
+On these invariant sets ``gamma(t)`` alone is periodic in the body (an Euler top, K01-2.34; a
+Zhukovsky–Volterra gyrostat, K01-4.4) with a period ``T``. After one period the body state is
+back and the space-fixed horizontal frame, seen from the body, has turned about the
+vertical, so the trace over the next period is the trace over the first one turned by an
+angle ``psi`` and moved to its end:
+
+    z(t + T) = z(T) + exp(i psi) (z(t) - z(0)),      z = x + i y.
+
+Hence (K01-Fig6f) the points ``z(k T)`` lie on the circle through ``z(0)`` about
+``c = z(0) + d/(1 - exp(i psi))``, ``d = z(T) - z(0)``, of radius
+``R = |d|/(2 |sin(psi/2)|)``; the whole trace lies in the annulus ``inner <= |z - c| <=
+outer`` (the *envelope* circles of K01 §3.3: ``min`` and ``max`` of ``|z(t) - c|`` over a
+period) and is bounded unless ``psi = 0 mod 2 pi`` (a *critical energy*: then it drifts by
+``d`` per period). ``psi`` is ``-Phi`` of :func:`chaplygin.numerics.separatrix.frame_turn`.
+
+The *turning* ``Theta`` of the trace -- the total angle by which its tangent
+``x' + i y'`` turns over one period -- is a continuous lift of ``psi`` (``Theta = psi mod 2
+pi``): the velocity ``b omega x gamma`` vanishes only where ``omega || gamma``, at the
+equilibria of the reduced flow, so ``Theta`` is continuous along every family of periodic
+orbits. The critical energies of a family are therefore the energies where
+``Theta/(2 pi)`` passes an integer, and they can be counted without locating each one. Near
+a saddle of the reduced flow (the middle axis of K01 §3.3) the orbit lingers while the
+ball spins about the vertical at ``sigma = (omega, gamma)``, and ``Theta`` grows like
+``k (sigma/lam) ln(1/|h - h_s|)`` (``k`` passages per period, ``lam`` the saddle's rate):
+the critical energies accumulate at every saddle energy. ``Theta/(4 pi)`` is the number of
+full turns of the tangent per passage, the *wreaths* of K01's spirals (two passages per
+period on ``M || gamma``).
+
+Near the middle axis the passage of the ball is the linearised separatrix motion, so the
+trace is ``s + P exp((lam + i kap) t) + Q exp((-lam + i kap) t)`` (K01-3.5, 3.6) about the
+*spiral centre* ``s``; three samples ``tau`` apart give ``s`` exactly for that form
+(:func:`spiral_centres`).
+
+The integrations are DOP853 on the generated numpy right-hand side (as
+:func:`~chaplygin.numerics.separatrix.frame_turn`), one period per energy.
+
+References
+----------
+K01-2.34, K01-3.3q, K01-3.5, K01-3.6, K01-3.7, K01-Fig6f, K01-4.3, K01-4.4 (FORMULAS.md).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from functools import lru_cache
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq, minimize_scalar
+
+from ..derive.errors import ComputationError, UserInputError
+from .code import ModelCode, load_model_code
+from .inputs import check_inertia_vector, check_real, check_vector
+
+__all__ = [
+    "TracePeriod",
+    "trace_period",
+    "spiral_centres",
+    "segment_state",
+    "segment_energy",
+    "segment_equilibria",
+    "gradient_line",
+    "turning_critical_energy",
+]
+
+SYSTEM = "chaplygin_ball"
+#: Longest time searched for the return of gamma.
+MAX_PERIOD = 1e5
+#: Largest turn of the tangent between two samples before the sampling is refined.
+MAX_SAMPLE_TURN = 0.25
+
+
+@dataclass
+class TracePeriod:
+    """One period of ``gamma`` on ``M (+ K) || gamma`` and the geometry of the trace.
+
+    Attributes
+    ----------
+    h : float
+        Energy of the orbit.
+    period : float
+        ``T``, the first return of ``gamma`` to its start.
+    turn : float
+        ``psi`` in ``(-pi, pi]``: each period's trace is the previous one turned by ``psi``.
+    turning : float
+        ``Theta``: the total turning of the trace's tangent over one period (a continuous
+        lift of ``psi``).
+    displacement : complex
+        ``d = z(T) - z(0)``.
+    centre : complex
+        ``c = z(0) + d/(1 - exp(i psi))`` (infinite where ``psi = 0``).
+    radius : float
+        ``|z(0) - c| = |d|/(2 |sin(psi/2)|)``: the circle of the points ``z(k T)``.
+    inner, outer : float
+        The envelope radii: least and largest ``|z(t) - c|`` over a period.
+    speed : float
+        ``|d|/T``: how fast the trace moves along its circle.
+    closure : float
+        ``|(M, gamma)(T) - (M, gamma)(0)|``: how well the body state returns.
+    t, z : ndarray
+        Samples of one period (times and ``x + i y``).
+    y0 : ndarray
+        The start (state of ``chaplygin_ball__contact_point[__gyrostat]``).
+    sol : object
+        The dense output over the period: ``sol.sol(t)`` is the state at ``t`` (scalar or
+        array).
+    """
+
+    h: float
+    period: float
+    turn: float
+    turning: float
+    displacement: complex
+    centre: complex
+    radius: float
+    inner: float
+    outer: float
+    speed: float
+    closure: float
+    t: np.ndarray = field(repr=False)
+    z: np.ndarray = field(repr=False)
+    y0: np.ndarray = field(repr=False)
+    sol: object = field(repr=False, default=None)
+
+
+def _code(gyrostat: bool) -> ModelCode:
+    effects = ("contact_point", "gyrostat") if gyrostat else ("contact_point",)
+    return load_model_code(SYSTEM, effects)
+
+
+def _check_body(I, D, K, C) -> tuple[tuple[float, ...], float, tuple[float, ...], float]:
+    I, D = check_inertia_vector(I, D, double=True)
+    K = (0.0, 0.0, 0.0) if K is None else tuple(check_vector(K, "K", double=True))
+    C = check_real(C, "C", nonzero=True, double=True)
+    return tuple(float(v) for v in I), float(D), tuple(float(v) for v in K), float(C)
+
+
+def _params(I, D, K, b=1.0) -> np.ndarray:
+    gyro = any(k != 0 for k in K)
+    return np.array([*I, D, b, *K] if gyro else [*I, D, b], float)
+
+
+def segment_state(
+    I: Sequence[float],
+    D: float,
+    gamma: Sequence[float],
+    C: float = 1.0,
+    K: Sequence[float] | None = None,
+) -> np.ndarray:
+    """The state on ``M + K = C gamma`` at ``gamma`` (``K = 0``: ``M = C gamma``), trace at 0.
+
+    ``alpha`` is the unit vector of the body axis least aligned with ``gamma``, projected
+    on the horizontal plane; ``beta = gamma x alpha``; ``x = y = 0``.
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+    D : float
+    gamma : sequence of 3 floats
+        Unit vertical in the body (normalised here).
+    C : float
+        ``(M + K, gamma)``.
+    K : sequence of 3 floats, optional
+        Gyrostatic momentum (None or zero: the plain ball).
+
+    Returns
+    -------
+    ndarray, shape (14,)
+        ``M, gamma, alpha, beta, x, y``.
+    """
+    I, D, K, C = _check_body(I, D, K, C)
+    g = _unit_vector(gamma, "gamma")
+    e = np.zeros(3)
+    e[int(np.argmin(np.abs(g)))] = 1.0
+    a = e - g * (e @ g)
+    a /= np.linalg.norm(a)
+    beta = np.cross(g, a)
+    return np.concatenate([C * g - np.asarray(K), g, a, beta, [0.0, 0.0]])
+
+
+def _unit_vector(v, name: str) -> np.ndarray:
+    """``v`` (three finite numbers, not all zero) normalised; errors name ``name``."""
+    g = np.asarray([float(x) for x in check_vector(v, name, double=True)], float)
+    norm = float(np.linalg.norm(g))
+    if not norm > 0:
+        raise UserInputError(f"{name} = {v!r} must be a nonzero vector (a direction)")
+    return g / norm
+
+
+def segment_energy(
+    I: Sequence[float],
+    D: float,
+    gamma: np.ndarray,
+    C: float = 1.0,
+    K: Sequence[float] | None = None,
+) -> np.ndarray:
+    """Energy ``h`` on ``M + K = C gamma`` at unit vectors ``gamma`` (generated integrals).
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+    D : float
+    gamma : ndarray, shape (3,) or (3, N)
+        Unit vectors (real or complex: complex steps give derivatives).
+    C : float
+    K : sequence of 3 floats, optional
+
+    Returns
+    -------
+    ndarray
+        ``h``, shaped like ``gamma[0]``.
+    """
+    return _segment_energy(*_check_body(I, D, K, C), gamma)
+
+
+def _segment_energy(I, D, K, C, gamma) -> np.ndarray:
+    """:func:`segment_energy` with checked arguments (``I, D, K, C`` as floats)."""
+    gyro = any(k != 0 for k in K)
+    code = load_model_code(SYSTEM, ("gyrostat",) if gyro else ())
+    g = np.asarray(gamma)
+    M = C * g - np.asarray(K).reshape((3,) + (1,) * (g.ndim - 1))
+    p = [*I, D, *K] if gyro else [*I, D]
+    return code.numpy.integrals(0.0, np.concatenate([M, g]), p)[0]
+
+
+class _Pieces:
+    """Dense output over consecutive integration pieces (``sol(t)``, ``t`` scalar or array)."""
+
+    def __init__(self) -> None:
+        self.ends: list[float] = []
+        self.parts: list = []
+
+    def add(self, end: float, dense) -> None:
+        self.ends.append(end)
+        self.parts.append(dense)
+
+    def sol(self, t):
+        t = np.asarray(t, float)
+        k = np.minimum(np.searchsorted(self.ends, t), len(self.parts) - 1)
+        if t.ndim == 0:
+            return self.parts[int(k)](float(t))
+        out = np.empty((len(self.parts[0](0.0)), t.size))
+        for j in np.unique(k):
+            mask = k == j
+            out[:, mask] = self.parts[int(j)](t[mask])
+        return out
+
+
+def _rhs_function(code: ModelCode, p: np.ndarray):
+    """The compiled C right-hand side for single states (numpy's without a compiler)."""
+    compiled = code.compiled()
+    if compiled is not None:
+        return lambda t, y: compiled.rhs(t, y, p)
+    return lambda t, y: code.numpy.rhs(t, y, p)
+
+
+def _period_solution(code, p, y0, rtol):
+    """Integrate from ``y0`` until ``gamma`` first returns to ``gamma(0)``; the period.
+
+    The return is the first upward crossing of the plane through ``gamma(0)`` normal to
+    ``gamma'(0)`` within 1e-3 of ``gamma(0)``; the integration goes on in pieces of growing
+    length until it is found.
+    """
+    f0 = code.numpy.rhs(0.0, y0, p)
+    g0, u = y0[3:6], f0[3:6]
+    speed = float(np.linalg.norm(u))
+    if speed == 0:
+        raise UserInputError("the start is an equilibrium of gamma (a steady rotation): no period")
+    u = u / speed
+
+    def plane(t, y):
+        return float((y[3:6] - g0) @ u)
+
+    plane.direction = 1.0
+    rhs = _rhs_function(code, p)
+    pieces = _Pieces()
+    t0, y, length = 0.0, np.asarray(y0, float), 50.0
+    while True:
+        piece = solve_ivp(rhs, (t0, t0 + length), y, method="DOP853", rtol=rtol, atol=rtol,
+                          dense_output=True, events=plane)  # fmt: skip
+        pieces.add(t0 + length, piece.sol)
+        for t in piece.t_events[0]:
+            if t > 1e-9 and np.linalg.norm(piece.sol(t)[3:6] - g0) < 1e-3:
+                return float(t), pieces
+        t0, y = t0 + length, piece.y[:, -1]
+        if t0 > MAX_PERIOD:
+            raise ComputationError(f"gamma does not return within t = {MAX_PERIOD:g}")
+        length *= 2
+
+
+def _velocity(code, p, y) -> np.ndarray:
+    f = code.numpy.rhs(0.0, y, p)
+    return f[12] + 1j * f[13]
+
+
+def trace_period(
+    I: Sequence[float],
+    D: float,
+    h: float | None = None,
+    C: float = 1.0,
+    K: Sequence[float] | None = None,
+    gamma0: Sequence[float] | None = None,
+    rtol: float = 1e-12,
+) -> TracePeriod:
+    """One period of the trace on ``M || gamma`` (``K = 0``) or ``M + K || gamma``.
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+    D : float
+    h : float, optional
+        The energy (the plain ball without ``gamma0``: the start of
+        :func:`~chaplygin.numerics.separatrix.near_separatrix_state`, ``gamma`` in the plane
+        of the extreme axes).
+    C : float
+        ``(M + K, gamma)``.
+    K : sequence of 3 floats, optional
+        Gyrostatic momentum (needs ``gamma0``).
+    gamma0 : sequence of 3 floats, optional
+        The start on the segment (:func:`segment_state`); its energy is the orbit's.
+    rtol : float
+        Tolerance of the DOP853 integration (relative and absolute).
+
+    Returns
+    -------
+    TracePeriod
+
+    Raises
+    ------
+    UserInputError
+        Bad parameters, neither ``h`` (ball) nor ``gamma0`` given, or a start that is an
+        equilibrium.
+    ComputationError
+        No return of ``gamma`` within ``t = 1e5``.
+
+    References
+    ----------
+    K01-2.34, K01-Fig6f, K01-4.3 (FORMULAS.md).
+    """
+    I, D, K, C = _check_body(I, D, K, C)
+    check_real(rtol, "rtol", positive=True, double=True)
+    gyro = any(k != 0 for k in K)
+    if gamma0 is None:
+        if gyro or h is None:
+            raise UserInputError("give gamma0 (the start on M + K = C gamma), or h for the ball")
+        from .separatrix import near_separatrix_state
+
+        y0 = near_separatrix_state(I, D, float(check_real(h, "h", positive=True, double=True)), C)
+    else:
+        y0 = segment_state(I, D, _unit_vector(gamma0, "gamma0"), C, K)
+    return _trace_period(I, D, K, C, tuple(y0), float(rtol))
+
+
+@lru_cache(maxsize=512)
+def _trace_period(I, D, K, C, y0, rtol) -> TracePeriod:
+    gyro = any(k != 0 for k in K)
+    code = _code(gyro)
+    p = _params(I, D, K)
+    y0 = np.asarray(y0, float)
+    h = float(_segment_energy(I, D, K, C, y0[3:6]))
+    T, sol = _period_solution(code, p, y0, rtol)
+    yT = sol.sol(T)
+    count = max(4001, int(40 * T))
+    while True:
+        t = np.linspace(0.0, T, count)
+        Y = sol.sol(t)
+        v = _velocity(code, p, Y)
+        step = np.diff(np.unwrap(np.angle(v)))
+        if np.max(np.abs(step)) <= MAX_SAMPLE_TURN or count > 2_000_000:
+            break
+        count *= 2
+    theta = np.unwrap(np.angle(v))
+    turning = float(theta[-1] - theta[0])
+    turn = float(np.angle(_velocity(code, p, yT) / _velocity(code, p, y0)))
+    z = Y[12] + 1j * Y[13]
+    d = complex(z[-1] - z[0])
+    denominator = 1 - np.exp(1j * turn)
+    if denominator == 0:
+        centre, r = complex(np.inf, np.inf), np.full_like(t, np.inf)
+        inner = outer = radius = math.inf
+    else:
+        centre = complex(z[0] + d / denominator)
+        radius = abs(z[0] - centre)
+        r = np.abs(z - centre)
+        inner = _extreme(sol, t, r, centre, +1)
+        outer = _extreme(sol, t, r, centre, -1)
+    return TracePeriod(
+        h=h,
+        period=T,
+        turn=turn,
+        turning=turning,
+        displacement=d,
+        centre=centre,
+        radius=radius,
+        inner=inner,
+        outer=outer,
+        speed=abs(d) / T,
+        closure=float(np.linalg.norm(yT[:6] - y0[:6])),
+        t=t,
+        z=z,
+        y0=y0,
+        sol=sol,
+    )
+
+
+def _extreme(sol, t, r, centre, sign) -> float:
+    """Least (``sign = 1``) or largest (-1) ``|z(t) - c|``, refined about the best sample."""
+    k = int(np.argmin(sign * r))
+    lo, hi = t[max(k - 1, 0)], t[min(k + 1, len(t) - 1)]
+
+    def f(s):
+        y = sol.sol(s)
+        return sign * abs(y[12] + 1j * y[13] - centre)
+
+    res = minimize_scalar(f, bounds=(lo, hi), method="bounded", options={"xatol": 1e-12})
+    return float(sign * min(res.fun, sign * r[k]))
+
+
+def spiral_centres(
+    I: Sequence[float], D: float, h: float, C: float = 1.0, rtol: float = 1e-12
+) -> dict[str, object]:
+    """The spiral centres of the trace near the middle axis (the ball, ``h`` near ``h2``).
+
+    The passages are the maxima of ``|gamma_2|`` over one period (``gamma`` closest to
+    ``+-e2``, two per period); at each, with the separatrix's ``lam`` and ``kap``
+    (:func:`~chaplygin.numerics.separatrix.separatrix_quantities`) and ``tau = 1/lam``,
+    ``s = (z_+ - (r1 + r2) z_0 + r1 r2 z_-)/((1 - r1)(1 - r2))``, ``r1 = exp((lam + i kap)
+    tau)``, ``r2 = exp((-lam + i kap) tau)``, from the trace at ``t* - tau, t*, t* + tau``:
+    exact for the linearised passage ``s + P exp((lam + i kap) t) + Q exp((-lam + i kap) t)``
+    (K01-3.5), with an error that vanishes as ``h -> h2``.
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+        ``I1 < I2 < I3`` (or ``I1 > I2 > I3``).
+    D, h, C : float
+    rtol : float
+
+    Returns
+    -------
+    dict
+        ``centres`` (complex, one per passage), ``times``, ``chord`` (``|s_1 - s_0|``),
+        ``half_turn`` (the turn of the trace between the passages, ``(-pi, pi]``),
+        ``radius`` (``|s_0 - c|``: the circle on which the centres move, ``c`` of
+        :class:`TracePeriod`) and the period's :class:`TracePeriod` as ``period``.
+
+    References
+    ----------
+    K01-3.3q, K01-3.5, K01-3.6, K01-3.7 (FORMULAS.md).
+    """
+    from .separatrix import check_inertia, separatrix_quantities
+
+    check_inertia(I, D)
+    tp = trace_period(I, D, h, C, rtol=rtol)
+    Q = separatrix_quantities(I, D, C)
+    lam, kap = float(Q["lam"]), float(Q["kap"])
+    code = _code(False)
+    p = _params(*_check_body(I, D, None, C)[:3])
+    sol = tp.sol
+    g2 = np.abs(sol.sol(tp.t)[4])
+    times = []
+    for k in range(len(tp.t)):
+        a, b = g2[k - 1] if k else g2[-2], g2[k + 1] if k + 1 < len(g2) else g2[1]
+        if g2[k] > a and g2[k] >= b:
+            lo, hi = tp.t[max(k - 1, 0)], tp.t[min(k + 1, len(tp.t) - 1)]
+            rate = lambda s: code.numpy.rhs(s, sol.sol(s), p)[4]  # noqa: E731
+            if rate(lo) * rate(hi) < 0:
+                times.append(float(brentq(rate, lo, hi, xtol=1e-13)))
+            else:
+                times.append(float(tp.t[k]))
+    if len(times) < 2:
+        raise ComputationError(f"found {len(times)} passage(s) near the middle axis, not 2")
+    tau = 1.0 / lam
+    r1, r2 = np.exp((lam + 1j * kap) * tau), np.exp((-lam + 1j * kap) * tau)
+
+    centres = []
+    for ts in times[:2]:
+        zm, z0, zp = (_z_periodic(tp, s) for s in (ts - tau, ts, ts + tau))
+        centres.append(complex((zp - (r1 + r2) * z0 + r1 * r2 * zm) / ((1 - r1) * (1 - r2))))
+    v0 = _velocity(code, p, sol.sol(times[0]))
+    v1 = _velocity(code, p, sol.sol(times[1]))
+    return {
+        "centres": centres,
+        "times": times[:2],
+        "chord": abs(centres[1] - centres[0]),
+        "half_turn": float(np.angle(v1 / v0)),
+        "radius": abs(centres[0] - tp.centre),
+        "period": tp,
+    }
+
+
+def _z_periodic(tp: TracePeriod, s: float) -> complex:
+    """``z(s)`` for any real ``s``, from one period and the rule ``z(t + T) = z(T) +
+    exp(i psi) (z(t) - z(0))``."""
+    k, rest = divmod(s, tp.period)
+    y = tp.sol.sol(rest)
+    w = complex(y[12] + 1j * y[13])
+    rot = np.exp(1j * tp.turn * k)
+    if tp.turn == 0:
+        base = k * tp.displacement
+    else:
+        base = tp.displacement * (1 - rot) / (1 - np.exp(1j * tp.turn))
+    return complex(tp.z[0] + base + rot * (w - tp.z[0]))
+
+
+# ------------------------------------------------------------------- the segment with K
+def _tangent_basis(g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    e = np.zeros(3)
+    e[int(np.argmin(np.abs(g)))] = 1.0
+    u = e - g * (e @ g)
+    u /= np.linalg.norm(u)
+    return u, np.cross(g, u)
+
+
+def _sphere_gradient(I, D, K, C, g: np.ndarray) -> np.ndarray:
+    """Tangential gradient of the segment energy at unit ``g`` (complex steps)."""
+    step = 1e-30
+    G = g[:, None] + 1j * step * np.eye(3)
+    grad = np.imag(_segment_energy(I, D, K, C, G)) / step
+    return grad - g * (grad @ g)
+
+
+def segment_equilibria(
+    I: Sequence[float], D: float, K: Sequence[float], C: float = 1.0
+) -> list[dict[str, object]]:
+    """The equilibria of ``gamma`` on ``M + K = C gamma``: critical points of the energy.
+
+    They are the ends of the steady-rotation families on ``n = C^2``
+    (:func:`~chaplygin.numerics.gyrostat_diagram.steady_rotation_branches`), polished by
+    Newton's method on the tangential gradient and classified by the Hessian of the
+    energy on the sphere (``"min"``, ``"max"``, ``"saddle"``). For a saddle, ``rate`` is the
+    eigenvalue ``lam_s > 0`` of the reduced flow ``gamma' = gamma x omega`` there and
+    ``spin`` is ``sigma = (omega, gamma)``.
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+    D : float
+    K : sequence of 3 floats
+    C : float
+
+    Returns
+    -------
+    list of dict
+        ``gamma``, ``h``, ``kind``, ``spin``, ``rate`` (``None`` unless a saddle), sorted
+        by ``h``.
+
+    References
+    ----------
+    K01-4.3, K01-4.4 (FORMULAS.md).
+    """
+    from .gyrostat_diagram import steady_rotation_branches
+
+    I, D, K, C = _check_body(I, D, K, C)
+    found: list[np.ndarray] = []
+    for branch in steady_rotation_branches(I, D, K, C, 1.1 * C * C):
+        k = int(np.argmin(branch["n"]))
+        if branch["n"][k] - C * C > 1e-6 * C * C:
+            continue
+        g = np.asarray(branch["states"][3:, k], float)
+        g = _polish(I, D, K, C, g / np.linalg.norm(g))
+        if all(np.linalg.norm(g - f) > 1e-6 for f in found):
+            found.append(g)
+    code = load_model_code(SYSTEM, ("gyrostat",))
+    p = [*I, D, *K]
+    out = []
+    for g in found:
+        u, w = _tangent_basis(g)
+        H, A = np.zeros((2, 2)), np.zeros((2, 2))
+        eps = 1e-5
+        for j, e in enumerate((u, w)):
+            gp, gm = _on_sphere(g + eps * e), _on_sphere(g - eps * e)
+            dgrad = (_sphere_gradient(I, D, K, C, gp) - _sphere_gradient(I, D, K, C, gm)) / (
+                2 * eps
+            )
+            H[:, j] = [dgrad @ u, dgrad @ w]
+            flow = [code.numpy.rhs(0.0, np.concatenate([C * x - np.asarray(K), x]), p)[3:6]
+                    for x in (gp, gm)]  # fmt: skip
+            df = (flow[0] - flow[1]) / (2 * eps)
+            A[:, j] = [df @ u, df @ w]
+        det = H[0, 0] * H[1, 1] - H[0, 1] * H[1, 0]
+        kind = "saddle" if det < 0 else ("min" if H[0, 0] + H[1, 1] > 0 else "max")
+        detA = A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0]
+        f = code.numpy.rhs(0.0, np.concatenate([C * g - np.asarray(K), g]), p)
+        M = C * g - np.asarray(K)
+        omega = _omega(I, D, M, g)
+        out.append(
+            {
+                "gamma": g,
+                "h": float(_segment_energy(I, D, K, C, g)),
+                "kind": kind,
+                "spin": float(omega @ g),
+                "rate": math.sqrt(-detA) if kind == "saddle" and detA < 0 else None,
+                "residual": float(np.linalg.norm(f[3:6])),
+            }
+        )
+    return sorted(out, key=lambda e: e["h"])
+
+
+def _omega(I, D, M, g) -> np.ndarray:
+    """``omega`` from ``M = J omega - D (omega, gamma) gamma`` (``J = I + D``)."""
+    A = 1 / (np.asarray(I) + D)
+    s = (A * g) @ M / (1 / D - (A * g) @ g)
+    return A * (M + s * g)
+
+
+def _on_sphere(g: np.ndarray) -> np.ndarray:
+    return g / np.linalg.norm(g)
+
+
+def _polish(I, D, K, C, g: np.ndarray) -> np.ndarray:
+    """Newton's method for a zero of the tangential gradient (Hessian by differences)."""
+    for _ in range(8):
+        grad = _sphere_gradient(I, D, K, C, g)
+        if np.linalg.norm(grad) < 1e-14:
+            break
+        u, w = _tangent_basis(g)
+        eps = 1e-6
+        H = np.zeros((2, 2))
+        for j, e in enumerate((u, w)):
+            dg = (
+                _sphere_gradient(I, D, K, C, _on_sphere(g + eps * e))
+                - _sphere_gradient(I, D, K, C, _on_sphere(g - eps * e))
+            ) / (2 * eps)
+            H[:, j] = [dg @ u, dg @ w]
+        r = np.array([grad @ u, grad @ w])
+        det = H[0, 0] * H[1, 1] - H[0, 1] * H[1, 0]
+        if det == 0:
+            break
+        a = (H[1, 1] * r[0] - H[0, 1] * r[1]) / det
+        c = (-H[1, 0] * r[0] + H[0, 0] * r[1]) / det
+        g = _on_sphere(g - a * u - c * w)
+    return g
+
+
+def gradient_line(
+    I: Sequence[float],
+    D: float,
+    K: Sequence[float],
+    C: float,
+    start: Sequence[float],
+    ascending: bool,
+    offset: float = 1e-4,
+) -> dict[str, np.ndarray]:
+    """A line of steepest ascent (or descent) of the segment energy from an extremum.
+
+    It crosses every orbit of the reduced flow it meets exactly once (the energy is
+    monotone along it), so its points parametrise families of periodic orbits by their
+    energy. It starts ``offset`` away from ``start`` (along the first tangent basis
+    vector) and runs at unit speed until the gradient vanishes (the opposite extremum).
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+    D : float
+    K : sequence of 3 floats
+    C : float
+    start : sequence of 3 floats
+        An extremum (:func:`segment_equilibria`).
+    ascending : bool
+    offset : float
+
+    Returns
+    -------
+    dict
+        ``s`` (arc length), ``gamma`` (shape (3, N)), ``h`` (increasing if ``ascending``),
+        and ``at(h)``: the point of the line with energy ``h`` (Brent on its dense output).
+    """
+    I, D, K, C = _check_body(I, D, K, C)
+    g0 = _on_sphere(np.asarray(start, float))
+    u, _ = _tangent_basis(g0)
+    g0 = _on_sphere(g0 + offset * u)
+    sign = 1.0 if ascending else -1.0
+
+    def rhs(s, g):
+        g = _on_sphere(g)
+        grad = _sphere_gradient(I, D, K, C, g)
+        n = np.linalg.norm(grad)
+        return sign * grad / n if n > 0 else np.zeros(3)
+
+    def flat(s, g):
+        return np.linalg.norm(_sphere_gradient(I, D, K, C, _on_sphere(g))) - 1e-7
+
+    flat.terminal = True
+    sol = solve_ivp(rhs, (0, 2 * np.pi), g0, method="DOP853", rtol=1e-9, atol=1e-10,
+                    dense_output=True, events=flat, max_step=0.1)  # fmt: skip
+    s = sol.t
+    gam = np.apply_along_axis(_on_sphere, 0, sol.y)
+    h = np.asarray(_segment_energy(I, D, K, C, gam), float)
+
+    def at(value: float) -> np.ndarray:
+        k = int(np.searchsorted(sign * h, sign * value))
+        if k <= 0 or k >= len(h):
+            raise UserInputError(
+                f"h = {value} is not on this line: its energies run over [{h.min()}, {h.max()}]"
+            )
+        root = brentq(
+            lambda x: float(_segment_energy(I, D, K, C, _on_sphere(sol.sol(x)))) - value,
+            s[k - 1],
+            s[k],
+            xtol=1e-15,
+        )
+        return _on_sphere(sol.sol(root))
+
+    return {"s": s, "gamma": gam, "h": h, "at": at}
+
+
+def turning_critical_energy(
+    line_at: Callable[[float], np.ndarray] | None,
+    I: Sequence[float],
+    D: float,
+    K: Sequence[float] | None,
+    C: float,
+    bracket: tuple[float, float],
+    m: int,
+    rtol: float = 1e-12,
+) -> float:
+    """The energy in ``bracket`` where ``Theta = 2 pi m`` along a family (Brent).
+
+    Parameters
+    ----------
+    line_at : callable
+        ``h -> gamma0`` (``gradient_line(...)["at"]``), or None for the plain ball's
+        start of :func:`trace_period`.
+    I, D, K, C
+        As in :func:`trace_period`.
+    bracket : (float, float)
+    m : int
+    rtol : float
+
+    Returns
+    -------
+    float
+        The critical energy.
+    """
+
+    def excess(h):
+        g0 = None if line_at is None else line_at(h)
+        tp = trace_period(I, D, None if g0 is not None else h, C, K, g0, rtol)
+        return tp.turning - 2 * np.pi * m
+
+    return float(brentq(excess, *bracket, xtol=1e-13))
