@@ -178,9 +178,10 @@ def integrate(
         ``{"I": (1, 2, 3), "D": 1}`` or a vector in the model's parameter order.
     effects : sequence of str or str, optional
     method : str, Integrator class or instance, optional
-        A key of :data:`METHODS`; default ``DOP853`` in double precision and ``taylor``
-        (the generated Taylor integrator) in quad and digits; ``odefun`` is
-        ``mpmath.odefun`` (for comparison).
+        A key of :data:`METHODS`; default ``taylor`` (the generated Taylor integrator, the same
+        bits on every machine) in every precision; scipy's ``DOP853``, ``RK45``, ``LSODA``,
+        ``Radau``, ``BDF`` in double (their last bits depend on the BLAS kernel) and
+        ``odefun`` (``mpmath.odefun``) for comparison.
     precision : "double", "quad" or int
         IEEE double, IEEE binary128 (``__float128``, 34 digits; Taylor in C) or a number
         of decimal digits (Taylor in C double-double up to 31 digits, quad-double up to 60,

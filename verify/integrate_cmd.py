@@ -33,7 +33,7 @@ def estimated_steps(span: float, method: str | None, rtol: float | None, double:
         ``|t_end - t_start|``, in units of the motion's time scale (the command multiplies
         it by ``|f(t0, y0)|/|y0|`` when that is above 1).
     method : str or None
-        The ``--method`` (None: DOP853 in double, taylor otherwise).
+        The ``--method`` (None: taylor).
     rtol : float or None
         The ``--rtol`` (None: 1e-10 in double; the Taylor step does not depend on it).
     double : bool
@@ -45,7 +45,7 @@ def estimated_steps(span: float, method: str | None, rtol: float | None, double:
         ``span * rtol**(-1/(p+1))`` for a scipy method of order p, ``span * e**2`` for the
         Taylor methods. Faster motions (large momenta, small inertia) need more.
     """
-    name = (method or ("DOP853" if double else "taylor")).lower()
+    name = (method or "taylor").lower()
     if name in _SCIPY_ORDERS:
         tol = 1e-10 if rtol is None else rtol
         return span * tol ** (-1.0 / (_SCIPY_ORDERS[name] + 1))
@@ -259,8 +259,9 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     p.add_argument(
         "--method",
         default=None,
-        help="DOP853 (default in double), RK45, LSODA, Radau, BDF, taylor (default in quad "
-        "and digits; also in double), odefun (mpmath.odefun)",
+        help="taylor (the default in every precision: the same bits on every machine); in "
+        "double also scipy's DOP853, RK45, LSODA, Radau, BDF (last bits depend on BLAS); "
+        "odefun (mpmath.odefun)",
     )
     p.add_argument(
         "--rtol", type=positive_float, default=None, help="default 1e-10 (double), 10 eps"

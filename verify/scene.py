@@ -1256,8 +1256,7 @@ def explain_text(scene: Scene, res: Resolved) -> str:
         f"({len(big.state)} states) for {big.name}, the largest effect combination in generated/"
     )
     manifest = generated_manifest()
-    double = str(scene.run_options.precision) == "double"
-    method = scene.run_options.method or ("DOP853" if double else "taylor")
+    method = scene.run_options.method or "taylor"
     if code.name in manifest:
         files = manifest[code.name]["files"]
         if method == "taylor":

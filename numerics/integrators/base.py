@@ -139,7 +139,9 @@ def _mpmath_type(kind: str) -> NumberType:
 NUMBER_TYPES: dict[str, NumberType] = {
     "double": NumberType(
         kind="double",
-        default_method="DOP853",
+        # the generated Taylor integrator: its bits do not depend on the machine (scipy's
+        # methods sum their stages with BLAS, whose kernels differ by processor)
+        default_method="taylor",
         default_tolerances=lambda prec: (1e-10, 1e-12),
         context=lambda prec: nullcontext(),
         integral_change=_integral_change_numpy,
