@@ -26,9 +26,7 @@ import json
 import math
 import platform
 import re
-import shutil
 import sys
-import tempfile
 import time
 import tomllib
 from collections.abc import Mapping, Sequence
@@ -1125,9 +1123,11 @@ def explain_text(scene: Scene, res: Resolved) -> str:
     str
     """
     from ..numerics.code import generated_manifest
+    from .cli_common import printable
 
     code = res.code
-    lines = [f"scene: {scene.title or scene.source or '(untitled)'}", f"model: {code.name}"]
+    title = printable(scene.title or scene.source or "(untitled)", keep="")
+    lines = [f"scene: {title}", f"model: {code.name}"]
     lines.append("effects:")
     if not res.effects:
         lines.append("  none (the bare system)")
@@ -1822,9 +1822,11 @@ def _version() -> str:
 
 
 # ------------------------------------------------------------------------- output folder
-def prepare_output(out: str | Path) -> Path:
-    """Check, before any work, that ``out`` may be written: absent, empty, or a previous run's
-    folder (it has ``summary.json``).
+def prepare_output(out: str | Path) -> Any:
+    """Check, before any work, that a run may write into ``out``: a new folder, an empty one,
+    or a folder of a previous run (its marker lists the files we wrote, each unchanged).
+
+    See :mod:`chaplygin.verify.output_folder`.
 
     Parameters
     ----------
@@ -1832,46 +1834,32 @@ def prepare_output(out: str | Path) -> Path:
 
     Returns
     -------
-    Path
+    chaplygin.verify.output_folder.OutputFolder
 
     Raises
     ------
-    SceneError
+    UserInputError
+        Anything else (a non-empty folder that is not ours, a changed file of ours, a folder
+        where nothing can be created); nothing is touched.
     """
-    out = Path(out)
-    if out.exists() and not out.is_dir():
-        raise SceneError(f"--out {out} exists and is not a folder")
-    if out.is_dir() and any(out.iterdir()) and not (out / "summary.json").is_file():
-        raise SceneError(
-            f"--out {out} is a non-empty folder that is not a previous run (no summary.json): "
-            "choose another folder"
-        )
-    return out
+    from .output_folder import OutputFolder
+
+    return out if isinstance(out, OutputFolder) else OutputFolder.check(out)
 
 
-def write_atomically(result: SceneResult, out: str | Path) -> list[str]:
-    """Write the outputs into a temporary folder and move it into place at the end.
+def write_atomically(result: SceneResult, out: Any) -> list[str]:
+    """Write the outputs beside the folder's files and move them into place at the end,
+    replacing only the files of our previous run (see :func:`prepare_output`).
 
     Parameters
     ----------
     result : SceneResult
-    out : str or Path
-        Checked by :func:`prepare_output`.
+    out : str, Path or OutputFolder
+        Checked by :func:`prepare_output` (again, if a path).
 
     Returns
     -------
     list of str
         Files written (relative to ``out``).
     """
-    out = prepare_output(out)
-    tmp = Path(tempfile.mkdtemp(prefix="chaplygin-run-"))
-    try:
-        written = result.write(tmp)
-        out.parent.mkdir(parents=True, exist_ok=True)
-        if out.is_dir():
-            shutil.rmtree(out)
-        shutil.move(str(tmp), str(out))
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-    return written
+    return prepare_output(out).write(result.write)
