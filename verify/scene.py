@@ -1645,7 +1645,9 @@ class SceneResult:
         return out
 
     def _title(self) -> str:
-        return self.scene.title or self.resolved.code.name
+        from .plots import literal_text
+
+        return literal_text(self.scene.title or self.resolved.code.name)
 
     # ------------------------------------------------------------------ summary and files
     def summary(self, outputs: Sequence[str] = ()) -> dict:

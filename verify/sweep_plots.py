@@ -17,6 +17,13 @@ if TYPE_CHECKING:
 __all__ = ["sweep_figure", "period_chart_figure", "curve_figure", "status_figure"]
 
 
+def _title(ds: Any) -> str:
+    """The store's title as matplotlib shows it literally (no mathtext)."""
+    from .plots import literal_text
+
+    return literal_text(str(ds.attrs.get("title", "")))
+
+
 def period_chart_figure(ds: Any) -> Figure:
     """The chart of dynamical regimes: one colour per period 1..max, chaos (0) black, points
     not computed white (as BM20 Fig. 6).
@@ -51,7 +58,7 @@ def period_chart_figure(ds: Any) -> Figure:
     bar.set_label("period of the map's attractor (0: none up to max_period)")
     ax.set_xlabel(x_name)
     ax.set_ylabel(y_name)
-    ax.set_title(ds.attrs.get("title", ""), fontsize=9)
+    ax.set_title(_title(ds), fontsize=9)
     return fig
 
 
@@ -81,7 +88,7 @@ def curve_figure(ds: Any, names: list[str]) -> Figure:
     ax.axhline(0, color="grey", lw=0.4)
     ax.set_xlabel(dim)
     ax.legend(fontsize=7)
-    ax.set_title(ds.attrs.get("title", ""), fontsize=9)
+    ax.set_title(_title(ds), fontsize=9)
     return fig
 
 
@@ -115,7 +122,7 @@ def status_figure(ds: Any) -> Figure:
     )
     ax.set_xlabel(x_name)
     ax.set_ylabel(y_name)
-    ax.set_title(f"{ds.attrs.get('title', '')}\ngreen: a state exists; grey: none", fontsize=9)
+    ax.set_title(f"{_title(ds)}\ngreen: a state exists; grey: none", fontsize=9)
     return fig
 
 
@@ -144,7 +151,7 @@ def sweep_figure(ds: Any) -> Figure:
         ax.set_xlabel("mu = kap/lam")
         ax.set_ylabel("Delta / b")
         ax.legend(fontsize=8)
-        ax.set_title(ds.attrs.get("title", ""), fontsize=9)
+        ax.set_title(_title(ds), fontsize=9)
         return fig
     if ds["status"].ndim == 2:
         return status_figure(ds)
