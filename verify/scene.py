@@ -266,7 +266,10 @@ class Scene(BaseModel):
         extra="forbid", frozen=True, json_schema_extra={"title": "chaplygin scene"}
     )
 
-    title: StrictStr = ""
+    title: StrictStr = Field(
+        "", max_length=500, description="shown on the plots and in the summary (at most 500 "
+        "characters)"
+    )
     system: Literal[tuple(sorted(SYSTEMS))]  # type: ignore[valid-type]
     effects: list[StrictStr] = Field(
         default_factory=list,
