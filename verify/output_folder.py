@@ -40,7 +40,7 @@ from pathlib import Path
 
 from ..derive.errors import UserInputError
 
-__all__ = ["MARKER", "OutputFolder", "safe_name"]
+__all__ = ["MARKER", "OutputFolder", "safe_name", "current_umask"]
 
 #: The file that makes a folder ours: the files we wrote there, with their digests.
 MARKER = ".chaplygin-run.json"
@@ -315,7 +315,7 @@ class OutputFolder:
                 if not parent.exists():
                     parent.mkdir()
                     made.append(parent)
-            os.chmod(tmp, 0o777 & ~_umask())  # mkdtemp makes it 0700; a folder as mkdir would
+            os.chmod(tmp, 0o777 & ~current_umask())  # mkdtemp: 0700; as mkdir would make it
             try:
                 os.rename(tmp, target)
             except OSError as exc:
@@ -349,7 +349,7 @@ class OutputFolder:
         try:
             with os.fdopen(fd, "w", encoding="utf-8") as fh:
                 fh.write(text + "\n")
-            os.chmod(tmp, 0o666 & ~_umask())
+            os.chmod(tmp, 0o666 & ~current_umask())
             os.replace(tmp, folder / MARKER)
         except BaseException:
             with contextlib.suppress(FileNotFoundError):
@@ -362,7 +362,7 @@ def _plain(name: str) -> bool:
     return bool(name) and name not in (".", "..") and "/" not in name and os.sep not in name
 
 
-def _umask() -> int:
+def current_umask() -> int:
     """The process's umask (read without changing it: from /proc where there is one)."""
     try:
         with open("/proc/self/status", encoding="ascii") as fh:
