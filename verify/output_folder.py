@@ -40,7 +40,7 @@ from pathlib import Path
 
 from ..derive.errors import UserInputError
 
-__all__ = ["MARKER", "OutputFolder", "safe_name", "current_umask"]
+__all__ = ["MARKER", "OutputFolder", "safe_name", "current_umask", "resolve_path"]
 
 #: The file that makes a folder ours: the files we wrote there, with their digests.
 MARKER = ".chaplygin-run.json"
@@ -80,6 +80,44 @@ def safe_name(text: str, fallback: str = "scene") -> str:
     """
     name = re.sub(r"[^A-Za-z0-9._+-]", "_", text).lstrip(".")[:_NAME_MAX]
     return name or fallback
+
+
+def resolve_path(given: str, flag: str) -> Path:
+    """The absolute path ``given`` leads to (symbolic links followed, ``..`` after them).
+
+    Parameters
+    ----------
+    given : str
+    flag : str
+        For the messages.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    UserInputError
+        A name longer than the file system allows, a loop of symbolic links, or a broken
+        symbolic link on the way (following it would create folders where it points).
+    """
+    path = Path(given).expanduser()
+    if any(len(os.fsencode(part)) > 255 for part in path.parts) or len(os.fsencode(given)) > 4000:
+        raise UserInputError(
+            f"{flag} {given[:60]!r}...: longer than a path may be (255 bytes a name, 4000 in all)"
+        )
+    partial = Path(path.anchor) if path.is_absolute() else Path()
+    for part in path.parts[1:] if path.is_absolute() else path.parts:
+        partial = partial / part
+        if os.path.islink(partial) and not partial.exists():
+            raise UserInputError(
+                f"{flag} {given!r}: {str(partial)!r} is a broken symbolic link (to "
+                f"{os.readlink(partial)!r}); give the folder it should lead to"
+            )
+    try:
+        return path.resolve(strict=False)
+    except (OSError, RuntimeError) as exc:  # a loop of symbolic links
+        raise UserInputError(f"{flag} {given!r}: cannot resolve the path ({exc})") from None
 
 
 def _digest(path: Path) -> str | None:
@@ -152,10 +190,7 @@ class OutputFolder:
             raise UserInputError(f"{flag} needs a folder name, got an empty one")
         if "\0" in given:
             raise UserInputError(f"{flag} {given!r}: a path cannot hold a NUL character")
-        try:
-            target = Path(given).expanduser().resolve(strict=False)
-        except (OSError, RuntimeError) as exc:  # a loop of symbolic links
-            raise UserInputError(f"{flag} {given!r}: cannot resolve the path ({exc})") from None
+        target = resolve_path(given, flag)
         folder = cls(given, target, flag)
         folder._check_target()
         return folder

@@ -35,7 +35,7 @@ from typing import Any
 import numpy as np
 
 from ..derive.errors import UserInputError
-from .output_folder import current_umask
+from .output_folder import current_umask, resolve_path
 
 __all__ = [
     "STORE_FORMAT",
@@ -255,10 +255,11 @@ def inspect_store(plan: Any, store: str | os.PathLike[str]) -> StoreCheck:
         version; a place where nothing can be written.
     """
     given = os.fspath(store)
-    try:
-        path = Path(given).expanduser().resolve(strict=False)
-    except (OSError, RuntimeError) as exc:
-        raise _refuse(given, f"cannot resolve the path ({exc})") from None
+    if not given.strip():
+        raise UserInputError("--out needs a store name (a folder), got an empty one")
+    path = resolve_path(given, "--out")
+    if path == Path.cwd().resolve() or path in Path.cwd().resolve().parents:
+        raise _refuse(given, "the store cannot be the current folder or one of its parents")
     if path.exists() and not path.is_dir():
         raise _refuse(given, "it exists and is not a folder (a Zarr store is a folder)")
     if not path.exists() or not any(path.iterdir()):
