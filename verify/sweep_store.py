@@ -447,7 +447,8 @@ def create_store(plan: Any, check: StoreCheck) -> Any:
 
 
 def repair_store(plan: Any, check: StoreCheck) -> Any:
-    """Make again the arrays :func:`inspect_store` found missing or damaged.
+    """Make again the arrays :func:`inspect_store` found missing or damaged, and the
+    consolidated metadata.
 
     Parameters
     ----------
@@ -480,10 +481,10 @@ def repair_store(plan: Any, check: StoreCheck) -> Any:
             consolidated=False,
             zarr_format=2,
         )
-    group = _open_group(path)
-    if check.recreate:
-        zarr.consolidate_metadata(str(path), zarr_format=2)
-    return group
+    # the consolidated metadata (what xr.open_zarr reads first) made anew: it may be stale,
+    # damaged or gone
+    zarr.consolidate_metadata(str(path), zarr_format=2)
+    return _open_group(path)
 
 
 def write_chunk(plan: Any, group: Any, k: int, result: Mapping) -> None:
