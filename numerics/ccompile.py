@@ -276,7 +276,7 @@ def _record_matches(library: Path) -> bool | None:
         text = _record_path(library).read_text(encoding="utf-8")
     except FileNotFoundError:
         return None  # unrecorded (a build killed before its record): built again quietly
-    except OSError:
+    except (OSError, ValueError):  # unreadable, not UTF-8
         return False
     try:
         record = json.loads(text)
