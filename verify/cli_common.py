@@ -137,11 +137,11 @@ _UNPRINTABLE = frozenset({"Cc", "Cf", "Zl", "Zp"})
 
 
 def printable(text: str, keep: str = "\n") -> str:
-    """``text`` safe for a terminal: every control or format character shown as an escape.
+    r"""``text`` safe for a terminal: every control or format character shown as an escape.
 
     Text from user files (a scene's title, a file name) may hold escape sequences that
     recolour, retitle or clear the terminal, or bidirectional overrides that reorder what is
-    shown; they are printed as ``\\x1b``, ``\\u202e`` (as Python's ``repr`` writes them).
+    shown; they are printed as ``\x1b``, ``\u202e`` (as Python's ``repr`` writes them).
 
     Parameters
     ----------
@@ -155,8 +155,8 @@ def printable(text: str, keep: str = "\n") -> str:
 
     Examples
     --------
-    >>> printable("title \x1b[2J")
-    'title \\x1b[2J'
+    >>> print(printable("title \x1b[2J"))
+    title \x1b[2J
     """
     out = []
     for ch in text:

@@ -398,7 +398,12 @@ def _plain(name: str) -> bool:
 
 
 def current_umask() -> int:
-    """The process's umask (read without changing it: from /proc where there is one)."""
+    """The process's umask, read without changing it (from /proc; 022 where there is none).
+
+    Returns
+    -------
+    int
+    """
     try:
         with open("/proc/self/status", encoding="ascii") as fh:
             for line in fh:

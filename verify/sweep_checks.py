@@ -199,7 +199,12 @@ def _is_handshake(body: bytes) -> bool:
 
 # ---------------------------------------------------------------------------------- workers
 def usable_cpus() -> int:
-    """CPUs this process may run on (its affinity, else the machine's count)."""
+    """CPUs this process may run on (its affinity, else the machine's count).
+
+    Returns
+    -------
+    int
+    """
     try:
         return len(os.sched_getaffinity(0)) or 1
     except (AttributeError, OSError):
@@ -207,7 +212,13 @@ def usable_cpus() -> int:
 
 
 def available_memory() -> int | None:
-    """Bytes of memory available without swapping (``MemAvailable``), or None if unknown."""
+    """Bytes of memory available without swapping (``MemAvailable``).
+
+    Returns
+    -------
+    int or None
+        None where it cannot be read.
+    """
     try:
         with open("/proc/meminfo", encoding="ascii") as fh:
             for line in fh:
