@@ -236,6 +236,17 @@ def make_canary(root: Path, scene_text: str | None = None) -> None:
         ro.chmod(0o444)
 
 
+def read_only_place(sandbox: Path) -> Path:
+    """A folder where nothing can be created: a read-only one (root may write anywhere, so
+    for root a folder of /proc, where nobody can)."""
+    if os.geteuid() == 0:
+        return Path(f"/proc/{os.getpid()}")
+    folder = sandbox / "read-only"
+    folder.mkdir()
+    folder.chmod(0o555)
+    return folder
+
+
 # ---------------------------------------------------------------------------------- scenes
 def toml_string(text: str) -> str:
     """A TOML basic string holding ``text`` exactly (controls as ``\\uXXXX``, astral

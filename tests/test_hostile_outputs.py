@@ -23,7 +23,14 @@ from pathlib import Path
 
 import pytest
 from chaplygin.verify.output_folder import MARKER, safe_name
-from hostile import check_case, make_canary, run_cli, toml_string, tree_digest
+from hostile import (
+    check_case,
+    make_canary,
+    read_only_place,
+    run_cli,
+    toml_string,
+    tree_digest,
+)
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -63,6 +70,7 @@ KINDS = {
     "new nested folder": {0},
     "empty folder": {0},
     "two scenes whose stems clash": {2},
+    "a read-only place": {2},
 }
 
 #: Scene file names a user may have (stems ``..``, ``.``, empty, control characters...).
@@ -179,6 +187,8 @@ def test_run_out_never_touches_what_is_not_ours(case):
         elif kind == "empty folder":
             target = sandbox / "empty"
             target.mkdir()
+        elif kind == "a read-only place":
+            target = read_only_place(sandbox) / "out"
         elif kind == "two scenes whose stems clash":
             a, b = sandbox / "a b.toml", sandbox / "a_b.toml"
             a.write_text(text)
