@@ -248,6 +248,29 @@ def read_only_place(sandbox: Path) -> Path:
 
 
 # ---------------------------------------------------------------------------------- scenes
+#: The cheap scene of the hostile suites (the ball, 0.2 time units, 3 output points).
+SCENE = """title = {title}
+system = "chaplygin_ball"
+[parameters]
+I = [1, 1.5, 2]
+D = 1
+[initial]
+M = [0.7, -0.4, 0.5]
+gamma = [0.2, 0.3, "sqrt(0.87)"]
+[run]
+t_end = {t_end}
+points = 3
+{run}
+[outputs]
+{outputs}
+"""
+
+
+def scene_toml(title: str = "t", t_end: str = "0.2", run: str = "", outputs: str = "") -> str:
+    """The suites' scene: ``run`` and ``outputs`` are extra lines of those tables."""
+    return SCENE.format(title=toml_string(title), t_end=t_end, run=run, outputs=outputs)
+
+
 def toml_string(text: str) -> str:
     """A TOML basic string holding ``text`` exactly (controls as ``\\uXXXX``, astral
     characters as they are: TOML has no surrogate pairs)."""

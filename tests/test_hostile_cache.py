@@ -30,7 +30,7 @@ from chaplygin.numerics.ccompile import (
     compile_c,
     find_compiler,
 )
-from hostile import tally_case
+from hostile import scene_toml, tally_case
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -43,21 +43,7 @@ pytestmark = pytest.mark.slow
 
 SOURCE = "double chaplygin_hostile_{n}(double x) {{ return 2.0 * x + {n}; }}\n"
 
-SCENE = textwrap.dedent(
-    """
-    title = "cache"
-    system = "chaplygin_ball"
-    [parameters]
-    I = [1, 1.5, 2]
-    D = 1
-    [initial]
-    M = [0.7, -0.4, 0.5]
-    gamma = [0.2, 0.3, "sqrt(0.87)"]
-    [run]
-    t_end = 0.2
-    points = 3
-    """
-)
+SCENE = scene_toml("cache")
 
 
 def _run_in_subprocess(code: str, env: dict, cwd: Path) -> subprocess.CompletedProcess:

@@ -28,28 +28,11 @@ from hostile import (
     make_canary,
     read_only_place,
     run_cli,
-    toml_string,
+    scene_toml,
     tree_digest,
 )
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-
-SCENE = """title = {title}
-system = "chaplygin_ball"
-[parameters]
-I = [1, 1.5, 2]
-D = 1
-[initial]
-M = [0.7, -0.4, 0.5]
-gamma = [0.2, 0.3, "sqrt(0.87)"]
-[run]
-t_end = 0.2
-points = 3
-rtol = 1e-8
-atol = 1e-8
-[outputs]
-trajectory = {{ format = "{fmt}" }}
-"""
 
 #: How ``--out`` is pointed at the sandbox (each with the statuses it may end with).
 KINDS = {
@@ -84,7 +67,8 @@ TITLES = st.one_of(
 
 
 def _scene_text(title: str, fmt: str) -> str:
-    return SCENE.format(title=toml_string(title), fmt=fmt)
+    fmt_line = f'trajectory = {{ format = "{fmt}" }}'
+    return scene_toml(title, run="rtol = 1e-8\natol = 1e-8", outputs=fmt_line)
 
 
 def _ours(folder: Path) -> set[Path]:

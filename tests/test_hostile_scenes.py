@@ -21,7 +21,7 @@ import chaplygin
 import pytest
 from chaplygin.derive.errors import ChaplyginError
 from chaplygin.verify.scene import MAX_SCENE_BYTES, Scene
-from hostile import check_case, make_canary, run_cli, tally_case, toml_string, tree_digest
+from hostile import check_case, make_canary, run_cli, scene_toml, tally_case, tree_digest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -33,26 +33,9 @@ SETTINGS = settings(
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
 )
 
-BASE = """title = {title}
-system = "chaplygin_ball"
-[parameters]
-I = [1, 1.5, 2]
-D = 1
-[initial]
-M = [0.7, -0.4, 0.5]
-gamma = [0.2, 0.3, "sqrt(0.87)"]
-[run]
-t_end = {t_end}
-points = 3
-{extra}
-[outputs]
-drift = {{ plot = {plot} }}
-"""
-
-
 def scene_text(title: str = "t", t_end: str = "0.2", extra: str = "", plot: bool = False) -> str:
-    return BASE.format(
-        title=toml_string(title), t_end=t_end, extra=extra, plot="true" if plot else "false"
+    return scene_toml(
+        title, t_end, run=extra, outputs=f"drift = {{ plot = {'true' if plot else 'false'} }}"
     )
 
 

@@ -40,7 +40,14 @@ from pathlib import Path
 
 from ..derive.errors import UserInputError
 
-__all__ = ["MARKER", "OutputFolder", "safe_name", "current_umask", "resolve_path"]
+__all__ = [
+    "MARKER",
+    "OutputFolder",
+    "safe_name",
+    "current_umask",
+    "resolve_path",
+    "probe_folder",
+]
 
 #: The file that makes a folder ours: the files we wrote there, with their digests.
 MARKER = ".chaplygin-run.json"
@@ -138,8 +145,18 @@ def _digest(path: Path) -> str | None:
         os.close(fd)
 
 
-def _probe(folder: Path) -> str | None:
-    """Why no file can be created in ``folder`` (tried, not guessed), or None."""
+def probe_folder(folder: Path) -> str | None:
+    """Why no file can be created in ``folder`` (tried, not guessed: permissions, read-only
+    file systems and /proc all answer; the probe leaves nothing), or None.
+
+    Parameters
+    ----------
+    folder : Path
+
+    Returns
+    -------
+    str or None
+    """
     try:
         with tempfile.TemporaryFile(dir=folder, prefix=".chaplygin-probe-"):
             pass
@@ -206,7 +223,7 @@ class OutputFolder:
         if target.exists():
             if not target.is_dir():
                 raise self._refuse("it exists and is not a folder; give a folder")
-            problem = _probe(target)
+            problem = probe_folder(target)
             if problem:
                 raise self._refuse(f"no file can be created there ({problem})")
             self.previous()  # refuses a folder that is not ours
@@ -216,7 +233,7 @@ class OutputFolder:
             ancestor = ancestor.parent
         if not ancestor.is_dir():
             raise self._refuse(f"{str(ancestor)!r} is not a folder")
-        problem = _probe(ancestor)
+        problem = probe_folder(ancestor)
         if problem:
             raise self._refuse(f"no folder can be created in {str(ancestor)!r} ({problem})")
 

@@ -35,7 +35,7 @@ from typing import Any
 import numpy as np
 
 from ..derive.errors import UserInputError
-from .output_folder import current_umask, resolve_path
+from .output_folder import current_umask, probe_folder, resolve_path
 
 __all__ = [
     "STORE_FORMAT",
@@ -225,15 +225,6 @@ def _open_group(path: Path, mode: str = "r+") -> Any:
     return zarr.open_group(str(path), mode=mode, zarr_format=2, use_consolidated=False)
 
 
-def _probe(folder: Path) -> str | None:
-    try:
-        with tempfile.TemporaryFile(dir=folder, prefix=".chaplygin-probe-"):
-            pass
-    except OSError as exc:
-        return exc.strerror or str(exc)
-    return None
-
-
 def inspect_store(plan: Any, store: str | os.PathLike[str]) -> StoreCheck:
     """Check a store before any work, changing nothing: whose it is, what it lacks, which
     chunks marked done still hold what was computed.
@@ -268,7 +259,7 @@ def inspect_store(plan: Any, store: str | os.PathLike[str]) -> StoreCheck:
             folder = folder.parent
         if not folder.is_dir():
             raise _refuse(given, f"{str(folder)!r} is not a folder")
-        problem = _probe(folder)
+        problem = probe_folder(folder)
         if problem:
             raise _refuse(given, f"nothing can be created in {str(folder)!r} ({problem})")
         return StoreCheck(path, exists=False)
@@ -296,7 +287,7 @@ def inspect_store(plan: Any, store: str | os.PathLike[str]) -> StoreCheck:
             f"holds a sweep made by {' and '.join(what[k] for k in differs)}; it is not "
             "mixed with this one: choose another --out, or delete it to start again",
         )
-    problem = _probe(path)
+    problem = probe_folder(path)
     if problem:
         raise _refuse(given, f"the store cannot be written ({problem})")
     return _verify(plan, group, StoreCheck(path, exists=True))
