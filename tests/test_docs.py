@@ -12,6 +12,8 @@ MODULES = [
     "chaplygin.derive.emit.functions",
     "chaplygin.numerics.integrate",
     "chaplygin.numerics.quadratures",
+    "chaplygin.verify.cli_common",
+    "chaplygin.verify.output_folder",
     "chaplygin.verify.vocabulary",
 ]
 

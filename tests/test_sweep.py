@@ -230,8 +230,10 @@ def test_store_of_another_sweep_is_refused(client, reference, tmp_path):
     with pytest.raises(UserInputError, match="different grid"):
         run_sweep(Scene.from_toml(_scene(tmp_path, other_grid)), reference, client=client)
     (tmp_path / "junk").mkdir()
+    (tmp_path / "junk" / "notes.txt").write_text("mine")  # a folder of the user's
     with pytest.raises(UserInputError, match="not a chaplygin sweep store"):
         run_sweep(Scene.from_toml(_scene(tmp_path)), tmp_path / "junk", client=client)
+    assert [p.name for p in (tmp_path / "junk").iterdir()] == ["notes.txt"]
 
 
 def test_a_worker_killed_mid_chunk_loses_nothing(client, reference, tmp_path):

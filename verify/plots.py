@@ -42,7 +42,28 @@ __all__ = [
     "series_figure",
     "drift_figure",
     "scene_diagram_figure",
+    "literal_text",
 ]
+
+
+def literal_text(text: str) -> str:
+    """User text (a scene's title) as matplotlib shows it literally: ``$`` escaped, so that
+    ``"cost $5$"`` is not read as mathtext (and a malformed formula cannot fail the drawing).
+
+    Parameters
+    ----------
+    text : str
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> literal_text("$x^$")
+    '\\$x^\\$'
+    """
+    return text.replace("$", r"\$")
 
 #: Bifurcation diagrams: name -> (system, default parameters, title).
 #: Most random states :func:`bifurcation_figure` integrates.

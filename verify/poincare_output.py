@@ -364,7 +364,9 @@ def _run(scene: Any, res: Any, spec: PoincareOutput, progress: bool) -> Analysis
     projections = (
         [tuple(p) for p in spec.projections] if spec.projections else _default_pairs(spec, coords)
     )
-    title = scene.title or code.name
+    from .plots import literal_text
+
+    title = literal_text(scene.title or code.name)
     figures = {}
     if spec.plot:
         figures["poincare"] = lambda: poincare_figure(points, labels, projections, marks, title)
