@@ -254,3 +254,22 @@ def test_bad_input_one_line_exit_2(tmp_path, capsys, argv, needle):
 def test_out_must_be_png(tmp_path, capsys):
     status = main(["bifurcation", "chaplygin_ball", "--out", str(tmp_path / "f.txt")])
     assert status == 2 and ".png" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("I", [I_REF, (3.0, 1.5, 1.0), (1.5, 1.0, 3.0)])
+def test_bkm12_figures_number_the_sigmas_as_the_paper(I):
+    """BKM12 Figs. 2 and 3 assume A1 < A2 < A3 (b_i = D A_i): the curve labelled Sigma_k is
+    E = A_(k) C with A_(k) the k-th smallest A_i, and in Fig. 3 E'(g = 0) = b_(k), whatever
+    the order of the body's moments (at I_REF, A is decreasing: Sigma_1 is body axis e3)."""
+    from chaplygin.verify.plots import bifurcation_figure
+
+    A = np.sort(1 / (np.asarray(I) + D_REF))
+    fig2, _ = bifurcation_figure("bkm12-2", {"I": I}, samples=1)
+    fig3, _ = bifurcation_figure("bkm12-3", {"I": I}, samples=1)
+    for k in range(3):
+        (line,) = [x for x in fig2.axes[0].lines if x.get_label().startswith(f"Sigma_{k + 1}:")]
+        C, E = line.get_data()
+        assert abs(E[-1] / C[-1] - A[k]) <= 1e-14
+        (line,) = [x for x in fig3.axes[0].lines if x.get_label().startswith(f"Sigma_{k + 1}:")]
+        g, Ep = line.get_data()
+        assert abs(Ep[np.argmin(np.abs(g))] - D_REF * A[k]) <= 1e-14

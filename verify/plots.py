@@ -164,19 +164,26 @@ def _draw_traces(ax: Axes, tax: Axes, I, D, C, vals, states) -> None:
     tax.set_title("contact-point traces, t in [0, 150]", fontsize=9)
 
 
+def _paper_order(I, D) -> np.ndarray:
+    """Body axes in BKM12's order of Figs. 2 and 3: ``A1 < A2 < A3`` (``b_i = D A_i``), so the
+    paper's ``Sigma_k`` is the steady rotation about body axis ``order[k - 1]``."""
+    return np.argsort(1 / (np.asarray(I, float) + D), kind="stable")
+
+
 def _draw_bkm12_2(ax: Axes, I, D, samples, seed) -> float:
     from ..numerics.bifurcation import family_stability, sample_levels
 
     stab = family_stability(I, D, 1.0, 0.0)
     C = np.linspace(0, 1, 100)
     A = 1 / (np.asarray(I, float) + D)
-    for i in range(3):
+    for k, i in enumerate(_paper_order(I, D)):
         ax.plot(
             C,
             A[i] * C,
             _style(stab[i][0]),
-            color=COLORS[i],
-            label=f"E = A{i + 1} C (max|mu| = {stab[i][1]:.3g})",
+            color=COLORS[k],
+            label=f"Sigma_{k + 1}: E = A{k + 1} C, A{k + 1} = {A[i]:.4g} (body axis e{i + 1}; "
+            f"max|mu| = {stab[i][1]:.3g})",
         )
     vals, drift, states = sample_levels(I, D, samples, seed, C_range=(0.02, 1.0), Mg=0.0)
     ax.plot(vals[:, 0], vals[:, 2], ".", color="0.5", ms=3)
@@ -191,14 +198,15 @@ def _draw_bkm12_3(ax: Axes, I, D, samples, seed) -> float:
     b = D / (np.asarray(I, float) + D)
     g = np.linspace(-1, 1, 201)
     stab = family_stability(I, D, 1.0, 0.5)
-    for i in range(3):
+    for k, i in enumerate(_paper_order(I, D)):
         Ep = sigma(i, 1.0, g, I, D) * D  # E' = E D/C at C = 1
         ax.plot(
             g,
             Ep,
             _style(stab[i][0]),
-            color=COLORS[i],
-            label=f"Sigma_{i + 1} (max|mu| = {stab[i][1]:.3g})",
+            color=COLORS[k],
+            label=f"Sigma_{k + 1}: b{k + 1} = {b[i]:.4g} (body axis e{i + 1}; "
+            f"max|mu| = {stab[i][1]:.3g})",
         )
     ends = sorted(b / (1 - b))
     for gv, k in ((1, 4), (-1, 5)):
@@ -345,10 +353,10 @@ def bifurcation_figure(
             ax.set_title(f"{title}: I = {I}, D = {D}, C = (M, gamma) = {C}")
         elif figure == "bkm12-2":
             drift = _draw_bkm12_2(ax, I, D, samples, seed)
-            ax.set_title(f"{title}: (M, gamma) = 0, I = {I}, D = {D}")
+            ax.set_title(f"{title}: (M, gamma) = 0, I = {I}, D = {D} (A1 < A2 < A3)")
         else:
             drift = _draw_bkm12_3(ax, I, D, samples, seed)
-            ax.set_title(f"{title}: normalised diagram, I = {I}, D = {D}")
+            ax.set_title(f"{title}: normalised, I = {I}, D = {D} (b1 < b2 < b3)")
         handles, _ = ax.get_legend_handles_labels()
         ax.legend(handles=handles + _stability_legend(), fontsize=7, loc="best")
         ax.grid(alpha=0.3)
