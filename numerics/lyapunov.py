@@ -332,6 +332,7 @@ def lyapunov_spectrum(
     atol: float = 1e-12,
     seed: int = 20200,
     system: VariationalSystem | None = None,
+    count: int | None = None,
 ) -> LyapunovSpectrum:
     """Lyapunov exponents of the orbit of ``y0`` (and of ``states - 1`` neighbours).
 
@@ -368,6 +369,9 @@ def lyapunov_spectrum(
         Seed of the neighbours and of the initial tangent vectors.
     system : VariationalSystem, optional
         A prepared system (its tolerances are used instead of `rtol`, `atol`).
+    count : int, optional
+        Only the ``count`` largest exponents (fewer tangent vectors: cheaper; the largest
+        alone needs one).
 
     Returns
     -------
@@ -412,6 +416,10 @@ def lyapunov_spectrum(
     k = tangent.shape[1] if spectrum == "level_set" else n
     if k == 0:
         raise UserInputError(f"the level set of {code.name}'s integrals is a point: no exponents")
+    if count is not None:
+        if isinstance(count, bool) or not isinstance(count, int) or count < 1:
+            raise UserInputError(f"count must be a positive integer, got {count!r}")
+        k = min(k, count)
     checkpoints = np.unique(np.geomspace(1, intervals, CONVERGENCE_POINTS).astype(int))
     per_state = np.zeros((states, k))
     window_se = np.zeros((states, k))
@@ -453,7 +461,7 @@ def lyapunov_spectrum(
     )
     errors = np.fmax(window_errors, state_errors)
     forced = None
-    if spectrum == "full" and rank:
+    if spectrum == "full" and rank and k == n:
         forced = np.sort(exponents[np.argsort(np.abs(exponents))[:rank]])[::-1]
     return LyapunovSpectrum(
         spectrum=spectrum,

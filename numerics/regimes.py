@@ -1,0 +1,260 @@
+"""The dynamical regime of a stroboscopic map's attractor: periodic (with its period),
+quasi-periodic or chaotic, told apart by the period and then the largest Lyapunov exponent.
+
+From a start the map ``P: y(t0) -> y(t0 + 2 pi/Omega)`` is iterated ``transient`` times;
+the next ``recorded`` iterates are searched for the smallest period ``p <= max_period`` that
+closes within ``tol`` (max norm in ``(M/|M|, gamma)``, so ``tol`` is relative). Without a
+period, the largest Lyapunov exponent on the integrals' level set (Benettin, one tangent
+vector, :func:`~chaplygin.numerics.lyapunov.lyapunov_spectrum` with ``count=1``) is
+measured over ``intervals`` further iterations, per map iteration, with its standard error
+``s`` (batch means over 10 windows). With ``N = intervals`` and ``r = ln(N)/N`` (what a
+tangent vector growing linearly, as on a torus or a periodic orbit, shows after ``N``
+iterations):
+
+* ``lambda - 3 s > r``: **chaotic**;
+* ``lambda + 3 s < -r``: **contracting**: a periodic attractor that was not resolved (a period
+  above ``max_period``, or an approach slower than the transient);
+* otherwise: **quasi-periodic** (``lambda`` is zero within ``3 s + r``).
+
+The attractor's symmetric copy is named (:mod:`chaplygin.numerics.symmetry`) from the
+recorded points. The state after the last iteration is returned, so that a chart can carry
+it to the next parameter value (:func:`chaplygin.verify.sweep`'s ``carry``), following one
+attractor along a grid line and so revealing coexisting attractors.
+
+References
+----------
+G. Benettin et al., Meccanica 15 (1980); BM20 §3.2, Fig. 6 (chart of dynamical regimes).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..derive.errors import ComputationError, UserInputError
+from .code import ModelCode
+from .symmetry import CopyName, name_copy, symmetries_of
+
+__all__ = [
+    "REGIMES",
+    "AttractorRegime",
+    "attractor_regime",
+    "linear_growth_rate",
+    "map_points_scaled",
+]
+
+#: Regime names and their codes in stores (0: not classified).
+REGIMES = {"periodic": 1, "quasi-periodic": 2, "chaotic": 3, "contracting": 4}
+
+#: Standard errors a decision needs.
+SIGMAS = 3.0
+
+
+def linear_growth_rate(iterations: int) -> float:
+    """The exponent per iteration that a tangent vector growing linearly (``|v_N| = N |v_0|``,
+    as on an invariant torus or a periodic orbit) shows after ``N`` iterations: ``ln(N)/N``.
+
+    Parameters
+    ----------
+    iterations : int
+
+    Returns
+    -------
+    float
+        Per map iteration.
+    """
+    return math.log(iterations) / iterations
+
+
+@dataclass
+class AttractorRegime:
+    """The regime of the attractor reached from one start.
+
+    Attributes
+    ----------
+    regime : str
+        A key of :data:`REGIMES`.
+    period : int
+        The period (0 when none up to ``max_period`` closes).
+    lyapunov, lyapunov_error : float
+        Largest exponent and its standard error, per map iteration (NaN for a periodic
+        attractor: not measured).
+    threshold : float
+        ``ln(N)/N`` of the decision.
+    copy : CopyName or None
+        The symmetric copy reached (None when the model has no such symmetry).
+    points : ndarray, shape (recorded, n)
+        The recorded iterates (states).
+    end : ndarray, shape (n,)
+        The state after the last iteration (on the attractor).
+    work : dict
+        ``map_periods`` and ``lyapunov_periods`` integrated.
+    """
+
+    regime: str
+    period: int
+    lyapunov: float
+    lyapunov_error: float
+    threshold: float
+    copy: CopyName | None
+    points: NDArray
+    end: NDArray
+    work: dict = field(default_factory=dict)
+
+    @property
+    def code(self) -> int:
+        """The regime's code in :data:`REGIMES`.
+
+        Returns
+        -------
+        int
+        """
+        return REGIMES[self.regime]
+
+
+def map_points_scaled(y: ArrayLike, state: tuple[str, ...]) -> NDArray[np.float64]:
+    """The map points in ``(M/|M|, gamma)`` (``M`` left as is where ``|M| = 0``): coordinates
+    of size one, in which a closing tolerance is relative.
+
+    Parameters
+    ----------
+    y : array_like, shape (n_points, n)
+    state : tuple of str
+
+    Returns
+    -------
+    ndarray, shape (n_points, 6)
+    """
+    y = np.atleast_2d(np.asarray(y, dtype=float))
+    m = [state.index(f"M{i}") for i in (1, 2, 3)]
+    g = [state.index(f"gamma{i}") for i in (1, 2, 3)]
+    M = y[:, m]
+    norm = np.sqrt(np.sum(M * M, axis=1, keepdims=True))
+    return np.hstack([np.where(norm > 0, M / np.where(norm > 0, norm, 1.0), M), y[:, g]])
+
+
+def _period(x: NDArray, max_period: int, tol: float) -> int:
+    for p in range(1, max_period + 1):
+        if float(np.max(np.abs(x[p:] - x[:-p]))) <= tol:
+            return p
+    return 0
+
+
+def attractor_regime(
+    code: ModelCode,
+    params: ArrayLike,
+    y0: ArrayLike,
+    *,
+    transient: int = 2000,
+    recorded: int = 600,
+    max_period: int = 64,
+    tol: float = 1e-4,
+    intervals: int = 2000,
+    lyapunov_transient: int = 100,
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    t0: float = 0.0,
+) -> AttractorRegime:
+    """Classify the attractor of the stroboscopic map reached from ``y0``.
+
+    Parameters
+    ----------
+    code : ModelCode
+        A time-periodic model (parameter ``Omega``) with state ``M``, ``gamma``.
+    params : array_like
+        Parameters in ``code.params`` order (double).
+    y0 : array_like, shape (n,)
+        Start.
+    transient : int
+        Map iterations discarded first.
+    recorded : int
+        Iterations searched for a period (``> max_period``).
+    max_period : int
+        Largest period looked for.
+    tol : float
+        Closing tolerance in ``(M/|M|, gamma)`` (max norm).
+    intervals : int
+        Map iterations of the Lyapunov exponent (at least 10).
+    lyapunov_transient : int
+        Iterations that align the tangent vector first.
+    rtol, atol : float
+        Tolerances of the integrations (DOP853 in C: the batch map and the variational
+        equations).
+    t0 : float
+        Phase of the section.
+
+    Returns
+    -------
+    AttractorRegime
+
+    Raises
+    ------
+    UserInputError
+        Bad counts or tolerances; a model without ``Omega`` or without ``M``, ``gamma``.
+    ComputationError
+        An integration failed.
+    """
+    from .batch_map import STATUS_MESSAGES, BatchStroboscopicMap
+    from .lyapunov import lyapunov_spectrum
+
+    for name, value, least in (
+        ("transient", transient, 0),
+        ("recorded", recorded, 2),
+        ("max_period", max_period, 1),
+        ("intervals", intervals, 10),
+        ("lyapunov_transient", lyapunov_transient, 0),
+    ):
+        if isinstance(value, bool) or not isinstance(value, int) or value < least:
+            raise UserInputError(f"{name} must be an integer >= {least}, got {value!r}")
+    if recorded <= max_period:
+        raise UserInputError(f"recorded ({recorded}) must exceed max_period ({max_period})")
+    if not 0 < float(tol) < 1:
+        raise UserInputError(f"tol must be in (0, 1), got {tol}")
+    state = tuple(code.state)
+    if not {"M1", "gamma1"} <= set(state):
+        raise UserInputError(f"{code.name} has no M and gamma: no map regime")
+    p = [float(v) for v in params]
+    y0 = np.asarray(y0, dtype=float)
+    bm = BatchStroboscopicMap(code, rtol=rtol, atol=atol)
+    r = bm.run([y0], [p], n=recorded + 1, transient=transient, t0=float(t0))
+    if r.status[0]:
+        raise ComputationError(f"the map failed: {STATUS_MESSAGES[int(r.status[0])]}")
+    y = np.asarray(r.y[0], dtype=float)
+    points, end = y[:-1], y[-1]
+    period = _period(map_points_scaled(points, state), max_period, float(tol))
+    work = {"map_periods": transient + recorded}
+    lam = err = math.nan
+    threshold = linear_growth_rate(intervals)
+    if period:
+        regime = "periodic"
+    else:
+        tau = 2 * math.pi / p[code.params.index("Omega")]
+        t_end = float(t0) + (transient + recorded) * tau
+        spec = lyapunov_spectrum(
+            code, p, end, intervals=intervals, transient=lyapunov_transient, t0=t_end,
+            rtol=rtol, atol=atol, count=1,
+        )  # fmt: skip
+        lam = float(spec.per_iteration(spec.exponents)[0])
+        err = float(spec.per_iteration(spec.errors)[0])
+        work["lyapunov_periods"] = intervals + lyapunov_transient
+        if lam - SIGMAS * err > threshold:
+            regime = "chaotic"
+        elif lam + SIGMAS * err < -threshold:
+            regime = "contracting"
+        else:
+            regime = "quasi-periodic"
+    copy = None
+    if symmetries_of(code):
+        if period:  # tol is relative to |M| in M: in state units at most tol max(1, |M|)
+            m = [state.index(f"M{i}") for i in (1, 2, 3)]
+            scale = max(1.0, float(np.max(np.linalg.norm(points[:, m], axis=1))))
+            copy = name_copy(points[-period:], state, periodic=True, tol=float(tol) * scale)
+        else:
+            copy = name_copy(points, state)
+    return AttractorRegime(
+        regime=regime, period=period, lyapunov=lam, lyapunov_error=err, threshold=threshold,
+        copy=copy, points=points, end=end, work=work,
+    )  # fmt: skip
