@@ -42,6 +42,7 @@ __all__ = [
     "REGIMES",
     "AttractorRegime",
     "attractor_regime",
+    "closing_period",
     "linear_growth_rate",
     "map_points_scaled",
 ]
@@ -136,8 +137,22 @@ def map_points_scaled(y: ArrayLike, state: tuple[str, ...]) -> NDArray[np.float6
     return np.hstack([np.where(norm > 0, M / np.where(norm > 0, norm, 1.0), M), y[:, g]])
 
 
-def _period(x: NDArray, max_period: int, tol: float) -> int:
-    for p in range(1, max_period + 1):
+def closing_period(x: ArrayLike, max_period: int, tol: float) -> int:
+    """The smallest ``p <= max_period`` with every ``|x[k + p] - x[k]| <= tol`` (max norm), or 0.
+
+    Parameters
+    ----------
+    x : array_like, shape (n, dim)
+        Consecutive map points (``n > max_period``).
+    max_period : int
+    tol : float
+
+    Returns
+    -------
+    int
+    """
+    x = np.asarray(x, dtype=float)
+    for p in range(1, min(max_period, len(x) - 1) + 1):
         if float(np.max(np.abs(x[p:] - x[:-p]))) <= tol:
             return p
     return 0
@@ -224,7 +239,7 @@ def attractor_regime(
         raise ComputationError(f"the map failed: {STATUS_MESSAGES[int(r.status[0])]}")
     y = np.asarray(r.y[0], dtype=float)
     points, end = y[:-1], y[-1]
-    period = _period(map_points_scaled(points, state), max_period, float(tol))
+    period = closing_period(map_points_scaled(points, state), max_period, float(tol))
     work = {"map_periods": transient + recorded}
     lam = err = math.nan
     threshold = linear_growth_rate(intervals)

@@ -27,7 +27,7 @@ __all__ = [
 
 def period_colours(periods: Any) -> list:
     """One distinguishable colour per period, in the order given: the qualitative palettes
-    tab10 (its grey left out), tab20b and tab20c (49 colours), then evenly spaced hues; never
+    tab10, tab20b and tab20c without their greys (45 colours), then evenly spaced hues; never
     black, white or grey (kept for the regimes without a period). No two periods share a
     colour however many there are (a colour map wrapped at its length would draw period 28
     in period 8's colour).
@@ -44,9 +44,12 @@ def period_colours(periods: Any) -> list:
     import matplotlib
 
     cmaps = matplotlib.colormaps
-    palette = [tuple(c) for i, c in enumerate(cmaps["tab10"].colors) if i != 7]
-    palette += [tuple(c) for name in ("tab20b", "tab20c") for c in cmaps[name].colors]
-    palette = [(*c[:3], 1.0) for c in palette]
+    palette = [
+        (*c[:3], 1.0)
+        for name in ("tab10", "tab20b", "tab20c")
+        for c in cmaps[name].colors
+        if not c[0] == c[1] == c[2]  # tab10's grey, tab20c's four greys
+    ]
     n = len(periods)
     if n > len(palette):
         hues = cmaps["hsv"](np.linspace(0, 1, n - len(palette), endpoint=False))
@@ -60,8 +63,7 @@ def _category_mesh(
     """Draw integer category codes 0..n-1 (NaN: white) with a colour bar naming each."""
     from matplotlib.colors import BoundaryNorm, ListedColormap
 
-    cmap = ListedColormap(colours)
-    cmap.set_bad("white")
+    cmap = ListedColormap(colours).with_extremes(bad="white")
     norm = BoundaryNorm(np.arange(-0.5, len(colours) + 0.5), cmap.N)
     mesh = ax.pcolormesh(x, y, np.ma.masked_invalid(codes), cmap=cmap, norm=norm, shading="nearest")
     bar = fig.colorbar(mesh, ax=ax, ticks=range(len(colours)))
