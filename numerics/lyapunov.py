@@ -333,6 +333,7 @@ def lyapunov_spectrum(
     seed: int = 20200,
     system: VariationalSystem | None = None,
     count: int | None = None,
+    subspace: ArrayLike | None = None,
 ) -> LyapunovSpectrum:
     """Lyapunov exponents of the orbit of ``y0`` (and of ``states - 1`` neighbours).
 
@@ -372,6 +373,11 @@ def lyapunov_spectrum(
     count : int, optional
         Only the ``count`` largest exponents (fewer tangent vectors: cheaper; the largest
         alone needs one).
+    subspace : array_like, shape (n, m), optional
+        Columns spanning a subspace of tangent vectors that the variational flow keeps
+        invariant, used instead of the level set's tangent space and not projected (with
+        ``states=1``): where the level set is singular, e.g. from rest (``M = 0``, the critical
+        level of ``(M, M)``: ``delta M = 0``, ``delta gamma`` normal to ``gamma``).
 
     Returns
     -------
@@ -410,6 +416,12 @@ def lyapunov_spectrum(
     y_first = vs._state(y0)
     normal, tangent = vs.level_set_basis(t0, y_first)
     rank = normal.shape[1]
+    if subspace is not None:
+        tangent = np.linalg.qr(np.asarray(subspace, dtype=np.float64))[0]
+        if tangent.shape[0] != vs.n or spectrum != "level_set" or states != 1:
+            raise UserInputError(
+                f"subspace must have {vs.n} rows, with spectrum='level_set' and states=1"
+            )
     starts = states_on_level_set(vs, y_first, states, spread=spread, t=t0, seed=seed)
     rng = np.random.default_rng(seed + 1)
     n = vs.n
@@ -429,10 +441,13 @@ def lyapunov_spectrum(
     work = {"steps": 0, "rejected": 0, "evaluations": 0}
     with_density = _has_density(code)
     for s, y in enumerate(starts):
-        _, tangent_s = vs.level_set_basis(t0, y)
+        if subspace is None:
+            _, tangent_s = vs.level_set_basis(t0, y)
+        else:
+            tangent_s = tangent
         basis = tangent_s if spectrum == "level_set" else np.eye(n)
         V = basis @ np.linalg.qr(rng.standard_normal((basis.shape[1], k)))[0]
-        project = spectrum == "level_set"
+        project = spectrum == "level_set" and subspace is None
         t = t0
         if transient:
             _, _, y, V, w = vs.renormalised(y, V, t, tau, transient, project=project)

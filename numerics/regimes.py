@@ -6,7 +6,8 @@ the next ``recorded`` iterates are searched for the smallest period ``p <= max_p
 closes within ``tol`` (max norm in ``(M/|M|, gamma)``, so ``tol`` is relative). Without a
 period, the largest Lyapunov exponent on the integrals' level set (Benettin, one tangent
 vector, :func:`~chaplygin.numerics.lyapunov.lyapunov_spectrum` with ``count=1``) is
-measured over ``intervals`` further iterations, per map iteration, with its standard error
+measured over ``intervals`` further iterations (from rest, ``M = 0``, on the sphere of
+``gamma`` alone), per map iteration, with its standard error
 ``s`` (batch means over 10 windows). With ``N = intervals`` and ``r = ln(N)/N`` (what a
 tangent vector growing linearly, as on a torus or a periodic orbit, shows after ``N``
 iterations):
@@ -158,6 +159,23 @@ def closing_period(x: ArrayLike, max_period: int, tol: float) -> int:
     return 0
 
 
+def _from_rest_subspace(y: NDArray, state: tuple[str, ...]) -> NDArray | None:
+    """From rest (``M = 0`` exactly, kept by ``M' = M x omega``) the map acts on the sphere of
+    ``gamma``: tangent vectors ``delta M = 0``, ``delta gamma`` normal to ``gamma`` (the
+    variational flow keeps them there). The level set's tangent space would add the
+    directions of ``delta M``, which only rotate (exponent 0) and would hide a contraction.
+    None when ``M != 0``."""
+    m = [state.index(f"M{i}") for i in (1, 2, 3)]
+    g = [state.index(f"gamma{i}") for i in (1, 2, 3)]
+    if np.any(y[m] != 0):
+        return None
+    gamma = y[g] / np.linalg.norm(y[g])
+    normal_plane = np.linalg.svd(gamma[None, :])[2][1:]  # two unit vectors normal to gamma
+    basis = np.zeros((len(state), 2))
+    basis[g, :] = normal_plane.T
+    return basis
+
+
 def attractor_regime(
     code: ModelCode,
     params: ArrayLike,
@@ -250,7 +268,7 @@ def attractor_regime(
         t_end = float(t0) + (transient + recorded) * tau
         spec = lyapunov_spectrum(
             code, p, end, intervals=intervals, transient=lyapunov_transient, t0=t_end,
-            rtol=rtol, atol=atol, count=1,
+            rtol=rtol, atol=atol, count=1, subspace=_from_rest_subspace(end, state),
         )  # fmt: skip
         lam = float(spec.per_iteration(spec.exponents)[0])
         err = float(spec.per_iteration(spec.errors)[0])

@@ -113,7 +113,11 @@ class Symmetry:
 
 
 #: BM20 (3.1): ``(t, M, gamma) -> (t, M, -gamma)``.
-MIRROR = Symmetry("gamma -> -gamma", {"gamma": -1}, ("BM20-3.1", "BM20-3.2/3.3", "BKM12-3.sym"))
+MIRROR = Symmetry(
+    "gamma -> -gamma",
+    {"gamma": -1},
+    ("BM20-3.1", "BM20-3.2/3.3", "BKM12-3.sym", "BKM12-3.sym.gyrostat"),
+)
 
 
 def symmetries_of(code: object) -> tuple[Symmetry, ...]:

@@ -531,6 +531,38 @@ register(
         note="f(s t, S x) = s S f(t, x) exactly, for every even I(t) and odd k(t)",
     ),
     Claim(
+        id="BKM12-3.sym",
+        source="BKM12 §1.1, (2)-(3) (our derivation; used to name symmetric copies)",
+        kind="transformation",
+        statement="(t, M, gamma) -> (t, M, -gamma) maps solutions of the ball to solutions: "
+        "omega = A (M + Z gamma) is even in gamma, gamma' = gamma x omega odd",
+        system=BALL,
+        effects=(),
+        build=_transformations([SYMMETRY], 1, 1),
+        note="chaplygin.numerics.symmetry names the copy of an attractor reached under it",
+    ),
+    Claim(
+        id="BKM12-3.sym.gyrostat",
+        source="BKM12 §2.3, K01 §4 (our derivation)",
+        kind="transformation",
+        statement="with a constant gyrostat K: (t, M, gamma) -> (t, M, -gamma) maps solutions to "
+        "solutions",
+        system=BALL,
+        effects=GYRO,
+        build=_transformations([SYMMETRY], 1, 1),
+    ),
+    Claim(
+        id="BKM12-3.sym/control-M",
+        source="control",
+        kind="transformation",
+        statement="(wrong) (t, M, gamma) -> (t, -M, gamma) (no time reversal) maps solutions of "
+        "the ball to solutions",
+        system=BALL,
+        effects=(),
+        build=_transformations([({"M": -1}, 1)], 1, 1),
+        expected="fails",
+    ),
+    Claim(
         id="BM20-3.4",
         source=f"{S3}, eq. (3.4)",
         kind="definition",
@@ -789,6 +821,101 @@ register(
         compute=_period_map_displacement(-0.5),
         expected="fails",
     )
+)
+
+
+# ------------------------------------------------- BM20-3.1obs: no strange attractor from rest
+#: The search of the claim (the sweep examples/sweeps/bm20-rest-search.toml searches wider):
+#: Omega, J_off and starts (z, l, g) of BM20 (3.7) at G = 0, at Fig. 2's K, d, delta.
+_REST_OMEGA, _REST_J = (0.18, 0.4, 1.3), (-1.0, -0.5, 0.6)
+_REST_STARTS = ((0.7, 1.0, 0.3), (-0.6, 1.0, 1.2))
+#: Map iterations: transient, recorded (period search), Lyapunov intervals.
+_REST_RUN = {"transient": 300, "recorded": 200, "max_period": 32, "tol": 1e-6}
+
+
+def _strange_attractor_search(points, intervals: int) -> Callable[[], Computed]:
+    """Largest ``lambda - 3 s`` (per map iteration; ``s`` its standard error) over the
+    attractors reached from the given (params, state) points, against ``ln(N)/N`` with
+    ``N = intervals``: a chaotic attractor exceeds it
+    (:func:`chaplygin.numerics.regimes.attractor_regime`)."""
+
+    def run() -> Computed:
+        import numpy as np
+        from chaplygin.numerics.code import load_model_code
+        from chaplygin.numerics.regimes import attractor_regime, linear_growth_rate
+
+        code = load_model_code(BALL, list(VB))
+        worst, counts, values = -np.inf, {}, {}
+        for label, params, y0 in points():
+            r = attractor_regime(code, params, y0, **_REST_RUN, intervals=intervals)
+            counts[r.regime] = counts.get(r.regime, 0) + 1
+            if r.period == 0:
+                excess = r.lyapunov - 3 * r.lyapunov_error
+                if excess > worst:
+                    worst = excess
+                    values["largest lambda - 3 s at"] = label
+                    values["lambda per iteration"] = f"{r.lyapunov:.4g} +- {r.lyapunov_error:.2g}"
+        values["regimes"] = ", ".join(f"{k}: {v}" for k, v in sorted(counts.items()))
+        n = intervals
+        return Computed(
+            error=max(float(worst), 0.0),
+            bound=linear_growth_rate(n),
+            what=(
+                f"{sum(counts.values())} attractors: {_REST_RUN['transient']} map iterations, "
+                f"the period (<= {_REST_RUN['max_period']}, closing within {_REST_RUN['tol']:g}) "
+                f"of the next {_REST_RUN['recorded']}, else the largest Lyapunov exponent over "
+                f"{n} iterations (from rest: on the sphere of gamma); largest lambda - 3 s per "
+                f"iteration against ln(N)/N = {linear_growth_rate(n):.2g} (DOP853 in C, rtol "
+                f"1e-10; about {2 + 0.3 * n * sum(counts.values()) / 1000:.0f} s on an idle core)"
+            ),
+            values=values,
+        )
+
+    return run
+
+
+def _from_rest_points():
+    from chaplygin.numerics.map_coordinates import from_andoyer_deprit
+
+    for omega in _REST_OMEGA:
+        for J in _REST_J:
+            for z, l, g in _REST_STARTS:
+                _, gamma = from_andoyer_deprit(0.0, z, l, g)
+                params = [4, 3, 2, 1.5, J, 1.2, 3, -1, -2, omega]
+                state = [0.0, 0.0, 0.0, *map(float, gamma)]
+                yield f"Omega={omega} J={J} (z,l,g)={z, l, g}", params, state
+
+
+def _fig5_point():
+    from chaplygin.numerics.periodic_orbits import bm20_state
+
+    yield "Fig. 5, G = 3", list(BM20_FIG5_PARAMS), list(bm20_state([0.5, 1.0, 1.0], 3.0))
+
+
+register(
+    ComputedClaim(
+        id="BM20-3.1obs.search",
+        source="BM20 §3.1 ('no strange attractors were found'), §4",
+        kind="solution",
+        statement="from rest (G = 0) at Fig. 2's K = (3, -1, -2), d = 1.5, delta = 1.2: no "
+        "strange attractor for Omega in {0.18, 0.4, 1.3}, J in {-1, -0.5, 0.6}, 2 starts each "
+        "(the largest Lyapunov exponent of every attractor reached is not positive beyond 3 "
+        "errors); the sweep examples/sweeps/bm20-rest-search.toml searches 15 x 13 x 6",
+        system=BALL,
+        effects=VB,
+        compute=_strange_attractor_search(_from_rest_points, 1500),
+    ),
+    ComputedClaim(
+        id="BM20-3.1obs.search/control-G3",
+        source="control",
+        kind="solution",
+        statement="(wrong) the same holds for BM20 Fig. 5's motion (G = 3, Omega = 1.07, d = "
+        "4.385): no strange attractor (6000 iterations: lambda - 3 s about 20 times ln(N)/N)",
+        system=BALL,
+        effects=VB,
+        compute=_strange_attractor_search(_fig5_point, 6000),
+        expected="fails",
+    ),
 )
 
 
