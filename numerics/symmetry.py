@@ -18,11 +18,13 @@ the odd function
 
 is positive; ``u`` and ``W`` are the fixed generic constants :data:`U` and :data:`W` below
 (``phi(M, -gamma) = -phi(M, gamma)``, so the two copies have means of opposite sign). A copy
-that ``sigma`` maps onto itself (as a set, within the tolerance) is ``"self"``; a sample whose
-mean is within 5 standard errors (batch means) of zero is ``"undetermined"`` (the set may be
-symmetric, or the sample too short). Outputs report the copy reached (``"canonical"`` or
-``"mirror"``) with the symmetry's name, ``symmetric_copy = "gamma -> -gamma"`` for a mirror
-copy, so that two runs landing on mirror images report the same canonical orbit.
+that ``sigma`` maps onto itself (as a set, within the tolerance; a sample: its mirror image
+within three times its own sampling scale or 1 % of its size, 0.9-quantile Hausdorff
+distances) is ``"self"``; a sample whose mean is within 5 standard errors (batch means) of
+zero is ``"undetermined"`` (the set may be symmetric, or the sample too short). Outputs
+report the copy reached (``"canonical"`` or ``"mirror"``) with the symmetry's name,
+``symmetric_copy = "gamma -> -gamma"`` for a mirror copy, so that two runs landing on mirror
+images report the same canonical orbit.
 
 References
 ----------
@@ -60,12 +62,21 @@ U = np.array([0.6, 0.48, 0.64])
 W = np.array([[0.31, -0.72, 0.17], [0.53, 0.11, -0.44], [-0.26, 0.62, 0.35]])
 #: Batch means of the sample's statistic, and the standard errors that decide.
 BATCHES, DECISIVE = 10, 5.0
+#: A sample is its own mirror image when the two lie within this many sampling scales (the
+#: distance of the sample's two halves, which a quasi-periodic orbit's correlated halves
+#: underestimate: two runs on one invariant curve of BM20 Fig. 4 lie 2.1 scales apart).
+SAMPLE_FACTOR = 3.0
+#: ... or within this fraction of the sample's size (a near-resonant invariant curve retraces
+#: itself, so its halves agree better than two runs on it: 0.4 % of its size apart on BM20
+#: Fig. 4's curve, whose mirror image lies as close as another run's sample).
+SIZE_FRACTION = 0.01
 
 COPY_RULE = (
     "canonical: the copy on which the mean of phi = (gamma, u) + (gamma, W M)/|M| over the "
     "attractor's points is positive (u = (0.6, 0.48, 0.64), W fixed; chaplygin.numerics."
-    "symmetry); 'self': sigma maps the set onto itself; 'undetermined': |mean| within 5 "
-    "standard errors"
+    "symmetry); 'self': sigma maps the set onto itself (a sample: within 3 sampling scales or "
+    "1 % of its size); "
+    "'undetermined': |mean| within 5 standard errors"
 )
 
 #: Effects with which the ball keeps the symmetry (the contact point is carried along, its
@@ -295,7 +306,10 @@ def name_copy(
         State names (``M1..M3``, ``gamma1..gamma3`` are used).
     periodic : bool
         The points are a periodic orbit, exact to ``tol``: ``"self"`` when the mirrored
-        orbit is the orbit (each mirrored point within ``tol`` of one of its points).
+        orbit is the orbit (each mirrored point within ``tol`` of one of its points). A
+        sample (20 points or more) is ``"self"`` when its mirror image lies within
+        :data:`SAMPLE_FACTOR` sampling scales (the distance between its two halves), or
+        :data:`SIZE_FRACTION` of its size, of it.
     tol : float
         Tolerance of the points (max norm, state units).
     symmetry : Symmetry
@@ -320,9 +334,29 @@ def name_copy(
         error = 4 * float(tol)
         if _set_invariant(y, state, 10 * tol):
             return CopyName(symmetry.name, "self", mean, error)
+    elif len(y) >= 2 * BATCHES and _sample_invariant(y, state):
+        return CopyName(symmetry.name, "self", mean, error)
     if abs(mean) <= DECISIVE * error or mean == 0:
         return CopyName(symmetry.name, "undetermined", mean, error)
     return CopyName(symmetry.name, "canonical" if mean > 0 else "mirror", mean, error)
+
+
+def _sample_invariant(y: NDArray, state: Sequence[str]) -> bool:
+    """A sample whose mirror image lies within 3 of its own sampling scales, or 1 % of its size,
+    of it: the 0.9-quantile Hausdorff distance
+    (:func:`~chaplygin.numerics.reversibility.set_distance`) of the sample and its mirror, in
+    ``(M/|M|, gamma)``, against that of its two halves or the diagonal of its bounding box. (The
+    mean of ``phi`` over a quasi-periodic sample converges like ``1/N``, and so does its batch
+    error: on a symmetric invariant curve it could look decisive.)"""
+    from .regimes import map_points_scaled
+    from .reversibility import set_distance
+
+    x = map_points_scaled(y, tuple(state))
+    xm = map_points_scaled(mirror_states(y, state), tuple(state))
+    half = len(x) // 2
+    size = float(np.linalg.norm(np.ptp(x, axis=0)))  # the diagonal of its bounding box
+    scale = max(SAMPLE_FACTOR * set_distance(x[:half], x[half:]), SIZE_FRACTION * size)
+    return set_distance(x, xm) <= scale
 
 
 def canonical_cycle(points: ArrayLike, state: Sequence[str], copy: CopyName) -> NDArray:
