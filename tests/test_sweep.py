@@ -336,7 +336,7 @@ def test_bm20_regimes_example_on_a_tiny_grid(client, tmp_path):
     text = text[:axes] + (
         '[sweep.axes]\n"parameters.Omega" = [1.06675, 1.0668]\n"parameters.D" = [4.385, 4.3854]\n'
     )
-    text = text.replace("chunk = 51", "chunk = 2").replace("intervals = 2000", "intervals = 200")
+    text = text.replace("chunk = 41", "chunk = 2").replace("intervals = 2000", "intervals = 200")
     text = text.replace("transient = 8000", "transient = 12000")
     run_sweep(Scene.from_toml(_scene(tmp_path, text, "regimes.toml")), tmp_path / "r.zarr",
               client=client)  # fmt: skip
