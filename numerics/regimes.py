@@ -17,6 +17,11 @@ iterations):
   above ``max_period``, or an approach slower than the transient);
 * otherwise: **quasi-periodic** (``lambda`` is zero within ``3 s + r``).
 
+The transient must be long against the slowest contraction: an orbit spiralling onto a
+``q``-cycle whose multipliers turn by about ``2 pi k/p`` per cycle closes at period ``p`` (a
+multiple of ``q``) within ``tol`` before it settles (BM20 Fig. 2A from rest: period 3 after 3000
+iterations, period 1, the true fixed point, after 10000).
+
 The attractor's symmetric copy is named (:mod:`chaplygin.numerics.symmetry`) from the
 recorded points. The state after the last iteration is returned, so that a chart can carry
 it to the next parameter value (:func:`chaplygin.verify.sweep`'s ``carry``), following one

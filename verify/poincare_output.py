@@ -466,7 +466,10 @@ def poincare_figure(
     size = 0.6 if sum(len(next(iter(p.values()))) for p in points) > 2000 else 3
     for ax, (x, y) in zip(axes, projections, strict=True):
         for pts, label in zip(points, labels, strict=True):
-            ax.scatter(pts[x], pts[y], s=size, lw=0, label=label if len(points) <= 8 else None)
+            # a few distinct points (fixed points, cycles reached after a transient): visible
+            distinct = len(np.unique(np.round(np.column_stack([pts[x], pts[y]]), 6), axis=0))
+            ax.scatter(pts[x], pts[y], s=size if distinct > 100 else 30, lw=0,
+                       label=label if len(points) <= 8 else None)  # fmt: skip
         for name, pts in marks.items():
             if "in" in pts:  # lies in the section: a curve
                 ax.plot(pts[x], pts[y], "k--", lw=0.8, zorder=5)

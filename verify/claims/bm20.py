@@ -920,6 +920,78 @@ register(
 )
 
 
+# ------------------------------------------------------- BM20 Fig. 2: the attractors from rest
+#: Starts (z, l, g) of BM20 (3.7) at G = 0 for the Fig. 2 claim.
+_FIG2_STARTS = ((0.7, 1.0, 0.3), (-0.6, 1.0, 1.2), (0.1, 2.0, 2.5))
+
+
+def _fig2_regimes(expected: dict[float, str]) -> Callable[[], Computed]:
+    """The regime reached from rest from each start at Fig. 2's values, after 10000 iterations
+    (the map on the sphere contracts by about 0.004 per iteration: e^-40; after 3000, a spiral
+    onto the fixed point whose multipliers turn by about 2 pi/3 still closed at period 3 within
+    1e-6), against the expected regime per Omega; the error counts the runs that differ."""
+
+    def run() -> Computed:
+        from chaplygin.numerics.code import load_model_code
+        from chaplygin.numerics.map_coordinates import from_andoyer_deprit
+        from chaplygin.numerics.regimes import attractor_regime
+
+        code = load_model_code(BALL, list(VB))
+        wrong, values = 0, {}
+        for omega, regime in expected.items():
+            params = [4, 3, 2, 1.5, -0.5, 1.2, 3, -1, -2, omega]
+            for z, l, g in _FIG2_STARTS:
+                _, gamma = from_andoyer_deprit(0.0, z, l, g)
+                y0 = [0.0, 0.0, 0.0, *map(float, gamma)]
+                r = attractor_regime(
+                    code, params, y0, transient=10000, recorded=200, tol=1e-6, intervals=1000
+                )
+                wrong += r.regime != regime
+                values[f"Omega={omega} start {z, l, g}"] = (
+                    f"{r.regime}, period {r.period}, lambda {r.lyapunov:.2g} +- "
+                    f"{r.lyapunov_error:.1g}, copy {r.copy.copy}"
+                )
+        return Computed(
+            error=float(wrong),
+            bound=0.0,
+            what=(
+                "from rest, I = diag(4, 3, 2), K = (3, -1, -2), d = 1.5, J = -0.5, delta = 1.2: "
+                "regime after 10000 map iterations (period <= 64 within 1e-6, else the largest "
+                "exponent on the sphere over 1000 iterations) from 3 starts per Omega, against "
+                f"{expected}; runs that differ, counted (about 5 s)"
+            ),
+            values=values,
+        )
+
+    return run
+
+
+register(
+    ComputedClaim(
+        id="BM20-Fig2.attractors",
+        source="BM20 §3.1, Fig. 2 (fixed points and invariant curves)",
+        kind="solution",
+        statement="Fig. 2's maps with the transient discarded: at Omega = 0.18 (Fig. 2A) every "
+        "start reaches a periodic point of the map (the fixed points of a mirror pair under "
+        "gamma -> -gamma), at Omega = 0.4 (Fig. 2B) an attracting invariant curve "
+        "(quasi-periodic)",
+        system=BALL,
+        effects=VB,
+        compute=_fig2_regimes({0.18: "periodic", 0.4: "quasi-periodic"}),
+    ),
+    ComputedClaim(
+        id="BM20-Fig2.attractors/control-swapped",
+        source="control",
+        kind="solution",
+        statement="(wrong) invariant curves at Omega = 0.18, fixed points at 0.4",
+        system=BALL,
+        effects=VB,
+        compute=_fig2_regimes({0.18: "quasi-periodic", 0.4: "periodic"}),
+        expected="fails",
+    ),
+)
+
+
 # ----------------------------------------------------------- BM20 Fig. 4: the fourth start
 #: BM20 Fig. 4: I = diag(4, 3, 2), K = (-4, -5, 3), d = 4.5, J = 0, delta = 2, Omega = 2, G = 3;
 #: the example scene's fourth start (z, l, g) = (0.5, 1, 1) and one of the other three.
