@@ -15,6 +15,7 @@ K01-Fig1, K01-Fig2, K01-Fig3, BKM12-24, BKM12-Fig3, BKM12-2.7c, BKM12-1.5stab8.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 from functools import cache, lru_cache
 
 import numpy as np
@@ -33,6 +34,8 @@ from .stability import (
 )
 
 __all__ = [
+    "LevelSetComponents",
+    "level_set_components",
     "sigma",
     "family_stability",
     "euler_stability",
@@ -316,3 +319,147 @@ def support_sample(
         out.append((gx[0], gx[1], (E / C - lo) / (hi - lo)))
         drift = max(drift, max(r.drift.values()))
     return np.array(out), drift
+
+
+# ---------------------------------------------------------------- the bifurcation complex
+@dataclass
+class LevelSetComponents:
+    """The connected components of a common level set of the ball's integrals.
+
+    Attributes
+    ----------
+    count : int
+        Number of components.
+    sizes : list of int
+        Sample points per component, largest first.
+    mean_M : ndarray, shape (count, 3)
+        Mean of ``M/sqrt(C)`` over each component (same order): a component that shrinks onto
+        a steady rotation ``M = +-sqrt(C) e_i`` has its mean along ``+-e_i``.
+    separation : float
+        Least distance between points of different components (inf for one component), in
+        ``(M/sqrt(C), gamma)``.
+    radius : float
+        Points closer than this are joined.
+    points : int
+        Sample points on the level set.
+    """
+
+    count: int
+    sizes: list
+    mean_M: np.ndarray
+    separation: float
+    radius: float
+    points: int
+
+
+def _fibonacci_sphere(n: int) -> np.ndarray:
+    k = np.arange(n) + 0.5
+    z = 1 - 2 * k / n
+    r = np.sqrt(1 - z * z)
+    phi = np.pi * (1 + 5**0.5) * k
+    return np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)
+
+
+def level_set_components(
+    I: Sequence[float],
+    D: float,
+    E: float,
+    C: float = 1.0,
+    Mg: float = 0.0,
+    n_gamma: int = 6000,
+    n_theta: int = 360,
+    radius: float = 0.3,
+) -> LevelSetComponents:
+    """Connected components of ``{(gamma, gamma) = 1, (M, gamma) = M_gamma, (M, M) = C,
+    (M, omega) = E}`` (a union of Liouville tori, or a critical level): the leaves of the
+    bifurcation complex over the point ``(C, M_gamma, E)`` of the diagram.
+
+    The level set is sampled: ``gamma`` on a Fibonacci grid of the sphere; for each,
+    ``M = M_gamma gamma + sqrt(C - M_gamma^2)(cos t a + sin t b)`` (``a, b`` normal to
+    ``gamma``), and the energy on that circle (the generated integral) crosses ``E`` where a
+    grid in ``t`` changes sign (linear interpolation). Points closer than ``radius`` in
+    ``(M/sqrt(C), gamma)`` are joined; the components of that graph are counted (SciPy's
+    ``connected_components``). The result is trustworthy when ``separation`` is well above
+    ``radius`` and ``radius`` well above the sampling's spacing (about ``4/sqrt(n_gamma)``).
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+        Moments of inertia.
+    D : float
+        ``D = m b^2``.
+    E : float
+        ``2 H = (M, omega)``.
+    C, Mg : float
+        ``(M, M)`` and ``(M, gamma)``, ``Mg**2 < C``.
+    n_gamma, n_theta : int
+        Grid sizes on the sphere and on each circle.
+    radius : float
+        Joining distance.
+
+    Returns
+    -------
+    LevelSetComponents
+
+    Raises
+    ------
+    UserInputError
+        Bad inertia, ``C <= 0`` or ``Mg**2 >= C``, or an empty level set.
+
+    References
+    ----------
+    BKM12 §1.5, Figs. 2(b), 3(b) (BKM12-Fig2b, BKM12-Fig3b).
+    """
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    from ..derive.errors import UserInputError
+    from .inputs import check_inertia_vector
+
+    I, D = check_inertia_vector(I, D, double=True)
+    p = [float(v) for v in (*I, D)]
+    if not (C > 0 and Mg * Mg < C):
+        raise UserInputError(f"need C > 0 and M_gamma^2 < C, got C={C}, M_gamma={Mg}")
+    G = _fibonacci_sphere(int(n_gamma))
+    e = np.eye(3)[np.argmin(np.abs(G), axis=1)]
+    a = np.cross(G, e)
+    a /= np.linalg.norm(a, axis=1)[:, None]
+    b = np.cross(G, a)
+    t = np.linspace(0, 2 * np.pi, int(n_theta), endpoint=False)
+    s = np.sqrt(C - Mg * Mg)
+
+    def momentum(rows, angles):
+        return Mg * G[rows] + s * (
+            np.cos(angles)[..., None] * a[rows] + np.sin(angles)[..., None] * b[rows]
+        )
+
+    rows = np.arange(len(G))[:, None]
+    M = momentum(rows, t[None, :])
+    Y = np.concatenate([M, np.broadcast_to(G[:, None, :], M.shape)], axis=2).reshape(-1, 6).T
+    f = 2 * np.asarray(_ball_code().numpy.integrals(0.0, Y, p))[0].reshape(M.shape[:2]) - E
+    f_next = np.roll(f, -1, axis=1)
+    i, j = np.nonzero(np.sign(f) != np.sign(f_next))
+    if not len(i):
+        raise UserInputError(f"the level E = {E} is empty at C = {C}, M_gamma = {Mg}")
+    angle = t[j] + f[i, j] / (f[i, j] - f_next[i, j]) * (2 * np.pi / len(t))
+    X = np.hstack([momentum(i, angle) / np.sqrt(C), G[i]])
+    tree = cKDTree(X)
+    pairs = tree.query_pairs(radius, output_type="ndarray")
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(len(X), len(X)))
+    count, label = connected_components(graph, directed=False)
+    sizes = np.bincount(label)
+    order = np.argsort(sizes, kind="stable")[::-1]
+    separation = np.inf
+    for k in order[1:]:
+        others = label != k
+        d = cKDTree(X[others]).query(X[label == k])[0]
+        separation = min(separation, float(d.min()))
+    return LevelSetComponents(
+        count=int(count),
+        sizes=[int(sizes[k]) for k in order],
+        mean_M=np.array([X[label == k, :3].mean(axis=0) for k in order]),
+        separation=separation,
+        radius=float(radius),
+        points=len(X),
+    )

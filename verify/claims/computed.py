@@ -564,3 +564,200 @@ register(
         expected="fails",
     )
 )
+
+
+# ------------------------------------- BKM12 Figs. 2(b), 3(b): the bifurcation complex
+def _complex(g: float, expected: tuple[int, int, int]):
+    """Components of the level sets at C = 1, M_gamma = g: mid-way between Sigma_1 and
+    Sigma_2, on Sigma_2, mid-way between Sigma_2 and Sigma_3 (BKM12's numbering, A1 < A2 <
+    A3) against ``expected``; the two components of a chamber must shrink onto opposite
+    rotations about the axis of its stable family (the mean of M/sqrt(C) along +-e of that
+    axis above 1/2). The error counts what differs (the counts, and the labels where a count
+    is right)."""
+
+    def run() -> Computed:
+        from chaplygin.numerics.bifurcation import level_set_components, sigma
+
+        order = np.argsort(1 / (np.asarray(I_REF) + D_REF))  # body axis of A1, A2, A3
+        S = [float(sigma(int(i), 1.0, g, I_REF, D_REF)) for i in order]
+        levels = {"(Sigma_1, Sigma_2)": (S[0] + S[1]) / 2, "Sigma_2": S[1],
+                  "(Sigma_2, Sigma_3)": (S[1] + S[2]) / 2}  # fmt: skip
+        edge_axis = {"(Sigma_1, Sigma_2)": order[0], "(Sigma_2, Sigma_3)": order[2]}
+        wrong, values, worst_separation = 0, {}, np.inf
+        for (name, E), want in zip(levels.items(), expected, strict=True):
+            r = level_set_components(I_REF, D_REF, E, 1.0, g * 1.0)
+            wrong += r.count != want
+            values[f"{name}, E = {E:.6g}"] = (
+                f"{r.count} component(s) of {r.sizes} points; mean M/sqrt(C) "
+                f"{np.round(r.mean_M, 3).tolist()}"
+            )
+            if r.count > 1:
+                worst_separation = min(worst_separation, r.separation / r.radius)
+            if r.count == want == 2 and name in edge_axis:
+                along = r.mean_M[:, edge_axis[name]]
+                wrong += not (abs(along).min() > 0.5 and along[0] * along[1] < 0)
+        values["least separation / joining radius"] = f"{worst_separation:.3g}"
+        return Computed(
+            error=float(wrong),
+            bound=0.0,
+            what=(
+                f"components of the level sets (gamma^2 = 1, (M, gamma) = {g}, (M, M) = 1, "
+                f"(M, omega) = E) at I = {I_REF}, D = 1, sampled on 6000 gamma x 360 angles "
+                "and joined within 0.3 in (M, gamma) (numerics.bifurcation."
+                f"level_set_components), against {expected} components per level; what "
+                "differs, counted (about 5 s)"
+            ),
+            values=values,
+        )
+
+    return run
+
+
+register(
+    ComputedClaim(
+        id="BKM12-Fig2b",
+        source="BKM12 §1.5, Fig. 2(b) (the bifurcation complex at (M, gamma) = 0)",
+        kind="solution",
+        statement="(M, gamma) = 0: over each chamber of the diagram the level set has two "
+        "components (four leaves), those between Sigma_1 and Sigma_2 ending on the two "
+        "rotations of Sigma_1 (about the axis of A1, either sense), those between Sigma_2 and "
+        "Sigma_3 on the two of Sigma_3; the level of Sigma_2 is connected: the four leaves are "
+        "glued along Sigma_2, and the stable families lie on the complex's edge",
+        system=BALL,
+        compute=_complex(0.0, (2, 1, 2)),
+    )
+)
+register(
+    ComputedClaim(
+        id="BKM12-Fig2b/control-not-glued",
+        source="control",
+        kind="solution",
+        statement="(wrong) the four leaves are not glued: the level of Sigma_2 has 4 components",
+        system=BALL,
+        compute=_complex(0.0, (2, 4, 2)),
+        expected="fails",
+    )
+)
+for _g in (0.5, -0.8):
+    register(
+        ComputedClaim(
+            id=f"BKM12-Fig3b.g{_g}",
+            source="BKM12 §1.5, Fig. 3(b) (the bifurcation complex at (M, gamma) != 0)",
+            kind="solution",
+            statement=f"g = M_gamma/sqrt(C) = {_g}: two components over each chamber (four "
+            "leaves, ending on the two rotations of Sigma_1, resp. Sigma_3), one on Sigma_2 "
+            "(the leaves stick together along Sigma_2)",
+            system=BALL,
+            compute=_complex(_g, (2, 1, 2)),
+        )
+    )
+register(
+    ComputedClaim(
+        id="BKM12-Fig3b/control-two-leaves",
+        source="control",
+        kind="solution",
+        statement="(wrong) g = 0.5: one component over each chamber (two leaves)",
+        system=BALL,
+        compute=_complex(0.5, (1, 1, 1)),
+        expected="fails",
+    )
+)
+
+
+# ------------------------------------------------------ BKM12 §1.5: separatrices on Sigma_2
+#: Offset along the unstable eigenvector, and the closest approach that counts as arriving.
+SEPARATRIX_OFFSET, ARRIVAL = 1e-6, 1e-4
+
+
+def _separatrices(homoclinic: bool = False):
+    """The unstable manifold of the rotation on Sigma_2 in one sense (both of its branches:
+    +-v, v the eigenvector of the monodromy for the multiplier mu > 1), started at
+    SEPARATRIX_OFFSET, at M_gamma = 0 and 0.5: it arrives within ARRIVAL of the rotation in the
+    other sense (heteroclinic) before it comes back within 0.3 of its own; ``homoclinic`` is
+    the control (it returns to its own rotation first)."""
+
+    def run() -> Computed:
+        from chaplygin.numerics import integrate, load_model_code
+        from chaplygin.numerics.stability import critical_state, monodromy
+        from scipy.spatial import cKDTree
+
+        code = load_model_code(BALL)
+        p = [*I_REF, D_REF]
+        axis = int(np.argsort(1 / (np.asarray(I_REF) + D_REF))[1])  # BKM12's A2
+        worst, values = 0.0, {}
+
+        def sample(y0, t_end, n):
+            r = integrate(BALL, {"M": tuple(y0[:3]), "gamma": tuple(y0[3:])}, t_end,
+                          {"I": I_REF, "D": D_REF}, rtol=RTOL, atol=RTOL / 100,
+                          t_eval=np.linspace(0, t_end, n))  # fmt: skip
+            return r.y.T
+
+        for Mg in (0.0, 0.5):
+            orbits = [critical_state(I_REF, D_REF, axis, 1.0, Mg, b) for b in (0, 1)]
+            trees = [cKDTree(sample(y, T, 4001)) for y, T in orbits]
+            y0, T = orbits[0]
+            Phi, _ = monodromy(code, y0, T, p, RTOL)
+            w, V = np.linalg.eig(Phi)
+            k = int(np.argmax(np.abs(w)))
+            v = np.real(V[:, k]) / np.linalg.norm(np.real(V[:, k]))
+            t_end = T * (2 * np.log(1 / SEPARATRIX_OFFSET) / np.log(abs(w[k])) + 4)
+            for sign in (1, -1):
+                y = y0 + sign * SEPARATRIX_OFFSET * v
+                Y = sample(y, t_end, 40001)
+                own, other = trees[0].query(Y)[0], trees[1].query(Y)[0]
+                left = int(np.argmax(own > 0.5))  # it has left its own rotation
+                target, back = (own, other) if homoclinic else (other, own)
+                reached = left + int(np.argmin(target[left:]))
+                # arrival, and no return within 0.3 of the rotation left behind on the way
+                away = float(back[left : reached + 1].min())
+                error = max(target[reached] / ARRIVAL, 0.3 / max(away, 1e-300))
+                worst = max(worst, float(error))
+                values[f"M_gamma = {Mg}, branch {sign:+d}v"] = (
+                    f"leaves at t = {left * t_end / 40000:.1f}, closest to the other rotation "
+                    f"{other[left:].min():.2e}, to its own before that "
+                    f"{own[left : reached + 1].min():.2e}"
+                )
+            values[f"M_gamma = {Mg}: mu"] = f"{abs(w[k]):.6f}"
+        return Computed(
+            error=worst,
+            bound=1.0,
+            what=(
+                f"unstable manifolds of the rotation about body axis e{axis + 1} (Sigma_2, "
+                f"BKM12's A2) at I = {I_REF}, D = C = 1, M_gamma = 0 and 0.5: offset "
+                f"{SEPARATRIX_OFFSET:g} along +-v (monodromy, DOP853 rtol {RTOL:g}), integrated "
+                f"2 log(1/offset)/log(mu) + 4 periods; arrival within {ARRIVAL:g} of the "
+                f"{'same' if homoclinic else 'opposite'} rotation (distance to its sampled "
+                "orbit in (M, gamma)) after leaving its own (0.5 away), without coming within "
+                "0.3 of the other on the way; error: the larger of closest approach/1e-4 and "
+                "0.3/least distance on the way (about 3 s)"
+            ),
+            values=values,
+        )
+
+    return run
+
+
+register(
+    ComputedClaim(
+        id="BKM12-1.5sep",
+        source="BKM12 §1.5 (Fig. 3: 'unstable critical trajectories and unstable invariant "
+        "manifolds (separatrices) that connect them' along Sigma_2)",
+        kind="solution",
+        statement="at (M, gamma) = 0 and M_gamma = 0.5 the separatrices of Sigma_2 connect its "
+        "two unstable rotations: both branches of the unstable manifold of the rotation in one "
+        "sense arrive at the rotation in the other sense (heteroclinic)",
+        system=BALL,
+        compute=_separatrices(),
+    )
+)
+register(
+    ComputedClaim(
+        id="BKM12-1.5sep/control-homoclinic",
+        source="control",
+        kind="solution",
+        statement="(wrong) the separatrices return to the rotation they leave (homoclinic)",
+        system=BALL,
+        compute=_separatrices(homoclinic=True),
+        expected="fails",
+    )
+)
