@@ -34,6 +34,8 @@ from .stability import (
 )
 
 __all__ = [
+    "CriticalTrace",
+    "critical_trace",
     "LevelSetComponents",
     "level_set_components",
     "sigma",
@@ -463,3 +465,104 @@ def level_set_components(
         radius=float(radius),
         points=len(X),
     )
+
+
+# ------------------------------------------------------------ traces of critical solutions
+@dataclass
+class CriticalTrace:
+    """The contact point's trace on the plane along a critical solution.
+
+    Attributes
+    ----------
+    t : ndarray, shape (n,)
+    x, y : ndarray, shape (n,)
+        The trace (radius ``b``).
+    speed : float
+        Mean speed ``|trace(t_end) - trace(0)|/t_end``.
+    deviation : float
+        Largest distance of the trace from the straight line through its ends.
+    omega0 : ndarray, shape (3,)
+        ``omega`` at ``t = 0`` (body frame).
+    gamma0 : ndarray, shape (3,)
+    drift : float
+        Largest relative drift of the integrals.
+    """
+
+    t: np.ndarray
+    x: np.ndarray
+    y: np.ndarray
+    speed: float
+    deviation: float
+    omega0: np.ndarray
+    gamma0: np.ndarray
+    drift: float
+
+
+def critical_trace(
+    y0: Sequence[float],
+    I: Sequence[float],
+    D: float,
+    b: float,
+    t_end: float,
+    rtol: float = 1e-12,
+    points: int = 2001,
+) -> CriticalTrace:
+    """Integrate the ball with the contact point from ``y0 = (M, gamma)`` and measure its trace:
+    its mean speed and its largest distance from the straight line through its ends.
+
+    Parameters
+    ----------
+    y0 : sequence of 6 floats
+        ``M, gamma`` (a critical solution: :func:`~chaplygin.numerics.stability.critical_state`
+        or :func:`~chaplygin.numerics.stability.euler_state`).
+    I : sequence of 3 floats
+    D, b : float
+        ``D = m b^2`` and the radius ``b``.
+    t_end : float
+    rtol : float
+        DOP853 tolerance (``atol = rtol/100``).
+    points : int
+        Output points.
+
+    Returns
+    -------
+    CriticalTrace
+
+    References
+    ----------
+    BKM12-25, BKM12-crit (FORMULAS.md): uniform rolling along a straight line.
+    """
+    y0 = np.asarray(y0, dtype=float)
+    t_eval = np.linspace(0.0, float(t_end), int(points))
+    start = {"M": tuple(y0[:3]), "gamma": tuple(y0[3:])}
+    g = y0[3:] / np.linalg.norm(y0[3:])
+    if np.linalg.norm(np.cross(y0[:3], g)) <= 1e-12 * max(np.linalg.norm(y0[:3]), 1.0):
+        # M || gamma (Sigma_4, Sigma_5): BKM12-7's frame is undefined; the body axis least
+        # aligned with gamma, projected, as the scenes do
+        e = np.eye(3)[int(np.argmin(np.abs(g)))]
+        alpha = e - (e @ g) * g
+        alpha /= np.linalg.norm(alpha)
+        start.update(alpha=tuple(alpha), beta=tuple(np.cross(g, alpha)))
+    r = integrate(
+        "chaplygin_ball",
+        start,
+        float(t_end),
+        {"I": tuple(I), "D": D, "b": b},
+        effects=("contact_point",),
+        rtol=rtol,
+        atol=rtol / 100,
+        t_eval=t_eval,
+    )
+    x, y = r.y[r.state_names.index("x")], r.y[r.state_names.index("y")]
+    chord = np.array([x[-1] - x[0], y[-1] - y[0]])
+    length = float(np.linalg.norm(chord))
+    normal = np.array([-chord[1], chord[0]]) / max(length, np.finfo(float).tiny)
+    deviation = float(np.max(np.abs((x - x[0]) * normal[0] + (y - y[0]) * normal[1])))
+    code = _ball_code()
+    aux = np.asarray(code.numpy.aux(0.0, y0, [*I, D]), dtype=float)
+    omega0 = np.array([aux[code.aux_names.index(f"omega{i}")] for i in (1, 2, 3)])
+    return CriticalTrace(
+        t=np.asarray(r.t, dtype=float), x=np.asarray(x, float), y=np.asarray(y, float),
+        speed=length / float(t_end), deviation=deviation, omega0=omega0, gamma0=y0[3:].copy(),
+        drift=float(max(r.drift.values())),
+    )  # fmt: skip

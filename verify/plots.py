@@ -34,6 +34,7 @@ if TYPE_CHECKING:
 __all__ = [
     "FIGURES",
     "bifurcation_figure",
+    "critical_traces_figure",
     "delta_of_mu_figure",
     "separatrix_traces_figure",
     "work_precision_figure",
@@ -362,6 +363,97 @@ def bifurcation_figure(
         ax.grid(alpha=0.3)
     fig.tight_layout()
     return fig, drift
+
+
+# ------------------------------------------------ BKM12 §1.5: traces of critical solutions
+def critical_traces_figure(
+    I: Sequence[float] = (1.0, 1.5, 3.0),
+    D: float = 1.0,
+    C: float = 2.0,
+    Mg: float = 0.5,
+    b: float = 1.0,
+    periods: float = 3.0,
+) -> Figure:
+    """Contact-point traces of BKM12's critical solutions: (a) the six families (25) at
+    ``(M, gamma) = 0``, (b) the six rotations on ``Sigma_1..3`` at ``(M, gamma) = Mg``, (c)
+    the Euler-top orbits ``M = +-sqrt(C) gamma`` (``Sigma_4``, ``Sigma_5``) on both arcs,
+    (d) a separatrix of ``Sigma_2`` at ``(M, gamma) = 0``: from the rotation about the middle
+    axis in one sense to the opposite one (BKM12-1.5sep).
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+    D, C, Mg, b : float
+        ``D = m b^2``, ``(M, M)``, ``(M, gamma)`` of panel (b), the radius.
+    periods : float
+        Periods of each rotation drawn.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    References
+    ----------
+    BKM12-25.trace, BKM12-crit.trace, BKM12-Sigma45, BKM12-1.5sep (FORMULAS.md, claims).
+    """
+    from ..numerics import load_model_code
+    from ..numerics.bifurcation import critical_trace
+    from ..numerics.stability import critical_state, euler_state, monodromy
+
+    I = tuple(float(v) for v in check_vector(I, "I", positive=True, double=True))
+    A = 1 / (np.asarray(I) + D)
+    order = list(np.argsort(A))  # BKM12's A1 < A2 < A3
+    fig = _new_figure(figsize=(15, 4.6), layout="constrained")
+    axes = fig.subplots(1, 4)
+    for ax, mg, name in ((axes[0], 0.0, "(a) (M, gamma) = 0: the families (25)"),
+                         (axes[1], Mg, f"(b) (M, gamma) = {Mg:g}: Sigma_1..3")):  # fmt: skip
+        for axis in range(3):
+            k = order.index(axis)
+            for branch, style in ((0, "-"), (1, "--")):
+                y0, T = critical_state(I, D, axis, C, mg, branch)
+                tr = critical_trace(y0, I, D, b, periods * T)
+                # the horizontal frame is a free choice: each family is drawn turned by its own
+                # angle so that the six straight lines do not overlap
+                turn = np.pi * (2 * k + branch) / 6
+                c, s_ = np.cos(turn), np.sin(turn)
+                ax.plot(c * tr.x - s_ * tr.y, s_ * tr.x + c * tr.y, style, color=COLORS[k],
+                        lw=1.2, label=f"Sigma_{k + 1} (e{axis + 1}), sense {branch}")  # fmt: skip
+        ax.set_title(name + f", {periods:g} periods", fontsize=9)
+    bs = np.sort(D * A)
+    ends = bs / (1 - bs)
+    for sign, name in ((1, "Sigma_4"), (-1, "Sigma_5")):
+        for j, (lo, hi) in enumerate(((ends[0], ends[1]), (ends[1], ends[2]))):
+            y0 = euler_state(I, D, C, (lo + hi) / 2, sign)
+            tr = critical_trace(y0, I, D, b, 60.0)
+            axes[2].plot(tr.x, tr.y, "-" if sign > 0 else "--", color=COLORS[3 + j % 2], lw=1,
+                         label=f"{name}, E' = {(lo + hi) / 2:.3g}")  # fmt: skip
+    axes[2].set_title("(c) M = +-sqrt(C) gamma (Sigma_4, 5), t in [0, 60]", fontsize=9)
+    mid = order[1]
+    y0, T = critical_state(I, D, mid, C, 0.0, 0)
+    Phi, _ = monodromy(load_model_code("chaplygin_ball"), y0, T, [*I, D], 1e-12)
+    w, V = np.linalg.eig(Phi)
+    v = np.real(V[:, int(np.argmax(np.abs(w)))])
+    tr = critical_trace(y0 + 1e-6 * v / np.linalg.norm(v), I, D, b, 12 * T, points=6001)
+    axes[3].plot(tr.x, tr.y, color=COLORS[1], lw=1)
+    axes[3].plot(tr.x[0], tr.y[0], "o", color="k", ms=4)
+    axes[3].set_title(
+        f"(d) separatrix of Sigma_2 (e{mid + 1}), offset 1e-6,\n"
+        f"t in [0, {12 * T:.0f}] (y stretched)",
+        fontsize=9,
+    )
+    for ax in axes[:3]:
+        ax.set_aspect("equal", adjustable="datalim")
+    for ax in axes:
+        ax.grid(alpha=0.3)
+        ax.set_xlabel(f"x (contact point, b = {b:g})")
+        ax.set_ylabel("y")
+    for ax in axes[:3]:
+        ax.legend(fontsize=6)
+    fig.suptitle(
+        f"BKM12 §1.5: contact-point traces of the critical solutions, I = {I}, D = {D:g}, "
+        f"(M, M) = {C:g}, b = {b:g}"
+    )
+    return fig
 
 
 # ---------------------------------------------------------------------- separatrix, K01 §3.3

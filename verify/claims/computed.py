@@ -761,3 +761,102 @@ register(
         expected="fails",
     )
 )
+
+
+# ------------------------------------- BKM12 (25) and the critical solutions: their traces
+#: (M, M) of the trace checks (not 1: so that sqrt(C) and C differ), and the radius b.
+TRACE_C, TRACE_B = 2.0, 1.0
+
+
+def _traces(Mg: float, speed_of):
+    """The six critical solutions (rotations about e_1, e_2, e_3 in both senses) at
+    (M, M) = TRACE_C and (M, gamma) = Mg: the contact point's trace is a straight line run at
+    the constant speed ``speed_of(A_i, omega0, gamma0, axis)``; the error is the larger of the
+    relative speed difference and the trace's largest distance from its chord over its
+    length, over 3 periods."""
+
+    def run() -> Computed:
+        from chaplygin.numerics.bifurcation import critical_trace
+        from chaplygin.numerics.stability import critical_state
+
+        A = 1 / (np.asarray(I_REF) + D_REF)
+        worst, values, drift = 0.0, {}, 0.0
+        for axis in range(3):
+            for branch in (0, 1):
+                y0, T = critical_state(I_REF, D_REF, axis, TRACE_C, Mg, branch)
+                tr = critical_trace(y0, I_REF, D_REF, TRACE_B, 3 * T, rtol=RTOL)
+                want = speed_of(A[axis], tr.omega0, tr.gamma0, axis)
+                off_axis = np.linalg.norm(np.delete(tr.omega0, axis)) / np.linalg.norm(tr.omega0)
+                error = max(abs(tr.speed - want) / want, tr.deviation / (tr.speed * 3 * T),
+                            off_axis)  # fmt: skip
+                worst = max(worst, error)
+                drift = max(drift, tr.drift)
+                values[f"e{axis + 1}, sense {branch}"] = (
+                    f"speed {tr.speed:.12g} (predicted {want:.12g}), off the line "
+                    f"{tr.deviation:.1e}"
+                )
+        return Computed(
+            error=worst,
+            bound=1e3 * RTOL,
+            what=(
+                f"contact-point traces of the rotations about e_1, e_2, e_3 in both senses at "
+                f"I = {I_REF}, D = 1, b = {TRACE_B}, (M, M) = {TRACE_C}, (M, gamma) = {Mg}, over "
+                f"3 periods (DOP853 rtol {RTOL:g}, integrals' drift {drift:.1e}): relative speed "
+                "error, distance from the chord per length, omega off its axis; bound 1000 rtol "
+                "(about 1 s)"
+            ),
+            values=values,
+        )
+
+    return run
+
+
+register(
+    ComputedClaim(
+        id="BKM12-25.trace",
+        source="BKM12 §1.5, after (25): 'a uniform rolling straight-line motion'",
+        kind="solution",
+        statement="the six families (25) ((M, gamma) = 0, omega = +-A_i sqrt(C) e_i parallel to "
+        "the plane) roll along straight lines at the speed b A_i sqrt(C)",
+        system=BALL,
+        compute=_traces(0.0, lambda A, w, g, i: TRACE_B * A * np.sqrt(TRACE_C)),
+    )
+)
+register(
+    ComputedClaim(
+        id="BKM12-25.trace/control-speed",
+        source="control",
+        kind="solution",
+        statement="(wrong) the families (25) roll at the speed b A_i C",
+        system=BALL,
+        compute=_traces(0.0, lambda A, w, g, i: TRACE_B * A * TRACE_C),
+        expected="fails",
+    )
+)
+register(
+    ComputedClaim(
+        id="BKM12-crit.trace",
+        source="BKM12 §1.5 (M_gamma != 0): 'also govern the rolling motion of a ball along a "
+        "straight line ... omega directed along e_i is constant in fixed axes and forms with "
+        "the vertical an angle theta, cos(theta) = gamma_i'",
+        kind="solution",
+        statement="the critical solutions on Sigma_1, Sigma_2, Sigma_3 at M_gamma != 0 roll "
+        "along straight lines at the speed b |omega| sin(theta), cos(theta) = gamma_i, with "
+        "omega along e_i",
+        system=BALL,
+        compute=_traces(
+            0.5, lambda A, w, g, i: TRACE_B * np.linalg.norm(w) * np.sqrt(1 - g[i] ** 2)
+        ),
+    )
+)
+register(
+    ComputedClaim(
+        id="BKM12-crit.trace/control-upright",
+        source="control",
+        kind="solution",
+        statement="(wrong) they roll at the speed b |omega| (omega horizontal)",
+        system=BALL,
+        compute=_traces(0.5, lambda A, w, g, i: TRACE_B * np.linalg.norm(w)),
+        expected="fails",
+    )
+)
