@@ -42,7 +42,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..derive.errors import ComputationError, UserInputError
 from .code import ModelCode
-from .symmetry import CopyName, name_copy, symmetries_of
+from .symmetry import CopyName, map_points_scaled, name_copy, symmetries_of
 
 __all__ = [
     "REGIMES",
@@ -120,27 +120,6 @@ class AttractorRegime:
         int
         """
         return REGIMES[self.regime]
-
-
-def map_points_scaled(y: ArrayLike, state: tuple[str, ...]) -> NDArray[np.float64]:
-    """The map points in ``(M/|M|, gamma)`` (``M`` left as is where ``|M| = 0``): coordinates
-    of size one, in which a closing tolerance is relative.
-
-    Parameters
-    ----------
-    y : array_like, shape (n_points, n)
-    state : tuple of str
-
-    Returns
-    -------
-    ndarray, shape (n_points, 6)
-    """
-    y = np.atleast_2d(np.asarray(y, dtype=float))
-    m = [state.index(f"M{i}") for i in (1, 2, 3)]
-    g = [state.index(f"gamma{i}") for i in (1, 2, 3)]
-    M = y[:, m]
-    norm = np.sqrt(np.sum(M * M, axis=1, keepdims=True))
-    return np.hstack([np.where(norm > 0, M / np.where(norm > 0, norm, 1.0), M), y[:, g]])
 
 
 def closing_period(x: ArrayLike, max_period: int, tol: float) -> int:

@@ -54,6 +54,7 @@ __all__ = [
     "copy_statistic",
     "name_copy",
     "canonical_cycle",
+    "map_points_scaled",
 ]
 
 #: Fixed generic constants of the rule (a unit vector and a matrix with no special structure;
@@ -172,6 +173,27 @@ def mirror_states(y: ArrayLike, state: Sequence[str]) -> NDArray[np.float64]:
         if name in ("gamma1", "gamma2", "gamma3"):
             y[..., i] = -y[..., i]
     return y
+
+
+def map_points_scaled(y: ArrayLike, state: tuple[str, ...]) -> NDArray[np.float64]:
+    """The map points in ``(M/|M|, gamma)`` (``M`` left as is where ``|M| = 0``): coordinates
+    of size one, in which a closing tolerance is relative.
+
+    Parameters
+    ----------
+    y : array_like, shape (n_points, n)
+    state : tuple of str
+
+    Returns
+    -------
+    ndarray, shape (n_points, 6)
+    """
+    y = np.atleast_2d(np.asarray(y, dtype=float))
+    m = [state.index(f"M{i}") for i in (1, 2, 3)]
+    g = [state.index(f"gamma{i}") for i in (1, 2, 3)]
+    M = y[:, m]
+    norm = np.sqrt(np.sum(M * M, axis=1, keepdims=True))
+    return np.hstack([np.where(norm > 0, M / np.where(norm > 0, norm, 1.0), M), y[:, g]])
 
 
 def _columns(state: Sequence[str]) -> tuple[list[int], list[int]]:
@@ -348,7 +370,6 @@ def _sample_invariant(y: NDArray, state: Sequence[str]) -> bool:
     ``(M/|M|, gamma)``, against that of its two halves or the diagonal of its bounding box. (The
     mean of ``phi`` over a quasi-periodic sample converges like ``1/N``, and so does its batch
     error: on a symmetric invariant curve it could look decisive.)"""
-    from .regimes import map_points_scaled
     from .reversibility import set_distance
 
     x = map_points_scaled(y, tuple(state))
