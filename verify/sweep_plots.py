@@ -151,6 +151,14 @@ def regime_codes(regime: np.ndarray, period: np.ndarray) -> tuple[np.ndarray, li
     return codes, labels, colours
 
 
+def _mark(ax: Any, x: Any, y: Any, where: np.ndarray, colour: str) -> None:
+    """Draw the points where ``where`` holds in ``colour`` on white."""
+    from matplotlib.colors import ListedColormap
+
+    cmap = ListedColormap(["white", colour])
+    ax.pcolormesh(x, y, where.astype(float), cmap=cmap, vmin=0, vmax=1, shading="nearest")
+
+
 def regime_chart_figure(ds: Any) -> Figure:
     """The chart of dynamical regimes: per carry direction, one colour per period present
     and grey/black for quasi-periodic, contracting and chaotic; below, the largest Lyapunov
@@ -199,26 +207,14 @@ def regime_chart_figure(ds: Any) -> Figure:
         )
     if both:
         differ = (codes[0] != codes[1]) & np.isfinite(codes[0]) & np.isfinite(codes[1])
-        from matplotlib.colors import ListedColormap
-
-        axes[0, -1].pcolormesh(
-            x, y, differ.astype(float), cmap=ListedColormap(["white", "tab:red"]), vmin=0,
-            vmax=1, shading="nearest",
-        )  # fmt: skip
-        axes[0, -1].set_title(
-            f"red: the directions differ in regime or period ({int(differ.sum())} points)",
-            fontsize=9,
-        )
         copy = np.asarray(ds["symmetric_copy"].values, dtype=float)
         mirror = (copy[0] != copy[1]) & (np.minimum(copy[0], copy[1]) >= 0) & ~differ
-        axes[1, -1].pcolormesh(
-            x, y, mirror.astype(float), cmap=ListedColormap(["white", "tab:blue"]), vmin=0,
-            vmax=1, shading="nearest",
-        )  # fmt: skip
-        axes[1, -1].set_title(
-            f"blue: same regime, mirror copies (gamma -> -gamma; {int(mirror.sum())} points)",
-            fontsize=9,
-        )
+        for ax, where, colour, text in (
+            (axes[0, -1], differ, "tab:red", "red: the directions differ in regime or period"),
+            (axes[1, -1], mirror, "tab:blue", "blue: same regime, mirror copies (gamma -> -gamma)"),
+        ):
+            _mark(ax, x, y, where, colour)
+            ax.set_title(f"{text} ({int(where.sum())} points)", fontsize=9)
     for ax in axes.ravel():
         ax.set_xlabel(x_name)
         ax.set_ylabel(y_name)
