@@ -78,3 +78,29 @@ def test_regime_chart_names_periods_and_marks_where_the_directions_differ():
     labels = [t.get_text() for t in bars[0].get_yticklabels()]
     assert labels == ["period 8", "period 28", "quasi-periodic", "chaotic", "contracting"]
     assert regime_chart_figure(ds.isel(carry=0, drop=True)) is not None  # one direction
+
+
+def test_a_search_over_more_axes_shows_the_most_irregular_regime():
+    shape = (2, 3, 2)  # Omega x J x start
+    regime = np.full(shape, REGIMES["periodic"], dtype="int8")
+    regime[0, 1, 1] = REGIMES["chaotic"]
+    regime[1, 2, 0] = REGIMES["quasi-periodic"]
+    lam = np.where(regime == REGIMES["periodic"], np.nan, 0.002)
+    lam[0, 1, 1] = 0.05
+    dims = ("Omega", "J_off", "z")
+    ds = xr.Dataset(
+        {"regime": (dims, regime), "period": (dims, np.ones(shape, "int16")),
+         "lyapunov_max_per_iteration": (dims, lam)},
+        coords={"Omega": [0.1, 4.0], "J_off": [-1.0, 0.0, 1.0], "z": [0.7, -0.6]},
+    )  # fmt: skip
+    fig = sweep_figure(ds)
+    cells = _cell_colours(fig.axes[0].collections[0], (2, 3))
+    (labels,) = [
+        [t.get_text() for t in ax.get_yticklabels()]
+        for ax in fig.axes
+        if "periodic" in [t.get_text() for t in ax.get_yticklabels()]
+    ]
+    assert labels == ["periodic", "quasi-periodic", "chaotic"]
+    assert tuple(cells[0, 1]) == (0.0, 0.0, 0.0, 1.0)  # chaotic at one start: black
+    assert tuple(cells[0, 0]) != tuple(cells[1, 2]) != tuple(cells[0, 1])
+    assert fig.axes[0].get_yscale() == "log"  # Omega over decades

@@ -20,6 +20,7 @@ __all__ = [
     "period_colours",
     "regime_chart_figure",
     "regime_codes",
+    "regime_search_figure",
     "curve_figure",
     "status_figure",
 ]
@@ -286,6 +287,65 @@ def status_figure(ds: Any) -> Figure:
     return fig
 
 
+def regime_search_figure(ds: Any) -> Figure:
+    """A regime store over more than two axes (a search): over the first two, the most
+    irregular regime met along the others (chaotic before quasi-periodic before contracting
+    before periodic) and the largest Lyapunov exponent met.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A store with ``regime`` over three or more axes.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.figure import Figure
+
+    from ..numerics.regimes import REGIMES
+
+    y_name, x_name, *rest = ds["regime"].dims
+    regime = np.asarray(ds["regime"].values, dtype=float)
+    regime[regime < 0] = np.nan
+    rank = {REGIMES["periodic"]: 0, REGIMES["contracting"]: 1, REGIMES["quasi-periodic"]: 2,
+            REGIMES["chaotic"]: 3}  # fmt: skip
+    ranked = np.full(regime.shape, np.nan)
+    for code, r in rank.items():
+        ranked[regime == code] = r
+    axes_rest = tuple(range(2, regime.ndim))
+    with np.errstate(all="ignore"):
+        worst = np.where(np.all(np.isnan(ranked), axis=axes_rest), np.nan,
+                         np.nanmax(np.nan_to_num(ranked, nan=-1), axis=axes_rest))  # fmt: skip
+        worst[worst < 0] = np.nan
+        lam = np.asarray(ds["lyapunov_max_per_iteration"].values, dtype=float)
+        top = np.nanmax(np.where(np.isnan(lam), -np.inf, lam), axis=axes_rest)
+        top[~np.isfinite(top)] = np.nan
+    names = ["periodic", "contracting", "quasi-periodic", "chaotic"]
+    present = [k for k in range(4) if (worst == k).any()]
+    codes = np.full(worst.shape, np.nan)
+    for j, k in enumerate(present):
+        codes[worst == k] = j
+    colours = [period_colours([1])[0], REGIME_COLOURS["contracting"],
+               REGIME_COLOURS["quasi-periodic"], REGIME_COLOURS["chaotic"]]  # fmt: skip
+    fig = Figure(figsize=(13, 5), layout="constrained")
+    a, b = fig.subplots(1, 2)
+    x, y = ds[x_name].values, ds[y_name].values
+    _category_mesh(a, fig, x, y, codes, [names[k] for k in present],
+                   [colours[k] for k in present],
+                   f"the most irregular regime over {', '.join(rest)}")  # fmt: skip
+    mesh = b.pcolormesh(x, y, top, cmap="viridis", shading="nearest")
+    fig.colorbar(mesh, ax=b, label="largest Lyapunov exponent met, per map iteration")
+    b.set_title("largest Lyapunov exponent met (blank: all periodic)", fontsize=9)
+    for ax in (a, b):
+        ax.set_xlabel(x_name)
+        ax.set_ylabel(y_name)
+        if np.all(y > 0) and y.max() / y.min() > 20:  # a range over decades
+            ax.set_yscale("log")
+    fig.suptitle(ds.attrs.get("title", ""), fontsize=10)
+    return fig
+
+
 def sweep_figure(ds: Any) -> Figure:
     """The picture a store calls for: the period chart, Delta over mu (log scale), the frame
     turn with its zeros, or the first numbers per point over the first axis.
@@ -299,7 +359,8 @@ def sweep_figure(ds: Any) -> Figure:
     matplotlib.figure.Figure
     """
     if "regime" in ds and ds["regime"].ndim >= 2:
-        return regime_chart_figure(ds)
+        grid = [d for d in ds["regime"].dims if d != "carry"]
+        return regime_chart_figure(ds) if len(grid) == 2 else regime_search_figure(ds)
     if "period" in ds and ds["period"].ndim == 2:
         return period_chart_figure(ds)
     if "delta_measured" in ds:
