@@ -35,6 +35,7 @@ __all__ = [
     "FIGURES",
     "bifurcation_figure",
     "critical_traces_figure",
+    "bifurcation_complex_figure",
     "delta_of_mu_figure",
     "separatrix_traces_figure",
     "work_precision_figure",
@@ -363,6 +364,81 @@ def bifurcation_figure(
         ax.grid(alpha=0.3)
     fig.tight_layout()
     return fig, drift
+
+
+# ------------------------------------------------------- BKM12 Figs. 2(b), 3(b): the complex
+def bifurcation_complex_figure(
+    I: Sequence[float] = (1.0, 1.5, 3.0),
+    D: float = 1.0,
+    gs: Sequence[float] = (0.0, 0.5),
+    levels: int = 7,
+) -> Figure:
+    """The bifurcation complex over a line ``C = 1``, ``g = M_gamma/sqrt(C)`` fixed of the
+    diagram (BKM12 Figs. 2(b), 3(b)), computed: for energies across both chambers, each
+    connected component of the level set (a leaf:
+    :func:`~chaplygin.numerics.bifurcation.level_set_components`) is drawn at the mean of
+    ``M`` along the axis of the stable family its chamber ends on (``e`` of ``A1`` below
+    ``Sigma_2``, of ``A3`` above): the leaves run from the stable rotations (``|mean| -> 1``) to
+    ``Sigma_2``, where the level set is one component and they meet.
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+    D : float
+    gs : sequence of float
+        One panel per ``g`` (0: Fig. 2(b)).
+    levels : int
+        Energies per chamber.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    References
+    ----------
+    BKM12-Fig2b, BKM12-Fig3b (claims).
+    """
+    from ..numerics.bifurcation import level_set_components, sigma
+
+    I = tuple(float(v) for v in check_vector(I, "I", positive=True, double=True))
+    order = np.argsort(1 / (np.asarray(I) + D))
+    fig = _new_figure(figsize=(6 * len(gs), 4.6), layout="constrained")
+    axes = np.atleast_1d(fig.subplots(1, len(gs)))
+    for ax, g in zip(axes, gs, strict=True):
+        S = [float(sigma(int(i), 1.0, g, I, D)) for i in order]
+        for chamber, (lo, hi, axis) in enumerate(((S[0], S[1], order[0]), (S[1], S[2], order[2]))):
+            Es = lo + (hi - lo) * np.linspace(0.04, 0.96, levels)
+            tracks: list[list] = [[], []]
+            for E in Es:
+                r = level_set_components(I, D, float(E), 1.0, float(g))
+                along = sorted(r.mean_M[:, axis])
+                for k, v in enumerate(along[:2]):
+                    tracks[k].append((E, v, r.count))
+            colour = COLORS[0 if chamber == 0 else 2]
+            for k, track in enumerate(tracks):
+                E_, v_, _ = (np.array(c) for c in zip(*track, strict=True))
+                ax.plot(E_, v_, "o-", color=colour, ms=3,
+                        label=(f"leaves over (Sigma_{chamber + 1}, Sigma_{chamber + 2}): along "
+                               f"e{axis + 1}") if k == 0 else None)  # fmt: skip
+                end = 0 if chamber == 1 else -1  # the end at Sigma_2: joined to its vertex
+                ax.plot([E_[end], S[1]], [v_[end], 0.0], ":", color=colour, lw=1)
+            edge = lo if chamber == 0 else hi  # the stable rotations the leaves end on
+            ax.plot([edge, edge], [-1, 1], "s", color=colour, ms=6)
+        r = level_set_components(I, D, S[1], 1.0, float(g))
+        ax.axvline(S[1], color=COLORS[1], ls="--", lw=1)
+        ax.plot([S[1]], [0], "o", color=COLORS[1], ms=8,
+                label=f"Sigma_2: {r.count} component (the leaves glued)")  # fmt: skip
+        ax.set_xlabel("E = (M, omega) at C = (M, M) = 1")
+        ax.set_ylabel("mean over the leaf of M along its stable family's axis")
+        ax.set_title(
+            f"{'Fig. 2(b)' if g == 0 else 'Fig. 3(b)'}: g = {g:g}; squares: the stable "
+            "rotations (+-e)",
+            fontsize=9,
+        )
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle(f"BKM12: the bifurcation complex over C = 1, computed (I = {I}, D = {D:g})")
+    return fig
 
 
 # ------------------------------------------------ BKM12 §1.5: traces of critical solutions
