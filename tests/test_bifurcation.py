@@ -273,3 +273,18 @@ def test_bkm12_figures_number_the_sigmas_as_the_paper(I):
         (line,) = [x for x in fig3.axes[0].lines if x.get_label().startswith(f"Sigma_{k + 1}:")]
         g, Ep = line.get_data()
         assert abs(Ep[np.argmin(np.abs(g))] - D_REF * A[k]) <= 1e-14
+
+
+def test_bifurcation_complex_figure_draws_four_leaves_glued_at_sigma2():
+    """BKM12 Fig. 2(b) as computed: over each chamber two leaves, at means of M of opposite
+    sign along the stable family's axis, approaching +-1 at the stable rotations; Sigma_2's
+    level is one component (BKM12-Fig2b)."""
+    from chaplygin.verify.plots import bifurcation_complex_figure
+
+    fig = bifurcation_complex_figure(gs=(0.0,), levels=2)
+    ax = fig.axes[0]
+    leaves = [ln for ln in ax.lines if ln.get_marker() == "o" and ln.get_linestyle() == "-"]
+    assert len(leaves) == 4
+    ends = sorted(float(ln.get_ydata()[0 if ln.get_xdata()[0] < 0.4 else -1]) for ln in leaves)
+    assert ends[0] < -0.9 and ends[1] < -0.9 and ends[2] > 0.9 and ends[3] > 0.9
+    assert any("Sigma_2: 1 component" in (ln.get_label() or "") for ln in ax.lines)
