@@ -15,7 +15,11 @@ iterations):
 * ``lambda - 3 s > r``: **chaotic**;
 * ``lambda + 3 s < -r``: **contracting**: a periodic attractor that was not resolved (a period
   above ``max_period``, or an approach slower than the transient);
-* otherwise: **quasi-periodic** (``lambda`` is zero within ``3 s + r``).
+* ``|lambda| <= r + 2 s``: **quasi-periodic** (``lambda`` is zero within two errors);
+* otherwise (``|lambda|`` between ``r + 2 s`` and ``r + 3 s``): **undecided** (an intermittent,
+  sticky orbit, whose exponent over ``N`` iterations has a large error; BM20 Fig. 6's window
+  has such points with ``lambda = 0.08-0.10 +- 0.03``).
+  (:func:`classify_exponent`.)
 
 The transient must be long against the slowest contraction: an orbit spiralling onto a
 ``q``-cycle whose multipliers turn by about ``2 pi k/p`` per cycle closes at period ``p`` (a
@@ -48,16 +52,18 @@ __all__ = [
     "REGIMES",
     "AttractorRegime",
     "attractor_regime",
+    "classify_exponent",
     "closing_period",
     "linear_growth_rate",
     "map_points_scaled",
 ]
 
 #: Regime names and their codes in stores (0: not classified).
-REGIMES = {"periodic": 1, "quasi-periodic": 2, "chaotic": 3, "contracting": 4}
+REGIMES = {"periodic": 1, "quasi-periodic": 2, "chaotic": 3, "contracting": 4, "undecided": 5}
 
-#: Standard errors a decision needs.
-SIGMAS = 3.0
+#: Standard errors a decision for chaos (or contraction) needs, and within which the exponent
+#: counts as zero.
+SIGMAS, ZERO_SIGMAS = 3.0, 2.0
 
 
 def linear_growth_rate(iterations: int) -> float:
@@ -120,6 +126,32 @@ class AttractorRegime:
         int
         """
         return REGIMES[self.regime]
+
+
+def classify_exponent(lam: float, err: float, intervals: int) -> str:
+    """The regime of an attractor without a period from its largest Lyapunov exponent.
+
+    Parameters
+    ----------
+    lam, err : float
+        The exponent per map iteration and its standard error.
+    intervals : int
+        ``N``, the iterations it was measured over (``r = ln(N)/N``).
+
+    Returns
+    -------
+    str
+        ``"chaotic"`` (``lam - 3 err > r``), ``"contracting"`` (``lam + 3 err < -r``),
+        ``"quasi-periodic"`` (``|lam| <= r + 2 err``), else ``"undecided"``.
+    """
+    r = linear_growth_rate(intervals)
+    if lam - SIGMAS * err > r:
+        return "chaotic"
+    if lam + SIGMAS * err < -r:
+        return "contracting"
+    if abs(lam) <= r + ZERO_SIGMAS * err:
+        return "quasi-periodic"
+    return "undecided"
 
 
 def closing_period(x: ArrayLike, max_period: int, tol: float) -> int:
@@ -257,12 +289,7 @@ def attractor_regime(
         lam = float(spec.per_iteration(spec.exponents)[0])
         err = float(spec.per_iteration(spec.errors)[0])
         work["lyapunov_periods"] = intervals + lyapunov_transient
-        if lam - SIGMAS * err > threshold:
-            regime = "chaotic"
-        elif lam + SIGMAS * err < -threshold:
-            regime = "contracting"
-        else:
-            regime = "quasi-periodic"
+        regime = classify_exponent(lam, err, intervals)
     copy = None
     if symmetries_of(code):
         if period:  # tol is relative to |M| in M: in state units at most tol max(1, |M|)

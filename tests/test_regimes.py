@@ -148,3 +148,18 @@ def test_fig4_invariant_curves_are_their_own_mirror_images():
     cycle = attractor_regime(CODE, [*FIG5, 1.06675], START, transient=12000, max_period=32)
     points = np.vstack([cycle.points] * 3)  # the cycle as a sample, not as a periodic orbit
     assert name_copy(points, BM20_STATE).copy in ("canonical", "mirror")
+
+
+def test_classify_exponent_thresholds():
+    """The rule on synthetic exponents (N = 2000, r = ln(N)/N = 0.0038): chaotic beyond r + 3
+    errors, contracting below -(r + 3 errors), quasi-periodic within r + 2 errors of 0,
+    undecided between (an intermittent orbit: 0.09 +- 0.03)."""
+    from chaplygin.numerics.regimes import classify_exponent
+
+    r = linear_growth_rate(2000)
+    assert classify_exponent(0.044, 0.004, 2000) == "chaotic"
+    assert classify_exponent(0.09, 0.03, 2000) == "undecided"
+    assert classify_exponent(0.0005, 0.001, 2000) == "quasi-periodic"
+    assert classify_exponent(r + 2 * 0.001 + 1e-9, 0.001, 2000) == "undecided"
+    assert classify_exponent(-0.02, 0.001, 2000) == "contracting"
+    assert classify_exponent(-r - 2.5 * 0.001, 0.001, 2000) == "undecided"

@@ -635,7 +635,8 @@ def _regime_variables(code: Any, sweep: Any) -> dict[str, Variable]:
                 "long_name": f"regime of the map's attractor: {names} (periodic: closes within "
                 f"{o.tol:g} with a period <= {o.max_period}; else the largest Lyapunov exponent "
                 f"over {o.intervals} iterations: > ln(N)/N + 3 errors chaotic, < -(ln(N)/N + 3 "
-                "errors) contracting (a periodic attractor not resolved), else quasi-periodic)",
+                "errors) contracting (a periodic attractor not resolved), within ln(N)/N + 2 "
+                "errors of 0 quasi-periodic, else undecided)",
                 "units": "1",
             },
         ),

@@ -111,14 +111,15 @@ def period_chart_figure(ds: Any) -> Figure:
 #: Colours of the regimes without a period (:data:`chaplygin.numerics.regimes.REGIMES`).
 REGIME_COLOURS = {
     "quasi-periodic": (0.78, 0.78, 0.78, 1.0),
+    "undecided": (1.0, 0.8, 0.8, 1.0),
     "chaotic": (0.0, 0.0, 0.0, 1.0),
     "contracting": (0.45, 0.45, 0.45, 1.0),
 }
 
 
 def regime_codes(regime: np.ndarray, period: np.ndarray) -> tuple[np.ndarray, list, list]:
-    """Categories of a regime chart: each period present, then quasi-periodic, chaotic and
-    contracting (only those present).
+    """Categories of a regime chart: each period present, then quasi-periodic, undecided,
+    chaotic and contracting (only those present).
 
     Parameters
     ----------
@@ -161,10 +162,10 @@ def _mark(ax: Any, x: Any, y: Any, where: np.ndarray, colour: str) -> None:
 
 
 def regime_chart_figure(ds: Any) -> Figure:
-    """The chart of dynamical regimes: per carry direction, one colour per period present
-    and grey/black for quasi-periodic, contracting and chaotic; below, the largest Lyapunov
-    exponent per map iteration; with both directions, where they differ (coexisting
-    attractors).
+    """The chart of dynamical regimes: per carry direction, one colour per period present,
+    light grey quasi-periodic, pink undecided, dark grey contracting and black chaotic; below,
+    the largest Lyapunov exponent per map iteration; with both directions, where they differ
+    (coexisting attractors).
 
     Parameters
     ----------
@@ -289,8 +290,8 @@ def status_figure(ds: Any) -> Figure:
 
 def regime_search_figure(ds: Any) -> Figure:
     """A regime store over more than two axes (a search): over the first two, the most
-    irregular regime met along the others (chaotic before quasi-periodic before contracting
-    before periodic) and the largest Lyapunov exponent met.
+    irregular regime met along the others (chaotic before undecided before quasi-periodic
+    before contracting before periodic) and the largest Lyapunov exponent met.
 
     Parameters
     ----------
@@ -309,7 +310,7 @@ def regime_search_figure(ds: Any) -> Figure:
     regime = np.asarray(ds["regime"].values, dtype=float)
     regime[regime < 0] = np.nan
     rank = {REGIMES["periodic"]: 0, REGIMES["contracting"]: 1, REGIMES["quasi-periodic"]: 2,
-            REGIMES["chaotic"]: 3}  # fmt: skip
+            REGIMES["undecided"]: 3, REGIMES["chaotic"]: 4}  # fmt: skip
     ranked = np.full(regime.shape, np.nan)
     for code, r in rank.items():
         ranked[regime == code] = r
@@ -321,13 +322,12 @@ def regime_search_figure(ds: Any) -> Figure:
         lam = np.asarray(ds["lyapunov_max_per_iteration"].values, dtype=float)
         top = np.nanmax(np.where(np.isnan(lam), -np.inf, lam), axis=axes_rest)
         top[~np.isfinite(top)] = np.nan
-    names = ["periodic", "contracting", "quasi-periodic", "chaotic"]
-    present = [k for k in range(4) if (worst == k).any()]
+    names = ["periodic", "contracting", "quasi-periodic", "undecided", "chaotic"]
+    present = [k for k in range(len(names)) if (worst == k).any()]
     codes = np.full(worst.shape, np.nan)
     for j, k in enumerate(present):
         codes[worst == k] = j
-    colours = [period_colours([1])[0], REGIME_COLOURS["contracting"],
-               REGIME_COLOURS["quasi-periodic"], REGIME_COLOURS["chaotic"]]  # fmt: skip
+    colours = [period_colours([1])[0], *(REGIME_COLOURS[n] for n in names[1:])]
     fig = Figure(figsize=(13, 5), layout="constrained")
     a, b = fig.subplots(1, 2)
     x, y = ds[x_name].values, ds[y_name].values
