@@ -163,3 +163,27 @@ def test_classify_exponent_thresholds():
     assert classify_exponent(r + 2 * 0.001 + 1e-9, 0.001, 2000) == "undecided"
     assert classify_exponent(-0.02, 0.001, 2000) == "contracting"
     assert classify_exponent(-r - 2.5 * 0.001, 0.001, 2000) == "undecided"
+
+
+def test_settled_period_tells_a_slow_spiral_from_a_longer_cycle():
+    """A spiral onto a 7-cycle whose multiplier turns by pi/2 per cycle closes at 28 before it
+    settles: its period is 7; a genuine 14-cycle (pairs 1e-3 apart, settled) keeps 14; a
+    spiral with closure at 28 found by closing_period on such data (the control: without the
+    check the period would be 28)."""
+    from chaplygin.numerics.regimes import closing_period, settled_period
+
+    rng = np.random.default_rng(3)
+    cycle = rng.normal(size=(7, 3))
+    k = np.arange(600)
+    decay = 5e-4 * 0.9934**k  # |mu| = 0.955 per 7 iterations
+    turn = (np.pi / 2) * (k // 7)  # the multiplier's argument, per cycle of 7
+    spiral = (
+        cycle[k % 7]
+        + (decay * np.cos(turn))[:, None] * [1, 0, 0]
+        + (decay * np.sin(turn))[:, None] * [0, 1, 0]
+    )
+    p = closing_period(spiral, 64, 1e-4)
+    assert p == 28  # the control: it closes at 28 ...
+    assert settled_period(spiral, p) == 7  # ... but settles onto the 7-cycle
+    doubled = np.vstack([cycle, cycle + 1e-3])[(k % 14)]
+    assert closing_period(doubled, 64, 1e-4) == 14 and settled_period(doubled, 14) == 14
