@@ -1095,6 +1095,109 @@ register(
 )
 
 
+# ------------------------------------------------- BM20 Fig. 6: the doubling 7 -> 14
+#: Omega along the stable branch of the Fig. 7 cycle at d = 4.385 (saddle-node 1.0662312,
+#: Neimark-Sacker 1.0670746: README, "Periodic orbits and continuation"), up and down from
+#: Fig. 7A's 1.06675, each refined by Newton from the previous one.
+_BRANCH = ((1.06675, 1.0669, 1.0670), (1.0665, 1.0664, 1.06635))
+
+
+@cache
+def _seven_cycle_branch():
+    import numpy as np
+    from chaplygin.numerics.code import load_model_code
+    from chaplygin.numerics.periodic_orbits import (
+        bm20_map_with_jacobian,
+        bm20_point,
+        bm20_state,
+        refine_periodic_orbit,
+    )
+    from chaplygin.numerics.regimes import attractor_regime
+
+    code = load_model_code(BALL, list(VB))
+    params = list(BM20_FIG5_PARAMS)
+    params[9] = 1.06675
+    r = attractor_regime(code, params, bm20_state([0.5, 1.0, 1.0], 3.0), transient=12000,
+                         max_period=32, intervals=10)  # fmt: skip
+    smap = bm20_map_with_jacobian(params, 3.0, rtol=1e-10)
+    out = []
+    for omegas in _BRANCH:
+        x = bm20_point(r.points[-1])
+        for omega in omegas:
+            orbit = refine_periodic_orbit(smap, x, 7, omega)
+            x = np.asarray(orbit.points[0], dtype=float)
+            out.append((omega, orbit))
+    return r.period, sorted(out, key=lambda t: t[0])
+
+
+def _doubling_claim(at_minus_one: bool) -> Callable[[], Computed]:
+    """The multipliers of the Fig. 7 cycle along its stable branch. A period doubling needs a
+    real multiplier at -1: the claim's error is the most negative real multiplier (0 when all
+    are positive; infinite when Newton did not converge), bound 0; the control's error is the
+    least ``|mu + 1|`` on the branch, bound 0.01."""
+
+    def run() -> Computed:
+        import numpy as np
+
+        period, branch = _seven_cycle_branch()
+        values, negative, nearest = {}, 0.0, np.inf
+        for omega, orbit in branch:
+            mu = np.asarray([complex(m) for m in orbit.multipliers])
+            real = mu[np.abs(mu.imag) <= 1e-9].real
+            negative = max(negative, *(-real), 0.0) if orbit.converged else np.inf
+            nearest = min(nearest, float(np.min(np.abs(mu + 1))))
+            values[f"Omega = {omega}"] = (
+                f"{'converged' if orbit.converged else 'NOT converged'}, multipliers "
+                + ", ".join(f"{abs(m):.4f} e^({np.angle(m):+.3f} i)" for m in mu)
+            )
+        values["least |mu + 1|"] = f"{nearest:.4f}"
+        return Computed(
+            error=float(nearest if at_minus_one else negative),
+            bound=1e-2 if at_minus_one else 0.0,
+            what=(
+                f"the period-{period} cycle reached from the Fig. 5 start at Fig. 7A's Omega = "
+                "1.06675 (d = 4.385), refined by Newton on P^7 at Omega = "
+                f"{[o for o, _ in branch]} (variational equations in C, rtol 1e-10; about 3 s) "
+                "and its multipliers: "
+                + (
+                    "the least |mu + 1| on the branch (a doubling: <= 0.01)"
+                    if at_minus_one
+                    else "the most negative real multiplier (none: 0)"
+                )
+            ),
+            values=values,
+        )
+
+    return run
+
+
+register(
+    ComputedClaim(
+        id="BM20-Fig6.no-doubling",
+        source="BM20 §3.2, Fig. 6 ('A doubling of period 7-14 was detected')",
+        kind="solution",
+        statement="the stable period-7 cycle of Figs. 6-7 (d = 4.385) does not double: along "
+        "its branch from the saddle-node (Omega = 1.06623) to the Neimark-Sacker point "
+        "(1.06707) its real multiplier stays positive and the complex pair leaves the unit "
+        "circle off the real axis (BM20's 7 -> 14 is not this cycle's)",
+        system=BALL,
+        effects=VB,
+        compute=_doubling_claim(at_minus_one=False),
+    ),
+    ComputedClaim(
+        id="BM20-Fig6.no-doubling/control-minus-one",
+        source="control",
+        kind="solution",
+        statement="(wrong, BM20's reading) a multiplier of the period-7 cycle reaches -1 on the "
+        "branch (a period doubling 7 -> 14)",
+        system=BALL,
+        effects=VB,
+        compute=_doubling_claim(at_minus_one=True),
+        expected="fails",
+    ),
+)
+
+
 # ------------------------------------------------------------------ attractor-repeller pair
 #: BM20 Fig. 5 (I, D, J_off, delta, K, Omega) and three unrelated starts (z, l, g) at G = 3:
 #: the paper's g(0) = l(0) = 1, z(0) = 0.5 for the attractor, two others for its second
