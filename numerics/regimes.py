@@ -157,35 +157,87 @@ def classify_exponent(lam: float, err: float, intervals: int) -> str:
     return "undecided"
 
 
-def settled_period(x: ArrayLike, period: int) -> int:
+def _newton_period(
+    code: ModelCode,
+    params: list,
+    points: NDArray,
+    scaled: NDArray,
+    period: int,
+    tol: float,
+    rtol: float,
+) -> int:
+    """For BM20's model on ``|M| = G > 0``: the smallest divisor ``q < period`` with a stable
+    ``q``-cycle within ``sqrt(tol)`` of the orbit, refined by Newton on ``P^q``
+    (:func:`~chaplygin.numerics.periodic_orbits.refine_periodic_orbit` with the variational
+    Jacobian); tried where the orbit's ``q``-closure is below ``sqrt(tol)`` (a slow spiral onto
+    the ``q``-cycle closes at ``period`` first: BM20 Fig. 6 near the Neimark-Sacker point,
+    multipliers 0.9987 per 7 iterations, closes at 28). Else ``period``."""
+    from .periodic_orbits import (
+        BM20_EFFECTS,
+        BM20_STATE,
+        bm20_map_with_jacobian,
+        bm20_point,
+        refine_periodic_orbit,
+    )
+
+    if tuple(code.state) != BM20_STATE or set(code.effects) != set(BM20_EFFECTS.split(",")):
+        return period
+    G = float(np.linalg.norm(points[-1][:3]))
+    if G == 0:
+        return period
+    last = scaled[len(scaled) - period - 1 :]
+    smap = None
+    for q in range(1, period):
+        if period % q or float(np.max(np.abs(last[q:] - last[:-q]))) > math.sqrt(tol):
+            continue
+        smap = smap or bm20_map_with_jacobian(params, G, rtol=rtol)
+        x = bm20_point(points[-1])
+        try:
+            orbit = refine_periodic_orbit(smap, x, q, params[code.params.index("Omega")])
+        except (ComputationError, UserInputError):
+            continue
+        near = min(float(np.max(np.abs(smap.difference(np.asarray(c, float), x))))
+                   for c in orbit.points)  # fmt: skip
+        if orbit.converged and orbit.stable and near <= math.sqrt(tol):
+            return q
+    return period
+
+
+def settled_period(x: ArrayLike, period: int, windows: int = 4) -> int:
     """The period of the attractor a recorded orbit that closes at ``period`` approaches: the
-    smallest divisor ``q < period`` whose closure ``max |x[k + q] - x[k]|`` over the last
-    ``period`` points is at most half that over the first ``period`` (the orbit spirals onto a
-    ``q``-cycle whose multipliers turn by about ``2 pi j q/period`` per cycle, and closed at
-    ``period`` before it settled: BM20 Fig. 6 at Omega = 1.0668, d = 4.384 closes at 28 within
-    1e-4 while converging to the 7-cycle, multipliers 0.955 e^(+-1.58 i)); else ``period``
-    (a settled cycle's closures at its divisors stay as they are).
+    smallest divisor ``q < period`` whose closure ``max |x[k + q] - x[k]|``, measured over
+    ``period`` points at ``windows`` evenly spaced places of the record, decreases from each
+    place to the next and by at least 10 % in all (the orbit spirals onto a ``q``-cycle whose
+    multipliers turn by about ``2 pi j q/period`` per cycle, and closed at ``period`` before
+    it settled: BM20 Fig. 6 at Omega = 1.0668, d = 4.384 closes at 28 within 1e-4 while it
+    converges to the 7-cycle, multipliers 0.955 e^(+-1.58 i), and at Omega = 1.0672 with
+    0.995 e^(+-1.64 i)); else ``period`` (a settled cycle's closures at its divisors stay as
+    they are).
 
     Parameters
     ----------
     x : array_like, shape (n, dim)
-        The recorded map points (``n >= 2 period``).
+        The recorded map points (``n >= (windows + 1) period``).
     period : int
         The closing period found (0: none).
+    windows : int
+        Places where the closures are compared.
 
     Returns
     -------
     int
     """
     x = np.asarray(x, dtype=float)
-    if period < 2 or len(x) < 3 * period:
+    if period < 2 or len(x) < (windows + 1) * period:
         return period
+    starts = np.linspace(0, len(x) - 2 * period, windows).astype(int)
     for q in range(1, period):
         if period % q:
             continue
-        first = float(np.max(np.abs(x[q : q + period] - x[:period])))
-        last = float(np.max(np.abs(x[len(x) - period :] - x[len(x) - period - q : len(x) - q])))
-        if last <= 0.5 * first:
+        closures = [float(np.max(np.abs(x[a + q : a + q + period] - x[a : a + period])))
+                    for a in starts]  # fmt: skip
+        shrinking = all(b < a for a, b in zip(closures, closures[1:], strict=False))
+        if shrinking and closures[-1] <= 0.9 * closures[0]:
             return q
     return period
 
@@ -311,6 +363,8 @@ def attractor_regime(
     points, end = y[:-1], y[-1]
     scaled = map_points_scaled(points, state)
     period = settled_period(scaled, closing_period(scaled, max_period, float(tol)))
+    if period > 1:
+        period = _newton_period(code, p, points, scaled, period, float(tol), rtol)
     work = {"map_periods": transient + recorded}
     lam = err = math.nan
     threshold = linear_growth_rate(intervals)

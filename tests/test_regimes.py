@@ -185,5 +185,9 @@ def test_settled_period_tells_a_slow_spiral_from_a_longer_cycle():
     p = closing_period(spiral, 64, 1e-4)
     assert p == 28  # the control: it closes at 28 ...
     assert settled_period(spiral, p) == 7  # ... but settles onto the 7-cycle
+    slow = cycle[k % 7] + (5e-5 * 0.9992**k * np.cos(turn))[:, None] * [1, 0, 0] + (
+        5e-5 * 0.9992**k * np.sin(turn)
+    )[:, None] * [0, 1, 0]  # |mu| = 0.9946 per cycle: 38 % decay over the record
+    assert settled_period(slow, 28) == 7
     doubled = np.vstack([cycle, cycle + 1e-3])[(k % 14)]
     assert closing_period(doubled, 64, 1e-4) == 14 and settled_period(doubled, 14) == 14
