@@ -374,10 +374,13 @@ def lyapunov_spectrum(
         Only the ``count`` largest exponents (fewer tangent vectors: cheaper; the largest
         alone needs one).
     subspace : array_like, shape (n, m), optional
-        Columns spanning a subspace of tangent vectors that the variational flow keeps
-        invariant, used instead of the level set's tangent space and not projected (with
-        ``states=1``): where the level set is singular, e.g. from rest (``M = 0``, the critical
-        level of ``(M, M)``: ``delta M = 0``, ``delta gamma`` normal to ``gamma``).
+        Columns spanning a subspace of the level set's tangent space that the variational
+        flow keeps invariant: the tangent vectors start in it (instead of in the whole
+        tangent space) and are projected onto the level set as usual (``states=1``). Where the
+        level set is singular, e.g. from rest (``M = 0``, the critical level of ``(M, M)``:
+        ``delta M = 0``, ``delta gamma`` normal to ``gamma``; the projection removes the
+        radial drift of ``delta gamma``, which would otherwise grow with exponent 0 and hide
+        the contraction on the sphere).
 
     Returns
     -------
@@ -447,7 +450,7 @@ def lyapunov_spectrum(
             tangent_s = tangent
         basis = tangent_s if spectrum == "level_set" else np.eye(n)
         V = basis @ np.linalg.qr(rng.standard_normal((basis.shape[1], k)))[0]
-        project = spectrum == "level_set" and subspace is None
+        project = spectrum == "level_set"
         t = t0
         if transient:
             _, _, y, V, w = vs.renormalised(y, V, t, tau, transient, project=project)

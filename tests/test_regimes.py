@@ -185,9 +185,34 @@ def test_settled_period_tells_a_slow_spiral_from_a_longer_cycle():
     p = closing_period(spiral, 64, 1e-4)
     assert p == 28  # the control: it closes at 28 ...
     assert settled_period(spiral, p) == 7  # ... but settles onto the 7-cycle
-    slow = cycle[k % 7] + (5e-5 * 0.9992**k * np.cos(turn))[:, None] * [1, 0, 0] + (
-        5e-5 * 0.9992**k * np.sin(turn)
-    )[:, None] * [0, 1, 0]  # |mu| = 0.9946 per cycle: 38 % decay over the record
+    slow = (
+        cycle[k % 7]
+        + (5e-5 * 0.9992**k * np.cos(turn))[:, None] * [1, 0, 0]
+        + (5e-5 * 0.9992**k * np.sin(turn))[:, None] * [0, 1, 0]
+    )  # |mu| = 0.9946 per cycle: 38 % decay over the record
     assert settled_period(slow, 28) == 7
     doubled = np.vstack([cycle, cycle + 1e-3])[(k % 14)]
     assert closing_period(doubled, 64, 1e-4) == 14 and settled_period(doubled, 14) == 14
+
+
+def test_lyapunov_from_rest_on_the_sphere_of_gamma():
+    """From rest (Fig. 2's body at Omega = 0.6, J = 0.9) the map acts on the sphere of gamma:
+    with subspace = {delta M = 0, delta gamma normal to gamma} (projected onto the level set as
+    usual) the two exponents sum to the mean divergence (tr J: the delta M block only
+    rotates) to rounding; the level set's whole tangent space (the control) adds the rotating
+    delta M directions, whose exponent 0 hides the contraction: its largest exponent lies
+    above the sphere's by more than 3 errors."""
+    from chaplygin.numerics.lyapunov import lyapunov_spectrum
+    from chaplygin.numerics.regimes import _from_rest_subspace
+
+    p = [4, 3, 2, 1.5, 0.9, 1.2, 3, -1, -2, 0.6]
+    y0 = np.array([0, 0, 0, 0.6, 0.0, 0.8])
+    sphere = lyapunov_spectrum(CODE, p, y0, intervals=2000, transient=200,
+                               subspace=_from_rest_subspace(y0, CODE.state))  # fmt: skip
+    lam, err = sphere.per_iteration(sphere.exponents), sphere.per_iteration(sphere.errors)
+    assert len(lam) == 2 and lam[0] < 0  # two exponents, both negative
+    div = sphere.per_iteration(sphere.mean_divergence)
+    assert abs(lam.sum() - div) <= 1e-6 * abs(div)  # Liouville on the sphere's plane
+    level = lyapunov_spectrum(CODE, p, y0, intervals=2000, transient=200, count=1)
+    top = level.per_iteration(level.exponents)[0]
+    assert top - lam[0] > 3 * (err[0] + level.per_iteration(level.errors)[0])
