@@ -47,6 +47,7 @@ import numpy as np
 
 from ..arith import detmath
 from ..derive.errors import ComputationError, UserInputError
+from ..numerics.regimes import linear_growth_rate
 from .sweep_checks import (
     CHUNK_OVERHEAD_BYTES,
     CONNECT_TIMEOUT_S,
@@ -85,6 +86,11 @@ __all__ = [
     "zeros_along_axis",
     "STORE_FORMAT",
 ]
+
+#: The leading dimension of a sweep with ``carry = "both"``, and its labels (the order of the
+#: last axis's values, and the reverse).
+CARRY_KEY = "carry"
+CARRY_DIRECTIONS = ("forward", "backward")
 
 #: ``status`` values.
 STATUS_DONE, STATUS_REFUSED, STATUS_FAILED = 0, 1, 2
@@ -151,6 +157,12 @@ class PointContext:
     resolved : chaplygin.verify.scene.Resolved
     sweep : chaplygin.verify.sweep_table.Sweep
         The sweep table (reducer options).
+    start : sequence or None
+        With ``carry``: the state the previous point of the grid line ended on (the point's
+        reducers start there instead of at the scene's state).
+    end : sequence or None
+        Set by a reducer that carries (:attr:`Reducer.carries`): the state to start the next
+        point from.
     """
 
     scene: Any
@@ -158,6 +170,10 @@ class PointContext:
     sweep: Any
     _trajectory: Any = None
     batched: dict[str, Any] = field(default_factory=dict)
+    #: A start carried from the previous point of the grid line (``carry``), else None.
+    start: Any = None
+    #: The state a reducer ended on (on the attractor), carried to the next point.
+    end: Any = None
 
     def trajectory(self) -> Any:
         """The scene's trajectory (integrated once, shared by the reducers).
@@ -215,6 +231,9 @@ class Reducer:
         ``batch(contexts) -> list`` for all resolved points of a chunk at once: per point the
         values (as from ``run``), an exception (raised for that point alone) or None (that
         point goes through ``run``).
+    carries : bool
+        ``run`` starts at ``context.start`` when given and sets ``context.end``: usable with
+        the sweep's ``carry``.
     """
 
     name: str
@@ -223,6 +242,7 @@ class Reducer:
     coords: Callable[[Any], dict[str, list]] | None = None
     description: str = ""
     batch: Callable[[list[PointContext]], list[Any]] | None = None
+    carries: bool = False
 
 
 #: Reducers by name (see :func:`register_reducer`).
@@ -540,22 +560,6 @@ def _lyapunov_max(ctx: PointContext) -> dict:
     }
 
 
-def linear_growth_rate(iterations: int) -> float:
-    """The exponent per iteration that a tangent vector growing linearly (``|v_N| = N |v_0|``,
-    as on an invariant torus or a periodic orbit) shows after ``N`` iterations: ``ln(N)/N``.
-
-    Parameters
-    ----------
-    iterations : int
-
-    Returns
-    -------
-    float
-        Per map iteration.
-    """
-    return detmath.log(float(iterations)) / iterations
-
-
 def _lyapunov_variables(code: Any, sweep: Any) -> dict[str, Variable]:
     from ..numerics.lyapunov import UNITS_PER_ITERATION, UNITS_PER_TIME
 
@@ -592,6 +596,120 @@ register_reducer(
         None,
         "the largest Lyapunov exponent (per unit time and per forcing period) with its error "
         "bar: about 0 quasi-periodic or periodic, > 0 chaotic (time-periodic models, double)",
+    )
+)
+
+
+def _regime(ctx: PointContext) -> dict:
+    """Period, then the largest Lyapunov exponent: periodic, quasi-periodic or chaotic
+    (:func:`chaplygin.numerics.regimes.attractor_regime`), from the scene's state or the one
+    carried from the previous point."""
+    from ..numerics.regimes import attractor_regime
+
+    opts, run, res = ctx.sweep.regime, ctx.scene.run_options, ctx.resolved
+    carried = ctx.start is not None
+    y0 = ctx.start if carried else [float(v) for v in res.y0]
+    transient = opts.transient
+    if carried and opts.carried_transient is not None:
+        transient = opts.carried_transient
+    r = attractor_regime(
+        res.code,
+        [float(res.params[k]) for k in res.code.params],
+        y0,
+        transient=transient,
+        recorded=opts.recorded,
+        max_period=opts.max_period,
+        tol=opts.tol,
+        intervals=opts.intervals,
+        lyapunov_transient=opts.lyapunov_transient,
+        rtol=run.rtol if run.rtol is not None else 1e-10,
+        atol=run.atol if run.atol is not None else 1e-12,
+        t0=float(res.t_span[0]),
+    )
+    ctx.end = [float(v) for v in r.end]
+    return {
+        "regime": r.code,
+        "period": r.period,
+        "lyapunov_max_per_iteration": r.lyapunov,
+        "lyapunov_max_per_iteration_error": r.lyapunov_error,
+        "symmetric_copy": r.copy.code if r.copy is not None else -1,
+        "copy_statistic": r.copy.statistic if r.copy is not None else math.nan,
+        "carried": int(carried),
+    }
+
+
+def _regime_variables(code: Any, sweep: Any) -> dict[str, Variable]:
+    from ..numerics.lyapunov import UNITS_PER_ITERATION
+    from ..numerics.regimes import REGIMES
+    from ..numerics.symmetry import COPY_RULE, symmetries_of
+
+    o = sweep.regime
+    names = ", ".join(f"{v} {k}" for k, v in REGIMES.items())
+    symmetry = symmetries_of(code)
+    copy_name = symmetry[0].name if symmetry else "none"
+    return {
+        "regime": Variable(
+            dtype="int8",
+            attrs={
+                "long_name": f"regime of the map's attractor: {names} (periodic: closes within "
+                f"{o.tol:g} with a period <= {o.max_period}; else the largest Lyapunov exponent "
+                f"over {o.intervals} iterations: > ln(N)/N + 3 errors chaotic, < -(ln(N)/N + 3 "
+                "errors) contracting (a periodic attractor not resolved), within ln(N)/N + 2 "
+                "errors of 0 quasi-periodic, else undecided)",
+                "units": "1",
+            },
+        ),
+        "period": Variable(
+            dtype="int16",
+            attrs={
+                "long_name": f"period (forcing periods; 0: none <= {o.max_period})",
+                "units": "1",
+            },
+        ),
+        "lyapunov_max_per_iteration": Variable(
+            attrs={
+                "long_name": "largest Lyapunov exponent on the level set (one tangent vector; "
+                "NaN where the attractor is periodic: not measured)",
+                "units": UNITS_PER_ITERATION,
+            }
+        ),
+        "lyapunov_max_per_iteration_error": Variable(
+            attrs={"long_name": "its error bar (one standard error)", "units": UNITS_PER_ITERATION}
+        ),
+        "symmetric_copy": Variable(
+            dtype="int8",
+            attrs={
+                "long_name": f"copy reached under the symmetry {copy_name!r}: 0 canonical, 1 its "
+                f"mirror, 2 self-symmetric, -1 undetermined or no symmetry ({COPY_RULE})",
+                "units": "1",
+            },
+        ),
+        "copy_statistic": Variable(
+            attrs={
+                "long_name": "mean of phi over the recorded points (the copy's sign)",
+                "units": "1",
+            }
+        ),
+        "carried": Variable(
+            dtype="int8",
+            attrs={
+                "long_name": "1 when the start was carried from the previous grid point",
+                "units": "1",
+            },
+        ),
+    }
+
+
+register_reducer(
+    Reducer(
+        "regime",
+        _regime_variables,
+        _regime,
+        None,
+        "periodic (with its period), quasi-periodic or chaotic by the period and then the largest "
+        "Lyapunov exponent (per map iteration, with its error bar); the symmetric copy reached; "
+        "usable with carry (starts carried along the grid lines)",
+        carries=True,
     )
 )
 
@@ -872,12 +990,26 @@ def plan_sweep(scene: Any, workers: int | None = None, store: Path | None = None
                 "sweep.reduce",
             )
     base = {k: v for k, v in scene._given.items() if k != "sweep"}
+    carry_both = False
+    if sweep.carry != "none":
+        cannot = [n for n in sweep.reduce if not REDUCERS[n].carries]
+        if cannot:
+            able = ", ".join(n for n, r in REDUCERS.items() if r.carries)
+            raise SceneError(
+                f"carry follows an attractor along the grid lines: the reducers "
+                f"{', '.join(cannot)} do not carry a state (use {able})",
+                scene.source,
+                "sweep.carry",
+            )
+        carry_both = sweep.carry == "both"  # a leading dimension: the two directions
     sizes = [len(v) if isinstance(v, list) else v.num for v in sweep.axes.values()]
+    if carry_both:
+        sizes.insert(0, len(CARRY_DIRECTIONS))
     if sweep.grid == "list":
         dims: tuple[str, ...] = ("point",)
         shape: tuple[int, ...] = (sizes[0],)
     else:
-        dims = tuple(key.split(".")[1] for key in sweep.axes)
+        dims = ((CARRY_KEY,) if carry_both else ()) + tuple(key.split(".")[1] for key in sweep.axes)
         shape = tuple(sizes)
     n_chunks = math.prod(shape[:-1]) * -(-shape[-1] // sweep.chunk)
     first = {key: _axis_values(v, first_only=True)[0] for key, v in sweep.axes.items()}
@@ -905,6 +1037,20 @@ def plan_sweep(scene: Any, workers: int | None = None, store: Path | None = None
             f"of {code.name} (params: {', '.join(code.params)}); set period.forcing",
             scene.source,
             "sweep.period.forcing",
+        )
+    if "regime" in sweep.reduce and "Omega" not in code.params:
+        raise SceneError(
+            f"reduce = regime needs a time-periodic model (the forcing frequency Omega); "
+            f"{code.name} has {', '.join(code.params)}",
+            scene.source,
+            "sweep.reduce",
+        )
+    if "regime" in sweep.reduce and "Omega" not in code.params:
+        raise SceneError(
+            f"reduce = regime needs a time-periodic model (the forcing frequency Omega); "
+            f"{code.name} has {', '.join(code.params)}",
+            scene.source,
+            "sweep.reduce",
         )
     variables: dict[str, Variable] = {}
     extra: dict[str, list] = {}
@@ -955,6 +1101,9 @@ def plan_sweep(scene: Any, workers: int | None = None, store: Path | None = None
     from ..numerics.inputs import parse_number
 
     coords = {name: np.asarray([float(parse_number(v)) for v in vals]) for _, name, vals in axes}
+    if carry_both:
+        axes.insert(0, (CARRY_KEY, CARRY_KEY, list(CARRY_DIRECTIONS)))
+        coords[CARRY_KEY] = np.asarray(CARRY_DIRECTIONS)
     chunks = []
     outer = [range(n) for n in shape[:-1]]
     for index in product(*outer):
@@ -1094,6 +1243,8 @@ def compute_chunk(payload: Mapping, points: Sequence[Mapping[str, Any]]) -> dict
         name: np.full((len(points), *shape), -1 if dtype.startswith("int") else np.nan, dtype)
         for name, (shape, dtype) in payload["variables"].items()
     }
+    if sweep.carry != "none":
+        return _carried_chunk(payload, points, sweep, out)
     contexts = [
         _point_context(payload["base"], point, sweep, payload.get("source")) for point in points
     ]
@@ -1105,6 +1256,30 @@ def compute_chunk(payload: Mapping, points: Sequence[Mapping[str, Any]]) -> dict
                 ctx.batched[name] = result
     for i, ctx in enumerate(contexts):
         status, values = ctx if isinstance(ctx, tuple) else _reduce_point(ctx)
+        out["status"][i] = status
+        for name, value in values.items():
+            out[name][i] = value
+    return out
+
+
+def _carried_chunk(
+    payload: Mapping, points: Sequence[Mapping[str, Any]], sweep: Any, out: dict[str, np.ndarray]
+) -> dict[str, np.ndarray]:
+    """One grid line with its starts carried: the points in the line's order (or reversed),
+    each starting where the previous one ended (the first, and any after a point that failed
+    or was refused, at the scene's state)."""
+    direction = points[0].get(CARRY_KEY, sweep.carry) if points else sweep.carry
+    order = range(len(points)) if direction == "forward" else range(len(points) - 1, -1, -1)
+    carried = None
+    for i in order:
+        point = {k: v for k, v in points[i].items() if k != CARRY_KEY}
+        ctx = _point_context(payload["base"], point, sweep, payload.get("source"))
+        if isinstance(ctx, PointContext):
+            ctx.start = carried
+            status, values = _reduce_point(ctx)
+            carried = ctx.end if status == STATUS_DONE else None
+        else:
+            (status, values), carried = ctx, None
         out["status"][i] = status
         for name, value in values.items():
             out[name][i] = value
