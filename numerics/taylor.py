@@ -2155,7 +2155,7 @@ def taylor_dense(
     params = [float(v) for v in _checked_values(check_vector, p, "p", m)]
     t0, t1 = (float(v) for v in _checked_values(check_vector, t_span, "t_span", 2))
     if t0 == t1:
-        raise UserInputError("the time span must be non-empty (t1 != t0)")
+        raise UserInputError("t_span must be non-empty (t1 != t0)")
     tolerances = []
     for value, name in ((rtol, "rtol"), (atol, "atol")):
         check_real(value, name, positive=True, double=True)

@@ -647,9 +647,10 @@ def gradient_line(
     vector) and runs at unit speed (the normalised tangential gradient) until the gradient
     vanishes (the opposite extremum): classical Runge-Kutta steps of :data:`LINE_STEP` in
     arc length, each point put back on the sphere, a step kept only where the energy moves
-    on (so ``h`` is strictly monotone), halved near the end until the gradient's norm is
-    below :data:`LINE_FLAT` or the step below ``LINE_FLAT``. Deterministic: IEEE operations
-    in a fixed order.
+    on by at least half of what the gradient promises (so ``h`` is strictly monotone and no
+    step passes over the extremum), else halved (and doubled again after a kept one, up to
+    :data:`LINE_STEP`), until the gradient's norm or the step is below :data:`LINE_FLAT`.
+    Deterministic: IEEE operations in a fixed order.
 
     Parameters
     ----------
@@ -683,9 +684,12 @@ def gradient_line(
     g0 = _on_sphere(g0 + offset * u)
     sign = 1.0 if ascending else -1.0
 
-    def tangent(g: np.ndarray) -> np.ndarray | None:
+    def slope(g: np.ndarray) -> tuple[np.ndarray, float]:
         grad = _sphere_gradient(I, D, K, C, _on_sphere(g))
-        n = detlinalg.norm(grad)
+        return grad, detlinalg.norm(grad)
+
+    def tangent(g: np.ndarray) -> np.ndarray | None:
+        grad, n = slope(g)
         return sign * grad / n if n > LINE_FLAT else None
 
     def advance(g: np.ndarray, step: float) -> np.ndarray | None:
@@ -702,17 +706,22 @@ def gradient_line(
         return float(_segment_energy(I, D, K, C, g))
 
     s, gam, h, steps = [0.0], [g0], [energy(g0)], []
+    steepness = slope(g0)[1]
     step = LINE_STEP
-    while s[-1] < 2 * math.pi and step >= LINE_FLAT:
+    while steepness > LINE_FLAT and s[-1] < 2 * math.pi and step >= LINE_FLAT:
         g = advance(gam[-1], step)
         e = energy(g) if g is not None else math.nan
-        if not sign * (e - h[-1]) > 0:  # flat, or over the extremum: a shorter step
+        # kept if the energy moves on by at least half what the gradient promises (not so
+        # near the extremum that the step would pass it), else taken again shorter
+        if not sign * (e - h[-1]) >= 0.5 * step * steepness:
             step /= 2
             continue
         s.append(s[-1] + step)
         gam.append(g)
         h.append(e)
         steps.append(step)
+        steepness = slope(g)[1]
+        step = min(2 * step, LINE_STEP)
     gam_arr, h_arr = np.array(gam).T.copy(), np.array(h)
 
     def at(value: float) -> np.ndarray:

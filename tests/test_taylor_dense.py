@@ -166,7 +166,7 @@ def test_too_many_steps_stop_the_run(code):
         ({"y0": [*Y0[:5], math.nan]}, "y0"),
         ({"y0": [*Y0[:5], "0.3"]}, "y0"),
         ({"p": P[:3]}, "p needs"),
-        ({"t_span": (1.0, 1.0)}, "non-empty"),
+        ({"t_span": (1.0, 1.0)}, "t_span must be non-empty"),
         ({"t_span": (0.0, math.inf)}, "t_span"),
         ({"rtol": -1e-9}, "rtol"),
         ({"atol": 1e-17}, "unit roundoff"),

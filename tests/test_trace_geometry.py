@@ -161,6 +161,14 @@ def test_gradient_line_is_monotone_and_finds_energies():
     eq = segment_equilibria(p["I"], p["D"], p["K"], p["C"])
     line = gradient_line(p["I"], p["D"], p["K"], p["C"], eq[-1]["gamma"], ascending=False)
     assert np.all(np.diff(line["h"]) < 0)
+    # it ends at a minimum (LINE_FLAT = 1e-7 away in gamma: its energy to 1e-13), not short
+    # of it nor circling it
+    end = line["gamma"][:, -1]
+    nearest = min(eq, key=lambda e: float(np.sum((e["gamma"] - end) ** 2)))
+    assert nearest["kind"] == "min"
+    assert float(np.sqrt(np.sum((nearest["gamma"] - end) ** 2))) < 1e-5
+    assert 0 < line["h"][-1] - nearest["h"] < 1e-13
+    assert line["s"][-1] < 4.0  # 2.87 here; a line circling the minimum runs to the cap 2 pi
     g = line["at"](0.3)
     assert float(segment_energy(p["I"], p["D"], g, p["C"], p["K"])) == pytest.approx(0.3, abs=1e-13)
     with pytest.raises(UserInputError, match="not on this line"):
