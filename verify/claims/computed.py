@@ -462,8 +462,9 @@ def _fig6f(printed: float):
             bound=1e-3,
             what=(
                 "energy where the horizontal frame turns by 0 per period of gamma (unbounded "
-                "trace; Brent on the DOP853 turn, rtol 1e-12) against the printed energy, "
-                "relative; FORMULAS.md reads the panel as approximate: 3 significant digits"
+                "trace; Brent on the turn from the Taylor integrator, rtol 1e-12) against the "
+                "printed energy, relative; FORMULAS.md reads the panel as approximate: 3 "
+                "significant digits"
             ),
             values={
                 "h_c": f"{h_c:.10f}",
