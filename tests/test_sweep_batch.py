@@ -201,7 +201,7 @@ def test_carried_starts_follow_the_attractor_along_the_line(tmp_path):
     code = load_model_code("chaplygin_ball", ["variable_inertia", "variable_gyrostat"])
     path = tmp_path / "s.toml"  # the scene _chunk wrote: its resolved start, bit for bit
     y = [float(v) for v in Scene.from_toml(path).resolve().y0]
-    for k, D in enumerate((4.3845, 4.385, 4.3855)):
+    for D in (4.3845, 4.385, 4.3855):
         p = [4, 3, 2, D, 0, 2, -6, -3, -9, 1.06675]
         r = attractor_regime(code, p, y, transient=3000, recorded=100,
                              max_period=32, intervals=200)  # fmt: skip

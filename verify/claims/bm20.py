@@ -1164,7 +1164,8 @@ def _doubling_claim(at_minus_one: bool) -> Callable[[], Computed]:
             bound=1e-2 if at_minus_one else 0.0,
             what=(
                 f"the period-{period} cycle reached from a start 3e-3 from it (z, l, g = -0.44, "
-                "1.46, -1.01) at Fig. 7A's Omega = 1.06675 (d = 4.385), refined by Newton on P^7 at Omega = "
+                "1.46, -1.01) at Fig. 7A's Omega = 1.06675 (d = 4.385), refined by Newton on P^7 "
+                "at Omega = "
                 f"{[o for o, _ in branch]} (variational equations in C, rtol 1e-10; about 3 s) "
                 "and its multipliers: "
                 + (
