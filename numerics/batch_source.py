@@ -100,7 +100,22 @@ def vector_rhs_source(c_source: str) -> str | None:
 
 def c_function(source: str, name: str) -> str:
     """The text of the C function ``name`` of ``source`` (from its declaration to the first
-    ``}`` in column 0)."""
+    ``}`` in column 0).
+
+    Parameters
+    ----------
+    source : str
+    name : str
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    ComputationError
+        No such function.
+    """
     start = re.search(rf"^static \w+ {name}\(", source, re.MULTILINE)
     if start is None:
         raise ComputationError(f"no C function {name} in the batch map templates")

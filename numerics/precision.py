@@ -261,9 +261,14 @@ class Precision:
         return 10.0 ** (-self.digits / 2)
 
     def unit_roundoff(self) -> float | mpmath.mpf:
-        """``2^(1 - bits)``: what the Taylor loop locates events to (a float in double and
-        quad, an ``mpf`` for the digits precisions, whose roundoff may be below the range of
-        a float)."""
+        """``2^(1 - bits)``: what the Taylor loop locates events to.
+
+        Returns
+        -------
+        float or mpmath.mpf
+            A float in double and quad, an ``mpf`` for the digits precisions (whose roundoff
+            may be below the range of a float).
+        """
         if self.is_double:
             return 2.0**-52
         if self.is_quad:
@@ -295,9 +300,15 @@ class Precision:
         return float(value) if self.is_double else mpmath.mpf(value)
 
     def context(self) -> AbstractContextManager:
-        """The mpmath context the precision's numbers are computed in: nothing in double,
-        ``mpmath.workdps(digits)`` otherwise (quad: 34 digits, 116 bits, in which every
-        binary128 value is exact). Entered by whoever computes (``with p.context():``)."""
+        """The mpmath context the precision's numbers are computed in, entered by whoever
+        computes (``with p.context():``).
+
+        Returns
+        -------
+        context manager
+            Nothing in double, ``mpmath.workdps(digits)`` otherwise (quad: 34 digits, 116
+            bits, in which every binary128 value is exact).
+        """
         if self.is_double:
             return nullcontext()
         return mpmath.workdps(self.digits)

@@ -107,10 +107,26 @@ class ModelFlow(Flow):
     what: ClassVar[str] = "a model's own equations"
 
     def double_rhs(self, backend: str) -> tuple[Callable, Callable | None]:
+        """The generated ``rhs`` and ``jac`` (compiled or numpy).
+
+        Parameters
+        ----------
+        backend : {"c", "numpy"}
+
+        Returns
+        -------
+        (callable, callable or None)
+        """
         lib = _library(self.code, backend)
         return lib.rhs, lib.jac
 
     def mpmath_rhs(self) -> Callable:
+        """The generated mpmath ``rhs``.
+
+        Returns
+        -------
+        callable
+        """
         return self.code.mpmath.rhs
 
 
@@ -122,6 +138,16 @@ class ReversedFlow(Flow):
     what: ClassVar[str] = "a model's reversed flow"
 
     def double_rhs(self, backend: str) -> tuple[Callable, Callable | None]:
+        """``-f(-s, y)`` and ``-J(-s, y)`` from the generated ``rhs`` and ``jac``.
+
+        Parameters
+        ----------
+        backend : {"c", "numpy"}
+
+        Returns
+        -------
+        (callable, callable or None)
+        """
         lib = _library(self.code, backend)
         rhs, jac = lib.rhs, lib.jac
 
@@ -134,6 +160,12 @@ class ReversedFlow(Flow):
         return reversed_rhs, reversed_jac
 
     def mpmath_rhs(self) -> Callable:
+        """``-f(-s, y)`` from the generated mpmath ``rhs``.
+
+        Returns
+        -------
+        callable
+        """
         rhs = self.code.mpmath.rhs
 
         def reversed_rhs(s, y, p):
@@ -186,6 +218,18 @@ class VariationalFlow(Flow):
         return z
 
     def double_rhs(self, backend: str) -> tuple[Callable, Callable | None]:
+        """The augmented system on the numpy module's ``rhs`` and ``jac`` (``J V`` by
+        :func:`~chaplygin.arith.detlinalg.matmul`); no Jacobian of it (the compiled one is the
+        C DOP853's).
+
+        Parameters
+        ----------
+        backend : {"c", "numpy"}
+
+        Returns
+        -------
+        (callable, callable or None)
+        """
         # the numpy module's rhs and jac (the compiled variational code is the C DOP853's)
         n, k = len(self.code.state), self.tangents
         rhs, jac = self.code.numpy.rhs, self.code.numpy.jac
@@ -201,6 +245,17 @@ class VariationalFlow(Flow):
         return f, None
 
     def atol(self, atol: float, size: int) -> np.ndarray:
+        """``atol`` for the state and the tangent vectors, none for the divergence integral.
+
+        Parameters
+        ----------
+        atol : float
+        size : int
+
+        Returns
+        -------
+        ndarray
+        """
         out = np.full(size, atol)
         out[-1] = np.inf  # the quadrature is not error-controlled
         return out
