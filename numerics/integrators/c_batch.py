@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import time
 import warnings
+from collections.abc import Callable
 from typing import Any
 
 import cffi
@@ -33,6 +34,7 @@ from .base import Problem, Solution
 __all__ = [
     "STATUS_MESSAGES",
     "batch_library",
+    "cached_library",
     "lockstep_available",
     "run_batch",
     "taylor_batch_library",
@@ -70,9 +72,46 @@ _TAYLOR_LIBRARIES: dict[str, Any] = {}
 _LOCKSTEP: dict[str, bool] = {}
 
 
+def cached_library(
+    cache: dict[str, Any], code: ModelCode, build: Callable[[], Any], unavailable: str
+) -> Any | None:
+    """A compiled library of ``code``, built once per process by ``build``; None (also kept)
+    after a :class:`CompilerUnavailableWarning` when the compiler fails or is missing.
+
+    Parameters
+    ----------
+    cache : dict
+        Libraries by model hash.
+    code : ModelCode
+    build : callable
+        Compiles and loads the library (may return None: nothing to build).
+    unavailable : str
+        The warning, with ``{exc}`` for the compiler's error.
+
+    Returns
+    -------
+    cffi library or None
+
+    Raises
+    ------
+    CacheError
+        Cache directory problems (the user's to fix).
+    """
+    if code.hash in cache:
+        return cache[code.hash]
+    try:
+        lib = build()
+    except CacheError:
+        raise
+    except (CompilerError, OSError) as exc:
+        warnings.warn(unavailable.format(exc=exc), CompilerUnavailableWarning, stacklevel=4)
+        lib = None
+    cache[code.hash] = lib
+    return lib
+
+
 def batch_library(code: ModelCode) -> Any | None:
-    """The compiled DOP853 batch library of ``code`` (cached per process), or None without a
-    compiler (after a :class:`CompilerUnavailableWarning`).
+    """The compiled DOP853 batch library of ``code`` (:func:`cached_library`).
 
     Parameters
     ----------
@@ -82,23 +121,17 @@ def batch_library(code: ModelCode) -> Any | None:
     -------
     cffi library or None
     """
-    if code.hash in _LIBRARIES:
-        return _LIBRARIES[code.hash]
-    source, has_lanes = batch_source(code)
-    try:
+
+    def build() -> Any:
+        source, has_lanes = batch_source(code)
         lib = _compile_native(source)
         _LOCKSTEP[code.hash] = has_lanes
-    except CacheError:  # cache directory problems are the user's to fix
-        raise
-    except (CompilerError, OSError) as exc:
-        warnings.warn(
-            f"the compiled batch map is unavailable ({exc}); use StroboscopicMap per point",
-            CompilerUnavailableWarning,
-            stacklevel=3,
-        )
-        lib = None
-    _LIBRARIES[code.hash] = lib
-    return lib
+        return lib
+
+    return cached_library(
+        _LIBRARIES, code, build,
+        "the compiled batch map is unavailable ({exc}); use StroboscopicMap per point",
+    )  # fmt: skip
 
 
 def _compile_native(source: str) -> Any:
@@ -127,8 +160,8 @@ def lockstep_available(code: ModelCode) -> bool:
 
 
 def taylor_batch_library(code: ModelCode) -> Any | None:
-    """The compiled Taylor batch library of ``code`` (cached per process), compiled with the
-    default flags; None without a compiler or without generated Taylor code.
+    """The compiled Taylor batch library of ``code`` (:func:`cached_library`), compiled with
+    the default flags; None also without generated Taylor code.
 
     Parameters
     ----------
@@ -138,24 +171,17 @@ def taylor_batch_library(code: ModelCode) -> Any | None:
     -------
     cffi library or None
     """
-    if code.hash in _TAYLOR_LIBRARIES:
-        return _TAYLOR_LIBRARIES[code.hash]
-    lib = None
-    source = taylor_batch_source(code)
-    if source is not None:
-        try:  # the flags of the single-point Taylor library (-O2): -O3 (with or without
-            # -march=native) made it about 1.6 times slower here (vectorised short recurrences)
-            lib = _ffi.dlopen(str(compile_c(source)))
-        except CacheError:
-            raise
-        except (CompilerError, OSError) as exc:
-            warnings.warn(
-                f"the compiled Taylor batch map is unavailable ({exc}); use StroboscopicMap",
-                CompilerUnavailableWarning,
-                stacklevel=3,
-            )
-    _TAYLOR_LIBRARIES[code.hash] = lib
-    return lib
+
+    def build() -> Any:
+        source = taylor_batch_source(code)
+        # the flags of the single-point Taylor library (-O2): -O3 (with or without
+        # -march=native) made it about 1.6 times slower here (vectorised short recurrences)
+        return None if source is None else _ffi.dlopen(str(compile_c(source)))
+
+    return cached_library(
+        _TAYLOR_LIBRARIES, code, build,
+        "the compiled Taylor batch map is unavailable ({exc}); use StroboscopicMap",
+    )  # fmt: skip
 
 
 def run_batch(driver: Any, problem: Problem) -> tuple[Solution, np.ndarray]:

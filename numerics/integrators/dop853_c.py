@@ -20,7 +20,6 @@ II.10 (DOP853).
 from __future__ import annotations
 
 import dataclasses
-import warnings
 from importlib import resources
 from typing import Any
 
@@ -29,9 +28,8 @@ import numpy as np
 
 from ...arith import detlinalg, detmath
 from ...derive.errors import ComputationError, UserInputError
-from ..ccompile import CacheError, CompilerError, compile_c
+from ..ccompile import compile_c
 from ..code import ModelCode
-from ..compiled import CompilerUnavailableWarning
 from . import c_batch
 from .base import Integrator, Problem, Solution
 from .flows import Batch, Renormalisation, VariationalFlow
@@ -66,8 +64,8 @@ _LIBRARIES: dict[str, Any] = {}
 
 
 def variational_library(code: ModelCode) -> Any | None:
-    """The compiled variational library of ``code`` (cached per process), or None after a
-    :class:`CompilerUnavailableWarning`.
+    """The compiled variational library of ``code``
+    (:func:`~chaplygin.numerics.integrators.c_batch.cached_library`).
 
     Parameters
     ----------
@@ -77,25 +75,16 @@ def variational_library(code: ModelCode) -> Any | None:
     -------
     cffi library or None
     """
-    if code.hash in _LIBRARIES:
-        return _LIBRARIES[code.hash]
-    template = resources.files("chaplygin.numerics").joinpath("templates/variational.c")
-    source = code.c_source + "\n" + template.read_text()
-    try:
-        path = compile_c(source)
-        lib = _ffi.dlopen(str(path))
-    except CacheError:  # cache directory problems are the user's to fix
-        raise
-    except (CompilerError, OSError) as exc:
-        warnings.warn(
-            f"compiled variational equations unavailable, using scipy's DOP853 with the numpy "
-            f"module instead (slower): {exc}",
-            CompilerUnavailableWarning,
-            stacklevel=4,
-        )
-        lib = None
-    _LIBRARIES[code.hash] = lib
-    return lib
+
+    def build() -> Any:
+        template = resources.files("chaplygin.numerics").joinpath("templates/variational.c")
+        return _ffi.dlopen(str(compile_c(code.c_source + "\n" + template.read_text())))
+
+    return c_batch.cached_library(
+        _LIBRARIES, code, build,
+        "compiled variational equations unavailable, using scipy's DOP853 with the numpy "
+        "module instead (slower): {exc}",
+    )  # fmt: skip
 
 
 class CompiledDOP853(Integrator):
