@@ -23,6 +23,11 @@ of the model's Taylor C source: ``chaplygin_taylor_run`` per point from C, the s
 evaluated at the sampling times; the steps of ``StroboscopicMap(method="taylor")`` and its map
 points up to the rounding of the sampling times; one point after another, no vector lanes).
 
+Both are integrators of the one registry (``dop853`` and ``taylor`` of
+:data:`~chaplygin.numerics.integrators.INTEGRATORS`, on a
+:class:`~chaplygin.numerics.integrators.flows.Batch`); this module reads and checks the
+inputs and shapes the result.
+
 This is the fast path of the sweep's ``period`` reducer (:mod:`chaplygin.verify.sweep`; DOP853
 for ``period.engine`` "auto" and "batch", Taylor for "taylor-batch"); the
 single-point :class:`~chaplygin.numerics.poincare.StroboscopicMap` (Taylor method, any
@@ -46,25 +51,22 @@ II.5 and II.10 (DOP853).
 
 from __future__ import annotations
 
-import hashlib
-import platform
-import re
-import time
-import warnings
 from dataclasses import dataclass
-from importlib import resources
-from pathlib import Path
-from typing import Any
 
-import cffi
-import mpmath
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..derive.errors import ComputationError, UserInputError
-from .ccompile import CacheError, CompilationError, CompilerError, compile_c
+from ..derive.errors import UserInputError
+from .batch_source import BATCH_CFLAGS, NATIVE_CFLAGS, cpu_identity, vector_rhs_source
 from .code import ModelCode
-from .compiled import CompilerUnavailableWarning
+from .integrators import INTEGRATORS, Batch, Problem, StroboscopicTimes
+from .integrators.c_batch import (
+    STATUS_MESSAGES,
+    batch_library,
+    lockstep_available,
+    taylor_batch_library,
+)
+from .precision import Precision
 
 __all__ = [
     "BatchMapResult",
@@ -73,196 +75,15 @@ __all__ = [
     "cpu_identity",
     "vector_rhs_source",
     "STATUS_MESSAGES",
+    "NATIVE_CFLAGS",
+    "BATCH_CFLAGS",
 ]
 
-_CDEF = """
-void chaplygin_batch_map(long N, const double *Y0, const double *P, const double *T0,
-                         const double *TAU_HI, const double *TAU_LO, long transient,
-                         long n_record, double rtol, double atol, long max_steps, double *OUT,
-                         double *STATS, int *STATUS);
-void chaplygin_batch_map_lockstep(long N, const double *Y0, const double *P, const double *T0,
-                                  const double *TAU_HI, const double *TAU_LO, long transient,
-                                  long n_record, double rtol, double atol, long max_steps,
-                                  double *OUT, double *STATS, int *STATUS);
-void chaplygin_taylor_batch_map(long N, const double *Y0, const double *P, const double *T0,
-                                const double *TAU_HI, const double *TAU_LO, long transient,
-                                long n_record, double rtol, double atol, long max_steps,
-                                double *OUT, double *STATS, int *STATUS);
-"""
-
-#: Functions the vector right-hand side applies lane by lane (batch_map.c BM_LANEWISE): the
-#: project's elementary functions (arith/templates/detmath.h) and the exact sqrt, fabs.
-_LANEWISE = frozenset(
-    {"chaplygin_sin", "chaplygin_cos", "chaplygin_exp", "chaplygin_log", "sqrt", "fabs"}
-)
-
-_ffi = cffi.FFI()
-_ffi.cdef(_CDEF)
-
-#: Meaning of a point's status.
-STATUS_MESSAGES = {
-    0: "done",
-    1: "the step limit of one period was reached (max_steps)",
-    2: "the step size underflowed: the solution is probably singular here",
-    3: "a non-finite value appeared in the state",
-    4: "out of memory",
-}
-
-#: The integration methods of :class:`BatchStroboscopicMap`.
+#: The integration methods of :class:`BatchStroboscopicMap` (names in
+#: :data:`~chaplygin.numerics.integrators.INTEGRATORS`).
 METHODS = ("dop853", "taylor")
 
-#: Extra compiler flags of the batch library (part of the compile cache key), tried first:
-#: -march=native lets the vector lanes use the CPU's widest instructions (AVX2: 4 doubles). The
-#: CPU's identity (:func:`cpu_identity`) is added as a define, so that a cache shared by
-#: machines of different CPUs keeps one library per CPU. No -ffast-math: ccompile's
-#: -ffp-contract=off stays, so every lane computes the IEEE operations of the scalar code.
-NATIVE_CFLAGS = ("-O3", "-march=native")
-#: The flags used when the compiler refuses -march=native.
-BATCH_CFLAGS = ("-O3",)
-
-_LIBRARIES: dict[str, Any] = {}
-_TAYLOR_LIBRARIES: dict[str, Any] = {}
-_LOCKSTEP: dict[str, bool] = {}
-
-
-def cpu_identity() -> str:
-    """A short hash of what ``-march=native`` depends on: the CPU's model and feature flags.
-
-    Returns
-    -------
-    str
-        16 hexadecimal digits (from ``/proc/cpuinfo`` on Linux, else
-        :func:`platform.processor` and :func:`platform.machine`).
-    """
-    try:
-        text = Path("/proc/cpuinfo").read_text()
-        keys = ("model name", "flags", "Features", "CPU implementer", "CPU part")
-        ident = "\n".join(sorted({ln for ln in text.splitlines() if ln.startswith(keys)}))
-    except OSError:
-        ident = ""
-    ident = ident or f"{platform.processor()}|{platform.machine()}"
-    return hashlib.sha256(ident.encode()).hexdigest()[:16]
-
-
-def vector_rhs_source(c_source: str) -> str | None:
-    """``bm_rhs_vec``: the generated ``chaplygin_rhs`` with every double a vector of lanes.
-
-    The emitted function is straight-line code (``const double x = expression;`` and
-    ``OUT[i] = expression;``); with GCC's vector types the same text computes every lane with
-    the same IEEE operations, libm calls being applied lane by lane. None when the function
-    calls anything else (then only the one-point-at-a-time driver is built).
-
-    Parameters
-    ----------
-    c_source : str
-        A model's emitted C source.
-
-    Returns
-    -------
-    str or None
-    """
-    head = "void chaplygin_rhs(double T, const double *restrict Y, const double *restrict P, "
-    start = c_source.find(head)
-    if start < 0:
-        return None
-    open_brace = c_source.index("{", start)
-    end = c_source.index("\n}\n", open_brace) + 3
-    body = c_source[open_brace:end]
-    called = set(re.findall(r"\b([A-Za-z_]\w*)\s*\(", body))
-    if not called <= _LANEWISE or re.search(r"\b(int|long|float|if|for|while)\b", body):
-        return None
-    body = re.sub(r"\bconst double\b", "const bm_vec", body)
-    if "double" in body:
-        return None
-    for name in called:
-        body = re.sub(rf"\b{name}\s*\(", f"bm_v_{name}(", body)
-    return (
-        "static void bm_rhs_vec(bm_vec T, const bm_vec *restrict Y, const bm_vec *restrict P, "
-        "bm_vec *restrict OUT)\n" + body
-    )
-
-
-def _library(code: ModelCode) -> Any | None:
-    """The compiled batch library of ``code`` (cached per process), or None without a compiler."""
-    if code.hash in _LIBRARIES:
-        return _LIBRARIES[code.hash]
-    templates = resources.files("chaplygin.numerics").joinpath("templates")
-    vector_rhs = vector_rhs_source(code.c_source)
-    source = "\n".join(
-        (
-            code.c_source,
-            templates.joinpath("variational.c").read_text(),
-            "#define BM_VEC_RHS 1" if vector_rhs else "",
-            templates.joinpath("batch_map.c").read_text(),
-            vector_rhs or "",
-        )
-    )
-    try:
-        lib = _compile_native(source)
-        _LOCKSTEP[code.hash] = vector_rhs is not None
-    except CacheError:  # cache directory problems are the user's to fix
-        raise
-    except (CompilerError, OSError) as exc:
-        warnings.warn(
-            f"the compiled batch map is unavailable ({exc}); use StroboscopicMap per point",
-            CompilerUnavailableWarning,
-            stacklevel=3,
-        )
-        lib = None
-    _LIBRARIES[code.hash] = lib
-    return lib
-
-
-def _compile_native(source: str) -> Any:
-    """Compile ``source`` with :data:`NATIVE_CFLAGS` (else :data:`BATCH_CFLAGS`) and load it."""
-    try:
-        native = (*NATIVE_CFLAGS, f"-DCHAPLYGIN_CPU_ID=cpu_{cpu_identity()}")
-        path = compile_c(source, cflags=native)
-    except CompilationError:  # e.g. a compiler without -march=native
-        path = compile_c(source, cflags=BATCH_CFLAGS)
-    return _ffi.dlopen(str(path))
-
-
-def _c_function(source: str, name: str) -> str:
-    """The text of the C function ``name`` of ``source`` (from its declaration to the first
-    ``}`` in column 0)."""
-    start = re.search(rf"^static \w+ {name}\(", source, re.MULTILINE)
-    if start is None:
-        raise ComputationError(f"no C function {name} in the batch map templates")
-    return source[start.start() : source.index("\n}\n", start.start()) + 3]
-
-
-def _taylor_library(code: ModelCode) -> Any | None:
-    """The compiled Taylor batch library of ``code`` (cached per process): the model's
-    generated Taylor C source (double) + ``bm_time`` of batch_map.c + taylor_batch_map.c,
-    compiled with the default flags; None without a compiler or without generated Taylor
-    code."""
-    if code.hash in _TAYLOR_LIBRARIES:
-        return _TAYLOR_LIBRARIES[code.hash]
-    lib = None
-    if code.taylor_c_source:
-        templates = resources.files("chaplygin.numerics").joinpath("templates")
-        source = "\n".join(
-            (
-                code.taylor_c_source,
-                "#include <float.h>",
-                _c_function(templates.joinpath("batch_map.c").read_text(), "bm_time"),
-                templates.joinpath("taylor_batch_map.c").read_text(),
-            )
-        )
-        try:  # the flags of the single-point Taylor library (-O2): -O3 (with or without
-            # -march=native) made it about 1.6 times slower here (vectorised short recurrences)
-            lib = _ffi.dlopen(str(compile_c(source)))
-        except CacheError:
-            raise
-        except (CompilerError, OSError) as exc:
-            warnings.warn(
-                f"the compiled Taylor batch map is unavailable ({exc}); use StroboscopicMap",
-                CompilerUnavailableWarning,
-                stacklevel=3,
-            )
-    _TAYLOR_LIBRARIES[code.hash] = lib
-    return lib
+_DOUBLE = Precision("double")
 
 
 def batch_map_available(code: ModelCode, method: str = "dop853") -> bool:
@@ -287,7 +108,7 @@ def batch_map_available(code: ModelCode, method: str = "dop853") -> bool:
         raise UserInputError(f"the batch map's method must be one of {METHODS}, got {method!r}")
     if "Omega" not in code.params:
         return False
-    return (_taylor_library(code) if method == "taylor" else _library(code)) is not None
+    return (taylor_batch_library(code) if method == "taylor" else batch_library(code)) is not None
 
 
 @dataclass
@@ -399,13 +220,15 @@ class BatchStroboscopicMap:
         self.code = code
         self.method = method
         self.rtol, self.atol, self.max_steps = float(rtol), float(atol), int(max_steps)
-        self._lib = _taylor_library(code) if method == "taylor" else _library(code)
-        if self._lib is None:
-            raise ComputationError(
-                "the batch map needs a C compiler (the Taylor one also the model's generated "
-                "Taylor code); use StroboscopicMap"
-            )
+        self._integrator = INTEGRATORS[method]()
+        # compiled or loaded now (ComputationError without a compiler): a run only integrates
+        self._backend = self._integrator.prepare(self._problem(np.zeros((0, 0)), None, None))
         self._omega = code.params.index("Omega")
+
+    def _problem(self, Y0, P, times, lockstep: bool = True) -> Problem:
+        return Problem(Batch(self.code), Y0, None, P, _DOUBLE, self.rtol, self.atol,
+                       t_eval=times, options={"lockstep": lockstep},
+                       max_steps=self.max_steps)  # fmt: skip
 
     def _rows(self, values: ArrayLike, width: int, what: str) -> NDArray[np.float64]:
         a = np.array(values, dtype=np.float64)
@@ -422,7 +245,7 @@ class BatchStroboscopicMap:
         -------
         bool
         """
-        return self.method == "dop853" and _LOCKSTEP.get(self.code.hash, False)
+        return self.method == "dop853" and lockstep_available(self.code)
 
     def run(
         self,
@@ -486,51 +309,20 @@ class BatchStroboscopicMap:
         transient: int,
         lockstep: bool,
     ) -> BatchMapResult:
-        """The C call of :meth:`run` on checked arrays (C-contiguous, shapes (N, n_state),
+        """The integration of :meth:`run` on checked arrays (C-contiguous, shapes (N, n_state),
         (N, n_param), (N,))."""
-        N, n_state = Y0.shape
-        omega = P[:, self._omega]
-        tau_hi, tau_lo = np.empty(N), np.empty(N)
-        with mpmath.workdps(40):
-            for j, w in enumerate(omega):
-                tau = 2 * mpmath.pi / mpmath.mpf(float(w))
-                tau_hi[j] = float(tau)
-                tau_lo[j] = float(tau - mpmath.mpf(tau_hi[j]))
-        out = np.empty((N, n, n_state))
-        stats = np.zeros((N, 3))
-        status = np.zeros(N, dtype=np.int32)
-
-        def buf(a: np.ndarray, kind: str = "double[]") -> Any:
-            return _ffi.from_buffer(kind, a, require_writable=False)
-
-        lib = self._lib
-        use_lockstep = self.method == "dop853" and lockstep and self.lockstep_available and N > 1
-        if self.method == "taylor":
-            driver = lib.chaplygin_taylor_batch_map
-        elif use_lockstep:
-            driver = lib.chaplygin_batch_map_lockstep
-        else:
-            driver = lib.chaplygin_batch_map
-        start = time.perf_counter()
-        driver(
-            N, buf(Y0), buf(P), buf(T0), buf(tau_hi), buf(tau_lo), transient, n,
-            self.rtol, self.atol, self.max_steps, buf(out), buf(stats), buf(status, "int[]"),
-        )  # fmt: skip
-        wall = time.perf_counter() - start
-        if self.method == "taylor":  # STATS: steps, lowest order, highest order
-            steps = stats[:, 0].astype(np.int64)
-            return BatchMapResult(
-                y=out, status=status, steps=steps, rejected=np.zeros(N, dtype=np.int64),
-                evaluations=steps.copy(), periods=transient + n - 1, wall_s=wall,
-                lockstep=False, method="taylor", orders=stats[:, 1:].astype(np.int64),
-            )  # fmt: skip
+        problem = self._problem(Y0, P, StroboscopicTimes(T0, transient, n), lockstep)
+        sol = self._integrator.solve(problem, chosen=self._backend)
+        info = sol.info
         return BatchMapResult(
-            y=out,
-            status=status,
-            steps=stats[:, 0].astype(np.int64),
-            rejected=stats[:, 1].astype(np.int64),
-            evaluations=stats[:, 2].astype(np.int64),
-            periods=transient + n - 1,
-            wall_s=wall,
-            lockstep=use_lockstep,
+            y=sol.y,
+            status=info["status"],
+            steps=info["steps"],
+            rejected=info["rejected"],
+            evaluations=info["evaluations"],
+            periods=info["periods"],
+            wall_s=info["wall_s"],
+            lockstep=info["lockstep"],
+            method=self.method,
+            orders=info.get("orders"),
         )

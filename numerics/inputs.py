@@ -23,6 +23,7 @@ from mpmath.libmp import dps_to_prec, from_rational, round_nearest
 
 from ..derive.errors import UserInputError
 from .code import ModelCode
+from .precision import Precision
 
 __all__ = [
     "UNIT_TOLERANCE",
@@ -54,88 +55,6 @@ _FUNCS = {
     "cos": mpmath.cos,
 }
 _CONSTS = {"pi": lambda: +mpmath.pi, "e": lambda: +mpmath.e}
-
-
-class Precision:
-    """Working precision: ``"double"``, ``"quad"`` (IEEE binary128) or decimal digits.
-
-    Parameters
-    ----------
-    value : str, int or Precision
-    """
-
-    #: Decimal digits carried by IEEE binary128 (113-bit significand).
-    QUAD_DIGITS = 34
-
-    def __init__(self, value: str | int):
-        self.is_quad = False
-        if isinstance(value, Precision):
-            self.digits, self.is_quad = value.digits, value.is_quad
-        elif isinstance(value, str) and value.strip().lower() == "double":
-            self.digits = None
-        elif isinstance(value, str) and value.strip().lower() == "quad":
-            self.digits, self.is_quad = self.QUAD_DIGITS, True
-        else:
-            try:
-                if isinstance(value, float) and not value.is_integer():
-                    raise ValueError  # 20.7 digits is not a number of digits
-                digits = int(value)
-            except (TypeError, ValueError, OverflowError):
-                raise UserInputError(
-                    f"precision {value!r} is neither 'double', 'quad' nor a number of digits; "
-                    'use precision="double", precision="quad" or a number of digits, '
-                    "e.g. precision=30"
-                ) from None
-            if not 16 <= digits <= 10000:
-                raise UserInputError(
-                    f"precision of {digits} digits is out of range; use 16..10000 digits "
-                    "(or 'double')"
-                )
-            self.digits = digits
-
-    @property
-    def is_double(self) -> bool:
-        return self.digits is None
-
-    @property
-    def parse_dps(self) -> int:
-        return 30 if self.digits is None else self.digits + 10
-
-    def __repr__(self) -> str:
-        if self.is_quad:
-            return "quad"
-        return "double" if self.digits is None else f"{self.digits} digits"
-
-    @property
-    def prec(self) -> int:
-        """Binary precision in bits: 53 (double), 113 (binary128) or mpmath's bits for
-        the number of digits (what ``mpmath.workdps(digits)`` uses)."""
-        if self.is_double:
-            return 53
-        if self.is_quad:
-            return 113
-        return dps_to_prec(self.digits)
-
-    @property
-    def kind(self) -> str:
-        """``"double"``, ``"quad"`` or ``"digits"``."""
-        return "double" if self.is_double else ("quad" if self.is_quad else "digits")
-
-    @property
-    def epsilon(self) -> float:
-        """Unit roundoff: 2^-52 (double), 2^-112 (binary128) or 10^-digits."""
-        if self.is_double:
-            return 2.0**-52
-        if self.is_quad:
-            return 2.0**-112
-        return 10.0 ** (-self.digits)
-
-    @property
-    def min_rtol(self) -> float:
-        """Smallest relative tolerance worth asking for in general: 100 eps in double
-        (what the scipy methods deliver), 10 eps otherwise (the Taylor method, whose
-        control works to the unit roundoff, accepts down to 1 eps)."""
-        return (100.0 if self.is_double else 10.0) * self.epsilon
 
 
 Number = str | int | float | Fraction | Decimal | mpmath.mpf

@@ -23,7 +23,6 @@ from .code import ModelCode, load_model_code
 from .inputs import UNIT_TOLERANCE, Precision, pack_params, pack_state, working_number
 from .integrators import (
     METHODS,
-    NUMBER_TYPES,
     IntegrationResult,
     Integrator,
     Problem,
@@ -132,7 +131,7 @@ def _check_constraints(code: ModelCode, t0, y: Sequence, p: Sequence) -> None:
 
 def _tolerances(rtol, atol, precision: Precision) -> tuple[float, float]:
     """``rtol, atol`` as positive finite floats, the precision's defaults where None."""
-    default_rtol, default_atol = NUMBER_TYPES[precision.kind].default_tolerances(precision)
+    default_rtol, default_atol = precision.default_tolerances
     rtol = default_rtol if rtol is None else rtol
     atol = default_atol if atol is None else atol
     if isinstance(rtol, bool | str) or isinstance(atol, bool | str):
@@ -293,7 +292,7 @@ taylor_options, max_steps, max_wall_s
     code = system if isinstance(system, ModelCode) else load_model_code(system, effects)
     prec = Precision(precision)
     if method is None:
-        method = NUMBER_TYPES[prec.kind].default_method
+        method = prec.default_method
     integrator = get_integrator(method)
     rtol, atol = _tolerances(rtol, atol, prec)
     options = dict(taylor_options or {})
@@ -329,7 +328,7 @@ taylor_options, max_steps, max_wall_s
         if not max_wall_s > 0:
             raise UserInputError(f"max_wall_s must be a positive number, got {max_wall_s!r}")
     return integrator, Problem(
-        code=code,
+        system=code,
         y0=y,
         t_span=t_span,
         params=p,

@@ -110,33 +110,17 @@ class Propagator:
         if backend not in ("auto", "c", "numpy"):
             raise UserInputError(f"unknown backend {backend!r}; valid: auto, c, numpy")
         # load (compile once) the integrator now: a call only integrates
-        self._backend = self._integrator._prepare(self._problem, backend)
+        self._backend = self._integrator.prepare(self._problem, backend)
         self._requested_backend = backend
         # a span that could only end at the default step limit is refused (not a given one)
         self._max_steps = None if self._problem.options.get("max_steps") else DEFAULT_MAX_STEPS
         self.code: ModelCode = self._problem.code
         self.time = self._problem.t_span[0]
         self._state = list(self._problem.y0)
-        self._fast = self._compiled_double()
+        # the compiled double loop with its buffers, when each call can go straight to it
+        # (double precision, C backend); else None (each call runs the method's whole path)
+        self._fast = self._integrator.session(self._problem, self._backend)
         self.setup_s = time.perf_counter() - start
-
-    def _compiled_double(self):
-        """The compiled double loop with its buffers, when each call can go straight to it
-        (double precision, C backend); else None (each call runs the method's whole path)."""
-        problem = self._problem
-        if not (problem.precision.is_double and self._backend == "c"):
-            return None
-        from .taylor import MAX_STEPS, CompiledTaylorRun, load_taylor_library, run_orders
-
-        options = problem.options
-        order = options.get("order")
-        lib = load_taylor_library(problem.code, "double",
-                                  run_orders(problem.rtol, problem.atol, order))
-        if lib is None:
-            return None
-        return CompiledTaylorRun(lib, problem.params, problem.rtol, problem.atol, order,
-                                 options.get("step"), options.get("max_steps") or MAX_STEPS,
-                                 problem.max_wall_s)
 
     def reset(self, y0: Mapping[str, object] | Sequence[float] | None = None,
               t0: float | str | None = None) -> None:
@@ -231,12 +215,10 @@ class Propagator:
             result = self._integrator.run(problem, self._requested_backend)
         else:  # the C loop with its arguments converted once: what run() does, less work
             start = time.perf_counter()
-            sol = self._fast.run(self._state, (self.time, t_end), outputs)
-            wall = time.perf_counter() - start
             view = _RunView(self._problem, self.time, t_end, outputs)
-            result = self._integrator._result(
-                view, self._integrator._solution(view, sol), "c", wall, 0.0
-            )
+            sol = self._fast.solve(view, self._state, (self.time, t_end), outputs)
+            wall = time.perf_counter() - start
+            result = self._integrator._result(view, sol, "c", wall, 0.0)
         if result.success and result.y.shape[1]:
             self._state = result.y[:, -1].tolist()
             self.time = t_end

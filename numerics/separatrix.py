@@ -360,11 +360,10 @@ def flow(
 ) -> tuple[list[mpmath.mpf], int]:
     """Integrate the full ``chaplygin_ball__contact_point`` equations from ``y0`` at t = 0.
 
-    The one place the integrator is chosen: ``taylor`` (the generated Taylor integrator,
-    :func:`chaplygin.numerics.taylor.taylor_solve` at ``digits``: compiled double-double or
-    quad-double up to 60 digits, MPFR beyond; local tolerance ``10^-digits``; ``jet`` is an
-    alias) or ``odefun`` (``mpmath.odefun``, a
-    cross-check).
+    One integration through the integrators' door at ``digits``: ``taylor`` (the generated
+    Taylor integrator: compiled double-double or quad-double up to 60 digits, MPFR beyond;
+    local tolerance ``10^-digits``; ``jet`` is an alias) or ``odefun`` (``mpmath.odefun``, a
+    cross-check; a backward span is the forward span of the reversed flow).
 
     Parameters
     ----------
@@ -388,45 +387,28 @@ def flow(
         An unknown engine, or a failed integration.
     """
     from .code import load_model_code
+    from .integrators import INTEGRATORS, Problem
+    from .precision import Precision
 
     engine = _ENGINE_ALIASES.get(engine, engine)
+    if engine not in ENGINES:
+        raise ValueError(
+            f"unknown engine {engine!r}: {' or '.join(ENGINES)} (jet is an alias of taylor)"
+        )
     code = load_model_code("chaplygin_ball", ("contact_point",))
-    if engine == "taylor":
-        from .taylor import taylor_solve
-
-        with mpmath.workdps(digits):
-            eps = 10.0**-digits
-            t1 = mpmath.mpf(t_end)
-            sol = taylor_solve(
-                code,
-                [mpmath.mpf(v) for v in y0],
-                (mpmath.mpf(0), t1),
-                [mpmath.mpf(v) for v in params],
-                precision="digits",
-                rtol=eps,
-                atol=eps,
-                t_eval=[t1],
-            )
-            if sol.status != 0:
-                raise ValueError(f"the separatrix flow failed: {sol.message}")
-            return list(sol.y[:, -1]), sol.nsteps
-    if engine == "odefun":
-        # mpmath.odefun only runs forward: the backward flow is the forward flow of -f
-        rhs = code.mpmath.rhs
-        with mpmath.workdps(digits):
-            sign = 1 if t_end >= 0 else -1
-            p = [mpmath.mpf(v) for v in params]
-            counter = [0]
-
-            def F(t, y):
-                counter[0] += 1
-                return [sign * v for v in rhs(t, y, p)]
-
-            sol = mpmath.odefun(F, 0, [mpmath.mpf(v) for v in y0])
-            return list(sol(abs(mpmath.mpf(t_end)))), counter[0]
-    raise ValueError(
-        f"unknown engine {engine!r}: {' or '.join(ENGINES)} (jet is an alias of taylor)"
-    )
+    precision = Precision.working(digits)
+    with precision.context():
+        eps = 10.0**-digits  # the Taylor method's local tolerance (odefun works to the full
+        # precision); odefun runs a backward span on the reversed flow
+        t1 = mpmath.mpf(t_end)
+        problem = Problem(
+            code, [mpmath.mpf(v) for v in y0], (mpmath.mpf(0), t1),
+            [mpmath.mpf(v) for v in params], precision, eps, eps, t_eval=[t1],
+        )  # fmt: skip
+    sol = INTEGRATORS[engine]().solve(problem)
+    if sol.status != 0:
+        raise ValueError(f"the separatrix flow failed: {sol.message}")
+    return list(sol.y[:, -1]), sol.nsteps if engine == "taylor" else sol.nfev
 
 
 def delta_ode(

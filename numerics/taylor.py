@@ -18,13 +18,13 @@ Backends
   integration (one call per step when events are requested);
 * ``quad`` -- the same C code in ``__float128`` (libquadmath), values crossing the
   interface as exact binary128 bytes, converted to and from ``mpmath.mpf``;
-* digits up to 31 (``mpmath.mp.prec <= 106`` bits) -- the same C code in double-double
+* digits up to 31 (at most 106 bits) -- the same C code in double-double
   (``-DCHAPLYGIN_TAYLOR_DD``: two doubles, 106 bits, error-free transformations), and up to
   60 digits (203 bits) in quad-double (``-DCHAPLYGIN_TAYLOR_QD``, four doubles); the
   working numbers are split exactly into their limbs and the results rounded once back to
   the working precision;
 * more digits -- C on MPFR (``generated/*_taylor_mpfr.c``, linked to gmpy2's own MPFR;
-  backend ``c-mpfr``) at the working precision of ``mpmath.mp``, numbers crossing as exact
+  backend ``c-mpfr``) at the precision's bits, numbers crossing as exact
   base-16 text; its order and step are those of the Python stepper to the bit (one call
   per step when events are asked for); ``lib="gmpy2"`` and a missing compiler or MPFR: the
   Python recurrences with ``gmpy2`` (MPFR) numbers (``mpmath`` numbers when
@@ -32,6 +32,12 @@ Backends
 
 Without a C compiler double and quad fall back to the Python recurrences (floats, or MPFR at
 113 bits) with a :class:`~chaplygin.numerics.compiled.CompilerUnavailableWarning`.
+
+Which arithmetic a precision runs in, and everything else that depends on it, is read from
+its :class:`~chaplygin.numerics.precision.Precision` (``precision.arithmetic``: one row of
+:data:`~chaplygin.numerics.precision.ARITHMETICS`); :func:`taylor_solve` is given it and
+enters its context itself. The integrations of the project reach this engine through the
+``taylor`` integrator (:mod:`chaplygin.numerics.integrators`).
 """
 
 from __future__ import annotations
@@ -56,6 +62,7 @@ import numpy as np
 from ..arith import detmath
 from ..derive.errors import UserInputError
 from .compiled import CompilerError, CompilerUnavailableWarning, compile_c
+from .precision import ARITHMETICS, DD_BITS, QD_BITS, Precision
 from .taylor_unroll import unrolled_source
 
 if TYPE_CHECKING:
@@ -79,14 +86,9 @@ __all__ = [
     "decode_multi_double",
     "DD_BITS",
     "QD_BITS",
-    "DIGITS_REAL_TYPES",
-    "digits_real_type",
-    "C_CHUNK_STEPS",
     "python_lib",
     "RealType",
     "REAL_TYPES",
-    "LoopNumbers",
-    "LOOP_NUMBERS",
 ]
 
 _QUAD_DEFINE = "#define CHAPLYGIN_TAYLOR_QUAD 1\n"
@@ -279,7 +281,8 @@ class RealType:
     cflags: tuple[str, ...] = ()
 
 
-#: The C integrator's real types (``double`` and ``__float128``).
+#: The C integrator's real types, by arithmetic (keys of
+#: :data:`~chaplygin.numerics.precision.ARITHMETICS`; ``dd`` and ``qd`` are added below).
 REAL_TYPES: dict[str, RealType] = {
     "double": RealType(
         size=8,
@@ -304,14 +307,6 @@ REAL_TYPES: dict[str, RealType] = {
         dtype=object,
     ),
 }
-
-
-#: Significand bits of double-double (two doubles, 53 + 53): the digits precisions up to
-#: these bits (31 digits) run in the compiled double-double integrator.
-DD_BITS = 106
-#: Bits of quad-double that the digits precisions may use (60 digits: 203 of the 212 bits
-#: of four doubles; the "sloppy" quad-double sums keep about 209).
-QD_BITS = 203
 
 
 def encode_multi_double(values: Sequence[Any], limbs: int = 2) -> np.ndarray:
@@ -431,38 +426,12 @@ def _fma_flags() -> tuple[str, ...]:
     return ()
 
 
-#: C real types of the ``digits`` precisions, with the largest ``mpmath.mp.prec`` each
-#: carries: double-double (``-DCHAPLYGIN_TAYLOR_DD``, transcendental functions through
-#: libquadmath) up to :data:`DD_BITS` bits, quad-double (``-DCHAPLYGIN_TAYLOR_QD``) up to
-#: :data:`QD_BITS`.
-DIGITS_REAL_TYPES: dict[str, tuple[RealType, int]] = {
-    "dd": (_multi_double(2, "#define CHAPLYGIN_TAYLOR_DD 1\n", ("-lquadmath",)), DD_BITS),
-    "qd": (_multi_double(4, "#define CHAPLYGIN_TAYLOR_QD 1\n", ()), QD_BITS),
-}
-_C_REAL_TYPES: dict[str, RealType] = {
-    **REAL_TYPES,
-    **{k: real for k, (real, _) in DIGITS_REAL_TYPES.items()},
-}
-
-
-def digits_real_type(bits: int) -> str | None:
-    """The C real type that carries ``bits`` of working precision, if there is one.
-
-    Parameters
-    ----------
-    bits : int
-        The working precision (``mpmath.mp.prec``).
-
-    Returns
-    -------
-    str or None
-        A key of :data:`DIGITS_REAL_TYPES` (the narrowest that holds ``bits``), or None
-        past the widest (the Python recurrences with MPFR).
-    """
-    for kind, (_, most) in sorted(DIGITS_REAL_TYPES.items(), key=lambda kv: kv[1][1]):
-        if bits <= most:
-            return kind
-    return None
+#: The multi-double real types of the digits precisions: double-double
+#: (``-DCHAPLYGIN_TAYLOR_DD``, transcendental functions through libquadmath) up to
+#: :data:`DD_BITS` bits, quad-double (``-DCHAPLYGIN_TAYLOR_QD``) up to :data:`QD_BITS`
+#: (``ARITHMETICS[...].most_bits``).
+REAL_TYPES["dd"] = _multi_double(2, "#define CHAPLYGIN_TAYLOR_DD 1\n", ("-lquadmath",))
+REAL_TYPES["qd"] = _multi_double(4, "#define CHAPLYGIN_TAYLOR_QD 1\n", ())
 
 
 # --------------------------------------------------------------------------- C library
@@ -481,7 +450,7 @@ class CompiledTaylor:
     def __init__(self, library: os.PathLike | str, kind: str, expected_hash: str | None = None):
         self.lib = _ffi.dlopen(os.fspath(library))
         self.kind = kind
-        self.real = _C_REAL_TYPES[kind]
+        self.real = REAL_TYPES[kind]
         self.model_hash = _ffi.string(self.lib.chaplygin_taylor_model_hash()).decode()
         if expected_hash is not None and self.model_hash != expected_hash:
             raise ValueError(
@@ -587,10 +556,6 @@ class CompiledTaylor:
 
 _LIBS: dict[tuple[str, str, tuple[int, ...]], CompiledTaylor | None] = {}
 
-#: Real types whose coefficients are written out for the orders a run uses (double: the
-#: loop's overhead is most of a step; the wider types spend their time in arithmetic).
-UNROLLED_KINDS = ("double",)
-
 #: Extra flags for the written-out code: scheduling before register allocation, aware of
 #: register pressure (gcc; measured 3-8 % faster steps on the bench's reference problem).
 #: They change the instruction order only, not the arithmetic (no -ffast-math).
@@ -633,7 +598,7 @@ def load_taylor_library(
     code : ModelCode
         The model (its ``taylor_c_source`` and ``hash``).
     kind : {"double", "quad", "dd", "qd"}
-        The C real type (a key of :data:`REAL_TYPES` or :data:`DIGITS_REAL_TYPES`).
+        The arithmetic (a key of :data:`REAL_TYPES`).
     orders : sequence of int, optional
         Orders whose coefficients are written out (:mod:`chaplygin.numerics.taylor_unroll`;
         double only, the same bits as the loop, faster): one more library per set of orders,
@@ -652,11 +617,11 @@ def load_taylor_library(
     KeyError
         An unknown ``kind``.
     """
-    unroll = tuple(sorted({int(p) for p in orders})) if kind in UNROLLED_KINDS else ()
+    unroll = tuple(sorted({int(p) for p in orders})) if ARITHMETICS[kind].unrolled else ()
     key = (code.hash, kind, unroll)
     if key in _LIBS:
         return _LIBS[key]
-    real = _C_REAL_TYPES[kind]
+    real = REAL_TYPES[kind]
     source, ldlibs = real.define + code.taylor_c_source, real.ldlibs
     if unroll:
         # written out with the pairs in GNU C vectors, else written out without them, else
@@ -1041,75 +1006,24 @@ class TaylorSolution:
     y_events: list = field(default_factory=list)
 
 
-@dataclass(frozen=True)
-class LoopNumbers:
-    """The numbers of the Python-side loop (steps, events, dense output) in one precision.
-
-    Attributes
-    ----------
-    number : callable
-        A value as the loop's number (``float`` or ``mpmath.mpf``).
-    vector : callable
-        A state as the loop's vector (float64 array or list of mpf).
-    dtype : type
-        dtype of the output arrays.
-    linspace : callable
-        ``(t0, t1, n)`` equispaced output times.
-    eps : callable
-        Unit roundoff (event location works to it).
-    bits : callable
-        MPFR bits of the Python recurrences (None: floats, no gmpy2 context).
-    python_lib : str
-        Number library of the Python recurrences (:func:`python_lib`).
-    compiled : bool
-        Whether a C integrator exists (:data:`REAL_TYPES`).
-    """
-
-    number: Callable[[Any], Any]
-    vector: Callable[[Sequence], Any]
-    dtype: type
-    linspace: Callable[[Any, Any, int], Sequence]
-    eps: Callable[[], float]
-    bits: Callable[[], int | None]
-    python_lib: str
-    compiled: bool
+def _loop_vector(precision: Precision, values: Sequence) -> Any:
+    """A state as the Python loop's vector: a float64 array in double, a list of ``mpf``."""
+    if precision.is_double:
+        return np.asarray(values, dtype=float)
+    return [mpmath.mpf(v) for v in values]
 
 
-def _mpf_loop(eps: Callable[[], float], bits: Callable[[], int], compiled: bool) -> LoopNumbers:
-    return LoopNumbers(
-        number=mpmath.mpf,
-        vector=lambda values: [mpmath.mpf(v) for v in values],
-        dtype=object,
-        linspace=lambda a, b, n: mpmath.linspace(mpmath.mpf(a), mpmath.mpf(b), n),
-        eps=eps,
-        bits=bits,
-        python_lib="gmpy2",
-        compiled=compiled,
-    )
-
-
-#: One row per precision of :func:`taylor_solve` (heyoka's ``fp_type``).
-LOOP_NUMBERS: dict[str, LoopNumbers] = {
-    "double": LoopNumbers(
-        number=float,
-        vector=lambda values: np.asarray(values, dtype=float),
-        dtype=float,
-        linspace=lambda a, b, n: np.linspace(float(a), float(b), n),
-        eps=lambda: 2.0**-52,
-        bits=lambda: None,
-        python_lib="float",
-        compiled=True,
-    ),
-    "quad": _mpf_loop(lambda: 2.0**-112, lambda: 113, compiled=True),
-    "digits": _mpf_loop(lambda: mpmath.eps, lambda: mpmath.mp.prec, compiled=False),
-}
+def _loop_linspace(precision: Precision, a: Any, b: Any, n: int) -> Sequence:
+    """``n`` equispaced output times from ``a`` to ``b`` in the precision's numbers."""
+    if precision.is_double:
+        return np.linspace(float(a), float(b), n)
+    return mpmath.linspace(mpmath.mpf(a), mpmath.mpf(b), n)
 
 
 class _Stepper:
     """One adaptive step in the chosen number system; ``step`` returns the polynomial."""
 
-    def __init__(self, code, kind, p, rtol, atol, order, step, lib: CompiledTaylor | None):
-        self.kind = kind
+    def __init__(self, code, numbers, p, rtol, atol, order, step, lib: CompiledTaylor | None):
         self.clib = lib
         self.rtol, self.atol = rtol, atol
         self.order, self.fixed_h = order, step
@@ -1122,7 +1036,7 @@ class _Stepper:
             self.ord = _ffi.new("int *")
             self.backend = f"c-{lib.kind}"
         else:
-            self.lib_kind = "mpmath" if kind == "digits-mpmath" else LOOP_NUMBERS[kind].python_lib
+            self.lib_kind = numbers  # "float", "gmpy2" or "mpmath" (python_lib)
             self.lib = python_lib(self.lib_kind)
             self.fn = code.taylor.taylor_coefficients
             self.p = [_from_mpf(v, self.lib_kind) for v in p]
@@ -1265,7 +1179,7 @@ def taylor_solve(
     t_span: tuple[float | mpmath.mpf, float | mpmath.mpf],
     p: Sequence[float | mpmath.mpf],
     *,
-    precision: str = "double",
+    precision: Precision | str | int = "double",
     rtol: float,
     atol: float,
     t_eval: Sequence[float | mpmath.mpf] | None = None,
@@ -1286,8 +1200,9 @@ def taylor_solve(
         State and parameters (floats in double, ``mpmath.mpf`` otherwise).
     t_span : (t0, t1)
         Start and end times; ``t1 < t0`` integrates backward.
-    precision : {"double", "quad", "digits"}
-        ``digits`` uses the precision of the active ``mpmath.mp`` context.
+    precision : Precision, "double", "quad" or int
+        The working precision (a number: of digits); the run enters its context
+        (:meth:`~chaplygin.numerics.precision.Precision.context`) itself.
     rtol, atol : float
         Local tolerances of the Jorba-Zou control.
     t_eval : sequence, optional
@@ -1299,13 +1214,13 @@ def taylor_solve(
     order, step : optional
         Fixed order and/or fixed step (for convergence studies); default adaptive.
     lib : {"c", "gmpy2", "mpmath", "float"}, optional
-        Force a backend (default: C for double and quad, and for digits up to
-        :data:`DD_BITS` bits in double-double, up to :data:`QD_BITS` in quad-double, on
-        MPFR for more digits).
+        Force a backend (default: the compiled integrator in the precision's arithmetic:
+        double, quad, double-double up to :data:`DD_BITS` bits, quad-double up to
+        :data:`QD_BITS`, MPFR beyond).
     max_wall_s : float, optional
         Wall-time limit (status -6 past it), checked between steps of the Python loop and
-        between calls of :data:`C_CHUNK_STEPS` steps of the compiled loop (which resume
-        exactly: the results do not depend on the limit).
+        between calls of ``precision.arithmetic.chunk_steps`` steps of the compiled loop
+        (which resume exactly: the results do not depend on the limit).
 
     max_steps : int
         Largest number of steps (status -2 beyond it).
@@ -1319,58 +1234,62 @@ def taylor_solve(
     Raises
     ------
     ValueError
-        An unknown precision, a fixed order outside 2..80, ``t_eval`` not sorted in the
-        direction of integration, or ``lib="float"`` outside double precision.
+        A fixed order outside 2..80, ``t_eval`` not sorted in the direction of
+        integration, or ``lib="float"`` outside double precision.
+    UserInputError
+        An unknown precision.
     """
-    if precision not in LOOP_NUMBERS:
-        raise ValueError(f"unknown precision {precision!r}")
-    numbers = LOOP_NUMBERS[precision]
+    precision = Precision(precision)
+    with precision.context():
+        return _solve(
+            code, y0, t_span, p, precision, rtol, atol, t_eval, events, order, step,
+            max_steps, lib, max_wall_s,
+        )  # fmt: skip
+
+
+def _solve(code, y0, t_span, p, precision, rtol, atol, t_eval, events, order, step, max_steps,
+           lib, max_wall_s) -> TaylorSolution:
+    """:func:`taylor_solve` inside the precision's context: the backend from its arithmetic."""
     if order is not None and not 2 <= order <= 80:
         raise ValueError("order must be in 2..80")
     t0, t1 = t_span
     direction = 1 if t1 > t0 else -1
-    t_eval = list(numbers.linspace(t0, t1, 11) if t_eval is None else t_eval)
+    t_eval = list(_loop_linspace(precision, t0, t1, 11) if t_eval is None else t_eval)
     if any(direction * (t_eval[i + 1] - t_eval[i]) < 0 for i in range(len(t_eval) - 1)):
         raise ValueError("t_eval must be sorted in the direction of integration")
     if events is not None and callable(events):
         events = [events]
     events = list(events or [])
+    arithmetic = precision.arithmetic
     clib = None
-    if numbers.compiled and lib in (None, "c"):
-        clib = load_taylor_library(code, precision, run_orders(rtol, atol, order))
-    elif precision == "digits" and lib in (None, "c"):
-        # fixed-size multi-double arithmetic in C where it carries the working precision,
+    if lib in (None, "c") and arithmetic.name != "mpfr":
+        # the compiled integrator in the precision's arithmetic: double, __float128, or
+        # fixed-size multi-double where it carries the working precision
+        clib = load_taylor_library(code, arithmetic.name, run_orders(rtol, atol, order))
+    elif lib in (None, "c"):
         # MPFR in C beyond (one call per step when events are asked for)
-        c_kind = digits_real_type(mpmath.mp.prec)
-        if c_kind is not None:
-            clib = load_taylor_library(code, c_kind)
-        else:
-            mlib = load_taylor_mpfr_library(code)
-            if mlib is not None and not events:
-                return _mpfr_run(
-                    mlib, y0, (t0, t1), p, rtol, atol, t_eval, order, step, max_steps, max_wall_s
-                )
-            if mlib is not None:  # events located in Python on the compiled steps
-                stepper = _MpfrStepper(mlib, p, rtol, atol, order, step)
-                return _py_run(
-                    stepper, y0, (t0, t1), t_eval, events, max_steps, precision, max_wall_s
-                )
-    kind = precision
-    if clib is None and lib == "mpmath":
-        kind = "digits-mpmath"
-    if clib is None and lib == "float" and numbers.python_lib != "float":
+        mlib = load_taylor_mpfr_library(code)
+        if mlib is not None and not events:
+            return _mpfr_run(mlib, y0, (t0, t1), p, rtol, atol, t_eval, order, step, max_steps,
+                             max_wall_s, precision.bits)  # fmt: skip
+        if mlib is not None:  # events located in Python on the compiled steps
+            stepper = _MpfrStepper(mlib, p, rtol, atol, order, step, precision.bits)
+            return _py_run(
+                stepper, y0, (t0, t1), t_eval, events, max_steps, precision, max_wall_s
+            )
+    numbers = "mpmath" if lib == "mpmath" else arithmetic.python_numbers
+    if clib is None and lib == "float" and numbers != "float":
         raise ValueError("lib='float' works in double precision only")
     if clib is not None and not events:
         return _c_run(clib, y0, (t0, t1), p, rtol, atol, t_eval, order, step, max_steps, max_wall_s)
-    bits = numbers.bits()
-    if clib is None and kind == precision and bits is not None:
+    if clib is None and numbers == "gmpy2":
         # gmpy2/MPFR at the working precision (113 bits for the quad fallback). The stepper
         # converts the parameters when it is made: it must be made inside the context, or
         # MPFR rounds them to the default 53 bits.
-        with gmpy2.context(gmpy2.get_context(), precision=bits):
-            stepper = _Stepper(code, kind, p, rtol, atol, order, step, clib)
+        with gmpy2.context(gmpy2.get_context(), precision=precision.bits):
+            stepper = _Stepper(code, numbers, p, rtol, atol, order, step, clib)
             return _py_run(stepper, y0, (t0, t1), t_eval, events, max_steps, precision, max_wall_s)
-    stepper = _Stepper(code, kind, p, rtol, atol, order, step, clib)
+    stepper = _Stepper(code, numbers, p, rtol, atol, order, step, clib)
     return _py_run(stepper, y0, (t0, t1), t_eval, events, max_steps, precision, max_wall_s)
 
 
@@ -1385,12 +1304,6 @@ _MESSAGES = {
 }
 
 
-#: Steps per call of the compiled loop when a wall-time limit is set (checked between
-#: calls); a run resumes from the exact state and time the previous call reached, so the
-#: steps and results are those of one uninterrupted call.
-C_CHUNK_STEPS = {"double": 65536, "quad": 256, "dd": 1024, "qd": 128, "mpfr": 4}
-
-
 #: Output buffers of at most this many points are kept by a compiled run between calls.
 _KEPT_OUTPUTS_MAX = 4096
 
@@ -1398,9 +1311,10 @@ _KEPT_OUTPUTS_MAX = 4096
 class CompiledTaylorRun:
     """The compiled loop of one problem (library, parameters, tolerances, order, step and
     limits) with its arguments converted to C pointers once: :meth:`run` packs a start, runs
-    the loop, in blocks of :data:`C_CHUNK_STEPS` when a wall-time limit is set (each block
-    resumes from the exact time, state and compensation the previous one reached, so the
-    steps and results are those of one uninterrupted call), and returns the solution.
+    the loop, in blocks of ``ARITHMETICS[kind].chunk_steps`` when a wall-time limit is set
+    (each block resumes from the exact time, state and compensation the previous one
+    reached, so the steps and results are those of one uninterrupted call), and returns the
+    solution.
     ``integrate`` makes one per call (:func:`_c_run`); a
     :class:`~chaplygin.numerics.propagator.Propagator` keeps one."""
 
@@ -1409,7 +1323,7 @@ class CompiledTaylorRun:
         n = clib.n_state
         self.clib, self.n, self.max_steps, self.max_wall_s = clib, n, max_steps, max_wall_s
         self.order = order
-        self.chunk = max_steps if max_wall_s is None else C_CHUNK_STEPS.get(clib.kind, 256)
+        self.chunk = max_steps if max_wall_s is None else ARITHMETICS[clib.kind].chunk_steps
         self.size = clib.real.size  # bytes per real: pointers below are char pointers
         # parameters and step control in the library's format
         self.P, self.ctrl = clib.pack(p), clib.pack([rtol, atol, step or 0])
@@ -1517,7 +1431,7 @@ _RUNS_MAX = 16
 def _c_run(clib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps, max_wall_s=None):
     try:
         key = (clib, tuple(p), rtol, atol, order, step, max_steps, max_wall_s,
-               C_CHUNK_STEPS.get(clib.kind))
+               ARITHMETICS[clib.kind].chunk_steps)
         hash(key)
     except TypeError:  # pragma: no cover - working numbers are hashable
         key = None
@@ -1537,18 +1451,18 @@ def _c_run(clib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps, max_
 class _MpfrStepper:
     """One adaptive step at a time of the compiled MPFR integrator (for event location in
     Python), the same steps as :func:`_mpfr_run` and ``_Stepper._py_step``; its work space is
-    allocated once, at the working precision of ``mpmath.mp`` when it is made."""
+    allocated once, at ``bits`` (the working precision)."""
 
-    def __init__(self, mlib: CompiledTaylorMPFR, p, rtol, atol, order, step):
+    def __init__(self, mlib: CompiledTaylorMPFR, p, rtol, atol, order, step, bits: int):
         ffi = _mpfr_ffi
         self.mlib = mlib
-        self.width = mlib.width(mpmath.mp.prec)
+        self.width = mlib.width(bits)
         self.ctrl = ffi.new("double[2]", [float(rtol), float(atol)])
         self.p_text = _mpfr_text(p)
         self.fixed_h = _mpfr_text([step]) if step else b""
         self.order = order or 0
         handle = mlib.lib.chaplygin_taylor_mpfr_stepper_new(
-            mpmath.mp.prec, self.ctrl, self.order, MPFR_TAPER and not step
+            bits, self.ctrl, self.order, MPFR_TAPER and not step
         )
         if handle == ffi.NULL:
             raise ValueError("the MPFR Taylor stepper has no memory or an order out of range")
@@ -1594,10 +1508,12 @@ class _MpfrStepper:
         return vals[0], vals[1:], coefficients, h, p, status
 
 
-def _mpfr_run(mlib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps, max_wall_s):
-    """The compiled MPFR loop at the working precision of ``mpmath.mp``; numbers cross as
-    exact text, a run cut into chunks (wall-time limit) resumes from the exact state."""
-    ffi, n, prec = _mpfr_ffi, mlib.n_state, mpmath.mp.prec
+def _mpfr_run(mlib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps, max_wall_s,
+              bits):
+    """The compiled MPFR loop at ``bits`` (the working precision, whose context the caller
+    is in); numbers cross as exact text, a run cut into chunks (wall-time limit) resumes from
+    the exact state."""
+    ffi, n, prec = _mpfr_ffi, mlib.n_state, bits
     width = mlib.width(prec)
     m = len(t_eval)
     y_eval = ffi.new("char[]", max(m, 1) * n * width)
@@ -1608,7 +1524,7 @@ def _mpfr_run(mlib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps, m
     fixed_h = _mpfr_text([step]) if step else b""
     stats = ffi.new("long[4]")
     tokens = [_mpfr_token(v) for v in t_eval]
-    chunk = max_steps if max_wall_s is None else C_CHUNK_STEPS["mpfr"]
+    chunk = max_steps if max_wall_s is None else ARITHMETICS["mpfr"].chunk_steps
     deadline = None if max_wall_s is None else time.perf_counter() + max_wall_s
     steps, pmax, pmin, done = 0, 0, 10**9, 0
     while True:
@@ -1660,10 +1576,9 @@ def _mpfr_run(mlib, y0, t_span, p, rtol, atol, t_eval, order, step, max_steps, m
 
 
 def _py_run(stepper, y0, t_span, t_eval, events, max_steps, precision, max_wall_s=None):
-    numbers = LOOP_NUMBERS[precision]
-    t, t1 = numbers.number(t_span[0]), numbers.number(t_span[1])
-    y = numbers.vector(y0)
-    eps = numbers.eps()
+    t, t1 = precision.number(t_span[0]), precision.number(t_span[1])
+    y = _loop_vector(precision, y0)
+    eps = precision.unit_roundoff()
     direction = 1 if t1 > t else -1
     ts, ys = [], []
     j = 0
@@ -1719,8 +1634,8 @@ def _py_run(stepper, y0, t_span, t_eval, events, max_steps, precision, max_wall_
         if status:
             break
     n = len(y0)
-    dtype = numbers.dtype
-    ty = np.array([numbers.number(v) for v in ts], dtype=dtype)
+    dtype = precision.dtype
+    ty = np.array([precision.number(v) for v in ts], dtype=dtype)
     yy = np.array(ys, dtype=dtype).T if ys else np.empty((n, 0), dtype=dtype)
     te = [np.array(v, dtype=dtype) for v in t_events]
     ye = [np.array(v, dtype=dtype).reshape(-1, n) for v in y_events]
@@ -2171,7 +2086,7 @@ def taylor_dense(
     if lib not in (None, "c", "float"):
         raise UserInputError(f"lib must be None, 'c' or 'float', got {lib!r}")
     clib = load_taylor_library(code, "double", run_orders(rtol, atol)) if lib != "float" else None
-    stepper = _Stepper(code, "double", params, rtol, atol, None, None, clib)
+    stepper = _Stepper(code, "float", params, rtol, atol, None, None, clib)
     return TaylorDense(stepper, t0, np.array(y), max_steps).extend(t1)
 
 

@@ -34,8 +34,8 @@ trace is ``s + P exp((lam + i kap) t) + Q exp((-lam + i kap) t)`` (K01-3.5, 3.6)
 *spiral centre* ``s``; three samples ``tau`` apart give ``s`` exactly for that form
 (:func:`spiral_centres`).
 
-The integrations are the generated Taylor integrator's dense solution
-(:func:`~chaplygin.numerics.taylor.taylor_dense`; the return of ``gamma`` is located on its
+The integrations are the generated Taylor integrator's dense solution (the ``taylor``
+integrator with ``dense_output``, :func:`dense_solution`; the return of ``gamma`` is located on its
 step polynomials, as :func:`~chaplygin.numerics.separatrix.frame_turn` does), one period per
 energy; angles, moduli and complex products are the project's own
 (:mod:`chaplygin.arith.detmath`, :mod:`chaplygin.arith.detcomplex`) and dot products and
@@ -61,9 +61,12 @@ from ..arith import detcomplex, detlinalg
 from ..derive.errors import ComputationError, UserInputError
 from .code import ModelCode, load_model_code
 from .inputs import check_inertia_vector, check_real, check_vector
-from .taylor import TaylorDense, taylor_dense
+from .integrators import INTEGRATORS, Problem
+from .precision import Precision
+from .taylor import TaylorDense
 
 __all__ = [
+    "dense_solution",
     "TracePeriod",
     "trace_period",
     "spiral_centres",
@@ -238,6 +241,28 @@ def _segment_energy(I, D, K, C, gamma) -> np.ndarray:
     return code.numpy.integrals(0.0, np.concatenate([M, g]), p)[0]
 
 
+def dense_solution(
+    code: ModelCode, y0: np.ndarray, span: tuple[float, float], p: np.ndarray, rtol: float
+) -> TaylorDense:
+    """The double-precision Taylor solution over ``span`` with every step's polynomial (the
+    ``taylor`` integrator with dense output, ``atol = rtol``).
+
+    Parameters
+    ----------
+    code : ModelCode
+    y0 : ndarray, shape (n_state,)
+    span : (t0, t1)
+    p : ndarray, shape (n_param,)
+    rtol : float
+
+    Returns
+    -------
+    TaylorDense
+    """
+    problem = Problem(code, y0, span, p, Precision("double"), rtol, rtol, dense_output=True)
+    return INTEGRATORS["taylor"]().solve(problem).dense
+
+
 def _period_solution(code: ModelCode, p: np.ndarray, y0: np.ndarray, rtol: float):
     """Integrate from ``y0`` until ``gamma`` first returns to ``gamma(0)``; the period.
 
@@ -256,7 +281,7 @@ def _period_solution(code: ModelCode, p: np.ndarray, y0: np.ndarray, rtol: float
         return detlinalg.dot(y[3:6] - g0, u)
 
     length = 50.0
-    sol = taylor_dense(code, y0, (0.0, length), p, rtol=rtol, atol=rtol)
+    sol = dense_solution(code, y0, (0.0, length), p, rtol)
     while True:
         if sol.status:
             raise ComputationError(f"the integration stopped at t = {sol.t[-1]:g}: {sol.message}")

@@ -1,15 +1,16 @@
 """Variational equations of a model: the flow with its state-transition matrix, in C.
 
 The augmented system ``y' = f(t, y)``, ``V' = J(t, y) V``, ``q' = tr J(t, y)`` (``J`` the
-generated Jacobian, ``q`` the integral of the divergence of the vector field) is integrated by
-an adaptive DOP853 written in C (``numerics/templates/variational.c``) that is compiled
-together with the model's emitted C source (``generated/<model>.c``: ``chaplygin_rhs`` and
-``chaplygin_jac``), so the right-hand side and Jacobian are the generated ones and no Python
-runs inside a step. The error of a step is measured on ``y`` and ``V`` together.
-Double precision only.
+generated Jacobian, ``q`` the integral of the divergence of the vector field; a
+:class:`~chaplygin.numerics.integrators.flows.VariationalFlow`) is integrated through the
+integrators' door by the ``dop853`` integrator: an adaptive DOP853 written in C
+(``numerics/templates/variational.c``) that is compiled together with the model's emitted C
+source (``generated/<model>.c``: ``chaplygin_rhs`` and ``chaplygin_jac``), so the right-hand
+side and Jacobian are the generated ones and no Python runs inside a step. The error of a
+step is measured on ``y`` and ``V`` together. Double precision only.
 
-Without a C compiler the same system is integrated by :func:`scipy.integrate.solve_ivp`
-(``DOP853``) with the numpy module's ``rhs`` and ``jac``, after a warning.
+Without a C compiler the same system is integrated by scipy's ``DOP853`` with the numpy
+module's ``rhs`` and ``jac``, after a warning (the integrator's ``numpy`` backend).
 
 Examples
 --------
@@ -22,74 +23,25 @@ Examples
 
 from __future__ import annotations
 
-import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
-from importlib import resources
 from typing import Any
 
-import cffi
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..arith import detlinalg, detmath
+from ..arith import detlinalg
 from ..derive.errors import ComputationError, UserInputError
-from .ccompile import CacheError, CompilerError, compile_c
 from .code import ModelCode
-from .compiled import CompilerUnavailableWarning
+from .integrators import INTEGRATORS, Problem, Renormalisation, Solution, VariationalFlow
+from .precision import Precision
 
 __all__ = ["VariationalSystem", "TangentFlow", "flow_with_jacobian", "variational_system"]
-
-_CDEF = """
-int chaplygin_var_flow(double t0, double t1, double *z, int k, const double *P, double rtol,
-                       double atol, long max_steps, double *stats);
-int chaplygin_var_renormalised(double t0, double tau, long n_intervals, double *z, int k,
-                               const double *P, double rtol, double atol, int project,
-                               long max_steps, double *logs, double *divs, double *stats);
-void chaplygin_var_integral_gradients(double t, const double *y, const double *P, double *out);
-int chaplygin_var_normal_rank(double t, const double *y, const double *P);
-void chaplygin_integrals(double T, const double *Y, const double *P, double *OUT);
-"""
-
-_ffi = cffi.FFI()
-_ffi.cdef(_CDEF)
-
-_STATUS = {
-    1: "the step limit was reached (max_steps); raise it or loosen rtol",
-    2: "the step size underflowed: the solution is probably singular here",
-    3: "a non-finite value appeared in the state or the tangent vectors",
-}
 
 #: Default cap on the steps of one interval.
 DEFAULT_MAX_STEPS = 1_000_000
 
-_LIBRARIES: dict[str, Any] = {}
-
-
-def _template() -> str:
-    return resources.files("chaplygin.numerics").joinpath("templates/variational.c").read_text()
-
-
-def _library(code: ModelCode) -> Any | None:
-    """The compiled variational library of ``code`` (cached per process), or None."""
-    if code.hash in _LIBRARIES:
-        return _LIBRARIES[code.hash]
-    source = code.c_source + "\n" + _template()
-    try:
-        path = compile_c(source)
-        lib = _ffi.dlopen(str(path))
-    except CacheError:  # cache directory problems are the user's to fix
-        raise
-    except (CompilerError, OSError) as exc:
-        warnings.warn(
-            f"compiled variational equations unavailable, using scipy's DOP853 with the numpy "
-            f"module instead (slower): {exc}",
-            CompilerUnavailableWarning,
-            stacklevel=3,
-        )
-        lib = None
-    _LIBRARIES[code.hash] = lib
-    return lib
+_DOUBLE = Precision("double")
 
 
 @dataclass
@@ -162,7 +114,9 @@ class VariationalSystem:
         self.rtol = float(rtol)
         self.atol = float(atol)
         self.max_steps = int(max_steps)
-        self._lib = _library(code)
+        self._integrator = INTEGRATORS["dop853"]()
+        probe = self._problem(VariationalFlow(code, 1), np.zeros(2 * self.n + 1), (0.0, 0.0))
+        self._backend = self._integrator.prepare(probe)
 
     @property
     def compiled(self) -> bool:
@@ -172,7 +126,20 @@ class VariationalSystem:
         -------
         bool
         """
-        return self._lib is not None
+        return self._backend == "c"
+
+    def _problem(self, flow: VariationalFlow, z: NDArray, span: tuple, **options: Any) -> Problem:
+        return Problem(flow, z, span, self.params, _DOUBLE, self.rtol, self.atol,
+                       options=options, max_steps=self.max_steps)  # fmt: skip
+
+    def _solve(self, problem: Problem) -> Solution:
+        """The door's solve, a failure raised as a ComputationError."""
+        sol = self._integrator.solve(problem, chosen=self._backend)
+        if sol.status:
+            if self._backend == "c":
+                self._raise(sol.message, float(problem.t_span[0]))
+            raise ComputationError(f"variational equations of {self.code.name}: {sol.message}")
+        return sol
 
     def _state(self, y: ArrayLike) -> NDArray[np.float64]:
         y = np.array(y, dtype=np.float64).ravel()
@@ -182,17 +149,9 @@ class VariationalSystem:
             raise UserInputError("the state must be finite")
         return y
 
-    def _pack(self, y: NDArray, V: NDArray) -> NDArray[np.float64]:
-        k = V.shape[1]
-        z = np.zeros(self.n + self.n * k + 1)
-        z[: self.n] = y
-        z[self.n : self.n + self.n * k] = V.ravel()
-        return z
-
-    def _raise(self, status: int, t: float) -> None:
+    def _raise(self, message: str, t: float) -> None:
         raise ComputationError(
-            f"variational equations of {self.code.name} failed near t = {t:.6g}: "
-            f"{_STATUS.get(status, f'status {status}')}"
+            f"variational equations of {self.code.name} failed near t = {t:.6g}: {message}"
         )
 
     def flow(self, y0: ArrayLike, t0: float, t1: float, V0: ArrayLike | None = None) -> TangentFlow:
@@ -225,57 +184,15 @@ class VariationalSystem:
             raise UserInputError(f"V0 must have shape ({self.n}, k) with 1 <= k <= {self.n}")
         t0, t1 = float(t0), float(t1)
         k = V.shape[1]
-        if self._lib is None:
-            return self._flow_scipy(y, V, t0, t1)
-        z = self._pack(y, V)
-        stats = np.zeros(4)
-        # no step size carried over from an earlier call: a result depends on its inputs only
-        # (not on which points a sweep chunk ran before it)
-        status = self._lib.chaplygin_var_flow(
-            t0, t1, _ffi.from_buffer("double[]", z, True), k,
-            _ffi.from_buffer("double[]", self.params), self.rtol, self.atol, self.max_steps,
-            _ffi.from_buffer("double[]", stats, True),
-        )  # fmt: skip
-        if status:
-            self._raise(status, t0)
-        n = self.n
+        flow = VariationalFlow(self.code, k)
+        sol = self._solve(self._problem(flow, flow.pack(y, V), (t0, t1)))
+        z, n = sol.y[:, -1], self.n
         return TangentFlow(
             y=z[:n].copy(),
             V=z[n : n + n * k].reshape(n, k).copy(),
             divergence_integral=float(z[-1]),
-            steps=int(stats[0]),
-            rejected=int(stats[1]),
-            evaluations=int(stats[2]),
-        )
-
-    def _flow_scipy(self, y: NDArray, V: NDArray, t0: float, t1: float) -> TangentFlow:
-        from scipy.integrate import solve_ivp
-
-        n, k = self.n, V.shape[1]
-        p = self.params
-        rhs, jac = self.code.numpy.rhs, self.code.numpy.jac
-
-        def f(t: float, z: NDArray) -> NDArray:
-            J = np.asarray(jac(t, z[:n], p), dtype=np.float64)
-            out = np.empty_like(z)
-            out[:n] = rhs(t, z[:n], p)
-            out[n:-1] = detlinalg.matmul(J, z[n:-1].reshape(n, k)).ravel()
-            out[-1] = np.trace(J)
-            return out
-
-        z0 = self._pack(y, V)
-        atol = np.full(z0.size, self.atol)
-        atol[-1] = np.inf  # the quadrature is not error-controlled
-        sol = solve_ivp(f, (t0, t1), z0, method="DOP853", rtol=self.rtol, atol=atol)
-        if not sol.success:
-            raise ComputationError(f"variational equations of {self.code.name}: {sol.message}")
-        z = sol.y[:, -1]
-        return TangentFlow(
-            y=z[:n].copy(),
-            V=z[n:-1].reshape(n, k).copy(),
-            divergence_integral=float(z[-1]),
-            steps=int(sol.t.size - 1),
-            rejected=0,
+            steps=int(sol.nsteps),
+            rejected=int(sol.info.get("rejected", 0)),
             evaluations=int(sol.nfev),
         )
 
@@ -301,13 +218,8 @@ class VariationalSystem:
         """
         y = self._state(y)
         m = len(self.code.integral_names)
-        if self._lib is not None:
-            out = np.zeros((max(m, 1), self.n))
-            self._lib.chaplygin_var_integral_gradients(
-                float(t), _ffi.from_buffer("double[]", y),
-                _ffi.from_buffer("double[]", self.params), _ffi.from_buffer("double[]", out, True),
-            )  # fmt: skip
-            return out[:m]
+        if self.compiled:
+            return self._integrator.integral_gradients(self.code, t, y, self.params)
         out = np.zeros((m, self.n))
         for j in range(self.n):
             h = np.cbrt(np.finfo(float).eps) * max(1.0, abs(y[j]))
@@ -400,50 +312,20 @@ class VariationalSystem:
         if n_intervals < 0:
             raise UserInputError("the number of intervals must be >= 0")
         k = V.shape[1]
-        logs = np.zeros((n_intervals, k))
-        divs = np.zeros(n_intervals)
-        if self._lib is None:
-            return self._renormalised_python(y, V, float(t0), float(tau), logs, divs, project)
-        z = self._pack(y, V)
-        stats = np.zeros(4)
-        # no step size carried over from an earlier call: a result depends on its inputs only
-        # (not on which points a sweep chunk ran before it)
-        status = self._lib.chaplygin_var_renormalised(
-            float(t0), float(tau), n_intervals, _ffi.from_buffer("double[]", z, True), k,
-            _ffi.from_buffer("double[]", self.params), self.rtol, self.atol, int(bool(project)),
-            self.max_steps, _ffi.from_buffer("double[]", logs, True),
-            _ffi.from_buffer("double[]", divs, True), _ffi.from_buffer("double[]", stats, True),
+        flow = VariationalFlow(self.code, k)
+        plan = Renormalisation(
+            float(tau), n_intervals, bool(project),
+            normal_basis=lambda t, y: self.level_set_basis(t, y)[0],
         )  # fmt: skip
-        if status:
-            self._raise(status, float(t0))
-        n = self.n
-        work = {"steps": int(stats[0]), "rejected": int(stats[1]), "evaluations": int(stats[2])}
-        return logs, divs, z[:n].copy(), z[n : n + n * k].reshape(n, k).copy(), work
-
-    def _renormalised_python(
-        self,
-        y: NDArray,
-        V: NDArray,
-        t0: float,
-        tau: float,
-        logs: NDArray,
-        divs: NDArray,
-        project: bool,
-    ) -> tuple[NDArray, NDArray, NDArray, NDArray, dict[str, int]]:
-        work = {"steps": 0, "rejected": 0, "evaluations": 0}
-        for i in range(logs.shape[0]):
-            tb = t0 + (i + 1) * tau
-            res = self._flow_scipy(y, V, t0 + i * tau, tb)
-            y, V = res.y, res.V
-            divs[i] = res.divergence_integral
-            work["steps"] += res.steps
-            work["evaluations"] += res.evaluations
-            if project:
-                normal, _ = self.level_set_basis(tb, y)
-                V = V - detlinalg.matmul(normal, detlinalg.matmul(normal.T, V))
-            V, R = detlinalg.qr(V)
-            logs[i] = detmath.log(np.diag(R).copy())
-        return logs, divs, y, V, work
+        sol = self._solve(
+            self._problem(flow, flow.pack(y, V), (float(t0), float(t0)), renormalise=plan)
+        )
+        z, n = sol.y[:, -1], self.n
+        work = {key: int(sol.info[key]) for key in ("steps", "rejected", "evaluations")}
+        return (
+            sol.info["logs"], sol.info["divergence"], z[:n].copy(),
+            z[n : n + n * k].reshape(n, k).copy(), work,
+        )  # fmt: skip
 
 
 def variational_system(

@@ -59,3 +59,19 @@ def pytest_terminal_summary(terminalreporter, exitstatus, config) -> None:
     for surface, tally in sorted(hostile.TALLY.items()):
         failures = ", ".join(f"{tally[name]} {name}" for name in hostile.FAILURES)
         terminalreporter.write_line(f"{surface}: {tally['cases']} cases; {failures}")
+
+
+@pytest.fixture
+def chunk_steps(monkeypatch):
+    """``chunk_steps(arithmetic, n)``: the compiled Taylor loop of that arithmetic runs in
+    blocks of ``n`` steps under a wall-time limit (its row of ARITHMETICS, for this test)."""
+    import dataclasses
+
+    from chaplygin.numerics.precision import ARITHMETICS
+
+    def set_steps(name: str, steps: int) -> None:
+        monkeypatch.setitem(
+            ARITHMETICS, name, dataclasses.replace(ARITHMETICS[name], chunk_steps=steps)
+        )
+
+    return set_steps

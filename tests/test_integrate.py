@@ -163,18 +163,21 @@ def test_method_may_be_a_name_a_class_or_an_instance():
 
 def test_method_data_is_consistent():
     """Every method's floor covers its precisions, and it is >= 1 eps (no method beats the
-    unit roundoff); the default method of each precision works in it."""
+    unit roundoff); the default method of each precision works in it; METHODS are the
+    registry's integrators of a model's own equations."""
     from chaplygin.numerics.inputs import Precision
-    from chaplygin.numerics.integrators import NUMBER_TYPES
+    from chaplygin.numerics.integrators import INTEGRATORS, ModelFlow
 
-    for name, cls in METHODS.items():
+    for name, cls in INTEGRATORS.items():
         assert cls.name == name
         assert set(cls.rtol_floor) == set(cls.precisions)
         assert min(cls.rtol_floor.values()) >= 1
-    for kind, number_type in NUMBER_TYPES.items():
-        assert number_type.kind == kind
-        assert kind in METHODS[number_type.default_method].precisions
         assert cls.backends and set(cls.backends) <= {"c", "numpy", "mpmath"}
+    assert METHODS == {n: c for n, c in INTEGRATORS.items() if ModelFlow in c.flows}
+    assert "dop853" in INTEGRATORS and "dop853" not in METHODS
+    for kind in ("double", "quad", 30):
+        prec = Precision(kind)
+        assert prec.kind in METHODS[prec.default_method].precisions
     prec = Precision(30)
     assert METHODS["taylor"]().floor(prec) == prec.epsilon
     assert METHODS["odefun"]().floor(prec) == prec.min_rtol

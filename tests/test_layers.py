@@ -68,6 +68,15 @@ def _constant_prefix(arg: ast.expr, module: str, package: str) -> str | None:
     return prefix.rstrip(".") or None
 
 
+def _from_target(node: ast.ImportFrom, package: str) -> str:
+    """The module a ``from ... import`` names (relative ones resolved in ``package``)."""
+    if node.level:
+        parts = package.split(".")
+        base = parts[: len(parts) - node.level + 1]
+        return ".".join(base + ([node.module] if node.module else []))
+    return node.module or ""
+
+
 def imports_of(module: str) -> set[str]:
     """Modules of the package that ``module`` imports anywhere in its source."""
     path, is_package = MODULES[module]
@@ -88,11 +97,7 @@ def imports_of(module: str) -> set[str]:
         if isinstance(node, ast.Import):
             found.update(a.name for a in node.names)
         elif isinstance(node, ast.ImportFrom):
-            if node.level:
-                base = package.split(".")[: len(package.split(".")) - node.level + 1]
-                target = ".".join(base + ([node.module] if node.module else []))
-            else:
-                target = node.module or ""
+            target = _from_target(node, package)
             for a in node.names:  # "from . import x" imports the submodule x when there is one
                 sub = f"{target}.{a.name}"
                 found.add(sub if sub in MODULES else target)
@@ -236,3 +241,258 @@ def test_plotting_leaves_the_backend_alone():
     before, after_import, after_figure, pyplot, png = proc.stdout.strip().split("|")
     assert before == after_import == after_figure
     assert pyplot == "False" and png == "True"
+
+
+# ------------------------------------------------------------------------ the one door
+
+#: What only ``numerics/integrators/`` may reach: module -> names (scipy's and mpmath's ODE
+#: solvers, and the entry points of the generated Taylor engine).
+SOLVERS: dict[str, frozenset[str]] = {
+    "scipy.integrate": frozenset(
+        {"solve_ivp", "RK23", "RK45", "DOP853", "LSODA", "Radau", "BDF", "odeint", "ode",
+         "OdeSolver"}
+    ),
+    "mpmath": frozenset({"odefun"}),
+    "mpmath.mp": frozenset({"odefun"}),
+    "mpmath.fp": frozenset({"odefun"}),
+    "mpmath.calculus.odes": frozenset({"odefun", "ode_taylor"}),
+    "chaplygin.numerics.taylor": frozenset(
+        {"taylor_solve", "taylor_dense", "CompiledTaylorRun", "load_taylor_library",
+         "load_taylor_mpfr_library"}
+    ),
+}
+#: Modules of solvers: loading one by name (``importlib``) outside the door is refused too.
+SOLVER_MODULES = ("scipy.integrate", "mpmath.calculus.odes")
+_IMPORT_CALLS = ("import_module", "__import__")
+
+
+def _import_call_target(node: ast.AST) -> str | None:
+    """The module named by ``importlib.import_module("...")`` or ``__import__("...")``."""
+    if not (isinstance(node, ast.Call) and node.args):
+        return None
+    name = getattr(node.func, "attr", getattr(node.func, "id", None))
+    arg = node.args[0]
+    if name in _IMPORT_CALLS and isinstance(arg, ast.Constant) and isinstance(arg.value, str):
+        return arg.value
+    return None
+
+
+def _aliases(tree: ast.AST, package: str) -> dict[str, str]:
+    """Names bound to modules or module attributes anywhere in the source (function bodies
+    included; no scoping: a conservative reading)."""
+    bound: dict[str, str] = {}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for a in node.names:
+                top = a.name.split(".")[0]
+                bound[a.asname or top] = a.name if a.asname else top
+        elif isinstance(node, ast.ImportFrom):
+            base = _from_target(node, package)
+            for a in node.names:
+                bound[a.asname or a.name] = f"{base}.{a.name}"
+        elif isinstance(node, ast.Assign) and (target := _import_call_target(node.value)):
+            for t in node.targets:
+                if isinstance(t, ast.Name):
+                    bound[t.id] = target
+    return bound
+
+
+def _dotted(node: ast.AST, bound: dict[str, str]) -> str | None:
+    """``a.b.c`` of an attribute chain, its root resolved through the aliases (or an
+    ``import_module`` call)."""
+    parts = []
+    while isinstance(node, ast.Attribute):
+        parts.append(node.attr)
+        node = node.value
+    if isinstance(node, ast.Name):
+        root = bound.get(node.id, node.id)
+    else:
+        root = _import_call_target(node)
+        if root is None:
+            return None
+    return ".".join([root, *reversed(parts)])
+
+
+def _is_solver(dotted: str) -> bool:
+    module, _, name = dotted.rpartition(".")
+    return name in SOLVERS.get(module, ())
+
+
+def solver_uses(source: str, package: str) -> list[str]:
+    """Where ``source`` (a module of ``package``) reaches a solver: ``from`` imports of one
+    (or ``*`` from a solver module), attribute access through a module alias or an
+    ``import_module`` call, ``getattr`` by name, and loading a solver module by name."""
+    tree = ast.parse(source)
+    bound = _aliases(tree, package)
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom):
+            base = _from_target(node, package)
+            for a in node.names:
+                if _is_solver(f"{base}.{a.name}") or (a.name == "*" and base in SOLVERS):
+                    found.append(f"line {node.lineno}: from {base} import {a.name}")
+        elif isinstance(node, ast.Attribute):
+            dotted = _dotted(node, bound)
+            if dotted and _is_solver(dotted):
+                found.append(f"line {node.lineno}: {dotted}")
+        elif isinstance(node, ast.Call):
+            target = _import_call_target(node)
+            if target and target.startswith(SOLVER_MODULES):
+                found.append(f"line {node.lineno}: loads {target} by name")
+            if (
+                getattr(node.func, "id", None) == "getattr"
+                and len(node.args) >= 2
+                and isinstance(node.args[1], ast.Constant)
+                and (dotted := _dotted(node.args[0], bound))
+                and _is_solver(f"{dotted}.{node.args[1].value}")
+            ):
+                found.append(f"line {node.lineno}: getattr({dotted}, {node.args[1].value!r})")
+    return found
+
+
+def _module_solver_uses(module: str) -> list[str]:
+    path, is_package = MODULES[module]
+    package = module if is_package else module.rpartition(".")[0]
+    return solver_uses(path.read_text(), package)
+
+
+def test_only_the_integrators_reach_a_solver():
+    """Every integration goes through an Integrator: no module outside
+    ``numerics/integrators/`` imports or reaches scipy's or mpmath's ODE solvers or the
+    Taylor engine's entry points, at module level, inside a function or through
+    ``importlib``."""
+    door = "chaplygin.numerics.integrators"
+    bad = {
+        m: hits
+        for m in MODULES
+        if not (m == door or m.startswith(door + ".")) and (hits := _module_solver_uses(m))
+    }
+    assert bad == {}
+    # a control on the real code: the door's own modules do reach them
+    assert _module_solver_uses("chaplygin.numerics.integrators.scipy_methods")
+    assert _module_solver_uses("chaplygin.numerics.integrators.odefun")
+    assert _module_solver_uses("chaplygin.numerics.integrators.taylor_method")
+
+
+def test_the_solver_check_sees_every_way_in():
+    """A negative control: each way of reaching a solver is found once, and neighbours that
+    are not solvers (a quadrature of scipy.integrate, mpmath.quad) are not."""
+    forms = [
+        "from scipy.integrate import solve_ivp",
+        "def f():\n    from scipy.integrate import RK45 as R",
+        "import scipy.integrate as si\nsi.DOP853",
+        "from scipy import integrate\nintegrate.LSODA",
+        "import scipy.integrate\nscipy.integrate.Radau",
+        "import importlib\nimportlib.import_module('mpmath').odefun",
+        "import importlib\nm = importlib.import_module('mpmath')\nm.odefun",
+        "import mpmath\nmpmath.odefun",
+        "from mpmath import mp\nmp.odefun",
+        "import mpmath\ngetattr(mpmath, 'odefun')",
+        "from mpmath import *",
+        "import importlib\nimportlib.import_module('scipy.integrate')",
+        "__import__('mpmath.calculus.odes')",
+        "from .taylor import taylor_solve",
+        "def g():\n    from ..numerics import taylor\n    taylor.taylor_dense",
+    ]
+    for form in forms:
+        assert len(solver_uses(form, "chaplygin.numerics")) == 1, form
+    quiet = "from scipy.integrate import cumulative_simpson\nimport mpmath\nmpmath.quad\n"
+    assert solver_uses(quiet + "from .taylor import TaylorDense", "chaplygin.numerics") == []
+
+
+# ------------------------------------------------------------------------ the precision row
+
+_PRECISION_ATTRIBUTES = ("prec", "dps")
+_CONTEXT_MANAGERS = ("workprec", "workdps", "extraprec", "extradps")
+
+
+def _is_mpmath_context(node: ast.AST, bound: dict[str, str]) -> bool:
+    dotted = _dotted(node, bound)
+    return dotted in ("mpmath", "mpmath.mp", "mpmath.fp", "mpmath.iv")
+
+
+def _inside_local_context(node: ast.AST, parents: dict[int, ast.AST]) -> bool:
+    """Whether ``node`` is in the body of a ``with`` over mpmath's local precision."""
+    while id(node) in parents:
+        node = parents[id(node)]
+        if isinstance(node, ast.With | ast.AsyncWith):
+            for item in node.items:
+                call = item.context_expr
+                name = getattr(getattr(call, "func", None), "attr", None) or getattr(
+                    getattr(call, "func", None), "id", None
+                )
+                if name in _CONTEXT_MANAGERS:
+                    return True
+    return False
+
+
+def precision_assignments(source: str, package: str) -> list[str]:
+    """Assignments of mpmath's working precision (``mp.prec``, ``mp.dps``: plain, augmented,
+    annotated, in tuples, by ``setattr``) outside a ``with mpmath.workprec/workdps/
+    extraprec/extradps(...)`` block: precision passed through the ambient context."""
+    tree = ast.parse(source)
+    bound = _aliases(tree, package)
+    parents = {id(child): node for node in ast.walk(tree) for child in ast.iter_child_nodes(node)}
+    found = []
+    for node in ast.walk(tree):
+        targets: list[ast.AST] = []
+        if isinstance(node, ast.Assign):
+            targets = list(node.targets)
+        elif isinstance(node, ast.AugAssign | ast.AnnAssign):
+            targets = [node.target]
+        elif (
+            isinstance(node, ast.Call)
+            and getattr(node.func, "id", None) == "setattr"
+            and len(node.args) == 3
+            and isinstance(node.args[1], ast.Constant)
+            and node.args[1].value in _PRECISION_ATTRIBUTES
+            and _is_mpmath_context(node.args[0], bound)
+            and not _inside_local_context(node, parents)
+        ):
+            found.append(f"line {node.lineno}: setattr(..., {node.args[1].value!r})")
+        expanded = []
+        for target in targets:
+            expanded += target.elts if isinstance(target, ast.Tuple | ast.List) else [target]
+        for target in expanded:
+            if (
+                isinstance(target, ast.Attribute)
+                and target.attr in _PRECISION_ATTRIBUTES
+                and _is_mpmath_context(target.value, bound)
+                and not _inside_local_context(node, parents)
+            ):
+                found.append(f"line {node.lineno}: {ast.unparse(target)} assigned")
+    return found
+
+
+def test_no_module_passes_precision_through_mpmath_mp():
+    """A precision is passed explicitly (a Precision, entered with its context): no module
+    sets ``mpmath.mp.prec``/``dps`` outside a ``workprec``/``workdps`` block."""
+    bad = {}
+    for m, (path, is_package) in MODULES.items():
+        package = m if is_package else m.rpartition(".")[0]
+        if hits := precision_assignments(path.read_text(), package):
+            bad[m] = hits
+    assert bad == {}
+
+
+def test_the_precision_check_sees_every_assignment():
+    """A negative control: each way of setting the ambient precision is found; the same
+    assignment inside a workdps block, and other objects' ``prec``, are not."""
+    forms = [
+        "import mpmath\nmpmath.mp.prec = 100",
+        "from mpmath import mp\nmp.dps = 30",
+        "import mpmath as m\ndef f():\n    m.mp.prec += 5",
+        "import mpmath\nmpmath.mp.dps: int = 40",
+        "import mpmath\nsetattr(mpmath.mp, 'dps', 40)",
+        "from mpmath import mp\nmp.prec, x = 80, 1",
+        "import mpmath\nwith open('f'):\n    mpmath.mp.prec = 70",
+    ]
+    for form in forms:
+        assert len(precision_assignments(form, "chaplygin.numerics")) == 1, form
+    quiet = (
+        "import mpmath\nfrom mpmath import mp\n"
+        "with mpmath.workdps(30):\n    mpmath.mp.dps = 40\n"
+        "with mp.workprec(90), open('f'):\n    mp.prec += 3\n"
+        "self.prec = 5\nctx.dps = 3\n"
+    )
+    assert precision_assignments(quiet, "chaplygin.numerics") == []

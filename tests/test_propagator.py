@@ -136,18 +136,17 @@ def test_reset_refuses_a_bad_state_and_changes_nothing():
     assert prop.time == t and np.array_equal(_bits(prop.state), _bits(before))
 
 
-def test_blocks_of_the_compiled_loop_give_the_uncut_run(monkeypatch):
+def test_blocks_of_the_compiled_loop_give_the_uncut_run(chunk_steps):
     """With a wall-time limit the compiled loop runs in blocks resumed from the exact state,
     time and compensation; blocks of 7 steps give the bits of one uninterrupted call, the
     outputs that fall in later blocks included (the buffers are addressed past the first)."""
-    import chaplygin.numerics.taylor as taylor
 
     t_eval = list(np.linspace(0.0, 40.0, 23))
     whole = Propagator(BALL, REFERENCE_Y0, REFERENCE_PARAMS, rtol=1e-12, atol=1e-12,
                        max_wall_s=None).propagate_until(40.0, t_eval)
-    monkeypatch.setitem(taylor.C_CHUNK_STEPS, "double", 7)
+    chunk_steps("double", 7)
     cut = Propagator(BALL, REFERENCE_Y0, REFERENCE_PARAMS, rtol=1e-12, atol=1e-12)
-    assert cut._fast is not None and cut._fast.chunk == 7
+    assert cut._fast is not None and cut._fast.loop.chunk == 7
     r = cut.propagate_until(40.0, t_eval)
     assert whole.success and r.success and r.nsteps == whole.nsteps > 7 * 5
     assert np.array_equal(_bits(r.t), _bits(whole.t))

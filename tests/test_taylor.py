@@ -234,7 +234,7 @@ def test_fitted_convergence_order_at_30_digits():
         p = [mpmath.mpf(v) for v in (1, 2, 3, 1)]
         T = mpmath.mpf(1)
         ref = taylor_solve(
-            code, y0, (0, T), p, precision="digits", rtol=1e-29, atol=1e-29, t_eval=[T]
+            code, y0, (0, T), p, precision=30, rtol=1e-29, atol=1e-29, t_eval=[T]
         )
         hs = [mpmath.mpf(1) / 4, mpmath.mpf(1) / 8, mpmath.mpf(1) / 16]
         errs = []
@@ -244,7 +244,7 @@ def test_fitted_convergence_order_at_30_digits():
                 y0,
                 (0, T),
                 p,
-                precision="digits",
+                precision=30,
                 rtol=1e-29,
                 atol=1e-29,
                 t_eval=[T],
@@ -496,23 +496,33 @@ def test_backward_integration_returns_to_the_start(precision):
     assert max(abs(a - b) for a, b in zip(back.y[:, -1], start, strict=True)) < bound
 
 
-def test_precision_tables_agree_with_the_precisions_they_describe():
-    """LOOP_NUMBERS and REAL_TYPES (method data): unit roundoff as Precision states it, a C
-    real type exactly for the compiled precisions, its byte size that of the IEEE format."""
-    from chaplygin.numerics.taylor import LOOP_NUMBERS, REAL_TYPES
+def test_precision_rows_agree_with_the_precisions_they_describe():
+    """The precision row and REAL_TYPES (method data): the loop's unit roundoff within a
+    decade of the stated epsilon, the arithmetic a C real type of the size of its format
+    (MPFR has none), the number type, and a pack/unpack round trip exact to the arithmetic's
+    bits."""
+    from chaplygin.numerics.precision import ARITHMETICS
+    from chaplygin.numerics.taylor import REAL_TYPES
 
-    for kind, numbers in LOOP_NUMBERS.items():
-        with mpmath.workdps(30):
-            want = Precision(30 if kind == "digits" else kind).epsilon
+    seen = set()
+    for value in ("double", "quad", 20, 31, 32, 60, 61, 100):
+        prec = Precision(value)
+        with prec.context():
             # within a decade: mpmath's 2^-102 against the stated 10^-30 at 30 digits
-            assert abs(mpmath.log10(numbers.eps() / want)) < 1
-        assert numbers.compiled == (kind in REAL_TYPES)
-        assert isinstance(numbers.number(1), float if numbers.dtype is float else mpmath.mpf)
-    assert {k: r.size for k, r in REAL_TYPES.items()} == {"double": 8, "quad": 16}
+            assert abs(mpmath.log10(prec.unit_roundoff() / prec.epsilon)) < 1
+            assert isinstance(prec.number(1), float if prec.is_double else mpmath.mpf)
+        arithmetic = prec.arithmetic
+        seen.add(arithmetic.name)
+        assert arithmetic.most_bits is None or prec.bits <= arithmetic.most_bits
+        assert (arithmetic.name in REAL_TYPES) == (arithmetic.name != "mpfr")
+    assert seen == set(ARITHMETICS)
+    sizes = {k: r.size for k, r in REAL_TYPES.items()}
+    assert sizes == {"double": 8, "quad": 16, "dd": 16, "qd": 32}
     for kind, real in REAL_TYPES.items():
-        values = [mpmath.mpf(1) / 3, mpmath.mpf(-2) ** 40]
-        with mpmath.workprec(113):
+        bits = ARITHMETICS[kind].most_bits
+        with mpmath.workprec(bits):
+            values = [mpmath.mpf(1) / 3, mpmath.mpf(-2) ** 40]
             back = real.unpack(real.pack(values), 2)
-        assert len(real.pack(values)) * (8 if kind == "double" else 1) == 2 * real.size
-        assert abs(mpmath.mpf(back[0]) * 3 - 1) <= 4 * LOOP_NUMBERS[kind].eps()
+            assert abs(mpmath.mpf(back[0]) * 3 - 1) <= 4 * mpmath.ldexp(1, 1 - bits)
+        assert len(real.pack(values)) * (1 if kind == "quad" else 8) == 2 * real.size
         assert mpmath.mpf(back[1]) == 2**40

@@ -24,7 +24,6 @@ from chaplygin.numerics.taylor import (
     CompiledTaylorMPFR,
     _mpfr_text,
     _parse_mpfr,
-    digits_real_type,
     load_taylor_mpfr_library,
     taylor_solve,
 )
@@ -64,7 +63,7 @@ def test_text_interface_is_exact():
 def test_more_than_60_digits_run_in_mpfr():
     """61 digits and more run in C MPFR, 60 in quad-double; backend 'numpy' forces the
     Python recurrences."""
-    assert digits_real_type(Precision(61).prec) is None
+    assert Precision(61).arithmetic.name == "mpfr"
     ran = [
         integrate("chaplygin_ball", STATE, 0.5, PARAMS, precision=d).backend for d in (60, 61, 100)
     ]
@@ -213,7 +212,7 @@ def _run(code, digits, **kw):
             y0,
             (mpmath.mpf(0), mpmath.mpf(3)),
             p,
-            precision="digits",
+            precision=digits,
             rtol=10.0**-digits,
             atol=10.0**-digits,
             t_eval=t_eval,
@@ -221,17 +220,16 @@ def _run(code, digits, **kw):
         )
 
 
-def test_runs_are_bit_stable_and_resume_exactly_in_blocks(monkeypatch):
+def test_runs_are_bit_stable_and_resume_exactly_in_blocks(chunk_steps):
     """Two runs give the same bits; with a wall-time limit the loop runs in blocks of 2
     steps, each resuming from the exact time and state the last reached: the same steps,
     orders and bits."""
-    from chaplygin.numerics import taylor
 
     code = load_model_code("chaplygin_ball")
     first, second = _run(code, 90), _run(code, 90)
     assert first.backend == "c-mpfr" and first.status == 0 and first.nsteps > 2 * 2
     assert np.array_equal(first.y, second.y) and list(first.t) == list(second.t)
-    monkeypatch.setitem(taylor.C_CHUNK_STEPS, "mpfr", 2)
+    chunk_steps("mpfr", 2)
     blocks = _run(code, 90, max_wall_s=1e6)
     assert (blocks.nsteps, blocks.order_min, blocks.order_max, blocks.status) == (
         first.nsteps,

@@ -25,7 +25,6 @@ from chaplygin.numerics.taylor import (
     _from_mpf,
     _to_mpf,
     decode_multi_double,
-    digits_real_type,
     encode_multi_double,
     load_taylor_library,
     python_lib,
@@ -94,10 +93,10 @@ def test_a_value_wider_than_double_double_is_refused():
 def test_digits_choose_the_narrowest_type_that_holds_them():
     """31 digits (106 bits) run in C double-double, 32..60 (110..203 bits) in quad-double,
     61 in MPFR (C)."""
-    assert digits_real_type(Precision(31).prec) == "dd"
-    assert digits_real_type(Precision(32).prec) == "qd"
-    assert digits_real_type(Precision(60).prec) == "qd" and Precision(60).prec == QD_BITS
-    assert digits_real_type(Precision(61).prec) is None
+    assert Precision(31).arithmetic.name == "dd"
+    assert Precision(32).arithmetic.name == "qd"
+    assert Precision(60).arithmetic.name == "qd" and Precision(60).prec == QD_BITS
+    assert Precision(61).arithmetic.name == "mpfr"
     ran = [
         integrate("chaplygin_ball", REFERENCE_Y0, 0.5, REFERENCE_PARAMS, precision=d).backend
         for d in (31, 32, 61)
@@ -253,7 +252,7 @@ def test_events_on_the_multi_double_polynomial(digits, kind):
 
 @pytest.mark.parametrize("precision,digits", [("double", None), ("quad", None), ("digits", 30),
                                               ("digits", 50)])
-def test_compiled_runs_resume_exactly_in_blocks(monkeypatch, precision, digits):
+def test_compiled_runs_resume_exactly_in_blocks(chunk_steps, precision, digits):
     """With a wall-time limit the compiled loop runs in blocks of steps (3 here), each
     resuming from the exact time and state the last reached: the same steps, orders and
     bits as one uninterrupted call, outputs inside and across blocks included."""
@@ -269,9 +268,9 @@ def test_compiled_runs_resume_exactly_in_blocks(monkeypatch, precision, digits):
         T = number(9)
         t_eval = [number(v) / 4 for v in range(0, 37, 5)]
         tol = 1e-12 if precision == "double" else 1e-20
-        kw = {"precision": precision, "rtol": tol, "atol": tol, "t_eval": t_eval}
+        kw = {"precision": digits or precision, "rtol": tol, "atol": tol, "t_eval": t_eval}
         whole = taylor.taylor_solve(code, y0, (number(0), T), p, **kw)
-        monkeypatch.setitem(taylor.C_CHUNK_STEPS, whole.backend[2:], 3)
+        chunk_steps(whole.backend[2:], 3)
         blocks = taylor.taylor_solve(code, y0, (number(0), T), p, max_wall_s=1e6, **kw)
     assert whole.backend.startswith("c-") and whole.nsteps > 3 * 3
     assert (blocks.nsteps, blocks.order_min, blocks.order_max, blocks.status) == (
@@ -303,10 +302,10 @@ def test_hardware_fma_gives_the_bits_of_dekkers_product():
     (Dekker's splitting): the same coefficients and run, bit for bit."""
     import numpy as np
     from chaplygin.numerics.ccompile import compile_c
-    from chaplygin.numerics.taylor import DIGITS_REAL_TYPES, CompiledTaylor, _c_run
+    from chaplygin.numerics.taylor import REAL_TYPES, CompiledTaylor, _c_run
 
     code = load_model_code("chaplygin_ball")
-    real = DIGITS_REAL_TYPES["qd"][0]
+    real = REAL_TYPES["qd"]
     source = real.define + code.taylor_c_source
     libs = [CompiledTaylor(compile_c(source, cflags=flags), "qd") for flags in
             (("-O3",), ("-O3", "-mfma"))]

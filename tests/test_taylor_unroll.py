@@ -191,7 +191,7 @@ def test_run_orders():
 
 
 @pytest.mark.parametrize("kind", ["double", "quad"])
-def test_runs_in_blocks_hand_over_the_compensation(kind, monkeypatch):
+def test_runs_in_blocks_hand_over_the_compensation(kind, chunk_steps):
     """The compiled loop carries the rounding error of its state updates (Kahan); a run cut
     into blocks of 7 steps (as a wall-time limit cuts it) hands it from block to block and
     gives the bits of the uncut run; without the handover the bits would differ (the
@@ -205,7 +205,7 @@ def test_runs_in_blocks_hand_over_the_compensation(kind, monkeypatch):
     lib = load_taylor_library(code, kind, run_orders(rtol, rtol) if kind == "double" else ())
     t_eval = [0, 3.1, 9.7, 23.3]
     whole = _c_run(lib, y0, (0, 23.3), p, rtol, rtol, t_eval, None, None, 10**6, None)
-    monkeypatch.setitem(taylor.C_CHUNK_STEPS, kind, 7)
+    chunk_steps(kind, 7)
     cut = _c_run(lib, y0, (0, 23.3), p, rtol, rtol, t_eval, None, None, 10**6, 3600.0)
     assert whole.nsteps == cut.nsteps > 14  # more than two blocks
     assert all(a == b for a, b in zip(whole.y.ravel(), cut.y.ravel(), strict=True))  # exact

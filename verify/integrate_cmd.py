@@ -54,14 +54,6 @@ def _check_step_budget(args: argparse.Namespace, prec) -> None:
         )
 
 
-def _format_number(value, digits: int | None) -> str:
-    if digits is None:
-        return repr(float(value))
-    import mpmath
-
-    return mpmath.nstr(value, digits, strip_zeros=False)
-
-
 def run(args: argparse.Namespace) -> int:
     """Run ``chaplygin integrate``.
 
@@ -112,8 +104,7 @@ def run(args: argparse.Namespace) -> int:
         code = load_model_code(args.system, args.effects)
         columns = trajectory_columns(result.t, result.y, result.state_names, code.state_groups)
         write_trajectory(args.output, columns, {"model": code.name, "model_hash": code.hash})
-    digits = prec.digits
-    final = {k: _format_number(v, digits) for k, v in result.y_final.items()}
+    final = {k: prec.format(v) for k, v in result.y_final.items()}
     if args.json:
         out = {
             "status": result.status,
@@ -122,7 +113,7 @@ def run(args: argparse.Namespace) -> int:
             "method": result.method,
             "backend": result.backend,
             "precision": result.precision,
-            "t": _format_number(result.t[-1], digits),
+            "t": prec.format(result.t[-1]),
             "y": final,
             # untrusted evidence (NaN, inf) is null, never a bare NaN (not JSON)
             "drift": {k: (v if math.isfinite(v) else None) for k, v in result.drift.items()},
@@ -145,7 +136,7 @@ def run(args: argparse.Namespace) -> int:
             f"method {result.method}, backend {result.backend}, precision {result.precision}, "
             f"{result.nsteps} steps, {result.nfev} rhs calls, {result.wall_s:.3f} s"
         )
-        print(f"t = {_format_number(result.t[-1], digits)}")
+        print(f"t = {prec.format(result.t[-1])}")
         for k, v in final.items():
             print(f"  {k:<8} = {v}")
         print("drift of the first integrals (relative; absolute where marked *):")

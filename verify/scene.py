@@ -1397,7 +1397,6 @@ def explain_text(scene: Scene, res: Resolved) -> str:
 def _taylor_files(files: Mapping[str, str], precision) -> str:
     """Which generated Taylor source runs at ``precision`` (what --explain names)."""
     from ..numerics.inputs import Precision
-    from ..numerics.taylor import digits_real_type
 
     prec = Precision(precision)
     fallback = f"; generated/{files['taylor_py']} without a compiler)"
@@ -1407,10 +1406,10 @@ def _taylor_files(files: Mapping[str, str], precision) -> str:
     elif prec.is_quad:
         what = "__float128"
     else:
-        kind = digits_real_type(prec.prec)
-        if kind is None and "taylor_mpfr" in files:
+        arithmetic = prec.arithmetic
+        if arithmetic.name == "mpfr" and "taylor_mpfr" in files:
             return f"{files['taylor_mpfr']} (compiled Taylor integrator, MPFR" + fallback
-        what = {"dd": "double-double", "qd": "quad-double"}.get(kind or "", "MPFR in Python")
+        what = arithmetic.description if arithmetic.name != "mpfr" else "MPFR in Python"
     return f"{files['taylor_c']} (compiled Taylor integrator, {what}" + fallback
 
 
@@ -1820,13 +1819,12 @@ class SceneResult:
             )
         if self._delta_report is None:
             from ..numerics.inputs import Precision
-            from ..numerics.integrators import NUMBER_TYPES
             from .scene_delta import separatrix_delta_report
 
             rtol = self.scene.run_options.rtol
             if rtol is None:
                 prec = Precision(self.scene.run_options.precision)
-                rtol = NUMBER_TYPES[prec.kind].default_tolerances(prec)[0]
+                rtol = prec.default_tolerances[0]
             self._delta_report = separatrix_delta_report(self, float(rtol))
         return self._delta_report
 

@@ -1,10 +1,13 @@
-"""The integrator protocol: a base class that owns the public call, and the precision table.
+"""The integrator protocol: the one door every integration of the project goes through.
 
-:meth:`Integrator.run` does the bookkeeping (backend choice and set-up, the precision's
-context, timing, the finiteness check, the drift of every first integral) and calls the
-``_prepare`` and ``_solve`` hooks a method fills in (scipy ``integrate/_ivp/base.py``).
-Everything that depends on the precision is one row of :data:`NUMBER_TYPES` (heyoka's
-``fp_type``).
+A :class:`Problem` is one integration of any right-hand side the project generates (a
+model's equations, its reversed flow, its variational equations, a batch of copies:
+:mod:`~chaplygin.numerics.integrators.flows`) at one explicit
+:class:`~chaplygin.numerics.precision.Precision`. An :class:`Integrator` names the flows and
+precisions it integrates; :meth:`Integrator.solve` chooses the backend, enters the
+precision's context and calls the ``_prepare`` and ``_solve`` hooks a method fills in (scipy
+``integrate/_ivp/base.py``); :meth:`Integrator.run` adds the evidence of a model's run (timing,
+the finiteness check, the drift of every first integral).
 """
 
 from __future__ import annotations
@@ -13,7 +16,6 @@ import math
 import time
 import warnings
 from collections.abc import Callable, Mapping, Sequence
-from contextlib import AbstractContextManager, nullcontext
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
@@ -22,13 +24,12 @@ import numpy as np
 
 from ...derive.errors import UserInputError
 from ..code import ModelCode
-from ..inputs import Precision
+from ..precision import Precision
+from .flows import Flow, ModelFlow, ReversedFlow
 from .result import IntegrationResult
 
 __all__ = [
     "BACKENDS",
-    "NumberType",
-    "NUMBER_TYPES",
     "Problem",
     "Solution",
     "Integrator",
@@ -38,10 +39,7 @@ __all__ = [
 BACKENDS = ("auto", "c", "numpy")
 
 
-# --------------------------------------------------------------------------- precisions
-
-
-_SQRT_EPS_DOUBLE = float(np.sqrt(np.finfo(float).eps))
+# --------------------------------------------------------------------------- evidence
 
 #: Up to this many output points the integrals are evaluated point by point on Python floats
 #: (numpy's per-call cost on short arrays is most of a short run's evidence otherwise).
@@ -93,65 +91,6 @@ def _integral_change_mpmath(code: ModelCode, t, y, p, compiled=None) -> tuple:
     return change, [abs(v) for v in F0]
 
 
-@dataclass(frozen=True)
-class NumberType:
-    """What :func:`integrate` does differently in one kind of precision.
-
-    Attributes
-    ----------
-    kind : {"double", "quad", "digits"}
-        :attr:`Precision.kind`.
-    default_method : str
-        Key of :data:`METHODS` used when no method is given.
-    default_tolerances : callable
-        ``Precision -> (rtol, atol)``.
-    context : callable
-        ``Precision -> context manager`` in which the method runs and the drift is
-        evaluated (the mpmath working precision).
-    integral_change : callable
-        ``(code, t, y, p, compiled=None) -> (max |F(t) - F(0)|, |F(0)|)`` per integral
-        (``compiled``: the compiled model, for runs on the C backend; used in double).
-    zero : callable
-        ``Precision -> float``: an integral whose initial value is below it has no
-        meaningful relative change (the square root of the working precision).
-    """
-
-    kind: str
-    default_method: str
-    default_tolerances: Callable[[Precision], tuple[float, float]]
-    context: Callable[[Precision], AbstractContextManager]
-    integral_change: Callable[..., tuple]
-    zero: Callable[[Precision], float]
-
-
-def _mpmath_type(kind: str) -> NumberType:
-    return NumberType(
-        kind=kind,
-        default_method="taylor",
-        default_tolerances=lambda prec: (prec.min_rtol, prec.min_rtol),
-        context=lambda prec: mpmath.workdps(prec.digits),
-        integral_change=_integral_change_mpmath,
-        zero=lambda prec: 10.0 ** (-prec.digits / 2),
-    )
-
-
-#: One row per precision kind (heyoka's ``fp_type``).
-NUMBER_TYPES: dict[str, NumberType] = {
-    "double": NumberType(
-        kind="double",
-        # the generated Taylor integrator: its bits do not depend on the machine (scipy's
-        # methods sum their stages with BLAS, whose kernels differ by processor)
-        default_method="taylor",
-        default_tolerances=lambda prec: (1e-10, 1e-12),
-        context=lambda prec: nullcontext(),
-        integral_change=_integral_change_numpy,
-        zero=lambda prec: _SQRT_EPS_DOUBLE,
-    ),
-    "quad": _mpmath_type("quad"),
-    "digits": _mpmath_type("digits"),
-}
-
-
 # --------------------------------------------------------------------------- protocol
 
 
@@ -161,34 +100,55 @@ class Problem:
 
     Attributes
     ----------
-    code : ModelCode
-    y0 : list, length n_state
+    system : Flow or ModelCode
+        What is integrated (:mod:`~chaplygin.numerics.integrators.flows`); a model's code
+        stands for its :class:`~chaplygin.numerics.integrators.flows.ModelFlow`.
+    y0 : list, length n_state (a batch: array of shape (N, n_state))
     t_span : (t0, t1)
-    params : list, length n_param
+        (A batch: None; its output times are ``t_eval``.)
+    params : list, length n_param (a batch: array of shape (N, n_param))
     precision : Precision
     rtol, atol : float
-    t_eval : list or None
+    t_eval : list, StroboscopicTimes or None
+        Output times (default: the method's); a batch's
+        :class:`~chaplygin.numerics.integrators.flows.StroboscopicTimes`.
     events : list of callables or None
     options : dict
-        Method options (``taylor_options``), validated by :meth:`Integrator.check`.
+        Method options (``taylor_options``), validated by :meth:`Integrator.check`; the
+        variational equations' ``renormalise``
+        (:class:`~chaplygin.numerics.integrators.flows.Renormalisation`), a batch's
+        ``lockstep``.
     max_steps : int or None
         Step limit (None: the method's default).
     max_wall_s : float or None
         Wall-time limit in seconds (None: none).
+    dense_output : bool
+        Keep the solution between the outputs (``Solution.dense``; the Taylor method in
+        double precision).
     """
 
-    code: ModelCode
-    y0: list
-    t_span: tuple
-    params: list
+    system: Flow | ModelCode
+    y0: Any
+    t_span: tuple | None
+    params: Any
     precision: Precision
     rtol: float
     atol: float
-    t_eval: list | None = None
+    t_eval: Any = None
     events: list | None = None
     options: dict = field(default_factory=dict)
     max_steps: int | None = None
     max_wall_s: float | None = None
+    dense_output: bool = False
+
+    def __post_init__(self) -> None:
+        if isinstance(self.system, ModelCode):
+            object.__setattr__(self, "system", ModelFlow(self.system))
+
+    @property
+    def code(self) -> ModelCode:
+        """The generated code of the model the flow is made from."""
+        return self.system.code
 
 
 class BudgetExceeded(Exception):
@@ -256,10 +216,12 @@ class Budget:
 
 @dataclass
 class Solution:
-    """What an integrator's ``_solve`` hook returns; :meth:`Integrator.run` adds the evidence.
+    """What :meth:`Integrator.solve` returns; :meth:`Integrator.run` adds the evidence.
 
-    ``backend`` (when not None) replaces the one ``_prepare`` chose (the Taylor method
-    reports the library it ran on).
+    ``y`` has one column per output time (a batch: shape ``(N, count, n_state)``, its
+    points' own status and work counters in ``info``). ``backend`` (when not None) replaces
+    the one ``_prepare`` chose (the Taylor method reports the library it ran on). ``dense``
+    is the solution between the outputs when the problem asked for it.
     """
 
     t: Any
@@ -273,18 +235,22 @@ class Solution:
     t_events: list = field(default_factory=list)
     y_events: list = field(default_factory=list)
     info: dict = field(default_factory=dict)
+    dense: Any = None
 
 
 class Integrator:
     """Base of the integration methods: the public call and the bookkeeping.
 
     A method sets the class attributes and fills :meth:`_solve` (and :meth:`_prepare`
-    when it has compiled parts); :meth:`run` does the rest.
+    when it has compiled parts); :meth:`solve` and :meth:`run` do the rest.
 
     Attributes
     ----------
     name : str
-        Key in :data:`METHODS`.
+        Key in :data:`INTEGRATORS` (and :data:`METHODS` when it integrates a model's own
+        equations).
+    flows : tuple of Flow subclasses
+        The right-hand sides it integrates.
     precisions : tuple of str
         Precision kinds it works in (``double``, ``quad``, ``digits``).
     rtol_floor : mapping of str to float
@@ -298,6 +264,7 @@ class Integrator:
     """
 
     name: ClassVar[str] = ""
+    flows: ClassVar[tuple[type[Flow], ...]] = (ModelFlow,)
     precisions: ClassVar[tuple[str, ...]] = ("double",)
     backends: ClassVar[tuple[str, ...]] = ("mpmath",)
     rtol_floor: ClassVar[Mapping[str, float]] = {"double": 100.0}
@@ -351,7 +318,7 @@ class Integrator:
         if kind not in self.precisions:
             raise UserInputError(
                 f"method {self.name} works in {' or '.join(self.precisions)} precision, "
-                f'not {precision!r}; use method="{NUMBER_TYPES[kind].default_method}" or '
+                f'not {precision!r}; use method="{precision.default_method}" or '
                 + " or ".join(f'precision="{p}"' for p in self.precisions)
             )
         if events and not self.supports_events:
@@ -370,10 +337,87 @@ class Integrator:
                 f"unknown taylor option(s) {sorted(unknown)}; valid: {', '.join(self.options)}"
             )
 
+    def check_problem(self, problem: Problem, backend: str = "auto") -> None:
+        """Refuse a flow or backend this method does not integrate on.
+
+        Parameters
+        ----------
+        problem : Problem
+        backend : {"auto", "c", "numpy"}
+
+        Raises
+        ------
+        UserInputError
+            An unknown backend, or a flow outside :attr:`flows`.
+        """
+        if backend not in BACKENDS:
+            raise UserInputError(f"unknown backend {backend!r}; valid: {', '.join(BACKENDS)}")
+        if not isinstance(problem.system, self.flows):
+            raise UserInputError(
+                f"method {self.name} does not integrate {problem.system.what}; it integrates "
+                + ", ".join(flow.what for flow in self.flows)
+            )
+
+    def prepare(self, problem: Problem, backend: str = "auto") -> str:
+        """Check the problem's flow and compile or load what the method runs on.
+
+        Parameters
+        ----------
+        problem : Problem
+        backend : {"auto", "c", "numpy"}
+            Where the right-hand side runs: compiled C, numpy, or C when it is available.
+
+        Returns
+        -------
+        str
+            The backend chosen.
+
+        Raises
+        ------
+        UserInputError
+            As :meth:`check_problem`; ``backend="c"`` without a compiler.
+        """
+        self.check_problem(problem, backend)
+        with warnings.catch_warnings():
+            if backend == "auto":  # say once that the compiled code is unavailable
+                warnings.simplefilter("default")
+            return self._prepare(problem, backend)
+
+    def solve(self, problem: Problem, backend: str = "auto", *, chosen: str | None = None
+              ) -> Solution:
+        """Integrate ``problem``: the door every integration of the project goes through.
+
+        Parameters
+        ----------
+        problem : Problem
+            The flow, initial state, span, parameters, precision and tolerances.
+        backend : {"auto", "c", "numpy"}
+            Where the right-hand side runs (:meth:`prepare`).
+        chosen : str, optional
+            A backend :meth:`prepare` already chose for this problem (no second check).
+
+        Returns
+        -------
+        Solution
+            The outputs, status and message, work counters and method-specific ``info``.
+
+        Raises
+        ------
+        UserInputError
+            As :meth:`prepare`.
+        """
+        if chosen is None:
+            chosen = self.prepare(problem, backend)
+        with problem.precision.context():
+            sol = self._solve(problem, chosen)
+        if sol.backend is None:
+            sol.backend = chosen
+        return sol
+
     def run(
         self, problem: Problem, backend: str = "auto", setup_s: float = 0.0
     ) -> IntegrationResult:
-        """Integrate ``problem`` and return the result with its evidence.
+        """Integrate a model's equations and return the result with its evidence.
 
         Chooses the backend and prepares compiled parts (set-up time), runs :meth:`_solve`
         in the precision's context (wall time), flags a non-finite solution or drift and
@@ -397,21 +441,19 @@ class Integrator:
         Raises
         ------
         UserInputError
-            An unknown ``backend``.
+            An unknown ``backend``; a flow other than a model's equations (forward or
+            reversed: the evidence is the drift of the model's integrals).
         """
         start = time.perf_counter()
-        if backend not in BACKENDS:
-            raise UserInputError(f"unknown backend {backend!r}; valid: {', '.join(BACKENDS)}")
-        prec = problem.precision
-        number_type = NUMBER_TYPES[prec.kind]
-        with warnings.catch_warnings():
-            if backend == "auto":  # say once that the compiled code is unavailable
-                warnings.simplefilter("default")
-            chosen = self._prepare(problem, backend)
+        if not isinstance(problem.system, ModelFlow | ReversedFlow):
+            raise UserInputError(
+                f"run() gives the evidence of a model's run; integrate {problem.system.what} "
+                "with solve()"
+            )
+        chosen = self.prepare(problem, backend)
         setup_s += time.perf_counter() - start
         start = time.perf_counter()
-        with number_type.context(prec):
-            sol = self._solve(problem, chosen)
+        sol = self.solve(problem, chosen=chosen)
         return self._result(problem, sol, chosen, time.perf_counter() - start, setup_s)
 
     def _result(
@@ -475,10 +517,10 @@ def _drift(code: ModelCode, t, y: np.ndarray, p, precision: Precision, compiled=
     """Largest change of every first integral over the output (relative, or absolute where
     the integral starts at zero to within the square root of the working precision);
     ``compiled`` (the compiled model, runs on the C backend) evaluates them in double."""
-    number_type = NUMBER_TYPES[precision.kind]
-    with number_type.context(precision):
-        change, ref = number_type.integral_change(code, t, y, p, compiled)
-    zero = number_type.zero(precision)
+    integral_change = _integral_change_numpy if precision.is_double else _integral_change_mpmath
+    with precision.context():
+        change, ref = integral_change(code, t, y, p, compiled)
+    zero = precision.zero
     drift, absolute = {}, []
     for i, name in enumerate(code.integral_names):
         if ref[i] <= zero:

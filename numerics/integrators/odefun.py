@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import mpmath
 import numpy as np
 
 from .base import Budget, BudgetExceeded, Integrator, Problem, Solution
+from .flows import ModelFlow, ReversedFlow
 
 __all__ = ["MpmathOdefun"]
 
@@ -14,15 +17,33 @@ class MpmathOdefun(Integrator):
     """``mpmath.odefun``: mpmath's Taylor-series method at the working precision (baseline).
 
     Kept for comparison with :class:`TaylorMethod`; it ignores rtol/atol (it works to the
-    full working precision) and supports no events.
+    full working precision) and supports no events. ``mpmath.odefun`` only runs forward: a
+    backward span of a model's equations is the forward span of its
+    :class:`~chaplygin.numerics.integrators.flows.ReversedFlow` (``s = -t``).
     """
 
     name = "odefun"
+    flows = (ModelFlow, ReversedFlow)
     precisions = ("quad", "digits")
     rtol_floor = {"quad": 10.0, "digits": 10.0}
 
     def _solve(self, problem: Problem, backend: str) -> Solution:
-        rhs, p = problem.code.mpmath.rhs, problem.params
+        t0, t1 = (mpmath.mpf(v) for v in problem.t_span)
+        if t1 < t0:  # backward: the reversed flow forward, its times s = -t
+            mirrored = dataclasses.replace(
+                problem,
+                system=_reversed(problem.system),
+                t_span=(-t0, -t1),
+                t_eval=None if problem.t_eval is None else [-mpmath.mpf(t) for t in problem.t_eval],
+            )
+            sol = self._forward(mirrored)
+            sol.t = np.array([-t for t in sol.t], dtype=object)
+            return sol
+        return self._forward(problem)
+
+    @staticmethod
+    def _forward(problem: Problem) -> Solution:
+        rhs, p = problem.system.mpmath_rhs(), problem.params
         budget = Budget(problem.max_steps, problem.max_wall_s, f"max_steps={problem.max_steps}")
 
         def F(t, y):
@@ -52,3 +73,10 @@ class MpmathOdefun(Integrator):
             nfev=budget.calls,
             nsteps=len(times) - 1,
         )
+
+
+def _reversed(flow):
+    """The flow with the other direction of time."""
+    if isinstance(flow, ReversedFlow):
+        return ModelFlow(flow.code)
+    return ReversedFlow(flow.code)

@@ -1,4 +1,9 @@
-"""scipy's ``solve_ivp`` methods, in double precision on the generated right-hand side."""
+"""scipy's ``solve_ivp`` methods, in double precision on the generated right-hand side.
+
+They integrate a model's equations and its reversed flow; the explicit ones (RK45, DOP853)
+also the variational equations (the numpy module's ``rhs`` and ``jac``: what the compiled
+DOP853 of :mod:`~chaplygin.numerics.integrators.dop853_c` falls back to without a compiler).
+"""
 
 from __future__ import annotations
 
@@ -9,6 +14,7 @@ from scipy.integrate import solve_ivp
 
 from ...derive.errors import UserInputError
 from .base import Budget, BudgetExceeded, Integrator, Problem, Solution
+from .flows import ModelFlow, ReversedFlow, VariationalFlow
 
 __all__ = ["ScipyMethod", "RK45", "DOP853", "LSODA", "Radau", "BDF"]
 
@@ -29,6 +35,7 @@ class ScipyMethod(Integrator):
     numpy right-hand side; implicit methods get the generated Jacobian."""
 
     implicit: ClassVar[bool] = False
+    flows = (ModelFlow, ReversedFlow)
     supports_events = True
     backends = ("c", "numpy")
     #: steps allowed by default (``max_steps``)
@@ -38,6 +45,8 @@ class ScipyMethod(Integrator):
     calls_per_step: ClassVar[int] = 20
 
     def _prepare(self, problem: Problem, backend: str) -> str:
+        if isinstance(problem.system, VariationalFlow):
+            return "numpy"  # the numpy module's rhs and jac (the compiled ones are in C)
         if backend == "numpy":
             return "numpy"
         chosen = "c" if problem.code.compiled() is not None else "numpy"
@@ -46,24 +55,24 @@ class ScipyMethod(Integrator):
         return chosen
 
     def _solve(self, problem: Problem, backend: str) -> Solution:
-        code = problem.code
+        flow = problem.system
         kwargs = {}
         if problem.events:
             kwargs["events"] = [_scipy_event(g) for g in problem.events]
-        lib = code.compiled() if backend == "c" else code.numpy
+        rhs, jac = flow.double_rhs(backend)
         if self.implicit:
-            kwargs["jac"] = lib.jac
+            kwargs["jac"] = jac
         steps = problem.max_steps or self.default_max_steps
         budget = Budget(steps * self.calls_per_step, problem.max_wall_s, f"max_steps={steps}")
         y0 = np.asarray(problem.y0, dtype=float)
         try:
             sol = solve_ivp(
-                budget.wrap(lib.rhs),
+                budget.wrap(rhs),
                 problem.t_span,
                 y0,
                 method=self.name,
                 rtol=problem.rtol,
-                atol=problem.atol,
+                atol=flow.atol(problem.atol, y0.size),
                 args=(np.asarray(problem.params, dtype=float),),
                 t_eval=problem.t_eval,
                 **kwargs,
@@ -78,7 +87,7 @@ class ScipyMethod(Integrator):
                 nsteps=budget.calls // self.calls_per_step,
             )
         message = sol.message
-        if sol.status != 0:
+        if sol.status != 0 and not isinstance(flow, VariationalFlow):
             message += "; try a smaller rtol/atol, an implicit method (Radau, LSODA) or more digits"
         return Solution(
             t=sol.t,
@@ -97,6 +106,7 @@ class RK45(ScipyMethod):
     """scipy's explicit Runge-Kutta 5(4) (Dormand-Prince)."""
 
     name = "RK45"
+    flows = (ModelFlow, ReversedFlow, VariationalFlow)
     calls_per_step = 6
 
 
@@ -104,6 +114,7 @@ class DOP853(ScipyMethod):
     """scipy's explicit Runge-Kutta 8(5,3) (Hairer's DOP853)."""
 
     name = "DOP853"
+    flows = (ModelFlow, ReversedFlow, VariationalFlow)
     calls_per_step = 12
 
 

@@ -44,7 +44,7 @@ _PUBLIC: dict[str, str] = {
     "Propagator": "numerics.propagator:Propagator",
     "IntegrationResult": "numerics.integrate:IntegrationResult",
     "METHODS": "numerics.integrate:METHODS",
-    "Precision": "numerics.inputs:Precision",
+    "Precision": "numerics.precision:Precision",
     "load_model_code": "numerics.code:load_model_code",
     "delta": "numerics.separatrix:delta_three_ways",
     "torus_quadratures": "numerics.quadratures:torus_quadratures",

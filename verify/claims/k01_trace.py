@@ -430,7 +430,7 @@ def _meridian_angles(off: float) -> tuple[np.ndarray, float]:
     """
     from chaplygin.numerics.code import load_model_code
     from chaplygin.numerics.separatrix import separatrix_quantities, separatrix_state
-    from chaplygin.numerics.taylor import taylor_dense
+    from chaplygin.numerics.trace_geometry import dense_solution
 
     code = load_model_code(BALL, ("contact_point",))
     p = np.array([*I135, D1, 1.0])
@@ -438,7 +438,7 @@ def _meridian_angles(off: float) -> tuple[np.ndarray, float]:
     if off == 0:
         y0 = np.array([float(v) for v in separatrix_state(I135, D1, C1)])
         runs = [
-            (taylor_dense(code, y0, span, p, rtol=RTOL, atol=RTOL), span)
+            (dense_solution(code, y0, span, p, RTOL), span)
             for span in ((0.0, LOX_WINDOW / lam), (0.0, -LOX_WINDOW / lam))
         ]
     else:

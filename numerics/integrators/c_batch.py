@@ -1,0 +1,232 @@
+"""The compiled batch drivers: many points of a time-periodic model in one C call.
+
+The DOP853 batch (``numerics/templates/batch_map.c`` with the DOP853 tableau of
+``variational.c``; four points at a time in GCC vector lanes where the model's right-hand side
+has a vector form, bit-identical to one point after another) and the Taylor batch
+(``taylor_batch_map.c``: the model's generated Taylor integrator per point). Sources from
+:mod:`chaplygin.numerics.batch_source`; the integrators that call them are
+:class:`~chaplygin.numerics.integrators.dop853_c.CompiledDOP853` and
+:class:`~chaplygin.numerics.integrators.taylor_method.TaylorMethod`.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from collections.abc import Callable
+from typing import Any
+
+import cffi
+import numpy as np
+
+from ..batch_source import (
+    BATCH_CFLAGS,
+    NATIVE_CFLAGS,
+    batch_source,
+    cpu_identity,
+    taylor_batch_source,
+)
+from ..ccompile import CacheError, CompilationError, CompilerError, compile_c
+from ..code import ModelCode
+from ..compiled import CompilerUnavailableWarning
+from .base import Problem, Solution
+
+__all__ = [
+    "STATUS_MESSAGES",
+    "batch_library",
+    "cached_library",
+    "lockstep_available",
+    "run_batch",
+    "taylor_batch_library",
+]
+
+_CDEF = """
+void chaplygin_batch_map(long N, const double *Y0, const double *P, const double *T0,
+                         const double *TAU_HI, const double *TAU_LO, long transient,
+                         long n_record, double rtol, double atol, long max_steps, double *OUT,
+                         double *STATS, int *STATUS);
+void chaplygin_batch_map_lockstep(long N, const double *Y0, const double *P, const double *T0,
+                                  const double *TAU_HI, const double *TAU_LO, long transient,
+                                  long n_record, double rtol, double atol, long max_steps,
+                                  double *OUT, double *STATS, int *STATUS);
+void chaplygin_taylor_batch_map(long N, const double *Y0, const double *P, const double *T0,
+                                const double *TAU_HI, const double *TAU_LO, long transient,
+                                long n_record, double rtol, double atol, long max_steps,
+                                double *OUT, double *STATS, int *STATUS);
+"""
+
+_ffi = cffi.FFI()
+_ffi.cdef(_CDEF)
+
+#: Meaning of a point's status.
+STATUS_MESSAGES = {
+    0: "done",
+    1: "the step limit of one period was reached (max_steps)",
+    2: "the step size underflowed: the solution is probably singular here",
+    3: "a non-finite value appeared in the state",
+    4: "out of memory",
+}
+
+_LIBRARIES: dict[str, Any] = {}
+_TAYLOR_LIBRARIES: dict[str, Any] = {}
+_LOCKSTEP: dict[str, bool] = {}
+
+
+def cached_library(
+    cache: dict[str, Any], code: ModelCode, build: Callable[[], Any], unavailable: str
+) -> Any | None:
+    """A compiled library of ``code``, built once per process by ``build``; None (also kept)
+    after a :class:`CompilerUnavailableWarning` when the compiler fails or is missing.
+
+    Parameters
+    ----------
+    cache : dict
+        Libraries by model hash.
+    code : ModelCode
+    build : callable
+        Compiles and loads the library (may return None: nothing to build).
+    unavailable : str
+        The warning, with ``{exc}`` for the compiler's error.
+
+    Returns
+    -------
+    cffi library or None
+
+    Raises
+    ------
+    CacheError
+        Cache directory problems (the user's to fix).
+    """
+    if code.hash in cache:
+        return cache[code.hash]
+    try:
+        lib = build()
+    except CacheError:
+        raise
+    except (CompilerError, OSError) as exc:
+        warnings.warn(unavailable.format(exc=exc), CompilerUnavailableWarning, stacklevel=4)
+        lib = None
+    cache[code.hash] = lib
+    return lib
+
+
+def batch_library(code: ModelCode) -> Any | None:
+    """The compiled DOP853 batch library of ``code`` (:func:`cached_library`).
+
+    Parameters
+    ----------
+    code : ModelCode
+
+    Returns
+    -------
+    cffi library or None
+    """
+
+    def build() -> Any:
+        source, has_lanes = batch_source(code)
+        lib = _compile_native(source)
+        _LOCKSTEP[code.hash] = has_lanes
+        return lib
+
+    return cached_library(
+        _LIBRARIES, code, build,
+        "the compiled batch map is unavailable ({exc}); use StroboscopicMap per point",
+    )  # fmt: skip
+
+
+def _compile_native(source: str) -> Any:
+    """Compile ``source`` with :data:`NATIVE_CFLAGS` (else :data:`BATCH_CFLAGS`) and load it."""
+    try:
+        native = (*NATIVE_CFLAGS, f"-DCHAPLYGIN_CPU_ID=cpu_{cpu_identity()}")
+        path = compile_c(source, cflags=native)
+    except CompilationError:  # e.g. a compiler without -march=native
+        path = compile_c(source, cflags=BATCH_CFLAGS)
+    return _ffi.dlopen(str(path))
+
+
+def lockstep_available(code: ModelCode) -> bool:
+    """Whether the DOP853 batch library of ``code`` has the vector-lane driver (the model's
+    right-hand side calls only sin, cos, exp, log, sqrt, fabs).
+
+    Parameters
+    ----------
+    code : ModelCode
+
+    Returns
+    -------
+    bool
+    """
+    return _LOCKSTEP.get(code.hash, False)
+
+
+def taylor_batch_library(code: ModelCode) -> Any | None:
+    """The compiled Taylor batch library of ``code`` (:func:`cached_library`), compiled with
+    the default flags; None also without generated Taylor code.
+
+    Parameters
+    ----------
+    code : ModelCode
+
+    Returns
+    -------
+    cffi library or None
+    """
+
+    def build() -> Any:
+        source = taylor_batch_source(code)
+        # the flags of the single-point Taylor library (-O2): -O3 (with or without
+        # -march=native) made it about 1.6 times slower here (vectorised short recurrences)
+        return None if source is None else _ffi.dlopen(str(compile_c(source)))
+
+    return cached_library(
+        _TAYLOR_LIBRARIES, code, build,
+        "the compiled Taylor batch map is unavailable ({exc}); use StroboscopicMap",
+    )  # fmt: skip
+
+
+def run_batch(driver: Any, problem: Problem) -> tuple[Solution, np.ndarray]:
+    """Call one batch driver on a problem of a
+    :class:`~chaplygin.numerics.integrators.flows.Batch`.
+
+    Parameters
+    ----------
+    driver : cffi function
+        ``chaplygin_batch_map``, ``chaplygin_batch_map_lockstep`` or
+        ``chaplygin_taylor_batch_map``.
+    problem : Problem
+        ``y0`` (N, n_state) and ``params`` (N, n_param) C-contiguous float64 arrays,
+        ``t_eval`` a :class:`~chaplygin.numerics.integrators.flows.StroboscopicTimes`.
+
+    Returns
+    -------
+    (Solution, ndarray)
+        The map points ``y`` (N, count, n_state), the points' status in ``info["status"]``
+        and the wall time in ``info["wall_s"]``; and the driver's STATS (N, 3).
+    """
+    Y0, P, times = problem.y0, problem.params, problem.t_eval
+    N, n_state = Y0.shape
+    omega = P[:, problem.code.params.index("Omega")]
+    tau_hi, tau_lo = times.periods(omega)
+    out = np.empty((N, times.count, n_state))
+    stats = np.zeros((N, 3))
+    status = np.zeros(N, dtype=np.int32)
+
+    def buf(a: np.ndarray, kind: str = "double[]") -> Any:
+        return _ffi.from_buffer(kind, a, require_writable=False)
+
+    start = time.perf_counter()
+    driver(
+        N, buf(Y0), buf(P), buf(times.t0), buf(tau_hi), buf(tau_lo), times.transient,
+        times.count, problem.rtol, problem.atol, problem.max_steps, buf(out), buf(stats),
+        buf(status, "int[]"),
+    )  # fmt: skip
+    wall = time.perf_counter() - start
+    sol = Solution(
+        t=None,
+        y=out,
+        status=0,
+        message="done",
+        nfev=0,
+        info={"status": status, "wall_s": wall, "periods": times.transient + times.count - 1},
+    )
+    return sol, stats
