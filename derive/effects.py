@@ -1,15 +1,20 @@
 """Effects: structural options that apply themselves to a mechanical description.
 
-An effect is an object: :meth:`Effect.apply` adds its kinetic-energy terms, constraints,
-kinematics, states, parameters, integrals and references to a
-:class:`~.description.MechanicalDescription`; an effect that is off contributes nothing.
+An effect is an object: :meth:`Effect.apply` adds its kinetic-energy and potential terms,
+constraints (and the invariant relations they give), kinematics, states, parameters and
+integrals to a :class:`~.description.MechanicalDescription` as data, and
+:attr:`Effect.references` are the claims it cites; an effect that is off contributes
+nothing. The step that derives the model (:func:`~.description.form_model`) reads only
+that data, never an effect's name.
+
 Each system lists the effects it supports; :func:`parse_effects` checks the names, the
 conflicts (``excludes``) and the requirements (``requires``) before any derivation
 starts. Numeric parameter values are never part of an effect.
 
-Adding an effect: write a subclass here with its ``apply``, put an instance in
-:data:`EFFECTS` and its name in the ``SUPPORTED_EFFECTS`` of the systems that take it
-(see "How to add an effect or a system" in the README).
+Adding an effect: write a subclass here with its ``apply`` (``desc.add_*`` calls only),
+put an instance in :data:`EFFECTS` (with the references it ``cites``) and its name in the
+``SUPPORTED_EFFECTS`` of the systems that take it (see "How to add an effect or a system"
+in the README).
 """
 
 from __future__ import annotations
@@ -44,6 +49,9 @@ class Effect:
         Effects it needs (checked by :func:`parse_effects`).
     excludes : tuple of str
         Effects it cannot be combined with (checked both ways by :func:`parse_effects`).
+    cites : tuple of (str, str)
+        Model references it sets (``("equations", "K01-4.1")`` ...), after those of the
+        base description; a system may give its own (``effect_references``).
     """
 
     name: str
@@ -51,6 +59,12 @@ class Effect:
     adds: str
     requires: tuple[str, ...] = ()
     excludes: tuple[str, ...] = ()
+    cites: tuple[tuple[str, str], ...] = ()
+
+    @property
+    def references(self) -> dict[str, str]:
+        """The references it sets, as a dict (see ``cites``)."""
+        return dict(self.cites)
 
     def apply(self, desc: MechanicalDescription) -> None:
         """Add this effect's terms, constraints, states and parameters to ``desc``.
@@ -75,7 +89,7 @@ class Gyrostat(Effect):
         Parameters
         ----------
         desc : MechanicalDescription
-            Modified in place: kinetic energy, parameter ``K``, references.
+            Modified in place: kinetic energy, parameter ``K``.
 
         References
         ----------
@@ -86,7 +100,6 @@ class Gyrostat(Effect):
         desc.add_parameter(
             ParameterSpec("K", tuple(K), "real", "constant gyrostatic momentum K1, K2, K3")
         )
-        desc.references.update(equations="K01-4.1", integrals="K01-4.2")
 
 
 class ContactPoint(Effect):
@@ -99,7 +112,8 @@ class ContactPoint(Effect):
         ----------
         desc : MechanicalDescription
             Modified in place: frame ``alpha, beta``, states ``x, y`` moving with the
-            centre velocity projected on ``alpha`` and ``beta``, parameter ``b``.
+            centre velocity ``v`` projected on ``alpha`` and ``beta`` (put on the admissible
+            velocities when the model is made), parameter ``b``.
 
         References
         ----------
@@ -111,8 +125,8 @@ class ContactPoint(Effect):
         alpha, beta = desc.vectors["alpha"], desc.vectors["beta"]
         # The contact point lies under the centre: its horizontal coordinates move with
         # the centre velocity projected on the space-fixed axes (BKM12-6).
-        desc.add_state("x", (x,), lambda red: [sp.expand(dot(desc.centre_velocity(red), alpha))])
-        desc.add_state("y", (y,), lambda red: [sp.expand(dot(desc.centre_velocity(red), beta))])
+        desc.add_state("x", (x,), [dot(desc.v, alpha)])
+        desc.add_state("y", (y,), [dot(desc.v, beta)])
         desc.add_parameter(ParameterSpec("b", (b,), "positive", "ball radius"))
         # a state given without the frame gets BKM12-7's; the contact point starts at 0
         desc.add_completion(("alpha", "beta"), "frame_bkm12_7")
@@ -129,10 +143,10 @@ class Rubber(Effect):
         Parameters
         ----------
         desc : MechanicalDescription
-            Modified in place: the constraint (its reaction along ``gamma``) and a reference.
+            Modified in place: the constraint (its reaction along ``gamma``) and the
+            invariant relation ``(omega,gamma)`` it gives.
         """
         desc.add_constraint(dot(desc.omega, desc.vectors["gamma"]), reacts_along="gamma")
-        desc.references["rubber"] = "BKM12 §3 (rubber ball)"
 
 
 class StraightLine(Effect):
@@ -145,7 +159,7 @@ class StraightLine(Effect):
         ----------
         desc : MechanicalDescription
             Modified in place: frame ``alpha, beta``, the constraint (its reaction along
-            ``alpha``) and a reference.
+            ``alpha``) and the invariant relation ``(omega,alpha)`` it gives.
 
         References
         ----------
@@ -154,12 +168,14 @@ class StraightLine(Effect):
         desc.add_frame()
         desc.add_constraint(dot(desc.omega, desc.vectors["alpha"]), reacts_along="alpha")
         desc.add_completion(("alpha", "beta"), "frame_bkm12_7")
-        desc.references["straight_line"] = "BKM12-57"
+
+
+#: What both periodic effects cite (no energy integral: T depends on time, BM20-2.6).
+_PERIODIC_CITES = (("equations", "BM20-2.5"), ("omega", "BM20-2.5"), ("integrals", "BM20-2.5int"))
 
 
 def _periodic(desc: MechanicalDescription) -> None:
-    """What both periodic effects share: the frequency ``Omega`` (with BM20's laws), no
-    energy integral (the parameters do work when they change, BM20-2.6), BM20's refs."""
+    """What both periodic effects share: the frequency ``Omega`` (with BM20's laws)."""
     if desc.laws == "bm20":
         desc.add_parameter(
             ParameterSpec(
@@ -169,8 +185,6 @@ def _periodic(desc: MechanicalDescription) -> None:
                 "angular frequency of the periodic parameters (BM20-3.4, 3.5)",
             )
         )
-    desc.conservative = False
-    desc.references.update(equations="BM20-2.5", omega="BM20-2.5", integrals="BM20-2.5int")
 
 
 class VariableInertia(Effect):
@@ -182,13 +196,14 @@ class VariableInertia(Effect):
         With ``desc.laws == "generic"`` the moments become undefined functions ``I1(t),
         I2(t), I3(t)`` and the parameter ``I`` is removed; otherwise they follow BM20's
         moving mass pair and the parameters ``J_off``, ``delta`` (and ``Omega``) are added.
-        The density is switched off and the system is marked non-conservative.
+        ``T`` then depends on time: the model has no energy integral, and the density
+        ``det(X)^-1/2`` of the constant inertia, which would depend on time, is not shipped
+        (see :class:`~.rigid_body.RigidBodyReduction`).
 
         Parameters
         ----------
         desc : MechanicalDescription
-            Modified in place: ``inertia``, parameters, ``has_density``, ``conservative``,
-            references.
+            Modified in place: ``inertia``, ``moments``, parameters.
 
         References
         ----------
@@ -197,13 +212,14 @@ class VariableInertia(Effect):
         t = desc.time
         Iv = vector("I", positive=True)
         if desc.laws == "generic":  # every law: undefined functions of time
-            desc.inertia = [sp.Function(f"I{i}", positive=True)(t) for i in (1, 2, 3)]
+            desc.inertia = sp.diag(*[sp.Function(f"I{i}", positive=True)(t) for i in (1, 2, 3)])
+            desc.moments = ()
             desc.remove_parameter("I")
         else:  # a pair of masses moving along C x2 (BM20-3.4)
             J_off, delta = sp.symbols("J_off delta", real=True)
             Omega = sp.Symbol("Omega", positive=True)
             offset = (J_off + delta * sp.sin(Omega * t)) ** 2
-            desc.inertia = [Iv[0] + offset, Iv[1], Iv[2] + offset]
+            desc.inertia = sp.diag(Iv[0] + offset, Iv[1], Iv[2] + offset)
             desc.add_parameter(
                 ParameterSpec(
                     "I",
@@ -224,9 +240,6 @@ class VariableInertia(Effect):
                     "delta", (delta,), "real", "amplitude of the mass pair's motion (BM20-3.4)"
                 )
             )
-        # X = D^-1 - (gamma, A(t) gamma) depends on time: det(X)^-1/2 is not invariant
-        # (its explicit time derivative is left over), and no density is known.
-        desc.has_density = False
         _periodic(desc)
 
 
@@ -237,14 +250,14 @@ class VariableGyrostat(Effect):
     def apply(self, desc: MechanicalDescription) -> None:
         """Add ``(k(t), omega)`` to ``T`` with ``k(t) = K sin(Omega t)`` (BM20-3.5).
 
-        With ``desc.laws == "generic"`` ``k`` is three undefined functions of time; the
-        state ``M`` becomes the total momentum and the system non-conservative.
+        With ``desc.laws == "generic"`` ``k`` is three undefined functions of time. The
+        state ``M`` includes ``k(t)`` (the total momentum); ``T`` depends on time, so the
+        model has no energy integral.
 
         Parameters
         ----------
         desc : MechanicalDescription
-            Modified in place: kinetic energy, ``gyrostatic_momentum_of_time``,
-            ``total_momentum``, parameters, references.
+            Modified in place: kinetic energy, ``momentum_in_state``, parameters.
 
         References
         ----------
@@ -264,9 +277,8 @@ class VariableGyrostat(Effect):
                     "amplitude K of the gyrostatic momentum k(t) = K sin(Omega t) (BM20-3.5)",
                 )
             )
-        desc.gyrostatic_momentum_of_time = k
         desc.add_kinetic_energy(dot(k, desc.omega))
-        desc.total_momentum = True
+        desc.add_momentum_in_state(k)
         _periodic(desc)
 
 
@@ -305,8 +317,8 @@ class Potential(Effect):
         Parameters
         ----------
         desc : MechanicalDescription
-            Modified in place: potential, parameters ``k`` and ``c``, the integral ``K``
-            and a reference. Needs the state group ``x`` and the parameter ``b`` of the
+            Modified in place: potential, parameters ``k`` and ``c``, the integral ``K``.
+            Needs the state group ``x`` and the parameters ``m, m_e, R, b`` of the
             ball-on-ellipsoid model.
 
         References
@@ -315,7 +327,7 @@ class Potential(Effect):
         """
         x = desc.state_group("x")
         b = desc.parameters["b"].symbols
-        m, m_e, R = sp.symbols("m m_e R", positive=True)  # declared by the surface model
+        ((m,), (m_e,), (R,)) = (desc.parameters[n].symbols for n in ("m", "m_e", "R"))
         k = sp.Symbol("k", real=True)
         c = sp.Matrix(sp.symbols("c1:4", real=True))
         desc.add_potential(ellipsoid_potential(x, k, c))
@@ -328,7 +340,6 @@ class Potential(Effect):
         bracket = k - sum((c[i] / (b[i] * x[i] ** 2) for i in range(3)), sp.S.Zero) / quadric
         weighted = sum((x[i] ** 2 / b[i] ** 2 for i in range(3)), sp.S.Zero)
         desc.add_integral("K", -weighted * bracket / ((m + m_e) * R**2))
-        desc.references["integrals"] = "M03-1.7"
 
 
 class RubberBalls(Effect):
@@ -341,17 +352,15 @@ class RubberBalls(Effect):
         Parameters
         ----------
         desc : MechanicalDescription
-            Modified in place: one constraint per body in ``desc.bodies``,
-            ``free_spins = False`` and a reference.
+            Modified in place: one constraint per body in ``desc.bodies``; it fixes the
+            ball's spin, which the reduction then no longer takes as a free quasi-velocity.
 
         References
         ----------
         BKM12-39.
         """
-        for w, n in desc.bodies:
+        for w, n, _, _ in desc.bodies:
             desc.add_constraint(dot(desc.omega - w, n))
-        desc.free_spins = False
-        desc.references["rubber_balls"] = "BKM12-2.2"
 
 
 EFFECTS: dict[str, Effect] = {
@@ -363,12 +372,14 @@ EFFECTS: dict[str, Effect] = {
             "(K01 §4, BKM12 §2.3)",
             "parameters K1, K2, K3; the term (K, omega) in T",
             excludes=("variable_gyrostat",),
+            cites=(("equations", "K01-4.1"), ("integrals", "K01-4.2")),
         ),
         VariableInertia(
             "variable_inertia",
             "periodically varying inertia I(t) = diag(I1 + (J_off + delta sin(Omega t))^2, I2, "
             "I3 + (J_off + delta sin(Omega t))^2) (BM20 (3.4): two masses moving along Cx2)",
             "parameters J_off, delta, Omega; I becomes the constant part",
+            cites=_PERIODIC_CITES,
         ),
         VariableGyrostat(
             "variable_gyrostat",
@@ -376,6 +387,7 @@ EFFECTS: dict[str, Effect] = {
             "the state M is then BM20's total momentum I omega + D gamma x (omega x gamma) + k",
             "parameters K1, K2, K3, Omega; excludes the constant gyrostat",
             excludes=("gyrostat",),
+            cites=_PERIODIC_CITES,
         ),
         ContactPoint(
             "contact_point",
@@ -388,24 +400,28 @@ EFFECTS: dict[str, Effect] = {
             "no twist at the contact: the extra constraint (omega, gamma) = 0 (rubber ball, "
             "BKM12 §3); its multiplier is eliminated by the engine",
             "no new states or parameters; (M, M) is no longer an integral",
+            cites=(("rubber", "BKM12 §3 (rubber ball)"),),
         ),
         StraightLine(
             "straight_line",
             "the ball rolls along a straight line of the plane: the extra constraint "
             "(omega, alpha) = 0 (Veselovs' system, BKM12 §3, (57)-(58))",
             "states alpha, beta (the space-fixed horizontal frame)",
+            cites=(("straight_line", "BKM12-57"),),
         ),
         Potential(
             "potential",
             "the potential U = k (x, x)/2 + sum_i c_i/(2 x_i^2) acting on the centre "
             "(M03 (1.6)); the integral K takes its term (M03 (1.7))",
             "parameters k, c1, c2, c3",
+            cites=(("integrals", "M03-1.7"),),
         ),
         RubberBalls(
             "rubber_balls",
             "the supporting balls roll without slipping and without twisting (BKM12 §2.2): "
             "the support tensor becomes sum_k lambda_k (1/r_k^2 - 1) n_k ⊗ n_k",
             "no new states; the support parameters keep their meaning (modified D tensor)",
+            cites=(("rubber_balls", "BKM12-2.2"),),
         ),
     )
 }
