@@ -2,12 +2,13 @@
 
 The shape is sympy's ``physics.mechanics.System``: a system module writes its base
 description (kinetic energy, constraints, kinematics, states, parameters, the *reduction
-stage* that derives its equations), each chosen effect adds to it with ``add_*``
-(:meth:`~.effects.Effect.apply`), and :func:`form_model` — the one finishing step of every
-system — runs the declared stage and makes the :class:`~.model.Model` of what it derived
-and of what the description declares. Everything an effect adds is data in the
-description (states, parameters, integrals, invariant relations, constraints, kinetic and
-potential terms, kinematics, references); no step reads an effect's name.
+stage* that derives its equations) with ``add_*``; each chosen effect declares what it adds
+(a :class:`~.declaration.Declaration`: states, parameters, integrals, constraints and the
+invariant relations they are, kinetic and potential terms, Poisson vectors) and the
+description merges it (:meth:`MechanicalDescription.add`). :func:`form_model` — the one
+finishing step of every system — runs the declared stage and makes the
+:class:`~.model.Model` of what it derived and of what the description declares; no step
+reads an effect's name.
 
 A stage is an object with ``reduce(desc) -> Reduced``: the rolling rigid body of the
 Chaplygin ball (:class:`~.rigid_body.RigidBodyReduction`, Lagrange–d'Alembert in the body
@@ -27,10 +28,11 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, NamedTuple, Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import sympy as sp
 
+from .declaration import Constraint, Declaration, StateGroup
 from .effects import EFFECTS
 from .errors import DerivationError
 from .geometry import FRAME, UNIT_VECTOR, PoissonGroup
@@ -49,29 +51,13 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = [
     "MechanicalDescription",
     "StateGroup",
+    "Constraint",
+    "Declaration",
     "Reduced",
     "Reduction",
     "apply_effects",
     "form_model",
 ]
-
-
-class StateGroup(NamedTuple):
-    """A named group of state symbols and its rate.
-
-    Attributes
-    ----------
-    name : str
-    symbols : tuple of sympy.Symbol
-    rate : tuple of sympy.Expr or None
-        The time derivative of each symbol; None when the reduction stage derives it
-        (the momentum ``M`` of a rigid body ...). A rate written in the reference-point
-        velocity ``v`` is put on the admissible velocities by :func:`form_model`.
-    """
-
-    name: str
-    symbols: tuple[sp.Symbol, ...]
-    rate: tuple[sp.Expr, ...] | None
 
 
 @dataclass(frozen=True)
@@ -232,6 +218,53 @@ class MechanicalDescription:
     sampler: PhaseSpaceSampler | None = None
 
     # ------------------------------------------------------------------ add_*
+    def add(self, declaration: Declaration) -> None:
+        """Merge what an effect declares (:class:`~.declaration.Declaration`).
+
+        Parameter groups it redeclares are dropped first; then its parameters, its
+        kinetic and potential terms, its Poisson vectors (those not there yet), its
+        constraints (with the invariant relations of those on omega alone), its states,
+        integrals, phase-space constraints, inertia and moments, the momentum the state
+        includes and its completion rules are added, each by the ``add_*`` method of
+        the same name.
+
+        Parameters
+        ----------
+        declaration : Declaration
+
+        Raises
+        ------
+        DerivationError
+            For a state group or an invariant relation added twice, or a parameter group
+            declared again differently without being redeclared.
+        """
+        d = declaration
+        for name in d.redeclared_parameters:
+            self.remove_parameter(name)
+        for spec in d.parameters:
+            self.add_parameter(spec)
+        self.add_kinetic_energy(d.kinetic_energy)
+        self.add_potential(d.potential)
+        for name in d.poisson_vectors:
+            if name not in self.kinematics:
+                self.add_poisson_vector(name)
+        for constraint in d.constraints:
+            self.add_constraint(constraint.expr, constraint.reacts_along)
+        for group in d.states:
+            self.add_state(group.name, group.symbols, group.rate)
+        for name, expr in d.integrals:
+            self.add_integral(name, expr)
+        for expr in d.phase_space:
+            self.add_phase_space_constraint(expr)
+        if d.inertia is not None:
+            self.inertia = d.inertia
+        if d.moments is not None:
+            self.moments = tuple(d.moments)
+        if d.momentum_in_state is not None:
+            self.add_momentum_in_state(d.momentum_in_state)
+        for groups, rule in d.completion:
+            self.add_completion(groups, rule)
+
     def add_kinetic_energy(self, term: sp.Expr) -> None:
         """Add a term to ``T``.
 
@@ -512,8 +545,9 @@ def apply_effects(
 ) -> None:
     """Apply the chosen effects to ``desc`` in the system's order.
 
-    Each effect adds its data (:meth:`~.effects.Effect.apply`) and its references, then
-    the references the system gives for it (:attr:`MechanicalDescription.effect_references`).
+    Each effect's declaration is merged (:meth:`~.effects.Effect.apply`), with the
+    references it cites and those the system gives for it
+    (:attr:`MechanicalDescription.effect_references`).
 
     Parameters
     ----------
@@ -526,10 +560,7 @@ def apply_effects(
     chosen = set(effects)
     for name in order:
         if name in chosen:
-            effect = EFFECTS[name]
-            effect.apply(desc)
-            desc.references.update(effect.references)
-            desc.references.update(desc.effect_references.get(name, {}))
+            EFFECTS[name].apply(desc)
 
 
 def _rates(desc: MechanicalDescription, reduced: Reduced) -> list[sp.Expr]:

@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import ast
+import dataclasses
+from pathlib import Path
+
 import pytest
 import sympy as sp
 from chaplygin.derive import (
@@ -11,11 +15,19 @@ from chaplygin.derive import (
     chaplygin_ball,
     spherical_support,
 )
-from chaplygin.derive.description import apply_effects, form_model
+from chaplygin.derive.declaration import Declaration
+from chaplygin.derive.description import (
+    MechanicalDescription,
+    Reduced,
+    apply_effects,
+    form_model,
+)
 from chaplygin.derive.effects import EFFECTS, Effect
 from chaplygin.derive.model import ParameterSpec
 from chaplygin.derive.support_derivation import spins_are_free
 from chaplygin.derive.vectors import cross, dot, vector
+
+DERIVE = Path(chaplygin_ball.__file__).resolve().parent
 
 
 def _without_effects_line(model) -> list[str]:
@@ -77,14 +89,16 @@ def test_energy_is_an_integral_exactly_when_T_does_not_depend_on_time():
 class _AxialRotor(Effect):
     """A toy effect: a rotor about body axis 3, ``T += kappa omega_3``."""
 
-    def apply(self, desc):
+    def declare(self, desc):
         kappa = sp.Symbol("kappa", real=True)
-        desc.add_kinetic_energy(kappa * desc.omega[2])
-        desc.add_parameter(ParameterSpec("kappa", (kappa,), "real", "rotor momentum"))
+        return Declaration(
+            kinetic_energy=kappa * desc.omega[2],
+            parameters=(ParameterSpec("kappa", (kappa,), "real", "rotor momentum"),),
+        )
 
 
 def test_a_new_effect_is_data_in_two_places(monkeypatch):
-    """An effect written only with ``desc.add_*`` and registered (effects.py), named by a
+    """An effect that only declares its data and is registered (effects.py), named by a
     system (SUPPORTED_EFFECTS, PARAMETER_ORDER), reaches the model through the one step."""
     rotor = _AxialRotor("axial_rotor", "toy", "parameter kappa", cites=(("rotor", "toy-1"),))
     monkeypatch.setitem(EFFECTS, "axial_rotor", rotor)
@@ -168,3 +182,155 @@ def test_invariant_relations_are_declared_with_their_constraint():
     }
     with pytest.raises(DerivationError, match="declared twice"):
         desc.add_invariant_relation("(omega,gamma)", dot(omega, vector("gamma", real=True)))
+
+
+# ------------------------------------------------------- no step branches on an effect
+#: The functions that may compare effect names: the registry's check of a user's choice
+#: and the loop that applies the chosen effects in a system's order.
+_NAME_HANDLERS = {"parse_effects", "apply_effects"}
+
+
+def _reads_effect_names(node: ast.AST) -> bool:
+    """Does ``node`` mention an effect's name or a set of chosen effects?"""
+    for sub in ast.walk(node):
+        if isinstance(sub, ast.Constant) and isinstance(sub.value, str) and sub.value in EFFECTS:
+            return True
+        if isinstance(sub, ast.Attribute) and sub.attr == "effects":
+            return True
+        if isinstance(sub, ast.Name) and sub.id in {"effects", "chosen"}:
+            return True
+    return False
+
+
+def effect_branches(source: str) -> list[int]:
+    """Lines of ``source`` where code branches on effect names outside :data:`_NAME_HANDLERS`:
+    a comparison or a condition (``if``, ``while``, ``x if c else y``, a comprehension's
+    ``if``) that mentions an effect's name or the chosen effects, or a look-up of
+    ``EFFECTS`` by a constant name."""
+    lines: list[int] = []
+
+    def visit(node: ast.AST, function: str | None) -> None:
+        if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+            function = node.name
+        if function not in _NAME_HANDLERS:
+            tests: list[ast.AST] = []
+            if isinstance(node, ast.Compare):
+                tests = [node]
+            elif isinstance(node, ast.If | ast.IfExp | ast.While):
+                tests = [node.test]
+            elif isinstance(node, ast.comprehension):
+                tests = list(node.ifs)
+            elif (
+                isinstance(node, ast.Subscript)
+                and isinstance(node.value, ast.Name)
+                and node.value.id == "EFFECTS"
+                and isinstance(node.slice, ast.Constant)
+            ):
+                tests = [node.slice]
+            lines.extend(t.lineno for t in tests if _reads_effect_names(t))
+        for child in ast.iter_child_nodes(node):
+            visit(child, function)
+
+    visit(ast.parse(source), None)
+    return lines
+
+
+def test_the_check_finds_a_branch_on_an_effect():
+    """Negative controls: each way of branching on an effect is found by the check."""
+    branches = [
+        'if "rubber" in desc.effects:\n    desc.inertia = None\n',
+        'rubber = "rubber_balls" in effects\n',
+        "x = [n for n in names if n in chosen]\n",
+        'spin_free = False if desc.effects == {"rubber_balls"} else True\n',
+        'weight = EFFECTS["rubber_balls"].adds\n',
+        'def reduce(desc):\n    while "gyrostat" not in desc.effects:\n        break\n',
+    ]
+    for source in branches:
+        assert effect_branches(source), source
+    # data keyed by name, and the registry's own loop, are not branches
+    assert not effect_branches('refs = {"gyrostat": {"equations": "BKM12-2.3"}}\n')
+    assert not effect_branches("def apply_effects(d, effects, order):\n    if 1 in effects: pass\n")
+
+
+def test_no_code_in_derive_branches_on_an_effect():
+    """No finishing step, stage, system or effect compares effect names or tests the
+    chosen effects: what an effect adds reaches the model only as declared data."""
+    found = {
+        path.name: lines
+        for path in sorted(DERIVE.rglob("*.py"))
+        if (lines := effect_branches(path.read_text()))
+    }
+    assert found == {}
+
+
+@pytest.mark.parametrize("record", [MechanicalDescription, Declaration, Reduced, Effect])
+def test_descriptions_and_declarations_hold_data_not_flags(record):
+    """A flag an effect sets and a step reads (``total_momentum``, ``has_density`` ...) is
+    a bool field: none of these records has one."""
+    flags = [
+        f.name
+        for f in dataclasses.fields(record)
+        if f.type is bool or "bool" in str(f.type).replace("|", " ").split()
+    ]
+    assert flags == []
+
+
+# ------------------------------------------------------- the declaration reaches the model
+def _declared_and_model(system, effect):
+    """The effect's declaration on the system's base description, the base description
+    and the model made with it (the same objects the builder uses)."""
+    module, description = {
+        "chaplygin_ball": (chaplygin_ball, chaplygin_ball.ball_description),
+        "spherical_support": (spherical_support, spherical_support.closed_support_description),
+        "ball_on_surface": (ball_on_surface, ball_on_surface.ellipsoid_description),
+    }[system]
+    base = description(frozenset())
+    declaration = EFFECTS[effect].declare(description(frozenset()))
+    desc = description(frozenset({effect}))
+    apply_effects(desc, {effect}, module.SUPPORTED_EFFECTS)
+    return declaration, base, form_model(desc)
+
+
+@pytest.mark.parametrize(
+    ("system", "effect"),
+    [
+        ("chaplygin_ball", "gyrostat"),
+        ("chaplygin_ball", "contact_point"),
+        ("chaplygin_ball", "variable_inertia"),
+        ("chaplygin_ball", "variable_gyrostat"),
+        ("chaplygin_ball", "rubber"),
+        ("chaplygin_ball", "straight_line"),
+        ("ball_on_surface", "potential"),
+        ("spherical_support", "gyrostat"),
+        ("spherical_support", "rubber_balls"),
+    ],
+)
+def test_what_an_effect_declares_is_what_ends_up_in_the_model(system, effect):
+    declaration, base, model = _declared_and_model(system, effect)
+    groups = dict(model.state_groups)
+    for name in declaration.poisson_vectors:
+        assert groups[name] == tuple(vector(name, real=True))
+    for group in declaration.states:
+        assert groups[group.name] == group.symbols
+    for spec in declaration.parameters:
+        assert spec in model.parameters
+    for name in declaration.redeclared_parameters:
+        if all(spec.name != name for spec in declaration.parameters):
+            assert name not in [spec.name for spec in model.parameters]
+    # an integral term declared is the model's integral minus the system's own
+    integrals = dict(model.integrals)
+    for name, term in declaration.integrals:
+        assert sp.simplify(integrals[name] - base.integrals.get(name, 0) - term) == 0
+    relations = dict(model.invariant_relations)
+    for name, expr in declaration.invariant_relations:
+        assert sp.expand(relations[name] - expr) == 0
+    for expr in declaration.phase_space:
+        assert expr in model.constraints
+    assert set(declaration.completion) <= set(model.completion)
+    if declaration.momentum_in_state is not None:
+        state_minus_kinetic = model.momentum_of_omega - model.inertia_operator * model.omega
+        assert (state_minus_kinetic - declaration.momentum_in_state).is_zero_matrix
+    if declaration.inertia is not None:
+        assert model.details.inertia == declaration.inertia
+    # and the effect added something the model carries
+    assert model.canonical_text() != form_model(base).canonical_text()
