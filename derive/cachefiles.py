@@ -22,6 +22,7 @@ from .errors import CacheError
 __all__ = [
     "cache_root",
     "check_private_dir",
+    "make_private_dir",
     "sign",
     "verify_signature",
     "read_signed",
@@ -94,6 +95,40 @@ def check_private_dir(directory: str | os.PathLike[str]) -> None:
             )
 
 
+def make_private_dir(directory: str | os.PathLike[str]) -> Path:
+    """Create ``directory`` and its missing parents readable and writable by us alone
+    (mode 0700 whatever the umask: under umask 002 or 000 a folder made by ``mkdir`` would be
+    group- or world-writable, and :func:`check_private_dir` would refuse it). Folders that
+    exist are left as they are.
+
+    Parameters
+    ----------
+    directory : path-like
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    OSError
+        A folder cannot be created.
+    """
+    path = Path(directory)
+    missing = []
+    for folder in (path, *path.parents):
+        if folder.exists():
+            break
+        missing.append(folder)
+    for folder in reversed(missing):
+        try:
+            folder.mkdir(mode=0o700)
+        except FileExistsError:  # made meanwhile (another process): not ours to change
+            continue
+        os.chmod(folder, 0o700)  # the umask may have taken bits from 0700 too
+    return path
+
+
 def _key(root: Path) -> bytes:
     """The secret of ``root`` (made on first use, readable by us alone)."""
     path = root / KEY_FILE
@@ -103,7 +138,7 @@ def _key(root: Path) -> bytes:
             return key
     except OSError:
         pass
-    root.mkdir(parents=True, exist_ok=True)
+    make_private_dir(root)
     key = secrets.token_bytes(32)
     tmp = root / f".tmp-key-{secrets.token_hex(8)}"
     fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
@@ -208,7 +243,7 @@ def write_signed(path: Path | None, magic: bytes, data: bytes) -> bool:
         return False
     tmp = None
     try:
-        path.parent.mkdir(parents=True, exist_ok=True)
+        make_private_dir(path.parent)
         check_private_dir(path.parent)
         tag = sign(path.parent, data).encode("ascii")
         fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".tmp")

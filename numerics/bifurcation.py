@@ -15,6 +15,7 @@ K01-Fig1, K01-Fig2, K01-Fig3, BKM12-24, BKM12-Fig3, BKM12-2.7c, BKM12-1.5stab8.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 from functools import cache, lru_cache
 
 import numpy as np
@@ -34,6 +35,10 @@ from .stability import (
 )
 
 __all__ = [
+    "CriticalTrace",
+    "critical_trace",
+    "LevelSetComponents",
+    "level_set_components",
     "sigma",
     "family_stability",
     "euler_stability",
@@ -315,3 +320,248 @@ def support_sample(
         out.append((gx[0], gx[1], (E / C - lo) / (hi - lo)))
         drift = max(drift, max(r.drift.values()))
     return np.array(out), drift
+
+
+# ---------------------------------------------------------------- the bifurcation complex
+@dataclass
+class LevelSetComponents:
+    """The connected components of a common level set of the ball's integrals.
+
+    Attributes
+    ----------
+    count : int
+        Number of components.
+    sizes : list of int
+        Sample points per component, largest first.
+    mean_M : ndarray, shape (count, 3)
+        Mean of ``M/sqrt(C)`` over each component (same order): a component that shrinks onto
+        a steady rotation ``M = +-sqrt(C) e_i`` has its mean along ``+-e_i``.
+    separation : float
+        Least distance between points of different components (inf for one component), in
+        ``(M/sqrt(C), gamma)``.
+    radius : float
+        Points closer than this are joined.
+    points : int
+        Sample points on the level set.
+    """
+
+    count: int
+    sizes: list
+    mean_M: np.ndarray
+    separation: float
+    radius: float
+    points: int
+
+
+def _fibonacci_sphere(n: int) -> np.ndarray:
+    k = np.arange(n) + 0.5
+    z = 1 - 2 * k / n
+    r = np.sqrt(1 - z * z)
+    phi = np.pi * (1 + 5**0.5) * k
+    return np.stack([r * detmath.cos(phi), r * detmath.sin(phi), z], axis=1)
+
+
+def level_set_components(
+    I: Sequence[float],
+    D: float,
+    E: float,
+    C: float = 1.0,
+    Mg: float = 0.0,
+    n_gamma: int = 6000,
+    n_theta: int = 360,
+    radius: float = 0.3,
+) -> LevelSetComponents:
+    """Connected components of ``{(gamma, gamma) = 1, (M, gamma) = M_gamma, (M, M) = C,
+    (M, omega) = E}`` (a union of Liouville tori, or a critical level): the leaves of the
+    bifurcation complex over the point ``(C, M_gamma, E)`` of the diagram.
+
+    The level set is sampled: ``gamma`` on a Fibonacci grid of the sphere; for each,
+    ``M = M_gamma gamma + sqrt(C - M_gamma^2)(cos t a + sin t b)`` (``a, b`` normal to
+    ``gamma``), and the energy on that circle (the generated integral) crosses ``E`` where a
+    grid in ``t`` changes sign (linear interpolation). Points closer than ``radius`` in
+    ``(M/sqrt(C), gamma)`` are joined; the components of that graph are counted (SciPy's
+    ``connected_components``). The result is trustworthy when ``separation`` is well above
+    ``radius`` and ``radius`` well above the sampling's spacing (about ``4/sqrt(n_gamma)``).
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+        Moments of inertia.
+    D : float
+        ``D = m b^2``.
+    E : float
+        ``2 H = (M, omega)``.
+    C, Mg : float
+        ``(M, M)`` and ``(M, gamma)``, ``Mg**2 < C``.
+    n_gamma, n_theta : int
+        Grid sizes on the sphere and on each circle.
+    radius : float
+        Joining distance.
+
+    Returns
+    -------
+    LevelSetComponents
+
+    Raises
+    ------
+    UserInputError
+        Bad inertia, ``C <= 0`` or ``Mg**2 >= C``, or an empty level set.
+
+    References
+    ----------
+    BKM12 §1.5, Figs. 2(b), 3(b) (BKM12-Fig2b, BKM12-Fig3b).
+    """
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    from ..derive.errors import UserInputError
+    from .inputs import check_inertia_vector
+
+    I, D = check_inertia_vector(I, D, double=True)
+    p = [float(v) for v in (*I, D)]
+    if not (C > 0 and Mg * Mg < C):
+        raise UserInputError(f"need C > 0 and M_gamma^2 < C, got C={C}, M_gamma={Mg}")
+    G = _fibonacci_sphere(int(n_gamma))
+    e = np.eye(3)[np.argmin(np.abs(G), axis=1)]
+    a = np.cross(G, e)
+    a /= np.sqrt(a[:, 0] * a[:, 0] + a[:, 1] * a[:, 1] + a[:, 2] * a[:, 2])[:, None]
+    b = np.cross(G, a)
+    t = np.linspace(0, 2 * np.pi, int(n_theta), endpoint=False)
+    s = np.sqrt(C - Mg * Mg)
+
+    def momentum(rows, angles):
+        return Mg * G[rows] + s * (
+            detmath.cos(angles)[..., None] * a[rows] + detmath.sin(angles)[..., None] * b[rows]
+        )
+
+    rows = np.arange(len(G))[:, None]
+    M = momentum(rows, t[None, :])
+    Y = np.concatenate([M, np.broadcast_to(G[:, None, :], M.shape)], axis=2).reshape(-1, 6).T
+    f = 2 * np.asarray(_ball_code().numpy.integrals(0.0, Y, p))[0].reshape(M.shape[:2]) - E
+    f_next = np.roll(f, -1, axis=1)
+    i, j = np.nonzero(np.sign(f) != np.sign(f_next))
+    if not len(i):
+        raise UserInputError(f"the level E = {E} is empty at C = {C}, M_gamma = {Mg}")
+    angle = t[j] + f[i, j] / (f[i, j] - f_next[i, j]) * (2 * np.pi / len(t))
+    X = np.hstack([momentum(i, angle) / np.sqrt(C), G[i]])
+    tree = cKDTree(X)
+    pairs = tree.query_pairs(radius, output_type="ndarray")
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(len(X), len(X)))
+    count, label = connected_components(graph, directed=False)
+    sizes = np.bincount(label)
+    order = np.argsort(sizes, kind="stable")[::-1]
+    separation = np.inf
+    for k in order[1:]:
+        others = label != k
+        d = cKDTree(X[others]).query(X[label == k])[0]
+        separation = min(separation, float(d.min()))
+    return LevelSetComponents(
+        count=int(count),
+        sizes=[int(sizes[k]) for k in order],
+        mean_M=np.array([X[label == k, :3].mean(axis=0) for k in order]),
+        separation=separation,
+        radius=float(radius),
+        points=len(X),
+    )
+
+
+# ------------------------------------------------------------ traces of critical solutions
+@dataclass
+class CriticalTrace:
+    """The contact point's trace on the plane along a critical solution.
+
+    Attributes
+    ----------
+    t : ndarray, shape (n,)
+    x, y : ndarray, shape (n,)
+        The trace (radius ``b``).
+    speed : float
+        Mean speed ``|trace(t_end) - trace(0)|/t_end``.
+    deviation : float
+        Largest distance of the trace from the straight line through its ends.
+    omega0 : ndarray, shape (3,)
+        ``omega`` at ``t = 0`` (body frame).
+    gamma0 : ndarray, shape (3,)
+    drift : float
+        Largest relative drift of the integrals.
+    """
+
+    t: np.ndarray
+    x: np.ndarray
+    y: np.ndarray
+    speed: float
+    deviation: float
+    omega0: np.ndarray
+    gamma0: np.ndarray
+    drift: float
+
+
+def critical_trace(
+    y0: Sequence[float],
+    I: Sequence[float],
+    D: float,
+    b: float,
+    t_end: float,
+    rtol: float = 1e-12,
+    points: int = 2001,
+) -> CriticalTrace:
+    """Integrate the ball with the contact point from ``y0 = (M, gamma)`` and measure its trace:
+    its mean speed and its largest distance from the straight line through its ends.
+
+    Parameters
+    ----------
+    y0 : sequence of 6 floats
+        ``M, gamma`` (a critical solution: :func:`~chaplygin.numerics.stability.critical_state`
+        or :func:`~chaplygin.numerics.stability.euler_state`).
+    I : sequence of 3 floats
+    D, b : float
+        ``D = m b^2`` and the radius ``b``.
+    t_end : float
+    rtol : float
+        DOP853 tolerance (``atol = rtol/100``).
+    points : int
+        Output points.
+
+    Returns
+    -------
+    CriticalTrace
+
+    References
+    ----------
+    BKM12-25, BKM12-crit (FORMULAS.md): uniform rolling along a straight line.
+    """
+    y0 = np.asarray(y0, dtype=float)
+    t_eval = np.linspace(0.0, float(t_end), int(points))
+    start = {"M": tuple(y0[:3]), "gamma": tuple(y0[3:])}
+    g = y0[3:] / detlinalg.norm(y0[3:])
+    if detlinalg.norm(np.cross(y0[:3], g)) <= 1e-12 * max(detlinalg.norm(y0[:3]), 1.0):
+        # M || gamma (Sigma_4, Sigma_5): BKM12-7's frame is undefined; the body axis least
+        # aligned with gamma, projected, as the scenes do
+        e = np.eye(3)[int(np.argmin(np.abs(g)))]
+        alpha = e - detlinalg.dot(e, g) * g
+        alpha /= detlinalg.norm(alpha)
+        start.update(alpha=tuple(alpha), beta=tuple(np.cross(g, alpha)))
+    r = integrate(
+        "chaplygin_ball",
+        start,
+        float(t_end),
+        {"I": tuple(I), "D": D, "b": b},
+        effects=("contact_point",),
+        rtol=rtol,
+        atol=rtol / 100,
+        t_eval=t_eval,
+    )
+    x, y = r.y[r.state_names.index("x")], r.y[r.state_names.index("y")]
+    chord = np.array([x[-1] - x[0], y[-1] - y[0]])
+    length = detlinalg.norm(chord)
+    normal = np.array([-chord[1], chord[0]]) / max(length, np.finfo(float).tiny)
+    deviation = float(np.max(np.abs((x - x[0]) * normal[0] + (y - y[0]) * normal[1])))
+    code = _ball_code()
+    aux = np.asarray(code.numpy.aux(0.0, y0, [*I, D]), dtype=float)
+    omega0 = np.array([aux[code.aux_names.index(f"omega{i}")] for i in (1, 2, 3)])
+    return CriticalTrace(
+        t=np.asarray(r.t, dtype=float), x=np.asarray(x, float), y=np.asarray(y, float),
+        speed=length / float(t_end), deviation=deviation, omega0=omega0, gamma0=y0[3:].copy(),
+        drift=float(max(r.drift.values())),
+    )  # fmt: skip

@@ -34,11 +34,18 @@ import sys
 import sysconfig
 import tempfile
 import time
+import warnings
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from ..derive.cachefiles import cache_root, check_private_dir
+from ..derive.cachefiles import (
+    cache_root,
+    check_private_dir,
+    make_private_dir,
+    sign,
+    verify_signature,
+)
 from ..derive.errors import CacheError, ChaplyginError
 
 __all__ = [
@@ -54,6 +61,7 @@ __all__ = [
     "compile_c",
     "find_compiler",
     "inline_project_headers",
+    "LibraryRebuiltWarning",
     "optimisation_override",
 ]
 
@@ -83,6 +91,11 @@ class CompilerNotFoundError(CompilerError):
 
 class CompilationError(CompilerError):
     """The C compiler ran but failed (non-zero exit status or time-out)."""
+
+
+class LibraryRebuiltWarning(UserWarning):
+    """A cached library did not match its authenticated record (changed, replaced or planted
+    since we built it): it was not loaded, and was built again."""
 
 
 # --------------------------------------------------------------------------- compiling
@@ -235,23 +248,53 @@ def _record_path(library: Path) -> Path:
     return library.with_name(library.name + ".record")
 
 
+#: What the MAC of a library's record covers (with its name, size and SHA-256).
+_RECORD_DOMAIN = b"chaplygin compiled library 1\0"
+
+
+def _mac_message(library: Path, size: int, digest: str) -> bytes:
+    return _RECORD_DOMAIN + f"{library.name}\0{size}\0{digest}".encode()
+
+
 def _write_record(library: Path) -> None:
-    """Record size and SHA-256 of a library just built (written atomically)."""
-    record = json.dumps({"size": library.stat().st_size, "sha256": _digest(library)})
+    """Record size, SHA-256 and a keyed MAC of a library just built (written atomically).
+
+    The MAC is an HMAC-SHA256 with the cache folder's per-user secret
+    (:func:`chaplygin.derive.cachefiles.sign`, as the model pickles are signed): a record
+    made by anyone without that secret does not verify.
+    """
+    size, digest = library.stat().st_size, _digest(library)
+    mac = sign(library.parent, _mac_message(library, size, digest))
+    record = json.dumps({"size": size, "sha256": digest, "mac": mac})
     fd, tmp = tempfile.mkstemp(prefix=".tmp-record-", dir=library.parent)
     with os.fdopen(fd, "w", encoding="utf-8") as fh:
         fh.write(record)
     os.replace(tmp, _record_path(library))
 
 
-def _record_matches(library: Path) -> bool:
-    """True when the library is exactly what our build wrote (size and SHA-256)."""
+def _record_matches(library: Path) -> bool | None:
+    """Whether the library is exactly what our build wrote: its size and SHA-256 as recorded,
+    and the record's MAC made with our secret. None for no record, or a record of an older
+    version (no MAC) that matches the file: not loaded either, but built again without a
+    warning."""
     try:
-        record = json.loads(_record_path(library).read_text(encoding="utf-8"))
-        return (
-            isinstance(record, dict)
-            and record.get("size") == library.stat().st_size
-            and record.get("sha256") == _digest(library)
+        text = _record_path(library).read_text(encoding="utf-8")
+    except FileNotFoundError:
+        return None  # unrecorded (a build killed before its record): built again quietly
+    except (OSError, ValueError):  # unreadable, not UTF-8
+        return False
+    try:
+        record = json.loads(text)
+        if not isinstance(record, dict):
+            return False
+        size, digest = library.stat().st_size, _digest(library)
+        if record.get("size") != size or record.get("sha256") != digest:
+            return False
+        mac = record.get("mac")
+        if mac is None:
+            return None
+        return isinstance(mac, str) and verify_signature(
+            library.parent, _mac_message(library, size, digest), mac
         )
     except (OSError, ValueError):
         return False
@@ -387,12 +430,20 @@ def compile_c(
     target = directory / f"{key}{_LIB_SUFFIX}"
     if not force and target.is_file():
         check_cache_dir(directory)
-        if _record_matches(target):
+        matches = _record_matches(target)
+        if matches:
             return target
-        # damaged, replaced or unrecorded: never load it, build it again
+        # damaged, replaced, planted or unrecorded: never load it, build it again
+        if matches is False:
+            warnings.warn(
+                f"the cached library {target} does not match its record (changed, replaced "
+                "or planted since it was built): not loaded; building it again",
+                LibraryRebuiltWarning,
+                stacklevel=2,
+            )
 
     try:
-        directory.mkdir(parents=True, exist_ok=True)
+        make_private_dir(directory)
     except OSError as exc:
         raise CacheError(
             f"cannot create the cache folder {directory}: {exc.strerror or exc}; set "
@@ -434,6 +485,7 @@ def compile_c(
             raise CompilationError(
                 f"{shlex.join(command)} exited with status {proc.returncode}:\n{diagnostics}"
             )
+        os.chmod(tmp_lib, 0o700)  # the linker's mode follows the umask (0777 under umask 0)
         os.replace(tmp_c, directory / f"{key}.c")
         os.replace(tmp_lib, target)
         _write_record(target)

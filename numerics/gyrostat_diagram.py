@@ -396,9 +396,9 @@ def steady_rotation_stability(
     y0 = np.asarray(state, float)
     A = 1 / (np.asarray(I, float) + float(D))
     M, g = y0[:3], y0[3:]
-    s = (A * g) @ M / (1 / float(D) - (A * g) @ g)
+    s = detlinalg.dot(A * g, M) / (1 / float(D) - detlinalg.dot(A * g, g))
     omega = A * (M + s * g)
-    T = 2 * np.pi / float(np.linalg.norm(omega))
+    T = 2 * np.pi / detlinalg.norm(omega)
     return floquet(
         None, None, y0, T, rtol=rtol, system="chaplygin_ball", params=_params(I, D, K),
         effects=("gyrostat",),

@@ -29,6 +29,7 @@ from .integrators import (
     Problem,
     get_integrator,
 )
+from .step_budget import DEFAULT_MAX_STEPS, refuse_hopeless_span
 
 __all__ = [
     "check_output_times",
@@ -204,7 +205,9 @@ def integrate(
     max_steps : int, optional
         Step limit (default: 10^7 for the Taylor method, 10^6 for the scipy methods, whose
         steps are counted as right-hand-side calls over the method's stages); past it the
-        result has status -2 and says to raise the limit or shorten the span.
+        result has status -2 and says to raise the limit or shorten the span. Without it, a
+        span whose estimated steps exceed 100 times the default limit is refused before any
+        work (:func:`~chaplygin.numerics.step_budget.refuse_hopeless_span`).
     max_wall_s : float or None
         Wall-time limit in seconds (default :data:`DEFAULT_MAX_WALL_S`, one hour; None: no
         limit), checked between right-hand-side calls of the scipy methods and
@@ -220,7 +223,8 @@ def integrate(
     UserInputError
         Unknown system, effect, method, parameter or state name; wrong lengths;
         non-physical or non-finite values; a tolerance the precision cannot deliver (the
-        message names a precision that can).
+        message names a precision that can); output times outside the span; a span that
+        could only end at the default step limit.
 
     Examples
     --------
@@ -300,11 +304,21 @@ taylor_options, max_steps, max_wall_s
     if t_eval is not None:
         t_eval = [working_number(v, prec) for v in _sequence(t_eval, "t_eval")]
         check_output_times(t_eval, t_span)
-    p, y = _read_start(code, y0, params, prec, t_span[0])
     if max_steps is not None and not (
         isinstance(max_steps, int) and not isinstance(max_steps, bool) and max_steps >= 1
     ):
         raise UserInputError(f"max_steps must be a positive integer, got {max_steps!r}")
+    if max_steps is None and options.get("max_steps") is None:  # the default limit
+        hopeless = refuse_hopeless_span(
+            abs(float(t_span[1] - t_span[0])),
+            integrator.name,
+            rtol,
+            prec.is_double,
+            getattr(integrator, "default_max_steps", DEFAULT_MAX_STEPS),
+        )
+        if hopeless:
+            raise UserInputError(hopeless)
+    p, y = _read_start(code, y0, params, prec, t_span[0])
     if max_wall_s is not None:
         try:
             max_wall_s = float(max_wall_s)
@@ -406,7 +420,7 @@ def _read_start(code: ModelCode, y0, params, prec: Precision, t0) -> tuple[list,
 
 
 def check_output_times(t_eval: Sequence, t_span: tuple) -> None:
-    """Refuse output times out of order for the direction of integration.
+    """Refuse output times outside the span or out of order for the direction of integration.
 
     Parameters
     ----------
@@ -418,9 +432,15 @@ def check_output_times(t_eval: Sequence, t_span: tuple) -> None:
     Raises
     ------
     UserInputError
-        Two consecutive output times in the wrong order.
+        A time outside the span, or two consecutive times in the wrong order.
     """
     direction = 1 if t_span[1] > t_span[0] else -1
+    lo, hi = min(t_span), max(t_span)
+    for v in t_eval:
+        if not lo <= v <= hi:
+            raise UserInputError(
+                f"t_eval must lie inside the span from {t_span[0]} to {t_span[1]}: {v} does not"
+            )
     for a, b in itertools.pairwise(t_eval):
         if direction * (b - a) < 0:
             raise UserInputError(

@@ -344,6 +344,8 @@ def lyapunov_spectrum(
     atol: float = 1e-12,
     seed: int = 20200,
     system: VariationalSystem | None = None,
+    count: int | None = None,
+    subspace: ArrayLike | None = None,
 ) -> LyapunovSpectrum:
     """Lyapunov exponents of the orbit of ``y0`` (and of ``states - 1`` neighbours).
 
@@ -380,6 +382,17 @@ def lyapunov_spectrum(
         Seed of the neighbours and of the initial tangent vectors.
     system : VariationalSystem, optional
         A prepared system (its tolerances are used instead of `rtol`, `atol`).
+    count : int, optional
+        Only the ``count`` largest exponents (fewer tangent vectors: cheaper; the largest
+        alone needs one).
+    subspace : array_like, shape (n, m), optional
+        Columns spanning a subspace of the level set's tangent space that the variational
+        flow keeps invariant: the tangent vectors start in it (instead of in the whole
+        tangent space) and are projected onto the level set as usual (``states=1``). Where the
+        level set is singular, e.g. from rest (``M = 0``, the critical level of ``(M, M)``:
+        ``delta M = 0``, ``delta gamma`` normal to ``gamma``; the projection removes the
+        radial drift of ``delta gamma``, which would otherwise grow with exponent 0 and hide
+        the contraction on the sphere).
 
     Returns
     -------
@@ -418,12 +431,22 @@ def lyapunov_spectrum(
     y_first = vs._state(y0)
     normal, tangent = vs.level_set_basis(t0, y_first)
     rank = normal.shape[1]
+    if subspace is not None:
+        tangent = detlinalg.qr(np.asarray(subspace, dtype=np.float64))[0]
+        if tangent.shape[0] != vs.n or spectrum != "level_set" or states != 1:
+            raise UserInputError(
+                f"subspace must have {vs.n} rows, with spectrum='level_set' and states=1"
+            )
     starts = states_on_level_set(vs, y_first, states, spread=spread, t=t0, seed=seed)
     rng = np.random.default_rng(seed + 1)
     n = vs.n
     k = tangent.shape[1] if spectrum == "level_set" else n
     if k == 0:
         raise UserInputError(f"the level set of {code.name}'s integrals is a point: no exponents")
+    if count is not None:
+        if isinstance(count, bool) or not isinstance(count, int) or count < 1:
+            raise UserInputError(f"count must be a positive integer, got {count!r}")
+        k = min(k, count)
     checkpoints = np.unique(np.geomspace(1, intervals, CONVERGENCE_POINTS).astype(int))
     per_state = np.zeros((states, k))
     window_se = np.zeros((states, k))
@@ -434,7 +457,10 @@ def lyapunov_spectrum(
     work = {"steps": 0, "rejected": 0, "evaluations": 0}
     with_density = _has_density(code)
     for s, y in enumerate(starts):
-        _, tangent_s = vs.level_set_basis(t0, y)
+        if subspace is None:
+            _, tangent_s = vs.level_set_basis(t0, y)
+        else:
+            tangent_s = tangent
         basis = tangent_s if spectrum == "level_set" else np.eye(n)
         V = detlinalg.matmul(basis, detlinalg.qr(_uniform_matrix(rng, basis.shape[1], k))[0])
         project = spectrum == "level_set"
@@ -471,7 +497,7 @@ def lyapunov_spectrum(
     if states > 1:
         divergence_error = max(divergence_error, float(divergence.std(ddof=1)) / math.sqrt(states))
     forced = None
-    if spectrum == "full" and rank:
+    if spectrum == "full" and rank and k == n:
         forced = np.sort(exponents[np.argsort(np.abs(exponents))[:rank]])[::-1]
     return LyapunovSpectrum(
         spectrum=spectrum,

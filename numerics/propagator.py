@@ -31,6 +31,7 @@ from .code import ModelCode
 from .inputs import Precision, working_number
 from .integrate import DEFAULT_MAX_WALL_S, _read_start, check_output_times, prepare_problem
 from .integrators import IntegrationResult
+from .step_budget import DEFAULT_MAX_STEPS, refuse_hopeless_span
 
 __all__ = ["Propagator"]
 
@@ -111,6 +112,8 @@ class Propagator:
         # load (compile once) the integrator now: a call only integrates
         self._backend = self._integrator._prepare(self._problem, backend)
         self._requested_backend = backend
+        # a span that could only end at the default step limit is refused (not a given one)
+        self._max_steps = None if self._problem.options.get("max_steps") else DEFAULT_MAX_STEPS
         self.code: ModelCode = self._problem.code
         self.time = self._problem.t_span[0]
         self._state = list(self._problem.y0)
@@ -195,12 +198,20 @@ class Propagator:
         Raises
         ------
         UserInputError
-            ``t`` not a finite number or equal to :attr:`time`, ``t_eval`` outside the span.
+            ``t`` not a finite number or equal to :attr:`time`, ``t_eval`` outside the span,
+            a span that could only end at the default step limit
+            (:func:`~chaplygin.numerics.step_budget.refuse_hopeless_span`).
         """
         prec = self._problem.precision
         t_end = working_number(t, prec)
         if not t_end != self.time:
             raise UserInputError(f"the end time {t!r} equals the current time")
+        if self._max_steps is not None:
+            hopeless = refuse_hopeless_span(
+                abs(float(t_end - self.time)), "taylor", None, prec.is_double, self._max_steps
+            )
+            if hopeless:
+                raise UserInputError(hopeless)
         if t_eval is None:
             outputs = [self.time, t_end]
         else:

@@ -724,8 +724,8 @@ def frame_turn(
     After one period ``T`` of ``gamma`` (an Euler top, K01-2.34) the space-fixed horizontal
     frame seen from the body has turned by ``Phi`` about ``gamma(0)``; the contact-point
     trace is a chain of copies rotated by ``Phi`` and is unbounded exactly when
-    ``Phi = 0 mod 2 pi`` (K01-Fig6f). Double precision (DOP853, numpy right-hand side),
-    ``h`` in ``(h3, h1)``, ``h != h2``.
+    ``Phi = 0 mod 2 pi`` (K01-Fig6f). Double precision (the generated Taylor integrator in C,
+    the return located on its step polynomials), ``h`` in ``(h3, h1)``, ``h != h2``.
 
     Parameters
     ----------
@@ -734,7 +734,7 @@ def frame_turn(
     D, h, C : float
         ``D = m b^2``, the energy and ``C = (M, gamma)``.
     rtol : float
-        Relative and absolute tolerance of the DOP853 integration.
+        Relative and absolute tolerance of the Taylor integration.
 
     Returns
     -------

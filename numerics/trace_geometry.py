@@ -34,8 +34,13 @@ trace is ``s + P exp((lam + i kap) t) + Q exp((-lam + i kap) t)`` (K01-3.5, 3.6)
 *spiral centre* ``s``; three samples ``tau`` apart give ``s`` exactly for that form
 (:func:`spiral_centres`).
 
-The integrations are DOP853 on the generated numpy right-hand side (as
-:func:`~chaplygin.numerics.separatrix.frame_turn`), one period per energy.
+The integrations are the generated Taylor integrator's dense solution
+(:func:`~chaplygin.numerics.taylor.taylor_dense`; the return of ``gamma`` is located on its
+step polynomials, as :func:`~chaplygin.numerics.separatrix.frame_turn` does), one period per
+energy; angles, moduli and complex products are the project's own
+(:mod:`chaplygin.arith.detmath`, :mod:`chaplygin.arith.detcomplex`) and dot products and
+norms are summed in a fixed order (:mod:`chaplygin.arith.detlinalg`), so every number here
+has the same bits on every machine.
 
 References
 ----------
@@ -50,12 +55,13 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 
 import numpy as np
-from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, minimize_scalar
 
+from ..arith import detcomplex, detlinalg
 from ..derive.errors import ComputationError, UserInputError
 from .code import ModelCode, load_model_code
 from .inputs import check_inertia_vector, check_real, check_vector
+from .taylor import TaylorDense, taylor_dense
 
 __all__ = [
     "TracePeriod",
@@ -73,6 +79,10 @@ SYSTEM = "chaplygin_ball"
 MAX_PERIOD = 1e5
 #: Largest turn of the tangent between two samples before the sampling is refined.
 MAX_SAMPLE_TURN = 0.25
+#: Arc-length step of :func:`gradient_line` (classical Runge-Kutta, halved at the end).
+LINE_STEP = 1e-2
+#: Norm of the tangential gradient below which :func:`gradient_line` has reached an extremum.
+LINE_FLAT = 1e-7
 
 
 @dataclass
@@ -106,9 +116,9 @@ class TracePeriod:
         Samples of one period (times and ``x + i y``).
     y0 : ndarray
         The start (state of ``chaplygin_ball__contact_point[__gyrostat]``).
-    sol : object
-        The dense output over the period: ``sol.sol(t)`` is the state at ``t`` (scalar or
-        array).
+    sol : TaylorDense
+        The dense solution from ``t = 0`` to at least ``T``: ``sol(t)`` is the state at
+        ``t`` (a number: shape (14,); a sequence: shape (14, m)).
     """
 
     h: float
@@ -125,7 +135,7 @@ class TracePeriod:
     t: np.ndarray = field(repr=False)
     z: np.ndarray = field(repr=False)
     y0: np.ndarray = field(repr=False)
-    sol: object = field(repr=False, default=None)
+    sol: TaylorDense | None = field(repr=False, default=None)
 
 
 def _code(gyrostat: bool) -> ModelCode:
@@ -177,8 +187,8 @@ def segment_state(
     g = _unit_vector(gamma, "gamma")
     e = np.zeros(3)
     e[int(np.argmin(np.abs(g)))] = 1.0
-    a = e - g * (e @ g)
-    a /= np.linalg.norm(a)
+    a = e - g * detlinalg.dot(e, g)
+    a = a / detlinalg.norm(a)
     beta = np.cross(g, a)
     return np.concatenate([C * g - np.asarray(K), g, a, beta, [0.0, 0.0]])
 
@@ -186,7 +196,7 @@ def segment_state(
 def _unit_vector(v, name: str) -> np.ndarray:
     """``v`` (three finite numbers, not all zero) normalised; errors name ``name``."""
     g = np.asarray([float(x) for x in check_vector(v, name, double=True)], float)
-    norm = float(np.linalg.norm(g))
+    norm = detlinalg.norm(g)
     if not norm > 0:
         raise UserInputError(f"{name} = {v!r} must be a nonzero vector (a direction)")
     return g / norm
@@ -228,74 +238,48 @@ def _segment_energy(I, D, K, C, gamma) -> np.ndarray:
     return code.numpy.integrals(0.0, np.concatenate([M, g]), p)[0]
 
 
-class _Pieces:
-    """Dense output over consecutive integration pieces (``sol(t)``, ``t`` scalar or array)."""
-
-    def __init__(self) -> None:
-        self.ends: list[float] = []
-        self.parts: list = []
-
-    def add(self, end: float, dense) -> None:
-        self.ends.append(end)
-        self.parts.append(dense)
-
-    def sol(self, t):
-        t = np.asarray(t, float)
-        k = np.minimum(np.searchsorted(self.ends, t), len(self.parts) - 1)
-        if t.ndim == 0:
-            return self.parts[int(k)](float(t))
-        out = np.empty((len(self.parts[0](0.0)), t.size))
-        for j in np.unique(k):
-            mask = k == j
-            out[:, mask] = self.parts[int(j)](t[mask])
-        return out
-
-
-def _rhs_function(code: ModelCode, p: np.ndarray):
-    """The compiled C right-hand side for single states (numpy's without a compiler)."""
-    compiled = code.compiled()
-    if compiled is not None:
-        return lambda t, y: compiled.rhs(t, y, p)
-    return lambda t, y: code.numpy.rhs(t, y, p)
-
-
-def _period_solution(code, p, y0, rtol):
+def _period_solution(code: ModelCode, p: np.ndarray, y0: np.ndarray, rtol: float):
     """Integrate from ``y0`` until ``gamma`` first returns to ``gamma(0)``; the period.
 
     The return is the first upward crossing of the plane through ``gamma(0)`` normal to
-    ``gamma'(0)`` within 1e-3 of ``gamma(0)``; the integration goes on in pieces of growing
-    length until it is found.
+    ``gamma'(0)`` within 1e-3 of ``gamma(0)``, located on the dense Taylor solution; the
+    integration goes on in pieces of growing length until it is found.
     """
     f0 = code.numpy.rhs(0.0, y0, p)
     g0, u = y0[3:6], f0[3:6]
-    speed = float(np.linalg.norm(u))
+    speed = detlinalg.norm(u)
     if speed == 0:
         raise UserInputError("the start is an equilibrium of gamma (a steady rotation): no period")
     u = u / speed
 
     def plane(t, y):
-        return float((y[3:6] - g0) @ u)
+        return detlinalg.dot(y[3:6] - g0, u)
 
-    plane.direction = 1.0
-    rhs = _rhs_function(code, p)
-    pieces = _Pieces()
-    t0, y, length = 0.0, np.asarray(y0, float), 50.0
+    length = 50.0
+    sol = taylor_dense(code, y0, (0.0, length), p, rtol=rtol, atol=rtol)
     while True:
-        piece = solve_ivp(rhs, (t0, t0 + length), y, method="DOP853", rtol=rtol, atol=rtol,
-                          dense_output=True, events=plane)  # fmt: skip
-        pieces.add(t0 + length, piece.sol)
-        for t in piece.t_events[0]:
-            if t > 1e-9 and np.linalg.norm(piece.sol(t)[3:6] - g0) < 1e-3:
-                return float(t), pieces
-        t0, y = t0 + length, piece.y[:, -1]
-        if t0 > MAX_PERIOD:
+        if sol.status:
+            raise ComputationError(f"the integration stopped at t = {sol.t[-1]:g}: {sol.message}")
+        times, states = sol.crossings(plane, direction=1)
+        for t, y in zip(times, states, strict=True):
+            if t > 1e-9 and detlinalg.norm(y[3:6] - g0) < 1e-3:
+                return float(t), sol
+        end = float(sol.t[-1])
+        if end > MAX_PERIOD:
             raise ComputationError(f"gamma does not return within t = {MAX_PERIOD:g}")
         length *= 2
+        sol.extend(end + length)
 
 
-def _velocity(code, p, y) -> np.ndarray:
+def _velocity(code, p, y) -> complex | np.ndarray:
+    """``x' + i y'`` at the state(s) ``y``."""
     f = code.numpy.rhs(0.0, y, p)
-    return f[12] + 1j * f[13]
+    return detcomplex.make(f[12], f[13])
+
+
+def _turn_between(v0: complex, v1: complex) -> float:
+    """The angle from ``v0`` to ``v1`` in ``[-pi, pi]`` (the argument of ``v1 conj(v0)``)."""
+    return detcomplex.phase(detcomplex.mul(v1, v0.conjugate()))
 
 
 def trace_period(
@@ -324,7 +308,7 @@ def trace_period(
     gamma0 : sequence of 3 floats, optional
         The start on the segment (:func:`segment_state`); its energy is the orbit's.
     rtol : float
-        Tolerance of the DOP853 integration (relative and absolute).
+        Tolerance of the Taylor integration (relative and absolute).
 
     Returns
     -------
@@ -364,29 +348,27 @@ def _trace_period(I, D, K, C, y0, rtol) -> TracePeriod:
     y0 = np.asarray(y0, float)
     h = float(_segment_energy(I, D, K, C, y0[3:6]))
     T, sol = _period_solution(code, p, y0, rtol)
-    yT = sol.sol(T)
+    yT = sol(T)
     count = max(4001, int(40 * T))
     while True:
         t = np.linspace(0.0, T, count)
-        Y = sol.sol(t)
-        v = _velocity(code, p, Y)
-        step = np.diff(np.unwrap(np.angle(v)))
-        if np.max(np.abs(step)) <= MAX_SAMPLE_TURN or count > 2_000_000:
+        Y = sol(t)
+        theta = np.unwrap(detcomplex.phase(_velocity(code, p, Y)))
+        if np.max(np.abs(np.diff(theta))) <= MAX_SAMPLE_TURN or count > 2_000_000:
             break
         count *= 2
-    theta = np.unwrap(np.angle(v))
     turning = float(theta[-1] - theta[0])
-    turn = float(np.angle(_velocity(code, p, yT) / _velocity(code, p, y0)))
-    z = Y[12] + 1j * Y[13]
+    turn = _turn_between(_velocity(code, p, y0), _velocity(code, p, yT))
+    z = detcomplex.make(Y[12], Y[13])
     d = complex(z[-1] - z[0])
-    denominator = 1 - np.exp(1j * turn)
+    denominator = 1 - detcomplex.cis(turn)
     if denominator == 0:
-        centre, r = complex(np.inf, np.inf), np.full_like(t, np.inf)
+        centre = complex(math.inf, math.inf)
         inner = outer = radius = math.inf
     else:
-        centre = complex(z[0] + d / denominator)
-        radius = abs(z[0] - centre)
-        r = np.abs(z - centre)
+        centre = complex(z[0]) + detcomplex.div(d, denominator)
+        radius = detcomplex.absolute(complex(z[0]) - centre)
+        r = detcomplex.absolute(z - centre)
         inner = _extreme(sol, t, r, centre, +1)
         outer = _extreme(sol, t, r, centre, -1)
     return TracePeriod(
@@ -399,8 +381,8 @@ def _trace_period(I, D, K, C, y0, rtol) -> TracePeriod:
         radius=radius,
         inner=inner,
         outer=outer,
-        speed=abs(d) / T,
-        closure=float(np.linalg.norm(yT[:6] - y0[:6])),
+        speed=detcomplex.absolute(d) / T,
+        closure=detlinalg.norm(yT[:6] - y0[:6]),
         t=t,
         z=z,
         y0=y0,
@@ -414,8 +396,8 @@ def _extreme(sol, t, r, centre, sign) -> float:
     lo, hi = t[max(k - 1, 0)], t[min(k + 1, len(t) - 1)]
 
     def f(s):
-        y = sol.sol(s)
-        return sign * abs(y[12] + 1j * y[13] - centre)
+        y = sol(s)
+        return sign * detcomplex.absolute(detcomplex.make(y[12], y[13]) - centre)
 
     res = minimize_scalar(f, bounds=(lo, hi), method="bounded", options={"xatol": 1e-12})
     return float(sign * min(res.fun, sign * r[k]))
@@ -462,13 +444,13 @@ def spiral_centres(
     code = _code(False)
     p = _params(*_check_body(I, D, None, C)[:3])
     sol = tp.sol
-    g2 = np.abs(sol.sol(tp.t)[4])
+    g2 = np.abs(sol(tp.t)[4])
     times = []
     for k in range(len(tp.t)):
         a, b = g2[k - 1] if k else g2[-2], g2[k + 1] if k + 1 < len(g2) else g2[1]
         if g2[k] > a and g2[k] >= b:
             lo, hi = tp.t[max(k - 1, 0)], tp.t[min(k + 1, len(tp.t) - 1)]
-            rate = lambda s: code.numpy.rhs(s, sol.sol(s), p)[4]  # noqa: E731
+            rate = lambda s: code.numpy.rhs(s, sol(s), p)[4]  # noqa: E731
             if rate(lo) * rate(hi) < 0:
                 times.append(float(brentq(rate, lo, hi, xtol=1e-13)))
             else:
@@ -476,20 +458,22 @@ def spiral_centres(
     if len(times) < 2:
         raise ComputationError(f"found {len(times)} passage(s) near the middle axis, not 2")
     tau = 1.0 / lam
-    r1, r2 = np.exp((lam + 1j * kap) * tau), np.exp((-lam + 1j * kap) * tau)
-
+    r1 = detcomplex.exp(complex(lam * tau, kap * tau))
+    r2 = detcomplex.exp(complex(-lam * tau, kap * tau))
+    mul = detcomplex.mul
+    den = mul(1 - r1, 1 - r2)
     centres = []
     for ts in times[:2]:
         zm, z0, zp = (_z_periodic(tp, s) for s in (ts - tau, ts, ts + tau))
-        centres.append(complex((zp - (r1 + r2) * z0 + r1 * r2 * zm) / ((1 - r1) * (1 - r2))))
-    v0 = _velocity(code, p, sol.sol(times[0]))
-    v1 = _velocity(code, p, sol.sol(times[1]))
+        centres.append(detcomplex.div(zp - mul(r1 + r2, z0) + mul(mul(r1, r2), zm), den))
+    v0 = _velocity(code, p, sol(times[0]))
+    v1 = _velocity(code, p, sol(times[1]))
     return {
         "centres": centres,
         "times": times[:2],
-        "chord": abs(centres[1] - centres[0]),
-        "half_turn": float(np.angle(v1 / v0)),
-        "radius": abs(centres[0] - tp.centre),
+        "chord": detcomplex.absolute(centres[1] - centres[0]),
+        "half_turn": _turn_between(v0, v1),
+        "radius": detcomplex.absolute(centres[0] - tp.centre),
         "period": tp,
     }
 
@@ -498,31 +482,38 @@ def _z_periodic(tp: TracePeriod, s: float) -> complex:
     """``z(s)`` for any real ``s``, from one period and the rule ``z(t + T) = z(T) +
     exp(i psi) (z(t) - z(0))``."""
     k, rest = divmod(s, tp.period)
-    y = tp.sol.sol(rest)
-    w = complex(y[12] + 1j * y[13])
-    rot = np.exp(1j * tp.turn * k)
+    y = tp.sol(rest)
+    w = detcomplex.make(y[12], y[13])
+    z0, d = complex(tp.z[0]), tp.displacement
+    rot = detcomplex.cis(tp.turn * k)
     if tp.turn == 0:
-        base = k * tp.displacement
+        base = complex(k * d.real, k * d.imag)
     else:
-        base = tp.displacement * (1 - rot) / (1 - np.exp(1j * tp.turn))
-    return complex(tp.z[0] + base + rot * (w - tp.z[0]))
+        base = detcomplex.div(detcomplex.mul(d, 1 - rot), 1 - detcomplex.cis(tp.turn))
+    return z0 + base + detcomplex.mul(rot, w - z0)
 
 
 # ------------------------------------------------------------------- the segment with K
 def _tangent_basis(g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     e = np.zeros(3)
     e[int(np.argmin(np.abs(g)))] = 1.0
-    u = e - g * (e @ g)
-    u /= np.linalg.norm(u)
+    u = e - g * detlinalg.dot(e, g)
+    u = u / detlinalg.norm(u)
     return u, np.cross(g, u)
 
 
 def _sphere_gradient(I, D, K, C, g: np.ndarray) -> np.ndarray:
-    """Tangential gradient of the segment energy at unit ``g`` (complex steps)."""
-    step = 1e-30
-    G = g[:, None] + 1j * step * np.eye(3)
-    grad = np.imag(_segment_energy(I, D, K, C, G)) / step
-    return grad - g * (grad @ g)
+    """Tangential gradient of the segment energy at unit ``g``.
+
+    On ``|gamma| = 1`` the energy is ``h = (M, omega)/2 = (M, W(gamma) M)/2`` with ``omega =
+    A (M + s gamma)``, ``s = (A gamma, M)/(1/D - (A gamma, gamma))`` (``A = (I + D)^-1``);
+    its gradient in ``M`` is ``omega`` and in ``gamma`` (``M`` fixed) ``s omega``, so along
+    ``M = C gamma - K`` it is ``(C + s) omega``, projected on the tangent plane.
+    ``tests/test_trace_geometry.py`` checks it against complex steps of the generated energy.
+    """
+    omega, s = _omega_and_s(I, D, C * g - np.asarray(K), g)
+    grad = (C + s) * omega
+    return grad - g * detlinalg.dot(grad, g)
 
 
 def segment_equilibria(
@@ -563,8 +554,8 @@ def segment_equilibria(
         if branch["n"][k] - C * C > 1e-6 * C * C:
             continue
         g = np.asarray(branch["states"][3:, k], float)
-        g = _polish(I, D, K, C, g / np.linalg.norm(g))
-        if all(np.linalg.norm(g - f) > 1e-6 for f in found):
+        g = _polish(I, D, K, C, _on_sphere(g))
+        if all(detlinalg.norm(g - f) > 1e-6 for f in found):
             found.append(g)
     code = load_model_code(SYSTEM, ("gyrostat",))
     p = [*I, D, *K]
@@ -578,46 +569,47 @@ def segment_equilibria(
             dgrad = (_sphere_gradient(I, D, K, C, gp) - _sphere_gradient(I, D, K, C, gm)) / (
                 2 * eps
             )
-            H[:, j] = [dgrad @ u, dgrad @ w]
+            H[:, j] = [detlinalg.dot(dgrad, u), detlinalg.dot(dgrad, w)]
             flow = [code.numpy.rhs(0.0, np.concatenate([C * x - np.asarray(K), x]), p)[3:6]
                     for x in (gp, gm)]  # fmt: skip
             df = (flow[0] - flow[1]) / (2 * eps)
-            A[:, j] = [df @ u, df @ w]
+            A[:, j] = [detlinalg.dot(df, u), detlinalg.dot(df, w)]
         det = H[0, 0] * H[1, 1] - H[0, 1] * H[1, 0]
         kind = "saddle" if det < 0 else ("min" if H[0, 0] + H[1, 1] > 0 else "max")
         detA = A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0]
         f = code.numpy.rhs(0.0, np.concatenate([C * g - np.asarray(K), g]), p)
         M = C * g - np.asarray(K)
-        omega = _omega(I, D, M, g)
+        omega, _ = _omega_and_s(I, D, M, g)
         out.append(
             {
                 "gamma": g,
                 "h": float(_segment_energy(I, D, K, C, g)),
                 "kind": kind,
-                "spin": float(omega @ g),
+                "spin": detlinalg.dot(omega, g),
                 "rate": math.sqrt(-detA) if kind == "saddle" and detA < 0 else None,
-                "residual": float(np.linalg.norm(f[3:6])),
+                "residual": detlinalg.norm(f[3:6]),
             }
         )
     return sorted(out, key=lambda e: e["h"])
 
 
-def _omega(I, D, M, g) -> np.ndarray:
-    """``omega`` from ``M = J omega - D (omega, gamma) gamma`` (``J = I + D``)."""
+def _omega_and_s(I, D, M, g) -> tuple[np.ndarray, float]:
+    """``omega = A (M + s gamma)`` from ``M = J omega - D (omega, gamma) gamma`` (``J = I +
+    D = A^-1``), and ``s = D (omega, gamma)``."""
     A = 1 / (np.asarray(I) + D)
-    s = (A * g) @ M / (1 / D - (A * g) @ g)
-    return A * (M + s * g)
+    s = detlinalg.dot(A * g, M) / (1 / D - detlinalg.dot(A * g, g))
+    return A * (M + s * g), s
 
 
 def _on_sphere(g: np.ndarray) -> np.ndarray:
-    return g / np.linalg.norm(g)
+    return g / detlinalg.norm(g)
 
 
 def _polish(I, D, K, C, g: np.ndarray) -> np.ndarray:
     """Newton's method for a zero of the tangential gradient (Hessian by differences)."""
     for _ in range(8):
         grad = _sphere_gradient(I, D, K, C, g)
-        if np.linalg.norm(grad) < 1e-14:
+        if detlinalg.norm(grad) < 1e-14:
             break
         u, w = _tangent_basis(g)
         eps = 1e-6
@@ -627,8 +619,8 @@ def _polish(I, D, K, C, g: np.ndarray) -> np.ndarray:
                 _sphere_gradient(I, D, K, C, _on_sphere(g + eps * e))
                 - _sphere_gradient(I, D, K, C, _on_sphere(g - eps * e))
             ) / (2 * eps)
-            H[:, j] = [dg @ u, dg @ w]
-        r = np.array([grad @ u, grad @ w])
+            H[:, j] = [detlinalg.dot(dg, u), detlinalg.dot(dg, w)]
+        r = np.array([detlinalg.dot(grad, u), detlinalg.dot(grad, w)])
         det = H[0, 0] * H[1, 1] - H[0, 1] * H[1, 0]
         if det == 0:
             break
@@ -652,7 +644,13 @@ def gradient_line(
     It crosses every orbit of the reduced flow it meets exactly once (the energy is
     monotone along it), so its points parametrise families of periodic orbits by their
     energy. It starts ``offset`` away from ``start`` (along the first tangent basis
-    vector) and runs at unit speed until the gradient vanishes (the opposite extremum).
+    vector) and runs at unit speed (the normalised tangential gradient) until the gradient
+    vanishes (the opposite extremum): classical Runge-Kutta steps of :data:`LINE_STEP` in
+    arc length, each point put back on the sphere, a step kept only where the energy moves
+    on by at least half of what the gradient promises (so ``h`` is strictly monotone and no
+    step passes over the extremum), else halved (and doubled again after a kept one, up to
+    :data:`LINE_STEP`), until the gradient's norm or the step is below :data:`LINE_FLAT`.
+    Deterministic: IEEE operations in a fixed order.
 
     Parameters
     ----------
@@ -669,45 +667,80 @@ def gradient_line(
     -------
     dict
         ``s`` (arc length), ``gamma`` (shape (3, N)), ``h`` (increasing if ``ascending``),
-        and ``at(h)``: the point of the line with energy ``h`` (Brent on its dense output).
+        and ``at(h)``: the point of the line with energy ``h`` (Brent's method along the
+        Runge-Kutta step from the point before it, a smooth curve through the line's
+        points).
+
+    Raises
+    ------
+    UserInputError
+        Bad parameters, a ``start`` that is not a nonzero vector, ``offset`` not positive;
+        ``at(h)`` for an energy the line does not reach.
     """
     I, D, K, C = _check_body(I, D, K, C)
-    g0 = _on_sphere(np.asarray(start, float))
+    offset = float(check_real(offset, "offset", positive=True, double=True))
+    g0 = _unit_vector(start, "start")
     u, _ = _tangent_basis(g0)
     g0 = _on_sphere(g0 + offset * u)
     sign = 1.0 if ascending else -1.0
 
-    def rhs(s, g):
-        g = _on_sphere(g)
-        grad = _sphere_gradient(I, D, K, C, g)
-        n = np.linalg.norm(grad)
-        return sign * grad / n if n > 0 else np.zeros(3)
+    def slope(g: np.ndarray) -> tuple[np.ndarray, float]:
+        grad = _sphere_gradient(I, D, K, C, _on_sphere(g))
+        return grad, detlinalg.norm(grad)
 
-    def flat(s, g):
-        return np.linalg.norm(_sphere_gradient(I, D, K, C, _on_sphere(g))) - 1e-7
+    def tangent(g: np.ndarray) -> np.ndarray | None:
+        grad, n = slope(g)
+        return sign * grad / n if n > LINE_FLAT else None
 
-    flat.terminal = True
-    sol = solve_ivp(rhs, (0, 2 * np.pi), g0, method="DOP853", rtol=1e-9, atol=1e-10,
-                    dense_output=True, events=flat, max_step=0.1)  # fmt: skip
-    s = sol.t
-    gam = np.apply_along_axis(_on_sphere, 0, sol.y)
-    h = np.asarray(_segment_energy(I, D, K, C, gam), float)
+    def advance(g: np.ndarray, step: float) -> np.ndarray | None:
+        """One classical Runge-Kutta step of length ``step`` (None where flat)."""
+        k1 = tangent(g)
+        k2 = None if k1 is None else tangent(g + (step / 2) * k1)
+        k3 = None if k2 is None else tangent(g + (step / 2) * k2)
+        k4 = None if k3 is None else tangent(g + step * k3)
+        if k4 is None:
+            return None
+        return _on_sphere(g + (step / 6) * (k1 + 2 * k2 + 2 * k3 + k4))
+
+    def energy(g: np.ndarray) -> float:
+        return float(_segment_energy(I, D, K, C, g))
+
+    s, gam, h, steps = [0.0], [g0], [energy(g0)], []
+    steepness = slope(g0)[1]
+    step = LINE_STEP
+    while steepness > LINE_FLAT and s[-1] < 2 * math.pi and step >= LINE_FLAT:
+        g = advance(gam[-1], step)
+        e = energy(g) if g is not None else math.nan
+        # kept if the energy moves on by at least half what the gradient promises (not so
+        # near the extremum that the step would pass it), else taken again shorter
+        if not sign * (e - h[-1]) >= 0.5 * step * steepness:
+            step /= 2
+            continue
+        s.append(s[-1] + step)
+        gam.append(g)
+        h.append(e)
+        steps.append(step)
+        steepness = slope(g)[1]
+        step = min(2 * step, LINE_STEP)
+    gam_arr, h_arr = np.array(gam).T.copy(), np.array(h)
 
     def at(value: float) -> np.ndarray:
-        k = int(np.searchsorted(sign * h, sign * value))
-        if k <= 0 or k >= len(h):
+        k = int(np.searchsorted(sign * h_arr, sign * value))
+        if k <= 0 or k >= len(h_arr):
             raise UserInputError(
-                f"h = {value} is not on this line: its energies run over [{h.min()}, {h.max()}]"
+                f"h = {value} is not on this line: its energies run over "
+                f"[{h_arr.min()}, {h_arr.max()}]"
             )
-        root = brentq(
-            lambda x: float(_segment_energy(I, D, K, C, _on_sphere(sol.sol(x)))) - value,
-            s[k - 1],
-            s[k],
-            xtol=1e-15,
-        )
-        return _on_sphere(sol.sol(root))
+        base = gam[k - 1]
 
-    return {"s": s, "gamma": gam, "h": h, "at": at}
+        def excess(x: float) -> float:
+            point = base if x == 0 else advance(base, x)
+            return energy(point) - value
+
+        root = brentq(excess, 0.0, steps[k - 1], xtol=1e-15)
+        return base if root == 0 else advance(base, root)
+
+    return {"s": np.array(s), "gamma": gam_arr, "h": h_arr, "at": at}
 
 
 def turning_critical_energy(

@@ -46,3 +46,16 @@ def _reset_mpmath_precision():
     mpmath.mp.prec = 53
     yield
     mpmath.mp.prec = 53
+
+
+def pytest_terminal_summary(terminalreporter, exitstatus, config) -> None:
+    """The hostile suites' tally (issue 25): cases per surface and each failure's count."""
+    import sys
+
+    hostile = sys.modules.get("hostile")
+    if hostile is None or not hostile.TALLY:
+        return
+    terminalreporter.section("hostile cases (this process)")
+    for surface, tally in sorted(hostile.TALLY.items()):
+        failures = ", ".join(f"{tally[name]} {name}" for name in hostile.FAILURES)
+        terminalreporter.write_line(f"{surface}: {tally['cases']} cases; {failures}")

@@ -261,11 +261,13 @@ def test_second_load_reuses_cached_library(tmp_path):
     compile_c(source + compiled._SHIM, cache_dir=cache, compiler=cc, force=True)
     assert _count(count) == 2
 
-    # the cache holds the library, its source and its record (size, SHA-256), no temporary
-    # files
+    # the cache holds the library, its source, its record (size, SHA-256, MAC) and the
+    # folder's secret key, no temporary files
     names = sorted(p.name for p in (cache / "c").iterdir())
     lib = first.path
-    assert names == [lib.with_suffix(".c").name, lib.name, lib.name + ".record"]
+    assert names == sorted(
+        [lib.with_suffix(".c").name, lib.name, lib.name + ".record", "cache.key"]
+    )
 
 
 def test_different_source_gives_different_library(tmp_path):

@@ -15,6 +15,10 @@ be equal under
 
 The control: the same run from an initial state moved by one unit in the last place of one
 coordinate gives another hash -- the hash sees every last bit, and the orbit is chaotic.
+
+A second, smaller test runs K01's trace geometry (two claims' computations: dense Taylor
+solutions, event location, complex arithmetic, the gyrostat's segment) under two BLAS kernels
+and without numpy's SIMD dispatch, and demands equal bits too.
 """
 
 from __future__ import annotations
@@ -78,6 +82,13 @@ print(json.dumps({"hash": h.hexdigest(), "sizes": sizes}))
 """
 
 
+#: numpy's SIMD dispatch and glibc's AVX2/FMA variants of libm switched off.
+WITHOUT_SIMD = {
+    "NPY_DISABLE_CPU_FEATURES": "X86_V3 X86_V4 AVX512_ICL AVX512_SPR",
+    "GLIBC_TUNABLES": "glibc.cpu.hwcaps=-AVX2,-FMA",
+}
+
+
 def _compiler(name: str) -> str:
     path = shutil.which(name)
     if path is None:
@@ -87,11 +98,58 @@ def _compiler(name: str) -> str:
     return path
 
 
-def _run(env_extra: dict[str, str], cache: Path, nudge: bool = False) -> dict:
+#: K01's trace geometry in a fresh process (the claims K01-Fig6f.circle and K01-4.3bounded:
+#: dense Taylor solutions, crossings, Brent, complex arithmetic, the gyrostat's segment, its
+#: gradient lines): every number of their computation hashed, bit for bit; prints one JSON
+#: line {"hash": ..., "count": ...}. The argument "1" moves the printed energy of Fig. 6(f)
+#: by one unit in the last place (the control).
+TRACE_PROBE = r"""
+import hashlib, json, math, sys
+import numpy as np
+from chaplygin.verify.claims import REGISTRY
+from chaplygin.verify.claims import k01_trace as k
+
+if sys.argv[1] == "1":
+    k.H_FIG6F = math.nextafter(k.H_FIG6F, 1.0)
+h = hashlib.sha256()
+count = 0
+
+def feed(value):
+    global count
+    arr = np.ascontiguousarray(np.asarray(value))
+    assert arr.dtype.kind in "fcib", arr.dtype
+    count += arr.size
+    h.update(arr.dtype.str.encode() + arr.tobytes())
+
+fig = k._fig6f_run()
+tp = fig["tp"]
+for name in ("period", "turn", "turning", "displacement", "centre", "radius", "inner", "outer",
+             "speed", "closure", "t", "z"):
+    feed(getattr(tp, name))
+feed(tp.sol.t)
+for c in tp.sol.coefficients:
+    feed(c)
+for name in ("z", "circle", "line"):
+    feed(fig[name])
+seg = k._segment_turning()
+for e in seg["equilibria"]:
+    feed(e["gamma"])
+    feed([e["h"], e["spin"], e["rate"] or 0.0, e["residual"]])
+for side in seg["sides"]:
+    feed(side["turns"])
+feed(sorted(seg["fig7"].items()))
+for claim in ("K01-Fig6f.circle", "K01-4.3bounded"):
+    r = REGISTRY[claim].compute()
+    feed([r.error, r.bound])
+print(json.dumps({"hash": h.hexdigest(), "count": count}))
+"""
+
+
+def _run(env_extra: dict[str, str], cache: Path, nudge: bool = False, probe: str = PROBE) -> dict:
     env = {k: v for k, v in os.environ.items() if not k.startswith(("OPENBLAS", "NPY_", "GLIBC"))}
     env.update(CHAPLYGIN_CACHE_DIR=str(cache), **env_extra)
     proc = subprocess.run(
-        [sys.executable, "-c", PROBE, "1" if nudge else "0", str(SCENES)],
+        [sys.executable, "-c", probe, "1" if nudge else "0", str(SCENES)],
         env=env, capture_output=True, text=True, timeout=1500,
     )  # fmt: skip
     assert proc.returncode == 0, proc.stderr[-3000:]
@@ -111,11 +169,7 @@ def test_chaotic_scene_has_the_same_bits_on_every_code_path(cache):
         "OpenBLAS Nehalem": {"CC": gcc, "OPENBLAS_CORETYPE": "Nehalem"},
         "OpenBLAS Sandybridge": {"CC": gcc, "OPENBLAS_CORETYPE": "Sandybridge"},
         "OpenBLAS Haswell": {"CC": gcc, "OPENBLAS_CORETYPE": "Haswell"},
-        "numpy without SIMD dispatch, glibc without AVX2/FMA": {
-            "CC": gcc,
-            "NPY_DISABLE_CPU_FEATURES": "X86_V3 X86_V4 AVX512_ICL AVX512_SPR",
-            "GLIBC_TUNABLES": "glibc.cpu.hwcaps=-AVX2,-FMA",
-        },
+        "numpy without SIMD dispatch, glibc without AVX2/FMA": {"CC": gcc, **WITHOUT_SIMD},
         "gcc -O0": {"CC": gcc, "CHAPLYGIN_OPT_LEVEL": "0"},
         "clang -O2": {"CC": clang},
         "clang -O0": {"CC": clang, "CHAPLYGIN_OPT_LEVEL": "0"},
@@ -128,3 +182,23 @@ def test_chaotic_scene_has_the_same_bits_on_every_code_path(cache):
     assert not differing, f"other bits than gcc -O2 ({reference['hash']}): {differing}"
     # control: one ulp in one coordinate of the start changes the hash
     assert _run(configurations["gcc -O2"], cache, nudge=True)["hash"] != reference["hash"]
+
+
+def test_k01_trace_geometry_has_the_same_bits_on_every_code_path(cache):
+    """K01's trace claims (integrable motions; dense Taylor solutions, no BLAS, the
+    project's own angles and complex products) under other BLAS kernels and without numpy's
+    SIMD loops and glibc's AVX2/FMA paths (numpy's complex multiply and modulus take other
+    bits there); the control moves one input by one ulp."""
+    gcc = _compiler("gcc")
+    configurations = {
+        "OpenBLAS Prescott": {"CC": gcc, "OPENBLAS_CORETYPE": "Prescott"},
+        "OpenBLAS Haswell": {"CC": gcc, "OPENBLAS_CORETYPE": "Haswell"},
+        "numpy without SIMD dispatch, glibc without AVX2/FMA": {"CC": gcc, **WITHOUT_SIMD},
+    }
+    seen = {name: _run(env, cache, probe=TRACE_PROBE) for name, env in configurations.items()}
+    reference = seen["OpenBLAS Prescott"]
+    assert reference["count"] > 10_000  # the samples of a period, the circle, the polynomials
+    differing = {name: r["hash"] for name, r in seen.items() if r["hash"] != reference["hash"]}
+    assert not differing, f"other bits than under Prescott ({reference['hash']}): {differing}"
+    nudged = _run(configurations["OpenBLAS Prescott"], cache, nudge=True, probe=TRACE_PROBE)
+    assert nudged["hash"] != reference["hash"]

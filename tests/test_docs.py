@@ -12,6 +12,9 @@ MODULES = [
     "chaplygin.derive.emit.functions",
     "chaplygin.numerics.integrate",
     "chaplygin.numerics.quadratures",
+    "chaplygin.numerics.taylor",
+    "chaplygin.verify.cli_common",
+    "chaplygin.verify.output_folder",
     "chaplygin.verify.vocabulary",
 ]
 

@@ -638,3 +638,50 @@ def test_trace_period_with_gyrostat(case):
     from chaplygin.numerics import trace_geometry
 
     check(trace_geometry.trace_period, case)
+
+
+DENSE_Y0 = [0.7, -0.4, 0.5, 0.36, 0.48, 0.8]
+BAD_STATE6 = [
+    None,
+    "abc",
+    5,
+    {},
+    [1, 2],
+    [1.0] * 7,
+    np.ones((6, 6)),
+    [0.7, -0.4, 0.5, NAN, 0.0, 1.0],
+    [0.7, -0.4, 0.5, INF, 0.0, 1.0],
+    [0.7, -0.4, 0.5, "0.36", 0.48, 0.8],
+    [0.7, -0.4, 0.5, None, 0.48, 0.8],
+]
+
+
+@SETTINGS
+@given(
+    spoil(
+        {
+            "y0": DENSE_Y0,
+            "t_span": (0.0, 1.0),
+            "p": [1.0, 2.0, 3.0, 1.0],
+            "rtol": 1e-10,
+            "atol": 1e-10,
+            "max_steps": 1000,
+            "lib": None,
+        },
+        {
+            "y0": pool(BAD_STATE6),
+            "p": pool(BAD_STATE6[:7] + [[1.0, 2.0, NAN, 1.0], [1.0, "2", 3.0, 1.0]]),
+            "t_span": pool(BAD_BRACKET[:5] + [(1.0, 1.0), (0.0, INF), ("0", 1.0)]),
+            "rtol": pool(BAD_POSITIVE + [1e-17], floats=NEG_FLOATS),
+            "atol": pool(BAD_POSITIVE + [1e-300], floats=NEG_FLOATS),
+            "max_steps": pool([None, "20", 1.5, 0, -1, True, NAN]),
+            "lib": pool(["", "C", "mpfr", 5, "gmpy2"]),
+        },
+    )
+)
+def test_taylor_dense(case):
+    from chaplygin.numerics.taylor import taylor_dense
+
+    code = load_model_code("chaplygin_ball")
+    name, kwargs = case
+    assert_refused(lambda: taylor_dense(code, **kwargs), (name,))

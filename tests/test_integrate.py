@@ -189,10 +189,10 @@ def test_result_repr_is_short_and_names_the_evidence():
     r = integrate(BALL, REFERENCE_Y0, 5, REFERENCE_PARAMS, rtol=1e-10, atol=1e-10)
     text = repr(r)
     assert len(text) < 600 and len(text.splitlines()) < 12
-    for key in ("DOP853", "success", "drift", "nfev", "M1=", "(gamma,gamma)"):
+    for key in ("taylor", "success", "drift", "nfev", "M1=", "(gamma,gamma)"):
         assert key in text
     assert f"({r.t.size})" in text  # the time array is shortened, its length given
     html = r._repr_html_()
-    assert html.startswith("<table>") and "DOP853" in html and "nfev" in html
+    assert html.startswith("<table>") and "taylor" in html and "nfev" in html
     q = integrate(BALL, REFERENCE_Y0, 1, REFERENCE_PARAMS, precision=40)
     assert "40 digits" in repr(q) and len(repr(q)) < 600

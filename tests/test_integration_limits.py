@@ -40,7 +40,10 @@ def test_the_step_limit_stops_with_a_status_that_says_what_to_do(method, precisi
 
 @pytest.mark.parametrize(("method", "precision"), [("DOP853", "double"), ("taylor", 30)])
 def test_the_wall_time_limit_stops_with_its_own_status(method, precision):
-    r = integrate("chaplygin_ball", Y0, 1e7, P, method=method, precision=precision, max_wall_s=0.05)
+    r = integrate(
+        "chaplygin_ball", Y0, 1e7, P, method=method, precision=precision, max_wall_s=0.05,
+        max_steps=10**9,  # (without a limit of its own, a span this long is refused at once)
+    )
     assert r.status == -6 and "max_wall_s" in r.message
 
 
@@ -76,3 +79,13 @@ def test_a_solution_that_becomes_nan_is_a_failure_not_a_result():
     r = integrate("chaplygin_ball", Y0, 1, P, method=_Blowup)
     assert r.status == -1 and not r.success
     assert "NaN or infinite" in r.message
+
+
+@pytest.mark.parametrize(("method", "precision"), [("DOP853", "double"), ("taylor", 30)])
+def test_a_span_that_could_only_end_at_the_default_limit_is_refused_at_once(method, precision):
+    with pytest.raises(UserInputError, match="could only end at the step limit"):
+        integrate("chaplygin_ball", Y0, 1e12, P, method=method, precision=precision)
+    # with a limit of its own the run is the user's to bound: it stops there
+    r = integrate("chaplygin_ball", Y0, 1e12, P, method=method, precision=precision,
+                  max_steps=20)
+    assert r.status == -2

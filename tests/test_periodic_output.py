@@ -203,3 +203,31 @@ def test_period_seven_cycle_refined_at_30_digits():
         back = reduced_point(list(y7), code.state)[1]
         gap = max(abs(mpmath.mpf(a) - b) for a, b in zip(back, start, strict=True))
     assert gap < 1e-24
+
+
+@pytest.mark.slow
+def test_mirror_starts_print_the_same_canonical_cycle(tmp_path, capsys):
+    """From the Fig. 5 start and its exact mirror image (gamma -> -gamma) the refined 7-cycles
+    are mirror copies (BM20-3.1); both runs print the same canonical orbit, starting at the
+    same point, and name the copy each reached (opposite)."""
+    from chaplygin.numerics.periodic_orbits import bm20_state
+
+    y0 = bm20_state([0.5, 1.0, 1.0], 3.0)
+    outs = []
+    for sign in (1, -1):
+        text = BM20.format(omega=1.06675, transient=12000).replace(
+            "G = 3\nz = 0.5\nl = 1\ng = 1",
+            f"M = {[repr(float(v)) for v in y0[:3]]}\n"
+            f"gamma = {[repr(float(sign * v)) for v in y0[3:]]}",
+        )
+        (tmp_path / str(sign)).mkdir()
+        status, captured = _run(tmp_path / str(sign), text, capsys)
+        assert status == 0, captured.err
+        outs.append(json.loads(captured.out)["analyses"]["periodic_orbits"])
+    assert [o["period"] for o in outs] == [7, 7]
+    assert {o["copy_reached"] for o in outs} == {"canonical", "mirror"}
+    assert {o["symmetric_copy"] for o in outs} == {"none", "gamma -> -gamma"}
+    a, b = (np.array([[float(v) for v in x] for x in o["orbit (z, l, g)"]]) for o in outs)
+    d = a - b
+    d[:, 1:] = (d[:, 1:] + np.pi) % (2 * np.pi) - np.pi
+    assert np.max(np.abs(d)) <= 1e-8

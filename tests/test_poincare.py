@@ -378,3 +378,49 @@ def test_bm20_31obs_holds_and_its_control_is_refuted_by_the_same_computation():
     assert result.holds and result.error < 1e-12
     control = REGISTRY["BM20-3.1obs/control-J"].compute()
     assert not control.holds and control.error > 0.1
+
+
+def test_mirror_starts_are_named_as_mirror_copies_and_drawn_canonical():
+    """BM20 Fig. 7A (Omega = 1.06675): from the Fig. 5 start and from its exact mirror image
+    (gamma -> -gamma; the arithmetic is odd in gamma, so the second run is the first one
+    mirrored, whichever copy the transient reaches) the map reaches the 7-cycle and its mirror
+    copy (BM20-3.1): the summaries name the copies opposite, and with copies = "canonical" both
+    store the same points; as reached (the control) their g differ by pi (g -> g + pi is the
+    mirror in Andoyer-Deprit variables).
+
+    The start is 1e-5 off the cycle as Newton refines it from a 4-digit guess (not the Fig. 5
+    start: when its chaotic transient is captured by the cycle depends on the last bits), so
+    the transient converges by the cycle's own contraction (multipliers 0.97 in modulus per
+    period 7: 1e-5 * 0.97^(4000/7) ~ 3e-13, below the 1e-9 at which the output calls an orbit
+    periodic)."""
+    from chaplygin.numerics.periodic_orbits import (
+        bm20_map_with_jacobian,
+        bm20_state,
+        refine_periodic_orbit,
+    )
+
+    params = [4, 3, 2, 4.385, 0, 2, -6, -3, -9, 1.06675]
+    smap = bm20_map_with_jacobian(params, 3.0, rtol=1e-10)
+    cycle = refine_periodic_orbit(smap, [-0.8026, 1.2821, -1.5663], 7, 1.06675)
+    x0 = np.asarray(cycle.points[0], dtype=float) + np.array([1e-5, -1e-5, 1e-5])
+    y0 = bm20_state(x0, 3.0)
+    arrays, named = {}, {}
+    for copies in ("canonical", "reached"):
+        for sign in (1, -1):
+            initial = {
+                "M": [repr(float(v)) for v in y0[:3]],
+                "gamma": [repr(float(sign * v)) for v in y0[3:]],
+            }
+            table = {"iterations": 14, "transient": 4000, "plot": False, "copies": copies}
+            data = {**SCENE, "parameters": {**BM20, "Omega": 1.06675}, "initial": initial,
+                    "outputs": {"poincare": table}}  # fmt: skip
+            done = Scene.from_dict(data).run().analyses["poincare"]
+            named[copies, sign] = done.summary["symmetric_copies"]["initial"]
+            arrays[copies, sign] = {c: done.arrays[c][1][0] for c in ("z", "l", "g")}
+    assert {named["canonical", s]["copy_reached"] for s in (1, -1)} == {"canonical", "mirror"}
+    assert {named["reached", s]["symmetric_copy"] for s in (1, -1)} == {"none", "gamma -> -gamma"}
+    for c in ("z", "l", "g"):
+        same = arrays["canonical", 1][c] - arrays["canonical", -1][c]
+        assert np.max(np.abs((same + np.pi) % (2 * np.pi) - np.pi)) < 1e-12, c
+    shift = (arrays["reached", 1]["g"] - arrays["reached", -1]["g"]) % (2 * np.pi)
+    assert np.max(np.abs(shift - np.pi)) < 1e-12

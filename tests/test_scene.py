@@ -217,7 +217,7 @@ def test_run_refuses_a_foreign_non_empty_folder(tmp_path, capsys):
     (out / "keep.txt").write_text("x")
     assert main(["run", str(FIG6F), "--out", str(out), "--set", "run.t_end=1"]) == 2
     assert sorted(p.name for p in out.iterdir()) == ["keep.txt"]
-    assert "not a previous run" in capsys.readouterr().err
+    assert "that chaplygin run did not make" in capsys.readouterr().err
 
 
 def test_explain_runs_nothing(tmp_path, capsys):

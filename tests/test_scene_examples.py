@@ -91,3 +91,25 @@ def test_every_effect_is_needed_and_no_other_is_on(path):
         # and b (a parameter of contact_point only) is then refused
         with pytest.raises(SceneError, match="no parameter 'b'"):
             Scene.from_dict({**data, "outputs": outputs}).resolve()
+
+
+def test_bm20_fig3_only_I3_crosses_I2():
+    """BM20 Fig. 3 (I = diag(4, 3, 2), J = 0, delta = 2): I2 = 3 is constant, I3(t) = 2 +
+    4 sin^2(Omega t) crosses it twice per half period, I1(t) = 4 + 4 sin^2(Omega t) stays
+    above it (and I1 - I3 = 2: they never cross). The series of the example scene against
+    (3.4) evaluated here (BM20-3.4)."""
+    import numpy as np
+
+    path = next(p for p in SCENES if p.stem == "bm20-fig3")
+    result = Scene.from_toml(str(path)).run()
+    t = np.asarray(result.t, dtype=float)
+    I1, I2, I3 = (np.asarray(result.quantity(f"I{i}(t)"), dtype=float) for i in (1, 2, 3))
+    s2 = np.sin(0.4 * t) ** 2
+    assert np.max(np.abs(I1 - (4 + 4 * s2))) < 1e-13 and np.max(np.abs(I3 - (2 + 4 * s2))) < 1e-13
+    assert np.all(I2 == 3)
+    assert np.min(I1 - I2) >= 1 - 1e-13  # I1 never reaches I2
+    crossings = np.count_nonzero(np.diff(np.sign(I3 - I2)))
+    # I3 = I2 where sin^2(Omega t) = 1/4: Omega t = k pi +- pi/6 inside (0, Omega t_end)
+    end = 0.4 * t[-1]
+    roots = [x for k in range(5) for x in (k * np.pi - np.pi / 6, k * np.pi + np.pi / 6)]
+    assert crossings == sum(0 < x < end for x in roots) > 0

@@ -138,3 +138,91 @@ def test_taylor_batch_engine_refuses_a_precision_it_does_not_have(tmp_path):
     text = FROM_REST.replace("ENGINE", "taylor-batch")
     out, _ = _chunk(tmp_path, text.replace("atol = 1e-13", 'atol = 1e-13\nprecision = "quad"'))
     assert (out["status"] != 0).all() and (out["period"] == -1).all()
+
+
+CARRY = """
+title = "carry"
+system = "chaplygin_ball"
+effects = ["variable_inertia", "variable_gyrostat"]
+
+[parameters]
+I = [4, 3, 2]
+D = 4.385
+J_off = 0
+delta = 2
+K = [-6, -3, -9]
+Omega = 1.06675
+
+[initial]
+G = 3
+z = 0.5
+l = 1
+g = 1
+
+[run]
+t_end = 1
+rtol = 1e-10
+atol = 1e-12
+
+[sweep]
+chunk = 3
+carry = "DIRECTION"
+reduce = ["regime"]
+
+[sweep.regime]
+transient = 12000
+carried_transient = 3000
+recorded = 100
+max_period = 32
+intervals = 200
+
+[sweep.axes]
+"parameters.D" = [4.3845, 4.385, 4.3855]
+"""
+
+
+def test_carried_starts_follow_the_attractor_along_the_line(tmp_path):
+    """carry: each point of a grid line starts where the previous one ended: forward the
+    first point starts at the scene's state (carried 0) and the others are carried; backward
+    the reverse. Along this line inside the period-7 tongue every point reaches the 7-cycle;
+    the carried start is the previous point's end, so the carried run equals attractor_regime
+    from that state (checked at the last point)."""
+    from chaplygin.numerics.regimes import attractor_regime
+
+    out = {}
+    for direction in ("forward", "backward"):
+        out[direction], shape = _chunk(tmp_path, CARRY.replace("DIRECTION", direction))
+        assert shape == (3,) and (out[direction]["status"] == 0).all()
+        assert out[direction]["period"].tolist() == [7, 7, 7]
+        assert (out[direction]["regime"] == 1).all()
+    assert out["forward"]["carried"].tolist() == [0, 1, 1]
+    assert out["backward"]["carried"].tolist() == [1, 1, 0]
+    # the carried chain by hand: point 0 from the scene's start, then from each end
+    code = load_model_code("chaplygin_ball", ["variable_inertia", "variable_gyrostat"])
+    path = tmp_path / "s.toml"  # the scene _chunk wrote: its resolved start, bit for bit
+    y = [float(v) for v in Scene.from_toml(path).resolve().y0]
+    for k, D in enumerate((4.3845, 4.385, 4.3855)):
+        p = [4, 3, 2, D, 0, 2, -6, -3, -9, 1.06675]
+        r = attractor_regime(code, p, y, transient=12000 if k == 0 else 3000, recorded=100,
+                             max_period=32, intervals=200)  # fmt: skip
+        y = r.end
+    assert r.copy.code == out["forward"]["symmetric_copy"][2]
+    assert r.copy.statistic == out["forward"]["copy_statistic"][2]  # the same run, bit for bit
+
+
+def test_carry_both_adds_a_leading_dimension_and_is_checked(tmp_path):
+    from chaplygin.verify.scene import SceneError
+
+    path = tmp_path / "both.toml"
+    path.write_text(textwrap.dedent(CARRY.replace("DIRECTION", "both")))
+    plan = plan_sweep(Scene.from_toml(path))
+    assert plan.dims == ("carry", "D") and plan.shape == (2, 3) and len(plan.chunks) == 2
+    assert [p["carry"] for p in plan.points(plan.chunks[1])] == ["backward"] * 3
+    bad = CARRY.replace("DIRECTION", "forward")
+    for old, new, needle in (
+        ("chunk = 3", "chunk = 2", "one task per grid line"),
+        ('reduce = ["regime"]', 'reduce = ["period"]', "do not carry"),
+    ):
+        path.write_text(textwrap.dedent(bad.replace(old, new)))
+        with pytest.raises(SceneError, match=needle):
+            plan_sweep(Scene.from_toml(path))

@@ -137,11 +137,38 @@ def test_saddle_rate_gives_the_logarithmic_growth_of_the_period():
     assert (T[1] - T[0]) == pytest.approx(math.log(10) / saddle["rate"], rel=2e-3)
 
 
+def test_segment_gradient_is_the_generated_energys():
+    """The closed-form tangential gradient ``(C + s) omega`` of the segment energy against
+    complex steps of the generated energy (another route: the model's own formula,
+    differentiated by the complex step), at generic points of the sphere."""
+    from chaplygin.numerics.trace_geometry import _check_body, _sphere_gradient
+
+    I, D, K, C = _check_body(FIG7["I"], FIG7["D"], (0.13, -0.07, 0.21), 0.83)
+    rng = np.random.default_rng(7)
+    for _ in range(5):
+        g = rng.normal(size=3)
+        g /= math.sqrt(float(np.sum(g * g)))
+        step = 1e-30
+        grad = np.imag(segment_energy(I, D, g[:, None] + 1j * step * np.eye(3), C, K)) / step
+        tangential = grad - g * float(np.sum(grad * g))
+        closed = _sphere_gradient(I, D, K, C, g)
+        assert float(np.max(np.abs(closed - tangential))) < 1e-14 * float(np.max(np.abs(grad)))
+        assert abs(float(np.sum(closed * g))) < 1e-15  # tangent to the sphere
+
+
 def test_gradient_line_is_monotone_and_finds_energies():
     p = FIG7
     eq = segment_equilibria(p["I"], p["D"], p["K"], p["C"])
     line = gradient_line(p["I"], p["D"], p["K"], p["C"], eq[-1]["gamma"], ascending=False)
     assert np.all(np.diff(line["h"]) < 0)
+    # it ends at a minimum (LINE_FLAT = 1e-7 away in gamma: its energy to 1e-13), not short
+    # of it nor circling it
+    end = line["gamma"][:, -1]
+    nearest = min(eq, key=lambda e: float(np.sum((e["gamma"] - end) ** 2)))
+    assert nearest["kind"] == "min"
+    assert float(np.sqrt(np.sum((nearest["gamma"] - end) ** 2))) < 1e-5
+    assert 0 < line["h"][-1] - nearest["h"] < 1e-13
+    assert line["s"][-1] < 4.0  # 2.87 here; a line circling the minimum runs to the cap 2 pi
     g = line["at"](0.3)
     assert float(segment_energy(p["I"], p["D"], g, p["C"], p["K"])) == pytest.approx(0.3, abs=1e-13)
     with pytest.raises(UserInputError, match="not on this line"):

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 
 from ..derive.errors import UserInputError
 from .claims import select_claims
@@ -42,7 +42,8 @@ def check(
     Raises
     ------
     UserInputError
-        No claim matches, an unknown method, or ``jobs < 1``.
+        ``claims`` neither text nor a list of text, no claim matches, an unknown method,
+        ``jobs < 1`` or a timeout that is not a positive number.
 
     Examples
     --------
@@ -56,6 +57,18 @@ def check(
         )
     if not isinstance(jobs, int) or isinstance(jobs, bool) or jobs < 1:
         raise UserInputError(f"jobs must be a positive integer, got {jobs!r}")
+    if timeout is not None and (
+        isinstance(timeout, bool)
+        or not isinstance(timeout, int | float)
+        or not 0 < timeout < float("inf")
+    ):
+        raise UserInputError(f"timeout must be a positive number of seconds, got {timeout!r}")
+    if not isinstance(claims, str) and (
+        isinstance(claims, bytes | Mapping) or not isinstance(claims, Iterable)
+    ):
+        raise UserInputError(
+            f"claims must be a claim ID or pattern (text) or a list of them, got {claims!r}"
+        )
     single = isinstance(claims, str) and "," not in claims and not (_GLOB & set(claims))
     if isinstance(claims, str):
         patterns = [p.strip() for p in claims.split(",") if p.strip()]

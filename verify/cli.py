@@ -34,7 +34,7 @@ from . import (
     sweep_cmd,
     verify_cmd,
 )
-from .cli_common import EXIT_FAILED, EXIT_INTERNAL, EXIT_USAGE
+from .cli_common import EXIT_FAILED, EXIT_INTERNAL, EXIT_USAGE, printable
 from .vocabulary import to_cli
 
 __all__ = ["main", "build_parser", "console", "COMMANDS"]
@@ -111,8 +111,11 @@ def _internal_error(exc: BaseException, debug: bool) -> int:
     message = " ".join(str(exc).split())[:200]
     hint = "" if debug else "; rerun with --debug for the traceback"
     print(
-        f"chaplygin: internal error: {type(exc).__name__}{': ' if message else ''}{message}"
-        f"{where}; {REPORT_TO}{hint}",
+        printable(
+            f"chaplygin: internal error: {type(exc).__name__}{': ' if message else ''}{message}"
+            f"{where}; {REPORT_TO}{hint}",
+            keep="",
+        ),
         file=sys.stderr,
     )
     return EXIT_INTERNAL
@@ -140,13 +143,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return args.run(args)
     except UserInputError as exc:  # the API speaks of arguments, the command line of flags
-        print(f"chaplygin: error: {to_cli(' '.join(str(exc).split()))}", file=sys.stderr)
+        message = printable(to_cli(" ".join(str(exc).split())), keep="")
+        print(f"chaplygin: error: {message}", file=sys.stderr)
         return EXIT_USAGE
     except OSError as exc:
         if args.debug:
             traceback.print_exception(exc, file=sys.stderr)
         name = f"{exc.filename}: " if exc.filename else ""
-        print(f"chaplygin: error: {name}{exc.strerror or exc}", file=sys.stderr)
+        print(printable(f"chaplygin: error: {name}{exc.strerror or exc}", keep=""), file=sys.stderr)
         return EXIT_FAILED
     except KeyboardInterrupt:  # pragma: no cover
         print("chaplygin: interrupted", file=sys.stderr)

@@ -8,6 +8,7 @@ import json
 import math
 import os
 import tempfile
+import unicodedata
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
@@ -23,6 +24,7 @@ __all__ = [
     "check_output_file",
     "check_output_dir",
     "json_text",
+    "printable",
 ]
 
 #: Exit statuses: success, a check or run that failed, a user error (one line on stderr),
@@ -127,6 +129,44 @@ def check_output_dir(path: str, flag: str, what: str = "files") -> Path:
     else:
         _writable_folder(target.parent, refuse)
     return target
+
+
+#: Unicode categories never sent to a terminal as they are: controls (escape sequences, bell,
+#: carriage return), format characters (bidirectional overrides) and line/paragraph separators.
+_UNPRINTABLE = frozenset({"Cc", "Cf", "Zl", "Zp"})
+
+
+def printable(text: str, keep: str = "\n") -> str:
+    r"""``text`` safe for a terminal: every control or format character shown as an escape.
+
+    Text from user files (a scene's title, a file name) may hold escape sequences that
+    recolour, retitle or clear the terminal, or bidirectional overrides that reorder what is
+    shown; they are printed as ``\x1b``, ``\u202e`` (as Python's ``repr`` writes them).
+
+    Parameters
+    ----------
+    text : str
+    keep : str
+        Characters left as they are (default: the newline of multi-line output).
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> print(printable("title \x1b[2J"))
+    title \x1b[2J
+    """
+    out = []
+    for ch in text:
+        if ch in keep or unicodedata.category(ch) not in _UNPRINTABLE:
+            out.append(ch)
+        elif ord(ch) < 0x100:
+            out.append(f"\\x{ord(ch):02x}")
+        else:
+            out.append(f"\\u{ord(ch):04x}" if ord(ch) < 0x10000 else f"\\U{ord(ch):08x}")
+    return "".join(out)
 
 
 def _finite_or_none(value: object) -> object:

@@ -7,58 +7,15 @@ import math
 
 from chaplygin.derive.errors import UserInputError
 
-from ..arith import detlinalg
+from ..numerics.step_budget import DEFAULT_MAX_STEPS, estimated_steps, motion_rate
 from .cli_common import EXIT_FAILED, EXIT_OK, json_text, key_values, positive_float
 
 __all__ = ["add_parser", "run", "DEFAULT_MAX_STEPS", "estimated_steps"]
 
-#: The step budget of 'chaplygin integrate' unless --max-steps raises it.
-DEFAULT_MAX_STEPS = 10_000_000
-
-#: Orders of the scipy methods: at unit frequency a step of an order-p method at relative
-#: tolerance rtol is about rtol**(1/(p+1)) time units long.
-_SCIPY_ORDERS = {"rk45": 5, "dop853": 8, "lsoda": 5, "radau": 5, "bdf": 5, "rk23": 3}
-
-#: Steps per time unit of the Taylor methods (taylor, odefun) at unit radius of
-#: convergence: the Jorba-Zou step is e^-2 times the radius, whatever the tolerance.
-_TAYLOR_STEPS_PER_TIME = math.e**2
-
-
-def estimated_steps(span: float, method: str | None, rtol: float | None, double: bool) -> float:
-    """Steps an integration over ``span`` time units needs at unit frequency (a guard).
-
-    Parameters
-    ----------
-    span : float
-        ``|t_end - t_start|``, in units of the motion's time scale (the command multiplies
-        it by ``|f(t0, y0)|/|y0|`` when that is above 1).
-    method : str or None
-        The ``--method`` (None: taylor).
-    rtol : float or None
-        The ``--rtol`` (None: 1e-10 in double; the Taylor step does not depend on it).
-    double : bool
-        Double precision (the scipy methods) or not.
-
-    Returns
-    -------
-    float
-        ``span * rtol**(-1/(p+1))`` for a scipy method of order p, ``span * e**2`` for the
-        Taylor methods. Faster motions (large momenta, small inertia) need more.
-    """
-    name = (method or "taylor").lower()
-    if name in _SCIPY_ORDERS:
-        tol = 1e-10 if rtol is None else rtol
-        return span * tol ** (-1.0 / (_SCIPY_ORDERS[name] + 1))
-    return span * _TAYLOR_STEPS_PER_TIME
-
 
 def _rate(args: argparse.Namespace) -> float:
-    """``max(1, max_g |f_g(t0, y0)| / |y0_g|)`` over the state groups g (M, gamma, ...):
-    how fast the state moves at the start (a fast spin turns gamma at its rate).
-
-    Evaluated in double precision with the model's numpy code; 1 when that is not possible
-    (values beyond double, bad input: :func:`integrate` then says what is wrong).
-    """
+    """:func:`~chaplygin.numerics.step_budget.motion_rate` at the command's start, in double
+    precision; 1 when the inputs cannot be read (``integrate()`` then says what is wrong)."""
     import numpy as np
     from chaplygin.numerics.code import load_model_code
     from chaplygin.numerics.inputs import Precision, pack_params, pack_state, parse_number
@@ -71,15 +28,7 @@ def _rate(args: argparse.Namespace) -> float:
         t0 = float(parse_number(args.t_start))
     except (UserInputError, OverflowError, ValueError, TypeError):
         return 1.0
-    with np.errstate(all="ignore"):
-        f = np.asarray(code.numpy.rhs(t0, y, p), float)
-        rate = 1.0
-        for names in code.state_groups.values():
-            index = [code.state.index(n) for n in names]
-            size = detlinalg.norm(y[index])
-            if size > 0:
-                rate = max(rate, detlinalg.norm(f[index]) / size)
-    return rate if math.isfinite(rate) else 1.0
+    return motion_rate(code, t0, y, p)
 
 
 def _check_step_budget(args: argparse.Namespace, prec) -> None:

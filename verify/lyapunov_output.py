@@ -180,7 +180,9 @@ def run_lyapunov(scene: Any, resolved: Any, spec: LyapunovOutput, progress: bool
             sp.errors,
             {"long_name": "standard errors of the exponents", "units": "1/time"},
         )
-    title = scene.title or code.name
+    from .plots import literal_text
+
+    title = literal_text(scene.title or code.name)
     figures = {"lyapunov": lambda: convergence_figure(spectra, title)}
     if not math.isfinite(sum(sp.sum_of_exponents for sp in spectra.values())):
         raise SceneError("the exponents are not finite", scene.source, "outputs.lyapunov")

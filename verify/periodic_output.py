@@ -178,7 +178,7 @@ def _run(scene: Any, res: Any, spec: PeriodicOrbitsOutput, progress: Any) -> Ana
             "max |multiplier|": orbit.max_abs_multiplier,
             "multiplier_tolerance": orbit.multiplier_tolerance,
             "stable": orbit.stable,
-            "orbit (z, l, g)": [[f"{v:.15g}" for v in x] for x in orbit.points],
+            **_canonical_orbit(orbit, G),
         }
     )
     if spec.continuation is not None and orbit.converged:
@@ -188,6 +188,25 @@ def _run(scene: Any, res: Any, spec: PeriodicOrbitsOutput, progress: Any) -> Ana
         arrays.update(arrays_c)
         figures["periodic_orbits_multipliers"] = fig
     return AnalysisResult(summary=summary, arrays=arrays, figures=figures)
+
+
+def _canonical_orbit(orbit: Any, G: float) -> dict[str, Any]:
+    """The refined cycle as its canonical copy under ``gamma -> -gamma`` (in (z, l, g):
+    ``g -> g + pi``), starting at a fixed point of the cycle, with the copy reached named
+    (:mod:`chaplygin.numerics.symmetry`): two runs that land on mirror copies, or on the
+    cycle at different points, print the same orbit."""
+    from ..numerics.periodic_orbits import BM20_STATE, as_numpy_points, bm20_point, bm20_state
+    from ..numerics.symmetry import canonical_cycle, name_copy
+
+    states = np.array([bm20_state(x, G) for x in as_numpy_points(orbit)])
+    tol = max(float(orbit.residual), float(orbit.tolerance)) * max(1.0, G)
+    copy = name_copy(states, BM20_STATE, periodic=True, tol=tol)
+    canonical = canonical_cycle(states, BM20_STATE, copy)
+    return {
+        "orbit (z, l, g)": [[f"{v:.15g}" for v in bm20_point(y)] for y in canonical],
+        "orbit_copy": "canonical" if copy.copy != "self" else "self-symmetric",
+        **copy.summary(),
+    }
 
 
 def _continue(smap, orbit, vary, value, cspec, progress, continue_periodic_orbit):

@@ -34,6 +34,8 @@ if TYPE_CHECKING:
 __all__ = [
     "FIGURES",
     "bifurcation_figure",
+    "critical_traces_figure",
+    "bifurcation_complex_figure",
     "delta_of_mu_figure",
     "separatrix_traces_figure",
     "work_precision_figure",
@@ -42,7 +44,28 @@ __all__ = [
     "series_figure",
     "drift_figure",
     "scene_diagram_figure",
+    "literal_text",
 ]
+
+
+def literal_text(text: str) -> str:
+    """User text (a scene's title) as matplotlib shows it literally: ``$`` escaped, so that
+    ``"cost $5$"`` is not read as mathtext (and a malformed formula cannot fail the drawing).
+
+    Parameters
+    ----------
+    text : str
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> literal_text("$x^$")
+    '\\$x^\\$'
+    """
+    return text.replace("$", r"\$")
 
 #: Bifurcation diagrams: name -> (system, default parameters, title).
 #: Most random states :func:`bifurcation_figure` integrates.
@@ -164,19 +187,26 @@ def _draw_traces(ax: Axes, tax: Axes, I, D, C, vals, states) -> None:
     tax.set_title("contact-point traces, t in [0, 150]", fontsize=9)
 
 
+def _paper_order(I, D) -> np.ndarray:
+    """Body axes in BKM12's order of Figs. 2 and 3: ``A1 < A2 < A3`` (``b_i = D A_i``), so the
+    paper's ``Sigma_k`` is the steady rotation about body axis ``order[k - 1]``."""
+    return np.argsort(1 / (np.asarray(I, float) + D), kind="stable")
+
+
 def _draw_bkm12_2(ax: Axes, I, D, samples, seed) -> float:
     from ..numerics.bifurcation import family_stability, sample_levels
 
     stab = family_stability(I, D, 1.0, 0.0)
     C = np.linspace(0, 1, 100)
     A = 1 / (np.asarray(I, float) + D)
-    for i in range(3):
+    for k, i in enumerate(_paper_order(I, D)):
         ax.plot(
             C,
             A[i] * C,
             _style(stab[i][0]),
-            color=COLORS[i],
-            label=f"E = A{i + 1} C (max|mu| = {stab[i][1]:.3g})",
+            color=COLORS[k],
+            label=f"Sigma_{k + 1}: E = A{k + 1} C, A{k + 1} = {A[i]:.4g} (body axis e{i + 1}; "
+            f"max|mu| = {stab[i][1]:.3g})",
         )
     vals, drift, states = sample_levels(I, D, samples, seed, C_range=(0.02, 1.0), Mg=0.0)
     ax.plot(vals[:, 0], vals[:, 2], ".", color="0.5", ms=3)
@@ -191,14 +221,15 @@ def _draw_bkm12_3(ax: Axes, I, D, samples, seed) -> float:
     b = D / (np.asarray(I, float) + D)
     g = np.linspace(-1, 1, 201)
     stab = family_stability(I, D, 1.0, 0.5)
-    for i in range(3):
+    for k, i in enumerate(_paper_order(I, D)):
         Ep = sigma(i, 1.0, g, I, D) * D  # E' = E D/C at C = 1
         ax.plot(
             g,
             Ep,
             _style(stab[i][0]),
-            color=COLORS[i],
-            label=f"Sigma_{i + 1} (max|mu| = {stab[i][1]:.3g})",
+            color=COLORS[k],
+            label=f"Sigma_{k + 1}: b{k + 1} = {b[i]:.4g} (body axis e{i + 1}; "
+            f"max|mu| = {stab[i][1]:.3g})",
         )
     ends = sorted(b / (1 - b))
     for gv, k in ((1, 4), (-1, 5)):
@@ -345,15 +376,181 @@ def bifurcation_figure(
             ax.set_title(f"{title}: I = {I}, D = {D}, C = (M, gamma) = {C}")
         elif figure == "bkm12-2":
             drift = _draw_bkm12_2(ax, I, D, samples, seed)
-            ax.set_title(f"{title}: (M, gamma) = 0, I = {I}, D = {D}")
+            ax.set_title(f"{title}: (M, gamma) = 0, I = {I}, D = {D} (A1 < A2 < A3)")
         else:
             drift = _draw_bkm12_3(ax, I, D, samples, seed)
-            ax.set_title(f"{title}: normalised diagram, I = {I}, D = {D}")
+            ax.set_title(f"{title}: normalised, I = {I}, D = {D} (b1 < b2 < b3)")
         handles, _ = ax.get_legend_handles_labels()
         ax.legend(handles=handles + _stability_legend(), fontsize=7, loc="best")
         ax.grid(alpha=0.3)
     fig.tight_layout()
     return fig, drift
+
+
+# ------------------------------------------------------- BKM12 Figs. 2(b), 3(b): the complex
+def bifurcation_complex_figure(
+    I: Sequence[float] = (1.0, 1.5, 3.0),
+    D: float = 1.0,
+    gs: Sequence[float] = (0.0, 0.5),
+    levels: int = 7,
+) -> Figure:
+    """The bifurcation complex over a line ``C = 1``, ``g = M_gamma/sqrt(C)`` fixed of the
+    diagram (BKM12 Figs. 2(b), 3(b)), computed: for energies across both chambers, each
+    connected component of the level set (a leaf:
+    :func:`~chaplygin.numerics.bifurcation.level_set_components`) is drawn at the mean of
+    ``M`` along the axis of the stable family its chamber ends on (``e`` of ``A1`` below
+    ``Sigma_2``, of ``A3`` above): the leaves run from the stable rotations (``|mean| -> 1``) to
+    ``Sigma_2``, where the level set is one component and they meet.
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+    D : float
+    gs : sequence of float
+        One panel per ``g`` (0: Fig. 2(b)).
+    levels : int
+        Energies per chamber.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    References
+    ----------
+    BKM12-Fig2b, BKM12-Fig3b (claims).
+    """
+    from ..numerics.bifurcation import level_set_components, sigma
+
+    I = tuple(float(v) for v in check_vector(I, "I", positive=True, double=True))
+    order = np.argsort(1 / (np.asarray(I) + D))
+    fig = _new_figure(figsize=(6 * len(gs), 4.6), layout="constrained")
+    axes = np.atleast_1d(fig.subplots(1, len(gs)))
+    for ax, g in zip(axes, gs, strict=True):
+        S = [float(sigma(int(i), 1.0, g, I, D)) for i in order]
+        for chamber, (lo, hi, axis) in enumerate(((S[0], S[1], order[0]), (S[1], S[2], order[2]))):
+            Es = lo + (hi - lo) * np.linspace(0.04, 0.96, levels)
+            tracks: list[list] = [[], []]
+            for E in Es:
+                r = level_set_components(I, D, float(E), 1.0, float(g))
+                along = sorted(r.mean_M[:, axis])
+                for k, v in enumerate(along[:2]):
+                    tracks[k].append((E, v, r.count))
+            colour = COLORS[0 if chamber == 0 else 2]
+            for k, track in enumerate(tracks):
+                E_, v_, _ = (np.array(c) for c in zip(*track, strict=True))
+                ax.plot(E_, v_, "o-", color=colour, ms=3,
+                        label=(f"leaves over (Sigma_{chamber + 1}, Sigma_{chamber + 2}): along "
+                               f"e{axis + 1}") if k == 0 else None)  # fmt: skip
+                end = 0 if chamber == 1 else -1  # the end at Sigma_2: joined to its vertex
+                ax.plot([E_[end], S[1]], [v_[end], 0.0], ":", color=colour, lw=1)
+            edge = lo if chamber == 0 else hi  # the stable rotations the leaves end on
+            ax.plot([edge, edge], [-1, 1], "s", color=colour, ms=6)
+        r = level_set_components(I, D, S[1], 1.0, float(g))
+        ax.axvline(S[1], color=COLORS[1], ls="--", lw=1)
+        ax.plot([S[1]], [0], "o", color=COLORS[1], ms=8,
+                label=f"Sigma_2: {r.count} component (the leaves glued)")  # fmt: skip
+        ax.set_xlabel("E = (M, omega) at C = (M, M) = 1")
+        ax.set_ylabel("mean over the leaf of M along its stable family's axis")
+        ax.set_title(
+            f"{'Fig. 2(b)' if g == 0 else 'Fig. 3(b)'}: g = {g:g}; squares: the stable "
+            "rotations (+-e)",
+            fontsize=9,
+        )
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle(f"BKM12: the bifurcation complex over C = 1, computed (I = {I}, D = {D:g})")
+    return fig
+
+
+# ------------------------------------------------ BKM12 §1.5: traces of critical solutions
+def critical_traces_figure(
+    I: Sequence[float] = (1.0, 1.5, 3.0),
+    D: float = 1.0,
+    C: float = 2.0,
+    Mg: float = 0.5,
+    b: float = 1.0,
+    periods: float = 3.0,
+) -> Figure:
+    """Contact-point traces of BKM12's critical solutions: (a) the six families (25) at
+    ``(M, gamma) = 0``, (b) the six rotations on ``Sigma_1..3`` at ``(M, gamma) = Mg``, (c)
+    the Euler-top orbits ``M = +-sqrt(C) gamma`` (``Sigma_4``, ``Sigma_5``) on both arcs,
+    (d) a separatrix of ``Sigma_2`` at ``(M, gamma) = 0``: from the rotation about the middle
+    axis in one sense to the opposite one (BKM12-1.5sep).
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+    D, C, Mg, b : float
+        ``D = m b^2``, ``(M, M)``, ``(M, gamma)`` of panel (b), the radius.
+    periods : float
+        Periods of each rotation drawn.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    References
+    ----------
+    BKM12-25.trace, BKM12-crit.trace, BKM12-Sigma45, BKM12-1.5sep (FORMULAS.md, claims).
+    """
+    from ..numerics import load_model_code
+    from ..numerics.bifurcation import critical_trace
+    from ..numerics.stability import critical_state, euler_state, monodromy
+
+    I = tuple(float(v) for v in check_vector(I, "I", positive=True, double=True))
+    A = 1 / (np.asarray(I) + D)
+    order = list(np.argsort(A))  # BKM12's A1 < A2 < A3
+    fig = _new_figure(figsize=(15, 4.6), layout="constrained")
+    axes = fig.subplots(1, 4)
+    for ax, mg, name in ((axes[0], 0.0, "(a) (M, gamma) = 0: the families (25)"),
+                         (axes[1], Mg, f"(b) (M, gamma) = {Mg:g}: Sigma_1..3")):  # fmt: skip
+        for axis in range(3):
+            k = order.index(axis)
+            for branch, style in ((0, "-"), (1, "--")):
+                y0, T = critical_state(I, D, axis, C, mg, branch)
+                tr = critical_trace(y0, I, D, b, periods * T)
+                # the horizontal frame is a free choice: each family is drawn turned by its own
+                # angle so that the six straight lines do not overlap
+                turn = np.pi * (2 * k + branch) / 6
+                c, s_ = np.cos(turn), np.sin(turn)
+                ax.plot(c * tr.x - s_ * tr.y, s_ * tr.x + c * tr.y, style, color=COLORS[k],
+                        lw=1.2, label=f"Sigma_{k + 1} (e{axis + 1}), sense {branch}")  # fmt: skip
+        ax.set_title(name + f", {periods:g} periods", fontsize=9)
+    bs = np.sort(D * A)
+    ends = bs / (1 - bs)
+    for sign, name in ((1, "Sigma_4"), (-1, "Sigma_5")):
+        for j, (lo, hi) in enumerate(((ends[0], ends[1]), (ends[1], ends[2]))):
+            y0 = euler_state(I, D, C, (lo + hi) / 2, sign)
+            tr = critical_trace(y0, I, D, b, 60.0)
+            axes[2].plot(tr.x, tr.y, "-" if sign > 0 else "--", color=COLORS[3 + j % 2], lw=1,
+                         label=f"{name}, E' = {(lo + hi) / 2:.3g}")  # fmt: skip
+    axes[2].set_title("(c) M = +-sqrt(C) gamma (Sigma_4, 5), t in [0, 60]", fontsize=9)
+    mid = order[1]
+    y0, T = critical_state(I, D, mid, C, 0.0, 0)
+    Phi, _ = monodromy(load_model_code("chaplygin_ball"), y0, T, [*I, D], 1e-12)
+    w, V = np.linalg.eig(Phi)
+    v = np.real(V[:, int(np.argmax(np.abs(w)))])
+    tr = critical_trace(y0 + 1e-6 * v / np.linalg.norm(v), I, D, b, 12 * T, points=6001)
+    axes[3].plot(tr.x, tr.y, color=COLORS[1], lw=1)
+    axes[3].plot(tr.x[0], tr.y[0], "o", color="k", ms=4)
+    axes[3].set_title(
+        f"(d) separatrix of Sigma_2 (e{mid + 1}), offset 1e-6,\n"
+        f"t in [0, {12 * T:.0f}] (y stretched)",
+        fontsize=9,
+    )
+    for ax in axes[:3]:
+        ax.set_aspect("equal", adjustable="datalim")
+    for ax in axes:
+        ax.grid(alpha=0.3)
+        ax.set_xlabel(f"x (contact point, b = {b:g})")
+        ax.set_ylabel("y")
+    for ax in axes[:3]:
+        ax.legend(fontsize=6)
+    fig.suptitle(
+        f"BKM12 §1.5: contact-point traces of the critical solutions, I = {I}, D = {D:g}, "
+        f"(M, M) = {C:g}, b = {b:g}"
+    )
+    return fig
 
 
 # ---------------------------------------------------------------------- separatrix, K01 §3.3

@@ -303,6 +303,9 @@ def _run(scene: Any, res: Any, spec: PoincareOutput, progress: bool) -> Analysis
         except (UserInputError, ComputationError) as exc:
             raise _fail(scene, f"{label}: {exc}", "section") from None
         labels.append(label)
+    copies = _name_copies(spec, code, orbits, labels)
+    if spec.copies == "canonical" and copies:
+        orbits = [_as_canonical(o, code, c) for o, c in zip(orbits, copies, strict=True)]
     points = [map_points(o, spec.coordinates, code, params) for o in orbits]
     marks = _rotation_marks(scene, res, section, spec) if spec.mark_rotations else {}
     n_max = max(len(o) for o in orbits)
@@ -354,6 +357,17 @@ def _run(scene: Any, res: Any, spec: PoincareOutput, progress: bool) -> Analysis
         first = [o.t[0] for o in orbits if len(o)]
         last = [o.t[-1] for o in orbits if len(o)]
         summary["time_span"] = [f"{min(first)}", f"{max(last)}"] if last else None
+    if copies:
+        summary["symmetric_copies"] = {
+            label: c.summary() for label, c in zip(labels, copies, strict=True)
+        }
+        summary["copies_drawn"] = spec.copies
+    elif spec.section == "stroboscopic":
+        summary["symmetric_copies"] = "not named: the model has no symmetry that keeps t"
+    else:
+        summary["symmetric_copies"] = (
+            "not named: a section by a surface (the symmetry need not map it onto itself)"
+        )
     if marks:
         summary["rotation_marks"] = {
             k: {c: [round(float(x), 10) for x in v[c]] for c in coords}
@@ -364,13 +378,50 @@ def _run(scene: Any, res: Any, spec: PoincareOutput, progress: bool) -> Analysis
     projections = (
         [tuple(p) for p in spec.projections] if spec.projections else _default_pairs(spec, coords)
     )
-    title = scene.title or code.name
+    from .plots import literal_text
+
+    title = literal_text(scene.title or code.name)
     figures = {}
     if spec.plot:
         figures["poincare"] = lambda: poincare_figure(points, labels, projections, marks, title)
     if spec.plot3d:
         figures["poincare_3d"] = lambda: poincare_3d_figure(points, coords[:3], title)
     return AnalysisResult(summary=summary, arrays=arrays, figures=figures)
+
+
+def _name_copies(spec: PoincareOutput, code: Any, orbits: list, labels: list) -> list:
+    """The copy each orbit of a stroboscopic map reached under the ball's symmetry
+    (:func:`chaplygin.numerics.symmetry.name_copy` on its states); empty when not named."""
+    from ..numerics.symmetry import name_copy, symmetries_of
+
+    if spec.section != "stroboscopic" or not symmetries_of(code):
+        return []
+    from ..numerics.regimes import closing_period, map_points_scaled
+
+    out = []
+    for orbit in orbits:
+        y = np.asarray(orbit.y, dtype=float)
+        # a periodic orbit (closing to 1e-9 in (M/G, gamma)) is named from one period of it
+        period = closing_period(map_points_scaled(y, code.state), min(64, len(y) // 2), 1e-9)
+        if period:
+            out.append(name_copy(y[-period:], code.state, periodic=True, tol=1e-9 * 10))
+        else:
+            out.append(name_copy(y, code.state))
+    return out
+
+
+def _as_canonical(orbit: Any, code: Any, copy: Any) -> Any:
+    """The orbit as its canonical copy: ``gamma -> -gamma`` applied when it reached the mirror
+    (at the orbit's own precision)."""
+    import dataclasses
+
+    if copy.copy != "mirror":
+        return orbit
+    y = np.array(orbit.y, copy=True)
+    for i, name in enumerate(code.state):
+        if name in ("gamma1", "gamma2", "gamma3"):
+            y[:, i] = -y[:, i]
+    return dataclasses.replace(orbit, y=y)
 
 
 def _default_pairs(spec: PoincareOutput, coords: tuple[str, ...]) -> list[tuple[str, str]]:
@@ -417,7 +468,10 @@ def poincare_figure(
     size = 0.6 if sum(len(next(iter(p.values()))) for p in points) > 2000 else 3
     for ax, (x, y) in zip(axes, projections, strict=True):
         for pts, label in zip(points, labels, strict=True):
-            ax.scatter(pts[x], pts[y], s=size, lw=0, label=label if len(points) <= 8 else None)
+            # a few distinct points (fixed points, cycles reached after a transient): visible
+            distinct = len(np.unique(np.round(np.column_stack([pts[x], pts[y]]), 6), axis=0))
+            ax.scatter(pts[x], pts[y], s=size if distinct > 100 else 30, lw=0,
+                       label=label if len(points) <= 8 else None)  # fmt: skip
         for name, pts in marks.items():
             if "in" in pts:  # lies in the section: a curve
                 ax.plot(pts[x], pts[y], "k--", lw=0.8, zorder=5)

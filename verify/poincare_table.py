@@ -89,8 +89,13 @@ class PoincareOutput(_Table):
         description="mark where the steady rotations p1, p2, p3 of K01 (3.2) at the scene's C "
         "and h cross the section (chaplygin_ball, initial state by h and C)",
     )
+    copies: Literal["reached", "canonical"] = Field(
+        "reached",
+        description="stroboscopic maps of the ball: store and draw each orbit as reached, or as "
+        "the canonical copy under the symmetry gamma -> -gamma (chaplygin.numerics.symmetry); "
+        "the summary names the copy reached either way",
+    )
     plot: StrictBool = Field(True, description="write the 2-D projections as PNG and SVG")
     plot3d: StrictBool = Field(
         False, description="also the 3-D map of the first three coordinates (BM20 Fig. 5 style)"
     )
-

@@ -11,7 +11,8 @@ import argparse
 import sys
 from pathlib import Path
 
-from .cli_common import EXIT_FAILED, EXIT_OK, json_text
+from ..derive.errors import UserInputError
+from .cli_common import EXIT_FAILED, EXIT_OK, json_text, printable
 
 __all__ = ["add_parser", "run"]
 
@@ -35,9 +36,16 @@ JSON_KEYS = (
 
 
 def _out_folders(paths: list[str], out: str | None) -> list[Path]:
-    stems = [Path(p).stem for p in paths]
-    if len(paths) == 1:
-        return [Path(out) if out else Path("chaplygin-run") / stems[0]]
+    """The output folder of each scene: ``--out`` itself for one scene, else
+    ``BASE/STEM`` (``BASE`` is ``--out`` or ``chaplygin-run``); stems made safe
+    (:func:`~chaplygin.verify.output_folder.safe_name`: ``...toml`` has the stem ``..``)."""
+    from .output_folder import safe_name
+
+    if out is not None and not out.strip():
+        raise UserInputError("--out needs a folder name, got an empty one")
+    stems = [safe_name(Path(p).stem) for p in paths]
+    if len(paths) == 1 and out:
+        return [Path(out)]
     base = Path(out) if out else Path("chaplygin-run")
     return [base / s for s in stems]
 
@@ -62,43 +70,48 @@ def run(args: argparse.Namespace) -> int:
         return EXIT_OK
     if not args.scenes:
         raise SceneError("give at least one scene file (or --schema)")
-    folders = _out_folders(args.scenes, args.out)
-    if len(set(folders)) != len(folders):
-        raise SceneError("two scenes have the same file name: their output folders would clash")
     scenes = [Scene.from_toml(path, args.set or ()) for path in args.scenes]
-    resolved = [scene.resolve() for scene in scenes]  # every user error before any work
     if args.explain:
         from .scene import explain_text
 
-        print("\n\n".join(explain_text(s, r) for s, r in zip(scenes, resolved, strict=True)))
+        resolved = [scene.resolve() for scene in scenes]
+        text = "\n\n".join(explain_text(s, r) for s, r in zip(scenes, resolved, strict=True))
+        print(printable(text))
         return EXIT_OK
-    for folder in folders:
-        prepare_output(folder)
+    # every user error before any work: the folders first (resolving may derive a model)
+    folders = [prepare_output(f) for f in _out_folders(args.scenes, args.out)]
+    if len({f.target for f in folders}) != len(folders):
+        raise SceneError("two scenes have the same file name: their output folders would clash")
+    resolved = [scene.resolve() for scene in scenes]
     status = EXIT_OK
     progress = not args.quiet and sys.stderr.isatty()
     from .scene import run_resolved
 
     for scene, res, folder in zip(scenes, resolved, folders, strict=True):
         if res.code.note and not args.quiet:
-            print(f"note: {res.code.note}", file=sys.stderr)
+            print(printable(f"note: {res.code.note}"), file=sys.stderr)
         result = run_resolved(scene, res, progress)
         written = write_atomically(result, folder)
-        summary = result.summary([str(folder / w) for w in written])
+        summary = result.summary([str(Path(folder.given) / w) for w in written])
         if not result.success:
             status = EXIT_FAILED
         if args.json:
             print(json_text({k: summary[k] for k in JSON_KEYS if k in summary}, indent=2))
         elif not args.quiet and result.integration is None:
             print(
-                f"{scene.source}: {', '.join(result.analyses)} in {summary['wall_s']:.2f} s "
-                f"-> {folder}/"
+                printable(
+                    f"{scene.source}: {', '.join(result.analyses)} in {summary['wall_s']:.2f} s "
+                    f"-> {folder.given}/"
+                )
             )
         elif not args.quiet:
             worst = max(summary["drift"].values(), key=lambda v: -1 if v is None else v)
             print(
-                f"{scene.source}: {result.integration.message} (status {summary['status']}); "
-                f"{summary['steps']} steps, {summary['wall_s']:.2f} s, max drift {worst:.2e} "
-                f"-> {folder}/"
+                printable(
+                    f"{scene.source}: {result.integration.message} (status "
+                    f"{summary['status']}); {summary['steps']} steps, {summary['wall_s']:.2f} s, "
+                    f"max drift {worst:.2e} -> {folder.given}/"
+                )
             )
     return status
 

@@ -26,9 +26,7 @@ import json
 import math
 import platform
 import re
-import shutil
 import sys
-import tempfile
 import time
 import tomllib
 from collections.abc import Mapping, Sequence
@@ -78,6 +76,9 @@ __all__ = [
     "quantity_names",
     "prepare_output",
     "write_atomically",
+    "read_scene_file",
+    "MAX_SCENE_BYTES",
+    "MAX_SCENE_DEPTH",
 ]
 
 #: Effects an output needs: output key -> effects.
@@ -223,6 +224,11 @@ class Run(_Table):
         "at least 2001 and at most 200001)",
     )
     backend: Literal["auto", "c", "numpy"] = "auto"
+    max_steps: Annotated[StrictInt, Field(ge=1, le=10**12)] | None = Field(
+        None,
+        description="step budget (default 1e7): a span whose estimated steps exceed it is "
+        "refused before any work, and the run stops there",
+    )
 
 
 class Initial(BaseModel):
@@ -274,8 +280,9 @@ class Scene(BaseModel):
 
     title: StrictStr = Field(
         "",
-        description="shown on the plots and in the summary; {initial.h} (any dotted key) shows "
-        "that key's value as run, {{ }} are braces",
+        max_length=500,
+        description="shown on the plots and in the summary (at most 500 characters); "
+        "{initial.h} (any dotted key) shows that key's value as run, {{ }} are braces",
     )
     system: Literal[tuple(sorted(SYSTEMS))]  # type: ignore[valid-type]
     effects: list[StrictStr] = Field(
@@ -336,21 +343,12 @@ class Scene(BaseModel):
         """
         path = Path(path)
         name = str(path)
-        try:
-            raw = path.read_bytes()
-        except (OSError, ValueError) as exc:
-            raise SceneError(f"cannot read the scene: {exc.strerror or exc}", name) from None
+        raw = read_scene_file(path)
         try:
             text = raw.decode("utf-8")
         except UnicodeDecodeError:
             raise SceneError("not UTF-8 text (a scene is a TOML file)", name) from None
-        try:
-            data = tomllib.loads(text)
-        except tomllib.TOMLDecodeError as exc:
-            line = re.search(r"line (\d+)", str(exc))
-            raise SceneError(
-                f"TOML syntax: {exc}", name, line=int(line.group(1)) if line else None
-            ) from None
+        data = _parse_toml(text, name)
         text = _mask_overridden(text, overrides)
         scene = cls.from_dict(apply_overrides(data, overrides, name), source=name, text=text)
         stale = _stale_overrides(data.get("title", ""), overrides, scene._given)
@@ -386,6 +384,7 @@ class Scene(BaseModel):
         """
         if not isinstance(data, Mapping):
             raise SceneError("a scene is a table of keys", source)
+        _check_depth(data, source)
         try:
             scene = cls.model_validate(dict(data))
         except ValidationError as exc:
@@ -447,6 +446,93 @@ class Scene(BaseModel):
         SceneResult
         """
         return run_resolved(self, self.resolve(), progress)
+
+
+#: Largest scene file read (a scene is a few kilobytes; a sweep's long list of values fits).
+MAX_SCENE_BYTES = 1 << 20
+
+#: Deepest nesting of tables and lists in a scene (the schema's deepest is 5:
+#: ``sweep.axes."parameters.D".start``, or a list in a table of a table).
+MAX_SCENE_DEPTH = 16
+
+
+def read_scene_file(path: str | Path) -> bytes:
+    """The bytes of a scene file, read with limits: a regular file (a FIFO, a device such as
+    ``/dev/zero`` or a folder is refused without being opened for reading, so nothing
+    blocks) of at most :data:`MAX_SCENE_BYTES`.
+
+    Parameters
+    ----------
+    path : str or Path
+
+    Returns
+    -------
+    bytes
+
+    Raises
+    ------
+    SceneError
+        Missing, unreadable, not a regular file, or too large.
+    """
+    import os
+    import stat
+
+    name = str(path)
+    try:
+        st = os.stat(path)
+        if not stat.S_ISREG(st.st_mode):
+            kind = "a folder" if stat.S_ISDIR(st.st_mode) else "not a regular file"
+            raise SceneError(f"cannot read the scene: it is {kind} (a scene is a TOML file)", name)
+        # O_NONBLOCK: a FIFO put there since the check cannot block the open
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+        with os.fdopen(fd, "rb") as fh:
+            st = os.fstat(fh.fileno())
+            if not stat.S_ISREG(st.st_mode):
+                raise SceneError("cannot read the scene: it is not a regular file", name)
+            raw = fh.read(MAX_SCENE_BYTES + 1)
+    except SceneError:
+        raise
+    except (OSError, ValueError) as exc:
+        reason = getattr(exc, "strerror", None) or exc
+        raise SceneError(f"cannot read the scene: {reason}", name) from None
+    if len(raw) > MAX_SCENE_BYTES:
+        raise SceneError(
+            f"the scene file is larger than {MAX_SCENE_BYTES // 1024} KiB (a scene is a few "
+            "kilobytes; give long ranges of a sweep as {start, stop, num})",
+            name,
+        )
+    return raw
+
+
+def _parse_toml(text: str, source: str | None, what: str = "TOML syntax") -> dict:
+    """``tomllib.loads`` with its failures as one-line :class:`SceneError` (deep nesting
+    included: the parser recurses)."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        line = re.search(r"line (\d+)", str(exc))
+        raise SceneError(
+            f"{what}: {exc}", source, line=int(line.group(1)) if line else None
+        ) from None
+    except (RecursionError, MemoryError):
+        raise SceneError(
+            f"{what}: nested deeper than {MAX_SCENE_DEPTH} tables or lists", source
+        ) from None
+    _check_depth(data, source)
+    return data
+
+
+def _check_depth(data: object, source: str | None) -> None:
+    """Refuse data nested deeper than :data:`MAX_SCENE_DEPTH` (walked without recursion)."""
+    stack = [(data, 1)]
+    while stack:
+        node, depth = stack.pop()
+        if depth > MAX_SCENE_DEPTH:
+            raise SceneError(f"nested deeper than {MAX_SCENE_DEPTH} tables or lists", source)
+        if isinstance(node, Mapping):
+            stack.extend((v, depth + 1) for v in node.values())
+        elif isinstance(node, list | tuple):
+            stack.extend((v, depth + 1) for v in node)
 
 
 class _KeyProblem(ValueError):
@@ -725,6 +811,11 @@ def apply_overrides(data: Mapping, overrides: Sequence[str], source: str | None 
             parsed = tomllib.loads(f"v = {value.strip()}")["v"]
         except tomllib.TOMLDecodeError:
             parsed = value.strip()
+        except (RecursionError, MemoryError):
+            raise SceneError(
+                f"--set {key}: nested deeper than {MAX_SCENE_DEPTH} tables or lists", source
+            ) from None
+        _check_depth(parsed, source)
         node = out
         for i, part in enumerate(parts[:-1]):
             node = node.setdefault(part, {})
@@ -1003,6 +1094,8 @@ def _resolve(scene: Scene) -> Resolved:
         y0 = pack_state(code, given, prec)
     except UserInputError as exc:
         raise SceneError(str(exc), src, "initial", _line_of(text, ("initial",))) from None
+    if needs_trajectory(scene):
+        _check_step_budget(scene, code, t_span, y0, p, prec, text)
     residuals = {}
     if prescribed:
         residuals = integral_residuals(code, y0, p, prescribed, max(prec.digits or 17, 17))
@@ -1108,6 +1201,29 @@ def _time_span(scene: Scene, prec: Any, text: str | None) -> tuple:
     return tuple(out)
 
 
+def _check_step_budget(scene: Scene, code: Any, t_span, y0, p, prec: Any, text) -> None:
+    """Refuse, before any work, a span whose estimated steps exceed ``run.max_steps`` (as
+    ``chaplygin integrate`` does: :mod:`chaplygin.numerics.step_budget`)."""
+    from ..numerics.step_budget import DEFAULT_MAX_STEPS, estimated_steps, motion_rate
+
+    run = scene.run_options
+    budget = run.max_steps or DEFAULT_MAX_STEPS
+    span = abs(float(t_span[1] - t_span[0]))
+    rate = motion_rate(code, float(t_span[0]), y0, p) if math.isfinite(span) else 1.0
+    steps = estimated_steps(span * rate, run.method, run.rtol, prec.is_double)
+    if steps > budget:
+        loc = ("run", "t_end")
+        at = "" if rate == 1 else f" at a rate |f(y0)|/|y0| of {rate:.2g}"
+        raise SceneError(
+            f"a span of {span:.3g}{at} needs about {steps:.2g} steps, beyond the budget of "
+            f"{budget:.3g}; shorten the span or raise run.max_steps (default "
+            f"{DEFAULT_MAX_STEPS:.0e})",
+            scene.source,
+            _dotted(loc),
+            _line_of(text, loc),
+        )
+
+
 def quantity_names(code: Any) -> list[str]:
     """Names a series may show: state components, auxiliary quantities, integrals, ``I_i(t)``.
 
@@ -1160,8 +1276,8 @@ def _text_of(source: str | None) -> str | None:
     if not source:
         return None
     try:
-        return Path(source).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError):
+        return read_scene_file(source).decode("utf-8")
+    except (SceneError, UnicodeDecodeError):
         return None
 
 
@@ -1232,9 +1348,11 @@ def explain_text(scene: Scene, res: Resolved) -> str:
     str
     """
     from ..numerics.code import generated_manifest
+    from .cli_common import printable
 
     code = res.code
-    lines = [f"scene: {scene.title or scene.source or '(untitled)'}", f"model: {code.name}"]
+    title = printable(scene.title or scene.source or "(untitled)", keep="")
+    lines = [f"scene: {title}", f"model: {code.name}"]
     lines.append("effects:")
     if not res.effects:
         lines.append("  none (the bare system)")
@@ -1390,6 +1508,7 @@ def _integrate_trajectory(scene: Scene, res: Resolved, progress: bool) -> tuple[
 
     from ..numerics.inputs import Precision
     from ..numerics.integrate import integrate
+    from ..numerics.step_budget import DEFAULT_MAX_STEPS
 
     prec = Precision(scene.run_options.precision)
     t0, t1 = res.t_span
@@ -1415,6 +1534,7 @@ def _integrate_trajectory(scene: Scene, res: Resolved, progress: bool) -> tuple[
             backend=scene.run_options.backend,
             t_eval=times,
             events=events,
+            max_steps=scene.run_options.max_steps or DEFAULT_MAX_STEPS,  # the budget checked
         )
 
     try:
@@ -1755,7 +1875,9 @@ class SceneResult:
         return out
 
     def _title(self) -> str:
-        return self.scene.title or self.resolved.code.name
+        from .plots import literal_text
+
+        return literal_text(self.scene.title or self.resolved.code.name)
 
     # ------------------------------------------------------------------ summary and files
     def summary(self, outputs: Sequence[str] = ()) -> dict:
@@ -1932,9 +2054,11 @@ def _version() -> str:
 
 
 # ------------------------------------------------------------------------- output folder
-def prepare_output(out: str | Path) -> Path:
-    """Check, before any work, that ``out`` may be written: absent, empty, or a previous run's
-    folder (it has ``summary.json``).
+def prepare_output(out: str | Path) -> Any:
+    """Check, before any work, that a run may write into ``out``: a new folder, an empty one,
+    or a folder of a previous run (its marker lists the files we wrote, each unchanged).
+
+    See :mod:`chaplygin.verify.output_folder`.
 
     Parameters
     ----------
@@ -1942,46 +2066,32 @@ def prepare_output(out: str | Path) -> Path:
 
     Returns
     -------
-    Path
+    chaplygin.verify.output_folder.OutputFolder
 
     Raises
     ------
-    SceneError
+    UserInputError
+        Anything else (a non-empty folder that is not ours, a changed file of ours, a folder
+        where nothing can be created); nothing is touched.
     """
-    out = Path(out)
-    if out.exists() and not out.is_dir():
-        raise SceneError(f"--out {out} exists and is not a folder")
-    if out.is_dir() and any(out.iterdir()) and not (out / "summary.json").is_file():
-        raise SceneError(
-            f"--out {out} is a non-empty folder that is not a previous run (no summary.json): "
-            "choose another folder"
-        )
-    return out
+    from .output_folder import OutputFolder
+
+    return out if isinstance(out, OutputFolder) else OutputFolder.check(out)
 
 
-def write_atomically(result: SceneResult, out: str | Path) -> list[str]:
-    """Write the outputs into a temporary folder and move it into place at the end.
+def write_atomically(result: SceneResult, out: Any) -> list[str]:
+    """Write the outputs beside the folder's files and move them into place at the end,
+    replacing only the files of our previous run (see :func:`prepare_output`).
 
     Parameters
     ----------
     result : SceneResult
-    out : str or Path
-        Checked by :func:`prepare_output`.
+    out : str, Path or OutputFolder
+        Checked by :func:`prepare_output` (again, if a path).
 
     Returns
     -------
     list of str
         Files written (relative to ``out``).
     """
-    out = prepare_output(out)
-    tmp = Path(tempfile.mkdtemp(prefix="chaplygin-run-"))
-    try:
-        written = result.write(tmp)
-        out.parent.mkdir(parents=True, exist_ok=True)
-        if out.is_dir():
-            shutil.rmtree(out)
-        shutil.move(str(tmp), str(out))
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-    return written
+    return prepare_output(out).write(result.write)

@@ -10,18 +10,23 @@ point reduced to numbers, computed in chunks on Dask and stored chunk by chunk i
   (names, extra dimensions, units) and computes them from a :class:`PointContext`. A reducer is
   added with :func:`register_reducer` (e.g. the largest Lyapunov exponent, once
   :mod:`chaplygin.numerics.lyapunov` exists).
-* **Store.** An xarray Dataset in Zarr: the grid as coordinates, one Zarr chunk per sweep chunk
-  (``chunk`` points along the last axis), ``status`` per point (0 done, 1 input refused at that
-  point, 2 computation failed) and ``computed`` (1 once the point's chunk is stored; written
-  after the chunk's data, so a chunk is either complete or computed again). The store is first
-  built in a temporary folder and renamed into place. Its attributes hold the scene, the grid,
-  the versions and the model hash, and a fingerprint of all of these: a store made by another
-  scene, grid or code version is refused, never mixed.
+* **Store** (:mod:`chaplygin.verify.sweep_store`). An xarray Dataset in Zarr: the grid as
+  coordinates, one Zarr chunk per sweep chunk (``chunk`` points along the last axis),
+  ``status`` per point (0 done, 1 input refused at that point, 2 computation failed),
+  ``chunk_digest`` (the SHA-256 of each chunk's values) and ``computed`` (1 once the point's
+  chunk is stored; written after the chunk's data and digest, so a chunk is either complete
+  or computed again). The store is first built in a temporary folder and renamed into place.
+  Its attributes hold the scene, the grid, the versions and the model hash, and a fingerprint
+  of all of these: a store made by another scene, grid or code version is refused, never
+  mixed. On every resume each chunk marked done is read and checked against its digest, and
+  computed again when it does not match; missing or damaged arrays are made again.
+* **Checked first** (:mod:`chaplygin.verify.sweep_checks`): the grid's memory, disk and
+  least time against the machine, the worker count, the scheduler's address and handshake.
 * **Resumable.** Tasks are chunks (Dask distributed: a LocalCluster, or ``--scheduler``); the
   client writes each finished chunk at once (Zarr writes each chunk file atomically). A sweep
-  killed at any moment and started again skips the chunks marked ``computed`` and computes the
-  others; every point is computed by the same deterministic code, so the results are
-  bit-identical to an uninterrupted run.
+  killed at any moment and started again skips the chunks marked ``computed`` whose values
+  match their digest and computes the others; every point is computed by the same
+  deterministic code, so the results are bit-identical to an uninterrupted run.
 """
 
 from __future__ import annotations
@@ -30,10 +35,8 @@ import copy
 import hashlib
 import json
 import math
-import os
-import shutil
 import sys
-import tempfile
+import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from itertools import product
@@ -44,6 +47,25 @@ import numpy as np
 
 from ..arith import detmath
 from ..derive.errors import ComputationError, UserInputError
+from ..numerics.regimes import linear_growth_rate
+from .sweep_checks import (
+    CHUNK_OVERHEAD_BYTES,
+    CONNECT_TIMEOUT_S,
+    GridCost,
+    check_grid_cost,
+    check_workers,
+    parse_scheduler_address,
+    probe_scheduler,
+    usable_cpus,
+)
+from .sweep_store import (
+    STORE_FORMAT,
+    _extra_shape,
+    create_store,
+    inspect_store,
+    repair_store,
+    write_chunk,
+)
 
 __all__ = [
     "REDUCERS",
@@ -65,8 +87,10 @@ __all__ = [
     "STORE_FORMAT",
 ]
 
-#: Version of the store layout (part of the fingerprint).
-STORE_FORMAT = 1
+#: The leading dimension of a sweep with ``carry = "both"``, and its labels (the order of the
+#: last axis's values, and the reverse).
+CARRY_KEY = "carry"
+CARRY_DIRECTIONS = ("forward", "backward")
 
 #: ``status`` values.
 STATUS_DONE, STATUS_REFUSED, STATUS_FAILED = 0, 1, 2
@@ -133,6 +157,12 @@ class PointContext:
     resolved : chaplygin.verify.scene.Resolved
     sweep : chaplygin.verify.sweep_table.Sweep
         The sweep table (reducer options).
+    start : sequence or None
+        With ``carry``: the state the previous point of the grid line ended on (the point's
+        reducers start there instead of at the scene's state).
+    end : sequence or None
+        Set by a reducer that carries (:attr:`Reducer.carries`): the state to start the next
+        point from.
     """
 
     scene: Any
@@ -140,6 +170,10 @@ class PointContext:
     sweep: Any
     _trajectory: Any = None
     batched: dict[str, Any] = field(default_factory=dict)
+    #: A start carried from the previous point of the grid line (``carry``), else None.
+    start: Any = None
+    #: The state a reducer ended on (on the attractor), carried to the next point.
+    end: Any = None
 
     def trajectory(self) -> Any:
         """The scene's trajectory (integrated once, shared by the reducers).
@@ -197,6 +231,9 @@ class Reducer:
         ``batch(contexts) -> list`` for all resolved points of a chunk at once: per point the
         values (as from ``run``), an exception (raised for that point alone) or None (that
         point goes through ``run``).
+    carries : bool
+        ``run`` starts at ``context.start`` when given and sets ``context.end``: usable with
+        the sweep's ``carry``.
     """
 
     name: str
@@ -205,6 +242,7 @@ class Reducer:
     coords: Callable[[Any], dict[str, list]] | None = None
     description: str = ""
     batch: Callable[[list[PointContext]], list[Any]] | None = None
+    carries: bool = False
 
 
 #: Reducers by name (see :func:`register_reducer`).
@@ -522,22 +560,6 @@ def _lyapunov_max(ctx: PointContext) -> dict:
     }
 
 
-def linear_growth_rate(iterations: int) -> float:
-    """The exponent per iteration that a tangent vector growing linearly (``|v_N| = N |v_0|``,
-    as on an invariant torus or a periodic orbit) shows after ``N`` iterations: ``ln(N)/N``.
-
-    Parameters
-    ----------
-    iterations : int
-
-    Returns
-    -------
-    float
-        Per map iteration.
-    """
-    return detmath.log(float(iterations)) / iterations
-
-
 def _lyapunov_variables(code: Any, sweep: Any) -> dict[str, Variable]:
     from ..numerics.lyapunov import UNITS_PER_ITERATION, UNITS_PER_TIME
 
@@ -574,6 +596,120 @@ register_reducer(
         None,
         "the largest Lyapunov exponent (per unit time and per forcing period) with its error "
         "bar: about 0 quasi-periodic or periodic, > 0 chaotic (time-periodic models, double)",
+    )
+)
+
+
+def _regime(ctx: PointContext) -> dict:
+    """Period, then the largest Lyapunov exponent: periodic, quasi-periodic or chaotic
+    (:func:`chaplygin.numerics.regimes.attractor_regime`), from the scene's state or the one
+    carried from the previous point."""
+    from ..numerics.regimes import attractor_regime
+
+    opts, run, res = ctx.sweep.regime, ctx.scene.run_options, ctx.resolved
+    carried = ctx.start is not None
+    y0 = ctx.start if carried else [float(v) for v in res.y0]
+    transient = opts.transient
+    if carried and opts.carried_transient is not None:
+        transient = opts.carried_transient
+    r = attractor_regime(
+        res.code,
+        [float(res.params[k]) for k in res.code.params],
+        y0,
+        transient=transient,
+        recorded=opts.recorded,
+        max_period=opts.max_period,
+        tol=opts.tol,
+        intervals=opts.intervals,
+        lyapunov_transient=opts.lyapunov_transient,
+        rtol=run.rtol if run.rtol is not None else 1e-10,
+        atol=run.atol if run.atol is not None else 1e-12,
+        t0=float(res.t_span[0]),
+    )
+    ctx.end = [float(v) for v in r.end]
+    return {
+        "regime": r.code,
+        "period": r.period,
+        "lyapunov_max_per_iteration": r.lyapunov,
+        "lyapunov_max_per_iteration_error": r.lyapunov_error,
+        "symmetric_copy": r.copy.code if r.copy is not None else -1,
+        "copy_statistic": r.copy.statistic if r.copy is not None else math.nan,
+        "carried": int(carried),
+    }
+
+
+def _regime_variables(code: Any, sweep: Any) -> dict[str, Variable]:
+    from ..numerics.lyapunov import UNITS_PER_ITERATION
+    from ..numerics.regimes import REGIMES
+    from ..numerics.symmetry import COPY_RULE, symmetries_of
+
+    o = sweep.regime
+    names = ", ".join(f"{v} {k}" for k, v in REGIMES.items())
+    symmetry = symmetries_of(code)
+    copy_name = symmetry[0].name if symmetry else "none"
+    return {
+        "regime": Variable(
+            dtype="int8",
+            attrs={
+                "long_name": f"regime of the map's attractor: {names} (periodic: closes within "
+                f"{o.tol:g} with a period <= {o.max_period}; else the largest Lyapunov exponent "
+                f"over {o.intervals} iterations: > ln(N)/N + 3 errors chaotic, < -(ln(N)/N + 3 "
+                "errors) contracting (a periodic attractor not resolved), within ln(N)/N + 2 "
+                "errors of 0 quasi-periodic, else undecided)",
+                "units": "1",
+            },
+        ),
+        "period": Variable(
+            dtype="int16",
+            attrs={
+                "long_name": f"period (forcing periods; 0: none <= {o.max_period})",
+                "units": "1",
+            },
+        ),
+        "lyapunov_max_per_iteration": Variable(
+            attrs={
+                "long_name": "largest Lyapunov exponent on the level set (one tangent vector; "
+                "NaN where the attractor is periodic: not measured)",
+                "units": UNITS_PER_ITERATION,
+            }
+        ),
+        "lyapunov_max_per_iteration_error": Variable(
+            attrs={"long_name": "its error bar (one standard error)", "units": UNITS_PER_ITERATION}
+        ),
+        "symmetric_copy": Variable(
+            dtype="int8",
+            attrs={
+                "long_name": f"copy reached under the symmetry {copy_name!r}: 0 canonical, 1 its "
+                f"mirror, 2 self-symmetric, -1 undetermined or no symmetry ({COPY_RULE})",
+                "units": "1",
+            },
+        ),
+        "copy_statistic": Variable(
+            attrs={
+                "long_name": "mean of phi over the recorded points (the copy's sign)",
+                "units": "1",
+            }
+        ),
+        "carried": Variable(
+            dtype="int8",
+            attrs={
+                "long_name": "1 when the start was carried from the previous grid point",
+                "units": "1",
+            },
+        ),
+    }
+
+
+register_reducer(
+    Reducer(
+        "regime",
+        _regime_variables,
+        _regime,
+        None,
+        "periodic (with its period), quasi-periodic or chaotic by the period and then the largest "
+        "Lyapunov exponent (per map iteration, with its error bar); the symmetric copy reached; "
+        "usable with carry (starts carried along the grid lines)",
+        carries=True,
     )
 )
 
@@ -767,20 +903,20 @@ def _sha(data: object) -> str:
     return hashlib.sha256(json.dumps(data, sort_keys=True, default=str).encode()).hexdigest()
 
 
-def _axis_values(spec: Any) -> list:
+def _axis_values(spec: Any, first_only: bool = False) -> list:
     import mpmath
 
     from ..numerics.inputs import parse_number
 
     if isinstance(spec, list):
-        return list(spec)
+        return list(spec[:1] if first_only else spec)
 
     def exact(value: object) -> Any:  # a TOML float as the decimal written
         return parse_number(repr(value) if isinstance(value, float) else value, 30)
 
     with mpmath.workdps(30):
         a, b = exact(spec.start), exact(spec.stop)
-        if spec.num == 1:
+        if spec.num == 1 or first_only:
             return [mpmath.nstr(a, 30)]
         step = (b - a) / (spec.num - 1)
         return [mpmath.nstr(a + step * i, 30) for i in range(spec.num)]
@@ -815,14 +951,19 @@ def point_scene(base: Mapping, overrides: Mapping[str, Any], source: str | None 
     return Scene.from_dict(data, source=source)
 
 
-def plan_sweep(scene: Any) -> SweepPlan:
+def plan_sweep(scene: Any, workers: int | None = None, store: Path | None = None) -> SweepPlan:
     """Resolve a scene's sweep: axes, chunks, variables, fingerprint; the first point is
-    resolved to check the keys and load the model.
+    resolved to check the keys and load the model, and the grid's cost is checked
+    (:func:`~chaplygin.verify.sweep_checks.check_grid_cost`) before its points are made.
 
     Parameters
     ----------
     scene : Scene
         With a ``[sweep]`` table.
+    workers : int, optional
+        Worker processes, for the time estimate (default: the usable CPUs).
+    store : Path, optional
+        Where the store goes, for the disk estimate.
 
     Returns
     -------
@@ -832,6 +973,8 @@ def plan_sweep(scene: Any) -> SweepPlan:
     ------
     SceneError
         No ``[sweep]`` table, an unknown reducer, a key the scene refuses.
+    UserInputError
+        A grid beyond the machine (memory, disk, time), with the numbers.
     """
     from .scene import SceneError, _did_you_mean, _version
 
@@ -847,33 +990,46 @@ def plan_sweep(scene: Any) -> SweepPlan:
                 "sweep.reduce",
             )
     base = {k: v for k, v in scene._given.items() if k != "sweep"}
-    axes = [(key, key.split(".")[1], _axis_values(v)) for key, v in sweep.axes.items()]
-    from ..numerics.inputs import parse_number
-
-    coords = {name: np.asarray([float(parse_number(v)) for v in vals]) for _, name, vals in axes}
+    carry_both = False
+    if sweep.carry != "none":
+        cannot = [n for n in sweep.reduce if not REDUCERS[n].carries]
+        if cannot:
+            able = ", ".join(n for n, r in REDUCERS.items() if r.carries)
+            raise SceneError(
+                f"carry follows an attractor along the grid lines: the reducers "
+                f"{', '.join(cannot)} do not carry a state (use {able})",
+                scene.source,
+                "sweep.carry",
+            )
+        carry_both = sweep.carry == "both"  # a leading dimension: the two directions
+    sizes = [len(v) if isinstance(v, list) else v.num for v in sweep.axes.values()]
+    if carry_both:
+        sizes.insert(0, len(CARRY_DIRECTIONS))
     if sweep.grid == "list":
         dims: tuple[str, ...] = ("point",)
-        shape: tuple[int, ...] = (len(axes[0][2]),)
+        shape: tuple[int, ...] = (sizes[0],)
     else:
-        dims = tuple(name for _, name, _ in axes)
-        shape = tuple(len(vals) for _, _, vals in axes)
-    chunks = []
-    outer = [range(n) for n in shape[:-1]]
-    for index in product(*outer):
-        for start in range(0, shape[-1], sweep.chunk):
-            last = slice(start, min(start + sweep.chunk, shape[-1]))
-            chunks.append(tuple(slice(i, i + 1) for i in index) + (last,))
-    first = {key: vals[0] for key, _, vals in axes}
+        dims = ((CARRY_KEY,) if carry_both else ()) + tuple(key.split(".")[1] for key in sweep.axes)
+        shape = tuple(sizes)
+    n_chunks = math.prod(shape[:-1]) * -(-shape[-1] // sweep.chunk)
+    first = {key: _axis_values(v, first_only=True)[0] for key, v in sweep.axes.items()}
     try:
-        code = point_scene(base, first, scene.source).resolve().code
+        first_scene = point_scene(base, first, scene.source)
+        code = first_scene.resolve().code
     except SceneError as exc:
         # a point may lie where the scene finds no state (that point's status says so); the
         # scene as written must resolve then
         try:
-            code = point_scene(base, {}, scene.source).resolve().code
+            first_scene = point_scene(base, {}, scene.source)
+            code = first_scene.resolve().code
         except SceneError:
             exc.args = (f"{exc.args[0]} (at the sweep's first point {first})",)
             raise exc from None
+    per_point = math.inf  # the model is loaded: what resolving a point costs (least of 3)
+    for _ in range(3):
+        started = time.perf_counter()
+        first_scene.resolve()
+        per_point = min(per_point, time.perf_counter() - started)
     _check_axis_keys(scene, code)
     if "period" in sweep.reduce and sweep.period.forcing not in code.params:
         raise SceneError(
@@ -881,6 +1037,20 @@ def plan_sweep(scene: Any) -> SweepPlan:
             f"of {code.name} (params: {', '.join(code.params)}); set period.forcing",
             scene.source,
             "sweep.period.forcing",
+        )
+    if "regime" in sweep.reduce and "Omega" not in code.params:
+        raise SceneError(
+            f"reduce = regime needs a time-periodic model (the forcing frequency Omega); "
+            f"{code.name} has {', '.join(code.params)}",
+            scene.source,
+            "sweep.reduce",
+        )
+    if "regime" in sweep.reduce and "Omega" not in code.params:
+        raise SceneError(
+            f"reduce = regime needs a time-periodic model (the forcing frequency Omega); "
+            f"{code.name} has {', '.join(code.params)}",
+            scene.source,
+            "sweep.reduce",
         )
     variables: dict[str, Variable] = {}
     extra: dict[str, list] = {}
@@ -905,6 +1075,41 @@ def plan_sweep(scene: Any) -> SweepPlan:
             scene.source,
             "sweep.refine.variable",
         )
+    points = math.prod(shape)
+    per_point_bytes = 1 + sum(  # computed, and each variable with its extra dimensions
+        np.dtype(var.dtype).itemsize * math.prod(len(extra[d]) for d in var.dims)
+        for var in variables.values()
+    )
+    float_bytes = sum(
+        8 * math.prod(len(extra[d]) for d in var.dims)
+        for var in variables.values()
+        if var.dtype.startswith("float")
+    )
+    n_workers = workers or usable_cpus()
+    check_grid_cost(
+        GridCost(
+            points=points,
+            chunks=n_chunks,
+            memory=points * per_point_bytes + n_chunks * (CHUNK_OVERHEAD_BYTES + 32),
+            disk=points * float_bytes,
+            seconds=points * per_point / n_workers,
+            workers=n_workers,
+        ),
+        store,
+    )
+    axes = [(key, key.split(".")[1], _axis_values(v)) for key, v in sweep.axes.items()]
+    from ..numerics.inputs import parse_number
+
+    coords = {name: np.asarray([float(parse_number(v)) for v in vals]) for _, name, vals in axes}
+    if carry_both:
+        axes.insert(0, (CARRY_KEY, CARRY_KEY, list(CARRY_DIRECTIONS)))
+        coords[CARRY_KEY] = np.asarray(CARRY_DIRECTIONS)
+    chunks = []
+    outer = [range(n) for n in shape[:-1]]
+    for index in product(*outer):
+        for start in range(0, shape[-1], sweep.chunk):
+            last = slice(start, min(start + sweep.chunk, shape[-1]))
+            chunks.append(tuple(slice(i, i + 1) for i in index) + (last,))
     fingerprint = {
         "scene": _sha(base),
         "grid": _sha({"sweep": scene._given.get("sweep"), "axes": axes, "dims": dims}),
@@ -1038,6 +1243,8 @@ def compute_chunk(payload: Mapping, points: Sequence[Mapping[str, Any]]) -> dict
         name: np.full((len(points), *shape), -1 if dtype.startswith("int") else np.nan, dtype)
         for name, (shape, dtype) in payload["variables"].items()
     }
+    if sweep.carry != "none":
+        return _carried_chunk(payload, points, sweep, out)
     contexts = [
         _point_context(payload["base"], point, sweep, payload.get("source")) for point in points
     ]
@@ -1055,74 +1262,34 @@ def compute_chunk(payload: Mapping, points: Sequence[Mapping[str, Any]]) -> dict
     return out
 
 
+def _carried_chunk(
+    payload: Mapping, points: Sequence[Mapping[str, Any]], sweep: Any, out: dict[str, np.ndarray]
+) -> dict[str, np.ndarray]:
+    """One grid line with its starts carried: the points in the line's order (or reversed),
+    each starting where the previous one ended (the first, and any after a point that failed
+    or was refused, at the scene's state)."""
+    direction = points[0].get(CARRY_KEY, sweep.carry) if points else sweep.carry
+    order = range(len(points)) if direction == "forward" else range(len(points) - 1, -1, -1)
+    carried = None
+    for i in order:
+        point = {k: v for k, v in points[i].items() if k != CARRY_KEY}
+        ctx = _point_context(payload["base"], point, sweep, payload.get("source"))
+        if isinstance(ctx, PointContext):
+            ctx.start = carried
+            status, values = _reduce_point(ctx)
+            carried = ctx.end if status == STATUS_DONE else None
+        else:
+            (status, values), carried = ctx, None
+        out["status"][i] = status
+        for name, value in values.items():
+            out[name][i] = value
+    return out
+
+
 # ---------------------------------------------------------------------------------- the store
-def _attrs(plan: SweepPlan) -> dict:
-    import platform
-
-    import mpmath
-    import scipy
-    import sympy
-
-    from .scene import _version
-
-    return {
-        "title": plan.scene.title,
-        "source": plan.scene.source or "",
-        "scene": json.dumps(plan.scene._given, sort_keys=True, default=str),
-        "axes": json.dumps([[k, n, [str(v) for v in vals]] for k, n, vals in plan.axes]),
-        "model": plan.code.name,
-        "model_hash": plan.code.hash,
-        "versions": json.dumps(
-            {
-                "chaplygin": _version(),
-                "python": platform.python_version(),
-                "numpy": np.__version__,
-                "scipy": scipy.__version__,
-                "sympy": sympy.__version__,
-                "mpmath": mpmath.__version__,
-            }
-        ),
-        "fingerprint": json.dumps(plan.fingerprint, sort_keys=True),
-        "store_format": STORE_FORMAT,
-    }
-
-
-def _extra_shape(plan: SweepPlan, var: Variable) -> tuple[int, ...]:
-    return tuple(len(plan.extra_coords[d]) for d in var.dims)
-
-
-def _template(plan: SweepPlan) -> Any:
-    import xarray as xr
-
-    data_vars = {}
-    for name, var in plan.variables.items():
-        shape = plan.shape + _extra_shape(plan, var)
-        data_vars[name] = (plan.dims + var.dims, np.full(shape, var.fill, var.dtype), var.attrs)
-    data_vars["computed"] = (
-        plan.dims,
-        np.zeros(plan.shape, "uint8"),
-        {"long_name": "1 once the point's chunk is stored", "units": "1"},
-    )
-    coords: dict[str, Any] = {}
-    if plan.dims == ("point",):
-        for key, name, _ in plan.axes:
-            coords[name] = ("point", plan.coords[name], {"key": key})
-    else:
-        for key, name, _ in plan.axes:
-            coords[name] = (name, plan.coords[name], {"key": key})
-    for dim, labels in plan.extra_coords.items():
-        coords[dim] = (dim, np.asarray(labels, dtype=str))
-    return xr.Dataset(data_vars, coords=coords, attrs=_attrs(plan))
-
-
-def _zarr_chunks(plan: SweepPlan, var_dims: tuple[str, ...]) -> tuple[int, ...]:
-    chunk = plan.scene.sweep.chunk
-    grid = (1,) * (len(plan.shape) - 1) + (min(chunk, plan.shape[-1]),)
-    return grid + tuple(len(plan.extra_coords[d]) for d in var_dims)
-
-
 def open_store(plan: SweepPlan, store: str | Path) -> Any:
-    """Open the sweep's Zarr store, creating it (atomically) if absent.
+    """Open the sweep's Zarr store, creating it (atomically) if absent, and repairing what
+    :func:`~chaplygin.verify.sweep_store.inspect_store` found missing or damaged.
 
     Parameters
     ----------
@@ -1137,73 +1304,41 @@ def open_store(plan: SweepPlan, store: str | Path) -> Any:
     Raises
     ------
     UserInputError
-        ``store`` exists but is not a sweep store, or was made by another scene, grid or code
-        version (the message says which).
+        ``store`` exists but is not a sweep store of ours, or was made by another scene, grid
+        or code version (the message says which), or cannot be written.
     """
-    import zarr
-
-    store = Path(store)
-    if not store.exists():
-        store.parent.mkdir(parents=True, exist_ok=True)
-        for stale in store.parent.glob(f".{store.name}.partial-*"):  # a creation killed midway
-            shutil.rmtree(stale, ignore_errors=True)
-        tmp = Path(tempfile.mkdtemp(prefix=f".{store.name}.partial-", dir=store.parent))
-        try:
-            ds = _template(plan)
-            encoding = {
-                name: {"chunks": _zarr_chunks(plan, var.dims)}
-                for name, var in plan.variables.items()
-            }
-            encoding["computed"] = {"chunks": _zarr_chunks(plan, ())}
-            ds.to_zarr(tmp, mode="w", encoding=encoding, consolidated=True, zarr_format=2)
-            os.replace(tmp, store)
-        except BaseException:
-            shutil.rmtree(tmp, ignore_errors=True)
-            raise
-    try:
-        group = zarr.open_group(str(store), mode="r+", zarr_format=2)
-        stored = json.loads(group.attrs["fingerprint"])
-    except Exception:
-        raise UserInputError(
-            f"--out {store} exists and is not a chaplygin sweep store: choose another path"
-        ) from None
-    differs = [k for k in ("scene", "grid", "code") if stored.get(k) != plan.fingerprint[k]]
-    if differs:
-        what = {
-            "scene": "a different scene",
-            "grid": "a different grid",
-            "code": "a different code version (chaplygin or model)",
-        }
-        raise UserInputError(
-            f"--out {store} holds a sweep made by {' and '.join(what[k] for k in differs)}; "
-            "it is not mixed with this one: choose another --out, or delete it to start again"
-        )
-    return group
-
-
-def _done_chunks(plan: SweepPlan, group: Any) -> set[int]:
-    computed = np.asarray(group["computed"][...])
-    return {k for k, region in enumerate(plan.chunks) if computed[region].all()}
-
-
-def _write_chunk(plan: SweepPlan, group: Any, region: tuple[slice, ...], result: Mapping) -> None:
-    sizes = tuple(s.stop - s.start for s in region)
-    for name in plan.variables:
-        values = np.asarray(result[name])
-        group[name][region] = values.reshape(sizes + values.shape[1:])
-    group["computed"][region] = np.ones(sizes, "uint8")  # last: the chunk is complete
+    check = inspect_store(plan, store)
+    return repair_store(plan, check) if check.exists else create_store(plan, check)
 
 
 # ------------------------------------------------------------------------------- the driver
-def _client(scheduler: str | None, workers: int | None) -> tuple[Any, Any]:
+def _client(
+    scheduler: str | None, workers: int | None, connect_timeout: float = CONNECT_TIMEOUT_S
+) -> tuple[Any, Any]:
+    """A Dask client: of the scheduler at ``scheduler`` (checked by
+    :func:`~chaplygin.verify.sweep_checks.probe_scheduler` first, then given
+    ``connect_timeout`` to connect and ``connect_timeout`` more to show a worker), or of a
+    LocalCluster of ``workers`` processes."""
     from distributed import Client, LocalCluster
 
     if scheduler:
+        address = parse_scheduler_address(scheduler)
+        probe_scheduler(address, connect_timeout)
         try:
-            return Client(scheduler, timeout="20s"), None
-        except OSError as exc:
-            raise UserInputError(f"--scheduler {scheduler}: cannot connect ({exc})") from None
-    n = workers or os.cpu_count() or 1
+            client = Client(address.url, timeout=f"{connect_timeout}s")
+        except (OSError, TimeoutError, ValueError) as exc:
+            reason = " ".join(str(exc).split())[:200]
+            raise UserInputError(f"--scheduler {address.url}: cannot connect ({reason})") from None
+        try:
+            client.wait_for_workers(1, timeout=connect_timeout)
+        except (OSError, TimeoutError) as exc:
+            client.close()
+            raise UserInputError(
+                f"--scheduler {address.url}: the scheduler has no worker (none within "
+                f"{connect_timeout:g} s); start some: dask worker {address.url}"
+            ) from exc
+        return client, None
+    n = check_workers(workers) if workers is not None else usable_cpus()
     cluster = LocalCluster(
         n_workers=n,
         threads_per_worker=1,
@@ -1221,8 +1356,15 @@ def run_sweep(
     workers: int | None = None,
     progress: bool = False,
     client: Any = None,
+    connect_timeout: float = CONNECT_TIMEOUT_S,
 ) -> dict:
     """Run (or continue) a scene's sweep into a Zarr store.
+
+    Everything is checked before any work: the worker count, the scheduler's address, the
+    grid's cost (:func:`~chaplygin.verify.sweep_checks.check_grid_cost`), the store (whose it
+    is, and every chunk marked done against its digest:
+    :func:`~chaplygin.verify.sweep_store.inspect_store`); the store is created or repaired
+    only once a client is connected.
 
     Parameters
     ----------
@@ -1233,50 +1375,64 @@ def run_sweep(
     scheduler : str, optional
         Address of a Dask scheduler (``tcp://host:8786``); default a LocalCluster.
     workers : int, optional
-        Worker processes of the LocalCluster (default: one per core).
+        Worker processes of the LocalCluster (default: one per usable CPU; at most that).
     progress : bool
         Show a tqdm bar on stderr.
     client : distributed.Client, optional
         Use this client (tests); ``scheduler`` and ``workers`` are then ignored.
+    connect_timeout : float
+        Seconds to connect to ``scheduler``, to receive its handshake, and to see a worker.
 
     Returns
     -------
     dict
-        ``chunks`` (total), ``computed`` (now), ``skipped`` (already stored), ``points``,
-        ``refused``, ``failed``, ``refined`` (zeros, if asked).
+        ``chunks`` (total), ``computed`` (now), ``skipped`` (already stored, verified),
+        ``repaired`` (chunks marked done that did not verify, computed again),
+        ``recreated`` (arrays made again), ``points``, ``refused``, ``failed``, ``refined``
+        (zeros, if asked).
 
     Raises
     ------
     SceneError
         The scene or its sweep is invalid.
     UserInputError
-        The dask extra is missing, or ``store`` belongs to another sweep.
+        The dask extra is missing, a bad worker count or scheduler address, a grid beyond
+        the machine, or ``store`` belongs to another sweep or cannot be repaired.
     ComputationError
         A task failed on every worker it was tried on.
     """
     require_dask()
-    plan = plan_sweep(scene)
-    group = open_store(plan, store)
-    done = _done_chunks(plan, group)
-    pending = [k for k in range(len(plan.chunks)) if k not in done]
+    if client is None and scheduler is not None:
+        parse_scheduler_address(scheduler)  # a malformed address: before any work
+    if client is None and scheduler is None and workers is not None:
+        check_workers(workers)
+    if not (isinstance(connect_timeout, int | float) and 0 < connect_timeout <= 3600):
+        raise UserInputError(f"the connect timeout must be 0..3600 s, got {connect_timeout!r}")
+    n_workers = workers or (usable_cpus() if scheduler is None else 1)
+    plan = plan_sweep(scene, workers=n_workers, store=Path(store))
+    check = inspect_store(plan, store)
+    pending = [k for k in range(len(plan.chunks)) if k not in check.done]
     payload = chunk_payload(plan)
-    if pending:
-        own = client is None
-        cluster = None
+    own = client is None and bool(pending)
+    cluster = None
+    if own:
+        client, cluster = _client(scheduler, workers, connect_timeout)
+    try:
+        group = repair_store(plan, check) if check.exists else create_store(plan, check)
+        if pending:
+            _compute(plan, group, payload, pending, client, progress, len(check.done))
+    finally:
         if own:
-            client, cluster = _client(scheduler, workers)
-        try:
-            _compute(plan, group, payload, pending, client, progress, len(done))
-        finally:
-            if own:
-                client.close()
-                if cluster is not None:
-                    cluster.close()
+            client.close()
+            if cluster is not None:
+                cluster.close()
     status = np.asarray(group["status"][...])
     summary = {
         "chunks": len(plan.chunks),
         "computed": len(pending),
-        "skipped": len(done),
+        "skipped": len(check.done),
+        "repaired": len(check.damaged),
+        "recreated": sorted(check.recreate),
         "points": int(np.prod(plan.shape)),
         "refused": int((status == STATUS_REFUSED).sum()),
         "failed": int((status == STATUS_FAILED).sum()),
@@ -1314,7 +1470,7 @@ def _compute(plan, group, payload, pending, client, progress, already) -> None:
                 result = fut.result()
             except Exception as exc:
                 raise ComputationError(f"chunk {k} failed: {type(exc).__name__}: {exc}") from None
-            _write_chunk(plan, group, plan.chunks[k], result)
+            write_chunk(plan, group, k, result)
             bar.update(1)
             fut.release()
     finally:

@@ -13,7 +13,16 @@ import logging
 import sys
 from pathlib import Path
 
-from .cli_common import EXIT_FAILED, EXIT_OK, check_output_file, json_text
+from .cli_common import (
+    EXIT_FAILED,
+    EXIT_OK,
+    check_output_file,
+    json_text,
+    positive_float,
+    printable,
+)
+from .output_folder import safe_name
+from .sweep_checks import CONNECT_TIMEOUT_S, check_workers, parse_scheduler_address
 
 __all__ = ["add_parser", "run"]
 
@@ -47,20 +56,31 @@ def run(args: argparse.Namespace) -> int:
     for name in list(logging.root.manager.loggerDict):
         if name.split(".")[0] in ("distributed", "asyncio"):
             logging.getLogger(name).setLevel(logging.CRITICAL + 1)
-    if args.workers is not None and args.workers < 1:
-        raise UserInputError(f"--workers {args.workers}: give at least 1")
-    if args.workers is not None and args.scheduler:
+    if args.workers is not None and args.scheduler is not None:
         raise UserInputError("--workers is for the local cluster; not with --scheduler")
+    if args.workers is not None:
+        check_workers(args.workers)
+    if args.scheduler is not None:
+        parse_scheduler_address(args.scheduler)
     plot = check_output_file(args.plot, "--plot", (".png", ".svg", ".pdf")) if args.plot else None
+    if args.out is not None and not args.out.strip():
+        raise UserInputError("--out needs a store name (a folder), got an empty one")
+    stem = safe_name(Path(args.scene).stem, "sweep")
+    out = Path(args.out) if args.out else Path("chaplygin-sweep") / f"{stem}.zarr"
     scene = Scene.from_toml(args.scene, args.set or ())
-    out = Path(args.out) if args.out else Path("chaplygin-sweep") / f"{Path(args.scene).stem}.zarr"
     progress = not args.quiet and sys.stderr.isatty()
     try:
-        summary = run_sweep(scene, out, args.scheduler, args.workers, progress)
+        summary = run_sweep(
+            scene, out, args.scheduler, args.workers, progress,
+            connect_timeout=args.connect_timeout,
+        )  # fmt: skip
     except ComputationError as exc:  # the finished chunks are stored: the same command continues
         print(
-            f"chaplygin: error: {' '.join(str(exc).split())}; the chunks finished are stored in "
-            f"{out}: run the same command again to continue",
+            printable(
+                f"chaplygin: error: {' '.join(str(exc).split())}; the chunks finished are "
+                f"stored in {out}: run the same command again to continue",
+                keep="",
+            ),
             file=sys.stderr,
         )
         return EXIT_FAILED
@@ -68,20 +88,28 @@ def run(args: argparse.Namespace) -> int:
     if plot is not None:
         import xarray as xr
 
-        from .sweep_plots import sweep_figure
+        from .sweep_plots import save_figure, sweep_figure
 
         with xr.open_zarr(out, consolidated=False) as ds:
-            sweep_figure(ds.load()).savefig(plot, dpi=120)
+            save_figure(sweep_figure(ds.load()), plot)
         summary["plot"] = str(plot)
     if args.json:
         print(json_text(summary, indent=2))
     elif not args.quiet:
+        fixes = []
+        if summary["repaired"]:
+            n = summary["repaired"]
+            fixes.append(f"{n} chunk{'s' if n > 1 else ''} marked done did not verify")
+        if summary["recreated"]:
+            fixes.append(f"arrays made again: {', '.join(summary['recreated'])}")
+        repaired = f"; the store was repaired ({'; '.join(fixes)})" if fixes else ""
         line = (
             f"{args.scene}: {summary['points']} points in {summary['chunks']} chunks "
-            f"({summary['computed']} computed now, {summary['skipped']} already stored); "
-            f"{summary['refused']} refused, {summary['failed']} failed -> {out}"
+            f"({summary['computed']} computed now, {summary['skipped']} already stored and "
+            f"verified); {summary['refused']} refused, {summary['failed']} failed -> {out}"
+            f"{repaired}"
         )
-        print(line)
+        print(printable(line, keep=""))
         if "refined" in summary:
             print(f"zeros of {scene.sweep.refine.variable}: {', '.join(summary['refined'])}")
     return EXIT_OK if summary["failed"] == 0 else EXIT_FAILED
@@ -116,7 +144,15 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
         "--workers",
         type=int,
         default=None,
-        help="worker processes of the local cluster (default: one per core)",
+        help="worker processes of the local cluster (default and most: one per usable CPU)",
+    )
+    p.add_argument(
+        "--connect-timeout",
+        type=positive_float,
+        default=CONNECT_TIMEOUT_S,
+        metavar="SECONDS",
+        help=f"time to connect to --scheduler, get its handshake and see a worker "
+        f"(default {CONNECT_TIMEOUT_S:g})",
     )
     p.add_argument(
         "--set", action="append", metavar="KEY=VALUE", help="override a key of the scene"

@@ -36,7 +36,15 @@ from pydantic import (
     model_validator,
 )
 
-__all__ = ["Sweep", "SweepRange", "PeriodOptions", "DeltaOptions", "RefineOptions", "AXIS_ROOTS"]
+__all__ = [
+    "Sweep",
+    "SweepRange",
+    "PeriodOptions",
+    "RegimeOptions",
+    "DeltaOptions",
+    "RefineOptions",
+    "AXIS_ROOTS",
+]
 
 #: The tables a sweep axis may vary (``parameters.D``, ``initial.h``, ``run.t_end``).
 AXIS_ROOTS = ("parameters", "initial", "run")
@@ -107,6 +115,41 @@ class LyapunovOptions(_Table):
     )
 
 
+class RegimeOptions(_Table):
+    """The regime of the stroboscopic map's attractor: the period, then the largest Lyapunov
+    exponent (:func:`chaplygin.numerics.regimes.attractor_regime`)."""
+
+    transient: Annotated[StrictInt, Field(ge=0, le=10_000_000)] = Field(
+        2000, description="map iterations discarded first (from the scene's start)"
+    )
+    carried_transient: Annotated[StrictInt, Field(ge=0, le=10_000_000)] | None = Field(
+        None,
+        description="map iterations discarded from a start carried from the previous point "
+        "(default: transient)",
+    )
+    recorded: Annotated[StrictInt, Field(ge=3, le=1_000_000)] = Field(
+        600, description="iterations searched for a period (more than max_period)"
+    )
+    max_period: Annotated[StrictInt, Field(ge=1, le=10_000)] = Field(
+        64, description="largest period looked for"
+    )
+    tol: Annotated[StrictFloat, Field(gt=0, lt=1)] = Field(
+        1e-4, description="closing tolerance in (M/|M|, gamma), max norm"
+    )
+    intervals: Annotated[StrictInt, Field(ge=10, le=10_000_000)] = Field(
+        2000, description="map iterations of the largest Lyapunov exponent (no period found)"
+    )
+    lyapunov_transient: Annotated[StrictInt, Field(ge=0, le=1_000_000)] = Field(
+        100, description="iterations that align the tangent vector first"
+    )
+
+    @model_validator(mode="after")
+    def _enough(self) -> RegimeOptions:
+        if self.recorded <= self.max_period:
+            raise ValueError("regime.recorded must exceed regime.max_period")
+        return self
+
+
 class DeltaOptions(_Table):
     """Delta of K01 (displacement per tumble on the separatrix)."""
 
@@ -145,7 +188,15 @@ class Sweep(_Table):
     period: PeriodOptions = PeriodOptions()
     delta: DeltaOptions = DeltaOptions()
     lyapunov: LyapunovOptions = LyapunovOptions()
+    regime: RegimeOptions = RegimeOptions()
     refine: RefineOptions | None = None
+    carry: Literal["none", "forward", "backward", "both"] = Field(
+        "none",
+        description="carry each point's final state to the next point along the last axis "
+        "(one task per grid line): forward in the axis's order, backward, or both (a leading "
+        "dimension 'carry'); reducers that carry (regime) start there, so one attractor is "
+        "followed and coexisting ones show where the two directions differ",
+    )
 
     @field_validator("axes")
     @classmethod
@@ -185,4 +236,14 @@ class Sweep(_Table):
                 raise ValueError('grid = "list" needs axes of the same length')
         if self.refine is not None and len(self.axes) != 1:
             raise ValueError("refine needs a sweep over a single axis")
+        if self.carry != "none":
+            if self.grid != "product":
+                raise ValueError('carry needs grid = "product" (it follows the grid lines)')
+            last = list(self.axes.values())[-1]
+            n = len(last) if isinstance(last, list) else last.num
+            if self.chunk < n:
+                raise ValueError(
+                    f"carry needs one task per grid line: chunk >= {n} (the number of values "
+                    "of the last axis)"
+                )
         return self

@@ -74,13 +74,14 @@ def write_trajectory(
 
         with netcdf_file(path, "w", version=2) as nc:
             for key, value in (attributes or {}).items():
-                setattr(nc, key, value)
+                # netCDF3 text attributes are bytes: UTF-8 keeps a title such as "café —"
+                setattr(nc, key, value.encode() if isinstance(value, str) else value)
             nc.createDimension("t", len(columns[0][1]))
             for name, values, unit, long in columns:
                 var = nc.createVariable(name, "d", ("t",))
                 var[:] = values
-                var.units = unit
-                var.long_name = long
+                var.units = unit.encode()
+                var.long_name = long.encode()
         return
     header = ",".join(f"{n} [{u}]" for n, _, u, _ in columns)
     data = np.column_stack([c[1] for c in columns])

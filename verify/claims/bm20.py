@@ -22,6 +22,7 @@ from functools import cache
 import sympy as sp
 from chaplygin.derive import Model
 from chaplygin.derive.chaplygin_ball import build_chaplygin_ball
+from chaplygin.derive.errors import ComputationError
 from chaplygin.derive.vectors import cross, dot
 from sympy.core.function import AppliedUndef
 
@@ -531,6 +532,38 @@ register(
         note="f(s t, S x) = s S f(t, x) exactly, for every even I(t) and odd k(t)",
     ),
     Claim(
+        id="BKM12-3.sym",
+        source="BKM12 §1.1, (2)-(3) (our derivation; used to name symmetric copies)",
+        kind="transformation",
+        statement="(t, M, gamma) -> (t, M, -gamma) maps solutions of the ball to solutions: "
+        "omega = A (M + Z gamma) is even in gamma, gamma' = gamma x omega odd",
+        system=BALL,
+        effects=(),
+        build=_transformations([SYMMETRY], 1, 1),
+        note="chaplygin.numerics.symmetry names the copy of an attractor reached under it",
+    ),
+    Claim(
+        id="BKM12-3.sym.gyrostat",
+        source="BKM12 §2.3, K01 §4 (our derivation)",
+        kind="transformation",
+        statement="with a constant gyrostat K: (t, M, gamma) -> (t, M, -gamma) maps solutions to "
+        "solutions",
+        system=BALL,
+        effects=GYRO,
+        build=_transformations([SYMMETRY], 1, 1),
+    ),
+    Claim(
+        id="BKM12-3.sym/control-M",
+        source="control",
+        kind="transformation",
+        statement="(wrong) (t, M, gamma) -> (t, -M, gamma) (no time reversal) maps solutions of "
+        "the ball to solutions",
+        system=BALL,
+        effects=(),
+        build=_transformations([({"M": -1}, 1)], 1, 1),
+        expected="fails",
+    ),
+    Claim(
         id="BM20-3.4",
         source=f"{S3}, eq. (3.4)",
         kind="definition",
@@ -794,6 +827,380 @@ register(
         compute=_period_map_displacement(-0.5),
         expected="fails",
     )
+)
+
+
+# ------------------------------------------------- BM20-3.1obs: no strange attractor from rest
+#: The search of the claim (the sweep examples/sweeps/bm20-rest-search.toml searches wider):
+#: Omega, J_off and starts (z, l, g) of BM20 (3.7) at G = 0, at Fig. 2's K, d, delta.
+_REST_OMEGA, _REST_J = (0.18, 0.4, 1.3), (-1.0, -0.5, 0.6)
+_REST_STARTS = ((0.7, 1.0, 0.3), (-0.6, 1.0, 1.2))
+#: Map iterations: transient, recorded (period search), Lyapunov intervals.
+_REST_RUN = {"transient": 300, "recorded": 200, "max_period": 32, "tol": 1e-6}
+
+
+def _strange_attractor_search(points, intervals: int) -> Callable[[], Computed]:
+    """Largest ``lambda - 3 s`` (per map iteration; ``s`` its standard error) over the
+    attractors reached from the given (params, state) points, against ``ln(N)/N`` with
+    ``N = intervals``: a chaotic attractor exceeds it
+    (:func:`chaplygin.numerics.regimes.attractor_regime`)."""
+
+    def run() -> Computed:
+        import numpy as np
+        from chaplygin.numerics.code import load_model_code
+        from chaplygin.numerics.regimes import attractor_regime, linear_growth_rate
+
+        code = load_model_code(BALL, list(VB))
+        worst, counts, values = -np.inf, {}, {}
+        for label, params, y0 in points():
+            r = attractor_regime(code, params, y0, **_REST_RUN, intervals=intervals)
+            counts[r.regime] = counts.get(r.regime, 0) + 1
+            if r.period == 0:
+                excess = r.lyapunov - 3 * r.lyapunov_error
+                if excess > worst:
+                    worst = excess
+                    values["largest lambda - 3 s at"] = label
+                    values["lambda per iteration"] = f"{r.lyapunov:.4g} +- {r.lyapunov_error:.2g}"
+        values["regimes"] = ", ".join(f"{k}: {v}" for k, v in sorted(counts.items()))
+        n = intervals
+        return Computed(
+            error=max(float(worst), 0.0),
+            bound=linear_growth_rate(n),
+            what=(
+                f"{sum(counts.values())} attractors: {_REST_RUN['transient']} map iterations, "
+                f"the period (<= {_REST_RUN['max_period']}, closing within {_REST_RUN['tol']:g}) "
+                f"of the next {_REST_RUN['recorded']}, else the largest Lyapunov exponent over "
+                f"{n} iterations (from rest: on the sphere of gamma); largest lambda - 3 s per "
+                f"iteration against ln(N)/N = {linear_growth_rate(n):.2g} (DOP853 in C, rtol "
+                f"1e-10; about {2 + 0.3 * n * sum(counts.values()) / 1000:.0f} s on an idle core)"
+            ),
+            values=values,
+        )
+
+    return run
+
+
+def _from_rest_points():
+    from chaplygin.numerics.map_coordinates import from_andoyer_deprit
+
+    for omega in _REST_OMEGA:
+        for J in _REST_J:
+            for z, l, g in _REST_STARTS:
+                _, gamma = from_andoyer_deprit(0.0, z, l, g)
+                params = [4, 3, 2, 1.5, J, 1.2, 3, -1, -2, omega]
+                state = [0.0, 0.0, 0.0, *map(float, gamma)]
+                yield f"Omega={omega} J={J} (z,l,g)={z, l, g}", params, state
+
+
+def _fig5_point():
+    from chaplygin.numerics.periodic_orbits import bm20_state
+
+    yield "Fig. 5, G = 3", list(BM20_FIG5_PARAMS), list(bm20_state([0.5, 1.0, 1.0], 3.0))
+
+
+register(
+    ComputedClaim(
+        id="BM20-3.1obs.search",
+        source="BM20 §3.1 ('no strange attractors were found'), §4",
+        kind="solution",
+        statement="from rest (G = 0) at Fig. 2's K = (3, -1, -2), d = 1.5, delta = 1.2: no "
+        "strange attractor for Omega in {0.18, 0.4, 1.3}, J in {-1, -0.5, 0.6}, 2 starts each "
+        "(the largest Lyapunov exponent of every attractor reached is not positive beyond 3 "
+        "errors); the sweep examples/sweeps/bm20-rest-search.toml searches 15 x 13 x 6",
+        system=BALL,
+        effects=VB,
+        compute=_strange_attractor_search(_from_rest_points, 1500),
+    ),
+    ComputedClaim(
+        id="BM20-3.1obs.search/control-G3",
+        source="control",
+        kind="solution",
+        statement="(wrong) the same holds for BM20 Fig. 5's motion (G = 3, Omega = 1.07, d = "
+        "4.385): no strange attractor (6000 iterations: lambda - 3 s about 20 times ln(N)/N)",
+        system=BALL,
+        effects=VB,
+        compute=_strange_attractor_search(_fig5_point, 6000),
+        expected="fails",
+    ),
+)
+
+
+# ------------------------------------------------------- BM20 Fig. 2: the attractors from rest
+#: Starts (z, l, g) of BM20 (3.7) at G = 0 for the Fig. 2 claim.
+_FIG2_STARTS = ((0.7, 1.0, 0.3), (-0.6, 1.0, 1.2), (0.1, 2.0, 2.5))
+
+
+def _fig2_regimes(expected: dict[float, str]) -> Callable[[], Computed]:
+    """The regime reached from rest from each start at Fig. 2's values, after 10000 iterations
+    (the map on the sphere contracts at -0.0019 per iteration and faster: e^-19; after 3000, a
+    spiral onto the fixed point whose multipliers turn by about 2 pi/3 still closed at period 3
+    within 1e-6), against the expected regime per Omega; the error counts the runs that
+    differ."""
+
+    def run() -> Computed:
+        from chaplygin.numerics.code import load_model_code
+        from chaplygin.numerics.map_coordinates import from_andoyer_deprit
+        from chaplygin.numerics.regimes import attractor_regime
+
+        code = load_model_code(BALL, list(VB))
+        wrong, values = 0, {}
+        for omega, regime in expected.items():
+            params = [4, 3, 2, 1.5, -0.5, 1.2, 3, -1, -2, omega]
+            for z, l, g in _FIG2_STARTS:
+                _, gamma = from_andoyer_deprit(0.0, z, l, g)
+                y0 = [0.0, 0.0, 0.0, *map(float, gamma)]
+                r = attractor_regime(
+                    code, params, y0, transient=10000, recorded=200, tol=1e-6, intervals=1000
+                )
+                wrong += r.regime != regime
+                values[f"Omega={omega} start {z, l, g}"] = (
+                    f"{r.regime}, period {r.period}, lambda {r.lyapunov:.2g} +- "
+                    f"{r.lyapunov_error:.1g}, copy {r.copy.copy}"
+                )
+        return Computed(
+            error=float(wrong),
+            bound=0.0,
+            what=(
+                "from rest, I = diag(4, 3, 2), K = (3, -1, -2), d = 1.5, J = -0.5, delta = 1.2: "
+                "regime after 10000 map iterations (period <= 64 within 1e-6, else the largest "
+                "exponent on the sphere over 1000 iterations) from 3 starts per Omega, against "
+                f"{expected}; runs that differ, counted (about 5 s)"
+            ),
+            values=values,
+        )
+
+    return run
+
+
+register(
+    ComputedClaim(
+        id="BM20-Fig2.attractors",
+        source="BM20 §3.1, Fig. 2 (fixed points and invariant curves)",
+        kind="solution",
+        statement="Fig. 2's maps with the transient discarded: at Omega = 0.18 (Fig. 2A) every "
+        "start reaches a periodic point of the map (the fixed points of a mirror pair under "
+        "gamma -> -gamma), at Omega = 0.4 (Fig. 2B) an attracting invariant curve "
+        "(quasi-periodic)",
+        system=BALL,
+        effects=VB,
+        compute=_fig2_regimes({0.18: "periodic", 0.4: "quasi-periodic"}),
+    ),
+    ComputedClaim(
+        id="BM20-Fig2.attractors/control-swapped",
+        source="control",
+        kind="solution",
+        statement="(wrong) invariant curves at Omega = 0.18, fixed points at 0.4",
+        system=BALL,
+        effects=VB,
+        compute=_fig2_regimes({0.18: "quasi-periodic", 0.4: "periodic"}),
+        expected="fails",
+    ),
+)
+
+
+# ----------------------------------------------------------- BM20 Fig. 4: the fourth start
+#: BM20 Fig. 4: I = diag(4, 3, 2), K = (-4, -5, 3), d = 4.5, J = 0, delta = 2, Omega = 2, G = 3;
+#: the example scene's fourth start (z, l, g) = (0.5, 1, 1) and one of the other three.
+_FIG4 = (4.0, 3.0, 2.0, 4.5, 0.0, 2.0, -4.0, -5.0, 3.0, 2.0)
+_FIG4_FOURTH, _FIG4_OTHER = (0.5, 1.0, 1.0), (-0.5, -2.0, 2.0)
+#: Map iterations: the fourth start's transient (its transverse exponents are about -3e-4 per
+#: iteration: ~3e4 iterations to settle), the other's, and the points kept.
+_FIG4_TRANSIENT, _FIG4_OTHER_TRANSIENT, _FIG4_POINTS = 40000, 3000, 2000
+
+
+@cache
+def _fig4_samples():
+    import numpy as np
+    from chaplygin.numerics import load_model_code
+    from chaplygin.numerics.batch_map import BatchStroboscopicMap
+    from chaplygin.numerics.periodic_orbits import bm20_point, bm20_state
+
+    code = load_model_code(BALL, VB)
+    bm = BatchStroboscopicMap(code, rtol=1e-10, atol=1e-12)
+    out = []
+    for x, transient in ((_FIG4_FOURTH, _FIG4_TRANSIENT), (_FIG4_OTHER, _FIG4_OTHER_TRANSIENT)):
+        r = bm.run([bm20_state(x, 3.0)], [_FIG4], n=_FIG4_POINTS, transient=transient)
+        if r.status[0]:
+            raise ComputationError(f"BM20 Fig. 4 map failed from {x}")
+        y = r.y[0]
+        out.append((y, np.array([bm20_point(v) for v in y])))
+    return code, out
+
+
+def _fig4_claim(same_curve: bool) -> Callable[[], Computed]:
+    """The fourth start's attractor: a closed curve over g (its points sorted by g move by at
+    most 5 % of the curve's extent in l and z from one to the next), at a distance from the
+    other starts' curve of more than 3 sampling scales; ``same_curve`` is the control (the
+    distance within 3 sampling scales)."""
+
+    def run() -> Computed:
+        import numpy as np
+        from chaplygin.numerics.regimes import map_points_scaled
+        from chaplygin.numerics.reversibility import set_distance
+
+        code, ((y4, x4), (yo, _)) = _fig4_samples()
+        q = x4[np.argsort(x4[:, 2])]
+        extent = float(max(np.ptp(q[:, 0]), np.ptp(q[:, 1])))
+        jump = float(np.max(np.abs(np.diff(q[:, :2], axis=0))))
+        a, b = map_points_scaled(y4, code.state), map_points_scaled(yo, code.state)
+        h = len(a) // 2
+        scale = max(set_distance(a[:h], a[h:]), set_distance(b[:h], b[h:]))
+        distance = set_distance(a, b)
+        if same_curve:
+            error, bound = distance / (3 * scale), 1.0
+        else:
+            error, bound = max(jump / (0.05 * extent), 3 * scale / distance), 1.0
+        return Computed(
+            error=error,
+            bound=bound,
+            what=(
+                f"BM20 Fig. 4: map points {_FIG4_TRANSIENT} iterations after the fourth start "
+                f"(z, l, g) = {_FIG4_FOURTH} and {_FIG4_OTHER_TRANSIENT} after {_FIG4_OTHER} "
+                f"({_FIG4_POINTS} each, DOP853 in C, rtol 1e-10; about 4 s): the fourth's "
+                "points sorted by g (a curve over g: largest step in l, z against 5 % of its "
+                "extent) and the 0.9-quantile Hausdorff distance of the two sets in "
+                "(M/G, gamma) against 3 sampling scales (halves)"
+            ),
+            values={
+                "fourth: l range": f"[{q[:, 1].min():.4f}, {q[:, 1].max():.4f}]",
+                "fourth: z range": f"[{q[:, 0].min():.4f}, {q[:, 0].max():.4f}]",
+                "largest step along g": f"{jump:.2g} (extent {extent:.3g})",
+                "distance of the two attractors": f"{distance:.3g}",
+                "sampling scale": f"{scale:.2g}",
+            },
+        )
+
+    return run
+
+
+register(
+    ComputedClaim(
+        id="BM20-Fig4.fourth",
+        source="BM20 §3.2, Fig. 4 ('the system comes to a quasi-periodic mode'); our scene's "
+        "fourth start",
+        kind="solution",
+        statement="I = diag(4, 3, 2), K = (-4, -5, 3), d = 4.5, J = 0, delta = 2, Omega = 2, "
+        "G = 3: from (z, l, g) = (0.5, 1, 1) the map settles (slowly: ~3e4 iterations) on an "
+        "attracting closed invariant curve over g, another than the one the starts "
+        "(-0.5, -2, 2), (0.1, 2.5, -1), (0.9, -0.7, 0.3) reach: two quasi-periodic attractors "
+        "coexist",
+        system=BALL,
+        effects=VB,
+        compute=_fig4_claim(same_curve=False),
+    ),
+    ComputedClaim(
+        id="BM20-Fig4.fourth/control-same",
+        source="control",
+        kind="solution",
+        statement="(wrong) the fourth start reaches the invariant curve of the other three",
+        system=BALL,
+        effects=VB,
+        compute=_fig4_claim(same_curve=True),
+        expected="fails",
+    ),
+)
+
+
+# ------------------------------------------------- BM20 Fig. 6: the doubling 7 -> 14
+#: Omega along the stable branch of the Fig. 7 cycle at d = 4.385 (saddle-node 1.0662312,
+#: Neimark-Sacker 1.0670746: README, "Periodic orbits and continuation"), up and down from
+#: Fig. 7A's 1.06675, each refined by Newton from the previous one.
+_BRANCH = ((1.06675, 1.0669, 1.0670), (1.0665, 1.0664, 1.06635))
+
+
+@cache
+def _seven_cycle_branch():
+    import numpy as np
+    from chaplygin.numerics.code import load_model_code
+    from chaplygin.numerics.periodic_orbits import (
+        bm20_map_with_jacobian,
+        bm20_point,
+        bm20_state,
+        refine_periodic_orbit,
+    )
+    from chaplygin.numerics.regimes import attractor_regime
+
+    code = load_model_code(BALL, list(VB))
+    params = list(BM20_FIG5_PARAMS)
+    params[9] = 1.06675
+    r = attractor_regime(code, params, bm20_state([0.5, 1.0, 1.0], 3.0), transient=12000,
+                         max_period=32, intervals=10)  # fmt: skip
+    smap = bm20_map_with_jacobian(params, 3.0, rtol=1e-10)
+    out = []
+    for omegas in _BRANCH:
+        x = bm20_point(r.points[-1])
+        for omega in omegas:
+            orbit = refine_periodic_orbit(smap, x, 7, omega)
+            x = np.asarray(orbit.points[0], dtype=float)
+            out.append((omega, orbit))
+    return r.period, sorted(out, key=lambda t: t[0])
+
+
+def _doubling_claim(at_minus_one: bool) -> Callable[[], Computed]:
+    """The multipliers of the Fig. 7 cycle along its stable branch. A period doubling needs a
+    real multiplier at -1: the claim's error is the most negative real multiplier (0 when all
+    are positive; infinite when Newton did not converge), bound 0; the control's error is the
+    least ``|mu + 1|`` on the branch, bound 0.01."""
+
+    def run() -> Computed:
+        import numpy as np
+
+        period, branch = _seven_cycle_branch()
+        values, negative, nearest = {}, 0.0, np.inf
+        for omega, orbit in branch:
+            mu = np.asarray([complex(m) for m in orbit.multipliers])
+            real = mu[np.abs(mu.imag) <= 1e-9].real
+            negative = max(negative, *(-real), 0.0) if orbit.converged else np.inf
+            nearest = min(nearest, float(np.min(np.abs(mu + 1))))
+            values[f"Omega = {omega}"] = (
+                f"{'converged' if orbit.converged else 'NOT converged'}, multipliers "
+                + ", ".join(f"{abs(m):.4f} e^({np.angle(m):+.3f} i)" for m in mu)
+            )
+        values["least |mu + 1|"] = f"{nearest:.4f}"
+        return Computed(
+            error=float(nearest if at_minus_one else negative),
+            bound=1e-2 if at_minus_one else 0.0,
+            what=(
+                f"the period-{period} cycle reached from the Fig. 5 start at Fig. 7A's Omega = "
+                "1.06675 (d = 4.385), refined by Newton on P^7 at Omega = "
+                f"{[o for o, _ in branch]} (variational equations in C, rtol 1e-10; about 3 s) "
+                "and its multipliers: "
+                + (
+                    "the least |mu + 1| on the branch (a doubling: <= 0.01)"
+                    if at_minus_one
+                    else "the most negative real multiplier (none: 0)"
+                )
+            ),
+            values=values,
+        )
+
+    return run
+
+
+register(
+    ComputedClaim(
+        id="BM20-Fig6.no-doubling",
+        source="BM20 §3.2, Fig. 6 ('A doubling of period 7-14 was detected')",
+        kind="solution",
+        statement="the stable period-7 cycle of Figs. 6-7 (d = 4.385) does not double: along "
+        "its branch from the saddle-node (Omega = 1.06623) to the Neimark-Sacker point "
+        "(1.06707) its real multiplier stays positive and the complex pair leaves the unit "
+        "circle off the real axis (BM20's 7 -> 14 is not this cycle's)",
+        system=BALL,
+        effects=VB,
+        compute=_doubling_claim(at_minus_one=False),
+    ),
+    ComputedClaim(
+        id="BM20-Fig6.no-doubling/control-minus-one",
+        source="control",
+        kind="solution",
+        statement="(wrong, BM20's reading) a multiplier of the period-7 cycle reaches -1 on the "
+        "branch (a period doubling 7 -> 14)",
+        system=BALL,
+        effects=VB,
+        compute=_doubling_claim(at_minus_one=True),
+        expected="fails",
+    ),
 )
 
 

@@ -21,6 +21,7 @@ from functools import cache
 
 import numpy as np
 
+from ...arith import detcomplex, detlinalg, detmath
 from . import Computed, ComputedClaim, register
 
 BALL = "chaplygin_ball"
@@ -60,10 +61,13 @@ def _fig6f_run() -> dict:
         atol=RTOL,
         t_eval=k * tp.period,
     )
-    z = r.y[r.state_names.index("x")] + 1j * r.y[r.state_names.index("y")]
-    q = np.exp(1j * tp.turn)
-    circle = z[0] + tp.displacement * (1 - q**k) / (1 - q)
-    line = z[0] + tp.displacement * k  # the unbounded reading: a straight drift
+    z = detcomplex.make(r.y[r.state_names.index("x")], r.y[r.state_names.index("y")])
+    d = tp.displacement
+    # z0 + d (1 - q^k)/(1 - q), q = exp(i psi); q^k = exp(i k psi)
+    circle = z[0] + detcomplex.div(
+        detcomplex.mul(d, 1 - detcomplex.cis(k * tp.turn)), 1 - detcomplex.cis(tp.turn)
+    )
+    line = z[0] + detcomplex.make(k * d.real, k * d.imag)  # the unbounded reading: a drift
     return {"tp": tp, "z": z, "circle": circle, "line": line, "drift": max(r.drift.values())}
 
 
@@ -79,13 +83,14 @@ def _fig6f_circle(literal: bool):
         out = _fig6f_run()
         tp, z = out["tp"], out["z"]
         reference = out["line"] if literal else out["circle"]
-        scale = FIG6F_PERIODS * abs(tp.displacement)
-        error = float(np.max(np.abs(z - reference)) / scale)
+        step = detcomplex.absolute(tp.displacement)
+        scale = FIG6F_PERIODS * step
+        error = float(np.max(detcomplex.absolute(z - reference)) / scale)
         return Computed(
             error=error,
             bound=_fig6f_bound(tp),
             what=(
-                f"contact point at t = k T, k <= {FIG6F_PERIODS}, on the full equations (DOP853, "
+                f"contact point at t = k T, k <= {FIG6F_PERIODS}, on the full equations (Taylor, "
                 f"rtol {RTOL:g}) at the printed h = {H_FIG6F}, I = (1, 3, 5), C = D = b = 1, "
                 + (
                     "against the straight drift z0 + k d"
@@ -97,12 +102,12 @@ def _fig6f_circle(literal: bool):
             values={
                 "T": f"{tp.period:.10f}",
                 "psi (turn per period, rad)": f"{tp.turn:.10f}",
-                "|d| per period": f"{abs(tp.displacement):.10f}",
+                "|d| per period": f"{step:.10f}",
                 "R = |d|/(2 |sin(psi/2)|)": f"{tp.radius:.6f}",
                 "envelope radii (inner, outer)": f"{tp.inner:.6f}, {tp.outer:.6f}",
                 "periods to close (2 pi/|psi|)": f"{2 * math.pi / abs(tp.turn):.2f}",
                 "time to close": f"{2 * math.pi / abs(tp.turn) * tp.period:.1f}",
-                "|z(NT) - z0|": f"{abs(z[-1] - z[0]):.6f}",
+                "|z(NT) - z0|": f"{detcomplex.absolute(z[-1] - z[0]):.6f}",
                 "largest drift of an integral": f"{out['drift']:.1e}",
             },
         )
@@ -152,7 +157,7 @@ def _near(end: float) -> list:
 def _slopes(values) -> list[float]:
     """``d log(value)/d log(delta)`` between consecutive deltas."""
     return [
-        math.log(values[i + 1] / values[i]) / math.log(DELTAS[i + 1] / DELTAS[i])
+        detmath.log(values[i + 1] / values[i]) / detmath.log(DELTAS[i + 1] / DELTAS[i])
         for i in range(len(values) - 1)
     ]
 
@@ -186,7 +191,7 @@ def _envelope(end: float, laws: dict[str, float], claim_end: float | None = None
             bound=SLOPE_BOUND,
             what=(
                 f"envelope of the trace at h = {where}, delta = {DELTAS} (I = (1, 3, 5), C = D = "
-                "b = 1; one period of the full equations each, DOP853 rtol 1e-12): exponents "
+                "b = 1; one period of the full equations each, Taylor rtol 1e-12): exponents "
                 "d log q/d log delta against "
                 + ", ".join(f"{k} ~ delta^{v:g}" for k, v in laws.items())
             ),
@@ -276,7 +281,7 @@ def _centre_claim(literal: bool):
             values[f"h2 {d:+.0e}"] = (
                 f"chord {sc['chord']:.12f}, half turn {sc['half_turn']:+.5f}, radius "
                 f"{sc['radius']:.6f} = chord/(2|sin(half turn/2)|) "
-                f"{sc['chord'] / (2 * abs(math.sin(sc['half_turn'] / 2))):.6f}"
+                f"{sc['chord'] / (2 * abs(detmath.sin(sc['half_turn'] / 2))):.6f}"
             )
         values["Delta (K01-3.7)"] = f"{Delta:.12f}"
         return Computed(
@@ -341,7 +346,7 @@ def _wreaths() -> dict:
     from chaplygin.numerics.separatrix import mu_of
 
     xi = float(mu_of(I135, D1))
-    rate = xi * math.log(10) / (2 * math.pi)
+    rate = xi * detmath.log(10.0) / (2 * math.pi)
     return {"above": above, "below": below, "ends": ends, "per_decade": rate}
 
 
@@ -375,7 +380,7 @@ def _wreath_claim(literal: bool):
         return Computed(
             error=error,
             bound=bound,
-            what=what + " (I = (1, 3, 5), C = D = b = 1, DOP853 rtol 1e-12)",
+            what=what + " (I = (1, 3, 5), C = D = b = 1, Taylor rtol 1e-12)",
             values=values,
         )
 
@@ -420,37 +425,35 @@ def _meridian_angles(off: float) -> tuple[np.ndarray, float]:
 
     ``off = 0``: the separatrix (K01-3.4's point at ``t = 0``), forward and backward over
     ``|lam t| <= LOX_WINDOW`` on the full equations; ``off > 0``: the orbit at
-    ``h = h2 (1 + off)``, one period.
+    ``h = h2 (1 + off)``, one period (of :func:`~chaplygin.numerics.trace_geometry.trace_period`,
+    whose start is the same). Dense Taylor solutions, sampled at 2001 times per span.
     """
     from chaplygin.numerics.code import load_model_code
-    from chaplygin.numerics.separatrix import (
-        near_separatrix_state,
-        separatrix_quantities,
-        separatrix_state,
-    )
-    from scipy.integrate import solve_ivp
+    from chaplygin.numerics.separatrix import separatrix_quantities, separatrix_state
+    from chaplygin.numerics.taylor import taylor_dense
 
     code = load_model_code(BALL, ("contact_point",))
     p = np.array([*I135, D1, 1.0])
     lam = float(separatrix_quantities(I135, D1, C1)["lam"])
     if off == 0:
         y0 = np.array([float(v) for v in separatrix_state(I135, D1, C1)])
-        spans = [(0.0, LOX_WINDOW / lam), (0.0, -LOX_WINDOW / lam)]
+        runs = [
+            (taylor_dense(code, y0, span, p, rtol=RTOL, atol=RTOL), span)
+            for span in ((0.0, LOX_WINDOW / lam), (0.0, -LOX_WINDOW / lam))
+        ]
     else:
-        y0 = near_separatrix_state(I135, D1, H2 * (1 + off), C1)
-        spans = [(0.0, _tp(H2 * (1 + off)).period)]
+        tp = _tp(H2 * (1 + off))
+        runs = [(tp.sol, (0.0, tp.period))]
     angles = []
-    for span in spans:
-        t = np.linspace(*span, 2001)
-        sol = solve_ivp(lambda s, y: code.numpy.rhs(s, y, p), span, y0, method="DOP853",
-                        rtol=RTOL, atol=RTOL, t_eval=t)  # fmt: skip
-        g = sol.y[3:6]
-        dg = code.numpy.rhs(0.0, sol.y, p)[3:6]
+    for sol, span in runs:
+        y = sol(np.linspace(*span, 2001))
+        g = y[3:6]
+        dg = code.numpy.rhs(0.0, y, p)[3:6]
         e2 = np.array([0.0, 1.0, 0.0])[:, None]
         meridian = e2 - g * np.sum(g * e2, axis=0)
-        meridian /= np.linalg.norm(meridian, axis=0)
+        meridian /= np.linalg.norm(meridian, axis=0)  # element-wise along axis 0
         parallel = np.cross(g, meridian, axis=0)
-        a = np.arctan2(np.sum(dg * parallel, axis=0), np.sum(dg * meridian, axis=0))
+        a = detmath.atan2(np.sum(dg * parallel, axis=0), np.sum(dg * meridian, axis=0))
         angles.append(a)
     return np.concatenate(angles), lam
 
@@ -459,14 +462,14 @@ def _loxodrome(off: float):
     def run() -> Computed:
         a, lam = _meridian_angles(off)
         # a direction along the meridian towards either pole: fold the angle into [0, pi/2]
-        folded = np.abs(np.angle(np.exp(2j * a))) / 2
+        folded = np.abs(detmath.atan2(detmath.sin(2 * a), detmath.cos(2 * a))) / 2
         spread = float(np.max(folded) - np.min(folded))
         return Computed(
             error=spread,
-            bound=10 * 2 * RTOL * math.exp(2 * LOX_WINDOW),
+            bound=10 * 2 * RTOL * detmath.exp(2 * LOX_WINDOW),
             what=(
                 "angle between the contact point's path on the ball (gamma', body frame) and the "
-                "meridians of the poles +-e2, on the full equations (DOP853, rtol 1e-12) "
+                "meridians of the poles +-e2, on the full equations (Taylor, rtol 1e-12) "
                 + (
                     f"along the separatrix at h = h2 for |lam t| <= {LOX_WINDOW:g}"
                     if off == 0
@@ -560,17 +563,8 @@ def fig7f_rotation() -> dict:
 
 def _orbit_distance(states: np.ndarray, rotation: dict) -> np.ndarray:
     """Distance of states ``(M, gamma)`` (shape (6, N)) to the closed orbit of a steady
-    rotation: ``gamma`` turns about the constant ``omega`` and ``M = J omega - D s gamma``
-    with ``s = (omega, gamma)`` constant (4096 points of the orbit; elementwise sums, no
-    BLAS)."""
-    omega = np.asarray(rotation["omega"], float)
-    e = omega / np.linalg.norm(omega)
-    g0 = np.asarray(rotation["state"][3:], float)
-    phi = np.linspace(0, 2 * np.pi, 4096, endpoint=False)
-    c, s = np.cos(phi), np.sin(phi)
-    g = np.outer(g0, c) + np.outer(np.cross(e, g0), s) + np.outer(e * (e @ g0), 1 - c)
-    Jw = (np.asarray(I135) + D1) * omega
-    orbit = np.vstack([Jw[:, None] - D1 * (omega @ g0) * g, g])
+    rotation (4096 points of the orbit, :func:`_orbit_points`; elementwise sums, no BLAS)."""
+    orbit = _orbit_points(rotation, 4096)
     out = np.empty(states.shape[1])
     for a in range(0, states.shape[1], 256):
         chunk = states[:, a : a + 256]
@@ -580,15 +574,17 @@ def _orbit_distance(states: np.ndarray, rotation: dict) -> np.ndarray:
 
 
 def _orbit_points(rotation: dict, count: int = 2048) -> np.ndarray:
-    """Points ``(M, gamma)`` (shape (6, count)) of a steady rotation's closed orbit."""
+    """Points ``(M, gamma)`` (shape (6, count)) of a steady rotation's closed orbit:
+    ``gamma`` turns about the constant ``omega`` (Rodrigues) and ``M = J omega - D s gamma``
+    with ``s = (omega, gamma)`` constant."""
     omega = np.asarray(rotation["omega"], float)
-    e = omega / np.linalg.norm(omega)
+    e = omega / detlinalg.norm(omega)
     g0 = np.asarray(rotation["state"][3:], float)
     phi = np.linspace(0, 2 * np.pi, count, endpoint=False)
-    c, s = np.cos(phi), np.sin(phi)
-    g = np.outer(g0, c) + np.outer(np.cross(e, g0), s) + np.outer(e * (e @ g0), 1 - c)
+    c, s = detmath.cos(phi), detmath.sin(phi)
+    g = np.outer(g0, c) + np.outer(np.cross(e, g0), s) + np.outer(e * detlinalg.dot(e, g0), 1 - c)
     Jw = (np.asarray(I135) + D1) * omega
-    return np.vstack([Jw[:, None] - D1 * (omega @ g0) * g, g])
+    return np.vstack([Jw[:, None] - D1 * detlinalg.dot(omega, g0) * g, g])
 
 
 @cache
@@ -647,7 +643,8 @@ def _fig7f(n: float, use_rotation_gamma: bool):
         values = {
             "elliptic rotation at h = 0.3": (
                 f"n_e = {rotation['n']:.10f}, lam = {rotation['lam']:.10f}, nontrivial "
-                f"multipliers' moduli {', '.join(f'{abs(m):.12f}' for m in fl.nontrivial)}"
+                "multipliers' moduli "
+                + ", ".join(f"{detcomplex.absolute(m):.12f}" for m in fl.nontrivial)
             ),
             "steady rotations at h = 0.3": "; ".join(
                 f"n = {r['n']:.6f} {'stable' if r['stable'] else 'unstable'} "
@@ -672,7 +669,7 @@ def _fig7f(n: float, use_rotation_gamma: bool):
                 f"rotation or n = C^2), and the level n = {n:g}: its place in the island, "
                 "|n - n_e|/|edge - n_e|, against 'near' = the inner tenth; the trajectory "
                 + ("from the rotation's gamma" if use_rotation_gamma else "from point 0")
-                + f" (t <= {FIG7F_T:g}, DOP853 rtol 1e-12) must stay within half the distance to "
+                + f" (t <= {FIG7F_T:g}, Taylor rtol 1e-12) must stay within half the distance to "
                 "the bounding rotation"
             ),
             values=values,
@@ -749,7 +746,7 @@ def _bounded_claim(literal: bool):
         for side in out["sides"]:
             e, turns = side["saddle"], side["turns"]
             step = turns[1] - turns[0]
-            law = e["spin"] * math.log(10) / (2 * math.pi * e["rate"])
+            law = e["spin"] * detmath.log(10.0) / (2 * math.pi * e["rate"])
             k = round(step / law)
             errors.append(abs(step - k * law) / (k * law) if k in (1, 2) else math.inf)
             crossed += math.floor(max(turns)) - math.floor(min(turns))
