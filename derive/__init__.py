@@ -5,6 +5,7 @@ Imports nothing from the other layers of chaplygin.
 
 from __future__ import annotations
 
+from .declaration import Constraint, Declaration
 from .description import MechanicalDescription, Reduced, Reduction, apply_effects, form_model
 from .effects import EFFECTS, Effect, parse_effects
 from .engine import ReducedEquations, RigidBodyDescription, lagrange_dalembert
@@ -21,6 +22,8 @@ __all__ = [
     "Effect",
     "parse_effects",
     "MechanicalDescription",
+    "Declaration",
+    "Constraint",
     "Reduced",
     "Reduction",
     "RigidBodyReduction",
