@@ -27,7 +27,12 @@ frame):
 The derivation runs with an abstract unit normal ``nu`` and its rate ``nudot`` (symbols);
 :func:`surface_equations` then substitutes ``n(x) = grad f/|grad f|`` and
 ``n' = (dn/dx) x'`` (chain rule) for any surface ``f`` and potential ``U`` — an undefined
-sympy Function included (the claims about a generic surface use that).
+sympy Function included (the claims about a generic surface use that). That is the
+reduction stage :class:`FixedFrameReduction` of the shared finishing step
+(:func:`~.description.form_model`): a description (:func:`fixed_frame_description`)
+declares the state ``omega, x``, the parameters, the potential, the integrals, the
+phase-space constraint and the sampler; the stage derives the rates, the energy and the
+density ``|grad f|``.
 
 For the generated code the surface is the triaxial ellipsoid ``(x, B^-1 x) = 1``,
 ``B = diag(b1, b2, b3)``; the effect ``potential`` adds the force of
@@ -48,7 +53,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .algebra import ConstraintIdeal, seeded_factor
-from .description import MechanicalDescription, apply_effects
+from .description import MechanicalDescription, Reduced, apply_effects, form_model
 from .effects import ellipsoid_potential, parse_effects
 from .errors import DerivationError
 from .model import Model, ModelDetails, ParameterSpec
@@ -59,12 +64,14 @@ __all__ = [
     "DESCRIPTION",
     "SUPPORTED_EFFECTS",
     "GENERATED_VARIANTS",
+    "PARAMETER_ORDER",
     "BUILDER",
     "FixedFrameDerivation",
     "SurfaceEquations",
+    "FixedFrameReduction",
     "derive_fixed_frame",
     "surface_equations",
-    "surface_model",
+    "fixed_frame_description",
     "generic_surface_model",
     "ellipsoid_potential",
     "ellipsoid_sampler",
@@ -80,6 +87,8 @@ DESCRIPTION = (
 SUPPORTED_EFFECTS = ("potential",)
 #: Effect combinations whose code is committed in generated/.
 GENERATED_VARIANTS = ((), ("potential",))
+#: Order of the parameter groups in the model (and the generated code).
+PARAMETER_ORDER = ("m", "m_e", "R", "b", "k", "c")
 
 
 # --------------------------------------------------------------------- symbols
@@ -269,7 +278,7 @@ def derive_fixed_frame(
 class SurfaceEquations(ModelDetails):
     """The derivation on a concrete surface ``f(x) = 0`` with potential ``U(x)``.
 
-    It is the ``details`` of a :func:`surface_model`.
+    It is the ``details`` of a model of :class:`FixedFrameReduction`.
 
     Expressions are written in the state ``omega, x``, the parameters and the auxiliary
     symbols ``n1..n3`` (unit normal) and ``ndot1..ndot3`` (its rate) of :attr:`aux`.
@@ -375,70 +384,120 @@ def surface_equations(
     )
 
 
-def surface_model(
+@dataclass(frozen=True)
+class FixedFrameReduction:
+    """The ball whose centre rolls on ``f(x) = 0``, written in the fixed frame.
+
+    Parameters
+    ----------
+    surface : sympy.Expr
+        ``f`` in the centre's state symbols (a polynomial, or an undefined Function).
+    mass, effective_mass, radius : sympy.Symbol
+        ``m``, ``m_e`` (``I = m_e R^2``) and ``R``.
+    angular_velocity, centre : str
+        The state groups ``omega`` and ``x`` (their rates are derived).
+    """
+
+    surface: sp.Expr
+    mass: sp.Symbol
+    effective_mass: sp.Symbol
+    radius: sp.Symbol
+    angular_velocity: str = "omega"
+    centre: str = "x"
+
+    def reduce(self, desc: MechanicalDescription) -> Reduced:
+        """``omega'`` and ``x'`` on the surface, the energy ``H`` and the density ``|grad f|``.
+
+        Parameters
+        ----------
+        desc : MechanicalDescription
+            With the state groups :attr:`angular_velocity` and :attr:`centre` and the
+            potential ``U`` of the force on the centre.
+
+        Returns
+        -------
+        Reduced
+            ``details`` the :class:`SurfaceEquations`.
+
+        Raises
+        ------
+        DerivationError
+            For declared data this derivation does not take (kinetic-energy terms,
+            velocity constraints, Poisson vectors, further bodies), or from
+            :func:`derive_fixed_frame`.
+        """
+        desc.refuse(
+            "fixed-frame",
+            ("inertia", "kinetic_energy", "constraints", "kinematics", "momentum_in_state")
+            + ("bodies",),
+        )
+        omega = desc.state_group(self.angular_velocity)
+        x = desc.state_group(self.centre)
+        eq = surface_equations(
+            self.surface,
+            desc.potential,
+            x,
+            omega,
+            self.mass,
+            self.effective_mass,
+            self.radius,
+        )
+        return Reduced(
+            rates={self.angular_velocity: list(eq.omega_rate), self.centre: list(eq.x_rate)},
+            aux=eq.aux,
+            integrals=[("H", eq.energy)],
+            density=eq.grad_norm,
+            omega=omega,
+            details=eq,
+        )
+
+
+def fixed_frame_description(
     surface: sp.Expr,
-    potential: sp.Expr = sp.S.Zero,
-    *,
-    parameters: Iterable[ParameterSpec] = (),
     effects: Iterable[str] = (),
+    *,
+    potential: sp.Expr = sp.S.Zero,
+    parameter_order: tuple[str, ...] = ("m", "m_e", "R"),
     system: str = NAME,
-    constraints: Iterable[sp.Expr] = (),
-    integrals: Iterable[tuple[str, sp.Expr]] = (),
-    sampler: Callable[[random.Random, dict], None] | None = None,
-    references: dict[str, str] | None = None,
-) -> Model:
-    """The Model of a homogeneous ball whose centre rolls on ``f(x) = 0``.
+) -> MechanicalDescription:
+    """A homogeneous ball whose centre rolls on ``f(x) = 0``: state, mass, inertia, radius.
 
     Parameters
     ----------
     surface : sympy.Expr
         ``f`` in the centre symbols ``x_1, x_2, x_3`` (see :func:`_state_symbols`).
+    effects : iterable of str
+        Recorded in the description; not applied here.
     potential : sympy.Expr
         ``U`` in the same symbols.
-    parameters : iterable of ParameterSpec
-        Specs of the surface and potential parameters (``m, m_e, R`` come first).
-    effects : iterable of str
+    parameter_order : tuple of str
+        The model's parameter groups in order (``m, m_e, R`` and those the caller adds).
     system : str
-    constraints : iterable of sympy.Expr
-        Polynomials vanishing on the phase space (the surface equation).
-    integrals : iterable of (str, sympy.Expr)
-        Integrals beyond the energy ``H`` (listed first).
-    sampler : callable, optional
-        ``sampler(rng, point)`` puts the centre exactly on the surface (and may choose
-        the surface parameters): the verifier's rational phase-space sampler.
-    references : dict, optional
 
     Returns
     -------
-    Model
-        State ``omega, x``; density ``|grad f|`` (M03-1Y).
+    MechanicalDescription
+        State ``omega, x``; parameters ``m, m_e, R``; the stage
+        :class:`FixedFrameReduction`. The caller adds the surface's parameters, its
+        integrals, phase-space constraint, sampler and references.
     """
     omega, x = _state_symbols()
     m, m_e, R = _mechanical_parameters()
-    eq = surface_equations(surface, potential, x, omega, m, m_e, R)
-    specs = [
-        ParameterSpec("m", (m,), "positive", "mass of the ball"),
-        ParameterSpec("m_e", (m_e,), "positive", "effective mass: I = m_e R^2"),
-        ParameterSpec("R", (R,), "positive", "radius of the ball"),
-        *parameters,
-    ]
-    return Model(
+    desc = MechanicalDescription(
         system=system,
         effects=frozenset(effects),
         time=sp.Symbol("t", real=True),
-        state_groups=(("omega", tuple(omega)), ("x", tuple(x))),
-        parameters=tuple(specs),
-        aux=eq.aux,
-        rhs=tuple(eq.omega_rate) + tuple(eq.x_rate),
-        constraints=tuple(constraints),
-        geometry=(),
-        integrals=(("H", eq.energy), *integrals),
-        density=eq.grad_norm,
         omega=omega,
-        sampler=sampler,
-        details=eq,
-        references=references or {},
+        reduction=FixedFrameReduction(surface, m, m_e, R),
+        parameter_order=parameter_order,
     )
+    desc.add_state("omega", tuple(omega), None)
+    desc.add_state("x", tuple(x), None)
+    desc.add_parameter(ParameterSpec("m", (m,), "positive", "mass of the ball"))
+    desc.add_parameter(ParameterSpec("m_e", (m_e,), "positive", "effective mass: I = m_e R^2"))
+    desc.add_parameter(ParameterSpec("R", (R,), "positive", "radius of the ball"))
+    desc.add_potential(potential)
+    return desc
 
 
 def generic_surface_model(with_potential: bool = True) -> Model:
@@ -462,12 +521,11 @@ def generic_surface_model(with_potential: bool = True) -> Model:
     _, x = _state_symbols()
     f = sp.Function("f")(*x)
     U = sp.Function("U")(*x) if with_potential else sp.S.Zero
-    return surface_model(
-        f,
-        U,
-        effects=("generic_surface", *(("potential",) if with_potential else ())),
-        references={"equations": "M03-1.1", "energy": "M03-1.3", "density": "M03-1Y"},
+    desc = fixed_frame_description(
+        f, ("generic_surface", *(("potential",) if with_potential else ())), potential=U
     )
+    desc.references.update({"equations": "M03-1.1", "energy": "M03-1.3", "density": "M03-1Y"})
+    return form_model(desc)
 
 
 # ------------------------------------------------------------ the ellipsoid
@@ -514,8 +572,8 @@ def ellipsoid_sampler(b: sp.Matrix, x: sp.Matrix) -> Callable[[random.Random, di
 def ellipsoid_description(effects: frozenset[str] = frozenset()) -> MechanicalDescription:
     """The ball whose centre rolls on ``(x, B^-1 x) = 1``, no effect applied yet.
 
-    State ``omega, x``; parameters ``b`` (``m, m_e, R`` are declared by
-    :func:`surface_model`); the integrals ``K`` (M03-1.5) and ``(x, B^-1 x)``.
+    State ``omega, x``; parameters ``m, m_e, R, b``; the integrals ``K`` (M03-1.5) and
+    ``(x, B^-1 x)``; the ellipsoid as the phase-space constraint, with its exact sampler.
 
     Parameters
     ----------
@@ -531,9 +589,8 @@ def ellipsoid_description(effects: frozenset[str] = frozenset()) -> MechanicalDe
     B = sp.diag(*b)
     Binv = sp.diag(*[1 / bi for bi in b])
     quadric = dot(x, Binv * x)
-    desc = MechanicalDescription(NAME, effects, sp.Symbol("t", real=True), omega)
-    desc.add_state("omega", tuple(omega), None)
-    desc.add_state("x", tuple(x), None)
+    surface = quadric - 1
+    desc = fixed_frame_description(surface, effects, parameter_order=PARAMETER_ORDER)
     desc.add_parameter(
         ParameterSpec(
             "b", tuple(b), "positive", "ellipsoid of the centre (x, B^-1 x) = 1, B = diag(b)"
@@ -543,6 +600,10 @@ def ellipsoid_description(effects: frozenset[str] = frozenset()) -> MechanicalDe
     u = cross(n, omega)
     desc.add_integral("K", dot(u, Binv * u) / dot(n, B * n))  # M03-1.5
     desc.add_integral("(x,B^-1 x)", quadric)
+    # The surface polynomial with its denominators cleared (same real variety for b > 0),
+    # so that it lies in the polynomial ring of the verifier.
+    desc.add_phase_space_constraint(sp.expand(b[0] * b[1] * b[2] * surface))
+    desc.sampler = ellipsoid_sampler(b, x)
     desc.references.update(
         {
             "equations": "M03-1.1",
@@ -584,22 +645,7 @@ def build_ball_on_surface(effects: Iterable[str] | str | None = ()) -> Model:
     effects = parse_effects(effects, SUPPORTED_EFFECTS)
     desc = ellipsoid_description(effects)
     apply_effects(desc, effects, SUPPORTED_EFFECTS)
-    b, x = desc.parameters["b"].symbols, desc.state_group("x")
-    quadric = desc.integrals["(x,B^-1 x)"]
-    surface = quadric - 1
-    # The surface polynomial with its denominators cleared (same real variety for b > 0),
-    # so that it lies in the polynomial ring of the verifier.
-    constraint = sp.expand(b[0] * b[1] * b[2] * surface)
-    return surface_model(
-        surface,
-        desc.potential,
-        parameters=tuple(desc.parameters.values()),
-        effects=effects,
-        constraints=(constraint,),
-        integrals=tuple(desc.integrals.items()),
-        sampler=ellipsoid_sampler(b, x),
-        references=desc.references,
-    )
+    return form_model(desc)
 
 
 BUILDER = build_ball_on_surface

@@ -20,6 +20,10 @@ Derivation:
   the projected momentum ``M = I_Q omega``, ``I_Q = I + m r^2 Id - m r ⊗ r`` and its rate;
   then ``omega' = I_Q^-1 (M' - I_Q' omega)``.
 
+:class:`BodyOnSphereReduction` is that derivation as the reduction stage of the shared
+finishing step (:func:`~.description.form_model`); :func:`body_on_sphere_model` writes the
+description (state ``omega, r``, the inertia tensor, parameters, phase-space constraint).
+
 References
 ----------
 M03-2.1 .. M03-2.5 (FORMULAS.md §4.2).
@@ -35,12 +39,14 @@ import sympy as sp
 
 from .algebra import seeded_factor
 from .ball_on_surface import ellipsoid_sampler
+from .description import MechanicalDescription, Reduced, form_model
 from .engine import ReducedEquations, RigidBodyDescription, lagrange_dalembert
 from .model import Model, ModelDetails, ParameterSpec
 from .vectors import cross, dot, vector
 
 __all__ = [
     "BodyOnSphere",
+    "BodyOnSphereReduction",
     "contact_normal_rate",
     "derive_body_on_sphere",
     "body_on_sphere_model",
@@ -201,6 +207,65 @@ class BodyOnSphereDetails(ModelDetails):
     inertia: sp.Matrix
 
 
+@dataclass(frozen=True)
+class BodyOnSphereReduction:
+    """A body with surface ``f(r) = 0`` rolling on a fixed sphere, in the body frame.
+
+    Parameters
+    ----------
+    surface : sympy.Expr
+        ``f(r)`` in the position's state symbols.
+    mass, curvature : sympy.Symbol
+        ``m`` and the signed curvature ``k = +-1/R0``.
+    angular_velocity, position : str
+        The state groups ``omega`` and ``r`` (their rates are derived).
+    """
+
+    surface: sp.Expr
+    mass: sp.Symbol
+    curvature: sp.Symbol
+    angular_velocity: str = "omega"
+    position: str = "r"
+
+    def reduce(self, desc: MechanicalDescription) -> Reduced:
+        """``omega'`` and ``r'`` (an auxiliary ``rdot``), the energy ``H``; no density.
+
+        Parameters
+        ----------
+        desc : MechanicalDescription
+            With the body's ``inertia`` and the state groups :attr:`angular_velocity`,
+            :attr:`position`.
+
+        Returns
+        -------
+        Reduced
+            ``details`` a :class:`BodyOnSphereDetails`.
+
+        Raises
+        ------
+        DerivationError
+            For declared data this derivation does not take (further kinetic-energy
+            terms, a potential, velocity constraints, Poisson vectors, further bodies).
+        """
+        desc.refuse(
+            "body-on-sphere",
+            ("kinetic_energy", "potential", "constraints", "kinematics", "momentum_in_state")
+            + ("bodies",),
+        )
+        omega = desc.state_group(self.angular_velocity)
+        r = desc.state_group(self.position)
+        eq = derive_body_on_sphere(self.surface, desc.inertia, self.mass, self.curvature, omega, r)
+        rdot = eq.r_rate_symbols
+        return Reduced(
+            rates={self.angular_velocity: list(eq.omega_rate), self.position: list(rdot)},
+            aux=tuple(zip(rdot, eq.r_rate, strict=True)),
+            integrals=[("H", eq.energy)],
+            density=None,
+            omega=omega,
+            details=BodyOnSphereDetails(equations=eq, surface=self.surface, inertia=desc.inertia),
+        )
+
+
 def body_on_sphere_model(
     surface: sp.Expr,
     inertia: sp.Matrix,
@@ -239,29 +304,27 @@ def body_on_sphere_model(
     """
     omega, r = vector("omega", real=True), vector("r", real=True)
     m, k = sp.Symbol("m", positive=True), sp.Symbol("k", real=True)
-    eq = derive_body_on_sphere(surface, inertia, m, k, omega, r)
-    rdot = eq.r_rate_symbols
-    aux = tuple(zip(rdot, eq.r_rate, strict=True))
-    return Model(
+    desc = MechanicalDescription(
         system="body_on_sphere",
         effects=frozenset(effects),
         time=sp.Symbol("t", real=True),
-        state_groups=(("omega", tuple(omega)), ("r", tuple(r))),
-        parameters=(
-            ParameterSpec("m", (m,), "positive", "mass of the body"),
-            ParameterSpec("k", (k,), "real", "signed curvature +-1/R0 of the fixed sphere"),
-            *parameters,
-        ),
-        aux=aux,
-        rhs=tuple(eq.omega_rate) + tuple(rdot),
-        constraints=constraints,
-        geometry=(),
-        integrals=(("H", eq.energy),),
-        density=None,
         omega=omega,
-        sampler=sampler,
-        details=BodyOnSphereDetails(equations=eq, surface=surface, inertia=inertia),
+        reduction=BodyOnSphereReduction(surface, m, k),
+        parameter_order=("m", "k", *(spec.name for spec in parameters)),
+        inertia=inertia,
     )
+    desc.add_state("omega", tuple(omega), None)
+    desc.add_state("r", tuple(r), None)
+    desc.add_parameter(ParameterSpec("m", (m,), "positive", "mass of the body"))
+    desc.add_parameter(
+        ParameterSpec("k", (k,), "real", "signed curvature +-1/R0 of the fixed sphere")
+    )
+    for spec in parameters:
+        desc.add_parameter(spec)
+    for c in constraints:
+        desc.add_phase_space_constraint(c)
+    desc.sampler = sampler
+    return form_model(desc)
 
 
 def generic_body_model() -> Model:

@@ -30,6 +30,7 @@ import sympy as sp
 from .description import MechanicalDescription, apply_effects, form_model
 from .effects import parse_effects
 from .model import Model, ParameterSpec
+from .rigid_body import RigidBodyReduction
 from .vectors import cross, dot, vector
 
 __all__ = [
@@ -84,7 +85,8 @@ def ball_description(
 
     ``T = (omega, I omega)/2 + m (v, v)/2`` with ``m = D/b^2``, the no-slip constraint
     ``v + omega x r = 0`` with ``r = -b gamma`` (K01-2.5), the Poisson equation of
-    ``gamma``; state ``M, gamma``; parameters ``I, D``.
+    ``gamma``; state ``M, gamma``; parameters ``I, D``; derived by the rigid-body stage
+    (:class:`~.rigid_body.RigidBodyReduction`).
 
     Parameters
     ----------
@@ -103,7 +105,16 @@ def ball_description(
     v = vector("v", real=True)
     m = D / b**2  # D = m b^2
     desc = MechanicalDescription(
-        system=NAME, effects=effects, time=t, omega=omega, v=v, laws=laws, inertia=list(Iv)
+        system=NAME,
+        effects=effects,
+        time=t,
+        omega=omega,
+        reduction=RigidBodyReduction(momentum="M", gyrostatic="K"),
+        parameter_order=PARAMETER_ORDER,
+        v=v,
+        laws=laws,
+        inertia=sp.diag(*Iv),
+        moments=tuple(Iv),
     )
     desc.add_kinetic_energy(m * dot(v, v) / 2)
     desc.contact_vector = -b * vector("gamma", real=True)  # centre -> contact point (K01-2.5)
@@ -146,8 +157,7 @@ def ball_signature(
     """
     desc = ball_description(effects)
     apply_effects(desc, effects, SUPPORTED_EFFECTS)
-    groups = tuple((name, symbols) for name, symbols, _ in desc.states)
-    return groups, tuple(desc.parameters[n] for n in PARAMETER_ORDER if n in desc.parameters)
+    return desc.signature()
 
 
 def build_chaplygin_ball(effects: Iterable[str] | str | None = (), *, _laws: str = "bm20") -> Model:
@@ -193,7 +203,7 @@ def build_chaplygin_ball(effects: Iterable[str] | str | None = (), *, _laws: str
         raise ValueError(f"unknown parameter laws {_laws!r}; valid: {', '.join(LAWS)}")
     desc = ball_description(effects, _laws)
     apply_effects(desc, effects, SUPPORTED_EFFECTS)
-    return form_model(desc, PARAMETER_ORDER)
+    return form_model(desc)
 
 
 BUILDER = build_chaplygin_ball

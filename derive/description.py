@@ -1,11 +1,22 @@
 """A mechanical description that effects add to, and the one step that makes a Model of it.
 
 The shape is sympy's ``physics.mechanics.System``: a system module writes its base
-description (kinetic energy, constraints, kinematics, states, parameters), each chosen
-effect adds to it with ``add_*`` (:meth:`~.effects.Effect.apply`), and :func:`form_model`
-derives the equations (:func:`~.engine.lagrange_dalembert`), inverts the momentum,
-eliminates the multipliers of constraints on omega alone, collects the integrals and
-makes the :class:`~.model.Model`, which validates itself.
+description (kinetic energy, constraints, kinematics, states, parameters, the *reduction
+stage* that derives its equations) with ``add_*``; each chosen effect declares what it adds
+(a :class:`~.declaration.Declaration`: states, parameters, integrals, constraints and the
+invariant relations they are, kinetic and potential terms, Poisson vectors) and the
+description merges it (:meth:`MechanicalDescription.add`). :func:`form_model` — the one
+finishing step of every system — runs the declared stage and makes the
+:class:`~.model.Model` of what it derived and of what the description declares; no step
+reads an effect's name.
+
+A stage is an object with ``reduce(desc) -> Reduced``: the rolling rigid body of the
+Chaplygin ball (:class:`~.rigid_body.RigidBodyReduction`, Lagrange–d'Alembert in the body
+frame), the body in a spherical support (:mod:`.spherical_support`: the multi-body
+Ferrers reduction, closed in the eigenframe of the support tensor or on given contact
+directions), the ball whose centre rolls on a surface (:mod:`.ball_on_surface`, written in
+the fixed frame) and the body on a sphere (:mod:`.body_on_sphere`). A stage refuses the
+data it cannot take (:meth:`MechanicalDescription.refuse`) instead of dropping it.
 
 References
 ----------
@@ -15,28 +26,105 @@ effects); see :mod:`.chaplygin_ball`.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Protocol
 
 import sympy as sp
 
-from .algebra import ConstraintIdeal
+from .declaration import Constraint, Declaration, StateGroup
 from .effects import EFFECTS
-from .engine import ReducedEquations, RigidBodyDescription, _time_derivative, lagrange_dalembert
 from .errors import DerivationError
 from .geometry import FRAME, UNIT_VECTOR, PoissonGroup
-from .model import Model, ModelDetails, ParameterSpec, Reparametrisation
-from .vectors import cross, dot, vector
+from .model import (
+    Model,
+    ModelDetails,
+    ParameterSpec,
+    PhaseSpaceSampler,
+    Reparametrisation,
+)
+from .vectors import cross, vector
 
-__all__ = ["MechanicalDescription", "RigidBodyDetails", "apply_effects", "form_model"]
+if TYPE_CHECKING:  # pragma: no cover
+    from .engine import StructuredInverse
 
-#: A state group's rate: expressions, or a function of the reduced equations.
-Rate = Sequence[sp.Expr] | Callable[[ReducedEquations], Sequence[sp.Expr]]
+__all__ = [
+    "MechanicalDescription",
+    "StateGroup",
+    "Constraint",
+    "Declaration",
+    "Reduced",
+    "Reduction",
+    "apply_effects",
+    "form_model",
+]
+
+
+@dataclass(frozen=True)
+class Reduced:
+    """What a reduction stage derives from a description (consumed by :func:`form_model`).
+
+    Attributes
+    ----------
+    rates : mapping of str to sequence of sympy.Expr
+        The rates of the state groups the description leaves to the stage.
+    aux : sequence of (sympy.Symbol, sympy.Expr)
+        Auxiliary definitions, in order (``Model.aux``).
+    integrals : sequence of (str, sympy.Expr)
+        The integrals the stage finds, shipped before those the description declares.
+    density : sympy.Expr or None
+        The density of the invariant measure the stage derives (None: none known).
+    constraints : sequence of sympy.Expr
+        Phase-space polynomials of the stage's geometry (before the declared ones).
+    geometry : tuple of PoissonGroup
+    velocity_map : mapping of sympy.Symbol to sympy.Expr
+        The reference-point velocity on the admissible velocities (``v -> ...``); the
+        declared rates written in ``v`` are put on them.
+    relation_unknowns : tuple of sympy.Symbol
+        ``Model.relation_unknowns``.
+    omega, momentum_of_omega, inertia_operator, structured_inverse,
+    euler_poincare_remainder, reparametrisation, details :
+        The :class:`~.model.Model` fields of the same names.
+    """
+
+    rates: Mapping[str, Sequence[sp.Expr]]
+    aux: Sequence[tuple[sp.Symbol, sp.Expr]]
+    integrals: Sequence[tuple[str, sp.Expr]]
+    density: sp.Expr | None
+    constraints: Sequence[sp.Expr] = ()
+    geometry: tuple[PoissonGroup, ...] = ()
+    velocity_map: Mapping[sp.Symbol, sp.Expr] = field(default_factory=dict)
+    relation_unknowns: tuple[sp.Symbol, ...] = ()
+    omega: sp.Matrix | None = None
+    momentum_of_omega: sp.Matrix | None = None
+    inertia_operator: sp.Matrix | None = None
+    structured_inverse: StructuredInverse | None = None
+    euler_poincare_remainder: sp.Matrix | None = None
+    reparametrisation: Reparametrisation | None = None
+    details: ModelDetails | None = None
+
+
+class Reduction(Protocol):
+    """A reduction stage: the way a system's equations are derived from its description."""
+
+    def reduce(self, desc: MechanicalDescription) -> Reduced:
+        """Derive the equations of ``desc``.
+
+        Parameters
+        ----------
+        desc : MechanicalDescription
+            A base description with its effects applied (not modified).
+
+        Returns
+        -------
+        Reduced
+        """
+        ...  # pragma: no cover
 
 
 @dataclass
 class MechanicalDescription:
-    """What a system and its effects say about a constrained rigid body.
+    """What a system and its effects say about a mechanical system, as data.
 
     Attributes
     ----------
@@ -44,74 +132,139 @@ class MechanicalDescription:
     effects : frozenset of str
     time : sympy.Symbol
     omega : sympy.Matrix, shape (3, 1)
-        Angular-velocity symbols (body frame).
+        Angular-velocity symbols (body frame for a rigid body, fixed frame for the ball on
+        a surface).
+    reduction : Reduction or None
+        The stage :func:`form_model` derives the equations with (set by the system).
+    parameter_order : tuple of str
+        Order of the parameter groups in the model (every declared group must be named).
     v : sympy.Matrix or None, shape (3, 1)
         Velocity symbols of the reference point (the centre).
     laws : {"bm20", "generic"}
-        Laws of time-dependent parameters (see :mod:`.chaplygin_ball`).
-    inertia : list of sympy.Expr
-        Principal moments of the body (``T`` has ``(omega, diag(inertia) omega)/2``).
+        Laws of time-dependent parameters, read by the effects that make them (see
+        :mod:`.chaplygin_ball`).
+    inertia : sympy.Matrix or None, shape (3, 3)
+        Central inertia tensor of the body in body axes (``T`` has
+        ``(omega, inertia omega)/2``).
+    moments : tuple of sympy.Symbol
+        The parameters the principal moments are written in (``I1, I2, I3``): exact
+        checks change them to ``A_i = 1/J_ii`` (``Model.reparametrisation``); empty when
+        the moments are functions of time.
     kinetic_energy : sympy.Expr
         The other terms of ``T`` (translation, gyrostatic terms ...).
+    potential : sympy.Expr
+        Potential energy of the external forces (in the state symbols).
     constraints : list of sympy.Expr
         Velocity constraints, linear and homogeneous in the velocities.
     reacting : list of str
-        For each constraint on omega alone, the space-fixed vector its reaction torque
-        lies along (it kills the momentum integrals along that vector).
+        For each constraint on omega alone ``(omega, X) = 0``, the space-fixed vector
+        ``X`` its reaction torque lies along (it kills the momentum integrals along it).
+    invariant_relations : dict of str to sympy.Expr
+        Relations the flow keeps (zero on the phase space): the constraints on omega
+        alone, ``(omega,X)``.
     kinematics : dict of str to (sympy.Matrix, sympy.Matrix)
         Space-fixed vectors and their Poisson equations.
-    states : list of (str, tuple of sympy.Symbol, rate)
-        State groups in order; the rate of ``M`` is derived by :func:`form_model`.
+    states : list of StateGroup
     parameters : dict of str to ParameterSpec
-    references : dict of str to str
-    conservative : bool
-        False when the parameters depend on time (no energy integral).
-    has_density : bool
-        False when no invariant density is known.
-    total_momentum : bool
-        The state ``M`` includes the time-dependent gyrostatic momentum (BM20-2.2).
-    gyrostatic_momentum_of_time : sympy.Matrix, shape (3, 1)
+    integrals : dict of str to sympy.Expr
+        First integrals the system or an effect states; shipped after those the stage
+        finds.
+    phase_space : list of sympy.Expr
+        Polynomials vanishing on the phase space beyond those of the Poisson vectors (the
+        surface the centre lies on).
+    momentum_in_state : sympy.Matrix, shape (3, 1)
+        Velocity-independent momentum the momentum state includes (BM20's total momentum
+        includes ``k(t)``, BM20-2.2); zero when the state is ``II omega``.
     contact_vector : sympy.Matrix or None
         From the centre to the contact point.
-    potential : sympy.Expr
-        Potential energy of external forces on the centre (in the state symbols).
-    integrals : dict of str to sympy.Expr
-        First integrals the system or an effect states; :func:`form_model` ships them
-        after those it finds itself.
-    bodies : list of (sympy.Matrix, sympy.Matrix)
-        Further bodies (the support's balls): angular velocity and contact direction.
-    free_spins : bool
-        The bodies' spins about their contact directions are free quasi-velocities.
+    bodies : list of (sympy.Matrix, sympy.Matrix, sympy.Symbol, sympy.Symbol)
+        Further bodies (the support's balls): angular velocity, contact direction, moment
+        of inertia, radius ratio.
+    references : dict of str to str
+    effect_references : dict of str to dict of str to str
+        References the system gives for an effect (they update the effect's own).
     completion : dict of (str, ...) to str
         How omitted state groups are completed (``Model.completion``).
+    sampler : callable or None
+        ``Model.sampler``: exact points of a phase space not made of Poisson vectors.
     """
 
     system: str
     effects: frozenset[str]
     time: sp.Symbol
     omega: sp.Matrix
+    reduction: Reduction | None = None
+    parameter_order: tuple[str, ...] = ()
     v: sp.Matrix | None = None
     laws: str = "bm20"
-    inertia: list[sp.Expr] = field(default_factory=list)
+    inertia: sp.Matrix | None = None
+    moments: tuple[sp.Symbol, ...] = ()
     kinetic_energy: sp.Expr = sp.S.Zero
+    potential: sp.Expr = sp.S.Zero
     constraints: list[sp.Expr] = field(default_factory=list)
     reacting: list[str] = field(default_factory=list)
+    invariant_relations: dict[str, sp.Expr] = field(default_factory=dict)
     kinematics: dict[str, tuple[sp.Matrix, sp.Matrix]] = field(default_factory=dict)
-    states: list[tuple[str, tuple[sp.Symbol, ...], Rate | None]] = field(default_factory=list)
+    states: list[StateGroup] = field(default_factory=list)
     parameters: dict[str, ParameterSpec] = field(default_factory=dict)
-    references: dict[str, str] = field(default_factory=dict)
-    conservative: bool = True
-    has_density: bool = True
-    total_momentum: bool = False
-    gyrostatic_momentum_of_time: sp.Matrix = field(default_factory=lambda: sp.zeros(3, 1))
-    contact_vector: sp.Matrix | None = None
-    potential: sp.Expr = sp.S.Zero
     integrals: dict[str, sp.Expr] = field(default_factory=dict)
-    bodies: list[tuple[sp.Matrix, sp.Matrix]] = field(default_factory=list)
-    free_spins: bool = True
+    phase_space: list[sp.Expr] = field(default_factory=list)
+    momentum_in_state: sp.Matrix = field(default_factory=lambda: sp.zeros(3, 1))
+    contact_vector: sp.Matrix | None = None
+    bodies: list[tuple[sp.Matrix, sp.Matrix, sp.Symbol, sp.Symbol]] = field(default_factory=list)
+    references: dict[str, str] = field(default_factory=dict)
+    effect_references: dict[str, dict[str, str]] = field(default_factory=dict)
     completion: dict[tuple[str, ...], str] = field(default_factory=dict)
+    sampler: PhaseSpaceSampler | None = None
 
     # ------------------------------------------------------------------ add_*
+    def add(self, declaration: Declaration) -> None:
+        """Merge what an effect declares (:class:`~.declaration.Declaration`).
+
+        Parameter groups it redeclares are dropped first; then its parameters, its
+        kinetic and potential terms, its Poisson vectors (those not there yet), its
+        constraints (with the invariant relations of those on omega alone), its states,
+        integrals, phase-space constraints, inertia and moments, the momentum the state
+        includes and its completion rules are added, each by the ``add_*`` method of
+        the same name.
+
+        Parameters
+        ----------
+        declaration : Declaration
+
+        Raises
+        ------
+        DerivationError
+            For a state group or an invariant relation added twice, or a parameter group
+            declared again differently without being redeclared.
+        """
+        d = declaration
+        for name in d.redeclared_parameters:
+            self.remove_parameter(name)
+        for spec in d.parameters:
+            self.add_parameter(spec)
+        self.add_kinetic_energy(d.kinetic_energy)
+        self.add_potential(d.potential)
+        for name in d.poisson_vectors:
+            if name not in self.kinematics:
+                self.add_poisson_vector(name)
+        for constraint in d.constraints:
+            self.add_constraint(constraint.expr, constraint.reacts_along)
+        for group in d.states:
+            self.add_state(group.name, group.symbols, group.rate)
+        for name, expr in d.integrals:
+            self.add_integral(name, expr)
+        for expr in d.phase_space:
+            self.add_phase_space_constraint(expr)
+        if d.inertia is not None:
+            self.inertia = d.inertia
+        if d.moments is not None:
+            self.moments = tuple(d.moments)
+        if d.momentum_in_state is not None:
+            self.add_momentum_in_state(d.momentum_in_state)
+        for groups, rule in d.completion:
+            self.add_completion(groups, rule)
+
     def add_kinetic_energy(self, term: sp.Expr) -> None:
         """Add a term to ``T``.
 
@@ -121,6 +274,15 @@ class MechanicalDescription:
         """
         self.kinetic_energy += term
 
+    def add_potential(self, term: sp.Expr) -> None:
+        """Add a term to the potential energy of the external forces.
+
+        Parameters
+        ----------
+        term : sympy.Expr
+        """
+        self.potential += term
+
     def add_constraint(self, expr: sp.Expr, reacts_along: str | None = None) -> None:
         """Add a velocity constraint.
 
@@ -129,11 +291,27 @@ class MechanicalDescription:
         expr : sympy.Expr
             Linear and homogeneous in the velocities.
         reacts_along : str, optional
-            For a constraint on omega alone ``(omega, X) = 0``: the name of ``X``.
+            For a constraint on omega alone ``(omega, X) = 0``: the name of ``X``. The
+            flow keeps such a constraint (its multiplier is eliminated from
+            ``d/dt (omega, X) = 0``): it is declared the invariant relation ``(omega,X)``.
         """
         self.constraints.append(expr)
         if reacts_along is not None:
             self.reacting.append(reacts_along)
+            self.add_invariant_relation(f"(omega,{reacts_along})", expr)
+
+    def add_invariant_relation(self, name: str, expr: sp.Expr) -> None:
+        """Declare a relation the flow keeps, zero on the phase space.
+
+        Parameters
+        ----------
+        name : str
+        expr : sympy.Expr
+            Linear in the momentum state (the verifier solves it when it samples).
+        """
+        if name in self.invariant_relations:
+            raise DerivationError(f"invariant relation {name!r} declared twice")
+        self.invariant_relations[name] = expr
 
     def add_kinematics(self, name: str, symbols: sp.Matrix, rate: sp.Matrix) -> None:
         """Add a space-fixed vector and its kinematic equation.
@@ -163,68 +341,22 @@ class MechanicalDescription:
             if name not in self.kinematics:
                 self.add_poisson_vector(name)
 
-    def add_state(self, name: str, symbols: tuple[sp.Symbol, ...], rate: Rate | None) -> None:
+    def add_state(
+        self, name: str, symbols: Sequence[sp.Symbol], rate: Sequence[sp.Expr] | None
+    ) -> None:
         """Add a state group.
 
         Parameters
         ----------
         name : str
-        symbols : tuple of sympy.Symbol
-        rate : sequence of sympy.Expr, callable or None
-            Its time derivative, or a function of the reduced equations that gives it;
-            None when the step that makes the Model derives it (the momentum ``M`` in
-            :func:`form_model`).
+        symbols : sequence of sympy.Symbol
+        rate : sequence of sympy.Expr or None
+            Its time derivative (it may use the reference-point velocity ``v``), or None
+            when the reduction stage derives it (the momentum ``M``).
         """
-        if any(n == name for n, _, _ in self.states):
+        if any(group.name == name for group in self.states):
             raise DerivationError(f"state group {name!r} added twice")
-        self.states.append((name, tuple(symbols), rate))
-
-    def add_potential(self, term: sp.Expr) -> None:
-        """Add a term to the potential energy of the external forces.
-
-        Parameters
-        ----------
-        term : sympy.Expr
-        """
-        self.potential += term
-
-    def add_completion(self, groups: tuple[str, ...], rule: str) -> None:
-        """Declare how the state groups ``groups`` are completed when a user omits them.
-
-        Parameters
-        ----------
-        groups : tuple of str
-            State groups completed together (``("alpha", "beta")``).
-        rule : str
-            One of :data:`~chaplygin.derive.model.COMPLETION_RULES`.
-        """
-        self.completion[tuple(groups)] = rule
-
-    def add_integral(self, name: str, expr: sp.Expr) -> None:
-        """Add a first integral, or a term to one of that name already stated.
-
-        Parameters
-        ----------
-        name : str
-        expr : sympy.Expr
-        """
-        self.integrals[name] = self.integrals.get(name, sp.S.Zero) + expr
-
-    def state_group(self, name: str) -> sp.Matrix:
-        """The symbols of state group ``name`` as a column matrix.
-
-        Parameters
-        ----------
-        name : str
-
-        Returns
-        -------
-        sympy.Matrix
-        """
-        for group, symbols, _ in self.states:
-            if group == name:
-                return sp.Matrix(symbols)
-        raise KeyError(name)
+        self.states.append(StateGroup(name, tuple(symbols), None if rate is None else tuple(rate)))
 
     def add_parameter(self, spec: ParameterSpec, replace: bool = False) -> None:
         """Declare a parameter group.
@@ -251,14 +383,74 @@ class MechanicalDescription:
         """
         self.parameters.pop(name, None)
 
+    def add_integral(self, name: str, expr: sp.Expr) -> None:
+        """Add a first integral, or a term to one of that name already stated.
+
+        Parameters
+        ----------
+        name : str
+        expr : sympy.Expr
+        """
+        self.integrals[name] = self.integrals.get(name, sp.S.Zero) + expr
+
+    def add_phase_space_constraint(self, expr: sp.Expr) -> None:
+        """Add a polynomial that vanishes on the phase space (a surface the state lies on).
+
+        Parameters
+        ----------
+        expr : sympy.Expr
+            A polynomial in the state and the parameters.
+        """
+        self.phase_space.append(expr)
+
+    def add_momentum_in_state(self, momentum: sp.Matrix) -> None:
+        """Make the momentum state include a velocity-independent momentum.
+
+        With ``k(t)`` in the state (BM20's total momentum, BM20-2.2) the state's rate keeps
+        the form ``M' = M x omega`` without a ``k'(t)`` term.
+
+        Parameters
+        ----------
+        momentum : sympy.Matrix, shape (3, 1)
+        """
+        self.momentum_in_state = self.momentum_in_state + momentum
+
+    def add_completion(self, groups: tuple[str, ...], rule: str) -> None:
+        """Declare how the state groups ``groups`` are completed when a user omits them.
+
+        Parameters
+        ----------
+        groups : tuple of str
+            State groups completed together (``("alpha", "beta")``).
+        rule : str
+            One of :data:`~chaplygin.derive.model.COMPLETION_RULES`.
+        """
+        self.completion[tuple(groups)] = rule
+
     # ------------------------------------------------------------------ queries
+    def state_group(self, name: str) -> sp.Matrix:
+        """The symbols of state group ``name`` as a column matrix.
+
+        Parameters
+        ----------
+        name : str
+
+        Returns
+        -------
+        sympy.Matrix
+        """
+        for group in self.states:
+            if group.name == name:
+                return sp.Matrix(group.symbols)
+        raise KeyError(name)
+
     @property
     def vectors(self) -> dict[str, sp.Matrix]:
         """The space-fixed vectors by name."""
         return {name: X for name, (X, _) in self.kinematics.items()}
 
     def total_kinetic_energy(self) -> sp.Expr:
-        """``T = (omega, diag(inertia) omega)/2`` plus the added terms.
+        """``T = (omega, inertia omega)/2`` plus the added terms.
 
         Returns
         -------
@@ -266,7 +458,9 @@ class MechanicalDescription:
             The kinetic energy in ``omega`` (and whatever the added terms use: ``v``,
             the space-fixed vectors, parameters, time).
         """
-        rotation = (self.omega.T * sp.diag(*self.inertia) * self.omega)[0] / 2
+        if self.inertia is None:
+            return self.kinetic_energy
+        rotation = (self.omega.T * self.inertia * self.omega)[0] / 2
         return rotation + self.kinetic_energy
 
     def geometry(self) -> tuple[PoissonGroup, ...]:
@@ -282,26 +476,78 @@ class MechanicalDescription:
             return (PoissonGroup(FRAME, ("alpha", "beta", "gamma")),)
         return tuple(PoissonGroup(UNIT_VECTOR, (name,)) for name in self.kinematics)
 
-    def centre_velocity(self, red: ReducedEquations) -> sp.Matrix:
-        """The reference-point velocity on the admissible velocities.
-
-        Parameters
-        ----------
-        red : ReducedEquations
-            The engine's output; its ``velocity_map`` expresses ``v`` in ``omega``.
+    def ordered_parameters(self) -> tuple[ParameterSpec, ...]:
+        """The declared parameter groups in :attr:`parameter_order`.
 
         Returns
         -------
-        sympy.Matrix, shape (3, 1)
-            ``v`` with the velocity map substituted (body frame).
+        tuple of ParameterSpec
+
+        Raises
+        ------
+        DerivationError
+            For a declared group that :attr:`parameter_order` does not name.
         """
-        return sp.Matrix(self.v).subs(red.velocity_map)
+        unknown = [n for n in self.parameters if n not in self.parameter_order]
+        if unknown:
+            raise DerivationError(
+                f"parameter groups {unknown} are not in the system's PARAMETER_ORDER: add them"
+            )
+        return tuple(self.parameters[n] for n in self.parameter_order if n in self.parameters)
+
+    def signature(
+        self,
+    ) -> tuple[tuple[tuple[str, tuple[sp.Symbol, ...]], ...], tuple[ParameterSpec, ...]]:
+        """State groups and parameters as the model will have them (nothing derived).
+
+        Returns
+        -------
+        state_groups : tuple of (str, tuple of sympy.Symbol)
+        parameters : tuple of ParameterSpec
+        """
+        groups = tuple((group.name, group.symbols) for group in self.states)
+        return groups, self.ordered_parameters()
+
+    def refuse(self, stage: str, names: Iterable[str]) -> None:
+        """Refuse declared data a reduction stage does not take (rather than drop it).
+
+        Parameters
+        ----------
+        stage : str
+            The stage, for the message.
+        names : iterable of str
+            Attributes the stage does not read; each must be empty, zero or None.
+
+        Raises
+        ------
+        DerivationError
+            Naming the attributes that are set.
+        """
+        given = [name for name in names if _is_set(getattr(self, name))]
+        if given:
+            raise DerivationError(
+                f"{self.system}: the {stage} derivation does not take {', '.join(given)}"
+            )
+
+
+def _is_set(value: object) -> bool:
+    if value is None:
+        return False
+    if isinstance(value, sp.MatrixBase):
+        return not value.is_zero_matrix
+    if isinstance(value, sp.Basic):
+        return value != 0
+    return bool(value)
 
 
 def apply_effects(
     desc: MechanicalDescription, effects: Iterable[str], order: Sequence[str]
 ) -> None:
     """Apply the chosen effects to ``desc`` in the system's order.
+
+    Each effect's declaration is merged (:meth:`~.effects.Effect.apply`), with the
+    references it cites and those the system gives for it
+    (:attr:`MechanicalDescription.effect_references`).
 
     Parameters
     ----------
@@ -317,66 +563,39 @@ def apply_effects(
             EFFECTS[name].apply(desc)
 
 
-@dataclass(frozen=True)
-class RigidBodyDetails(ModelDetails):
-    """Derived objects of a rolling rigid body (``Model.details`` of the ball).
-
-    Attributes
-    ----------
-    reduced_equations : ReducedEquations
-        The engine's output (momentum, admissible velocities ...).
-    inertia : sympy.Matrix, shape (3, 3)
-        ``diag(I)``, or ``I(t)`` with ``variable_inertia``.
-    gyrostatic_momentum_of_time : sympy.Matrix, shape (3, 1)
-        ``k(t)`` (zero without ``variable_gyrostat``).
-    gyrostatic_momentum : sympy.Matrix, shape (3, 1)
-        ``P0``, the velocity-independent part of the momentum.
-    centre_velocity : sympy.Matrix, shape (3, 1)
-        The centre's velocity in ``omega`` (body frame).
-    contact_vector : sympy.Matrix or None
-        From the centre to the contact point.
-    laws : str
-        Laws of the time-dependent parameters.
-    """
-
-    reduced_equations: ReducedEquations
-    inertia: sp.Matrix
-    gyrostatic_momentum_of_time: sp.Matrix
-    gyrostatic_momentum: sp.Matrix
-    centre_velocity: sp.Matrix
-    contact_vector: sp.Matrix | None
-    laws: str
+def _rates(desc: MechanicalDescription, reduced: Reduced) -> list[sp.Expr]:
+    """The right-hand side in state order: declared rates (on the admissible velocities
+    when they use ``v``) and the stage's."""
+    velocities = set(reduced.velocity_map)
+    rhs: list[sp.Expr] = []
+    for group in desc.states:
+        if group.rate is None:
+            if group.name not in reduced.rates:
+                raise DerivationError(
+                    f"{desc.system}: no rate for the state group {group.name!r} (declare it "
+                    "or use a reduction stage that derives it)"
+                )
+            rhs += list(reduced.rates[group.name])
+            continue
+        for e in group.rate:
+            if velocities & sp.sympify(e).free_symbols:
+                e = sp.expand(sp.sympify(e).xreplace(reduced.velocity_map))
+            rhs.append(e)
+    return rhs
 
 
-def _reaction_free_integrals(
-    desc: MechanicalDescription, P: sp.Matrix, P_name: str, frame: bool
-) -> list[tuple[str, sp.Expr]]:
-    """``(P, P)`` and ``(P, X)``: the momentum is fixed in space (``P' = P x omega``);
-    a reaction torque along ``X`` leaves only the projections on the other axes."""
-    vectors = desc.vectors
-    reacting = set(desc.reacting)
-    out: list[tuple[str, sp.Expr]] = []
-    if not reacting:
-        out.append((f"({P_name},{P_name})", sp.expand(dot(P, P))))
-    elif not frame:  # (P - (P, X) X)^2; with a frame it is a sum of the ones below
-        name = "".join(f"-({P_name},{x})^2" for x in sorted(reacting))
-        value = dot(P, P) - sum((dot(P, vectors[x]) ** 2 for x in sorted(reacting)), sp.S.Zero)
-        out.append((f"({P_name},{P_name}){name}", sp.expand(value)))
-    for name in ("gamma", "alpha", "beta") if frame else tuple(vectors):
-        if name not in reacting:
-            out.append((f"({P_name},{name})", sp.expand(dot(P, vectors[name]))))
-    return out
+def form_model(desc: MechanicalDescription) -> Model:
+    """Derive the Model of a mechanical description: the finishing step of every system.
 
-
-def form_model(desc: MechanicalDescription, parameter_order: Sequence[str]) -> Model:
-    """Derive the Model of a rolling rigid body from its description.
+    Runs the description's reduction stage, then makes the Model of the declared state
+    groups (their declared or derived rates), the parameters in the system's order, the
+    integrals the stage finds followed by the declared ones, the declared invariant
+    relations and phase-space constraints, completion rules, sampler and references.
 
     Parameters
     ----------
     desc : MechanicalDescription
-        A base description with its effects applied; state ``M`` (rate None) first.
-    parameter_order : sequence of str
-        Order of the parameter groups in the model (every declared group must be named).
+        A base description with its effects applied.
 
     Returns
     -------
@@ -385,189 +604,42 @@ def form_model(desc: MechanicalDescription, parameter_order: Sequence[str]) -> M
     Raises
     ------
     DerivationError
-        From the engine, for a parameter group not in ``parameter_order``, or from the
-        Model's own validation.
+        Without a reduction stage, from the stage, for a parameter group not in
+        ``parameter_order``, for a state group without a rate, or from the Model's own
+        validation.
     """
-    t, omega = desc.time, desc.omega
-    M = vector("M", real=True)
-    kinematics = desc.kinematics
-    red = lagrange_dalembert(
-        RigidBodyDescription(
-            omega=omega,
-            v=desc.v,
-            kinetic_energy=desc.total_kinetic_energy(),
-            constraints=list(desc.constraints),
-            kinematics=kinematics,
-            time=t,
-        )
-    )
-
-    # --- phase space ----------------------------------------------------------------
-    geometry = desc.geometry()
-    frame = geometry[0].kind == FRAME
-    vectors = desc.vectors
-    constraints = [c for g in geometry for c in g.constraints(vectors)]
-    gens = [s for g in geometry for n in g.names for s in vectors[n]]
-    ideal = ConstraintIdeal(constraints, gens)
-
-    # --- omega from the momentum (structured inverse on the phase space) -----------
-    if desc.total_momentum:
-        # State: the total momentum P = II omega + k(t) (BM20-2.2). Its rate is the
-        # engine's d/dt (G^T dT/dq) = M' + P0', written as P x omega + remainder.
-        P0 = red.gyrostatic_momentum
-        rate = red.momentum_rate + P0.applyfunc(lambda e: _time_derivative(e, kinematics, t))
-        P_of_omega = red.inertia_operator * omega + P0
-        remainder = (rate - cross(P_of_omega, omega)).applyfunc(
-            lambda e: sp.factor_terms(sp.expand(e))
-        )
-        rhs_M = cross(M, omega) + remainder
-        M_kinetic = M - P0  # = II omega
-    else:
-        rhs_M, remainder = red.euler_poincare_form(M)
-        M_kinetic = M
-    structured = red.structured_inverse(ideal)
-    if structured is None:  # pragma: no cover - the rolling bodies here have the structure
-        raise DerivationError("the inertia operator has no structured (Woodbury) inverse")
-    aux: list[tuple[sp.Symbol, sp.Expr]] = []
-    A, U = structured.A, structured.U
-    X = structured.X()
-    k = U.shape[1]
-    Z = (
-        sp.Matrix(sp.symbols(f"Z1:{k + 1}", real=True))
-        if k > 1
-        else sp.Matrix([sp.Symbol("Z", real=True)])
-    )
-    Zval = (
-        X.LUsolve(U.T * A * M_kinetic) if k > 1 else sp.Matrix([(U.T * A * M_kinetic)[0] / X[0, 0]])
-    )
-    aux += [(Z[i], Zval[i]) for i in range(k)]
-    omega_val = A * (M_kinetic + U * Z)
-    density = X.det() ** sp.Rational(-1, 2)
-    # Invertible change of parameters used by exact identity checks: A_i = 1/J_ii
-    # (the paper's A = (I + D Id)^-1) keeps numerators small. With BM20's I(t) the
-    # A_i depend on time through sin(Omega t): the verifier evaluates the forward map
-    # once it has drawn that point of the circle. Undefined functions I_i(t) (generic
-    # laws: no parameter I) are left alone: a substitution would lose their derivatives.
-    reparametrisation = None
-    if "I" in desc.parameters:
-        Iv = desc.parameters["I"].symbols
-        A_syms = sp.symbols("A1:4", positive=True)
-        reparametrisation = Reparametrisation(
-            forward={A_syms[i]: 1 / structured.J[i, i] for i in range(3)},
-            inverse={
-                Iv[i]: sp.solve(structured.J[i, i] * A_syms[i] - 1, Iv[i])[0] for i in range(3)
-            },
-        )
-    mu_aux: list[tuple[sp.Symbol, sp.Expr]] = []
-    if red.omega_multipliers:
-        # Multipliers of the constraints on omega alone (no twist, the straight line),
-        # eliminated from d/dt (C omega) = 0: the flow keeps C omega constant everywhere,
-        # and the model's phase space is its zero level (an invariant relation).
-        reaction = red.omega_constraints.T * sp.Matrix(red.omega_multipliers)
-        rate = rhs_M - reaction  # the momentum rate without the reaction
-        if desc.total_momentum:  # the state includes k(t): II omega = M - P0
-            rate -= red.gyrostatic_momentum.applyfunc(lambda e: _time_derivative(e, kinematics, t))
-        mu_values = red.multiplier_solution(rate, structured.apply_inverse)
-        mu_aux = [(mu, mu_values[mu]) for mu in red.omega_multipliers]
-        # The reduced flow keeps C omega constant everywhere. On its zero level the
-        # ball's density times det(C II^-1 C^T)^(1/2) satisfies Liouville's equation
-        # (no twist: rho ~ (gamma, A gamma)^(1/2) / (D^-1 - (gamma, A gamma)); proved by
-        # the claims MODEL:...density), so rho dM dgamma / d(C omega) is invariant.
-        # With two such constraints (no twist and the line) the proof does not finish in
-        # reasonable time, so no density is shipped for that combination.
-        C = red.omega_constraints
-        density = None
-        if C.shape[0] == 1:
-            S = (C * structured.apply_inverse(C.T))[0, 0]
-            density = sp.sqrt(sp.together(S)) * X.det() ** sp.Rational(-1, 2)
-    if not desc.has_density:
-        density = None
-    aux += [(omega[i], omega_val[i]) for i in range(3)]
-    aux += mu_aux
-
-    # --- state and right-hand side ----------------------------------------------------
-    state_groups = []
-    rhs: list[sp.Expr] = []
-    for name, symbols, state_rate in desc.states:
-        state_groups.append((name, symbols))
-        if state_rate is None:
-            rhs += list(rhs_M)
-        elif callable(state_rate):
-            rhs += list(state_rate(red))
-        else:
-            rhs += list(state_rate)
-
-    # --- parameters, in the system's order -------------------------------------------
-    unknown = [n for n in desc.parameters if n not in parameter_order]
-    if unknown:
-        raise DerivationError(
-            f"parameter groups {unknown} are not in the system's PARAMETER_ORDER: add them"
-        )
-    specs = tuple(desc.parameters[n] for n in parameter_order if n in desc.parameters)
-
-    # --- invariants shipped with the model -------------------------------------------
-    # momentum fixed in space: P' = P x omega (with the total momentum it is the state)
-    P0 = red.gyrostatic_momentum
-    P = M if desc.total_momentum else M + P0
-    P_name = "M" if desc.total_momentum or P0.is_zero_matrix else "M+K"
-    integrals: list[tuple[str, sp.Expr]] = []
-    if desc.conservative:
-        # the parameters do work when they change: no energy integral (BM20-2.6)
-        integrals.append(("H", red.energy))
-    integrals += _reaction_free_integrals(desc, P, P_name, frame)
-    if frame:
-        alpha, beta, gamma = (vectors[n] for n in ("alpha", "beta", "gamma"))
-        integrals += [
-            ("(alpha,alpha)", dot(alpha, alpha)),
-            ("(beta,beta)", dot(beta, beta)),
-            ("(alpha,beta)", dot(alpha, beta)),
-            ("(gamma,alpha)", dot(gamma, alpha)),
-            ("(gamma,beta)", dot(gamma, beta)),
-        ]
-    # the constraints on omega alone: invariant relations, zero on the phase space
-    relations = tuple(
-        (f"(omega,{name})", dot(omega, vectors[name])) for name in sorted(set(desc.reacting))
-    )
-    integrals += relations
-    integrals.append(("(gamma,gamma)", dot(vectors["gamma"], vectors["gamma"])))
-    integrals += list(desc.integrals.items())  # stated by the system or an effect
-
+    if desc.reduction is None:
+        raise DerivationError(f"{desc.system}: the description names no reduction stage")
+    reduced = desc.reduction.reduce(desc)
+    rhs = _rates(desc, reduced)
+    integrals = (*reduced.integrals, *desc.integrals.items())
     references = dict(desc.references)
-    if density is None:
+    if reduced.density is None:  # no reference for what the model does not have
         references.pop("density", None)
+    if not integrals:
+        references.pop("integrals", None)
     return Model(
         system=desc.system,
         effects=desc.effects,
-        time=t,
-        state_groups=tuple(state_groups),
-        parameters=specs,
-        aux=tuple(aux),
+        time=desc.time,
+        state_groups=tuple((group.name, group.symbols) for group in desc.states),
+        parameters=desc.ordered_parameters(),
+        aux=tuple(reduced.aux),
         rhs=tuple(rhs),
-        constraints=tuple(constraints),
-        geometry=geometry,
-        integrals=tuple(integrals),
-        density=density,
-        omega=omega,
-        # the state M as a function of omega (it includes k(t) with the total momentum)
-        momentum_of_omega=red.inertia_operator * omega
-        + (P0 if desc.total_momentum else sp.zeros(3, 1)),
-        inertia_operator=red.inertia_operator,
-        structured_inverse=structured,
-        euler_poincare_remainder=remainder,
-        # constraints on omega alone, kept by the flow (zero on the phase space); the
-        # verifier samples them by solving for the momentum, which they are linear in
-        invariant_relations=relations,
-        relation_unknowns=tuple(M),
+        constraints=(*reduced.constraints, *desc.phase_space),
+        geometry=reduced.geometry,
+        integrals=integrals,
+        density=reduced.density,
+        omega=reduced.omega,
+        momentum_of_omega=reduced.momentum_of_omega,
+        inertia_operator=reduced.inertia_operator,
+        structured_inverse=reduced.structured_inverse,
+        euler_poincare_remainder=reduced.euler_poincare_remainder,
+        invariant_relations=tuple(sorted(desc.invariant_relations.items())),
+        relation_unknowns=reduced.relation_unknowns,
         completion=tuple(desc.completion.items()),
-        reparametrisation=reparametrisation,
-        details=RigidBodyDetails(
-            reduced_equations=red,
-            inertia=sp.diag(*desc.inertia),
-            gyrostatic_momentum_of_time=desc.gyrostatic_momentum_of_time,
-            gyrostatic_momentum=P0,
-            centre_velocity=desc.centre_velocity(red),
-            contact_vector=desc.contact_vector,
-            laws=desc.laws,
-        ),
+        reparametrisation=reduced.reparametrisation,
+        sampler=desc.sampler,
+        details=reduced.details,
         references=references,
     )

@@ -1,15 +1,21 @@
-"""Effects: structural options that apply themselves to a mechanical description.
+"""Effects: structural options that declare what they add to a mechanical description.
 
-An effect is an object: :meth:`Effect.apply` adds its kinetic-energy terms, constraints,
-kinematics, states, parameters, integrals and references to a
-:class:`~.description.MechanicalDescription`; an effect that is off contributes nothing.
+An effect is an object: :meth:`Effect.declare` reads the description it is applied to
+and returns a :class:`~.declaration.Declaration` — its kinetic-energy and potential
+terms, constraints (those on omega alone with the invariant relations they are), Poisson
+vectors, states, parameters, integrals, inertia, completion rules — as data;
+:attr:`Effect.references` are the claims it cites. :meth:`Effect.apply` merges both into
+the description; an effect that is off contributes nothing. The step that derives the
+model (:func:`~.description.form_model`) reads only that data, never an effect's name.
+
 Each system lists the effects it supports; :func:`parse_effects` checks the names, the
 conflicts (``excludes``) and the requirements (``requires``) before any derivation
 starts. Numeric parameter values are never part of an effect.
 
-Adding an effect: write a subclass here with its ``apply``, put an instance in
-:data:`EFFECTS` and its name in the ``SUPPORTED_EFFECTS`` of the systems that take it
-(see "How to add an effect or a system" in the README).
+Adding an effect: write a subclass here with its ``declare`` (it returns a
+``Declaration``; it never modifies the description), put an instance in :data:`EFFECTS`
+(with the references it ``cites``) and its name in the ``SUPPORTED_EFFECTS`` of the
+systems that take it (see "How to add an effect or a system" in the README).
 """
 
 from __future__ import annotations
@@ -20,6 +26,7 @@ from typing import TYPE_CHECKING
 
 import sympy as sp
 
+from .declaration import Constraint, Declaration, StateGroup
 from .errors import UserInputError
 from .model import ParameterSpec
 from .vectors import dot, vector
@@ -44,6 +51,9 @@ class Effect:
         Effects it needs (checked by :func:`parse_effects`).
     excludes : tuple of str
         Effects it cannot be combined with (checked both ways by :func:`parse_effects`).
+    cites : tuple of (str, str)
+        Model references it sets (``("equations", "K01-4.1")`` ...), after those of the
+        base description; a system may give its own (``effect_references``).
     """
 
     name: str
@@ -51,223 +61,281 @@ class Effect:
     adds: str
     requires: tuple[str, ...] = ()
     excludes: tuple[str, ...] = ()
+    cites: tuple[tuple[str, str], ...] = ()
 
-    def apply(self, desc: MechanicalDescription) -> None:
-        """Add this effect's terms, constraints, states and parameters to ``desc``.
+    @property
+    def references(self) -> dict[str, str]:
+        """The references it sets, as a dict (see ``cites``)."""
+        return dict(self.cites)
+
+    def declare(self, desc: MechanicalDescription) -> Declaration:
+        """What this effect adds to ``desc`` (read, not modified).
 
         Parameters
         ----------
         desc : MechanicalDescription
-            Modified in place.
+            The description it is applied to (its ``omega``, vectors, states ...).
+
+        Returns
+        -------
+        Declaration
         """
-        raise NotImplementedError(f"effect {self.name!r} does not say how to apply itself")
+        raise NotImplementedError(f"effect {self.name!r} does not declare what it adds")
+
+    def apply(self, desc: MechanicalDescription) -> None:
+        """Merge :meth:`declare`'s data into ``desc``, then the references.
+
+        The references are this effect's (:attr:`references`), then those the system
+        gives for it (``desc.effect_references``).
+
+        Parameters
+        ----------
+        desc : MechanicalDescription
+            Modified in place (:meth:`~.description.MechanicalDescription.add`).
+        """
+        desc.add(self.declare(desc))
+        desc.references.update(self.references)
+        desc.references.update(desc.effect_references.get(self.name, {}))
 
 
 # ------------------------------------------------------------------ the effects
+#: The space-fixed horizontal axes (their symbols, before a description has them).
+_ALPHA, _BETA = vector("alpha", real=True), vector("beta", real=True)
 
 
 class Gyrostat(Effect):
     """Constant gyrostatic momentum: ``T += (K, omega)`` (K01 §4, BKM12 §2.3)."""
 
-    def apply(self, desc: MechanicalDescription) -> None:
-        """Add ``(K, omega)`` to ``T`` and the parameter ``K`` (K01-4.1, K01-4.2).
+    def declare(self, desc: MechanicalDescription) -> Declaration:
+        """The term ``(K, omega)`` of ``T`` and the parameter ``K`` (K01-4.1, K01-4.2).
 
         Parameters
         ----------
         desc : MechanicalDescription
-            Modified in place: kinetic energy, parameter ``K``, references.
+
+        Returns
+        -------
+        Declaration
 
         References
         ----------
         K01-4.1, K01-4.2, BKM12 §2.3.
         """
         K = vector("K", real=True)
-        desc.add_kinetic_energy(dot(K, desc.omega))
-        desc.add_parameter(
-            ParameterSpec("K", tuple(K), "real", "constant gyrostatic momentum K1, K2, K3")
+        return Declaration(
+            kinetic_energy=dot(K, desc.omega),
+            parameters=(
+                ParameterSpec("K", tuple(K), "real", "constant gyrostatic momentum K1, K2, K3"),
+            ),
         )
-        desc.references.update(equations="K01-4.1", integrals="K01-4.2")
 
 
 class ContactPoint(Effect):
     """The space-fixed horizontal frame and the contact point ``x, y`` (BKM12-6)."""
 
-    def apply(self, desc: MechanicalDescription) -> None:
-        """Add the horizontal frame, the states ``x, y`` and the radius ``b`` (BKM12-6).
+    def declare(self, desc: MechanicalDescription) -> Declaration:
+        """The horizontal frame, the states ``x, y`` and the radius ``b`` (BKM12-6).
 
         Parameters
         ----------
         desc : MechanicalDescription
-            Modified in place: frame ``alpha, beta``, states ``x, y`` moving with the
-            centre velocity projected on ``alpha`` and ``beta``, parameter ``b``.
+            With the centre velocity ``v``.
+
+        Returns
+        -------
+        Declaration
+            Poisson vectors ``alpha, beta``; states ``x, y`` moving with the centre
+            velocity ``v`` projected on ``alpha`` and ``beta`` (put on the admissible
+            velocities when the model is made); parameter ``b``; completion rules.
 
         References
         ----------
         BKM12-6.
         """
-        desc.add_frame()
         b = sp.Symbol("b", positive=True)
         x, y = sp.symbols("x y", real=True)
-        alpha, beta = desc.vectors["alpha"], desc.vectors["beta"]
         # The contact point lies under the centre: its horizontal coordinates move with
         # the centre velocity projected on the space-fixed axes (BKM12-6).
-        desc.add_state("x", (x,), lambda red: [sp.expand(dot(desc.centre_velocity(red), alpha))])
-        desc.add_state("y", (y,), lambda red: [sp.expand(dot(desc.centre_velocity(red), beta))])
-        desc.add_parameter(ParameterSpec("b", (b,), "positive", "ball radius"))
-        # a state given without the frame gets BKM12-7's; the contact point starts at 0
-        desc.add_completion(("alpha", "beta"), "frame_bkm12_7")
-        desc.add_completion(("x",), "zero")
-        desc.add_completion(("y",), "zero")
+        return Declaration(
+            poisson_vectors=("alpha", "beta"),
+            states=(
+                StateGroup("x", (x,), (dot(desc.v, _ALPHA),)),
+                StateGroup("y", (y,), (dot(desc.v, _BETA),)),
+            ),
+            parameters=(ParameterSpec("b", (b,), "positive", "ball radius"),),
+            # a state given without the frame gets BKM12-7's; the contact point starts at 0
+            completion=((("alpha", "beta"), "frame_bkm12_7"), (("x",), "zero"), (("y",), "zero")),
+        )
 
 
 class Rubber(Effect):
     """No twist at the contact: the constraint ``(omega, gamma) = 0`` (BKM12 §3)."""
 
-    def apply(self, desc: MechanicalDescription) -> None:
-        """Add the no-twist constraint ``(omega, gamma) = 0`` (BKM12 §3).
+    def declare(self, desc: MechanicalDescription) -> Declaration:
+        """The no-twist constraint ``(omega, gamma) = 0`` (BKM12 §3).
 
         Parameters
         ----------
         desc : MechanicalDescription
-            Modified in place: the constraint (its reaction along ``gamma``) and a reference.
+            With the Poisson vector ``gamma``.
+
+        Returns
+        -------
+        Declaration
+            The constraint, its reaction along ``gamma``: the invariant relation
+            ``(omega,gamma)``.
         """
-        desc.add_constraint(dot(desc.omega, desc.vectors["gamma"]), reacts_along="gamma")
-        desc.references["rubber"] = "BKM12 §3 (rubber ball)"
+        no_twist = dot(desc.omega, desc.vectors["gamma"])
+        return Declaration(constraints=(Constraint(no_twist, reacts_along="gamma"),))
 
 
 class StraightLine(Effect):
     """Rolling along the space-fixed line ``alpha``: ``(omega, alpha) = 0`` (BKM12-57)."""
 
-    def apply(self, desc: MechanicalDescription) -> None:
-        """Add the horizontal frame and the constraint ``(omega, alpha) = 0`` (BKM12-57).
+    def declare(self, desc: MechanicalDescription) -> Declaration:
+        """The horizontal frame and the constraint ``(omega, alpha) = 0`` (BKM12-57).
 
         Parameters
         ----------
         desc : MechanicalDescription
-            Modified in place: frame ``alpha, beta``, the constraint (its reaction along
-            ``alpha``) and a reference.
+
+        Returns
+        -------
+        Declaration
+            Poisson vectors ``alpha, beta``; the constraint, its reaction along
+            ``alpha``: the invariant relation ``(omega,alpha)``; the frame's completion.
 
         References
         ----------
         BKM12-57.
         """
-        desc.add_frame()
-        desc.add_constraint(dot(desc.omega, desc.vectors["alpha"]), reacts_along="alpha")
-        desc.add_completion(("alpha", "beta"), "frame_bkm12_7")
-        desc.references["straight_line"] = "BKM12-57"
-
-
-def _periodic(desc: MechanicalDescription) -> None:
-    """What both periodic effects share: the frequency ``Omega`` (with BM20's laws), no
-    energy integral (the parameters do work when they change, BM20-2.6), BM20's refs."""
-    if desc.laws == "bm20":
-        desc.add_parameter(
-            ParameterSpec(
-                "Omega",
-                (sp.Symbol("Omega", positive=True),),
-                "positive",
-                "angular frequency of the periodic parameters (BM20-3.4, 3.5)",
-            )
+        return Declaration(
+            poisson_vectors=("alpha", "beta"),
+            constraints=(Constraint(dot(desc.omega, _ALPHA), reacts_along="alpha"),),
+            completion=((("alpha", "beta"), "frame_bkm12_7"),),
         )
-    desc.conservative = False
-    desc.references.update(equations="BM20-2.5", omega="BM20-2.5", integrals="BM20-2.5int")
+
+
+#: What both periodic effects cite (no energy integral: T depends on time, BM20-2.6).
+_PERIODIC_CITES = (("equations", "BM20-2.5"), ("omega", "BM20-2.5"), ("integrals", "BM20-2.5int"))
+
+
+def _frequency(desc: MechanicalDescription) -> tuple[ParameterSpec, ...]:
+    """The frequency ``Omega`` of both periodic effects (with BM20's laws)."""
+    if desc.laws != "bm20":
+        return ()
+    return (
+        ParameterSpec(
+            "Omega",
+            (sp.Symbol("Omega", positive=True),),
+            "positive",
+            "angular frequency of the periodic parameters (BM20-3.4, 3.5)",
+        ),
+    )
 
 
 class VariableInertia(Effect):
     """``I(t) = diag(I1 + (J_off + delta sin(Omega t))^2, I2, I3 + (...)^2)`` (BM20-3.4)."""
 
-    def apply(self, desc: MechanicalDescription) -> None:
-        """Make the inertia ``I(t)`` depend on time (BM20-3.4).
+    def declare(self, desc: MechanicalDescription) -> Declaration:
+        """The inertia ``I(t)``, depending on time (BM20-3.4).
 
-        With ``desc.laws == "generic"`` the moments become undefined functions ``I1(t),
+        With ``desc.laws == "generic"`` the moments are undefined functions ``I1(t),
         I2(t), I3(t)`` and the parameter ``I`` is removed; otherwise they follow BM20's
-        moving mass pair and the parameters ``J_off``, ``delta`` (and ``Omega``) are added.
-        The density is switched off and the system is marked non-conservative.
+        moving mass pair, ``I`` is their constant part and the parameters ``J_off``,
+        ``delta`` (and ``Omega``) are added. ``T`` then depends on time: the model has no
+        energy integral, and the density ``det(X)^-1/2`` of the constant inertia, which
+        would depend on time, is not shipped (see :class:`~.rigid_body.RigidBodyReduction`).
 
         Parameters
         ----------
         desc : MechanicalDescription
-            Modified in place: ``inertia``, parameters, ``has_density``, ``conservative``,
-            references.
+
+        Returns
+        -------
+        Declaration
+            ``inertia``, ``moments``, the parameter ``I`` redeclared, new parameters.
 
         References
         ----------
         BM20-3.4, BM20-2.5, BM20-2.5int.
         """
         t = desc.time
-        Iv = vector("I", positive=True)
         if desc.laws == "generic":  # every law: undefined functions of time
-            desc.inertia = [sp.Function(f"I{i}", positive=True)(t) for i in (1, 2, 3)]
-            desc.remove_parameter("I")
-        else:  # a pair of masses moving along C x2 (BM20-3.4)
-            J_off, delta = sp.symbols("J_off delta", real=True)
-            Omega = sp.Symbol("Omega", positive=True)
-            offset = (J_off + delta * sp.sin(Omega * t)) ** 2
-            desc.inertia = [Iv[0] + offset, Iv[1], Iv[2] + offset]
-            desc.add_parameter(
-                ParameterSpec(
-                    "I",
-                    tuple(Iv),
-                    "positive",
-                    "constant parts I1, I2, I3 of the principal moments of inertia "
-                    "I(t) = diag(I1 + (J_off + delta sin(Omega t))^2, I2, I3 + (...)^2)",
-                ),
-                replace=True,
-            )
-            desc.add_parameter(
+            moments = [sp.Function(f"I{i}", positive=True)(t) for i in (1, 2, 3)]
+            return Declaration(inertia=sp.diag(*moments), moments=(), redeclared_parameters=("I",))
+        # a pair of masses moving along C x2 (BM20-3.4)
+        Iv = vector("I", positive=True)
+        J_off, delta = sp.symbols("J_off delta", real=True)
+        Omega = sp.Symbol("Omega", positive=True)
+        offset = (J_off + delta * sp.sin(Omega * t)) ** 2
+        constant_part = ParameterSpec(
+            "I",
+            tuple(Iv),
+            "positive",
+            "constant parts I1, I2, I3 of the principal moments of inertia "
+            "I(t) = diag(I1 + (J_off + delta sin(Omega t))^2, I2, I3 + (...)^2)",
+        )
+        return Declaration(
+            inertia=sp.diag(Iv[0] + offset, Iv[1], Iv[2] + offset),
+            redeclared_parameters=("I",),
+            parameters=(
+                constant_part,
                 ParameterSpec(
                     "J_off", (J_off,), "real", "offset J of the moving mass pair in I(t) (BM20-3.4)"
-                )
-            )
-            desc.add_parameter(
+                ),
                 ParameterSpec(
                     "delta", (delta,), "real", "amplitude of the mass pair's motion (BM20-3.4)"
-                )
-            )
-        # X = D^-1 - (gamma, A(t) gamma) depends on time: det(X)^-1/2 is not invariant
-        # (its explicit time derivative is left over), and no density is known.
-        desc.has_density = False
-        _periodic(desc)
+                ),
+                *_frequency(desc),
+            ),
+        )
 
 
 class VariableGyrostat(Effect):
     """``T += (k(t), omega)``, ``k(t) = K sin(Omega t)`` (BM20-3.5); the state ``M`` is
     then BM20's total momentum ``I omega + D gamma x (omega x gamma) + k(t)``."""
 
-    def apply(self, desc: MechanicalDescription) -> None:
-        """Add ``(k(t), omega)`` to ``T`` with ``k(t) = K sin(Omega t)`` (BM20-3.5).
+    def declare(self, desc: MechanicalDescription) -> Declaration:
+        """The term ``(k(t), omega)`` of ``T`` with ``k(t) = K sin(Omega t)`` (BM20-3.5).
 
-        With ``desc.laws == "generic"`` ``k`` is three undefined functions of time; the
-        state ``M`` becomes the total momentum and the system non-conservative.
+        With ``desc.laws == "generic"`` ``k`` is three undefined functions of time. The
+        state ``M`` includes ``k(t)`` (the total momentum); ``T`` depends on time, so the
+        model has no energy integral.
 
         Parameters
         ----------
         desc : MechanicalDescription
-            Modified in place: kinetic energy, ``gyrostatic_momentum_of_time``,
-            ``total_momentum``, parameters, references.
+
+        Returns
+        -------
+        Declaration
+            The kinetic term, ``momentum_in_state = k(t)``, parameters.
 
         References
         ----------
         BM20-3.5, BM20-2.5, BM20-2.5int.
         """
         t = desc.time
-        K = vector("K", real=True)
         if desc.laws == "generic":
             k = sp.Matrix([sp.Function(f"k{i}", real=True)(t) for i in (1, 2, 3)])
+            amplitude: tuple[ParameterSpec, ...] = ()
         else:  # rotors (BM20-3.5)
+            K = vector("K", real=True)
             k = K * sp.sin(sp.Symbol("Omega", positive=True) * t)
-            desc.add_parameter(
+            amplitude = (
                 ParameterSpec(
                     "K",
                     tuple(K),
                     "real",
                     "amplitude K of the gyrostatic momentum k(t) = K sin(Omega t) (BM20-3.5)",
-                )
+                ),
             )
-        desc.gyrostatic_momentum_of_time = k
-        desc.add_kinetic_energy(dot(k, desc.omega))
-        desc.total_momentum = True
-        _periodic(desc)
+        return Declaration(
+            kinetic_energy=dot(k, desc.omega),
+            momentum_in_state=k,
+            parameters=(*amplitude, *_frequency(desc)),
+        )
 
 
 def ellipsoid_potential(x: sp.Matrix, k: sp.Expr, c: sp.Matrix) -> sp.Expr:
@@ -299,15 +367,19 @@ class Potential(Effect):
     ellipsoid ``(x, B^-1 x) = 1`` (M03-1.6), and its term of the integral ``K`` (M03-1.7).
     """
 
-    def apply(self, desc: MechanicalDescription) -> None:
-        """Add the potential ``U`` on the centre (M03-1.6) and its term of ``K`` (M03-1.7).
+    def declare(self, desc: MechanicalDescription) -> Declaration:
+        """The potential ``U`` on the centre (M03-1.6) and its term of ``K`` (M03-1.7).
 
         Parameters
         ----------
         desc : MechanicalDescription
-            Modified in place: potential, parameters ``k`` and ``c``, the integral ``K``
-            and a reference. Needs the state group ``x`` and the parameter ``b`` of the
+            With the state group ``x`` and the parameters ``m, m_e, R, b`` of the
             ball-on-ellipsoid model.
+
+        Returns
+        -------
+        Declaration
+            The potential, the parameters ``k`` and ``c``, a term of the integral ``K``.
 
         References
         ----------
@@ -315,43 +387,50 @@ class Potential(Effect):
         """
         x = desc.state_group("x")
         b = desc.parameters["b"].symbols
-        m, m_e, R = sp.symbols("m m_e R", positive=True)  # declared by the surface model
+        ((m,), (m_e,), (R,)) = (desc.parameters[n].symbols for n in ("m", "m_e", "R"))
         k = sp.Symbol("k", real=True)
         c = sp.Matrix(sp.symbols("c1:4", real=True))
-        desc.add_potential(ellipsoid_potential(x, k, c))
         text = "U = k (x, x)/2 + sum_i c_i/(2 x_i^2)"
-        desc.add_parameter(ParameterSpec("k", (k,), "real", text))
-        desc.add_parameter(ParameterSpec("c", tuple(c), "real", text))
         # M03-1.7 with the factor fixed by the derivation (verify/claims/m03.py solves for
         # it): -1/((m + m_e) R^2) for U = k x^2/2 + sum c_i/(2 x_i^2).
         quadric = sum((x[i] ** 2 / b[i] for i in range(3)), sp.S.Zero)
         bracket = k - sum((c[i] / (b[i] * x[i] ** 2) for i in range(3)), sp.S.Zero) / quadric
         weighted = sum((x[i] ** 2 / b[i] ** 2 for i in range(3)), sp.S.Zero)
-        desc.add_integral("K", -weighted * bracket / ((m + m_e) * R**2))
-        desc.references["integrals"] = "M03-1.7"
+        return Declaration(
+            potential=ellipsoid_potential(x, k, c),
+            parameters=(
+                ParameterSpec("k", (k,), "real", text),
+                ParameterSpec("c", tuple(c), "real", text),
+            ),
+            integrals=(("K", -weighted * bracket / ((m + m_e) * R**2)),),
+        )
 
 
 class RubberBalls(Effect):
     """Supporting balls that roll without twisting: ``(omega - omega_k, n_k) = 0``
     (BKM12-39); their spins are no longer free quasi-velocities."""
 
-    def apply(self, desc: MechanicalDescription) -> None:
-        """Add ``(omega - omega_k, n_k) = 0`` for every supporting ball (BKM12-39).
+    def declare(self, desc: MechanicalDescription) -> Declaration:
+        """``(omega - omega_k, n_k) = 0`` for every supporting ball (BKM12-39).
 
         Parameters
         ----------
         desc : MechanicalDescription
-            Modified in place: one constraint per body in ``desc.bodies``,
-            ``free_spins = False`` and a reference.
+            With the supporting balls in ``desc.bodies``.
+
+        Returns
+        -------
+        Declaration
+            One constraint per ball; it fixes the ball's spin, which the reduction then
+            no longer takes as a free quasi-velocity.
 
         References
         ----------
         BKM12-39.
         """
-        for w, n in desc.bodies:
-            desc.add_constraint(dot(desc.omega - w, n))
-        desc.free_spins = False
-        desc.references["rubber_balls"] = "BKM12-2.2"
+        return Declaration(
+            constraints=tuple(Constraint(dot(desc.omega - w, n)) for w, n, _, _ in desc.bodies)
+        )
 
 
 EFFECTS: dict[str, Effect] = {
@@ -363,12 +442,14 @@ EFFECTS: dict[str, Effect] = {
             "(K01 §4, BKM12 §2.3)",
             "parameters K1, K2, K3; the term (K, omega) in T",
             excludes=("variable_gyrostat",),
+            cites=(("equations", "K01-4.1"), ("integrals", "K01-4.2")),
         ),
         VariableInertia(
             "variable_inertia",
             "periodically varying inertia I(t) = diag(I1 + (J_off + delta sin(Omega t))^2, I2, "
             "I3 + (J_off + delta sin(Omega t))^2) (BM20 (3.4): two masses moving along Cx2)",
             "parameters J_off, delta, Omega; I becomes the constant part",
+            cites=_PERIODIC_CITES,
         ),
         VariableGyrostat(
             "variable_gyrostat",
@@ -376,6 +457,7 @@ EFFECTS: dict[str, Effect] = {
             "the state M is then BM20's total momentum I omega + D gamma x (omega x gamma) + k",
             "parameters K1, K2, K3, Omega; excludes the constant gyrostat",
             excludes=("gyrostat",),
+            cites=_PERIODIC_CITES,
         ),
         ContactPoint(
             "contact_point",
@@ -388,24 +470,28 @@ EFFECTS: dict[str, Effect] = {
             "no twist at the contact: the extra constraint (omega, gamma) = 0 (rubber ball, "
             "BKM12 §3); its multiplier is eliminated by the engine",
             "no new states or parameters; (M, M) is no longer an integral",
+            cites=(("rubber", "BKM12 §3 (rubber ball)"),),
         ),
         StraightLine(
             "straight_line",
             "the ball rolls along a straight line of the plane: the extra constraint "
             "(omega, alpha) = 0 (Veselovs' system, BKM12 §3, (57)-(58))",
             "states alpha, beta (the space-fixed horizontal frame)",
+            cites=(("straight_line", "BKM12-57"),),
         ),
         Potential(
             "potential",
             "the potential U = k (x, x)/2 + sum_i c_i/(2 x_i^2) acting on the centre "
             "(M03 (1.6)); the integral K takes its term (M03 (1.7))",
             "parameters k, c1, c2, c3",
+            cites=(("integrals", "M03-1.7"),),
         ),
         RubberBalls(
             "rubber_balls",
             "the supporting balls roll without slipping and without twisting (BKM12 §2.2): "
             "the support tensor becomes sum_k lambda_k (1/r_k^2 - 1) n_k ⊗ n_k",
             "no new states; the support parameters keep their meaning (modified D tensor)",
+            cites=(("rubber_balls", "BKM12-2.2"),),
         ),
     )
 }

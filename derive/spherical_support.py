@@ -13,14 +13,16 @@ Mechanical description (BKM12-27, 28, 39; nothing of the result is typed in):
   body frame;
 * no slip at the contacts, ``f_k = omega x n_k + r_k omega_k x n_k = 0`` (BKM12-27); with
   ``rubber_balls`` also no twist, ``g_k = (omega - omega_k, n_k) = 0`` (BKM12-39);
-* without ``rubber_balls`` the constraints leave the spins ``nu_k = (omega_k, n_k)`` free:
-  they are extra quasi-velocities of the reduction.
+* where the constraints leave a ball's spin ``nu_k = (omega_k, n_k)`` free (without
+  ``rubber_balls``), the spin is an extra quasi-velocity of the reduction.
 
 :func:`derive_support` reduces the Ferrers equations of ``N`` balls with symbolic unit
-directions (:mod:`.multibody`, multipliers eliminated by projection) and
-:func:`n_ball_model` makes a :class:`~.model.Model` of it, optionally for concrete
-space-fixed directions written in a body-fixed view of the space axes (a frame
-``alpha, beta, gamma``).
+directions (:mod:`.support_derivation`: the multi-body reduction, multipliers eliminated
+by projection). Two reduction stages of the shared finishing step
+(:func:`~.description.form_model`) make models of it: :class:`NBallReduction`
+(:func:`n_ball_model`), optionally for concrete space-fixed directions written in a
+body-fixed view of the space axes (a frame ``alpha, beta, gamma``), and
+:class:`ClosedSupportReduction`, the registered closed model.
 
 The registered closed model (BKM12-32..34) lives in the eigenframe ``alpha, beta, gamma``
 (body components, fixed in space) of the support tensor ``D_sup``. Parameters:
@@ -42,8 +44,8 @@ tensor gives the same reduced equations (BKM12-2.1M, checked for N = 1..4 balls 
 claims), so the closed model is derived from the support of three balls along
 ``alpha, beta, gamma`` whose weights realise ``D_iso, D_al, D_be``; ``omega`` comes from
 the engine's rank-2 structured inverse ``U = [alpha beta]`` (the 2x2 ``X`` of BKM12-34).
-:func:`support_parameters` computes ``D_iso, D_al, D_be`` and the eigenframe from
-physical ball data.
+:func:`~.support_parameters.support_parameters` computes ``D_iso, D_al, D_be`` and the
+eigenframe from physical ball data.
 
 References
 ----------
@@ -53,21 +55,33 @@ BKM12-27..38, BKM12-Rem2, BKM12-39..42, BKM12-2.2, BKM12-2.3 (FORMULAS.md §1.6,
 from __future__ import annotations
 
 import functools
+import random
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from functools import lru_cache
 
-import mpmath
 import sympy as sp
 
 from .algebra import ConstraintIdeal
-from .description import MechanicalDescription, apply_effects
+from .description import MechanicalDescription, Reduced, apply_effects, form_model
 from .effects import parse_effects
-from .engine import ReducedEquations
+from .engine import ReducedEquations, StructuredInverse
 from .errors import DerivationError, UserInputError
 from .geometry import FRAME, UNIT_VECTOR, PoissonGroup
-from .model import Model, ModelDetails, ParameterSpec, Reparametrisation
-from .multibody import MultiBodyDescription, MultiBodyReduction, ferrers_multibody
+from .model import Model, ModelDetails, ParameterSpec
+from .rigid_body import moment_reparametrisation
+from .support_derivation import (
+    SUPPORTED_EFFECTS,
+    T_SYMBOL,
+    SupportDerivation,
+    add_balls,
+    ball_weight,
+    check_n_balls,
+    derive_support,
+    support_body,
+    support_derivation,
+    support_description,
+)
+from .support_parameters import SupportParameters, support_parameters, unit_exact
 from .vectors import cross, dot, vector
 
 __all__ = [
@@ -75,11 +89,16 @@ __all__ = [
     "DESCRIPTION",
     "SUPPORTED_EFFECTS",
     "GENERATED_VARIANTS",
+    "PARAMETER_ORDER",
     "BUILDER",
     "SupportDerivation",
     "NBallDetails",
     "ClosedSupportDetails",
+    "NBallReduction",
+    "ClosedSupportReduction",
     "support_description",
+    "n_ball_description",
+    "closed_support_description",
     "SupportParameters",
     "derive_support",
     "n_ball_model",
@@ -92,66 +111,15 @@ DESCRIPTION = (
     "rigid body in a spherical support of N balls (Fedorov's problem), closed system in the "
     "eigenframe of the support tensor (BKM12 §2.1-2.3)"
 )
-SUPPORTED_EFFECTS = ("gyrostat", "rubber_balls")
 #: Effect combinations whose code is committed in generated/ (``rubber_balls`` gives the same
 #: closed equations as the plain support: only the meaning of the D parameters changes).
 GENERATED_VARIANTS: tuple[tuple[str, ...], ...] = ((), ("gyrostat",))
-
-T_SYMBOL = sp.Symbol("t", real=True)
-
-
-# ============================================================== N-ball derivation
-@dataclass
-class SupportDerivation:
-    """The reduced Ferrers equations of a body on ``N`` balls (symbolic directions).
-
-    Attributes
-    ----------
-    reduction : MultiBodyReduction
-    omega : sympy.Matrix
-        Angular velocity of the body.
-    ball_velocities : list of sympy.Matrix
-        ``omega_k`` symbols.
-    directions : list of sympy.Matrix
-        Symbolic unit vectors ``n_k`` (state groups ``n1 .. nN``).
-    spins : tuple of sympy.Symbol
-        ``nu_k`` (empty with rubber balls).
-    I, lambdas, ratios, K :
-        Parameter symbols (``K`` is None without gyrostat).
-    rubber : bool
-    """
-
-    reduction: MultiBodyReduction
-    omega: sp.Matrix
-    ball_velocities: list[sp.Matrix]
-    directions: list[sp.Matrix]
-    spins: tuple[sp.Symbol, ...]
-    I: sp.Matrix  # the paper's name
-    lambdas: tuple[sp.Symbol, ...]
-    ratios: tuple[sp.Symbol, ...]
-    K: sp.Matrix | None
-    rubber: bool
-
-    def weight(self, k: int) -> sp.Expr:
-        """Weight of ball ``k`` in the support tensor (``lambda_k/r_k^2``, rubber:
-        ``lambda_k (1/r_k^2 - 1)``).
-
-        Parameters
-        ----------
-        k : int
-            Index of the ball, ``0 .. N-1``.
-
-        Returns
-        -------
-        sympy.Expr
-            ``lambda_k / r_k^2``, or ``lambda_k (1/r_k^2 - 1)`` with rubber balls.
-
-        References
-        ----------
-        BKM12-2.1M (the support tensor), BKM12-2.2 (rubber balls).
-        """
-        lam, r = self.lambdas[k], self.ratios[k]
-        return lam * (1 / r**2 - 1) if self.rubber else lam / r**2
+#: Order of the parameter groups of the closed model (and the generated code).
+PARAMETER_ORDER = ("I", "D_iso", "D_al", "D_be", "K")
+#: ... and of the N-ball models.
+N_BALL_PARAMETER_ORDER = ("I", "lambda", "r", "K")
+#: The eigenframe of the support tensor: the closed model's space-fixed vectors.
+FRAME_NAMES = ("alpha", "beta", "gamma")
 
 
 @dataclass(frozen=True)
@@ -204,122 +172,8 @@ class ClosedSupportDetails(ModelDetails):
     derived_energy: sp.Expr
 
 
-def _check_n(n_balls: int) -> int:
-    if isinstance(n_balls, bool) or not isinstance(n_balls, int) or n_balls < 1:
-        raise UserInputError(
-            f"a spherical support needs at least one ball: got N = {n_balls!r} (give N >= 1)"
-        )
-    return n_balls
-
-
-def support_description(
-    n_balls: int, effects: frozenset[str] = frozenset()
-) -> MechanicalDescription:
-    """The body on ``n_balls`` balls that roll without slipping (no effect applied yet).
-
-    ``T = (omega, I omega)/2 + sum_k lambda_k (omega_k, omega_k)/2`` and the no-slip
-    constraints ``omega x n_k + r_k omega_k x n_k = 0`` (BKM12-27); the bodies are the
-    balls ``(omega_k, n_k)``.
-
-    Parameters
-    ----------
-    n_balls : int
-    effects : frozenset of str
-        Recorded in the description; not applied here.
-
-    Returns
-    -------
-    MechanicalDescription
-    """
-    omega = vector("omega", real=True)
-    Iv = vector("I", positive=True)
-    lambdas = sp.symbols(f"lambda1:{n_balls + 1}", positive=True)
-    ratios = sp.symbols(f"r1:{n_balls + 1}", positive=True)
-    balls = [vector(f"omega_{k + 1}_", real=True) for k in range(n_balls)]
-    dirs = [vector(f"n{k + 1}_", real=True) for k in range(n_balls)]
-    desc = MechanicalDescription(
-        system=NAME, effects=effects, time=T_SYMBOL, omega=omega, inertia=list(Iv)
-    )
-    desc.add_kinetic_energy(
-        sum((lam * dot(w, w) / 2 for lam, w in zip(lambdas, balls, strict=True)), sp.S.Zero)
-    )
-    desc.bodies = list(zip(balls, dirs, strict=True))
-    for k in range(n_balls):
-        desc.add_kinematics(f"n{k + 1}", dirs[k], cross(dirs[k], omega))
-        for c in cross(omega, dirs[k]) + ratios[k] * cross(balls[k], dirs[k]):
-            desc.add_constraint(c)
-    desc.add_parameter(ParameterSpec("I", tuple(Iv), "positive", "central principal moments"))
-    desc.add_parameter(ParameterSpec("lambda", lambdas, "positive", "moments of the balls"))
-    desc.add_parameter(ParameterSpec("r", ratios, "positive", "radius ratios r_k = R_k/R0"))
-    return desc
-
-
-@lru_cache(maxsize=16)
-def _derive(n_balls: int, effects: frozenset[str]) -> SupportDerivation:
-    desc = support_description(n_balls, effects)
-    apply_effects(desc, effects, SUPPORTED_EFFECTS)
-    omega = desc.omega
-    balls = [w for w, _ in desc.bodies]
-    dirs = [n for _, n in desc.bodies]
-    spins = sp.symbols(f"nu1:{n_balls + 1}", real=True) if desc.free_spins else ()
-    quasi = [(spins[k], dot(balls[k], dirs[k])) for k in range(len(spins))]
-    ideal = ConstraintIdeal([dot(n, n) - 1 for n in dirs], [s for n in dirs for s in n])
-    mb = MultiBodyDescription(
-        omega=omega,
-        bodies={f"ball{k + 1}": balls[k] for k in range(n_balls)},
-        kinetic_energy=desc.total_kinetic_energy(),
-        constraints=desc.constraints,
-        kinematics=desc.kinematics,
-        phase_space=ideal,
-        time=T_SYMBOL,
-        quasi_velocities=quasi,
-    )
-    return SupportDerivation(
-        reduction=ferrers_multibody(mb),
-        omega=omega,
-        ball_velocities=balls,
-        directions=dirs,
-        spins=tuple(spins),
-        I=sp.Matrix(desc.parameters["I"].symbols),
-        lambdas=desc.parameters["lambda"].symbols,
-        ratios=desc.parameters["r"].symbols,
-        K=sp.Matrix(desc.parameters["K"].symbols) if "K" in desc.parameters else None,
-        rubber=not desc.free_spins,
-    )
-
-
-def derive_support(n_balls: int, effects: Iterable[str] | str | None = ()) -> SupportDerivation:
-    """Reduce the Ferrers equations of a body supported by ``n_balls`` balls.
-
-    Parameters
-    ----------
-    n_balls : int
-        ``N >= 1``.
-    effects : iterable of str or str, optional
-        ``"gyrostat"``, ``"rubber_balls"``.
-
-    Returns
-    -------
-    SupportDerivation
-        Directions are symbolic unit vectors (the proof is for every placement).
-
-    Raises
-    ------
-    UserInputError
-        ``N < 1`` or an unknown effect.
-
-    Examples
-    --------
-    >>> d = derive_support(2)
-    >>> d.reduction.quasi_momentum_rate.is_zero_matrix  # the spins are conserved
-    True
-    """
-    return _derive(_check_n(n_balls), parse_effects(effects, SUPPORTED_EFFECTS))
-
-
+# ============================================================== N balls
 def _random_unit_vectors(n: int, seed: int) -> list[sp.Matrix]:
-    import random
-
     rng = random.Random(seed)
     group = PoissonGroup(UNIT_VECTOR, ("n",))
     return [sp.Matrix(group.sample_rational(rng)["n"]) for _ in range(n)]
@@ -334,6 +188,135 @@ def _adjugate_and_det(A: sp.Matrix) -> tuple[sp.Matrix, sp.Expr]:
 
     cof = sp.Matrix(3, 3, cofactor)
     return cof.T, sum((A[0, j] * cof[0, j] for j in range(3)), sp.S.Zero)
+
+
+@dataclass(frozen=True)
+class NBallReduction:
+    """The multi-body reduction of a support, as it stands (the N-ball models).
+
+    Parameters
+    ----------
+    space_directions : tuple of sympy.Matrix or None
+        None: the symbolic body-frame directions are the state (groups ``n1 .. nN``).
+        Else the exact space components of the directions: the state carries the body
+        components of the space axes (the frame ``alpha, beta, gamma``) and
+        ``n_k = c_k1 alpha + c_k2 beta + c_k3 gamma``.
+    momentum : str
+        The state group of the reduced momentum (its rate is derived).
+    """
+
+    space_directions: tuple[sp.Matrix, ...] | None = None
+    momentum: str = "M"
+
+    def reduce(self, desc: MechanicalDescription) -> Reduced:
+        """The momentum rate, ``omega = II^-1 M`` by cofactors, on the directions.
+
+        Parameters
+        ----------
+        desc : MechanicalDescription
+            A support (:func:`n_ball_description`) with its effects applied.
+
+        Returns
+        -------
+        Reduced
+            No integral, no density; ``details`` an :class:`NBallDetails`.
+        """
+        desc.refuse("spherical support", ("potential", "phase_space", "momentum_in_state"))
+        der = support_derivation(desc)
+        red = der.reduction
+        omega, n_balls = der.omega, len(der.directions)
+        M = desc.state_group(self.momentum)
+        if self.space_directions is None:
+            names: tuple[str, ...] = tuple(f"n{k + 1}" for k in range(n_balls))
+            geometry = tuple(PoissonGroup(UNIT_VECTOR, (name,)) for name in names)
+            body_dirs = list(der.directions)
+            subs: dict = {}
+            space = None
+        else:
+            names = FRAME_NAMES
+            geometry = (PoissonGroup(FRAME, names),)
+            frame = [desc.state_group(name) for name in names]
+            space = list(self.space_directions)
+            body_dirs = [sum((c[i] * frame[i] for i in range(3)), sp.zeros(3, 1)) for c in space]
+            subs = {
+                s: e
+                for n, b in zip(der.directions, body_dirs, strict=True)
+                for s, e in zip(n, b, strict=True)
+            }
+        II = red.inertia_operator.xreplace(subs)
+        adj, det = _adjugate_and_det(II)  # unexpanded: omega is only evaluated, never simplified
+        detII = sp.Symbol("det_II", real=True)
+        omega_val = adj * (M - red.gyrostatic_momentum) / detII
+        vectors = {name: desc.state_group(name) for name in names}
+        tensor = sum(
+            (der.weight(k) * body_dirs[k] * body_dirs[k].T for k in range(n_balls)),
+            sp.zeros(3, 3),
+        )
+        return Reduced(
+            rates={self.momentum: list(red.momentum_rate.xreplace(subs))},
+            aux=[(detII, det)] + [(omega[i], omega_val[i]) for i in range(3)],
+            integrals=(),
+            density=None,
+            constraints=[c for g in geometry for c in g.constraints(vectors)],
+            geometry=geometry,
+            omega=omega,
+            details=NBallDetails(
+                derivation=der,
+                directions=body_dirs,
+                space_directions=space,
+                on_directions=subs,
+                support_tensor=tensor,
+                n_balls=n_balls,
+            ),
+        )
+
+
+def n_ball_description(
+    n_balls: int,
+    effects: frozenset[str] = frozenset(),
+    space_directions: Sequence[Sequence[sp.Expr]] | int | None = None,
+) -> MechanicalDescription:
+    """The body on ``n_balls`` balls with the state of an N-ball model (no effect applied).
+
+    Parameters
+    ----------
+    n_balls : int
+    effects : frozenset of str
+        Recorded in the description; not applied here.
+    space_directions : sequence of 3-vectors, or int, optional
+        See :func:`n_ball_model`.
+
+    Returns
+    -------
+    MechanicalDescription
+        :func:`~.support_derivation.support_description` with the state ``M`` and the
+        directions (or the frame) and the stage :class:`NBallReduction`.
+
+    Raises
+    ------
+    UserInputError
+        A direction that is not three real numbers or is zero, or as many directions as
+        balls not given.
+    """
+    desc = support_description(n_balls, effects, system="spherical_support_n_balls")
+    desc.parameter_order = N_BALL_PARAMETER_ORDER
+    desc.references.update(equations="BKM12-31", momentum="BKM12-2.1M")
+    desc.add_state("M", tuple(vector("M", real=True)), None)
+    if space_directions is None:
+        for k, (_, n, _, _) in enumerate(desc.bodies):
+            desc.add_state(f"n{k + 1}", tuple(n), list(cross(n, desc.omega)))
+        desc.reduction = NBallReduction()
+        return desc
+    if isinstance(space_directions, int):
+        space = _random_unit_vectors(n_balls, space_directions)
+    else:
+        space = [unit_exact(d, k) for k, d in enumerate(space_directions)]
+    if len(space) != n_balls:
+        raise UserInputError(f"{n_balls} balls need {n_balls} directions, got {len(space)}")
+    for name in FRAME_NAMES:
+        desc.add_poisson_vector(name)
+    desc.reduction = NBallReduction(space_directions=tuple(space))
+    return desc
 
 
 def n_ball_model(
@@ -361,81 +344,16 @@ def n_ball_model(
         an auxiliary ``II^-1 M`` (cofactors, unsimplified); ``details`` (NBallDetails)
         carry the derivation, the body-frame directions, the support tensor and the
         substitution ``on_directions``.
+
+    Raises
+    ------
+    UserInputError
+        ``N < 1``, an unknown effect, bad directions.
     """
-    der = derive_support(n_balls, effects)
-    red = der.reduction
-    M = vector("M", real=True)
-    omega = der.omega
-    if space_directions is None:
-        geometry = tuple(PoissonGroup(UNIT_VECTOR, (f"n{k + 1}",)) for k in range(n_balls))
-        groups = [(f"n{k + 1}", tuple(der.directions[k])) for k in range(n_balls)]
-        body_dirs = list(der.directions)
-        subs: dict = {}
-        space = None
-    else:
-        if isinstance(space_directions, int):
-            space = _random_unit_vectors(n_balls, space_directions)
-        else:
-            space = [_unit_exact(d, k) for k, d in enumerate(space_directions)]
-        if len(space) != n_balls:
-            raise UserInputError(f"{n_balls} balls need {n_balls} directions, got {len(space)}")
-        frame = [vector(name, real=True) for name in ("alpha", "beta", "gamma")]
-        geometry = (PoissonGroup(FRAME, ("alpha", "beta", "gamma")),)
-        groups = [
-            (name, tuple(v)) for name, v in zip(("alpha", "beta", "gamma"), frame, strict=True)
-        ]
-        body_dirs = [sum((c[i] * frame[i] for i in range(3)), sp.zeros(3, 1)) for c in space]
-        subs = {
-            s: e
-            for n, b in zip(der.directions, body_dirs, strict=True)
-            for s, e in zip(n, b, strict=True)
-        }
-    II = red.inertia_operator.xreplace(subs)
-    adj, det = _adjugate_and_det(II)  # unexpanded: omega is only evaluated, never simplified
-    detII = sp.Symbol("det_II", real=True)
-    P0 = red.gyrostatic_momentum
-    omega_val = adj * (M - P0) / detII
-    aux = [(detII, det)] + [(omega[i], omega_val[i]) for i in range(3)]
-    rate = red.momentum_rate.xreplace(subs)
-    rhs = list(rate)
-    for _, vec in groups:
-        rhs += list(cross(sp.Matrix(vec), omega))
-    vectors = {name: sp.Matrix(v) for name, v in groups}
-    constraints = [c for g in geometry for c in g.constraints(vectors)]
-    specs = [
-        ParameterSpec("I", tuple(der.I), "positive", "central principal moments of the body"),
-        ParameterSpec("lambda", der.lambdas, "positive", "moments of inertia of the balls"),
-        ParameterSpec("r", der.ratios, "positive", "radius ratios r_k = R_k/R0"),
-    ]
-    if der.K is not None:
-        specs.append(ParameterSpec("K", tuple(der.K), "real", "gyrostatic momentum"))
-    tensor = sum(
-        (der.weight(k) * body_dirs[k] * body_dirs[k].T for k in range(n_balls)), sp.zeros(3, 3)
-    )
-    effects_set = parse_effects(effects, SUPPORTED_EFFECTS)
-    return Model(
-        system="spherical_support_n_balls",
-        effects=effects_set,
-        time=T_SYMBOL,
-        state_groups=(("M", tuple(M)), *groups),
-        parameters=tuple(specs),
-        aux=tuple(aux),
-        rhs=tuple(rhs),
-        constraints=tuple(constraints),
-        geometry=geometry,
-        integrals=(),
-        density=None,
-        omega=omega,
-        details=NBallDetails(
-            derivation=der,
-            directions=body_dirs,
-            space_directions=space,
-            on_directions=subs,
-            support_tensor=tensor,
-            n_balls=n_balls,
-        ),
-        references={"equations": "BKM12-31", "momentum": "BKM12-2.1M"},
-    )
+    chosen = parse_effects(effects, SUPPORTED_EFFECTS)
+    desc = n_ball_description(check_n_balls(n_balls), chosen, space_directions)
+    apply_effects(desc, chosen, SUPPORTED_EFFECTS)
+    return form_model(desc)
 
 
 # ============================================================== closed model
@@ -455,15 +373,230 @@ def _physical_support_sampler(D_iso: sp.Symbol, D_al: sp.Symbol, D_be: sp.Symbol
     return functools.partial(_sample_physical_support, D_iso, D_al, D_be)
 
 
-def _virtual_weights(rubber: bool):
-    """Ball data along ``alpha, beta, gamma`` that realise ``D_iso, D_al, D_be``."""
-    D_iso, D_al, D_be = sp.symbols("D_iso D_al D_be", real=True)
+def _virtual_balls(
+    weights: tuple[sp.Symbol, sp.Symbol, sp.Symbol], spin_free: bool
+) -> tuple[list[sp.Expr], sp.Expr]:
+    """Moments and radius ratio of balls along ``alpha, beta, gamma`` that realise
+    ``D_iso, D_al, D_be``."""
+    D_iso, D_al, D_be = weights
     lam = sp.symbols("_la _lb _lg")
-    r = sp.Rational(1, 2) if rubber else sp.S.One  # any r != 1 works for rubber balls
-    w = [x * (1 / r**2 - 1) if rubber else x / r**2 for x in lam]
+    r = sp.S.One if spin_free else sp.Rational(1, 2)  # any r != 1 works for rubber balls
+    w = [ball_weight(x, r, spin_free) for x in lam]
     iso = sum(x / r**2 for x in lam)
     (sol,) = sp.linsolve([iso - w[2] - D_iso, w[0] - w[2] - D_al, w[1] - w[2] - D_be], lam)
-    return (D_iso, D_al, D_be), list(sol), r
+    return list(sol), r
+
+
+@dataclass(frozen=True)
+class ClosedSupportReduction:
+    """The support of three virtual balls along the eigenframe: the closed model.
+
+    The multi-body reduction of three balls with symbolic directions, put on the
+    eigenframe with the moments that realise ``D_iso, D_al, D_be`` (their spins, constant,
+    set to zero), and inverted by the rank-2 structured inverse ``U = [alpha beta]``.
+
+    Parameters
+    ----------
+    weights : (sympy.Symbol, sympy.Symbol, sympy.Symbol)
+        ``D_iso, D_al, D_be``.
+    momentum : str
+        The state group of the momentum (its rate is derived).
+    gyrostatic : str
+        Name of the gyrostatic momentum in the integrals' names (``(M+K,gamma)``).
+    """
+
+    weights: tuple[sp.Symbol, sp.Symbol, sp.Symbol]
+    momentum: str = "M"
+    gyrostatic: str = "K"
+
+    def reduce(self, desc: MechanicalDescription) -> Reduced:
+        """Derive the closed model's equations, ``omega``, integrals and density.
+
+        Parameters
+        ----------
+        desc : MechanicalDescription
+            :func:`closed_support_description` with its effects applied.
+
+        Returns
+        -------
+        Reduced
+
+        Raises
+        ------
+        DerivationError
+            When the inertia operator has no rank-2 structure or the momentum rate is not
+            ``(M + K) x omega`` (neither happens for a support).
+        """
+        desc.refuse("spherical support", ("potential", "phase_space", "momentum_in_state"))
+        der = support_derivation(desc)
+        M = desc.state_group(self.momentum)
+        alpha, beta, gamma = frame = tuple(desc.state_group(name) for name in FRAME_NAMES)
+        lam, r = _virtual_balls(self.weights, not der.rubber)
+        subs = {
+            s: e
+            for n, b in zip(der.directions, frame, strict=True)
+            for s, e in zip(n, b, strict=True)
+        }
+        subs.update(dict(zip(der.lambdas, lam, strict=True)))
+        subs.update({ri: r for ri in der.ratios})
+        subs.update({nu: 0 for nu in der.spins})  # the virtual balls' spins (constant) are zero
+        geometry = (PoissonGroup(FRAME, FRAME_NAMES),)
+        constraints = geometry[0].constraints(dict(zip(FRAME_NAMES, frame, strict=True)))
+        proxy, rate, II = _on_the_frame(der, subs, frame)
+        structured = proxy.structured_inverse(
+            ConstraintIdeal(
+                [dot(alpha, alpha) - 1, dot(beta, beta) - 1, dot(alpha, beta)], [*alpha, *beta]
+            )
+        )
+        if structured is None or structured.U.shape[1] != 2:  # pragma: no cover
+            raise DerivationError(
+                "no rank-2 structure J + U C U^T of the support's inertia operator"
+            )
+        _, remainder = proxy.euler_poincare_form(M)
+        frame_ideal = ConstraintIdeal(constraints, [s for v in frame for s in v])
+        if any(frame_ideal.reduce(sp.expand(e)) != 0 for e in remainder):  # pragma: no cover
+            raise DerivationError("the momentum rate is not (M + K) x omega")
+        P0, omega = proxy.gyrostatic_momentum, der.omega
+        aux, det_X = _omega_of_momentum(structured, M, omega)
+        gyro = der.K is not None
+        return Reduced(
+            rates={self.momentum: list(cross(M + P0, omega))},
+            aux=aux,
+            integrals=_closed_integrals(
+                M, P0, omega, frame, f"{self.momentum}+{self.gyrostatic}" if gyro else self.momentum
+            ),
+            density=det_X ** sp.Rational(-1, 2),
+            constraints=constraints,
+            geometry=geometry,
+            omega=omega,
+            momentum_of_omega=II * omega,
+            inertia_operator=II,
+            structured_inverse=structured,
+            euler_poincare_remainder=remainder,
+            reparametrisation=moment_reparametrisation(structured.J, desc.moments),
+            details=ClosedSupportDetails(
+                derivation=der,
+                gyrostatic_momentum=P0,
+                virtual_support=subs,
+                momentum_rate_of_omega=rate,
+                derived_energy=proxy.energy,
+            ),
+        )
+
+
+def _on_the_frame(
+    der: SupportDerivation, subs: dict, frame: tuple[sp.Matrix, ...]
+) -> tuple[ReducedEquations, sp.Matrix, sp.Matrix]:
+    """The virtual balls' reduction on the frame, as the engine's record (the rank-2
+    structure ``J - D_al alpha⊗alpha - D_be beta⊗beta``, ``gamma⊗gamma`` eliminated), the
+    momentum rate and the inertia operator as derived."""
+    alpha, beta, gamma = frame
+    red, omega = der.reduction, der.omega
+    gamma_ab = dict(zip(gamma, cross(alpha, beta), strict=True))
+    II = red.inertia_operator.xreplace(subs).applyfunc(sp.expand)
+    P0 = red.gyrostatic_momentum.xreplace(subs)
+    rate = red.momentum_rate.xreplace(subs).applyfunc(sp.expand)
+    kin = {"alpha": (alpha, cross(alpha, omega)), "beta": (beta, cross(beta, omega))}
+    proxy = ReducedEquations(
+        with_multipliers=sp.zeros(3, 1),
+        multipliers=(),
+        velocity_map={},
+        admissible=sp.eye(3),
+        momentum=II * omega + P0,
+        inertia_operator=II.xreplace(gamma_ab).applyfunc(sp.expand),
+        gyrostatic_momentum=P0,
+        momentum_rate=rate,
+        energy=sp.expand(red.energy.xreplace(subs)),
+        omega=omega,
+        kinematics=kin,
+        time=T_SYMBOL,
+    )
+    return proxy, rate, II
+
+
+def _omega_of_momentum(
+    structured: StructuredInverse, M: sp.Matrix, omega: sp.Matrix
+) -> tuple[list[tuple[sp.Symbol, sp.Expr]], sp.Expr]:
+    """``omega = A (M + U Z)`` with the 2x2 ``X`` inverted by cofactors (BKM12-34)."""
+    A, U = structured.A, structured.U
+    X = structured.X()
+    Z = sp.Matrix(sp.symbols("Z_al Z_be", real=True))
+    Y = U.T * A * M
+    det_X = X[0, 0] * X[1, 1] - X[0, 1] * X[1, 0]
+    Z_val = sp.Matrix([X[1, 1] * Y[0] - X[0, 1] * Y[1], X[0, 0] * Y[1] - X[1, 0] * Y[0]]) / det_X
+    omega_val = A * (M + U * Z)
+    aux = [(Z[i], Z_val[i]) for i in range(2)] + [(omega[i], omega_val[i]) for i in range(3)]
+    return aux, det_X
+
+
+def _closed_integrals(
+    M: sp.Matrix, P0: sp.Matrix, omega: sp.Matrix, frame: tuple[sp.Matrix, ...], P_name: str
+) -> list[tuple[str, sp.Expr]]:
+    """The closed model's integrals (BKM12-35..37, Rem2)."""
+    alpha, beta, gamma = frame
+    P = M + P0
+    return [
+        # (M, omega)/2 on the phase space; the derived energy (T on the admissible
+        # velocities, in details.derived_energy) is proved equal to it (BKM12-37)
+        # but its Lie derivative is far larger to reduce
+        ("H", dot(M, omega) / 2),
+        (f"({P_name},alpha)", sp.expand(dot(P, alpha))),
+        (f"({P_name},beta)", sp.expand(dot(P, beta))),
+        (f"({P_name},gamma)", sp.expand(dot(P, gamma))),
+        (f"({P_name},{P_name})", sp.expand(dot(P, P))),
+        ("(alpha,alpha)", dot(alpha, alpha)),
+        ("(beta,beta)", dot(beta, beta)),
+        ("(alpha,beta)", dot(alpha, beta)),
+        ("(gamma,alpha)", dot(gamma, alpha)),
+        ("(gamma,beta)", dot(gamma, beta)),
+        ("(gamma,gamma)", dot(gamma, gamma)),
+    ]
+
+
+def closed_support_description(effects: frozenset[str] = frozenset()) -> MechanicalDescription:
+    """The closed support: the body on three virtual balls along ``alpha, beta, gamma``.
+
+    State ``M, alpha, beta, gamma``; parameters ``I, D_iso, D_al, D_be``; the stage
+    :class:`ClosedSupportReduction`; no effect applied yet.
+
+    Parameters
+    ----------
+    effects : frozenset of str
+        Recorded in the description; not applied here.
+
+    Returns
+    -------
+    MechanicalDescription
+    """
+    desc = support_body(NAME, effects)
+    add_balls(desc, 3)
+    D_iso, D_al, D_be = sp.symbols("D_iso D_al D_be", real=True)
+    for symbol, text in (
+        (
+            D_iso,
+            "isotropic part of the support, J = I + D_iso Id: sum_k lambda_k/r_k^2 - D_ga0 (>= 0)",
+        ),
+        (D_al, "D_al0 - D_ga0 (eigenvalues of the support tensor along alpha and gamma; non-zero)"),
+        (D_be, "D_be0 - D_ga0 (eigenvalues of the support tensor along beta and gamma; non-zero)"),
+    ):
+        desc.add_parameter(ParameterSpec(symbol.name, (symbol,), "real", text))
+    desc.add_state("M", tuple(vector("M", real=True)), None)
+    for name in FRAME_NAMES:
+        desc.add_poisson_vector(name)
+    desc.reduction = ClosedSupportReduction(weights=(D_iso, D_al, D_be))
+    desc.parameter_order = PARAMETER_ORDER
+    desc.sampler = _physical_support_sampler(D_iso, D_al, D_be)
+    desc.references.update(
+        {
+            "equations": "BKM12-32",
+            "momentum": "BKM12-33",
+            "omega": "BKM12-34",
+            "integrals": "BKM12-35,36,37,Rem2",
+            "density": "BKM12-38",
+            "rubber_balls": "BKM12-2.2",
+        }
+    )
+    return desc
 
 
 def build_spherical_support(effects: Iterable[str] | str | None = ()) -> Model:
@@ -487,373 +620,10 @@ def build_spherical_support(effects: Iterable[str] | str | None = ()) -> Model:
     >>> model.param_names
     ('I1', 'I2', 'I3', 'D_iso', 'D_al', 'D_be')
     """
-    effects = parse_effects(effects, SUPPORTED_EFFECTS)
-    der = _derive(3, effects)  # the effects applied themselves to the balls' description
-    rubber, gyro = der.rubber, der.K is not None
-    red = der.reduction
-    M = vector("M", real=True)
-    alpha, beta, gamma = (vector(n, real=True) for n in ("alpha", "beta", "gamma"))
-    frame = (alpha, beta, gamma)
-    (D_iso, D_al, D_be), lam, r = _virtual_weights(rubber)
-    subs = {
-        s: e for n, b in zip(der.directions, frame, strict=True) for s, e in zip(n, b, strict=True)
-    }
-    subs.update(dict(zip(der.lambdas, lam, strict=True)))
-    subs.update({ri: r for ri in der.ratios})
-    subs.update({nu: 0 for nu in der.spins})  # the virtual balls' spins (constant) are zero
-    omega = der.omega
-    geometry = (PoissonGroup(FRAME, ("alpha", "beta", "gamma")),)
-    vectors = {"alpha": alpha, "beta": beta, "gamma": gamma}
-    constraints = geometry[0].constraints(vectors)
-    frame_ideal = ConstraintIdeal(constraints, [s for v in frame for s in v])
-    ab_ideal = ConstraintIdeal(
-        [dot(alpha, alpha) - 1, dot(beta, beta) - 1, dot(alpha, beta)], [*alpha, *beta]
-    )
-    gamma_ab = dict(zip(gamma, cross(alpha, beta), strict=True))
-    II = red.inertia_operator.xreplace(subs).applyfunc(sp.expand)
-    P0 = red.gyrostatic_momentum.xreplace(subs)
-    rate = red.momentum_rate.xreplace(subs).applyfunc(sp.expand)
-    energy = sp.expand(red.energy.xreplace(subs))
-    # the rank-2 structure J - D_al alpha⊗alpha - D_be beta⊗beta (gamma⊗gamma eliminated)
-    kin = {"alpha": (alpha, cross(alpha, omega)), "beta": (beta, cross(beta, omega))}
-    proxy = ReducedEquations(
-        with_multipliers=sp.zeros(3, 1),
-        multipliers=(),
-        velocity_map={},
-        admissible=sp.eye(3),
-        momentum=II * omega + P0,
-        inertia_operator=II.xreplace(gamma_ab).applyfunc(sp.expand),
-        gyrostatic_momentum=P0,
-        momentum_rate=rate,
-        energy=energy,
-        omega=omega,
-        kinematics=kin,
-        time=T_SYMBOL,
-    )
-    structured = proxy.structured_inverse(ab_ideal)
-    if structured is None or structured.U.shape[1] != 2:  # pragma: no cover
-        raise DerivationError("no rank-2 structure J + U C U^T of the support's inertia operator")
-    rhs_M, remainder = proxy.euler_poincare_form(M)
-    if any(frame_ideal.reduce(sp.expand(e)) != 0 for e in remainder):  # pragma: no cover
-        raise DerivationError("the momentum rate is not (M + K) x omega")
-    rhs_M = cross(M + P0, omega)
-    A, U = structured.A, structured.U
-    X = structured.X()
-    Z = sp.Matrix(sp.symbols("Z_al Z_be", real=True))
-    Y = U.T * A * M
-    det_X = X[0, 0] * X[1, 1] - X[0, 1] * X[1, 0]
-    Z_val = sp.Matrix([X[1, 1] * Y[0] - X[0, 1] * Y[1], X[0, 0] * Y[1] - X[1, 0] * Y[0]]) / det_X
-    omega_val = A * (M + U * Z)
-    aux = [(Z[i], Z_val[i]) for i in range(2)] + [(omega[i], omega_val[i]) for i in range(3)]
-    density = det_X ** sp.Rational(-1, 2)
-    rhs = list(rhs_M) + [e for v in frame for e in cross(v, omega)]
-    Iv = der.I
-    specs = [
-        ParameterSpec(
-            "I", tuple(Iv), "positive", "central principal moments of inertia I1, I2, I3"
-        ),
-        ParameterSpec(
-            "D_iso",
-            (D_iso,),
-            "real",
-            "isotropic part of the support, J = I + D_iso Id: sum_k lambda_k/r_k^2 - D_ga0 (>= 0)",
-        ),
-        ParameterSpec(
-            "D_al",
-            (D_al,),
-            "real",
-            "D_al0 - D_ga0 (eigenvalues of the support tensor along alpha and gamma; non-zero)",
-        ),
-        ParameterSpec(
-            "D_be",
-            (D_be,),
-            "real",
-            "D_be0 - D_ga0 (eigenvalues of the support tensor along beta and gamma; non-zero)",
-        ),
-    ]
-    if gyro:
-        specs.append(ParameterSpec("K", tuple(der.K), "real", "constant gyrostatic momentum K"))
-    P = M + P0
-    P_name = "M+K" if gyro else "M"
-    integrals = [
-        # (M, omega)/2 on the phase space; the derived energy (T on the admissible
-        # velocities, in details.derived_energy) is proved equal to it (BKM12-37)
-        # but its Lie derivative is far larger to reduce
-        ("H", dot(M, omega) / 2),
-        (f"({P_name},alpha)", sp.expand(dot(P, alpha))),
-        (f"({P_name},beta)", sp.expand(dot(P, beta))),
-        (f"({P_name},gamma)", sp.expand(dot(P, gamma))),
-        (f"({P_name},{P_name})", sp.expand(dot(P, P))),
-        ("(alpha,alpha)", dot(alpha, alpha)),
-        ("(beta,beta)", dot(beta, beta)),
-        ("(alpha,beta)", dot(alpha, beta)),
-        ("(gamma,alpha)", dot(gamma, alpha)),
-        ("(gamma,beta)", dot(gamma, beta)),
-        ("(gamma,gamma)", dot(gamma, gamma)),
-    ]
-    A_syms = sp.symbols("A1:4", positive=True)
-    model = Model(
-        system=NAME,
-        effects=effects,
-        time=T_SYMBOL,
-        state_groups=(
-            ("M", tuple(M)),
-            ("alpha", tuple(alpha)),
-            ("beta", tuple(beta)),
-            ("gamma", tuple(gamma)),
-        ),
-        parameters=tuple(specs),
-        aux=tuple(aux),
-        rhs=tuple(rhs),
-        constraints=tuple(constraints),
-        geometry=geometry,
-        integrals=tuple(integrals),
-        density=density,
-        omega=omega,
-        momentum_of_omega=II * omega,
-        inertia_operator=II,
-        structured_inverse=structured,
-        euler_poincare_remainder=remainder,
-        sampler=_physical_support_sampler(D_iso, D_al, D_be),
-        reparametrisation=Reparametrisation(
-            forward={A_syms[i]: 1 / structured.J[i, i] for i in range(3)},
-            inverse={Iv[i]: 1 / A_syms[i] - D_iso for i in range(3)},
-        ),
-        details=ClosedSupportDetails(
-            derivation=der,
-            gyrostatic_momentum=P0,
-            virtual_support=subs,
-            momentum_rate_of_omega=rate,
-            derived_energy=energy,
-        ),
-        references={
-            "equations": "BKM12-2.3" if gyro else "BKM12-32",
-            "momentum": "BKM12-33",
-            "omega": "BKM12-34",
-            "integrals": "BKM12-2.3" if gyro else "BKM12-35,36,37,Rem2",
-            "density": "BKM12-38",
-            "rubber_balls": "BKM12-2.2",
-        },
-    )
-    return model
+    chosen = parse_effects(effects, SUPPORTED_EFFECTS)
+    desc = closed_support_description(chosen)
+    apply_effects(desc, chosen, SUPPORTED_EFFECTS)
+    return form_model(desc)
 
 
 BUILDER = build_spherical_support
-
-
-# ============================================================== physical support -> model
-@dataclass(frozen=True)
-class SupportParameters:
-    """The closed model's parameters of a concrete support, and its eigenframe.
-
-    Attributes
-    ----------
-    D_iso, D_al, D_be : sympy.Expr
-        Parameters of :func:`build_spherical_support` (exact, or ``sympy.Float``).
-    eigenvalues : tuple of sympy.Expr
-        ``(D_al0, D_be0, D_ga0)``.
-    frame : sympy.Matrix, shape (3, 3)
-        Rows: space components of ``alpha, beta, gamma`` (right-handed, orthonormal).
-    tensor : sympy.Matrix
-        ``D_sup`` in space components.
-    exact : bool
-        False when the eigen-data are floating point (``dps`` digits).
-    directions : tuple of sympy.Matrix
-        The unit contact directions in space components.
-    """
-
-    D_iso: sp.Expr
-    D_al: sp.Expr
-    D_be: sp.Expr
-    eigenvalues: tuple[sp.Expr, sp.Expr, sp.Expr]
-    frame: sp.Matrix
-    tensor: sp.Matrix
-    exact: bool
-    directions: tuple[sp.Matrix, ...]
-
-    def params(self, inertia: Sequence[sp.Expr] | None = None) -> dict[str, object]:
-        """``{"D_iso": ..., "D_al": ..., "D_be": ...}`` (+ ``"I"`` when given).
-
-        Parameters
-        ----------
-        inertia : sequence of sympy.Expr, optional
-            Principal moments ``I1, I2, I3`` of the body; None leaves ``"I"`` out.
-
-        Returns
-        -------
-        dict of str to object
-            Parameter values for the closed model: the three support parameters as
-            ``sympy.Expr`` and, when given, ``"I"`` as a tuple of three values.
-        """
-        out: dict[str, object] = {"D_iso": self.D_iso, "D_al": self.D_al, "D_be": self.D_be}
-        if inertia is not None:
-            out["I"] = tuple(inertia)
-        return out
-
-    def eigen_coordinates(self, k: int) -> sp.Matrix:
-        """Components of direction ``k`` along ``alpha, beta, gamma``.
-
-        Parameters
-        ----------
-        k : int
-            Index of the contact direction, ``0 .. N-1``.
-
-        Returns
-        -------
-        sympy.Matrix, shape (3, 1)
-            ``frame * n_k``: the direction in the eigenframe of the support tensor.
-        """
-        return self.frame * self.directions[k]
-
-
-def _positive_number(value, what: str) -> sp.Expr:
-    try:
-        v = sp.nsimplify(value) if isinstance(value, float) else sp.sympify(value)
-    except (sp.SympifyError, TypeError) as exc:
-        raise UserInputError(f"{what} must be a number, got {value!r}") from exc
-    if not v.is_number or not v.is_real or not v.is_finite:
-        raise UserInputError(f"{what} must be a finite real number, got {value!r}")
-    if not v.is_positive:
-        raise UserInputError(f"{what} must be positive, got {value!r}")
-    return v
-
-
-def _unit_exact(d, k: int) -> sp.Matrix:
-    try:
-        vec = sp.Matrix([sp.nsimplify(c) if isinstance(c, float) else sp.sympify(c) for c in d])
-    except (sp.SympifyError, TypeError) as exc:
-        raise UserInputError(f"direction n_{k + 1} must be three numbers, got {d!r}") from exc
-    if vec.shape != (3, 1) or not all(c.is_number and c.is_real for c in vec):
-        raise UserInputError(f"direction n_{k + 1} must be three real numbers, got {d!r}")
-    norm2 = sp.nsimplify(dot(vec, vec))
-    if norm2 == 0:
-        raise UserInputError(f"direction n_{k + 1} is the zero vector: give the contact direction")
-    return vec if norm2 == 1 else vec / sp.sqrt(norm2)
-
-
-def support_parameters(
-    lambdas: Sequence[object],
-    ratios: Sequence[object],
-    directions: Sequence[Sequence[object]],
-    effects: Iterable[str] | str | None = (),
-    dps: int = 60,
-) -> SupportParameters:
-    """From physical ball data to the closed model's parameters and eigenframe.
-
-    Parameters
-    ----------
-    lambdas : sequence of numbers
-        Moments of inertia ``lambda_k > 0`` of the balls.
-    ratios : sequence of numbers
-        ``r_k = R_k/R0 > 0``.
-    directions : sequence of 3-vectors
-        Space components of the contact directions (normalised here; not zero).
-    effects : iterable of str or str, optional
-        ``"rubber_balls"`` uses the tensor ``sum lambda_k (1/r_k^2 - 1) n_k ⊗ n_k``.
-    dps : int, optional
-        Digits of the eigen-decomposition when the eigenvalues are not rational.
-
-    Returns
-    -------
-    SupportParameters
-        Exact (sympy) when the support tensor has rational eigenvalues, else floats with
-        ``dps`` digits. Convention: ``gamma`` belongs to the simple eigenvalue when one is
-        double, else to the smallest one (then ``D_al, D_be > 0``).
-
-    Raises
-    ------
-    UserInputError
-        No balls, lists of different lengths, a non-positive ``lambda_k`` or ``r_k``, a
-        zero direction, or an isotropic support tensor (``D_al = D_be = 0``: no closed
-        rank-2 model; the body moves as a free rigid body with inertia ``J``).
-
-    Examples
-    --------
-    >>> p = support_parameters([1], [1], [(0, 0, 1)])
-    >>> (p.D_iso, p.D_al, p.D_be)
-    (0, -1, -1)
-    """
-    effects = parse_effects(effects, SUPPORTED_EFFECTS)
-    n = len(directions)
-    if n == 0:
-        raise UserInputError("a spherical support needs at least one ball (N = 0 given)")
-    if len(lambdas) != n or len(ratios) != n:
-        raise UserInputError(
-            f"give one lambda_k and one r_k per ball: {len(lambdas)} lambdas, "
-            f"{len(ratios)} ratios, {n} directions"
-        )
-    lam = [
-        _positive_number(v, f"lambda_{k + 1} (moment of inertia of ball {k + 1})")
-        for k, v in enumerate(lambdas)
-    ]
-    rat = [
-        _positive_number(v, f"r_{k + 1} (radius ratio R_{k + 1}/R0)") for k, v in enumerate(ratios)
-    ]
-    dirs = [_unit_exact(d, k) for k, d in enumerate(directions)]
-    rubber = "rubber_balls" in effects
-    w = [la * (1 / r**2 - 1) if rubber else la / r**2 for la, r in zip(lam, rat, strict=True)]
-    S = sum((wk * d * d.T for wk, d in zip(w, dirs, strict=True)), sp.zeros(3, 3)).applyfunc(
-        sp.nsimplify
-    )
-    iso = sum((la / r**2 for la, r in zip(lam, rat, strict=True)), sp.S.Zero)
-    x = sp.Symbol("x")
-    charpoly = sp.Poly(S.charpoly(x).as_expr(), x)
-    exact = all(S[i, j].is_Rational for i in range(3) for j in range(3)) and all(
-        sp.degree(f, x) == 1 for f, _ in sp.factor_list(charpoly.as_expr())[1]
-    )
-    if exact:
-        pairs = []
-        for val, mult, vecs in S.eigenvects():
-            basis = sp.GramSchmidt([sp.Matrix(v) for v in vecs], orthonormal=True)
-            pairs += [(val, b) for b in basis]
-            del mult
-        vals = [p[0] for p in pairs]
-        vecs = [p[1] for p in pairs]
-    else:
-        with mpmath.workdps(dps):
-            E, Q = mpmath.eigsy(
-                mpmath.matrix(
-                    [
-                        [
-                            mpmath.mpf(sp.Rational(S[i, j]).p) / sp.Rational(S[i, j]).q
-                            if S[i, j].is_Rational
-                            else mpmath.mpf(str(sp.N(S[i, j], dps + 10)))
-                            for j in range(3)
-                        ]
-                        for i in range(3)
-                    ]
-                )
-            )
-            vals = [sp.Float(str(E[i]), dps) for i in range(3)]
-            vecs = [sp.Matrix([sp.Float(str(Q[j, i]), dps) for j in range(3)]) for i in range(3)]
-    tol = sp.Float(10) ** (-(dps // 2))
-
-    def same(a, b) -> bool:
-        return a == b if exact else abs(a - b) <= tol * (1 + abs(a) + abs(b))
-
-    order = sorted(range(3), key=lambda i: vals[i])
-    if same(vals[order[0]], vals[order[2]]):
-        raise UserInputError(
-            "the support tensor is isotropic (D_sup = d Id): D_al = D_be = 0, the body moves as a "
-            "free rigid body with J = I + (sum lambda_k/r_k^2 - d) Id; the closed rank-2 model "
-            "does not apply"
-        )
-    if same(vals[order[0]], vals[order[1]]):
-        g = order[2]  # double smallest: gamma takes the simple (largest) one
-    else:
-        g = order[0]  # distinct or double largest: gamma takes the smallest (simple) one
-    a, b = [i for i in order if i != g][:2]
-    ea, eb = vecs[a], vecs[b]
-    eg = cross(ea, eb)  # right-handed
-    frame = sp.Matrix.vstack(ea.T, eb.T, eg.T)
-    D_al0, D_be0, D_ga0 = vals[a], vals[b], vals[g]
-    return SupportParameters(
-        D_iso=sp.nsimplify(iso - D_ga0) if exact else iso - D_ga0,
-        D_al=D_al0 - D_ga0,
-        D_be=D_be0 - D_ga0,
-        eigenvalues=(D_al0, D_be0, D_ga0),
-        frame=frame.applyfunc(sp.radsimp) if exact else frame,
-        tensor=S,
-        exact=exact,
-        directions=tuple(dirs),
-    )
