@@ -1890,9 +1890,6 @@ class SceneResult:
         -------
         dict
         """
-        import mpmath
-        import scipy
-        import sympy
 
         r, res = self.integration, self.resolved
         digits = res.digits
@@ -1921,14 +1918,7 @@ class SceneResult:
             "rtol": self.scene.run_options.rtol,
             "atol": self.scene.run_options.atol,
             "wall_s": self.wall_s,
-            "versions": {
-                "chaplygin": _version(),
-                "python": platform.python_version(),
-                "numpy": np.__version__,
-                "scipy": scipy.__version__,
-                "sympy": sympy.__version__,
-                "mpmath": mpmath.__version__,
-            },
+            "versions": _software_versions(),
             **(
                 {"separatrix_delta": self.separatrix_delta()}
                 if self.scene.outputs.separatrix_delta is not None and self.backward is not None
@@ -2049,6 +2039,22 @@ def _version() -> str:
         return version("chaplygin")
     except PackageNotFoundError:  # pragma: no cover
         return "unknown"
+
+
+def _software_versions() -> dict[str, str]:
+    """The versions a result depends on: chaplygin, Python, numpy, scipy, sympy, mpmath."""
+    import mpmath
+    import scipy
+    import sympy
+
+    return {
+        "chaplygin": _version(),
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "scipy": scipy.__version__,
+        "sympy": sympy.__version__,
+        "mpmath": mpmath.__version__,
+    }
 
 
 # ------------------------------------------------------------------------- output folder

@@ -1045,13 +1045,6 @@ def plan_sweep(scene: Any, workers: int | None = None, store: Path | None = None
             scene.source,
             "sweep.reduce",
         )
-    if "regime" in sweep.reduce and "Omega" not in code.params:
-        raise SceneError(
-            f"reduce = regime needs a time-periodic model (the forcing frequency Omega); "
-            f"{code.name} has {', '.join(code.params)}",
-            scene.source,
-            "sweep.reduce",
-        )
     variables: dict[str, Variable] = {}
     extra: dict[str, list] = {}
     for name in sweep.reduce:

@@ -61,13 +61,7 @@ PARTIAL_MARKER = ".chaplygin-partial.json"
 
 # ------------------------------------------------------------------------------- the layout
 def _attrs(plan: Any) -> dict:
-    import platform
-
-    import mpmath
-    import scipy
-    import sympy
-
-    from .scene import _version
+    from .scene import _software_versions
 
     return {
         "title": plan.scene.title,
@@ -76,16 +70,7 @@ def _attrs(plan: Any) -> dict:
         "axes": json.dumps([[k, n, [str(v) for v in vals]] for k, n, vals in plan.axes]),
         "model": plan.code.name,
         "model_hash": plan.code.hash,
-        "versions": json.dumps(
-            {
-                "chaplygin": _version(),
-                "python": platform.python_version(),
-                "numpy": np.__version__,
-                "scipy": scipy.__version__,
-                "sympy": sympy.__version__,
-                "mpmath": mpmath.__version__,
-            }
-        ),
+        "versions": json.dumps(_software_versions()),
         "fingerprint": json.dumps(plan.fingerprint, sort_keys=True),
         "store_format": STORE_FORMAT,
     }
