@@ -8,16 +8,13 @@ run-time functions of other expressions the same way (the project's ``lambdify``
 from __future__ import annotations
 
 from .base import EMITTERS, Emitter, ModelRoutines, get_emitter, header_lines
-from .c_emitter import CEmitter
+from .c_emitter import CEmitter, CLanesEmitter
 from .functions import emit_function, function_source, module_from_source
 from .mpmath_emitter import MpmathEmitter
 from .numpy_emitter import NumpyEmitter
-from .taylor import (
-    TaylorCEmitter,
-    TaylorMpfrEmitter,
-    TaylorPythonEmitter,
-    build_taylor_program,
-)
+from .taylor import TaylorPythonEmitter, build_taylor_program
+from .taylor_c import PrintedProgram, TaylorCEmitter, TaylorProgramEmitter
+from .taylor_mpfr import TaylorMpfrEmitter
 
 __all__ = [
     "EMITTERS",
@@ -26,9 +23,12 @@ __all__ = [
     "NumpyEmitter",
     "MpmathEmitter",
     "CEmitter",
+    "CLanesEmitter",
     "TaylorCEmitter",
     "TaylorMpfrEmitter",
     "TaylorPythonEmitter",
+    "TaylorProgramEmitter",
+    "PrintedProgram",
     "build_taylor_program",
     "emit_function",
     "function_source",

@@ -63,16 +63,7 @@ static double bm_initial_step(double t, const double *y, const double *f0, const
 }
 
 /* t0 + k (tau_hi + tau_lo), rounded once (up to the last bit of the small correction). */
-static double bm_time(double t0, long k, double tau_hi, double tau_lo)
-{
-    const double kd = (double)k;
-    const double p = kd * tau_hi;
-    const double e = fma(kd, tau_hi, -p); /* exact error of the product */
-    const double s = t0 + p;
-    const double bb = s - t0;
-    const double es = (t0 - (s - bb)) + (p - bb); /* exact error of the sum */
-    return s + (es + e + kd * tau_lo);
-}
+{{BM_TIME}}
 
 /* The DOP853 sums of a step, for one point (double) or for the lanes (bm_vec) alike: stage s's
  * increment a = sum_r A[s][r] K[r], the solution's b = sum_r B[r] K[r], and the error
