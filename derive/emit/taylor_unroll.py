@@ -29,7 +29,7 @@ bits**; they halve the multiplications of the paired convolutions (the ball at o
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Iterable
 
 from .taylor_c import PrintedNode, PrintedProgram, order_zero, prologue_lines
 
@@ -68,50 +68,48 @@ def _n(value: int) -> _Tree:
     return ("n", value)
 
 
-def _text(tree: _Tree, leaf: Callable[[str, int], str] | None = None,
-          twice: str = "_twice") -> str:
-    """C text of a tree; ``leaf(node, k)`` names the coefficients (default ``a<node>_<k>``)."""
-    if tree[0] == "a":
-        return leaf(tree[1], tree[2]) if leaf else f"a{tree[1]}_{tree[2]}"
-    if tree[0] == "n":
-        return f"R_INT({tree[1]})"
-    name = twice if tree[1] == "_twice" else tree[1]
-    return f"{name}({', '.join(_text(t, leaf, twice) for t in tree[2])})"
+class _Printed:
+    """A tree printed once: its C text with a hole ``{}`` for every coefficient (``{t}`` for
+    the name of the doubling), the coefficients in the holes' order, whether GNU C vectors
+    compute it (lane-wise operations on coefficients and non-negative integers) and its
+    number of products.
 
+    Two trees print to the same ``template`` exactly when they are the same expression of
+    possibly other coefficients (their shape)."""
 
-def _shape(tree: _Tree) -> tuple:
-    """The tree with every coefficient replaced by the same placeholder."""
-    if tree[0] == "a":
-        return ("@",)
-    if tree[0] == "n":
-        return tree
-    return (tree[1], *(_shape(t) for t in tree[2]))
+    __slots__ = ("template", "leaves", "lanewise", "products")
 
+    def __init__(self, tree: _Tree):
+        parts: list[str] = []
+        self.leaves: list[tuple[str, int]] = []
+        self.lanewise, self.products = True, 0
+        self._walk(tree, parts)
+        self.template = "".join(parts)
 
-def _coefficients(tree: _Tree, out: list[tuple[str, int]]) -> list[tuple[str, int]]:
-    """The coefficients a tree reads, in the order its text names them."""
-    if tree[0] == "a":
-        out.append((tree[1], tree[2]))
-    elif tree[0] == "f":
-        for t in tree[2]:
-            _coefficients(t, out)
-    return out
+    def _walk(self, tree: _Tree, parts: list[str]) -> None:
+        kind = tree[0]
+        if kind == "a":
+            parts.append("{}")
+            self.leaves.append((tree[1], tree[2]))
+        elif kind == "n":
+            parts.append(f"R_INT({tree[1]})")
+            self.lanewise = self.lanewise and tree[1] >= 0
+        else:
+            name = tree[1]
+            self.lanewise = self.lanewise and name in _LANEWISE
+            self.products += name == "R_MUL"
+            parts.append("{t}(" if name == "_twice" else name + "(")
+            for i, arg in enumerate(tree[2]):
+                if i:
+                    parts.append(", ")
+                self._walk(arg, parts)
+            parts.append(")")
 
-
-def _lanewise(shape: tuple) -> bool:
-    """Whether GNU C vectors compute the shape: the lane-wise operations on coefficients
-    and non-negative integers."""
-    if shape[0] == "@":
-        return True
-    if shape[0] == "n":
-        return shape[1] >= 0
-    return shape[0] in _LANEWISE and all(_lanewise(s) for s in shape[1:])
-
-
-def _count(tree: _Tree, name: str) -> int:
-    if tree[0] != "f":
-        return 0
-    return (tree[1] == name) + sum(_count(t, name) for t in tree[2])
+    def text(self, names: list[str] | None = None, twice: str = "_twice") -> str:
+        """The C text, the coefficients named ``names`` (default ``a<node>_<k>``)."""
+        if names is None:
+            names = [f"a{node}_{k}" for node, k in self.leaves]
+        return self.template.format(*names, t=twice)
 
 
 # ---------------------------------------------------------------------------- recurrences
@@ -228,26 +226,26 @@ class _Unrolled:
 
 class _Expressions:
     """The written-out right-hand side of every node at every order of one function:
-    ``expr[node][k]`` for ``k = 1 .. p - 1`` (state nodes: ``k = 1 .. p``, their update), its
-    shape, the coefficients it reads in order, and the node's depth in the computation of
-    one order (which nodes must come before it)."""
+    ``expr[node][k]`` (printed) for ``k = 1 .. p - 1`` (state nodes: ``k = 1 .. p``, their
+    update), its shape, the coefficients it reads in order, and the node's depth in the
+    computation of one order (which nodes must come before it)."""
 
     def __init__(self, u: _Unrolled, assigned: list[str], state: list[tuple[str, str]], p: int):
-        self.expr: dict[str, dict[int, _Tree]] = {}
+        self.expr: dict[str, dict[int, _Printed]] = {}
         for node in assigned:
-            self.expr[node] = {k: u.expression(node, k) for k in range(1, p)}
+            self.expr[node] = {k: _Printed(u.expression(node, k)) for k in range(1, p)}
         for node, src in state:
-            self.expr[node] = {k: _f("R_DIV", u.ref(src, k - 1), _n(k)) for k in range(1, p + 1)}
-        self.shape = {n: tuple(_shape(e) for e in es.values()) for n, es in self.expr.items()}
-        self.tokens = {n: {k: _coefficients(e, []) for k, e in es.items()}
-                       for n, es in self.expr.items()}
+            self.expr[node] = {k: _Printed(_f("R_DIV", u.ref(src, k - 1), _n(k)))
+                               for k in range(1, p + 1)}
+        self.shape = {n: tuple(e.template for e in es.values()) for n, es in self.expr.items()}
+        self.tokens = {n: {k: e.leaves for k, e in es.items()} for n, es in self.expr.items()}
         self.level = {n: 0 for n, _ in state}
         for node in assigned:  # in the program's order: operands first
             same_order = {d for d, j in self.tokens[node].get(p - 1, []) if j == p - 1}
             self.level[node] = 1 + max((self.level.get(d, 0) for d in same_order - {node}),
                                        default=0)
         self.state = {n for n, _ in state}
-        self.safe = {n: all(_lanewise(s) for s in sh) for n, sh in self.shape.items()}
+        self.safe = {n: all(e.lanewise for e in es.values()) for n, es in self.expr.items()}
         self._pairs: dict[tuple[str, str], frozenset | None] = {}
 
     def operand_pairs(self, x: str, y: str) -> frozenset[tuple[str, str]] | None:
@@ -312,8 +310,7 @@ def _pairs(ex: _Expressions, state: list[str]) -> list[tuple[str, str]]:
         paired = best
     alone: dict[tuple, list[str]] = {}
     for node, es in ex.expr.items():
-        if node not in paired and node not in ex.state and es and \
-                _count(es[max(es)], "R_MUL") >= 2:
+        if node not in paired and node not in ex.state and es and es[max(es)].products >= 2:
             alone.setdefault((ex.level[node], ex.shape[node]), []).append(node)
     for group in alone.values():
         for x, y in zip(group[::2], group[1::2], strict=False):  # an odd one stays alone
@@ -342,29 +339,26 @@ def _vector(ex: _Expressions, lane: dict[str, tuple[int, int]], x: str, y: str,
             before.append(f"    const vreal {name} = {{a{u}_{j}, a{v}_{j}}};")
         names.append(name)
     if shared:  # both lanes the same scalar at this order (a copy of a shared node)
-        return f"((vreal){{{_text(ex.expr[x][k])}, {_text(ex.expr[y][k])}}})"
-    leaves: Iterator[str] = iter(names)
-    return _text(ex.expr[x][k], lambda node, j: next(leaves), twice="_vtwice")
+        return f"((vreal){{{ex.expr[x][k].text()}, {ex.expr[y][k].text()}}})"
+    return ex.expr[x][k].text(names, twice="_vtwice")
 
 
 # ---------------------------------------------------------------------------- functions
 
 
-def _written_out(u: _Unrolled, assigned: list[str], state: list[tuple[str, str]], p: int,
+def _written_out(ex: _Expressions, assigned: list[str], state: list[tuple[str, str]], p: int,
                  vectors: bool) -> list[str]:
     """The single assignments of orders ``0 .. p - 1`` and the state's orders ``1 .. p``;
     with ``vectors``, paired nodes two at a time in a GNU C vector of 2 doubles (a lane of
     a vector operation rounds as the scalar operation: the same bits)."""
-    pairs: list[tuple[str, str]] = []
-    if vectors:
-        ex = _Expressions(u, assigned, state, p)
-        pairs = _pairs(ex, [n for n, _ in state])
+    pairs = _pairs(ex, [n for n, _ in state]) if vectors else []
     lane = {n: (i, ln) for i, pair in enumerate(pairs) for ln, n in enumerate(pair)}
     # one order's nodes, a pair where its later lane was: both lanes' operands come before
     # (equal depths), and by depth so that no pair's operand comes after it
     schedule = list(assigned)
     if pairs:
-        schedule = sorted(schedule, key=lambda n: (ex.level[n], assigned.index(n)))
+        position = {n: i for i, n in enumerate(assigned)}
+        schedule = sorted(schedule, key=lambda n: (ex.level[n], position[n]))
     out = [f"    const vreal v{i}_0 = {{a{x}_0, a{y}_0}};" for i, (x, y) in enumerate(pairs)]
 
     gathered: set[str] = set()
@@ -383,14 +377,13 @@ def _written_out(u: _Unrolled, assigned: list[str], state: list[tuple[str, str]]
                     if lane[node][1] == 0:
                         out += pair_lines(lane[node][0], k)
                     continue
-                out.append(f"    const REAL a{node}_{k} = {_text(u.expression(node, k))};")
-        for node, src in state:
+                out.append(f"    const REAL a{node}_{k} = {ex.expr[node][k].text()};")
+        for node, _ in state:
             if node in lane:
                 if lane[node][1] == 0:
                     out += pair_lines(lane[node][0], k + 1)
                 continue
-            update = _f("R_DIV", u.ref(src, k), _n(k + 1))
-            out.append(f"    const REAL a{node}_{k + 1} = {_text(update)};")
+            out.append(f"    const REAL a{node}_{k + 1} = {ex.expr[node][k + 1].text()};")
     return out
 
 
@@ -486,8 +479,9 @@ def unrolled_source(source: str, program: PrintedProgram | str, orders: Iterable
     state = [(str(i), str(o)) for i, o in enumerate(printed.outputs)]
     functions = []
     for p in wanted:
-        scalar = _written_out(u, assigned, state, p, vectors=False)
-        paired = _written_out(u, assigned, state, p, vectors=True) if vectors else scalar
+        ex = _Expressions(u, assigned, state, p)
+        scalar = _written_out(ex, assigned, state, p, vectors=False)
+        paired = _written_out(ex, assigned, state, p, vectors=True) if vectors else scalar
         if paired == scalar:
             functions.append(_function(printed, state, p, scalar))
         else:
