@@ -185,21 +185,7 @@ class CEmitter(Emitter):
     """C99 source with one function per routine (``chaplygin_rhs``, ``chaplygin_jac`` ...)."""
 
     language = "c"
-
-    def filename(self, model: Model) -> str:
-        """Name of the emitted file.
-
-        Parameters
-        ----------
-        model : Model
-            The model printed.
-
-        Returns
-        -------
-        str
-            ``"<model name>.c"``.
-        """
-        return f"{model.name}.c"
+    ending = ".c"
 
     def _routine(self, model: Model, routine: Routine, printer: ChaplyginCPrinter) -> str:
         signature = (
@@ -278,21 +264,7 @@ class CLanesEmitter(Emitter):
     """
 
     language = "c_lanes"
-
-    def filename(self, model: Model) -> str:
-        """Name of the emitted file.
-
-        Parameters
-        ----------
-        model : Model
-            The model printed.
-
-        Returns
-        -------
-        str
-            ``"<model name>_lanes.c"``.
-        """
-        return f"{model.name}_lanes.c"
+    ending = "_lanes.c"
 
     def _emit_files(self, model: Model, routines: ModelRoutines) -> list[tuple[str, str]]:
         if lanes_obstacle(routines.rhs) is not None:

@@ -425,21 +425,7 @@ class TaylorPythonEmitter(Emitter):
     """Python recurrences for any arbitrary-precision number type (mpmath, gmpy2)."""
 
     language = "taylor_py"
-
-    def filename(self, model: Model) -> str:
-        """Name of the emitted module.
-
-        Parameters
-        ----------
-        model : Model
-            The model printed.
-
-        Returns
-        -------
-        str
-            ``"<model name>_taylor.py"``.
-        """
-        return f"{model.name}_taylor.py"
+    ending = "_taylor.py"
 
     def _emit_files(self, model: Model, routines: ModelRoutines) -> list[tuple[str, str]]:
         prog = build_taylor_program(model)

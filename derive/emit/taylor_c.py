@@ -487,21 +487,7 @@ class TaylorCEmitter(Emitter):
     """C99 Taylor integrator (``double``, or ``__float128`` with ``CHAPLYGIN_TAYLOR_QUAD``)."""
 
     language = "taylor_c"
-
-    def filename(self, model: Model) -> str:
-        """Name of the emitted C file.
-
-        Parameters
-        ----------
-        model : Model
-            The model printed.
-
-        Returns
-        -------
-        str
-            ``"<model name>_taylor.c"``.
-        """
-        return f"{model.name}_taylor.c"
+    ending = "_taylor.c"
 
     def _emit_files(self, model: Model, routines: ModelRoutines) -> list[tuple[str, str]]:
         printed = printed_program(model)
@@ -525,21 +511,7 @@ class TaylorProgramEmitter(Emitter):
     are printed from at run time (:mod:`~chaplygin.derive.emit.taylor_unroll`)."""
 
     language = "taylor_program"
-
-    def filename(self, model: Model) -> str:
-        """Name of the emitted file.
-
-        Parameters
-        ----------
-        model : Model
-            The model printed.
-
-        Returns
-        -------
-        str
-            ``"<model name>_taylor_program.json"``.
-        """
-        return f"{model.name}_taylor_program.json"
+    ending = "_taylor_program.json"
 
     def _emit_files(self, model: Model, routines: ModelRoutines) -> list[tuple[str, str]]:
         about = header_lines(model, "taylor program, JSON")

@@ -221,21 +221,7 @@ class TaylorMpfrEmitter(Emitter):
     """C99 Taylor integrator on MPFR numbers at a precision chosen per run."""
 
     language = "taylor_mpfr"
-
-    def filename(self, model: Model) -> str:
-        """Name of the emitted C file.
-
-        Parameters
-        ----------
-        model : Model
-            The model printed.
-
-        Returns
-        -------
-        str
-            ``"<model name>_taylor_mpfr.c"``.
-        """
-        return f"{model.name}_taylor_mpfr.c"
+    ending = "_taylor_mpfr.c"
 
     def _emit_files(self, model: Model, routines: ModelRoutines) -> list[tuple[str, str]]:
         prog = build_taylor_program(model)
