@@ -7,10 +7,12 @@ the fixed grid its algorithm needs.  The script also checks the design condition
 on (exact products, Fast2Sum preconditions, the range of every reduced argument) and prints the
 truncation error of every polynomial, so a change that breaks one fails here.
 
-Run at development time (the test ``tests/test_detmath.py`` re-runs it and checks the header)::
+The header's constants block is printed from these numbers by
+:mod:`chaplygin.derive.emit.detmath_header` at development time (the test
+``tests/test_detmath.py`` re-runs it and checks the header)::
 
-    python -m chaplygin.arith.detmath_tables            # print the constants block
-    python -m chaplygin.arith.detmath_tables --write    # write it into templates/detmath.h
+    python -m chaplygin.derive.emit.detmath_header            # print the constants block
+    python -m chaplygin.derive.emit.detmath_header --write    # write it into detmath.h
 
 The polynomials are truncated Taylor series with exactly rounded coefficients: on the small
 intervals used their truncation error is bounded by the first omitted term (alternating series)
@@ -21,18 +23,13 @@ interpolating polynomial (at Chebyshev nodes).
 
 from __future__ import annotations
 
-import argparse
-import sys
 from collections.abc import Sequence
 from pathlib import Path
 
 import mpmath
 from mpmath import mpf
 
-__all__ = ["BEGIN_MARK", "END_MARK", "constants_block", "header_path", "write_header"]
-
-BEGIN_MARK = "/* ---- BEGIN GENERATED CONSTANTS (python -m chaplygin.arith.detmath_tables) ---- */"
-END_MARK = "/* ---- END GENERATED CONSTANTS ---- */"
+__all__ = ["constants", "header_path"]
 
 _PREC = 1600  # bits: 2/pi is needed to about 1280 bits
 
@@ -47,7 +44,7 @@ TWO_OVER_PI_WORDS = 20  # 64 zero bits, then 1216 bits of 2/pi
 
 
 def header_path() -> Path:
-    """Path of the header whose constants block this module writes.
+    """Path of the header whose constants block is computed here.
 
     Returns
     -------
@@ -344,95 +341,15 @@ def _constants() -> tuple[list[tuple[str, str, object]], list[str]]:
     return items, notes
 
 
-def _format_double(value: float) -> str:
-    return float(value).hex()
-
-
-def constants_block() -> str:
-    """The constants block of ``detmath.h`` (between and including the two marker lines).
+def constants() -> tuple[list[tuple[str, str, object]], list[str]]:
+    """Every constant of the kernels, and the design notes, at the working precision needed.
 
     Returns
     -------
-    str
-        C99 source text: ``static const`` scalars and tables with exact hexadecimal literals,
-        preceded by comment lines with the design numbers (reduced-argument ranges and
-        polynomial truncation errors).
+    (list of (str, str, object), list of str)
+        ``(name, C type, value)`` per constant (``"double"``, ``"double[]"`` or
+        ``"uint64_t[]"``) and the notes (reduced-argument ranges, truncation errors) that
+        the header quotes.
     """
     with mpmath.workprec(_PREC):
-        items, notes = _constants()
-    lines = [BEGIN_MARK]
-    lines.append("/* Do not edit: regenerate with")
-    lines.append(" * `python -m chaplygin.arith.detmath_tables --write`.")
-    for note in notes:
-        lines.append(f" * {note}")
-    lines.append(" */")
-    for name, ctype, value in items:
-        cname = f"chaplygin_dm_{name}"
-        if ctype == "double":
-            lines.append(f"static const double {cname} = {_format_double(value)};")
-        elif ctype == "double[]":
-            vals = [_format_double(v) for v in value]
-            lines.append(f"static const double {cname}[{len(vals)}] = {{")
-            for k in range(0, len(vals), 3):
-                lines.append("    " + ", ".join(vals[k : k + 3]) + ",")
-            lines.append("};")
-        else:  # uint64_t[]
-            vals = [f"UINT64_C(0x{v:016x})" for v in value]
-            lines.append(f"static const uint64_t {cname}[{len(vals)}] = {{")
-            for k in range(0, len(vals), 2):
-                lines.append("    " + ", ".join(vals[k : k + 2]) + ",")
-            lines.append("};")
-    lines.append(END_MARK)
-    return "\n".join(lines) + "\n"
-
-
-def write_header(path: Path | None = None) -> bool:
-    """Replace the constants block of ``detmath.h`` with :func:`constants_block`.
-
-    Parameters
-    ----------
-    path : pathlib.Path, optional
-        The header (default :func:`header_path`).
-
-    Returns
-    -------
-    bool
-        True when the file changed.
-    """
-    path = header_path() if path is None else path
-    text = path.read_text(encoding="utf-8")
-    start = text.index(BEGIN_MARK)
-    end = text.index(END_MARK) + len(END_MARK) + 1
-    new = text[:start] + constants_block() + text[end:]
-    if new != text:
-        path.write_text(new, encoding="utf-8")
-        return True
-    return False
-
-
-def main(argv: Sequence[str] | None = None) -> int:
-    """Command line: print the block, or ``--write`` it into the header.
-
-    Parameters
-    ----------
-    argv : sequence of str, optional
-        The arguments (default: ``sys.argv[1:]``).
-
-    Returns
-    -------
-    int
-        The exit status, 0.
-    """
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--write", action="store_true", help="write the block into detmath.h")
-    args = parser.parse_args(argv)
-    if args.write:
-        changed = write_header()
-        print(f"{header_path()}: {'updated' if changed else 'unchanged'}")
-    else:
-        sys.stdout.write(constants_block())
-    return 0
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())
+        return _constants()

@@ -413,7 +413,7 @@ void chaplygin_taylor_sizes(int *OUT)
 /* Convolutions sum the terms of the coefficients known before order k first (j = 1 .. k-1, in
  * increasing j), then add the two terms that involve the order-k coefficients just computed:
  * the long sums do not wait for this order, which keeps the chain from one order to the next
- * short. numerics/taylor_unroll.py writes the same sums out for a fixed order: keep the two in
+ * short. derive/emit/taylor_unroll.py writes the same sums out for a fixed order: keep the two in
  * the same order of operations (the unrolled code is bit-identical to this one). */
 
 /* c = a b: c_k = sum_{j=1..k-1} a_j b_{k-j} + (a_0 b_k + a_k b_0) (k >= 1) */
@@ -1131,7 +1131,7 @@ static void taylor_eval_compensated(const REAL *restrict X, int p, REAL s,
     const int S = p + 1;
     int i = 0;
 #ifdef TAYLOR_VREAL
-    /* double with the written-out coefficients (numerics/taylor_unroll.py): two components
+    /* double with the written-out coefficients (derive/emit/taylor_unroll.py): two components
      * at a time in a GNU C vector of 2 doubles, each lane the scalar loop's operations
      * below (the same bits) */
     for (; i + 1 < CHAPLYGIN_TAYLOR_N_STATE; i += 2) {

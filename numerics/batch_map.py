@@ -4,13 +4,14 @@
 parameter vector (its own ``Omega``, hence its own period ``tau = 2 pi/Omega``), through
 ``transient + n - 1`` forcing periods and records the ``n`` map points
 ``P^(transient + k)(y0)``, ``k = 0 .. n-1``, of every point, in one call into C
-(``numerics/templates/batch_map.c``, compiled with the model's generated C source and the
-DOP853 tableau of ``numerics/templates/variational.c``): no Python runs per step or per period.
+(``derive/templates/batch_map.c``, compiled with the model's generated C source and the
+DOP853 tableau of ``derive/templates/variational.c``): no Python runs per step or per period.
 Every step lands exactly on the sampling times ``t0 + k tau``, computed from ``tau`` held as a
 double-double (from 40-digit ``2 pi/Omega``) so that they carry no accumulated rounding.
 
 Four points at a time run in the lanes of GCC vector types (the generated right-hand side with
-every double a vector, :func:`vector_rhs_source`; lanes are refilled as points finish), each
+every double a vector, ``generated/<model>_lanes.c`` of
+:class:`~chaplygin.derive.emit.c_emitter.CLanesEmitter`; lanes are refilled as points finish), each
 lane doing the IEEE operations of the one-point driver, so the two drivers give the same bits.
 The library is built with ``-O3 -march=native`` (the CPU's identity in the cache key), or
 ``-O3`` where the compiler refuses that. Points are independent: one that fails (non-finite
@@ -18,7 +19,7 @@ value, step-size underflow, step limit) gets its own status and NaN points, and 
 unaffected. Double precision only.
 
 ``BatchStroboscopicMap(code, method="taylor")`` runs the same call through the model's generated
-Taylor integrator instead (``numerics/templates/taylor_batch_map.c`` appended to the double build
+Taylor integrator instead (``derive/templates/taylor_batch_map.c`` appended to the double build
 of the model's Taylor C source: ``chaplygin_taylor_run`` per point from C, the step polynomials
 evaluated at the sampling times; the steps of ``StroboscopicMap(method="taylor")`` and its map
 points up to the rounding of the sampling times; one point after another, no vector lanes).
@@ -57,12 +58,14 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..derive.errors import UserInputError
-from .batch_source import BATCH_CFLAGS, NATIVE_CFLAGS, cpu_identity, vector_rhs_source
 from .code import ModelCode
 from .integrators import INTEGRATORS, Batch, Problem, StroboscopicTimes
 from .integrators.c_batch import (
+    BATCH_CFLAGS,
+    NATIVE_CFLAGS,
     STATUS_MESSAGES,
     batch_library,
+    cpu_identity,
     lockstep_available,
     taylor_batch_library,
 )
@@ -73,7 +76,6 @@ __all__ = [
     "BatchStroboscopicMap",
     "batch_map_available",
     "cpu_identity",
-    "vector_rhs_source",
     "STATUS_MESSAGES",
     "NATIVE_CFLAGS",
     "BATCH_CFLAGS",
@@ -165,7 +167,7 @@ class BatchStroboscopicMap:
 
     With ``method="taylor"`` every point is integrated by the model's generated Taylor
     integrator (``chaplygin_taylor_run`` of the double build, called per point from C by
-    ``numerics/templates/taylor_batch_map.c``): the steps of
+    ``derive/templates/taylor_batch_map.c``): the steps of
     ``integrate(method="taylor")`` from ``t0`` to the last sampling time, the map points
     being the step polynomials evaluated at the sampling times; one point after another (no
     vector lanes).

@@ -26,7 +26,6 @@ import hashlib
 import json
 import os
 import platform
-import re
 import shlex
 import shutil
 import subprocess
@@ -46,6 +45,7 @@ from ..derive.cachefiles import (
     sign,
     verify_signature,
 )
+from ..derive.emit.c_sources import inline_project_headers
 from ..derive.errors import CacheError, ChaplyginError
 
 __all__ = [
@@ -60,7 +60,6 @@ __all__ = [
     "c_cache_dir",
     "compile_c",
     "find_compiler",
-    "inline_project_headers",
     "LibraryRebuiltWarning",
     "optimisation_override",
 ]
@@ -310,35 +309,6 @@ def _remove_stale_temporaries(directory: Path) -> None:
                 path.unlink()
         except OSError:
             continue
-
-
-#: ``#include "<name>"`` lines of emitted code that :func:`compile_c` replaces by the
-#: project's header (the compiled text, and so the cache key, holds the header itself).
-_PROJECT_HEADER = re.compile(r'^#include "(detmath\.h)"[^\n]*$', re.MULTILINE)
-
-
-def inline_project_headers(source: str) -> str:
-    """``source`` with ``#include "detmath.h"`` replaced by the text of the header.
-
-    Emitted C sources (``generated/*.c``) include the project's elementary functions
-    (``chaplygin/arith/templates/detmath.h``) by name; the header's text goes into the
-    translation unit here, so no include path depends on where the package is installed and
-    a change of the header changes the cache key.
-
-    Parameters
-    ----------
-    source : str
-
-    Returns
-    -------
-    str
-    """
-    if '"detmath.h"' not in source:
-        return source
-    from ..arith import c_header
-
-    header = c_header()
-    return _PROJECT_HEADER.sub(lambda _m: header, source)
 
 
 #: Optimisation levels ``CHAPLYGIN_OPT_LEVEL`` may select.

@@ -61,6 +61,12 @@ class ModelCode:
         C Taylor integrator (``double``; ``__float128`` with ``CHAPLYGIN_TAYLOR_QUAD``).
     taylor_mpfr_source : str or None
         C Taylor integrator on MPFR numbers (precisions past quad-double).
+    taylor_program : str or None
+        The Taylor program as data (JSON), from which the coefficients are written out for
+        fixed orders (:func:`chaplygin.derive.emit.taylor_unroll.unrolled_source`).
+    lanes_c_source : str or None
+        The right-hand side in vector lanes (``bm_rhs_vec``) for the DOP853 batch; None when
+        the lanes cannot compute it.
     origin : str
         ``"generated/"``, ``"derived on first use"`` or ``"cache of first-use code"``.
     note : str or None
@@ -75,6 +81,8 @@ class ModelCode:
     taylor: types.ModuleType | None = None
     taylor_c_source: str | None = None
     taylor_mpfr_source: str | None = None
+    taylor_program: str | None = None
+    lanes_c_source: str | None = None
     note: str | None = None
     _compiled: Any = field(default=None, repr=False)
     _compile_tried: bool = field(default=False, repr=False)
@@ -210,21 +218,22 @@ def load_model_code(system: str, effects: str | Iterable[str] | None = None) -> 
     manifest = generated_manifest()
     if name in manifest:
         files = manifest[name]["files"]
+        generated = resources.files("chaplygin.generated")
+
+        def text(kind: str) -> str | None:
+            return generated.joinpath(files[kind]).read_text() if kind in files else None
+
         code = ModelCode(
             name=name,
             numpy=importlib.import_module(f"chaplygin.generated.{files['numpy'][:-3]}"),
             mpmath=importlib.import_module(f"chaplygin.generated.{files['mpmath'][:-3]}"),
-            c_source=resources.files("chaplygin.generated").joinpath(files["c"]).read_text(),
+            c_source=text("c"),
             origin="generated/",
             taylor=importlib.import_module(f"chaplygin.generated.{files['taylor_py'][:-3]}"),
-            taylor_c_source=resources.files("chaplygin.generated")
-            .joinpath(files["taylor_c"])
-            .read_text(),
-            taylor_mpfr_source=resources.files("chaplygin.generated")
-            .joinpath(files["taylor_mpfr"])
-            .read_text()
-            if "taylor_mpfr" in files
-            else None,
+            taylor_c_source=text("taylor_c"),
+            taylor_mpfr_source=text("taylor_mpfr"),
+            taylor_program=text("taylor_program"),
+            lanes_c_source=text("c_lanes"),
         )
     else:  # derived, emitted and compiled on first use; cached on disk (numerics.first_use)
         code = _first_use_code(system, chosen, name)
@@ -249,6 +258,8 @@ def _first_use_code(system: str, chosen: frozenset[str], name: str) -> ModelCode
         taylor=module_from_source(f"{name}_taylor", src["taylor_py"]),
         taylor_c_source=src["taylor_c"],
         taylor_mpfr_source=src["taylor_mpfr"],
+        taylor_program=src["taylor_program"],
+        lanes_c_source=src["c_lanes"] or None,
     )
     where = f"cached in {first.cache_file.parent}" if first.cache_file else "not cached"
     if first.derived:

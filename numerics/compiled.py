@@ -48,6 +48,7 @@ import cffi
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..derive.emit.c_sources import model_library_source
 from ..derive.errors import ChaplyginError
 from .ccompile import (
     CFLAGS,
@@ -105,54 +106,6 @@ _ffi = cffi.FFI()
 _ffi.cdef(_CDEF)
 _from_buffer = _ffi.from_buffer
 _DOUBLES = _ffi.typeof("double[]")  # pre-parsed: from_buffer is faster without the string
-
-_SHIM_MARKER = "/* chaplygin.numerics.compiled batch shim v1 */"
-
-#: Appended by :func:`load_c_model` to every model source: batch versions of the routines
-#: evaluating states stored column-wise in a strided (n_state, N) array, so that
-#: ``CompiledModel.*_many`` need no Python loop.  Strides are in elements, not bytes.
-_SHIM = (
-    "\n"
-    + _SHIM_MARKER
-    + r"""
-#include <stddef.h>
-
-typedef void (*chaplygin__routine)(double, const double *, const double *, double *);
-
-static void chaplygin__many(chaplygin__routine fn, int m, double T, ptrdiff_t N,
-                            const double *Y, ptrdiff_t YS0, ptrdiff_t YS1, const double *P,
-                            double *OUT, ptrdiff_t OS0, ptrdiff_t OS1)
-{
-    int sizes[4];
-    chaplygin_sizes(sizes);
-    const int n = sizes[0];
-    double y[n > 0 ? n : 1];
-    double f[m > 0 ? m : 1];
-    for (ptrdiff_t j = 0; j < N; ++j) {
-        for (int i = 0; i < n; ++i) y[i] = Y[i * YS0 + j * YS1];
-        fn(T, y, P, f);
-        for (int k = 0; k < m; ++k) OUT[k * OS0 + j * OS1] = f[k];
-    }
-}
-
-#define CHAPLYGIN__MANY(NAME, M)                                                          \
-    void chaplygin_many_##NAME(double T, ptrdiff_t N, const double *Y, ptrdiff_t YS0,    \
-                               ptrdiff_t YS1, const double *P, double *OUT, ptrdiff_t OS0, \
-                               ptrdiff_t OS1)                                             \
-    {                                                                                     \
-        int s[4];                                                                         \
-        chaplygin_sizes(s);                                                               \
-        chaplygin__many(chaplygin_##NAME, (M), T, N, Y, YS0, YS1, P, OUT, OS0, OS1);      \
-    }
-
-CHAPLYGIN__MANY(rhs, s[0])
-CHAPLYGIN__MANY(jac, s[0] * s[0])
-CHAPLYGIN__MANY(aux, s[2])
-CHAPLYGIN__MANY(integrals, s[3])
-CHAPLYGIN__MANY(density, 1)
-"""
-)
-
 
 # --------------------------------------------------------------------------- errors
 
@@ -582,9 +535,10 @@ def load_c_model(
     Parameters
     ----------
     source : str
-        C source emitted by :class:`chaplygin.derive.emit.CEmitter`.  A small batch shim
-        (``chaplygin_many_*``, used by :meth:`CompiledModel.rhs_many` and friends) is
-        appended before compiling.
+        C source emitted by :class:`chaplygin.derive.emit.CEmitter`.  The batch versions of
+        its routines (``chaplygin_many_*``, used by :meth:`CompiledModel.rhs_many` and
+        friends: :func:`chaplygin.derive.emit.c_sources.model_library_source`) are added
+        before compiling.
     expected_hash : str, optional
         Model hash the library must report.
     cache_dir : path-like, optional
@@ -603,7 +557,7 @@ def load_c_model(
     ModelHashMismatchError
         If `expected_hash` differs from the compiled model's hash.
     """
-    full_source = source if _SHIM_MARKER in source else source + _SHIM
+    full_source = model_library_source(source)
     try:
         path = compile_c(full_source, cache_dir=cache_dir, compiler=compiler)
         try:

@@ -1,8 +1,9 @@
 """Code of an effect combination that is not in ``generated/``: derived, emitted and compiled on
 first use, and cached on disk so that later processes only load it.
 
-The six emitted sources (numpy, mpmath, C, Taylor Python, Taylor C, Taylor C on MPFR) of a
-variant are stored in ``<cache root>/emitted/<variant>-<key>.src`` (the root:
+The emitted sources (numpy, mpmath, C, Taylor Python, Taylor C, Taylor C on MPFR, the Taylor
+program, the right-hand side in vector lanes) of a variant are stored in
+``<cache root>/emitted/<variant>-<key>.src`` (the root:
 ``$CHAPLYGIN_CACHE_DIR``, else ``$XDG_CACHE_HOME/chaplygin``, else ``~/.cache/chaplygin``;
 none with ``CHAPLYGIN_MODEL_CACHE=0``). The key (:func:`chaplygin.derive.systems.variant_cache_key`)
 changes with any edit of ``derive/`` and with the versions of Python, sympy and mpmath. The
@@ -25,7 +26,9 @@ from ..derive.systems import model_cache_dir, variant_cache_key, variant_name
 __all__ = ["FirstUse", "emitted_sources", "emitted_cache_file", "SOURCE_KINDS"]
 
 #: The emitted sources of a variant, in the order of ``generated/manifest.json``'s files.
-SOURCE_KINDS = ("numpy", "mpmath", "c", "taylor_py", "taylor_c", "taylor_mpfr")
+SOURCE_KINDS = (
+    "numpy", "mpmath", "c", "taylor_py", "taylor_c", "taylor_mpfr", "taylor_program", "c_lanes"
+)
 
 #: First line of a cache file: the format, then the HMAC of the JSON that follows.
 _MAGIC = b"chaplygin-emitted-1\n"
@@ -38,7 +41,8 @@ class FirstUse:
     Attributes
     ----------
     sources : dict of str to str
-        :data:`SOURCE_KINDS` -> source text.
+        :data:`SOURCE_KINDS` -> source text (``""`` for a kind the variant has none of: the
+        lanes of a right-hand side they cannot compute).
     derived : bool
         True when it was derived and emitted now, False when loaded from the cache.
     seconds : float
@@ -116,11 +120,13 @@ def emitted_sources(system: str, effects: frozenset[str]) -> FirstUse:
         return FirstUse(cached, False, time.perf_counter() - start, path)
     from ..derive.emit import (
         CEmitter,
+        CLanesEmitter,
         ModelRoutines,
         MpmathEmitter,
         NumpyEmitter,
         TaylorCEmitter,
         TaylorMpfrEmitter,
+        TaylorProgramEmitter,
         TaylorPythonEmitter,
     )
     from ..derive.systems import build_model
@@ -134,10 +140,12 @@ def emitted_sources(system: str, effects: frozenset[str]) -> FirstUse:
         TaylorPythonEmitter,
         TaylorCEmitter,
         TaylorMpfrEmitter,
+        TaylorProgramEmitter,
+        CLanesEmitter,
     )
     sources = {}
     for kind, emitter in zip(SOURCE_KINDS, emitters, strict=True):
-        ((_, text),) = emitter().emit(model, routines)
-        sources[kind] = text
+        files = emitter().emit(model, routines)  # one file, or none (no lanes)
+        sources[kind] = files[0][1] if files else ""
     stored = _store(path, sources)
     return FirstUse(sources, True, time.perf_counter() - start, stored)

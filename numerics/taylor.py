@@ -60,10 +60,11 @@ import mpmath
 import numpy as np
 
 from ..arith import detmath
+from ..derive.emit.c_sources import taylor_source
+from ..derive.emit.taylor_unroll import unrolled_source
 from ..derive.errors import UserInputError
 from .compiled import CompilerError, CompilerUnavailableWarning, compile_c
 from .precision import ARITHMETICS, DD_BITS, QD_BITS, Precision
-from .taylor_unroll import unrolled_source
 
 if TYPE_CHECKING:
     from .code import ModelCode
@@ -91,7 +92,6 @@ __all__ = [
     "REAL_TYPES",
 ]
 
-_QUAD_DEFINE = "#define CHAPLYGIN_TAYLOR_QUAD 1\n"
 _CDEF = """
 const char *chaplygin_taylor_model_hash(void);
 void chaplygin_taylor_sizes(int *OUT);
@@ -250,8 +250,6 @@ class RealType:
     ----------
     size : int
         Bytes per value.
-    define : str
-        Source prefix selecting the type (``CHAPLYGIN_TAYLOR_QUAD``).
     ldlibs : tuple of str
     pack : callable
         Values -> buffer.
@@ -270,7 +268,6 @@ class RealType:
     """
 
     size: int
-    define: str
     ldlibs: tuple[str, ...]
     pack: Callable[[Sequence[Any]], np.ndarray]
     unpack: Callable[..., Any]
@@ -286,7 +283,6 @@ class RealType:
 REAL_TYPES: dict[str, RealType] = {
     "double": RealType(
         size=8,
-        define="",
         ldlibs=(),
         pack=_pack_double,
         unpack=_unpack_double,
@@ -297,7 +293,6 @@ REAL_TYPES: dict[str, RealType] = {
     ),
     "quad": RealType(
         size=16,
-        define=_QUAD_DEFINE,
         ldlibs=("-lquadmath",),
         pack=encode_binary128,
         unpack=decode_binary128,
@@ -393,10 +388,9 @@ def _times_working(values: Sequence) -> np.ndarray:
     return np.array([mpmath.mpf(v) for v in values], dtype=object)
 
 
-def _multi_double(limbs: int, define: str, ldlibs: tuple[str, ...]) -> RealType:
+def _multi_double(limbs: int, ldlibs: tuple[str, ...]) -> RealType:
     return RealType(
         size=8 * limbs,
-        define=define,
         ldlibs=ldlibs,
         pack=lambda values: encode_multi_double(values, limbs),
         unpack=lambda buf, count=None: decode_multi_double(buf, count, limbs),
@@ -430,8 +424,8 @@ def _fma_flags() -> tuple[str, ...]:
 #: (``-DCHAPLYGIN_TAYLOR_DD``, transcendental functions through libquadmath) up to
 #: :data:`DD_BITS` bits, quad-double (``-DCHAPLYGIN_TAYLOR_QD``) up to :data:`QD_BITS`
 #: (``ARITHMETICS[...].most_bits``).
-REAL_TYPES["dd"] = _multi_double(2, "#define CHAPLYGIN_TAYLOR_DD 1\n", ("-lquadmath",))
-REAL_TYPES["qd"] = _multi_double(4, "#define CHAPLYGIN_TAYLOR_QD 1\n", ())
+REAL_TYPES["dd"] = _multi_double(2, ("-lquadmath",))
+REAL_TYPES["qd"] = _multi_double(4, ())
 
 
 # --------------------------------------------------------------------------- C library
@@ -600,11 +594,12 @@ def load_taylor_library(
     kind : {"double", "quad", "dd", "qd"}
         The arithmetic (a key of :data:`REAL_TYPES`).
     orders : sequence of int, optional
-        Orders whose coefficients are written out (:mod:`chaplygin.numerics.taylor_unroll`;
+        Orders whose coefficients are written out
+        (:mod:`chaplygin.derive.emit.taylor_unroll`, from the model's printed Taylor program;
         double only, the same bits as the loop, faster): one more library per set of orders,
         compiled once and cached like the others, with pairs of nodes in GNU C vectors; a
         compiler that refuses the vectors gets the written-out scalar code, one that refuses
-        that (or a source the unroller does not read) the library of the loop.
+        that (or a model without a printed program) the library of the loop.
 
     Returns
     -------
@@ -622,13 +617,15 @@ def load_taylor_library(
     if key in _LIBS:
         return _LIBS[key]
     real = REAL_TYPES[kind]
-    source, ldlibs = real.define + code.taylor_c_source, real.ldlibs
+    source, ldlibs = taylor_source(code.taylor_c_source, kind), real.ldlibs
     if unroll:
         # written out with the pairs in GNU C vectors, else written out without them, else
-        # (a compiler that refuses both, a source the unroller does not read) the loop: the
-        # same bits every way
+        # (a compiler that refuses both, a model without its printed Taylor program) the
+        # loop: the same bits every way
         for vectors in (True, False):
-            written_out = unrolled_source(source, unroll, vectors=vectors)
+            if code.taylor_program is None:
+                break
+            written_out = unrolled_source(source, code.taylor_program, unroll, vectors=vectors)
             if written_out is None:
                 break
             try:

@@ -4,7 +4,7 @@ The augmented system ``y' = f(t, y)``, ``V' = J(t, y) V``, ``q' = tr J(t, y)`` (
 generated Jacobian, ``q`` the integral of the divergence of the vector field; a
 :class:`~chaplygin.numerics.integrators.flows.VariationalFlow`) is integrated through the
 integrators' door by the ``dop853`` integrator: an adaptive DOP853 written in C
-(``numerics/templates/variational.c``) that is compiled together with the model's emitted C
+(``derive/templates/variational.c``) that is compiled together with the model's emitted C
 source (``generated/<model>.c``: ``chaplygin_rhs`` and ``chaplygin_jac``), so the right-hand
 side and Jacobian are the generated ones and no Python runs inside a step. The error of a
 step is measured on ``y`` and ``V`` together. Double precision only.

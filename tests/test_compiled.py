@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from chaplygin.numerics import compiled
+from chaplygin.derive.emit.c_sources import model_library_source
 from chaplygin.numerics.compiled import (
     CompilationError,
     CompiledModel,
@@ -256,9 +256,9 @@ def test_second_load_reuses_cached_library(tmp_path):
     assert (after.st_ino, after.st_mtime_ns) == (stat.st_ino, stat.st_mtime_ns)
 
     # compile_c is idempotent too, and force=True rebuilds
-    assert compile_c(source + compiled._SHIM, cache_dir=cache, compiler=cc) == first.path
+    assert compile_c(model_library_source(source), cache_dir=cache, compiler=cc) == first.path
     assert _count(count) == 1
-    compile_c(source + compiled._SHIM, cache_dir=cache, compiler=cc, force=True)
+    compile_c(model_library_source(source), cache_dir=cache, compiler=cc, force=True)
     assert _count(count) == 2
 
     # the cache holds the library, its source, its record (size, SHA-256, MAC) and the
@@ -424,7 +424,7 @@ def test_damaged_cache_entry_is_rebuilt(tmp_path):
     path = model.path
     del model
     fresh = tmp_path / "other"
-    damaged = compile_c(source + compiled._SHIM, cache_dir=fresh)
+    damaged = compile_c(model_library_source(source), cache_dir=fresh)
     damaged.write_bytes(b"not a shared library")
     rebuilt = load_c_model(source, cache_dir=fresh)
     assert rebuilt is not None and rebuilt.path == damaged

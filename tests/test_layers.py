@@ -10,6 +10,7 @@ from __future__ import annotations
 import ast
 import importlib.util
 import os
+import re
 import subprocess
 import sys
 import textwrap
@@ -496,3 +497,136 @@ def test_the_precision_check_sees_every_assignment():
         "self.prec = 5\nctx.dps = 3\n"
     )
     assert precision_assignments(quiet, "chaplygin.numerics") == []
+
+
+# ------------------------------------------------------------------------ C in one layer
+
+#: The only package that writes C (templates, printers, the sources numerics compiles).
+C_WRITERS = "chaplygin.derive.emit"
+
+#: What C text looks like in a string (a literal, a regular expression's pattern or its
+#: replacement): a preprocessor line, a function body opening, a declaration of a C number
+#: type, the Taylor template's macros and recurrences. cffi's declarations (strings given to
+#: ``cdef``, or named ``*CDEF``) are the loader's and are not C that is compiled.
+_C_TEXT = re.compile(
+    r"^\s*#\s*(?:include|define|undef|ifn?def|if|elif|else|endif|pragma)\b"
+    r"|\)\s*\{\s*$"
+    r"|\bconst\s+(?:double|float|int|long|REAL|vreal|bm_vec)\b"
+    r"|\b(?:static|void|double|REAL|vreal|bm_vec)\s+\**\w+\s*(?:\[[^\]]*\])?\s*="
+    r"|\b(?:R_[A-Z]+|tc_[a-z]+|chaplygin_(?:sin|cos|exp|log|pow))\s*\(",
+    re.MULTILINE,
+)
+
+#: What edits text: methods of str and of compiled regular expressions, and the re functions.
+_TEXT_EDITS = frozenset(
+    {"replace", "join", "format", "find", "rfind", "index", "rindex", "split", "rsplit",
+     "splitlines", "partition", "rpartition", "strip", "lstrip", "rstrip", "removeprefix",
+     "removesuffix", "sub", "subn", "findall", "finditer", "search", "match", "fullmatch",
+     "translate", "expandtabs"}
+)  # fmt: skip
+
+
+def _plain(text: str) -> str:
+    """A regular expression's text as the C it matches, roughly (``\\b``, ``\\s`` ... a
+    space, other escapes their character)."""
+    return re.sub(r"\\[bBsSdDwW]", " ", text).replace("\\", "")
+
+
+def _is_c_source_value(node: ast.AST) -> bool:
+    """A name or attribute that holds C source by the project's naming: a name ending in
+    ``source`` (``source``, ``c_source``, ``FASTCALL_SOURCE``), an attribute ending in
+    ``_source`` (``code.c_source``, ``code.taylor_c_source``; not a scene's ``source``, its
+    file)."""
+    if isinstance(node, ast.Name):
+        return node.id.lower().endswith("source")
+    return isinstance(node, ast.Attribute) and node.attr.lower().endswith("_source")
+
+
+def c_text_uses(source: str) -> list[str]:
+    """Where a module's source writes or edits C: C in a string that is not a docstring or
+    a cffi declaration, and C source put together or taken apart (``+``, ``%``, an f-string,
+    a str or re method) -- anything beyond passing it on.
+
+    Parameters
+    ----------
+    source : str
+        A module's Python text.
+
+    Returns
+    -------
+    list of str
+        ``"line N: ..."`` per finding.
+    """
+    tree = ast.parse(source)
+    skip: set[int] = set()
+    for node in ast.walk(tree):
+        body = getattr(node, "body", None)
+        if isinstance(body, list) and body and isinstance(body[0], ast.Expr) \
+                and isinstance(body[0].value, ast.Constant):
+            skip.add(id(body[0].value))  # a docstring
+        if isinstance(node, ast.Assign) and any(
+            "CDEF" in getattr(t, "id", "").upper() for t in node.targets
+        ):
+            skip.update(id(n) for n in ast.walk(node.value))
+        if isinstance(node, ast.Call) and getattr(node.func, "attr", "") == "cdef":
+            skip.update(id(n) for a in node.args for n in ast.walk(a))
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Constant) and isinstance(node.value, str) \
+                and id(node) not in skip and _C_TEXT.search(_plain(node.value)):
+            found.append(f"line {node.lineno}: C text {node.value[:40]!r}")
+        operands: list[ast.AST] = []
+        if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Add | ast.Mod):
+            operands = [node.left, node.right]
+        elif isinstance(node, ast.JoinedStr):
+            operands = [v.value for v in node.values if isinstance(v, ast.FormattedValue)]
+        elif isinstance(node, ast.Subscript):
+            operands = [node.value]
+        elif isinstance(node, ast.Call) and getattr(node.func, "attr", "") in _TEXT_EDITS:
+            operands = [node.func.value, *node.args]
+            operands += [e for a in node.args if isinstance(a, ast.Tuple | ast.List)
+                         for e in a.elts]
+        if any(_is_c_source_value(o) for o in operands):
+            found.append(f"line {node.lineno}: C source edited: {ast.unparse(node)[:60]}")
+    return found
+
+
+def test_only_the_emitters_write_c():
+    """Every C source is written in ``derive/emit`` (issue 23, deliverable 3): no other module
+    holds C text (a template, a pattern or a replacement of a regular expression over C) or
+    puts C source together or takes it apart; numerics compiles and loads what the emitters
+    return."""
+    bad = {
+        m: hits
+        for m, (path, _) in MODULES.items()
+        if not m.startswith(C_WRITERS) and (hits := c_text_uses(path.read_text()))
+    }
+    assert bad == {}
+
+
+def test_the_c_check_sees_every_way_of_writing_c():
+    """A negative control, from the code before the emitters took it over: each way of
+    writing C outside the emitters is found; passing a source on, cffi declarations and
+    docstrings that show C are not."""
+    forms = [
+        'QUAD = "#define CHAPLYGIN_TAYLOR_QUAD 1\\n"',  # a define prepended to a source
+        'SHIM = r"""\nstatic void many(int m)\n{\n    f(m);\n}\n"""',  # a C function
+        "def f(code, t):\n    return compile_c(code.c_source + '\\n' + t.read_text())",
+        "def f(source):\n    return source.replace(MARKER, inserted, 1)",
+        "def f(body):\n    return re.sub(r'\\bconst double\\b', 'const bm_vec', body)",
+        "_MUL = re.compile(r'tc_mul\\(a(\\d+), a(\\d+), k\\)')",
+        "def f(c_source):\n    return c_source[c_source.index('{'):]",
+        "def f(code):\n    return '\\n'.join((code.c_source, 'x'))",
+        "def f(code):\n    return f'{code.taylor_c_source}'",
+        "def f(source):\n    return PATTERN.sub(lambda m: header, source)",
+    ]
+    for form in forms:
+        assert c_text_uses(form), form
+    quiet = (
+        '"""Compiles ``#include "detmath.h"`` sources: ``const double x = 1;``."""\n'
+        '_CDEF = """\nvoid chaplygin_rhs(double T, const double *Y, double *OUT);\n"""\n'
+        'ffi.cdef("int f(const double *x);")\n'
+        "def f(code):\n    return compile_c(taylor_source(code.taylor_c_source, 'quad'))\n"
+        "def g(code):\n    return len(code.c_source), hashlib.sha256(code.c_source.encode())\n"
+    )
+    assert c_text_uses(quiet) == []

@@ -301,12 +301,12 @@ def test_hardware_fma_gives_the_bits_of_dekkers_product():
     """The quad-double build with -mfma (exact products by fused multiply-add) and without
     (Dekker's splitting): the same coefficients and run, bit for bit."""
     import numpy as np
+    from chaplygin.derive.emit.c_sources import taylor_source
     from chaplygin.numerics.ccompile import compile_c
-    from chaplygin.numerics.taylor import REAL_TYPES, CompiledTaylor, _c_run
+    from chaplygin.numerics.taylor import CompiledTaylor, _c_run
 
     code = load_model_code("chaplygin_ball")
-    real = REAL_TYPES["qd"]
-    source = real.define + code.taylor_c_source
+    source = taylor_source(code.taylor_c_source, "qd")
     libs = [CompiledTaylor(compile_c(source, cflags=flags), "qd") for flags in
             (("-O3",), ("-O3", "-mfma"))]
     with mpmath.workdps(50):

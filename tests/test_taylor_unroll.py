@@ -1,16 +1,18 @@
-"""The Taylor coefficients written out for fixed orders (numerics/taylor_unroll.py).
+"""The Taylor coefficients written out for fixed orders (derive/emit/taylor_unroll.py).
 
 The written-out code must give the same bits as the template's loop (it is a speed-up, never
 a change of result): coefficients of every kind of recurrence (products, squares, quotients,
 powers, sines and cosines) at several orders, and whole adaptive runs with dense output,
-compared bit for bit against the loop's library; every generated variant is read; a line
-the unroller does not know makes it decline (and the loop is used). The nodes computed two
-at a time in GNU C vectors (pairs) give the loop's bits for every generated variant, and a
-change of association inside a vector line is seen by the same comparison.
+compared bit for bit against the loop's library; every generated variant's program is
+written out; an operation the emitter does not know is refused, and a model without its
+printed program runs the loop. The nodes computed two at a time in GNU C vectors (pairs)
+give the loop's bits for every generated variant, and a change of association inside a
+vector line is seen by the same comparison.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import random
 import re
 
@@ -18,6 +20,13 @@ import cffi
 import chaplygin.numerics.taylor as taylor
 import numpy as np
 import pytest
+from chaplygin.derive.emit.taylor_c import PrintedProgram
+from chaplygin.derive.emit.taylor_unroll import (
+    MARKER,
+    UNROLL_MAX_ORDER,
+    VECTOR_PRELUDE,
+    unrolled_source,
+)
 from chaplygin.derive.systems import builtin_variants
 from chaplygin.numerics import load_model_code
 from chaplygin.numerics.ccompile import compile_c
@@ -28,12 +37,6 @@ from chaplygin.numerics.taylor import (
     load_taylor_library,
     run_orders,
     taylor_solve,
-)
-from chaplygin.numerics.taylor_unroll import (
-    MARKER,
-    UNROLL_MAX_ORDER,
-    VECTOR_PRELUDE,
-    unrolled_source,
 )
 from reference import REFERENCE_PARAMS, REFERENCE_Y0
 
@@ -62,10 +65,11 @@ def _point(code, seed: int):
 
 
 @pytest.mark.parametrize("system,effects", VARIANTS)
-def test_every_generated_variant_is_read(system, effects):
-    source = load_model_code(system, effects).taylor_c_source
+def test_every_generated_variant_is_written_out(system, effects):
+    code = load_model_code(system, effects)
+    source, program = code.taylor_c_source, code.taylor_program
     assert MARKER in source
-    out = unrolled_source(source, (2, 3, 12, UNROLL_MAX_ORDER, UNROLL_MAX_ORDER + 1))
+    out = unrolled_source(source, program, (2, 3, 12, UNROLL_MAX_ORDER, UNROLL_MAX_ORDER + 1))
     assert out is not None
     for p in (2, 3, 12, UNROLL_MAX_ORDER):
         assert f"static void taylor_coefficients_{p}(" in out
@@ -78,7 +82,7 @@ def test_every_generated_variant_is_read(system, effects):
     # nodes paired in vectors (every variant has pairs), the scalar functions for other
     # compilers, the same text as without vectors
     assert VECTOR_PRELUDE in out and "const vreal v0_1 = " in body
-    scalar = unrolled_source(source, (2, 3, 12, UNROLL_MAX_ORDER), vectors=False)
+    scalar = unrolled_source(source, program, (2, 3, 12, UNROLL_MAX_ORDER), vectors=False)
     assert scalar is not None
     assert "TAYLOR_VREAL 1" not in scalar and "const vreal v0_1" not in scalar
     for p in (2, 3, 12, UNROLL_MAX_ORDER):
@@ -91,8 +95,8 @@ def test_the_ball_pairs_its_convolutions():
     """The Chaplygin ball's cross products M x w and gamma x w pair up: of its 22 products,
     squares and quotients at least 18 run two at a time (the quotient and the third
     component's product and square stay alone)."""
-    source = load_model_code("chaplygin_ball", ()).taylor_c_source
-    out = unrolled_source(source, (12,))
+    code = load_model_code("chaplygin_ball", ())
+    out = unrolled_source(code.taylor_c_source, code.taylor_program, (12,))
     body = out[out.index("static void taylor_coefficients_12("):]
     body = body[: body.index("\n}\n")]
     pairs = re.findall(r"const vreal v(\d+)_5 = (.*);", body)
@@ -100,13 +104,31 @@ def test_the_ball_pairs_its_convolutions():
     assert len(convolutions) >= 9
 
 
-def test_an_unknown_line_makes_it_decline():
-    source = load_model_code("chaplygin_ball", ()).taylor_c_source
-    assert unrolled_source(source, (12,)) is not None
-    changed = source.replace("= tc_mul(", "= tc_mystery(", 1)
-    assert unrolled_source(changed, (12,)) is None
-    assert unrolled_source(source.replace(MARKER, ""), (12,)) is None
-    assert unrolled_source(source, (1, UNROLL_MAX_ORDER + 1)) is None  # no order in range
+def test_an_unknown_operation_is_refused_and_a_missing_program_runs_the_loop(monkeypatch):
+    code = load_model_code("chaplygin_ball", ())
+    source, program = code.taylor_c_source, PrintedProgram.from_json(code.taylor_program)
+    assert unrolled_source(source, program, (12,)) is not None
+    i = next(i for i, node in enumerate(program.nodes) if node.op == "mul")
+    nodes = list(program.nodes)
+    nodes[i] = dataclasses.replace(nodes[i], op="mystery")
+    with pytest.raises(ValueError, match="mystery"):
+        unrolled_source(source, dataclasses.replace(program, nodes=tuple(nodes)), (12,))
+    with pytest.raises(ValueError, match="not a printed Taylor program"):
+        unrolled_source(source, '{"nodes": []}', (12,))
+    assert unrolled_source(source.replace(MARKER, ""), program, (12,)) is None
+    assert unrolled_source(source, program, (1, UNROLL_MAX_ORDER + 1)) is None  # none in range
+    # code without its printed program (a ModelCode made by hand) runs the loop's library,
+    # with the loop's bits
+    monkeypatch.setattr(taylor, "_LIBS", {})
+    bare = dataclasses.replace(code, taylor_program=None)
+    loop = load_taylor_library(bare, "double", (12,))
+    assert loop is load_taylor_library(bare, "double")
+    monkeypatch.setattr(taylor, "_LIBS", {})
+    written = load_taylor_library(code, "double", (12,))
+    assert written is not loop
+    y, p = _point(code, 3)
+    assert np.array_equal(_bits(loop.coefficients(12, 0.3, y, p)),
+                          _bits(written.coefficients(12, 0.3, y, p)))
 
 
 @pytest.mark.parametrize("system,effects", VARIANTS)
@@ -134,7 +156,7 @@ def test_a_different_recurrence_order_would_be_seen(kind):
     somewhere, so equal bits above are not a tautology -- changed in the scalar lines, or
     only in the vector lines (the pairs)."""
     code = load_model_code("chaplygin_ball", ())
-    source = unrolled_source(code.taylor_c_source, (12,))
+    source = unrolled_source(code.taylor_c_source, code.taylor_program, (12,))
     assert source is not None
 
     i = source.index("static void taylor_coefficients_12(")
@@ -245,7 +267,7 @@ def test_the_state_update_runs_two_components_at_a_time():
     prec = Precision("double")
     y0 = pack_state(code, REFERENCE_Y0, prec)
     p = pack_params(code, REFERENCE_PARAMS, prec)
-    source = unrolled_source(code.taylor_c_source, (12,))
+    source = unrolled_source(code.taylor_c_source, code.taylor_program, (12,))
     assert source is not None and "#define TAYLOR_VREAL 1" in source
     twosum = "const vreal lo = (a - (y - bb)) + (d - bb);"
     assert source.count(twosum) == 1

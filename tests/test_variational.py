@@ -1,4 +1,4 @@
-"""The variational equations in C (numerics/variational.py, numerics/templates/variational.c).
+"""The variational equations in C (numerics/variational.py, derive/templates/variational.c).
 
 The state-transition matrix is checked against an independent route: central differences of the
 flow computed by the generated Taylor integrator in quadruple precision (34 digits), so the

@@ -655,6 +655,7 @@ def compile_times() -> dict[str, float]:
         there is one); a job that fails has ``nan`` and an entry ``"<job> (error)"``
         holding the first 80 characters of the error message (a str).
     """
+    from ..derive.emit.c_sources import taylor_source
     from ..numerics.ccompile import compile_c
 
     code = load_model_code("chaplygin_ball")
@@ -664,8 +665,7 @@ def compile_times() -> dict[str, float]:
         if code.taylor_c_source:
             jobs += [
                 ("Taylor double", code.taylor_c_source, ()),
-                ("Taylor quad", "#define CHAPLYGIN_TAYLOR_QUAD 1\n" + code.taylor_c_source,
-                 ("-lquadmath",)),
+                ("Taylor quad", taylor_source(code.taylor_c_source, "quad"), ("-lquadmath",)),
             ]
         for name, src, ldlibs in jobs:
             start = time.perf_counter()

@@ -80,9 +80,9 @@
 #pragma STDC FP_CONTRACT OFF
 #endif
 
-/* ---- BEGIN GENERATED CONSTANTS (python -m chaplygin.arith.detmath_tables) ---- */
+/* ---- BEGIN GENERATED CONSTANTS (chaplygin.derive.emit.detmath_header) ---- */
 /* Do not edit: regenerate with
- * `python -m chaplygin.arith.detmath_tables --write`.
+ * `python -m chaplygin.derive.emit.detmath_header --write`.
  * Cody-Waite |pi/2 - (P1+P2+P3+P4)| = 2^-159.9
  * exp: |r| <= 0.00270761; Taylor degree 6, relative truncation < 2^-72.0
  * log: |u| <= 2^-8.349

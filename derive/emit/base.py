@@ -193,10 +193,27 @@ def header_lines(model: Model, language: str) -> list[str]:
 class Emitter:
     """Base emitter: ``emit(model)`` returns ``[(filename, text)]``.
 
-    Subclasses set :attr:`language` and fill :meth:`_emit_files`.
+    Subclasses set :attr:`language` and :attr:`ending` and fill :meth:`_emit_files`.
     """
 
     language: str = ""
+    #: What follows the model's name in the emitted file's name (``"_taylor.c"``).
+    ending: str = ""
+
+    def filename(self, model: Model) -> str:
+        """Name of the emitted file.
+
+        Parameters
+        ----------
+        model : Model
+            The model printed.
+
+        Returns
+        -------
+        str
+            ``"<model name><ending>"``.
+        """
+        return f"{model.name}{self.ending}"
 
     def emit(self, model: Model, routines: ModelRoutines | None = None) -> list[tuple[str, str]]:
         """Source files for ``model``; deterministic for a given model hash.

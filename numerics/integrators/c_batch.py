@@ -1,40 +1,41 @@
 """The compiled batch drivers: many points of a time-periodic model in one C call.
 
-The DOP853 batch (``numerics/templates/batch_map.c`` with the DOP853 tableau of
+The DOP853 batch (``derive/templates/batch_map.c`` with the DOP853 tableau of
 ``variational.c``; four points at a time in GCC vector lanes where the model's right-hand side
-has a vector form, bit-identical to one point after another) and the Taylor batch
-(``taylor_batch_map.c``: the model's generated Taylor integrator per point). Sources from
-:mod:`chaplygin.numerics.batch_source`; the integrators that call them are
+has a vector form, ``generated/<model>_lanes.c``, bit-identical to one point after another)
+and the Taylor batch (``taylor_batch_map.c``: the model's generated Taylor integrator per
+point). Sources from :mod:`chaplygin.derive.emit.c_sources`, compiled and loaded here; the
+integrators that call them are
 :class:`~chaplygin.numerics.integrators.dop853_c.CompiledDOP853` and
 :class:`~chaplygin.numerics.integrators.taylor_method.TaylorMethod`.
 """
 
 from __future__ import annotations
 
+import hashlib
+import platform
 import time
 import warnings
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import cffi
 import numpy as np
 
-from ..batch_source import (
-    BATCH_CFLAGS,
-    NATIVE_CFLAGS,
-    batch_source,
-    cpu_identity,
-    taylor_batch_source,
-)
+from ...derive.emit.c_sources import batch_source, taylor_batch_source
 from ..ccompile import CacheError, CompilationError, CompilerError, compile_c
 from ..code import ModelCode
 from ..compiled import CompilerUnavailableWarning
 from .base import Problem, Solution
 
 __all__ = [
+    "BATCH_CFLAGS",
+    "NATIVE_CFLAGS",
     "STATUS_MESSAGES",
     "batch_library",
     "cached_library",
+    "cpu_identity",
     "lockstep_available",
     "run_batch",
     "taylor_batch_library",
@@ -54,6 +55,34 @@ void chaplygin_taylor_batch_map(long N, const double *Y0, const double *P, const
                                 long n_record, double rtol, double atol, long max_steps,
                                 double *OUT, double *STATS, int *STATUS);
 """
+
+#: Extra compiler flags of the batch library (part of the compile cache key), tried first:
+#: -march=native lets the vector lanes use the CPU's widest instructions (AVX2: 4 doubles). The
+#: CPU's identity (:func:`cpu_identity`) is added as a define, so that a cache shared by
+#: machines of different CPUs keeps one library per CPU. No -ffast-math: ccompile's
+#: -ffp-contract=off stays, so every lane computes the IEEE operations of the scalar code.
+NATIVE_CFLAGS = ("-O3", "-march=native")
+#: The flags used when the compiler refuses -march=native.
+BATCH_CFLAGS = ("-O3",)
+
+def cpu_identity() -> str:
+    """A short hash of what ``-march=native`` depends on: the CPU's model and feature flags.
+
+    Returns
+    -------
+    str
+        16 hexadecimal digits (from ``/proc/cpuinfo`` on Linux, else
+        :func:`platform.processor` and :func:`platform.machine`).
+    """
+    try:
+        text = Path("/proc/cpuinfo").read_text()
+        keys = ("model name", "flags", "Features", "CPU implementer", "CPU part")
+        ident = "\n".join(sorted({ln for ln in text.splitlines() if ln.startswith(keys)}))
+    except OSError:
+        ident = ""
+    ident = ident or f"{platform.processor()}|{platform.machine()}"
+    return hashlib.sha256(ident.encode()).hexdigest()[:16]
+
 
 _ffi = cffi.FFI()
 _ffi.cdef(_CDEF)
@@ -123,7 +152,7 @@ def batch_library(code: ModelCode) -> Any | None:
     """
 
     def build() -> Any:
-        source, has_lanes = batch_source(code)
+        source, has_lanes = batch_source(code.c_source, code.lanes_c_source)
         lib = _compile_native(source)
         _LOCKSTEP[code.hash] = has_lanes
         return lib
@@ -173,7 +202,7 @@ def taylor_batch_library(code: ModelCode) -> Any | None:
     """
 
     def build() -> Any:
-        source = taylor_batch_source(code)
+        source = taylor_batch_source(code.taylor_c_source) if code.taylor_c_source else None
         # the flags of the single-point Taylor library (-O2): -O3 (with or without
         # -march=native) made it about 1.6 times slower here (vectorised short recurrences)
         return None if source is None else _ffi.dlopen(str(compile_c(source)))

@@ -1,13 +1,13 @@
 """Hairer's DOP853 written in C, for the variational equations and the batches.
 
-``numerics/templates/variational.c`` is compiled with the model's emitted C source
+``derive/templates/variational.c`` is compiled with the model's emitted C source
 (``chaplygin_rhs``, ``chaplygin_jac``): the augmented system of a
 :class:`~chaplygin.numerics.integrators.flows.VariationalFlow` is integrated with no Python
 inside a step, the error of a step measured on the state and the tangent vectors together,
 optionally with Benettin's QR renormalisation after each of equal intervals (a
 :class:`~chaplygin.numerics.integrators.flows.Renormalisation`). Without a C compiler the
 same system runs on scipy's ``DOP853`` with the numpy module's ``rhs`` and ``jac`` (backend
-``numpy``), after a warning. ``numerics/templates/batch_map.c`` advances a
+``numpy``), after a warning. ``derive/templates/batch_map.c`` advances a
 :class:`~chaplygin.numerics.integrators.flows.Batch` of a time-periodic model
 (:mod:`~chaplygin.numerics.integrators.c_batch`). Double precision only.
 
@@ -20,13 +20,13 @@ II.10 (DOP853).
 from __future__ import annotations
 
 import dataclasses
-from importlib import resources
 from typing import Any
 
 import cffi
 import numpy as np
 
 from ...arith import detlinalg, detmath
+from ...derive.emit.c_sources import variational_source
 from ...derive.errors import ComputationError, UserInputError
 from ..ccompile import compile_c
 from ..code import ModelCode
@@ -77,8 +77,7 @@ def variational_library(code: ModelCode) -> Any | None:
     """
 
     def build() -> Any:
-        template = resources.files("chaplygin.numerics").joinpath("templates/variational.c")
-        return _ffi.dlopen(str(compile_c(code.c_source + "\n" + template.read_text())))
+        return _ffi.dlopen(str(compile_c(variational_source(code.c_source))))
 
     return c_batch.cached_library(
         _LIBRARIES, code, build,

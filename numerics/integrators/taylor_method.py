@@ -26,7 +26,7 @@ class TaylorMethod(Integrator):
     the unit roundoff: the tolerance floor is 1 eps in every precision.
 
     It also integrates a :class:`~chaplygin.numerics.integrators.flows.Batch` of a
-    time-periodic model in one C call (``numerics/templates/taylor_batch_map.c``: the
+    time-periodic model in one C call (``derive/templates/taylor_batch_map.c``: the
     double build's ``chaplygin_taylor_run`` per point, the step polynomials evaluated at the
     sampling times), and keeps the solution between the outputs in double precision when the
     problem asks for ``dense_output`` (:class:`~chaplygin.numerics.taylor.TaylorDense`).

@@ -3,7 +3,7 @@
  *
  * Appended to a model's emitted Taylor C source (generated/<model>_taylor.c, the double build:
  * chaplygin_taylor_run and the order/step-size/recurrence functions it calls), preceded by
- * bm_time of numerics/templates/batch_map.c (batch_map.py copies that one function in). Each
+ * bm_time (templates/batch_time.c, also in batch_map.c; c_sources.taylor_batch_source). Each
  * of N points has its own state, parameter vector and sampling times
  *     t_k = t0 + k tau,  tau = tau_hi + tau_lo (a double-double), k = transient ..
  *     transient + n_record - 1,

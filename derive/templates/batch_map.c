@@ -1,8 +1,10 @@
 /* chaplygin.numerics.batch_map: the stroboscopic map of many points in one call, in C.
  *
  * Appended to a model's emitted C source (generated/<model>.c: chaplygin_rhs) followed by
- * numerics/templates/variational.c, whose DOP853 tableau (DOP_C, DOP_A, DOP_B, DOP_E3, DOP_E5)
- * it reuses. Each of N points has its own state, parameter vector and sampling times
+ * templates/variational.c, whose DOP853 tableau (DOP_C, DOP_A, DOP_B, DOP_E3, DOP_E5) it
+ * reuses (chaplygin.derive.emit.c_sources.batch_source puts them together, with bm_time
+ * of templates/batch_time.c in its place below). Each of N points has its own state,
+ * parameter vector and sampling times
  *     t_k = t0 + k tau,  tau = tau_hi + tau_lo (a double-double: tau to ~32 digits),
  * t_k rounded once from k tau_hi (exact product by fma) + k tau_lo + t0, so that t_k does not
  * accumulate k roundings. The plain system y' = f(t, y) is integrated by the adaptive DOP853 of
@@ -21,8 +23,9 @@
  *   STATUS N: 0 done, 1 step limit (max_steps per period), 2 step-size underflow, 3 non-finite
  *
  * chaplygin_batch_map_lockstep(same arguments): the same computation, BM_W points at a time in
- * the lanes of GCC vector types (BM_VEC_RHS defined: batch_map.py appends bm_rhs_vec, the
- * generated chaplygin_rhs with every double a vector of BM_W lanes). Every lane takes its own
+ * the lanes of GCC vector types (BM_VEC_RHS defined: bm_rhs_vec of generated/<model>_lanes.c,
+ * appended after this file, is the emitted chaplygin_rhs with every double a vector of BM_W
+ * lanes). Every lane takes its own
  * steps (own t, h, accept/reject, sampling times); the stage sums and the right-hand side run
  * on all lanes at once, each lane with the same IEEE operations in the same order as
  * chaplygin_batch_map (no contraction, lane-wise libm calls), so the results are bit-identical
@@ -63,16 +66,7 @@ static double bm_initial_step(double t, const double *y, const double *f0, const
 }
 
 /* t0 + k (tau_hi + tau_lo), rounded once (up to the last bit of the small correction). */
-static double bm_time(double t0, long k, double tau_hi, double tau_lo)
-{
-    const double kd = (double)k;
-    const double p = kd * tau_hi;
-    const double e = fma(kd, tau_hi, -p); /* exact error of the product */
-    const double s = t0 + p;
-    const double bb = s - t0;
-    const double es = (t0 - (s - bb)) + (p - bb); /* exact error of the sum */
-    return s + (es + e + kd * tau_lo);
-}
+{{BM_TIME}}
 
 /* The DOP853 sums of a step, for one point (double) or for the lanes (bm_vec) alike: stage s's
  * increment a = sum_r A[s][r] K[r], the solution's b = sum_r B[r] K[r], and the error

@@ -1,37 +1,18 @@
-"""The Taylor coefficients of a model written out for fixed orders (heyoka's unrolled mode).
+"""The text-rewriting emitters of issue 23's start, frozen: the reference for the tree ones.
 
-The generated C Taylor integrator (``generated/<model>_taylor.c``, template
-``derive/templates/taylor.c``) computes the normalised Taylor coefficients in a loop over the
-order ``k`` whose convolutions are loops over ``j``. For one order ``p`` everything is known
-at compile time: this module writes the loop out, every coefficient of order ``k >= 1`` a
-``const`` local (single assignment, as heyoka's LLVM code), the sums in exactly the order of
-operations of the template's ``tc_mul``, ``tc_sq``, ``tc_div``, ``tc_pow``, ``tc_exp`` and
-``tc_sqrt`` (terms known before order ``k`` first, in increasing ``j``, then the two new
-ones), so the written-out code gives **the same bits** as the loop: which of the two runs
-changes the speed, never a result. The orders not written out fall back to the loop.
-
-Nodes of the same expression and depth are also computed **two at a time** in a GNU C vector
-of 2 doubles (``vreal``, the SSE2/NEON register; the double kind's ``R_ADD`` ... ``R_NEG``
-are plain C operators, which GNU C applies lane by lane): the pairs are found by following a
-pair of state components through the expressions that make them (the Chaplygin ball's
-``M' = M x w`` and ``gamma' = gamma x w`` are the same expressions of the same ``w``), then
-the convolutions left two by two. A lane does its node's operations in the scalar order, and
-a vector operation rounds each lane as the scalar operation would (no FMA: the library is
-compiled with ``-ffp-contract=off``), so the pairs too give **the same bits**; they halve
-the multiplications of the paired convolutions (the ball at order 15: 2610 -> 1572). The
-scalar functions are kept for compilers without GNU C vectors (``#if defined(__GNUC__)``).
-
-The text transformed is the loop body the emitter writes (``derive/emit/taylor.py``
-``_c_lines``): one assignment per line, of a few fixed forms. A line of any other form makes
-:func:`unrolled_source` return None (the caller keeps the loop): nothing is guessed.
+Until the code generation moved into one layer (issue 23, deliverable 3) numerics rewrote the
+generated C with regular expressions: ``numerics/taylor_unroll.py`` wrote the Taylor
+coefficients out for fixed orders from the loop's text, and ``numerics/batch_source.py``'s
+``vector_rhs_source`` turned ``chaplygin_rhs`` into the vector lanes' ``bm_rhs_vec``. They are
+kept here unchanged (tests only: the package holds no regular expression over C) so that
+``tests/test_emit_sources.py`` can show that the emitters of ``derive/emit`` write the same
+C. Delete this module with that comparison when the written-out text changes on purpose.
 """
 
 from __future__ import annotations
 
 import re
 from collections.abc import Iterable
-
-__all__ = ["UNROLL_MAX_ORDER", "unrolled_source"]
 
 #: Orders written out at most (cost of the code grows as the order squared: a 57-node model
 #: at order 15 is about 100 kB of C and half a second of compiling).
@@ -498,3 +479,48 @@ def unrolled_source(source: str, orders: Iterable[int], vectors: bool = True) ->
         "chaplygin.numerics.taylor_unroll */\n" + twice + "\n".join(functions) + dispatcher
     )
     return source.replace(MARKER, inserted, 1)
+
+
+#: Functions the vector right-hand side applies lane by lane (batch_map.c BM_LANEWISE): the
+#: project's elementary functions (arith/templates/detmath.h) and the exact sqrt, fabs.
+_LANEWISE = frozenset(
+    {"chaplygin_sin", "chaplygin_cos", "chaplygin_exp", "chaplygin_log", "sqrt", "fabs"}
+)
+
+
+def vector_rhs_source(c_source: str) -> str | None:
+    """``bm_rhs_vec``: the generated ``chaplygin_rhs`` with every double a vector of lanes.
+
+    The emitted function is straight-line code (``const double x = expression;`` and
+    ``OUT[i] = expression;``); with GCC's vector types the same text computes every lane with
+    the same IEEE operations, libm calls being applied lane by lane. None when the function
+    calls anything else (then only the one-point-at-a-time driver is built).
+
+    Parameters
+    ----------
+    c_source : str
+        A model's emitted C source.
+
+    Returns
+    -------
+    str or None
+    """
+    head = "void chaplygin_rhs(double T, const double *restrict Y, const double *restrict P, "
+    start = c_source.find(head)
+    if start < 0:
+        return None
+    open_brace = c_source.index("{", start)
+    end = c_source.index("\n}\n", open_brace) + 3
+    body = c_source[open_brace:end]
+    called = set(re.findall(r"\b([A-Za-z_]\w*)\s*\(", body))
+    if not called <= _LANEWISE or re.search(r"\b(int|long|float|if|for|while)\b", body):
+        return None
+    body = re.sub(r"\bconst double\b", "const bm_vec", body)
+    if "double" in body:
+        return None
+    for name in called:
+        body = re.sub(rf"\b{name}\s*\(", f"bm_v_{name}(", body)
+    return (
+        "static void bm_rhs_vec(bm_vec T, const bm_vec *restrict Y, const bm_vec *restrict P, "
+        "bm_vec *restrict OUT)\n" + body
+    )
