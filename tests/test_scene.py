@@ -343,7 +343,7 @@ atol = 1e-12
 
 
 def test_write_dataset_round_trip_and_refuses_inconsistent_dimensions(tmp_path):
-    from chaplygin.verify.trajectory import write_dataset
+    from chaplygin.verify.outputs.trajectory import write_dataset
     from scipy.io import netcdf_file
 
     z = np.linspace(-1, 1, 7) / 3

@@ -183,9 +183,9 @@ class PointContext:
         chaplygin.numerics.integrate.IntegrationResult
         """
         if self._trajectory is None:
-            from .scene import _integrate_trajectory
+            from .scene import integrate_trajectory
 
-            self._trajectory, _ = _integrate_trajectory(self.scene, self.resolved, False)
+            self._trajectory, _ = integrate_trajectory(self.scene, self.resolved, False)
         return self._trajectory
 
     def param(self, name: str) -> Any:
@@ -976,7 +976,7 @@ def plan_sweep(scene: Any, workers: int | None = None, store: Path | None = None
     UserInputError
         A grid beyond the machine (memory, disk, time), with the numbers.
     """
-    from .scene import SceneError, _did_you_mean, _version
+    from .scene import SceneError, did_you_mean, package_version
 
     sweep = scene.sweep
     if sweep is None:
@@ -985,11 +985,11 @@ def plan_sweep(scene: Any, workers: int | None = None, store: Path | None = None
         if name not in REDUCERS:
             raise SceneError(
                 f"unknown reducer {name!r}; valid: {', '.join(REDUCERS)}"
-                f"{_did_you_mean(name, list(REDUCERS))}",
+                f"{did_you_mean(name, list(REDUCERS))}",
                 scene.source,
                 "sweep.reduce",
             )
-    base = {k: v for k, v in scene._given.items() if k != "sweep"}
+    base = {k: v for k, v in scene.given.items() if k != "sweep"}
     carry_both = False
     if sweep.carry != "none":
         cannot = [n for n in sweep.reduce if not REDUCERS[n].carries]
@@ -1112,8 +1112,10 @@ def plan_sweep(scene: Any, workers: int | None = None, store: Path | None = None
             chunks.append(tuple(slice(i, i + 1) for i in index) + (last,))
     fingerprint = {
         "scene": _sha(base),
-        "grid": _sha({"sweep": scene._given.get("sweep"), "axes": axes, "dims": dims}),
-        "code": _sha({"chaplygin": _version(), "model_hash": code.hash, "format": STORE_FORMAT}),
+        "grid": _sha({"sweep": scene.given.get("sweep"), "axes": axes, "dims": dims}),
+        "code": _sha(
+            {"chaplygin": package_version(), "model_hash": code.hash, "format": STORE_FORMAT}
+        ),
     }
     return SweepPlan(
         scene, base, axes, coords, dims, shape, chunks, variables, extra, code, fingerprint
@@ -1123,7 +1125,7 @@ def plan_sweep(scene: Any, workers: int | None = None, store: Path | None = None
 def _check_axis_keys(scene: Any, code: Any) -> None:
     """Refuse an axis that names no parameter, initial key or run setting of this model (it
     would make every point refused)."""
-    from .scene import Initial, Run, SceneError, _did_you_mean
+    from .scene import Initial, Run, SceneError, did_you_mean
 
     valid = {
         "parameters": list(code.parameter_groups) + list(code.params),
@@ -1135,7 +1137,7 @@ def _check_axis_keys(scene: Any, code: Any) -> None:
         if name not in valid[root]:
             raise SceneError(
                 f"axis {key!r}: {code.name} has no {root} key {name!r}; valid: "
-                f"{', '.join(valid[root])}{_did_you_mean(name, valid[root])}",
+                f"{', '.join(valid[root])}{did_you_mean(name, valid[root])}",
                 scene.source,
                 "sweep.axes",
             )
@@ -1446,13 +1448,13 @@ def _compute(plan, group, payload, pending, client, progress, already) -> None:
     from distributed import as_completed
     from tqdm import tqdm
 
-    from .scene import _version
+    from .scene import package_version
 
     payload_future = client.scatter(payload, broadcast=True)
     futures = {}
     for k in pending:
         region = plan.chunks[k]
-        key = f"chaplygin-sweep-{plan.total[:12]}-{_version()}-{k}"
+        key = f"chaplygin-sweep-{plan.total[:12]}-{package_version()}-{k}"
         fut = client.submit(compute_chunk, payload_future, plan.points(region), key=key, retries=2)
         futures[fut] = k
     bar = tqdm(

@@ -67,18 +67,18 @@ def _attrs(plan: Any) -> dict:
     import scipy
     import sympy
 
-    from .scene import _version
+    from .scene import package_version
 
     return {
         "title": plan.scene.title,
         "source": plan.scene.source or "",
-        "scene": json.dumps(plan.scene._given, sort_keys=True, default=str),
+        "scene": json.dumps(plan.scene.given, sort_keys=True, default=str),
         "axes": json.dumps([[k, n, [str(v) for v in vals]] for k, n, vals in plan.axes]),
         "model": plan.code.name,
         "model_hash": plan.code.hash,
         "versions": json.dumps(
             {
-                "chaplygin": _version(),
+                "chaplygin": package_version(),
                 "python": platform.python_version(),
                 "numpy": np.__version__,
                 "scipy": scipy.__version__,

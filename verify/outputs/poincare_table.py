@@ -21,7 +21,7 @@ __all__ = ["PoincareOutput"]
 
 
 def _number(value: object) -> object:
-    from ..numerics.inputs import parse_number
+    from ...numerics.inputs import parse_number
 
     parse_number(value, 30)  # refuses malformed, hostile or non-finite text
     return value

@@ -99,7 +99,7 @@ def support_diagram_figure(
     -------
     matplotlib.figure.Figure
     """
-    from .plots import bifurcation_figure
+    from ..plots import bifurcation_figure
 
     I = tuple(float(v) for v in params[:3])
     D_iso, D_al, D_be = (float(v) for v in params[3:6])
@@ -149,13 +149,13 @@ def gyrostat_diagram_figure(
     """
     from matplotlib.figure import Figure
 
-    from ..numerics.gyrostat_diagram import (
+    from ...numerics.gyrostat_diagram import (
         branch_stability,
         level_samples,
         parallel_segment,
         steady_rotation_branches,
     )
-    from .plots import COLORS, _stability_legend, _style
+    from ..plots import COLORS, _stability_legend, _style
 
     I = tuple(float(v) for v in I)
     K = tuple(float(v) for v in K)
