@@ -26,7 +26,7 @@ import numpy as np
 from chaplygin.derive import build_model
 
 from .. import kane
-from . import Computed, ComputedClaim, register
+from .base import Computed, ComputedClaim, register
 
 BALL = "chaplygin_ball"
 EPS = float(np.finfo(float).eps)
