@@ -438,7 +438,7 @@ def test_plots_carry_the_shown_title(tmp_path, capsys):
 # ------------------------------------------------------------------- contact-trace aspect
 def test_contact_trace_aspect_auto_shows_the_oscillation():
     from chaplygin.derive.errors import UserInputError
-    from chaplygin.verify.plots import contact_trace_figure
+    from chaplygin.verify.outputs.trajectory_figures import contact_trace_figure
 
     x = np.linspace(0, 100, 500)
     y = 0.3 * np.sin(x)

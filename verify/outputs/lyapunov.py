@@ -179,7 +179,7 @@ def run_lyapunov(scene: Any, resolved: Any, spec: LyapunovOutput, progress: bool
             sp.errors,
             {"long_name": "standard errors of the exponents", "units": "1/time"},
         )
-    from ..plots import literal_text
+    from ..figure_style import literal_text
 
     title = literal_text(scene.title or code.name)
     figures = {"lyapunov": lambda: convergence_figure(spectra, title)}

@@ -372,7 +372,7 @@ def _run(scene: Any, res: Any, spec: PoincareOutput, progress: bool) -> Analysis
     projections = (
         [tuple(p) for p in spec.projections] if spec.projections else _default_pairs(spec, coords)
     )
-    from ..plots import literal_text
+    from ..figure_style import literal_text
 
     title = literal_text(scene.title or code.name)
     figures = {}
@@ -455,9 +455,9 @@ def poincare_figure(
     -------
     matplotlib.figure.Figure
     """
-    from ..plots import _new_figure
+    from ..figure_style import new_figure
 
-    fig = _new_figure(figsize=(5.2 * len(projections), 5))
+    fig = new_figure(figsize=(5.2 * len(projections), 5))
     axes = np.atleast_1d(fig.subplots(1, len(projections)))
     size = 0.6 if sum(len(next(iter(p.values()))) for p in points) > 2000 else 3
     for ax, (x, y) in zip(axes, projections, strict=True):
@@ -501,9 +501,9 @@ def poincare_3d_figure(
     -------
     matplotlib.figure.Figure
     """
-    from ..plots import _new_figure
+    from ..figure_style import new_figure
 
-    fig = _new_figure(figsize=(6.5, 6))
+    fig = new_figure(figsize=(6.5, 6))
     ax = fig.add_subplot(projection="3d")
     a, b, c = coords
     for pts in points:

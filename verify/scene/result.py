@@ -170,7 +170,7 @@ class SceneResult:
         -------
         matplotlib.figure.Figure
         """
-        from ..plots import contact_trace_figure
+        from ..outputs.trajectory_figures import contact_trace_figure
 
         y = self.y
         spec = self.scene.outputs.contact_trace
@@ -184,7 +184,7 @@ class SceneResult:
         -------
         matplotlib.figure.Figure
         """
-        from ..plots import body_trace_figure
+        from ..outputs.trajectory_figures import body_trace_figure
 
         y = self.y
         gamma = np.array([y["gamma1"], y["gamma2"], y["gamma3"]])
@@ -201,7 +201,7 @@ class SceneResult:
         -------
         matplotlib.figure.Figure
         """
-        from ..plots import series_figure
+        from ..outputs.trajectory_figures import series_figure
 
         if quantities is None:
             series = self.scene.outputs.series
@@ -215,7 +215,7 @@ class SceneResult:
         -------
         matplotlib.figure.Figure
         """
-        from ..plots import drift_figure
+        from ..outputs.trajectory_figures import drift_figure
 
         return drift_figure(self.t, self.integral_change(), self._title())
 
@@ -240,9 +240,9 @@ class SceneResult:
             diagram_kind,
             diagram_problem,
             gyrostat_diagram_figure,
+            scene_diagram_figure,
             support_diagram_figure,
         )
-        from ..plots import scene_diagram_figure
 
         code = self.resolved.code
         kind = diagram_kind(self.scene.system, code.effects)
@@ -351,7 +351,7 @@ class SceneResult:
         return out
 
     def _title(self) -> str:
-        from ..plots import literal_text
+        from ..figure_style import literal_text
 
         return literal_text(self.scene.title or self.resolved.code.name)
 
