@@ -91,7 +91,7 @@ def _attrs(plan: Any) -> dict:
     }
 
 
-def _extra_shape(plan: Any, var: Any) -> tuple[int, ...]:
+def extra_shape(plan: Any, var: Any) -> tuple[int, ...]:
     return tuple(len(plan.extra_coords[d]) for d in var.dims)
 
 
@@ -106,7 +106,7 @@ def _expected(plan: Any) -> dict[str, tuple[tuple[str, ...], tuple[int, ...], tu
     for the coordinates (one chunk each)."""
     out: dict[str, Any] = {}
     for name, var in plan.variables.items():
-        out[name] = (plan.dims + var.dims, plan.shape + _extra_shape(plan, var),
+        out[name] = (plan.dims + var.dims, plan.shape + extra_shape(plan, var),
                      _zarr_chunks(plan, var.dims))  # fmt: skip
     out["computed"] = (plan.dims, plan.shape, _zarr_chunks(plan, ()))
     out[DIGEST] = (("chunk", "digest_byte"), (len(plan.chunks), 32), (1, 32))
@@ -126,7 +126,7 @@ def _template(plan: Any, names: list[str] | None = None) -> Any:
     data_vars = {}
     for name, var in plan.variables.items():
         if names is None or name in names:
-            shape = plan.shape + _extra_shape(plan, var)
+            shape = plan.shape + extra_shape(plan, var)
             data_vars[name] = (plan.dims + var.dims, np.full(shape, var.fill, var.dtype), var.attrs)
     if names is None or "computed" in names:
         data_vars["computed"] = (
