@@ -7,6 +7,8 @@ from __future__ import annotations
 import math
 import statistics
 import time
+from collections.abc import Callable
+from typing import Any
 
 import mpmath
 import numpy as np
@@ -18,7 +20,9 @@ from .bench_timing import timed_runs
 __all__ = ["heyoka_rows", "heyoka_system", "jitcode_rows"]
 
 
-def heyoka_system(hy, problem: BenchProblem, number=float, digits: int = 17):
+def heyoka_system(
+    hy: Any, problem: BenchProblem, number: Callable[[str], Any] = float, digits: int = 17
+) -> list[tuple[Any, Any]]:
     """The Chaplygin ball (BKM12 §1.1) in heyoka's expression system.
 
     ``M' = M x omega``, ``gamma' = gamma x omega``, ``omega = A M + k A gamma``,
@@ -27,6 +31,22 @@ def heyoka_system(hy, problem: BenchProblem, number=float, digits: int = 17):
     the working type (``number`` of a ``digits``-digit string: heyoka would fold a division
     by a constant into a double reciprocal). Checked by the final error against our
     reference in every heyoka row.
+
+    Parameters
+    ----------
+    hy : module
+        ``heyoka``.
+    problem : BenchProblem
+        With integer ``I`` and ``D``.
+    number : callable
+        The working type, from a decimal string (``float``, ``hy.real128``, ...).
+    digits : int
+        Digits of the constants.
+
+    Returns
+    -------
+    list of (heyoka.expression, heyoka.expression)
+        ``(variable, right-hand side)`` pairs.
     """
     I = [float(v) for v in problem.params["I"]]
     D = float(problem.params["D"])
@@ -51,7 +71,14 @@ def heyoka_system(hy, problem: BenchProblem, number=float, digits: int = 17):
     return list(zip(M + g, cross(M, w) + cross(g, w), strict=True))
 
 
-def heyoka_rows(problem, quick, repeats, reference, compile_s, say) -> list[BenchRow]:
+def heyoka_rows(
+    problem: BenchProblem,
+    quick: bool,
+    repeats: int,
+    reference: Callable[[float, int], list],
+    compile_s: dict,
+    say: Callable[[str], None],
+) -> list[BenchRow]:
     """heyoka in double (two tolerances and its default), real128 and 30/50/100 digits.
 
     Parameters
@@ -139,7 +166,14 @@ def heyoka_rows(problem, quick, repeats, reference, compile_s, say) -> list[Benc
     return rows
 
 
-def jitcode_rows(problem, quick, repeats, reference, compile_s, say) -> list[BenchRow]:
+def jitcode_rows(
+    problem: BenchProblem,
+    quick: bool,
+    repeats: int,
+    reference: Callable[[float, int], list],
+    compile_s: dict,
+    say: Callable[[str], None],
+) -> list[BenchRow]:
     """jitcode (C code from symengine, scipy's Fortran dop853) in double, two tolerances.
 
     The same hand-written system as :func:`heyoka_system`, with exact rational constants.

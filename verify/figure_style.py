@@ -34,7 +34,7 @@ def literal_text(text: str) -> str:
     return text.replace("$", r"\$")
 
 
-def new_figure(**kwargs) -> Figure:
+def new_figure(**kwargs: object) -> Figure:
     """A :class:`~matplotlib.figure.Figure` not managed by pyplot (no backend is chosen).
 
     Parameters

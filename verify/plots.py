@@ -64,7 +64,15 @@ FIGURES = {
     ),
 }
 # ---------------------------------------------------------------------- bifurcation diagrams
-def draw_k01_diagram(ax: Axes, I, D, C, samples, seed, traces: Axes | None = None) -> float:
+def draw_k01_diagram(
+    ax: Axes,
+    I: tuple[float, float, float],
+    D: float,
+    C: float,
+    samples: int,
+    seed: int,
+    traces: Axes | None = None,
+) -> float:
     """K01's energy diagram on ``ax``, the (n, h) plane at ``C``: the steady rotations
     ``p_i: h = Sigma_i/2`` (solid where stable), the segment ``n = C^2`` (``M || gamma``) and
     ``samples`` integrated random states (their traces on ``traces``, if given).

@@ -92,6 +92,17 @@ def _attrs(plan: Any) -> dict:
 
 
 def extra_shape(plan: Any, var: Any) -> tuple[int, ...]:
+    """The lengths of a variable's extra dimensions (beyond the grid's).
+
+    Parameters
+    ----------
+    plan : SweepPlan
+    var : Variable
+
+    Returns
+    -------
+    tuple of int
+    """
     return tuple(len(plan.extra_coords[d]) for d in var.dims)
 
 
