@@ -28,14 +28,15 @@ import pkgutil
 from collections.abc import Iterable, Iterator, Mapping
 
 from .base import (
+    CLAIMS,
     KINDS,
     VERDICT_OF_METHOD,
     Check,
     Claim,
+    ClaimStore,
     Computed,
     ComputedClaim,
     register,
-    registered,
 )
 
 __all__ = [
@@ -67,10 +68,17 @@ class ClaimRegistry(Mapping[str, Claim]):
     of this package, where registration happens. The claims of :data:`_MODEL_MODULES`
     (``MODEL:...``) are loaded only by a lookup of such an ID, by iteration or by a
     selection whose patterns may match one.
+
+    Parameters
+    ----------
+    store : ClaimStore, optional
+        Where the claims are kept (default: a new, empty one; :data:`REGISTRY` reads the one
+        :func:`register` fills).
     """
 
-    def __init__(self) -> None:
-        self._claims: dict[str, Claim] = registered()
+    def __init__(self, store: ClaimStore | None = None) -> None:
+        self._store = store if store is not None else ClaimStore()
+        self._claims: dict[str, Claim] = self._store.claims
         self._loaded: set[str] = set()
         self._modules: list[str] = []
 
@@ -87,7 +95,7 @@ class ClaimRegistry(Mapping[str, Claim]):
         ValueError
             If a claim with the same ID is already registered.
         """
-        register(claim)
+        self._store.add(claim)
 
     def load(self, models: bool = True) -> None:
         """Import the claim modules (the papers' first; ``models``: the model claims too).
@@ -142,7 +150,7 @@ class ClaimRegistry(Mapping[str, Claim]):
         return f"<ClaimRegistry: {len(self._claims)} claims loaded>"
 
 
-REGISTRY = ClaimRegistry()
+REGISTRY = ClaimRegistry(CLAIMS)
 
 
 def _may_match_model_claims(pattern: str) -> bool:

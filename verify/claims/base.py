@@ -20,7 +20,8 @@ __all__ = [
     "Check",
     "Computed",
     "register",
-    "registered",
+    "ClaimStore",
+    "CLAIMS",
     "KINDS",
     "VERDICT_OF_METHOD",
 ]
@@ -231,18 +232,36 @@ class ComputedClaim(Claim):
         return "refuted" if self.expected == "fails" else "numeric"
 
 
-#: Every claim registered so far, by ID, in registration order.
-_CLAIMS: dict[str, Claim] = {}
+class ClaimStore:
+    """Claims by ID, in registration order; an ID is added once.
 
-
-def registered() -> dict[str, Claim]:
-    """The claims registered so far (the store itself: :class:`ClaimRegistry` reads it).
-
-    Returns
-    -------
-    dict of str to Claim
+    Attributes
+    ----------
+    claims : dict of str to Claim
     """
-    return _CLAIMS
+
+    def __init__(self) -> None:
+        self.claims: dict[str, Claim] = {}
+
+    def add(self, claim: Claim) -> None:
+        """Add one claim (its ID must be new).
+
+        Parameters
+        ----------
+        claim : Claim
+
+        Raises
+        ------
+        ValueError
+            If a claim with the same ID is already there.
+        """
+        if claim.id in self.claims:
+            raise ValueError(f"duplicate claim ID {claim.id}")
+        self.claims[claim.id] = claim
+
+
+#: Where :func:`register` puts the claims (:data:`chaplygin.verify.claims.REGISTRY` reads it).
+CLAIMS = ClaimStore()
 
 
 def register(*claims: Claim) -> tuple[Claim, ...]:
@@ -264,7 +283,5 @@ def register(*claims: Claim) -> tuple[Claim, ...]:
         If a claim with the same ID is already registered.
     """
     for claim in claims:
-        if claim.id in _CLAIMS:
-            raise ValueError(f"duplicate claim ID {claim.id}")
-        _CLAIMS[claim.id] = claim
+        CLAIMS.add(claim)
     return claims
