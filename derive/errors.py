@@ -7,7 +7,17 @@ effect or parameter, a non-physical value, a malformed number).
 
 from __future__ import annotations
 
-__all__ = ["ChaplyginError", "UserInputError", "DerivationError", "CacheError", "ComputationError"]
+import difflib
+from collections.abc import Iterable
+
+__all__ = [
+    "ChaplyginError",
+    "UserInputError",
+    "DerivationError",
+    "CacheError",
+    "ComputationError",
+    "did_you_mean",
+]
 
 
 class ChaplyginError(Exception):
@@ -30,3 +40,22 @@ class CacheError(UserInputError):
 class ComputationError(ChaplyginError, RuntimeError):
     """A numerical computation did not reach its result (an integration that failed, a return
     to the initial state that was not found); the message says what happened."""
+
+
+def did_you_mean(word: object, choices: Iterable[str]) -> str:
+    """`` (did you mean 'x'?)`` for the choice closest to ``word``, or ``""`` if none is close
+    (for the messages of :class:`UserInputError` that list the valid names).
+
+    Parameters
+    ----------
+    word : object
+        What the user typed.
+    choices : iterable of str
+        The valid names.
+
+    Returns
+    -------
+    str
+    """
+    close = difflib.get_close_matches(str(word), list(choices), n=1, cutoff=0.6)
+    return f" (did you mean {close[0]!r}?)" if close else ""

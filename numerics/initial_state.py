@@ -1,46 +1,45 @@
-"""Initial states of the ball from the values of its first integrals (K01 §2-§4, BKM12 §1.1).
+"""Initial states: the one function that turns a request into a state, for the API and scenes.
 
-The papers give their trajectories by the values of the integrals, not by a state: the energy
-``h``, the constant of areas ``C = (M, gamma)`` (K01's ``C``), ``n = (M, M)``, or the line
-``M || gamma`` (``parallel``, i.e. ``n = C^2``). With the gyrostat (K01 §4) ``M`` is replaced by
-``M + K`` in ``C`` and ``n``. This module turns such a request into a state ``(M, gamma)``, with a
-documented and reproducible choice where the level set is not a point, and refuses an impossible
-request with the admissible range.
+A request (a scene's ``[initial]`` table, or the same keys as a mapping) gives the state of a
+model in one of these ways, each a documented and reproducible choice:
 
-Every energy is evaluated with the model's own generated integrals (``code.mpmath.integrals``)
-at the working digits; nothing here restates the Hamiltonian.
+* by state groups (``M``, ``gamma``, ``alpha``, ``x``, ...), completed as the model declares
+  (:func:`chaplygin.numerics.inputs.pack_state`; the frame ``alpha, beta`` by the one rule of
+  :mod:`chaplygin.numerics.frame`: BKM12-7, and on ``M || gamma`` the body axis least aligned
+  with ``gamma``, projected);
+* by the values of the ball's first integrals: ``h``, ``C``, and ``n`` or ``parallel``,
+  ``point`` choosing the point of the level set (:mod:`chaplygin.numerics.level_set`);
+* by BM20's Andoyer-Deprit variables ``G, z, l, g`` (BM20 (3.7)), or ``rest = true`` (``M = 0``);
+* near a named solution of the plain ball: ``near = "p_i"`` (the steady rotation about axis
+  ``i``, K01 (3.2)) or ``separatrix = i`` (``M || gamma`` at ``h = C^2/(2 I_i)``, the middle axis),
+  pushed off by ``offset``.
 
-Choice of the point (reproducible)
-----------------------------------
-* ``parallel`` without the gyrostat: ``M = C gamma``,
-  ``s = (gamma, A gamma) = 2h/(C^2 + 2hD)``, and ``gamma`` lies in the plane of the axes of
-  largest and smallest ``A_i`` (which every level set meets):
-  ``gamma = (cos t) e_max + (sin t) e_min``, ``cos^2 t = (s - A_min)/(A_max - A_min)``.
-  ``point = k`` (0..3) picks the signs ``(+,+), (+,-), (-,+), (-,-)`` of ``(cos t, sin t)``.
-* otherwise ``gamma`` is given, or taken from a fixed grid of the sphere (a Fibonacci lattice of
-  :data:`GRID` points in a fixed order); ``M + K = C gamma + u`` with ``u`` perpendicular to
-  ``gamma`` and ``|u|^2 = n - C^2`` (a circle; a point when ``n = C^2``), and the energy on that
-  circle is a trigonometric polynomial of degree 2 in the angle of ``u``, fitted exactly from 5
-  samples; its roots are sorted by angle and polished to the working precision; ``point = k``
-  picks the k-th root (over the grid points in order, the first ``gamma`` that has roots is used).
-* ``parallel`` with the gyrostat: ``M = C gamma - K`` and the energy is a function on the sphere;
-  the first pair of neighbouring grid points (in grid order) where it crosses ``h`` is bisected
-  along their great-circle arc (``point = k``: the k-th such pair).
+:func:`initial_state` chooses between them and returns the state at the working precision with
+how it was chosen, the integral values prescribed and their residuals. A request it cannot use
+raises :class:`InitialStateError`, whose ``key`` names the request key at fault (a scene shows
+it as ``initial.<key>`` with its line).
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import mpmath
-import numpy as np
 
-from ..arith import detlinalg, detmath
-from ..derive.errors import UserInputError
+from ..derive.errors import UserInputError, did_you_mean
 from .code import ModelCode
+from .frame import horizontal_frame
+from .level_set import GRID, INTEGRAL_KEYS, ResolvedState, integral_name, state_from_integrals
 
 __all__ = [
+    "ANDOYER",
+    "REQUEST_KEYS",
+    "InitialState",
+    "InitialStateError",
+    "check_initial_request",
+    "initial_state",
     "ResolvedState",
     "state_from_integrals",
     "state_from_andoyer",
@@ -50,388 +49,6 @@ __all__ = [
     "GRID",
     "INTEGRAL_KEYS",
 ]
-
-#: Points of the Fibonacci lattice on the sphere that candidate ``gamma`` are taken from.
-GRID = 400
-
-#: Keys of a request by integrals.
-INTEGRAL_KEYS = ("h", "C", "n", "parallel")
-
-
-@dataclass
-class ResolvedState:
-    """A state resolved from integrals.
-
-    Attributes
-    ----------
-    values : dict of str to list of mpmath.mpf
-        State groups (``M``, ``gamma``) at the working digits.
-    how : str
-        How the point was chosen (for the summary).
-    prescribed : dict of str to mpmath.mpf
-        The integral values asked for, by the model's integral name.
-    """
-
-    values: dict[str, list]
-    how: str
-    prescribed: dict[str, object] = field(default_factory=dict)
-
-
-def _integral_name(code: ModelCode, key: str) -> str:
-    names = code.integral_names
-    gyro = "(M+K,gamma)" in names
-    wanted = {
-        "h": "H",
-        "C": "(M+K,gamma)" if gyro else "(M,gamma)",
-        "n": "(M+K,M+K)" if gyro else "(M,M)",
-    }[key]
-    if wanted not in names:
-        raise UserInputError(
-            f"{code.name} has no first integral {wanted} (needed by initial.{key}); "
-            f"its integrals: {', '.join(names)}"
-        )
-    return wanted
-
-
-def _energy_fn(code: ModelCode, params: Sequence, dps: int):
-    """``H(M, gamma)`` from the generated integrals (other state groups set to a frame)."""
-    hi = code.integral_names.index("H")
-    groups = code.state_groups
-
-    def energy(M, gamma):
-        values = {"M": M, "gamma": gamma}
-        y = []
-        for name, comps in groups.items():
-            y.extend(values.get(name, [mpmath.mpf(0)] * len(comps)))
-        order = [s for comps in groups.values() for s in comps]
-        y = [y[order.index(s)] for s in code.state]
-        return code.mpmath.integrals(mpmath.mpf(0), y, list(params))[hi]
-
-    return energy
-
-
-def _fibonacci(n: int) -> list[list]:
-    golden = (1 + mpmath.sqrt(5)) / 2
-    out = []
-    for i in range(n):
-        z = 1 - (2 * mpmath.mpf(i) + 1) / n
-        r = mpmath.sqrt(1 - z * z)
-        phi = 2 * mpmath.pi * i / golden
-        out.append([r * mpmath.cos(phi), r * mpmath.sin(phi), z])
-    return out
-
-
-def _dot(a, b):
-    return sum(x * y for x, y in zip(a, b, strict=True))
-
-
-def _cross(a, b):
-    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-
-
-def _unit(v):
-    n = mpmath.sqrt(_dot(v, v))
-    return [x / n for x in v]
-
-
-def _perp_basis(g):
-    """Two unit vectors completing ``g`` to a right-handed frame (fixed rule: the body axis
-    least aligned with ``g`` is projected)."""
-    k = min(range(3), key=lambda i: (abs(g[i]), i))
-    e = [mpmath.mpf(int(i == k)) for i in range(3)]
-    e1 = _unit([a - _dot(e, g) * b for a, b in zip(e, g, strict=True)])
-    return e1, _cross(g, e1)
-
-
-def horizontal_frame(gamma: Sequence) -> tuple[list, list]:
-    """A right-handed horizontal frame ``alpha, beta`` (``alpha x beta = gamma``) by a fixed rule.
-
-    Used where BKM12-7 is undefined (``M || gamma``): ``alpha`` is the projection, onto the plane
-    perpendicular to ``gamma``, of the body axis least aligned with ``gamma``.
-
-    Parameters
-    ----------
-    gamma : sequence of 3 numbers
-        A unit vector.
-
-    Returns
-    -------
-    alpha, beta : list of mpmath.mpf
-    """
-    return _perp_basis([mpmath.mpf(v) for v in gamma])
-
-
-def _trig_roots(f, level, k_max: int = 8) -> list:
-    """Roots in [0, 2 pi) of ``f(phi) = level`` where ``f`` is a trig polynomial of degree 2."""
-    N = 5
-    samples = [f(2 * mpmath.pi * j / N) - level for j in range(N)]
-    c = [
-        sum(samples[j] * mpmath.expj(-2 * mpmath.pi * j * m / N) for j in range(N)) / N
-        for m in range(-2, 3)
-    ]  # f - level = sum_m c_m e^{i m phi}, m = -2..2
-    coeffs = [complex(v) for v in reversed(c)]  # z^2 (f - level) as a polynomial in z
-    scale = max(abs(v) for v in coeffs)
-    if scale == 0:
-        return []
-    while coeffs and abs(coeffs[0]) <= 1e-14 * scale:
-        coeffs = coeffs[1:]
-    roots = np.roots(coeffs) if len(coeffs) > 1 else []
-    out = []
-    for z in roots:
-        if abs(abs(z) - 1) > 1e-6:
-            continue
-        phi = mpmath.mpf(float(np.angle(z)) % (2 * np.pi))
-        try:
-            phi = mpmath.findroot(lambda x: f(x) - level, phi)
-        except (ValueError, ZeroDivisionError):
-            pass
-        out.append(mpmath.mpf(phi) % (2 * mpmath.pi))
-    out.sort()
-    unique = []
-    for phi in out:
-        if not unique or abs(phi - unique[-1]) > mpmath.mpf(10) ** (-mpmath.mp.dps // 2):
-            unique.append(phi)
-    return unique
-
-
-def _range_msg(lo, hi) -> str:
-    return f"[{mpmath.nstr(mpmath.mpf(lo), 10)}, {mpmath.nstr(mpmath.mpf(hi), 10)}]"
-
-
-def state_from_integrals(
-    code: ModelCode,
-    params: Mapping[str, Sequence],
-    request: Mapping[str, object],
-    dps: int,
-) -> ResolvedState:
-    """A state ``(M, gamma)`` on prescribed values of the integrals.
-
-    Parameters
-    ----------
-    code : ModelCode
-        The model (its generated integrals give the energy).
-    params : mapping
-        Parameter vector by symbol name (``I1, I2, I3, D, ...``), already numbers.
-    request : mapping
-        ``h``, ``C``, ``n``, ``parallel`` (bool), ``point`` (int, default 0) and optionally
-        ``gamma`` (a unit vector: the level set is then searched at this ``gamma`` only).
-    dps : int
-        Working decimal digits of the resolution.
-
-    Returns
-    -------
-    ResolvedState
-
-    Raises
-    ------
-    UserInputError
-        An under- or over-determined request, or values outside the admissible range (the
-        message gives the range).
-    """
-    with mpmath.workdps(dps + 10):
-        return _resolve(code, params, request)
-
-
-def _resolve(code, params, request) -> ResolvedState:
-    p = [mpmath.mpf(params[s]) for s in code.params]
-    if "H" not in code.integral_names:
-        raise UserInputError(
-            f"{code.name} has no energy integral: give the initial state by its components"
-        )
-    energy = _energy_fn(code, p, mpmath.mp.dps)
-    h = request.get("h")
-    C = request.get("C")
-    n = request.get("n")
-    parallel = bool(request.get("parallel", False))
-    point = int(request.get("point", 0))
-    gamma = request.get("gamma")
-    if h is None or C is None:
-        raise UserInputError(
-            "an initial state by integrals needs at least initial.h (energy) and initial.C "
-            "((M, gamma)), and either initial.n ((M, M)) or parallel = true"
-        )
-    if parallel and n is not None:
-        raise UserInputError("give initial.n or parallel = true, not both (parallel means n = C^2)")
-    if not parallel and n is None:
-        raise UserInputError(
-            "initial.n ((M, M)) is missing; give it, or parallel = true for M || gamma (n = C^2)"
-        )
-    if point < 0:
-        raise UserInputError(f"initial.point must be 0 or more, got {point}")
-    h, C = mpmath.mpf(h), mpmath.mpf(C)
-    K = [p[code.params.index(f"K{i}")] for i in (1, 2, 3)] if "K1" in code.params else None
-    prescribed = {_integral_name(code, "h"): h, _integral_name(code, "C"): C}
-    if parallel:
-        n = C * C
-    else:
-        n = mpmath.mpf(n)
-        prescribed[_integral_name(code, "n")] = n
-        if n < C * C:
-            raise UserInputError(
-                f"n = (M, M) = {mpmath.nstr(n, 10)} is below C^2 = {mpmath.nstr(C * C, 10)}; "
-                f"admissible: n >= C^2 (|(M, gamma)| <= |M|)"
-            )
-    if gamma is not None:
-        gamma = _unit([mpmath.mpf(v) for v in gamma])
-    if parallel and K is None and gamma is None:
-        return _parallel_ball(code, p, h, C, point, prescribed)
-    Kv = K or [mpmath.mpf(0)] * 3
-    r = mpmath.sqrt(n - C * C)
-
-    def momentum(g, phi):
-        e1, e2 = _perp_basis(g)
-        u = [r * (mpmath.cos(phi) * a + mpmath.sin(phi) * b) for a, b in zip(e1, e2, strict=True)]
-        return [C * gi + ui - ki for gi, ui, ki in zip(g, u, Kv, strict=True)]
-
-    candidates = [gamma] if gamma is not None else _fibonacci(GRID)
-    if r == 0:  # a point per gamma: M + K = C gamma; energy is a function on the sphere
-        values = [energy(momentum(g, 0), g) - h for g in candidates]
-        if gamma is not None:
-            if abs(values[0]) > mpmath.mpf(10) ** (-mpmath.mp.dps // 2) * (1 + abs(h)):
-                raise UserInputError(
-                    "with parallel = true and a given gamma the energy is fixed: "
-                    f"h = {mpmath.nstr(values[0] + h, 15)}, not {mpmath.nstr(h, 15)}"
-                )
-            return ResolvedState(
-                {"M": momentum(gamma, 0), "gamma": gamma}, "M + K = C gamma", prescribed
-            )
-        crossings = _grid_crossings(candidates, values)
-        if point >= len(crossings):
-            lo, hi = min(values) + h, max(values) + h
-            raise _no_point(h, lo, hi, point, len(crossings), "parallel")
-        a, b = crossings[point]
-        g = _bisect_arc(lambda g: energy(momentum(g, 0), g) - h, candidates[a], candidates[b])
-        how = (
-            f"M + K = C gamma; gamma on the arc between Fibonacci grid points {a} and {b} "
-            f"(of {GRID}) where the energy crosses h (crossing {point})"
-        )
-        return ResolvedState({"M": momentum(g, 0), "gamma": g}, how, prescribed)
-    # a double-precision pre-scan of every circle (16 angles): its range decides which
-    # candidates can have roots (with a margin of 10 % of the circle's span), and the range
-    # reported when none has
-    ranges = _circle_ranges(code, p, C, r, Kv, candidates)
-    lo, hi = float(ranges[:, 0].min()), float(ranges[:, 1].max())
-    seen = 0
-    for idx, g in enumerate(candidates):
-        a, b = ranges[idx]
-        if not a - 0.1 * (b - a) - 1e-12 <= float(h) <= b + 0.1 * (b - a) + 1e-12:
-            continue
-        f = lambda phi, g=g: energy(momentum(g, phi), g)  # noqa: E731
-        roots = _trig_roots(f, h)
-        if seen + len(roots) > point:
-            phi = roots[point - seen]
-            where = "the given gamma" if gamma is not None else f"Fibonacci grid point {idx}"
-            how = (
-                f"gamma = {where}; M + K = C gamma + u, u perpendicular to gamma, |u|^2 = n - C^2,"
-                f" at angle {mpmath.nstr(phi, 12)} (root {point - seen} of "
-                f"{len(roots)} sorted by angle)"
-            )
-            return ResolvedState({"M": momentum(g, phi), "gamma": g}, how, prescribed)
-        seen += len(roots)
-    raise _no_point(h, lo, hi, point, seen, "n")
-
-
-def _circle_ranges(code: ModelCode, p, C, r, K, candidates) -> np.ndarray:
-    """(min, max) of the energy over 16 angles of each candidate's circle, in double."""
-    g = np.array([[float(c) for c in v] for v in candidates])  # (G, 3)
-    k = np.argmin(np.abs(g) + np.arange(3) * 1e-15, axis=1)  # same rule as _perp_basis
-    e = np.eye(3)[k]
-    e1 = e - np.sum(e * g, axis=1)[:, None] * g
-    e1 /= np.sqrt(np.sum(e1 * e1, axis=1))[:, None]
-    e2 = np.cross(g, e1)
-    phi = 2 * np.pi * np.arange(16) / 16
-    u = float(r) * (
-        detmath.cos(phi)[None, :, None] * e1[:, None, :]
-        + detmath.sin(phi)[None, :, None] * e2[:, None, :]
-    )
-    M = float(C) * g[:, None, :] + u - np.array([float(v) for v in K])[None, None, :]
-    gam = np.broadcast_to(g[:, None, :], M.shape)
-    values = {"M": M.reshape(-1, 3).T, "gamma": gam.reshape(-1, 3).T}
-    n = M.shape[0] * M.shape[1]
-    rows = {}
-    for name, comps in code.state_groups.items():
-        block = values.get(name, np.zeros((len(comps), n)))
-        rows.update(zip(comps, block, strict=True))
-    y = np.array([rows[s] for s in code.state])
-    H = np.asarray(
-        code.numpy.integrals(np.zeros(n), y, np.array([float(v) for v in p]))[
-            code.integral_names.index("H")
-        ],
-        float,
-    ).reshape(M.shape[0], M.shape[1])
-    return np.stack([H.min(axis=1), H.max(axis=1)], axis=1)
-
-
-def _no_point(h, lo, hi, point, found, case) -> UserInputError:
-    if found and point >= found:
-        return UserInputError(
-            f"initial.point = {point} but this level set has only {found} point(s) to choose "
-            f"from; use 0..{found - 1}"
-        )
-    where = "on M || gamma" if case == "parallel" else "for these C and n"
-    return UserInputError(
-        f"no state has energy h = {mpmath.nstr(h, 10)} {where}: the energy ranges over about "
-        f"{_range_msg(lo, hi)} (sampled)"
-    )
-
-
-def _grid_crossings(points, values) -> list[tuple[int, int]]:
-    """Pairs (i, j), i < j, of nearest-neighbour grid points where ``values`` changes sign."""
-    arr = np.array([[float(c) for c in g] for g in points])
-    out = []
-    for i in range(len(points)):
-        d = detlinalg.matmul(arr, arr[i])
-        near = np.argsort(-d)[1:7]
-        for j in sorted(int(j) for j in near):
-            if j > i and (values[i] > 0) != (values[j] > 0):
-                out.append((i, j))
-    return out
-
-
-def _bisect_arc(f, a, b):
-    def point(s):
-        return _unit([(1 - s) * x + s * y for x, y in zip(a, b, strict=True)])
-
-    s = mpmath.findroot(lambda s: f(point(s)), (mpmath.mpf(0), mpmath.mpf(1)), solver="anderson")
-    return point(s)
-
-
-def _parallel_ball(code, p, h, C, point, prescribed) -> ResolvedState:
-    Ii = [p[code.params.index(f"I{i}")] for i in (1, 2, 3)]
-    D = p[code.params.index("D")]
-    A = [1 / (v + D) for v in Ii]
-    h_at = [C * C * a / (2 * (1 - D * a)) for a in A]  # = C^2/(2 I_i): rotation about axis i
-    lo, hi = min(h_at), max(h_at)
-    if C == 0:
-        raise UserInputError("parallel = true with C = 0 is the state of rest (M = 0): h = 0 only")
-    slack = mpmath.mpf(10) ** (10 - mpmath.mp.dps) * hi  # rounding of the ends themselves
-    if not lo - slack <= h <= hi + slack:
-        raise UserInputError(
-            f"no state on M || gamma has energy h = {mpmath.nstr(h, 10)} at C = "
-            f"{mpmath.nstr(C, 10)}: admissible h in [h3, h1] = {_range_msg(lo, hi)} "
-            f"(h_i = C^2/(2 I_i))"
-        )
-    if point > 3:
-        raise UserInputError(f"initial.point on M || gamma is 0..3 (the sign choices), got {point}")
-    s = 2 * h / (C * C + 2 * h * D)
-    imax = max(range(3), key=lambda i: (A[i], -i))
-    imin = min(range(3), key=lambda i: (A[i], i))
-    if A[imax] == A[imin]:
-        c2 = mpmath.mpf(1)
-    else:
-        c2 = (s - A[imin]) / (A[imax] - A[imin])
-    c2 = min(max(c2, mpmath.mpf(0)), mpmath.mpf(1))
-    c, sn = mpmath.sqrt(c2), mpmath.sqrt(1 - c2)
-    c = -c if point in (2, 3) else c
-    sn = -sn if point in (1, 3) else sn
-    g = [mpmath.mpf(0)] * 3
-    g[imax] += c
-    g[imin] += sn
-    how = (
-        f"M = C gamma, gamma in the plane of body axes {imax + 1} (largest A_i) and {imin + 1} "
-        f"(smallest A_i), (gamma, A gamma) = 2h/(C^2 + 2hD); signs of point {point}"
-    )
-    return ResolvedState({"M": [C * v for v in g], "gamma": g}, how, prescribed)
 
 
 def integral_residuals(
@@ -562,5 +179,291 @@ def state_near_rotation(
         f"{mpmath.nstr(w, 12)} e{axis}, gamma{axis} = {mpmath.nstr(gi, 12)}"
         + (f"; M{k + 1} pushed by offset |M| = {mpmath.nstr(offset * size, 6)}" if offset else "")
     )
-    prescribed = {_integral_name(code, "C"): C, _integral_name(code, "n"): n}
+    prescribed = {integral_name(code, "C"): C, integral_name(code, "n"): n}
     return ResolvedState({"M": M, "gamma": gamma}, how, prescribed)
+
+
+# ------------------------------------------------------------------------ the one entry
+#: BM20's Andoyer-Deprit variables (3.7), in their order.
+ANDOYER = ("G", "z", "l", "g")
+
+#: Keys of a request that are not state groups (a state group of the model is a key too).
+REQUEST_KEYS = (*INTEGRAL_KEYS, "point", *ANDOYER, "rest", "near", "separatrix", "offset")
+
+#: Keys that choose how (not what): left out of the state groups and integrals given.
+_CHOICE_KEYS = ("parallel", "point", "rest", "near", "separatrix", "offset", *ANDOYER)
+
+
+class InitialStateError(UserInputError):
+    """A request :func:`initial_state` cannot use.
+
+    Attributes
+    ----------
+    key : str or None
+        The request key the message is about (``"h"``, ``"near"``, a state group), or None for
+        the request as a whole.
+    """
+
+    def __init__(self, message: str, key: str | None = None):
+        super().__init__(message)
+        self.key = key
+
+
+@dataclass
+class InitialState:
+    """An initial state chosen from a request.
+
+    Attributes
+    ----------
+    y0 : list of float or mpmath.mpf
+        The state in the model's order at the working precision.
+    how : str
+        How it was chosen (``"given by state"``, the level-set point, the rotation, ...).
+    prescribed : dict of str to mpmath.mpf
+        The integral values asked for, by the model's integral name (empty when none).
+    residuals : dict of str to float
+        ``F(y0) - prescribed`` for each, with the model's generated integrals.
+    """
+
+    y0: list
+    how: str = "given by state"
+    prescribed: dict = field(default_factory=dict)
+    residuals: dict = field(default_factory=dict)
+
+
+@dataclass
+class _Request:
+    """A request split by role: state groups, integrals, Andoyer-Deprit variables, choices."""
+
+    given: dict
+    by_integrals: dict
+    andoyer: dict
+    choices: dict
+
+
+def _split(code: ModelCode, request: Mapping[str, object]) -> _Request:
+    """The request by role, with ``rest`` applied; the structural refusals of
+    :func:`check_initial_request`."""
+    items = {k: v for k, v in request.items() if v is not None}
+    choices = {
+        "parallel": bool(items.get("parallel", False)),
+        "point": items.get("point", 0),
+        "rest": bool(items.get("rest", False)),
+        "near": items.get("near"),
+        "separatrix": items.get("separatrix"),
+        "offset": items.get("offset", 0),
+    }
+    given = {k: v for k, v in items.items() if k not in _CHOICE_KEYS}
+    if choices["parallel"]:
+        given["parallel"] = True
+    andoyer = {k: items[k] for k in ANDOYER if k in items}
+    if choices["rest"]:
+        andoyer.setdefault("G", 0)
+        if "M" in given or (andoyer.get("G") not in (0, "0")):
+            raise InitialStateError("rest = true means M = 0: give no M and no G", "rest")
+        if "gamma" in given:
+            given["M"] = [0, 0, 0]
+    by_integrals = {k: given.pop(k) for k in INTEGRAL_KEYS if k in given}
+    state_groups = code.state_groups
+    for k in given:
+        if k not in state_groups:
+            valid = [*state_groups, *INTEGRAL_KEYS, "point"]
+            raise InitialStateError(
+                f"{code.name} has no state {k!r}; valid: {', '.join(valid)}"
+                f"{did_you_mean(k, valid)}",
+                k,
+            )
+    return _Request(given, by_integrals, andoyer, choices)
+
+
+def check_initial_request(code: ModelCode, request: Mapping[str, object]) -> None:
+    """Refuse a request whose keys cannot work for ``code`` (an unknown state group, ``rest``
+    with ``M`` or ``G``) before anything is computed; :func:`initial_state` checks the rest.
+
+    Parameters
+    ----------
+    code : ModelCode
+    request : mapping of str to value
+        As for :func:`initial_state`.
+
+    Raises
+    ------
+    InitialStateError
+    """
+    _split(code, request)
+
+
+def initial_state(
+    code: ModelCode, params: Mapping[str, object], request: Mapping[str, object], precision: Any
+) -> InitialState:
+    """The initial state a request asks for, at the working precision (see the module).
+
+    Parameters
+    ----------
+    code : ModelCode
+        The model.
+    params : mapping of str to number
+        Parameter values by symbol (``I1, I2, I3, D, ...``) at the working precision.
+    request : mapping of str to value
+        State groups of the model (``M``, ``gamma``, ...) and the keys of :data:`REQUEST_KEYS`:
+        ``h``, ``C``, ``n``, ``parallel`` (bool), ``point`` (int), ``G, z, l, g``, ``rest``
+        (bool), ``near`` (``"p1"``..``"p3"``), ``separatrix`` (1..3), ``offset``. Values are
+        numbers or text :func:`~chaplygin.numerics.inputs.parse_number` reads; None means
+        absent.
+    precision : Precision
+        The working precision (the request is read at ``precision.parse_dps`` digits).
+
+    Returns
+    -------
+    InitialState
+
+    Raises
+    ------
+    InitialStateError
+        A request that cannot be used; ``key`` names the key at fault.
+    UserInputError
+        A number the parser refuses where no key is at fault.
+
+    References
+    ----------
+    K01 (3.2), K01 §3.3, BM20 (3.7), BKM12-7 (FORMULAS.md).
+    """
+    from .inputs import complete_state
+
+    req = _split(code, request)
+    given, by_integrals, andoyer, choices = req.given, req.by_integrals, req.andoyer, req.choices
+    prescribed: dict = {}
+    how = "given by state"
+    dps = precision.parse_dps
+    special = _near_or_separatrix(code, params, req, dps)
+    if special is not None:
+        given.update(special[0])
+        prescribed, how = special[1], special[2]
+    if andoyer and not (choices["rest"] and set(andoyer) == {"G"} and "gamma" in given):
+        values = _from_andoyer(andoyer, given, by_integrals, dps)
+        given.update(values)
+        how = "Andoyer-Deprit variables G, z, l, g (BM20 (3.7))"
+    elif choices["rest"]:
+        if "gamma" not in given:
+            raise InitialStateError(
+                "rest = true needs gamma (or the Andoyer-Deprit z, l, g)", "rest"
+            )
+        how = "from rest (M = 0)"
+    if by_integrals and not prescribed:
+        resolved = _from_integrals(code, params, by_integrals, given, choices["point"], dps)
+        prescribed, how = resolved.prescribed, resolved.how
+        given.update(
+            {k: [mpmath.nstr(c, dps + 5) for c in v] for k, v in resolved.values.items()}
+        )
+    try:
+        state = complete_state(code, given, precision)
+    except UserInputError as exc:
+        raise InitialStateError(str(exc)) from None
+    for note in state.notes:
+        how += f"; {note}"
+    residuals = {}
+    if prescribed:
+        p = [params[k] for k in code.params]
+        residuals = integral_residuals(
+            code, state.y, p, prescribed, max(precision.digits or 17, 17)
+        )
+    return InitialState(state.y, how, prescribed, residuals)
+
+
+def _num(value: object, dps: int):
+    from .inputs import parse_number
+
+    return parse_number(value, dps + 10)
+
+
+def _from_andoyer(andoyer: dict, given: dict, by_integrals: dict, dps: int) -> dict:
+    """``M, gamma`` (text at ``dps + 5`` digits) from ``G, z, l, g``."""
+    missing = [k for k in ANDOYER if k not in andoyer]
+    clash = [k for k in ("M", "gamma") if k in given] + list(by_integrals)
+    if missing:
+        raise InitialStateError(
+            f"initial.{missing[0]} is missing (Andoyer-Deprit needs G, z, l, g)", missing[0]
+        )
+    if clash:
+        raise InitialStateError(
+            f"give the Andoyer-Deprit variables or {clash[0]}, not both", clash[0]
+        )
+    with mpmath.workdps(dps + 10):
+        try:
+            values = state_from_andoyer(*(_num(andoyer[k], dps) for k in ANDOYER))
+        except UserInputError as exc:
+            raise InitialStateError(str(exc), "z" if "z =" in str(exc) else "G") from None
+        return {k: [mpmath.nstr(c, dps + 5) for c in v] for k, v in values.items()}
+
+
+def _from_integrals(code, params, by_integrals, given, point, dps) -> ResolvedState:
+    """:func:`state_from_integrals` on the request's integrals (and ``gamma``, if given)."""
+    if "M" in given:
+        raise InitialStateError("give M or the integrals (h, C, n, parallel), not both", "M")
+    request = {**by_integrals, "point": point}
+    if "gamma" in given:
+        request["gamma"] = given["gamma"]
+    try:
+        num = {
+            k: (v if isinstance(v, bool) else _num(v, dps))
+            for k, v in request.items()
+            if k != "gamma"
+        }
+        if "gamma" in request:
+            num["gamma"] = [_num(v, dps) for v in request["gamma"]]
+        return state_from_integrals(
+            code, {k: mpmath.mpf(v) for k, v in params.items()}, num, dps
+        )
+    except UserInputError as exc:
+        key = "h" if "energy" in str(exc) else None
+        raise InitialStateError(str(exc), key if key in by_integrals else None) from None
+
+
+def _near_or_separatrix(code, params, req: _Request, dps: int):
+    """``near = "p_i"`` or ``separatrix = i``: ``(state groups, prescribed, how)`` or None (the
+    separatrix becomes a request by integrals: ``h`` and ``parallel``)."""
+    choices, given, by_integrals = req.choices, req.given, req.by_integrals
+    near, separatrix, offset = choices["near"], choices["separatrix"], choices["offset"]
+    if near is None and separatrix is None:
+        if offset not in (0, "0"):
+            raise InitialStateError("offset needs near or separatrix", "offset")
+        return None
+    key = "near" if near is not None else "separatrix"
+    clash = [k for k in ("M", "gamma") if k in given] + [
+        k for k in by_integrals if k not in (("C", "n") if key == "near" else ("C",))
+    ]
+    if near is not None and separatrix is not None:
+        clash.append("separatrix")
+    if clash or choices["parallel"]:
+        raise InitialStateError(f"{key} fixes the state: give no {(clash or ['parallel'])[0]}", key)
+    if "K1" in code.params or "I1" not in code.params or "D" not in code.params:
+        raise InitialStateError(f"{key} is defined for chaplygin_ball without gyrostat", key)
+    need = ("C", "n") if key == "near" else ("C",)
+    missing = [k for k in need if k not in by_integrals]
+    if missing:
+        raise InitialStateError(f"{key} needs initial.{missing[0]}", key)
+    with mpmath.workdps(dps + 10):
+        C = _num(by_integrals["C"], dps)
+        push = _num(offset, dps)
+        p = {k: mpmath.mpf(v) for k, v in params.items()}
+        if key == "near":
+            try:
+                n = _num(by_integrals["n"], dps)
+                r = state_near_rotation(code, p, int(near[1]), C, n, push)
+            except UserInputError as exc:
+                raise InitialStateError(str(exc), key) from None
+            values = {k: [mpmath.nstr(c, dps + 5) for c in v] for k, v in r.values.items()}
+            by_integrals.clear()
+            return values, r.prescribed, r.how
+        I = sorted((p[f"I{i}"], i) for i in (1, 2, 3))
+        if separatrix != I[1][1]:
+            raise InitialStateError(
+                f"the separatrix on M || gamma belongs to the middle axis, here {I[1][1]} "
+                f"(I = {', '.join(mpmath.nstr(v, 8) for v, _ in sorted(I, key=lambda t: t[1]))})",
+                key,
+            )
+        h = C * C / (2 * p[f"I{separatrix}"]) * (1 + push)
+        request = {"C": by_integrals["C"], "h": mpmath.nstr(h, dps + 5), "parallel": True}
+        by_integrals.clear()
+        by_integrals.update(request)
+        return None

@@ -13,6 +13,7 @@ import numbers
 import operator
 import re
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from decimal import Decimal
 from fractions import Fraction
 
@@ -23,6 +24,7 @@ from mpmath.libmp import dps_to_prec, from_rational, round_nearest
 
 from ..derive.errors import UserInputError
 from .code import ModelCode
+from .frame import complete_frame, unit_vector
 from .precision import Precision
 
 __all__ = [
@@ -31,6 +33,8 @@ __all__ = [
     "working_number",
     "pack_params",
     "pack_state",
+    "complete_state",
+    "CompletedState",
     "Precision",
 ]
 
@@ -465,22 +469,22 @@ def round_to(values: Sequence[mpmath.mpf], precision: Precision) -> list[float |
     return [working_number(v, precision) for v in values]
 
 
-def _norm(v):
-    return mpmath.sqrt(sum(x * x for x in v))
+@dataclass(frozen=True)
+class CompletedState:
+    """A state vector and how the groups the user omitted were completed.
 
+    Attributes
+    ----------
+    y : list of float or mpmath.mpf
+        The state in the model's order at the working precision (what :func:`pack_state`
+        returns).
+    notes : tuple of str
+        Where a completion rule took its documented fallback (the frame on ``M || gamma``,
+        :data:`chaplygin.numerics.frame.PARALLEL_FRAME_NOTE`); empty otherwise.
+    """
 
-def _cross(a, b):
-    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-
-
-def _unit(name: str, v: list) -> list:
-    n = _norm(v)
-    if abs(n - 1) > UNIT_TOLERANCE:
-        raise UserInputError(
-            f"{name} must be a unit vector: |{name}| = {mpmath.nstr(n, 12)} differs from 1 by more "
-            f"than {UNIT_TOLERANCE:g}; normalise it (e.g. gamma=0.2,0.3,sqrt(0.87))"
-        )
-    return [x / n for x in v]
+    y: list
+    notes: tuple[str, ...] = ()
 
 
 def pack_state(
@@ -492,11 +496,12 @@ def pack_state(
     ``alpha, beta, gamma``) must be unit vectors (a frame orthonormal and right-handed)
     within :data:`UNIT_TOLERANCE`; they are renormalised at the working precision. A group
     the user omits is completed by the rule the model declares for it (``code.completion``:
-    with the contact point, ``alpha, beta`` by BKM12-7, ``alpha = M x gamma/|M x gamma|``,
-    refused with a message asking for an explicit frame when ``M`` is parallel to
-    ``gamma``, where that formula is singular; ``x, y`` start at 0); a group without a rule
-    must be given (the spherical support's eigenframe, the ball on a surface's ``x``). The
-    constraints that involve parameters (the ellipsoid) are checked by ``integrate``.
+    with the contact point, ``alpha, beta`` by :func:`chaplygin.numerics.frame.complete_frame`:
+    BKM12-7, ``alpha = M x gamma/|M x gamma|``, and on ``M || gamma``, where that formula is
+    undefined, the body axis least aligned with ``gamma``, projected; ``x, y`` start at 0); a
+    group without a rule must be given (the spherical support's eigenframe, the ball on a
+    surface's ``x``). The constraints that involve parameters (the ellipsoid) are checked by
+    ``integrate``.
 
     Parameters
     ----------
@@ -520,12 +525,38 @@ def pack_state(
     UserInputError
         An unknown group, a wrong number of components, an unreadable number, a missing
         group the model has no completion rule for, a vector off its variety (not a unit
-        vector, not an orthonormal right-handed frame), only one of ``alpha`` and ``beta``,
-        or no frame where ``M`` is parallel to ``gamma``.
+        vector, not an orthonormal right-handed frame), or only one of ``alpha`` and ``beta``.
+
+    See Also
+    --------
+    complete_state : the same, with the notes of the completion.
 
     References
     ----------
     BKM12-7 (FORMULAS.md).
+    """
+    return complete_state(code, values, precision).y
+
+
+def complete_state(
+    code: ModelCode, values: Mapping[str, object], precision: Precision
+) -> CompletedState:
+    """:func:`pack_state`, and the notes of the completion rules' fallbacks.
+
+    Parameters
+    ----------
+    code : ModelCode
+    values : mapping of str to value
+    precision : Precision
+
+    Returns
+    -------
+    CompletedState
+
+    Raises
+    ------
+    UserInputError
+        As :func:`pack_state`.
     """
     groups = code.state_groups
     unknown = sorted(set(values) - set(groups))
@@ -534,6 +565,7 @@ def pack_state(
             f"unknown state variable {unknown[0]!r} for {code.name}; valid: {', '.join(groups)}"
         )
     dps = precision.parse_dps
+    notes: list[str] = []
     # the vectors of the model's Poisson groups are read at a guard precision (they are
     # renormalised or complete a frame); every other group is rounded once to the working
     # precision from its own text, and the frame of BKM12-7 is built from those values
@@ -559,16 +591,21 @@ def pack_state(
                 )
         for kind, names in code.geometry:
             if kind == "unit_vector":
-                got[names[0]] = _unit(names[0], got[names[0]])
+                got[names[0]] = unit_vector(names[0], got[names[0]], UNIT_TOLERANCE)
             else:  # a frame alpha, beta, gamma: checked, or completed by its rule
                 alpha, beta, gamma = names
-                got[gamma] = _unit(gamma, got[gamma])
+                got[gamma] = unit_vector(gamma, got[gamma], UNIT_TOLERANCE)
                 if (alpha in got) != (beta in got):
                     raise UserInputError(
                         f"give both {alpha} and {beta}, or neither (they are then computed)"
                     )
                 if alpha in got or rules.get(alpha) == "frame_bkm12_7":
-                    got.update(_frame(got))
+                    frame = complete_frame(
+                        got.get("M"), got[gamma], got.get(alpha), got.get(beta), UNIT_TOLERANCE
+                    )
+                    got[alpha], got[beta] = frame.alpha, frame.beta
+                    if frame.note:
+                        notes.append(frame.note)
         for name, rule in rules.items():
             if name not in got and rule == "zero":
                 got[name] = [mpmath.mpf(0)] * len(groups[name])
@@ -577,49 +614,7 @@ def pack_state(
         }
         state = [flat[s] for s in code.state]
     # one rounding to the working precision (exact for the groups already at it)
-    return round_to(state, precision)
-
-
-def _frame(got: dict) -> dict:
-    gamma, M = got["gamma"], got["M"]
-    if ("alpha" in got) != ("beta" in got):
-        raise UserInputError("give both alpha and beta, or neither (they are then computed)")
-    if "alpha" in got:
-        alpha = _unit("alpha", got["alpha"])
-        beta = _unit("beta", got["beta"])
-        err = max(
-            abs(sum(a * b for a, b in zip(alpha, beta, strict=True))),
-            *(abs(c - g) for c, g in zip(_cross(alpha, beta), gamma, strict=True)),
-        )
-        if err > UNIT_TOLERANCE:
-            raise UserInputError(
-                "alpha, beta, gamma must be a right-handed orthonormal frame "
-                "(gamma = alpha x beta) "
-                f"within {UNIT_TOLERANCE:g}; the error is {mpmath.nstr(err, 6)}"
-            )
-        # exact re-orthonormalisation against gamma
-        a_dot_g = sum(a * g for a, g in zip(alpha, gamma, strict=True))
-        alpha = [a - a_dot_g * g for a, g in zip(alpha, gamma, strict=True)]
-        n = _norm(alpha)
-        alpha = [a / n for a in alpha]
-        return {"alpha": alpha, "beta": _cross(gamma, alpha)}
-    mxg = _cross(M, gamma)
-    s = _norm(mxg)
-    if s <= 1e-6 * max(_norm(M), mpmath.mpf(1)):
-        # BKM12-7 divides by |M x gamma|: on (or next to) the line M || gamma the frame is
-        # undefined (or ill-conditioned), and a silently chosen frame would fix the origin of
-        # the contact-point angle arbitrarily; the user must choose it.
-        raise UserInputError(
-            "M is parallel to gamma (|M x gamma| = "
-            f"{mpmath.nstr(s, 3)}), where the frame of BKM12-7, alpha = M x gamma/|M x gamma|, "
-            "is undefined: give alpha and beta explicitly (a right-handed orthonormal frame "
-            "with alpha x beta = gamma), e.g. "
-            + _argument("y0", "alpha", 3, "A")
-            + " and "
-            + _argument("y0", "beta", 3, "B")
-        )
-    alpha = [c / s for c in mxg]  # BKM12-7
-    return {"alpha": alpha, "beta": _cross(gamma, alpha)}
+    return CompletedState(round_to(state, precision), tuple(notes))
 
 
 # ------------------------------------------------------------- checks of API arguments

@@ -125,7 +125,7 @@ def test_map_throughput_reports_the_work_it_did():
     """The bench section (no timing asserted): every row present, the batch map's counts
     consistent (12 evaluations per step attempt, 2 to start), its first periods near the Taylor
     run's."""
-    from chaplygin.verify.bench import map_throughput
+    from chaplygin.verify.bench_map import map_throughput
 
     row = map_throughput(periods=12, repeats=1, peers=False)
     for name in ("ours_taylor_c", "ours_batch1", "ours_batch4", "ours_batch16"):

@@ -129,7 +129,7 @@ def _row(method, precision, rtol, error, median_s, **kw):
 def test_speed_targets_compare_at_equal_or_better_error():
     """The fastest of our rows whose error is at most EQUAL_ERROR_FACTOR x heyoka's is
     compared; a faster row with a worse error is not; no row reaching it says so."""
-    from chaplygin.verify.bench import EQUAL_ERROR_FACTOR, speed_targets
+    from chaplygin.verify.bench_report import EQUAL_ERROR_FACTOR, speed_targets
 
     rows = [
         _row("heyoka", "30 digits", 1e-30, 2.0e-29, 0.060),
@@ -157,17 +157,22 @@ def test_speed_targets_compare_at_equal_or_better_error():
 
 
 def test_short_runs_are_repeated_to_a_time_budget():
-    from chaplygin.verify.bench import SHORT_RUN_BUDGET_S, SHORT_RUNS_MAX, _runs, _timed_runs
+    from chaplygin.verify.bench_timing import (
+        SHORT_RUN_BUDGET_S,
+        SHORT_RUNS_MAX,
+        run_count,
+        timed_runs,
+    )
 
-    assert _runs(1.0, 5) == 5  # long runs: the asked number
-    assert _runs(SHORT_RUN_BUDGET_S / 50, 5) == 50
-    assert _runs(1e-9, 5) == SHORT_RUNS_MAX
-    assert _runs(1e-9, 1) == 1  # one run asked for: one run
+    assert run_count(1.0, 5) == 5  # long runs: the asked number
+    assert run_count(SHORT_RUN_BUDGET_S / 50, 5) == 50
+    assert run_count(1e-9, 5) == SHORT_RUNS_MAX
+    assert run_count(1e-9, 1) == 1  # one run asked for: one run
     calls = []
 
     def fn():
         calls.append(1)
         return SHORT_RUN_BUDGET_S / 20, len(calls)
 
-    times, last = _timed_runs(fn, 5)
+    times, last = timed_runs(fn, 5)
     assert len(times) == len(calls) == last == 20

@@ -184,20 +184,39 @@ def test_m_exactly_parallel_to_gamma_with_contact_point():
     assert _max_diff(r.y[:, -1], rq.y[:, -1]) <= 1e3 * r.nsteps * TOL
 
 
-def test_m_parallel_to_gamma_without_frame_is_a_clear_error(capsys):
-    """Without alpha, beta on M || gamma: a UserInputError naming alpha and beta (API), exit 2
-    with one line (CLI); never NaN. Just off the line (|M x gamma| / |M| ~ 3e-5) BKM12-7 is
-    well defined and used."""
+def test_m_parallel_to_gamma_without_frame_takes_the_one_frame_rule(capsys):
+    """Without alpha, beta on M || gamma, where BKM12-7 is undefined, the API and the CLI
+    complete the frame by the rule scenes use (``numerics/frame.py``): alpha is the body axis
+    least aligned with gamma (here e1, |gamma1| = 0.2), projected on the plane perpendicular to
+    gamma, beta = gamma x alpha; never NaN. Checked against that frame computed here at 45
+    digits, to the rounding of the double state (4 eps). Only one of alpha and beta is still
+    refused in one line (API and CLI, exit 2). Just off the line (|M x gamma| / |M| ~ 3e-5)
+    BKM12-7 is well defined and used."""
     st = _parallel_state()
     P = {"I": (1, 2, 3), "D": 1, "b": 1}
-    with pytest.raises(UserInputError, match="alpha and beta"):
-        integrate("chaplygin_ball", {"M": st["M"], "gamma": st["gamma"]}, 1, P,
+    r = integrate("chaplygin_ball", {"M": st["M"], "gamma": st["gamma"]}, 1, P,
                   effects="contact_point")
+    _finite(r)
+    with mpmath.workdps(45):
+        g = [mpmath.mpf(v) for v in st["gamma"]]
+        e1 = [mpmath.mpf(1), mpmath.mpf(0), mpmath.mpf(0)]
+        a = [e - g[0] * c for e, c in zip(e1, g, strict=True)]  # e1 - (e1, gamma) gamma
+        n = mpmath.sqrt(sum(c * c for c in a))
+        a = [c / n for c in a]
+        b = [g[1] * a[2] - g[2] * a[1], g[2] * a[0] - g[0] * a[2], g[0] * a[1] - g[1] * a[0]]
+    y0 = np.asarray(r.y[:, 0], float)
+    assert np.max(np.abs(y0[6:9] - [float(c) for c in a])) <= 4 * EPS
+    assert np.max(np.abs(y0[9:12] - [float(c) for c in b])) <= 4 * EPS
+    with pytest.raises(UserInputError, match="alpha and beta"):
+        integrate("chaplygin_ball", {"M": st["M"], "gamma": st["gamma"], "alpha": st["alpha"]},
+                  1, P, effects="contact_point")
     argv = ["integrate", "chaplygin_ball", "--effects", "contact_point",
             "--param", "I=1,2,3", "--param", "D=1", "--param", "b=1",
             "--y0", "M=" + ",".join(st["M"]), "--y0", "gamma=" + ",".join(st["gamma"]),
             "--t-end", "1"]
-    assert main(argv) == 2
+    assert main(argv) == 0
+    capsys.readouterr()
+    assert main([*argv, "--y0", "alpha=" + ",".join(st["alpha"])]) == 2
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and "alpha and beta" in err and "Traceback" not in err
     # the explicit frame on the CLI works

@@ -17,17 +17,19 @@ from chaplygin.derive import build_model
 from chaplygin.verify.claims import REGISTRY
 from chaplygin.verify.claims.kane_crosscheck import BOUND
 from chaplygin.verify.kane import (
-    CONSTRAINT_AXIS,
     EXTRA_CONSTRAINTS,
     GAMMA1_LIMIT,
     Rotor,
-    constrained_samples,
     euler_angles_for_gamma,
     kane_angular_acceleration,
     kane_contact_momentum,
     kane_energy_and_rate,
-    model_angular_acceleration,
     omega_from_momentum,
+)
+from chaplygin.verify.kane_samples import (
+    CONSTRAINT_AXIS,
+    constrained_samples,
+    model_angular_acceleration,
     random_samples,
     relative_difference,
 )

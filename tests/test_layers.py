@@ -1,8 +1,10 @@
 """The layers of the package: arith < derive < generated < numerics < verify.
 
 Imports are read from the source with :mod:`ast` (function-level imports included, since
-they are cycles all the same once both functions run): no module imports a higher layer and
-no set of modules imports itself round a cycle. Plotting selects no matplotlib backend.
+they are cycles all the same once both functions run, and modules loaded by name through
+``importlib``): no module imports a higher layer and no set of modules imports itself round a
+cycle. Scene outputs import only the scene's public interface for outputs. Plotting selects no
+matplotlib backend.
 """
 
 from __future__ import annotations
@@ -20,6 +22,9 @@ import pytest
 
 #: Layers from the lowest up; a module may import its own layer and the ones below.
 LAYERS = ("arith", "derive", "generated", "numerics", "verify")
+
+#: Calls that load a module by name.
+_IMPORT_CALLS = ("import_module", "__import__")
 
 
 def _package_dir(layer: str) -> Path:
@@ -44,11 +49,16 @@ def _modules() -> dict[str, tuple[Path, bool]]:
 MODULES = _modules()
 
 
-def _owner(name: str) -> str | None:
-    """The module of ``MODULES`` that ``name`` (a module or a name in one) belongs to."""
-    while name and name not in MODULES:
+def _owner(name: str, modules: dict = MODULES) -> str | None:
+    """The module of ``modules`` that ``name`` (a module or a name in one) belongs to."""
+    while name and name not in modules:
         name = name.rpartition(".")[0]
     return name or None
+
+
+#: The name Python gives a module at run time, where it differs from its place in the tree:
+#: pyproject maps the package root ``chaplygin`` to ``verify/api``.
+RUNTIME_NAMES = {"chaplygin.verify.api": "chaplygin"}
 
 
 def _constant_prefix(arg: ast.expr, module: str, package: str) -> str | None:
@@ -78,12 +88,171 @@ def _from_target(node: ast.ImportFrom, package: str) -> str:
     return node.module or ""
 
 
-def imports_of(module: str) -> set[str]:
-    """Modules of the package that ``module`` imports anywhere in its source."""
-    path, is_package = MODULES[module]
+class _Strings:
+    """The values a string expression of a module can take, read from its source: constants,
+    ``__name__``/``__package__``, f-strings and ``+`` of those, and names bound by a ``for``
+    (or a comprehension) over a module-level literal (a tuple, list or set of strings, or a
+    dict: its keys, ``.keys()``, ``.values()``, ``.items()``). None when it cannot tell."""
+
+    def __init__(self, tree: ast.AST, module: str, package: str):
+        self.known = {"__name__": module, "__package__": package}
+        self.literals: dict[str, object] = {}
+        for node in getattr(tree, "body", []):
+            target = value = None
+            if isinstance(node, ast.Assign) and len(node.targets) == 1:
+                target, value = node.targets[0], node.value
+            elif isinstance(node, ast.AnnAssign) and node.value is not None:
+                target, value = node.target, node.value
+            if isinstance(target, ast.Name):
+                try:
+                    self.literals[target.id] = ast.literal_eval(value)
+                except (ValueError, TypeError, SyntaxError, RecursionError):
+                    pass
+        self.tree = tree
+        self.loops = self._loops(tree)
+
+    @staticmethod
+    def _loops(scope: ast.AST) -> dict[str, list[tuple[ast.expr, int | None]]]:
+        """Names bound by ``for`` loops and comprehensions in ``scope``: their iterables."""
+        loops: dict[str, list[tuple[ast.expr, int | None]]] = {}
+        for node in ast.walk(scope):
+            if isinstance(node, ast.For | ast.comprehension):
+                if isinstance(node.target, ast.Name):
+                    loops.setdefault(node.target.id, []).append((node.iter, None))
+                elif isinstance(node.target, ast.Tuple):
+                    for i, elt in enumerate(node.target.elts):
+                        if isinstance(elt, ast.Name):
+                            loops.setdefault(elt.id, []).append((node.iter, i))
+        return loops
+
+    def within(self, function: ast.AST | None) -> _Strings:
+        """The same reading with loop variables looked up in ``function`` first."""
+        if function is None:
+            return self
+        inner = object.__new__(_Strings)
+        inner.known, inner.literals, inner.tree = self.known, self.literals, self.tree
+        local = self._loops(function)
+        inner.loops = {**self.loops, **local}
+        return inner
+
+    def _items(self, node: ast.expr, position: int | None) -> set[str] | None:
+        """The strings a loop over ``node`` binds (``position``: of a tuple target)."""
+        method = None
+        if (
+            isinstance(node, ast.Call)
+            and isinstance(node.func, ast.Attribute)
+            and node.func.attr in ("keys", "values", "items")
+            and not node.args
+        ):
+            method, node = node.func.attr, node.func.value
+        if isinstance(node, ast.Name) and node.id in self.literals:
+            value = self.literals[node.id]
+        else:
+            try:
+                value = ast.literal_eval(node)
+            except (ValueError, TypeError, SyntaxError, RecursionError):
+                return None
+        if isinstance(value, dict):
+            items = {"values": value.values(), "items": value.items()}.get(method, value.keys())
+        elif isinstance(value, tuple | list | set | frozenset) and method is None:
+            items = value
+        else:
+            return None
+        out = set()
+        for item in items:
+            if position is not None:
+                if not isinstance(item, tuple) or len(item) <= position:
+                    return None
+                item = item[position]
+            if not isinstance(item, str):
+                return None
+            out.add(item)
+        return out
+
+    def values(self, node: ast.expr) -> set[str] | None:
+        if isinstance(node, ast.Constant):
+            return {node.value} if isinstance(node.value, str) else None
+        if isinstance(node, ast.Name):
+            if node.id in self.known:
+                return {self.known[node.id]}
+            if isinstance(self.literals.get(node.id), str):
+                return {self.literals[node.id]}
+            bindings = self.loops.get(node.id)
+            if not bindings:
+                return None
+            out: set[str] = set()
+            for iterable, position in bindings:
+                found = self._items(iterable, position)
+                if found is None:
+                    return None
+                out |= found
+            return out
+        parts: list[ast.expr]
+        if isinstance(node, ast.JoinedStr):
+            parts = [p.value if isinstance(p, ast.FormattedValue) else p for p in node.values]
+        elif isinstance(node, ast.BinOp) and isinstance(node.op, ast.Add):
+            parts = [node.left, node.right]
+        else:
+            return None
+        out = {""}
+        for part in parts:
+            found = self.values(part)
+            if found is None:
+                return None
+            out = {a + b for a in out for b in found}
+        return out
+
+
+def dynamic_imports(
+    source: str, module: str, package: str, modules: dict = MODULES
+) -> tuple[set[str], list[str]]:
+    """Modules of ``modules`` that ``source`` loads by name (``importlib.import_module``,
+    ``__import__``), and the calls whose name it cannot tell (line numbers).
+
+    A name read from the source (:class:`_Strings`) gives those modules; a name that is only
+    partly known (``f"{__name__}.{name}"`` with ``name`` from ``pkgutil``) counts as loading
+    every module under its known prefix, which is what it may do.
+    """
+    tree = ast.parse(source)
+    strings = _Strings(tree, RUNTIME_NAMES.get(module, module), package)
+    parents = {id(child): node for node in ast.walk(tree) for child in ast.iter_child_nodes(node)}
+    found: set[str] = set()
+    unknown = []
+    for node in ast.walk(tree):
+        if not (
+            isinstance(node, ast.Call)
+            and getattr(node.func, "attr", getattr(node.func, "id", None)) in _IMPORT_CALLS
+            and node.args
+        ):
+            continue
+        function = node
+        while id(function) in parents and not isinstance(
+            function, ast.FunctionDef | ast.AsyncFunctionDef
+        ):
+            function = parents[id(function)]
+        scope = function if isinstance(function, ast.FunctionDef | ast.AsyncFunctionDef) else None
+        names = strings.within(scope).values(node.args[0])
+        if names is None:
+            prefix = _constant_prefix(node.args[0], RUNTIME_NAMES.get(module, module), package)
+            if prefix is None:
+                unknown.append(f"line {node.lineno}")
+                continue
+            names = {m for m in modules if m == prefix or m.startswith(prefix + ".")}
+            if prefix == "chaplygin":
+                names = set(modules)
+        found |= {owner for name in names if (owner := _owner(name, modules))}
+    return found - {module}, unknown
+
+
+def imports_of(module: str, modules: dict = MODULES, dynamic: bool = True) -> set[str]:
+    """Modules of ``modules`` that ``module`` imports anywhere in its source: ``import`` and
+    ``from`` statements (function-level ones included) and, with ``dynamic``, the modules it
+    loads by name (:func:`dynamic_imports`)."""
+    path, is_package = modules[module]
     package = module if is_package else module.rpartition(".")[0]
     found = set()
-    tree = ast.parse(path.read_text(), str(path))
+    source = path.read_text()
+    tree = ast.parse(source, str(path))
     # imports under "if TYPE_CHECKING:" are for annotations only: never run, no cycle
     typing_only = {
         id(inner)
@@ -101,18 +270,11 @@ def imports_of(module: str) -> set[str]:
             target = _from_target(node, package)
             for a in node.names:  # "from . import x" imports the submodule x when there is one
                 sub = f"{target}.{a.name}"
-                found.add(sub if sub in MODULES else target)
-        elif (
-            isinstance(node, ast.Call)
-            and getattr(node.func, "attr", getattr(node.func, "id", None)) == "import_module"
-            and node.args
-        ):
-            name = _constant_prefix(node.args[0], module, package)
-            # a computed name: its known prefix tells the layer, not the module; within the
-            # module's own layer it says nothing about cycles, so it is left out
-            if name is not None and name.split(".")[:2] != module.split(".")[:2]:
-                found.add(name)
-    return {owner for name in found if (owner := _owner(name)) and owner != module}
+                found.add(sub if sub in modules else target)
+    out = {owner for name in found if (owner := _owner(name, modules)) and owner != module}
+    if dynamic:
+        out |= dynamic_imports(source, module, package, modules)[0]
+    return out
 
 
 GRAPH = {module: imports_of(module) for module in MODULES}
@@ -128,7 +290,22 @@ def test_the_graph_is_read():
     assert "chaplygin.verify.delta_cmd" in GRAPH["chaplygin.verify.cli"]
     assert "chaplygin.numerics.integrate" in GRAPH["chaplygin.verify.plots"]  # inside a function
     assert "chaplygin.generated" in GRAPH["chaplygin.numerics.code"]  # import_module(f"...")
+    # names loaded through importlib: from a dict's values, a tuple, a pkgutil prefix
+    assert "chaplygin.verify.outputs.poincare" in GRAPH["chaplygin.verify.scene.registry"]
+    assert "chaplygin.derive.chaplygin_ball" in GRAPH["chaplygin.derive.systems"]
+    assert "chaplygin.verify.claims.ball" in GRAPH["chaplygin.verify.claims"]
     assert len(MODULES) > 40
+
+
+def test_every_import_by_name_is_read():
+    """Every ``import_module``/``__import__`` of the package names modules the reader can
+    tell (or a prefix it counts whole): none is left out of the graph."""
+    unknown = {}
+    for m, (path, is_package) in MODULES.items():
+        package = m if is_package else m.rpartition(".")[0]
+        if missing := dynamic_imports(path.read_text(), m, package)[1]:
+            unknown[m] = missing
+    assert unknown == {}
 
 
 def test_no_lower_layer_imports_a_higher_one():
@@ -181,6 +358,131 @@ def test_cycle_finder_finds_a_cycle():
 
 def test_no_import_cycles():
     assert strongly_connected(GRAPH) == []
+
+
+# ------------------------------------------------------------------------ scene outputs
+
+#: The scene package, and the one module of it that outputs may import.
+SCENE = "chaplygin.verify.scene"
+SCENE_INTERFACE = "chaplygin.verify.scene.outputs"
+
+
+def _public_names(module: str, modules: dict = MODULES) -> set[str]:
+    """The ``__all__`` of ``module``, read from its source."""
+    tree = ast.parse(modules[module][0].read_text())
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and any(
+            isinstance(t, ast.Name) and t.id == "__all__" for t in node.targets
+        ):
+            return set(ast.literal_eval(node.value))
+    return set()
+
+
+def scene_imports(module: str, modules: dict = MODULES, scene: str = SCENE) -> list[tuple]:
+    """``(line, module imported, name or None)`` for every import of ``module`` that reaches the
+    scene package (annotation-only ones included)."""
+    path, is_package = modules[module]
+    package = module if is_package else module.rpartition(".")[0]
+    out = []
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            out += [(node.lineno, a.name, None) for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            target = _from_target(node, package)
+            for a in node.names:
+                sub = f"{target}.{a.name}"
+                out.append((node.lineno, sub, None) if sub in modules else (
+                    node.lineno, target, a.name))
+    return [i for i in out if i[1] == scene or i[1].startswith(scene + ".")]
+
+
+def interface_violations(
+    module: str, modules: dict = MODULES, scene: str = SCENE, interface: str = SCENE_INTERFACE
+) -> list[str]:
+    """Imports of ``module`` that reach the scene package other than public names of its
+    interface for outputs."""
+    public = _public_names(interface, modules) if interface in modules else set()
+    return [
+        f"line {line}: {target}" + (f".{name}" if name else "")
+        for line, target, name in scene_imports(module, modules, scene)
+        if target != interface or name is None or name not in public
+    ]
+
+
+def output_modules() -> list[str]:
+    """The scene's output modules: ``verify/outputs/`` and every analysis the registry names."""
+    from chaplygin.verify.scene.registry import ANALYSIS_MODULES
+
+    named = set(ANALYSIS_MODULES.values())
+    assert named <= set(MODULES)  # the registry names modules that exist
+    return sorted(named | {m for m in MODULES if m.startswith("chaplygin.verify.outputs.")})
+
+
+def test_outputs_import_only_the_scene_interface():
+    """Output modules import of the scene package only the public names of
+    ``chaplygin.verify.scene.outputs`` (which reaches no output: no cycle)."""
+    outputs = output_modules()
+    assert {"chaplygin.verify.outputs.poincare", "chaplygin.verify.outputs.lyapunov"} <= set(
+        outputs
+    )
+    bad = {m: hits for m in outputs if (hits := interface_violations(m))}
+    assert bad == {}
+    # a control on the real code: the analyses do use the interface
+    assert scene_imports("chaplygin.verify.outputs.poincare")
+
+
+def test_no_module_imports_a_private_name_of_the_scene():
+    """Outside the scene package no module imports a ``_name`` of it."""
+    bad = {
+        m: hits
+        for m in MODULES
+        if not (m == SCENE or m.startswith(SCENE + "."))
+        and (hits := [i for i in scene_imports(m) if i[2] and i[2].startswith("_")])
+    }
+    assert bad == {}
+
+
+#: The shape of the scene before issue 23: the scene imports the analyses' registry, which
+#: loads the analyses by name, and an analysis imports the scene's private helpers.
+OLD_SCENE_LOOP = {
+    "scene": "from .analyses import requested\n"
+    "class SceneError(ValueError):\n    pass\n"
+    "def _dotted(loc):\n    return '.'.join(loc)\n",
+    "analyses": "import importlib\n"
+    'ANALYSIS_MODULES = ("poincare_output", "lyapunov_output")\n'
+    "def analyses():\n"
+    "    for name in ANALYSIS_MODULES:\n"
+    '        importlib.import_module(f"{__package__}.{name}")\n'
+    "def requested(outputs):\n    return analyses()\n",
+    "poincare_output": "from .scene import SceneError, _dotted\n",
+    "lyapunov_output": "from .scene import SceneError\n",
+}
+
+
+def test_the_checks_catch_the_old_scene_loop(tmp_path):
+    """A negative control: on a copy of the old shape the cycle through ``importlib`` is
+    found (and only through it: without the imports by name there is none), and the
+    analyses' imports of the scene are refused."""
+    root = tmp_path / "verify"
+    root.mkdir()
+    (root / "__init__.py").write_text("")
+    fake = {"chaplygin.verify": (root / "__init__.py", True)}
+    for name, source in OLD_SCENE_LOOP.items():
+        (root / f"{name}.py").write_text(source)
+        fake[f"chaplygin.verify.{name}"] = (root / f"{name}.py", False)
+    graph = {m: imports_of(m, fake) for m in fake}
+    loop = ["chaplygin.verify.analyses", "chaplygin.verify.lyapunov_output",
+            "chaplygin.verify.poincare_output", "chaplygin.verify.scene"]
+    assert strongly_connected(graph) == [loop]
+    static = {m: imports_of(m, fake, dynamic=False) for m in fake}
+    assert strongly_connected(static) == []
+    scene = "chaplygin.verify.scene"
+    interface = "chaplygin.verify.scene_outputs"  # absent here: nothing of the scene is public
+    assert interface_violations("chaplygin.verify.poincare_output", fake, scene, interface) == [
+        "line 1: chaplygin.verify.scene.SceneError", "line 1: chaplygin.verify.scene._dotted"
+    ]
+    assert [i for i in scene_imports("chaplygin.verify.poincare_output", fake, scene)
+            if i[2].startswith("_")] == [(1, scene, "_dotted")]
 
 
 def _calls_matplotlib_use_or_pyplot(tree: ast.AST) -> list[str]:
@@ -264,7 +566,6 @@ SOLVERS: dict[str, frozenset[str]] = {
 }
 #: Modules of solvers: loading one by name (``importlib``) outside the door is refused too.
 SOLVER_MODULES = ("scipy.integrate", "mpmath.calculus.odes")
-_IMPORT_CALLS = ("import_module", "__import__")
 
 
 def _import_call_target(node: ast.AST) -> str | None:

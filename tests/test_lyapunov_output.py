@@ -1,4 +1,4 @@
-"""The ``lyapunov`` scene output (verify/lyapunov_output.py): summary with units, arrays,
+"""The ``lyapunov`` scene output (verify/outputs/lyapunov.py): summary with units, arrays,
 figure, ``--json``, and scene errors (one line, exit 2, nothing written)."""
 
 from __future__ import annotations

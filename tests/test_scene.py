@@ -306,6 +306,32 @@ def test_andoyer_deprit_state_and_range(tmp_path):
         Scene.from_toml(_write(tmp_path, text), ["initial.z=1.5"]).resolve()
 
 
+@pytest.mark.parametrize("precision", ["double", 30])
+def test_scene_and_api_complete_the_frame_by_one_rule(precision):
+    """On M || gamma (M = 1.5 gamma, a generic gamma, given by state) a scene and
+    ``chaplygin.integrate`` start from the same bits: both complete alpha, beta by the one rule
+    of ``numerics/frame.py`` (BKM12-7 is undefined there), and the scene says so. Before
+    issue 23 the scene chose a frame and the API refused."""
+    from chaplygin.numerics import integrate
+
+    with mpmath.workdps(45):
+        g = [mpmath.mpf("0.2"), mpmath.mpf("-0.3"), mpmath.sqrt(mpmath.mpf("0.87"))]
+        gamma = [mpmath.nstr(c, 40) for c in g]
+        M = [mpmath.nstr(mpmath.mpf("1.5") * c, 40) for c in g]
+    params = {"I": [1, 2, 3], "D": 1, "b": 1}
+    scene = Scene.from_dict({
+        "system": "chaplygin_ball", "effects": ["contact_point"], "parameters": params,
+        "initial": {"M": M, "gamma": gamma}, "run": {"t_end": 1, "precision": precision},
+    })  # fmt: skip
+    res = scene.resolve()
+    assert "M || gamma: alpha = the body axis least aligned with gamma" in res.how
+    r = integrate("chaplygin_ball", {"M": M, "gamma": gamma}, 1e-3, params,
+                  effects="contact_point", precision=precision)
+    assert [str(v) for v in r.y[:, 0]] == [str(v) for v in res.y0]
+    off = scene.with_initial(M=["0.3", "0.45", "1.3990"])  # off the line: BKM12-7, no note
+    assert "M || gamma" not in off.resolve().how
+
+
 def test_effect_combination_not_in_generated_is_derived_and_says_so(tmp_path, capsys):
     """The path that derives, emits and compiles a variant on first use (no longer untested)."""
     from chaplygin.numerics.code import generated_manifest
@@ -343,7 +369,7 @@ atol = 1e-12
 
 
 def test_write_dataset_round_trip_and_refuses_inconsistent_dimensions(tmp_path):
-    from chaplygin.verify.trajectory import write_dataset
+    from chaplygin.verify.outputs.trajectory import write_dataset
     from scipy.io import netcdf_file
 
     z = np.linspace(-1, 1, 7) / 3
@@ -438,7 +464,7 @@ def test_plots_carry_the_shown_title(tmp_path, capsys):
 # ------------------------------------------------------------------- contact-trace aspect
 def test_contact_trace_aspect_auto_shows_the_oscillation():
     from chaplygin.derive.errors import UserInputError
-    from chaplygin.verify.plots import contact_trace_figure
+    from chaplygin.verify.outputs.trajectory_figures import contact_trace_figure
 
     x = np.linspace(0, 100, 500)
     y = 0.3 * np.sin(x)

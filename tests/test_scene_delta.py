@@ -14,8 +14,8 @@ import pytest
 from chaplygin.derive.errors import UserInputError
 from chaplygin.numerics.separatrix import delta_closed_form, mu_of, spiral_centre
 from chaplygin.verify.cli import main
+from chaplygin.verify.outputs.separatrix_delta import delta_agrees, delta_tolerance
 from chaplygin.verify.scene import Scene, SceneError
-from chaplygin.verify.scene_delta import delta_agrees, delta_tolerance
 
 SCENES = Path(__file__).resolve().parents[1] / "examples" / "scenes"
 

@@ -255,7 +255,7 @@ def test_a_hyperbolic_rotation_separates_neighbours_by_its_multiplier():
 
 
 def test_gyrostat_diagram_draws_stability():
-    from chaplygin.verify.scene_diagram import gyrostat_diagram_figure
+    from chaplygin.verify.outputs.diagram import gyrostat_diagram_figure
 
     p = FIG7
     fig = gyrostat_diagram_figure(p["I"], p["D"], p["K"], p["C"], 2.7, 0.3, "t", samples=50)

@@ -28,7 +28,8 @@ def run(args: argparse.Namespace) -> int:
     int
         0.
     """
-    from .bench import PROBLEMS, render_markdown, run_study
+    from .bench import PROBLEMS, run_study
+    from .bench_report import render_markdown
     from .plots import work_precision_figure
 
     out = check_output_dir(args.out, "--out", "the study")

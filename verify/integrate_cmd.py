@@ -99,7 +99,7 @@ def run(args: argparse.Namespace) -> int:
     if args.output is not None:
         from chaplygin.numerics.code import load_model_code
 
-        from .trajectory import trajectory_columns, write_trajectory
+        from .outputs.trajectory import trajectory_columns, write_trajectory
 
         code = load_model_code(args.system, args.effects)
         columns = trajectory_columns(result.t, result.y, result.state_names, code.state_groups)

@@ -1,4 +1,5 @@
-"""Figures: bifurcation diagrams, the separatrix figures of K01 §3.3 and the work-precision plot.
+"""Figures: bifurcation diagrams, the separatrix figures of K01 §3.3 and the work-precision plot
+(the scenes' figures are in :mod:`chaplygin.verify.outputs`).
 
 Every function returns a :class:`matplotlib.figure.Figure` (or draws on a given ``ax``); the
 caller saves or shows it. No backend is selected here and :mod:`matplotlib.pyplot` is never
@@ -26,6 +27,7 @@ import numpy as np
 
 from ..derive.errors import UserInputError
 from ..numerics.inputs import check_count, check_inertia_vector, check_real, check_vector
+from .figure_style import COLORS, new_figure, stability_legend, stability_style
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -39,33 +41,9 @@ __all__ = [
     "delta_of_mu_figure",
     "separatrix_traces_figure",
     "work_precision_figure",
-    "contact_trace_figure",
-    "body_trace_figure",
-    "series_figure",
-    "drift_figure",
-    "scene_diagram_figure",
-    "literal_text",
+    "draw_k01_diagram",
 ]
 
-
-def literal_text(text: str) -> str:
-    """User text (a scene's title) as matplotlib shows it literally: ``$`` escaped, so that
-    ``"cost $5$"`` is not read as mathtext (and a malformed formula cannot fail the drawing).
-
-    Parameters
-    ----------
-    text : str
-
-    Returns
-    -------
-    str
-
-    Examples
-    --------
-    >>> literal_text("$x^$")
-    '\\$x^\\$'
-    """
-    return text.replace("$", r"\$")
 
 #: Bifurcation diagrams: name -> (system, default parameters, title).
 #: Most random states :func:`bifurcation_figure` integrates.
@@ -85,33 +63,35 @@ FIGURES = {
         "BKM12 Fig. 5",
     ),
 }
-COLORS = ("tab:blue", "tab:red", "tab:green", "tab:purple", "tab:orange")
-
-
-def _new_figure(**kwargs) -> Figure:
-    """A :class:`~matplotlib.figure.Figure` not managed by pyplot (no backend is chosen)."""
-    from matplotlib.figure import Figure
-
-    return Figure(**kwargs)
-
-
 # ---------------------------------------------------------------------- bifurcation diagrams
-def _style(stable: bool) -> str:
-    return "-" if stable else "--"
+def draw_k01_diagram(
+    ax: Axes,
+    I: tuple[float, float, float],
+    D: float,
+    C: float,
+    samples: int,
+    seed: int,
+    traces: Axes | None = None,
+) -> float:
+    """K01's energy diagram on ``ax``, the (n, h) plane at ``C``: the steady rotations
+    ``p_i: h = Sigma_i/2`` (solid where stable), the segment ``n = C^2`` (``M || gamma``) and
+    ``samples`` integrated random states (their traces on ``traces``, if given).
 
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    I : tuple of 3 floats
+    D, C : float
+    samples : int
+    seed : int
+        Of the random states.
+    traces : matplotlib.axes.Axes, optional
 
-def _stability_legend() -> list:
-    from matplotlib.lines import Line2D
-
-    return [
-        Line2D([], [], color="k", ls="-", label="stable (|multipliers| = 1)"),
-        Line2D([], [], color="k", ls="--", label="unstable"),
-        Line2D([], [], color="0.5", marker=".", ls="", label="integrated states"),
-    ]
-
-
-def _draw_kilin(ax: Axes, I, D, C, samples, seed, traces: Axes | None = None) -> float:
-    """(n, h) plane: p_i: h = Sigma_i/2, and the segment n = C^2 (M || gamma)."""
+    Returns
+    -------
+    float
+        The largest relative drift of the integrals over the integrated states.
+    """
     from ..numerics.bifurcation import euler_stability, family_stability, sample_levels, sigma
 
     stab = family_stability(I, D, 1.0 + C**2, C)
@@ -122,7 +102,7 @@ def _draw_kilin(ax: Axes, I, D, C, samples, seed, traces: Axes | None = None) ->
         ax.plot(
             n,
             h,
-            _style(stab[i][0]),
+            stability_style(stab[i][0]),
             color=COLORS[i],
             label=f"p{i + 1} (max|mu| = {stab[i][1]:.3g})",
         )
@@ -132,7 +112,7 @@ def _draw_kilin(ax: Axes, I, D, C, samples, seed, traces: Axes | None = None) ->
         for lo, hi in ((hs[0], hs[1]), (hs[1], hs[2])):
             Ep = D * (lo + hi) / C**2  # E' = 2 h D/C^2 at the arc's midpoint
             st, mu = euler_stability(I, D, Ep)
-            ax.plot([C**2, C**2], [lo, hi], _style(st), color=COLORS[3], lw=2)
+            ax.plot([C**2, C**2], [lo, hi], stability_style(st), color=COLORS[3], lw=2)
         ax.plot([], [], "-", color=COLORS[3], lw=2, label="n = C^2 (M || gamma)")
         ax.plot(
             [C**2],
@@ -203,7 +183,7 @@ def _draw_bkm12_2(ax: Axes, I, D, samples, seed) -> float:
         ax.plot(
             C,
             A[i] * C,
-            _style(stab[i][0]),
+            stability_style(stab[i][0]),
             color=COLORS[k],
             label=f"Sigma_{k + 1}: E = A{k + 1} C, A{k + 1} = {A[i]:.4g} (body axis e{i + 1}; "
             f"max|mu| = {stab[i][1]:.3g})",
@@ -226,7 +206,7 @@ def _draw_bkm12_3(ax: Axes, I, D, samples, seed) -> float:
         ax.plot(
             g,
             Ep,
-            _style(stab[i][0]),
+            stability_style(stab[i][0]),
             color=COLORS[k],
             label=f"Sigma_{k + 1}: b{k + 1} = {b[i]:.4g} (body axis e{i + 1}; "
             f"max|mu| = {stab[i][1]:.3g})",
@@ -235,7 +215,7 @@ def _draw_bkm12_3(ax: Axes, I, D, samples, seed) -> float:
     for gv, k in ((1, 4), (-1, 5)):
         for lo, hi in ((ends[0], ends[1]), (ends[1], ends[2])):
             st, _ = euler_stability(I, D, (lo + hi) / 2)
-            ax.plot([gv, gv], [lo, hi], _style(st), color=COLORS[3 if k == 4 else 4], lw=2)
+            ax.plot([gv, gv], [lo, hi], stability_style(st), color=COLORS[3 if k == 4 else 4], lw=2)
         ax.plot(
             [], [], "-", color=COLORS[3 if k == 4 else 4], lw=2, label=f"Sigma_{k}: g = {gv:+d}"
         )
@@ -272,7 +252,9 @@ def _draw_bkm12_5(fig: Figure, params, samples, seed) -> float:
     for i in range(3):
         ax = axes[i]
         Ep = X**2 / (J[i] - D_al) + Y**2 / (J[i] - D_be) + Zg / J[i]
-        cs = ax.contour(X, Y, Ep, levels=10, colors=COLORS[i], linestyles=_style(stab[i][0]))
+        cs = ax.contour(
+            X, Y, Ep, levels=10, colors=COLORS[i], linestyles=stability_style(stab[i][0])
+        )
         ax.clabel(cs, fontsize=6, fmt="%.2f")
         ax.set_title(
             f"E'_{i + 1} ({'stable' if stab[i][0] else 'unstable'}, max|mu| = {stab[i][1]:.3g})",
@@ -356,7 +338,7 @@ def bifurcation_figure(
             raise UserInputError(
                 "need D_iso >= 0 and I_i + D_iso > D_al, D_be (a physical support)"
             )
-        fig = _new_figure(figsize=(16, 4.4))
+        fig = new_figure(figsize=(16, 4.4))
         drift = _draw_bkm12_5(fig, params6, samples, seed)
         fig.suptitle(
             f"{title}: bifurcation surfaces E' = E/C on g_al^2 + g_be^2 + g_ga^2 = 1 "
@@ -365,14 +347,14 @@ def bifurcation_figure(
     else:
         D = float(p["D"])
         if figure == "k01-3":
-            fig = _new_figure(figsize=(13, 5))
+            fig = new_figure(figsize=(13, 5))
             ax, tax = fig.subplots(1, 2)
         else:
-            fig = _new_figure(figsize=(7, 5))
+            fig = new_figure(figsize=(7, 5))
             ax, tax = fig.subplots(), None
         if figure.startswith("k01"):
             C = float(p["C"])
-            drift = _draw_kilin(ax, I, D, C, samples, seed, traces=tax)
+            drift = draw_k01_diagram(ax, I, D, C, samples, seed, traces=tax)
             ax.set_title(f"{title}: I = {I}, D = {D}, C = (M, gamma) = {C}")
         elif figure == "bkm12-2":
             drift = _draw_bkm12_2(ax, I, D, samples, seed)
@@ -381,7 +363,7 @@ def bifurcation_figure(
             drift = _draw_bkm12_3(ax, I, D, samples, seed)
             ax.set_title(f"{title}: normalised, I = {I}, D = {D} (b1 < b2 < b3)")
         handles, _ = ax.get_legend_handles_labels()
-        ax.legend(handles=handles + _stability_legend(), fontsize=7, loc="best")
+        ax.legend(handles=handles + stability_legend(), fontsize=7, loc="best")
         ax.grid(alpha=0.3)
     fig.tight_layout()
     return fig, drift
@@ -423,7 +405,7 @@ def bifurcation_complex_figure(
 
     I = tuple(float(v) for v in check_vector(I, "I", positive=True, double=True))
     order = np.argsort(1 / (np.asarray(I) + D))
-    fig = _new_figure(figsize=(6 * len(gs), 4.6), layout="constrained")
+    fig = new_figure(figsize=(6 * len(gs), 4.6), layout="constrained")
     axes = np.atleast_1d(fig.subplots(1, len(gs)))
     for ax, g in zip(axes, gs, strict=True):
         S = [float(sigma(int(i), 1.0, g, I, D)) for i in order]
@@ -500,7 +482,7 @@ def critical_traces_figure(
     I = tuple(float(v) for v in check_vector(I, "I", positive=True, double=True))
     A = 1 / (np.asarray(I) + D)
     order = list(np.argsort(A))  # BKM12's A1 < A2 < A3
-    fig = _new_figure(figsize=(15, 4.6), layout="constrained")
+    fig = new_figure(figsize=(15, 4.6), layout="constrained")
     axes = fig.subplots(1, 4)
     for ax, mg, name in ((axes[0], 0.0, "(a) (M, gamma) = 0: the families (25)"),
                          (axes[1], Mg, f"(b) (M, gamma) = {Mg:g}: Sigma_1..3")):  # fmt: skip
@@ -579,7 +561,7 @@ def delta_of_mu_figure(b: float = 1.0, mu_max: float = 6.0) -> Figure:
     closed = [float(delta_closed_form(m, b, 20)) for m in mus]
     pts = np.linspace(0.25, mu_max, 12)
     quad = [float(delta_quadrature(m, b, 15)) for m in pts]
-    fig = _new_figure(figsize=(10, 4))
+    fig = new_figure(figsize=(10, 4))
     axes = fig.subplots(1, 2)
     for ax, log in zip(axes, (False, True), strict=True):
         ax.plot(mus, closed, "-", label=r"closed form $\pi b/\cosh(\pi\mu/2)$")
@@ -643,7 +625,7 @@ def separatrix_traces_figure(
         separatrix_trace,
     )
 
-    fig = _new_figure(figsize=(11, 5))
+    fig = new_figure(figsize=(11, 5))
     axes = fig.subplots(1, 2)
     ax = axes[0]
     for I in inertias:
@@ -751,7 +733,7 @@ def work_precision_figure(study: Mapping) -> Figure:
     _check_study(study)
     rows = [r for r in study["rows"] if r["median_s"] is not None and r["error"] is not None]
     problems = list(dict.fromkeys(r["problem"] for r in study["rows"]))
-    fig = _new_figure(figsize=(6.5 * len(problems), 5))
+    fig = new_figure(figsize=(6.5 * len(problems), 5))
     axes = fig.subplots(1, len(problems), squeeze=False)
     for ax, pname in zip(axes[0], problems, strict=True):
         groups: dict[str, list] = {}
@@ -775,167 +757,5 @@ def work_precision_figure(study: Mapping) -> Figure:
         ax.set_title(pname + (" (quick)" if study.get("quick") else ""))
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=6)
-    fig.tight_layout()
-    return fig
-
-
-# ---------------------------------------------------------------------------------- scenes
-def contact_trace_figure(
-    x: np.ndarray, y: np.ndarray, title: str = "", aspect: str = "equal"
-) -> Figure:
-    """The contact point's trace ``(x, y)`` in the plane (K01 Figs. 3, 4, 6, 7).
-
-    Parameters
-    ----------
-    x, y : ndarray
-        Coordinates along the space-fixed ``alpha``, ``beta``.
-    title : str
-    aspect : {"equal", "auto"}
-        ``equal``: one scale for both axes (the trace's true shape); ``auto``: each axis
-        spans the picture, so that a small oscillation about a long drift (K01 Fig. 3) is
-        seen; the axis labels then say that the scales differ.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    if aspect not in ("equal", "auto"):
-        raise UserInputError(f"aspect = {aspect!r}: 'equal' or 'auto'")
-    fig = _new_figure(figsize=(6, 6) if aspect == "equal" else (9, 4.5))
-    ax = fig.subplots()
-    ax.plot(x, y, lw=0.6)
-    ax.plot([x[0]], [y[0]], "o", color="tab:green", ms=4, label="start")
-    ax.plot([x[-1]], [y[-1]], "s", color="tab:red", ms=4, label="end")
-    scales = ""
-    if aspect == "equal":
-        ax.set_aspect("equal", adjustable="datalim")
-    else:
-        scales = " (x and y to different scales)"
-    ax.set_xlabel("x (along alpha)" + scales)
-    ax.set_ylabel("y (along beta)")
-    ax.set_title(title, fontsize=9)
-    ax.legend(fontsize=7)
-    ax.grid(alpha=0.3)
-    fig.tight_layout()
-    return fig
-
-
-def body_trace_figure(gamma: np.ndarray, b: float, title: str = "") -> Figure:
-    """The contact point ``-b gamma`` on the ball's surface in the body frame (K01 Fig. 2b).
-
-    Parameters
-    ----------
-    gamma : ndarray, shape (3, n)
-    b : float
-        Ball radius.
-    title : str
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    fig = _new_figure(figsize=(6, 6))
-    ax = fig.add_subplot(projection="3d")
-    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 40), np.linspace(0, np.pi, 20))
-    ax.plot_wireframe(
-        b * np.cos(u) * np.sin(v), b * np.sin(u) * np.sin(v), b * np.cos(v), color="0.85", lw=0.4
-    )
-    p = -b * np.asarray(gamma, float)
-    ax.plot(p[0], p[1], p[2], lw=0.8)
-    ax.set_xlabel("e1")
-    ax.set_ylabel("e2")
-    ax.set_zlabel("e3")
-    ax.set_box_aspect((1, 1, 1))
-    ax.set_title(title, fontsize=9)
-    return fig
-
-
-def series_figure(t: np.ndarray, series: Mapping[str, np.ndarray], title: str = "") -> Figure:
-    """Time series of named quantities on one axis (BM20 Fig. 3: ``I_i(t)``).
-
-    Parameters
-    ----------
-    t : ndarray
-    series : mapping of str to ndarray
-    title : str
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    fig = _new_figure(figsize=(8, 4))
-    ax = fig.subplots()
-    for name, values in series.items():
-        ax.plot(t, values, lw=0.9, label=name)
-    ax.set_xlabel("t")
-    ax.set_title(title, fontsize=9)
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)
-    fig.tight_layout()
-    return fig
-
-
-def drift_figure(t: np.ndarray, change: Mapping[str, np.ndarray], title: str = "") -> Figure:
-    """Change of the first integrals over time, log scale (zeros drawn at the floor).
-
-    Parameters
-    ----------
-    t : ndarray
-    change : mapping of str to ndarray
-        ``|F(t) - F(0)|`` (relative where ``F(0)`` is not ~0), per integral.
-    title : str
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    fig = _new_figure(figsize=(8, 4))
-    ax = fig.subplots()
-    floor = 1e-18
-    for name, values in change.items():
-        ax.semilogy(t, np.maximum(np.asarray(values, float), floor), lw=0.8, label=name)
-    ax.set_xlabel("t")
-    ax.set_ylabel("|F(t) - F(0)| (relative)")
-    ax.set_title(f"drift of the integrals: {title}", fontsize=9)
-    ax.legend(fontsize=7, ncol=2)
-    ax.grid(alpha=0.3)
-    fig.tight_layout()
-    return fig
-
-
-def scene_diagram_figure(
-    I: Sequence[float], D: float, C: float, n: float, h: float, title: str = "", samples: int = 30
-) -> Figure:
-    """K01's energy diagram in the (n, h) plane at ``C = (M, gamma)`` with one point marked.
-
-    Parameters
-    ----------
-    I : sequence of 3 floats
-    D, C : float
-    n, h : float
-        The scene's ``(M, M)`` and energy.
-    title : str
-    samples : int
-        Integrated random states drawn as dots.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    fig = _new_figure(figsize=(7, 5))
-    ax = fig.subplots()
-    I = tuple(float(v) for v in I)
-    _draw_kilin(ax, I, float(D), float(C), samples, 1)
-    n_max = 3.0 if C == 0 else 3.0 * C**2  # where _draw_kilin stops
-    if n > n_max:  # continue the branches to the scene's point (dotted)
-        from ..numerics.bifurcation import sigma
-
-        ext = np.linspace(n_max, 1.1 * n, 50)
-        for i in range(3):
-            ax.plot(ext, sigma(i, ext, C, I, D) / 2, ":", color=COLORS[i])
-    ax.plot([n], [h], "*", color="k", ms=12, label=f"scene: n = {n:.6g}, h = {h:.6g}")
-    ax.legend(fontsize=7, loc="best")
-    ax.set_title(f"{title}\nI = {tuple(I)}, D = {D:g}, C = {C:.6g}", fontsize=9)
-    ax.grid(alpha=0.3)
     fig.tight_layout()
     return fig

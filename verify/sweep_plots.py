@@ -33,7 +33,7 @@ __all__ = [
 
 def _title(ds: Any) -> str:
     """The store's title as matplotlib shows it literally (no mathtext)."""
-    from .plots import literal_text
+    from .figure_style import literal_text
 
     return literal_text(str(ds.attrs.get("title", "")))
 

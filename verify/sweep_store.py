@@ -61,22 +61,33 @@ PARTIAL_MARKER = ".chaplygin-partial.json"
 
 # ------------------------------------------------------------------------------- the layout
 def _attrs(plan: Any) -> dict:
-    from .scene import _software_versions
+    from .scene import software_versions
 
     return {
         "title": plan.scene.title,
         "source": plan.scene.source or "",
-        "scene": json.dumps(plan.scene._given, sort_keys=True, default=str),
+        "scene": json.dumps(plan.scene.given, sort_keys=True, default=str),
         "axes": json.dumps([[k, n, [str(v) for v in vals]] for k, n, vals in plan.axes]),
         "model": plan.code.name,
         "model_hash": plan.code.hash,
-        "versions": json.dumps(_software_versions()),
+        "versions": json.dumps(software_versions()),
         "fingerprint": json.dumps(plan.fingerprint, sort_keys=True),
         "store_format": STORE_FORMAT,
     }
 
 
-def _extra_shape(plan: Any, var: Any) -> tuple[int, ...]:
+def extra_shape(plan: Any, var: Any) -> tuple[int, ...]:
+    """The lengths of a variable's extra dimensions (beyond the grid's).
+
+    Parameters
+    ----------
+    plan : SweepPlan
+    var : Variable
+
+    Returns
+    -------
+    tuple of int
+    """
     return tuple(len(plan.extra_coords[d]) for d in var.dims)
 
 
@@ -91,7 +102,7 @@ def _expected(plan: Any) -> dict[str, tuple[tuple[str, ...], tuple[int, ...], tu
     for the coordinates (one chunk each)."""
     out: dict[str, Any] = {}
     for name, var in plan.variables.items():
-        out[name] = (plan.dims + var.dims, plan.shape + _extra_shape(plan, var),
+        out[name] = (plan.dims + var.dims, plan.shape + extra_shape(plan, var),
                      _zarr_chunks(plan, var.dims))  # fmt: skip
     out["computed"] = (plan.dims, plan.shape, _zarr_chunks(plan, ()))
     out[DIGEST] = (("chunk", "digest_byte"), (len(plan.chunks), 32), (1, 32))
@@ -111,7 +122,7 @@ def _template(plan: Any, names: list[str] | None = None) -> Any:
     data_vars = {}
     for name, var in plan.variables.items():
         if names is None or name in names:
-            shape = plan.shape + _extra_shape(plan, var)
+            shape = plan.shape + extra_shape(plan, var)
             data_vars[name] = (plan.dims + var.dims, np.full(shape, var.fill, var.dtype), var.attrs)
     if names is None or "computed" in names:
         data_vars["computed"] = (

@@ -2,7 +2,7 @@
 with heyoka (one point at a time, and its batch mode with 4 points), in one run: our Taylor
 integrator (one point per call) and our compiled batch map (DOP853 in C, N points per call,
 :class:`chaplygin.numerics.batch_map.BatchStroboscopicMap`). The measurement is
-:func:`chaplygin.verify.bench.map_throughput` (also a section of ``chaplygin bench``).
+:func:`chaplygin.verify.bench_map.map_throughput` (also a section of ``chaplygin bench``).
 
 BM20 Fig. 5's system: I = diag(4, 3, 2), K = (-6, -3, -9), d = 4.385, J = 0, delta = 2,
 Omega = 1.07, G = 3 (z = 0.5, l = g = 1); double precision, rtol = 1e-12; the map is sampled at
@@ -20,7 +20,7 @@ from __future__ import annotations
 import json
 import sys
 
-from chaplygin.verify.bench import map_throughput
+from chaplygin.verify.bench_map import map_throughput
 
 
 def main() -> None:

@@ -21,7 +21,7 @@ from chaplygin.derive.bifurcation import (
 )
 from chaplygin.derive.vectors import cross, dot
 
-from . import Check, Claim, register
+from .base import Check, Claim, register
 from .notation import ball_notation
 
 BALL = "chaplygin_ball"

@@ -27,7 +27,7 @@ from chaplygin.derive.vectors import cross, dot
 from sympy.core.function import AppliedUndef
 
 from ..identity import lie_derivative, measure_residual
-from . import Check, Claim, Computed, ComputedClaim, register
+from .base import Check, Claim, Computed, ComputedClaim, register
 
 __all__ = ["GenericLawClaim", "generic_model", "transformation_residual"]
 

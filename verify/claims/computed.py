@@ -17,7 +17,7 @@ import mpmath
 import numpy as np
 
 from ...arith import detlinalg
-from . import Computed, ComputedClaim, register
+from .base import Computed, ComputedClaim, register
 
 BALL = "chaplygin_ball"
 SUPPORT = "spherical_support"

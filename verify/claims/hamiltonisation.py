@@ -18,7 +18,7 @@ from chaplygin.derive import hamiltonisation as hz
 from chaplygin.derive.algebra import seeded_factor
 from chaplygin.derive.vectors import cross, dot
 
-from . import Check, Claim, register
+from .base import Check, Claim, register
 from .notation import ball_notation
 
 BALL = "chaplygin_ball"

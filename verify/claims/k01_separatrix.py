@@ -30,7 +30,7 @@ import sympy as sp
 from chaplygin.derive import Model
 from chaplygin.derive.vectors import cross, dot
 
-from . import Check, Claim, register
+from .base import Check, Claim, register
 from .notation import ball_notation
 
 BALL = "chaplygin_ball"

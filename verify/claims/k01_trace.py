@@ -22,7 +22,7 @@ from functools import cache
 import numpy as np
 
 from ...arith import detcomplex, detlinalg, detmath
-from . import Computed, ComputedClaim, register
+from .base import Computed, ComputedClaim, register
 
 BALL = "chaplygin_ball"
 I135, D1, C1 = (1.0, 3.0, 5.0), 1.0, 1.0

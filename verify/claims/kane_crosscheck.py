@@ -5,7 +5,7 @@ only, with ``sympy.physics.mechanics.KanesMethod`` (Euler angles, contact coordi
 no-slip as velocity constraints, gravity included), sharing no code and no formula with our
 Lagrange–d'Alembert engine. Each claim compares the body-frame angular acceleration
 ``omega_dot`` of a derived model with the Kane model's at random states
-(:func:`~chaplygin.verify.kane.random_samples`, seeded): the plain ball, the rubber ball
+(:func:`~chaplygin.verify.kane_samples.random_samples`, seeded): the plain ball, the rubber ball
 (no twist), Veselovs' ball along a straight line, the gyrostat (a second rigid body, a rotor
 spinning at a constant rate) and BM20's time-varying inertia (two point masses sliding along
 a body axis).
@@ -25,8 +25,8 @@ from collections.abc import Callable, Sequence
 import numpy as np
 from chaplygin.derive import build_model
 
-from .. import kane
-from . import Computed, ComputedClaim, register
+from .. import kane_samples
+from .base import Computed, ComputedClaim, register
 
 BALL = "chaplygin_ball"
 EPS = float(np.finfo(float).eps)
@@ -43,7 +43,7 @@ def _comparison(
     largest relative difference over the states, the bound :data:`BOUND`."""
 
     def run() -> Computed:
-        differences = [kane.relative_difference(k, ours) for k, ours in pairs()]
+        differences = [kane_samples.relative_difference(k, ours) for k, ours in pairs()]
         worst = int(np.argmax(differences))
         return Computed(
             error=differences[worst],
@@ -60,15 +60,15 @@ def _comparison(
 def _ball(D_factor: float = 1.0) -> list[tuple[np.ndarray, np.ndarray]]:
     model = build_model(BALL)
     return [
-        (s.kane(), kane.model_angular_acceleration(model, s.params(D_factor), s.M, s.gamma))
-        for s in kane.random_samples()
+        (s.kane(), kane_samples.model_angular_acceleration(model, s.params(D_factor), s.M, s.gamma))
+        for s in kane_samples.random_samples()
     ]
 
 
 def _constrained(constraint: str, effects: tuple[str, ...]) -> Callable[[], list]:
     def pairs() -> list[tuple[np.ndarray, np.ndarray]]:
         model = build_model(BALL, effects)
-        return [(cs.kane(), cs.ours(model)) for cs in kane.constrained_samples(constraint)]
+        return [(cs.kane(), cs.ours(model)) for cs in kane_samples.constrained_samples(constraint)]
 
     return pairs
 
@@ -78,22 +78,22 @@ def _gyrostat(sign: float) -> list[tuple[np.ndarray, np.ndarray]]:
     return [
         (
             s.kane(rotor=rotor),
-            kane.model_angular_acceleration(
-                model, kane.gyrostat_params(s, sign * rotor.momentum()), s.M, s.gamma
+            kane_samples.model_angular_acceleration(
+                model, kane_samples.gyrostat_params(s, sign * rotor.momentum()), s.M, s.gamma
             ),
         )
-        for s, rotor in kane.rotor_samples()
+        for s, rotor in kane_samples.rotor_samples()
     ]
 
 
 def _moving_masses(frozen: bool) -> list[tuple[np.ndarray, np.ndarray]]:
     model = build_model(BALL, [] if frozen else ["variable_inertia"])
     out = []
-    for x in kane.moving_mass_samples():
+    for x in kane_samples.moving_mass_samples():
         if frozen:
-            ours = kane.model_angular_acceleration(model, x.frozen_params(), x.M, x.gamma)
+            ours = kane_samples.model_angular_acceleration(model, x.frozen_params(), x.M, x.gamma)
         else:
-            ours = kane.model_angular_acceleration(model, x.params(), x.M, x.gamma, t=x.t)
+            ours = kane_samples.model_angular_acceleration(model, x.params(), x.M, x.gamma, t=x.t)
         out.append((x.kane(), ours))
     return out
 

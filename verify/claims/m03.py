@@ -33,7 +33,7 @@ from chaplygin.derive.body_on_sphere import ellipsoid_body_model, generic_body_m
 from chaplygin.derive.vectors import cross, dot
 
 from ..identity import Domain, Residuals, lie_derivative, measure_residual
-from . import Check, Claim, register
+from .base import Check, Claim, register
 
 __all__ = [
     "SurfaceClaim",

@@ -12,7 +12,7 @@ import sympy as sp
 from chaplygin.derive import Model, builtin_variants, variant_name
 
 from ..identity import lie_derivative, measure_residual
-from . import Check, Claim, register
+from .base import Check, Claim, register
 
 
 def _integral(name: str):

@@ -17,7 +17,7 @@ from chaplygin.derive import Model
 from chaplygin.derive.vectors import cross, dot
 
 from ..identity import lie_derivative, measure_residual
-from . import Check, Claim, register
+from .base import Check, Claim, register
 from .notation import ball_notation
 
 BALL = "chaplygin_ball"

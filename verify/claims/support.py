@@ -32,7 +32,7 @@ from chaplygin.derive.spherical_support import (
 from chaplygin.derive.vectors import cross, dot
 
 from ..identity import lie_derivative, measure_residual
-from . import Check, Claim, register
+from .base import Check, Claim, register
 
 __all__ = [
     "NBallClaim",

@@ -19,7 +19,7 @@ from chaplygin.derive.transformation import (
 )
 from chaplygin.derive.vectors import cross, dot
 
-from . import Check, Claim, register
+from .base import Check, Claim, register
 from .support import support_notation
 
 __all__: list[str] = []

@@ -20,7 +20,7 @@ from chaplygin.derive.transformation import (
 from chaplygin.derive.vectors import cross, dot
 
 from ..identity import lie_derivative
-from . import Check, Claim, register
+from .base import Check, Claim, register
 from .notation import ball_notation
 
 __all__ = ["BallMap", "ball_map"]

@@ -1,7 +1,7 @@
 """The ``diagram`` output of a scene for every model that has an energy diagram.
 
 * ``chaplygin_ball`` (with or without ``contact_point``): K01's (n, h) diagram at
-  ``C = (M, gamma)`` (:func:`chaplygin.verify.plots.scene_diagram_figure`, K01 Figs. 2, 3);
+  ``C = (M, gamma)`` (:func:`scene_diagram_figure`, K01 Figs. 2, 3);
 * ``chaplygin_ball`` with ``gyrostat`` (and optionally ``contact_point``): the (n, h) diagram at
   ``C = (M + K, gamma)`` of :mod:`chaplygin.numerics.gyrostat_diagram` (the steady rotations
   ``J omega + K = lam omega``, solid where their Floquet multipliers lie on the unit circle and
@@ -28,6 +28,7 @@ __all__ = [
     "diagram_kind",
     "diagram_problem",
     "gyrostat_diagram_figure",
+    "scene_diagram_figure",
     "support_diagram_figure",
 ]
 
@@ -99,7 +100,7 @@ def support_diagram_figure(
     -------
     matplotlib.figure.Figure
     """
-    from .plots import bifurcation_figure
+    from ..plots import bifurcation_figure
 
     I = tuple(float(v) for v in params[:3])
     D_iso, D_al, D_be = (float(v) for v in params[3:6])
@@ -149,13 +150,13 @@ def gyrostat_diagram_figure(
     """
     from matplotlib.figure import Figure
 
-    from ..numerics.gyrostat_diagram import (
+    from ...numerics.gyrostat_diagram import (
         branch_stability,
         level_samples,
         parallel_segment,
         steady_rotation_branches,
     )
-    from .plots import COLORS, _stability_legend, _style
+    from ..figure_style import COLORS, stability_legend, stability_style
 
     I = tuple(float(v) for v in I)
     K = tuple(float(v) for v in K)
@@ -171,7 +172,7 @@ def gyrostat_diagram_figure(
         for start, stop, stable, max_abs in branch_stability(I, D, K, C, branch):
             stop = min(stop + 1, len(branch["n"]))  # pieces meet at their common sample
             ax.plot(
-                branch["n"][start:stop], branch["h"][start:stop], _style(stable),
+                branch["n"][start:stop], branch["h"][start:stop], stability_style(stable),
                 color=COLORS[axis], lw=1.4,
             )  # fmt: skip
             worst[axis] = max(worst.get(axis, 0.0), max_abs)
@@ -188,11 +189,54 @@ def gyrostat_diagram_figure(
     ax.set_ylabel("h = (M, omega)/2")
     ax.grid(alpha=0.3)
     handles, _ = ax.get_legend_handles_labels()
-    ax.legend(handles=handles + _stability_legend()[:2], fontsize=7, loc="best")
+    ax.legend(handles=handles + stability_legend()[:2], fontsize=7, loc="best")
     ax.set_title(
         f"{title}\nball with gyrostat: I = {I}, D = {D:g}, K = {K}, C = (M + K, gamma) = {C:.6g}"
         "\n(steady rotations J omega + K = lam omega; stability by Floquet multipliers)",
         fontsize=8,
     )
+    fig.tight_layout()
+    return fig
+
+
+def scene_diagram_figure(
+    I: Sequence[float], D: float, C: float, n: float, h: float, title: str = "", samples: int = 30
+) -> Figure:
+    """K01's energy diagram in the (n, h) plane at ``C = (M, gamma)`` with one point marked.
+
+    Parameters
+    ----------
+    I : sequence of 3 floats
+    D, C : float
+    n, h : float
+        The scene's ``(M, M)`` and energy.
+    title : str
+    samples : int
+        Integrated random states drawn as dots.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    import numpy as np
+
+    from ..figure_style import COLORS, new_figure
+    from ..plots import draw_k01_diagram
+
+    fig = new_figure(figsize=(7, 5))
+    ax = fig.subplots()
+    I = tuple(float(v) for v in I)
+    draw_k01_diagram(ax, I, float(D), float(C), samples, 1)
+    n_max = 3.0 if C == 0 else 3.0 * C**2  # where draw_k01_diagram stops
+    if n > n_max:  # continue the branches to the scene's point (dotted)
+        from ...numerics.bifurcation import sigma
+
+        ext = np.linspace(n_max, 1.1 * n, 50)
+        for i in range(3):
+            ax.plot(ext, sigma(i, ext, C, I, D) / 2, ":", color=COLORS[i])
+    ax.plot([n], [h], "*", color="k", ms=12, label=f"scene: n = {n:.6g}, h = {h:.6g}")
+    ax.legend(fontsize=7, loc="best")
+    ax.set_title(f"{title}\nI = {tuple(I)}, D = {D:g}, C = {C:.6g}", fontsize=9)
+    ax.grid(alpha=0.3)
     fig.tight_layout()
     return fig

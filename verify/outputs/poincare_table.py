@@ -1,6 +1,6 @@
-"""The ``[outputs.poincare]`` table of scenes (its own module: :mod:`chaplygin.verify.scene`
-imports it for :class:`~chaplygin.verify.scene.Outputs`, and the analysis itself,
-:mod:`chaplygin.verify.poincare_output`, imports the scene module)."""
+"""The ``[outputs.poincare]`` table of scenes (its own module: the scene's schema imports it for
+:class:`~chaplygin.verify.scene.schema.Outputs` without importing the analysis,
+:mod:`chaplygin.verify.outputs.poincare`)."""
 
 from __future__ import annotations
 
@@ -21,14 +21,15 @@ __all__ = ["PoincareOutput"]
 
 
 def _number(value: object) -> object:
-    from ..numerics.inputs import parse_number
+    from ...numerics.inputs import parse_number
 
     parse_number(value, 30)  # refuses malformed, hostile or non-finite text
     return value
 
 
-# scene.py imports this table, so the table cannot import scene.py (a cycle): these mirror
-# scene.Number and scene._Table.
+# the scene's schema imports this table, so the table imports nothing of the scene: these
+# mirror schema.Number (without its description, which the JSON Schema would show) and its
+# table base.
 Number = Annotated[StrictInt | StrictFloat | StrictStr, AfterValidator(_number)]
 
 

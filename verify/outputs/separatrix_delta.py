@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..arith import detlinalg, detmath
+from ...arith import detlinalg, detmath
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -148,7 +148,7 @@ def separatrix_delta_report(result: Any, rtol: float) -> dict:
     """
     import mpmath
 
-    from ..numerics.separatrix import (
+    from ...numerics.separatrix import (
         delta_from_traces,
         delta_three_ways,
         separatrix_quantities,

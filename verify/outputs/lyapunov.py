@@ -27,14 +27,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .analyses import Analysis, AnalysisResult, register_analysis
+from ..scene.outputs import Analysis, AnalysisResult, SceneError, register_analysis
 from .lyapunov_table import LyapunovOutput
-from .scene import SceneError
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from ..numerics.lyapunov import LyapunovSpectrum
+    from ...numerics.lyapunov import LyapunovSpectrum
 
 __all__ = ["LyapunovOutput", "convergence_figure", "run_lyapunov"]
 
@@ -136,9 +135,9 @@ def run_lyapunov(scene: Any, resolved: Any, spec: LyapunovOutput, progress: bool
     SceneError
         Settings the computation refuses (the message says which).
     """
-    from ..derive.errors import UserInputError
-    from ..numerics.lyapunov import lyapunov_spectrum
-    from ..numerics.variational import VariationalSystem
+    from ...derive.errors import UserInputError
+    from ...numerics.lyapunov import lyapunov_spectrum
+    from ...numerics.variational import VariationalSystem
     code = resolved.code
     params = [float(resolved.params[name]) for name in code.params]
     y0 = [float(v) for v in resolved.y0]
@@ -180,7 +179,7 @@ def run_lyapunov(scene: Any, resolved: Any, spec: LyapunovOutput, progress: bool
             sp.errors,
             {"long_name": "standard errors of the exponents", "units": "1/time"},
         )
-    from .plots import literal_text
+    from ..figure_style import literal_text
 
     title = literal_text(scene.title or code.name)
     figures = {"lyapunov": lambda: convergence_figure(spectra, title)}

@@ -4,7 +4,7 @@ user coordinates, with 2-D projections and the 3-D map (BM20 Fig. 5 style).
 
 The numbers come from :mod:`chaplygin.numerics.poincare`; this module reads the scene's table,
 checks it (every problem a :class:`~chaplygin.verify.scene.SceneError` naming the key path),
-runs the map and returns an :class:`~chaplygin.verify.analyses.AnalysisResult`: summary numbers
+runs the map and returns an :class:`~chaplygin.verify.scene.outputs.AnalysisResult`: summary numbers
 (points, orbits, time span, the integrals' drift along the map), ``poincare.nc`` (coordinates
 and states by orbit and point) and figures.
 
@@ -19,10 +19,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..derive.errors import ComputationError, UserInputError
-from .analyses import Analysis, AnalysisResult, register_analysis
+from ...derive.errors import ComputationError, UserInputError
+from ..scene.outputs import Analysis, AnalysisResult, SceneError, register_analysis
 from .poincare_table import PoincareOutput
-from .scene import SceneError, _dotted, _line_of
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -31,12 +30,11 @@ __all__ = ["PoincareOutput", "ANALYSIS", "map_points"]
 
 
 def _fail(scene: Any, message: str, *loc: Any) -> SceneError:
-    full = ("outputs", "poincare", *loc)
-    return SceneError(message, scene.source, _dotted(full), _line_of(scene._text, full))
+    return scene.key_error(message, "outputs", "poincare", *loc)
 
 
 def _coordinate_names(spec: PoincareOutput) -> tuple[str, ...]:
-    from ..numerics.map_coordinates import COORDINATE_SYSTEMS
+    from ...numerics.map_coordinates import COORDINATE_SYSTEMS
 
     if isinstance(spec.coordinates, str):
         return COORDINATE_SYSTEMS[spec.coordinates]
@@ -45,7 +43,7 @@ def _coordinate_names(spec: PoincareOutput) -> tuple[str, ...]:
 
 def _check(scene: Any, code: Any, spec: PoincareOutput) -> None:
     """Refuse a ``poincare`` table before anything runs (the message names the key path)."""
-    from ..numerics.map_coordinates import StateExpression
+    from ...numerics.map_coordinates import StateExpression
 
     names = (*code.state, *code.aux_names)
     if spec.section == "stroboscopic":
@@ -126,7 +124,7 @@ def map_points(orbit: Any, spec_coordinates: Any, code: Any, params: list) -> di
     dict of str to ndarray (float64)
         Coordinate name -> values.
     """
-    from ..numerics.map_coordinates import StateExpression, andoyer_deprit, cylindrical
+    from ...numerics.map_coordinates import StateExpression, andoyer_deprit, cylindrical
 
     y = np.asarray(orbit.y, dtype=float)
     idx = {n: i for i, n in enumerate(code.state)}
@@ -156,8 +154,8 @@ def _starts(scene: Any, res: Any, spec: PoincareOutput) -> list[tuple[str, list]
     """The initial states: the scene's, then ``starts``, then ``level_points``."""
     import mpmath
 
-    from ..numerics.inputs import Precision, working_number
-    from ..numerics.map_coordinates import from_andoyer_deprit, from_cylindrical
+    from ...numerics.inputs import Precision, working_number
+    from ...numerics.map_coordinates import from_andoyer_deprit, from_cylindrical
 
     out = [("initial", list(res.y0))]
     prec = Precision(scene.run_options.precision)
@@ -184,18 +182,14 @@ def _starts(scene: Any, res: Any, spec: PoincareOutput) -> list[tuple[str, list]
                 raise _fail(scene, "starts need a model without the contact point", "starts")
         out.append((f"start {i + 1}", [working_number(v, prec) for v in y]))
     for k in range(1, spec.level_points + 1):
-        other = scene.model_copy(update={"initial": scene.initial.model_copy(update={"point": k})})
-        object.__setattr__(other, "_text", scene._text)
+        other = scene.with_initial(point=k)
         try:
             out.append((f"level point {k}", list(other.resolve().y0)))
         except UserInputError as exc:
             raise _fail(scene, f"level point {k}: {exc}", "level_points") from None
     for key, values in spec.vary.items():
         for k, value in enumerate(values):
-            other = scene.model_copy(
-                update={"initial": scene.initial.model_copy(update={key: value})}
-            )
-            object.__setattr__(other, "_text", scene._text)
+            other = scene.with_initial(**{key: value})
             try:
                 out.append((f"{key} = {value}", list(other.resolve().y0)))
             except UserInputError as exc:
@@ -209,8 +203,8 @@ def _rotation_marks(scene: Any, res: Any, section: Any, spec: PoincareOutput) ->
     (C, h) are left out."""
     import mpmath
 
-    from ..numerics.initial_state import state_near_rotation
-    from ..numerics.inputs import parse_number
+    from ...numerics.initial_state import state_near_rotation
+    from ...numerics.inputs import parse_number
 
     code = res.code
     dps = 30
@@ -268,7 +262,7 @@ def _in_surface(section: Any, y: list) -> Any:
 
 
 def _run(scene: Any, res: Any, spec: PoincareOutput, progress: bool) -> AnalysisResult:
-    from ..numerics.poincare import EventSection, StroboscopicMap
+    from ...numerics.poincare import EventSection, StroboscopicMap
 
     code = res.code
     params = [res.params[k] for k in code.params]
@@ -378,7 +372,7 @@ def _run(scene: Any, res: Any, spec: PoincareOutput, progress: bool) -> Analysis
     projections = (
         [tuple(p) for p in spec.projections] if spec.projections else _default_pairs(spec, coords)
     )
-    from .plots import literal_text
+    from ..figure_style import literal_text
 
     title = literal_text(scene.title or code.name)
     figures = {}
@@ -392,11 +386,11 @@ def _run(scene: Any, res: Any, spec: PoincareOutput, progress: bool) -> Analysis
 def _name_copies(spec: PoincareOutput, code: Any, orbits: list, labels: list) -> list:
     """The copy each orbit of a stroboscopic map reached under the ball's symmetry
     (:func:`chaplygin.numerics.symmetry.name_copy` on its states); empty when not named."""
-    from ..numerics.symmetry import name_copy, symmetries_of
+    from ...numerics.symmetry import name_copy, symmetries_of
 
     if spec.section != "stroboscopic" or not symmetries_of(code):
         return []
-    from ..numerics.regimes import closing_period, map_points_scaled
+    from ...numerics.regimes import closing_period, map_points_scaled
 
     out = []
     for orbit in orbits:
@@ -461,9 +455,9 @@ def poincare_figure(
     -------
     matplotlib.figure.Figure
     """
-    from .plots import _new_figure
+    from ..figure_style import new_figure
 
-    fig = _new_figure(figsize=(5.2 * len(projections), 5))
+    fig = new_figure(figsize=(5.2 * len(projections), 5))
     axes = np.atleast_1d(fig.subplots(1, len(projections)))
     size = 0.6 if sum(len(next(iter(p.values()))) for p in points) > 2000 else 3
     for ax, (x, y) in zip(axes, projections, strict=True):
@@ -507,9 +501,9 @@ def poincare_3d_figure(
     -------
     matplotlib.figure.Figure
     """
-    from .plots import _new_figure
+    from ..figure_style import new_figure
 
-    fig = _new_figure(figsize=(6.5, 6))
+    fig = new_figure(figsize=(6.5, 6))
     ax = fig.add_subplot(projection="3d")
     a, b, c = coords
     for pts in points:

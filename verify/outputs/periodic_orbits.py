@@ -22,72 +22,25 @@ method has refined it to ``10 k`` times the map's accuracy (``100 rtol``).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Annotated, Any, Literal
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, StrictBool, StrictFloat, StrictInt
 
-from ..arith import detlinalg
-from ..derive.errors import UserInputError
-from .analyses import Analysis, AnalysisResult, register_analysis
+from ...arith import detlinalg
+from ...derive.errors import UserInputError
+from ..scene.outputs import Analysis, AnalysisResult, register_analysis
+from .periodic_orbits_table import ContinuationSpec, PeriodicOrbitsOutput
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 __all__ = ["PeriodicOrbitsOutput", "ContinuationSpec", "PERIODIC_ORBITS", "multipliers_figure"]
 
-Positive = Annotated[StrictFloat | StrictInt, Field(gt=0)]
-
-
-class _Table(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
 
 def _scene_error(message: str, path: str) -> Exception:
-    # a UserInputError naming the key path (SceneError is in verify.scene, which imports this
-    # module's tables: importing it here would make an import cycle)
+    # a UserInputError naming the key path, without the file and line (the messages of this
+    # output have always read so)
     return UserInputError(f"{path}: {message}")
-
-
-class ContinuationSpec(_Table):
-    """Continuation of the periodic orbit found, in one parameter of the model."""
-
-    parameter: Literal["Omega", "D", "delta", "J_off"] = Field(
-        "Omega", description="the parameter varied (the scene's value is the start)"
-    )
-    range: Annotated[list[StrictFloat | StrictInt], Field(min_length=2, max_length=2)] = Field(
-        description="[a, b]: the branch is followed from the scene's value to a and to b"
-    )
-    step: Positive = Field(description="initial arclength step (in (x, parameter))")
-    max_points: Annotated[StrictInt, Field(ge=2, le=5000)] = Field(
-        200, description="points per branch at most"
-    )
-    follow_doublings: Annotated[StrictInt, Field(ge=0, le=12)] = Field(
-        3, description="period doublings at which to switch to the doubled branch"
-    )
-
-
-class PeriodicOrbitsOutput(_Table):
-    """Periodic orbit of the stroboscopic map: period search, Newton, multipliers."""
-
-    transient: Annotated[StrictInt, Field(ge=0, le=10_000_000)] = Field(
-        5000, description="map iterations discarded before the period search"
-    )
-    max_period: Annotated[StrictInt, Field(ge=1, le=4096)] = Field(
-        64, description="largest period tried"
-    )
-    detect_tol: Annotated[StrictFloat, Field(gt=0, lt=1)] = Field(
-        1e-4,
-        description="closing tolerance of a candidate period (the candidate is then refined "
-        "by Newton to the integration's accuracy)",
-    )
-    rtol: Annotated[StrictFloat, Field(gt=0, lt=1e-4)] = Field(
-        1e-11, description="integration tolerance of the map and its Jacobian"
-    )
-    continuation: ContinuationSpec | None = Field(
-        None, description="continue the orbit in a parameter, locating its bifurcations"
-    )
-    plot: StrictBool = Field(True, description="write the multipliers' picture")
 
 
 def _check(scene: Any, code: Any, spec: PeriodicOrbitsOutput) -> None:
@@ -114,15 +67,15 @@ def _complex_text(m: complex) -> str:
 
 
 def _run(scene: Any, res: Any, spec: PeriodicOrbitsOutput, progress: Any) -> AnalysisResult:
-    from ..derive.errors import ComputationError
-    from ..numerics.continuation import continue_periodic_orbit
-    from ..numerics.periodic_orbits import (
+    from ...derive.errors import ComputationError
+    from ...numerics.continuation import continue_periodic_orbit
+    from ...numerics.periodic_orbits import (
         bm20_map_with_jacobian,
         bm20_point,
         detect_period,
         refine_periodic_orbit,
     )
-    from ..numerics.reversibility import stroboscopic_samples
+    from ...numerics.reversibility import stroboscopic_samples
 
     y0 = np.array([float(v) for v in res.y0])
     M, gamma = y0[:3], y0[3:]
@@ -195,8 +148,8 @@ def _canonical_orbit(orbit: Any, G: float) -> dict[str, Any]:
     ``g -> g + pi``), starting at a fixed point of the cycle, with the copy reached named
     (:mod:`chaplygin.numerics.symmetry`): two runs that land on mirror copies, or on the
     cycle at different points, print the same orbit."""
-    from ..numerics.periodic_orbits import BM20_STATE, as_numpy_points, bm20_point, bm20_state
-    from ..numerics.symmetry import canonical_cycle, name_copy
+    from ...numerics.periodic_orbits import BM20_STATE, as_numpy_points, bm20_point, bm20_state
+    from ...numerics.symmetry import canonical_cycle, name_copy
 
     states = np.array([bm20_state(x, G) for x in as_numpy_points(orbit)])
     tol = max(float(orbit.residual), float(orbit.tolerance)) * max(1.0, G)

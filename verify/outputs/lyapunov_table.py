@@ -1,5 +1,5 @@
-"""The scene table ``[outputs.lyapunov]`` (its own module, so that :mod:`.scene` can import it
-without importing :mod:`.lyapunov_output`, which imports :mod:`.scene`)."""
+"""The scene table ``[outputs.lyapunov]`` (its own module: the scene's schema imports it without
+importing the analysis, :mod:`chaplygin.verify.outputs.lyapunov`)."""
 
 from __future__ import annotations
 

@@ -1,5 +1,4 @@
-"""Analyses: scene outputs that are computations of their own (Poincaré maps, Lyapunov spectra,
-periodic orbits, ...), plugged into :mod:`chaplygin.verify.scene`.
+"""The public interface of scene outputs: what an output module may import of the scene package.
 
 A trajectory output (``contact_trace``, ``drift``, ...) is drawn from the scene's one trajectory.
 An *analysis* runs its own integrations (map iterations, variational equations) and returns an
@@ -7,33 +6,36 @@ An *analysis* runs its own integrations (map iterations, variational equations) 
 whose outputs are only analyses integrates no trajectory unless it asks for one
 (``[outputs.trajectory]``).
 
-To add an analysis: a module of :mod:`chaplygin.verify` that defines an :class:`Analysis`
-(its scene table is a pydantic model) and calls :func:`register_analysis` at import; its name in
-:data:`ANALYSIS_MODULES`; a field of that table's type in :class:`chaplygin.verify.scene.Outputs`.
+To add an analysis: a module (in :mod:`chaplygin.verify.outputs`) that defines an
+:class:`Analysis` (its scene table is a pydantic model) and calls :func:`register_analysis` at
+import; its key and module in :data:`chaplygin.verify.scene.registry.ANALYSIS_MODULES`; a field of
+that table's type in :class:`chaplygin.verify.scene.schema.Outputs`. The module imports from the
+scene package only this module's public names (``tests/test_layers.py`` checks it): the scene
+reaches its outputs by name, through the registry, and never the other way round, so there is no
+import cycle. It receives the scene and its resolved state as arguments and uses their public
+attributes and methods (``scene.key_error``, ``scene.with_initial``, ``resolved.y0``, ...).
 """
 
 from __future__ import annotations
 
-import importlib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+from .errors import SceneError
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 __all__ = [
-    "ANALYSIS_MODULES",
     "Analysis",
     "AnalysisResult",
-    "analyses",
+    "SceneError",
     "register_analysis",
+    "registered_analyses",
 ]
-
-#: Modules of chaplygin.verify that register an analysis when imported.
-ANALYSIS_MODULES: tuple[str, ...] = ("poincare_output", "lyapunov_output", "periodic_output")
 
 _REGISTRY: dict[str, Analysis] = {}
 
@@ -69,10 +71,10 @@ class Analysis:
         Its key in the scene's ``[outputs]`` table.
     run : callable
         ``run(scene, resolved, spec, progress) -> AnalysisResult``; raises
-        :class:`~chaplygin.verify.scene.SceneError` for settings it cannot use.
+        :class:`SceneError` for settings it cannot use.
     check : callable or None
         ``check(scene, code, spec) -> None``: refuse a spec before anything runs (raise
-        :class:`~chaplygin.verify.scene.SceneError` with the key path).
+        :class:`SceneError` with the key path).
     effects : tuple of str
         Effects of the model that it needs (added to the scene's, and reported).
     description : str
@@ -102,32 +104,12 @@ def register_analysis(analysis: Analysis) -> Analysis:
     return analysis
 
 
-def analyses() -> Mapping[str, Analysis]:
-    """Every registered analysis, by output key (importing :data:`ANALYSIS_MODULES` first).
+def registered_analyses() -> Mapping[str, Analysis]:
+    """The analyses registered so far, by output key (see
+    :func:`chaplygin.verify.scene.registry.analyses`, which imports their modules first).
 
     Returns
     -------
     Mapping of str to Analysis
     """
-    for name in ANALYSIS_MODULES:
-        importlib.import_module(f"{__package__}.{name}")
     return dict(_REGISTRY)
-
-
-def requested(outputs: Any) -> dict[str, tuple[Analysis, Any]]:
-    """The analyses a scene's ``[outputs]`` asks for.
-
-    Parameters
-    ----------
-    outputs : chaplygin.verify.scene.Outputs
-
-    Returns
-    -------
-    dict of str to (Analysis, spec)
-    """
-    found = {}
-    for key, analysis in analyses().items():
-        spec = getattr(outputs, key, None)
-        if spec is not None:
-            found[key] = (analysis, spec)
-    return found

@@ -1,0 +1,179 @@
+"""The stroboscopic map's throughput: BM20's map iterated by the batch lanes, against heyoka's
+batch mode when it is installed."""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+from typing import Any
+
+import numpy as np
+
+from ..derive.errors import UserInputError
+from ..numerics.code import load_model_code
+from ..numerics.integrate import integrate
+from .bench_timing import peers_available
+
+__all__ = ["MAP_BENCH_PARAMS", "MAP_BENCH_START", "map_throughput"]
+
+
+# ------------------------------------------------------- the stroboscopic map's throughput
+#: BM20 Fig. 5's system (the Fig. 6 chart's centre): (I1, I2, I3, D, J_off, delta, K1, K2, K3,
+#: Omega) and the start G = 3, (z, l, g) = (0.5, 1, 1).
+MAP_BENCH_PARAMS = (4.0, 3.0, 2.0, 4.385, 0.0, 2.0, -6.0, -3.0, -9.0, 1.07)
+MAP_BENCH_START = ((0.5, 1.0, 1.0), 3.0)
+
+
+def _heyoka_map_rows(code, p, y0, periods: int, rtol: float) -> dict[str, Any]:
+    """heyoka on the same right-hand side (the model's sympy expressions), one point and a batch
+    of 4; seconds per period per point, wall and CPU."""
+    import heyoka as hy
+    import sympy
+
+    from ..derive.systems import build_model
+
+    model = build_model("chaplygin_ball", code.effects)
+    state = [s for _, group in model.state_groups for s in group]
+    hvars = hy.make_vars(*[str(s) for s in state])
+    subs = {s: v for s, v in zip(state, hvars, strict=True)}
+    params = [s for spec in model.parameters for s in spec.symbols]
+    subs.update({s: hy.par[i] for i, s in enumerate(params)})
+    subs[model.time] = hy.time
+    system = [
+        (v, hy.from_sympy(sympy.sympify(e), subs))
+        for v, e in zip(hvars, model.rhs_expanded, strict=True)
+    ]
+    pvals = [p[code.params.index(str(s))] for s in params]
+    grid = np.arange(periods + 1) * (2 * math.pi / p[code.params.index("Omega")])
+    ta = hy.taylor_adaptive(system, list(y0), pars=pvals, tol=rtol)
+    wall, cpu = time.perf_counter(), time.process_time()
+    out = ta.propagate_grid(grid)
+    wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+    batch = 4
+    tb = hy.taylor_adaptive_batch(
+        system, np.repeat(np.asarray(y0)[:, None], batch, 1),
+        pars=np.repeat(np.asarray(pvals)[:, None], batch, 1), tol=rtol,
+    )  # fmt: skip
+    bwall, bcpu = time.perf_counter(), time.process_time()
+    tb.propagate_grid(np.repeat(grid[:, None], batch, 1))
+    bwall, bcpu = time.perf_counter() - bwall, time.process_time() - bcpu
+    return {
+        "heyoka_one": (wall / periods, cpu / periods),
+        "heyoka_batch4": (bwall / periods / batch, bcpu / periods / batch),
+        "heyoka_steps_per_period": int(out[3]) / periods,
+        "traj": np.asarray(out[5]),
+    }
+
+
+def map_throughput(
+    periods: int = 700, repeats: int = 5, rtol: float = 1e-12, peers: bool = True
+) -> dict[str, Any]:
+    """Microseconds per forcing period per point of BM20's stroboscopic map (issue 14): our
+    Taylor integrator (one point per call), our compiled batch map
+    (:class:`~chaplygin.numerics.batch_map.BatchStroboscopicMap`, 1, 4 and 16 points per call;
+    DOP853 rows ``ours_batch<n>``, Taylor rows ``ours_taylor_batch<n>``)
+    and heyoka (one point, batch of 4) when installed, in one run.
+
+    Medians of ``repeats`` runs, interleaved so that the machine's load affects all alike; wall
+    time and CPU time (``time.process_time``: less sensitive to other processes on a loaded
+    machine). The map is sampled every period, as the sweep's ``period`` reducer does.
+
+    Parameters
+    ----------
+    periods : int, default 700
+        Forcing periods per run (the Fig. 6 chart: 500 transient + 200 recorded).
+    repeats : int, default 5
+    rtol : float, default 1e-12
+        Tolerance of every integrator (atol the same).
+    peers : bool, default True
+        Include heyoka when it is installed.
+
+    Returns
+    -------
+    dict
+        ``<row>_us`` and ``<row>_cpu_us`` per row; the batch map's steps, rejected steps and
+        right-hand-side evaluations per period, the Taylor batch's steps per period and its
+        highest order, heyoka's steps per period; the largest
+        difference of the first 10 periods from the Taylor run; the load average before and
+        after; ratios to heyoka's batch mode.
+
+    Raises
+    ------
+    UserInputError
+        ``periods < 10`` or ``repeats < 1``.
+    """
+    from ..numerics.batch_map import BatchStroboscopicMap, batch_map_available
+    from ..numerics.map_coordinates import state_from_reduced
+
+    if periods < 10 or repeats < 1:
+        raise UserInputError("map_throughput needs periods >= 10 and repeats >= 1")
+    code = load_model_code("chaplygin_ball", ["variable_inertia", "variable_gyrostat"])
+    p = list(MAP_BENCH_PARAMS)
+    y0 = [float(v) for v in state_from_reduced(*MAP_BENCH_START, [0] * 6, code.state)]
+    tau = 2 * math.pi / p[-1]
+    t_eval = [k * tau for k in range(periods + 1)]
+    have_heyoka = peers and peers_available()["heyoka"]
+    have_batch = batch_map_available(code)
+    have_taylor_batch = batch_map_available(code, "taylor")
+    runs: dict[str, list[float]] = {}
+    row: dict[str, Any] = {"periods": periods, "repeats": repeats, "rtol": rtol}
+    row["load_before"] = os.getloadavg()[0]
+
+    def record(name: str, wall: float, cpu: float, per: int = 1) -> None:
+        runs.setdefault(f"{name}_us", []).append(wall / periods / per * 1e6)
+        runs.setdefault(f"{name}_cpu_us", []).append(cpu / periods / per * 1e6)
+
+    integrate(code, y0, (0, 2 * tau), p, method="taylor", rtol=rtol, atol=rtol)  # warm
+    for _ in range(repeats):
+        wall, cpu = time.perf_counter(), time.process_time()
+        r = integrate(code, y0, (0, periods * tau), p, method="taylor", rtol=rtol, atol=rtol,
+                      t_eval=t_eval)  # fmt: skip
+        record("ours_taylor_c", time.perf_counter() - wall, time.process_time() - cpu)
+        taylor = np.asarray(r.y, dtype=float).T
+        if have_batch:
+            bm = BatchStroboscopicMap(code, rtol=rtol, atol=rtol)
+            for n in (1, 4, 16):
+                cpu = time.process_time()
+                b = bm.run(np.repeat([y0], n, 0), np.repeat([p], n, 0), n=periods + 1)
+                record(f"ours_batch{n}", b.wall_s, time.process_time() - cpu, n)
+        if have_taylor_batch:
+            tbm = BatchStroboscopicMap(code, rtol=rtol, atol=rtol, method="taylor")
+            for n in (1, 4, 16):
+                cpu = time.process_time()
+                tb = tbm.run(np.repeat([y0], n, 0), np.repeat([p], n, 0), n=periods + 1)
+                record(f"ours_taylor_batch{n}", tb.wall_s, time.process_time() - cpu, n)
+        if have_heyoka:
+            peer = _heyoka_map_rows(code, p, y0, periods, rtol)
+            for name in ("heyoka_one", "heyoka_batch4"):
+                runs.setdefault(f"{name}_us", []).append(peer[name][0] * 1e6)
+                runs.setdefault(f"{name}_cpu_us", []).append(peer[name][1] * 1e6)
+    row.update({name: float(np.median(values)) for name, values in runs.items()})
+    if have_batch:
+        row["ours_batch_steps_per_period"] = float(b.steps[0]) / periods
+        row["ours_batch_rejected_per_period"] = float(b.rejected[0]) / periods
+        row["ours_batch_rhs_per_period"] = float(b.evaluations[0]) / periods
+        row["ours_batch_vs_taylor_first_10_periods"] = float(
+            np.abs(b.y[0][:11] - taylor[:11]).max()
+        )
+    if have_taylor_batch:
+        row["ours_taylor_batch_steps_per_period"] = float(tb.steps[0]) / periods
+        row["ours_taylor_batch_max_order"] = int(tb.orders[0, 1])
+        row["ours_taylor_batch_vs_taylor_first_10_periods"] = float(
+            np.abs(tb.y[0][:11] - taylor[:11]).max()
+        )
+    if have_heyoka:
+        row["heyoka_steps_per_period"] = peer["heyoka_steps_per_period"]
+        row["heyoka_vs_taylor_first_10_periods"] = float(
+            np.abs(peer["traj"][:11] - taylor[:11]).max()
+        )
+        if have_batch:
+            for n in (4, 16):
+                row[f"ratio_batch{n}_to_heyoka_batch4_wall"] = (
+                    row[f"ours_batch{n}_us"] / row["heyoka_batch4_us"]
+                )
+                row[f"ratio_batch{n}_to_heyoka_batch4_cpu"] = (
+                    row[f"ours_batch{n}_cpu_us"] / row["heyoka_batch4_cpu_us"]
+                )
+    row["load_after"] = os.getloadavg()[0]
+    return row
