@@ -17,7 +17,7 @@ from chaplygin.derive.bifurcation import (
 )
 from chaplygin.numerics import bifurcation as nb
 from chaplygin.numerics import integrate, load_model_code
-from chaplygin.numerics.stability import (
+from chaplygin.numerics.ball.stability import (
     critical_state,
     euler_floquet,
     steady_rotation_floquet,

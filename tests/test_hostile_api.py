@@ -18,10 +18,10 @@ import pytest
 from chaplygin.derive.errors import ChaplyginError, UserInputError
 from chaplygin.derive.systems import build_model
 from chaplygin.numerics import quadratures, separatrix, stability
+from chaplygin.numerics.ball.transformation import transformation_test
 from chaplygin.numerics.code import load_model_code
 from chaplygin.numerics.inputs import Precision
 from chaplygin.numerics.integrate import integrate
-from chaplygin.numerics.transformation import transformation_test
 from chaplygin.verify import plots
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
