@@ -122,7 +122,7 @@ def bm20_map_with_jacobian(
         ``accuracy = 100 rtol`` (``10^(3 - digits)`` with ``digits``).
     """
     from ..code import load_model_code
-    from .variational import VariationalSystem
+    from ..dynamics.variational import VariationalSystem
 
     code = load_model_code("chaplygin_ball", BM20_EFFECTS)
     names = code.params
