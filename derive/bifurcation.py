@@ -17,7 +17,7 @@ Everything here is derived from a model's own momentum ``M = II(vectors) omega``
   ``R(x) = Phi(x) ((C - E D) x - E D)`` of the separated quadratures (BKM12-1.5R).
 
 The paper's own formulas are compared with these derived objects in
-``verify/claims/bifurcation.py``; numerical stability is in ``numerics/stability.py``.
+``verify/claims/bifurcation.py``; numerical stability is in ``numerics/ball/stability.py``.
 
 References
 ----------

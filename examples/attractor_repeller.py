@@ -68,7 +68,7 @@ def mean_log_det(J_off: float, points: np.ndarray) -> tuple[float, float]:
     """Mean of log|det DP| (the phase-volume change per iteration; along an orbit it is the
     sum of the Lyapunov exponents) at points of the attractor (M/G, gamma), with its
     standard error."""
-    from chaplygin.numerics.periodic_orbits import bm20_map_with_jacobian, bm20_point
+    from chaplygin.numerics.ball.bm20_map import bm20_map_with_jacobian, bm20_point
 
     params = list(_FIG5)
     params[4] = J_off

@@ -19,15 +19,10 @@ from __future__ import annotations
 
 import numpy as np
 from chaplygin.numerics import load_model_code
-from chaplygin.numerics.continuation import continue_periodic_orbit
-from chaplygin.numerics.periodic_orbits import (
-    bm20_map_with_jacobian,
-    bm20_point,
-    bm20_state,
-    detect_period,
-    refine_periodic_orbit,
-)
-from chaplygin.numerics.reversibility import stroboscopic_samples
+from chaplygin.numerics.ball.bm20_map import bm20_map_with_jacobian, bm20_point, bm20_state
+from chaplygin.numerics.dynamics.continuation import continue_periodic_orbit
+from chaplygin.numerics.dynamics.periodic_orbits import detect_period, refine_periodic_orbit
+from chaplygin.numerics.dynamics.reversibility import stroboscopic_samples
 
 BODY = [4.0, 3.0, 2.0, 4.385, 0.0, 2.0, -6.0, -3.0, -9.0, 1.07]
 RTOL = 1e-10

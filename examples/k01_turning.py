@@ -6,7 +6,7 @@ Run from the repository root::
 
 On these sets ``gamma`` is periodic and the trace over each period is the previous one turned
 by ``psi``; it is bounded unless ``psi = 0 mod 2 pi``. ``Theta``, the turning of the trace's
-tangent over one period, is a continuous lift of ``psi`` (numerics/trace_geometry.py), so the
+tangent over one period, is a continuous lift of ``psi`` (numerics/ball/trace_geometry.py), so the
 critical energies (unbounded traces, K01 Fig. 6f) are where ``Theta/2 pi`` is an integer.
 Left: the ball, I = (1, 3, 5), C = D = 1; right: the ball with a gyroscope, K = (0.1, 0.1,
 0.2) (K01 Fig. 7's), whose segment ``M + K = C gamma`` has five families of orbits (about
@@ -23,7 +23,7 @@ import math
 from pathlib import Path
 
 import numpy as np
-from chaplygin.numerics.trace_geometry import (
+from chaplygin.numerics.ball.trace_geometry import (
     gradient_line,
     segment_equilibria,
     trace_period,

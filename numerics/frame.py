@@ -112,6 +112,8 @@ def complete_frame(
     alpha: Sequence | None = None,
     beta: Sequence | None = None,
     tolerance: float = 1e-9,
+    *,
+    names: Sequence[str],
 ) -> FrameCompletion:
     """The frame ``alpha, beta`` for a state ``M, gamma``: checked if given, else by the rule of
     the module (BKM12-7, or :func:`horizontal_frame` on ``M || gamma``).
@@ -121,12 +123,15 @@ def complete_frame(
     Parameters
     ----------
     M : sequence of 3 mpmath.mpf
+        The vector the frame is built about (the momentum in BKM12-7).
     gamma : sequence of 3 mpmath.mpf
         A unit vector.
     alpha, beta : sequence of 3 mpmath.mpf, optional
         A frame given by the user (both or neither).
     tolerance : float
         How far a given frame may be from unit, orthogonal and right-handed.
+    names : pair of str
+        The frame's names in the model (for the messages).
 
     Returns
     -------
@@ -142,11 +147,14 @@ def complete_frame(
     ----------
     BKM12-7 (FORMULAS.md).
     """
+    first, second = names
     if (alpha is None) != (beta is None):
-        raise UserInputError("give both alpha and beta, or neither (they are then computed)")
+        raise UserInputError(
+            f"give both {first} and {second}, or neither (they are then computed)"
+        )
     if alpha is not None:
-        alpha = unit_vector("alpha", alpha, tolerance)
-        beta = unit_vector("beta", beta, tolerance)
+        alpha = unit_vector(first, alpha, tolerance)
+        beta = unit_vector(second, beta, tolerance)
         err = max(
             abs(_dot(alpha, beta)),
             *(abs(c - g) for c, g in zip(_cross(alpha, beta), gamma, strict=True)),

@@ -600,9 +600,11 @@ def complete_state(
                         f"give both {alpha} and {beta}, or neither (they are then computed)"
                     )
                 if alpha in got or rules.get(alpha) == "frame_bkm12_7":
+                    about = _frame_axis(groups, code.geometry, rules)
                     frame = complete_frame(
-                        got.get("M"), got[gamma], got.get(alpha), got.get(beta), UNIT_TOLERANCE
-                    )
+                        got.get(about), got[gamma], got.get(alpha), got.get(beta),
+                        UNIT_TOLERANCE, names=(alpha, beta),
+                    )  # fmt: skip
                     got[alpha], got[beta] = frame.alpha, frame.beta
                     if frame.note:
                         notes.append(frame.note)
@@ -615,6 +617,17 @@ def complete_state(
         state = [flat[s] for s in code.state]
     # one rounding to the working precision (exact for the groups already at it)
     return CompletedState(round_to(state, precision), tuple(notes))
+
+
+def _frame_axis(
+    groups: dict[str, tuple[str, ...]],
+    geometry: Sequence[tuple[str, tuple[str, ...]]],
+    rules: dict[str, str],
+) -> str | None:
+    """The state group a frame is completed about (BKM12-7's momentum): the model's first
+    3-vector group that is neither in a Poisson group nor completed by a rule."""
+    bound = {n for _, names in geometry for n in names} | set(rules)
+    return next((g for g, comps in groups.items() if len(comps) == 3 and g not in bound), None)
 
 
 # ------------------------------------------------------------- checks of API arguments

@@ -48,14 +48,17 @@ DEFAULT_MAX_WALL_S = 3600.0
 def _check_relations(code: ModelCode, t0: float, y, p) -> None:
     """Refuse an initial state off the model's invariant relations (no twist ...).
 
-    A relation ``(omega, e) = 0`` must hold to :data:`UNIT_TOLERANCE` relative to
-    ``|omega|``. The message gives the nearest momentum that satisfies it: the
-    relations are linear in ``M``, so the correction is a least-squares projection.
+    The relations are linear in the velocity-carrying state (the groups outside the model's
+    Poisson geometry), ``r = L v``: each must vanish to :data:`UNIT_TOLERANCE` relative to
+    ``|L| |v|``. The message gives the nearest state that satisfies them, ``v - L^T (L
+    L^T)^-1 r`` (a least-squares projection), by group.
     """
     names = code.relation_names
     if not names:
         return
     idx = [code.integral_names.index(n) for n in names]
+    bound = {n for _, group in code.geometry for n in group}
+    free = [s for g, comps in code.state_groups.items() if g not in bound for s in comps]
     with mpmath.workdps(30):
         # the values the integration will use, exactly (a float is its binary value)
         yv = [mpmath.mpf(v) for v in y]
@@ -66,28 +69,35 @@ def _check_relations(code: ModelCode, t0: float, y, p) -> None:
             values = code.mpmath.integrals(t, state, pv)
             return mpmath.matrix([values[i] for i in idx])
 
-        aux = code.mpmath.aux(t, yv, pv)
-        omega = [aux[code.aux_names.index(f"omega{i}")] for i in (1, 2, 3)]
-        scale = mpmath.sqrt(sum(w**2 for w in omega))
         r = relations(yv)
-        worst = max(abs(v) for v in r)
-        if worst <= UNIT_TOLERANCE * max(scale, mpmath.mpf(1)):
-            return
-        M = [code.state.index(f"M{i}") for i in (1, 2, 3)]
-        L = mpmath.matrix(len(idx), 3)
-        for j, k in enumerate(M):
+        columns = {}
+        for s in free:
+            k = code.state.index(s)
             e = list(yv)
             e[k] = yv[k] + 1
             col = relations(e) - r
+            if any(col[i] for i in range(len(idx))):
+                columns[k] = col
+        keys = list(columns)
+        L = mpmath.matrix(len(idx), len(keys))
+        for j, k in enumerate(keys):
             for i in range(len(idx)):
-                L[i, j] = col[i]
+                L[i, j] = columns[k][i]
+        scale = mpmath.mnorm(L, "F") * mpmath.sqrt(sum(yv[k] ** 2 for k in keys))
+        worst = max(abs(v) for v in r)
+        if worst <= UNIT_TOLERANCE * max(scale, mpmath.mpf(1)):
+            return
         shift = L.T * mpmath.lu_solve(L * L.T, r)
-        fixed = [yv[k] - shift[j] for j, k in enumerate(M)]
+        fixed = {code.state[k]: yv[k] - shift[j] for j, k in enumerate(keys)}
     what = ", ".join(f"{n} = {mpmath.nstr(v, 6)}" for n, v in zip(names, r, strict=True))
+    nearest = " ".join(
+        f"{g}={','.join(mpmath.nstr(fixed[c], 15) for c in comps)}"
+        for g, comps in code.state_groups.items()
+        if all(c in fixed for c in comps)
+    )
     raise UserInputError(
         f"the initial state is off the phase space of {code.name}: {what} must be 0 "
-        f"(|omega| = {mpmath.nstr(scale, 6)}); the nearest admissible momentum is "
-        f"M={','.join(mpmath.nstr(v, 15) for v in fixed)}"
+        f"(relative to {mpmath.nstr(scale, 6)}); the nearest admissible state has {nearest}"
     )
 
 
@@ -173,7 +183,8 @@ def integrate(
         Initial state by group (``{"M": (0.7, -0.4, 0.5), "gamma": (...)}``; strings are
         parsed safely) or a full state vector in the model's order. Groups the model completes
         may be left out (:func:`~chaplygin.numerics.inputs.pack_state`: the contact point's
-        ``alpha, beta`` by the one rule of :mod:`chaplygin.numerics.frame`, also on M || gamma).
+        ``alpha, beta`` by the one rule of :mod:`chaplygin.numerics.frame`, also on M ||
+        gamma).
     t_span : (t0, t1) or float
         A single number means ``(0, t1)``.
     params : mapping or sequence

@@ -1,4 +1,5 @@
-"""The compiled batch map (numerics/batch_map.py): against the single-point StroboscopicMap (the
+"""The compiled batch map (numerics/dynamics/batch_map.py): against the single-point
+StroboscopicMap (the
 Taylor method at a much tighter tolerance, an independent route), points independent of each
 other (a failing point spoils no other), and the sweep reducers that use it."""
 
@@ -9,9 +10,9 @@ import math
 import numpy as np
 import pytest
 from chaplygin.derive.errors import UserInputError
-from chaplygin.numerics.batch_map import BatchStroboscopicMap, batch_map_available
 from chaplygin.numerics.code import load_model_code
-from chaplygin.numerics.poincare import StroboscopicMap
+from chaplygin.numerics.dynamics.batch_map import BatchStroboscopicMap, batch_map_available
+from chaplygin.numerics.dynamics.poincare import StroboscopicMap
 
 CODE = load_model_code("chaplygin_ball", ["variable_inertia", "variable_gyrostat"])
 

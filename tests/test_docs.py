@@ -11,7 +11,7 @@ MODULES = [
     "chaplygin.derive.chaplygin_ball",
     "chaplygin.derive.emit.functions",
     "chaplygin.numerics.integrate",
-    "chaplygin.numerics.quadratures",
+    "chaplygin.numerics.ball.quadratures",
     "chaplygin.numerics.taylor",
     "chaplygin.verify.cli_common",
     "chaplygin.verify.output_folder",

@@ -18,7 +18,7 @@ How the bounds are derived (used by every test below)
   spans used here (frequencies ``w`` of order 1, ``T <= 1e3``); where the motion may be chaotic
   (BM20 Fig. 5) an error made at time ``t`` is amplified by at most ``||Phi(T, t)||``, the
   state-transition matrix of the orbit itself, measured from the variational equations
-  (:func:`chaplygin.numerics.variational.flow_with_jacobian`) rather than assumed.
+  (:func:`chaplygin.numerics.dynamics.variational.flow_with_jacobian`) rather than assumed.
 
 Each test states its own numbers in its docstring. Reference values cite FORMULAS.md IDs.
 """
@@ -32,7 +32,7 @@ import numpy as np
 import pytest
 from chaplygin.derive.errors import UserInputError
 from chaplygin.numerics import integrate, load_model_code
-from chaplygin.numerics.variational import flow_with_jacobian
+from chaplygin.numerics.dynamics.variational import flow_with_jacobian
 from chaplygin.verify.bench import separatrix_state
 from chaplygin.verify.cli import main
 

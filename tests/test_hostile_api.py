@@ -17,11 +17,11 @@ import numpy as np
 import pytest
 from chaplygin.derive.errors import ChaplyginError, UserInputError
 from chaplygin.derive.systems import build_model
-from chaplygin.numerics import quadratures, separatrix, stability
+from chaplygin.numerics.ball import quadratures, separatrix, stability
+from chaplygin.numerics.ball.transformation import transformation_test
 from chaplygin.numerics.code import load_model_code
 from chaplygin.numerics.inputs import Precision
 from chaplygin.numerics.integrate import integrate
-from chaplygin.numerics.transformation import transformation_test
 from chaplygin.verify import plots
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -618,7 +618,7 @@ def test_work_precision_figure(study):
     )
 )
 def test_trace_period(case):
-    from chaplygin.numerics import trace_geometry
+    from chaplygin.numerics.ball import trace_geometry
 
     check(trace_geometry.trace_period, case)
 
@@ -635,7 +635,7 @@ def test_trace_period(case):
     )
 )
 def test_trace_period_with_gyrostat(case):
-    from chaplygin.numerics import trace_geometry
+    from chaplygin.numerics.ball import trace_geometry
 
     check(trace_geometry.trace_period, case)
 

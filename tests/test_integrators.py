@@ -115,7 +115,7 @@ def test_the_reversed_flow_forward_is_the_model_backward(method):
 def test_separatrix_flow_is_the_direct_taylor_and_odefun_calls_bit_for_bit():
     """separatrix.flow through the door against what it called itself before: taylor_solve
     at the ambient 30 digits, and mpmath.odefun on -f for the backward half."""
-    from chaplygin.numerics.separatrix import flow, separatrix_quantities, separatrix_state
+    from chaplygin.numerics.ball.separatrix import flow, separatrix_quantities, separatrix_state
     from chaplygin.numerics.taylor import taylor_solve
 
     code = load_model_code(BALL, ("contact_point",))
@@ -148,8 +148,8 @@ def test_variational_fallback_is_the_direct_scipy_call_bit_for_bit(monkeypatch):
     """Without the compiled library the variational equations run on scipy's DOP853 through
     the door: the bits of the direct solve_ivp call on the same augmented system."""
     from chaplygin.arith import detlinalg
+    from chaplygin.numerics.dynamics.variational import VariationalSystem
     from chaplygin.numerics.integrators import dop853_c
-    from chaplygin.numerics.variational import VariationalSystem
 
     code = load_model_code(BALL)
     monkeypatch.setitem(dop853_c._LIBRARIES, code.hash, None)
@@ -180,8 +180,8 @@ def test_variational_fallback_is_the_direct_scipy_call_bit_for_bit(monkeypatch):
 def test_the_dense_solution_is_the_engines_bit_for_bit():
     """trace_geometry.dense_solution (the taylor integrator with dense_output) against the
     engine's taylor_dense called directly, at times across the span."""
+    from chaplygin.numerics.ball.trace_geometry import dense_solution
     from chaplygin.numerics.taylor import taylor_dense
-    from chaplygin.numerics.trace_geometry import dense_solution
 
     code = load_model_code(BALL)
     y0, p = np.array(Y0), np.array(P)
@@ -196,7 +196,7 @@ def test_a_batch_through_the_registry_is_the_batch_map():
     """A Batch problem solved by the 'dop853' and 'taylor' integrators gives what
     BatchStroboscopicMap reports (the same call), and the two integrators agree to their
     tolerance over 3 periods."""
-    from chaplygin.numerics.batch_map import BatchStroboscopicMap, batch_map_available
+    from chaplygin.numerics.dynamics.batch_map import BatchStroboscopicMap, batch_map_available
     from chaplygin.numerics.integrators import StroboscopicTimes
 
     code = load_model_code(BALL, ["variable_inertia", "variable_gyrostat"])

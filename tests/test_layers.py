@@ -286,7 +286,7 @@ def _layer(module: str) -> int:
 
 def test_the_graph_is_read():
     # a control: the parser sees relative, absolute and function-level imports
-    assert "chaplygin.derive.errors" in GRAPH["chaplygin.numerics.separatrix"]
+    assert "chaplygin.derive.errors" in GRAPH["chaplygin.numerics.ball.separatrix"]
     assert "chaplygin.verify.delta_cmd" in GRAPH["chaplygin.verify.cli"]
     assert "chaplygin.numerics.integrate" in GRAPH["chaplygin.verify.plots"]  # inside a function
     assert "chaplygin.generated" in GRAPH["chaplygin.numerics.code"]  # import_module(f"...")
@@ -931,3 +931,106 @@ def test_the_c_check_sees_every_way_of_writing_c():
         "def g(code):\n    return len(code.c_source), hashlib.sha256(code.c_source.encode())\n"
     )
     assert c_text_uses(quiet) == []
+
+
+# ---------------------------------------------------------------- rooms inside numerics
+#: The engine (integration, code loading, precision, inputs) and the generic dynamics: no
+#: module here names a state variable of a particular system, and none imports the ball's
+#: studies (``numerics/ball/``), which sit above them.
+ENGINE_PREFIXES = ("chaplygin.numerics.dynamics",)
+BALL_ROOM = "chaplygin.numerics.ball"
+
+#: ``x`` and ``y`` are also the generic names of the state in ``y' = f(t, y)`` and of the
+#: compiled routines' arguments (the surface's ``x`` and the contact point's ``y`` are
+#: state groups too): they are left out of the names searched for.
+GENERIC_NAMES = {"x", "y"}
+
+
+def engine_modules(modules: dict = MODULES) -> list[str]:
+    """The engine's and the generic dynamics' modules."""
+    return sorted(
+        m
+        for m in modules
+        if m.startswith("chaplygin.numerics")
+        and not m.startswith(BALL_ROOM)
+        and (m.count(".") == 2 or m.startswith(("chaplygin.numerics.integrators",
+                                                 *ENGINE_PREFIXES)))
+    )  # fmt: skip
+
+
+def state_variable_names() -> set[str]:
+    """Every state variable and state group of the built-in models (from ``generated/``)."""
+    import importlib
+
+    names: set[str] = set()
+    for path in _package_dir("generated").glob("*_numpy.py"):
+        gen = importlib.import_module(f"chaplygin.generated.{path.stem}")
+        names |= set(gen.STATE) | {group for group, _ in gen.STATE_GROUPS}
+    return names - GENERIC_NAMES
+
+
+def state_names_in(source: str, names: set[str]) -> list[str]:
+    """String constants of ``source`` (docstrings left out) that are one of ``names``, or
+    that index such a name by a number (``f"M{i}"``)."""
+    tree = ast.parse(source)
+    docstrings = {
+        id(node.body[0].value)
+        for node in ast.walk(tree)
+        if isinstance(node, ast.Module | ast.ClassDef | ast.FunctionDef | ast.AsyncFunctionDef)
+        and node.body
+        and isinstance(node.body[0], ast.Expr)
+        and isinstance(node.body[0].value, ast.Constant)
+    }
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Constant) and isinstance(node.value, str):
+            if id(node) not in docstrings and node.value in names:
+                found.append(f"line {node.lineno}: {node.value!r}")
+        elif isinstance(node, ast.JoinedStr) and len(node.values) == 2:
+            head, tail = node.values
+            if isinstance(head, ast.Constant) and isinstance(tail, ast.FormattedValue) \
+                    and f"{head.value}1" in names:
+                found.append(f"line {node.lineno}: {ast.unparse(node)}")
+    return found
+
+
+def test_the_engine_names_no_state_variable():
+    """Issue 23, deliverable 5: the engine and the generic dynamics read a model's state,
+    groups and geometry from the model; only the systems' own rooms name ``M``, ``gamma`` ..."""
+    names = state_variable_names()
+    assert {"M", "M1", "gamma3", "alpha", "omega2", "x_1"} <= names
+    bad = {
+        m: hits
+        for m in engine_modules()
+        if (hits := state_names_in(MODULES[m][0].read_text(), names))
+    }
+    assert bad == {}
+    assert "chaplygin.numerics.integrate" in engine_modules()
+    assert "chaplygin.numerics.dynamics.poincare" in engine_modules()
+    assert "chaplygin.numerics.ball.separatrix" not in engine_modules()
+
+
+def test_the_state_name_check_sees_the_old_engine():
+    """A negative control, from the engine before the rooms: each way it named the ball's
+    state is found; docstrings and the generic ``y`` are not."""
+    names = state_variable_names()
+    forms = [
+        'BM20_STATE = ("M1", "M2", "M3", "gamma1", "gamma2", "gamma3")',
+        "def f(code):\n    return [code.state.index(f'M{i}') for i in (1, 2, 3)]",
+        "def f(got):\n    return got.get('M')",
+        "def f(aux, code):\n    return [aux[code.aux_names.index(f'omega{i}')] for i in (1, 2)]",
+    ]
+    for form in forms:
+        assert state_names_in(form, names), form
+    quiet = '"""Starts at ``{"M": (1, 2, 3)}``."""\ndef f(y):\n    return y["y"]\n'
+    assert state_names_in(quiet, names) == []
+
+
+def test_the_engine_does_not_import_the_ball_room():
+    bad = sorted(
+        f"{m} imports {d}"
+        for m in engine_modules()
+        for d in GRAPH[m]
+        if d.startswith(BALL_ROOM)
+    )
+    assert bad == []

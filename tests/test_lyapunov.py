@@ -1,4 +1,5 @@
-"""Lyapunov spectra (numerics/lyapunov.py): the QR machinery against an independent flow, the
+"""Lyapunov spectra (numerics/dynamics/lyapunov.py): the QR machinery against an independent flow,
+the
 sum of the spectrum against the average divergence, the density bound of the autonomous ball
 (BKM12-4), BM20's dissipative attractor, units and bad input."""
 
@@ -11,16 +12,16 @@ import mpmath
 import numpy as np
 import pytest
 from chaplygin.derive.errors import UserInputError
+from chaplygin.numerics.ball.initial_state import state_from_andoyer
 from chaplygin.numerics.code import load_model_code
-from chaplygin.numerics.initial_state import state_from_andoyer
-from chaplygin.numerics.integrators import dop853_c
-from chaplygin.numerics.lyapunov import (
+from chaplygin.numerics.dynamics.lyapunov import (
     UNITS_PER_ITERATION,
     UNITS_PER_TIME,
     lyapunov_spectrum,
     states_on_level_set,
 )
-from chaplygin.numerics.variational import VariationalSystem
+from chaplygin.numerics.dynamics.variational import VariationalSystem
+from chaplygin.numerics.integrators import dop853_c
 
 BM20 = ("chaplygin_ball", "variable_gyrostat,variable_inertia")
 # BM20 Fig. 5: I = diag(4, 3, 2), d = 4.385, J = 0, delta = 2, K = (-6, -3, -9), Omega = 1.07

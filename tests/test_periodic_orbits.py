@@ -15,8 +15,8 @@ import mpmath
 import numpy as np
 import pytest
 from chaplygin.derive.errors import ComputationError, UserInputError
-from chaplygin.numerics.continuation import bifurcation_indicators, continue_periodic_orbit
-from chaplygin.numerics.periodic_orbits import (
+from chaplygin.numerics.dynamics.continuation import bifurcation_indicators, continue_periodic_orbit
+from chaplygin.numerics.dynamics.periodic_orbits import (
     SmoothMap,
     detect_period,
     floquet_multipliers,
@@ -301,8 +301,8 @@ def test_continuation_bad_input():
 
 # ------------------------------------------------------------------ BM20 reduced coordinates
 def test_andoyer_deprit_round_trip_and_tangent():
-    from chaplygin.numerics.map_coordinates import reduced_tangent
-    from chaplygin.numerics.periodic_orbits import bm20_point, bm20_state
+    from chaplygin.numerics.ball.bm20_map import bm20_point, bm20_state
+    from chaplygin.numerics.ball.map_coordinates import reduced_tangent
 
     G = 2.7183
     x = np.array([0.3141, -2.2718, 1.4142])
@@ -321,7 +321,7 @@ def test_andoyer_deprit_round_trip_and_tangent():
 
 
 def test_reduced_tangent_refuses_the_poles():
-    from chaplygin.numerics.map_coordinates import reduced_tangent
+    from chaplygin.numerics.ball.map_coordinates import reduced_tangent
 
     with pytest.raises(UserInputError, match="singular"):
         reduced_tangent((1.0, 0.3, 0.2), 3.0)

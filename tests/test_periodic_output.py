@@ -26,7 +26,8 @@ import json
 
 import numpy as np
 import pytest
-from chaplygin.numerics.periodic_orbits import bm20_map_with_jacobian, refine_periodic_orbit
+from chaplygin.numerics.ball.bm20_map import bm20_map_with_jacobian
+from chaplygin.numerics.dynamics.periodic_orbits import refine_periodic_orbit
 from chaplygin.verify.cli import main
 
 BM20 = """title = "BM20 Fig. 7A period"
@@ -171,14 +172,10 @@ def test_period_seven_cycle_refined_at_30_digits():
     cycle of Fig. 7A to the working precision; the double orbit agrees to its own accuracy,
     and P^7 of the refined point computed independently at 40 digits returns to it."""
     import mpmath
+    from chaplygin.numerics.ball.bm20_map import bm20_map_with_jacobian, bm20_point, bm20_state
+    from chaplygin.numerics.ball.map_coordinates import reduced_point, state_from_reduced
     from chaplygin.numerics.code import load_model_code
-    from chaplygin.numerics.map_coordinates import reduced_point, state_from_reduced
-    from chaplygin.numerics.periodic_orbits import (
-        bm20_map_with_jacobian,
-        bm20_point,
-        bm20_state,
-    )
-    from chaplygin.numerics.poincare import StroboscopicMap
+    from chaplygin.numerics.dynamics.poincare import StroboscopicMap
 
     exact = ["4", "3", "2", "4.385", "0", "2", "-6", "-3", "-9", "1.06675"]
     double = bm20_map_with_jacobian([float(v) for v in exact], 3.0, rtol=1e-11)
@@ -211,7 +208,7 @@ def test_mirror_starts_print_the_same_canonical_cycle(tmp_path, capsys):
     refined 7-cycles are mirror copies (BM20-3.1); both runs print the same canonical orbit,
     starting at the same point, and name the copy each reached (opposite). (Not from Fig. 5's
     start: when its chaotic transient is captured by the cycle depends on the last bits.)"""
-    from chaplygin.numerics.periodic_orbits import bm20_state
+    from chaplygin.numerics.ball.bm20_map import bm20_state
 
     y0 = bm20_state(list(NEAR_CYCLE), 3.0)
     outs = []

@@ -11,15 +11,16 @@ import mpmath
 import numpy as np
 import pytest
 from chaplygin.derive.errors import UserInputError
-from chaplygin.numerics.code import load_model_code
-from chaplygin.numerics.map_coordinates import (
+from chaplygin.numerics.ball.bm20_map import reduced_step
+from chaplygin.numerics.ball.map_coordinates import (
     StateExpression,
     andoyer_deprit,
     cylindrical,
     from_andoyer_deprit,
     from_cylindrical,
 )
-from chaplygin.numerics.poincare import EventSection, StroboscopicMap
+from chaplygin.numerics.code import load_model_code
+from chaplygin.numerics.dynamics.poincare import EventSection, StroboscopicMap
 from chaplygin.verify.scene import Scene, SceneError
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
@@ -341,20 +342,20 @@ def test_section_scene_more_starts_on_the_level_set_and_at_other_n():
 
 
 def test_reduced_map_is_the_stroboscopic_map_in_andoyer_deprit_coordinates(bm20_code):
-    from chaplygin.numerics.map_coordinates import reduced_point, state_from_reduced
+    from chaplygin.numerics.ball.map_coordinates import reduced_point, state_from_reduced
 
     strobe = StroboscopicMap(bm20_code, BM20, rtol=1e-12, atol=1e-14)
     x = np.array([0.37, 1.13, -0.61])
     y = state_from_reduced(x, 3.0, [0.0] * 6, bm20_code.state)
     G, back = reduced_point(y, bm20_code.state)
     assert G == pytest.approx(3.0, rel=1e-15) and np.allclose(back, x, atol=2e-15)
-    x1 = strobe.reduced_step(x, 3.0)
+    x1 = reduced_step(strobe, x, 3.0)
     G1, ref = reduced_point(strobe.step(y), bm20_code.state)
     assert np.array_equal(x1, ref)
     assert G1 == pytest.approx(3.0, rel=1e-10)  # |M| is an integral of the flow
     # a pole start: z = 1 exactly (l undefined) maps to the same point as l = 0, g = l + g
-    a = strobe.reduced_step([1.0, 0.4, 0.9], 3.0)
-    b = strobe.reduced_step([1.0, 0.0, 1.3], 3.0)
+    a = reduced_step(strobe, [1.0, 0.4, 0.9], 3.0)
+    b = reduced_step(strobe, [1.0, 0.0, 1.3], 3.0)
     assert np.allclose(a, b, atol=1e-9)
 
 
@@ -393,11 +394,8 @@ def test_mirror_starts_are_named_as_mirror_copies_and_drawn_canonical():
     the transient converges by the cycle's own contraction (multipliers 0.97 in modulus per
     period 7: 1e-5 * 0.97^(4000/7) ~ 3e-13, below the 1e-9 at which the output calls an orbit
     periodic)."""
-    from chaplygin.numerics.periodic_orbits import (
-        bm20_map_with_jacobian,
-        bm20_state,
-        refine_periodic_orbit,
-    )
+    from chaplygin.numerics.ball.bm20_map import bm20_map_with_jacobian, bm20_state
+    from chaplygin.numerics.dynamics.periodic_orbits import refine_periodic_orbit
 
     params = [4, 3, 2, 4.385, 0, 2, -6, -3, -9, 1.06675]
     smap = bm20_map_with_jacobian(params, 3.0, rtol=1e-10)

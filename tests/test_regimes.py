@@ -1,5 +1,5 @@
-"""Regimes of the stroboscopic map's attractor (numerics/regimes.py) and the symmetric copies
-of attractors (numerics/symmetry.py): the ball's equations are equivariant under
+"""Regimes of the stroboscopic map's attractor (numerics/ball/regimes.py) and the symmetric copies
+of attractors (numerics/ball/symmetry.py): the ball's equations are equivariant under
 gamma -> -gamma (BM20-3.1, BKM12-3.sym), so a run lands on either of two mirror copies; both
 report the same canonical orbit with the copy named.
 
@@ -13,11 +13,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from chaplygin.numerics.batch_map import batch_map_available
-from chaplygin.numerics.code import load_model_code
-from chaplygin.numerics.periodic_orbits import BM20_STATE, bm20_point, bm20_state
-from chaplygin.numerics.regimes import attractor_regime, linear_growth_rate, map_points_scaled
-from chaplygin.numerics.symmetry import (
+from chaplygin.numerics.ball.bm20_map import BM20_STATE, bm20_point, bm20_state
+from chaplygin.numerics.ball.regimes import attractor_regime, linear_growth_rate, map_points_scaled
+from chaplygin.numerics.ball.symmetry import (
     MIRROR,
     canonical_cycle,
     copy_statistic,
@@ -25,6 +23,8 @@ from chaplygin.numerics.symmetry import (
     name_copy,
     symmetries_of,
 )
+from chaplygin.numerics.code import load_model_code
+from chaplygin.numerics.dynamics.batch_map import batch_map_available
 
 CODE = load_model_code("chaplygin_ball", ["variable_inertia", "variable_gyrostat"])
 pytestmark = pytest.mark.skipif(not batch_map_available(CODE), reason="no C compiler")
@@ -160,7 +160,7 @@ def test_classify_exponent_thresholds():
     """The rule on synthetic exponents (N = 2000, r = ln(N)/N = 0.0038): chaotic beyond r + 3
     errors, contracting below -(r + 3 errors), quasi-periodic within r + 2 errors of 0,
     undecided between (an intermittent orbit: 0.09 +- 0.03)."""
-    from chaplygin.numerics.regimes import classify_exponent
+    from chaplygin.numerics.ball.regimes import classify_exponent
 
     r = linear_growth_rate(2000)
     assert classify_exponent(0.044, 0.004, 2000) == "chaotic"
@@ -176,7 +176,7 @@ def test_settled_period_tells_a_slow_spiral_from_a_longer_cycle():
     settles: its period is 7; a genuine 14-cycle (pairs 1e-3 apart, settled) keeps 14; a
     spiral with closure at 28 found by closing_period on such data (the control: without the
     check the period would be 28)."""
-    from chaplygin.numerics.regimes import closing_period, settled_period
+    from chaplygin.numerics.ball.regimes import closing_period, settled_period
 
     rng = np.random.default_rng(3)
     cycle = rng.normal(size=(7, 3))
@@ -208,8 +208,8 @@ def test_lyapunov_from_rest_on_the_sphere_of_gamma():
     rotates) to rounding; the level set's whole tangent space (the control) adds the rotating
     delta M directions, whose exponent 0 hides the contraction: its largest exponent lies
     above the sphere's by more than 3 errors."""
-    from chaplygin.numerics.lyapunov import lyapunov_spectrum
-    from chaplygin.numerics.regimes import _from_rest_subspace
+    from chaplygin.numerics.ball.regimes import _from_rest_subspace
+    from chaplygin.numerics.dynamics.lyapunov import lyapunov_spectrum
 
     p = [4, 3, 2, 1.5, 0.9, 1.2, 3, -1, -2, 0.6]
     y0 = np.array([0, 0, 0, 0.6, 0.0, 0.8])

@@ -6,7 +6,7 @@ import mpmath
 import numpy as np
 import pytest
 from chaplygin.derive.errors import UserInputError
-from chaplygin.numerics.quadratures import (
+from chaplygin.numerics.ball.quadratures import (
     measured_rotation_number,
     rotation_number,
     separation_roots,

@@ -8,8 +8,8 @@ from pathlib import Path
 import mpmath
 import numpy as np
 import pytest
+from chaplygin.numerics.ball.initial_state import integral_residuals, state_from_integrals
 from chaplygin.numerics.code import load_model_code
-from chaplygin.numerics.initial_state import integral_residuals, state_from_integrals
 from chaplygin.verify.cli import main
 from chaplygin.verify.scene import Scene, SceneError, scene_json_schema
 
@@ -263,14 +263,14 @@ atol = 1e-12
 
 @pytest.mark.parametrize("axis", (1, 2, 3))
 def test_near_is_the_steady_rotation_of_branch_p_i(tmp_path, axis):
-    from chaplygin.numerics.bifurcation import sigma
+    from chaplygin.numerics.ball.bifurcation import sigma
 
     scene = Scene.from_toml(_write(tmp_path, NEAR.format(axis=axis)))
     res = scene.resolve()
     assert max(abs(v) for v in res.residuals.values()) < 1e-14
     result = scene.run()
     H = result.quantity("H")
-    # its energy is the branch p_i of the diagram at n = 2 (numerics.bifurcation, K01 (3.3))
+    # its energy is the branch p_i of the diagram at n = 2 (numerics.ball.bifurcation, K01 (3.3))
     assert H[0] == pytest.approx(float(sigma(axis - 1, 2.0, 1.0, (1, 1.5, 3), 1.0)) / 2, rel=1e-12)
     # a steady rotation: omega stays along e_i (stable p1, p3; p2 too over this short time)
     w = np.array([result.quantity(f"omega{i}") for i in (1, 2, 3)])

@@ -12,7 +12,7 @@ import mpmath
 import numpy as np
 import pytest
 from chaplygin.derive.errors import UserInputError
-from chaplygin.numerics.separatrix import delta_closed_form, mu_of, spiral_centre
+from chaplygin.numerics.ball.separatrix import delta_closed_form, mu_of, spiral_centre
 from chaplygin.verify.cli import main
 from chaplygin.verify.outputs.separatrix_delta import delta_agrees, delta_tolerance
 from chaplygin.verify.scene import Scene, SceneError
@@ -51,7 +51,7 @@ def test_fig4a_delta_measured_on_the_trace_is_the_closed_form():
     assert report["closed_form"] == pytest.approx(closed, rel=1e-15)
     assert abs(report["measured"] - closed) <= report["tolerance"]
     assert report["agrees"] and "note" not in report
-    # the other two references of numerics/separatrix.py agree with the measurement too
+    # the other two references of numerics/ball/separatrix.py agree with the measurement too
     for key in ("full_equations", "quadrature"):
         assert abs(report["measured"] - report[key]) <= report["tolerance"]
     # the paper's printed value (truncated) K01-Fig4

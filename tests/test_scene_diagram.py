@@ -1,7 +1,7 @@
 """The ``diagram`` output for the ball with a gyrostat (K01 Fig. 7's setting), and its refusal
 where no diagram exists.
 
-The curves are the steady rotations ``J omega + K = lam omega`` (numerics/gyrostat_diagram.py).
+The curves are the steady rotations ``J omega + K = lam omega`` (numerics/ball/gyrostat_diagram.py).
 Checked by independent routes: (1) the generated equations keep such a state's ``omega``
 constant; (2) the least and largest energy on a level ``(C, n)``, found by minimising the
 generated energy over the level, are energies of the curves (extreme values are critical
@@ -17,8 +17,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 from chaplygin.numerics import integrate
-from chaplygin.numerics.bifurcation import sigma
-from chaplygin.numerics.gyrostat_diagram import (
+from chaplygin.numerics.ball.bifurcation import sigma
+from chaplygin.numerics.ball.gyrostat_diagram import (
     level_integrals,
     steady_rotation_branches,
     steady_rotation_energies,
@@ -202,9 +202,9 @@ def test_curves_end_on_the_segment_where_gamma_is_parallel_to_omega(p):
 
 def test_steady_rotation_stability_without_k_is_the_balls():
     """K = 0: the multipliers of a branch state (J omega = lam omega, numerics) are those of
-    the ball's derived steady rotation on the same level (numerics.stability, derive)."""
-    from chaplygin.numerics.gyrostat_diagram import steady_rotation_stability
-    from chaplygin.numerics.stability import steady_rotation_floquet
+    the ball's derived steady rotation on the same level (numerics.ball.stability, derive)."""
+    from chaplygin.numerics.ball.gyrostat_diagram import steady_rotation_stability
+    from chaplygin.numerics.ball.stability import steady_rotation_floquet
 
     p = GENERIC
     K0 = (0.0, 0.0, 0.0)
@@ -227,7 +227,7 @@ def test_a_hyperbolic_rotation_separates_neighbours_by_its_multiplier():
     """K01 Fig. 7 at n = 2: the rotation at h = 0.260845 has max|mu| = 38.2; a neighbouring
     state separates from it by that factor per period (the variational equations are not
     used: two integrations of the full equations)."""
-    from chaplygin.numerics.gyrostat_diagram import steady_rotations_on_level
+    from chaplygin.numerics.ball.gyrostat_diagram import steady_rotations_on_level
 
     p = FIG7
     level = steady_rotations_on_level(p["I"], p["D"], p["K"], p["C"], 2.0)

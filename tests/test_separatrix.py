@@ -13,8 +13,7 @@ import random
 import mpmath
 import pytest
 import sympy as sp
-from chaplygin.numerics.code import load_model_code
-from chaplygin.numerics.separatrix import (
+from chaplygin.numerics.ball.separatrix import (
     agreeing_digits,
     delta_closed_form,
     delta_ode,
@@ -26,6 +25,7 @@ from chaplygin.numerics.separatrix import (
     separatrix_state,
     tail_integral,
 )
+from chaplygin.numerics.code import load_model_code
 from chaplygin.verify.cli import main
 
 FIG4 = {(1, 1.5, 2): "0.002858", (1, 3, 5): "0.411829"}  # K01-Fig4, D = b = C = 1
@@ -301,7 +301,7 @@ def test_fig6f_critical_energy_where_the_trace_becomes_unbounded():
 
     Double precision (DOP853, rtol 1e-12): h_c is compared to the 7 printed decimals.
     """
-    from chaplygin.numerics.separatrix import critical_energy, frame_turn
+    from chaplygin.numerics.ball.separatrix import critical_energy, frame_turn
 
     T, phi = frame_turn((1, 3, 5), 1, 0.180278)
     assert abs(T - 42.18) < 0.005 and abs(phi + 0.0098) < 5e-5

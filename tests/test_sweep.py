@@ -368,12 +368,8 @@ def test_bm20_tongue_example_finds_the_continued_period_seven_cycle(client, tmp_
     multiple of 7 stays 8000 tolerances open; at 1.07 no period <= 32 closes within 1000
     tolerances (48 perturbed starts each). Margins over 1000 both ways.
     """
-    from chaplygin.numerics.periodic_orbits import (
-        bm20_map_with_jacobian,
-        bm20_point,
-        bm20_state,
-        refine_periodic_orbit,
-    )
+    from chaplygin.numerics.ball.bm20_map import bm20_map_with_jacobian, bm20_point, bm20_state
+    from chaplygin.numerics.dynamics.periodic_orbits import refine_periodic_orbit
 
     near_cycle = (-0.44, 1.46, -1.01)  # (z, l, g), tests/test_periodic_output.py's NEAR_CYCLE
     text = (EXAMPLES / "bm20-fig6-tongue.toml").read_text()

@@ -8,8 +8,8 @@ import textwrap
 
 import numpy as np
 import pytest
-from chaplygin.numerics.batch_map import batch_map_available
 from chaplygin.numerics.code import load_model_code
+from chaplygin.numerics.dynamics.batch_map import batch_map_available
 from chaplygin.verify.scene import Scene
 from chaplygin.verify.sweep import chunk_payload, compute_chunk, linear_growth_rate, plan_sweep
 
@@ -187,7 +187,7 @@ def test_carried_starts_follow_the_attractor_along_the_line(tmp_path):
     the reverse. Along this line inside the period-7 tongue every point reaches the 7-cycle;
     the carried start is the previous point's end, so the carried run equals attractor_regime
     from that state (checked at the last point)."""
-    from chaplygin.numerics.regimes import attractor_regime
+    from chaplygin.numerics.ball.regimes import attractor_regime
 
     out = {}
     for direction in ("forward", "backward"):

@@ -9,7 +9,7 @@ import pytest
 
 xr = pytest.importorskip("xarray")
 
-from chaplygin.numerics.regimes import REGIMES  # noqa: E402
+from chaplygin.numerics.ball.regimes import REGIMES  # noqa: E402
 from chaplygin.verify.sweep_plots import (  # noqa: E402
     period_chart_figure,
     period_colours,

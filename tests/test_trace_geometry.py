@@ -17,8 +17,8 @@ import numpy as np
 import pytest
 from chaplygin.derive.errors import UserInputError
 from chaplygin.numerics import integrate
-from chaplygin.numerics.separatrix import delta_closed_form, frame_turn, mu_of
-from chaplygin.numerics.trace_geometry import (
+from chaplygin.numerics.ball.separatrix import delta_closed_form, frame_turn, mu_of
+from chaplygin.numerics.ball.trace_geometry import (
     gradient_line,
     segment_energy,
     segment_equilibria,
@@ -141,7 +141,7 @@ def test_segment_gradient_is_the_generated_energys():
     """The closed-form tangential gradient ``(C + s) omega`` of the segment energy against
     complex steps of the generated energy (another route: the model's own formula,
     differentiated by the complex step), at generic points of the sphere."""
-    from chaplygin.numerics.trace_geometry import _check_body, _sphere_gradient
+    from chaplygin.numerics.ball.trace_geometry import _check_body, _sphere_gradient
 
     I, D, K, C = _check_body(FIG7["I"], FIG7["D"], (0.13, -0.07, 0.21), 0.83)
     rng = np.random.default_rng(7)

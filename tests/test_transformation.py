@@ -14,7 +14,7 @@ import pytest
 import sympy as sp
 from chaplygin.derive.errors import UserInputError
 from chaplygin.derive.transformation import chaplygin_map, proposition2, theorem1
-from chaplygin.numerics.transformation import (
+from chaplygin.numerics.ball.transformation import (
     chaplygin_coefficients,
     random_support_state,
     support_coefficients,
@@ -103,8 +103,8 @@ def test_transformation_control_wrong_time_direction():
     rng = np.random.default_rng(4100)
     I, D, M, g = _random_ball(rng)
     r = transformation_test(I, D, M, g, t_end=4.0, rtol=1e-12)
+    from chaplygin.numerics.ball.transformation import map_state, mu_of_mapped
     from chaplygin.numerics.integrate import integrate
-    from chaplygin.numerics.transformation import map_state, mu_of_mapped
 
     k = r.coefficients
     A = 1 / (np.asarray(I) + D)

@@ -1,4 +1,5 @@
-"""The variational equations in C (numerics/variational.py, derive/templates/variational.c).
+"""The variational equations in C (numerics/dynamics/variational.py,
+derive/templates/variational.c).
 
 The state-transition matrix is checked against an independent route: central differences of the
 flow computed by the generated Taylor integrator in quadruple precision (34 digits), so the
@@ -14,9 +15,9 @@ import numpy as np
 import pytest
 from chaplygin.derive.errors import ComputationError, UserInputError
 from chaplygin.numerics.code import load_model_code
+from chaplygin.numerics.dynamics.variational import VariationalSystem, flow_with_jacobian
 from chaplygin.numerics.integrators import dop853_c
 from chaplygin.numerics.taylor import taylor_solve
-from chaplygin.numerics.variational import VariationalSystem, flow_with_jacobian
 
 # BM20's ball (time-periodic inertia and gyrostat), generic non-dyadic values
 BM20 = ("chaplygin_ball", "variable_gyrostat,variable_inertia")

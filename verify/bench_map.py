@@ -71,7 +71,8 @@ def map_throughput(
 ) -> dict[str, Any]:
     """Microseconds per forcing period per point of BM20's stroboscopic map (issue 14): our
     Taylor integrator (one point per call), our compiled batch map
-    (:class:`~chaplygin.numerics.batch_map.BatchStroboscopicMap`, 1, 4 and 16 points per call;
+    (:class:`~chaplygin.numerics.dynamics.batch_map.BatchStroboscopicMap`, 1, 4 and 16 points per
+    call;
     DOP853 rows ``ours_batch<n>``, Taylor rows ``ours_taylor_batch<n>``)
     and heyoka (one point, batch of 4) when installed, in one run.
 
@@ -103,8 +104,8 @@ def map_throughput(
     UserInputError
         ``periods < 10`` or ``repeats < 1``.
     """
-    from ..numerics.batch_map import BatchStroboscopicMap, batch_map_available
-    from ..numerics.map_coordinates import state_from_reduced
+    from ..numerics.ball.map_coordinates import state_from_reduced
+    from ..numerics.dynamics.batch_map import BatchStroboscopicMap, batch_map_available
 
     if periods < 10 or repeats < 1:
         raise UserInputError("map_throughput needs periods >= 10 and repeats >= 1")

@@ -12,10 +12,10 @@ from pathlib import Path
 import mpmath
 
 from ..derive.errors import UserInputError
+from ..numerics.ball.separatrix import separatrix_state as exact_separatrix_state
 from ..numerics.code import load_model_code
 from ..numerics.inputs import Precision
 from ..numerics.integrate import integrate
-from ..numerics.separatrix import separatrix_state as exact_separatrix_state
 
 __all__ = [
     "BenchProblem",
@@ -67,7 +67,7 @@ def separatrix_state(
     """``M`` and ``gamma`` at the separatrix point ``t = 0`` of K01-3.4 (C > 0 form).
 
     ``gamma = (-s32, 0, -s21)``, ``M = C gamma``, computed by
-    :func:`chaplygin.numerics.separatrix.separatrix_state` at ``dps + 10`` digits; values as
+    :func:`chaplygin.numerics.ball.separatrix.separatrix_state` at ``dps + 10`` digits; values as
     decimal strings of ``dps`` digits (the inputs are parsed at the working precision of
     each run).
 

@@ -2,7 +2,7 @@
 
 The curves are the derived ones (``derive/bifurcation.py``, proved in
 ``verify/claims/bifurcation.py``); each family is drawn solid when its Floquet multipliers
-(``numerics/bifurcation.py``) lie on the unit circle and dashed otherwise; random seeded
+(``numerics/ball/bifurcation.py``) lie on the unit circle and dashed otherwise; random seeded
 initial states on the levels are integrated for a short time and their integral values
 drawn as dots: the region of motion (BKM12-Fig2region). The figures are
 :func:`chaplygin.verify.plots.bifurcation_figure`'s.

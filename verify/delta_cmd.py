@@ -103,7 +103,7 @@ def run(args: argparse.Namespace) -> int:
         0 when the three values agree on the digits asked for, 1 otherwise.
     """
     import mpmath
-    from chaplygin.numerics.separatrix import check_inertia, delta_three_ways, mu_of
+    from chaplygin.numerics.ball.separatrix import check_inertia, delta_three_ways, mu_of
 
     plot = figures = None
     if args.plot is not None:

@@ -8,8 +8,8 @@ notebook the figure is shown inline by the notebook's own backend. matplotlib is
 the first figure, not with this module, and so are the numerics (the command line builds its
 parser from :data:`FIGURES` on every start).
 
-The numbers come from :mod:`chaplygin.numerics` (:mod:`~chaplygin.numerics.bifurcation`,
-:mod:`~chaplygin.numerics.separatrix`) and from the study of :mod:`chaplygin.verify.bench`.
+The numbers come from :mod:`chaplygin.numerics` (:mod:`~chaplygin.numerics.ball.bifurcation`,
+:mod:`~chaplygin.numerics.ball.separatrix`) and from the study of :mod:`chaplygin.verify.bench`.
 
 References
 ----------
@@ -92,7 +92,7 @@ def draw_k01_diagram(
     float
         The largest relative drift of the integrals over the integrated states.
     """
-    from ..numerics.bifurcation import euler_stability, family_stability, sample_levels, sigma
+    from ..numerics.ball.bifurcation import euler_stability, family_stability, sample_levels, sigma
 
     stab = family_stability(I, D, 1.0 + C**2, C)
     n_max = 3.0 if C == 0 else 3.0 * C**2
@@ -134,8 +134,8 @@ def draw_k01_diagram(
 def _draw_traces(ax: Axes, tax: Axes, I, D, C, vals, states) -> None:
     """K01 Fig. 3: contact-point traces of three states (above p2, below p2, near p2)."""
     from ..numerics import integrate
-    from ..numerics.bifurcation import ball_energy, sigma
-    from ..numerics.stability import critical_state
+    from ..numerics.ball.bifurcation import ball_energy, sigma
+    from ..numerics.ball.stability import critical_state
 
     h2 = sigma(1, vals[:, 0], C, I, D) / 2
     above = int(np.argmax(vals[:, 2] / 2 - h2 > 0.05))
@@ -174,7 +174,7 @@ def _paper_order(I, D) -> np.ndarray:
 
 
 def _draw_bkm12_2(ax: Axes, I, D, samples, seed) -> float:
-    from ..numerics.bifurcation import family_stability, sample_levels
+    from ..numerics.ball.bifurcation import family_stability, sample_levels
 
     stab = family_stability(I, D, 1.0, 0.0)
     C = np.linspace(0, 1, 100)
@@ -196,7 +196,7 @@ def _draw_bkm12_2(ax: Axes, I, D, samples, seed) -> float:
 
 
 def _draw_bkm12_3(ax: Axes, I, D, samples, seed) -> float:
-    from ..numerics.bifurcation import euler_stability, family_stability, sample_levels, sigma
+    from ..numerics.ball.bifurcation import euler_stability, family_stability, sample_levels, sigma
 
     b = D / (np.asarray(I, float) + D)
     g = np.linspace(-1, 1, 201)
@@ -239,7 +239,7 @@ def _draw_bkm12_5(fig: Figure, params, samples, seed) -> float:
     """Surfaces E'_i on the sphere of (g_al, g_be, g_ga), drawn over the (g_al, g_be) disc."""
     from matplotlib.patches import Circle
 
-    from ..numerics.bifurcation import support_sample, support_stability
+    from ..numerics.ball.bifurcation import support_sample, support_stability
 
     I, D_iso, D_al, D_be = params[:3], params[3], params[4], params[5]
     J = np.asarray(I, float) + D_iso
@@ -379,7 +379,7 @@ def bifurcation_complex_figure(
     """The bifurcation complex over a line ``C = 1``, ``g = M_gamma/sqrt(C)`` fixed of the
     diagram (BKM12 Figs. 2(b), 3(b)), computed: for energies across both chambers, each
     connected component of the level set (a leaf:
-    :func:`~chaplygin.numerics.bifurcation.level_set_components`) is drawn at the mean of
+    :func:`~chaplygin.numerics.ball.bifurcation.level_set_components`) is drawn at the mean of
     ``M`` along the axis of the stable family its chamber ends on (``e`` of ``A1`` below
     ``Sigma_2``, of ``A3`` above): the leaves run from the stable rotations (``|mean| -> 1``) to
     ``Sigma_2``, where the level set is one component and they meet.
@@ -401,7 +401,7 @@ def bifurcation_complex_figure(
     ----------
     BKM12-Fig2b, BKM12-Fig3b (claims).
     """
-    from ..numerics.bifurcation import level_set_components, sigma
+    from ..numerics.ball.bifurcation import level_set_components, sigma
 
     I = tuple(float(v) for v in check_vector(I, "I", positive=True, double=True))
     order = np.argsort(1 / (np.asarray(I) + D))
@@ -476,8 +476,8 @@ def critical_traces_figure(
     BKM12-25.trace, BKM12-crit.trace, BKM12-Sigma45, BKM12-1.5sep (FORMULAS.md, claims).
     """
     from ..numerics import load_model_code
-    from ..numerics.bifurcation import critical_trace
-    from ..numerics.stability import critical_state, euler_state, monodromy
+    from ..numerics.ball.bifurcation import critical_trace
+    from ..numerics.ball.stability import critical_state, euler_state, monodromy
 
     I = tuple(float(v) for v in check_vector(I, "I", positive=True, double=True))
     A = 1 / (np.asarray(I) + D)
@@ -551,7 +551,7 @@ def delta_of_mu_figure(b: float = 1.0, mu_max: float = 6.0) -> Figure:
     matplotlib.figure.Figure
         Two panels, linear and logarithmic ``Delta``.
     """
-    from ..numerics.separatrix import delta_closed_form, delta_quadrature, mu_of
+    from ..numerics.ball.separatrix import delta_closed_form, delta_quadrature, mu_of
 
     check_real(b, "b", positive=True, double=True)
     check_real(mu_max, "mu_max", positive=True, double=True)
@@ -617,13 +617,13 @@ def separatrix_traces_figure(
     -------
     matplotlib.figure.Figure
     """
-    from ..numerics.integrate import integrate
-    from ..numerics.separatrix import (
+    from ..numerics.ball.separatrix import (
         delta_closed_form,
         mu_of,
         near_separatrix_state,
         separatrix_trace,
     )
+    from ..numerics.integrate import integrate
 
     fig = new_figure(figsize=(11, 5))
     axes = fig.subplots(1, 2)
@@ -686,7 +686,7 @@ def separatrix_figures(
     dict of str to matplotlib.figure.Figure
         ``delta_of_mu.png`` and ``separatrix_traces.png``.
     """
-    from ..numerics.separatrix import check_inertia
+    from ..numerics.ball.separatrix import check_inertia
 
     check_inertia(I, D)
     check_inertia_vector(I, D, double=True)

@@ -93,7 +93,7 @@ def run(args: argparse.Namespace) -> int:
     """
     import mpmath
     from chaplygin.derive.errors import UserInputError
-    from chaplygin.numerics.quadratures import measured_rotation_number, torus_quadratures
+    from chaplygin.numerics.ball.quadratures import measured_rotation_number, torus_quadratures
 
     digits = precision_digits(args)
     given = _named_values(args)

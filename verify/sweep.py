@@ -9,7 +9,7 @@ point reduced to numbers, computed in chunks on Dask and stored chunk by chunk i
 * **Reducers** (:data:`REDUCERS`): what a point is reduced to. Each declares its variables
   (names, extra dimensions, units) and computes them from a :class:`PointContext`. A reducer is
   added with :func:`register_reducer` (e.g. the largest Lyapunov exponent, once
-  :mod:`chaplygin.numerics.lyapunov` exists).
+  :mod:`chaplygin.numerics.dynamics.lyapunov` exists).
 * **Store** (:mod:`chaplygin.verify.sweep_store`). An xarray Dataset in Zarr: the grid as
   coordinates, one Zarr chunk per sweep chunk (``chunk`` points along the last axis),
   ``status`` per point (0 done, 1 input refused at that point, 2 computation failed),
@@ -41,7 +41,7 @@ from typing import Any
 import numpy as np
 
 from ..derive.errors import ComputationError, UserInputError
-from ..numerics.regimes import linear_growth_rate
+from ..numerics.ball.regimes import linear_growth_rate
 from .sweep_checks import (
     CONNECT_TIMEOUT_S,
     check_workers,

@@ -120,7 +120,7 @@ def period_chart_figure(ds: Any) -> Figure:
     return fig
 
 
-#: Colours of the regimes without a period (:data:`chaplygin.numerics.regimes.REGIMES`).
+#: Colours of the regimes without a period (:data:`chaplygin.numerics.ball.regimes.REGIMES`).
 REGIME_COLOURS = {
     "quasi-periodic": (0.78, 0.78, 0.78, 1.0),
     "undecided": (1.0, 0.8, 0.8, 1.0),
@@ -145,7 +145,7 @@ def regime_codes(regime: np.ndarray, period: np.ndarray) -> tuple[np.ndarray, li
     labels : list of str
     colours : list of RGBA tuples
     """
-    from ..numerics.regimes import REGIMES
+    from ..numerics.ball.regimes import REGIMES
 
     regime = np.asarray(regime, dtype=float)
     period = np.asarray(period, dtype=float)
@@ -330,7 +330,7 @@ def regime_search_figure(ds: Any) -> Figure:
     """
     from matplotlib.figure import Figure
 
-    from ..numerics.regimes import REGIMES
+    from ..numerics.ball.regimes import REGIMES
 
     y_name, x_name, *rest = ds["regime"].dims
     regime = np.asarray(ds["regime"].values, dtype=float)

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..arith import detmath
 from ..derive.errors import ComputationError, UserInputError
-from ..numerics.regimes import linear_growth_rate
+from ..numerics.ball.regimes import linear_growth_rate
 
 __all__ = [
     "REDUCERS",
@@ -355,7 +355,7 @@ BATCH_ENGINE_METHODS = {"auto": "dop853", "batch": "dop853", "taylor-batch": "ta
 def _batch_eligible(ctx: PointContext) -> bool:
     """Whether the ``period`` reducer takes this point through the compiled batch map
     (``period.engine`` "auto", "batch": DOP853; "taylor-batch": the Taylor method)."""
-    from ..numerics.batch_map import batch_map_available
+    from ..numerics.dynamics.batch_map import batch_map_available
     from ..numerics.inputs import Precision
 
     opts, run = ctx.sweep.period, ctx.scene.run_options
@@ -376,9 +376,9 @@ def _batch_eligible(ctx: PointContext) -> bool:
 
 def _period_batch(contexts: list[PointContext]) -> list[Any]:
     """The ``period`` reducer for a chunk: the eligible points (double precision, a compiler)
-    through :class:`~chaplygin.numerics.batch_map.BatchStroboscopicMap`, one call per model and
-    tolerances; the others are left to :func:`_period`."""
-    from ..numerics.batch_map import STATUS_MESSAGES, BatchStroboscopicMap
+    through :class:`~chaplygin.numerics.dynamics.batch_map.BatchStroboscopicMap`, one call per
+    model and tolerances; the others are left to :func:`_period`."""
+    from ..numerics.dynamics.batch_map import STATUS_MESSAGES, BatchStroboscopicMap
 
     out: list[Any] = [None] * len(contexts)
     groups: dict[tuple, list[int]] = {}
@@ -446,7 +446,7 @@ register_reducer(
 
 
 def _lyapunov_max(ctx: PointContext) -> dict:
-    from ..numerics.lyapunov import lyapunov_spectrum
+    from ..numerics.dynamics.lyapunov import lyapunov_spectrum
 
     opts, run, res = ctx.sweep.lyapunov, ctx.scene.run_options, ctx.resolved
     spec = lyapunov_spectrum(
@@ -474,7 +474,7 @@ def _lyapunov_max(ctx: PointContext) -> dict:
 
 
 def _lyapunov_variables(code: Any, sweep: Any) -> dict[str, Variable]:
-    from ..numerics.lyapunov import UNITS_PER_ITERATION, UNITS_PER_TIME
+    from ..numerics.dynamics.lyapunov import UNITS_PER_ITERATION, UNITS_PER_TIME
 
     what = (
         "largest Lyapunov exponent on the integrals' level set (Benettin/QR, one QR per forcing "
@@ -515,9 +515,9 @@ register_reducer(
 
 def _regime(ctx: PointContext) -> dict:
     """Period, then the largest Lyapunov exponent: periodic, quasi-periodic or chaotic
-    (:func:`chaplygin.numerics.regimes.attractor_regime`), from the scene's state or the one
+    (:func:`chaplygin.numerics.ball.regimes.attractor_regime`), from the scene's state or the one
     carried from the previous point."""
-    from ..numerics.regimes import attractor_regime
+    from ..numerics.ball.regimes import attractor_regime
 
     opts, run, res = ctx.sweep.regime, ctx.scene.run_options, ctx.resolved
     carried = ctx.start is not None
@@ -552,9 +552,9 @@ def _regime(ctx: PointContext) -> dict:
 
 
 def _regime_variables(code: Any, sweep: Any) -> dict[str, Variable]:
-    from ..numerics.lyapunov import UNITS_PER_ITERATION
-    from ..numerics.regimes import REGIMES
-    from ..numerics.symmetry import COPY_RULE, symmetries_of
+    from ..numerics.ball.regimes import REGIMES
+    from ..numerics.ball.symmetry import COPY_RULE, symmetries_of
+    from ..numerics.dynamics.lyapunov import UNITS_PER_ITERATION
 
     o = sweep.regime
     names = ", ".join(f"{v} {k}" for k, v in REGIMES.items())
@@ -662,7 +662,7 @@ def _inertia(ctx: PointContext) -> tuple[list, Any, Any]:
 def _delta(ctx: PointContext) -> dict:
     import mpmath
 
-    from ..numerics.separatrix import agreeing_digits, delta_closed_form, delta_ode, mu_of
+    from ..numerics.ball.separatrix import agreeing_digits, delta_closed_form, delta_ode, mu_of
 
     I, D, b = _inertia(ctx)
     digits = ctx.sweep.delta.digits
@@ -702,13 +702,13 @@ register_reducer(
 
 
 def _frame_turn(ctx: PointContext) -> dict:
-    from ..numerics.separatrix import frame_turn
+    from ..numerics.ball.separatrix import frame_turn
 
     if "gyrostat" in ctx.resolved.effects:
         raise UserInputError(
             "reduce = frame_turn is the plain ball's on M || gamma; with the gyrostat the orbits "
-            "of an energy are several: chaplygin.numerics.trace_geometry (trace_period along a "
-            "gradient_line, examples/k01_turning.py) follows each family"
+            "of an energy are several: chaplygin.numerics.ball.trace_geometry (trace_period "
+            "along a gradient_line, examples/k01_turning.py) follows each family"
         )
     I, D, _ = _inertia(ctx)
     initial = ctx.scene.initial

@@ -117,7 +117,7 @@ class LyapunovOptions(_Table):
 
 class RegimeOptions(_Table):
     """The regime of the stroboscopic map's attractor: the period, then the largest Lyapunov
-    exponent (:func:`chaplygin.numerics.regimes.attractor_regime`)."""
+    exponent (:func:`chaplygin.numerics.ball.regimes.attractor_regime`)."""
 
     transient: Annotated[StrictInt, Field(ge=0, le=10_000_000)] = Field(
         2000, description="map iterations discarded first (from the scene's start)"

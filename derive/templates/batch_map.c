@@ -1,4 +1,4 @@
-/* chaplygin.numerics.batch_map: the stroboscopic map of many points in one call, in C.
+/* chaplygin.numerics.dynamics.batch_map: the stroboscopic map of many points in one call, in C.
  *
  * Appended to a model's emitted C source (generated/<model>.c: chaplygin_rhs) followed by
  * templates/variational.c, whose DOP853 tableau (DOP_C, DOP_A, DOP_B, DOP_E3, DOP_E5) it

@@ -1,4 +1,4 @@
-/* chaplygin.numerics.batch_map: the stroboscopic map of many points in one call, by the
+/* chaplygin.numerics.dynamics.batch_map: the stroboscopic map of many points in one call, by the
  * model's generated Taylor integrator.
  *
  * Appended to a model's emitted Taylor C source (generated/<model>_taylor.c, the double build:

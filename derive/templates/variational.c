@@ -1,4 +1,4 @@
-/* chaplygin.numerics.variational: the variational equations of one model, integrated in C.
+/* chaplygin.numerics.dynamics.variational: the variational equations of one model, integrated in C.
  *
  * Appended to a model's emitted C source (generated/<model>.c), whose chaplygin_rhs and
  * chaplygin_jac (the generated Jacobian) it calls. The augmented state is

@@ -1,7 +1,7 @@
 """Cost per forcing period per point of BM20's stroboscopic map (issue 14 §4), side by side
 with heyoka (one point at a time, and its batch mode with 4 points), in one run: our Taylor
 integrator (one point per call) and our compiled batch map (DOP853 in C, N points per call,
-:class:`chaplygin.numerics.batch_map.BatchStroboscopicMap`). The measurement is
+:class:`chaplygin.numerics.dynamics.batch_map.BatchStroboscopicMap`). The measurement is
 :func:`chaplygin.verify.bench_map.map_throughput` (also a section of ``chaplygin bench``).
 
 BM20 Fig. 5's system: I = diag(4, 3, 2), K = (-6, -3, -9), d = 4.385, J = 0, delta = 2,

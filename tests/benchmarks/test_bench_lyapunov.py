@@ -13,9 +13,9 @@ import math
 import mpmath
 import numpy as np
 import pytest
+from chaplygin.numerics.ball.initial_state import state_from_andoyer
 from chaplygin.numerics.code import load_model_code
-from chaplygin.numerics.initial_state import state_from_andoyer
-from chaplygin.numerics.variational import VariationalSystem
+from chaplygin.numerics.dynamics.variational import VariationalSystem
 
 pytestmark = pytest.mark.benchmark
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import mpmath
 import pytest
-from chaplygin.numerics.separatrix import delta_closed_form, delta_ode, delta_quadrature, mu_of
+from chaplygin.numerics.ball.separatrix import delta_closed_form, delta_ode, delta_quadrature, mu_of
 
 pytestmark = pytest.mark.benchmark
 

@@ -5,7 +5,7 @@ steady rotations ``omega = w e_i``, their integrals, the parameters eliminated);
 solutions are substituted into the model's own right-hand side (``sin``/``cos`` of time
 are generators on the unit circle for the verifier), so "solves the equations" is a proof.
 The Floquet multipliers of these solutions (BKM12-1.5stab, 1.5stab8) are numerical by
-nature: they are computed by ``numerics/stability.py`` and asserted in
+nature: they are computed by ``numerics/ball/stability.py`` and asserted in
 ``tests/test_bifurcation.py``, not registered here.
 """
 

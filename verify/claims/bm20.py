@@ -540,7 +540,7 @@ register(
         system=BALL,
         effects=(),
         build=_transformations([SYMMETRY], 1, 1),
-        note="chaplygin.numerics.symmetry names the copy of an attractor reached under it",
+        note="chaplygin.numerics.ball.symmetry names the copy of an attractor reached under it",
     ),
     Claim(
         id="BKM12-3.sym.gyrostat",
@@ -694,9 +694,9 @@ def _bm20_lyapunov(printed: tuple[tuple[float, float], ...]) -> Callable:
     def run():
         import mpmath
         import numpy as np
+        from chaplygin.numerics.ball.initial_state import state_from_andoyer
         from chaplygin.numerics.code import load_model_code
-        from chaplygin.numerics.initial_state import state_from_andoyer
-        from chaplygin.numerics.lyapunov import lyapunov_spectrum
+        from chaplygin.numerics.dynamics.lyapunov import lyapunov_spectrum
 
         code = load_model_code(BALL, VB)
         with mpmath.workdps(30):
@@ -778,9 +778,9 @@ def _period_map_displacement(J_off: float, rtol: float = 1e-12):
 
     def run():
         import numpy as np
+        from chaplygin.numerics.ball.map_coordinates import from_cylindrical
         from chaplygin.numerics.code import load_model_code
-        from chaplygin.numerics.map_coordinates import from_cylindrical
-        from chaplygin.numerics.poincare import StroboscopicMap
+        from chaplygin.numerics.dynamics.poincare import StroboscopicMap
 
         code = load_model_code("chaplygin_ball", ["variable_inertia", "variable_gyrostat"])
         starts = [(0.83, 0.1), (0.41, 1.7), (-0.27, -2.3), (-0.9, 2.9), (0.05, -0.8),
@@ -843,12 +843,12 @@ def _strange_attractor_search(points, intervals: int) -> Callable[[], Computed]:
     """Largest ``lambda - 3 s`` (per map iteration; ``s`` its standard error) over the
     attractors reached from the given (params, state) points, against ``ln(N)/N`` with
     ``N = intervals``: a chaotic attractor exceeds it
-    (:func:`chaplygin.numerics.regimes.attractor_regime`)."""
+    (:func:`chaplygin.numerics.ball.regimes.attractor_regime`)."""
 
     def run() -> Computed:
         import numpy as np
+        from chaplygin.numerics.ball.regimes import attractor_regime, linear_growth_rate
         from chaplygin.numerics.code import load_model_code
-        from chaplygin.numerics.regimes import attractor_regime, linear_growth_rate
 
         code = load_model_code(BALL, list(VB))
         worst, counts, values = -np.inf, {}, {}
@@ -881,7 +881,7 @@ def _strange_attractor_search(points, intervals: int) -> Callable[[], Computed]:
 
 
 def _from_rest_points():
-    from chaplygin.numerics.map_coordinates import from_andoyer_deprit
+    from chaplygin.numerics.ball.map_coordinates import from_andoyer_deprit
 
     for omega in _REST_OMEGA:
         for J in _REST_J:
@@ -893,7 +893,7 @@ def _from_rest_points():
 
 
 def _fig5_point():
-    from chaplygin.numerics.periodic_orbits import bm20_state
+    from chaplygin.numerics.ball.bm20_map import bm20_state
 
     yield "Fig. 5, G = 3", list(BM20_FIG5_PARAMS), list(bm20_state([0.5, 1.0, 1.0], 3.0))
 
@@ -938,9 +938,9 @@ def _fig2_regimes(expected: dict[float, str]) -> Callable[[], Computed]:
     differ."""
 
     def run() -> Computed:
+        from chaplygin.numerics.ball.map_coordinates import from_andoyer_deprit
+        from chaplygin.numerics.ball.regimes import attractor_regime
         from chaplygin.numerics.code import load_model_code
-        from chaplygin.numerics.map_coordinates import from_andoyer_deprit
-        from chaplygin.numerics.regimes import attractor_regime
 
         code = load_model_code(BALL, list(VB))
         wrong, values = 0, {}
@@ -1012,8 +1012,8 @@ _FIG4_TRANSIENT, _FIG4_OTHER_TRANSIENT, _FIG4_POINTS = 40000, 3000, 2000
 def _fig4_samples():
     import numpy as np
     from chaplygin.numerics import load_model_code
-    from chaplygin.numerics.batch_map import BatchStroboscopicMap
-    from chaplygin.numerics.periodic_orbits import bm20_point, bm20_state
+    from chaplygin.numerics.ball.bm20_map import bm20_point, bm20_state
+    from chaplygin.numerics.dynamics.batch_map import BatchStroboscopicMap
 
     code = load_model_code(BALL, VB)
     bm = BatchStroboscopicMap(code, rtol=1e-10, atol=1e-12)
@@ -1035,8 +1035,8 @@ def _fig4_claim(same_curve: bool) -> Callable[[], Computed]:
 
     def run() -> Computed:
         import numpy as np
-        from chaplygin.numerics.regimes import map_points_scaled
-        from chaplygin.numerics.reversibility import set_distance
+        from chaplygin.numerics.ball.regimes import map_points_scaled
+        from chaplygin.numerics.dynamics.reversibility import set_distance
 
         code, ((y4, x4), (yo, _)) = _fig4_samples()
         q = x4[np.argsort(x4[:, 2])]
@@ -1111,14 +1111,10 @@ _BRANCH = ((1.06675, 1.0669, 1.0670), (1.0665, 1.0664, 1.06635))
 @cache
 def _seven_cycle_branch():
     import numpy as np
+    from chaplygin.numerics.ball.bm20_map import bm20_map_with_jacobian, bm20_point, bm20_state
+    from chaplygin.numerics.ball.regimes import attractor_regime
     from chaplygin.numerics.code import load_model_code
-    from chaplygin.numerics.periodic_orbits import (
-        bm20_map_with_jacobian,
-        bm20_point,
-        bm20_state,
-        refine_periodic_orbit,
-    )
-    from chaplygin.numerics.regimes import attractor_regime
+    from chaplygin.numerics.dynamics.periodic_orbits import refine_periodic_orbit
 
     code = load_model_code(BALL, list(VB))
     params = list(BM20_FIG5_PARAMS)
@@ -1229,8 +1225,8 @@ _PAIR_N, _PAIR_TRANSIENT, _PAIR_RTOL, _PAIR_QUANTILE = 12000, 300, 1e-9, 0.5
 def _pair(J_off: float):
     import numpy as np
     from chaplygin.numerics import load_model_code
-    from chaplygin.numerics.periodic_orbits import bm20_state
-    from chaplygin.numerics.reversibility import attractor_repeller_pair
+    from chaplygin.numerics.ball.bm20_map import bm20_state
+    from chaplygin.numerics.dynamics.reversibility import attractor_repeller_pair
 
     code = load_model_code(BALL, VB)
     params = list(_FIG5)

@@ -36,7 +36,7 @@ def _axis_rule(Mg: float, stable_axes: tuple[bool, bool, bool]):
     multipliers in ``values`` are ours (computed here)."""
 
     def run() -> Computed:
-        from chaplygin.numerics.stability import steady_rotation_floquet
+        from chaplygin.numerics.ball.stability import steady_rotation_floquet
 
         rs = steady_rotation_floquet(I_REF, D_REF, 1.0, Mg, RTOL)
         wrong = 0
@@ -64,7 +64,7 @@ def _axis_rule(Mg: float, stable_axes: tuple[bool, bool, bool]):
 
 
 def _sigma4_stable() -> Computed:
-    from chaplygin.numerics.stability import euler_floquet
+    from chaplygin.numerics.ball.stability import euler_floquet
 
     # the two arcs of Sigma_4 (split at E' = b_2/(1 - b_2) = 2/3)
     rs = [euler_floquet(I_REF, D_REF, Ep, RTOL) for Ep in (0.5, 0.9)]
@@ -98,7 +98,7 @@ def _middle_axis_rule(seed: int, bodies: int, claim_middle_stable: bool = False)
     stable, about the middle one unstable (the error counts the axes that break it)."""
 
     def run() -> Computed:
-        from chaplygin.numerics.stability import steady_rotation_floquet
+        from chaplygin.numerics.ball.stability import steady_rotation_floquet
 
         rng = np.random.default_rng(seed)
         wrong, values = 0, {}
@@ -191,7 +191,7 @@ def _region(widen: float = 1.0):
     (widen < 1 narrows the region to a control that must be refuted)."""
 
     def run() -> Computed:
-        from chaplygin.numerics.bifurcation import sample_levels
+        from chaplygin.numerics.ball.bifurcation import sample_levels
 
         vals, drift, _ = sample_levels(I_REF, D_REF, 25, seed=3, Mg=0.0)
         A = 1 / (np.asarray(I_REF) + D_REF)
@@ -253,7 +253,7 @@ def _torus_state():
 
 @cache
 def _torus():
-    from chaplygin.numerics.quadratures import measured_rotation_number, torus_quadratures
+    from chaplygin.numerics.ball.quadratures import measured_rotation_number, torus_quadratures
 
     M, g = _torus_state()
     tq = torus_quadratures(I_REF, D_REF, M, g, digits=30)
@@ -342,7 +342,7 @@ def _printed_limits(which: str):
     the range containing q*, R < 0 on part of it, so the integral is not real."""
 
     def run() -> Computed:
-        from chaplygin.numerics.quadratures import separation_R
+        from chaplygin.numerics.ball.quadratures import separation_R
 
         tq, ms = _torus()
         a1, a2, a3 = tq.details["a"]
@@ -453,7 +453,7 @@ H_FIG6F = 0.180278
 
 def _fig6f(printed: float):
     def run() -> Computed:
-        from chaplygin.numerics.separatrix import critical_energy, frame_turn
+        from chaplygin.numerics.ball.separatrix import critical_energy, frame_turn
 
         h_c = critical_energy((1, 3, 5), 1.0, (0.1802, 0.1804))
         T, phi = frame_turn((1, 3, 5), 1.0, printed)
@@ -509,7 +509,10 @@ def _proposition2(wrong_sign: bool = False, seeds: int = 3):
     with lam + D instead of lam - D in the rows."""
 
     def run() -> Computed:
-        from chaplygin.numerics.transformation import random_support_state, support_coefficients
+        from chaplygin.numerics.ball.transformation import (
+            random_support_state,
+            support_coefficients,
+        )
 
         worst, values = 0.0, {}
         bound = 0.0
@@ -582,7 +585,7 @@ def _complex(g: float, expected: tuple[int, int, int]):
     is right)."""
 
     def run() -> Computed:
-        from chaplygin.numerics.bifurcation import level_set_components, sigma
+        from chaplygin.numerics.ball.bifurcation import level_set_components, sigma
 
         order = np.argsort(1 / (np.asarray(I_REF) + D_REF))  # body axis of A1, A2, A3
         S = [float(sigma(int(i), 1.0, g, I_REF, D_REF)) for i in order]
@@ -609,7 +612,7 @@ def _complex(g: float, expected: tuple[int, int, int]):
             what=(
                 f"components of the level sets (gamma^2 = 1, (M, gamma) = {g}, (M, M) = 1, "
                 f"(M, omega) = E) at I = {I_REF}, D = 1, sampled on 6000 gamma x 360 angles "
-                "and joined within 0.3 in (M, gamma) (numerics.bifurcation."
+                "and joined within 0.3 in (M, gamma) (numerics.ball.bifurcation."
                 f"level_set_components), against {expected} components per level; what "
                 "differs, counted (about 5 s)"
             ),
@@ -684,7 +687,7 @@ def _separatrices(homoclinic: bool = False):
 
     def run() -> Computed:
         from chaplygin.numerics import integrate, load_model_code
-        from chaplygin.numerics.stability import critical_state, monodromy
+        from chaplygin.numerics.ball.stability import critical_state, monodromy
         from scipy.spatial import cKDTree
 
         code = load_model_code(BALL)
@@ -782,8 +785,8 @@ def _traces(Mg: float, speed_of):
     length, over 3 periods."""
 
     def run() -> Computed:
-        from chaplygin.numerics.bifurcation import critical_trace
-        from chaplygin.numerics.stability import critical_state
+        from chaplygin.numerics.ball.bifurcation import critical_trace
+        from chaplygin.numerics.ball.stability import critical_state
 
         A = 1 / (np.asarray(I_REF) + D_REF)
         worst, values, drift = 0.0, {}, 0.0

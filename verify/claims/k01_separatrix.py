@@ -223,7 +223,7 @@ def _fig4_cases():
 
 @lru_cache(maxsize=16)
 def _delta_numbers(I, D="1", b="1", dps=42):
-    from chaplygin.numerics.separatrix import delta_closed_form, delta_quadrature, mu_of
+    from chaplygin.numerics.ball.separatrix import delta_closed_form, delta_quadrature, mu_of
 
     with mpmath.workdps(dps):
         Iv = [mpmath.mpf(sp.Rational(x).p) / sp.Rational(x).q for x in I]

@@ -3,7 +3,7 @@
 The statements are qualitative limits and shapes ("the radius of the envelope tends to
 zero", "the number of wreaths becomes 1", "the trajectory remains bounded", "near the
 elliptic fixed point"); each is turned into a number measured on the full equations
-(:mod:`chaplygin.numerics.trace_geometry`, :mod:`chaplygin.numerics.gyrostat_diagram`) and
+(:mod:`chaplygin.numerics.ball.trace_geometry`, :mod:`chaplygin.numerics.ball.gyrostat_diagram`) and
 compared with a bound derived from the computation or stated with the claim. The motions
 are integrable (``gamma`` periodic, the trace a chain of turned copies of one period), so
 no check rests on where a chaotic orbit goes. Where the paper's statement and the
@@ -37,7 +37,7 @@ S33 = "K01 §3.3"
 
 
 def _tp(h: float):
-    from chaplygin.numerics.trace_geometry import trace_period
+    from chaplygin.numerics.ball.trace_geometry import trace_period
 
     return trace_period(I135, D1, h, C1, rtol=RTOL)
 
@@ -256,14 +256,14 @@ CENTRE_DELTAS = (1e-4, -1e-4, 1e-5, -1e-5, 1e-6, -1e-6)
 
 @cache
 def _centres() -> list[dict]:
-    from chaplygin.numerics.trace_geometry import spiral_centres
+    from chaplygin.numerics.ball.trace_geometry import spiral_centres
 
     return [spiral_centres(I135, D1, H2 + d, C1, RTOL) for d in CENTRE_DELTAS]
 
 
 @cache
 def _delta_135() -> float:
-    from chaplygin.numerics.separatrix import delta_closed_form, mu_of
+    from chaplygin.numerics.ball.separatrix import delta_closed_form, mu_of
 
     return float(delta_closed_form(mu_of(I135, D1), 1.0))
 
@@ -343,7 +343,7 @@ def _wreaths() -> dict:
     above = [_tp(H2 + d).turning / (4 * math.pi) for d in WREATH_DELTAS]
     below = [_tp(H2 - d).turning / (4 * math.pi) for d in WREATH_DELTAS]
     ends = [_tp(h).turning / (4 * math.pi) for h in WREATH_ENDS]
-    from chaplygin.numerics.separatrix import mu_of
+    from chaplygin.numerics.ball.separatrix import mu_of
 
     xi = float(mu_of(I135, D1))
     rate = xi * detmath.log(10.0) / (2 * math.pi)
@@ -425,12 +425,13 @@ def _meridian_angles(off: float) -> tuple[np.ndarray, float]:
 
     ``off = 0``: the separatrix (K01-3.4's point at ``t = 0``), forward and backward over
     ``|lam t| <= LOX_WINDOW`` on the full equations; ``off > 0``: the orbit at
-    ``h = h2 (1 + off)``, one period (of :func:`~chaplygin.numerics.trace_geometry.trace_period`,
+    ``h = h2 (1 + off)``, one period (of
+    :func:`~chaplygin.numerics.ball.trace_geometry.trace_period`,
     whose start is the same). Dense Taylor solutions, sampled at 2001 times per span.
     """
+    from chaplygin.numerics.ball.separatrix import separatrix_quantities, separatrix_state
+    from chaplygin.numerics.ball.trace_geometry import dense_solution
     from chaplygin.numerics.code import load_model_code
-    from chaplygin.numerics.separatrix import separatrix_quantities, separatrix_state
-    from chaplygin.numerics.trace_geometry import dense_solution
 
     code = load_model_code(BALL, ("contact_point",))
     p = np.array([*I135, D1, 1.0])
@@ -528,7 +529,7 @@ def fig7f_rotation() -> dict:
         ``lam``, ``n``, ``state`` (``M, gamma``), ``omega`` and its Floquet result
         ``floquet``.
     """
-    from chaplygin.numerics.gyrostat_diagram import (
+    from chaplygin.numerics.ball.gyrostat_diagram import (
         level_integrals,
         steady_rotation_stability,
         steady_rotation_states,
@@ -592,7 +593,7 @@ def _fig7f_run(n: float, use_rotation_gamma: bool) -> dict:
     """The island of the elliptic rotation at h = 0.3 in n, and the trajectory of the level
     ``n`` (from the rotation's gamma, or point 0 of the level)."""
     from chaplygin.numerics import integrate
-    from chaplygin.numerics.gyrostat_diagram import steady_rotations_at_energy
+    from chaplygin.numerics.ball.gyrostat_diagram import steady_rotations_at_energy
 
     from ..scene import Scene
 
@@ -716,7 +717,7 @@ FIG7_ENERGIES = (0.1366, 0.1415, 0.1533)
 def _segment_turning() -> dict:
     """The turning ``Theta(h)`` on ``M + K = C gamma`` next to each saddle and at Fig. 7's
     energies, along the line of steepest ascent from the least energy."""
-    from chaplygin.numerics.trace_geometry import (
+    from chaplygin.numerics.ball.trace_geometry import (
         gradient_line,
         segment_equilibria,
         trace_period,

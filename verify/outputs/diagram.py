@@ -3,7 +3,7 @@
 * ``chaplygin_ball`` (with or without ``contact_point``): K01's (n, h) diagram at
   ``C = (M, gamma)`` (:func:`scene_diagram_figure`, K01 Figs. 2, 3);
 * ``chaplygin_ball`` with ``gyrostat`` (and optionally ``contact_point``): the (n, h) diagram at
-  ``C = (M + K, gamma)`` of :mod:`chaplygin.numerics.gyrostat_diagram` (the steady rotations
+  ``C = (M + K, gamma)`` of :mod:`chaplygin.numerics.ball.gyrostat_diagram` (the steady rotations
   ``J omega + K = lam omega``, solid where their Floquet multipliers lie on the unit circle and
   dashed elsewhere, the segment ``M + K || gamma`` and the region of motion; the setting of
   K01 Fig. 7);
@@ -150,7 +150,7 @@ def gyrostat_diagram_figure(
     """
     from matplotlib.figure import Figure
 
-    from ...numerics.gyrostat_diagram import (
+    from ...numerics.ball.gyrostat_diagram import (
         branch_stability,
         level_samples,
         parallel_segment,
@@ -229,7 +229,7 @@ def scene_diagram_figure(
     draw_k01_diagram(ax, I, float(D), float(C), samples, 1)
     n_max = 3.0 if C == 0 else 3.0 * C**2  # where draw_k01_diagram stops
     if n > n_max:  # continue the branches to the scene's point (dotted)
-        from ...numerics.bifurcation import sigma
+        from ...numerics.ball.bifurcation import sigma
 
         ext = np.linspace(n_max, 1.1 * n, 50)
         for i in range(3):

@@ -33,7 +33,7 @@ from .lyapunov_table import LyapunovOutput
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from ...numerics.lyapunov import LyapunovSpectrum
+    from ...numerics.dynamics.lyapunov import LyapunovSpectrum
 
 __all__ = ["LyapunovOutput", "convergence_figure", "run_lyapunov"]
 
@@ -136,8 +136,8 @@ def run_lyapunov(scene: Any, resolved: Any, spec: LyapunovOutput, progress: bool
         Settings the computation refuses (the message says which).
     """
     from ...derive.errors import UserInputError
-    from ...numerics.lyapunov import lyapunov_spectrum
-    from ...numerics.variational import VariationalSystem
+    from ...numerics.dynamics.lyapunov import lyapunov_spectrum
+    from ...numerics.dynamics.variational import VariationalSystem
     code = resolved.code
     params = [float(resolved.params[name]) for name in code.params]
     y0 = [float(v) for v in resolved.y0]

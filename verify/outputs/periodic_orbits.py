@@ -15,7 +15,7 @@ A scene of BM20's model (time-periodic ``I(t)``, ``k(t)``; ``(M, gamma) = 0``) a
 The map is the stroboscopic map ``t -> t + 2 pi/Omega`` from ``t = 0`` in BM20's
 Andoyer–Deprit coordinates ``(z, l, g)`` (BM20-3.7) on the level ``|M| = G`` of the scene's
 initial state; its Jacobian comes from the variational equations with the generated
-Jacobian (:func:`chaplygin.numerics.periodic_orbits.bm20_map_with_jacobian`). A period is
+Jacobian (:func:`chaplygin.numerics.dynamics.periodic_orbits.bm20_map_with_jacobian`). A period is
 a candidate when the orbit closes within ``detect_tol``; it counts only once Newton's
 method has refined it to ``10 k`` times the map's accuracy (``100 rtol``).
 """
@@ -68,14 +68,10 @@ def _complex_text(m: complex) -> str:
 
 def _run(scene: Any, res: Any, spec: PeriodicOrbitsOutput, progress: Any) -> AnalysisResult:
     from ...derive.errors import ComputationError
-    from ...numerics.continuation import continue_periodic_orbit
-    from ...numerics.periodic_orbits import (
-        bm20_map_with_jacobian,
-        bm20_point,
-        detect_period,
-        refine_periodic_orbit,
-    )
-    from ...numerics.reversibility import stroboscopic_samples
+    from ...numerics.ball.bm20_map import bm20_map_with_jacobian, bm20_point
+    from ...numerics.dynamics.continuation import continue_periodic_orbit
+    from ...numerics.dynamics.periodic_orbits import detect_period, refine_periodic_orbit
+    from ...numerics.dynamics.reversibility import stroboscopic_samples
 
     y0 = np.array([float(v) for v in res.y0])
     M, gamma = y0[:3], y0[3:]
@@ -146,10 +142,11 @@ def _run(scene: Any, res: Any, spec: PeriodicOrbitsOutput, progress: Any) -> Ana
 def _canonical_orbit(orbit: Any, G: float) -> dict[str, Any]:
     """The refined cycle as its canonical copy under ``gamma -> -gamma`` (in (z, l, g):
     ``g -> g + pi``), starting at a fixed point of the cycle, with the copy reached named
-    (:mod:`chaplygin.numerics.symmetry`): two runs that land on mirror copies, or on the
+    (:mod:`chaplygin.numerics.ball.symmetry`): two runs that land on mirror copies, or on the
     cycle at different points, print the same orbit."""
-    from ...numerics.periodic_orbits import BM20_STATE, as_numpy_points, bm20_point, bm20_state
-    from ...numerics.symmetry import canonical_cycle, name_copy
+    from ...numerics.ball.bm20_map import BM20_STATE, bm20_point, bm20_state
+    from ...numerics.ball.symmetry import canonical_cycle, name_copy
+    from ...numerics.dynamics.periodic_orbits import as_numpy_points
 
     states = np.array([bm20_state(x, G) for x in as_numpy_points(orbit)])
     tol = max(float(orbit.residual), float(orbit.tolerance)) * max(1.0, G)

@@ -2,7 +2,8 @@
 model from its initial state (and more starts on request), in Andoyer-Deprit, cylindrical or
 user coordinates, with 2-D projections and the 3-D map (BM20 Fig. 5 style).
 
-The numbers come from :mod:`chaplygin.numerics.poincare`; this module reads the scene's table,
+The numbers come from :mod:`chaplygin.numerics.dynamics.poincare`; this module reads the scene's
+table,
 checks it (every problem a :class:`~chaplygin.verify.scene.SceneError` naming the key path),
 runs the map and returns an :class:`~chaplygin.verify.scene.outputs.AnalysisResult`: summary numbers
 (points, orbits, time span, the integrals' drift along the map), ``poincare.nc`` (coordinates
@@ -34,7 +35,7 @@ def _fail(scene: Any, message: str, *loc: Any) -> SceneError:
 
 
 def _coordinate_names(spec: PoincareOutput) -> tuple[str, ...]:
-    from ...numerics.map_coordinates import COORDINATE_SYSTEMS
+    from ...numerics.ball.map_coordinates import COORDINATE_SYSTEMS
 
     if isinstance(spec.coordinates, str):
         return COORDINATE_SYSTEMS[spec.coordinates]
@@ -43,7 +44,7 @@ def _coordinate_names(spec: PoincareOutput) -> tuple[str, ...]:
 
 def _check(scene: Any, code: Any, spec: PoincareOutput) -> None:
     """Refuse a ``poincare`` table before anything runs (the message names the key path)."""
-    from ...numerics.map_coordinates import StateExpression
+    from ...numerics.ball.map_coordinates import StateExpression
 
     names = (*code.state, *code.aux_names)
     if spec.section == "stroboscopic":
@@ -109,7 +110,8 @@ def _check(scene: Any, code: Any, spec: PoincareOutput) -> None:
 
 
 def map_points(orbit: Any, spec_coordinates: Any, code: Any, params: list) -> dict[str, np.ndarray]:
-    """The map coordinates of the points of a :class:`~chaplygin.numerics.poincare.MapOrbit`.
+    """The map coordinates of the points of a
+    :class:`~chaplygin.numerics.dynamics.poincare.MapOrbit`.
 
     Parameters
     ----------
@@ -124,7 +126,7 @@ def map_points(orbit: Any, spec_coordinates: Any, code: Any, params: list) -> di
     dict of str to ndarray (float64)
         Coordinate name -> values.
     """
-    from ...numerics.map_coordinates import StateExpression, andoyer_deprit, cylindrical
+    from ...numerics.ball.map_coordinates import StateExpression, andoyer_deprit, cylindrical
 
     y = np.asarray(orbit.y, dtype=float)
     idx = {n: i for i, n in enumerate(code.state)}
@@ -154,8 +156,8 @@ def _starts(scene: Any, res: Any, spec: PoincareOutput) -> list[tuple[str, list]
     """The initial states: the scene's, then ``starts``, then ``level_points``."""
     import mpmath
 
+    from ...numerics.ball.map_coordinates import from_andoyer_deprit, from_cylindrical
     from ...numerics.inputs import Precision, working_number
-    from ...numerics.map_coordinates import from_andoyer_deprit, from_cylindrical
 
     out = [("initial", list(res.y0))]
     prec = Precision(scene.run_options.precision)
@@ -203,7 +205,7 @@ def _rotation_marks(scene: Any, res: Any, section: Any, spec: PoincareOutput) ->
     (C, h) are left out."""
     import mpmath
 
-    from ...numerics.initial_state import state_near_rotation
+    from ...numerics.ball.initial_state import state_near_rotation
     from ...numerics.inputs import parse_number
 
     code = res.code
@@ -262,7 +264,7 @@ def _in_surface(section: Any, y: list) -> Any:
 
 
 def _run(scene: Any, res: Any, spec: PoincareOutput, progress: bool) -> AnalysisResult:
-    from ...numerics.poincare import EventSection, StroboscopicMap
+    from ...numerics.dynamics.poincare import EventSection, StroboscopicMap
 
     code = res.code
     params = [res.params[k] for k in code.params]
@@ -385,12 +387,12 @@ def _run(scene: Any, res: Any, spec: PoincareOutput, progress: bool) -> Analysis
 
 def _name_copies(spec: PoincareOutput, code: Any, orbits: list, labels: list) -> list:
     """The copy each orbit of a stroboscopic map reached under the ball's symmetry
-    (:func:`chaplygin.numerics.symmetry.name_copy` on its states); empty when not named."""
-    from ...numerics.symmetry import name_copy, symmetries_of
+    (:func:`chaplygin.numerics.ball.symmetry.name_copy` on its states); empty when not named."""
+    from ...numerics.ball.symmetry import name_copy, symmetries_of
 
     if spec.section != "stroboscopic" or not symmetries_of(code):
         return []
-    from ...numerics.regimes import closing_period, map_points_scaled
+    from ...numerics.ball.regimes import closing_period, map_points_scaled
 
     out = []
     for orbit in orbits:

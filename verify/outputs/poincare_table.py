@@ -93,7 +93,7 @@ class PoincareOutput(_Table):
     copies: Literal["reached", "canonical"] = Field(
         "reached",
         description="stroboscopic maps of the ball: store and draw each orbit as reached, or as "
-        "the canonical copy under the symmetry gamma -> -gamma (chaplygin.numerics.symmetry); "
+        "the canonical copy under the symmetry gamma -> -gamma (chaplygin.numerics.ball.symmetry); "
         "the summary names the copy reached either way",
     )
     plot: StrictBool = Field(True, description="write the 2-D projections as PNG and SVG")

@@ -2,10 +2,10 @@
 
 On ``M || gamma`` at ``h = h2`` (K01 §3.3) the contact point runs along two spirals whose
 centres are ``Delta`` apart (K01 Fig. 4). The scene integrates forward and backward from its
-initial point; :func:`chaplygin.numerics.separatrix.delta_from_traces` finds the two
+initial point; :func:`chaplygin.numerics.ball.separatrix.delta_from_traces` finds the two
 asymptotic centres of the trace, and :func:`separatrix_delta_report` compares their distance
 with the closed form ``pi b/ch(pi mu/2)`` (K01-3.7) and with the full equations and the
-quadrature of :func:`chaplygin.numerics.separatrix.delta_three_ways`.
+quadrature of :func:`chaplygin.numerics.ball.separatrix.delta_three_ways`.
 
 **Tolerance.** The centre is read where two errors balance: the extrapolation leaves
 ``O(b exp(-3 lam t))`` and the separatrix's instability turns a deviation ``delta`` (the
@@ -138,7 +138,7 @@ def separatrix_delta_report(result: Any, rtol: float) -> dict:
     -------
     dict
         ``measured``, ``closed_form`` (K01-3.7), ``full_equations`` and ``quadrature``
-        (:func:`chaplygin.numerics.separatrix.delta_three_ways`, 20 digits), ``mu``,
+        (:func:`chaplygin.numerics.ball.separatrix.delta_three_ways`, 20 digits), ``mu``,
         ``differences`` (measured minus each), ``tolerance``, ``agrees`` (with the closed
         form), ``centre_forward``/``centre_backward`` (``[x, y]``), ``plateau_spread``,
         ``lambda_t_covered`` (``lam`` times each half of the span), ``energy_offset``
@@ -148,7 +148,7 @@ def separatrix_delta_report(result: Any, rtol: float) -> dict:
     """
     import mpmath
 
-    from ...numerics.separatrix import (
+    from ...numerics.ball.separatrix import (
         delta_from_traces,
         delta_three_ways,
         separatrix_quantities,

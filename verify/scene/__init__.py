@@ -7,7 +7,7 @@ The package, by role:
   ``examples/scenes/scene.schema.json``), :mod:`.reading` (the file read with limits, TOML,
   ``--set``, title placeholders), :mod:`.errors` (:class:`SceneError` with key path and line);
 * resolution: :mod:`.resolution` (the model, parameters and time span; the initial state is the
-  system's own, :func:`chaplygin.numerics.initial_state.initial_state`, shared with the API);
+  system's own, :func:`chaplygin.numerics.ball.initial_state.initial_state`, shared with the API);
 * outputs registered by name: :mod:`.registry` (which outputs a scene asks for; analyses by key,
   imported by name from :mod:`chaplygin.verify.outputs`) behind :mod:`.outputs`, the public
   interface an output module imports (and nothing else of this package);

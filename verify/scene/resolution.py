@@ -3,7 +3,7 @@
 :func:`resolve_scene` turns a :class:`~chaplygin.verify.scene.schema.Scene` into a
 :class:`Resolved`: the model's code with the effects the scene and its outputs need (and why),
 the parameters and the time span at the working precision, and the initial state. The initial
-state is the system's: :func:`chaplygin.numerics.initial_state.initial_state`, the one function
+state is the system's: :func:`chaplygin.numerics.ball.initial_state.initial_state`, the one function
 the API uses too (the same frame rule on ``M || gamma``); this module only names the key of the
 scene at fault, with its line.
 """
@@ -226,9 +226,9 @@ def _parameters(scene: Scene, code: Any, prec: Any) -> list:
 
 
 def _initial_state(scene: Scene, code: Any, params: dict, prec: Any) -> Any:
-    """:func:`chaplygin.numerics.initial_state.initial_state` of ``[initial]``, its refusals
+    """:func:`chaplygin.numerics.ball.initial_state.initial_state` of ``[initial]``, its refusals
     naming the key (the outputs are checked after the keys, before anything is computed)."""
-    from ...numerics.initial_state import (
+    from ...numerics.ball.initial_state import (
         InitialStateError,
         check_initial_request,
         initial_state,

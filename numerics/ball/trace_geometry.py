@@ -14,7 +14,7 @@ Hence (K01-Fig6f) the points ``z(k T)`` lie on the circle through ``z(0)`` about
 ``R = |d|/(2 |sin(psi/2)|)``; the whole trace lies in the annulus ``inner <= |z - c| <=
 outer`` (the *envelope* circles of K01 §3.3: ``min`` and ``max`` of ``|z(t) - c|`` over a
 period) and is bounded unless ``psi = 0 mod 2 pi`` (a *critical energy*: then it drifts by
-``d`` per period). ``psi`` is ``-Phi`` of :func:`chaplygin.numerics.separatrix.frame_turn`.
+``d`` per period). ``psi`` is ``-Phi`` of :func:`chaplygin.numerics.ball.separatrix.frame_turn`.
 
 The *turning* ``Theta`` of the trace -- the total angle by which its tangent
 ``x' + i y'`` turns over one period -- is a continuous lift of ``psi`` (``Theta = psi mod 2
@@ -36,7 +36,7 @@ trace is ``s + P exp((lam + i kap) t) + Q exp((-lam + i kap) t)`` (K01-3.5, 3.6)
 
 The integrations are the generated Taylor integrator's dense solution (the ``taylor``
 integrator with ``dense_output``, :func:`dense_solution`; the return of ``gamma`` is located on its
-step polynomials, as :func:`~chaplygin.numerics.separatrix.frame_turn` does), one period per
+step polynomials, as :func:`~chaplygin.numerics.ball.separatrix.frame_turn` does), one period per
 energy; angles, moduli and complex products are the project's own
 (:mod:`chaplygin.arith.detmath`, :mod:`chaplygin.arith.detcomplex`) and dot products and
 norms are summed in a fixed order (:mod:`chaplygin.arith.detlinalg`), so every number here
@@ -57,13 +57,13 @@ from functools import lru_cache
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
-from ..arith import detcomplex, detlinalg
-from ..derive.errors import ComputationError, UserInputError
-from .code import ModelCode, load_model_code
-from .inputs import check_inertia_vector, check_real, check_vector
-from .integrators import INTEGRATORS, Problem
-from .precision import Precision
-from .taylor import TaylorDense
+from ...arith import detcomplex, detlinalg
+from ...derive.errors import ComputationError, UserInputError
+from ..code import ModelCode, load_model_code
+from ..inputs import check_inertia_vector, check_real, check_vector
+from ..integrators import INTEGRATORS, Problem
+from ..precision import Precision
+from ..taylor import TaylorDense
 
 __all__ = [
     "dense_solution",
@@ -324,7 +324,7 @@ def trace_period(
     D : float
     h : float, optional
         The energy (the plain ball without ``gamma0``: the start of
-        :func:`~chaplygin.numerics.separatrix.near_separatrix_state`, ``gamma`` in the plane
+        :func:`~chaplygin.numerics.ball.separatrix.near_separatrix_state`, ``gamma`` in the plane
         of the extreme axes).
     C : float
         ``(M + K, gamma)``.
@@ -435,7 +435,7 @@ def spiral_centres(
 
     The passages are the maxima of ``|gamma_2|`` over one period (``gamma`` closest to
     ``+-e2``, two per period); at each, with the separatrix's ``lam`` and ``kap``
-    (:func:`~chaplygin.numerics.separatrix.separatrix_quantities`) and ``tau = 1/lam``,
+    (:func:`~chaplygin.numerics.ball.separatrix.separatrix_quantities`) and ``tau = 1/lam``,
     ``s = (z_+ - (r1 + r2) z_0 + r1 r2 z_-)/((1 - r1)(1 - r2))``, ``r1 = exp((lam + i kap)
     tau)``, ``r2 = exp((-lam + i kap) tau)``, from the trace at ``t* - tau, t*, t* + tau``:
     exact for the linearised passage ``s + P exp((lam + i kap) t) + Q exp((-lam + i kap) t)``
@@ -547,7 +547,7 @@ def segment_equilibria(
     """The equilibria of ``gamma`` on ``M + K = C gamma``: critical points of the energy.
 
     They are the ends of the steady-rotation families on ``n = C^2``
-    (:func:`~chaplygin.numerics.gyrostat_diagram.steady_rotation_branches`), polished by
+    (:func:`~chaplygin.numerics.ball.gyrostat_diagram.steady_rotation_branches`), polished by
     Newton's method on the tangential gradient and classified by the Hessian of the
     energy on the sphere (``"min"``, ``"max"``, ``"saddle"``). For a saddle, ``rate`` is the
     eigenvalue ``lam_s > 0`` of the reduced flow ``gamma' = gamma x omega`` there and

@@ -19,18 +19,21 @@ BM20-3.7, BM20-map (``docs FORMULAS.md``).
 
 from __future__ import annotations
 
-import ast
 import math
-from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
+from collections.abc import Sequence
 from typing import Any
 
-import mpmath
 import numpy as np
 
-from ..arith import detmath
-from ..derive.errors import UserInputError
-from .inputs import MAX_DEPTH, MAX_TEXT, parse_number
+from ...arith import detmath
+from ...derive.errors import UserInputError
+from ..dynamics.state_expression import (
+    StateExpression,
+    is_exact,
+    number_ops,
+    scalar_or_array,
+    wrap_angle,
+)
 
 __all__ = [
     "andoyer_deprit",
@@ -49,69 +52,6 @@ COORDINATE_SYSTEMS: dict[str, tuple[str, ...]] = {
     "andoyer": ("z", "l", "g"),
     "cylindrical": ("z", "l"),
 }
-
-
-class _Ops:
-    """Elementary functions for one number type (numpy or mpmath, elementwise)."""
-
-    def __init__(self, exact: bool):
-        if exact:
-            self.sqrt = np.frompyfunc(mpmath.sqrt, 1, 1)
-            self.sin = np.frompyfunc(mpmath.sin, 1, 1)
-            self.cos = np.frompyfunc(mpmath.cos, 1, 1)
-            self.atan2 = np.frompyfunc(mpmath.atan2, 2, 1)
-            self.exp = np.frompyfunc(mpmath.exp, 1, 1)
-            self.log = np.frompyfunc(mpmath.log, 1, 1)
-            self.pi = +mpmath.pi
-            self.zero = mpmath.mpf(0)
-        else:
-            # the project's kernels, not numpy's processor-dispatched ones: the same bits anywhere
-            self.sqrt, self.sin, self.cos = np.sqrt, detmath.sin, detmath.cos
-            self.atan2, self.exp, self.log = detmath.atan2, detmath.exp, detmath.log
-            self.pi = math.pi
-            self.zero = 0.0
-
-
-def _is_exact(*values: Any) -> bool:
-    for v in values:
-        a = np.asarray(v)
-        if a.dtype == object or isinstance(v, mpmath.mpf):
-            return True
-    return False
-
-
-def _out(value: Any) -> Any:
-    """A 0-d array back to its scalar; arrays unchanged."""
-    a = np.asarray(value)
-    return a.item() if a.ndim == 0 else a
-
-
-def _ops(*values: Any) -> _Ops:
-    return _Ops(_is_exact(*values))
-
-
-def wrap_angle(angle: Any) -> Any:
-    """An angle (or array of them) mapped to ``[-pi, pi)``.
-
-    Parameters
-    ----------
-    angle : number or array
-        Radians; float, ``mpmath.mpf`` or arrays of either.
-
-    Returns
-    -------
-    number or ndarray
-        The same type, in ``[-pi, pi)``.
-    """
-    ops = _ops(angle)
-    a = np.asarray(angle)
-    two_pi = 2 * ops.pi
-    if a.dtype == object:
-        w = np.frompyfunc(lambda x: x - two_pi * mpmath.floor((x + ops.pi) / two_pi), 1, 1)(a)
-    else:
-        w = a - two_pi * np.floor((a + ops.pi) / two_pi)
-        w = np.where(w >= ops.pi, w - two_pi, w)
-    return _out(w)
 
 
 def andoyer_deprit(M: Sequence, gamma: Sequence) -> tuple[Any, Any, Any, Any]:
@@ -140,7 +80,7 @@ def andoyer_deprit(M: Sequence, gamma: Sequence) -> tuple[Any, Any, Any, Any]:
     ----------
     BM20-3.7.
     """
-    ops = _ops(*M, *gamma)
+    ops = number_ops(*M, *gamma)
     M1, M2, M3 = (np.asarray(c) for c in M)
     g1, g2, g3 = (np.asarray(c) for c in gamma)
     rho = ops.sqrt(M1 * M1 + M2 * M2)
@@ -155,7 +95,12 @@ def andoyer_deprit(M: Sequence, gamma: Sequence) -> tuple[Any, Any, Any, Any]:
     sin_g = g1 * cl - g2 * sl
     cos_g = z * (g1 * sl + g2 * cl) - s * g3
     g = ops.atan2(sin_g, cos_g)
-    return _out(G), _out(z), _out(wrap_angle(l_)), _out(wrap_angle(g))
+    return (
+        scalar_or_array(G),
+        scalar_or_array(z),
+        scalar_or_array(wrap_angle(l_)),
+        scalar_or_array(wrap_angle(g)),
+    )
 
 
 def from_andoyer_deprit(G: Any, z: Any, l: Any, g: Any, H: Any = 0) -> tuple[list, list]:
@@ -170,7 +115,7 @@ def from_andoyer_deprit(G: Any, z: Any, l: Any, g: Any, H: Any = 0) -> tuple[lis
     ----------
     G, z, l, g : numbers or arrays of one shape
         ``G >= 0``, ``|z| <= 1`` (not checked here: see
-        :func:`chaplygin.numerics.initial_state.state_from_andoyer` for user input).
+        :func:`chaplygin.numerics.ball.initial_state.state_from_andoyer` for user input).
     H : number, optional
         The constant of areas ``(M, gamma)``, ``|H| <= G`` (default 0, BM20's level set).
 
@@ -183,7 +128,7 @@ def from_andoyer_deprit(G: Any, z: Any, l: Any, g: Any, H: Any = 0) -> tuple[lis
     ----------
     BM20-3.7.
     """
-    ops = _ops(G, z, l, g, H)
+    ops = number_ops(G, z, l, g, H)
     z_ = np.asarray(z)
     s = ops.sqrt(np.maximum(1 - z_ * z_, 0) if z_.dtype != object else 1 - z_ * z_)
     sl, cl, sg, cg = ops.sin(l), ops.cos(l), ops.sin(g), ops.cos(g)
@@ -194,7 +139,7 @@ def from_andoyer_deprit(G: Any, z: Any, l: Any, g: Any, H: Any = 0) -> tuple[lis
         rho = ops.sqrt(1 - c * c)
         m = [s * sl, s * cl, z_]
         gamma = [c * mk + rho * gk for mk, gk in zip(m, gamma, strict=True)]
-    return [_out(c) for c in M], [_out(c) for c in gamma]
+    return [scalar_or_array(c) for c in M], [scalar_or_array(c) for c in gamma]
 
 
 def cylindrical(gamma: Sequence) -> tuple[Any, Any]:
@@ -216,11 +161,11 @@ def cylindrical(gamma: Sequence) -> tuple[Any, Any]:
     ----------
     BM20-map.
     """
-    ops = _ops(*gamma)
+    ops = number_ops(*gamma)
     g1, g2, g3 = (np.asarray(c) for c in gamma)
     pole = (g1 == 0) & (g2 == 0)
     l_ = np.where(pole, ops.zero, ops.atan2(np.where(pole, 0, g1), np.where(pole, 1, g2)))
-    return _out(g3), _out(wrap_angle(l_))
+    return scalar_or_array(g3), scalar_or_array(wrap_angle(l_))
 
 
 def from_cylindrical(z: Any, l: Any) -> list:
@@ -238,10 +183,10 @@ def from_cylindrical(z: Any, l: Any) -> list:
     ----------
     BM20-map.
     """
-    ops = _ops(z, l)
+    ops = number_ops(z, l)
     z_ = np.asarray(z)
     s = ops.sqrt(np.maximum(1 - z_ * z_, 0) if z_.dtype != object else 1 - z_ * z_)
-    return [_out(s * ops.sin(l)), _out(s * ops.cos(l)), _out(z_)]
+    return [scalar_or_array(s * ops.sin(l)), scalar_or_array(s * ops.cos(l)), scalar_or_array(z_)]
 
 
 # ------------------------------------------------------------- BM20's reduced 3-D map (G fixed)
@@ -285,7 +230,7 @@ def reduced_point(y: Sequence, state_names: Sequence[str]) -> tuple[Any, np.ndar
     """
     iM, ig = _indices(state_names)
     G, z, l, g = andoyer_deprit([y[i] for i in iM], [y[i] for i in ig])
-    return G, np.array([z, l, g], dtype=object if _is_exact(G) else float)
+    return G, np.array([z, l, g], dtype=object if is_exact(G) else float)
 
 
 def state_from_reduced(
@@ -367,136 +312,3 @@ def reduced_tangent(x: Sequence, G: float) -> np.ndarray:
 
 
 # --------------------------------------------------------------------- expressions of the state
-_BINARY: dict[type, Callable[[Any, Any], Any]] = {
-    ast.Add: lambda a, b: a + b,
-    ast.Sub: lambda a, b: a - b,
-    ast.Mult: lambda a, b: a * b,
-    ast.Div: lambda a, b: a / b,
-    ast.Pow: lambda a, b: a**b,
-}
-_FUNCTIONS = {"sqrt": 1, "sin": 1, "cos": 1, "exp": 1, "log": 1, "atan2": 2, "abs": 1}
-_CONSTANTS = ("pi",)
-
-
-@dataclass(frozen=True)
-class StateExpression:
-    """An expression of the state and auxiliary quantities, parsed safely (no ``eval``).
-
-    ``M3/sqrt(M1**2 + M2**2 + M3**2)``, ``atan2(gamma1, gamma2)``, ``omega1``: names are the
-    model's state components and whatever else the caller allows (auxiliary quantities,
-    integrals); ``+ - * / **``, numbers (read by the project's number parser), ``pi`` and the
-    functions ``sqrt sin cos exp log abs atan2``. The text is parsed by :mod:`ast` and the tree
-    checked node by node; evaluation walks the tree itself.
-
-    Parameters
-    ----------
-    text : str
-    names : sequence of str
-        The names the expression may use.
-
-    Raises
-    ------
-    UserInputError
-        Malformed text, an unknown name (the message lists the valid ones) or function, or
-        syntax other than the above.
-    """
-
-    text: str
-    names: tuple[str, ...]
-
-    def __post_init__(self) -> None:
-        if not isinstance(self.text, str) or not self.text.strip():
-            raise UserInputError("a map coordinate must be a non-empty expression of the state")
-        if len(self.text) > MAX_TEXT:
-            raise UserInputError(f"the expression {self.text[:40]!r}... is too long")
-        try:
-            tree = ast.parse(self.text.strip(), mode="eval")
-        except SyntaxError:
-            raise UserInputError(
-                f"cannot read {self.text!r} as an expression of the state"
-            ) from None
-        depth, stack = 0, [(tree, 0)]
-        while stack:
-            node, d = stack.pop()
-            depth = max(depth, d)
-            stack.extend((child, d + 1) for child in ast.iter_child_nodes(node))
-        if depth > MAX_DEPTH:
-            raise UserInputError(f"the expression {self.text!r} is nested too deeply")
-        self._check(tree.body)
-        object.__setattr__(self, "_tree", tree.body)
-
-    def _check(self, node: ast.AST) -> None:
-        if isinstance(node, ast.Constant):
-            if isinstance(node.value, bool) or not isinstance(node.value, int | float):
-                raise UserInputError(f"{self.text!r}: only numbers may appear as constants")
-            return
-        if isinstance(node, ast.Name):
-            if node.id not in self.names and node.id not in _CONSTANTS:
-                import difflib
-
-                near = difflib.get_close_matches(node.id, self.names, n=1)
-                hint = f" (did you mean {near[0]!r}?)" if near else ""
-                raise UserInputError(
-                    f"{self.text!r}: unknown name {node.id!r}; valid: "
-                    f"{', '.join(self.names)}, pi{hint}"
-                )
-            return
-        if isinstance(node, ast.BinOp) and type(node.op) in _BINARY:
-            self._check(node.left)
-            self._check(node.right)
-            return
-        if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.UAdd | ast.USub):
-            self._check(node.operand)
-            return
-        if (
-            isinstance(node, ast.Call)
-            and isinstance(node.func, ast.Name)
-            and node.func.id in _FUNCTIONS
-            and not node.keywords
-            and len(node.args) == _FUNCTIONS[node.func.id]
-        ):
-            for a in node.args:
-                self._check(a)
-            return
-        raise UserInputError(
-            f"{self.text!r}: unsupported syntax (use names, numbers, pi, + - * / **, "
-            f"{', '.join(_FUNCTIONS)})"
-        )
-
-    def evaluate(self, values: Mapping[str, Any]) -> Any:
-        """The expression's value.
-
-        Parameters
-        ----------
-        values : mapping of str to number or array
-            A value (or array of values, all of one shape) for every name used.
-
-        Returns
-        -------
-        number or ndarray
-            In the values' number type (float64 or mpmath.mpf).
-        """
-        ops = _ops(*values.values())
-        dps = mpmath.mp.dps if ops.zero.__class__ is mpmath.mpf else 17
-        return _out(self._eval(self._tree, values, ops, dps))  # type: ignore[attr-defined]
-
-    def _eval(self, node: ast.AST, values: Mapping[str, Any], ops: _Ops, dps: int) -> Any:
-        if isinstance(node, ast.Constant):
-            text = ast.get_source_segment(self.text.strip(), node) or repr(node.value)
-            v = parse_number(text, dps + 5)
-            return v if isinstance(ops.zero, mpmath.mpf) else float(v)
-        if isinstance(node, ast.Name):
-            return ops.pi if node.id == "pi" else np.asarray(values[node.id])
-        if isinstance(node, ast.BinOp):
-            a = self._eval(node.left, values, ops, dps)
-            b = self._eval(node.right, values, ops, dps)
-            return _BINARY[type(node.op)](a, b)
-        if isinstance(node, ast.UnaryOp):
-            v = self._eval(node.operand, values, ops, dps)
-            return -v if isinstance(node.op, ast.USub) else v
-        assert isinstance(node, ast.Call) and isinstance(node.func, ast.Name)
-        args = [self._eval(a, values, ops, dps) for a in node.args]
-        name = node.func.id
-        if name == "abs":
-            return abs(args[0])
-        return getattr(ops, name)(*args)

@@ -27,9 +27,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
-from ..arith import detlinalg
-from ..derive.errors import UserInputError
-from .code import ModelCode
+from ...arith import detlinalg
+from ...derive.errors import UserInputError
+from ..code import ModelCode
 
 __all__ = [
     "set_distance",
@@ -90,7 +90,7 @@ def stroboscopic_samples(
     rtol: float = 1e-10,
 ) -> NDArray[np.float64]:
     """States at ``t = j 2 pi/Omega`` (``-j`` when ``backward``), ``j = transient + 1 ..
-    transient + n``: :meth:`~chaplygin.numerics.poincare.StroboscopicMap.orbit` in double.
+    transient + n``: :meth:`~chaplygin.numerics.dynamics.poincare.StroboscopicMap.orbit` in double.
 
     Parameters
     ----------

@@ -25,13 +25,13 @@ from functools import lru_cache
 import numpy as np
 import sympy as sp
 
-from ..arith import detlinalg
-from ..derive.emit import emit_function
-from ..derive.errors import UserInputError
-from ..derive.phase_space import random_orthonormal
-from ..derive.transformation import chaplygin_map, kilin_map, proposition2
-from .inputs import check_choice, check_count, check_inertia_vector, check_real, check_vector
-from .integrate import integrate
+from ...arith import detlinalg
+from ...derive.emit import emit_function
+from ...derive.errors import UserInputError
+from ...derive.phase_space import random_orthonormal
+from ...derive.transformation import chaplygin_map, kilin_map, proposition2
+from ..inputs import check_choice, check_count, check_inertia_vector, check_real, check_vector
+from ..integrate import integrate
 
 #: Most Gauss-Legendre panels :func:`transformation_test` lays on ``[0, t_end]``.
 MAX_PANELS = 10**6

@@ -35,12 +35,12 @@ import mpmath
 import numpy as np
 import sympy as sp
 
-from ..arith import detmath
-from ..derive import hamiltonisation as hz
-from ..derive.emit import emit_function
-from ..derive.errors import ComputationError, UserInputError
-from .code import load_model_code
-from .inputs import check_count, check_inertia_vector, check_real, check_vector
+from ...arith import detmath
+from ...derive import hamiltonisation as hz
+from ...derive.emit import emit_function
+from ...derive.errors import ComputationError, UserInputError
+from ..code import load_model_code
+from ..inputs import check_count, check_inertia_vector, check_real, check_vector
 
 __all__ = [
     "TorusQuadratures",
@@ -509,7 +509,7 @@ def measured_rotation_number(
     ----------
     K01-2.7, K01-2.11, K01-2.27 (FORMULAS.md).
     """
-    from .integrate import integrate
+    from ..integrate import integrate
 
     check_inertia_vector(I, D, double=True)
     check_vector(M, "M", double=True)

@@ -7,7 +7,7 @@ The papers give their trajectories by the values of the integrals, not by a stat
 ``(M, gamma)``, with a documented and reproducible choice where the level set is not a point,
 and refuses an impossible request with the admissible range. (The other ways of choosing an
 initial state, and the one entry that chooses between them, are in
-:mod:`chaplygin.numerics.initial_state`.)
+:mod:`chaplygin.numerics.ball.initial_state`.)
 
 Every energy is evaluated with the model's own generated integrals (``code.mpmath.integrals``)
 at the working digits; nothing here restates the Hamiltonian.
@@ -38,10 +38,10 @@ from dataclasses import dataclass, field
 import mpmath
 import numpy as np
 
-from ..arith import detlinalg, detmath
-from ..derive.errors import UserInputError
-from .code import ModelCode
-from .frame import horizontal_frame
+from ...arith import detlinalg, detmath
+from ...derive.errors import UserInputError
+from ..code import ModelCode
+from ..frame import horizontal_frame
 
 __all__ = [
     "ResolvedState",

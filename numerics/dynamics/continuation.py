@@ -24,7 +24,7 @@ constraint ``v . (x - x*) = eps`` and the parameter free, and followed on; a cas
 followed by switching again.
 
 Double precision only (the orbits themselves can be refined at higher precision with
-:func:`chaplygin.numerics.periodic_orbits.refine_periodic_orbit`).
+:func:`chaplygin.numerics.dynamics.periodic_orbits.refine_periodic_orbit`).
 
 References
 ----------
@@ -41,8 +41,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..arith import detlinalg
-from ..derive.errors import UserInputError
+from ...arith import detlinalg
+from ...derive.errors import UserInputError
 from .periodic_orbits import SmoothMap, orbit_jacobian, refine_periodic_orbit
 
 __all__ = [
@@ -315,7 +315,7 @@ def continue_periodic_orbit(
             if branches:
                 branches[-1].message += f"; the period-{k} orbit was not found: {orbit.message}"
                 break
-            from ..derive.errors import ComputationError
+            from ...derive.errors import ComputationError
 
             raise ComputationError(f"the initial period-{k} orbit at p = {p}: {orbit.message}")
         branch, switch = _follow(

@@ -20,7 +20,7 @@ Its diagram at fixed ``C`` is drawn from
 Energies and integrals are evaluated with the generated code of ``chaplygin_ball__gyrostat``
 (its ``integrals``), so the curves use the model's own energy. The stability of each steady
 rotation is that of the ball's diagrams: the Floquet multipliers of the periodic solution
-(:func:`chaplygin.numerics.stability.floquet` on the gyrostat's generated code, period
+(:func:`chaplygin.numerics.ball.stability.floquet` on the gyrostat's generated code, period
 ``2 pi/|omega|``), stable where both nontrivial multipliers lie on the unit circle
 (:func:`steady_rotation_stability`, :func:`branch_stability`).
 
@@ -37,8 +37,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..arith import detlinalg, detmath
-from .code import load_model_code
+from ...arith import detlinalg, detmath
+from ..code import load_model_code
 
 if TYPE_CHECKING:
     from .stability import FloquetResult
@@ -371,7 +371,7 @@ def steady_rotation_stability(
     ``omega`` is constant, so ``gamma`` turns about it with period ``T = 2 pi/|omega|``
     and so does ``M = J omega - D (omega, gamma) gamma``: the state is periodic with period
     ``T``, and its monodromy matrix (variational equations of the generated Jacobian,
-    DOP853) gives the multipliers (:func:`chaplygin.numerics.stability.floquet`).
+    DOP853) gives the multipliers (:func:`chaplygin.numerics.ball.stability.floquet`).
 
     Parameters
     ----------

@@ -8,7 +8,7 @@ model in one of these ways, each a documented and reproducible choice:
   :mod:`chaplygin.numerics.frame`: BKM12-7, and on ``M || gamma`` the body axis least aligned
   with ``gamma``, projected);
 * by the values of the ball's first integrals: ``h``, ``C``, and ``n`` or ``parallel``,
-  ``point`` choosing the point of the level set (:mod:`chaplygin.numerics.level_set`);
+  ``point`` choosing the point of the level set (:mod:`chaplygin.numerics.ball.level_set`);
 * by BM20's Andoyer-Deprit variables ``G, z, l, g`` (BM20 (3.7)), or ``rest = true`` (``M = 0``);
 * near a named solution of the plain ball: ``near = "p_i"`` (the steady rotation about axis
   ``i``, K01 (3.2)) or ``separatrix = i`` (``M || gamma`` at ``h = C^2/(2 I_i)``, the middle axis),
@@ -28,9 +28,9 @@ from typing import Any
 
 import mpmath
 
-from ..derive.errors import UserInputError, did_you_mean
-from .code import ModelCode
-from .frame import horizontal_frame
+from ...derive.errors import UserInputError, did_you_mean
+from ..code import ModelCode
+from ..frame import horizontal_frame
 from .level_set import GRID, INTEGRAL_KEYS, ResolvedState, integral_name, state_from_integrals
 
 __all__ = [
@@ -328,7 +328,7 @@ def initial_state(
     ----------
     K01 (3.2), K01 §3.3, BM20 (3.7), BKM12-7 (FORMULAS.md).
     """
-    from .inputs import complete_state
+    from ..inputs import complete_state
 
     req = _split(code, request)
     given, by_integrals, andoyer, choices = req.given, req.by_integrals, req.andoyer, req.choices
@@ -371,7 +371,7 @@ def initial_state(
 
 
 def _num(value: object, dps: int):
-    from .inputs import parse_number
+    from ..inputs import parse_number
 
     return parse_number(value, dps + 10)
 

@@ -21,12 +21,12 @@ from functools import cache, lru_cache
 import numpy as np
 import sympy as sp
 
-from ..arith import detlinalg, detmath
-from ..derive.bifurcation import bifurcation_curve
-from ..derive.emit import emit_function
-from ..derive.systems import build_model
-from .code import load_model_code
-from .integrate import integrate
+from ...arith import detlinalg, detmath
+from ...derive.bifurcation import bifurcation_curve
+from ...derive.emit import emit_function
+from ...derive.systems import build_model
+from ..code import load_model_code
+from ..integrate import integrate
 from .stability import (
     euler_floquet,
     floquet,
@@ -415,8 +415,8 @@ def level_set_components(
     from scipy.sparse.csgraph import connected_components
     from scipy.spatial import cKDTree
 
-    from ..derive.errors import UserInputError
-    from .inputs import check_inertia_vector
+    from ...derive.errors import UserInputError
+    from ..inputs import check_inertia_vector
 
     I, D = check_inertia_vector(I, D, double=True)
     p = [float(v) for v in (*I, D)]
@@ -512,8 +512,8 @@ def critical_trace(
     Parameters
     ----------
     y0 : sequence of 6 floats
-        ``M, gamma`` (a critical solution: :func:`~chaplygin.numerics.stability.critical_state`
-        or :func:`~chaplygin.numerics.stability.euler_state`).
+        ``M, gamma`` (a critical solution: :func:`~chaplygin.numerics.ball.stability.critical_state`
+        or :func:`~chaplygin.numerics.ball.stability.euler_state`).
     I : sequence of 3 floats
     D, b : float
         ``D = m b^2`` and the radius ``b``.

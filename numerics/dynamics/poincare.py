@@ -8,7 +8,7 @@ once, and the states come from one integration with dense output at those times 
 method by default: its step polynomial is evaluated at each time, in double, quad or digits).
 
 :class:`EventSection` records where an orbit crosses a surface ``S(state) = 0`` (an expression
-of the state, :class:`~chaplygin.numerics.map_coordinates.StateExpression`, or a callable) in
+of the state, :class:`~chaplygin.numerics.ball.map_coordinates.StateExpression`, or a callable) in
 a chosen direction: the crossings are located on the Taylor integrator's step polynomial to
 the working precision (:func:`chaplygin.numerics.taylor.taylor_solve`).
 
@@ -30,11 +30,11 @@ from typing import Any
 import mpmath
 import numpy as np
 
-from ..derive.errors import ComputationError, UserInputError
-from .code import ModelCode
-from .inputs import Precision, pack_params, pack_state, working_number
-from .integrate import integrate
-from .map_coordinates import StateExpression
+from ...derive.errors import ComputationError, UserInputError
+from ..code import ModelCode
+from ..inputs import Precision, pack_params, pack_state, working_number
+from ..integrate import integrate
+from .state_expression import StateExpression
 
 __all__ = ["MapOrbit", "StroboscopicMap", "EventSection", "integral_drift"]
 
@@ -301,33 +301,6 @@ class StroboscopicMap(_MapBase):
         ndarray, shape (n_state,)
         """
         return self.orbit(y, 2, t0=t0).y[1]
-
-    def reduced_step(self, x: Sequence, G: object, t0: object = 0) -> np.ndarray:
-        """BM20's 3-D map on the level ``|M| = G``, ``(M, gamma) = 0``: ``(z, l, g) -> (z', l',
-        g')`` one period later (BM20 §3.2).
-
-        Parameters
-        ----------
-        x : sequence of 3 numbers
-            ``(z, l, g)`` (:func:`~chaplygin.numerics.map_coordinates.reduced_point`).
-        G : number
-            ``|M|``, kept by the flow.
-        t0 : number
-
-        Returns
-        -------
-        ndarray, shape (3,)
-            ``(z, l, g)`` after one period, angles in ``[-pi, pi)``.
-
-        References
-        ----------
-        BM20-3.7, BM20-map.
-        """
-        from .map_coordinates import reduced_point, state_from_reduced
-
-        state = self.code.state
-        y = state_from_reduced(x, G, [0] * len(state), state)
-        return reduced_point(self.step(y, t0), state)[1]
 
     def orbit(self, y0: Mapping | Sequence, n: int, transient: int = 0, t0: object = 0) -> MapOrbit:
         """``n`` points ``P^(transient + k)(y0)``, ``k = 0 .. n-1`` (``y0`` itself first when

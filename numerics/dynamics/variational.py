@@ -30,11 +30,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..arith import detlinalg
-from ..derive.errors import ComputationError, UserInputError
-from .code import ModelCode
-from .integrators import INTEGRATORS, Problem, Renormalisation, Solution, VariationalFlow
-from .precision import Precision
+from ...arith import detlinalg
+from ...derive.errors import ComputationError, UserInputError
+from ..code import ModelCode
+from ..integrators import INTEGRATORS, Problem, Renormalisation, Solution, VariationalFlow
+from ..precision import Precision
 
 __all__ = ["VariationalSystem", "TangentFlow", "flow_with_jacobian", "variational_system"]
 

@@ -33,8 +33,8 @@ from dataclasses import dataclass, field
 import mpmath
 import numpy as np
 
-from ..derive.errors import ComputationError, UserInputError
-from .inputs import check_choice, check_count, check_inertia_vector, check_real
+from ...derive.errors import ComputationError, UserInputError
+from ..inputs import check_choice, check_count, check_inertia_vector, check_real
 
 #: Digits the separatrix functions accept (``digits``, ``dps``).
 MAX_DIGITS = 10000
@@ -386,9 +386,9 @@ def flow(
     ValueError
         An unknown engine, or a failed integration.
     """
-    from .code import load_model_code
-    from .integrators import INTEGRATORS, Problem
-    from .precision import Precision
+    from ..code import load_model_code
+    from ..integrators import INTEGRATORS, Problem
+    from ..precision import Precision
 
     engine = _ENGINE_ALIASES.get(engine, engine)
     if engine not in ENGINES:
@@ -734,9 +734,9 @@ def frame_turn(
     ----------
     K01-2.34, K01-Fig6f (FORMULAS.md).
     """
-    from ..arith import detlinalg, detmath
-    from .code import load_model_code
-    from .poincare import EventSection
+    from ...arith import detlinalg, detmath
+    from ..code import load_model_code
+    from ..dynamics.poincare import EventSection
 
     _check_frame_args(I, D, h, C)
     check_real(rtol, "rtol", positive=True, double=True)

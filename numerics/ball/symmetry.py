@@ -40,8 +40,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..arith import detlinalg
-from ..derive.errors import UserInputError
+from ...arith import detlinalg
+from ...derive.errors import UserInputError
 
 __all__ = [
     "Symmetry",
@@ -373,11 +373,12 @@ def name_copy(
 def _sample_invariant(y: NDArray, state: Sequence[str]) -> bool:
     """A sample whose mirror image lies within 3 of its own sampling scales, or 1 % of its size,
     of it: the 0.9-quantile Hausdorff distance
-    (:func:`~chaplygin.numerics.reversibility.set_distance`) of the sample and its mirror, in
+    (:func:`~chaplygin.numerics.dynamics.reversibility.set_distance`) of the sample and its mirror,
+    in
     ``(M/|M|, gamma)``, against that of its two halves or the diagonal of its bounding box. (The
     mean of ``phi`` over a quasi-periodic sample converges like ``1/N``, and so does its batch
     error: on a symmetric invariant curve it could look decisive.)"""
-    from .reversibility import set_distance
+    from ..dynamics.reversibility import set_distance
 
     x = map_points_scaled(y, tuple(state))
     xm = map_points_scaled(mirror_states(y, state), tuple(state))

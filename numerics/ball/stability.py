@@ -31,14 +31,14 @@ import sympy as sp
 from numpy.typing import ArrayLike
 from scipy.optimize import brentq
 
-from ..arith import detlinalg
-from ..derive.bifurcation import steady_parameters, steady_rotation
-from ..derive.emit import emit_function
-from ..derive.errors import ComputationError, UserInputError
-from ..derive.systems import build_model
-from .code import ModelCode, load_model_code
-from .inputs import check_choice, check_inertia_vector, check_real
-from .variational import VariationalSystem
+from ...arith import detlinalg
+from ...derive.bifurcation import steady_parameters, steady_rotation
+from ...derive.emit import emit_function
+from ...derive.errors import ComputationError, UserInputError
+from ...derive.systems import build_model
+from ..code import ModelCode, load_model_code
+from ..dynamics.variational import VariationalSystem
+from ..inputs import check_choice, check_inertia_vector, check_real
 
 __all__ = [
     "FloquetResult",

@@ -5,7 +5,7 @@ From a start the map ``P: y(t0) -> y(t0 + 2 pi/Omega)`` is iterated ``transient`
 the next ``recorded`` iterates are searched for the smallest period ``p <= max_period`` that
 closes within ``tol`` (max norm in ``(M/|M|, gamma)``, so ``tol`` is relative). Without a
 period, the largest Lyapunov exponent on the integrals' level set (Benettin, one tangent
-vector, :func:`~chaplygin.numerics.lyapunov.lyapunov_spectrum` with ``count=1``) is
+vector, :func:`~chaplygin.numerics.dynamics.lyapunov.lyapunov_spectrum` with ``count=1``) is
 measured over ``intervals`` further iterations (from rest, ``M = 0``, on the sphere of
 ``gamma`` alone), per map iteration, with its standard error
 ``s`` (batch means over 10 windows). With ``N = intervals`` and ``r = ln(N)/N`` (what a
@@ -28,7 +28,7 @@ at Omega = 1.0668, d = 4.384: 28 for the 7-cycle): the period found is reduced t
 whose closure still shrinks over the recorded iterates (:func:`settled_period`). The transient
 must still be long against the slowest contraction.
 
-The attractor's symmetric copy is named (:mod:`chaplygin.numerics.symmetry`) from the
+The attractor's symmetric copy is named (:mod:`chaplygin.numerics.ball.symmetry`) from the
 recorded points. The state after the last iteration is returned, so that a chart can carry
 it to the next parameter value (:func:`chaplygin.verify.sweep`'s ``carry``), following one
 attractor along a grid line and so revealing coexisting attractors.
@@ -46,9 +46,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..arith import detlinalg, detmath
-from ..derive.errors import ComputationError, UserInputError
-from .code import ModelCode
+from ...arith import detlinalg, detmath
+from ...derive.errors import ComputationError, UserInputError
+from ..code import ModelCode
 from .symmetry import CopyName, map_points_scaled, name_copy, symmetries_of
 
 __all__ = [
@@ -169,17 +169,12 @@ def _newton_period(
 ) -> int:
     """For BM20's model on ``|M| = G > 0``: the smallest divisor ``q < period`` with a stable
     ``q``-cycle within ``sqrt(tol)`` of the orbit, refined by Newton on ``P^q``
-    (:func:`~chaplygin.numerics.periodic_orbits.refine_periodic_orbit` with the variational
+    (:func:`~chaplygin.numerics.dynamics.periodic_orbits.refine_periodic_orbit` with the variational
     Jacobian); tried where the orbit's ``q``-closure is below ``sqrt(tol)`` (a slow spiral onto
     the ``q``-cycle closes at ``period`` first: BM20 Fig. 6 near the Neimark-Sacker point,
     multipliers 0.9987 per 7 iterations, closes at 28). Else ``period``."""
-    from .periodic_orbits import (
-        BM20_EFFECTS,
-        BM20_STATE,
-        bm20_map_with_jacobian,
-        bm20_point,
-        refine_periodic_orbit,
-    )
+    from ..dynamics.periodic_orbits import refine_periodic_orbit
+    from .bm20_map import BM20_EFFECTS, BM20_STATE, bm20_map_with_jacobian, bm20_point
 
     if tuple(code.state) != BM20_STATE or set(code.effects) != set(BM20_EFFECTS.split(",")):
         return period
@@ -335,8 +330,8 @@ def attractor_regime(
     ComputationError
         An integration failed.
     """
-    from .batch_map import STATUS_MESSAGES, BatchStroboscopicMap
-    from .lyapunov import lyapunov_spectrum
+    from ..dynamics.batch_map import STATUS_MESSAGES, BatchStroboscopicMap
+    from ..dynamics.lyapunov import lyapunov_spectrum
 
     for name, value, least in (
         ("transient", transient, 0),

@@ -31,7 +31,7 @@ inputs and shapes the result.
 
 This is the fast path of the sweep's ``period`` reducer (:mod:`chaplygin.verify.sweep`; DOP853
 for ``period.engine`` "auto" and "batch", Taylor for "taylor-batch"); the
-single-point :class:`~chaplygin.numerics.poincare.StroboscopicMap` (Taylor method, any
+single-point :class:`~chaplygin.numerics.dynamics.poincare.StroboscopicMap` (Taylor method, any
 precision) is the reference it is tested against.
 
 Examples
@@ -57,10 +57,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..derive.errors import UserInputError
-from .code import ModelCode
-from .integrators import INTEGRATORS, Batch, Problem, StroboscopicTimes
-from .integrators.c_batch import (
+from ...derive.errors import UserInputError
+from ..code import ModelCode
+from ..integrators import INTEGRATORS, Batch, Problem, StroboscopicTimes
+from ..integrators.c_batch import (
     BATCH_CFLAGS,
     NATIVE_CFLAGS,
     STATUS_MESSAGES,
@@ -69,7 +69,7 @@ from .integrators.c_batch import (
     lockstep_available,
     taylor_batch_library,
 )
-from .precision import Precision
+from ..precision import Precision
 
 __all__ = [
     "BatchMapResult",
@@ -191,7 +191,7 @@ class BatchStroboscopicMap:
         The model has no ``Omega``; tolerances out of (0, 1); ``max_steps < 1``; an unknown
         ``method``.
     ComputationError
-        No C compiler (use :class:`~chaplygin.numerics.poincare.StroboscopicMap`).
+        No C compiler (use :class:`~chaplygin.numerics.dynamics.poincare.StroboscopicMap`).
 
     References
     ----------

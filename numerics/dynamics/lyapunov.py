@@ -39,9 +39,9 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..arith import detlinalg, detmath
-from ..derive.errors import UserInputError
-from .code import ModelCode
+from ...arith import detlinalg, detmath
+from ...derive.errors import UserInputError
+from ..code import ModelCode
 from .variational import VariationalSystem
 
 __all__ = [
