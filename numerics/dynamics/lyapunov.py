@@ -245,9 +245,9 @@ def forcing_period(code: ModelCode, params: ArrayLike) -> float | None:
     UserInputError
         ``Omega`` is not positive.
     """
-    if "Omega" not in code.params:
+    if code.forcing is None:
         return None
-    omega = float(np.asarray(params, dtype=float)[code.params.index("Omega")])
+    omega = float(np.asarray(params, dtype=float)[code.params.index(code.forcing)])
     if not omega > 0:
         raise UserInputError(f"Omega must be > 0 for a forcing period, got {omega}")
     return 2 * math.pi / omega
