@@ -23,12 +23,12 @@ import math
 from pathlib import Path
 
 import numpy as np
-from chaplygin.numerics.ball.trace_geometry import (
+from chaplygin.numerics.ball.gyrostat_segment import (
     gradient_line,
     segment_equilibria,
-    trace_period,
     turning_critical_energy,
 )
+from chaplygin.numerics.ball.trace_geometry import trace_period
 from matplotlib.figure import Figure
 
 I, D, C = (1.0, 3.0, 5.0), 1.0, 1.0

@@ -41,6 +41,10 @@ def generated_manifest() -> dict[str, dict]:
     return json.loads(text)
 
 
+#: The name the periodic effects give their angular frequency (``derive.effects``).
+FORCING_FREQUENCY = "Omega"
+
+
 @dataclass
 class ModelCode:
     """Everything numerics needs about a model variant.
@@ -107,6 +111,20 @@ class ModelCode:
     @property
     def params(self) -> tuple[str, ...]:
         return tuple(self.numpy.PARAMS)
+
+    @property
+    def forcing(self) -> str | None:
+        """The parameter that is the angular frequency of a time-periodic model (its forcing
+        period is ``2 pi/value``), or None for an autonomous one.
+
+        The periodic effects declare it (BM20's ``variable_inertia`` and
+        ``variable_gyrostat``: ``Omega``); the generic dynamics read it here.
+
+        Returns
+        -------
+        str or None
+        """
+        return FORCING_FREQUENCY if FORCING_FREQUENCY in self.params else None
 
     @property
     def state_groups(self) -> dict[str, tuple[str, ...]]:

@@ -1760,7 +1760,7 @@ class TaylorDense:
             ``t1`` not a finite number, or not beyond the time reached in the direction
             of integration.
         """
-        from .inputs import check_real
+        from .arguments import check_real
 
         check_real(t1, "t1", double=True)
         t1 = float(t1)
@@ -2060,7 +2060,7 @@ def taylor_dense(
     >>> sol.status, sol(1.0).shape, sol([0.5, 1.5]).shape
     (0, (6,), (6, 2))
     """
-    from .inputs import check_real, check_vector
+    from .arguments import check_real, check_vector
 
     n, m = len(code.state), len(code.params)
     y = [float(v) for v in _checked_values(check_vector, y0, "y0", n)]

@@ -15,8 +15,8 @@ from chaplygin.derive.bifurcation import (
     steady_axes,
     steady_rotation_residual,
 )
-from chaplygin.numerics.ball import bifurcation as nb
 from chaplygin.numerics import integrate, load_model_code
+from chaplygin.numerics.ball import bifurcation as nb
 from chaplygin.numerics.ball.stability import (
     critical_state,
     euler_floquet,

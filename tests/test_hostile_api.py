@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 from chaplygin.derive.errors import ChaplyginError, UserInputError
 from chaplygin.derive.systems import build_model
-from chaplygin.numerics.ball import quadratures, separatrix, stability
+from chaplygin.numerics.ball import frame_turn, quadratures, separatrix, stability
 from chaplygin.numerics.ball.transformation import transformation_test
 from chaplygin.numerics.code import load_model_code
 from chaplygin.numerics.inputs import Precision
@@ -345,7 +345,7 @@ def test_separatrix_state(case):
     )
 )
 def test_frame_turn(case):
-    check(separatrix.frame_turn, case)
+    check(frame_turn.frame_turn, case)
 
 
 @SETTINGS
@@ -361,7 +361,7 @@ def test_frame_turn(case):
     )
 )
 def test_critical_energy(case):
-    check(separatrix.critical_energy, case)
+    check(frame_turn.critical_energy, case)
 
 
 def test_negative_radius_is_refused_by_every_method():

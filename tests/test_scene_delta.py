@@ -12,7 +12,8 @@ import mpmath
 import numpy as np
 import pytest
 from chaplygin.derive.errors import UserInputError
-from chaplygin.numerics.ball.separatrix import delta_closed_form, mu_of, spiral_centre
+from chaplygin.numerics.ball.frame_turn import spiral_centre
+from chaplygin.numerics.ball.separatrix import delta_closed_form, mu_of
 from chaplygin.verify.cli import main
 from chaplygin.verify.outputs.separatrix_delta import delta_agrees, delta_tolerance
 from chaplygin.verify.scene import Scene, SceneError

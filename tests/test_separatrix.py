@@ -301,7 +301,7 @@ def test_fig6f_critical_energy_where_the_trace_becomes_unbounded():
 
     Double precision (DOP853, rtol 1e-12): h_c is compared to the 7 printed decimals.
     """
-    from chaplygin.numerics.ball.separatrix import critical_energy, frame_turn
+    from chaplygin.numerics.ball.frame_turn import critical_energy, frame_turn
 
     T, phi = frame_turn((1, 3, 5), 1, 0.180278)
     assert abs(T - 42.18) < 0.005 and abs(phi + 0.0098) < 5e-5

@@ -1,6 +1,6 @@
 """The contact trace period by period on M || gamma and M + K || gamma (K01 §3.3, §4).
 
-Independent routes: the turn per period against ``separatrix.frame_turn`` (another return
+Independent routes: the turn per period against ``frame_turn.frame_turn`` (another return
 condition, the frame instead of the velocity); the circle of the points ``z(kT)`` against a
 long integration of the full equations (the straight drift refuted by the same comparison);
 the equilibria of the gyrostat's segment against the Euler characteristic and the extreme
@@ -17,14 +17,10 @@ import numpy as np
 import pytest
 from chaplygin.derive.errors import UserInputError
 from chaplygin.numerics import integrate
-from chaplygin.numerics.ball.separatrix import delta_closed_form, frame_turn, mu_of
-from chaplygin.numerics.ball.trace_geometry import (
-    gradient_line,
-    segment_energy,
-    segment_equilibria,
-    spiral_centres,
-    trace_period,
-)
+from chaplygin.numerics.ball.frame_turn import frame_turn
+from chaplygin.numerics.ball.gyrostat_segment import gradient_line, segment_equilibria
+from chaplygin.numerics.ball.separatrix import delta_closed_form, mu_of
+from chaplygin.numerics.ball.trace_geometry import segment_energy, spiral_centres, trace_period
 
 #: A generic body (non-dyadic values), and K01 Fig. 7's.
 GEN = {"I": (1.3, 2.9, 4.4), "D": 0.7, "C": 0.83}
@@ -141,7 +137,8 @@ def test_segment_gradient_is_the_generated_energys():
     """The closed-form tangential gradient ``(C + s) omega`` of the segment energy against
     complex steps of the generated energy (another route: the model's own formula,
     differentiated by the complex step), at generic points of the sphere."""
-    from chaplygin.numerics.ball.trace_geometry import _check_body, _sphere_gradient
+    from chaplygin.numerics.ball.gyrostat_segment import _sphere_gradient
+    from chaplygin.numerics.ball.trace_geometry import _check_body
 
     I, D, K, C = _check_body(FIG7["I"], FIG7["D"], (0.13, -0.07, 0.21), 0.83)
     rng = np.random.default_rng(7)

@@ -26,7 +26,7 @@ import mpmath
 import numpy as np
 
 from ..derive.errors import UserInputError
-from ..numerics.inputs import check_count, check_inertia_vector, check_real, check_vector
+from ..numerics.arguments import check_count, check_inertia_vector, check_real, check_vector
 from .figure_style import COLORS, new_figure, stability_legend, stability_style
 
 if TYPE_CHECKING:
@@ -617,12 +617,8 @@ def separatrix_traces_figure(
     -------
     matplotlib.figure.Figure
     """
-    from ..numerics.ball.separatrix import (
-        delta_closed_form,
-        mu_of,
-        near_separatrix_state,
-        separatrix_trace,
-    )
+    from ..numerics.ball.frame_turn import near_separatrix_state, separatrix_trace
+    from ..numerics.ball.separatrix import delta_closed_form, mu_of
     from ..numerics.integrate import integrate
 
     fig = new_figure(figsize=(11, 5))

@@ -702,7 +702,7 @@ register_reducer(
 
 
 def _frame_turn(ctx: PointContext) -> dict:
-    from ..numerics.ball.separatrix import frame_turn
+    from ..numerics.ball.frame_turn import frame_turn
 
     if "gyrostat" in ctx.resolved.effects:
         raise UserInputError(

@@ -416,7 +416,7 @@ def level_set_components(
     from scipy.spatial import cKDTree
 
     from ...derive.errors import UserInputError
-    from ..inputs import check_inertia_vector
+    from ..arguments import check_inertia_vector
 
     I, D = check_inertia_vector(I, D, double=True)
     p = [float(v) for v in (*I, D)]

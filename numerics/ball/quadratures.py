@@ -39,8 +39,8 @@ from ...arith import detmath
 from ...derive import hamiltonisation as hz
 from ...derive.emit import emit_function
 from ...derive.errors import ComputationError, UserInputError
+from ..arguments import check_count, check_inertia_vector, check_real, check_vector
 from ..code import load_model_code
-from ..inputs import check_count, check_inertia_vector, check_real, check_vector
 
 __all__ = [
     "TorusQuadratures",

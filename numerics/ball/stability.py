@@ -36,9 +36,9 @@ from ...derive.bifurcation import steady_parameters, steady_rotation
 from ...derive.emit import emit_function
 from ...derive.errors import ComputationError, UserInputError
 from ...derive.systems import build_model
+from ..arguments import check_choice, check_inertia_vector, check_real
 from ..code import ModelCode, load_model_code
 from ..dynamics.variational import VariationalSystem
-from ..inputs import check_choice, check_inertia_vector, check_real
 
 __all__ = [
     "FloquetResult",

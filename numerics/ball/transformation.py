@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
 import sympy as sp
@@ -30,7 +31,7 @@ from ...derive.emit import emit_function
 from ...derive.errors import UserInputError
 from ...derive.phase_space import random_orthonormal
 from ...derive.transformation import chaplygin_map, kilin_map, proposition2
-from ..inputs import check_choice, check_count, check_inertia_vector, check_real, check_vector
+from ..arguments import check_choice, check_count, check_inertia_vector, check_real, check_vector
 from ..integrate import integrate
 
 #: Most Gauss-Legendre panels :func:`transformation_test` lays on ``[0, t_end]``.
@@ -290,38 +291,11 @@ def transformation_test(
     ----------
     BKM12-19, BKM12-22, BKM12-23, K01-2.29 ... K01-2.33.
     """
-    check_inertia_vector(I, D, double=True)
-    check_vector(M0, "M0", double=True)
-    check_vector(gamma0, "gamma0", double=True)
-    check_choice(form, ("chaplygin", "kilin"), "form")
-    for name, value in (("t_end", t_end), ("rtol", rtol), ("panel", panel)):
-        check_real(value, name, positive=True, double=True)
-    check_count(nodes, "nodes", 1, 100)
-    if t_end / panel > MAX_PANELS:
-        raise UserInputError(
-            f"t_end/panel = {t_end / panel:g} panels is more than {MAX_PANELS}; "
-            "shorten t_end or widen panel"
-        )
+    _check_arguments(I, D, M0, gamma0, t_end, form, rtol, panel, nodes)
     I = np.asarray(I, dtype=float)
     M0 = np.asarray(M0, dtype=float)
     gamma0 = np.asarray(gamma0, dtype=float)
-    if abs(detlinalg.dot(gamma0, gamma0) - 1) > 1e-12:
-        raise UserInputError("gamma0 must be a unit vector")
-    Mg = detlinalg.dot(M0, gamma0)
-    if abs(Mg) < 1e-8:
-        raise UserInputError("(M, gamma) = 0 already: nothing to transform")
-    A = 1.0 / (I + D)
-    X = 1.0 / D - detlinalg.dot(gamma0, A * gamma0)
-    Y = detlinalg.dot(A * M0, gamma0)
-    omega0 = A * (M0 + (Y / X) * gamma0)
-    E = detlinalg.dot(M0, omega0)
-    C = detlinalg.dot(M0, M0)
-    coeffs = (chaplygin_coefficients if form == "chaplygin" else kilin_coefficients)(E, D, C, Mg)
-    I_new = I + D - coeffs.Dt
-    if np.any(I_new <= 0) or coeffs.Dt <= 0:
-        raise UserInputError(
-            f"the transformed ball is not physical (I~ = {I_new.tolist()}, D~ = {coeffs.Dt})"
-        )
+    A, coeffs, I_new = _transformed_ball(I, D, M0, gamma0, form)
     # Gauss-Legendre nodes on panels of [0, t_end]
     n_pan = max(1, int(np.ceil(t_end / panel)))
     edges = np.linspace(0.0, t_end, n_pan + 1)
@@ -365,20 +339,7 @@ def transformation_test(
     L = float(np.max(np.abs(mu_all)) / np.min(np.abs(mu_all)))
     scale = max(1.0, float(np.max(np.abs(yt_edges))), float(np.max(np.abs(y_edges))))
     tol = 10 * rtol * (1 + s_edges[-1]) * scale * (1 + L)
-    Mt0, gt0 = yt_edges[:3, 0], yt_edges[3:, 0]
-    products = {
-        "(M~,gamma~)": detlinalg.dot(Mt0, gt0),
-        "(gamma~,gamma~)-1": detlinalg.dot(gt0, gt0) - 1,
-        "(M~,M~)": detlinalg.dot(Mt0, Mt0),
-        "E~": detlinalg.dot(
-            Mt0,
-            A
-            * (
-                Mt0
-                + detlinalg.dot(A * Mt0, gt0) / (1 / coeffs.Dt - detlinalg.dot(gt0, A * gt0)) * gt0
-            ),
-        ),
-    }
+    products = _transformed_products(yt_edges[:3, 0], yt_edges[3:, 0], A, coeffs)
     drift = {f"original {k}": v for k, v in r1.drift.items()}
     drift.update({f"transformed {k}": v for k, v in r2.drift.items()})
     return TransformationReport(coeffs, params_new, edges, s_edges, err, tol, products, drift)
@@ -456,3 +417,60 @@ def random_support_state(rng: np.random.Generator) -> tuple[float, ...]:
     Da, Db = rng.uniform(0.2, 2.0, 2)
     C, Ma, Mb = (detlinalg.dot(M, v) for v in (M, alpha, beta))
     return float(E), C, Ma, Mb, float(Da), float(Db)
+
+
+def _check_arguments(I, D, M0, gamma0, t_end, form, rtol, panel, nodes) -> None:
+    """Refuse what :func:`transformation_test` cannot use (:class:`UserInputError`)."""
+    check_inertia_vector(I, D, double=True)
+    check_vector(M0, "M0", double=True)
+    check_vector(gamma0, "gamma0", double=True)
+    check_choice(form, ("chaplygin", "kilin"), "form")
+    for name, value in (("t_end", t_end), ("rtol", rtol), ("panel", panel)):
+        check_real(value, name, positive=True, double=True)
+    check_count(nodes, "nodes", 1, 100)
+    if t_end / panel > MAX_PANELS:
+        raise UserInputError(
+            f"t_end/panel = {t_end / panel:g} panels is more than {MAX_PANELS}; "
+            "shorten t_end or widen panel"
+        )
+
+
+def _transformed_ball(I, D, M0, gamma0, form) -> tuple[np.ndarray, Any, np.ndarray]:
+    """``A = (I + D)^-1``, the transformation's coefficients for the state's integrals and
+    the transformed ball's inertia ``I + D - D~`` (refused unless physical)."""
+    if abs(detlinalg.dot(gamma0, gamma0) - 1) > 1e-12:
+        raise UserInputError("gamma0 must be a unit vector")
+    Mg = detlinalg.dot(M0, gamma0)
+    if abs(Mg) < 1e-8:
+        raise UserInputError("(M, gamma) = 0 already: nothing to transform")
+    A = 1.0 / (I + D)
+    X = 1.0 / D - detlinalg.dot(gamma0, A * gamma0)
+    Y = detlinalg.dot(A * M0, gamma0)
+    omega0 = A * (M0 + (Y / X) * gamma0)
+    E = detlinalg.dot(M0, omega0)
+    C = detlinalg.dot(M0, M0)
+    coeffs = (chaplygin_coefficients if form == "chaplygin" else kilin_coefficients)(E, D, C, Mg)
+    I_new = I + D - coeffs.Dt
+    if np.any(I_new <= 0) or coeffs.Dt <= 0:
+        raise UserInputError(
+            f"the transformed ball is not physical (I~ = {I_new.tolist()}, D~ = {coeffs.Dt})"
+        )
+    return A, coeffs, I_new
+
+
+def _transformed_products(Mt0, gt0, A, coeffs) -> dict[str, float]:
+    """The transformed start's products ``(M~, gamma~)``, ``|gamma~|^2 - 1``, ``|M~|^2`` and
+    its energy with the transformed ``D~``."""
+    return {
+        "(M~,gamma~)": detlinalg.dot(Mt0, gt0),
+        "(gamma~,gamma~)-1": detlinalg.dot(gt0, gt0) - 1,
+        "(M~,M~)": detlinalg.dot(Mt0, Mt0),
+        "E~": detlinalg.dot(
+            Mt0,
+            A
+            * (
+                Mt0
+                + detlinalg.dot(A * Mt0, gt0) / (1 / coeffs.Dt - detlinalg.dot(gt0, A * gt0)) * gt0
+            ),
+        ),
+    }

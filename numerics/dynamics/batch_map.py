@@ -108,7 +108,7 @@ def batch_map_available(code: ModelCode, method: str = "dop853") -> bool:
     """
     if method not in METHODS:
         raise UserInputError(f"the batch map's method must be one of {METHODS}, got {method!r}")
-    if "Omega" not in code.params:
+    if code.forcing is None:
         return False
     return (taylor_batch_library(code) if method == "taylor" else batch_library(code)) is not None
 
@@ -207,7 +207,7 @@ class BatchStroboscopicMap:
         max_steps: int = 100_000,
         method: str = "dop853",
     ) -> None:
-        if "Omega" not in code.params:
+        if code.forcing is None:
             raise UserInputError(
                 f"{code.name} is not time-periodic (no parameter Omega): a stroboscopic map needs "
                 "the effects variable_inertia or variable_gyrostat"
@@ -225,7 +225,7 @@ class BatchStroboscopicMap:
         self._integrator = INTEGRATORS[method]()
         # compiled or loaded now (ComputationError without a compiler): a run only integrates
         self._backend = self._integrator.prepare(self._problem(np.zeros((0, 0)), None, None))
-        self._omega = code.params.index("Omega")
+        self._omega = code.params.index(code.forcing)
 
     def _problem(self, Y0, P, times, lockstep: bool = True) -> Problem:
         return Problem(Batch(self.code), Y0, None, P, _DOUBLE, self.rtol, self.atol,

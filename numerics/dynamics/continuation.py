@@ -226,6 +226,21 @@ def _multipliers(A: NDArray) -> NDArray:
     return ev[np.argsort(-np.abs(ev), kind="stable")]
 
 
+def _check_range(smap: SmoothMap, events: tuple[str, ...], p0: Any, p_end: Any) -> tuple:
+    """The range of :func:`continue_periodic_orbit` as floats, or :class:`UserInputError`."""
+    if smap.digits is not None:
+        raise UserInputError("continuation runs in double precision: give a double map")
+    unknown = set(events) - set(EVENT_KINDS)
+    if unknown:
+        raise UserInputError(f"unknown event kinds {sorted(unknown)}; valid: {list(EVENT_KINDS)}")
+    p0, p_end = float(p0), float(p_end)
+    if not (np.isfinite(p0) and np.isfinite(p_end)) or p0 == p_end:
+        raise UserInputError(
+            f"the parameter range must be two different numbers, got {p0}, {p_end}"
+        )
+    return p0, p_end
+
+
 def continue_periodic_orbit(
     smap: SmoothMap,
     x0: Any,
@@ -284,16 +299,7 @@ def continue_periodic_orbit(
     ComputationError
         The initial orbit cannot be refined.
     """
-    if smap.digits is not None:
-        raise UserInputError("continuation runs in double precision: give a double map")
-    unknown = set(events) - set(EVENT_KINDS)
-    if unknown:
-        raise UserInputError(f"unknown event kinds {sorted(unknown)}; valid: {list(EVENT_KINDS)}")
-    p0, p_end = float(p0), float(p_end)
-    if not (np.isfinite(p0) and np.isfinite(p_end)) or p0 == p_end:
-        raise UserInputError(
-            f"the parameter range must be two different numbers, got {p0}, {p_end}"
-        )
+    p0, p_end = _check_range(smap, events, p0, p_end)
     span = abs(p_end - p0)
     step = span / 50 if step is None else float(step)
     if not step > 0:

@@ -245,9 +245,9 @@ def forcing_period(code: ModelCode, params: ArrayLike) -> float | None:
     UserInputError
         ``Omega`` is not positive.
     """
-    if "Omega" not in code.params:
+    if code.forcing is None:
         return None
-    omega = float(np.asarray(params, dtype=float)[code.params.index("Omega")])
+    omega = float(np.asarray(params, dtype=float)[code.params.index(code.forcing)])
     if not omega > 0:
         raise UserInputError(f"Omega must be > 0 for a forcing period, got {omega}")
     return 2 * math.pi / omega
@@ -406,28 +406,13 @@ def lyapunov_spectrum(
         An integration failed.
     """
     start = time.perf_counter()
-    if spectrum not in SPECTRA:
-        raise UserInputError(f"unknown spectrum {spectrum!r}: choose one of {', '.join(SPECTRA)}")
-    intervals, transient = int(intervals), int(transient)
-    states, windows = int(states), int(windows)
-    if windows < 2:
-        raise UserInputError("at least 2 windows are needed for the batch-means error")
-    if intervals < windows:
-        raise UserInputError(f"intervals ({intervals}) must be at least windows ({windows})")
-    if transient < 0:
-        raise UserInputError("transient must be >= 0")
+    intervals, transient, states, windows = _check_counts(
+        spectrum, intervals, transient, states, windows
+    )
     vs = system if system is not None else VariationalSystem(code, params, rtol=rtol, atol=atol)
     p = vs.params
     period = forcing_period(code, p)
-    if interval is None:
-        if period is None:
-            raise UserInputError(
-                f"{code.name} is autonomous: give the renormalisation interval (a time)"
-            )
-        interval = period
-    tau = float(interval)
-    if not (math.isfinite(tau) and tau > 0):
-        raise UserInputError(f"the renormalisation interval must be > 0, got {interval}")
+    tau = _renormalisation_interval(code, interval, period)
     y_first = vs._state(y0)
     normal, tangent = vs.level_set_basis(t0, y_first)
     rank = normal.shape[1]
@@ -439,89 +424,150 @@ def lyapunov_spectrum(
             )
     starts = states_on_level_set(vs, y_first, states, spread=spread, t=t0, seed=seed)
     rng = np.random.default_rng(seed + 1)
-    n = vs.n
-    k = tangent.shape[1] if spectrum == "level_set" else n
-    if k == 0:
+    k = _vector_count(code, tangent.shape[1] if spectrum == "level_set" else vs.n, count)
+    checkpoints = np.unique(np.geomspace(1, intervals, CONVERGENCE_POINTS).astype(int))
+    runs = _StateRuns(states, k, checkpoints.size)
+    with_density = _has_density(code)
+    for s, y in enumerate(starts):
+        tangent_s = vs.level_set_basis(t0, y)[1] if subspace is None else tangent
+        basis = tangent_s if spectrum == "level_set" else np.eye(vs.n)
+        V = detlinalg.matmul(basis, detlinalg.qr(_uniform_matrix(rng, basis.shape[1], k))[0])
+        runs.run(s, vs, y, V, t0, tau, transient, intervals, windows, checkpoints,
+                 spectrum == "level_set", with_density)  # fmt: skip
+    return runs.spectrum(
+        spectrum=spectrum, tau=tau, period=period, intervals=intervals, transient=transient,
+        windows=windows, rank=rank, with_density=with_density, checkpoints=checkpoints,
+        starts=starts, wall_time=time.perf_counter() - start, vs=vs,
+    )  # fmt: skip
+
+
+def _check_counts(
+    spectrum: str, intervals: int, transient: int, states: int, windows: int
+) -> tuple[int, int, int, int]:
+    """The counts of :func:`lyapunov_spectrum` as integers, or :class:`UserInputError`."""
+    if spectrum not in SPECTRA:
+        raise UserInputError(f"unknown spectrum {spectrum!r}: choose one of {', '.join(SPECTRA)}")
+    intervals, transient = int(intervals), int(transient)
+    states, windows = int(states), int(windows)
+    if windows < 2:
+        raise UserInputError("at least 2 windows are needed for the batch-means error")
+    if intervals < windows:
+        raise UserInputError(f"intervals ({intervals}) must be at least windows ({windows})")
+    if transient < 0:
+        raise UserInputError("transient must be >= 0")
+    return intervals, transient, states, windows
+
+
+def _renormalisation_interval(code: ModelCode, interval: Any, period: float | None) -> float:
+    """The time between QRs: ``interval``, by default the forcing period."""
+    if interval is None:
+        if period is None:
+            raise UserInputError(
+                f"{code.name} is autonomous: give the renormalisation interval (a time)"
+            )
+        interval = period
+    tau = float(interval)
+    if not (math.isfinite(tau) and tau > 0):
+        raise UserInputError(f"the renormalisation interval must be > 0, got {interval}")
+    return tau
+
+
+def _vector_count(code: ModelCode, available: int, count: int | None) -> int:
+    """How many tangent vectors: all ``available`` or the ``count`` largest."""
+    if available == 0:
         raise UserInputError(f"the level set of {code.name}'s integrals is a point: no exponents")
     if count is not None:
         if isinstance(count, bool) or not isinstance(count, int) or count < 1:
             raise UserInputError(f"count must be a positive integer, got {count!r}")
-        k = min(k, count)
-    checkpoints = np.unique(np.geomspace(1, intervals, CONVERGENCE_POINTS).astype(int))
-    per_state = np.zeros((states, k))
-    window_se = np.zeros((states, k))
-    divergence = np.zeros(states)
-    divergence_se = np.zeros(states)
-    density_rate = np.zeros(states)
-    running = np.zeros((states, checkpoints.size, k))
-    work = {"steps": 0, "rejected": 0, "evaluations": 0}
-    with_density = _has_density(code)
-    for s, y in enumerate(starts):
-        if subspace is None:
-            _, tangent_s = vs.level_set_basis(t0, y)
-        else:
-            tangent_s = tangent
-        basis = tangent_s if spectrum == "level_set" else np.eye(n)
-        V = detlinalg.matmul(basis, detlinalg.qr(_uniform_matrix(rng, basis.shape[1], k))[0])
-        project = spectrum == "level_set"
+        return min(available, count)
+    return available
+
+
+class _StateRuns:
+    """The per-state sums of :func:`lyapunov_spectrum` and their statistics."""
+
+    def __init__(self, states: int, k: int, points: int) -> None:
+        self.states = states
+        self.per_state = np.zeros((states, k))
+        self.window_se = np.zeros((states, k))
+        self.divergence = np.zeros(states)
+        self.divergence_se = np.zeros(states)
+        self.density_rate = np.zeros(states)
+        self.running = np.zeros((states, points, k))
+        self.work = {"steps": 0, "rejected": 0, "evaluations": 0}
+
+    def run(self, s, vs, y, V, t0, tau, transient, intervals, windows, checkpoints, project,
+            with_density) -> None:  # fmt: skip
+        """Renormalised runs from state number ``s``: the transient, then the measured ones."""
+        k = V.shape[1]
         t = t0
         if transient:
             _, _, y, V, w = vs.renormalised(y, V, t, tau, transient, project=project)
             t = t0 + transient * tau
-            for key in work:
-                work[key] += w[key]
+            for key in self.work:
+                self.work[key] += w[key]
         y_start, t_start = y, t
         logs, divs, y, V, w = vs.renormalised(y, V, t, tau, intervals, project=project)
-        for key in work:
-            work[key] += w[key]
-        per_state[s] = logs.mean(axis=0) / tau
+        for key in self.work:
+            self.work[key] += w[key]
+        self.per_state[s] = logs.mean(axis=0) / tau
         usable = (intervals // windows) * windows
         batches = logs[intervals - usable :].reshape(windows, -1, k).mean(axis=1) / tau
-        window_se[s] = batches.std(axis=0, ddof=1) / math.sqrt(windows)
-        divergence[s] = divs.mean() / tau
+        self.window_se[s] = batches.std(axis=0, ddof=1) / math.sqrt(windows)
+        self.divergence[s] = divs.mean() / tau
         div_batches = divs[intervals - usable :].reshape(windows, -1).mean(axis=1) / tau
-        divergence_se[s] = div_batches.std(ddof=1) / math.sqrt(windows)
-        running[s] = np.cumsum(logs, axis=0)[checkpoints - 1] / (checkpoints[:, None] * tau)
+        self.divergence_se[s] = div_batches.std(ddof=1) / math.sqrt(windows)
+        self.running[s] = np.cumsum(logs, axis=0)[checkpoints - 1] / (checkpoints[:, None] * tau)
         if with_density:
+            code, p = vs.code, vs.params
             t_end = t_start + intervals * tau
-            density_rate[s] = -(
+            self.density_rate[s] = -(
                 _log_density(code, t_end, y, p) - _log_density(code, t_start, y_start, p)
             ) / (intervals * tau)
-    exponents = per_state.mean(axis=0)
-    window_errors = np.sqrt((window_se**2).sum(axis=0)) / states
-    state_errors = (
-        per_state.std(axis=0, ddof=1) / math.sqrt(states) if states > 1 else np.full(k, np.nan)
-    )
-    errors = np.fmax(window_errors, state_errors)
-    divergence_error = math.sqrt(float((divergence_se**2).sum())) / states
-    if states > 1:
-        divergence_error = max(divergence_error, float(divergence.std(ddof=1)) / math.sqrt(states))
-    forced = None
-    if spectrum == "full" and rank and k == n:
-        forced = np.sort(exponents[np.argsort(np.abs(exponents))[:rank]])[::-1]
-    return LyapunovSpectrum(
-        spectrum=spectrum,
-        exponents=exponents,
-        errors=errors,
-        window_errors=window_errors,
-        state_errors=state_errors,
-        per_state=per_state,
-        interval=tau,
-        period=period,
-        intervals=intervals,
-        transient=transient,
-        windows=windows,
-        sum_of_exponents=float(exponents.sum()),
-        mean_divergence=float(divergence.mean()),
-        divergence_error=divergence_error,
-        density_rate=float(density_rate.mean()) if with_density else None,
-        forced_zeros=forced,
-        integral_rank=rank,
-        convergence_iterations=checkpoints,
-        convergence=running,
-        initial_states=starts,
-        work=work,
-        wall_time=time.perf_counter() - start,
-        rtol=vs.rtol,
-        atol=vs.atol,
-    )
+
+    def spectrum(self, *, spectrum, tau, period, intervals, transient, windows, rank,
+                 with_density, checkpoints, starts, wall_time, vs) -> LyapunovSpectrum:  # fmt: skip
+        """The exponents, their error bars and the record of the run."""
+        states, per_state = self.states, self.per_state
+        k = per_state.shape[1]
+        exponents = per_state.mean(axis=0)
+        window_errors = np.sqrt((self.window_se**2).sum(axis=0)) / states
+        state_errors = (
+            per_state.std(axis=0, ddof=1) / math.sqrt(states) if states > 1 else np.full(k, np.nan)
+        )
+        errors = np.fmax(window_errors, state_errors)
+        divergence = self.divergence
+        divergence_error = math.sqrt(float((self.divergence_se**2).sum())) / states
+        if states > 1:
+            divergence_error = max(
+                divergence_error, float(divergence.std(ddof=1)) / math.sqrt(states)
+            )
+        forced = None
+        if spectrum == "full" and rank and k == vs.n:
+            forced = np.sort(exponents[np.argsort(np.abs(exponents))[:rank]])[::-1]
+        return LyapunovSpectrum(
+            spectrum=spectrum,
+            exponents=exponents,
+            errors=errors,
+            window_errors=window_errors,
+            state_errors=state_errors,
+            per_state=per_state,
+            interval=tau,
+            period=period,
+            intervals=intervals,
+            transient=transient,
+            windows=windows,
+            sum_of_exponents=float(exponents.sum()),
+            mean_divergence=float(divergence.mean()),
+            divergence_error=divergence_error,
+            density_rate=float(self.density_rate.mean()) if with_density else None,
+            forced_zeros=forced,
+            integral_rank=rank,
+            convergence_iterations=checkpoints,
+            convergence=self.running,
+            initial_states=starts,
+            work=self.work,
+            wall_time=wall_time,
+            rtol=vs.rtol,
+            atol=vs.atol,
+        )

@@ -258,13 +258,13 @@ class StroboscopicMap(_MapBase):
         **options: Any,
     ):
         self._sign = -1 if backward else 1
-        if "Omega" not in code.params:
+        if code.forcing is None:
             raise UserInputError(
                 f"{code.name} is not time-periodic (no parameter Omega): a stroboscopic map needs "
                 "the effects variable_inertia or variable_gyrostat; use a section by a surface"
             )
         super().__init__(code, params, **options)
-        self._omega = self.params[code.params.index("Omega")]
+        self._omega = self.params[code.params.index(code.forcing)]
         if not self._omega > 0:
             raise UserInputError("Omega must be positive for a stroboscopic map")
         self.period = self.time(1)
@@ -425,6 +425,37 @@ class EventSection(_MapBase):
             return expr.evaluate(values)
 
         return g
+
+    def orbit_in_surface(
+        self, y: Mapping | Sequence, t_end: float = 20.0, points: int = 200, tol: float = 1e-9
+    ) -> tuple[np.ndarray, np.ndarray] | None:
+        """The orbit of ``y`` sampled at ``points`` times over ``[0, t_end]`` when the surface
+        function vanishes all along it (to ``tol`` of the state's squared size), else None.
+
+        Such an orbit lies in the section and has no crossings to find (K01's rotation about
+        ``e3`` lies in the section ``g = 0``).
+
+        Parameters
+        ----------
+        y : mapping or sequence
+            The start.
+        t_end : float
+        points : int
+        tol : float
+
+        Returns
+        -------
+        (t, states) or None
+            The times and the states (one row per time) when the orbit stays in the surface.
+        """
+        t = np.linspace(0.0, t_end, points)
+        r = self._integrate(self._state(y), (0.0, t_end), t_eval=list(t))
+        states = np.asarray(r.y, float).T
+        values = np.array([float(self._g(tk, row)) for tk, row in zip(t, states, strict=True)])
+        scale = max(1.0, float(np.max(np.sum(states**2, axis=1))))
+        if np.max(np.abs(values)) > tol * scale:
+            return None
+        return t, states
 
     def crossings(
         self,

@@ -234,7 +234,7 @@ def run_batch(driver: Any, problem: Problem) -> tuple[Solution, np.ndarray]:
     """
     Y0, P, times = problem.y0, problem.params, problem.t_eval
     N, n_state = Y0.shape
-    omega = P[:, problem.code.params.index("Omega")]
+    omega = P[:, problem.code.params.index(problem.code.forcing)]
     tau_hi, tau_lo = times.periods(omega)
     out = np.empty((N, times.count, n_state))
     stats = np.zeros((N, 3))

@@ -453,7 +453,7 @@ H_FIG6F = 0.180278
 
 def _fig6f(printed: float):
     def run() -> Computed:
-        from chaplygin.numerics.ball.separatrix import critical_energy, frame_turn
+        from chaplygin.numerics.ball.frame_turn import critical_energy, frame_turn
 
         h_c = critical_energy((1, 3, 5), 1.0, (0.1802, 0.1804))
         T, phi = frame_turn((1, 3, 5), 1.0, printed)

@@ -717,11 +717,8 @@ FIG7_ENERGIES = (0.1366, 0.1415, 0.1533)
 def _segment_turning() -> dict:
     """The turning ``Theta(h)`` on ``M + K = C gamma`` next to each saddle and at Fig. 7's
     energies, along the line of steepest ascent from the least energy."""
-    from chaplygin.numerics.ball.trace_geometry import (
-        gradient_line,
-        segment_equilibria,
-        trace_period,
-    )
+    from chaplygin.numerics.ball.gyrostat_segment import gradient_line, segment_equilibria
+    from chaplygin.numerics.ball.trace_geometry import trace_period
 
     eq = segment_equilibria(I135, D1, K7, C1)
     line = gradient_line(I135, D1, K7, C1, eq[0]["gamma"], ascending=True)

@@ -253,14 +253,8 @@ def _in_surface(section: Any, y: list) -> Any:
     about e3 lies in the section g = 0 (``M`` and ``gamma`` have parallel horizontal parts)."""
     from types import SimpleNamespace
 
-    t = np.linspace(0.0, 20.0, 200)
-    r = section._integrate(y, (0.0, 20.0), t_eval=list(t))
-    states = np.asarray(r.y, float).T
-    values = np.array([float(section._g(tk, row)) for tk, row in zip(t, states, strict=True)])
-    scale = max(1.0, float(np.max(np.sum(states**2, axis=1))))
-    if np.max(np.abs(values)) > 1e-9 * scale:
-        return None
-    return SimpleNamespace(t=t, y=states)
+    found = section.orbit_in_surface(y, 20.0, 200, 1e-9)
+    return None if found is None else SimpleNamespace(t=found[0], y=found[1])
 
 
 def _run(scene: Any, res: Any, spec: PoincareOutput, progress: bool) -> AnalysisResult:

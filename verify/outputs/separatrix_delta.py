@@ -2,7 +2,7 @@
 
 On ``M || gamma`` at ``h = h2`` (K01 §3.3) the contact point runs along two spirals whose
 centres are ``Delta`` apart (K01 Fig. 4). The scene integrates forward and backward from its
-initial point; :func:`chaplygin.numerics.ball.separatrix.delta_from_traces` finds the two
+initial point; :func:`chaplygin.numerics.ball.frame_turn.delta_from_traces` finds the two
 asymptotic centres of the trace, and :func:`separatrix_delta_report` compares their distance
 with the closed form ``pi b/ch(pi mu/2)`` (K01-3.7) and with the full equations and the
 quadrature of :func:`chaplygin.numerics.ball.separatrix.delta_three_ways`.
@@ -148,11 +148,8 @@ def separatrix_delta_report(result: Any, rtol: float) -> dict:
     """
     import mpmath
 
-    from ...numerics.ball.separatrix import (
-        delta_from_traces,
-        delta_three_ways,
-        separatrix_quantities,
-    )
+    from ...numerics.ball.frame_turn import delta_from_traces
+    from ...numerics.ball.separatrix import delta_three_ways, separatrix_quantities
 
     res = result.resolved
     p = res.params
