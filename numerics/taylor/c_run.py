@@ -15,6 +15,8 @@ from ..precision import ARITHMETICS
 from .library import CompiledTaylor, _ffi
 from .solution import _MESSAGES, TaylorSolution
 
+__all__ = ["CompiledTaylorRun"]
+
 #: Output buffers of at most this many points are kept by a compiled run between calls.
 _KEPT_OUTPUTS_MAX = 4096
 

@@ -12,6 +12,8 @@ import math
 
 from ...arith import detmath
 
+__all__ = ["PY_MAX_ORDER", "MAX_STEPS", "jorba_zou_order", "run_orders"]
+
 #: Largest order the Python recurrences use by default (the C library has its own cap).
 PY_MAX_ORDER = 400
 

@@ -17,6 +17,8 @@ from .stepper import _Stepper
 if TYPE_CHECKING:
     from ..code import ModelCode
 
+__all__ = ["TaylorDense", "taylor_dense", "DENSE_CHUNK"]
+
 
 def _compensated_eval(C: np.ndarray, s: Any, y_lo: Any) -> tuple[np.ndarray, np.ndarray]:
     """State at offset ``s`` from the coefficients ``C`` (``(..., n, p + 1)``) of a step and

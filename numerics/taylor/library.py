@@ -23,6 +23,15 @@ from .reals import REAL_TYPES, _mpfr_text, _parse_mpfr, _rows_lists
 if TYPE_CHECKING:
     from ..code import ModelCode
 
+__all__ = [
+    "CompiledTaylor",
+    "CompiledTaylorMPFR",
+    "load_taylor_library",
+    "load_taylor_mpfr_library",
+    "mpfr_build_flags",
+    "UNROLLED_CFLAGS",
+]
+
 
 _CDEF = """
 const char *chaplygin_taylor_model_hash(void);

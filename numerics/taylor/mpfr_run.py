@@ -15,6 +15,8 @@ from .library import CompiledTaylorMPFR, _mpfr_ffi
 from .reals import _mpfr_text, _mpfr_token, _rows_lists, _times_working
 from .solution import _MESSAGES, TaylorSolution
 
+__all__ = ["MPFR_TAPER"]
+
 #: Whether the MPFR loop computes the high-order coefficients at lower precision (see
 #: ``coefficient_prec`` in ``derive/templates/taylor_mpfr.c``); never with a fixed step.
 MPFR_TAPER = True

@@ -16,6 +16,15 @@ from typing import Any
 import mpmath
 import numpy as np
 
+__all__ = [
+    "RealType",
+    "REAL_TYPES",
+    "encode_binary128",
+    "decode_binary128",
+    "encode_multi_double",
+    "decode_multi_double",
+]
+
 # --------------------------------------------------------------------------- binary128
 
 _MASK112 = (1 << 112) - 1

@@ -20,6 +20,8 @@ from .stepper import _loop_linspace, _py_run, _Stepper
 if TYPE_CHECKING:
     from ..code import ModelCode
 
+__all__ = ["taylor_solve"]
+
 
 def taylor_solve(
     code: ModelCode,

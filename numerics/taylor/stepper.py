@@ -25,6 +25,8 @@ from .library import CompiledTaylor, _ffi
 from .reals import _to_mpf
 from .solution import _MESSAGES, TaylorSolution
 
+__all__ = ["python_lib"]
+
 # --------------------------------------------------------------------------- Python libs
 
 
