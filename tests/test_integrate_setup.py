@@ -125,17 +125,17 @@ def test_the_compiled_run_of_a_problem_is_kept_per_thread(monkeypatch):
     parameters or another thread get another run."""
     import threading
 
-    taylor = importlib.import_module("chaplygin.numerics.taylor")
-    monkeypatch.setattr(taylor, "_RUNS", threading.local())
+    c_run = importlib.import_module("chaplygin.numerics.taylor.c_run")
+    monkeypatch.setattr(c_run, "_RUNS", threading.local())
     made = []
-    real = taylor.CompiledTaylorRun
+    real = c_run.CompiledTaylorRun
 
     class Counted(real):
         def __init__(self, *args, **kw):
             made.append(args)
             super().__init__(*args, **kw)
 
-    monkeypatch.setattr(taylor, "CompiledTaylorRun", Counted)
+    monkeypatch.setattr(c_run, "CompiledTaylorRun", Counted)
 
     def run(params=REFERENCE_PARAMS, y0=REFERENCE_Y0):
         return integrate(BALL, y0, 3.7, params, method="taylor", rtol=1e-11, atol=1e-11,

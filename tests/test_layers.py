@@ -563,6 +563,13 @@ SOLVERS: dict[str, frozenset[str]] = {
         {"taylor_solve", "taylor_dense", "CompiledTaylorRun", "load_taylor_library",
          "load_taylor_mpfr_library"}
     ),
+    # the same entry points in the engine's modules that define them
+    "chaplygin.numerics.taylor.solve": frozenset({"taylor_solve"}),
+    "chaplygin.numerics.taylor.dense": frozenset({"taylor_dense"}),
+    "chaplygin.numerics.taylor.c_run": frozenset({"CompiledTaylorRun"}),
+    "chaplygin.numerics.taylor.library": frozenset(
+        {"load_taylor_library", "load_taylor_mpfr_library"}
+    ),
 }
 #: Modules of solvers: loading one by name (``importlib``) outside the door is refused too.
 SOLVER_MODULES = ("scipy.integrate", "mpmath.calculus.odes")
@@ -662,12 +669,13 @@ def test_only_the_integrators_reach_a_solver():
     """Every integration goes through an Integrator: no module outside
     ``numerics/integrators/`` imports or reaches scipy's or mpmath's ODE solvers or the
     Taylor engine's entry points, at module level, inside a function or through
-    ``importlib``."""
-    door = "chaplygin.numerics.integrators"
+    ``importlib`` (the engine's own modules, ``numerics/taylor/``, hand them to each other)."""
+    door, engine = "chaplygin.numerics.integrators", "chaplygin.numerics.taylor"
     bad = {
         m: hits
         for m in MODULES
-        if not (m == door or m.startswith(door + ".")) and (hits := _module_solver_uses(m))
+        if not any(m == d or m.startswith(d + ".") for d in (door, engine))
+        and (hits := _module_solver_uses(m))
     }
     assert bad == {}
     # a control on the real code: the door's own modules do reach them
@@ -695,6 +703,8 @@ def test_the_solver_check_sees_every_way_in():
         "__import__('mpmath.calculus.odes')",
         "from .taylor import taylor_solve",
         "def g():\n    from ..numerics import taylor\n    taylor.taylor_dense",
+        "from .taylor.solve import taylor_solve",
+        "from .taylor import library\nlibrary.load_taylor_library",
     ]
     for form in forms:
         assert len(solver_uses(form, "chaplygin.numerics")) == 1, form
@@ -937,7 +947,7 @@ def test_the_c_check_sees_every_way_of_writing_c():
 #: The engine (integration, code loading, precision, inputs) and the generic dynamics: no
 #: module here names a state variable of a particular system, and none imports the ball's
 #: studies (``numerics/ball/``), which sit above them.
-ENGINE_PREFIXES = ("chaplygin.numerics.dynamics",)
+ENGINE_PREFIXES = ("chaplygin.numerics.dynamics", "chaplygin.numerics.taylor")
 BALL_ROOM = "chaplygin.numerics.ball"
 
 #: ``x`` and ``y`` are also the generic names of the state in ``y' = f(t, y)`` and of the
@@ -1007,6 +1017,7 @@ def test_the_engine_names_no_state_variable():
     assert bad == {}
     assert "chaplygin.numerics.integrate" in engine_modules()
     assert "chaplygin.numerics.dynamics.poincare" in engine_modules()
+    assert "chaplygin.numerics.taylor.dense" in engine_modules()
     assert "chaplygin.numerics.ball.separatrix" not in engine_modules()
 
 

@@ -447,14 +447,14 @@ def test_cli_integrate_quad_taylor(capsys):
 
 
 def test_no_compiler_falls_back_with_a_warning(monkeypatch):
-    import chaplygin.numerics.taylor as taylor
+    import chaplygin.numerics.taylor.library as taylor_library
 
-    monkeypatch.setattr(taylor, "_LIBS", {})
+    monkeypatch.setattr(taylor_library, "_LIBS", {})
 
     def broken(*args, **kwargs):
-        raise taylor.CompilerError("no compiler here")
+        raise taylor_library.CompilerError("no compiler here")
 
-    monkeypatch.setattr(taylor, "compile_c", broken)
+    monkeypatch.setattr(taylor_library, "compile_c", broken)
     code = load_model_code(BALL)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

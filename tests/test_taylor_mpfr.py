@@ -131,17 +131,17 @@ def test_every_generated_variant_compiles_loads_and_agrees():
 
 def test_another_mpfr_version_is_refused(monkeypatch):
     """A library whose MPFR is not gmpy2's is not loaded."""
-    from chaplygin.numerics import taylor
     from chaplygin.numerics.ccompile import compile_c
+    from chaplygin.numerics.taylor import library as taylor_library
 
     code = load_model_code("chaplygin_ball")
-    cflags, ldlibs = taylor.mpfr_build_flags()
+    cflags, ldlibs = taylor_library.mpfr_build_flags()
     so = compile_c(code.taylor_mpfr_source, ldlibs=ldlibs, cflags=cflags)
     assert CompiledTaylorMPFR(so, expected_hash=code.hash).mpfr_version  # gmpy2's: loads
-    monkeypatch.setattr(taylor.gmpy2, "mpfr_version", lambda: "MPFR 0.0.1")
+    monkeypatch.setattr(gmpy2, "mpfr_version", lambda: "MPFR 0.0.1")
     with pytest.raises(ValueError, match="MPFR 0.0.1"):
         CompiledTaylorMPFR(so, expected_hash=code.hash)
-    monkeypatch.setattr(taylor, "_LIBS", {})
+    monkeypatch.setattr(taylor_library, "_LIBS", {})
     with pytest.warns(CompilerUnavailableWarning, match="MPFR 0.0.1"):
         assert load_taylor_mpfr_library(code) is None
 
@@ -243,16 +243,16 @@ def test_runs_are_bit_stable_and_resume_exactly_in_blocks(chunk_steps):
 def test_without_a_compiler_digits_fall_back_to_python_mpfr(tmp_path, monkeypatch):
     """The MPFR library cannot be built: 80 digits run the Python recurrences after a
     CompilerUnavailableWarning, with the result of the Python path asked for directly."""
-    from chaplygin.numerics import taylor
     from chaplygin.numerics.ccompile import CompilationError
+    from chaplygin.numerics.taylor import library as taylor_library
 
     expected = integrate("chaplygin_ball", STATE, 0.5, PARAMS, precision=80, backend="numpy")
 
     def broken(*args, **kwargs):
         raise CompilationError("no MPFR headers here")
 
-    monkeypatch.setattr(taylor, "_LIBS", {})
-    monkeypatch.setattr(taylor, "compile_c", broken)
+    monkeypatch.setattr(taylor_library, "_LIBS", {})
+    monkeypatch.setattr(taylor_library, "compile_c", broken)
     with pytest.warns(CompilerUnavailableWarning, match="MPFR Taylor integrator unavailable"):
         r = integrate("chaplygin_ball", STATE, 0.5, PARAMS, precision=80)
     assert r.backend == "python-gmpy2" and r.success

@@ -282,12 +282,12 @@ def test_compiled_runs_resume_exactly_in_blocks(chunk_steps, precision, digits):
 def test_without_a_compiler_digits_fall_back_to_mpfr(tmp_path, monkeypatch):
     """No C compiler: 30 digits run the MPFR recurrences after a CompilerUnavailableWarning,
     with the same result as the MPFR path asked for directly."""
-    from chaplygin.numerics import taylor
     from chaplygin.numerics.compiled import CompilerUnavailableWarning
+    from chaplygin.numerics.taylor import library as taylor_library
 
     expected = integrate("chaplygin_ball", REFERENCE_Y0, 0.5, REFERENCE_PARAMS, precision=30,
                          backend="numpy")
-    monkeypatch.setattr(taylor, "_LIBS", {})
+    monkeypatch.setattr(taylor_library, "_LIBS", {})
     monkeypatch.setenv("CHAPLYGIN_CACHE_DIR", str(tmp_path))
     monkeypatch.setenv("CC", "chaplygin-no-such-cc")
     with pytest.warns(CompilerUnavailableWarning, match="dd Taylor integrator unavailable"):

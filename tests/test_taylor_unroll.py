@@ -17,7 +17,7 @@ import random
 import re
 
 import cffi
-import chaplygin.numerics.taylor as taylor
+import chaplygin.numerics.taylor.library as taylor_library
 import numpy as np
 import pytest
 from chaplygin.derive.emit.taylor_c import PrintedProgram
@@ -119,11 +119,11 @@ def test_an_unknown_operation_is_refused_and_a_missing_program_runs_the_loop(mon
     assert unrolled_source(source, program, (1, UNROLL_MAX_ORDER + 1)) is None  # none in range
     # code without its printed program (a ModelCode made by hand) runs the loop's library,
     # with the loop's bits
-    monkeypatch.setattr(taylor, "_LIBS", {})
+    monkeypatch.setattr(taylor_library, "_LIBS", {})
     bare = dataclasses.replace(code, taylor_program=None)
     loop = load_taylor_library(bare, "double", (12,))
     assert loop is load_taylor_library(bare, "double")
-    monkeypatch.setattr(taylor, "_LIBS", {})
+    monkeypatch.setattr(taylor_library, "_LIBS", {})
     written = load_taylor_library(code, "double", (12,))
     assert written is not loop
     y, p = _point(code, 3)
@@ -291,26 +291,26 @@ def test_a_compiler_without_gnu_vectors_gets_the_scalar_code_then_the_loop(monke
     code = load_model_code("chaplygin_ball", ())
     y, p = _point(code, 7)
     loop = load_taylor_library(code, "double")
-    real_compile = taylor.compile_c
+    real_compile = taylor_library.compile_c
     compiled = []
 
     def refusing(marker):
         def compile_c(source, **kw):
             if marker in source:
-                raise taylor.CompilerError("refused")
+                raise taylor_library.CompilerError("refused")
             compiled.append(source)
             return real_compile(source, **kw)
         return compile_c
 
-    monkeypatch.setattr(taylor, "_LIBS", {})
-    monkeypatch.setattr(taylor, "compile_c", refusing("#define TAYLOR_VREAL 1"))
+    monkeypatch.setattr(taylor_library, "_LIBS", {})
+    monkeypatch.setattr(taylor_library, "compile_c", refusing("#define TAYLOR_VREAL 1"))
     scalar = load_taylor_library(code, "double", (12,))
     assert scalar is not None and "taylor_coefficients_12(" in compiled[-1]
     assert np.array_equal(_bits(scalar.coefficients(12, 0.3, y, p)),
                           _bits(loop.coefficients(12, 0.3, y, p)))
 
-    monkeypatch.setattr(taylor, "_LIBS", {})
-    monkeypatch.setattr(taylor, "compile_c", refusing("taylor_coefficients_12("))
+    monkeypatch.setattr(taylor_library, "_LIBS", {})
+    monkeypatch.setattr(taylor_library, "compile_c", refusing("taylor_coefficients_12("))
     fallback = load_taylor_library(code, "double", (12,))
     assert fallback is not None and "taylor_coefficients_12(" not in compiled[-1]
     assert np.array_equal(_bits(fallback.coefficients(12, 0.3, y, p)),
