@@ -4,7 +4,7 @@ numpy's complex ``*``, ``np.square`` and ``np.abs`` pick their loops by processo
 project's x86-64 machines the AVX2/FMA loops (``X86_V3``) give other last bits than the
 baseline loops (``NPY_DISABLE_CPU_FEATURES=X86_V3``) -- the multiply fuses ``a b - c d``
 into one rounding, the modulus is another ``hypot`` (measured in
-``tests/test_detcomplex.py``). ``np.angle`` and ``np.exp`` of complex numbers call libm
+``tests/arith/test_detcomplex.py``). ``np.angle`` and ``np.exp`` of complex numbers call libm
 (``atan2``, ``exp``, ``sin``, ``cos``), whose code paths are chosen by processor too; Python's
 ``complex`` type calls libm's ``hypot`` for ``abs`` and may be compiled with fused
 multiply-adds. Complex addition and subtraction are exact per component (one IEEE operation

@@ -5,7 +5,7 @@ basic operations only (+ - * / sqrt, comparisons, exact scaling and bit manipula
 every compiler and processor computes the same bits; this module performs *the same sequence of
 operations* on Python floats (a scalar path) and on numpy float64 arrays (element-wise numpy
 operations, which are correctly rounded per element and never fused), so the three agree bit for
-bit (``tests/test_detmath.py`` checks it).  Unlike :mod:`math` and numpy's ufuncs -- glibc and
+bit (``tests/arith/test_detmath.py`` checks it).  Unlike :mod:`math` and numpy's ufuncs -- glibc and
 numpy choose FMA/AVX2/AVX-512 code paths by processor -- the result does not depend on the
 machine.
 
@@ -19,7 +19,8 @@ asin and acos in :mod:`.detmath_inverse_trig`; cbrt and hypot in :mod:`.detmath_
 module is the one users import: the public functions (scalar or numpy by the argument) and
 the header.
 
-Accuracy, by design and measured (``tests/test_detmath.py``, mpmath at 200 bits): every function
+Accuracy, by design and measured (``tests/arith/test_detmath.py``, mpmath at 200 bits): every
+function
 is faithful (error below 1 ulp, also for subnormal results) and almost always correctly rounded;
 see the header's top comment for the numbers.
 

@@ -9,7 +9,7 @@ truncation error of every polynomial, so a change that breaks one fails here.
 
 The header's constants block is printed from these numbers by
 :mod:`chaplygin.derive.emit.detmath_header` at development time (the test
-``tests/test_detmath.py`` re-runs it and checks the header)::
+``tests/arith/test_detmath.py`` re-runs it and checks the header)::
 
     python -m chaplygin.derive.emit.detmath_header            # print the constants block
     python -m chaplygin.derive.emit.detmath_header --write    # write it into detmath.h

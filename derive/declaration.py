@@ -6,7 +6,7 @@ constraints, states, parameters, integrals ... it adds. The description merges i
 (:meth:`~.description.MechanicalDescription.add`); the one finishing step
 (:func:`~.description.form_model`) reads only the merged data. A declaration is plain
 data: it can be printed, compared and checked against the model it ends up in
-(``tests/test_description.py``).
+(``tests/derive/test_description.py``).
 """
 
 from __future__ import annotations

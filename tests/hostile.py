@@ -1,13 +1,13 @@
 """What the hostile suites share (issue 25): a canary tree of user files hashed before and after
 every case, the command line run in-process with a time limit, and the invariant.
 
-Every case of ``tests/test_hostile_*.py`` (outputs, scenes, sweeps, caches) ends with
+Every case of ``tests/verify/test_hostile_*.py`` (outputs, scenes, sweeps, caches) ends with
 :func:`check_case`: no user file changed (the canary tree's digest is the same), no traceback,
 an exit status of 0, 1 or 2 as the command line documents (2: exactly one line on stderr,
 ``chaplygin: error: ...``), no control character from user text on the terminal, and an
 answer within :data:`HANG_SECONDS`. Each case is tallied per surface (:data:`TALLY`); the
 numbers of the README's table are these tallies, printed at the end of a run
-(``pytest -n 0 -p no:randomly tests/test_hostile_*.py``) by ``tests/conftest.py``, and
+(``pytest -n 0 -p no:randomly tests/verify/test_hostile_*.py``) by ``tests/conftest.py``, and
 appended as JSON lines to ``$CHAPLYGIN_HOSTILE_LOG`` when it is set (parallel runs).
 """
 

@@ -5,7 +5,7 @@ generated C with regular expressions: ``numerics/taylor_unroll.py`` wrote the Ta
 coefficients out for fixed orders from the loop's text, and ``numerics/batch_source.py``'s
 ``vector_rhs_source`` turned ``chaplygin_rhs`` into the vector lanes' ``bm_rhs_vec``. They are
 kept here unchanged (tests only: the package holds no regular expression over C) so that
-``tests/test_emit_sources.py`` can show that the emitters of ``derive/emit`` write the same
+``tests/derive/test_emit_sources.py`` can show that the emitters of ``derive/emit`` write the same
 C. Delete this module with that comparison when the written-out text changes on purpose.
 """
 

@@ -1,6 +1,6 @@
 """Random physical states of the Kane cross-check (the claims KANE-* and
-``tests/test_kane_crosscheck.py``): the plain ball, its constrained variants, the gyrostat and the
-moving masses, each with the Kane side's and the model's angular accelerations
+``tests/verify/test_kane_crosscheck.py``): the plain ball, its constrained variants, the gyrostat
+and the moving masses, each with the Kane side's and the model's angular accelerations
 (:mod:`chaplygin.verify.kane`)."""
 
 from __future__ import annotations

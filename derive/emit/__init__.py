@@ -4,7 +4,7 @@ the project compiles.
 Each emitter returns ``[(filename, text)]`` and writes nothing; :mod:`.writer` puts the
 files in ``generated/`` and checks that they are up to date. :func:`emit_function` prints
 run-time functions of other expressions the same way (the project's ``lambdify``). This is
-the only place that writes C (``tests/test_layers.py``): the printers work on sympy
+the only place that writes C (``tests/verify/test_layers.py``): the printers work on sympy
 expressions and on the Taylor program's expression trees, and :mod:`.c_sources` puts the
 emitted files and the templates (``derive/templates``) together into the translation units
 numerics compiles; :mod:`.taylor_unroll` writes the Taylor coefficients out for the orders a

@@ -3,7 +3,7 @@
 The numbers come from :mod:`chaplygin.arith.detmath_tables` (mpmath at 1600 bits, the design
 conditions checked there); this module prints them as C -- exact hexadecimal literals -- and
 writes the block between its two marker lines. Run at development time (the test
-``tests/test_detmath.py`` checks the header)::
+``tests/arith/test_detmath.py`` checks the header)::
 
     python -m chaplygin.derive.emit.detmath_header            # print the constants block
     python -m chaplygin.derive.emit.detmath_header --write    # write it into detmath.h

@@ -48,7 +48,8 @@ def _sphere_gradient(I, D, K, C, g: np.ndarray) -> np.ndarray:
     A (M + s gamma)``, ``s = (A gamma, M)/(1/D - (A gamma, gamma))`` (``A = (I + D)^-1``);
     its gradient in ``M`` is ``omega`` and in ``gamma`` (``M`` fixed) ``s omega``, so along
     ``M = C gamma - K`` it is ``(C + s) omega``, projected on the tangent plane.
-    ``tests/test_trace_geometry.py`` checks it against complex steps of the generated energy.
+    ``tests/numerics/ball/test_trace_geometry.py`` checks it against complex steps of the
+    generated energy.
     """
     omega, s = _omega_and_s(I, D, C * g - np.asarray(K), g)
     grad = (C + s) * omega

@@ -4,5 +4,5 @@ attractors and repellers of reversible maps.
 
 No module here names a state variable or a parameter of a particular system: a model's
 state, its groups, its forcing frequency (:attr:`~chaplygin.numerics.code.ModelCode.forcing`)
-and its Poisson geometry come from the model (``tests/test_layers.py`` checks).
+and its Poisson geometry come from the model (``tests/verify/test_layers.py`` checks).
 """

@@ -5,7 +5,7 @@ Every integration of the project is a :class:`Problem` (a right-hand side of
 :class:`~chaplygin.numerics.precision.Precision` and tolerances) solved by an
 :class:`Integrator` of :data:`INTEGRATORS`: the generated Taylor method, scipy's methods,
 ``mpmath.odefun`` and DOP853 in C (the variational equations and the batches). No module
-outside this package calls a solver (``tests/test_layers.py``).
+outside this package calls a solver (``tests/verify/test_layers.py``).
 
 A method is mostly data: its name, the flows and precisions it integrates, its tolerance
 floor per precision, whether it locates events, its options and backends; it fills the

@@ -6,7 +6,7 @@ solutions are substituted into the model's own right-hand side (``sin``/``cos`` 
 are generators on the unit circle for the verifier), so "solves the equations" is a proof.
 The Floquet multipliers of these solutions (BKM12-1.5stab, 1.5stab8) are numerical by
 nature: they are computed by ``numerics/ball/stability.py`` and asserted in
-``tests/test_bifurcation.py``, not registered here.
+``tests/numerics/ball/test_bifurcation.py``, not registered here.
 """
 
 from __future__ import annotations

@@ -239,7 +239,8 @@ register(
 
 
 # ------------------------------------------------- rotation number, frequencies, actions
-#: A torus at (M, gamma) = 0 of the K01 body (tests/test_rotation_number.py has three).
+#: A torus at (M, gamma) = 0 of the K01 body (tests/numerics/ball/test_rotation_number.py has
+#: three).
 _TORUS = ((0.6, 0.0, 0.8), (0.8, 0.5, -0.6))
 
 

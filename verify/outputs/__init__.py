@@ -4,5 +4,5 @@ the separatrix's Δ, the trajectory file).
 
 Each module imports of the scene package only its public interface for outputs,
 :mod:`chaplygin.verify.scene.outputs`; the scene finds the analyses by key through
-:mod:`chaplygin.verify.scene.registry` (``tests/test_layers.py`` checks both).
+:mod:`chaplygin.verify.scene.registry` (``tests/verify/test_layers.py`` checks both).
 """

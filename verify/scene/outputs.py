@@ -10,7 +10,7 @@ To add an analysis: a module (in :mod:`chaplygin.verify.outputs`) that defines a
 :class:`Analysis` (its scene table is a pydantic model) and calls :func:`register_analysis` at
 import; its key and module in :data:`chaplygin.verify.scene.registry.ANALYSIS_MODULES`; a field of
 that table's type in :class:`chaplygin.verify.scene.schema.Outputs`. The module imports from the
-scene package only this module's public names (``tests/test_layers.py`` checks it): the scene
+scene package only this module's public names (``tests/verify/test_layers.py`` checks it): the scene
 reaches its outputs by name, through the registry, and never the other way round, so there is no
 import cycle. It receives the scene and its resolved state as arguments and uses their public
 attributes and methods (``scene.key_error``, ``scene.with_initial``, ``resolved.y0``, ...).

@@ -12,7 +12,7 @@ import pytest
 from chaplygin.verify.cli import main
 from chaplygin.verify.scene import Scene, SceneError
 
-SCENE = Path(__file__).resolve().parents[1] / "examples" / "scenes" / "bm20-fig5-lyapunov.toml"
+SCENE = Path(__file__).resolve().parents[3] / "examples" / "scenes" / "bm20-fig5-lyapunov.toml"
 #: small runs: the numbers are checked for consistency, not against the paper (BM20-Lyap is)
 SMALL = [
     "outputs.lyapunov.iterations=120",

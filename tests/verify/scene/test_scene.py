@@ -13,7 +13,7 @@ from chaplygin.numerics.code import load_model_code
 from chaplygin.verify.cli import main
 from chaplygin.verify.scene import Scene, SceneError, scene_json_schema
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 SCENES = ROOT / "examples" / "scenes"
 FIG6F = SCENES / "k01-fig6f.toml"
 

@@ -3,7 +3,7 @@
 A library is loaded only when its size and SHA-256 match the record written after our own
 successful build, and the record's MAC (made with the cache folder's secret key) checks out;
 anything else (truncated, zeroed, replaced by a foreign library, a forged record: see
-``tests/test_hostile_cache.py``) is rebuilt before ``dlopen``. Each fault is exercised in a
+``tests/verify/test_hostile_cache.py``) is rebuilt before ``dlopen``. Each fault is exercised in a
 separate process: a library that slipped through would crash it (SIGBUS/SIGSEGV), which the
 exit status shows.
 """

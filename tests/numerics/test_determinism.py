@@ -8,7 +8,7 @@ Python). Every array and number of both results (wall times aside) is hashed; th
 be equal under
 
 * ``OPENBLAS_CORETYPE`` = Prescott, Nehalem, Sandybridge, Haswell (numpy's BLAS kernels: they
-  give other bits for ``@``, ``qr``, ``solve`` -- shown in tests/test_detlinalg.py);
+  give other bits for ``@``, ``qr``, ``solve`` -- shown in tests/arith/test_detlinalg.py);
 * numpy's SIMD dispatch switched off (``NPY_DISABLE_CPU_FEATURES``) and glibc's AVX2/FMA
   variants of libm switched off (``GLIBC_TUNABLES``);
 * gcc and clang, each at ``-O0`` and ``-O2`` (``CC``, ``CHAPLYGIN_OPT_LEVEL``).
@@ -34,7 +34,7 @@ import pytest
 
 pytestmark = pytest.mark.slow
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SCENES = ROOT / "examples" / "scenes"
 
 #: The run in a fresh process: prints one JSON line {"hash": ..., "sizes": ...}.

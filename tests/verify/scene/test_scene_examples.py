@@ -11,7 +11,7 @@ import pytest
 from chaplygin.verify.cli import main
 from chaplygin.verify.scene import OUTPUT_EFFECTS, Scene, SceneError
 
-SCENES = sorted((Path(__file__).resolve().parents[1] / "examples" / "scenes").glob("*.toml"))
+SCENES = sorted((Path(__file__).resolve().parents[3] / "examples" / "scenes").glob("*.toml"))
 T_END = 10.0
 #: Analyses shortened like t_end (their own counts; their numbers are tested elsewhere).
 SHORT_ANALYSES = {

@@ -27,7 +27,7 @@ from chaplygin.numerics.compiled import (
     load_c_model,
 )
 
-GENERATED = Path(__file__).resolve().parents[1] / "generated"
+GENERATED = Path(__file__).resolve().parents[2] / "generated"
 VARIANTS = ["chaplygin_ball", "chaplygin_ball__contact_point__gyrostat"]
 ROUTINES = ["rhs", "jac", "aux", "integrals", "density"]
 N_STATES = 50

@@ -4,7 +4,8 @@ The coefficients written out for fixed orders are printed from expression trees 
 model's printed Taylor program, the vector lanes from the sympy right-hand side; before, both
 were regular expressions over the generated C (``tests/legacy_emitters.py``, frozen). Same
 text means same bits; the bits themselves are compared with the loop in
-``tests/test_taylor_unroll.py`` and between the batch drivers in ``tests/test_batch_map.py``.
+``tests/numerics/test_taylor_unroll.py`` and between the batch drivers in
+``tests/numerics/dynamics/test_batch_map.py``.
 The translation units are put together from the templates in the order numerics compiled
 them before; what keeps a right-hand side out of the lanes is read from its tree.
 """

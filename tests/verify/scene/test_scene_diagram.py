@@ -27,7 +27,7 @@ from chaplygin.verify.cli import main
 from chaplygin.verify.scene import Scene, SceneError
 from scipy.optimize import minimize
 
-SCENES = Path(__file__).resolve().parents[1] / "examples" / "scenes"
+SCENES = Path(__file__).resolve().parents[3] / "examples" / "scenes"
 FIG7 = {"I": (1.0, 3.0, 5.0), "D": 1.0, "K": (0.1, 0.1, 0.2), "C": 1.0}
 GENERIC = {"I": (0.83, 1.37, 2.41), "D": 0.7, "K": (0.13, -0.29, 0.17), "C": 0.9}
 

@@ -20,7 +20,9 @@ from reference import random_params, random_state
 
 VARIANTS = sorted(
     os.path.basename(f)[: -len("_numpy.py")]
-    for f in glob.glob(os.path.join(os.path.dirname(__file__), "..", "generated", "*_numpy.py"))
+    for f in glob.glob(
+        os.path.join(os.path.dirname(__file__), "..", "..", "generated", "*_numpy.py")
+    )
 )
 
 

@@ -41,7 +41,7 @@ from chaplygin.verify.verdict import check_claim
 from reference import random_params, random_state, verdict
 
 #: The symbolic BM20 claims (the computed ones, BM20-Lyap, BM20-3.1obs, BM20-3.3pair ..., are
-#: decided in tests/test_claims.py and beside their numerics).
+#: decided in tests/verify/test_claims.py and beside their numerics).
 BM20 = [c.id for c in select_claims("BM20-*") if not isinstance(c, ComputedClaim)]
 BM20_FAILS = [i for i in BM20 if REGISTRY[i].expected == "fails"]
 VARIABLE = ("variable_gyrostat", "variable_inertia")

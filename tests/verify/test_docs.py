@@ -39,7 +39,7 @@ def _public_functions():
     import ast
     from pathlib import Path
 
-    root = Path(__file__).resolve().parent.parent
+    root = Path(__file__).resolve().parents[2]
     out = []
 
     def visit(nodes, path, prefix):

@@ -30,7 +30,8 @@ CODE = load_model_code("chaplygin_ball", ["variable_inertia", "variable_gyrostat
 pytestmark = pytest.mark.skipif(not batch_map_available(CODE), reason="no C compiler")
 FIG5 = [4, 3, 2, 4.385, 0, 2, -6, -3, -9]  # I1 I2 I3 D J_off delta K1 K2 K3 (Omega appended)
 START = bm20_state([0.5, 1.0, 1.0], 3.0)  # BM20 Fig. 5's g = l = 1, z = 0.5
-#: A start 3e-3 from a point of Fig. 7A's 7-cycle (tests/test_periodic_output.py), in its basin:
+#: A start 3e-3 from a point of Fig. 7A's 7-cycle (tests/verify/scene/test_periodic_output.py),
+#: in its basin:
 #: the cycle is reached by its own contraction (multipliers 0.97 per period 7), not after a
 #: chaotic transient whose length depends on the last bits (from START: 825 to 8112 periods on
 #: 48 perturbed starts).

@@ -39,7 +39,7 @@ else:
     xr = pytest.importorskip("xarray")
     pytest.importorskip("zarr")
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples" / "sweeps"
 
 #: A cheap sweep: the ball with its contact point over a 3 x 4 grid of (D, h), 12 chunks.
@@ -371,7 +371,8 @@ def test_bm20_tongue_example_finds_the_continued_period_seven_cycle(client, tmp_
     from chaplygin.numerics.ball.bm20_map import bm20_map_with_jacobian, bm20_point, bm20_state
     from chaplygin.numerics.dynamics.periodic_orbits import refine_periodic_orbit
 
-    near_cycle = (-0.44, 1.46, -1.01)  # (z, l, g), tests/test_periodic_output.py's NEAR_CYCLE
+    # (z, l, g), tests/verify/scene/test_periodic_output.py's NEAR_CYCLE
+    near_cycle = (-0.44, 1.46, -1.01)
     text = (EXAMPLES / "bm20-fig6-tongue.toml").read_text()
     axes = text.index("[sweep.axes]")
     text = text[:axes] + '[sweep.axes]\n"parameters.Omega" = [1.06675, 1.07]\n'

@@ -18,7 +18,7 @@ from chaplygin.verify.cli import main
 from chaplygin.verify.outputs.separatrix_delta import delta_agrees, delta_tolerance
 from chaplygin.verify.scene import Scene, SceneError
 
-SCENES = Path(__file__).resolve().parents[1] / "examples" / "scenes"
+SCENES = Path(__file__).resolve().parents[3] / "examples" / "scenes"
 
 
 def _separatrix_scene(I, D, b, C, rtol, t_end, offset=0, points=None):

@@ -15,7 +15,7 @@ from chaplygin.verify.coverage import (
     parse_formulas,
 )
 
-SHEET = Path(__file__).resolve().parents[2] / "shared" / "FORMULAS.md"
+SHEET = Path(__file__).resolve().parents[3] / "shared" / "FORMULAS.md"
 
 
 @pytest.mark.skipif(not SHEET.exists(), reason="shared/FORMULAS.md is not beside the checkout")
