@@ -19,7 +19,7 @@ __all__ = ["TaylorMpfrEmitter", "TAYLOR_MPFR_TEMPLATE", "TAYLOR_MPFR_MAX_ORDER"]
 
 TAYLOR_MPFR_TEMPLATE = "taylor_mpfr.c"
 #: Largest order of the MPFR C code (the Python recurrences' default cap, PY_MAX_ORDER of
-#: numerics/taylor.py): the Jorba-Zou order of 10^-170 (about 197); the workspace is
+#: numerics/taylor/): the Jorba-Zou order of 10^-170 (about 197); the workspace is
 #: allocated per run at the order the run needs, so the cap costs nothing.
 TAYLOR_MPFR_MAX_ORDER = 400
 

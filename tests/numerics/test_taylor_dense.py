@@ -1,4 +1,4 @@
-"""The dense Taylor solution in double precision (numerics/taylor.py ``taylor_dense``).
+"""The dense Taylor solution in double precision (numerics/taylor/dense.py ``taylor_dense``).
 
 Its steps are the integrator's own: at any output time it gives what ``integrate(...,
 method="taylor", t_eval=...)`` gives there, bit for bit (the compiled loop's compensated
