@@ -20,9 +20,8 @@ module is the one users import: the public functions (scalar or numpy by the arg
 the header.
 
 Accuracy, by design and measured (``tests/arith/test_detmath.py``, mpmath at 200 bits): every
-function
-is faithful (error below 1 ulp, also for subnormal results) and almost always correctly rounded;
-see the header's top comment for the numbers.
+function is faithful (error below 1 ulp, also for subnormal results) and almost always
+correctly rounded; see the header's top comment for the numbers.
 
 Each function accepts a Python float or int (returns a float) or anything :func:`numpy.asarray`
 turns into float64 (returns an ndarray of the same shape; a 0-d input gives a numpy scalar).

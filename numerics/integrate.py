@@ -183,8 +183,8 @@ def integrate(
         Initial state by group (``{"M": (0.7, -0.4, 0.5), "gamma": (...)}``; strings are
         parsed safely) or a full state vector in the model's order. Groups the model completes
         may be left out (:func:`~chaplygin.numerics.inputs.pack_state`: the contact point's
-        ``alpha, beta`` by the one rule of :mod:`chaplygin.numerics.frame`, also on M ||
-        gamma).
+        ``alpha, beta`` by the one rule of :mod:`chaplygin.numerics.frame`, also on
+        M || gamma).
     t_span : (t0, t1) or float
         A single number means ``(0, t1)``.
     params : mapping or sequence

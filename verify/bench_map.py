@@ -72,8 +72,7 @@ def map_throughput(
     """Microseconds per forcing period per point of BM20's stroboscopic map (issue 14): our
     Taylor integrator (one point per call), our compiled batch map
     (:class:`~chaplygin.numerics.dynamics.batch_map.BatchStroboscopicMap`, 1, 4 and 16 points per
-    call;
-    DOP853 rows ``ours_batch<n>``, Taylor rows ``ours_taylor_batch<n>``)
+    call; DOP853 rows ``ours_batch<n>``, Taylor rows ``ours_taylor_batch<n>``)
     and heyoka (one point, batch of 4) when installed, in one run.
 
     Medians of ``repeats`` runs, interleaved so that the machine's load affects all alike; wall

@@ -374,8 +374,7 @@ def _sample_invariant(y: NDArray, state: Sequence[str]) -> bool:
     """A sample whose mirror image lies within 3 of its own sampling scales, or 1 % of its size,
     of it: the 0.9-quantile Hausdorff distance
     (:func:`~chaplygin.numerics.dynamics.reversibility.set_distance`) of the sample and its mirror,
-    in
-    ``(M/|M|, gamma)``, against that of its two halves or the diagonal of its bounding box. (The
+    in ``(M/|M|, gamma)``, against that of its two halves or the diagonal of its bounding box. (The
     mean of ``phi`` over a quasi-periodic sample converges like ``1/N``, and so does its batch
     error: on a symmetric invariant curve it could look decisive.)"""
     from ..dynamics.reversibility import set_distance

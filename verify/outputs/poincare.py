@@ -3,8 +3,7 @@ model from its initial state (and more starts on request), in Andoyer-Deprit, cy
 user coordinates, with 2-D projections and the 3-D map (BM20 Fig. 5 style).
 
 The numbers come from :mod:`chaplygin.numerics.dynamics.poincare`; this module reads the scene's
-table,
-checks it (every problem a :class:`~chaplygin.verify.scene.SceneError` naming the key path),
+table, checks it (every problem a :class:`~chaplygin.verify.scene.SceneError` naming the key path),
 runs the map and returns an :class:`~chaplygin.verify.scene.outputs.AnalysisResult`: summary numbers
 (points, orbits, time span, the integrals' drift along the map), ``poincare.nc`` (coordinates
 and states by orbit and point) and figures.

@@ -186,9 +186,8 @@ class Initial(BaseModel):
 
     Integrals (the ball): ``h`` energy, ``C = (M, gamma)`` (with the gyrostat ``(M + K, gamma)``),
     ``n = (M, M)`` or ``parallel = true`` (``M || gamma``); ``point`` picks a point of the level
-    set (see :mod:`chaplygin.numerics.ball.initial_state`); a given ``gamma`` fixes it. Any other
-    key
-    must be a state group of the model (checked when the model is known).
+    set (see :mod:`chaplygin.numerics.ball.initial_state`); a given ``gamma`` fixes it. Any
+    other key must be a state group of the model (checked when the model is known).
     """
 
     model_config = ConfigDict(extra="allow", frozen=True)

@@ -1,6 +1,5 @@
-"""The compiled batch map (numerics/dynamics/batch_map.py): against the single-point
-StroboscopicMap (the
-Taylor method at a much tighter tolerance, an independent route), points independent of each
+"""The compiled batch map (numerics/dynamics/batch_map.py): against the single-point StroboscopicMap
+(the Taylor method at a much tighter tolerance, an independent route), points independent of each
 other (a failing point spoils no other), and the sweep reducers that use it."""
 
 from __future__ import annotations

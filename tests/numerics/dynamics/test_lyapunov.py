@@ -1,6 +1,5 @@
 """Lyapunov spectra (numerics/dynamics/lyapunov.py): the QR machinery against an independent flow,
-the
-sum of the spectrum against the average divergence, the density bound of the autonomous ball
+the sum of the spectrum against the average divergence, the density bound of the autonomous ball
 (BKM12-4), BM20's dissipative attractor, units and bad input."""
 
 from __future__ import annotations
