@@ -388,7 +388,7 @@ def find_polynomial_integrals(
     matrix, rows = _lie_system(basis, numerators, builder, ideal, len(x), in_parameters)
     stages["lie derivatives"] = time.perf_counter() - clock
     clock = time.perf_counter()
-    rank, null = _null_space(matrix, rows, len(basis), in_parameters, builder, len(x))
+    rank, null = _null_space(matrix, len(basis), in_parameters, builder, len(x))
     integrals = tuple(_integral_expr(v, basis, builder, x) for v in null)
     stages["solve"] = time.perf_counter() - clock
     found_class = IntegralClass(
@@ -518,38 +518,123 @@ def _lie_system(basis, numerators, builder, ideal, nx, in_parameters):
     return columns, len(keys)
 
 
-def _null_space(columns, nrows, ncols, in_parameters, builder, nx):
-    """(rank, row-reduced basis of the null space) of the system given by columns."""
-    if ncols == 0:
-        return 0, []
-    keys: dict = {}
-    for col in columns:
+def _null_space(columns, ncols, in_parameters, builder, nx):
+    """(rank, null-space basis) of the system whose column ``j`` is ``columns[j]``.
+
+    The system falls apart into blocks (columns joined when they share a row: the
+    connected components of its sparsity pattern); rank and null space are the sums of
+    the blocks'. Returns the null space as vectors of sympy numbers (or rational
+    functions of the parameters), each block's basis row-reduced.
+    """
+    parent = list(range(ncols))
+
+    def root(j):
+        while parent[j] != j:
+            parent[j] = parent[parent[j]]
+            j = parent[j]
+        return j
+
+    owner: dict = {}
+    for j, col in enumerate(columns):
         for key in col:
-            keys.setdefault(key, len(keys))
-    if in_parameters:
-        domain = QQ.poly_ring(*builder.gens[nx:])
-        field_ = domain.get_field()
+            if key in owner:
+                parent[root(j)] = root(owner[key])
+            else:
+                owner[key] = j
+    blocks: dict = {}
+    for j in range(ncols):
+        blocks.setdefault(root(j), []).append(j)
+    rank, null = 0, []
+    for cols in blocks.values():
+        part = [columns[j] for j in cols]
+        solve = _block_null_parametric if in_parameters else _block_null_rational
+        r, vectors = solve(part, builder, nx)
+        rank += r
+        for v in vectors:
+            full = [sp.S.Zero] * ncols
+            for j, c in zip(cols, v, strict=True):
+                full[j] = c
+            null.append(full)
+    return rank, null
 
-        def entry(coeffs):
-            return field_.convert_from(domain.ring.from_dict(coeffs), domain)
 
-    else:
-        field_ = QQ
-
-        def entry(c):
-            return QQ.convert(c)
-
+def _sparse(columns, convert, domain):
+    keys: dict = {}
     rows: dict = {}
     for j, col in enumerate(columns):
         for key, c in col.items():
-            rows.setdefault(keys[key], {})[j] = entry(c)
-    matrix = DomainMatrix(rows, (max(len(keys), 1), ncols), field_)  # sparse
-    rank = matrix.rank()
+            rows.setdefault(keys.setdefault(key, len(keys)), {})[j] = convert(c)
+    return DomainMatrix(rows, (max(len(keys), 1), len(columns)), domain)
+
+
+def _reduced_null(matrix):
+    """Row-reduced basis of the null space of ``matrix`` (a DomainMatrix, rows) or None."""
     null = matrix.nullspace()
     if null.shape[0] == 0:
-        return rank, []
+        return None
     reduced, _ = null.rref()
-    return rank, [[field_.to_sympy(c) for c in r] for r in reduced.to_list() if any(r)]
+    return reduced
+
+
+def _as_sympy(reduced, domain):
+    if reduced is None:
+        return []
+    return [[domain.to_sympy(c) for c in r] for r in reduced.to_list() if any(r)]
+
+
+def _block_null_rational(columns, builder, nx):
+    matrix = _sparse(columns, QQ.convert, QQ)
+    return matrix.rank(), _as_sympy(_reduced_null(matrix), QQ)
+
+
+#: Rational point at which a parametric block is specialised first (its rank there is a
+#: lower bound of the generic rank; a seeded generator keeps runs reproducible).
+SPECIALISATION_SEED = 24
+
+
+def _block_null_parametric(columns, builder, nx):
+    """Rank and null space over QQ(parameters) of one block.
+
+    At a rational point ``p0`` the rank ``r0`` is computed over QQ: the generic rank is
+    at least ``r0`` (a non-zero minor at ``p0`` is a non-zero polynomial). Full rank
+    there proves the block has no solution. Else ``r0`` rows independent at ``p0`` are
+    solved over QQ(parameters), and every vector of their null space is checked against
+    the whole block exactly: when all pass, the null space is exact and the rank is
+    ``r0``; if one fails (an unlucky point) the whole block is solved over QQ(parameters).
+    """
+    import random
+
+    domain = QQ.poly_ring(*builder.gens[nx:])
+    field_ = domain.get_field()
+    rng = random.Random(SPECIALISATION_SEED)
+    point = [QQ(rng.randint(-97, 97) or 1, rng.randint(2, 89)) for _ in builder.gens[nx:]]
+
+    def at_point(coeffs):
+        return sum((c * _monomial_value(m, point) for m, c in coeffs.items()), QQ.zero)
+
+    special = _sparse(columns, at_point, QQ)
+    r0 = special.rank()
+    if r0 == len(columns):
+        return r0, []
+
+    def exact(coeffs):
+        return field_.convert_from(domain.ring.from_dict(coeffs), domain)
+
+    matrix = _sparse(columns, exact, field_)
+    _, pivots = special.transpose().rref()  # rows of the block independent at the point
+    chosen = matrix.extract(list(pivots), list(range(len(columns))))
+    reduced = _reduced_null(chosen)
+    if reduced is not None and (matrix.to_dense() * reduced.to_dense().transpose()).is_zero_matrix:
+        return r0, _as_sympy(reduced, field_)
+    return matrix.rank(), _as_sympy(_reduced_null(matrix), field_)
+
+
+def _monomial_value(exponents, point):
+    value = QQ.one
+    for e, v in zip(exponents, point, strict=True):
+        if e:
+            value *= v**e
+    return value
 
 
 def _integral_expr(vector, basis, builder, x):
