@@ -1,0 +1,133 @@
+"""Discovery of polynomial first integrals (derive/discovery.py), exact, with "no other" by rank.
+
+Span membership is decided here by an independent route: sympy's ``reduced`` modulo
+``(gamma, gamma) - 1`` and ``sympy.linsolve`` over the unknown combination coefficients,
+never by comparing strings. The known integrals come from the model's declared integrals
+(BKM12-5: ``H``, ``(M, M)``, ``(M, gamma)``; K01-4.1 for the gyrostat).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import pytest
+import sympy as sp
+from chaplygin.derive import UserInputError, build_model
+from chaplygin.derive.discovery import find_polynomial_integrals
+
+
+@pytest.fixture(scope="module")
+def ball():
+    return build_model("chaplygin_ball")
+
+
+def _in_span(target, basis, gens, sphere):
+    """True when ``target = const + sum a_i basis_i`` on ``(gamma, gamma) = 1``.
+
+    The ``a_i`` may be rational functions of the parameters: they are the unknowns of a
+    linear system made of the coefficients (in ``gens``) of the normal form.
+    """
+    a = sp.symbols(f"a0:{len(basis) + 1}")
+    combo = target - a[0] - sum((ai * b for ai, b in zip(a[1:], basis, strict=True)), sp.S.Zero)
+    _, nf = sp.reduced(sp.expand(combo), [sphere], *gens, order="grevlex")
+    equations = sp.Poly(sp.expand(nf), *gens).coeffs() if nf != 0 else []
+    return bool(equations == [] or sp.linsolve(equations, *a) != sp.EmptySet)
+
+
+def _sphere(model):
+    g = model.group("gamma")
+    return sum(s**2 for s in g) - 1, tuple(g)
+
+
+def test_ball_in_M_finds_exactly_the_casimirs_and_their_square(ball):
+    """Degree <= 2 in M, coefficients of degree <= 2 in gamma, rational numbers.
+
+    Expected dimension 3 (modulo constants and (gamma, gamma) = 1): the integrals of the
+    class are polynomials in the ball's integrals H, F1 = (M, M), F2 = (M, gamma) that lie
+    in it. H is not (it carries the denominator D^-1 - (gamma, A gamma) in M, BKM12-3),
+    nor is any polynomial in H; what remains is F1, F2, F2^2. A further one would be a
+    fourth integral independent of H, F1, F2 (or an algebraic relation the generic
+    flow does not have); the rank 86 of 89 unknowns is the proof that there is none.
+    """
+    found = find_polynomial_integrals(ball, 2, coefficient_degree=2)
+    assert (found.unknowns, found.dimension) == (89, 3)
+    assert found.rank == found.unknowns - len(found.integrals)
+    sphere, g = _sphere(ball)
+    gens = (*ball.group("M"), *g)
+    for name in ("(M,M)", "(M,gamma)"):
+        assert _in_span(ball.integral(name), found.integrals, gens, sphere), name
+    assert _in_span(ball.integral("(M,gamma)") ** 2, found.integrals, gens, sphere)
+    # not everything is in the span: M1 gamma1 alone is no integral
+    assert not _in_span(gens[0] * g[0], found.integrals, gens, sphere)
+    # each found integral's Lie derivative vanishes on the phase space (sympy, independently)
+    f = dict(zip(ball.state, ball.rhs_expanded, strict=True))
+    for F in found.integrals:
+        lie = sum(sp.diff(F, s) * f[s] for s in ball.state)
+        assert ball.ideal.is_zero(lie)
+
+
+def test_classes_too_small_find_only_what_they_hold(ball):
+    """Degree 1 in M, constant coefficients: M' = M x omega, no linear integral. With
+    coefficients of degree 1 in gamma: exactly (M, gamma)."""
+    none = find_polynomial_integrals(ball, 1)
+    assert (none.unknowns, none.rank, none.integrals) == (3, 3, ())
+    one = find_polynomial_integrals(ball, 1, coefficient_degree=1)
+    assert one.dimension == 1
+    sphere, g = _sphere(ball)
+    gens = (*ball.group("M"), *g)
+    assert _in_span(ball.integral("(M,gamma)"), one.integrals, gens, sphere)
+    assert _in_span(one.integrals[0], [ball.integral("(M,gamma)")], gens, sphere)
+
+
+def test_perturbed_vector_field_loses_its_integrals(ball):
+    """Negative control by the same machinery: M1' = (8/7) (M2 omega3 - M3 omega2)."""
+    rhs = list(ball.rhs)
+    rhs[0] = sp.Rational(8, 7) * rhs[0]
+    bent = dataclasses.replace(ball, rhs=tuple(rhs))
+    found = find_polynomial_integrals(bent, 2, coefficient_degree=2)
+    sphere, g = _sphere(ball)
+    gens = (*ball.group("M"), *g)
+    assert found.dimension < 3
+    for name in ("(M,M)", "(M,gamma)"):
+        assert not _in_span(ball.integral(name), found.integrals, gens, sphere), name
+
+
+@pytest.mark.slow
+def test_ball_in_omega_over_the_parameters_finds_the_energy(ball):
+    """Degree <= 2 in omega, coefficients of degree <= 2 in gamma, in QQ(I, D).
+
+    In omega the energy H = (omega, I omega)/2 + D (|omega|^2 - (omega, gamma)^2)/2 is
+    polynomial, and M = I omega + D gamma x (omega x gamma) too, so the class holds H,
+    (M, M), (M, gamma) = (I omega, gamma) and (M, gamma)^2: dimension 4 modulo constants
+    (same argument as in M, now with H in the class); the rank (85 of 89) proves there is
+    no fifth.
+    """
+    found = find_polynomial_integrals(ball, 2, coefficient_degree=2, momentum="omega",
+                                      in_parameters=True)
+    assert (found.unknowns, found.dimension, found.rank) == (89, 4, 85)
+    sphere, g = _sphere(ball)
+    omega = tuple(ball.omega)
+    gens = (*omega, *g)
+    in_omega = dict(zip(ball.group("M"), ball.momentum_of_omega, strict=True))
+    for name in ("H", "(M,M)", "(M,gamma)"):
+        target = sp.expand(ball.integral(name).xreplace(in_omega))
+        assert _in_span(target, found.integrals, gens, sphere), name
+    # with rational coefficients only, H and (M, gamma) = (I omega, gamma) leave the class
+    rational = find_polynomial_integrals(ball, 1, coefficient_degree=1, momentum="omega")
+    assert rational.dimension == 0
+
+
+def test_too_large_a_class_is_refused_with_its_size_before_any_work(ball):
+    # 165 monomials of degree <= 8 in M times 165 of degree <= 8 in gamma
+    with pytest.raises(UserInputError, match=r"has 27225 unknowns, more than"):
+        find_polynomial_integrals(ball, 8, coefficient_degree=8)
+    with pytest.raises(UserInputError, match="degree"):
+        find_polynomial_integrals(ball, 0)
+    with pytest.raises(UserInputError, match="no group"):
+        find_polynomial_integrals(ball, 1, momentum="L")
+
+
+def test_time_dependent_models_are_refused():
+    model = build_model("chaplygin_ball", ["variable_inertia"])
+    with pytest.raises(UserInputError, match="autonomous"):
+        find_polynomial_integrals(model, 1)
