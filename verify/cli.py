@@ -28,6 +28,7 @@ from . import (
     bifurcation_cmd,
     delta_cmd,
     derive_cmd,
+    discover_cmd,
     integrate_cmd,
     rotation_cmd,
     run_cmd,
@@ -50,6 +51,7 @@ COMMANDS = (
     bifurcation_cmd,
     run_cmd,
     sweep_cmd,
+    discover_cmd,
 )
 
 

@@ -55,6 +55,9 @@ _PUBLIC: dict[str, str] = {
     "check": "verify.check:check",
     "Claim": "verify.claims:Claim",
     "Verdict": "verify.verdict:Verdict",
+    # discovery (derive searches, verify proves)
+    "discover": "verify.discover:discover",
+    "find_polynomial_integrals": "derive.discovery:find_polynomial_integrals",
     # figures (matplotlib Figure objects)
     "delta_figure": "verify.plots:delta_of_mu_figure",
     "separatrix_figures": "verify.plots:separatrix_figures",

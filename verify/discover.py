@@ -1,0 +1,145 @@
+"""``chaplygin.discover``: first integrals found in a stated class, each then proved.
+
+The search is :func:`chaplygin.derive.discovery.find_polynomial_integrals` (exact linear
+algebra modulo the phase-space ideal; its rank proves that the class holds no other
+integral). Each integral found is then decided independently by the verifier's own
+machinery: its Lie derivative along the model (:func:`.identity.lie_derivative`, which
+expands the auxiliary symbols such as ``omega``) is decided by :func:`.identity.decide`
+(a Groebner normal form modulo the phase-space constraints).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+import sympy as sp
+from chaplygin.derive.discovery import IntegralSearch, find_polynomial_integrals
+from chaplygin.derive.errors import UserInputError
+
+from .identity import Domain, Outcome, decide, lie_derivative
+
+__all__ = ["Discovery", "discover"]
+
+
+@dataclass(frozen=True)
+class Discovery:
+    """The integrals found in a class and the verdict on each.
+
+    Attributes
+    ----------
+    search : IntegralSearch
+        The basis found, the class searched, the rank and the time of the search.
+    proofs : tuple of Outcome
+        One verdict per integral of ``search.integrals`` (``proved`` expected).
+    seconds : float
+        Wall time of the search and the proofs.
+    """
+
+    search: IntegralSearch
+    proofs: tuple[Outcome, ...]
+    seconds: float
+
+    @property
+    def all_proved(self) -> bool:
+        """True when every integral found is proved."""
+        return all(p.verdict == "proved" for p in self.proofs)
+
+    def as_dict(self) -> dict:
+        """The discovery as plain data (JSON-ready).
+
+        Returns
+        -------
+        dict
+            ``model``, ``class`` (words and data), ``integrals`` (each with its verdict,
+            method and seconds), ``unknowns``, ``rank``, ``dimension``, ``equations``,
+            ``seconds`` and ``stage_seconds``.
+        """
+        s = self.search
+        return {
+            "model": s.model,
+            "class": {"description": s.search_class.describe(), **s.search_class.as_dict()},
+            "integrals": [
+                {
+                    "expression": sp.sstr(F),
+                    "verdict": p.verdict,
+                    "method": p.method,
+                    "seconds": round(p.seconds, 3),
+                }
+                for F, p in zip(s.integrals, self.proofs, strict=True)
+            ],
+            "no_other": (
+                f"rank {s.rank} of {s.unknowns} unknowns: the class holds exactly "
+                f"{s.dimension} independent integrals modulo constants and the ideal"
+            ),
+            "unknowns": s.unknowns,
+            "rank": s.rank,
+            "dimension": s.dimension,
+            "equations": s.equations,
+            "monomials": s.monomials,
+            "seconds": round(self.seconds, 3),
+            "stage_seconds": {k: round(v, 3) for k, v in s.stage_seconds.items()},
+        }
+
+
+def discover(
+    system: str,
+    effects: Iterable[str] = (),
+    *,
+    degree: int = 2,
+    coefficient_degree: int = 2,
+    momentum: str | None = None,
+    in_parameters: bool = False,
+) -> Discovery:
+    """Find every first integral of a built-in system in a polynomial class, and prove each.
+
+    Parameters
+    ----------
+    system : str
+        A built-in system (``chaplygin_ball`` ...).
+    effects : iterable of str, optional
+        Effects of the variant (``gyrostat``, ``rubber`` ...).
+    degree : int, optional
+        Largest degree in the momentum group.
+    coefficient_degree : int, optional
+        Largest degree of the coefficients in the other state variables.
+    momentum : str, optional
+        The group the integrals are polynomial in (a state group, or ``"omega"``).
+    in_parameters : bool, optional
+        Coefficients rational functions of the parameters (default rational numbers).
+
+    Returns
+    -------
+    Discovery
+
+    Raises
+    ------
+    UserInputError
+        An unknown system or effect, a bad degree or group, a time-dependent model, a
+        class too large for the machine (with its size).
+
+    Examples
+    --------
+    >>> import chaplygin
+    >>> found = chaplygin.discover("chaplygin_ball", degree=1, coefficient_degree=1)
+    >>> [sympy.sstr(F) for F in found.search.integrals], found.all_proved  # doctest: +SKIP
+    (['M1*gamma1 + M2*gamma2 + M3*gamma3'], True)
+    """
+    from chaplygin.derive.systems import build_model
+
+    start = time.perf_counter()
+    if not isinstance(system, str):
+        raise UserInputError(f"the system must be a name, not {system!r}")
+    model = build_model(system, list(effects))
+    search = find_polynomial_integrals(
+        model,
+        degree,
+        momentum=momentum,
+        coefficient_degree=coefficient_degree,
+        in_parameters=in_parameters,
+    )
+    proofs = tuple(
+        decide([lie_derivative(F, model)], Domain(model)) for F in search.integrals
+    )
+    return Discovery(search, proofs, time.perf_counter() - start)
