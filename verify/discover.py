@@ -85,7 +85,7 @@ class Discovery:
 
 def discover(
     system: str,
-    effects: Iterable[str] = (),
+    effects: Iterable[str] | str = (),
     *,
     degree: int = 2,
     coefficient_degree: int = 2,
@@ -98,8 +98,8 @@ def discover(
     ----------
     system : str
         A built-in system (``chaplygin_ball`` ...).
-    effects : iterable of str, optional
-        Effects of the variant (``gyrostat``, ``rubber`` ...).
+    effects : iterable of str or str, optional
+        Effects of the variant (``gyrostat``, ``rubber`` ...; a string is comma-separated).
     degree : int, optional
         Largest degree in the momentum group.
     coefficient_degree : int, optional
@@ -131,7 +131,7 @@ def discover(
     start = time.perf_counter()
     if not isinstance(system, str):
         raise UserInputError(f"the system must be a name, not {system!r}")
-    model = build_model(system, list(effects))
+    model = build_model(system, effects if isinstance(effects, str) else list(effects))
     search = find_polynomial_integrals(
         model,
         degree,
