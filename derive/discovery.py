@@ -246,8 +246,9 @@ def _omega_coordinates(model: Model) -> _Coordinates:
     for sym, expr in model.aux:  # every auxiliary but omega, in (omega, g)
         if sym not in set(omega):
             done[sym] = sp.sympify(expr).xreplace({**sub, **done})
-    rhs = dict(zip(model.state, (sp.sympify(e).xreplace({**sub, **done}) for e in model.rhs),
-                   strict=True))
+    rhs = dict(
+        zip(model.state, (sp.sympify(e).xreplace({**sub, **done}) for e in model.rhs), strict=True)
+    )
     g_dot = sp.Matrix([rhs[s] for s in g])
     m_dot = sp.Matrix([rhs[s] for s in momentum])
     jac_w = sp.Matrix(m_of_w).jacobian(omega)
@@ -264,8 +265,9 @@ def _count_monomials(nvars: int, degree: int) -> int:
     return math.comb(nvars + degree, degree)
 
 
-def _equation_bound(numerators, nx: int, degree: int, coefficient_degree: int,
-                    in_parameters: bool) -> int:
+def _equation_bound(
+    numerators, nx: int, degree: int, coefficient_degree: int, in_parameters: bool
+) -> int:
     """Bound on the rows of the linear system, from the vector field's numerators.
 
     ``NF(sum_k db/dx_k P_k)`` has total degree at most ``degree + coefficient_degree - 1
@@ -273,8 +275,7 @@ def _equation_bound(numerators, nx: int, degree: int, coefficient_degree: int,
     and its parameter parts are among those of the ``P_k`` (the ansatz and the ideal are
     free of parameters); without ``in_parameters`` each pair is a row.
     """
-    dx = max((max((sum(m[:nx]) for m in p.itermonoms()), default=0) for p in numerators),
-             default=0)
+    dx = max((max((sum(m[:nx]) for m in p.itermonoms()), default=0) for p in numerators), default=0)
     bound = _count_monomials(nx, degree + coefficient_degree - 1 + dx)
     if not in_parameters:
         bound *= len({m[nx:] for p in numerators for m in p.itermonoms()})
@@ -392,12 +393,25 @@ def find_polynomial_integrals(
     integrals = tuple(_integral_expr(v, basis, builder, x) for v in null)
     stages["solve"] = time.perf_counter() - clock
     found_class = IntegralClass(
-        name, coords.u, coords.g, degree, coefficient_degree, in_parameters,
-        model.params, tuple(ideal),
+        name,
+        coords.u,
+        coords.g,
+        degree,
+        coefficient_degree,
+        in_parameters,
+        model.params,
+        tuple(ideal),
     )
     return IntegralSearch(
-        model.name, found_class, integrals, monomials, len(basis), rows, rank,
-        time.perf_counter() - start, stages,
+        model.name,
+        found_class,
+        integrals,
+        monomials,
+        len(basis),
+        rows,
+        rank,
+        time.perf_counter() - start,
+        stages,
     )
 
 
@@ -639,8 +653,9 @@ def _monomial_value(exponents, point):
 
 def _integral_expr(vector, basis, builder, x):
     """``sum v_i b_i`` as a primitive polynomial in the coordinates (sympy)."""
-    expr = sp.together(sum((v * b.as_expr() for v, b in zip(vector, basis, strict=True)),
-                           sp.S.Zero))
+    expr = sp.together(
+        sum((v * b.as_expr() for v, b in zip(vector, basis, strict=True)), sp.S.Zero)
+    )
     num, _ = sp.fraction(expr)
     poly = sp.Poly(sp.expand(num), *x)
     _, prim = poly.primitive()

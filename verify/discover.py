@@ -139,7 +139,5 @@ def discover(
         coefficient_degree=coefficient_degree,
         in_parameters=in_parameters,
     )
-    proofs = tuple(
-        decide([lie_derivative(F, model)], Domain(model)) for F in search.integrals
-    )
+    proofs = tuple(decide([lie_derivative(F, model)], Domain(model)) for F in search.integrals)
     return Discovery(search, proofs, time.perf_counter() - start)

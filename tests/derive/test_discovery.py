@@ -102,8 +102,9 @@ def test_ball_in_omega_over_the_parameters_finds_the_energy(ball):
     (same argument as in M, now with H in the class); the rank (85 of 89) proves there is
     no fifth.
     """
-    found = find_polynomial_integrals(ball, 2, coefficient_degree=2, momentum="omega",
-                                      in_parameters=True)
+    found = find_polynomial_integrals(
+        ball, 2, coefficient_degree=2, momentum="omega", in_parameters=True
+    )
     assert (found.unknowns, found.dimension, found.rank) == (89, 4, 85)
     sphere, g = _sphere(ball)
     omega = tuple(ball.omega)

@@ -40,8 +40,10 @@ def test_a_wrong_integral_is_refuted_by_the_same_proof_machinery():
     ("argv", "message"),
     [
         (["discover", "chaplygin_ball", "--degree", "0"], "at least 1"),
-        (["discover", "chaplygin_ball", "--degree", "9", "--coefficient-degree", "9"],
-         "48400 unknowns"),
+        (
+            ["discover", "chaplygin_ball", "--degree", "9", "--coefficient-degree", "9"],
+            "48400 unknowns",
+        ),
         (["discover", "chaplygin_ball", "--momentum", "L"], "no group 'L'"),
         (["discover", "chaplygin_ball", "--effects", "variable_inertia"], "autonomous"),
         (["discover", "no_such_system"], "unknown system"),
