@@ -636,11 +636,25 @@ def _block_null_parametric(columns, builder, nx):
 
     matrix = _sparse(columns, exact, field_)
     _, pivots = special.transpose().rref()  # rows of the block independent at the point
-    chosen = matrix.extract(list(pivots), list(range(len(columns))))
+    chosen = _primitive_rows(_sparse(columns, domain.ring.from_dict, domain), pivots, field_)
     reduced = _reduced_null(chosen)
     if reduced is not None and (matrix.to_dense() * reduced.to_dense().transpose()).is_zero_matrix:
         return r0, _as_sympy(reduced, field_)
     return matrix.rank(), _as_sympy(_reduced_null(matrix), field_)
+
+
+def _primitive_rows(matrix, rows, field_):
+    """The given rows of a matrix over QQ[parameters], each divided by the gcd of its
+    entries (a non-zero factor: the null space is the same, the fractions smaller)."""
+    domain = matrix.domain
+    out: dict = {}
+    for k, i in enumerate(rows):
+        row = matrix.rep.to_sdm().get(i, {})
+        common = domain.zero
+        for c in row.values():
+            common = domain.gcd(common, c)
+        out[k] = {j: field_.convert_from(domain.exquo(c, common), domain) for j, c in row.items()}
+    return DomainMatrix(out, (len(rows), matrix.shape[1]), field_)
 
 
 def _monomial_value(exponents, point):
