@@ -80,7 +80,8 @@ def test_classes_too_small_find_only_what_they_hold(ball):
 
 
 def test_perturbed_vector_field_loses_its_integrals(ball):
-    """Negative control by the same machinery: M1' = (8/7) (M2 omega3 - M3 omega2)."""
+    """Negative control by the same machinery: M1' = (8/7) (M2 omega3 - M3 omega2) loses
+    (M, M) and (M, gamma)."""
     rhs = list(ball.rhs)
     rhs[0] = sp.Rational(8, 7) * rhs[0]
     bent = dataclasses.replace(ball, rhs=tuple(rhs))
@@ -90,6 +91,10 @@ def test_perturbed_vector_field_loses_its_integrals(ball):
     assert found.dimension < 3
     for name in ("(M,M)", "(M,gamma)"):
         assert not _in_span(ball.integral(name), found.integrals, gens, sphere), name
+    # ... and finds the bent field's own quadratic integral (by hand: its Lie derivative is
+    # 16 (M, M x omega) = 0)
+    M1, M2, M3 = ball.group("M")
+    assert _in_span(7 * M1**2 + 8 * M2**2 + 8 * M3**2, found.integrals, gens, sphere)
 
 
 @pytest.mark.slow
@@ -113,6 +118,19 @@ def test_ball_in_omega_over_the_parameters_finds_the_energy(ball):
     for name in ("H", "(M,M)", "(M,gamma)"):
         target = sp.expand(ball.integral(name).xreplace(in_omega))
         assert _in_span(target, found.integrals, gens, sphere), name
+    # negative control, same search: with M1' = (8/7) (M2 omega3 - M3 omega2) H is lost
+    rhs = list(ball.rhs)
+    rhs[0] = sp.Rational(8, 7) * rhs[0]
+    bent = find_polynomial_integrals(
+        dataclasses.replace(ball, rhs=tuple(rhs)),
+        2,
+        coefficient_degree=2,
+        momentum="omega",
+        in_parameters=True,
+    )
+    assert bent.dimension < found.dimension
+    H = sp.expand(ball.integral("H"))
+    assert not _in_span(H, bent.integrals, gens, sphere)
     # with rational coefficients only, H and (M, gamma) = (I omega, gamma) leave the class
     rational = find_polynomial_integrals(ball, 1, coefficient_degree=1, momentum="omega")
     assert rational.dimension == 0
