@@ -53,7 +53,9 @@ from dataclasses import dataclass
 
 import sympy as sp
 from sympy.polys.domains import QQ
+from sympy.polys.groebnertools import groebner
 from sympy.polys.matrices import DomainMatrix
+from sympy.polys.rings import ring
 
 from .algebra import RationalFunctionBuilder, UnsupportedExpression, ring_normal_form
 from .errors import DerivationError
@@ -391,18 +393,92 @@ def _max_degree(poly, indices) -> int:
     return max((sum(m[i] for i in indices) for m in poly.monoms()), default=0)
 
 
-def _coefficient_rows(polys, n_state, param_ring):
-    """``{state monomial: [coefficient of each poly]}``, coefficients in ``QQ[params]``."""
+def _coefficient_rows(polys, model: Model, params: tuple[sp.Symbol, ...]):
+    """Normal forms modulo the constraints, split into rows ``{state monomial: coefficients}``.
+
+    The reduction runs in ``QQ[params][state]`` (grevlex in the state): the constraints
+    involve the state alone, so their Groebner basis over ``QQ`` is one over the
+    parameters' polynomials and the normal form is the one over ``QQ(params)``, with far
+    fewer terms than in the flat ring of state and parameters.
+
+    Returns
+    -------
+    domain : sympy domain
+        ``QQ[params]`` (``QQ`` without parameters): the ring of the coefficients.
+    keys : list of tuple
+        The state monomials, sorted.
+    rows : list of list
+        One coefficient per poly for each monomial.
+    """
+    n_state = len(model.state)
+    domain = QQ[params] if params else QQ
+    state_ring, *_ = ring(model.state, QQ, order="grevlex")
+    coefficient_ring, *_ = ring(model.state, domain, order="grevlex")
+    basis = []
+    if model.constraints:
+        gb = groebner([state_ring.from_expr(sp.expand(c)) for c in model.constraints], state_ring)
+        basis = [g.monic() for g in gb]
     rows: dict = {}
     for col, poly in enumerate(polys):
+        grouped: dict = {}
         for monom, coeff in poly.iterterms():
-            key, pmon = monom[:n_state], monom[n_state:]
-            row = rows.setdefault(key, [{} for _ in polys])
-            row[col][pmon] = coeff
+            grouped.setdefault(monom[:n_state], {})[monom[n_state:]] = coeff
+        if params:
+            lifted = {k: domain.ring.from_dict(v) for k, v in grouped.items()}
+        else:
+            lifted = {k: v[()] for k, v in grouped.items()}
+        reduced = coefficient_ring.from_dict(lifted)
+        if basis and reduced:
+            reduced = _remainder_monic(reduced, basis)
+        for monom, coeff in reduced.iterterms():
+            rows.setdefault(monom, [domain.zero] * len(polys))[col] = coeff
     keys = sorted(rows)
-    if param_ring is None:  # no parameters: the coefficients are rational numbers
-        return keys, [[c.get((), QQ.zero) for c in rows[k]] for k in keys]
-    return keys, [[param_ring.from_dict(c) for c in rows[k]] for k in keys]
+    return domain, keys, [rows[k] for k in keys]
+
+
+def _remainder_monic(poly, basis):
+    """Normal form of ``poly`` (coefficients in ``QQ[params]``) modulo a monic Groebner
+    basis with rational coefficients (in a ring of the same monomial order).
+
+    The division of :func:`.algebra.ring_normal_form` (monomials in a heap, largest first,
+    each popped once), with the quotient's coefficients multiplied by the basis's rational
+    numbers (``mul_ground``) instead of by polynomials: no division at all, as the basis is
+    monic.
+    """
+    import heapq
+
+    ring_ = poly.ring
+    monomial_mul, monomial_div = ring_.monomial_mul, ring_.monomial_div
+    key = lambda m: (-sum(m), m[::-1])  # noqa: E731  grevlex, largest first in a min-heap
+    leads = [(g.LM, [(m, c) for m, c in g.iterterms() if m != g.LM]) for g in basis]
+    todo = dict(poly.iterterms())
+    heap = [(key(m), m) for m in todo]
+    heapq.heapify(heap)
+    out = {}
+    while heap:
+        _, m = heapq.heappop(heap)
+        c = todo.pop(m, None)
+        if c is None:
+            continue
+        for lm, tail in leads:
+            q = monomial_div(m, lm)
+            if q is None:
+                continue
+            for mg, cg in tail:
+                m1 = monomial_mul(mg, q)
+                old = todo.get(m1)
+                step = c.mul_ground(cg) if hasattr(c, "mul_ground") else c * cg
+                new = -step if old is None else old - step
+                if not new:
+                    todo.pop(m1, None)
+                else:
+                    if old is None:
+                        heapq.heappush(heap, (key(m1), m1))
+                    todo[m1] = new
+            break
+        else:
+            out[m] = c
+    return ring_.from_dict(out) if out else ring_.zero
 
 
 @dataclass(frozen=True)
@@ -471,9 +547,7 @@ def _solve(rows: list[list], n: int, domain) -> _Solution:
                 break
         if failing is None:
             rank = n - len(null)
-            return _Solution(
-                particular, null, rank, rank + (particular is None), len(chosen)
-            )
+            return _Solution(particular, null, rank, rank + (particular is None), len(chosen))
         if failing in chosen:  # cannot happen for an exact solve of the chosen rows
             raise DerivationError("density search: the exact solve disagrees with its rows")
         chosen.append(failing)
@@ -546,9 +620,7 @@ def find_invariant_densities(
     if indices:
         degree = max(_max_degree(p, indices) for p in polys)
         polys = [_substitute(p, indices, solved, common, degree) for p in polys]
-    polys = [ring_normal_form(p, constraints, builder) for p in polys]
-    domain = QQ[params] if params else QQ
-    keys, rows = _coefficient_rows(polys, n_state, domain.ring if params else None)
+    domain, keys, rows = _coefficient_rows(polys, model, params)
     solution = _solve(rows, len(family), domain)
     field = domain.get_field()
 
