@@ -393,10 +393,37 @@ def _max_degree(poly, indices) -> int:
     return max((sum(m[i] for i in indices) for m in poly.monoms()), default=0)
 
 
+def _constraint_basis(model: Model, polys) -> list:
+    """Monic grevlex Groebner basis (over ``QQ``, in the state ring) of the constraints,
+    eliminated down to the state variables that occur in ``polys``.
+
+    A polynomial in the remaining variables vanishes on the phase space exactly when it
+    lies in the elimination ideal (the constraint ideals of the models are prime and their
+    real points dense), so its normal form modulo the smaller basis decides the same
+    question with fewer and lower reductions.
+    """
+    if not model.constraints:
+        return []
+    n_state = len(model.state)
+    used = [any(m[i] for p in polys for m in p.monoms()) for i in range(n_state)]
+    drop = [s for s, u in zip(model.state, used, strict=True) if not u]
+    keep = [s for s, u in zip(model.state, used, strict=True) if u]
+    constraints = [sp.expand(c) for c in model.constraints]
+    if drop and any(c.free_symbols & set(drop) for c in constraints):
+        eliminated = sp.groebner(constraints, *drop, *keep, order="lex")
+        constraints = [g for g in eliminated.exprs if not g.free_symbols & set(drop)]
+    state_ring, *_ = ring(model.state, QQ, order="grevlex")
+    gb = groebner([state_ring.from_expr(c) for c in constraints], state_ring)
+    return [g.monic() for g in gb]
+
+
 def _coefficient_rows(polys, model: Model, params: tuple[sp.Symbol, ...]):
     """Normal forms modulo the constraints, split into rows ``{state monomial: coefficients}``.
 
-    The reduction runs in ``QQ[params][state]`` (grevlex in the state): the constraints
+    State variables that occur in none of ``polys`` (the frame vector ``beta`` of the ball
+    along a line: nothing depends on it) are eliminated from the constraints first
+    (:func:`_constraint_basis`). The reduction runs in ``QQ[params][state]`` (grevlex in
+    the state): the constraints
     involve the state alone, so their Groebner basis over ``QQ`` is one over the
     parameters' polynomials and the normal form is the one over ``QQ(params)``, with far
     fewer terms than in the flat ring of state and parameters.
@@ -412,12 +439,8 @@ def _coefficient_rows(polys, model: Model, params: tuple[sp.Symbol, ...]):
     """
     n_state = len(model.state)
     domain = QQ[params] if params else QQ
-    state_ring, *_ = ring(model.state, QQ, order="grevlex")
     coefficient_ring, *_ = ring(model.state, domain, order="grevlex")
-    basis = []
-    if model.constraints:
-        gb = groebner([state_ring.from_expr(sp.expand(c)) for c in model.constraints], state_ring)
-        basis = [g.monic() for g in gb]
+    basis = _constraint_basis(model, polys)
     rows: dict = {}
     for col, poly in enumerate(polys):
         grouped: dict = {}
