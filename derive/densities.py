@@ -57,7 +57,7 @@ from sympy.polys.groebnertools import groebner
 from sympy.polys.matrices import DomainMatrix
 from sympy.polys.rings import ring
 
-from .algebra import RationalFunctionBuilder, UnsupportedExpression, ring_normal_form
+from .algebra import FACTOR_SEED, RationalFunctionBuilder, UnsupportedExpression, ring_normal_form
 from .errors import DerivationError
 from .model import Model
 
@@ -232,8 +232,19 @@ def _builder(model: Model, inverse: dict, params: tuple[sp.Symbol, ...]) -> _Aux
 
 
 def _irreducible(poly, ring) -> tuple:
-    """``(constant, [(monic irreducible factor, power)])`` of a PolyElement."""
-    const, parts = poly.factor_list()
+    """``(constant, [(monic irreducible factor, power)])`` of a PolyElement.
+
+    Seeded like :func:`.algebra.seeded_factor` (Wang's algorithm draws random points: the
+    same factorisation takes the same path and time in every process).
+    """
+    from sympy.core import random as sympy_random
+
+    state = sympy_random.rng.getstate()
+    sympy_random.rng.seed(FACTOR_SEED)
+    try:
+        const, parts = poly.factor_list()
+    finally:
+        sympy_random.rng.setstate(state)
     out = []
     for g, k in parts:
         lc = g.LC
@@ -532,48 +543,66 @@ def _independent_rows(values: list[list], limit: int) -> list[int]:
     return chosen
 
 
-def _failing_row(full: DomainMatrix, vector: list, field) -> int | None:
-    """First row ``r`` with ``full[r] . vector != 0``."""
-    column = DomainMatrix([[v] for v in vector], (len(vector), 1), field)
+def _primitive(vector: list, domain) -> list:
+    """``vector`` divided by the gcd of its entries (small numbers instead of the large
+    polynomials a fraction-free elimination leaves behind)."""
+    if domain == QQ:
+        return vector
+    common = domain.zero
+    for x in vector:
+        common = domain.gcd(common, x)
+    return [domain.exquo(x, common) for x in vector] if common else vector
+
+
+def _failing_row(full: DomainMatrix, vector: list) -> int | None:
+    """First row ``r`` with ``full[r] . vector != 0`` (exact, in ``full``'s domain)."""
+    column = DomainMatrix([[v] for v in vector], (len(vector), 1), full.domain)
     product = full.matmul(column).to_list()
     return next((r for r, (x,) in enumerate(product) if x), None)
 
 
 def _solve(rows: list[list], n: int, domain) -> _Solution:
-    """The affine solution space of ``A a = b`` (``rows`` are ``[A | -b]``), certified."""
-    field = domain.get_field()
+    """The affine solution space of ``A a = b`` (``rows`` are ``[A | -b]``), certified.
+
+    Fraction-free: the null spaces of the chosen rows are computed over the polynomial
+    ring of the parameters (no gcds), a solution ``(a, 1)`` is a null vector ``v`` of
+    ``[A | -b]`` with ``v_n != 0`` divided by ``v_n``, and every candidate is checked
+    against all rows by polynomial products.
+    """
     rng = random.Random(ROW_CHOICE_SEED)
-    gens = domain.ring.gens
+    gens = domain.ring.gens if domain != QQ else ()
     point = [QQ(rng.randint(1, 97), rng.randint(1, 89)) for _ in gens]
     values = [[c(*point) if gens else c for c in row] for row in rows]
     chosen = _independent_rows(values, n + 1)
-    full = DomainMatrix(
-        [[field.convert_from(c, domain) for c in row] for row in rows], (len(rows), n + 1), field
-    )
+    full = DomainMatrix(rows, (len(rows), n + 1), domain)
     coefficients = full.extract(list(range(len(rows))), list(range(n)))
     while True:
         sub = full.extract(chosen, list(range(n + 1)))
-        reduced, pivots = sub.rref()
-        null = [list(v) for v in coefficients.extract(chosen, list(range(n))).nullspace().to_list()]
-        particular = None
-        if n not in pivots:
-            particular = [field.zero] * n
-            for i, p in enumerate(pivots):
-                particular[p] = -reduced[i, n].element  # the last column holds -b
-        candidates = [(v, False) for v in null]
-        if particular is not None:
-            candidates.append(([*particular, field.one], True))
+        null = coefficients.extract(chosen, list(range(n))).nullspace().to_list()
+        null = [_primitive(v, domain) for v in null]
+        augmented = [_primitive(v, domain) for v in sub.nullspace().to_list()]
+        homogeneous = next((v for v in augmented if v[n]), None)
+        candidates = [(coefficients, v) for v in null]
+        if homogeneous is not None:
+            candidates.append((full, homogeneous))
         failing = None
-        for vector, augmented in candidates:
-            failing = _failing_row(full if augmented else coefficients, vector, field)
+        for matrix, vector in candidates:
+            failing = _failing_row(matrix, vector)
             if failing is not None:
                 break
         if failing is None:
-            rank = n - len(null)
-            return _Solution(particular, null, rank, rank + (particular is None), len(chosen))
+            break
         if failing in chosen:  # cannot happen for an exact solve of the chosen rows
             raise DerivationError("density search: the exact solve disagrees with its rows")
         chosen.append(failing)
+    field = domain.get_field()
+    particular = None
+    if homogeneous is not None:
+        last = field.convert_from(homogeneous[n], domain)
+        particular = [field.convert_from(x, domain) / last for x in homogeneous[:n]]
+    null_field = [[field.convert_from(x, domain) for x in v] for v in null]
+    rank = n - len(null)
+    return _Solution(particular, null_field, rank, rank + (particular is None), len(chosen))
 
 
 def _sorted_factors(factors) -> list:
