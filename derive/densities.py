@@ -355,13 +355,17 @@ def _relation_solution(model, builder, inverse, constraints):
                 f"{model.name}: the invariant relation {rel} is not linear in "
                 f"{model.relation_unknowns}"
             )
-        rest = num
-        for i, c in zip(unknowns, coeffs, strict=True):
-            rest = rest - c * ring.gens[i]
-        rows.append((coeffs, rest))
+        rows.append((coeffs, num))
     for chosen in itertools.combinations(reversed(range(len(unknowns))), len(rows)):
         chosen = sorted(chosen)
         square = [[coeffs[k] for k in chosen] for coeffs, _ in rows]
+        # the relation minus its terms in the chosen unknowns (the others stay free)
+        rows_rest = []
+        for coeffs, num in rows:
+            rest = num
+            for k in chosen:
+                rest = rest - coeffs[k] * ring.gens[unknowns[k]]
+            rows_rest.append((coeffs, rest))
         denominator = _determinant(square)
         if ring_normal_form(denominator, constraints, builder).is_zero:
             continue
@@ -369,10 +373,15 @@ def _relation_solution(model, builder, inverse, constraints):
         for col in range(len(chosen)):
             replaced = [
                 [(-rest if k == col else row[k]) for k in range(len(chosen))]
-                for row, (_, rest) in zip(square, rows, strict=True)
+                for row, (_, rest) in zip(square, rows_rest, strict=True)
             ]
             solved.append(_determinant(replaced))
-        return tuple(unknowns[k] for k in chosen), tuple(solved), denominator
+        indices = tuple(unknowns[k] for k in chosen)
+        for _, num in rows:  # a self-check: the relations hold after the substitution
+            sub = _substitute(num, indices, solved, denominator, _max_degree(num, indices))
+            if not ring_normal_form(sub, constraints, builder).is_zero:
+                raise DerivationError(f"{model.name}: solving the invariant relations failed")
+        return indices, tuple(solved), denominator
     raise DerivationError(f"{model.name}: the invariant relations are not independent")
 
 
