@@ -126,3 +126,26 @@ def test_refuses_what_it_cannot_do():
         find_invariant_densities(
             dataclasses.replace(model, rhs=(sp.sqrt(model.state[0]),) + model.rhs[1:])
         )
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("which", "integral"), [("KK", True), ("MM", False)])
+def test_rubber_integral_factor_on_the_relation(which, integral):
+    """On the rubber ball's phase space ((omega, gamma) = 0), (K, K) = (M, M) - (M, gamma)^2
+    is an integral (BKM12 §3) and (M, M) is not (the README's control): as a factor of the
+    family the first gets a free exponent, the second none. This holds only on the invariant
+    relation, so it checks the restriction to it."""
+    model = build_model(BALL, ("rubber",))
+    M, gamma = model.group("M"), model.group("gamma")
+    factor = {"KK": dot(M, M) - dot(M, gamma) ** 2, "MM": dot(M, M)}[which]
+    found = find_invariant_densities(model, extra_factors=[factor])
+    assert found.found and len(found.factors) == 3
+    (j,) = [i for i, g in enumerate(found.factors) if sp.cancel(g / factor).is_constant()]
+    if integral:
+        assert len(found.directions) == 1
+        assert [x != 0 for x in found.directions[0]] == [i == j for i in range(3)]
+    else:
+        assert found.directions == ()
+        assert found.exponents[j] == 0
+    others = [e for i, e in enumerate(found.exponents) if i != j]
+    assert sorted(others) == [-1, sp.Rational(1, 2)]  # the rubber ball's density
