@@ -5,6 +5,8 @@ configuration and momenta: by default the irreducible factors of the denominator
 model's right-hand side (the auxiliary definitions expanded: ``omega`` through the Woodbury
 coefficient ``Z`` and the multipliers ``mu`` of the constraints on omega alone), and any
 further factors a caller names (a quadratic form ``(gamma, S gamma)`` with a given ``S``...).
+A quadratic form with an *unknown* matrix ``S`` is not in the family: its entries would
+multiply the exponents (a bilinear system), so the family is always one of fixed factors.
 Liouville's equation for ``rho`` is
 
     div f + sum_j a_j (f, grad g_j) / g_j = 0   on the phase space,
@@ -24,7 +26,8 @@ alone, on a level set of an invariant relation), but ``f`` is written on the amb
 The models' ``f`` keeps every level set of the constraint functions ``c`` (``(gamma,
 gamma)``, the orthonormality of the frame: identically, off the manifold too) and of the
 invariant relations ``r`` (``d r/dt = 0`` on the whole phase space: the claims
-``BKM12-3rub.constraint`` and ``BKM12-57.constraint``). For a flow with that property,
+``BKM12-3rub.constraint`` and ``BKM12-57.constraint``; for the rubber ball on a line, with
+both relations, no claim states it yet). For a flow with that property,
 ``L_f(rho dV) = L_f(nu) ^ dc ^ dr`` where ``nu = rho dV / (dc dr)`` is the measure induced on
 the level set; so the ambient residual vanishes on the phase space exactly when the induced
 measure ``rho dV / (dc dr)`` is invariant there, whatever the extension off it. That is the
