@@ -154,10 +154,12 @@ def ball_signature(
     state_groups : tuple of (str, tuple of sympy.Symbol)
     parameters : tuple of ParameterSpec
         In :data:`PARAMETER_ORDER`, as the derived model has them.
+    geometry : tuple of (str, tuple of str)
+    completion : tuple of ((str, ...), str)
     """
     desc = ball_description(effects)
     apply_effects(desc, effects, SUPPORTED_EFFECTS)
-    return desc.signature()
+    return desc.input_signature()
 
 
 def build_chaplygin_ball(effects: Iterable[str] | str | None = (), *, _laws: str = "bm20") -> Model:

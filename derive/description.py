@@ -508,6 +508,21 @@ class MechanicalDescription:
         groups = tuple((group.name, group.symbols) for group in self.states)
         return groups, self.ordered_parameters()
 
+    def input_signature(self) -> tuple:
+        """What an input check needs before anything is derived.
+
+        Returns
+        -------
+        state_groups : tuple of (str, tuple of sympy.Symbol)
+        parameters : tuple of ParameterSpec
+        geometry : tuple of (str, tuple of str)
+            The Poisson groups as ``(kind, names)`` (``Model.geometry``'s form in code).
+        completion : tuple of ((str, ...), str)
+        """
+        groups, parameters = self.signature()
+        geometry = tuple((g.kind, tuple(g.names)) for g in self.geometry())
+        return groups, parameters, geometry, tuple(self.completion.items())
+
     def refuse(self, stage: str, names: Iterable[str]) -> None:
         """Refuse declared data a reduction stage does not take (rather than drop it).
 

@@ -179,8 +179,9 @@ class RigidBodyReduction:
             From the engine; for a potential or further bodies (not derived here); when
             the inertia operator has no structured inverse on the phase space.
         """
-        desc.refuse("rigid-body (body frame)", ("potential", "bodies", "phase_space"))
+        desc.refuse("rigid-body (body frame)", ("bodies", "phase_space"))
         t, omega, kinematics = desc.time, desc.omega, desc.kinematics
+        potential = sp.sympify(desc.potential)
         red = lagrange_dalembert(
             RigidBodyDescription(
                 omega=omega,
@@ -189,6 +190,7 @@ class RigidBodyReduction:
                 constraints=list(desc.constraints),
                 kinematics=kinematics,
                 time=t,
+                torque=potential_torque(potential, desc),
             )
         )
         geometry = desc.geometry()
@@ -196,9 +198,8 @@ class RigidBodyReduction:
         vectors = desc.vectors
         constraints = [c for g in geometry for c in g.constraints(vectors)]
         gens = [s for g in geometry for n in g.names for s in vectors[n]]
-        structured = red.structured_inverse(ConstraintIdeal(constraints, gens))
-        if structured is None:  # pragma: no cover - the rolling bodies here have the structure
-            raise DerivationError("the inertia operator has no structured (Woodbury) inverse")
+        ideal = ConstraintIdeal(constraints, gens)
+        structured = red.structured_inverse(ideal)
 
         M = desc.state_group(self.momentum)
         Q = desc.momentum_in_state  # the state is II omega + Q
@@ -212,11 +213,19 @@ class RigidBodyReduction:
         )
         rhs_M = cross(M + outside, omega) + remainder
 
-        aux, X = _omega_of_momentum(structured, M - Q, omega)
-        density = X.det() ** sp.Rational(-1, 2)
+        if structured is not None:
+            aux, X = _omega_of_momentum(structured, M - Q, omega)
+            density = X.det() ** sp.Rational(-1, 2)
+            apply_inverse = structured.apply_inverse
+        else:  # a body whose inertia operator is not J + U C U^T (a displaced centre of mass)
+            aux, apply_inverse = _omega_by_adjugate(red.inertia_operator, M - Q, omega)
+            density = None  # not derived here: chaplygin.discover searches for one
         if red.omega_multipliers:
-            mu_aux, density = _eliminate_multipliers(red, rhs_M - Q_rate, structured, X)
+            mu_aux, mu_density = _eliminate_multipliers(
+                red, rhs_M - Q_rate, apply_inverse, None if structured is None else X
+            )
             aux += mu_aux
+            density = None if structured is None else mu_density
         if density is not None and density.has(t):
             # det(X)^-1/2 satisfies Liouville's equation for the autonomous structure; an
             # explicit time dependence (I(t), BM20-3.4) leaves its time derivative over
@@ -228,8 +237,12 @@ class RigidBodyReduction:
             sp.sympify(e).has(t) for e in (desc.total_kinetic_energy(), *desc.constraints)
         )
         if scleronomic:  # the parameters do work when they change: no energy (BM20-2.6)
-            integrals.append(("H", red.energy))
-        integrals += _reaction_free_integrals(desc, M + outside, P_name, frame)
+            integrals.append(("H", sp.expand(red.energy + potential)))
+        # P' = P x omega (+ reactions along the reacting vectors) makes (P, P) and (P, X)
+        # integrals; a torque of the potential or of a displaced centre of mass breaks it
+        unreacted = remainder.xreplace({mu: 0 for mu in red.omega_multipliers})
+        if all(ideal.is_zero(e) for e in unreacted):
+            integrals += _reaction_free_integrals(desc, M + outside, P_name, frame)
         frame_relations, unit = _geometric_integrals(desc, frame)
         integrals += frame_relations
         integrals += sorted(desc.invariant_relations.items())  # zero on the phase space
@@ -248,7 +261,11 @@ class RigidBodyReduction:
             inertia_operator=red.inertia_operator,
             structured_inverse=structured,
             euler_poincare_remainder=remainder,
-            reparametrisation=moment_reparametrisation(structured.J, desc.moments),
+            reparametrisation=(
+                None
+                if structured is None
+                else moment_reparametrisation(structured.J, desc.moments)
+            ),
             details=RigidBodyDetails(
                 reduced_equations=red,
                 inertia=desc.inertia,
@@ -282,8 +299,65 @@ def _omega_of_momentum(
     return aux, X
 
 
+def potential_torque(potential: sp.Expr, desc: MechanicalDescription) -> sp.Matrix:
+    """The torque of a potential of the space-fixed vectors: ``sum_X X x dV/dX``.
+
+    ``delta X = X x delta theta`` gives ``delta V = (delta theta, dV/dX x X)``, so the
+    torque doing the work ``-delta V`` is ``X x dV/dX`` (the heavy top's
+    ``m g gamma x r_c`` for ``V = m g (r_c, gamma)``). On a plane the height of every
+    point of the body is a function of its orientation, so a field's potential is one.
+
+    Parameters
+    ----------
+    potential : sympy.Expr
+        In the space-fixed vectors and the parameters.
+    desc : MechanicalDescription
+
+    Returns
+    -------
+    sympy.Matrix, shape (3, 1)
+
+    Raises
+    ------
+    DerivationError
+        When the potential depends on the velocities, the momentum, another state or time.
+    """
+    torque = sp.zeros(3, 1)
+    if potential == 0:
+        return torque
+    vectors = desc.vectors
+    allowed = set().union(*(set(X) for X in vectors.values()))
+    others = {s for group in desc.states for s in group.symbols} - allowed
+    moving = set(desc.omega) | set(desc.v if desc.v is not None else ()) | {desc.time}
+    if potential.free_symbols & (others | moving):
+        raise DerivationError(
+            f"{desc.system}: the potential must depend on the orientation (the space-fixed "
+            f"vectors {', '.join(vectors)}) and the parameters only"
+        )
+    for X in vectors.values():
+        torque += cross(X, sp.Matrix([sp.diff(potential, x) for x in X]))
+    return torque.applyfunc(sp.expand)
+
+
+def _omega_by_adjugate(
+    II: sp.Matrix, M_kinetic: sp.Matrix, omega: sp.Matrix
+) -> tuple[list[tuple[sp.Symbol, sp.Expr]], object]:
+    """``omega = adj(II) M / det(II)`` with ``det(II)`` an auxiliary ``Delta``; and
+    ``u -> II^-1 u`` for the multipliers."""
+    delta = sp.Symbol("Delta", real=True)
+    det = sp.factor(II.det())
+    adj = II.adjugate().applyfunc(sp.expand)
+    omega_val = (adj * M_kinetic).applyfunc(lambda e: sp.expand(e) / delta)
+    aux = [(delta, det)] + [(omega[i], omega_val[i]) for i in range(3)]
+
+    def apply_inverse(u: sp.Matrix) -> sp.Matrix:
+        return (adj * u).applyfunc(lambda e: sp.expand(e) / delta)
+
+    return aux, apply_inverse
+
+
 def _eliminate_multipliers(
-    red: ReducedEquations, rate: sp.Matrix, structured: StructuredInverse, X: sp.Matrix
+    red: ReducedEquations, rate: sp.Matrix, apply_inverse, X: sp.Matrix | None
 ) -> tuple[list[tuple[sp.Symbol, sp.Expr]], sp.Expr | None]:
     """Multipliers of the constraints on omega alone, and the density on their zero level.
 
@@ -292,7 +366,7 @@ def _eliminate_multipliers(
     ``rate`` is the rate of ``II omega`` with the reactions.
     """
     reaction = red.omega_constraints.T * sp.Matrix(red.omega_multipliers)
-    mu_values = red.multiplier_solution(rate - reaction, structured.apply_inverse)
+    mu_values = red.multiplier_solution(rate - reaction, apply_inverse)
     mu_aux = [(mu, mu_values[mu]) for mu in red.omega_multipliers]
     # On the zero level of C omega the ball's density times det(C II^-1 C^T)^(1/2)
     # satisfies Liouville's equation (no twist: rho ~ (gamma, A gamma)^(1/2) /
@@ -300,7 +374,7 @@ def _eliminate_multipliers(
     # rho dM dgamma / d(C omega) is invariant. With two such constraints (no twist and
     # the line) the proof does not finish in reasonable time: no density is shipped.
     C = red.omega_constraints
-    if C.shape[0] != 1:
+    if C.shape[0] != 1 or X is None:
         return mu_aux, None
-    S = (C * structured.apply_inverse(C.T))[0, 0]
+    S = (C * apply_inverse(C.T))[0, 0]
     return mu_aux, sp.sqrt(sp.together(S)) * X.det() ** sp.Rational(-1, 2)

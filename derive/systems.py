@@ -26,6 +26,7 @@ from .cachefiles import cache_root, read_signed, write_signed
 from .effects import parse_effects
 from .errors import UserInputError
 from .model import Model
+from .rolling_system import RollingSystem
 
 __all__ = [
     "System",
@@ -36,6 +37,7 @@ __all__ = [
     "variant_name",
     "variant_signature",
     "VariantSignature",
+    "register_system",
     "model_cache_dir",
     "variant_cache_key",
 ]
@@ -57,6 +59,7 @@ class System:
     variants: tuple[tuple[str, ...], ...]
     description: str
     signature: Callable[[frozenset[str]], tuple] | None = None
+    fingerprint: str = ""
 
 
 @dataclass(frozen=True)
@@ -72,11 +75,17 @@ class VariantSignature:
     state_groups : dict of str to tuple of str
     parameter_groups : dict of str to (tuple of str, str, str)
         ``name -> (symbols, domain, description)``.
+    geometry : tuple of (str, tuple of str)
+        The Poisson groups, ``(kind, names)``.
+    completion : tuple of ((str, ...), str)
+        How omitted state groups are completed.
     """
 
     name: str
     state_groups: dict[str, tuple[str, ...]]
     parameter_groups: dict[str, tuple[tuple[str, ...], str, str]]
+    geometry: tuple[tuple[str, tuple[str, ...]], ...] = ()
+    completion: tuple[tuple[tuple[str, ...], str], ...] = ()
 
     @property
     def state(self) -> tuple[str, ...]:
@@ -197,7 +206,10 @@ def variant_cache_key(system: str, effects: Iterable[str]) -> str:
     str
         32 hexadecimal digits.
     """
-    key = hashlib.sha256(f"{_derivation_digest()} {variant_name(system, effects)}".encode())
+    described = SYSTEMS[system].fingerprint if system in SYSTEMS else ""
+    key = hashlib.sha256(
+        f"{_derivation_digest()} {variant_name(system, effects)} {described}".encode()
+    )
     return key.hexdigest()[:32]
 
 
@@ -305,12 +317,57 @@ def variant_signature(
     chosen = parse_effects(effects, sysdef.effects)
     if sysdef.signature is None:
         return None
-    state_groups, parameters = sysdef.signature(chosen)
+    state_groups, parameters, geometry, completion = sysdef.signature(chosen)
     return VariantSignature(
         variant_name(system, chosen),
         {name: tuple(s.name for s in group) for name, group in state_groups},
         {p.name: (tuple(s.name for s in p.symbols), p.domain, p.description) for p in parameters},
+        tuple(geometry),
+        tuple(completion),
     )
+
+
+def register_system(description: RollingSystem) -> System:
+    """Make a described system usable by name everywhere a built-in is.
+
+    After registration :func:`build_model` derives (and caches, keyed also by the
+    description's fingerprint) its model, and the numerical layer emits and compiles its
+    code on first use. Registering the same description again is a no-op.
+
+    Parameters
+    ----------
+    description : RollingSystem
+
+    Returns
+    -------
+    System
+        The registry entry (no effects, no shipped variants).
+
+    Raises
+    ------
+    UserInputError
+        When the name is a built-in system's, or another description holds it.
+    """
+    if not isinstance(description, RollingSystem):
+        raise UserInputError(f"expected a RollingSystem, got {type(description).__name__}")
+    name = description.name
+    old = SYSTEMS.get(name)
+    if old is not None:
+        if old.fingerprint == description.fingerprint():
+            return old
+        what = "a built-in system" if not old.fingerprint else "another described system"
+        raise UserInputError(f"system name {name!r} is taken by {what}; choose another name")
+    entry = System(
+        name,
+        lambda effects, _d=description: _d.model(),
+        (),
+        (),
+        description.description or f"described rolling system {name}",
+        lambda effects, _d=description: _d.mechanical_description().input_signature(),
+        description.fingerprint(),
+    )
+    SYSTEMS[name] = entry
+    return entry
 
 
 def builtin_variants() -> list[tuple[str, frozenset[str]]]:

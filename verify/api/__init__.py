@@ -33,6 +33,8 @@ except PackageNotFoundError:  # pragma: no cover - running from an uninstalled t
 _PUBLIC: dict[str, str] = {
     # models and effects (derive)
     "build_model": "derive.systems:build_model",
+    "RollingSystem": "derive.rolling_system:RollingSystem",
+    "register_system": "derive.systems:register_system",
     "Model": "derive.model:Model",
     "EFFECTS": "derive.effects:EFFECTS",
     "UserInputError": "derive.errors:UserInputError",
@@ -58,6 +60,7 @@ _PUBLIC: dict[str, str] = {
     # discovery (derive searches, verify proves)
     "discover": "verify.discover:discover",
     "find_polynomial_integrals": "derive.discovery:find_polynomial_integrals",
+    "find_invariant_densities": "derive.densities:find_invariant_densities",
     # figures (matplotlib Figure objects)
     "delta_figure": "verify.plots:delta_of_mu_figure",
     "separatrix_figures": "verify.plots:separatrix_figures",

@@ -1,0 +1,379 @@
+"""A rolling system a researcher describes: body, support, contact, fields — no code to edit.
+
+:class:`RollingSystem` is the public description. It names the body (mass, inertia
+tensor in body axes — any symmetric positive-definite matrix, symbolic or numeric —,
+centre of mass anywhere inside it, a spherical surface of radius ``b``), the support,
+the contact condition and the fields (gravity, a potential of the orientation, a
+constant gyrostatic momentum). :meth:`RollingSystem.mechanical_description` turns it into
+the same :class:`~.description.MechanicalDescription` the built-in ball is made of, and
+:func:`~.description.form_model` derives the reduced equations by the same
+Lagrange–d'Alembert route (:class:`~.rigid_body.RigidBodyReduction`): nothing of the
+equations is typed in.
+
+The body frame is the frame of the given inertia tensor, with origin at the centre of
+mass; ``gamma`` is the upward normal of the support in body axes; the contact point is
+``r = -a - b gamma`` from the centre of mass (``a`` the centre of mass seen from the
+sphere's centre). The state is the angular momentum ``M`` about the contact point and
+``gamma``. Gravity ``g`` adds ``V = m g (a, gamma)`` (the height of the centre of mass
+above the plane, less the constant ``m g b``).
+
+What it derives today: a body with a spherical surface on a fixed plane, rolling without
+slipping (``contact="rolling"``) or without slipping and twisting (``"rubber"``).
+Every other support, contact and surface the issue lists (rotating or moving planes,
+spheres, convex surfaces ``f(x) = 0``, rolling along a line, prescribed gyrostats and
+time-dependent inertia) is refused with a message that says so — before any work.
+
+Every text a user types is read by :func:`~.expression_text.parse_expression` (no
+``eval``); the checks of :meth:`RollingSystem.__post_init__` run before anything is
+derived: a singular or indefinite inertia tensor, a non-positive mass or radius, a
+centre of mass outside the body, a potential of anything but the orientation, names that
+clash with the state, an unknown support or contact.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import sympy as sp
+
+from .description import MechanicalDescription, form_model
+from .errors import UserInputError
+from .expression_text import parse_expression
+from .model import Model, ParameterSpec
+from .rigid_body import RigidBodyReduction
+from .vectors import cross, dot, vector
+
+__all__ = ["RollingSystem", "SUPPORTS", "CONTACTS", "RESERVED_NAMES"]
+
+#: Supports a description may name, and whether this version derives them.
+SUPPORTS = {
+    "plane": True,
+    "rotating_plane": False,
+    "moving_plane": False,
+    "sphere": False,
+    "surface": False,
+}
+#: Contact conditions, and whether this version derives them.
+CONTACTS = {"rolling": True, "rubber": True, "line": False}
+#: Names a parameter cannot take: the state, the velocities, time and the functions.
+RESERVED_NAMES = frozenset(
+    {f"{n}{i}" for n in ("M", "gamma", "omega", "v", "alpha", "beta") for i in (1, 2, 3)}
+    | {"t", "Delta", "Z", "pi", "E", "I"}
+)
+
+
+def _entries(value: Any, shape: int, what: str) -> list[Any]:
+    if isinstance(value, (str, bytes)) or not isinstance(value, (Sequence, sp.MatrixBase)):
+        raise UserInputError(f"{what}: expected {shape} entries, got {value!r}")
+    items = list(value)
+    if len(items) != shape:
+        raise UserInputError(f"{what}: expected {shape} entries, got {len(items)}")
+    return items
+
+
+def _inertia_entries(value: Any) -> list[list[Any]]:
+    """3 moments (principal axes) or a 3 x 3 matrix, as rows."""
+    if isinstance(value, sp.MatrixBase):
+        if value.shape != (3, 3):
+            raise UserInputError(f"inertia: expected a 3 x 3 matrix, got shape {value.shape}")
+        return [list(value.row(i)) for i in range(3)]
+    rows = _entries(value, 3, "inertia")
+    if all(isinstance(r, (Sequence, sp.MatrixBase)) and not isinstance(r, str) for r in rows):
+        return [_entries(r, 3, f"inertia row {i + 1}") for i, r in enumerate(rows)]
+    return [[rows[i] if i == j else 0 for j in range(3)] for i in range(3)]
+
+
+def _names_in(value: Any) -> set[str]:
+    """The names a typed value uses (read with free names, nothing evaluated)."""
+    if value is None:
+        return set()
+    if isinstance(value, (list, tuple)) or isinstance(value, sp.MatrixBase):
+        return set().union(*(_names_in(v) for v in value)) if len(value) else set()
+    expr = parse_expression(value, {"pi": sp.pi}, "description", free_names=True)
+    return {s.name for s in expr.free_symbols}
+
+
+@dataclass(frozen=True)
+class RollingSystem:
+    """A rigid body rolling on a support, described by its mechanics alone.
+
+    Every number or expression may be given as a Python number, a string (read exactly:
+    ``"0.1"`` is 1/10; names become parameters) or a sympy expression.
+
+    Parameters
+    ----------
+    name : str
+        The system's name (a Python identifier, not a built-in system's name).
+    inertia : 3 numbers/expressions or a 3 x 3 matrix
+        Inertia tensor about the centre of mass, in body axes (3 entries: principal
+        moments). Symmetric and positive definite.
+    mass : number or str, default "m"
+    radius : number or str, default "b"
+        Radius of the body's spherical surface.
+    centre_of_mass : 3 numbers/expressions, default (0, 0, 0)
+        Position of the centre of mass from the sphere's centre, body axes.
+    gravity : number or str, optional
+        Strength ``g`` of a constant field along ``-gamma``; None: no field.
+    gyrostat : 3 numbers/expressions, optional
+        A constant gyrostatic momentum ``K`` (body axes): ``T`` gains ``(K, omega)``.
+    potential : str or sympy.Expr, optional
+        A potential of the orientation: an expression of ``gamma1, gamma2, gamma3`` and
+        the parameters.
+    contact : {"rolling", "rubber"}
+        Rolling without slipping, or without slipping and twisting (``(omega, gamma) =
+        0``).
+    support : {"plane"}
+        The fixed horizontal plane (the other supports are refused in this version).
+    positive : sequence of str, optional
+        Parameters known positive beyond those that are (mass, radius, the diagonal
+        moments and ``g`` when each is a single name).
+    description : str
+        One line saying what the system is.
+
+    Raises
+    ------
+    UserInputError
+        For any of the refusals listed in the module docstring, on construction.
+
+    Examples
+    --------
+    >>> s = RollingSystem("routh_sphere", inertia=("A", "A", "C"), centre_of_mass=(0, 0, "a"),
+    ...                   gravity="g")
+    >>> s.parameter_names
+    ('m', 'b', 'A', 'C', 'a', 'g')
+    """
+
+    name: str
+    inertia: Any
+    mass: Any = "m"
+    radius: Any = "b"
+    centre_of_mass: Any = (0, 0, 0)
+    gravity: Any = None
+    gyrostat: Any = None
+    potential: Any = None
+    contact: str = "rolling"
+    support: str = "plane"
+    positive: Sequence[str] = ()
+    description: str = ""
+    _parsed: dict = field(default=None, init=False, repr=False, compare=False)  # type: ignore[assignment]
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name.isidentifier():
+            raise UserInputError(f"system name must be an identifier, got {self.name!r}")
+        _check_choice("support", self.support, SUPPORTS)
+        _check_choice("contact", self.contact, CONTACTS)
+        object.__setattr__(self, "_parsed", _parse(self))
+
+    # ------------------------------------------------------------------ parsed data
+    @property
+    def parameter_names(self) -> tuple[str, ...]:
+        """The parameters, in order of first appearance (mass, radius, inertia, ...)."""
+        return tuple(s.name for s in self._parsed["parameters"])
+
+    @property
+    def inertia_matrix(self) -> sp.Matrix:
+        """The inertia tensor about the centre of mass (exact sympy)."""
+        return self._parsed["inertia"]
+
+    def fingerprint(self) -> str:
+        """A hash of the parsed description: the key of its derived files in the caches.
+
+        Returns
+        -------
+        str
+            64 hexadecimal digits; equal for descriptions that derive the same model.
+        """
+        p = self._parsed
+        text = "|".join(
+            [
+                self.name,
+                self.support,
+                self.contact,
+                sp.srepr(p["inertia"]),
+                sp.srepr(p["mass"]),
+                sp.srepr(p["radius"]),
+                sp.srepr(p["centre"]),
+                sp.srepr(p["gyrostat"]),
+                sp.srepr(p["potential"]),
+                ",".join(f"{s.name}:{s.is_positive}" for s in p["parameters"]),
+            ]
+        )
+        return hashlib.sha256(text.encode()).hexdigest()
+
+    # ------------------------------------------------------------------ derivation
+    def mechanical_description(self) -> MechanicalDescription:
+        """The description the reduction stage derives the equations of.
+
+        ``T = (omega, I omega)/2 + m (v, v)/2 + (K, omega)`` with ``v`` the centre of
+        mass's velocity; no slip ``v + omega x r = 0`` with ``r = -a - b gamma``; with
+        ``"rubber"`` also ``(omega, gamma) = 0``; ``V = m g (a, gamma) + potential``.
+
+        Returns
+        -------
+        MechanicalDescription
+        """
+        p = self._parsed
+        t = sp.Symbol("t", real=True)
+        omega, v = vector("omega", real=True), vector("v", real=True)
+        gamma = vector("gamma", real=True)
+        names = tuple(s.name for s in p["parameters"])
+        desc = MechanicalDescription(
+            system=self.name,
+            effects=frozenset(),
+            time=t,
+            omega=omega,
+            reduction=RigidBodyReduction(momentum="M", gyrostatic="K"),
+            parameter_order=names,
+            v=v,
+            inertia=p["inertia"],
+            moments=_principal_symbols(p["inertia"]),
+        )
+        m, b, a, K = p["mass"], p["radius"], p["centre"], p["gyrostat"]
+        desc.add_kinetic_energy(m * dot(v, v) / 2 + dot(K, omega))
+        desc.contact_vector = -a - b * gamma
+        for c in v + cross(omega, desc.contact_vector):
+            desc.add_constraint(c)
+        desc.add_state("M", tuple(vector("M", real=True)), None)
+        desc.add_poisson_vector("gamma")
+        if self.contact == "rubber":
+            desc.add_constraint(dot(omega, gamma), reacts_along="gamma")
+        desc.add_potential(p["field"] * m * dot(a, gamma) + p["potential"])
+        for s in p["parameters"]:
+            domain = "positive" if s.is_positive else "real"
+            desc.add_parameter(ParameterSpec(s.name, (s,), domain, _role(s, p)))
+        return desc
+
+    def model(self) -> Model:
+        """Derive the model (not cached; :func:`~.systems.build_model` caches it once the
+        system is registered with :func:`~.systems.register_system`).
+
+        Returns
+        -------
+        Model
+        """
+        return form_model(self.mechanical_description())
+
+
+def _check_choice(what: str, value: object, choices: Mapping[str, bool]) -> None:
+    if value not in choices:
+        raise UserInputError(f"unknown {what} {value!r}; valid: {', '.join(choices)}")
+    if not choices[value]:
+        done = ", ".join(k for k, ok in choices.items() if ok)
+        raise UserInputError(
+            f"{what} {value!r} is not derived by this version of chaplygin (it derives: {done})"
+        )
+
+
+def _parse(s: RollingSystem) -> dict:
+    """Read every field exactly, choose the parameters' assumptions, check the physics."""
+    typed = [s.mass, s.radius, _inertia_entries(s.inertia), s.centre_of_mass, s.gravity]
+    typed += [s.gyrostat, s.potential]
+    names: list[str] = []
+    for value in typed:
+        for n in sorted(_names_in(value)):
+            if n not in names and n not in ("gamma1", "gamma2", "gamma3"):
+                names.append(n)
+    clash = sorted(set(names) & RESERVED_NAMES)
+    if clash:
+        raise UserInputError(f"parameter names {clash} are reserved (state, velocities, time)")
+    positive = set(s.positive) | {
+        str(v).strip()
+        for v in (s.mass, s.radius, s.gravity, *_diagonal(s.inertia))
+        if isinstance(v, str) and str(v).strip().isidentifier()
+    }
+    unknown = sorted(set(s.positive) - set(names))
+    if unknown:
+        raise UserInputError(f"positive names {unknown} are not parameters of the description")
+    symbols = {n: sp.Symbol(n, positive=True) if n in positive else sp.Symbol(n, real=True)
+               for n in names}
+    scope = {**symbols, "pi": sp.pi}
+    read = lambda v, what: parse_expression(v, scope, what)  # noqa: E731
+    rows = _inertia_entries(s.inertia)
+    inertia = sp.Matrix(3, 3, lambda i, j: read(rows[i][j], f"inertia[{i + 1},{j + 1}]"))
+    mass, radius = read(s.mass, "mass"), read(s.radius, "radius")
+    centre = sp.Matrix([read(x, "centre_of_mass") for x in _entries(s.centre_of_mass, 3, "centre_of_mass")])
+    gyrostat = sp.zeros(3, 1) if s.gyrostat is None else sp.Matrix(
+        [read(x, "gyrostat") for x in _entries(s.gyrostat, 3, "gyrostat")]
+    )
+    field_strength = sp.S.Zero if s.gravity is None else read(s.gravity, "gravity")
+    gamma = {f"gamma{i}": sp.Symbol(f"gamma{i}", real=True) for i in (1, 2, 3)}
+    potential = sp.S.Zero if s.potential is None else parse_expression(
+        s.potential, {**scope, **gamma}, "potential"
+    )
+    _check_physics(inertia, mass, radius, centre)
+    parameters = tuple(symbols[n] for n in names)
+    return {
+        "inertia": inertia,
+        "mass": mass,
+        "radius": radius,
+        "centre": centre,
+        "gyrostat": gyrostat,
+        "field": field_strength,
+        "potential": potential,
+        "parameters": parameters,
+        "roles": {"mass": mass, "radius": radius, "gravity": field_strength},
+    }
+
+
+def _diagonal(value: Any) -> list[Any]:
+    try:
+        rows = _inertia_entries(value)
+    except UserInputError:
+        return []
+    return [rows[i][i] for i in range(3)]
+
+
+def _check_physics(inertia: sp.Matrix, mass: sp.Expr, radius: sp.Expr, centre: sp.Matrix) -> None:
+    """Refuse what no body is: every test is exact, and decided only where it can be."""
+    for what, value in (("mass", mass), ("radius", radius)):
+        if value.is_positive is False or value.is_zero:
+            raise UserInputError(f"{what} must be positive, got {value}")
+    asym = (inertia - inertia.T).applyfunc(sp.simplify)
+    if not asym.is_zero_matrix:
+        raise UserInputError("inertia: the tensor is not symmetric")
+    minors = [inertia[:k, :k].det() for k in (1, 2, 3)]
+    if all(sp.sympify(d).is_number for d in minors):
+        if minors[2] == 0:
+            raise UserInputError("inertia: the tensor is singular (determinant 0)")
+        if not inertia.is_positive_definite:
+            raise UserInputError(
+                f"inertia: the tensor is not positive definite (leading minors {minors})"
+            )
+    else:
+        for k, d in enumerate(minors, start=1):
+            if sp.sympify(d).is_nonpositive:
+                raise UserInputError(
+                    f"inertia: the leading {k} x {k} minor {d} is never positive"
+                )
+    distance2 = dot(centre, centre)
+    if distance2.is_number and radius.is_number and distance2 >= radius**2:
+        raise UserInputError(
+            f"centre_of_mass: at distance {sp.sqrt(distance2)} from the centre it is not "
+            f"inside the body of radius {radius}"
+        )
+
+
+def _principal_symbols(inertia: sp.Matrix) -> tuple[sp.Symbol, ...]:
+    """The moments as parameters (``A_i = 1/J_ii`` for exact checks) when the tensor is
+    ``diag(I1, I2, I3)`` of three distinct symbols."""
+    diagonal = [inertia[i, i] for i in range(3)]
+    if inertia.is_diagonal() and all(isinstance(d, sp.Symbol) for d in diagonal):
+        if len(set(diagonal)) == 3:
+            return tuple(diagonal)
+    return ()
+
+
+def _role(symbol: sp.Symbol, parsed: dict) -> str:
+    for role, value in parsed["roles"].items():
+        if value == symbol:
+            return role
+    if symbol in parsed["inertia"].free_symbols:
+        return "inertia tensor entry"
+    if symbol in parsed["centre"].free_symbols:
+        return "centre of mass coordinate"
+    if symbol in parsed["gyrostat"].free_symbols:
+        return "gyrostatic momentum component"
+    return "parameter of the description"

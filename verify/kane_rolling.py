@@ -1,0 +1,248 @@
+"""Cross-check of any described rolling body through ``sympy.physics.mechanics.KanesMethod``.
+
+A :class:`~chaplygin.derive.rolling_system.RollingSystem` is set up again from scratch
+with Kane's method, sharing no code and no formula with the Lagrange–d'Alembert engine
+that derived its model:
+
+* ``N`` inertial, ``N.z`` up, the plane ``z = 0``; the body frame ``B`` oriented by
+  body-fixed 3-2-1 Euler angles ``q1, q2, q3``; the sphere's centre ``O`` at
+  ``x N.x + y N.y + b N.z``; the centre of mass ``G = O + a`` (``a`` fixed in ``B``).
+* Speeds: ``u1, u2, u3`` the *space-frame* components of the angular velocity, ``u4,
+  u5`` the horizontal velocity of ``O``. No slip: the body point at ``P = O - b N.z``
+  has zero horizontal velocity (``u4, u5`` dependent). No twist (``"rubber"``): ``u3 =
+  0`` as a third velocity constraint.
+* Loads: gravity ``-m g N.z`` at ``G``; a potential of the orientation as the torque
+  ``gamma x dV/dgamma`` on ``B`` (the one place a formula is shared: the torque of a
+  potential); a constant gyrostatic momentum ``K`` as a real rotor (a massless body
+  turning about ``e = K/|K|`` relative to ``B`` at the constant rate ``s = |K|/Ia``;
+  the body's own tensor is the given one minus the rotor's).
+
+At exact points of the phase space the model's angular acceleration
+``d omega/d(M, gamma) . (M', gamma')`` is compared with Kane's (body components of
+``C u'``), and the model's momentum ``M`` with sympy's angular momentum about the
+contact point, at :data:`DIGITS` digits: the tolerance is ``10**-(DIGITS - 10)``
+relative, ten digits left to the conditioning of the two linear solves.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import mpmath
+import sympy as sp
+import sympy.physics.mechanics as me
+
+from ..derive.model import Model
+from ..derive.rolling_system import RollingSystem
+
+__all__ = ["KaneComparison", "kane_compare", "DIGITS", "RATIONAL_UNIT_VECTORS"]
+
+#: Working digits of the comparison.
+DIGITS = 40
+#: Exact unit vectors (Pythagorean quadruples) away from the Euler angles' singularity.
+RATIONAL_UNIT_VECTORS = (
+    (sp.Rational(2, 7), sp.Rational(3, 7), sp.Rational(6, 7)),
+    (sp.Rational(-1, 9), sp.Rational(4, 9), sp.Rational(8, 9)),
+    (sp.Rational(6, 11), sp.Rational(-2, 11), sp.Rational(9, 11)),
+    (sp.Rational(-2, 3), sp.Rational(1, 3), sp.Rational(-2, 3)),
+)
+
+
+@dataclass(frozen=True)
+class KaneComparison:
+    """The model against Kane's method at exact points.
+
+    Attributes
+    ----------
+    points : int
+    max_acceleration_error : float
+        Largest ``|omega'_model - omega'_Kane| / (1 + |omega'|)``.
+    max_momentum_error : float
+        Largest ``|M + K - H_P| / (1 + |M + K|)``, ``H_P`` sympy's angular momentum
+        about the contact point (body and rotor), ``K`` the gyrostatic momentum the
+        state leaves out.
+    tolerance : float
+        ``10**-(DIGITS - 10)``.
+    """
+
+    points: int
+    max_acceleration_error: float
+    max_momentum_error: float
+    tolerance: float
+
+    @property
+    def agrees(self) -> bool:
+        """Both errors within the tolerance."""
+        return max(self.max_acceleration_error, self.max_momentum_error) <= self.tolerance
+
+
+def kane_compare(
+    system: RollingSystem,
+    model: Model,
+    values: Mapping[str, object],
+    momenta: Sequence[Sequence[object]] = ((sp.Rational(3, 10), sp.Rational(-7, 10), sp.Rational(11, 10)),),
+) -> KaneComparison:
+    """Compare ``model`` (derived from ``system``) with Kane's method.
+
+    Parameters
+    ----------
+    system : RollingSystem
+    model : Model
+        Its model (any route; the Lagrange–d'Alembert one normally).
+    values : mapping of str to number
+        A value of every parameter (exact: rationals; strings are read exactly).
+    momenta : sequence of 3 numbers
+        Momentum components; with ``"rubber"`` the third is solved from the invariant
+        relation. Each is paired with each of :data:`RATIONAL_UNIT_VECTORS`.
+
+    Returns
+    -------
+    KaneComparison
+    """
+    pvals = {s: sp.Rational(str(values[s.name])) for s in model.params}
+    kane = _KaneRolling(system, pvals)
+    omega_of_x = model.expand_aux(model.omega).xreplace(pvals)
+    rhs = model.rhs_expanded.xreplace(pvals)
+    jac = omega_of_x.jacobian(sp.Matrix(model.state))  # evaluated at exact points below
+    relations = [model.expand_aux(e).xreplace(pvals) for _, e in model.invariant_relations]
+    M = sp.Matrix(model.group("M"))
+    gyro = system._parsed["gyrostat"].xreplace(pvals)
+    g = sp.Matrix(model.group("gamma"))
+    worst_acc = worst_mom = 0.0
+    count = 0
+    for m0 in momenta:
+        for gamma in RATIONAL_UNIT_VECTORS:
+            point = {**dict(zip(g, gamma, strict=True)), **dict(zip(M, m0, strict=True))}
+            if relations:
+                point.pop(M[2])
+                rel = relations[0].xreplace(point)
+                (m3,) = sp.solve(sp.numer(sp.together(rel)), M[2])
+                point[M[2]] = m3
+            w = [omega_of_x[i].xreplace(point) for i in range(3)]
+            J, F = jac.xreplace(point), rhs.xreplace(point)
+            ours = list(J * F)
+            theirs, momentum = kane.at(gamma, w)
+            worst_acc = max(worst_acc, _relative(ours, theirs))
+            total = [point[M[i]] + gyro[i] for i in range(3)]  # the state leaves K out
+            worst_mom = max(worst_mom, _relative(total, momentum))
+            count += 1
+    return KaneComparison(count, worst_acc, worst_mom, 10.0 ** -(DIGITS - 10))
+
+
+def _relative(a: Sequence[object], b: Sequence[object]) -> float:
+    with mpmath.workdps(DIGITS):
+        x = [mpmath.mpf(sp.Float(v, DIGITS)) if not isinstance(v, mpmath.mpf) else v for v in a]
+        y = [mpmath.mpf(sp.Float(v, DIGITS)) if not isinstance(v, mpmath.mpf) else v for v in b]
+        diff = mpmath.sqrt(sum((p - q) ** 2 for p, q in zip(x, y, strict=True)))
+        scale = 1 + mpmath.sqrt(sum(p**2 for p in x))
+        return float(diff / scale)
+
+
+class _KaneRolling:
+    """Kane's equations of the described body, parameters substituted (exact)."""
+
+    def __init__(self, system: RollingSystem, pvals: Mapping[sp.Symbol, sp.Expr]) -> None:
+        sub = {s: v for s, v in pvals.items()}
+        q = list(me.dynamicsymbols("q1 q2 q3 x y"))
+        u = list(me.dynamicsymbols("u1 u2 u3 u4 u5"))
+        t = me.dynamicsymbols._t
+        N, B = me.ReferenceFrame("N"), me.ReferenceFrame("B")
+        B.orient_body_fixed(N, tuple(q[:3]), "zyx")
+        w_q = B.ang_vel_in(N)
+        implicit = [w_q.dot(N.x) - u[0], w_q.dot(N.y) - u[1], w_q.dot(N.z) - u[2]]
+        # solved for the Euler rates (only 1/cos(q2), the 3-2-1 singularity, is left; the
+        # implicit form LU-solved by KanesMethod divides by spurious factors)
+        rates = [s.diff(t) for s in q[:3]]
+        solved = sp.solve(implicit, rates, dict=True)[0]
+        kd = [r - sp.simplify(solved[r]) for r in rates]
+        kd += [q[3].diff(t) - u[3], q[4].diff(t) - u[4]]
+        B.set_ang_vel(N, u[0] * N.x + u[1] * N.y + u[2] * N.z)
+        p = system._parsed
+        m, b = p["mass"].xreplace(sub), p["radius"].xreplace(sub)
+        a = p["centre"].xreplace(sub)
+        inertia = p["inertia"].xreplace(sub)
+        origin = me.Point("origin")
+        origin.set_vel(N, 0)
+        O = origin.locatenew("O", q[3] * N.x + q[4] * N.y + b * N.z)
+        O.set_vel(N, u[3] * N.x + u[4] * N.y)
+        G = O.locatenew("G", a[0] * B.x + a[1] * B.y + a[2] * B.z)
+        G.v2pt_theory(O, N, B)
+        P = O.locatenew("P", -b * N.z)
+        P.v2pt_theory(O, N, B)
+        constraints = [P.vel(N).dot(N.x), P.vel(N).dot(N.y)]
+        dependent = [u[3], u[4]]
+        if system.contact == "rubber":
+            constraints.append(u[2])
+            dependent = [u[2], u[3], u[4]]
+        dyadic = sum(
+            (inertia[i, j] * (e_i | e_j) for i, e_i in enumerate((B.x, B.y, B.z))
+             for j, e_j in enumerate((B.x, B.y, B.z))),
+            me.Dyadic(0),
+        )
+        bodies = []
+        K = p["gyrostat"].xreplace(sub)
+        if not K.is_zero_matrix:
+            size = sp.sqrt(sum(k**2 for k in K))
+            e = (K[0] * B.x + K[1] * B.y + K[2] * B.z) / size
+            Ia, It = sp.Integer(1), sp.Rational(1, 2)
+            R = me.ReferenceFrame("R")
+            R.set_ang_vel(B, size / Ia * e)
+            rotor = Ia * (e | e) + It * (me.inertia(B, 1, 1, 1) - (e | e))
+            dyadic = dyadic - rotor
+            bodies.append(me.RigidBody("rotor", G, R, 0, (rotor, G)))
+        bodies.insert(0, me.RigidBody("body", G, B, m, (dyadic, G)))
+        gamma_B = sp.Matrix([N.z.dot(B.x), N.z.dot(B.y), N.z.dot(B.z)])
+        loads = []
+        g_field = p["field"].xreplace(sub)
+        if g_field != 0:
+            loads.append((G, -m * g_field * N.z))
+        V = p["potential"].xreplace(sub)
+        if V != 0:
+            gs = sp.symbols("gamma1:4", real=True)
+            grad = sp.Matrix([sp.diff(V, s) for s in gs]).xreplace(dict(zip(gs, gamma_B)))
+            tau = gamma_B.cross(grad)
+            loads.append((B, tau[0] * B.x + tau[1] * B.y + tau[2] * B.z))
+        independent = [s for s in u if s not in dependent]
+        kane = me.KanesMethod(
+            N, q_ind=q, u_ind=independent, u_dependent=dependent, kd_eqs=kd,
+            velocity_constraints=constraints,
+        )
+        kane.kanes_equations(bodies, loads)
+        dep = sp.solve(constraints, dependent, dict=True)[0]
+        H = sum((body.angular_momentum(P, N) for body in bodies), me.Vector(0))
+        H_B = sp.Matrix([H.dot(B.x), H.dot(B.y), H.dot(B.z)]).xreplace(dep)
+        C = sp.Matrix(3, 3, lambda i, j: (B.x, B.y, B.z)[i].dot((N.x, N.y, N.z)[j]))
+        args = (q, u)
+        self._mass = sp.lambdify(args, kane.mass_matrix, modules="mpmath")
+        self._forcing = sp.lambdify(args, kane.forcing, modules="mpmath")
+        self._momentum = sp.lambdify(args, H_B, modules="mpmath")
+        self._C = sp.lambdify(args, C, modules="mpmath")
+        self._dep = sp.lambdify(args, sp.Matrix([dep[s] for s in dependent]), modules="mpmath")
+        self._order = [str(s.func) for s in kane.u]
+        self._dependent = [str(s.func) for s in dependent]
+
+    def at(self, gamma: Sequence[sp.Expr], omega_body: Sequence[sp.Expr]):
+        """Kane's angular acceleration (body components) and momentum about the contact."""
+        with mpmath.workdps(DIGITS):
+            g = [mpmath.mpf(sp.Float(x, DIGITS)) for x in gamma]
+            q2 = -mpmath.asin(g[0])
+            q3 = mpmath.atan2(g[1], g[2])
+            q = [mpmath.mpf("0.3"), q2, q3, mpmath.mpf(0), mpmath.mpf(0)]
+            C = mpmath.matrix(self._C(q, [0] * 5))
+            wb = mpmath.matrix([mpmath.mpf(sp.Float(x, DIGITS)) for x in omega_body])
+            ws = C.T * wb  # space components
+            u = [ws[0], ws[1], ws[2], mpmath.mpf(0), mpmath.mpf(0)]
+            dep = self._dep(q, u)
+            for name, value in zip(self._dependent, dep, strict=True):
+                if name in ("u4", "u5"):
+                    u[int(name[1:]) - 1] = value
+            A = mpmath.matrix(self._mass(q, u))
+            f = mpmath.matrix(self._forcing(q, u))
+            solved = mpmath.lu_solve(A, f)
+            udot = [mpmath.mpf(0)] * 5
+            for name, value in zip(self._order, solved, strict=True):
+                udot[int(name[1:]) - 1] = value
+            acc = C * mpmath.matrix(udot[:3])
+            momentum = self._momentum(q, u)
+            return [acc[i] for i in range(3)], [momentum[i] for i in range(3)]
