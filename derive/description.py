@@ -177,6 +177,9 @@ class MechanicalDescription:
         includes ``k(t)``, BM20-2.2); zero when the state is ``II omega``.
     contact_vector : sympy.Matrix or None
         From the centre to the contact point.
+    centre_offset : sympy.Matrix or None, shape (3, 1)
+        From the reference point of ``v`` (the centre of mass) to the centre of the
+        body's spherical surface, when they differ (None: the same point).
     bodies : list of (sympy.Matrix, sympy.Matrix, sympy.Symbol, sympy.Symbol)
         Further bodies (the support's balls): angular velocity, contact direction, moment
         of inertia, radius ratio.
@@ -211,6 +214,7 @@ class MechanicalDescription:
     phase_space: list[sp.Expr] = field(default_factory=list)
     momentum_in_state: sp.Matrix = field(default_factory=lambda: sp.zeros(3, 1))
     contact_vector: sp.Matrix | None = None
+    centre_offset: sp.Matrix | None = None
     bodies: list[tuple[sp.Matrix, sp.Matrix, sp.Symbol, sp.Symbol]] = field(default_factory=list)
     references: dict[str, str] = field(default_factory=dict)
     effect_references: dict[str, dict[str, str]] = field(default_factory=dict)

@@ -29,7 +29,7 @@ import sympy as sp
 from .declaration import Constraint, Declaration, StateGroup
 from .errors import UserInputError
 from .model import ParameterSpec
-from .vectors import dot, vector
+from .vectors import cross, dot, vector
 
 if TYPE_CHECKING:  # pragma: no cover
     from .description import MechanicalDescription
@@ -155,14 +155,23 @@ class ContactPoint(Effect):
         b = sp.Symbol("b", positive=True)
         x, y = sp.symbols("x y", real=True)
         # The contact point lies under the centre: its horizontal coordinates move with
-        # the centre velocity projected on the space-fixed axes (BKM12-6).
+        # the centre velocity projected on the space-fixed axes (BKM12-6). The reference
+        # point of v is the centre of mass; a body whose centre of mass is off the
+        # sphere's centre adds omega x (centre - centre of mass).
+        centre = desc.v
+        if desc.centre_offset is not None:
+            centre = desc.v + cross(desc.omega, desc.centre_offset)
+        # the radius is a parameter here unless the description has it already (or a
+        # number): the ball's own parameters are I and D = m b^2 only
+        contact = desc.contact_vector
+        needs_b = contact is not None and b in contact.free_symbols and "b" not in desc.parameters
         return Declaration(
             poisson_vectors=("alpha", "beta"),
             states=(
-                StateGroup("x", (x,), (dot(desc.v, _ALPHA),)),
-                StateGroup("y", (y,), (dot(desc.v, _BETA),)),
+                StateGroup("x", (x,), (dot(centre, _ALPHA),)),
+                StateGroup("y", (y,), (dot(centre, _BETA),)),
             ),
-            parameters=(ParameterSpec("b", (b,), "positive", "ball radius"),),
+            parameters=(ParameterSpec("b", (b,), "positive", "ball radius"),) if needs_b else (),
             # a state given without the frame gets BKM12-7's; the contact point starts at 0
             completion=((("alpha", "beta"), "frame_bkm12_7"), (("x",), "zero"), (("y",), "zero")),
         )

@@ -342,13 +342,30 @@ def potential_torque(potential: sp.Expr, desc: MechanicalDescription) -> sp.Matr
 def _omega_by_adjugate(
     II: sp.Matrix, M_kinetic: sp.Matrix, omega: sp.Matrix
 ) -> tuple[list[tuple[sp.Symbol, sp.Expr]], object]:
-    """``omega = adj(II) M / det(II)`` with ``det(II)`` an auxiliary ``Delta``; and
+    """``omega = adj(II) M / det(II)``: ``det(II)`` and the entries of the adjugate are
+    auxiliary definitions (``Delta``, ``Adj11`` ...: functions of the configuration
+    alone, so that the emitted code and its Taylor decomposition stay small); and
     ``u -> II^-1 u`` for the multipliers."""
     delta = sp.Symbol("Delta", real=True)
     det = sp.factor(II.det())
-    adj = II.adjugate().applyfunc(sp.expand)
+    adjugate = II.adjugate().applyfunc(sp.expand)
+    symmetric = (adjugate - adjugate.T).is_zero_matrix
+    names = {}
+    aux = [(delta, det)]
+    for i in range(3):
+        for j in range(3):
+            if symmetric and j < i:
+                names[i, j] = names[j, i]
+                continue
+            if adjugate[i, j] == 0:
+                names[i, j] = sp.S.Zero
+                continue
+            symbol = sp.Symbol(f"Adj{i + 1}{j + 1}", real=True)
+            names[i, j] = symbol
+            aux.append((symbol, adjugate[i, j]))
+    adj = sp.Matrix(3, 3, lambda i, j: names[i, j])
     omega_val = (adj * M_kinetic).applyfunc(lambda e: sp.expand(e) / delta)
-    aux = [(delta, det)] + [(omega[i], omega_val[i]) for i in range(3)]
+    aux += [(omega[i], omega_val[i]) for i in range(3)]
 
     def apply_inverse(u: sp.Matrix) -> sp.Matrix:
         return (adj * u).applyfunc(lambda e: sp.expand(e) / delta)

@@ -39,14 +39,18 @@ from typing import Any
 
 import sympy as sp
 
-from .description import MechanicalDescription, form_model
+from .description import MechanicalDescription, apply_effects, form_model
+from .effects import parse_effects
 from .errors import UserInputError
 from .expression_text import parse_expression
 from .model import Model, ParameterSpec
 from .rigid_body import RigidBodyReduction
 from .vectors import cross, dot, vector
 
-__all__ = ["RollingSystem", "SUPPORTS", "CONTACTS", "RESERVED_NAMES"]
+__all__ = ["RollingSystem", "SUPPORTS", "CONTACTS", "RESERVED_NAMES", "SUPPORTED_EFFECTS"]
+
+#: Effects a described system takes (the frame and the contact point, for traces).
+SUPPORTED_EFFECTS = ("contact_point",)
 
 #: Supports a description may name, and whether this version derives them.
 SUPPORTS = {
@@ -61,6 +65,8 @@ CONTACTS = {"rolling": True, "rubber": True, "line": False}
 #: Names a parameter cannot take: the state, the velocities, time and the functions.
 RESERVED_NAMES = frozenset(
     {f"{n}{i}" for n in ("M", "gamma", "omega", "v", "alpha", "beta") for i in (1, 2, 3)}
+    | {"x", "y"}
+    | {f"Adj{i}{j}" for i in (1, 2, 3) for j in (1, 2, 3)}
     | {"t", "Delta", "Z", "pi", "E", "I"}
 )
 
@@ -204,17 +210,31 @@ class RollingSystem:
         return hashlib.sha256(text.encode()).hexdigest()
 
     # ------------------------------------------------------------------ derivation
-    def mechanical_description(self) -> MechanicalDescription:
+    def mechanical_description(
+        self, effects: frozenset[str] | Sequence[str] = ()
+    ) -> MechanicalDescription:
         """The description the reduction stage derives the equations of.
 
         ``T = (omega, I omega)/2 + m (v, v)/2 + (K, omega)`` with ``v`` the centre of
         mass's velocity; no slip ``v + omega x r = 0`` with ``r = -a - b gamma``; with
         ``"rubber"`` also ``(omega, gamma) = 0``; ``V = m g (a, gamma) + potential``.
 
+        Parameters
+        ----------
+        effects : iterable of str, optional
+            Any of :data:`SUPPORTED_EFFECTS` (``"contact_point"``: the space-fixed frame
+            ``alpha, beta`` and the contact point ``x, y``, for traces in the plane).
+
         Returns
         -------
         MechanicalDescription
+
+        Raises
+        ------
+        UserInputError
+            An effect a described system does not take.
         """
+        effects = parse_effects(effects, SUPPORTED_EFFECTS)
         p = self._parsed
         t = sp.Symbol("t", real=True)
         omega, v = vector("omega", real=True), vector("v", real=True)
@@ -222,7 +242,7 @@ class RollingSystem:
         names = tuple(s.name for s in p["parameters"])
         desc = MechanicalDescription(
             system=self.name,
-            effects=frozenset(),
+            effects=effects,
             time=t,
             omega=omega,
             reduction=RigidBodyReduction(momentum="M", gyrostatic="K"),
@@ -234,6 +254,7 @@ class RollingSystem:
         m, b, a, K = p["mass"], p["radius"], p["centre"], p["gyrostat"]
         desc.add_kinetic_energy(m * dot(v, v) / 2 + dot(K, omega))
         desc.contact_vector = -a - b * gamma
+        desc.centre_offset = -a
         for c in v + cross(omega, desc.contact_vector):
             desc.add_constraint(c)
         desc.add_state("M", tuple(vector("M", real=True)), None)
@@ -244,17 +265,23 @@ class RollingSystem:
         for s in p["parameters"]:
             domain = "positive" if s.is_positive else "real"
             desc.add_parameter(ParameterSpec(s.name, (s,), domain, _role(s, p)))
+        apply_effects(desc, effects, SUPPORTED_EFFECTS)
         return desc
 
-    def model(self) -> Model:
+    def model(self, effects: frozenset[str] | Sequence[str] = ()) -> Model:
         """Derive the model (not cached; :func:`~.systems.build_model` caches it once the
         system is registered with :func:`~.systems.register_system`).
+
+        Parameters
+        ----------
+        effects : iterable of str, optional
+            Any of :data:`SUPPORTED_EFFECTS`.
 
         Returns
         -------
         Model
         """
-        return form_model(self.mechanical_description())
+        return form_model(self.mechanical_description(effects))
 
 
 def _check_choice(what: str, value: object, choices: Mapping[str, bool]) -> None:

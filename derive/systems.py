@@ -26,7 +26,7 @@ from .cachefiles import cache_root, read_signed, write_signed
 from .effects import parse_effects
 from .errors import UserInputError
 from .model import Model
-from .rolling_system import RollingSystem
+from .rolling_system import SUPPORTED_EFFECTS, RollingSystem
 
 __all__ = [
     "System",
@@ -359,11 +359,11 @@ def register_system(description: RollingSystem) -> System:
         raise UserInputError(f"system name {name!r} is taken by {what}; choose another name")
     entry = System(
         name,
-        lambda effects, _d=description: _d.model(),
-        (),
+        lambda effects, _d=description: _d.model(effects),
+        SUPPORTED_EFFECTS,
         (),
         description.description or f"described rolling system {name}",
-        lambda effects, _d=description: _d.mechanical_description().input_signature(),
+        lambda effects, _d=description: _d.mechanical_description(effects).input_signature(),
         description.fingerprint(),
     )
     SYSTEMS[name] = entry

@@ -181,6 +181,54 @@ class Run(_Table):
     )
 
 
+TypedValue = StrictInt | StrictFloat | Annotated[StrictStr, Field(max_length=2000)]
+
+
+class SystemTable(_Table):
+    """A rolling system described in the scene (``[system]``): see
+    :class:`chaplygin.derive.rolling_system.RollingSystem`. Texts are expressions read
+    without ``eval``; names in them become parameters (give their values in
+    ``[parameters]``)."""
+
+    name: Annotated[StrictStr, Field(max_length=100)] = Field(
+        description="the system's name (an identifier, not a built-in system's)"
+    )
+    inertia: list[TypedValue] | list[list[TypedValue]] = Field(
+        description="inertia tensor about the centre of mass, body axes: 3 principal "
+        "moments or a 3 x 3 symmetric positive-definite matrix"
+    )
+    mass: TypedValue = "m"
+    radius: TypedValue = Field("b", description="radius of the body's spherical surface")
+    centre_of_mass: list[TypedValue] = Field(
+        [0, 0, 0], description="centre of mass from the sphere's centre, body axes"
+    )
+    gravity: TypedValue | None = Field(None, description="g of a constant field along -gamma")
+    gyrostat: list[TypedValue] | None = Field(None, description="constant gyrostatic momentum")
+    potential: Annotated[StrictStr, Field(max_length=2000)] | None = Field(
+        None, description="potential of the orientation: an expression of gamma1..gamma3"
+    )
+    contact: Literal["rolling", "rubber", "line"] = "rolling"
+    support: Literal["plane", "rotating_plane", "moving_plane", "sphere", "surface"] = "plane"
+    positive: list[StrictStr] = Field(default_factory=list)
+    description: Annotated[StrictStr, Field(max_length=500)] = ""
+
+    def rolling_system(self):
+        """The :class:`~chaplygin.derive.rolling_system.RollingSystem` of this table.
+
+        Returns
+        -------
+        RollingSystem
+
+        Raises
+        ------
+        UserInputError
+            A description the toolkit refuses (see the class).
+        """
+        from ...derive.rolling_system import RollingSystem
+
+        return RollingSystem(**self.model_dump())
+
+
 class Initial(BaseModel):
     """The initial state: by state groups (``M``, ``gamma``, ...) or by integrals.
 
@@ -234,7 +282,9 @@ class Scene(BaseModel):
         description="shown on the plots and in the summary (at most 500 characters); "
         "{initial.h} (any dotted key) shows that key's value as run, {{ }} are braces",
     )
-    system: Literal[tuple(sorted(SYSTEMS))]  # type: ignore[valid-type]
+    system: Literal[tuple(sorted(SYSTEMS))] | SystemTable = Field(  # type: ignore[valid-type]
+        description="a built-in system's name, or a [system] table describing a rolling body"
+    )
     effects: list[StrictStr] = Field(
         default_factory=list,
         description="effects the scene names; those its outputs need are added and reported",
@@ -256,6 +306,16 @@ class Scene(BaseModel):
 
     @model_validator(mode="after")
     def _effects_of_system(self) -> Scene:
+        if isinstance(self.system, SystemTable):
+            # a described system: derived, emitted and compiled on first use under its name
+            from ...derive.systems import register_system
+
+            try:
+                entry = register_system(self.system.rolling_system())
+            except UserInputError as exc:
+                raise KeyProblem(("system",), str(exc)) from None
+            self._described = self.system
+            object.__setattr__(self, "system", entry.name)  # the name from here on
         supported = SYSTEMS[self.system].effects
         for i, e in enumerate(self.effects):
             if e not in supported:
@@ -267,6 +327,7 @@ class Scene(BaseModel):
         return self
 
     # private, set by the loaders
+    _described: SystemTable | None = None  # the [system] table of a described system
     _source: str | None = None
     _given: dict = {}
     _text: str | None = None  # the file's text, lines of --set keys blanked
