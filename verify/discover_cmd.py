@@ -33,13 +33,17 @@ def run(args: argparse.Namespace) -> int:
 
     from .discover import discover
 
+    system = args.system
+    if system.endswith(".toml"):
+        system = described_system(system)
     found = discover(
-        args.system,
+        system,
         args.effects or (),
         degree=args.degree,
         coefficient_degree=args.coefficient_degree,
         momentum=args.momentum,
         in_parameters=args.in_parameters,
+        densities=args.densities,
     )
     if args.json:
         print(json_text(found.as_dict()))
@@ -56,6 +60,17 @@ def run(args: argparse.Namespace) -> int:
             f"({s.monomials} monomials, {s.equations} equations), dimension {s.dimension}"
         )
         stages = ", ".join(f"{k} {v:.2f} s" for k, v in s.stage_seconds.items())
+        density = found.density_dict()
+        if density is not None:
+            family = ", ".join(density["family"]) or "no factor"
+            print(f"invariant densities prod |g_j|^(a_j) over g_j in: {family}")
+            if density["density"] is not None:
+                print(f"  rho = {density['density']}")
+                print(f"       {density['verdict']} ({density['method']})")
+            else:
+                print(f"  none: {density['none']}")
+            for v in density["directions"]:
+                print(f"  times any power of the integral with exponents ({', '.join(v)})")
         print(f"time {found.seconds:.2f} s (search {s.seconds:.2f} s: {stages})")
     return EXIT_OK if found.all_proved else EXIT_FAILED
 
@@ -77,7 +92,11 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
         "discover",
         help="find every polynomial first integral of a stated class, exactly, and prove it",
     )
-    p.add_argument("system", help="system name, e.g. chaplygin_ball")
+    p.add_argument(
+        "system",
+        help="system name, e.g. chaplygin_ball, or a TOML file with a [system] table "
+        "(a scene or a description file)",
+    )
     p.add_argument(
         "--effects", default=None, help="comma-separated effects, e.g. gyrostat or rubber"
     )
@@ -98,5 +117,48 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
         action="store_true",
         help="coefficients rational functions of the parameters (default rational numbers)",
     )
+    p.add_argument(
+        "--densities",
+        action="store_true",
+        help="also search invariant densities (powers of the denominators' factors)",
+    )
     p.add_argument("--json", action="store_true", help="the result as JSON")
     return p
+
+
+def described_system(path: str):
+    """The :class:`~chaplygin.derive.rolling_system.RollingSystem` of a TOML file's
+    ``[system]`` table (a scene file or a file holding only the table).
+
+    Parameters
+    ----------
+    path : str
+
+    Returns
+    -------
+    RollingSystem
+
+    Raises
+    ------
+    UserInputError
+        An unreadable file, TOML syntax, no ``[system]`` table, a bad description.
+    """
+    from pydantic import ValidationError
+
+    from ..derive.errors import UserInputError
+    from .scene.reading import parse_toml, read_scene_file
+    from .scene.schema import SystemTable
+
+    try:
+        text = read_scene_file(path).decode("utf-8")
+    except UnicodeDecodeError:
+        raise UserInputError(f"{path}: not UTF-8 text") from None
+    table = parse_toml(text, path).get("system")
+    if not isinstance(table, dict):
+        raise UserInputError(f"{path}: no [system] table (a described rolling system)")
+    try:
+        return SystemTable.model_validate(table).rolling_system()
+    except ValidationError as exc:
+        first = exc.errors()[0]
+        where = ".".join(str(k) for k in first["loc"])
+        raise UserInputError(f"{path}: system.{where}: {first['msg']}") from None
