@@ -35,12 +35,12 @@ statement this module solves for (and the one the models' ``density`` fields sta
 dM dgamma / d(omega, gamma)``" for the rubber ball). The level-set property is an input, not
 checked here: the verifier proves it for the shipped models.
 
-The solve is exact and certified. Rows are chosen at a seeded rational value of the
+The solve is exact and certified. Rows are picked at a seeded rational value of the
 parameters (a maximal independent set of ``[A | b]``), the small system on those rows is
 solved over ``QQ(parameters)``, and every candidate (a particular solution, each basis
 vector of the homogeneous solutions) is checked against *every* row exactly; a row that
-fails joins the chosen ones and the solve repeats. "None in this family" is the statement
-``rank [A | b] = rank A + 1``: a non-zero minor of the chosen rows bounds the first rank from
+fails joins the picked ones and the solve repeats. "None in this family" is the statement
+``rank [A | b] = rank A + 1``: a non-zero minor of the picked rows bounds the first rank from
 below, and the homogeneous solutions, verified on all rows, fix ``rank A``. Both ranks are
 over ``QQ(parameters)``: the statement holds for generic parameters (special values, a
 symmetric body say, can have more).
@@ -66,7 +66,7 @@ from .model import Model
 
 __all__ = ["DensitySearch", "find_invariant_densities"]
 
-#: Seed of the rational parameter values at which the rows of the linear system are chosen.
+#: Seed of the rational parameter values at which the rows of the linear system are picked.
 ROW_CHOICE_SEED = 20240624
 
 
@@ -359,27 +359,27 @@ def _relation_solution(model, builder, inverse, constraints):
                 f"{model.relation_unknowns}"
             )
         rows.append((coeffs, num))
-    for chosen in itertools.combinations(reversed(range(len(unknowns))), len(rows)):
-        chosen = sorted(chosen)
-        square = [[coeffs[k] for k in chosen] for coeffs, _ in rows]
-        # the relation minus its terms in the chosen unknowns (the others stay free)
+    for picked in itertools.combinations(reversed(range(len(unknowns))), len(rows)):
+        picked = sorted(picked)
+        square = [[coeffs[k] for k in picked] for coeffs, _ in rows]
+        # the relation minus its terms in the picked unknowns (the others stay free)
         rows_rest = []
         for coeffs, num in rows:
             rest = num
-            for k in chosen:
+            for k in picked:
                 rest = rest - coeffs[k] * ring.gens[unknowns[k]]
             rows_rest.append((coeffs, rest))
         denominator = _determinant(square)
         if ring_normal_form(denominator, constraints, builder).is_zero:
             continue
         solved = []
-        for col in range(len(chosen)):
+        for col in range(len(picked)):
             replaced = [
-                [(-rest if k == col else row[k]) for k in range(len(chosen))]
+                [(-rest if k == col else row[k]) for k in range(len(picked))]
                 for row, (_, rest) in zip(square, rows_rest, strict=True)
             ]
             solved.append(_determinant(replaced))
-        indices = tuple(unknowns[k] for k in chosen)
+        indices = tuple(unknowns[k] for k in picked)
         for _, num in rows:  # a self-check: the relations hold after the substitution
             sub = _substitute(num, indices, solved, denominator, _max_degree(num, indices))
             if not ring_normal_form(sub, constraints, builder).is_zero:
@@ -539,7 +539,7 @@ class _Solution:
 def _independent_rows(values: list[list], limit: int) -> list[int]:
     """Indices of a maximal set of independent rows (exact, over QQ), in order."""
     basis: list[tuple[int, list]] = []  # (pivot column, reduced row)
-    chosen = []
+    picked = []
     for index, row in enumerate(values):
         row = list(row)
         for col, b in basis:
@@ -549,10 +549,10 @@ def _independent_rows(values: list[list], limit: int) -> list[int]:
         pivot = next((c for c, x in enumerate(row) if x), None)
         if pivot is not None:
             basis.append((pivot, row))
-            chosen.append(index)
-            if len(chosen) == limit:
+            picked.append(index)
+            if len(picked) == limit:
                 break
-    return chosen
+    return picked
 
 
 def _primitive(vector: list, domain) -> list:
@@ -576,7 +576,7 @@ def _failing_row(full: DomainMatrix, vector: list) -> int | None:
 def _solve(rows: list[list], n: int, domain) -> _Solution:
     """The affine solution space of ``A a = b`` (``rows`` are ``[A | -b]``), certified.
 
-    Fraction-free: the null spaces of the chosen rows are computed over the polynomial
+    Fraction-free: the null spaces of the picked rows are computed over the polynomial
     ring of the parameters (no gcds), a solution ``(a, 1)`` is a null vector ``v`` of
     ``[A | -b]`` with ``v_n != 0`` divided by ``v_n``, and every candidate is checked
     against all rows by polynomial products.
@@ -585,12 +585,12 @@ def _solve(rows: list[list], n: int, domain) -> _Solution:
     gens = domain.ring.gens if domain != QQ else ()
     point = [QQ(rng.randint(1, 97), rng.randint(1, 89)) for _ in gens]
     values = [[c(*point) if gens else c for c in row] for row in rows]
-    chosen = _independent_rows(values, n + 1)
+    picked = _independent_rows(values, n + 1)
     full = DomainMatrix(rows, (len(rows), n + 1), domain)
     coefficients = full.extract(list(range(len(rows))), list(range(n)))
     while True:
-        sub = full.extract(chosen, list(range(n + 1)))
-        null = coefficients.extract(chosen, list(range(n))).nullspace().to_list()
+        sub = full.extract(picked, list(range(n + 1)))
+        null = coefficients.extract(picked, list(range(n))).nullspace().to_list()
         null = [_primitive(v, domain) for v in null]
         augmented = [_primitive(v, domain) for v in sub.nullspace().to_list()]
         homogeneous = next((v for v in augmented if v[n]), None)
@@ -604,9 +604,9 @@ def _solve(rows: list[list], n: int, domain) -> _Solution:
                 break
         if failing is None:
             break
-        if failing in chosen:  # cannot happen for an exact solve of the chosen rows
+        if failing in picked:  # cannot happen for an exact solve of the picked rows
             raise DerivationError("density search: the exact solve disagrees with its rows")
-        chosen.append(failing)
+        picked.append(failing)
     field = domain.get_field()
     particular = None
     if homogeneous is not None:
@@ -614,7 +614,7 @@ def _solve(rows: list[list], n: int, domain) -> _Solution:
         particular = [field.convert_from(x, domain) / last for x in homogeneous[:n]]
     null_field = [[field.convert_from(x, domain) for x in v] for v in null]
     rank = n - len(null)
-    return _Solution(particular, null_field, rank, rank + (particular is None), len(chosen))
+    return _Solution(particular, null_field, rank, rank + (particular is None), len(picked))
 
 
 def _sorted_factors(factors) -> list:

@@ -62,6 +62,8 @@ SUPPORTS = {
 }
 #: Contact conditions, and whether this version derives them.
 CONTACTS = {"rolling": True, "rubber": True, "line": False}
+#: The space-fixed vectors a contact forbids spinning about (rubber: the normal).
+_NO_SPIN_ABOUT = {"rolling": (), "rubber": ("gamma",)}
 #: Names a parameter cannot take: the state, the velocities, time and the functions.
 RESERVED_NAMES = frozenset(
     {f"{n}{i}" for n in ("M", "gamma", "omega", "v", "alpha", "beta") for i in (1, 2, 3)}
@@ -202,7 +204,7 @@ class RollingSystem:
                 sp.srepr(p["mass"]),
                 sp.srepr(p["radius"]),
                 sp.srepr(p["centre"]),
-                sp.srepr(p["gyrostat"]),
+                sp.srepr(p["rotor_momentum"]),
                 sp.srepr(p["potential"]),
                 ",".join(f"{s.name}:{s.is_positive}" for s in p["parameters"]),
             ]
@@ -251,7 +253,7 @@ class RollingSystem:
             inertia=p["inertia"],
             moments=_principal_symbols(p["inertia"]),
         )
-        m, b, a, K = p["mass"], p["radius"], p["centre"], p["gyrostat"]
+        m, b, a, K = p["mass"], p["radius"], p["centre"], p["rotor_momentum"]
         desc.add_kinetic_energy(m * dot(v, v) / 2 + dot(K, omega))
         desc.contact_vector = -a - b * gamma
         desc.centre_offset = -a
@@ -259,8 +261,8 @@ class RollingSystem:
             desc.add_constraint(c)
         desc.add_state("M", tuple(vector("M", real=True)), None)
         desc.add_poisson_vector("gamma")
-        if self.contact == "rubber":
-            desc.add_constraint(dot(omega, gamma), reacts_along="gamma")
+        for along in _NO_SPIN_ABOUT[self.contact]:  # no twist: (omega, gamma) = 0
+            desc.add_constraint(dot(omega, desc.vectors[along]), reacts_along=along)
         desc.add_potential(p["field"] * m * dot(a, gamma) + p["potential"])
         for s in p["parameters"]:
             domain = "positive" if s.is_positive else "real"
@@ -314,21 +316,28 @@ def _parse(s: RollingSystem) -> dict:
     unknown = sorted(set(s.positive) - set(names))
     if unknown:
         raise UserInputError(f"positive names {unknown} are not parameters of the description")
-    symbols = {n: sp.Symbol(n, positive=True) if n in positive else sp.Symbol(n, real=True)
-               for n in names}
+    symbols = {
+        n: sp.Symbol(n, positive=True) if n in positive else sp.Symbol(n, real=True) for n in names
+    }
     scope = {**symbols, "pi": sp.pi}
     read = lambda v, what: parse_expression(v, scope, what)  # noqa: E731
     rows = _inertia_entries(s.inertia)
     inertia = sp.Matrix(3, 3, lambda i, j: read(rows[i][j], f"inertia[{i + 1},{j + 1}]"))
     mass, radius = read(s.mass, "mass"), read(s.radius, "radius")
-    centre = sp.Matrix([read(x, "centre_of_mass") for x in _entries(s.centre_of_mass, 3, "centre_of_mass")])
-    gyrostat = sp.zeros(3, 1) if s.gyrostat is None else sp.Matrix(
-        [read(x, "gyrostat") for x in _entries(s.gyrostat, 3, "gyrostat")]
+    centre = sp.Matrix(
+        [read(x, "centre_of_mass") for x in _entries(s.centre_of_mass, 3, "centre_of_mass")]
+    )
+    gyrostat = (
+        sp.zeros(3, 1)
+        if s.gyrostat is None
+        else sp.Matrix([read(x, "gyrostat") for x in _entries(s.gyrostat, 3, "gyrostat")])
     )
     field_strength = sp.S.Zero if s.gravity is None else read(s.gravity, "gravity")
     gamma = {f"gamma{i}": sp.Symbol(f"gamma{i}", real=True) for i in (1, 2, 3)}
-    potential = sp.S.Zero if s.potential is None else parse_expression(
-        s.potential, {**scope, **gamma}, "potential"
+    potential = (
+        sp.S.Zero
+        if s.potential is None
+        else parse_expression(s.potential, {**scope, **gamma}, "potential")
     )
     _check_physics(inertia, mass, radius, centre)
     parameters = tuple(symbols[n] for n in names)
@@ -337,7 +346,7 @@ def _parse(s: RollingSystem) -> dict:
         "mass": mass,
         "radius": radius,
         "centre": centre,
-        "gyrostat": gyrostat,
+        "rotor_momentum": gyrostat,
         "field": field_strength,
         "potential": potential,
         "parameters": parameters,
@@ -372,9 +381,7 @@ def _check_physics(inertia: sp.Matrix, mass: sp.Expr, radius: sp.Expr, centre: s
     else:
         for k, d in enumerate(minors, start=1):
             if sp.sympify(d).is_nonpositive:
-                raise UserInputError(
-                    f"inertia: the leading {k} x {k} minor {d} is never positive"
-                )
+                raise UserInputError(f"inertia: the leading {k} x {k} minor {d} is never positive")
     distance2 = dot(centre, centre)
     if distance2.is_number and radius.is_number and distance2 >= radius**2:
         raise UserInputError(
@@ -401,6 +408,6 @@ def _role(symbol: sp.Symbol, parsed: dict) -> str:
         return "inertia tensor entry"
     if symbol in parsed["centre"].free_symbols:
         return "centre of mass coordinate"
-    if symbol in parsed["gyrostat"].free_symbols:
+    if symbol in parsed["rotor_momentum"].free_symbols:
         return "gyrostatic momentum component"
     return "parameter of the description"

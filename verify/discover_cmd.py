@@ -10,8 +10,12 @@ Exit status 0 when every integral found is proved, 1 otherwise.
 from __future__ import annotations
 
 import argparse
+from typing import TYPE_CHECKING
 
 from .cli_common import EXIT_FAILED, EXIT_OK, json_text
+
+if TYPE_CHECKING:
+    from ..derive.rolling_system import RollingSystem
 
 __all__ = ["add_parser", "run"]
 
@@ -126,7 +130,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     return p
 
 
-def described_system(path: str):
+def described_system(path: str) -> RollingSystem:
     """The :class:`~chaplygin.derive.rolling_system.RollingSystem` of a TOML file's
     ``[system]`` table (a scene file or a file holding only the table).
 

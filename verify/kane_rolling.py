@@ -81,7 +81,9 @@ def kane_compare(
     system: RollingSystem,
     model: Model,
     values: Mapping[str, object],
-    momenta: Sequence[Sequence[object]] = ((sp.Rational(3, 10), sp.Rational(-7, 10), sp.Rational(11, 10)),),
+    momenta: Sequence[Sequence[object]] = (
+        (sp.Rational(3, 10), sp.Rational(-7, 10), sp.Rational(11, 10)),
+    ),
 ) -> KaneComparison:
     """Compare ``model`` (derived from ``system``) with Kane's method.
 
@@ -101,13 +103,16 @@ def kane_compare(
     KaneComparison
     """
     pvals = {s: sp.Rational(str(values[s.name])) for s in model.params}
-    kane = _KaneRolling(system, pvals)
+    key = (system.fingerprint(), tuple(sorted((s.name, v) for s, v in pvals.items())))
+    kane = _KANE.get(key)
+    if kane is None:  # forming Kane's equations is the cost (seconds): once per point
+        kane = _KANE[key] = _KaneRolling(system, pvals)
     omega_of_x = model.expand_aux(model.omega).xreplace(pvals)
     rhs = model.rhs_expanded.xreplace(pvals)
     jac = omega_of_x.jacobian(sp.Matrix(model.state))  # evaluated at exact points below
     relations = [model.expand_aux(e).xreplace(pvals) for _, e in model.invariant_relations]
     M = sp.Matrix(model.group("M"))
-    gyro = system._parsed["gyrostat"].xreplace(pvals)
+    gyro = system._parsed["rotor_momentum"].xreplace(pvals)
     g = sp.Matrix(model.group("gamma"))
     worst_acc = worst_mom = 0.0
     count = 0
@@ -128,6 +133,10 @@ def kane_compare(
             worst_mom = max(worst_mom, _relative(total, momentum))
             count += 1
     return KaneComparison(count, worst_acc, worst_mom, 10.0 ** -(DIGITS - 10))
+
+
+#: Kane's equations formed, by (description fingerprint, parameter values).
+_KANE: dict = {}
 
 
 def _relative(a: Sequence[object], b: Sequence[object]) -> float:
@@ -176,12 +185,15 @@ class _KaneRolling:
             constraints.append(u[2])
             dependent = [u[2], u[3], u[4]]
         dyadic = sum(
-            (inertia[i, j] * (e_i | e_j) for i, e_i in enumerate((B.x, B.y, B.z))
-             for j, e_j in enumerate((B.x, B.y, B.z))),
+            (
+                inertia[i, j] * (e_i | e_j)
+                for i, e_i in enumerate((B.x, B.y, B.z))
+                for j, e_j in enumerate((B.x, B.y, B.z))
+            ),
             me.Dyadic(0),
         )
         bodies = []
-        K = p["gyrostat"].xreplace(sub)
+        K = p["rotor_momentum"].xreplace(sub)
         if not K.is_zero_matrix:
             size = sp.sqrt(sum(k**2 for k in K))
             e = (K[0] * B.x + K[1] * B.y + K[2] * B.z) / size
@@ -200,12 +212,18 @@ class _KaneRolling:
         V = p["potential"].xreplace(sub)
         if V != 0:
             gs = sp.symbols("gamma1:4", real=True)
-            grad = sp.Matrix([sp.diff(V, s) for s in gs]).xreplace(dict(zip(gs, gamma_B)))
+            grad = sp.Matrix([sp.diff(V, s) for s in gs]).xreplace(
+                dict(zip(gs, gamma_B, strict=True))
+            )
             tau = gamma_B.cross(grad)
             loads.append((B, tau[0] * B.x + tau[1] * B.y + tau[2] * B.z))
         independent = [s for s in u if s not in dependent]
         kane = me.KanesMethod(
-            N, q_ind=q, u_ind=independent, u_dependent=dependent, kd_eqs=kd,
+            N,
+            q_ind=q,
+            u_ind=independent,
+            u_dependent=dependent,
+            kd_eqs=kd,
             velocity_constraints=constraints,
         )
         kane.kanes_equations(bodies, loads)

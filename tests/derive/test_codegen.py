@@ -173,10 +173,6 @@ def test_numpy_emitter_golden_output_on_a_tiny_model():
     assert namespace["integrals"](0, np.array([1.0, 2.0]), np.array([3.0]))[0] == 3.5
 
 
-def test_generated_directory_is_in_sync():
-    assert check_generated(generated_dir()) == []
-
-
 def test_check_detects_stale_missing_and_extra_files(tmp_path: Path):
     work = tmp_path / "generated"
     shutil.copytree(generated_dir(), work, ignore=shutil.ignore_patterns("__pycache__"))

@@ -129,7 +129,10 @@ def test_refuses_what_it_cannot_do():
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize(("which", "integral"), [("KK", True), ("MM", False)])
+@pytest.mark.parametrize(
+    ("which", "integral"),
+    [pytest.param("KK", True, marks=pytest.mark.expensive), ("MM", False)],
+)
 def test_rubber_integral_factor_on_the_relation(which, integral):
     """On the rubber ball's phase space ((omega, gamma) = 0), (K, K) = (M, M) - (M, gamma)^2
     is an integral (BKM12 §3) and (M, M) is not (the README's control): as a factor of the

@@ -129,9 +129,9 @@ def test_a_stage_refuses_data_it_does_not_take():
     EFFECTS["gyrostat"].apply(surface)  # a kinetic-energy term the fixed frame cannot take
     with pytest.raises(DerivationError, match="fixed-frame .* does not take kinetic_energy"):
         form_model(surface)
-    ball = chaplygin_ball.ball_description()
-    ball.add_potential(sp.Symbol("g", positive=True) * ball.vectors["gamma"][2])
-    with pytest.raises(DerivationError, match="rigid-body .* does not take potential"):
+    ball = chaplygin_ball.ball_description()  # a potential it takes (RollingSystem's gravity)
+    ball.add_phase_space_constraint(ball.vectors["gamma"][2])
+    with pytest.raises(DerivationError, match="rigid-body .* does not take phase_space"):
         form_model(ball)
     ball = chaplygin_ball.ball_description()
     ball.reduction = None

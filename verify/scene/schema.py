@@ -48,6 +48,7 @@ from .reading import (
 )
 
 if TYPE_CHECKING:
+    from ...derive.rolling_system import RollingSystem
     from .resolution import Resolved
     from .result import SceneResult
 
@@ -212,7 +213,7 @@ class SystemTable(_Table):
     positive: list[StrictStr] = Field(default_factory=list)
     description: Annotated[StrictStr, Field(max_length=500)] = ""
 
-    def rolling_system(self):
+    def rolling_system(self) -> RollingSystem:
         """The :class:`~chaplygin.derive.rolling_system.RollingSystem` of this table.
 
         Returns

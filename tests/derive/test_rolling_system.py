@@ -1,0 +1,140 @@
+"""A rolling system described by its mechanics (chaplygin.RollingSystem): derived, refused.
+
+References are independent of the engine: the built-in ball's model (BKM12-2, BKM12-3) for
+the balanced descriptions, Jellett's integral and the energy written from first principles
+for the bodies with a displaced centre of mass.
+"""
+
+from __future__ import annotations
+
+import pytest
+import sympy as sp
+from chaplygin.derive import build_model
+from chaplygin.derive.errors import UserInputError
+from chaplygin.derive.rolling_system import RollingSystem
+
+ROUTH = dict(inertia=("A", "A", "C"), centre_of_mass=(0, 0, "a"), gravity="g")
+
+
+def _same_field(model, reference, substitution):
+    """The right-hand sides agree identically once ``substitution`` is made."""
+    assert model.state_names == reference.state_names
+    ours = model.rhs_expanded
+    theirs = reference.rhs_expanded.xreplace(substitution)
+    by_name = {s.name: s for s in model.state}
+    theirs = theirs.xreplace({s: by_name[s.name] for s in reference.state})
+    params = {s.name: s for s in model.params}
+    theirs = theirs.xreplace(
+        {
+            s: params[s.name]
+            for s in theirs.free_symbols
+            if s.name in params and s not in model.params
+        }
+    )
+    for a, b in zip(ours, theirs, strict=True):
+        assert sp.cancel(sp.together(a - b)) == 0
+
+
+@pytest.mark.parametrize(
+    "fields, effects",
+    [
+        ({}, ()),
+        ({"gyrostat": ("K1", "K2", "K3")}, ("gyrostat",)),
+        ({"contact": "rubber"}, ("rubber",)),
+    ],
+    ids=["ball", "gyrostat", "rubber"],
+)
+def test_the_balanced_description_is_the_built_in_ball(fields, effects):
+    """BKM12-2/3: the built-in ball's equations, D = m b^2, from the description alone."""
+    described = RollingSystem("described_ball", inertia=("I1", "I2", "I3"), **fields).model()
+    builtin = build_model("chaplygin_ball", effects)
+    m, b = sp.Symbol("m", positive=True), sp.Symbol("b", positive=True)
+    D = [s for s in builtin.params if s.name == "D"][0]
+    _same_field(described, builtin, {D: m * b**2})
+    assert [n for n, _ in described.integrals] == [n for n, _ in builtin.integrals]
+
+
+def test_contact_point_of_a_balanced_description_is_the_ball_s():
+    described = RollingSystem("described_ball", inertia=("I1", "I2", "I3")).model(["contact_point"])
+    builtin = build_model("chaplygin_ball", ["contact_point"])
+    m, b = sp.Symbol("m", positive=True), sp.Symbol("b", positive=True)
+    D = [s for s in builtin.params if s.name == "D"][0]
+    _same_field(described, builtin, {D: m * b**2})
+
+
+def test_routh_sphere_ships_the_energy_and_no_momentum_integral():
+    """A displaced centre of mass under gravity: M' = M x omega fails, so (M, M) and
+    (M, gamma) are not shipped; the energy is T + m g (a, gamma), written here from first
+    principles: T = (omega, I omega)/2 + m |omega x r|^2/2, r from the contact to G."""
+    system = RollingSystem("routh", **ROUTH)
+    model = system.model()
+    names = [n for n, _ in model.integrals]
+    assert names == ["H", "(gamma,gamma)"]
+    A, C, a, b, m, g = (sp.Symbol(n, positive=True) for n in ("A", "C", "a", "b", "m", "g"))
+    a = sp.Symbol("a", real=True)
+    w = sp.Matrix(sp.symbols("omega1:4", real=True))
+    gamma = sp.Matrix(sp.symbols("gamma1:4", real=True))
+    r = sp.Matrix([0, 0, a]) + b * gamma  # contact point -> centre of mass
+    v = w.cross(r)
+    T = (w.T * sp.diag(A, A, C) * w)[0] / 2 + m * v.dot(v) / 2
+    energy = T + m * g * a * gamma[2]
+    H = model.expand_aux(model.integral("H"))
+    omega_of_state = model.expand_aux(model.omega)
+    expected = energy.xreplace(dict(zip(w, omega_of_state, strict=True)))
+    # exact rational points (generic, non-dyadic): a non-zero rational function of
+    # degree d vanishes at a random point with probability <= d / (point range)
+    names = {s.name: s for s in (*model.state, *model.params)}
+    for k, (g1, g2, g3) in enumerate([(2, 3, 6), (-1, 4, 8), (6, -2, 9)]):
+        norm = sp.sqrt(g1**2 + g2**2 + g3**2)
+        point = {names["gamma1"]: g1 / norm, names["gamma2"]: g2 / norm, names["gamma3"]: g3 / norm}
+        point.update({names[f"M{i}"]: sp.Rational(7 * i + k, 11) for i in (1, 2, 3)})
+        point.update({names["A"]: sp.Rational(7, 13), names["C"]: sp.Rational(9, 7)})
+        point.update({names["a"]: sp.Rational(3, 17), names["b"]: sp.Rational(5, 6)})
+        point.update({names["m"]: sp.Rational(4, 3), names["g"]: sp.Rational(49, 5)})
+        ours = H.xreplace(point)
+        theirs = expected.xreplace(
+            {
+                A: point[names["A"]],
+                C: point[names["C"]],
+                a: point[names["a"]],
+                b: point[names["b"]],
+                m: point[names["m"]],
+                g: point[names["g"]],
+            }
+        )
+        theirs = theirs.xreplace(
+            {s: point[names[s.name]] for s in theirs.free_symbols if s.name in names}
+        )
+        assert sp.simplify(ours - theirs) == 0
+
+
+def test_names_become_exact_parameters_and_decimals_stay_exact():
+    system = RollingSystem(
+        "exact", inertia=("0.4", 0.5, "3/5"), mass=1, radius=1, centre_of_mass=(0, 0, "a")
+    )
+    assert system.parameter_names == ("a",)
+    assert system.inertia_matrix == sp.diag(sp.Rational(2, 5), sp.Rational(1, 2), sp.Rational(3, 5))
+
+
+@pytest.mark.parametrize(
+    "fields, message",
+    [
+        ({"inertia": [[1, 0, 0], [0, 1, 0], [0, 0, 0]]}, "singular"),
+        ({"inertia": [[1, 2, 0], [2, 1, 0], [0, 0, 1]]}, "not positive definite"),
+        ({"inertia": [[1, 0.1, 0], [0, 1, 0], [0, 0, 1]]}, "not symmetric"),
+        ({"inertia": (1, 1, "-A"), "positive": ("A",)}, "never positive"),
+        ({"inertia": (1, 1, 1), "radius": 1, "centre_of_mass": (0, 0.6, 0.8)}, "not inside"),
+        ({"inertia": (1, 1, 1), "mass": -2}, "mass must be positive"),
+        ({"inertia": (1, 1, 1), "mass": "gamma1"}, "unknown name 'gamma1'"),
+        ({"inertia": (1, 1, 1), "potential": "k*M1*gamma1"}, "reserved"),
+        ({"inertia": (1, 1, 1), "potential": "__import__('os').system('true')"}, "not allowed"),
+        ({"inertia": (1, 1, 1), "potential": "gamma1**(10**10)"}, "exponent"),
+        ({"inertia": (1, 1, 1), "support": "sphere"}, "not derived by this version"),
+        ({"inertia": (1, 1, 1), "contact": "sliding"}, "unknown contact"),
+        ({"inertia": (1, 1)}, "expected 3 entries"),
+    ],
+)
+def test_bad_descriptions_are_refused_before_any_work(fields, message):
+    with pytest.raises(UserInputError, match=message) as info:
+        RollingSystem("bad", **fields)
+    assert "\n" not in str(info.value)
