@@ -43,6 +43,7 @@ from ..derive.errors import ComputationError
 from ..numerics.code import load_model_code
 from ..numerics.inputs import Precision
 from ..numerics.integrate import integrate
+from .bench_described import described_system_times
 from .bench_map import map_throughput
 from .bench_peers import heyoka_rows, jitcode_rows
 from .bench_problems import (
@@ -372,6 +373,7 @@ def run_study(
         "rhs_call_s": rhs_call_times(2000 if quick else 20000),
         "compile_s": {**compile_times(), **peer_compile},
         "map_throughput": map_throughput(100 if quick else 700, repeats),
+        "described_system_s": {} if quick else described_system_times(),
         "quick": quick,
         "repeats": repeats,
     }

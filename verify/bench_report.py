@@ -70,6 +70,15 @@ def render_markdown(study: dict) -> str:
         lines += ["", "## BM20's stroboscopic map (us per forcing period per point)", ""]
         lines += [f"- {k}: {v:.4g}" if isinstance(v, float) else f"- {k}: {v}"
                   for k, v in study["map_throughput"].items()]  # fmt: skip
+    described = study.get("described_system_s") or {}
+    if described:
+        lines += ["", "## A described system: description -> equations -> discovery -> proofs "
+                  "-> code (issue 24; target <= 60 s cold, <= 2 s warm)", ""]  # fmt: skip
+        for run, stages in described.items():
+            parts = ", ".join(
+                f"{k} {v:.2f} s" if isinstance(v, float) else f"{k} {v}" for k, v in stages.items()
+            )
+            lines.append(f"- {run}: {parts}")
     lines += ["", "## Against heyoka at equal or better final error (issue 15, this run)", ""]
     lines += [f"- {t}" for t in speed_targets(study)] or ["- heyoka not installed"]
     lines += ["", "## Targets of issue 5 (ratios from this run)", ""]
