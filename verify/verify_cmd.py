@@ -63,7 +63,19 @@ def run(args: argparse.Namespace) -> int:
             f"{missing} without a verdict yet"
         )
         return EXIT_OK
-    claims = select_claims(args.claims)
+    lookup = None
+    if args.system is not None:  # the claims of a user's own file
+        import fnmatch
+
+        from .user_claims import claims_of_file, file_lookup
+
+        claims = claims_of_file(args.system)
+        if args.claims is not None:
+            patterns = [p.strip() for p in args.claims.split(",") if p.strip()]
+            claims = [c for c in claims if any(fnmatch.fnmatchcase(c.id, p) for p in patterns)]
+        lookup = file_lookup(args.system)
+    else:
+        claims = select_claims(args.claims)
     if not claims:
         raise UserInputError(
             f"no claim matches {args.claims!r}; patterns are globs over IDs like 'BKM12-*,K01-2.2'"
@@ -73,7 +85,8 @@ def run(args: argparse.Namespace) -> int:
     started = time.perf_counter()
     if not args.json:
         print(f"{'claim':<46} {'verdict':<14} {'ok':<3} {'seconds':>8}  method / statement")
-    for v in iter_verdicts(claims, method=args.method, jobs=jobs, timeout=timeout):
+    extra = {} if lookup is None else {"lookup": lookup}
+    for v in iter_verdicts(claims, method=args.method, jobs=jobs, timeout=timeout, **extra):
         verdicts.append(v)
         if not args.json:
             flag = "yes" if v.ok else "NO"
@@ -125,6 +138,13 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     p = subparsers.add_parser("verify", help="check every claim of the papers and report verdicts")
     p.add_argument(
         "--claims", default=None, help="glob(s) over claim IDs, comma-separated (e.g. 'BKM12-*')"
+    )
+    p.add_argument(
+        "--system",
+        default=None,
+        metavar="FILE.toml",
+        help="check the claims about the system a file describes ([system] and [[claims]]: "
+        "the derived model's integrals and density, then the file's claims)",
     )
     p.add_argument("--json", action="store_true", help="print a JSON list of verdicts")
     p.add_argument(

@@ -162,3 +162,53 @@ def test_a_scene_with_a_system_table_runs(tmp_path):
     drift = summary["run"]["drift"] if "run" in summary else summary["drift"]
     assert max(abs(float(v)) for v in drift.values()) < 1e-8
     assert (tmp_path / "out" / "contact_trace.png").stat().st_size > 0
+
+
+def test_verify_system_checks_the_models_and_the_files_claims(tmp_path):
+    """The derived model's integrals, the finds of the file's [discover] class, the file's
+    three claims proved and its control refuted by the same decision procedure (exit 0:
+    every verdict the expected one)."""
+    out = _cli(
+        "verify", "--system", str(SYSTEMS / "routh_sphere.toml"), "--jobs", "1", "--json",
+        cache=tmp_path / "cache",
+    )  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    verdicts = {v["id"]: v["verdict"] for v in json.loads(out.stdout)}
+    assert verdicts == {
+        "routh_sphere:H": "proved",
+        "routh_sphere:(gamma,gamma)": "proved",
+        "routh_sphere:found-F1": "proved",  # [discover]: Jellett's integral, found
+        "routh_sphere:found-density": "proved",
+        "ROUTH-jellett": "proved",
+        "ROUTH-routh-squared": "proved",
+        "ROUTH-density": "proved",
+        "ROUTH-jellett/control-balanced": "refuted",
+    }
+
+
+def test_a_wrong_claim_expected_to_hold_fails_the_run(tmp_path):
+    text = (SYSTEMS / "routh_sphere.toml").read_text().split("[[claims]]")[0]
+    bad = tmp_path / "wrong.toml"
+    bad.write_text(
+        text + '[[claims]]\nid = "W"\nkind = "integral"\nexpression = "M1*gamma1 + M2*gamma2"\n'
+    )
+    out = _cli("verify", "--system", str(bad), "--jobs", "1", "--claims", "W", cache=tmp_path / "c")
+    assert out.returncode == 1
+    assert "UNEXPECTED: W" in out.stdout
+
+
+@pytest.mark.parametrize(
+    "entry, message",
+    [
+        ('id = "X"\nkind = "integral"\nexpression = "__import__(1)"', "not allowed"),
+        ('id = "X"\nkind = "integral"\nexpression = "q1*gamma1"', "unknown name 'q1'"),
+        ('id = "X"\nkind = "theorem"\nexpression = "gamma1"', "kind"),
+    ],
+)
+def test_bad_claims_are_one_line_exit_2(tmp_path, entry, message):
+    text = (SYSTEMS / "routh_sphere.toml").read_text().split("[[claims]]")[0]
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text + "[[claims]]\n" + entry + "\n")
+    out = _cli("verify", "--system", str(bad), "--jobs", "1", cache=tmp_path / "c")
+    assert out.returncode == 2
+    assert out.stderr.count("\n") == 1 and message in out.stderr, out.stderr

@@ -1,0 +1,282 @@
+"""Claims about a described system, kept in the user's own file: ``chaplygin verify --system``.
+
+A TOML file with a ``[system]`` table (a scene or a description file) may name a class to
+search (``[discover]``: ``degree``, ``coefficient_degree``, ``momentum``, ``in_parameters``,
+``densities``, as ``chaplygin discover``'s options; each integral found and the density found
+become claims ``<name>:found-F1`` ..., their statement saying the class and the rank that
+proves there is no other) and list claims::
+
+    [[claims]]
+    id = "ROUTH-jellett"
+    kind = "integral"                  # or "measure" (an invariant density)
+    statement = "Jellett's integral (I omega, a + b gamma)"
+    expression = "A*b*(gamma1*omega1 + gamma2*omega2) + C*(a + b*gamma3)*omega3"
+    expected = "holds"                 # "fails" for a negative control
+
+The expression is read without ``eval`` over the model's state (``M1`` ..., ``gamma1``
+...), its angular velocity ``omega1 .. omega3`` and its parameters. Beside the file's claims,
+every integral the derived model ships (``<name>:H`` ...) and its density (when it has one)
+is a claim: the engine's statements proved by the same machinery. An integral is decided by
+its Lie derivative (:func:`.identity.lie_derivative`), a density by Liouville's equation
+(:func:`.identity.measure_residual`), each with :func:`.identity.decide` (a Groebner normal
+form on the phase space, or an exact witness when it fails).
+
+Worker processes find a claim by :func:`file_claim` (the file read again, the system
+registered there too), so ``--jobs`` and ``--timeout`` work as for the papers' claims.
+"""
+
+from __future__ import annotations
+
+from functools import partial
+from pathlib import Path
+
+import sympy as sp
+from pydantic import BaseModel, ConfigDict, Field, StrictStr, ValidationError
+
+from ..derive.errors import UserInputError
+from ..derive.expression_text import parse_expression
+from ..derive.model import Model
+from ..derive.systems import build_model, register_system
+from .claims.base import Check, Claim
+from .identity import lie_derivative, measure_residual
+
+__all__ = ["FileClaim", "claims_of_file", "file_claim", "file_lookup"]
+
+#: Claims one file may hold.
+MAX_CLAIMS = 200
+
+
+class FileDiscovery(BaseModel):
+    """The ``[discover]`` table: a class searched when the file's claims are checked; each
+    integral found (and the density found) becomes a claim."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    degree: int = Field(2, ge=1, le=6)
+    coefficient_degree: int = Field(2, ge=0, le=6)
+    momentum: StrictStr | None = None
+    in_parameters: bool = False
+    densities: bool = False
+
+
+class FileClaim(BaseModel):
+    """One ``[[claims]]`` entry of a description file."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    id: StrictStr = Field(max_length=100, pattern=r"^[A-Za-z0-9_.:/+-]+$")
+    kind: StrictStr = Field(pattern="^(integral|measure)$")
+    expression: StrictStr = Field(max_length=2000)
+    statement: StrictStr = Field("", max_length=500)
+    expected: StrictStr = Field("holds", pattern="^(holds|fails)$")
+
+
+def _read(path: str | Path) -> tuple[dict, list[FileClaim]]:
+    from .scene.reading import parse_toml, read_scene_file
+    from .scene.schema import SystemTable
+
+    name = str(path)
+    try:
+        data = parse_toml(read_scene_file(path).decode("utf-8"), name)
+    except UnicodeDecodeError:
+        raise UserInputError(f"{name}: not UTF-8 text") from None
+    table = data.get("system")
+    if not isinstance(table, dict):
+        raise UserInputError(f"{name}: no [system] table (a described rolling system)")
+    entries = data.get("claims", [])
+    if not isinstance(entries, list) or len(entries) > MAX_CLAIMS:
+        raise UserInputError(f"{name}: claims must be a list of at most {MAX_CLAIMS} tables")
+    try:
+        system = SystemTable.model_validate(table).rolling_system()
+        claims = [FileClaim.model_validate(e) for e in entries]
+    except ValidationError as exc:
+        first = exc.errors()[0]
+        where = ".".join(str(k) for k in first["loc"])
+        raise UserInputError(f"{name}: {where}: {first['msg']}") from None
+    ids = [c.id for c in claims]
+    if len(set(ids)) != len(ids):
+        raise UserInputError(f"{name}: a claim id is used twice")
+    search = data.get("discover")
+    try:
+        search = None if search is None else FileDiscovery.model_validate(search)
+    except ValidationError as exc:
+        first = exc.errors()[0]
+        where = ".".join(str(k) for k in first["loc"])
+        raise UserInputError(f"{name}: discover.{where}: {first['msg']}") from None
+    return {"system": system, "discover": search}, claims
+
+
+def _found(name: str, source: str, search: FileDiscovery) -> list[Claim]:
+    """The integrals (and density) a ``[discover]`` search finds, as claims."""
+    from ..derive.densities import find_invariant_densities
+    from ..derive.discovery import find_polynomial_integrals
+
+    model = build_model(name)
+    s = find_polynomial_integrals(
+        model, search.degree, momentum=search.momentum,
+        coefficient_degree=search.coefficient_degree, in_parameters=search.in_parameters,
+    )  # fmt: skip  (the claims below are the proofs)
+    rank = (
+        f"found in the class of {s.search_class.describe()}; rank {s.rank} of {s.unknowns} "
+        f"unknowns: the class holds no other ({s.dimension} found)"
+    )
+    out = [
+        Claim(
+            id=f"{name}:found-F{i}",
+            source=f"{source} [discover]",
+            kind="integral",
+            statement=f"F{i} = {sp.sstr(F)}",
+            note=rank,
+            system=name,
+            build=partial(_integral_check, F),
+        )
+        for i, F in enumerate(s.integrals, 1)
+    ]
+    densities = find_invariant_densities(model) if search.densities else None
+    if densities is not None and densities.found:
+        rho = densities.density()
+        out.append(
+            Claim(
+                id=f"{name}:found-density",
+                source=f"{source} [discover]",
+                kind="measure",
+                statement=f"rho = {sp.sstr(rho)}",
+                note="exponents solved over the powers of the denominators' factors",
+                system=name,
+                build=partial(_measure_check, rho),
+            )
+        )
+    return out
+
+
+def _names(model: Model) -> dict[str, sp.Expr]:
+    names = {s.name: s for s in (*model.state, *model.params)}
+    if model.omega is not None:
+        names.update({s.name: s for s in model.omega})
+    return names
+
+
+def _integral_check(expr: sp.Expr, model: Model) -> Check:
+    return Check(exprs=[lie_derivative(expr, model)])
+
+
+def _measure_check(expr: sp.Expr, model: Model) -> Check:
+    return Check(exprs=[measure_residual(expr, model)])
+
+
+_CHECKS = {"integral": _integral_check, "measure": _measure_check}
+
+
+def _build(kind: str, text: str, where: str, model: Model) -> Check:
+    expr = parse_expression(text, _names(model), where)
+    return _CHECKS[kind](expr, model)
+
+
+def _shipped(model: Model, name: str, source: str) -> list[Claim]:
+    """The integrals and the density the derived model ships, as claims."""
+    out = []
+    for integral, expr in model.integrals:
+        out.append(
+            Claim(
+                id=f"{name}:{integral}",
+                source=f"{source} (derived)",
+                kind="integral",
+                statement=f"{integral} is a first integral of the derived {name}",
+                system=name,
+                build=partial(_integral_check, expr),
+            )
+        )
+    if model.density is not None:
+        out.append(
+            Claim(
+                id=f"{name}:density",
+                source=f"{source} (derived)",
+                kind="measure",
+                statement=f"rho = {sp.sstr(model.density)} is an invariant density of {name}",
+                system=name,
+                build=partial(_measure_check, model.density),
+            )
+        )
+    return out
+
+
+def claims_of_file(path: str | Path) -> list[Claim]:
+    """The claims about the system a file describes: the model's own, then the file's.
+
+    Parameters
+    ----------
+    path : str or Path
+        A TOML file with a ``[system]`` table and optional ``[[claims]]``.
+
+    Returns
+    -------
+    list of Claim
+        Registered nowhere; the system is registered (:func:`register_system`) so that
+        ``claim.model()`` finds it.
+
+    Raises
+    ------
+    UserInputError
+        An unreadable file, no ``[system]`` table, a bad description or claim entry (one
+        line), before anything is derived.
+    """
+    data, entries = _read(path)
+    name = register_system(data["system"]).name
+    model = build_model(name)
+    names = _names(model)
+    source = Path(path).name
+    claims = _shipped(model, name, source)
+    if data["discover"] is not None:
+        claims += _found(name, source, data["discover"])
+    for entry in entries:
+        where = f"{source}: claim {entry.id}"
+        parse_expression(entry.expression, names, where)  # refused here, before any check
+        claims.append(
+            Claim(
+                id=entry.id,
+                source=source,
+                kind="measure" if entry.kind == "measure" else "integral",
+                statement=entry.statement or f"{entry.kind}: {entry.expression}",
+                system=name,
+                build=partial(_build, entry.kind, entry.expression, where),
+                expected=entry.expected,
+            )
+        )
+    return claims
+
+
+def file_claim(path: str, claim_id: str) -> Claim:
+    """The claim ``claim_id`` of the file at ``path`` (how a worker process finds it).
+
+    Parameters
+    ----------
+    path : str
+    claim_id : str
+
+    Returns
+    -------
+    Claim
+
+    Raises
+    ------
+    KeyError
+        No such claim in the file.
+    """
+    for claim in claims_of_file(path):
+        if claim.id == claim_id:
+            return claim
+    raise KeyError(claim_id)
+
+
+def file_lookup(path: str | Path) -> partial:
+    """A picklable ``claim_id -> Claim`` for the claims of ``path`` (for ``iter_verdicts``).
+
+    Parameters
+    ----------
+    path : str or Path
+
+    Returns
+    -------
+    functools.partial
+    """
+    return partial(file_claim, str(Path(path).resolve()))
