@@ -31,7 +31,7 @@ from functools import partial
 from pathlib import Path
 
 import sympy as sp
-from pydantic import BaseModel, ConfigDict, Field, StrictStr, ValidationError
+from pydantic import ValidationError
 
 from ..derive.errors import UserInputError
 from ..derive.expression_text import parse_expression
@@ -39,36 +39,12 @@ from ..derive.model import Model
 from ..derive.systems import build_model, register_system
 from .claims.base import Check, Claim
 from .identity import lie_derivative, measure_residual
+from .scene.schema import FileClaim, FileDiscovery
 
-__all__ = ["FileClaim", "claims_of_file", "file_claim", "file_lookup"]
+__all__ = ["claims_of_file", "file_claim", "file_lookup"]
 
 #: Claims one file may hold.
 MAX_CLAIMS = 200
-
-
-class FileDiscovery(BaseModel):
-    """The ``[discover]`` table: a class searched when the file's claims are checked; each
-    integral found (and the density found) becomes a claim."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
-    degree: int = Field(2, ge=1, le=6)
-    coefficient_degree: int = Field(2, ge=0, le=6)
-    momentum: StrictStr | None = None
-    in_parameters: bool = False
-    densities: bool = False
-
-
-class FileClaim(BaseModel):
-    """One ``[[claims]]`` entry of a description file."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
-    id: StrictStr = Field(max_length=100, pattern=r"^[A-Za-z0-9_.:/+-]+$")
-    kind: StrictStr = Field(pattern="^(integral|measure)$")
-    expression: StrictStr = Field(max_length=2000)
-    statement: StrictStr = Field("", max_length=500)
-    expected: StrictStr = Field("holds", pattern="^(holds|fails)$")
 
 
 def _read(path: str | Path) -> tuple[dict, list[FileClaim]]:
@@ -106,7 +82,7 @@ def _read(path: str | Path) -> tuple[dict, list[FileClaim]]:
     return {"system": system, "discover": search}, claims
 
 
-def _found(name: str, source: str, search: FileDiscovery) -> list[Claim]:
+def _found(name: str, file_name: str, search: FileDiscovery) -> list[Claim]:
     """The integrals (and density) a ``[discover]`` search finds, as claims."""
     from ..derive.densities import find_invariant_densities
     from ..derive.discovery import find_polynomial_integrals
@@ -123,7 +99,7 @@ def _found(name: str, source: str, search: FileDiscovery) -> list[Claim]:
     out = [
         Claim(
             id=f"{name}:found-F{i}",
-            source=f"{source} [discover]",
+            source=f"{file_name} (its [discover] class)",
             kind="integral",
             statement=f"F{i} = {sp.sstr(F)}",
             note=rank,
@@ -138,7 +114,7 @@ def _found(name: str, source: str, search: FileDiscovery) -> list[Claim]:
         out.append(
             Claim(
                 id=f"{name}:found-density",
-                source=f"{source} [discover]",
+                source=f"{file_name} (its [discover] class)",
                 kind="measure",
                 statement=f"rho = {sp.sstr(rho)}",
                 note="exponents solved over the powers of the denominators' factors",
@@ -172,14 +148,14 @@ def _build(kind: str, text: str, where: str, model: Model) -> Check:
     return _CHECKS[kind](expr, model)
 
 
-def _shipped(model: Model, name: str, source: str) -> list[Claim]:
+def _shipped(model: Model, name: str, file_name: str) -> list[Claim]:
     """The integrals and the density the derived model ships, as claims."""
     out = []
     for integral, expr in model.integrals:
         out.append(
             Claim(
                 id=f"{name}:{integral}",
-                source=f"{source} (derived)",
+                source=f"{file_name} (derived)",
                 kind="integral",
                 statement=f"{integral} is a first integral of the derived {name}",
                 system=name,
@@ -190,7 +166,7 @@ def _shipped(model: Model, name: str, source: str) -> list[Claim]:
         out.append(
             Claim(
                 id=f"{name}:density",
-                source=f"{source} (derived)",
+                source=f"{file_name} (derived)",
                 kind="measure",
                 statement=f"rho = {sp.sstr(model.density)} is an invariant density of {name}",
                 system=name,
@@ -224,17 +200,17 @@ def claims_of_file(path: str | Path) -> list[Claim]:
     name = register_system(data["system"]).name
     model = build_model(name)
     names = _names(model)
-    source = Path(path).name
-    claims = _shipped(model, name, source)
+    file_name = Path(path).name
+    claims = _shipped(model, name, file_name)
     if data["discover"] is not None:
-        claims += _found(name, source, data["discover"])
+        claims += _found(name, file_name, data["discover"])
     for entry in entries:
-        where = f"{source}: claim {entry.id}"
+        where = f"{file_name}: claim {entry.id}"
         parse_expression(entry.expression, names, where)  # refused here, before any check
         claims.append(
             Claim(
                 id=entry.id,
-                source=source,
+                source=file_name,
                 kind="measure" if entry.kind == "measure" else "integral",
                 statement=entry.statement or f"{entry.kind}: {entry.expression}",
                 system=name,

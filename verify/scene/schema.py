@@ -53,6 +53,9 @@ if TYPE_CHECKING:
     from .result import SceneResult
 
 __all__ = [
+    "SystemTable",
+    "FileClaim",
+    "FileDiscovery",
     "Number",
     "PlotOutput",
     "TraceOutput",
@@ -230,6 +233,31 @@ class SystemTable(_Table):
         return RollingSystem(**self.model_dump())
 
 
+class FileDiscovery(BaseModel):
+    """The ``[discover]`` table: a class searched when the file's claims are checked; each
+    integral found (and the density found) becomes a claim."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    degree: int = Field(2, ge=1, le=6)
+    coefficient_degree: int = Field(2, ge=0, le=6)
+    momentum: StrictStr | None = None
+    in_parameters: bool = False
+    densities: bool = False
+
+
+class FileClaim(BaseModel):
+    """One ``[[claims]]`` entry of a description file."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    id: StrictStr = Field(max_length=100, pattern=r"^[A-Za-z0-9_.:/+-]+$")
+    kind: StrictStr = Field(pattern="^(integral|measure)$")
+    expression: StrictStr = Field(max_length=2000)
+    statement: StrictStr = Field("", max_length=500)
+    expected: StrictStr = Field("holds", pattern="^(holds|fails)$")
+
+
 class Initial(BaseModel):
     """The initial state: by state groups (``M``, ``gamma``, ...) or by integrals.
 
@@ -296,6 +324,14 @@ class Scene(BaseModel):
     outputs: Outputs = Outputs()
     sweep: Sweep | None = Field(
         None, description="a grid of points for `chaplygin sweep` (ignored by `chaplygin run`)"
+    )
+    discover: FileDiscovery | None = Field(
+        None, description="a class `chaplygin verify --system` searches (ignored by `run`)"
+    )
+    claims: list[FileClaim] = Field(
+        default_factory=list,
+        max_length=200,
+        description="claims about a described system, checked by `chaplygin verify --system`",
     )
 
     @field_validator("effects")
