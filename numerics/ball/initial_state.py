@@ -9,6 +9,9 @@ model in one of these ways, each a documented and reproducible choice:
   with ``gamma``, projected);
 * by the values of the ball's first integrals: ``h``, ``C``, and ``n`` or ``parallel``,
   ``point`` choosing the point of the level set (:mod:`chaplygin.numerics.ball.level_set`);
+* by ``M`` as a direction, the configuration (``gamma`` ...) and the energy ``h`` alone: ``M``
+  scaled so that ``H = h`` (any model whose energy is quadratic in ``M`` plus a function of
+  the configuration: the ball, the gyrostat, a described body under gravity);
 * by BM20's Andoyer-Deprit variables ``G, z, l, g`` (BM20 (3.7)), or ``rest = true`` (``M = 0``);
 * near a named solution of the plain ball: ``near = "p_i"`` (the steady rotation about axis
   ``i``, K01 (3.2)) or ``separatrix = i`` (``M || gamma`` at ``h = C^2/(2 I_i)``, the middle axis),
@@ -349,7 +352,11 @@ def initial_state(
                 "rest = true needs gamma (or the Andoyer-Deprit z, l, g)", "rest"
             )
         how = "from rest (M = 0)"
-    if by_integrals and not prescribed:
+    if set(by_integrals) == {"h"} and "M" in given and not prescribed:
+        given["M"], prescribed, how = _scaled_to_energy(
+            code, params, given, by_integrals["h"], precision
+        )
+    elif by_integrals and not prescribed:
         resolved = _from_integrals(code, params, by_integrals, given, choices["point"], dps)
         prescribed, how = resolved.prescribed, resolved.how
         given.update(
@@ -368,6 +375,56 @@ def initial_state(
             code, state.y, p, prescribed, max(precision.digits or 17, 17)
         )
     return InitialState(state.y, how, prescribed, residuals)
+
+
+def _scaled_to_energy(code, params, given, h, precision) -> tuple[list, dict, str]:
+    """``M`` (a direction) scaled by ``s > 0`` so that the energy ``H`` is ``h``.
+
+    For any model whose energy is ``T(M) + V(configuration)`` with ``T`` quadratic in the
+    momentum (the ball, the gyrostat, a described body with a potential): ``H(s M) = V +
+    s^2 T``, so ``s = sqrt((h - V) / T)``. The form is checked at ``s = 0, 1, 2`` (and
+    refused otherwise) before it is used.
+    """
+    from ..inputs import complete_state
+
+    dps = precision.parse_dps
+    if "H" not in code.integral_names:
+        raise InitialStateError(f"{code.name} ships no energy H to scale M to", "h")
+    p = [params[k] for k in code.params]
+    with mpmath.workdps(dps + 10):
+        direction = [_num(v, dps) for v in given["M"]]
+        target = _num(h, dps)
+
+        def energy(scale):
+            trial = {**given, "M": [mpmath.nstr(scale * c, dps + 10) for c in direction]}
+            try:
+                y = complete_state(code, trial, precision).y
+            except UserInputError as exc:
+                raise InitialStateError(str(exc)) from None
+            values = code.mpmath.integrals(
+                mpmath.mpf(0), [mpmath.mpf(v) for v in y], [mpmath.mpf(v) for v in p]
+            )
+            return values[code.integral_names.index("H")]
+
+        V, H1, H2 = energy(0), energy(1), energy(2)
+        T = H1 - V
+        tol = mpmath.mpf(10) ** (-(dps // 2)) * (1 + abs(H1) + abs(V))
+        if abs((H2 - V) - 4 * T) > tol:
+            raise InitialStateError(
+                f"the energy of {code.name} is not quadratic in M plus a function of the "
+                "configuration: give M and gamma, or the integrals, not M and h",
+                "h",
+            )
+        if T <= 0 or target < V:
+            raise InitialStateError(
+                f"no multiple of the given M reaches the energy h = {mpmath.nstr(target, 8)} "
+                f"(the configuration's potential alone is {mpmath.nstr(V, 8)})",
+                "h",
+            )
+        scale = mpmath.sqrt((target - V) / T)
+        scaled = [mpmath.nstr(scale * c, dps + 5) for c in direction]
+    how = "M given as a direction, scaled to the energy h (H = V + s^2 T)"
+    return scaled, {"H": h}, how
 
 
 def _num(value: object, dps: int):

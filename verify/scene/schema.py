@@ -261,7 +261,9 @@ class FileClaim(BaseModel):
 class Initial(BaseModel):
     """The initial state: by state groups (``M``, ``gamma``, ...) or by integrals.
 
-    Integrals (the ball): ``h`` energy, ``C = (M, gamma)`` (with the gyrostat ``(M + K, gamma)``),
+    ``M`` (a direction) with ``h`` alone: ``M`` scaled to the energy ``h`` (any model whose
+    energy is quadratic in ``M``: a described system too). Integrals (the ball): ``h`` energy,
+    ``C = (M, gamma)`` (with the gyrostat ``(M + K, gamma)``),
     ``n = (M, M)`` or ``parallel = true`` (``M || gamma``); ``point`` picks a point of the level
     set (see :mod:`chaplygin.numerics.ball.initial_state`); a given ``gamma`` fixes it. Any
     other key must be a state group of the model (checked when the model is known).
