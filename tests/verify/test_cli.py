@@ -193,15 +193,6 @@ def test_verify_json_subset(capsys):
     assert out[0]["verdict"] == "proved"
 
 
-def test_derive_check_and_regeneration(tmp_path: Path, capsys):
-    assert main(["derive", "--check"]) == 0
-    out = tmp_path / "gen"
-    assert main(["derive", "--check", "--out", str(out)]) == 1
-    assert main(["derive", "--out", str(out)]) == 0
-    assert main(["derive", "--check", "--out", str(out)]) == 0
-    capsys.readouterr()
-
-
 def test_json_text_is_strict_json():
     from chaplygin.verify.cli_common import json_text
 
