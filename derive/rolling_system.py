@@ -298,7 +298,8 @@ def _check_choice(what: str, value: object, choices: Mapping[str, bool]) -> None
 
 def _parse(s: RollingSystem) -> dict:
     """Read every field exactly, choose the parameters' assumptions, check the physics."""
-    typed = [s.mass, s.radius, _inertia_entries(s.inertia), s.centre_of_mass, s.gravity]
+    rows = _inertia_entries(s.inertia)
+    typed = [s.mass, s.radius, rows, s.centre_of_mass, s.gravity]
     typed += [s.gyrostat, s.potential]
     names: list[str] = []
     for value in typed:
@@ -310,7 +311,7 @@ def _parse(s: RollingSystem) -> dict:
         raise UserInputError(f"parameter names {clash} are reserved (state, velocities, time)")
     positive = set(s.positive) | {
         str(v).strip()
-        for v in (s.mass, s.radius, s.gravity, *_diagonal(s.inertia))
+        for v in (s.mass, s.radius, s.gravity, *(rows[i][i] for i in range(3)))
         if isinstance(v, str) and str(v).strip().isidentifier()
     }
     unknown = sorted(set(s.positive) - set(names))
@@ -321,7 +322,6 @@ def _parse(s: RollingSystem) -> dict:
     }
     scope = {**symbols, "pi": sp.pi}
     read = lambda v, what: parse_expression(v, scope, what)  # noqa: E731
-    rows = _inertia_entries(s.inertia)
     inertia = sp.Matrix(3, 3, lambda i, j: read(rows[i][j], f"inertia[{i + 1},{j + 1}]"))
     mass, radius = read(s.mass, "mass"), read(s.radius, "radius")
     centre = sp.Matrix(
@@ -352,14 +352,6 @@ def _parse(s: RollingSystem) -> dict:
         "parameters": parameters,
         "roles": {"mass": mass, "radius": radius, "gravity": field_strength},
     }
-
-
-def _diagonal(value: Any) -> list[Any]:
-    try:
-        rows = _inertia_entries(value)
-    except UserInputError:
-        return []
-    return [rows[i][i] for i in range(3)]
 
 
 def _check_physics(inertia: sp.Matrix, mass: sp.Expr, radius: sp.Expr, centre: sp.Matrix) -> None:

@@ -145,24 +145,9 @@ def described_system(path: str) -> RollingSystem:
     Raises
     ------
     UserInputError
-        An unreadable file, TOML syntax, no ``[system]`` table, a bad description.
+        An unreadable file, TOML syntax, no ``[system]`` table, a bad description (or a
+        bad ``[discover]``/``[[claims]]`` entry: :func:`.user_claims.read_description`).
     """
-    from pydantic import ValidationError
+    from .user_claims import read_description
 
-    from ..derive.errors import UserInputError
-    from .scene.reading import parse_toml, read_scene_file
-    from .scene.schema import SystemTable
-
-    try:
-        text = read_scene_file(path).decode("utf-8")
-    except UnicodeDecodeError:
-        raise UserInputError(f"{path}: not UTF-8 text") from None
-    table = parse_toml(text, path).get("system")
-    if not isinstance(table, dict):
-        raise UserInputError(f"{path}: no [system] table (a described rolling system)")
-    try:
-        return SystemTable.model_validate(table).rolling_system()
-    except ValidationError as exc:
-        first = exc.errors()[0]
-        where = ".".join(str(k) for k in first["loc"])
-        raise UserInputError(f"{path}: system.{where}: {first['msg']}") from None
+    return read_description(path)[0]

@@ -152,7 +152,7 @@ class _KaneRolling:
     """Kane's equations of the described body, parameters substituted (exact)."""
 
     def __init__(self, system: RollingSystem, pvals: Mapping[sp.Symbol, sp.Expr]) -> None:
-        sub = {s: v for s, v in pvals.items()}
+        sub = dict(pvals)
         q = list(me.dynamicsymbols("q1 q2 q3 x y"))
         u = list(me.dynamicsymbols("u1 u2 u3 u4 u5"))
         t = me.dynamicsymbols._t

@@ -39,18 +39,48 @@ from pydantic import ValidationError
 from ..derive.errors import UserInputError
 from ..derive.expression_text import parse_expression
 from ..derive.model import Model
+from ..derive.rolling_system import RollingSystem
 from ..derive.systems import build_model, register_system
 from .claims.base import Check, Claim, Computed, ComputedClaim
 from .identity import lie_derivative, measure_residual
 from .scene.schema import FileClaim, FileDiscovery
 
-__all__ = ["claims_of_file", "file_claim", "file_lookup"]
+__all__ = ["read_description", "claims_of_file", "file_claim", "file_lookup"]
 
 #: Claims one file may hold.
 MAX_CLAIMS = 200
 
 
-def _read(path: str | Path) -> tuple[dict, list[FileClaim]]:
+def _validated(model_cls, data, name: str, key: str):
+    """``model_cls`` of ``data``, or the first problem as one line naming ``key``."""
+    try:
+        return model_cls.model_validate(data)
+    except ValidationError as exc:
+        first = exc.errors()[0]
+        where = ".".join(str(k) for k in (key, *first["loc"]))
+        raise UserInputError(f"{name}: {where}: {first['msg']}") from None
+
+
+def read_description(path: str | Path) -> tuple[RollingSystem, FileDiscovery | None, list]:
+    """The ``[system]``, ``[discover]`` and ``[[claims]]`` of a TOML file, validated.
+
+    Parameters
+    ----------
+    path : str or Path
+        A scene file or a file holding only the description.
+
+    Returns
+    -------
+    system : RollingSystem
+    discover : FileDiscovery or None
+    claims : list of FileClaim
+
+    Raises
+    ------
+    UserInputError
+        An unreadable file, TOML syntax, no ``[system]`` table, a bad description, search
+        class or claim entry, a claim id used twice (one line, nothing derived).
+    """
     from .scene.reading import parse_toml, read_scene_file
     from .scene.schema import SystemTable
 
@@ -65,24 +95,14 @@ def _read(path: str | Path) -> tuple[dict, list[FileClaim]]:
     entries = data.get("claims", [])
     if not isinstance(entries, list) or len(entries) > MAX_CLAIMS:
         raise UserInputError(f"{name}: claims must be a list of at most {MAX_CLAIMS} tables")
-    try:
-        system = SystemTable.model_validate(table).rolling_system()
-        claims = [FileClaim.model_validate(e) for e in entries]
-    except ValidationError as exc:
-        first = exc.errors()[0]
-        where = ".".join(str(k) for k in first["loc"])
-        raise UserInputError(f"{name}: {where}: {first['msg']}") from None
+    system = _validated(SystemTable, table, name, "system").rolling_system()
+    claims = [_validated(FileClaim, e, name, f"claims[{i}]") for i, e in enumerate(entries)]
     ids = [c.id for c in claims]
     if len(set(ids)) != len(ids):
         raise UserInputError(f"{name}: a claim id is used twice")
     search = data.get("discover")
-    try:
-        search = None if search is None else FileDiscovery.model_validate(search)
-    except ValidationError as exc:
-        first = exc.errors()[0]
-        where = ".".join(str(k) for k in first["loc"])
-        raise UserInputError(f"{name}: discover.{where}: {first['msg']}") from None
-    return {"system": system, "discover": search}, claims
+    search = None if search is None else _validated(FileDiscovery, search, name, "discover")
+    return system, search, claims
 
 
 def _found(name: str, file_name: str, search: FileDiscovery) -> list[Claim]:
@@ -215,8 +235,8 @@ def claims_of_file(path: str | Path) -> list[Claim]:
         An unreadable file, no ``[system]`` table, a bad description or claim entry (one
         line), before anything is derived.
     """
-    data, entries = _read(path)
-    name = register_system(data["system"]).name
+    system, search, entries = read_description(path)
+    name = register_system(system).name
     model = build_model(name)
     names = _names(model)
     file_name = Path(path).name
@@ -228,11 +248,11 @@ def claims_of_file(path: str | Path) -> list[Claim]:
             kind="equation",
             statement=f"the derived equations of {name} are Kane's (sympy.physics.mechanics)",
             system=name,
-            compute=partial(_kane_computed, data["system"], tuple(model.param_names)),
+            compute=partial(_kane_computed, system, tuple(model.param_names)),
         )
     )
-    if data["discover"] is not None:
-        claims += _found(name, file_name, data["discover"])
+    if search is not None:
+        claims += _found(name, file_name, search)
     for entry in entries:
         where = f"{file_name}: claim {entry.id}"
         parse_expression(entry.expression, names, where)  # refused here, before any check
