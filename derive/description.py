@@ -327,15 +327,18 @@ class MechanicalDescription:
         """
         self.kinematics[name] = (symbols, rate)
 
-    def add_poisson_vector(self, name: str) -> None:
-        """Add the space-fixed vector ``name`` (``X' = X x omega``) as kinematics and state.
+    def add_poisson_vector(self, name: str, rate_factor: sp.Expr = sp.S.One) -> None:
+        """Add the unit vector ``name`` (``X' = s X x omega``) as kinematics and state.
 
         Parameters
         ----------
         name : str
+        rate_factor : sympy.Expr, default 1
+            ``s``: 1 for a vector fixed in space (Poisson's equation); the normal of a
+            fixed sphere the body rolls on turns at ``s = R/(R +- b)`` of that rate.
         """
         X = vector(name, real=True)
-        rate = cross(X, self.omega)
+        rate = cross(X, self.omega) * rate_factor
         self.add_kinematics(name, X, rate)
         self.add_state(name, tuple(X), list(rate))
 

@@ -113,6 +113,8 @@ def _reaction_free_integrals(
     a reaction torque along ``X`` leaves only the projections on the other axes."""
     vectors = desc.vectors
     reacting = set(desc.reacting)
+    # (P, X) needs X fixed in space too: not the normal of a sphere the body rolls on
+    turning = {n for n in vectors if n not in _space_fixed(desc)}
     out: list[tuple[str, sp.Expr]] = []
     if not reacting:
         out.append((f"({P_name},{P_name})", sp.expand(dot(P, P))))
@@ -121,9 +123,18 @@ def _reaction_free_integrals(
         value = dot(P, P) - sum((dot(P, vectors[x]) ** 2 for x in sorted(reacting)), sp.S.Zero)
         out.append((f"({P_name},{P_name}){name}", sp.expand(value)))
     for name in ("gamma", "alpha", "beta") if frame else tuple(vectors):
-        if name not in reacting:
+        if name not in reacting and name not in turning:
             out.append((f"({P_name},{name})", sp.expand(dot(P, vectors[name]))))
     return out
+
+
+def _space_fixed(desc: MechanicalDescription) -> set[str]:
+    """The vectors whose rate is Poisson's ``X' = X x omega`` (fixed in space)."""
+    return {
+        name
+        for name, (X, rate) in desc.kinematics.items()
+        if (sp.Matrix(rate) - cross(X, desc.omega)).applyfunc(sp.expand).is_zero_matrix
+    }
 
 
 def _geometric_integrals(
@@ -226,6 +237,10 @@ class RigidBodyReduction:
             )
             aux += mu_aux
             density = None if structured is None else mu_density
+        if density is not None and set(desc.kinematics) - _space_fixed(desc):
+            # Liouville's equation of det(X)^-1/2 uses Poisson's equations; on a sphere
+            # the normal turns at another rate (chaplygin.discover searches instead)
+            density = None
         if density is not None and density.has(t):
             # det(X)^-1/2 satisfies Liouville's equation for the autonomous structure; an
             # explicit time dependence (I(t), BM20-3.4) leaves its time derivative over

@@ -17,11 +17,19 @@ sphere's centre). The state is the angular momentum ``M`` about the contact poin
 ``gamma``. Gravity ``g`` adds ``V = m g (a, gamma)`` (the height of the centre of mass
 above the plane, less the constant ``m g b``).
 
-What it derives today: a body with a spherical surface on a fixed plane, rolling without
-slipping (``contact="rolling"``) or without slipping and twisting (``"rubber"``).
-Every other support, contact and surface the issue lists (rotating or moving planes,
-spheres, convex surfaces ``f(x) = 0``, rolling along a line, prescribed gyrostats and
-time-dependent inertia) is refused with a message that says so — before any work.
+What it derives today: a body with a spherical surface on a fixed plane or on a fixed
+sphere of radius ``R`` (``support="sphere"``, the body ``side="outside"`` or
+``"inside"`` it), rolling without slipping (``contact="rolling"``) or without slipping
+and twisting (``"rubber"``). ``gamma`` is the support's normal at the contact, pointing into the
+body (on a plane: up; outside a sphere: away from its centre; inside: towards it). On a
+sphere it is no longer fixed in space but turns
+at ``s = R/(R + b)`` (outside) or ``R/(R - b)`` (inside) of Poisson's rate, ``gamma' =
+s gamma x omega`` (the body's geometric centre moves on the sphere of radius ``R +- b``
+and rolls without slipping). Gravity, a potential and the fixed-frame contact trace are
+not derived on a sphere in this version. Every other support, contact and surface the
+issue lists (rotating or moving planes, convex surfaces ``f(x) = 0``, rolling along a
+line, prescribed gyrostats and time-dependent inertia) is refused with a message that
+says so — before any work.
 
 Every text a user types is read by :func:`~.expression_text.parse_expression` (no
 ``eval``); the checks of :meth:`RollingSystem.__post_init__` run before anything is
@@ -47,7 +55,14 @@ from .model import Model, ParameterSpec
 from .rigid_body import RigidBodyReduction
 from .vectors import cross, dot, vector
 
-__all__ = ["RollingSystem", "SUPPORTS", "CONTACTS", "RESERVED_NAMES", "SUPPORTED_EFFECTS"]
+__all__ = [
+    "RollingSystem",
+    "SUPPORTS",
+    "SIDES",
+    "CONTACTS",
+    "RESERVED_NAMES",
+    "SUPPORTED_EFFECTS",
+]
 
 #: Effects a described system takes (the frame and the contact point, for traces).
 SUPPORTED_EFFECTS = ("contact_point",)
@@ -57,9 +72,11 @@ SUPPORTS = {
     "plane": True,
     "rotating_plane": False,
     "moving_plane": False,
-    "sphere": False,
+    "sphere": True,
     "surface": False,
 }
+#: Sides of a fixed sphere the body may roll on.
+SIDES = ("outside", "inside")
 #: Contact conditions, and whether this version derives them.
 CONTACTS = {"rolling": True, "rubber": True, "line": False}
 #: The space-fixed vectors a contact forbids spinning about (rubber: the normal).
@@ -133,8 +150,14 @@ class RollingSystem:
     contact : {"rolling", "rubber"}
         Rolling without slipping, or without slipping and twisting (``(omega, gamma) =
         0``).
-    support : {"plane"}
-        The fixed horizontal plane (the other supports are refused in this version).
+    support : {"plane", "sphere"}
+        The fixed horizontal plane, or a fixed sphere (the other supports are refused in
+        this version).
+    support_radius : number or str, optional
+        Radius ``R`` of the fixed sphere (``support="sphere"`` only).
+    side : {"outside", "inside"}
+        The body rolls on the outside of the fixed sphere, or inside it (a spherical
+        shell; then ``R > b``).
     positive : sequence of str, optional
         Parameters known positive beyond those that are (mass, radius, the diagonal
         moments and ``g`` when each is a single name).
@@ -164,6 +187,8 @@ class RollingSystem:
     potential: Any = None
     contact: str = "rolling"
     support: str = "plane"
+    support_radius: Any = None
+    side: str = "outside"
     positive: Sequence[str] = ()
     description: str = ""
     _parsed: dict = field(default=None, init=False, repr=False, compare=False)  # type: ignore[assignment]
@@ -173,6 +198,8 @@ class RollingSystem:
             raise UserInputError(f"system name must be an identifier, got {self.name!r}")
         _check_choice("support", self.support, SUPPORTS)
         _check_choice("contact", self.contact, CONTACTS)
+        if self.side not in SIDES:
+            raise UserInputError(f"unknown side {self.side!r}; valid: {', '.join(SIDES)}")
         object.__setattr__(self, "_parsed", _parse(self))
 
     # ------------------------------------------------------------------ parsed data
@@ -200,6 +227,8 @@ class RollingSystem:
                 self.name,
                 self.support,
                 self.contact,
+                self.side if self.support == "sphere" else "",
+                sp.srepr(p["support_radius"]),
                 sp.srepr(p["inertia"]),
                 sp.srepr(p["mass"]),
                 sp.srepr(p["radius"]),
@@ -220,6 +249,7 @@ class RollingSystem:
         ``T = (omega, I omega)/2 + m (v, v)/2 + (K, omega)`` with ``v`` the centre of
         mass's velocity; no slip ``v + omega x r = 0`` with ``r = -a - b gamma``; with
         ``"rubber"`` also ``(omega, gamma) = 0``; ``V = m g (a, gamma) + potential``.
+        On a sphere ``gamma' = s gamma x omega`` (see the module docstring).
 
         Parameters
         ----------
@@ -237,6 +267,11 @@ class RollingSystem:
             An effect a described system does not take.
         """
         effects = parse_effects(effects, SUPPORTED_EFFECTS)
+        if effects and self.support != "plane":
+            raise UserInputError(
+                f"{self.name}: the effects {sorted(effects)} (the contact trace in the plane) "
+                f"are derived on a plane only, not on a {self.support}"
+            )
         p = self._parsed
         t = sp.Symbol("t", real=True)
         omega, v = vector("omega", real=True), vector("v", real=True)
@@ -260,7 +295,7 @@ class RollingSystem:
         for c in v + cross(omega, desc.contact_vector):
             desc.add_constraint(c)
         desc.add_state("M", tuple(vector("M", real=True)), None)
-        desc.add_poisson_vector("gamma")
+        desc.add_poisson_vector("gamma", _normal_rate_factor(self, p))
         for along in _NO_SPIN_ABOUT[self.contact]:  # no twist: (omega, gamma) = 0
             desc.add_constraint(dot(omega, desc.vectors[along]), reacts_along=along)
         desc.add_potential(p["field"] * m * dot(a, gamma) + p["potential"])
@@ -286,6 +321,16 @@ class RollingSystem:
         return form_model(self.mechanical_description(effects))
 
 
+def _normal_rate_factor(s: RollingSystem, parsed: dict) -> sp.Expr:
+    """``s`` of ``gamma' = s gamma x omega``: 1 on a plane; on a sphere of radius ``R``
+    the body's centre moves on the sphere of radius ``R +- b`` (outside/inside), and
+    no slip turns the normal at ``R/(R +- b)`` of the body's rate."""
+    if s.support == "plane":
+        return sp.S.One
+    R, b = parsed["support_radius"], parsed["radius"]
+    return R / (R + b) if s.side == "outside" else R / (R - b)
+
+
 def _check_choice(what: str, value: object, choices: Mapping[str, bool]) -> None:
     if value not in choices:
         raise UserInputError(f"unknown {what} {value!r}; valid: {', '.join(choices)}")
@@ -299,7 +344,7 @@ def _check_choice(what: str, value: object, choices: Mapping[str, bool]) -> None
 def _parse(s: RollingSystem) -> dict:
     """Read every field exactly, choose the parameters' assumptions, check the physics."""
     rows = _inertia_entries(s.inertia)
-    typed = [s.mass, s.radius, rows, s.centre_of_mass, s.gravity]
+    typed = [s.mass, s.radius, rows, s.centre_of_mass, s.gravity, s.support_radius]
     typed += [s.gyrostat, s.potential]
     names: list[str] = []
     for value in typed:
@@ -311,7 +356,7 @@ def _parse(s: RollingSystem) -> dict:
         raise UserInputError(f"parameter names {clash} are reserved (state, velocities, time)")
     positive = set(s.positive) | {
         str(v).strip()
-        for v in (s.mass, s.radius, s.gravity, *(rows[i][i] for i in range(3)))
+        for v in (s.mass, s.radius, s.gravity, s.support_radius, *(rows[i][i] for i in range(3)))
         if isinstance(v, str) and str(v).strip().isidentifier()
     }
     unknown = sorted(set(s.positive) - set(names))
@@ -340,6 +385,7 @@ def _parse(s: RollingSystem) -> dict:
         else parse_expression(s.potential, {**scope, **gamma}, "potential")
     )
     _check_physics(inertia, mass, radius, centre)
+    support_radius = _check_support(s, read, radius, field_strength, potential)
     parameters = tuple(symbols[n] for n in names)
     return {
         "inertia": inertia,
@@ -348,10 +394,39 @@ def _parse(s: RollingSystem) -> dict:
         "centre": centre,
         "rotor_momentum": gyrostat,
         "field": field_strength,
+        "support_radius": support_radius,
         "potential": potential,
         "parameters": parameters,
-        "roles": {"mass": mass, "radius": radius, "gravity": field_strength},
+        "roles": {
+            "mass": mass,
+            "radius": radius,
+            "gravity": field_strength,
+            "radius of the fixed sphere": support_radius,
+        },
     }
+
+
+def _check_support(s: RollingSystem, read, radius, field_strength, potential) -> sp.Expr:
+    """The fixed sphere's radius (zero on a plane); what a sphere support refuses."""
+    if s.support != "sphere":
+        if s.support_radius is not None:
+            raise UserInputError(f"support_radius is given but the support is a {s.support}")
+        return sp.S.Zero
+    if s.support_radius is None:
+        raise UserInputError("support 'sphere' needs support_radius (the fixed sphere's R)")
+    R = read(s.support_radius, "support_radius")
+    if R.is_positive is False or R.is_zero:
+        raise UserInputError(f"support_radius must be positive, got {R}")
+    if s.side == "inside" and (R - radius).is_number and R - radius <= 0:
+        raise UserInputError(
+            f"side 'inside': the body of radius {radius} does not fit in a sphere of radius {R}"
+        )
+    if field_strength != 0 or potential != 0:
+        raise UserInputError(
+            "gravity and a potential are derived on a plane only in this version, "
+            "not on a sphere (the vertical would be a further state)"
+        )
+    return R
 
 
 def _check_physics(inertia: sp.Matrix, mass: sp.Expr, radius: sp.Expr, centre: sp.Matrix) -> None:

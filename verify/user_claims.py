@@ -207,7 +207,11 @@ def _kane_computed(system, parameter_names: tuple[str, ...]) -> Computed:
     values = {n: str(sp.Rational(7 + 4 * i, 5 + 3 * i)) for i, n in enumerate(parameter_names)}
     result = kane_compare(system, build_model(system.name), values)
     return Computed(
-        error=max(result.max_acceleration_error, result.max_momentum_error),
+        error=max(
+            result.max_acceleration_error,
+            result.max_momentum_error,
+            result.max_normal_rate_error,
+        ),
         bound=result.tolerance,
         what=f"angular acceleration and contact momentum against KanesMethod at "
         f"{result.points} exact points, 40 digits",
