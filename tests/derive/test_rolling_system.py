@@ -129,7 +129,37 @@ def test_names_become_exact_parameters_and_decimals_stay_exact():
         ({"inertia": (1, 1, 1), "potential": "k*M1*gamma1"}, "reserved"),
         ({"inertia": (1, 1, 1), "potential": "__import__('os').system('true')"}, "not allowed"),
         ({"inertia": (1, 1, 1), "potential": "gamma1**(10**10)"}, "exponent"),
-        ({"inertia": (1, 1, 1), "support": "sphere"}, "not derived by this version"),
+        ({"inertia": (1, 1, 1), "support": "rotating_plane"}, "not derived by this version"),
+        ({"inertia": (1, 1, 1), "support": "sphere"}, "needs support_radius"),
+        ({"inertia": (1, 1, 1), "support_radius": 2}, "the support is a plane"),
+        ({"inertia": (1, 1, 1), "support": "sphere", "support_radius": 0}, "must be positive"),
+        (
+            {"inertia": (1, 1, 1), "support": "sphere", "support_radius": 2, "side": "under"},
+            "unknown side",
+        ),
+        (
+            {
+                "inertia": (1, 1, 1),
+                "radius": 1,
+                "support": "sphere",
+                "support_radius": "0.9",
+                "side": "inside",
+            },
+            "does not fit",
+        ),
+        (
+            {"inertia": (1, 1, 1), "support": "sphere", "support_radius": 2, "gravity": "g"},
+            "on a plane only",
+        ),
+        (
+            {
+                "inertia": (1, 1, 1),
+                "support": "sphere",
+                "support_radius": 2,
+                "potential": "gamma1**2",
+            },
+            "on a plane only",
+        ),
         ({"inertia": (1, 1, 1), "contact": "sliding"}, "unknown contact"),
         ({"inertia": (1, 1)}, "expected 3 entries"),
     ],
@@ -138,3 +168,43 @@ def test_bad_descriptions_are_refused_before_any_work(fields, message):
     with pytest.raises(UserInputError, match=message) as info:
         RollingSystem("bad", **fields)
     assert "\n" not in str(info.value)
+
+
+def test_the_contact_trace_is_refused_on_a_sphere():
+    system = RollingSystem("on_sphere", inertia=(1, 2, 3), support="sphere", support_radius=3)
+    with pytest.raises(UserInputError, match="on a plane only") as info:
+        system.model(("contact_point",))
+    assert "\n" not in str(info.value)
+
+
+def test_on_a_sphere_the_normal_turns_as_the_centre_moves_on_the_sphere_of_radius_r_plus_b():
+    """Rolling without slipping, the geometric centre O moves on the sphere of radius R + b
+    (outside) or R - b (inside) about the fixed centre c: with the normal n = +-(O - c)/rho
+    fixed in neither frame, d/dt (O - c) = v_O = omega x (b n) in space (no slip at the
+    contact O - b n). In body axes n' = (d/dt)_space n - omega x n; this test writes that
+    chain for both sides and compares it with the model's gamma' at a generic point."""
+    w = sp.Matrix(sp.symbols("omega1:4", real=True))
+    n = sp.Matrix(sp.symbols("gamma1:4", real=True))
+    R, b = sp.Symbol("R", positive=True), sp.Symbol("b", positive=True)
+    unit = (sp.Rational(2, 7), sp.Rational(3, 7), sp.Rational(6, 7))
+    for side, rho, sign in (("outside", R + b, 1), ("inside", R - b, -1)):
+        system = RollingSystem("s_" + side, inertia=("I1", "I2", "I3"), support="sphere",
+                               support_radius="R", side=side)  # fmt: skip
+        model = system.model()
+        expected = sign * w.cross(b * n) / rho - w.cross(n)  # n = sign (O - c)/rho
+        gamma = model.group("gamma")
+        ours = model.expand_aux(sp.Matrix([model.rhs[model.state.index(g)] for g in gamma]))
+        names = {s.name: s for s in (*model.state, *model.params)}
+        point = {names["R"]: sp.Rational(23, 10), names["b"]: sp.Rational(7, 10)}
+        point.update({names[f"gamma{i + 1}"]: unit[i] for i in range(3)})
+        point.update({names[f"M{i}"]: sp.Rational(3 * i - 7, 11) for i in (1, 2, 3)})
+        point.update({names["I1"]: sp.Rational(3, 7), names["I2"]: sp.Rational(5, 9)})
+        point.update({names["I3"]: sp.Rational(8, 11), names["m"]: sp.Rational(13, 10)})
+        omega = model.expand_aux(model.omega).xreplace(point)
+        ref = expected.xreplace({R: point[names["R"]], b: point[names["b"]]})
+        ref = ref.xreplace(dict(zip(w, omega, strict=True)))
+        ref = ref.xreplace(dict(zip(n, unit, strict=True)))
+        assert (ours.xreplace(point) - ref).applyfunc(sp.simplify).is_zero_matrix, side
+        # and it is not Poisson's equation of a vector fixed in space
+        poisson = sp.Matrix(unit).cross(omega)
+        assert not (ours.xreplace(point) - poisson).applyfunc(sp.simplify).is_zero_matrix

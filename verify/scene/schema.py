@@ -213,6 +213,12 @@ class SystemTable(_Table):
     )
     contact: Literal["rolling", "rubber", "line"] = "rolling"
     support: Literal["plane", "rotating_plane", "moving_plane", "sphere", "surface"] = "plane"
+    support_radius: TypedValue | None = Field(
+        None, description="radius R of the fixed sphere (support = 'sphere')"
+    )
+    side: Literal["outside", "inside"] = Field(
+        "outside", description="the body rolls on the outside of the fixed sphere or inside it"
+    )
     positive: list[StrictStr] = Field(default_factory=list)
     description: Annotated[StrictStr, Field(max_length=500)] = ""
 
