@@ -429,7 +429,7 @@ class FixedFrameReduction:
         desc.refuse(
             "fixed-frame",
             ("inertia", "kinetic_energy", "constraints", "kinematics", "momentum_in_state")
-            + ("bodies",),
+            + ("bodies", "positions"),
         )
         omega = desc.state_group(self.angular_velocity)
         x = desc.state_group(self.centre)

@@ -250,7 +250,7 @@ class BodyOnSphereReduction:
         desc.refuse(
             "body-on-sphere",
             ("kinetic_energy", "potential", "constraints", "kinematics", "momentum_in_state")
-            + ("bodies",),
+            + ("bodies", "positions"),
         )
         omega = desc.state_group(self.angular_velocity)
         r = desc.state_group(self.position)

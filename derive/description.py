@@ -164,6 +164,10 @@ class MechanicalDescription:
         alone, ``(omega,X)``.
     kinematics : dict of str to (sympy.Matrix, sympy.Matrix)
         Space-fixed vectors and their Poisson equations.
+    positions : dict of str to (sympy.Matrix, sympy.Matrix)
+        Configuration vectors that are not unit vectors (the contact point's position
+        from a rotating plane's axis), body axes, and their rates: the coefficients may
+        depend on them; they are state, not geometry.
     states : list of StateGroup
     parameters : dict of str to ParameterSpec
     integrals : dict of str to sympy.Expr
@@ -208,6 +212,7 @@ class MechanicalDescription:
     reacting: list[str] = field(default_factory=list)
     invariant_relations: dict[str, sp.Expr] = field(default_factory=dict)
     kinematics: dict[str, tuple[sp.Matrix, sp.Matrix]] = field(default_factory=dict)
+    positions: dict[str, tuple[sp.Matrix, sp.Matrix]] = field(default_factory=dict)
     states: list[StateGroup] = field(default_factory=list)
     parameters: dict[str, ParameterSpec] = field(default_factory=dict)
     integrals: dict[str, sp.Expr] = field(default_factory=dict)
@@ -326,6 +331,18 @@ class MechanicalDescription:
         symbols, rate : sympy.Matrix, shape (3, 1)
         """
         self.kinematics[name] = (symbols, rate)
+
+    def add_position(self, name: str, symbols: sp.Matrix, rate: sp.Matrix) -> None:
+        """Add a configuration vector (not a unit vector) as state, with its rate.
+
+        Parameters
+        ----------
+        name : str
+        symbols, rate : sympy.Matrix, shape (3, 1)
+            The rate in ``omega``, the state and the parameters (not ``v``).
+        """
+        self.positions[name] = (symbols, rate)
+        self.add_state(name, tuple(symbols), list(rate))
 
     def add_poisson_vector(self, name: str, rate_factor: sp.Expr = sp.S.One) -> None:
         """Add the unit vector ``name`` (``X' = s X x omega``) as kinematics and state.

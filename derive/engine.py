@@ -148,7 +148,11 @@ class ReducedEquations:
     momentum_rate : sympy.Matrix, shape (3, 1)
         ``M'`` in terms of ``omega``, the space-fixed vectors and time.
     energy : sympy.Expr
-        Generalised energy ``(q, dT/dq) - T`` on the admissible velocities.
+        Generalised energy ``(q, dT/dq) - T`` on the admissible velocities (an integral
+        only for homogeneous constraints and ``T`` free of time).
+    velocity_shift : sympy.Matrix, shape (3, 1)
+        ``v`` at ``omega = 0``: the affine part of the constraints (zero unless the
+        support moves, e.g. a rotating plane: ``v + omega x r = Omega gamma x rho``).
     """
 
     with_multipliers: sp.Matrix
@@ -165,6 +169,7 @@ class ReducedEquations:
     omega_constraints: sp.Matrix | None = None
     omega_multipliers: tuple[sp.Symbol, ...] = ()
     time: sp.Symbol | None = None
+    velocity_shift: sp.Matrix = field(default_factory=lambda: sp.zeros(3, 1))
 
     def multiplier_solution(
         self, rate: sp.Matrix, apply_inverse: Callable[[sp.Matrix], sp.Matrix]
@@ -317,10 +322,13 @@ def lagrange_dalembert(desc: RigidBodyDescription) -> ReducedEquations:
 
     Phi = sp.Matrix([[sp.diff(c, qi) for qi in q] for c in desc.constraints])
     for row, c in enumerate(desc.constraints):
-        if sp.expand(c - (Phi.row(row) * sp.Matrix(q))[0]) != 0 or any(
-            s in Phi.row(row).free_symbols for s in q
-        ):
-            raise DerivationError(f"constraint {c} is not linear and homogeneous in (omega, v)")
+        shift = sp.expand(c - (Phi.row(row) * sp.Matrix(q))[0])
+        # constraints on v may be affine (a moving support); those on omega alone not
+        affine_ok = bool(set(v) & sp.sympify(c).free_symbols) and not (shift.free_symbols & set(q))
+        if (shift != 0 and not affine_ok) or any(s in Phi.row(row).free_symbols for s in q):
+            raise DerivationError(
+                f"constraint {c} is not linear in (omega, v) (homogeneous for omega alone)"
+            )
 
     # Equations with undetermined multipliers (kept for inspection and documentation).
     lam = sp.symbols(f"lambda1:{len(desc.constraints) + 1}")
@@ -359,6 +367,8 @@ def lagrange_dalembert(desc: RigidBodyDescription) -> ReducedEquations:
     C = sp.Matrix([[sp.diff(c, w) for w in omega] for c in omega_rows]) if omega_rows else None
     mu = sp.symbols(f"mu1:{len(omega_rows) + 1}", real=True) if omega_rows else ()
     v_of_omega = v.subs(vmap)
+    shift = v_of_omega.xreplace(dict.fromkeys(omega, 0)).applyfunc(sp.expand)
+    # virtual velocities: the homogeneous part (the support's motion is prescribed)
     G = sp.Matrix.vstack(sp.eye(3), v_of_omega.jacobian(omega))
     if any(s in G.free_symbols for s in omega):
         raise DerivationError("the admissible velocities are not linear in omega")
@@ -398,4 +408,5 @@ def lagrange_dalembert(desc: RigidBodyDescription) -> ReducedEquations:
         omega_constraints=C,
         omega_multipliers=tuple(mu),
         time=t,
+        velocity_shift=shift,
     )

@@ -191,7 +191,8 @@ class RigidBodyReduction:
             the inertia operator has no structured inverse on the phase space.
         """
         desc.refuse("rigid-body (body frame)", ("bodies", "phase_space"))
-        t, omega, kinematics = desc.time, desc.omega, desc.kinematics
+        t, omega = desc.time, desc.omega
+        kinematics = {**desc.kinematics, **desc.positions}
         potential = sp.sympify(desc.potential)
         red = lagrange_dalembert(
             RigidBodyDescription(
@@ -237,6 +238,8 @@ class RigidBodyReduction:
             )
             aux += mu_aux
             density = None if structured is None else mu_density
+        if density is not None and not red.velocity_shift.is_zero_matrix:
+            density = None  # Liouville's equation of det(X)^-1/2 is the fixed support's
         if density is not None and set(desc.kinematics) - _space_fixed(desc):
             # Liouville's equation of det(X)^-1/2 uses Poisson's equations; on a sphere
             # the normal turns at another rate (chaplygin.discover searches instead)
@@ -251,6 +254,8 @@ class RigidBodyReduction:
         scleronomic = not any(
             sp.sympify(e).has(t) for e in (desc.total_kinetic_energy(), *desc.constraints)
         )
+        # a moving support (affine constraints) does work too
+        scleronomic = scleronomic and red.velocity_shift.is_zero_matrix
         if scleronomic:  # the parameters do work when they change: no energy (BM20-2.6)
             integrals.append(("H", sp.expand(red.energy + potential)))
         # P' = P x omega (+ reactions along the reacting vectors) makes (P, P) and (P, X)
@@ -277,9 +282,7 @@ class RigidBodyReduction:
             structured_inverse=structured,
             euler_poincare_remainder=remainder,
             reparametrisation=(
-                None
-                if structured is None
-                else moment_reparametrisation(structured.J, desc.moments)
+                None if structured is None else moment_reparametrisation(structured.J, desc.moments)
             ),
             details=RigidBodyDetails(
                 reduced_equations=red,

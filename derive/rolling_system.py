@@ -17,19 +17,31 @@ sphere's centre). The state is the angular momentum ``M`` about the contact poin
 ``gamma``. Gravity ``g`` adds ``V = m g (a, gamma)`` (the height of the centre of mass
 above the plane, less the constant ``m g b``).
 
-What it derives today: a body with a spherical surface on a fixed plane or on a fixed
-sphere of radius ``R`` (``support="sphere"``, the body ``side="outside"`` or
-``"inside"`` it), rolling without slipping (``contact="rolling"``) or without slipping
-and twisting (``"rubber"``). ``gamma`` is the support's normal at the contact, pointing into the
-body (on a plane: up; outside a sphere: away from its centre; inside: towards it). On a
-sphere it is no longer fixed in space but turns
-at ``s = R/(R + b)`` (outside) or ``R/(R - b)`` (inside) of Poisson's rate, ``gamma' =
-s gamma x omega`` (the body's geometric centre moves on the sphere of radius ``R +- b``
-and rolls without slipping). Gravity, a potential and the fixed-frame contact trace are
-not derived on a sphere in this version. Every other support, contact and surface the
-issue lists (rotating or moving planes, convex surfaces ``f(x) = 0``, rolling along a
-line, prescribed gyrostats and time-dependent inertia) is refused with a message that
-says so — before any work.
+What it derives today: a body with a spherical surface on a fixed plane, on a plane
+rotating at a constant rate ``Omega`` about a fixed vertical axis
+(``support="rotating_plane"``), or on a fixed sphere of radius ``R``
+(``support="sphere"``, the body ``side="outside"`` or ``"inside"`` it), rolling without
+slipping (``contact="rolling"``) or without slipping and twisting (``"rubber"``).
+
+``gamma`` is the support's normal at the contact, pointing into the body (on a plane:
+up; outside a sphere: away from its centre; inside: towards it). On a sphere it is no
+longer fixed in space but turns at ``s = R/(R + b)`` (outside) or ``R/(R - b)``
+(inside) of Poisson's rate, ``gamma' = s gamma x omega`` (the body's geometric centre
+moves on the sphere of radius ``R +- b`` and rolls without slipping). Gravity, a
+potential and the fixed-frame contact trace are not derived on a sphere in this
+version.
+
+On a rotating plane the constraint is affine: the body's contact point moves with the
+plane, ``v + omega x r = Omega gamma x rho``, ``rho`` the contact point's position from
+the axis in body axes (a state group, ``rho' = Omega gamma x rho + b omega x gamma +
+rho x omega``; ``(rho, gamma) = 0`` on the phase space, shipped as the integral
+``(rho,gamma)``); the energy is not an integral (the plane does work); rolling without
+slipping only.
+
+Every other support, contact and surface the issue lists (a moving plane, convex
+surfaces ``f(x) = 0``, rolling along a line, a rotation rate of time, prescribed
+gyrostats and time-dependent inertia) is refused with a message that says so — before
+any work.
 
 Every text a user types is read by :func:`~.expression_text.parse_expression` (no
 ``eval``); the checks of :meth:`RollingSystem.__post_init__` run before anything is
@@ -70,7 +82,7 @@ SUPPORTED_EFFECTS = ("contact_point",)
 #: Supports a description may name, and whether this version derives them.
 SUPPORTS = {
     "plane": True,
-    "rotating_plane": False,
+    "rotating_plane": True,
     "moving_plane": False,
     "sphere": True,
     "surface": False,
@@ -83,7 +95,7 @@ CONTACTS = {"rolling": True, "rubber": True, "line": False}
 _NO_SPIN_ABOUT = {"rolling": (), "rubber": ("gamma",)}
 #: Names a parameter cannot take: the state, the velocities, time and the functions.
 RESERVED_NAMES = frozenset(
-    {f"{n}{i}" for n in ("M", "gamma", "omega", "v", "alpha", "beta") for i in (1, 2, 3)}
+    {f"{n}{i}" for n in ("M", "gamma", "omega", "v", "alpha", "beta", "rho") for i in (1, 2, 3)}
     | {"x", "y"}
     | {f"Adj{i}{j}" for i in (1, 2, 3) for j in (1, 2, 3)}
     | {"t", "Delta", "Z", "pi", "E", "I"}
@@ -150,11 +162,15 @@ class RollingSystem:
     contact : {"rolling", "rubber"}
         Rolling without slipping, or without slipping and twisting (``(omega, gamma) =
         0``).
-    support : {"plane", "sphere"}
-        The fixed horizontal plane, or a fixed sphere (the other supports are refused in
+    support : {"plane", "rotating_plane", "sphere"}
+        The fixed horizontal plane, a horizontal plane rotating about a vertical axis, or
+        a fixed sphere (the other supports are refused in
         this version).
     support_radius : number or str, optional
         Radius ``R`` of the fixed sphere (``support="sphere"`` only).
+    rotation_rate : number or str, optional
+        ``Omega``, the constant angular velocity of a rotating plane about its vertical
+        axis (``support="rotating_plane"`` only).
     side : {"outside", "inside"}
         The body rolls on the outside of the fixed sphere, or inside it (a spherical
         shell; then ``R > b``).
@@ -189,6 +205,7 @@ class RollingSystem:
     support: str = "plane"
     support_radius: Any = None
     side: str = "outside"
+    rotation_rate: Any = None
     positive: Sequence[str] = ()
     description: str = ""
     _parsed: dict = field(default=None, init=False, repr=False, compare=False)  # type: ignore[assignment]
@@ -229,6 +246,7 @@ class RollingSystem:
                 self.contact,
                 self.side if self.support == "sphere" else "",
                 sp.srepr(p["support_radius"]),
+                sp.srepr(p["rotation_rate"]),
                 sp.srepr(p["inertia"]),
                 sp.srepr(p["mass"]),
                 sp.srepr(p["radius"]),
@@ -267,7 +285,7 @@ class RollingSystem:
             An effect a described system does not take.
         """
         effects = parse_effects(effects, SUPPORTED_EFFECTS)
-        if effects and self.support != "plane":
+        if effects and self.support != "plane":  # rho gives the trace on a rotating one
             raise UserInputError(
                 f"{self.name}: the effects {sorted(effects)} (the contact trace in the plane) "
                 f"are derived on a plane only, not on a {self.support}"
@@ -292,10 +310,20 @@ class RollingSystem:
         desc.add_kinetic_energy(m * dot(v, v) / 2 + dot(K, omega))
         desc.contact_vector = -a - b * gamma
         desc.centre_offset = -a
-        for c in v + cross(omega, desc.contact_vector):
-            desc.add_constraint(c)
         desc.add_state("M", tuple(vector("M", real=True)), None)
         desc.add_poisson_vector("gamma", _normal_rate_factor(self, p))
+        # the body's contact point moves with the support (zero but on a rotating plane)
+        support_velocity = sp.zeros(3, 1)
+        if self.support == "rotating_plane":
+            rho, Omega = vector("rho", real=True), p["rotation_rate"]
+            support_velocity = Omega * cross(gamma, rho)
+            # the geometric contact point moves as the sphere's centre O: v_O = Omega gamma
+            # x rho + b omega x gamma; in body axes rho' = v_O - omega x rho
+            rate = support_velocity + b * cross(omega, gamma) + cross(rho, omega)
+            desc.add_position("rho", rho, rate)
+            desc.add_integral("(rho,gamma)", dot(rho, gamma))
+        for c in v + cross(omega, desc.contact_vector) - support_velocity:
+            desc.add_constraint(c)
         for along in _NO_SPIN_ABOUT[self.contact]:  # no twist: (omega, gamma) = 0
             desc.add_constraint(dot(omega, desc.vectors[along]), reacts_along=along)
         desc.add_potential(p["field"] * m * dot(a, gamma) + p["potential"])
@@ -325,7 +353,7 @@ def _normal_rate_factor(s: RollingSystem, parsed: dict) -> sp.Expr:
     """``s`` of ``gamma' = s gamma x omega``: 1 on a plane; on a sphere of radius ``R``
     the body's centre moves on the sphere of radius ``R +- b`` (outside/inside), and
     no slip turns the normal at ``R/(R +- b)`` of the body's rate."""
-    if s.support == "plane":
+    if s.support != "sphere":
         return sp.S.One
     R, b = parsed["support_radius"], parsed["radius"]
     return R / (R + b) if s.side == "outside" else R / (R - b)
@@ -345,6 +373,7 @@ def _parse(s: RollingSystem) -> dict:
     """Read every field exactly, choose the parameters' assumptions, check the physics."""
     rows = _inertia_entries(s.inertia)
     typed = [s.mass, s.radius, rows, s.centre_of_mass, s.gravity, s.support_radius]
+    typed.append(s.rotation_rate)
     typed += [s.gyrostat, s.potential]
     names: list[str] = []
     for value in typed:
@@ -386,6 +415,7 @@ def _parse(s: RollingSystem) -> dict:
     )
     _check_physics(inertia, mass, radius, centre)
     support_radius = _check_support(s, read, radius, field_strength, potential)
+    rotation_rate = _check_rotation(s, read)
     parameters = tuple(symbols[n] for n in names)
     return {
         "inertia": inertia,
@@ -395,6 +425,7 @@ def _parse(s: RollingSystem) -> dict:
         "rotor_momentum": gyrostat,
         "field": field_strength,
         "support_radius": support_radius,
+        "rotation_rate": rotation_rate,
         "potential": potential,
         "parameters": parameters,
         "roles": {
@@ -402,8 +433,25 @@ def _parse(s: RollingSystem) -> dict:
             "radius": radius,
             "gravity": field_strength,
             "radius of the fixed sphere": support_radius,
+            "angular velocity of the plane": rotation_rate,
         },
     }
+
+
+def _check_rotation(s: RollingSystem, read) -> sp.Expr:
+    """The rotating plane's angular velocity (zero otherwise); what it refuses."""
+    if s.support != "rotating_plane":
+        if s.rotation_rate is not None:
+            raise UserInputError(f"rotation_rate is given but the support is a {s.support}")
+        return sp.S.Zero
+    if s.rotation_rate is None:
+        raise UserInputError("support 'rotating_plane' needs rotation_rate (its Omega)")
+    if s.contact != "rolling":
+        raise UserInputError(
+            f"contact {s.contact!r} on a rotating plane is not derived by this version "
+            "(rolling without slipping is)"
+        )
+    return read(s.rotation_rate, "rotation_rate")
 
 
 def _check_support(s: RollingSystem, read, radius, field_strength, potential) -> sp.Expr:

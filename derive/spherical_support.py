@@ -221,7 +221,9 @@ class NBallReduction:
         Reduced
             No integral, no density; ``details`` an :class:`NBallDetails`.
         """
-        desc.refuse("spherical support", ("potential", "phase_space", "momentum_in_state"))
+        desc.refuse(
+            "spherical support", ("potential", "phase_space", "momentum_in_state", "positions")
+        )
         der = support_derivation(desc)
         red = der.reduction
         omega, n_balls = der.omega, len(der.directions)
@@ -427,7 +429,9 @@ class ClosedSupportReduction:
             When the inertia operator has no rank-2 structure or the momentum rate is not
             ``(M + K) x omega`` (neither happens for a support).
         """
-        desc.refuse("spherical support", ("potential", "phase_space", "momentum_in_state"))
+        desc.refuse(
+            "spherical support", ("potential", "phase_space", "momentum_in_state", "positions")
+        )
         der = support_derivation(desc)
         M = desc.state_group(self.momentum)
         alpha, beta, gamma = frame = tuple(desc.state_group(name) for name in FRAME_NAMES)

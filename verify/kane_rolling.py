@@ -12,9 +12,11 @@ that derived its model:
   (cos x, sin x cos y, sin x sin y)``), the contact point ``P = O -+ b e_r``; its
   comparison points sit at ``x = y = pi/2`` (``e_r = N.z``).
 * Speeds: ``u1, u2, u3`` the *space-frame* components of the angular velocity, ``u4,
-  u5`` the horizontal velocity of ``O`` (on a sphere: the rates of ``x, y``). No slip: the body point at ``P = O - b N.z``
-  has zero horizontal velocity (``u4, u5`` dependent). No twist (``"rubber"``): ``u3 =
-  0`` as a third velocity constraint.
+  u5`` the horizontal velocity of ``O`` (on a sphere: the rates of ``x, y``). No slip:
+  the body point at the contact ``P`` has zero tangential velocity (``u4, u5``
+  dependent) — on a rotating plane the plane's velocity there, ``Omega N.z x (x N.x + y
+  N.y)`` (affine constraints). No twist (``"rubber"``): ``u3 = 0`` as a third velocity
+  constraint.
 * Loads: gravity ``-m g N.z`` at ``G``; a potential of the orientation as the torque
   ``gamma x dV/dgamma`` on ``B`` (the one place a formula is shared: the torque of a
   potential); a constant gyrostatic momentum ``K`` as a real rotor (a massless body
@@ -122,14 +124,22 @@ def kane_compare(
     jac = omega_of_x.jacobian(sp.Matrix(model.state))  # evaluated at exact points below
     relations = [model.expand_aux(e).xreplace(pvals) for _, e in model.invariant_relations]
     M = sp.Matrix(model.group("M"))
-    gyro = system._parsed["rotor_momentum"].xreplace(pvals)
+    # the velocity-independent momentum the state leaves out (K; on a rotating plane
+    # also the carried contact's m r x (Omega gamma x rho))
+    P0 = model.details.gyrostatic_momentum.xreplace(pvals)
     g = sp.Matrix(model.group("gamma"))
-    at_gamma = [list(model.state).index(s) for s in g]
+    rate_groups = ["gamma"] + (["rho"] if "rho" in dict(model.state_groups) else [])
+    at_group = {n: [list(model.state).index(s) for s in model.group(n)] for n in rate_groups}
     worst_acc = worst_mom = worst_rate = 0.0
     count = 0
     for m0 in momenta:
         for gamma in RATIONAL_UNIT_VECTORS:
             point = {**dict(zip(g, gamma, strict=True)), **dict(zip(M, m0, strict=True))}
+            rho = None
+            if "rho" in dict(model.state_groups):  # horizontal: (rho, gamma) = 0
+                w = sp.Matrix(_RHO_SEED)
+                rho = list(w - w.dot(sp.Matrix(gamma)) * sp.Matrix(gamma))
+                point.update(zip(model.group("rho"), rho, strict=True))
             if relations:
                 point.pop(M[2])
                 rel = relations[0].xreplace(point)
@@ -138,14 +148,19 @@ def kane_compare(
             w = [omega_of_x[i].xreplace(point) for i in range(3)]
             J, F = jac.xreplace(point), rhs.xreplace(point)
             ours = list(J * F)
-            theirs, momentum, normal_rate = kane.at(gamma, w)
+            theirs, momentum, rates = kane.at(gamma, w, rho)
             worst_acc = max(worst_acc, _relative(ours, theirs))
-            worst_rate = max(worst_rate, _relative([F[i] for i in at_gamma], normal_rate))
-            total = [point[M[i]] + gyro[i] for i in range(3)]  # the state leaves K out
+            for name, idx in at_group.items():
+                worst_rate = max(worst_rate, _relative([F[i] for i in idx], rates[name]))
+            P0_here = P0.xreplace(point)
+            total = [point[M[i]] + P0_here[i] for i in range(3)]
             worst_mom = max(worst_mom, _relative(total, momentum))
             count += 1
     return KaneComparison(count, worst_acc, worst_mom, worst_rate, 10.0 ** -(DIGITS - 10))
 
+
+#: The contact point's position from the axis before its vertical part is removed.
+_RHO_SEED = (sp.Rational(5, 7), sp.Rational(-3, 11), sp.Rational(2, 13))
 
 #: Kane's equations formed, by (description fingerprint, parameter values).
 _KANE: dict = {}
@@ -202,13 +217,17 @@ class _KaneRolling:
             O = origin.locatenew("O", q[3] * N.x + q[4] * N.y + b * N.z)
             O.set_vel(N, u[3] * N.x + u[4] * N.y)
             normal, tangents = N.z, (N.x, N.y)
+        # a rotating plane carries the contact point: P's velocity is Omega N.z x OP
+        Omega = p["rotation_rate"].xreplace(sub)
+        carried = Omega * N.z.cross(q[3] * N.x + q[4] * N.y) if Omega != 0 else me.Vector(0)
         self._flip = system.support == "sphere" and system.side == "inside"
         self._at_pole = system.support == "sphere"
         G = O.locatenew("G", a[0] * B.x + a[1] * B.y + a[2] * B.z)
         G.v2pt_theory(O, N, B)
         P = O.locatenew("P", -b * normal)
         P.v2pt_theory(O, N, B)
-        constraints = [P.vel(N).dot(tangents[0]), P.vel(N).dot(tangents[1])]
+        slip = P.vel(N) - carried
+        constraints = [slip.dot(tangents[0]), slip.dot(tangents[1])]
         dependent = [u[3], u[4]]
         if system.contact == "rubber":
             constraints.append(u[2])
@@ -268,13 +287,23 @@ class _KaneRolling:
         normal_B = sp.Matrix([normal.dot(B.x), normal.dot(B.y), normal.dot(B.z)])
         normal_rate = normal_B.diff(t).xreplace(kane.kindiffdict())
         self._normal_rate = sp.lambdify(args, normal_rate, modules="mpmath")
+        position = q[3] * N.x + q[4] * N.y  # the contact point from the axis (a plane)
+        position_B = sp.Matrix([position.dot(B.x), position.dot(B.y), position.dot(B.z)])
+        position_rate = position_B.diff(t).xreplace(kane.kindiffdict())
+        self._position_rate = sp.lambdify(args, position_rate, modules="mpmath")
         self._dep = sp.lambdify(args, sp.Matrix([dep[s] for s in dependent]), modules="mpmath")
         self._order = [str(s.func) for s in kane.u]
         self._dependent = [str(s.func) for s in dependent]
 
-    def at(self, gamma: Sequence[sp.Expr], omega_body: Sequence[sp.Expr]):
-        """Kane's angular acceleration, momentum about the contact and the rate of the
-        support's normal (``gamma'``), body components."""
+    def at(
+        self,
+        gamma: Sequence[sp.Expr],
+        omega_body: Sequence[sp.Expr],
+        rho: Sequence[sp.Expr] | None = None,
+    ):
+        """Kane's angular acceleration, momentum about the contact, the rate of the
+        support's normal (``gamma'``) and of the contact point's position ``rho`` from a
+        rotating plane's axis (given: ``rho``), body components."""
         with mpmath.workdps(DIGITS):
             g = [mpmath.mpf(sp.Float(x, DIGITS)) for x in gamma]
             if self._flip:  # inside a sphere the normal at the pole points down
@@ -285,6 +314,9 @@ class _KaneRolling:
             position = [mpmath.pi / 2] * 2 if self._at_pole else [mpmath.mpf(0)] * 2
             q = [mpmath.mpf("0.3"), q2, q3, *position]
             C = mpmath.matrix(self._C(q, [0] * 5))
+            if rho is not None:  # its space components: the contact point at (x, y, 0)
+                space = C.T * mpmath.matrix([mpmath.mpf(sp.Float(x, DIGITS)) for x in rho])
+                q[3], q[4] = space[0], space[1]
             wb = mpmath.matrix([mpmath.mpf(sp.Float(x, DIGITS)) for x in omega_body])
             ws = C.T * wb  # space components
             u = [ws[0], ws[1], ws[2], mpmath.mpf(0), mpmath.mpf(0)]
@@ -301,8 +333,8 @@ class _KaneRolling:
             acc = C * mpmath.matrix(udot[:3])
             momentum = self._momentum(q, u)
             rate = self._normal_rate(q, u)  # of the normal into the body (the model's gamma)
-            return (
-                [acc[i] for i in range(3)],
-                [momentum[i] for i in range(3)],
-                [rate[i] for i in range(3)],
-            )
+            rates = {"gamma": [rate[i] for i in range(3)]}
+            if rho is not None:
+                rate = self._position_rate(q, u)
+                rates["rho"] = [rate[i] for i in range(3)]
+            return [acc[i] for i in range(3)], [momentum[i] for i in range(3)], rates
