@@ -132,7 +132,7 @@ def test_discover_reads_a_description_file(tmp_path, capsys, monkeypatch):
         ('name = "bad"\ninertia = [[1, 0, 0], [0, 1, 0], [0, 0, 0]]', "singular"),
         ('name = "bad"\ninertia = [1, 1, 1]\npotential = "open(1)"', "not allowed"),
         ('name = "chaplygin_ball"\ninertia = [1, 1, 1]', "taken by a built-in"),
-        ('name = "bad"\ninertia = [1, 1, 1]\nsupport = "rotating_plane"', "not derived"),
+        ('name = "bad"\ninertia = [1, 1, 1]\nsupport = "moving_plane"', "not derived"),
         ('name = "bad"\ninertia = [1, 1, 1]\nsupport = "sphere"', "needs support_radius"),
     ],
 )
@@ -269,3 +269,63 @@ def test_the_ball_over_a_sphere_keeps_the_plane_s_density_and_loses_the_area_int
     M, g = model.group("M"), model.group("gamma")
     area = sum((M[i] * g[i] for i in range(3)), sp.S.Zero)
     assert decide([lie_derivative(area, model)], Domain(model)).verdict == "refuted"
+
+
+@pytest.mark.slow
+def test_kane_agrees_on_a_rotating_plane_and_refutes_the_plane_turning_the_other_way():
+    """Affine constraints: the body's contact point moves with the plane. An offset centre
+    of mass under gravity (the balanced body and a rotor were checked by hand: 5e-41,
+    8e-41); the model of the plane turning at -Omega is refuted by the same check."""
+    fields = dict(
+        inertia=("I1", "I2", "I3"), centre_of_mass=("a1", 0, "a3"), gravity="g",
+        support="rotating_plane",
+    )  # fmt: skip
+    system = RollingSystem("turntable", rotation_rate="Omega", **fields)
+    values = dict(
+        m="1.3", b="0.7", I1="0.31", I2="0.43", I3="0.57", a1="0.11", a3="0.2", g="9.81",
+        Omega="0.37",
+    )  # fmt: skip
+    result = kane_compare(system, system.model(), values)
+    assert result.points == 4 and result.agrees, result
+    reverse = RollingSystem("turntable", rotation_rate="-Omega", **fields).model()
+    control = kane_compare(system, reverse, values)
+    assert control.max_acceleration_error > 1e6 * control.tolerance
+    assert control.max_normal_rate_error > 1e6 * control.tolerance  # rho' too
+
+
+@pytest.mark.slow
+def test_a_homogeneous_ball_on_a_turntable_returns_after_seven_halves_of_its_turn():
+    """Earnshaw (1844; Routh, Advanced Rigid Dynamics): a homogeneous ball (I = 2/5 m b^2)
+    on a plane turning at Omega rolls so that its centre describes a circle uniformly in
+    7/2 of the plane's period, 7 pi/Omega. The distance |rho| of the contact point from the
+    axis is invariant under rotations, so |rho|^2 has that period; the plane's own period
+    2 pi/Omega is the control. An integrable, not chaotic, motion."""
+    import math
+
+    import chaplygin
+    import numpy as np
+
+    system = RollingSystem(
+        "earnshaw_ball", inertia=("2/5*m*b**2",) * 3, support="rotating_plane",
+        rotation_rate="Omega",
+    )  # fmt: skip
+    chaplygin.register_system(system)
+    Omega, rtol = 0.37, 1e-11
+    period = 7 * math.pi / Omega
+    gamma = np.array([2.0, 3.0, 6.0]) / 7
+    seed = np.array([5 / 7, -3 / 11, 2 / 13])
+    rho = seed - seed.dot(gamma) * gamma  # horizontal: (rho, gamma) = 0
+    times = [0.0, 2 * math.pi / Omega, 0.5 * period, period]
+    run = chaplygin.integrate(
+        "earnshaw_ball", {"M": (0.3, -0.7, 1.1), "gamma": tuple(gamma), "rho": tuple(rho)},
+        (0, period), {"m": 1.3, "b": 0.7, "Omega": Omega}, method="DOP853", backend="numpy",
+        rtol=rtol, atol=rtol, t_eval=times,
+    )  # fmt: skip
+    y = np.asarray(run.y, dtype=float)
+    at = [list(map(str, run.state_names)).index(f"rho{i}") for i in (1, 2, 3)]
+    d2 = (y[at, :] ** 2).sum(axis=0)
+    # a tolerance-controlled run's global error grows about linearly over its ~10^3 steps
+    bound = 1e3 * rtol * d2.max()
+    assert abs(d2[3] - d2[0]) <= bound
+    assert abs(d2[1] - d2[0]) > 1e6 * bound  # not the plane's period
+    assert abs(d2[2] - d2[0]) > 1e6 * bound  # not a constant

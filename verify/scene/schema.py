@@ -219,6 +219,9 @@ class SystemTable(_Table):
     side: Literal["outside", "inside"] = Field(
         "outside", description="the body rolls on the outside of the fixed sphere or inside it"
     )
+    rotation_rate: TypedValue | None = Field(
+        None, description="Omega of a plane rotating about a vertical axis (rotating_plane)"
+    )
     positive: list[StrictStr] = Field(default_factory=list)
     description: Annotated[StrictStr, Field(max_length=500)] = ""
 
