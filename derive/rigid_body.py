@@ -275,7 +275,9 @@ class RigidBodyReduction:
             constraints=constraints,
             geometry=geometry,
             velocity_map=red.velocity_map,
-            relation_unknowns=tuple(M),
+            # the relations are linear in the momentum (no twist) or in a position (rho
+            # horizontal on a rotating plane): both are projected onto them when sampled
+            relation_unknowns=tuple(M) + tuple(s for X, _ in desc.positions.values() for s in X),
             omega=omega,
             momentum_of_omega=red.inertia_operator * omega + Q,
             inertia_operator=red.inertia_operator,

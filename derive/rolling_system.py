@@ -34,7 +34,7 @@ version.
 On a rotating plane the constraint is affine: the body's contact point moves with the
 plane, ``v + omega x r = Omega gamma x rho``, ``rho`` the contact point's position from
 the axis in body axes (a state group, ``rho' = Omega gamma x rho + b omega x gamma +
-rho x omega``; ``(rho, gamma) = 0`` on the phase space, shipped as the integral
+rho x omega``; ``(rho, gamma) = 0`` on the phase space, the invariant relation
 ``(rho,gamma)``); the energy is not an integral (the plane does work); rolling without
 slipping only.
 
@@ -285,7 +285,7 @@ class RollingSystem:
             An effect a described system does not take.
         """
         effects = parse_effects(effects, SUPPORTED_EFFECTS)
-        if effects and self.support != "plane":  # rho gives the trace on a rotating one
+        if effects and self.support == "sphere":
             raise UserInputError(
                 f"{self.name}: the effects {sorted(effects)} (the contact trace in the plane) "
                 f"are derived on a plane only, not on a {self.support}"
@@ -321,7 +321,8 @@ class RollingSystem:
             # x rho + b omega x gamma; in body axes rho' = v_O - omega x rho
             rate = support_velocity + b * cross(omega, gamma) + cross(rho, omega)
             desc.add_position("rho", rho, rate)
-            desc.add_integral("(rho,gamma)", dot(rho, gamma))
+            # horizontal: zero on the phase space (the verifier projects rho onto it)
+            desc.add_invariant_relation("(rho,gamma)", dot(rho, gamma))
         for c in v + cross(omega, desc.contact_vector) - support_velocity:
             desc.add_constraint(c)
         for along in _NO_SPIN_ABOUT[self.contact]:  # no twist: (omega, gamma) = 0

@@ -122,7 +122,11 @@ def kane_compare(
     omega_of_x = model.expand_aux(model.omega).xreplace(pvals)
     rhs = model.rhs_expanded.xreplace(pvals)
     jac = omega_of_x.jacobian(sp.Matrix(model.state))  # evaluated at exact points below
-    relations = [model.expand_aux(e).xreplace(pvals) for _, e in model.invariant_relations]
+    relations = [  # the ones on the momentum (no twist); rho is placed horizontal below
+        model.expand_aux(e).xreplace(pvals)
+        for name, e in model.invariant_relations
+        if name.startswith("(omega,")
+    ]
     M = sp.Matrix(model.group("M"))
     # the velocity-independent momentum the state leaves out (K; on a rotating plane
     # also the carried contact's m r x (Omega gamma x rho))

@@ -213,7 +213,8 @@ def _kane_computed(system, parameter_names: tuple[str, ...]) -> Computed:
             result.max_normal_rate_error,
         ),
         bound=result.tolerance,
-        what=f"angular acceleration and contact momentum against KanesMethod at "
+        what=f"angular acceleration, contact momentum and the rates of the support's normal "
+        f"(and of the contact's position on a turntable) against KanesMethod at "
         f"{result.points} exact points, 40 digits",
         values=values,
     )

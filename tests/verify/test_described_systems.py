@@ -329,3 +329,22 @@ def test_a_homogeneous_ball_on_a_turntable_returns_after_seven_halves_of_its_tur
     assert abs(d2[3] - d2[0]) <= bound
     assert abs(d2[1] - d2[0]) > 1e6 * bound  # not the plane's period
     assert abs(d2[2] - d2[0]) > 1e6 * bound  # not a constant
+
+
+def test_on_a_turntable_the_fixed_frame_trace_is_the_carried_position():
+    """With the contact_point effect (the fixed frame alpha, beta and the trace x, y): x -
+    (rho, alpha) and y - (rho, beta) are first integrals (the trace drawn in the fixed frame
+    is the contact point the plane carries), proved by the verifier; x + (rho, alpha) is
+    refuted by the same machinery."""
+    system = RollingSystem(
+        "turntable_trace", inertia=("I1", "I2", "I3"), support="rotating_plane",
+        rotation_rate="Omega",
+    )  # fmt: skip
+    model = system.model(("contact_point",))
+    groups = dict(model.state_groups)
+    rho, alpha, beta = (sp.Matrix(groups[n]) for n in ("rho", "alpha", "beta"))
+    x, y = groups["x"][0], groups["y"][0]
+    for carried in (x - rho.dot(alpha), y - rho.dot(beta)):
+        assert decide([lie_derivative(carried, model)], Domain(model)).verdict == "proved"
+    wrong = x + rho.dot(alpha)
+    assert decide([lie_derivative(wrong, model)], Domain(model)).verdict == "refuted"
