@@ -18,8 +18,10 @@ sphere's centre). The state is the angular momentum ``M`` about the contact poin
 above the plane, less the constant ``m g b``).
 
 What it derives today: a body with a spherical surface on a fixed plane, on a plane
-rotating at a constant rate ``Omega`` about a fixed vertical axis
-(``support="rotating_plane"``), or on a fixed sphere of radius ``R``
+rotating about a fixed vertical axis at a constant or prescribed rate ``Omega(t)``
+(``support="rotating_plane"``), on a plane moving horizontally with a prescribed velocity
+``(V1(t), V2(t))`` in the fixed frame (``support="moving_plane"``), or on a fixed sphere
+of radius ``R``
 (``support="sphere"``, the body ``side="outside"`` or ``"inside"`` it), rolling without
 slipping (``contact="rolling"``) or without slipping and twisting (``"rubber"``).
 
@@ -36,12 +38,13 @@ plane, ``v + omega x r = Omega gamma x rho``, ``rho`` the contact point's positi
 the axis in body axes (a state group, ``rho' = Omega gamma x rho + b omega x gamma +
 rho x omega``; ``(rho, gamma) = 0`` on the phase space, the invariant relation
 ``(rho,gamma)``); the energy is not an integral (the plane does work); rolling without
-slipping only.
+slipping only. On a moving plane ``v + omega x r = V1 alpha + V2 beta``: the state gains
+the fixed horizontal axes ``alpha, beta`` (Poisson vectors, with ``gamma`` a frame).
+The rates and velocities are expressions of the time ``t`` and the parameters.
 
-Every other support, contact and surface the issue lists (a moving plane, convex
-surfaces ``f(x) = 0``, rolling along a line, a rotation rate of time, prescribed
-gyrostats and time-dependent inertia) is refused with a message that says so — before
-any work.
+Every other support, contact and surface the issue lists (convex surfaces ``f(x) = 0``,
+general support surfaces, rolling along a line, prescribed gyrostats and time-dependent
+inertia) is refused with a message that says so — before any work.
 
 Every text a user types is read by :func:`~.expression_text.parse_expression` (no
 ``eval``); the checks of :meth:`RollingSystem.__post_init__` run before anything is
@@ -83,7 +86,7 @@ SUPPORTED_EFFECTS = ("contact_point",)
 SUPPORTS = {
     "plane": True,
     "rotating_plane": True,
-    "moving_plane": False,
+    "moving_plane": True,
     "sphere": True,
     "surface": False,
 }
@@ -162,15 +165,18 @@ class RollingSystem:
     contact : {"rolling", "rubber"}
         Rolling without slipping, or without slipping and twisting (``(omega, gamma) =
         0``).
-    support : {"plane", "rotating_plane", "sphere"}
-        The fixed horizontal plane, a horizontal plane rotating about a vertical axis, or
-        a fixed sphere (the other supports are refused in
+    support : {"plane", "rotating_plane", "moving_plane", "sphere"}
+        The fixed horizontal plane, a horizontal plane rotating about a vertical axis or
+        moving horizontally, or a fixed sphere (the other supports are refused in
         this version).
     support_radius : number or str, optional
         Radius ``R`` of the fixed sphere (``support="sphere"`` only).
     rotation_rate : number or str, optional
-        ``Omega``, the constant angular velocity of a rotating plane about its vertical
-        axis (``support="rotating_plane"`` only).
+        ``Omega``, the angular velocity of a rotating plane about its vertical axis, a
+        constant or an expression of the time ``t`` (``support="rotating_plane"`` only).
+    plane_velocity : 2 numbers/expressions, optional
+        The horizontal velocity ``(V1, V2)`` of a moving plane along the fixed axes,
+        constants or expressions of ``t`` (``support="moving_plane"`` only).
     side : {"outside", "inside"}
         The body rolls on the outside of the fixed sphere, or inside it (a spherical
         shell; then ``R > b``).
@@ -206,6 +212,7 @@ class RollingSystem:
     support_radius: Any = None
     side: str = "outside"
     rotation_rate: Any = None
+    plane_velocity: Any = None
     positive: Sequence[str] = ()
     description: str = ""
     _parsed: dict = field(default=None, init=False, repr=False, compare=False)  # type: ignore[assignment]
@@ -247,6 +254,7 @@ class RollingSystem:
                 self.side if self.support == "sphere" else "",
                 sp.srepr(p["support_radius"]),
                 sp.srepr(p["rotation_rate"]),
+                sp.srepr(p["plane_velocity"]),
                 sp.srepr(p["inertia"]),
                 sp.srepr(p["mass"]),
                 sp.srepr(p["radius"]),
@@ -323,6 +331,10 @@ class RollingSystem:
             desc.add_position("rho", rho, rate)
             # horizontal: zero on the phase space (the verifier projects rho onto it)
             desc.add_invariant_relation("(rho,gamma)", dot(rho, gamma))
+        if self.support == "moving_plane":
+            desc.add_frame()  # the fixed axes the plane's velocity is given along
+            V = p["plane_velocity"]
+            support_velocity = V[0] * desc.vectors["alpha"] + V[1] * desc.vectors["beta"]
         for c in v + cross(omega, desc.contact_vector) - support_velocity:
             desc.add_constraint(c)
         for along in _NO_SPIN_ABOUT[self.contact]:  # no twist: (omega, gamma) = 0
@@ -374,13 +386,15 @@ def _parse(s: RollingSystem) -> dict:
     """Read every field exactly, choose the parameters' assumptions, check the physics."""
     rows = _inertia_entries(s.inertia)
     typed = [s.mass, s.radius, rows, s.centre_of_mass, s.gravity, s.support_radius]
-    typed.append(s.rotation_rate)
+    typed += [s.rotation_rate, s.plane_velocity]  # these two may use the time t
     typed += [s.gyrostat, s.potential]
     names: list[str] = []
     for value in typed:
         for n in sorted(_names_in(value)):
             if n not in names and n not in ("gamma1", "gamma2", "gamma3"):
                 names.append(n)
+    uses_time = {"t"} & (_names_in(s.rotation_rate) | _names_in(s.plane_velocity))
+    names = [n for n in names if n not in uses_time]
     clash = sorted(set(names) & RESERVED_NAMES)
     if clash:
         raise UserInputError(f"parameter names {clash} are reserved (state, velocities, time)")
@@ -416,7 +430,10 @@ def _parse(s: RollingSystem) -> dict:
     )
     _check_physics(inertia, mass, radius, centre)
     support_radius = _check_support(s, read, radius, field_strength, potential)
-    rotation_rate = _check_rotation(s, read)
+    timed = {**scope, "t": sp.Symbol("t", real=True)}
+    read_timed = lambda v, what: parse_expression(v, timed, what)  # noqa: E731
+    rotation_rate = _check_rotation(s, read_timed)
+    plane_velocity = _check_moving(s, read_timed)
     parameters = tuple(symbols[n] for n in names)
     return {
         "inertia": inertia,
@@ -427,6 +444,7 @@ def _parse(s: RollingSystem) -> dict:
         "field": field_strength,
         "support_radius": support_radius,
         "rotation_rate": rotation_rate,
+        "plane_velocity": plane_velocity,
         "potential": potential,
         "parameters": parameters,
         "roles": {
@@ -453,6 +471,23 @@ def _check_rotation(s: RollingSystem, read) -> sp.Expr:
             "(rolling without slipping is)"
         )
     return read(s.rotation_rate, "rotation_rate")
+
+
+def _check_moving(s: RollingSystem, read) -> sp.Matrix:
+    """The moving plane's velocity along the fixed axes (zero otherwise)."""
+    if s.support != "moving_plane":
+        if s.plane_velocity is not None:
+            raise UserInputError(f"plane_velocity is given but the support is a {s.support}")
+        return sp.zeros(2, 1)
+    if s.plane_velocity is None:
+        raise UserInputError("support 'moving_plane' needs plane_velocity (its V1, V2)")
+    if s.contact != "rolling":
+        raise UserInputError(
+            f"contact {s.contact!r} on a moving plane is not derived by this version "
+            "(rolling without slipping is)"
+        )
+    entries = _entries(s.plane_velocity, 2, "plane_velocity")
+    return sp.Matrix([read(x, "plane_velocity") for x in entries])
 
 
 def _check_support(s: RollingSystem, read, radius, field_strength, potential) -> sp.Expr:

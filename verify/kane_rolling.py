@@ -134,6 +134,9 @@ def kane_compare(
     g = sp.Matrix(model.group("gamma"))
     rate_groups = ["gamma"] + (["rho"] if "rho" in dict(model.state_groups) else [])
     at_group = {n: [list(model.state).index(s) for s in model.group(n)] for n in rate_groups}
+    groups = dict(model.state_groups)
+    time = sp.Symbol("t", real=True)
+    timed = time in rhs.free_symbols | P0.free_symbols  # prescribed rates: at T0
     worst_acc = worst_mom = worst_rate = 0.0
     count = 0
     for m0 in momenta:
@@ -144,6 +147,15 @@ def kane_compare(
                 w = sp.Matrix(_RHO_SEED)
                 rho = list(w - w.dot(sp.Matrix(gamma)) * sp.Matrix(gamma))
                 point.update(zip(model.group("rho"), rho, strict=True))
+            if "alpha" in groups:  # the fixed axes where Kane's body is (40 digits)
+                alpha, beta = kane.frame(gamma)
+                for name, comps in (("alpha", alpha), ("beta", beta)):
+                    point.update(
+                        (s, sp.Float(mpmath.nstr(c, DIGITS + 5), DIGITS))
+                        for s, c in zip(groups[name], comps, strict=True)
+                    )
+            if timed:
+                point[time] = T0
             if relations:
                 point.pop(M[2])
                 rel = relations[0].xreplace(point)
@@ -152,7 +164,7 @@ def kane_compare(
             w = [omega_of_x[i].xreplace(point) for i in range(3)]
             J, F = jac.xreplace(point), rhs.xreplace(point)
             ours = list(J * F)
-            theirs, momentum, rates = kane.at(gamma, w, rho)
+            theirs, momentum, rates = kane.at(gamma, w, rho, point.get(time, 0))
             worst_acc = max(worst_acc, _relative(ours, theirs))
             for name, idx in at_group.items():
                 worst_rate = max(worst_rate, _relative([F[i] for i in idx], rates[name]))
@@ -163,6 +175,9 @@ def kane_compare(
     return KaneComparison(count, worst_acc, worst_mom, worst_rate, 10.0 ** -(DIGITS - 10))
 
 
+#: The time of the comparison when the support moves by a prescribed law.
+T0 = sp.Rational(7, 10)
+
 #: The contact point's position from the axis before its vertical part is removed.
 _RHO_SEED = (sp.Rational(5, 7), sp.Rational(-3, 11), sp.Rational(2, 13))
 
@@ -170,10 +185,17 @@ _RHO_SEED = (sp.Rational(5, 7), sp.Rational(-3, 11), sp.Rational(2, 13))
 _KANE: dict = {}
 
 
+def _mpf(v: object) -> mpmath.mpf:
+    """A number at :data:`DIGITS` (sympy's functions of exact arguments evaluated)."""
+    if isinstance(v, mpmath.mpf):
+        return v
+    return mpmath.mpf(sp.Float(sp.N(v, DIGITS + 5), DIGITS))
+
+
 def _relative(a: Sequence[object], b: Sequence[object]) -> float:
     with mpmath.workdps(DIGITS):
-        x = [mpmath.mpf(sp.Float(v, DIGITS)) if not isinstance(v, mpmath.mpf) else v for v in a]
-        y = [mpmath.mpf(sp.Float(v, DIGITS)) if not isinstance(v, mpmath.mpf) else v for v in b]
+        x = [_mpf(v) for v in a]
+        y = [_mpf(v) for v in b]
         diff = mpmath.sqrt(sum((p - q) ** 2 for p, q in zip(x, y, strict=True)))
         scale = 1 + mpmath.sqrt(sum(p**2 for p in x))
         return float(diff / scale)
@@ -222,8 +244,12 @@ class _KaneRolling:
             O.set_vel(N, u[3] * N.x + u[4] * N.y)
             normal, tangents = N.z, (N.x, N.y)
         # a rotating plane carries the contact point: P's velocity is Omega N.z x OP
-        Omega = p["rotation_rate"].xreplace(sub)
+        # prescribed rates are functions of the model's time: Kane's t here
+        now = {sp.Symbol("t", real=True): t, **sub}
+        Omega = p["rotation_rate"].xreplace(now)
         carried = Omega * N.z.cross(q[3] * N.x + q[4] * N.y) if Omega != 0 else me.Vector(0)
+        V = p["plane_velocity"].xreplace(now)  # a moving plane: along the fixed axes
+        carried = carried + V[0] * N.x + V[1] * N.y
         self._flip = system.support == "sphere" and system.side == "inside"
         self._at_pole = system.support == "sphere"
         G = O.locatenew("G", a[0] * B.x + a[1] * B.y + a[2] * B.z)
@@ -283,7 +309,7 @@ class _KaneRolling:
         H = sum((body.angular_momentum(P, N) for body in bodies), me.Vector(0))
         H_B = sp.Matrix([H.dot(B.x), H.dot(B.y), H.dot(B.z)]).xreplace(dep)
         C = sp.Matrix(3, 3, lambda i, j: (B.x, B.y, B.z)[i].dot((N.x, N.y, N.z)[j]))
-        args = (q, u)
+        args = (q, u, t)
         self._mass = sp.lambdify(args, kane.mass_matrix, modules="mpmath")
         self._forcing = sp.lambdify(args, kane.forcing, modules="mpmath")
         self._momentum = sp.lambdify(args, H_B, modules="mpmath")
@@ -299,46 +325,58 @@ class _KaneRolling:
         self._order = [str(s.func) for s in kane.u]
         self._dependent = [str(s.func) for s in dependent]
 
+    def frame(self, gamma: Sequence[sp.Expr]) -> tuple[list, list]:
+        """The body components of ``N.x, N.y`` (``alpha, beta``) where :meth:`at` puts the
+        body for ``gamma`` (at :data:`DIGITS` digits)."""
+        with mpmath.workdps(DIGITS):
+            C = mpmath.matrix(self._C(self._angles(gamma), [0] * 5, 0))
+            return [C[i, 0] for i in range(3)], [C[i, 1] for i in range(3)]
+
+    def _angles(self, gamma: Sequence[sp.Expr]) -> list:
+        g = [mpmath.mpf(sp.Float(x, DIGITS)) for x in gamma]
+        if self._flip:  # inside a sphere the normal at the pole points down
+            g = [-x for x in g]
+        q2 = -mpmath.asin(g[0])
+        q3 = mpmath.atan2(g[1], g[2])
+        # N.z has body components g; on a sphere O sits where e_r = N.z
+        position = [mpmath.pi / 2] * 2 if self._at_pole else [mpmath.mpf(0)] * 2
+        return [mpmath.mpf("0.3"), q2, q3, *position]
+
     def at(
         self,
         gamma: Sequence[sp.Expr],
         omega_body: Sequence[sp.Expr],
         rho: Sequence[sp.Expr] | None = None,
+        time: sp.Expr = sp.S.Zero,
     ):
         """Kane's angular acceleration, momentum about the contact, the rate of the
         support's normal (``gamma'``) and of the contact point's position ``rho`` from a
-        rotating plane's axis (given: ``rho``), body components."""
+        rotating plane's axis (given: ``rho``), body components, at ``time``."""
         with mpmath.workdps(DIGITS):
-            g = [mpmath.mpf(sp.Float(x, DIGITS)) for x in gamma]
-            if self._flip:  # inside a sphere the normal at the pole points down
-                g = [-x for x in g]
-            q2 = -mpmath.asin(g[0])
-            q3 = mpmath.atan2(g[1], g[2])
-            # N.z has body components g; on a sphere O sits where e_r = N.z
-            position = [mpmath.pi / 2] * 2 if self._at_pole else [mpmath.mpf(0)] * 2
-            q = [mpmath.mpf("0.3"), q2, q3, *position]
-            C = mpmath.matrix(self._C(q, [0] * 5))
+            q = self._angles(gamma)
+            T = mpmath.mpf(sp.Float(time, DIGITS))
+            C = mpmath.matrix(self._C(q, [0] * 5, T))
             if rho is not None:  # its space components: the contact point at (x, y, 0)
                 space = C.T * mpmath.matrix([mpmath.mpf(sp.Float(x, DIGITS)) for x in rho])
                 q[3], q[4] = space[0], space[1]
             wb = mpmath.matrix([mpmath.mpf(sp.Float(x, DIGITS)) for x in omega_body])
             ws = C.T * wb  # space components
             u = [ws[0], ws[1], ws[2], mpmath.mpf(0), mpmath.mpf(0)]
-            dep = self._dep(q, u)
+            dep = self._dep(q, u, T)
             for name, value in zip(self._dependent, dep, strict=True):
                 if name in ("u4", "u5"):
                     u[int(name[1:]) - 1] = value
-            A = mpmath.matrix(self._mass(q, u))
-            f = mpmath.matrix(self._forcing(q, u))
+            A = mpmath.matrix(self._mass(q, u, T))
+            f = mpmath.matrix(self._forcing(q, u, T))
             solved = mpmath.lu_solve(A, f)
             udot = [mpmath.mpf(0)] * 5
             for name, value in zip(self._order, solved, strict=True):
                 udot[int(name[1:]) - 1] = value
             acc = C * mpmath.matrix(udot[:3])
-            momentum = self._momentum(q, u)
-            rate = self._normal_rate(q, u)  # of the normal into the body (the model's gamma)
+            momentum = self._momentum(q, u, T)
+            rate = self._normal_rate(q, u, T)  # of the normal into the body (the model's gamma)
             rates = {"gamma": [rate[i] for i in range(3)]}
             if rho is not None:
-                rate = self._position_rate(q, u)
+                rate = self._position_rate(q, u, T)
                 rates["rho"] = [rate[i] for i in range(3)]
             return [acc[i] for i in range(3)], [momentum[i] for i in range(3)], rates

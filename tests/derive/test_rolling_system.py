@@ -129,7 +129,19 @@ def test_names_become_exact_parameters_and_decimals_stay_exact():
         ({"inertia": (1, 1, 1), "potential": "k*M1*gamma1"}, "reserved"),
         ({"inertia": (1, 1, 1), "potential": "__import__('os').system('true')"}, "not allowed"),
         ({"inertia": (1, 1, 1), "potential": "gamma1**(10**10)"}, "exponent"),
-        ({"inertia": (1, 1, 1), "support": "moving_plane"}, "not derived by this version"),
+        ({"inertia": (1, 1, 1), "support": "surface"}, "not derived by this version"),
+        ({"inertia": (1, 1, 1), "support": "moving_plane"}, "needs plane_velocity"),
+        ({"inertia": (1, 1, 1), "support": "moving_plane", "plane_velocity": ("t",)}, "expected 2"),
+        ({"inertia": (1, 1, 1), "plane_velocity": (1, 0)}, "the support is a plane"),
+        (
+            {
+                "inertia": (1, 1, 1),
+                "support": "rotating_plane",
+                "rotation_rate": "Omega",
+                "potential": "t*gamma1",
+            },
+            "reserved",
+        ),
         ({"inertia": (1, 1, 1), "support": "rotating_plane"}, "needs rotation_rate"),
         ({"inertia": (1, 1, 1), "rotation_rate": 2}, "the support is a plane"),
         (

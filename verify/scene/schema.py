@@ -220,7 +220,14 @@ class SystemTable(_Table):
         "outside", description="the body rolls on the outside of the fixed sphere or inside it"
     )
     rotation_rate: TypedValue | None = Field(
-        None, description="Omega of a plane rotating about a vertical axis (rotating_plane)"
+        None,
+        description="Omega of a plane rotating about a vertical axis (rotating_plane): a "
+        "constant or an expression of the time t",
+    )
+    plane_velocity: list[TypedValue] | None = Field(
+        None,
+        description="(V1, V2): the horizontal velocity of a moving plane along the fixed axes "
+        "(moving_plane), constants or expressions of t",
     )
     positive: list[StrictStr] = Field(default_factory=list)
     description: Annotated[StrictStr, Field(max_length=500)] = ""
