@@ -127,9 +127,21 @@ class BodyOnSphere:
 
 
 def derive_body_on_sphere(
-    surface: sp.Expr, inertia: sp.Matrix, m: sp.Expr, k: sp.Expr, omega: sp.Matrix, r: sp.Matrix
+    surface: sp.Expr,
+    inertia: sp.Matrix,
+    m: sp.Expr,
+    k: sp.Expr,
+    omega: sp.Matrix,
+    r: sp.Matrix,
+    gyrostat: sp.Matrix | None = None,
+    gravity: sp.Expr = sp.S.Zero,
 ) -> BodyOnSphere:
     """Derive the equations of a body with surface ``f(r) = 0`` rolling on a sphere.
+
+    With ``k = 0`` the support is a fixed plane: ``n`` is fixed in space (``n' = n x
+    omega``) and the contact point stays on the surface (``(n, r') = 0``), so ``(dn/dr +
+    n n^T) r' = n x omega``; a field ``g`` along ``-n`` (gravity) acts at the centre of
+    mass, ``V = -m g (r, n)`` (the height of the centre of mass above the plane).
 
     Parameters
     ----------
@@ -141,6 +153,10 @@ def derive_body_on_sphere(
         Mass and signed curvature ``+-1/R0`` of the fixed sphere.
     omega, r : sympy.Matrix
         State symbols.
+    gyrostat : sympy.Matrix, optional
+        A constant gyrostatic momentum ``K``: ``T`` gains ``(K, omega)``.
+    gravity : sympy.Expr, optional
+        ``g`` of a field along ``-n``; on a plane only (``k = 0``).
 
     Returns
     -------
@@ -151,6 +167,13 @@ def derive_body_on_sphere(
     v = vector("v", real=True)
     r_dot = vector("rdot", real=True)
     T = (omega.T * inertia * omega)[0] / 2 + m * dot(v, v) / 2
+    if gyrostat is not None:
+        T += dot(gyrostat, omega)
+    grad = sp.Matrix([sp.diff(surface, s) for s in r])
+    q = sp.sqrt(sp.factor_terms(sp.expand(dot(grad, grad))))
+    n = (-grad / q).applyfunc(sp.factor_terms)
+    if gravity != 0 and k != 0:
+        raise ValueError("a field along the normal is derived on a plane (k = 0) only")
     desc = RigidBodyDescription(
         omega=omega,
         v=v,
@@ -158,20 +181,20 @@ def derive_body_on_sphere(
         constraints=list(v + cross(omega, r)),
         kinematics={"r": (r, r_dot)},
         time=t,
+        force=-m * gravity * n,
     )
     red = lagrange_dalembert(desc)
     II = red.inertia_operator
     II_rate = II.applyfunc(lambda e: sum(sp.diff(e, r[i]) * r_dot[i] for i in range(3)))
     adj, det = _adjugate_and_det(II)
     omega_rate = adj * (red.momentum_rate - II_rate * omega) / seeded_factor(det)
-    grad = sp.Matrix([sp.diff(surface, s) for s in r])
-    q = sp.sqrt(sp.factor_terms(sp.expand(dot(grad, grad))))
-    n = (-grad / q).applyfunc(sp.factor_terms)
     Dn = n.jacobian(r)
-    # (k Id + dn/dr) r' = n x omega, from contact_normal_rate and n' = (dn/dr) r'
-    n_rate = contact_normal_rate(k, r, r_dot, n, omega)
-    system = (Dn * r_dot - n_rate).jacobian(r_dot)
-    source = -(Dn * r_dot - n_rate).xreplace(dict.fromkeys(r_dot, 0))
+    if k == 0:  # a plane: n' = n x omega, and r' tangent to the surface
+        equations = Dn * r_dot - cross(n, omega) + n * dot(n, r_dot)
+    else:  # (k Id + dn/dr) r' = n x omega, from contact_normal_rate and n' = (dn/dr) r'
+        equations = Dn * r_dot - contact_normal_rate(k, r, r_dot, n, omega)
+    system = equations.jacobian(r_dot)
+    source = -equations.xreplace(dict.fromkeys(r_dot, 0))
     adj, det = _adjugate_and_det(system)
     r_rate = adj * source / det
     return BodyOnSphere(
@@ -184,7 +207,7 @@ def derive_body_on_sphere(
         normal=n,
         normal_jacobian=Dn,
         r_rate=r_rate,
-        energy=red.energy,
+        energy=red.energy - m * gravity * dot(r, n),
     )
 
 
@@ -216,16 +239,22 @@ class BodyOnSphereReduction:
     surface : sympy.Expr
         ``f(r)`` in the position's state symbols.
     mass, curvature : sympy.Symbol
-        ``m`` and the signed curvature ``k = +-1/R0``.
+        ``m`` and the signed curvature ``k = +-1/R0`` (``0``: a fixed plane).
     angular_velocity, position : str
         The state groups ``omega`` and ``r`` (their rates are derived).
+    gyrostat : sympy.Matrix, optional
+        A constant gyrostatic momentum.
+    gravity : sympy.Expr
+        ``g`` of a field along ``-n`` (on a plane).
     """
 
     surface: sp.Expr
     mass: sp.Symbol
-    curvature: sp.Symbol
+    curvature: sp.Expr
     angular_velocity: str = "omega"
     position: str = "r"
+    gyrostat: sp.Matrix | None = None
+    gravity: sp.Expr = sp.S.Zero
 
     def reduce(self, desc: MechanicalDescription) -> Reduced:
         """``omega'`` and ``r'`` (an auxiliary ``rdot``), the energy ``H``; no density.
@@ -254,7 +283,10 @@ class BodyOnSphereReduction:
         )
         omega = desc.state_group(self.angular_velocity)
         r = desc.state_group(self.position)
-        eq = derive_body_on_sphere(self.surface, desc.inertia, self.mass, self.curvature, omega, r)
+        eq = derive_body_on_sphere(
+            self.surface, desc.inertia, self.mass, self.curvature, omega, r,
+            gyrostat=self.gyrostat, gravity=self.gravity,
+        )  # fmt: skip
         rdot = eq.r_rate_symbols
         return Reduced(
             rates={self.angular_velocity: list(eq.omega_rate), self.position: list(rdot)},

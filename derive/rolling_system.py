@@ -42,9 +42,17 @@ slipping only. On a moving plane ``v + omega x r = V1 alpha + V2 beta``: the sta
 the fixed horizontal axes ``alpha, beta`` (Poisson vectors, with ``gamma`` a frame).
 The rates and velocities are expressions of the time ``t`` and the parameters.
 
-Every other support, contact and surface the issue lists (convex surfaces ``f(x) = 0``,
-general support surfaces, rolling along a line, prescribed gyrostats and time-dependent
-inertia) is refused with a message that says so — before any work.
+A convex body ``f(x) = 0`` (``surface="..."``, an expression of ``x1, x2, x3`` in body
+axes from the point ``centre_of_mass`` is measured from) rolls without slipping on the
+fixed plane, with gravity and a constant gyrostat: the body-frame stage of a body on a
+sphere (:mod:`.body_on_sphere`) with curvature ``0``; the state is ``omega`` and the
+contact point ``r`` from the centre of mass (``(dn/dr + n n^T) r' = n x omega``, ``n =
+-grad f/|grad f|`` the upward normal), the integrals the energy and the surface's level
+``f`` (the contact point stays on it).
+
+Every other support, contact and surface the issue lists (convex bodies on the other
+supports, general support surfaces, rolling along a line, prescribed gyrostats and
+time-dependent inertia) is refused with a message that says so — before any work.
 
 Every text a user types is read by :func:`~.expression_text.parse_expression` (no
 ``eval``); the checks of :meth:`RollingSystem.__post_init__` run before anything is
@@ -62,6 +70,7 @@ from typing import Any
 
 import sympy as sp
 
+from .body_on_sphere import BodyOnSphereReduction
 from .description import MechanicalDescription, apply_effects, form_model
 from .effects import parse_effects
 from .errors import UserInputError
@@ -152,9 +161,15 @@ class RollingSystem:
         moments). Symmetric and positive definite.
     mass : number or str, default "m"
     radius : number or str, default "b"
-        Radius of the body's spherical surface.
+        Radius of the body's spherical surface (not read with ``surface``).
     centre_of_mass : 3 numbers/expressions, default (0, 0, 0)
-        Position of the centre of mass from the sphere's centre, body axes.
+        Position of the centre of mass from the sphere's centre (from the origin of
+        ``surface``'s coordinates), body axes.
+    surface : str or sympy.Expr, optional
+        A convex body ``f(x1, x2, x3) = 0`` instead of a sphere (``f < 0`` inside), on a
+        fixed plane, rolling without slipping. The equations hold on every level set of
+        ``f`` (the contact point ``r`` chooses it): a name only in ``f``'s constant term
+        (a sphere's radius) is not a parameter.
     gravity : number or str, optional
         Strength ``g`` of a constant field along ``-gamma``; None: no field.
     gyrostat : 3 numbers/expressions, optional
@@ -213,6 +228,7 @@ class RollingSystem:
     side: str = "outside"
     rotation_rate: Any = None
     plane_velocity: Any = None
+    surface: Any = None
     positive: Sequence[str] = ()
     description: str = ""
     _parsed: dict = field(default=None, init=False, repr=False, compare=False)  # type: ignore[assignment]
@@ -255,6 +271,7 @@ class RollingSystem:
                 sp.srepr(p["support_radius"]),
                 sp.srepr(p["rotation_rate"]),
                 sp.srepr(p["plane_velocity"]),
+                sp.srepr(p["surface"]),
                 sp.srepr(p["inertia"]),
                 sp.srepr(p["mass"]),
                 sp.srepr(p["radius"]),
@@ -293,6 +310,13 @@ class RollingSystem:
             An effect a described system does not take.
         """
         effects = parse_effects(effects, SUPPORTED_EFFECTS)
+        if self._parsed["surface"] is not None:
+            if effects:
+                raise UserInputError(
+                    f"{self.name}: the effects {sorted(effects)} are derived for a spherical "
+                    "body only"
+                )
+            return _convex_body_description(self)
         if effects and self.support == "sphere":
             raise UserInputError(
                 f"{self.name}: the effects {sorted(effects)} (the contact trace in the plane) "
@@ -362,6 +386,34 @@ class RollingSystem:
         return form_model(self.mechanical_description(effects))
 
 
+def _convex_body_description(s: RollingSystem) -> MechanicalDescription:
+    """A convex body on the fixed plane: state ``omega`` and the contact point ``r``."""
+    p = s._parsed
+    omega, r = vector("omega", real=True), vector("r", real=True)
+    m = p["mass"]
+    names = tuple(x.name for x in p["parameters"])
+    desc = MechanicalDescription(
+        system=s.name,
+        effects=frozenset(),
+        time=sp.Symbol("t", real=True),
+        omega=omega,
+        reduction=BodyOnSphereReduction(
+            p["surface"], m, sp.S.Zero, gyrostat=p["rotor_momentum"], gravity=p["field"]
+        ),
+        parameter_order=names,
+        inertia=p["inertia"],
+    )
+    desc.add_state("omega", tuple(omega), None)
+    desc.add_state("r", tuple(r), None)
+    # the contact point stays on the surface: its level is an integral
+    r_free = p["surface"].xreplace(dict.fromkeys(r, 0))
+    desc.add_integral("f", sp.expand(p["surface"] - r_free))  # the level: up to a constant
+    for x in p["parameters"]:
+        domain = "positive" if x.is_positive else "real"
+        desc.add_parameter(ParameterSpec(x.name, (x,), domain, _role(x, p)))
+    return desc
+
+
 def _normal_rate_factor(s: RollingSystem, parsed: dict) -> sp.Expr:
     """``s`` of ``gamma' = s gamma x omega``: 1 on a plane; on a sphere of radius ``R``
     the body's centre moves on the sphere of radius ``R +- b`` (outside/inside), and
@@ -385,13 +437,14 @@ def _check_choice(what: str, value: object, choices: Mapping[str, bool]) -> None
 def _parse(s: RollingSystem) -> dict:
     """Read every field exactly, choose the parameters' assumptions, check the physics."""
     rows = _inertia_entries(s.inertia)
-    typed = [s.mass, s.radius, rows, s.centre_of_mass, s.gravity, s.support_radius]
+    radius = None if s.surface is not None else s.radius  # a convex body has no radius
+    typed = [s.mass, radius, rows, s.centre_of_mass, s.gravity, s.support_radius]
     typed += [s.rotation_rate, s.plane_velocity]  # these two may use the time t
-    typed += [s.gyrostat, s.potential]
+    typed += [s.gyrostat, s.potential, s.surface]
     names: list[str] = []
     for value in typed:
         for n in sorted(_names_in(value)):
-            if n not in names and n not in ("gamma1", "gamma2", "gamma3"):
+            if n not in names and n not in _STATE_NAMES:
                 names.append(n)
     uses_time = {"t"} & (_names_in(s.rotation_rate) | _names_in(s.plane_velocity))
     names = [n for n in names if n not in uses_time]
@@ -400,7 +453,7 @@ def _parse(s: RollingSystem) -> dict:
         raise UserInputError(f"parameter names {clash} are reserved (state, velocities, time)")
     positive = set(s.positive) | {
         str(v).strip()
-        for v in (s.mass, s.radius, s.gravity, s.support_radius, *(rows[i][i] for i in range(3)))
+        for v in (s.mass, radius, s.gravity, s.support_radius, *(rows[i][i] for i in range(3)))
         if isinstance(v, str) and str(v).strip().isidentifier()
     }
     unknown = sorted(set(s.positive) - set(names))
@@ -412,7 +465,8 @@ def _parse(s: RollingSystem) -> dict:
     scope = {**symbols, "pi": sp.pi}
     read = lambda v, what: parse_expression(v, scope, what)  # noqa: E731
     inertia = sp.Matrix(3, 3, lambda i, j: read(rows[i][j], f"inertia[{i + 1},{j + 1}]"))
-    mass, radius = read(s.mass, "mass"), read(s.radius, "radius")
+    mass = read(s.mass, "mass")
+    radius = read(s.radius, "radius") if s.surface is None else None
     centre = sp.Matrix(
         [read(x, "centre_of_mass") for x in _entries(s.centre_of_mass, 3, "centre_of_mass")]
     )
@@ -428,6 +482,7 @@ def _parse(s: RollingSystem) -> dict:
         if s.potential is None
         else parse_expression(s.potential, {**scope, **gamma}, "potential")
     )
+    surface = _read_surface(s, scope, centre)
     _check_physics(inertia, mass, radius, centre)
     support_radius = _check_support(s, read, radius, field_strength, potential)
     timed = {**scope, "t": sp.Symbol("t", real=True)}
@@ -435,6 +490,13 @@ def _parse(s: RollingSystem) -> dict:
     rotation_rate = _check_rotation(s, read_timed)
     plane_velocity = _check_moving(s, read_timed)
     parameters = tuple(symbols[n] for n in names)
+    if surface is not None:  # a name only in f's constant term is the level, set by r
+        used = set().union(
+            *(sp.sympify(e).free_symbols for e in (inertia, mass, centre, field_strength)),
+            gyrostat.free_symbols,
+            *(sp.diff(surface, ri).free_symbols for ri in vector("r", real=True)),
+        )
+        parameters = tuple(x for x in parameters if x in used)
     return {
         "inertia": inertia,
         "mass": mass,
@@ -445,6 +507,7 @@ def _parse(s: RollingSystem) -> dict:
         "support_radius": support_radius,
         "rotation_rate": rotation_rate,
         "plane_velocity": plane_velocity,
+        "surface": surface,
         "potential": potential,
         "parameters": parameters,
         "roles": {
@@ -471,6 +534,37 @@ def _check_rotation(s: RollingSystem, read) -> sp.Expr:
             "(rolling without slipping is)"
         )
     return read(s.rotation_rate, "rotation_rate")
+
+
+#: Names a description's texts use for the state (not parameters).
+_STATE_NAMES = ("gamma1", "gamma2", "gamma3", "x1", "x2", "x3")
+
+
+def _read_surface(s: RollingSystem, scope: dict, centre: sp.Matrix) -> sp.Expr | None:
+    """``f`` in the contact point ``r`` from the centre of mass: ``f(r + c)``."""
+    if s.surface is None:
+        return None
+    if s.support != "plane" or s.contact != "rolling":
+        raise UserInputError(
+            "a convex body (surface) is derived rolling without slipping on a fixed plane "
+            f"only in this version, not with support {s.support!r}, contact {s.contact!r}"
+        )
+    if s.potential is not None:
+        raise UserInputError("a potential is derived for a spherical body only in this version")
+    x = {f"x{i}": sp.Symbol(f"x{i}", real=True) for i in (1, 2, 3)}
+    f = parse_expression(s.surface, {**scope, **x}, "surface")
+    if not f.is_polynomial(*x.values()) or sp.Poly(f, *x.values()).total_degree() < 2:
+        raise UserInputError("surface: f must be a polynomial of degree 2 or more in x1, x2, x3")
+    xs = list(x.values())
+    hessian = sp.hessian(f, xs)
+    if sp.Poly(f, *xs).total_degree() == 2 and hessian.is_symbolic() is False:
+        if not hessian.is_positive_definite:  # a quadric: convex iff its Hessian is PD
+            raise UserInputError(f"surface: the quadric {f} = 0 is not convex (Hessian {hessian})")
+    inside = f.xreplace(dict(zip(xs, centre, strict=True)))
+    if inside.is_number and inside >= 0:
+        raise UserInputError(f"centre_of_mass: f = {inside} >= 0 there, not inside the body f < 0")
+    r = vector("r", real=True)
+    return f.xreplace({x[f"x{i + 1}"]: r[i] + centre[i] for i in range(3)})
 
 
 def _check_moving(s: RollingSystem, read) -> sp.Matrix:
@@ -516,6 +610,8 @@ def _check_support(s: RollingSystem, read, radius, field_strength, potential) ->
 def _check_physics(inertia: sp.Matrix, mass: sp.Expr, radius: sp.Expr, centre: sp.Matrix) -> None:
     """Refuse what no body is: every test is exact, and decided only where it can be."""
     for what, value in (("mass", mass), ("radius", radius)):
+        if value is None:  # a convex body: its surface is checked by _read_surface
+            continue
         if value.is_positive is False or value.is_zero:
             raise UserInputError(f"{what} must be positive, got {value}")
     asym = (inertia - inertia.T).applyfunc(sp.simplify)
@@ -534,7 +630,7 @@ def _check_physics(inertia: sp.Matrix, mass: sp.Expr, radius: sp.Expr, centre: s
             if sp.sympify(d).is_nonpositive:
                 raise UserInputError(f"inertia: the leading {k} x {k} minor {d} is never positive")
     distance2 = dot(centre, centre)
-    if distance2.is_number and radius.is_number and distance2 >= radius**2:
+    if radius is not None and distance2.is_number and radius.is_number and distance2 >= radius**2:
         raise UserInputError(
             f"centre_of_mass: at distance {sp.sqrt(distance2)} from the centre it is not "
             f"inside the body of radius {radius}"

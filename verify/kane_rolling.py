@@ -119,6 +119,8 @@ def kane_compare(
     kane = _KANE.get(key)
     if kane is None:  # forming Kane's equations is the cost (seconds): once per point
         kane = _KANE[key] = _KaneRolling(system, pvals)
+    if system._parsed["surface"] is not None:
+        return _compare_convex(system, model, kane, pvals, momenta)
     omega_of_x = model.expand_aux(model.omega).xreplace(pvals)
     rhs = model.rhs_expanded.xreplace(pvals)
     jac = omega_of_x.jacobian(sp.Matrix(model.state))  # evaluated at exact points below
@@ -175,6 +177,61 @@ def kane_compare(
     return KaneComparison(count, worst_acc, worst_mom, worst_rate, 10.0 ** -(DIGITS - 10))
 
 
+def quadric_contact(surface: sp.Expr, up: sp.Matrix) -> sp.Matrix:
+    """The contact point ``r`` of a convex quadric ``f(r) = 0`` whose outward normal is
+    ``-up``: ``r = r0 - s A^-1 up / sqrt(up . A^-1 up)`` for ``f = (r - r0)^T A (r - r0) -
+    s^2`` (the inverse of the Gauss map, in closed form for a quadric only).
+
+    Parameters
+    ----------
+    surface : sympy.Expr
+        A polynomial of degree 2 in ``r1, r2, r3`` with numeric coefficients.
+    up : sympy.Matrix, shape (3, 1)
+        The upward normal in body axes.
+
+    Returns
+    -------
+    sympy.Matrix, shape (3, 1)
+
+    Raises
+    ------
+    ValueError
+        When ``surface`` is not an ellipsoid.
+    """
+    r = sp.Matrix(sp.symbols("r1:4", real=True))
+    A = sp.hessian(surface, list(r)) / 2
+    if A.free_symbols & set(r) or not A.is_positive_definite:
+        raise ValueError("the Kane comparison takes an ellipsoid (a quadric with A > 0) only")
+    linear = sp.Matrix([sp.diff(surface, x) for x in r]).xreplace(dict.fromkeys(r, 0))
+    r0 = -A.inv() * linear / 2
+    s2 = -surface.xreplace(dict(zip(r, r0, strict=True)))
+    w = A.inv() * up
+    return r0 - sp.sqrt(s2) * w / sp.sqrt(up.dot(w))
+
+
+def _compare_convex(system, model, kane, pvals, momenta) -> KaneComparison:
+    """``omega'`` and ``r'`` of the state ``(omega, r)`` against Kane's, and the momentum
+    about the contact, at the contact points of :data:`RATIONAL_UNIT_VECTORS`."""
+    omega, r = sp.Matrix(model.group("omega")), sp.Matrix(model.group("r"))
+    rhs = model.rhs_expanded.xreplace(pvals)
+    index = {s: list(model.state).index(s) for s in (*omega, *r)}
+    momentum = model.details.equations.reduced.momentum.xreplace(pvals)
+    surface = system._parsed["surface"].xreplace(pvals)
+    worst = [0.0, 0.0, 0.0]
+    count = 0
+    for w in momenta:
+        for gamma in RATIONAL_UNIT_VECTORS:
+            contact = quadric_contact(surface, sp.Matrix(gamma))
+            point = {**dict(zip(omega, w, strict=True)), **dict(zip(r, contact, strict=True))}
+            F = rhs.xreplace(point)
+            theirs, H, rates = kane.at(gamma, list(w))
+            worst[0] = max(worst[0], _relative([F[index[s]] for s in omega], theirs))
+            worst[1] = max(worst[1], _relative(list(momentum.xreplace(point)), H))
+            worst[2] = max(worst[2], _relative([F[index[s]] for s in r], rates["r"]))
+            count += 1
+    return KaneComparison(count, *worst, 10.0 ** -(DIGITS - 10))
+
+
 #: The time of the comparison when the support moves by a prescribed law.
 T0 = sp.Rational(7, 10)
 
@@ -221,12 +278,22 @@ class _KaneRolling:
         kd += [q[3].diff(t) - u[3], q[4].diff(t) - u[4]]
         B.set_ang_vel(N, u[0] * N.x + u[1] * N.y + u[2] * N.z)
         p = system._parsed
-        m, b = p["mass"].xreplace(sub), p["radius"].xreplace(sub)
+        m = p["mass"].xreplace(sub)
+        b = None if p["radius"] is None else p["radius"].xreplace(sub)
         a = p["centre"].xreplace(sub)
         inertia = p["inertia"].xreplace(sub)
         origin = me.Point("origin")
         origin.set_vel(N, 0)
-        if system.support == "sphere":
+        gamma_B = sp.Matrix([N.z.dot(B.x), N.z.dot(B.y), N.z.dot(B.z)])
+        self._quadric = p["surface"] is not None
+        if self._quadric:  # a convex quadric: the contact point r(gamma), G at height h
+            r_B = quadric_contact(p["surface"].xreplace(sub), gamma_B)
+            h = -r_B.dot(gamma_B)
+            h_rate = sum((h.diff(s) * solved[s.diff(t)] for s in q[:3]), sp.S.Zero)
+            G = origin.locatenew("G", q[3] * N.x + q[4] * N.y + h * N.z)
+            G.set_vel(N, u[3] * N.x + u[4] * N.y + h_rate * N.z)
+            O, normal, tangents = G, N.z, (N.x, N.y)
+        elif system.support == "sphere":
             R = p["support_radius"].xreplace(sub)
             inside = system.side == "inside"
             rho = R - b if inside else R + b
@@ -252,10 +319,14 @@ class _KaneRolling:
         carried = carried + V[0] * N.x + V[1] * N.y
         self._flip = system.support == "sphere" and system.side == "inside"
         self._at_pole = system.support == "sphere"
-        G = O.locatenew("G", a[0] * B.x + a[1] * B.y + a[2] * B.z)
-        G.v2pt_theory(O, N, B)
-        P = O.locatenew("P", -b * normal)
-        P.v2pt_theory(O, N, B)
+        if self._quadric:
+            P = G.locatenew("P", r_B[0] * B.x + r_B[1] * B.y + r_B[2] * B.z)
+            P.v2pt_theory(G, N, B)  # the body point at the contact: v_G + omega x r
+        else:
+            G = O.locatenew("G", a[0] * B.x + a[1] * B.y + a[2] * B.z)
+            G.v2pt_theory(O, N, B)
+            P = O.locatenew("P", -b * normal)
+            P.v2pt_theory(O, N, B)
         slip = P.vel(N) - carried
         constraints = [slip.dot(tangents[0]), slip.dot(tangents[1])]
         dependent = [u[3], u[4]]
@@ -282,7 +353,6 @@ class _KaneRolling:
             dyadic = dyadic - rotor
             bodies.append(me.RigidBody("rotor", G, R, 0, (rotor, G)))
         bodies.insert(0, me.RigidBody("body", G, B, m, (dyadic, G)))
-        gamma_B = sp.Matrix([N.z.dot(B.x), N.z.dot(B.y), N.z.dot(B.z)])
         loads = []
         g_field = p["field"].xreplace(sub)
         if g_field != 0:
@@ -317,8 +387,11 @@ class _KaneRolling:
         normal_B = sp.Matrix([normal.dot(B.x), normal.dot(B.y), normal.dot(B.z)])
         normal_rate = normal_B.diff(t).xreplace(kane.kindiffdict())
         self._normal_rate = sp.lambdify(args, normal_rate, modules="mpmath")
-        position = q[3] * N.x + q[4] * N.y  # the contact point from the axis (a plane)
-        position_B = sp.Matrix([position.dot(B.x), position.dot(B.y), position.dot(B.z)])
+        if self._quadric:  # the contact point from the centre of mass, body axes
+            position_B = r_B
+        else:  # the contact point from the axis (a turntable)
+            position = q[3] * N.x + q[4] * N.y
+            position_B = sp.Matrix([position.dot(B.x), position.dot(B.y), position.dot(B.z)])
         position_rate = position_B.diff(t).xreplace(kane.kindiffdict())
         self._position_rate = sp.lambdify(args, position_rate, modules="mpmath")
         self._dep = sp.lambdify(args, sp.Matrix([dep[s] for s in dependent]), modules="mpmath")
@@ -376,7 +449,7 @@ class _KaneRolling:
             momentum = self._momentum(q, u, T)
             rate = self._normal_rate(q, u, T)  # of the normal into the body (the model's gamma)
             rates = {"gamma": [rate[i] for i in range(3)]}
-            if rho is not None:
+            if rho is not None or self._quadric:
                 rate = self._position_rate(q, u, T)
-                rates["rho"] = [rate[i] for i in range(3)]
+                rates["r" if self._quadric else "rho"] = [rate[i] for i in range(3)]
             return [acc[i] for i in range(3)], [momentum[i] for i in range(3)], rates

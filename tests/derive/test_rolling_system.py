@@ -130,6 +130,34 @@ def test_names_become_exact_parameters_and_decimals_stay_exact():
         ({"inertia": (1, 1, 1), "potential": "__import__('os').system('true')"}, "not allowed"),
         ({"inertia": (1, 1, 1), "potential": "gamma1**(10**10)"}, "exponent"),
         ({"inertia": (1, 1, 1), "support": "surface"}, "not derived by this version"),
+        (
+            {
+                "inertia": (1, 1, 1),
+                "surface": "x1**2 + x2**2 + x3**2 - 1",
+                "support": "sphere",
+                "support_radius": 2,
+            },
+            "fixed plane only",
+        ),
+        (
+            {"inertia": (1, 1, 1), "surface": "x1**2 + x2**2 + x3**2 - 1", "contact": "rubber"},
+            "fixed plane only",
+        ),
+        ({"inertia": (1, 1, 1), "surface": "x1**2 - x2**2 + x3**2 - 1"}, "not convex"),
+        ({"inertia": (1, 1, 1), "surface": "x1 + x2 - 1"}, "degree 2 or more"),
+        ({"inertia": (1, 1, 1), "surface": "sin(x1) + x2**2 + x3**2 - 1"}, "polynomial"),
+        (
+            {
+                "inertia": (1, 1, 1),
+                "surface": "x1**2 + x2**2 + x3**2 - 1",
+                "centre_of_mass": (0, 0, 2),
+            },
+            "not inside the body",
+        ),
+        (
+            {"inertia": (1, 1, 1), "surface": "x1**2 + x2**2 + x3**2 - 1", "potential": "gamma1"},
+            "spherical body only",
+        ),
         ({"inertia": (1, 1, 1), "support": "moving_plane"}, "needs plane_velocity"),
         ({"inertia": (1, 1, 1), "support": "moving_plane", "plane_velocity": ("t",)}, "expected 2"),
         ({"inertia": (1, 1, 1), "plane_velocity": (1, 0)}, "the support is a plane"),
@@ -232,3 +260,48 @@ def test_on_a_sphere_the_normal_turns_as_the_centre_moves_on_the_sphere_of_radiu
         # and it is not Poisson's equation of a vector fixed in space
         poisson = sp.Matrix(unit).cross(omega)
         assert not (ours.xreplace(point) - poisson).applyfunc(sp.simplify).is_zero_matrix
+
+
+def test_a_sphere_described_as_a_convex_surface_gives_the_sphere_s_equations():
+    """Two routes: the body-frame stage of a convex body in (omega, r), with r(t) on the
+    surface |x|^2 = b^2 and n = -grad f/|grad f| (no radius in its equations), and the
+    rigid-body stage in (M, gamma) of the same offset body (product of inertia, gravity,
+    a rotor): omega' and r' = -b gamma' agree exactly at a generic point, the energies
+    differ by the constant m g b (heights measured from the centre or the contact)."""
+    common = dict(
+        inertia=[["I1", "c12", 0], ["c12", "I2", 0], [0, 0, "I3"]], centre_of_mass=("a1", 0, "a3"),
+        gravity="g", gyrostat=(0, "K2", 0),
+    )  # fmt: skip
+    sphere = RollingSystem("as_sphere", **common).model()
+    convex = RollingSystem("as_surface", surface="x1**2 + x2**2 + x3**2 - b**2", **common)
+    assert "b" not in convex.parameter_names  # the level of f is the state's
+    body = convex.model()
+    assert [n for n, _ in body.integrals] == ["H", "f"]
+    R = sp.Rational
+    values = dict(
+        m=R(13, 10), I1=R(3, 7), I2=R(5, 9), I3=R(8, 11), c12=R(1, 17), a1=R(1, 9),
+        a3=R(-2, 13), g=R(49, 5), K2=R(-3, 10),
+    )  # fmt: skip
+    b = R(7, 10)
+    gamma = [R(2, 7), R(3, 7), R(6, 7)]
+    M = [R(3, 10), R(-7, 10), R(11, 10)]
+    ns = {s.name: s for s in (*sphere.state, *sphere.params)}
+    at = {ns[k]: v for k, v in values.items()}
+    at.update({ns["b"]: b, **{ns[f"gamma{i + 1}"]: gamma[i] for i in range(3)}})
+    at.update({ns[f"M{i + 1}"]: M[i] for i in range(3)})
+    omega_of_state = sphere.expand_aux(sphere.omega)
+    omega = omega_of_state.xreplace(at)
+    rates = sphere.rhs_expanded.xreplace(at)
+    acceleration = omega_of_state.jacobian(sp.Matrix(sphere.state)).xreplace(at) * rates
+    nc = {s.name: s for s in (*body.state, *body.params)}
+    r = -b * sp.Matrix(gamma) - sp.Matrix([values["a1"], 0, values["a3"]])  # G -> contact
+    bt = {nc[k]: v for k, v in values.items()}
+    bt.update({nc[f"omega{i + 1}"]: omega[i] for i in range(3)})
+    bt.update({nc[f"r{i + 1}"]: r[i] for i in range(3)})
+    theirs = body.rhs_expanded.xreplace(bt)
+    for i in range(3):
+        assert sp.simplify(theirs[i] - acceleration[i]) == 0
+        assert sp.simplify(theirs[3 + i] + b * rates[3 + i]) == 0
+    H_sphere = sphere.expand_aux(sphere.integral("H")).xreplace(at)
+    H_body = body.expand_aux(body.integral("H")).xreplace(bt)
+    assert sp.simplify(H_body - H_sphere - values["m"] * values["g"] * b) == 0
