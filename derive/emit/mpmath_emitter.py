@@ -27,6 +27,8 @@ class MpmathEmitter(PythonModuleEmitter):
     def _outputs(self, model: Model, routine: Routine) -> list[str]:
         items = [self._print(e) if e != 0 else "mpmath.mpf(0)" for e in routine.outputs]
         if len(routine.shape) == 1:
+            if not items:  # no phase-space constraint (no unit vector in the state)
+                return ["    return []"]
             body = ",\n        ".join(items)
             return [f"    return [\n        {body},\n    ]"]
         n = routine.shape[1]
