@@ -436,6 +436,12 @@ def _common_numerators(velocity, builder, ideal, model):
     Every factor of ``Q`` must be non-zero on the phase space (its normal form is not
     zero), else multiplying by ``Q`` would make any function an integral.
     """
+    return _common_fraction(velocity, builder, ideal, model)[0]
+
+
+def _common_fraction(velocity, builder, ideal, model):
+    """``([P_k], Q)``: the vector field ``x_k' = P_k/Q`` over one common denominator ``Q``
+    (ring elements), each factor of ``Q`` checked non-zero on the phase space."""
     try:
         parts = [builder.convert(sp.sympify(v)) for v in velocity]
     except (UnsupportedExpression, ZeroDivisionError) as exc:
@@ -460,11 +466,15 @@ def _common_numerators(velocity, builder, ideal, model):
             if k - d.get(f, 0):
                 term = term * f ** (k - d.get(f, 0))
         out.append(term)
-    return out
+    common = builder.ring.one
+    for f, k in den.items():
+        common = common * f**k
+    return out, common
 
 
-def _ansatz_basis(coords, degree, coefficient_degree, builder, ideal):
-    """A basis of the class modulo the ideal and the constants (ring elements over QQ)."""
+def _ansatz_basis(coords, degree, coefficient_degree, builder, ideal, constants=False):
+    """A basis of the class modulo the ideal and (unless ``constants``) the constants
+    (ring elements over QQ)."""
     ring = builder.ring
     gens = ring.gens
     n_u = len(coords.u)
@@ -475,7 +485,8 @@ def _ansatz_basis(coords, degree, coefficient_degree, builder, ideal):
             for gen, e in zip(gens, (*a, *b), strict=False):
                 mono = mono * gen**e
             nf = ring_normal_form(mono, ideal, builder)
-            nf = nf - nf.coeff(1) if nf.coeff(1) else nf  # drop the constant term
+            if not constants and nf.coeff(1):
+                nf = nf - nf.coeff(1)  # drop the constant term
             if not nf.is_zero:
                 polys.append(nf)
     if not polys:
