@@ -478,7 +478,6 @@ def find_invariant_relations(
     stages: dict[str, float] = {}
     clock = time.perf_counter()
     s = _setup(model, momentum, coefficient_degree, 1)
-    ring = s.builder.ring
     everything = _Coordinates("x", s.x, (), [], [])
     cofactors = _ansatz_basis(everything, cofactor_degree, 0, s.builder, s.ideal, constants=True)
     if len(cofactors) > MAX_COFACTOR_UNKNOWNS:
@@ -525,9 +524,7 @@ def find_invariant_relations(
     candidates: set[tuple] = {tuple([sp.S.Zero] * m)}
     complete = True
     zl = sp.symbols(f"y0:{len(left)}")
-    equations = [
-        sp.expand(sum((e * zl[i] for i, e in row.items()), sp.S.Zero)) for row in table
-    ]
+    equations = [sp.expand(sum((e * zl[i] for i, e in row.items()), sp.S.Zero)) for row in table]
     equations = [e for e in equations if e != 0]
     for i in range(len(left)):
         fixed = {**{zl[j]: 0 for j in range(i)}, zl[i]: 1}
@@ -594,12 +591,15 @@ def find_invariant_relations(
 
 def _linear_table(expressions, z) -> list[dict]:
     """Each expression (linear in ``z``) as ``{i: coefficient of z_i}`` (zero rows dropped)."""
-    out = []
+    out: list[dict] = []
+    if not z:
+        return out
     for e in expressions:
         poly = sp.Poly(sp.expand(e), *z)
         row = {}
         for mono, c in poly.terms():
-            row[mono.index(1)] = c
+            if c != 0:
+                row[mono.index(1)] = c
         if row:
             out.append(row)
     return out
@@ -682,7 +682,13 @@ def _modulo_constants(exprs, x) -> tuple[sp.Expr, ...]:
     for i in range(reduced.rows):
         row = reduced.row(i)
         if any(row):
-            expr = sum((c * sp.Mul(*(v**e for v, e in zip(x, mono, strict=True))) for c, mono in zip(row, monos, strict=True)), sp.S.Zero)
+            expr = sum(
+                (
+                    c * sp.Mul(*(v**e for v, e in zip(x, mono, strict=True)))
+                    for c, mono in zip(row, monos, strict=True)
+                ),
+                sp.S.Zero,
+            )
             out.append(_primitive(expr, x))
     return tuple(out)
 
@@ -799,7 +805,10 @@ def _split_parallel(fields, s: _Setup):
         columns.append(col)
     _, null = _null_space(columns, len(fields), False, s.builder, nx)
     trivial = [
-        tuple(sp.expand(sum((v[i] * fields[i][k] for i in range(len(fields))), sp.S.Zero)) for k in range(nx))
+        tuple(
+            sp.expand(sum((v[i] * fields[i][k] for i in range(len(fields))), sp.S.Zero))
+            for k in range(nx)
+        )
         for v in null
     ]
     if not trivial:
