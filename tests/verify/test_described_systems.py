@@ -169,7 +169,7 @@ def test_a_scene_with_a_system_table_runs(tmp_path):
 
 def test_verify_system_checks_the_models_and_the_files_claims(tmp_path):
     """The derived model's integrals and its Kane cross-check, the finds of the file's
-    [discover] class, the file's three claims proved and its control refuted by the same
+    [discover] class and its dimension (the search run again, exactly), the file's three claims proved and its control refuted by the same
     decision procedure (exit 0: every verdict the expected one)."""
     # the energy's proof (6 s) and Routh's integral squared (2 s) are left to the example
     # run of the README; the others cover every kind of claim the file makes
@@ -186,6 +186,7 @@ def test_verify_system_checks_the_models_and_the_files_claims(tmp_path):
         "routh_sphere:(gamma,gamma)": "proved",
         "routh_sphere:kane": "numeric",  # KanesMethod agrees at 40 digits
         "routh_sphere:found-F1": "proved",  # [discover]: Jellett's integral, found
+        "routh_sphere:found-class-integrals": "proved",  # its dimension, searched again
         "routh_sphere:found-density": "proved",
         "ROUTH-jellett": "proved",
         "ROUTH-density": "proved",
