@@ -475,6 +475,13 @@ def find_invariant_relations(
     """
     start = time.perf_counter()
     _check_degree("cofactor degree", cofactor_degree)
+    bound = _count_monomials(len(model.state), cofactor_degree)
+    if bound > MAX_COFACTOR_UNKNOWNS:
+        raise UserInputError(
+            f"a cofactor of degree {cofactor_degree} in the {len(model.state)} state variables "
+            f"has up to {bound} coefficients, more than this machine searches "
+            f"({MAX_COFACTOR_UNKNOWNS}); lower the cofactor degree"
+        )
     stages: dict[str, float] = {}
     clock = time.perf_counter()
     s = _setup(model, momentum, coefficient_degree, 1)
