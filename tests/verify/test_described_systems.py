@@ -169,8 +169,9 @@ def test_a_scene_with_a_system_table_runs(tmp_path):
 
 def test_verify_system_checks_the_models_and_the_files_claims(tmp_path):
     """The derived model's integrals and its Kane cross-check, the finds of the file's
-    [discover] class and its dimension (the search run again, exactly), the file's three claims proved and its control refuted by the same
-    decision procedure (exit 0: every verdict the expected one)."""
+    [discover] class and its dimension (the search run again, exactly), the file's three
+    claims proved and its control refuted by the same decision procedure (exit 0: every
+    verdict the expected one)."""
     # the energy's proof (6 s) and Routh's integral squared (2 s) are left to the example
     # run of the README; the others cover every kind of claim the file makes
     claims = (
