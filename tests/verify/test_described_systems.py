@@ -222,3 +222,31 @@ def test_bad_claims_are_one_line_exit_2(tmp_path, entry, message, capsys, monkey
     assert main(["verify", "--system", str(bad), "--jobs", "1"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and message in err, err
+
+
+@pytest.mark.expensive  # 27 s: derives Routh's sphere, searches its symmetries twice (5 s each)
+def test_symmetries_and_relations_of_a_file_become_claims(tmp_path, capsys, monkeypatch):
+    """Routh's sphere (moments A, A, C, centre of mass on the axis) is symmetric about its
+    axis: the rotation (omega2, -omega1, 0, gamma2, -gamma1, 0) in (omega, gamma) is found
+    and proved a symmetry; the class's dimension (1) is a claim, searched again exactly; the
+    linear class with a cofactor of degree <= 1 holds no invariant relation: a claim too."""
+    text = (SYSTEMS / "routh_sphere.toml").read_text().split("[discover]")[0]
+    path = tmp_path / "routh_linear.toml"
+    path.write_text(
+        text + '[discover]\ndegree = 1\ncoefficient_degree = 0\nmomentum = "omega"\n'
+        "relations = true\nsymmetries = true\n"
+    )
+    monkeypatch.setenv("CHAPLYGIN_CACHE_DIR", str(tmp_path / "c"))
+    argv = ["verify", "--system", str(path), "--jobs", "1", "--json", "--claims", "*:found-*"]
+    assert main(argv) == 0
+    verdicts = {v["id"]: v for v in json.loads(capsys.readouterr().out)}
+    assert {k: v["verdict"] for k, v in verdicts.items()} == {
+        "routh_sphere:found-class-integrals": "proved",
+        "routh_sphere:found-X1": "proved",
+        "routh_sphere:found-class-symmetries": "proved",
+        "routh_sphere:found-class-relations": "proved",
+    }
+    assert "gamma2, -gamma1, 0" in verdicts["routh_sphere:found-X1"]["statement"]
+    assert "exactly 0 independent invariant" in (
+        verdicts["routh_sphere:found-class-relations"]["statement"]
+    )
