@@ -282,14 +282,16 @@ def _equation_bound(
     return bound
 
 
-def _check_request(model, degree, coefficient_degree, momentum) -> None:
-    for label, value in (("degree", degree), ("coefficient degree", coefficient_degree)):
-        if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= MAX_DEGREE:
-            raise UserInputError(
-                f"the {label} must be an integer between 0 and {MAX_DEGREE}, not {value!r}"
-            )
-    if degree < 1:
-        raise UserInputError("the degree in the momentum must be at least 1")
+def _check_degree(label: str, value: object) -> None:
+    if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= MAX_DEGREE:
+        raise UserInputError(
+            f"the {label} must be an integer between 0 and {MAX_DEGREE}, not {value!r}"
+        )
+
+
+def _check_group_and_time(model: Model, momentum: str | None, searched: str) -> None:
+    """Refuse an unknown momentum group and a time-dependent model (``searched`` names
+    what is searched, for the message)."""
     groups = [n for n, _ in model.state_groups]
     if momentum is not None and momentum != OMEGA and momentum not in groups:
         raise UserInputError(
@@ -299,9 +301,23 @@ def _check_request(model, degree, coefficient_degree, momentum) -> None:
     if model.time in used:
         raise UserInputError(
             f"model {model.name} is not autonomous (its right-hand side depends on "
-            f"{model.time}): first integrals independent of time are searched only for "
-            "autonomous models"
+            f"{model.time}): {searched} are searched only for autonomous models"
         )
+
+
+def _group_sizes(model: Model, name: str) -> tuple[int, int]:
+    """Sizes of the momentum group ``name`` (or omega) and of the other state variables."""
+    n_u = 3 if name == OMEGA else len(dict(model.state_groups)[name])
+    n_g = len(model.state) - (n_u if name != OMEGA else len(model.group(_momentum_group(model))))
+    return n_u, n_g
+
+
+def _check_request(model, degree, coefficient_degree, momentum) -> None:
+    _check_degree("degree", degree)
+    _check_degree("coefficient degree", coefficient_degree)
+    if degree < 1:
+        raise UserInputError("the degree in the momentum must be at least 1")
+    _check_group_and_time(model, momentum, "first integrals independent of time")
 
 
 # ----------------------------------------------------------------- the search
@@ -354,8 +370,7 @@ def find_polynomial_integrals(
     start = time.perf_counter()
     _check_request(model, degree, coefficient_degree, momentum)
     name = momentum or _momentum_group(model)
-    n_u = 3 if name == OMEGA else len(dict(model.state_groups)[name])
-    n_g = len(model.state) - (n_u if name != OMEGA else len(model.group(_momentum_group(model))))
+    n_u, n_g = _group_sizes(model, name)
     monomials = _count_monomials(n_u, degree) * _count_monomials(n_g, coefficient_degree)
     too_large = (
         f"the class of degree {degree} in {name} with coefficients of degree "

@@ -64,14 +64,16 @@ from sympy.polys.matrices import DomainMatrix
 
 from .algebra import RationalFunctionBuilder, ring_normal_form
 from .discovery import (
-    MAX_DEGREE,
     MAX_UNKNOWNS,
     OMEGA,
     _ansatz_basis,
+    _check_degree,
+    _check_group_and_time,
     _check_ideal,
     _common_fraction,
     _Coordinates,
     _count_monomials,
+    _group_sizes,
     _momentum_group,
     _null_space,
     _omega_coordinates,
@@ -373,30 +375,11 @@ class _Setup:
     basis: list
 
 
-def _check_degree(label: str, value: object, low: int = 0) -> None:
-    if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= MAX_DEGREE:
-        raise UserInputError(
-            f"the {label} must be an integer between {low} and {MAX_DEGREE}, not {value!r}"
-        )
-
-
 def _setup(model: Model, momentum: str | None, coefficient_degree: int, per_unknown: int):
     _check_degree("coefficient degree", coefficient_degree)
-    groups = [n for n, _ in model.state_groups]
-    if momentum is not None and momentum != OMEGA and momentum not in groups:
-        raise UserInputError(
-            f"model {model.name} has no group {momentum!r}; valid: {', '.join([*groups, OMEGA])}"
-        )
-    used = set().union(*(sp.sympify(e).free_symbols for e in model.rhs_expanded))
-    if model.time in used:
-        raise UserInputError(
-            f"model {model.name} is not autonomous (its right-hand side depends on "
-            f"{model.time}): invariant relations and symmetries are searched only for "
-            "autonomous models"
-        )
+    _check_group_and_time(model, momentum, "invariant relations and symmetries")
     name = momentum or _momentum_group(model)
-    n_u = 3 if name == OMEGA else len(dict(model.state_groups)[name])
-    n_g = len(model.state) - (n_u if name != OMEGA else len(model.group(_momentum_group(model))))
+    n_u, n_g = _group_sizes(model, name)
     monomials = (n_u + 1) * _count_monomials(n_g, coefficient_degree) * per_unknown
     if monomials > MAX_UNKNOWNS:
         raise UserInputError(
