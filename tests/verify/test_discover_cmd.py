@@ -85,7 +85,7 @@ def test_relations_and_symmetries_json_give_the_class_the_basis_and_the_proofs(
     assert len(ratios) == 1 and comps[2] == comps[5] == 0
     rel = out["relation_search"]
     assert rel["relations"] == [] and rel["complete"]
-    assert "cofactor" in rel["class"]["description"] and "no other" in rel["certificate"]
+    assert "lambda = K/Q" in rel["class"]["description"] and "no other" in rel["certificate"]
     assert out["values"] == {"I1": "7/5", "I2": "7/5", "I3": "13/4", "D": "9/7"}
 
 
