@@ -42,8 +42,8 @@ constants and separately from the relations).
 every component in the linear class (so ``X`` is affine in ``u``), tangent to the phase
 space (``NF(X(c)) = 0`` for each generator ``c`` of ``I``) and commuting with the field
 (``[X, V] = 0`` on the phase space). Multiplied by ``Q^2``,
-``[X, V]_l = (X(P_l) Q - P_l X(Q) - Q V(X_l)Q)/Q^2`` gives conditions linear in the
-coefficients of ``X``: a null space over QQ whose rank proves there is no other. The
+``[X, V]_l = (X(P_l) Q - P_l X(Q) - Q sum_k P_k dX_l/dx_k)/Q^2`` gives conditions linear in
+the coefficients of ``X``: a null space over QQ whose rank proves there is no other. The
 *trivial* ones, parallel to the field on the phase space (``X_k P_l - X_l P_k`` in ``I``:
 the field itself and its multiples by first integrals, when polynomial), are identified
 and counted apart.
