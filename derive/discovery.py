@@ -282,14 +282,16 @@ def _equation_bound(
     return bound
 
 
-def _check_request(model, degree, coefficient_degree, momentum) -> None:
-    for label, value in (("degree", degree), ("coefficient degree", coefficient_degree)):
-        if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= MAX_DEGREE:
-            raise UserInputError(
-                f"the {label} must be an integer between 0 and {MAX_DEGREE}, not {value!r}"
-            )
-    if degree < 1:
-        raise UserInputError("the degree in the momentum must be at least 1")
+def _check_degree(label: str, value: object) -> None:
+    if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= MAX_DEGREE:
+        raise UserInputError(
+            f"the {label} must be an integer between 0 and {MAX_DEGREE}, not {value!r}"
+        )
+
+
+def _check_group_and_time(model: Model, momentum: str | None, searched: str) -> None:
+    """Refuse an unknown momentum group and a time-dependent model (``searched`` names
+    what is searched, for the message)."""
     groups = [n for n, _ in model.state_groups]
     if momentum is not None and momentum != OMEGA and momentum not in groups:
         raise UserInputError(
@@ -299,9 +301,23 @@ def _check_request(model, degree, coefficient_degree, momentum) -> None:
     if model.time in used:
         raise UserInputError(
             f"model {model.name} is not autonomous (its right-hand side depends on "
-            f"{model.time}): first integrals independent of time are searched only for "
-            "autonomous models"
+            f"{model.time}): {searched} are searched only for autonomous models"
         )
+
+
+def _group_sizes(model: Model, name: str) -> tuple[int, int]:
+    """Sizes of the momentum group ``name`` (or omega) and of the other state variables."""
+    n_u = 3 if name == OMEGA else len(dict(model.state_groups)[name])
+    n_g = len(model.state) - (n_u if name != OMEGA else len(model.group(_momentum_group(model))))
+    return n_u, n_g
+
+
+def _check_request(model, degree, coefficient_degree, momentum) -> None:
+    _check_degree("degree", degree)
+    _check_degree("coefficient degree", coefficient_degree)
+    if degree < 1:
+        raise UserInputError("the degree in the momentum must be at least 1")
+    _check_group_and_time(model, momentum, "first integrals independent of time")
 
 
 # ----------------------------------------------------------------- the search
@@ -354,8 +370,7 @@ def find_polynomial_integrals(
     start = time.perf_counter()
     _check_request(model, degree, coefficient_degree, momentum)
     name = momentum or _momentum_group(model)
-    n_u = 3 if name == OMEGA else len(dict(model.state_groups)[name])
-    n_g = len(model.state) - (n_u if name != OMEGA else len(model.group(_momentum_group(model))))
+    n_u, n_g = _group_sizes(model, name)
     monomials = _count_monomials(n_u, degree) * _count_monomials(n_g, coefficient_degree)
     too_large = (
         f"the class of degree {degree} in {name} with coefficients of degree "
@@ -436,6 +451,12 @@ def _common_numerators(velocity, builder, ideal, model):
     Every factor of ``Q`` must be non-zero on the phase space (its normal form is not
     zero), else multiplying by ``Q`` would make any function an integral.
     """
+    return _common_fraction(velocity, builder, ideal, model)[0]
+
+
+def _common_fraction(velocity, builder, ideal, model):
+    """``([P_k], Q)``: the vector field ``x_k' = P_k/Q`` over one common denominator ``Q``
+    (ring elements), each factor of ``Q`` checked non-zero on the phase space."""
     try:
         parts = [builder.convert(sp.sympify(v)) for v in velocity]
     except (UnsupportedExpression, ZeroDivisionError) as exc:
@@ -460,11 +481,15 @@ def _common_numerators(velocity, builder, ideal, model):
             if k - d.get(f, 0):
                 term = term * f ** (k - d.get(f, 0))
         out.append(term)
-    return out
+    common = builder.ring.one
+    for f, k in den.items():
+        common = common * f**k
+    return out, common
 
 
-def _ansatz_basis(coords, degree, coefficient_degree, builder, ideal):
-    """A basis of the class modulo the ideal and the constants (ring elements over QQ)."""
+def _ansatz_basis(coords, degree, coefficient_degree, builder, ideal, constants=False):
+    """A basis of the class modulo the ideal and (unless ``constants``) the constants
+    (ring elements over QQ)."""
     ring = builder.ring
     gens = ring.gens
     n_u = len(coords.u)
@@ -475,7 +500,8 @@ def _ansatz_basis(coords, degree, coefficient_degree, builder, ideal):
             for gen, e in zip(gens, (*a, *b), strict=False):
                 mono = mono * gen**e
             nf = ring_normal_form(mono, ideal, builder)
-            nf = nf - nf.coeff(1) if nf.coeff(1) else nf  # drop the constant term
+            if not constants and nf.coeff(1):
+                nf = nf - nf.coeff(1)  # drop the constant term
             if not nf.is_zero:
                 polys.append(nf)
     if not polys:

@@ -19,7 +19,7 @@ import math
 
 from ..derive.errors import UserInputError
 from .cli_common import EXIT_OK, check_output_file, key_values
-from .plots import FIGURES
+from .figure_names import FIGURES
 
 __all__ = ["add_parser", "run", "MAX_SAMPLES", "MAX_SEED", "MAX_MAGNITUDE", "MAX_RATIO"]
 

@@ -1,28 +1,54 @@
-"""``chaplygin.discover``: first integrals found in a stated class, each then proved.
+"""``chaplygin.discover``: first integrals, relations, symmetries found in a stated class,
+each then proved.
 
-The search is :func:`chaplygin.derive.discovery.find_polynomial_integrals` (exact linear
+The searches are :func:`chaplygin.derive.discovery.find_polynomial_integrals` (exact linear
 algebra modulo the phase-space ideal; its rank proves that the class holds no other
-integral). Each integral found is then decided independently by the verifier's own
-machinery: its Lie derivative along the model (:func:`.identity.lie_derivative`, which
-expands the auxiliary symbols such as ``omega``) is decided by :func:`.identity.decide`
-(a Groebner normal form modulo the phase-space constraints).
+integral) and, on request, :func:`chaplygin.derive.invariants.find_invariant_relations`
+and :func:`~chaplygin.derive.invariants.find_symmetries` (linear classes, see there). Each
+find is then decided independently by the verifier's own machinery: the Lie derivative of
+an integral along the model (:func:`.identity.lie_derivative`, which expands the auxiliary
+symbols such as ``omega``), ``dF/dt - lambda F`` for a relation, the components of
+``[X, f]`` and ``X(c)`` for a symmetry (``f`` the model's right-hand side in its state,
+``c`` its constraints) are decided by :func:`.identity.decide` (a Groebner normal form
+modulo the phase-space constraints).
+
+A discovery is cached on disk (``<cache root>/discovery``, signed like the model cache:
+:mod:`chaplygin.derive.cachefiles`), keyed by the system's variant key (its description's
+fingerprint, the sources of ``derive/`` and the versions of Python, sympy and mpmath), the
+sources of this module and of :mod:`.identity`, and the class asked for. An entry that is
+absent, damaged, signed by someone else or stored under another key is recomputed.
 """
 
 from __future__ import annotations
 
+import dataclasses
+import hashlib
+import json
+import os
+import pickle
 import time
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
+from pathlib import Path
 
 import sympy as sp
+from chaplygin.derive.cachefiles import cache_root, read_signed, write_signed
 from chaplygin.derive.densities import DensitySearch, find_invariant_densities
 from chaplygin.derive.discovery import IntegralSearch, find_polynomial_integrals
 from chaplygin.derive.errors import UserInputError
+from chaplygin.derive.invariants import (
+    RelationSearch,
+    SymmetrySearch,
+    find_invariant_relations,
+    find_symmetries,
+    specialise,
+)
+from chaplygin.derive.model import Model
 from chaplygin.derive.rolling_system import RollingSystem
 
 from .identity import Domain, Outcome, decide, lie_derivative, measure_residual
 
-__all__ = ["Discovery", "discover"]
+__all__ = ["Discovery", "discover", "discovery_cache_dir"]
 
 
 @dataclass(frozen=True)
@@ -44,12 +70,89 @@ class Discovery:
     seconds: float
     densities: DensitySearch | None = None
     density_proof: Outcome | None = None
+    relations: RelationSearch | None = None
+    relation_proofs: tuple[Outcome, ...] = ()
+    symmetries: SymmetrySearch | None = None
+    symmetry_proofs: tuple[Outcome, ...] = ()
+    values: tuple[tuple[str, str], ...] = ()
+    from_cache: bool = False
 
     @property
     def all_proved(self) -> bool:
-        """True when every integral found (and the density found) is proved."""
-        proofs = (*self.proofs, *(() if self.density_proof is None else (self.density_proof,)))
+        """True when every find (integral, density, relation, symmetry) is proved."""
+        proofs = (
+            *self.proofs,
+            *(() if self.density_proof is None else (self.density_proof,)),
+            *self.relation_proofs,
+            *self.symmetry_proofs,
+        )
         return all(p.verdict == "proved" for p in proofs)
+
+    def relation_dict(self) -> dict | None:
+        """The relation search as plain data (None when it was not asked for).
+
+        Returns
+        -------
+        dict or None
+            ``class``, ``relations`` (each with ``expression``, ``cofactor``, ``rate``
+            and its verdict), the class's ``integrals`` (cofactor 0), ``complete``, the
+            ``certificate`` and the time.
+        """
+        r = self.relations
+        if r is None:
+            return None
+        return {
+            "class": {"description": r.search_class.describe(), **r.search_class.as_dict()},
+            "relations": [
+                {
+                    "expression": sp.sstr(rel.expression),
+                    "cofactor": sp.sstr(rel.cofactor),
+                    "rate": sp.sstr(rel.rate),
+                    "verdict": p.verdict,
+                    "method": p.method,
+                }
+                for rel, p in zip(r.relations, self.relation_proofs, strict=True)
+            ],
+            "integrals": [sp.sstr(F) for F in r.integrals],
+            "unknowns": r.unknowns,
+            "cofactor_unknowns": r.cofactor_unknowns,
+            "complete": r.complete,
+            "certificate": r.certificate(),
+            "seconds": round(r.seconds, 3),
+            "stage_seconds": {k: round(v, 3) for k, v in r.stage_seconds.items()},
+        }
+
+    def symmetry_dict(self) -> dict | None:
+        """The symmetry search as plain data (None when it was not asked for).
+
+        Returns
+        -------
+        dict or None
+            ``class``, ``coordinates``, ``fields`` (components and verdict), ``trivial``
+            (parallel to the field), ``unknowns``, ``rank``, ``dimension`` and the time.
+        """
+        y = self.symmetries
+        if y is None:
+            return None
+        return {
+            "class": {"description": y.search_class.describe(), **y.search_class.as_dict()},
+            "coordinates": [c.name for c in y.coordinates],
+            "fields": [
+                {"components": [sp.sstr(c) for c in X], "verdict": p.verdict, "method": p.method}
+                for X, p in zip(y.fields, self.symmetry_proofs, strict=True)
+            ],
+            "trivial": [[sp.sstr(c) for c in X] for X in y.trivial],
+            "no_other": (
+                f"rank {y.rank} of {y.unknowns} unknowns: the class holds exactly "
+                f"{y.dimension} independent symmetries ({len(y.trivial)} parallel to the field)"
+            ),
+            "unknowns": y.unknowns,
+            "rank": y.rank,
+            "dimension": y.dimension,
+            "equations": y.equations,
+            "seconds": round(y.seconds, 3),
+            "stage_seconds": {k: round(v, 3) for k, v in y.stage_seconds.items()},
+        }
 
     def density_dict(self) -> dict | None:
         """The density search as plain data (None when it was not asked for).
@@ -119,6 +222,10 @@ class Discovery:
             "seconds": round(self.seconds, 3),
             "stage_seconds": {k: round(v, 3) for k, v in s.stage_seconds.items()},
             "density_search": self.density_dict(),
+            "relation_search": self.relation_dict(),
+            "symmetry_search": self.symmetry_dict(),
+            "values": dict(self.values),
+            "from_cache": self.from_cache,
         }
 
 
@@ -131,6 +238,12 @@ def discover(
     momentum: str | None = None,
     in_parameters: bool = False,
     densities: bool = False,
+    relations: bool = False,
+    symmetries: bool = False,
+    linear_degree: int = 1,
+    cofactor_degree: int = 1,
+    values: Mapping[str, object] | None = None,
+    cache: bool = True,
 ) -> Discovery:
     """Find every first integral of a system in a polynomial class, and prove each.
 
@@ -153,6 +266,22 @@ def discover(
         Also search the invariant densities of the family of powers of the right-hand
         side's denominator factors (:func:`~chaplygin.derive.densities.find_invariant_densities`)
         and prove the one found by Liouville's equation (:func:`.identity.measure_residual`).
+    relations : bool, optional
+        Also search the linear invariant relations ``dF/dt = (K/Q) F``
+        (:func:`~chaplygin.derive.invariants.find_invariant_relations`).
+    symmetries : bool, optional
+        Also search the symmetry fields of the linear class
+        (:func:`~chaplygin.derive.invariants.find_symmetries`).
+    linear_degree : int, optional
+        Degree of the coefficients (in the other state variables) of the linear class of
+        the relations and the symmetries.
+    cofactor_degree : int, optional
+        Largest degree of the relations' cofactor ``K`` in the state.
+    values : mapping of str to number, optional
+        Exact parameter values at which every search is made (the model specialised:
+        :func:`~chaplygin.derive.invariants.specialise`); default symbolic parameters.
+    cache : bool, optional
+        Read and write the discovery cache (:func:`discovery_cache_dir`).
 
     Returns
     -------
@@ -161,8 +290,8 @@ def discover(
     Raises
     ------
     UserInputError
-        An unknown system or effect, a bad degree or group, a time-dependent model, a
-        class too large for the machine (with its size).
+        An unknown system, effect or parameter, a bad degree or group, a time-dependent
+        model, a class too large for the machine (with its size).
 
     Examples
     --------
@@ -171,14 +300,43 @@ def discover(
     >>> [sympy.sstr(F) for F in found.search.integrals], found.all_proved  # doctest: +SKIP
     (['M1*gamma1 + M2*gamma2 + M3*gamma3'], True)
     """
-    from chaplygin.derive.systems import build_model, register_system
+    from chaplygin.derive.effects import parse_effects
+    from chaplygin.derive.systems import (
+        build_model,
+        get_system,
+        register_system,
+        variant_cache_key,
+    )
 
     start = time.perf_counter()
     if isinstance(system, RollingSystem):
         system = register_system(system).name
     if not isinstance(system, str):
         raise UserInputError(f"the system must be a name or a RollingSystem, not {system!r}")
-    model = build_model(system, effects if isinstance(effects, str) else list(effects))
+    effect_list = effects if isinstance(effects, str) else list(effects)
+    fixed = tuple(sorted((str(k), str(v)) for k, v in (values or {}).items()))
+    request = {
+        "degree": degree,
+        "coefficient_degree": coefficient_degree,
+        "momentum": momentum,
+        "in_parameters": in_parameters,
+        "densities": densities,
+        "relations": relations,
+        "symmetries": symmetries,
+        "linear_degree": linear_degree,
+        "cofactor_degree": cofactor_degree,
+        "values": fixed,
+    }
+    chosen = parse_effects(effect_list, get_system(system).effects)  # bad input refused here
+    path = None
+    if cache:
+        path = _cache_file(variant_cache_key(system, chosen), request)
+        hit = _load(path)
+        if hit is not None:
+            return hit
+    model = build_model(system, chosen)
+    if fixed:
+        model = specialise(model, dict(fixed))
     search = find_polynomial_integrals(
         model,
         degree,
@@ -193,6 +351,159 @@ def discover(
         if density_search.found:
             residual = measure_residual(density_search.density(), model)
             density_proof = decide([residual], Domain(model))
-    return Discovery(
-        search, proofs, time.perf_counter() - start, density_search, density_proof
+    relation_search, relation_proofs = None, ()
+    if relations:
+        relation_search = find_invariant_relations(
+            model,
+            momentum=momentum,
+            coefficient_degree=linear_degree,
+            cofactor_degree=cofactor_degree,
+        )
+        relation_proofs = tuple(
+            decide([relation_residual(r.expression, r.rate, model)], Domain(model))
+            for r in relation_search.relations
+        )
+    symmetry_search, symmetry_proofs = None, ()
+    if symmetries:
+        symmetry_search = find_symmetries(
+            model, momentum=momentum, coefficient_degree=linear_degree
+        )
+        symmetry_proofs = tuple(
+            decide(symmetry_residuals(X, symmetry_search.coordinates, model), Domain(model))
+            for X in symmetry_search.fields
+        )
+    found = Discovery(
+        search,
+        proofs,
+        time.perf_counter() - start,
+        density_search,
+        density_proof,
+        relation_search,
+        relation_proofs,
+        symmetry_search,
+        symmetry_proofs,
+        fixed,
     )
+    if path is not None:
+        _store(path, found)
+    return found
+
+
+def relation_residual(F: sp.Expr, rate: sp.Expr, model: Model) -> sp.Expr:
+    """``dF/dt - rate F`` in the model's state and parameters (zero for a relation).
+
+    Parameters
+    ----------
+    F, rate : sympy.Expr
+        In the state, the parameters and the auxiliary symbols (``omega``).
+    model : Model
+
+    Returns
+    -------
+    sympy.Expr
+    """
+    return lie_derivative(F, model) - model.expand_aux(rate * F)
+
+
+def symmetry_residuals(
+    components: Iterable[sp.Expr], coordinates: Iterable[sp.Symbol], model: Model
+) -> list[sp.Expr]:
+    """The components of ``[X, f]`` and ``X(c)`` (``c`` each constraint and invariant
+    relation) in the model's state: all zero on the phase space for a symmetry ``X``.
+
+    Parameters
+    ----------
+    components : iterable of sympy.Expr
+        ``X`` along ``coordinates``.
+    coordinates : iterable of sympy.Symbol
+        State symbols, or ``omega`` and the state without the momentum group (then ``X``
+        is carried to the state by ``M = M(omega, g)``).
+    model : Model
+
+    Returns
+    -------
+    list of sympy.Expr
+    """
+    along = dict(zip(coordinates, components, strict=True))
+    if model.omega is not None and set(model.omega) <= set(along):
+        w_g = [*model.omega, *(s for s in model.state if s in along)]
+        moved = {}
+        for m, expr in zip(_momentum_symbols(model), model.momentum_of_omega, strict=True):
+            moved[m] = sum((sp.diff(expr, v) * along[v] for v in w_g), sp.S.Zero)
+        along = {**{s: along[s] for s in model.state if s in along}, **moved}
+    X = [model.expand_aux(along.get(s, sp.S.Zero)) for s in model.state]
+    f = model.rhs_expanded
+
+    def apply(expr):
+        return sum((sp.diff(expr, y) * X[k] for k, y in enumerate(model.state)), sp.S.Zero)
+
+    out = [apply(f[i]) - lie_derivative(X[i], model) for i in range(len(model.state))]
+    relations = [model.expand_aux(e) for _, e in model.invariant_relations]
+    out += [apply(sp.sympify(c)) for c in (*model.constraints, *relations)]
+    return out
+
+
+def _momentum_symbols(model: Model) -> tuple[sp.Symbol, ...]:
+    names = [n for n, _ in model.state_groups]
+    return tuple(model.group("M" if "M" in names else names[0]))
+
+
+# ----------------------------------------------------------------- the cache
+#: First line of a discovery file: the format, then the HMAC of the pickle that follows.
+_MAGIC = b"chaplygin-discovery-1\n"
+
+
+def discovery_cache_dir() -> Path | None:
+    """Folder of cached discoveries.
+
+    Returns
+    -------
+    pathlib.Path or None
+        ``<cache root>/discovery``; None when ``CHAPLYGIN_MODEL_CACHE=0`` (no cache).
+    """
+    if os.environ.get("CHAPLYGIN_MODEL_CACHE", "1") == "0":
+        return None
+    return cache_root() / "discovery"
+
+
+def _code_digest() -> str:
+    h = hashlib.sha256()
+    here = Path(__file__).resolve().parent
+    for name in ("discover.py", "identity.py"):
+        h.update((here / name).read_bytes())
+    return h.hexdigest()
+
+
+def _cache_file(variant_key: str, request: dict) -> Path | None:
+    folder = discovery_cache_dir()
+    if folder is None:
+        return None
+    text = json.dumps({"variant": variant_key, "code": _code_digest(), **request}, sort_keys=True)
+    return folder / f"{hashlib.sha256(text.encode()).hexdigest()[:40]}.pickle"
+
+
+def _load(path: Path | None) -> Discovery | None:
+    """The discovery stored at ``path``, or None (absent, damaged, not ours, another key).
+
+    The pickle is read only after its HMAC (our per-user secret) checks out, and is used
+    only when it names the same file (an entry of ours copied under another key is
+    refused).
+    """
+    data = read_signed(path, _MAGIC)
+    if data is None:
+        return None
+    try:
+        name, found = pickle.loads(data)  # signed by us: our own bytes
+    except Exception:  # an older class layout: recompute
+        return None
+    if name != path.name or not isinstance(found, Discovery):
+        return None
+    return dataclasses.replace(found, from_cache=True)
+
+
+def _store(path: Path, found: Discovery) -> None:
+    try:
+        data = pickle.dumps((path.name, found), protocol=pickle.HIGHEST_PROTOCOL)
+    except (pickle.PicklingError, AttributeError, TypeError):
+        return  # the cache is only an aid
+    write_signed(path, _MAGIC, data)

@@ -1,16 +1,22 @@
 """``chaplygin discover``: every first integral of a stated polynomial class, proved.
 
 ``chaplygin discover SYSTEM [--effects E1,E2] [--degree 2] [--coefficient-degree 2]
-[--momentum M|omega] [--in-parameters] [--json]`` prints the class searched (in words),
-the basis of the integrals found with the verifier's verdict on each, the rank of the
-linear system (the proof that the class holds no other) and the time per stage.
-Exit status 0 when every integral found is proved, 1 otherwise.
+[--momentum M|omega] [--in-parameters] [--densities] [--relations] [--symmetries]
+[--linear-degree 1] [--cofactor-degree 1] [--values I1=7/5,D=9/7] [--no-cache] [--json]``
+prints the class searched (in words), the basis of the integrals found with the
+verifier's verdict on each, the rank of the linear system (the proof that the class holds
+no other) and the time per stage; with ``--relations`` and ``--symmetries`` the same for
+the linear invariant relations and the symmetry fields of the linear class. A second
+identical run answers from the discovery cache. Exit status 0 when every find is proved,
+1 otherwise.
 """
 
 from __future__ import annotations
 
 import argparse
 from typing import TYPE_CHECKING
+
+from chaplygin.derive.errors import UserInputError
 
 from .cli_common import EXIT_FAILED, EXIT_OK, json_text
 
@@ -48,6 +54,12 @@ def run(args: argparse.Namespace) -> int:
         momentum=args.momentum,
         in_parameters=args.in_parameters,
         densities=args.densities,
+        relations=args.relations,
+        symmetries=args.symmetries,
+        linear_degree=args.linear_degree,
+        cofactor_degree=args.cofactor_degree,
+        values=parse_values(args.values),
+        cache=not args.no_cache,
     )
     if args.json:
         print(json_text(found.as_dict()))
@@ -75,8 +87,72 @@ def run(args: argparse.Namespace) -> int:
                 print(f"  none: {density['none']}")
             for v in density["directions"]:
                 print(f"  times any power of the integral with exponents ({', '.join(v)})")
-        print(f"time {found.seconds:.2f} s (search {s.seconds:.2f} s: {stages})")
+        _print_relations(found)
+        _print_symmetries(found)
+        if found.values:
+            print("at " + ", ".join(f"{k} = {v}" for k, v in found.values))
+        when = "when computed, answered now from the discovery cache, " if found.from_cache else ""
+        print(f"time {found.seconds:.2f} s ({when}search {s.seconds:.2f} s: {stages})")
     return EXIT_OK if found.all_proved else EXIT_FAILED
+
+
+def _print_relations(found) -> None:
+    r = found.relation_dict()
+    if r is None:
+        return
+    print(f"invariant relations: {r['class']['description']}")
+    for i, rel in enumerate(r["relations"], 1):
+        print(f"  R{i} = {rel['expression']} = 0,  dR{i}/dt = ({rel['rate']}) R{i}")
+        print(f"       {rel['verdict']} ({rel['method']})")
+    if not r["relations"]:
+        print("  none")
+    if r["integrals"]:
+        print(f"  (integrals of this class, lambda = 0: {', '.join(r['integrals'])})")
+    print(f"  {'no other in this class: ' if r['complete'] else ''}{r['certificate']}")
+
+
+def _print_symmetries(found) -> None:
+    y = found.symmetry_dict()
+    if y is None:
+        return
+    print(f"symmetries: {y['class']['description']}")
+    coords = ", ".join(y["coordinates"])
+    for i, X in enumerate(y["fields"], 1):
+        print(f"  X{i} = ({', '.join(X['components'])}) along ({coords})")
+        print(f"       {X['verdict']} ({X['method']})")
+    if not y["fields"]:
+        print("  none")
+    for X in y["trivial"]:
+        print(f"  trivial (parallel to the field): ({', '.join(X)})")
+    print(f"  no other in this class: {y['no_other']}")
+
+
+def parse_values(text: str | None) -> dict[str, str] | None:
+    """``"I1=7/5,D=9/7"`` as ``{"I1": "7/5", "D": "9/7"}`` (the values are read as exact
+    rationals by :func:`chaplygin.derive.invariants.specialise`, never evaluated).
+
+    Parameters
+    ----------
+    text : str or None
+
+    Returns
+    -------
+    dict of str to str or None
+
+    Raises
+    ------
+    UserInputError
+        An entry that is not ``NAME=VALUE``.
+    """
+    if not text:
+        return None
+    out = {}
+    for item in text.split(","):
+        name, sep, value = item.partition("=")
+        if not sep or not name.strip() or not value.strip():
+            raise UserInputError(f"--values: {item!r} is not NAME=VALUE (e.g. I1=7/5)")
+        out[name.strip()] = value.strip()
+    return out
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -126,6 +202,35 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
         action="store_true",
         help="also search invariant densities (powers of the denominators' factors)",
     )
+    p.add_argument(
+        "--relations",
+        action="store_true",
+        help="also search linear invariant relations dF/dt = lambda F (F affine in the momentum)",
+    )
+    p.add_argument(
+        "--symmetries",
+        action="store_true",
+        help="also search symmetry fields [X, f] = 0 affine in the momentum",
+    )
+    p.add_argument(
+        "--linear-degree",
+        type=int,
+        default=1,
+        help="degree of the coefficients of relations and symmetries in the other state "
+        "variables (default 1)",
+    )
+    p.add_argument(
+        "--cofactor-degree",
+        type=int,
+        default=1,
+        help="degree of a relation's cofactor K (lambda = K/Q) in the state (default 1)",
+    )
+    p.add_argument(
+        "--values",
+        default=None,
+        help="search at exact parameter values, e.g. I1=7/5,I2=7/5,I3=13/4,D=9/7",
+    )
+    p.add_argument("--no-cache", action="store_true", help="neither read nor write the cache")
     p.add_argument("--json", action="store_true", help="the result as JSON")
     return p
 

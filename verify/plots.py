@@ -27,6 +27,7 @@ import numpy as np
 
 from ..derive.errors import UserInputError
 from ..numerics.arguments import check_count, check_inertia_vector, check_real, check_vector
+from .figure_names import FIGURES
 from .figure_style import COLORS, new_figure, stability_legend, stability_style
 
 if TYPE_CHECKING:
@@ -45,24 +46,12 @@ __all__ = [
 ]
 
 
-#: Bifurcation diagrams: name -> (system, default parameters, title).
 #: Most random states :func:`bifurcation_figure` integrates.
 MAX_SAMPLES = 100_000
 #: Largest ``mu`` of :func:`delta_of_mu_figure` (``Delta ~ 2 pi b exp(-pi mu/2)``).
 MAX_MU = 100.0
 
-FIGURES = {
-    "k01-1": ("chaplygin_ball", {"I": (1, 1.5, 3), "D": 1, "C": 0}, "K01 Fig. 1"),
-    "k01-2": ("chaplygin_ball", {"I": (1, 1.5, 3), "D": 1, "C": 1}, "K01 Fig. 2(a)"),
-    "k01-3": ("chaplygin_ball", {"I": (1, 1.5, 3), "D": 1, "C": 1}, "K01 Fig. 3"),
-    "bkm12-2": ("chaplygin_ball", {"I": (1, 1.5, 3), "D": 1}, "BKM12 Fig. 2"),
-    "bkm12-3": ("chaplygin_ball", {"I": (1, 1.5, 3), "D": 1}, "BKM12 Fig. 3"),
-    "bkm12-5": (
-        "spherical_support",
-        {"I": (1, 1.5, 3), "D_iso": 0.5, "D_al": 0.3, "D_be": -0.2},
-        "BKM12 Fig. 5",
-    ),
-}
+
 # ---------------------------------------------------------------------- bifurcation diagrams
 def draw_k01_diagram(
     ax: Axes,

@@ -106,15 +106,24 @@ def read_description(path: str | Path) -> tuple[RollingSystem, FileDiscovery | N
 
 
 def _found(name: str, file_name: str, search: FileDiscovery) -> list[Claim]:
-    """The integrals (and density) a ``[discover]`` search finds, as claims."""
-    from ..derive.densities import find_invariant_densities
-    from ..derive.discovery import find_polynomial_integrals
+    """The finds of a ``[discover]`` search as claims: each integral, the density, each
+    invariant relation and symmetry, and per class searched its dimension (the rank that
+    proves "no other in this class", recomputed exactly when the claim is checked).
 
-    model = build_model(name)
-    s = find_polynomial_integrals(
-        model, search.degree, momentum=search.momentum,
+    The search is :func:`.discover.discover` (answered from the discovery cache after the
+    first time), so worker processes that read the file again do not search again.
+    """
+    from .discover import discover
+
+    found = discover(
+        name, degree=search.degree, momentum=search.momentum,
         coefficient_degree=search.coefficient_degree, in_parameters=search.in_parameters,
+        densities=search.densities, relations=search.relations,
+        symmetries=search.symmetries, linear_degree=search.linear_degree,
+        cofactor_degree=search.cofactor_degree,
     )  # fmt: skip  (the claims below are the proofs)
+    s = found.search
+    source = f"{file_name} (its [discover] class)"
     rank = (
         f"found in the class of {s.search_class.describe()}; rank {s.rank} of {s.unknowns} "
         f"unknowns: the class holds no other ({s.dimension} found)"
@@ -122,7 +131,7 @@ def _found(name: str, file_name: str, search: FileDiscovery) -> list[Claim]:
     out = [
         Claim(
             id=f"{name}:found-F{i}",
-            source=f"{file_name} (its [discover] class)",
+            source=source,
             kind="integral",
             statement=f"F{i} = {sp.sstr(F)}",
             note=rank,
@@ -131,13 +140,16 @@ def _found(name: str, file_name: str, search: FileDiscovery) -> list[Claim]:
         )
         for i, F in enumerate(s.integrals, 1)
     ]
-    densities = find_invariant_densities(model) if search.densities else None
+    out.append(
+        _class_claim(name, source, "integrals", s.dimension, rank, search)
+    )
+    densities = found.densities
     if densities is not None and densities.found:
         rho = densities.density()
         out.append(
             Claim(
                 id=f"{name}:found-density",
-                source=f"{file_name} (its [discover] class)",
+                source=source,
                 kind="measure",
                 statement=f"rho = {sp.sstr(rho)}",
                 note="exponents solved over the powers of the denominators' factors",
@@ -145,7 +157,94 @@ def _found(name: str, file_name: str, search: FileDiscovery) -> list[Claim]:
                 build=partial(_measure_check, rho),
             )
         )
+    r = found.relations
+    if r is not None:
+        for i, rel in enumerate(r.relations, 1):
+            out.append(
+                Claim(
+                    id=f"{name}:found-R{i}",
+                    source=source,
+                    kind="integral",
+                    statement=f"R{i} = {sp.sstr(rel.expression)} = 0 is invariant: "
+                    f"dR{i}/dt = ({sp.sstr(rel.rate)}) R{i}",
+                    note=f"found in the class of {r.search_class.describe()}; {r.certificate()}",
+                    system=name,
+                    build=partial(_relation_check, rel.expression, rel.rate),
+                )
+            )
+        if r.complete:
+            out.append(
+                _class_claim(name, source, "relations", len(r.relations), r.certificate(), search)
+            )
+    y = found.symmetries
+    if y is not None:
+        coords = ", ".join(c.name for c in y.coordinates)
+        for i, X in enumerate(y.fields, 1):
+            out.append(
+                Claim(
+                    id=f"{name}:found-X{i}",
+                    source=source,
+                    kind="transformation",
+                    statement=f"X{i} = ({', '.join(sp.sstr(c) for c in X)}) along ({coords}) "
+                    "is a symmetry: [X, f] = 0, tangent to the phase space",
+                    note=f"found in the class of {y.search_class.describe()}",
+                    system=name,
+                    build=partial(_symmetry_check, X, y.coordinates),
+                )
+            )
+        note = f"rank {y.rank} of {y.unknowns} unknowns, {len(y.trivial)} parallel to the field"
+        out.append(_class_claim(name, source, "symmetries", y.dimension, note, search))
     return out
+
+
+def _class_claim(name, source, kind: str, dimension: int, note: str, search) -> Claim:
+    what = {"integrals": "first integrals (modulo constants)", "relations": "invariant "
+            "relations (cofactor not zero)", "symmetries": "symmetry fields"}[kind]  # fmt: skip
+    return Claim(
+        id=f"{name}:found-class-{kind}",
+        source=source,
+        kind="value",
+        statement=f"the [discover] class holds exactly {dimension} independent {what}",
+        note=f"{note}; recomputed exactly when checked (the residual is found - stated)",
+        system=name,
+        build=partial(_dimension_check, kind, dimension, search),
+    )
+
+
+def _dimension_check(kind: str, stated: int, search: FileDiscovery, model: Model) -> Check:
+    """The class searched again, exactly, without the cache: ``found - stated`` must be 0."""
+    from ..derive.discovery import find_polynomial_integrals
+    from ..derive.invariants import find_invariant_relations, find_symmetries
+
+    if kind == "integrals":
+        found = find_polynomial_integrals(
+            model, search.degree, momentum=search.momentum,
+            coefficient_degree=search.coefficient_degree, in_parameters=search.in_parameters,
+        ).dimension  # fmt: skip
+    elif kind == "relations":
+        found = len(
+            find_invariant_relations(
+                model, momentum=search.momentum, coefficient_degree=search.linear_degree,
+                cofactor_degree=search.cofactor_degree,
+            ).relations
+        )  # fmt: skip
+    else:
+        found = find_symmetries(
+            model, momentum=search.momentum, coefficient_degree=search.linear_degree
+        ).dimension
+    return Check(exprs=[sp.Integer(found - stated)])
+
+
+def _relation_check(F: sp.Expr, rate: sp.Expr, model: Model) -> Check:
+    from .discover import relation_residual
+
+    return Check(exprs=[relation_residual(F, rate, model)])
+
+
+def _symmetry_check(components, coordinates, model: Model) -> Check:
+    from .discover import symmetry_residuals
+
+    return Check(exprs=symmetry_residuals(components, coordinates, model))
 
 
 def _names(model: Model) -> dict[str, sp.Expr]:

@@ -170,8 +170,9 @@ def test_a_scene_with_a_system_table_runs(tmp_path):
 
 def test_verify_system_checks_the_models_and_the_files_claims(tmp_path):
     """The derived model's integrals and its Kane cross-check, the finds of the file's
-    [discover] class, the file's three claims proved and its control refuted by the same
-    decision procedure (exit 0: every verdict the expected one)."""
+    [discover] class and its dimension (the search run again, exactly), the file's three
+    claims proved and its control refuted by the same decision procedure (exit 0: every
+    verdict the expected one)."""
     # the energy's proof (6 s) and Routh's integral squared (2 s) are left to the example
     # run of the README; the others cover every kind of claim the file makes
     claims = (
@@ -187,6 +188,7 @@ def test_verify_system_checks_the_models_and_the_files_claims(tmp_path):
         "routh_sphere:(gamma,gamma)": "proved",
         "routh_sphere:kane": "numeric",  # KanesMethod agrees at 40 digits
         "routh_sphere:found-F1": "proved",  # [discover]: Jellett's integral, found
+        "routh_sphere:found-class-integrals": "proved",  # its dimension, searched again
         "routh_sphere:found-density": "proved",
         "ROUTH-jellett": "proved",
         "ROUTH-density": "proved",
@@ -440,3 +442,32 @@ def test_kane_agrees_with_a_rolling_ellipsoid():
     assert result.points == 4 and result.agrees, result
     bad = dataclasses.replace(model, rhs=(model.rhs[0] + sp.Rational(1, 1000), *model.rhs[1:]))
     assert not kane_compare(system, bad, values).agrees
+
+
+@pytest.mark.expensive  # 27 s: derives Routh's sphere, searches its symmetries twice (5 s each)
+def test_symmetries_and_relations_of_a_file_become_claims(tmp_path, capsys, monkeypatch):
+    """Routh's sphere (moments A, A, C, centre of mass on the axis) is symmetric about its
+    axis: the rotation (omega2, -omega1, 0, gamma2, -gamma1, 0) in (omega, gamma) is found
+    and proved a symmetry; the class's dimension (1) is a claim, searched again exactly; the
+    linear class with a cofactor of degree <= 1 holds no invariant relation: a claim too."""
+    text = (SYSTEMS / "routh_sphere.toml").read_text().split("[discover]")[0]
+    path = tmp_path / "routh_linear.toml"
+    path.write_text(
+        text + '[discover]\ndegree = 1\ncoefficient_degree = 0\nmomentum = "omega"\n'
+        "relations = true\nsymmetries = true\n"
+    )
+    monkeypatch.setenv("CHAPLYGIN_CACHE_DIR", str(tmp_path / "c"))
+    argv = ["verify", "--system", str(path), "--jobs", "1", "--json", "--claims", "*:found-*"]
+    assert main(argv) == 0
+    verdicts = {v["id"]: v for v in json.loads(capsys.readouterr().out)}
+    assert {k: v["verdict"] for k, v in verdicts.items()} == {
+        "routh_sphere:found-class-integrals": "proved",
+        "routh_sphere:found-X1": "proved",
+        "routh_sphere:found-class-symmetries": "proved",
+        "routh_sphere:found-class-relations": "proved",
+    }
+    assert "gamma2, -gamma1, 0" in verdicts["routh_sphere:found-X1"]["statement"]
+    assert (
+        "exactly 0 independent invariant"
+        in (verdicts["routh_sphere:found-class-relations"]["statement"])
+    )

@@ -251,7 +251,8 @@ class SystemTable(_Table):
 
 class FileDiscovery(BaseModel):
     """The ``[discover]`` table: a class searched when the file's claims are checked; each
-    integral found (and the density found) becomes a claim."""
+    integral, density, invariant relation and symmetry found becomes a claim, and so does
+    the dimension of each class searched ("no other in this class")."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
@@ -260,6 +261,10 @@ class FileDiscovery(BaseModel):
     momentum: StrictStr | None = None
     in_parameters: bool = False
     densities: bool = False
+    relations: bool = False
+    symmetries: bool = False
+    linear_degree: int = Field(1, ge=0, le=4)
+    cofactor_degree: int = Field(1, ge=0, le=4)
 
 
 class FileClaim(BaseModel):
