@@ -116,10 +116,15 @@ def _found(name: str, file_name: str, search: FileDiscovery) -> list[Claim]:
     from .discover import discover
 
     found = discover(
-        name, degree=search.degree, momentum=search.momentum,
-        coefficient_degree=search.coefficient_degree, in_parameters=search.in_parameters,
-        densities=search.densities, relations=search.relations,
-        symmetries=search.symmetries, linear_degree=search.linear_degree,
+        name,
+        degree=search.degree,
+        momentum=search.momentum,
+        coefficient_degree=search.coefficient_degree,
+        in_parameters=search.in_parameters,
+        densities=search.densities,
+        relations=search.relations,
+        symmetries=search.symmetries,
+        linear_degree=search.linear_degree,
         cofactor_degree=search.cofactor_degree,
     )  # fmt: skip  (the claims below are the proofs)
     s = found.search
@@ -140,9 +145,7 @@ def _found(name: str, file_name: str, search: FileDiscovery) -> list[Claim]:
         )
         for i, F in enumerate(s.integrals, 1)
     ]
-    out.append(
-        _class_claim(name, source, "integrals", s.dimension, rank, search)
-    )
+    out.append(_class_claim(name, source, "integrals", s.dimension, rank, search))
     densities = found.densities
     if densities is not None and densities.found:
         rho = densities.density()
@@ -298,6 +301,32 @@ def _shipped(model: Model, name: str, file_name: str) -> list[Claim]:
     return out
 
 
+def kane_covers(system) -> bool:
+    """Whether :mod:`.kane_rolling` sets the system up: a spherical body, or an ellipsoid
+    (its contact point in closed form); a general convex surface has an implicit one.
+
+    Parameters
+    ----------
+    system : RollingSystem
+
+    Returns
+    -------
+    bool
+    """
+    from .kane_rolling import quadric_contact
+
+    surface = system._parsed["surface"]
+    if surface is None:
+        return True
+    values = {s: sp.Rational(7 + 4 * i, 5 + 3 * i) for i, s in enumerate(surface.free_symbols)}
+    values = {s: v for s, v in values.items() if s.name not in ("r1", "r2", "r3")}
+    try:
+        quadric_contact(surface.xreplace(values), sp.Matrix([0, 0, 1]))
+    except ValueError:
+        return False
+    return True
+
+
 def _kane_computed(system, parameter_names: tuple[str, ...]) -> Computed:
     """The derived model against ``KanesMethod`` (:mod:`.kane_rolling`) at generic exact
     parameter values (distinct positive rationals, deterministic)."""
@@ -345,16 +374,17 @@ def claims_of_file(path: str | Path) -> list[Claim]:
     names = _names(model)
     file_name = Path(path).name
     claims = _shipped(model, name, file_name)
-    claims.append(
-        ComputedClaim(
-            id=f"{name}:kane",
-            source=f"{file_name} (derived)",
-            kind="equation",
-            statement=f"the derived equations of {name} are Kane's (sympy.physics.mechanics)",
-            system=name,
-            compute=partial(_kane_computed, system, tuple(model.param_names)),
+    if kane_covers(system):  # a convex body other than an ellipsoid: no closed-form contact
+        claims.append(
+            ComputedClaim(
+                id=f"{name}:kane",
+                source=f"{file_name} (derived)",
+                kind="equation",
+                statement=f"the derived equations of {name} are Kane's (sympy.physics.mechanics)",
+                system=name,
+                compute=partial(_kane_computed, system, tuple(model.param_names)),
+            )
         )
-    )
     if search is not None:
         claims += _found(name, file_name, search)
     for entry in entries:
