@@ -471,3 +471,30 @@ def test_symmetries_and_relations_of_a_file_become_claims(tmp_path, capsys, monk
         "exactly 0 independent invariant"
         in (verdicts["routh_sphere:found-class-relations"]["statement"])
     )
+
+
+@pytest.mark.slow
+def test_a_described_system_takes_the_dynamics_outputs(tmp_path):
+    """Routh's sphere from its description file with a Poincaré section (gamma1 = 0, the
+    Taylor integrator locates the crossings) and the full Lyapunov spectrum (variational
+    equations from the generated Jacobian): every requested crossing is found, and the sum
+    of the six exponents equals the mean divergence of the field (Liouville: log det of the
+    flow's derivative), both per unit time. The default cache (first use compiles)."""
+    text = (SYSTEMS / "routh_sphere.toml").read_text().split("[outputs]")[0]
+    text = text.replace("t_end = 60", "t_end = 1")
+    text += (
+        "[outputs.lyapunov]\niterations = 20\ntransient = 2\ninterval = 1.0\n"
+        'spectrum = "full"\nstates = 1\nwindows = 2\nplot = false\n\n'
+        '[outputs.poincare]\nsection = "gamma1"\niterations = 5\nplot = false\n'
+    )
+    scene = tmp_path / "routh_dynamics.toml"
+    scene.write_text(text)
+    assert main(["run", str(scene), "--out", str(tmp_path / "out")]) == 0
+    analyses = json.loads((tmp_path / "out" / "summary.json").read_text())["analyses"]
+    section = analyses["poincare"]
+    assert section["complete"] and section["crossings"] == section["points"] == 5
+    full = analyses["lyapunov"]["full"]["per_unit_time"]
+    assert full["units"] == "per unit time" and len(full["exponents"]) == 6
+    scale = max(abs(x) for x in full["exponents"])
+    # the two integrate the same log det to the run's rtol 1e-12 over ~10^2..10^3 steps
+    assert abs(full["sum_of_exponents"] - full["mean_divergence"]) <= 1e3 * 1e-12 * scale
