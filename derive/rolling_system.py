@@ -89,7 +89,7 @@ __all__ = [
 ]
 
 #: Effects a described system takes (the frame and the contact point, for traces).
-SUPPORTED_EFFECTS = ("contact_point",)
+SUPPORTED_EFFECTS = ("contact_point", "straight_line")
 
 #: Supports a description may name, and whether this version derives them.
 SUPPORTS = {
@@ -102,9 +102,9 @@ SUPPORTS = {
 #: Sides of a fixed sphere the body may roll on.
 SIDES = ("outside", "inside")
 #: Contact conditions, and whether this version derives them.
-CONTACTS = {"rolling": True, "rubber": True, "line": False}
+CONTACTS = {"rolling": True, "rubber": True, "line": True}
 #: The space-fixed vectors a contact forbids spinning about (rubber: the normal).
-_NO_SPIN_ABOUT = {"rolling": (), "rubber": ("gamma",)}
+_NO_SPIN_ABOUT = {"rolling": (), "rubber": ("gamma",), "line": ()}
 #: Names a parameter cannot take: the state, the velocities, time and the functions.
 RESERVED_NAMES = frozenset(
     {f"{n}{i}" for n in ("M", "gamma", "omega", "v", "alpha", "beta", "rho") for i in (1, 2, 3)}
@@ -177,9 +177,11 @@ class RollingSystem:
     potential : str or sympy.Expr, optional
         A potential of the orientation: an expression of ``gamma1, gamma2, gamma3`` and
         the parameters.
-    contact : {"rolling", "rubber"}
-        Rolling without slipping, or without slipping and twisting (``(omega, gamma) =
-        0``).
+    contact : {"rolling", "rubber", "line"}
+        Rolling without slipping, without slipping and twisting (``(omega, gamma) =
+        0``), or without slipping along the fixed line ``alpha`` (``(omega, alpha) = 0``,
+        the effect ``straight_line``: the frame ``alpha, beta`` joins the state; a rubber
+        body on a line is ``contact="rubber"`` with the effect).
     support : {"plane", "rotating_plane", "moving_plane", "sphere"}
         The fixed horizontal plane, a horizontal plane rotating about a vertical axis or
         moving horizontally, or a fixed sphere (the other supports are refused in
@@ -310,6 +312,13 @@ class RollingSystem:
             An effect a described system does not take.
         """
         effects = parse_effects(effects, SUPPORTED_EFFECTS)
+        if self.contact == "line":  # rolling along the fixed line alpha: (omega, alpha) = 0
+            effects = parse_effects(effects | {"straight_line"}, SUPPORTED_EFFECTS)
+        if "straight_line" in effects and self.support != "plane":
+            raise UserInputError(
+                f"{self.name}: rolling along a line is derived on a fixed plane only, not on "
+                f"a {self.support}"
+            )
         if self._parsed["surface"] is not None:
             if effects:
                 raise UserInputError(
@@ -598,6 +607,10 @@ def _check_support(s: RollingSystem, read, radius, field_strength, potential) ->
     if s.side == "inside" and (R - radius).is_number and R - radius <= 0:
         raise UserInputError(
             f"side 'inside': the body of radius {radius} does not fit in a sphere of radius {R}"
+        )
+    if s.contact == "line":
+        raise UserInputError(
+            "rolling along a line is derived on a fixed plane only, not on a sphere"
         )
     if field_strength != 0 or potential != 0:
         raise UserInputError(

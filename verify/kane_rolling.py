@@ -115,10 +115,11 @@ def kane_compare(
     KaneComparison
     """
     pvals = {s: sp.Rational(str(values[s.name])) for s in model.params}
-    key = (system.fingerprint(), tuple(sorted((s.name, v) for s, v in pvals.items())))
+    line = "straight_line" in model.effects  # rolling along the fixed line N.x
+    key = (system.fingerprint(), line, tuple(sorted((s.name, v) for s, v in pvals.items())))
     kane = _KANE.get(key)
     if kane is None:  # forming Kane's equations is the cost (seconds): once per point
-        kane = _KANE[key] = _KaneRolling(system, pvals)
+        kane = _KANE[key] = _KaneRolling(system, pvals, line)
     if system._parsed["surface"] is not None:
         return _compare_convex(system, model, kane, pvals, momenta)
     omega_of_x = model.expand_aux(model.omega).xreplace(pvals)
@@ -158,11 +159,15 @@ def kane_compare(
                     )
             if timed:
                 point[time] = T0
-            if relations:
-                point.pop(M[2])
-                rel = relations[0].xreplace(point)
-                (m3,) = sp.solve(sp.numer(sp.together(rel)), M[2])
-                point[M[2]] = m3
+            if relations:  # the last momentum components solved from the relations
+                unknowns = list(M[3 - len(relations) :])
+                for x in unknowns:
+                    point.pop(x)
+                rels = sp.Matrix([sp.numer(sp.together(rel.xreplace(point))) for rel in relations])
+                # linear in the unknowns; LU keeps the 40-digit frame's digits (solve would not)
+                A = rels.jacobian(unknowns)
+                rhs0 = -rels.xreplace(dict.fromkeys(unknowns, 0))
+                point.update(zip(unknowns, A.LUsolve(rhs0), strict=True))
             w = [omega_of_x[i].xreplace(point) for i in range(3)]
             J, F = jac.xreplace(point), rhs.xreplace(point)
             ours = list(J * F)
@@ -261,7 +266,9 @@ def _relative(a: Sequence[object], b: Sequence[object]) -> float:
 class _KaneRolling:
     """Kane's equations of the described body, parameters substituted (exact)."""
 
-    def __init__(self, system: RollingSystem, pvals: Mapping[sp.Symbol, sp.Expr]) -> None:
+    def __init__(
+        self, system: RollingSystem, pvals: Mapping[sp.Symbol, sp.Expr], line: bool = False
+    ) -> None:
         sub = dict(pvals)
         q = list(me.dynamicsymbols("q1 q2 q3 x y"))
         u = list(me.dynamicsymbols("u1 u2 u3 u4 u5"))
@@ -333,6 +340,9 @@ class _KaneRolling:
         if system.contact == "rubber":
             constraints.append(u[2])
             dependent = [u[2], u[3], u[4]]
+        if line:  # along the fixed line N.x: no spin about it, (omega, N.x) = 0
+            constraints.append(u[0])
+            dependent = [u[0], *dependent]
         dyadic = sum(
             (
                 inertia[i, j] * (e_i | e_j)
@@ -437,7 +447,7 @@ class _KaneRolling:
             u = [ws[0], ws[1], ws[2], mpmath.mpf(0), mpmath.mpf(0)]
             dep = self._dep(q, u, T)
             for name, value in zip(self._dependent, dep, strict=True):
-                if name in ("u4", "u5"):
+                if name in ("u1", "u3", "u4", "u5"):
                     u[int(name[1:]) - 1] = value
             A = mpmath.matrix(self._mass(q, u, T))
             f = mpmath.matrix(self._forcing(q, u, T))

@@ -131,6 +131,19 @@ def test_names_become_exact_parameters_and_decimals_stay_exact():
         ({"inertia": (1, 1, 1), "potential": "gamma1**(10**10)"}, "exponent"),
         ({"inertia": (1, 1, 1), "support": "surface"}, "not derived by this version"),
         (
+            {"inertia": (1, 1, 1), "contact": "line", "support": "sphere", "support_radius": 2},
+            "fixed plane only",
+        ),
+        (
+            {
+                "inertia": (1, 1, 1),
+                "contact": "line",
+                "support": "rotating_plane",
+                "rotation_rate": 1,
+            },
+            "not derived",
+        ),
+        (
             {
                 "inertia": (1, 1, 1),
                 "surface": "x1**2 + x2**2 + x3**2 - 1",

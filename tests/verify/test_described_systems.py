@@ -498,3 +498,21 @@ def test_a_described_system_takes_the_dynamics_outputs(tmp_path):
     scale = max(abs(x) for x in full["exponents"])
     # the two integrate the same log det to the run's rtol 1e-12 over ~10^2..10^3 steps
     assert abs(full["sum_of_exponents"] - full["mean_divergence"]) <= 1e3 * 1e-12 * scale
+
+
+@pytest.mark.slow
+def test_kane_agrees_along_a_line_and_refutes_a_perturbed_model():
+    """Rolling along the fixed line alpha ((omega, alpha) = 0, the frame in the state) with
+    an offset centre of mass under gravity: Kane with the third dependent speed omega . N.x
+    (by hand also the balanced body, 2e-40, and a rubber body on a line, 4e-41)."""
+    system = RollingSystem(
+        "along_a_line", inertia=("I1", "I2", "I3"), centre_of_mass=("a1", 0, "a3"),
+        gravity="g", contact="line",
+    )  # fmt: skip
+    model = system.model()
+    assert "(omega,alpha)" in dict(model.invariant_relations)
+    values = dict(m="1.3", b="0.7", I1="0.31", I2="0.43", I3="0.57", a1="0.11", a3="0.2", g="9.81")
+    result = kane_compare(system, model, values)
+    assert result.points == 4 and result.agrees, result
+    bad = dataclasses.replace(model, rhs=(model.rhs[0] + sp.Rational(1, 1000), *model.rhs[1:]))
+    assert kane_compare(system, bad, values).max_acceleration_error > 1e6 * result.tolerance
