@@ -120,9 +120,7 @@ def _emitted(model, language: str, routines: _LazyRoutines) -> tuple[tuple[str, 
 def _emitted_variant(model, languages: tuple[str, ...]) -> dict[str, tuple[tuple[str, str], ...]]:
     """The files of every language for one variant: memoised in the process, else from the
     signed on-disk cache, else emitted (and then cached on disk)."""
-    missing = [
-        lang for lang in languages if (model.hash, GENERATOR_VERSION, lang) not in _EMITTED
-    ]
+    missing = [lang for lang in languages if (model.hash, GENERATOR_VERSION, lang) not in _EMITTED]
     if missing:
         path = rendered_cache_file(model.system, model.effects)
         cached = _load_rendered(path, model)
