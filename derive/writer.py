@@ -11,7 +11,7 @@ from .cachefiles import read_signed, write_signed
 from .emit import EMITTERS, ModelRoutines, get_emitter
 from .emit.base import GENERATOR_VERSION
 from .errors import UserInputError
-from .systems import build_model, builtin_variants, model_cache_dir, variant_cache_key, variant_name
+from .systems import build_model, builtin_variants, variant_cache_file
 
 __all__ = [
     "render_generated",
@@ -58,12 +58,10 @@ class _LazyRoutines:
 
 
 def rendered_cache_file(system: str, effects: frozenset[str]) -> Path | None:
-    """The on-disk cache of a built-in variant's emitted files (None when the caches are off).
-
-    ``<cache root>/rendered/<variant>-<key>.json``, the key of the model cache
-    (:func:`~chaplygin.derive.systems.variant_cache_key`: it changes with any edit of
-    ``derive/``, the emitters included, and with the versions of Python, sympy and mpmath), so
-    a later process (``derive --check`` after the tests, CI) does not emit the same text again.
+    """The cache file of a built-in variant's emitted files: ``<cache root>/rendered/`` under
+    the model cache's key (:func:`~chaplygin.derive.systems.variant_cache_file`: a new key with
+    any edit of ``derive/``, the emitters included), so that a later process (``derive
+    --check`` after the tests, CI) does not emit the same text again.
 
     Parameters
     ----------
@@ -74,12 +72,9 @@ def rendered_cache_file(system: str, effects: frozenset[str]) -> Path | None:
     Returns
     -------
     pathlib.Path or None
+        None when the caches are off (``CHAPLYGIN_MODEL_CACHE=0``).
     """
-    models = model_cache_dir()
-    if models is None:
-        return None
-    name = variant_name(system, effects)
-    return models.parent / "rendered" / f"{name}-{variant_cache_key(system, effects)}.json"
+    return variant_cache_file("rendered", system, effects, ".json")
 
 
 def _load_rendered(path: Path | None, model) -> dict[str, list[list[str]]]:
