@@ -40,6 +40,7 @@ __all__ = [
     "register_system",
     "model_cache_dir",
     "variant_cache_key",
+    "variant_cache_file",
 ]
 
 #: Bumped when the layout of the on-disk model cache changes.
@@ -213,11 +214,36 @@ def variant_cache_key(system: str, effects: Iterable[str]) -> str:
     return key.hexdigest()[:32]
 
 
-def _cache_file(system: str, effects: frozenset[str]) -> Path | None:
-    folder = model_cache_dir()
-    if folder is None:
+def variant_cache_file(
+    folder: str, system: str, effects: frozenset[str], suffix: str
+) -> Path | None:
+    """A variant's file in one of the on-disk caches of derived things.
+
+    Parameters
+    ----------
+    folder : str
+        The cache's folder under the cache root (``models``, ``emitted``, ``rendered``).
+    system : str
+    effects : frozenset of str
+        Validated effect names.
+    suffix : str
+        The file's suffix (``.pickle``).
+
+    Returns
+    -------
+    pathlib.Path or None
+        ``<cache root>/<folder>/<variant>-<key><suffix>`` (the key:
+        :func:`variant_cache_key`); None when ``CHAPLYGIN_MODEL_CACHE=0``.
+    """
+    models = model_cache_dir()
+    if models is None:
         return None
-    return folder / f"{variant_name(system, effects)}-{variant_cache_key(system, effects)}.pickle"
+    name = variant_name(system, effects)
+    return models.parent / folder / f"{name}-{variant_cache_key(system, effects)}{suffix}"
+
+
+def _cache_file(system: str, effects: frozenset[str]) -> Path | None:
+    return variant_cache_file("models", system, effects, ".pickle")
 
 
 #: First line of a model file: the format, then the HMAC of the pickle that follows.

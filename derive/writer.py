@@ -7,10 +7,11 @@ import os
 import tempfile
 from pathlib import Path
 
+from .cachefiles import read_signed, write_signed
 from .emit import EMITTERS, ModelRoutines, get_emitter
 from .emit.base import GENERATOR_VERSION
 from .errors import UserInputError
-from .systems import build_model, builtin_variants
+from .systems import build_model, builtin_variants, variant_cache_file
 
 __all__ = [
     "render_generated",
@@ -39,6 +40,9 @@ C on MPFR, the Taylor program as data and the right-hand side in vector lanes;
 #: tests) pays for it once.
 _EMITTED: dict[tuple[str, str, str], tuple[tuple[str, str], ...]] = {}
 
+#: First line of a rendered-variant file: the format, then the HMAC of the JSON that follows.
+_RENDERED_MAGIC = b"chaplygin-rendered-1\n"
+
 
 class _LazyRoutines:
     """The model's routines, built on first use (not at all when every emission is memoised)."""
@@ -53,11 +57,84 @@ class _LazyRoutines:
         return self.value
 
 
+def rendered_cache_file(system: str, effects: frozenset[str]) -> Path | None:
+    """The cache file of a built-in variant's emitted files: ``<cache root>/rendered/`` under
+    the model cache's key (:func:`~chaplygin.derive.systems.variant_cache_file`: a new key with
+    any edit of ``derive/``, the emitters included), so that a later process (``derive
+    --check`` after the tests, CI) does not emit the same text again.
+
+    Parameters
+    ----------
+    system : str
+    effects : frozenset of str
+        Validated effect names.
+
+    Returns
+    -------
+    pathlib.Path or None
+        None when the caches are off (``CHAPLYGIN_MODEL_CACHE=0``).
+    """
+    return variant_cache_file("rendered", system, effects, ".json")
+
+
+def _load_rendered(path: Path | None, model) -> dict[str, list[list[str]]]:
+    """Emitted files per language from ``path``, or {} (absent, damaged, not ours, or another
+    model or generator): read only when its HMAC (the cache root's per-user secret) checks out."""
+    data = read_signed(path, _RENDERED_MAGIC)
+    if data is None:
+        return {}
+    try:
+        entry = json.loads(data)
+    except ValueError:
+        return {}
+    if (
+        not isinstance(entry, dict)
+        or entry.get("model_hash") != model.hash
+        or entry.get("generator") != GENERATOR_VERSION
+        or not isinstance(entry.get("files"), dict)
+    ):
+        return {}
+    return {
+        language: files
+        for language, files in entry["files"].items()
+        if isinstance(files, list)
+        and all(
+            isinstance(f, list) and len(f) == 2 and all(isinstance(x, str) for x in f)
+            for f in files
+        )
+    }
+
+
 def _emitted(model, language: str, routines: _LazyRoutines) -> tuple[tuple[str, str], ...]:
     key = (model.hash, GENERATOR_VERSION, language)
     if key not in _EMITTED:
         _EMITTED[key] = tuple(get_emitter(language).emit(model, routines.get()))
     return _EMITTED[key]
+
+
+def _emitted_variant(model, languages: tuple[str, ...]) -> dict[str, tuple[tuple[str, str], ...]]:
+    """The files of every language for one variant: memoised in the process, else from the
+    signed on-disk cache, else emitted (and then cached on disk)."""
+    missing = [lang for lang in languages if (model.hash, GENERATOR_VERSION, lang) not in _EMITTED]
+    if missing:
+        path = rendered_cache_file(model.system, model.effects)
+        cached = _load_rendered(path, model)
+        for language in missing:
+            if language in cached:
+                files = tuple((name, text) for name, text in cached[language])
+                _EMITTED[(model.hash, GENERATOR_VERSION, language)] = files
+        if any(language not in cached for language in missing):
+            routines = _LazyRoutines(model)
+            every = {language: _emitted(model, language, routines) for language in languages}
+            for language, files in cached.items():
+                every.setdefault(language, tuple(map(tuple, files)))
+            entry = {
+                "model_hash": model.hash,
+                "generator": GENERATOR_VERSION,
+                "files": {language: [list(f) for f in files] for language, files in every.items()},
+            }
+            write_signed(path, _RENDERED_MAGIC, json.dumps(entry, sort_keys=True).encode())
+    return {language: _EMITTED[(model.hash, GENERATOR_VERSION, language)] for language in languages}
 
 
 def render_generated(languages: tuple[str, ...] | None = None) -> dict[str, str]:
@@ -79,7 +156,7 @@ def render_generated(languages: tuple[str, ...] | None = None) -> dict[str, str]
     manifest: dict[str, dict] = {}
     for system, effects in builtin_variants():
         model = build_model(system, effects)
-        routines = _LazyRoutines(model)
+        emitted = _emitted_variant(model, languages)
         entry = {
             "system": system,
             "effects": sorted(effects),
@@ -88,7 +165,7 @@ def render_generated(languages: tuple[str, ...] | None = None) -> dict[str, str]
             "files": {},
         }
         for language in languages:
-            for filename, text in _emitted(model, language, routines):
+            for filename, text in emitted[language]:
                 files[filename] = text
                 entry["files"][language] = filename
         manifest[model.name] = entry

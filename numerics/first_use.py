@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..derive.cachefiles import read_signed, write_signed
-from ..derive.systems import model_cache_dir, variant_cache_key, variant_name
+from ..derive.systems import variant_cache_file
 
 __all__ = ["FirstUse", "emitted_sources", "emitted_cache_file", "SOURCE_KINDS"]
 
@@ -70,11 +70,7 @@ def emitted_cache_file(system: str, effects: frozenset[str]) -> Path | None:
     -------
     pathlib.Path or None
     """
-    models = model_cache_dir()
-    if models is None:
-        return None
-    name = variant_name(system, effects)
-    return models.parent / "emitted" / f"{name}-{variant_cache_key(system, effects)}.src"
+    return variant_cache_file("emitted", system, effects, ".src")
 
 
 def _load(path: Path | None) -> dict[str, str] | None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import shutil
 import subprocess
 import sys
@@ -253,3 +254,43 @@ def test_cse_temporaries_never_shadow_a_model_symbol():
     routine = _cse("t", [(x1 + x0) ** 2 + sp.sin(x1 + x0)], (1,))
     names = {s.name for s, _ in routine.temporaries}
     assert names and not names & {"x0", "x1"}
+
+
+def test_rendered_files_are_cached_signed_and_a_foreign_file_is_not_used(tmp_path, monkeypatch):
+    """A second process gets generated/'s files from the signed cache, bit for bit; a file
+    changed by someone else, or made for another model, is emitted again, never used."""
+    from chaplygin.derive import writer
+
+    monkeypatch.setenv("CHAPLYGIN_CACHE_DIR", str(tmp_path / "cache"))
+    monkeypatch.delenv("CHAPLYGIN_MODEL_CACHE", raising=False)
+    model = build_model("chaplygin_ball", ())
+    languages = ("c", "numpy")
+    monkeypatch.setattr(writer, "_EMITTED", {})
+    emitted = writer._emitted_variant(model, languages)
+    path = writer.rendered_cache_file("chaplygin_ball", frozenset())
+    assert path.is_file() and {name for name, _ in emitted["numpy"]} == {"chaplygin_ball_numpy.py"}
+
+    calls = []
+    real_get_emitter = writer.get_emitter
+
+    def counting(language):
+        calls.append(language)
+        return real_get_emitter(language)
+
+    monkeypatch.setattr(writer, "get_emitter", counting)
+    monkeypatch.setattr(writer, "_EMITTED", {})  # a new process
+    assert writer._emitted_variant(model, languages) == emitted and calls == []
+
+    blob = path.read_bytes()
+    path.write_bytes(blob.replace(b"OUT[0] =", b"OUT[0] = 1.0 +", 1))  # not our bytes
+    monkeypatch.setattr(writer, "_EMITTED", {})
+    assert writer._emitted_variant(model, languages) == emitted and sorted(calls) == sorted(
+        languages
+    )
+    assert path.read_bytes() == blob  # rewritten with what the emitters give
+
+    other = dataclasses.replace(model, rhs=tuple(-e for e in model.rhs))  # another model hash
+    assert other.hash != model.hash
+    assert writer._load_rendered(path, other) == {}
+    monkeypatch.setenv("CHAPLYGIN_MODEL_CACHE", "0")
+    assert writer.rendered_cache_file("chaplygin_ball", frozenset()) is None
