@@ -104,7 +104,15 @@ SIDES = ("outside", "inside")
 #: Contact conditions, and whether this version derives them.
 CONTACTS = {"rolling": True, "rubber": True, "line": True}
 #: The space-fixed vectors a contact forbids spinning about (rubber: the normal).
-_NO_SPIN_ABOUT = {"rolling": (), "rubber": ("gamma",), "line": ()}
+_NO_SPIN_ABOUT = {"rolling": (), "rubber": ("gamma",), "line": ("alpha",)}
+#: The effects a described spherical body takes, by support (a convex body: none; along a
+#: line the contact already is BKM12's straight_line).
+_EFFECTS_BY_SUPPORT = {
+    "plane": SUPPORTED_EFFECTS,
+    "rotating_plane": ("contact_point",),
+    "moving_plane": ("contact_point",),
+    "sphere": (),
+}
 #: Names a parameter cannot take: the state, the velocities, time and the functions.
 RESERVED_NAMES = frozenset(
     {f"{n}{i}" for n in ("M", "gamma", "omega", "v", "alpha", "beta", "rho") for i in (1, 2, 3)}
@@ -246,6 +254,16 @@ class RollingSystem:
 
     # ------------------------------------------------------------------ parsed data
     @property
+    def effects_taken(self) -> tuple[str, ...]:
+        """The effects this description takes (:data:`SUPPORTED_EFFECTS` on a fixed
+        plane; the contact trace on a moving one; none on a sphere or for a convex body)."""
+        if self._parsed["surface"] is not None:
+            return ()
+        if self.contact == "line":
+            return ("contact_point",)
+        return _EFFECTS_BY_SUPPORT.get(self.support, ())
+
+    @property
     def parameter_names(self) -> tuple[str, ...]:
         """The parameters, in order of first appearance (mass, radius, inertia, ...)."""
         return tuple(s.name for s in self._parsed["parameters"])
@@ -311,26 +329,9 @@ class RollingSystem:
         UserInputError
             An effect a described system does not take.
         """
-        effects = parse_effects(effects, SUPPORTED_EFFECTS)
-        if self.contact == "line":  # rolling along the fixed line alpha: (omega, alpha) = 0
-            effects = parse_effects(effects | {"straight_line"}, SUPPORTED_EFFECTS)
-        if "straight_line" in effects and self.support != "plane":
-            raise UserInputError(
-                f"{self.name}: rolling along a line is derived on a fixed plane only, not on "
-                f"a {self.support}"
-            )
+        effects = parse_effects(effects, self.effects_taken)
         if self._parsed["surface"] is not None:
-            if effects:
-                raise UserInputError(
-                    f"{self.name}: the effects {sorted(effects)} are derived for a spherical "
-                    "body only"
-                )
             return _convex_body_description(self)
-        if effects and self.support == "sphere":
-            raise UserInputError(
-                f"{self.name}: the effects {sorted(effects)} (the contact trace in the plane) "
-                f"are derived on a plane only, not on a {self.support}"
-            )
         p = self._parsed
         t = sp.Symbol("t", real=True)
         omega, v = vector("omega", real=True), vector("v", real=True)
@@ -366,11 +367,15 @@ class RollingSystem:
             desc.add_invariant_relation("(rho,gamma)", dot(rho, gamma))
         if self.support == "moving_plane":
             desc.add_frame()  # the fixed axes the plane's velocity is given along
+            desc.add_completion(("alpha", "beta"), "frame_bkm12_7")
             V = p["plane_velocity"]
             support_velocity = V[0] * desc.vectors["alpha"] + V[1] * desc.vectors["beta"]
         for c in v + cross(omega, desc.contact_vector) - support_velocity:
             desc.add_constraint(c)
-        for along in _NO_SPIN_ABOUT[self.contact]:  # no twist: (omega, gamma) = 0
+        if self.contact == "line":  # along the fixed line alpha (BKM12-57's constraint)
+            desc.add_frame()
+            desc.add_completion(("alpha", "beta"), "frame_bkm12_7")
+        for along in _NO_SPIN_ABOUT[self.contact]:  # no twist about gamma, no spin about alpha
             desc.add_constraint(dot(omega, desc.vectors[along]), reacts_along=along)
         desc.add_potential(p["field"] * m * dot(a, gamma) + p["potential"])
         for s in p["parameters"]:

@@ -115,7 +115,7 @@ def kane_compare(
     KaneComparison
     """
     pvals = {s: sp.Rational(str(values[s.name])) for s in model.params}
-    line = "straight_line" in model.effects  # rolling along the fixed line N.x
+    line = "(omega,alpha)" in dict(model.invariant_relations)  # along the fixed line N.x
     key = (system.fingerprint(), line, tuple(sorted((s.name, v) for s, v in pvals.items())))
     kane = _KANE.get(key)
     if kane is None:  # forming Kane's equations is the cost (seconds): once per point

@@ -301,7 +301,7 @@ def _shipped(model: Model, name: str, file_name: str) -> list[Claim]:
     return out
 
 
-def kane_covers(system) -> bool:
+def kane_covers(system: RollingSystem) -> bool:
     """Whether :mod:`.kane_rolling` sets the system up: a spherical body, or an ellipsoid
     (its contact point in closed form); a general convex surface has an implicit one.
 
