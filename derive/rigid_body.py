@@ -137,6 +137,17 @@ def _space_fixed(desc: MechanicalDescription) -> set[str]:
     }
 
 
+def _density_applies(desc: MechanicalDescription, red: ReducedEquations, density) -> bool:
+    """Whether ``det(X)^-1/2`` solves Liouville's equation here: it is derived for a fixed
+    support (no affine constraint), Poisson's equations of every vector (on a sphere the
+    normal turns at another rate) and an autonomous structure (an explicit time dependence,
+    I(t) of BM20-3.4, leaves its time derivative over); chaplygin.discover searches
+    otherwise."""
+    if density is None or not red.velocity_shift.is_zero_matrix:
+        return False
+    return not (set(desc.kinematics) - _space_fixed(desc)) and not density.has(desc.time)
+
+
 def _geometric_integrals(
     desc: MechanicalDescription, frame: bool
 ) -> tuple[list[tuple[str, sp.Expr]], list[tuple[str, sp.Expr]]]:
@@ -238,16 +249,7 @@ class RigidBodyReduction:
             )
             aux += mu_aux
             density = None if structured is None else mu_density
-        if density is not None and not red.velocity_shift.is_zero_matrix:
-            density = None  # Liouville's equation of det(X)^-1/2 is the fixed support's
-        if density is not None and set(desc.kinematics) - _space_fixed(desc):
-            # Liouville's equation of det(X)^-1/2 uses Poisson's equations; on a sphere
-            # the normal turns at another rate (chaplygin.discover searches instead)
-            density = None
-        if density is not None and density.has(t):
-            # det(X)^-1/2 satisfies Liouville's equation for the autonomous structure; an
-            # explicit time dependence (I(t), BM20-3.4) leaves its time derivative over
-            density = None
+        density = density if _density_applies(desc, red, density) else None
 
         P_name = self.momentum if outside.is_zero_matrix else f"{self.momentum}+{self.gyrostatic}"
         integrals: list[tuple[str, sp.Expr]] = []

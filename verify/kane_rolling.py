@@ -286,54 +286,11 @@ class _KaneRolling:
         B.set_ang_vel(N, u[0] * N.x + u[1] * N.y + u[2] * N.z)
         p = system._parsed
         m = p["mass"].xreplace(sub)
-        b = None if p["radius"] is None else p["radius"].xreplace(sub)
-        a = p["centre"].xreplace(sub)
         inertia = p["inertia"].xreplace(sub)
-        origin = me.Point("origin")
-        origin.set_vel(N, 0)
-        gamma_B = sp.Matrix([N.z.dot(B.x), N.z.dot(B.y), N.z.dot(B.z)])
-        self._quadric = p["surface"] is not None
-        if self._quadric:  # a convex quadric: the contact point r(gamma), G at height h
-            r_B = quadric_contact(p["surface"].xreplace(sub), gamma_B)
-            h = -r_B.dot(gamma_B)
-            h_rate = sum((h.diff(s) * solved[s.diff(t)] for s in q[:3]), sp.S.Zero)
-            G = origin.locatenew("G", q[3] * N.x + q[4] * N.y + h * N.z)
-            G.set_vel(N, u[3] * N.x + u[4] * N.y + h_rate * N.z)
-            O, normal, tangents = G, N.z, (N.x, N.y)
-        elif system.support == "sphere":
-            R = p["support_radius"].xreplace(sub)
-            inside = system.side == "inside"
-            rho = R - b if inside else R + b
-            e_r = (
-                sp.cos(q[3]) * N.x
-                + sp.sin(q[3]) * sp.cos(q[4]) * N.y
-                + sp.sin(q[3]) * sp.sin(q[4]) * N.z
-            )
-            O = origin.locatenew("O", rho * e_r)
-            O.set_vel(N, rho * (u[3] * e_r.diff(q[3], N) + u[4] * e_r.diff(q[4], N)))
-            normal = -e_r if inside else e_r  # into the body at the contact
-            tangents = (e_r.diff(q[3], N), e_r.diff(q[4], N))
-        else:
-            O = origin.locatenew("O", q[3] * N.x + q[4] * N.y + b * N.z)
-            O.set_vel(N, u[3] * N.x + u[4] * N.y)
-            normal, tangents = N.z, (N.x, N.y)
-        # a rotating plane carries the contact point: P's velocity is Omega N.z x OP
-        # prescribed rates are functions of the model's time: Kane's t here
-        now = {sp.Symbol("t", real=True): t, **sub}
-        Omega = p["rotation_rate"].xreplace(now)
-        carried = Omega * N.z.cross(q[3] * N.x + q[4] * N.y) if Omega != 0 else me.Vector(0)
-        V = p["plane_velocity"].xreplace(now)  # a moving plane: along the fixed axes
-        carried = carried + V[0] * N.x + V[1] * N.y
         self._flip = system.support == "sphere" and system.side == "inside"
         self._at_pole = system.support == "sphere"
-        if self._quadric:
-            P = G.locatenew("P", r_B[0] * B.x + r_B[1] * B.y + r_B[2] * B.z)
-            P.v2pt_theory(G, N, B)  # the body point at the contact: v_G + omega x r
-        else:
-            G = O.locatenew("G", a[0] * B.x + a[1] * B.y + a[2] * B.z)
-            G.v2pt_theory(O, N, B)
-            P = O.locatenew("P", -b * normal)
-            P.v2pt_theory(O, N, B)
+        G, P, normal, tangents, carried = self._contact(system, p, sub, (N, B), q, u, t, solved)
+        gamma_B = sp.Matrix([N.z.dot(B.x), N.z.dot(B.y), N.z.dot(B.z)])
         slip = P.vel(N) - carried
         constraints = [slip.dot(tangents[0]), slip.dot(tangents[1])]
         dependent = [u[3], u[4]]
@@ -398,7 +355,7 @@ class _KaneRolling:
         normal_rate = normal_B.diff(t).xreplace(kane.kindiffdict())
         self._normal_rate = sp.lambdify(args, normal_rate, modules="mpmath")
         if self._quadric:  # the contact point from the centre of mass, body axes
-            position_B = r_B
+            position_B = self._position
         else:  # the contact point from the axis (a turntable)
             position = q[3] * N.x + q[4] * N.y
             position_B = sp.Matrix([position.dot(B.x), position.dot(B.y), position.dot(B.z)])
@@ -407,6 +364,58 @@ class _KaneRolling:
         self._dep = sp.lambdify(args, sp.Matrix([dep[s] for s in dependent]), modules="mpmath")
         self._order = [str(s.func) for s in kane.u]
         self._dependent = [str(s.func) for s in dependent]
+
+    def _contact(self, system, p, sub, frames, q, u, t, solved):
+        """The centre of mass ``G``, the body point ``P`` at the contact, the support's
+        normal and tangents there and the support's velocity at the contact."""
+        N, B = frames
+        b = None if p["radius"] is None else p["radius"].xreplace(sub)
+        a = p["centre"].xreplace(sub)
+        origin = me.Point("origin")
+        origin.set_vel(N, 0)
+        gamma_B = sp.Matrix([N.z.dot(B.x), N.z.dot(B.y), N.z.dot(B.z)])
+        self._quadric = p["surface"] is not None
+        if self._quadric:  # a convex quadric: the contact point r(gamma), G at height h
+            r_B = quadric_contact(p["surface"].xreplace(sub), gamma_B)
+            h = -r_B.dot(gamma_B)
+            h_rate = sum((h.diff(s) * solved[s.diff(t)] for s in q[:3]), sp.S.Zero)
+            G = origin.locatenew("G", q[3] * N.x + q[4] * N.y + h * N.z)
+            G.set_vel(N, u[3] * N.x + u[4] * N.y + h_rate * N.z)
+            O, normal, tangents = G, N.z, (N.x, N.y)
+        elif system.support == "sphere":
+            R = p["support_radius"].xreplace(sub)
+            inside = system.side == "inside"
+            rho = R - b if inside else R + b
+            e_r = (
+                sp.cos(q[3]) * N.x
+                + sp.sin(q[3]) * sp.cos(q[4]) * N.y
+                + sp.sin(q[3]) * sp.sin(q[4]) * N.z
+            )
+            O = origin.locatenew("O", rho * e_r)
+            O.set_vel(N, rho * (u[3] * e_r.diff(q[3], N) + u[4] * e_r.diff(q[4], N)))
+            normal = -e_r if inside else e_r  # into the body at the contact
+            tangents = (e_r.diff(q[3], N), e_r.diff(q[4], N))
+        else:
+            O = origin.locatenew("O", q[3] * N.x + q[4] * N.y + b * N.z)
+            O.set_vel(N, u[3] * N.x + u[4] * N.y)
+            normal, tangents = N.z, (N.x, N.y)
+        # a rotating plane carries the contact point: P's velocity is Omega N.z x OP
+        # prescribed rates are functions of the model's time: Kane's t here
+        now = {sp.Symbol("t", real=True): t, **sub}
+        Omega = p["rotation_rate"].xreplace(now)
+        carried = Omega * N.z.cross(q[3] * N.x + q[4] * N.y) if Omega != 0 else me.Vector(0)
+        V = p["plane_velocity"].xreplace(now)  # a moving plane: along the fixed axes
+        carried = carried + V[0] * N.x + V[1] * N.y
+        if self._quadric:
+            P = G.locatenew("P", r_B[0] * B.x + r_B[1] * B.y + r_B[2] * B.z)
+            P.v2pt_theory(G, N, B)  # the body point at the contact: v_G + omega x r
+        else:
+            G = O.locatenew("G", a[0] * B.x + a[1] * B.y + a[2] * B.z)
+            G.v2pt_theory(O, N, B)
+            P = O.locatenew("P", -b * normal)
+            P.v2pt_theory(O, N, B)
+        self._position = r_B if self._quadric else None
+        return G, P, normal, tangents, carried
 
     def frame(self, gamma: Sequence[sp.Expr]) -> tuple[list, list]:
         """The body components of ``N.x, N.y`` (``alpha, beta``) where :meth:`at` puts the
