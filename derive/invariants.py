@@ -86,9 +86,7 @@ __all__ = [
     "LinearClass",
     "InvariantRelation",
     "RelationSearch",
-    "SymmetrySearch",
     "find_invariant_relations",
-    "find_symmetries",
     "specialise",
     "MAX_COFACTOR_UNKNOWNS",
 ]
@@ -259,45 +257,6 @@ class RelationSearch:
             f"cofactor; lex Groebner bases of the {self.charts} charts of the bilinear rest "
             f"leave the cofactors listed and no other; {at}"
         )
-
-
-@dataclass(frozen=True)
-class SymmetrySearch:
-    """Result of :func:`find_symmetries`.
-
-    Attributes
-    ----------
-    model : str
-    search_class : LinearClass
-    coordinates : tuple of sympy.Symbol
-        The search coordinates ``x``; a field is the tuple of its components along them.
-    fields : tuple of tuple of sympy.Expr
-        A basis of the symmetries in the class that are not parallel to the field.
-    trivial : tuple of tuple of sympy.Expr
-        A basis of those parallel to the field on the phase space.
-    unknowns : int
-    equations : int
-    rank : int
-        ``unknowns - rank = len(fields) + len(trivial)``: no other in the class.
-    seconds : float
-    stage_seconds : dict of str to float
-    """
-
-    model: str
-    search_class: LinearClass
-    coordinates: tuple[sp.Symbol, ...]
-    fields: tuple[tuple[sp.Expr, ...], ...]
-    trivial: tuple[tuple[sp.Expr, ...], ...]
-    unknowns: int
-    equations: int
-    rank: int
-    seconds: float
-    stage_seconds: dict[str, float] = field(default_factory=dict)
-
-    @property
-    def dimension(self) -> int:
-        """Dimension of the space of symmetries in the class (``unknowns - rank``)."""
-        return self.unknowns - self.rank
 
 
 def specialise(model: Model, values: dict) -> Model:
@@ -511,46 +470,12 @@ def find_invariant_relations(
     table = _linear_table(rows.values(), z)
     nrows = len(table)
     table, left = _constant_pivots(table, len(z))
-    candidates: set[tuple] = {tuple([sp.S.Zero] * m)}
-    complete = True
-    zl = sp.symbols(f"y0:{len(left)}")
-    equations = [sp.expand(sum((e * zl[i] for i, e in row.items()), sp.S.Zero)) for row in table]
-    equations = [e for e in equations if e != 0]
-    for i in range(len(left)):
-        fixed = {**{zl[j]: 0 for j in range(i)}, zl[i]: 1}
-        chart = [sp.expand(e.xreplace(fixed)) for e in equations]
-        chart = [e for e in chart if e != 0]
-        if not chart:  # z_i = 1 solves for every kappa: a family of cofactors
-            complete = False
-            continue
-        basis = sp.groebner(chart, *zl[i + 1 :], *kappa, order="lex")
-        if list(basis.exprs) == [1]:
-            continue
-        elimination = [g for g in basis.exprs if not g.free_symbols & set(zl)]
-        if not elimination or not sp.groebner(elimination, *kappa, order="lex").is_zero_dimensional:
-            complete = False  # a family of cofactors
-            continue
-        for sol in sp.solve(elimination, list(kappa), dict=True):
-            candidates.add(tuple(sol[k] for k in kappa))
+    candidates, complete = _cofactor_candidates(table, len(left), kappa)
     stages["cofactors"] = time.perf_counter() - clock
     clock = time.perf_counter()
     # step 3: at each cofactor, linear again
-    relations: list[InvariantRelation] = []
-    integrals: tuple[sp.Expr, ...] = ()
-    ranks = []
     q = s.denominator.as_expr()
-    for cand in sorted(candidates, key=lambda c: (any(c), sp.default_sort_key(c))):
-        vectors, rank = _eigenspace(cand, lie, prod, n)
-        cofactor = _combination(cand, cofactors) if any(cand) else sp.S.Zero
-        ranks.append((sp.sstr(cofactor), rank))
-        exprs = [_combination(v, s.basis) for v in vectors]
-        if not any(cand):
-            integrals = _modulo_constants(exprs, s.x)
-            continue
-        for F in exprs:
-            relations.append(
-                InvariantRelation(_primitive(F, s.x), cofactor, sp.cancel(cofactor / q))
-            )
+    relations, integrals, ranks = _relations_at(candidates, lie, prod, s, cofactors)
     stages["solve"] = time.perf_counter() - clock
     found_class = LinearClass(
         "relations",
@@ -577,6 +502,57 @@ def find_invariant_relations(
         time.perf_counter() - start,
         stages,
     )
+
+
+def _relations_at(candidates, lie, prod, s: _Setup, cofactors):
+    """At each candidate cofactor the system is linear again: its solutions (relations;
+    at the zero cofactor the class's integrals) and its rank (no other)."""
+    relations: list[InvariantRelation] = []
+    integrals: tuple[sp.Expr, ...] = ()
+    ranks = []
+    q = s.denominator.as_expr()
+    for cand in sorted(candidates, key=lambda c: (any(c), sp.default_sort_key(c))):
+        vectors, rank = _eigenspace(cand, lie, prod, len(s.basis))
+        cofactor = _combination(cand, cofactors) if any(cand) else sp.S.Zero
+        ranks.append((sp.sstr(cofactor), rank))
+        exprs = [_combination(v, s.basis) for v in vectors]
+        if not any(cand):
+            integrals = _modulo_constants(exprs, s.x)
+            continue
+        for F in exprs:
+            relations.append(
+                InvariantRelation(_primitive(F, s.x), cofactor, sp.cancel(cofactor / q))
+            )
+    return relations, integrals, ranks
+
+
+def _cofactor_candidates(table: list[dict], nleft: int, kappa) -> tuple[set, bool]:
+    """The cofactors ``kappa`` for which the bilinear rows have a non-zero solution, chart
+    by chart (the first non-zero coordinate set to 1): a lex Groebner basis eliminates
+    the linear unknowns; ``{1}`` means none in the chart. Also whether the list is
+    complete (False when a chart holds a family of cofactors)."""
+    candidates: set[tuple] = {tuple([sp.S.Zero] * len(kappa))}
+    complete = True
+    zl = sp.symbols(f"y0:{nleft}")
+    equations = [sp.expand(sum((e * zl[i] for i, e in row.items()), sp.S.Zero)) for row in table]
+    equations = [e for e in equations if e != 0]
+    for i in range(nleft):
+        fixed = {**{zl[j]: 0 for j in range(i)}, zl[i]: 1}
+        chart = [sp.expand(e.xreplace(fixed)) for e in equations]
+        chart = [e for e in chart if e != 0]
+        if not chart:  # z_i = 1 solves for every kappa: a family of cofactors
+            complete = False
+            continue
+        basis = sp.groebner(chart, *zl[i + 1 :], *kappa, order="lex")
+        if list(basis.exprs) == [1]:
+            continue
+        elimination = [g for g in basis.exprs if not g.free_symbols & set(zl)]
+        if not elimination or not sp.groebner(elimination, *kappa, order="lex").is_zero_dimensional:
+            complete = False  # a family of cofactors
+            continue
+        for sol in sp.solve(elimination, list(kappa), dict=True):
+            candidates.add(tuple(sol[k] for k in kappa))
+    return candidates, complete
 
 
 def _linear_table(expressions, z) -> list[dict]:
@@ -684,143 +660,3 @@ def _modulo_constants(exprs, x) -> tuple[sp.Expr, ...]:
 
 
 # ----------------------------------------------------------------- symmetries
-def find_symmetries(
-    model: Model, *, momentum: str | None = None, coefficient_degree: int = 1
-) -> SymmetrySearch:
-    """Every symmetry field of a stated linear class, with the proof there is no other.
-
-    Parameters
-    ----------
-    model : Model
-        An autonomous model.
-    momentum : str, optional
-        The group the components are affine in (a state group or ``"omega"``).
-    coefficient_degree : int, optional
-        Largest degree of the components' coefficients in the other state variables.
-
-    Returns
-    -------
-    SymmetrySearch
-        The basis of the non-trivial symmetries, of the trivial ones (parallel to the
-        field), the rank and the time.
-
-    Raises
-    ------
-    UserInputError
-        Bad degree or group, a time-dependent model, a class too large (with its size).
-    """
-    start = time.perf_counter()
-    stages: dict[str, float] = {}
-    clock = time.perf_counter()
-    s = _setup(model, momentum, coefficient_degree, len(model.state))
-    ring = s.builder.ring
-    gens = ring.gens
-    nx = len(s.x)
-    q = s.denominator
-    stages["ansatz"] = time.perf_counter() - clock
-    clock = time.perf_counter()
-    ideal_polys = [ring.from_expr(c) for c in s.ideal]
-    # [b e_k, V]_l Q^2 = b (dP_l/dx_k Q - P_l dQ/dx_k) - delta_lk Q L(b)
-    dq = [q.diff(gens[k]) for k in range(nx)]
-    wedge = [
-        [s.numerators[row].diff(gens[k]) * q - s.numerators[row] * dq[k] for k in range(nx)]
-        for row in range(nx)
-    ]
-    columns = []
-    for k in range(nx):
-        for b in s.basis:
-            col: dict = {}
-            for i, c in enumerate(ideal_polys):
-                d = c.diff(gens[k])
-                if not d.is_zero:
-                    for mono, v in ring_normal_form(b * d, s.ideal, s.builder).iterterms():
-                        col[("tangent", i, mono)] = v
-            lq = q * _lie(b, s)
-            for row in range(nx):
-                term = b * wedge[row][k]
-                if row == k:
-                    term = term - lq
-                for mono, v in ring_normal_form(term, s.ideal, s.builder).iterterms():
-                    col[("bracket", row, mono)] = v
-            columns.append(col)
-    equations = len({key for col in columns for key in col})
-    stages["brackets"] = time.perf_counter() - clock
-    clock = time.perf_counter()
-    nb = len(s.basis)
-    rank, null = _null_space(columns, nx * nb, False, s.builder, nx)
-    fields = [
-        tuple(_combination(v[k * nb : (k + 1) * nb], s.basis) for k in range(nx)) for v in null
-    ]
-    trivial, others = _split_parallel(fields, s)
-    stages["solve"] = time.perf_counter() - clock
-    found_class = LinearClass(
-        "symmetries",
-        s.coords.momentum,
-        s.coords.u,
-        s.coords.g,
-        coefficient_degree,
-        None,
-        q.as_expr(),
-        tuple(s.ideal),
-    )
-    return SymmetrySearch(
-        model.name,
-        found_class,
-        s.x,
-        others,
-        trivial,
-        nx * nb,
-        equations,
-        rank,
-        time.perf_counter() - start,
-        stages,
-    )
-
-
-def _split_parallel(fields, s: _Setup):
-    """(basis of the fields parallel to ``P`` on the phase space, a complement basis)."""
-    if not fields:
-        return (), ()
-    ring = s.builder.ring
-    nx = len(s.x)
-    comps = [[ring.from_expr(c) if c != 0 else ring.zero for c in f] for f in fields]
-    columns = []
-    for f in comps:
-        col: dict = {}
-        for k in range(nx):
-            for row in range(k + 1, nx):
-                w = f[k] * s.numerators[row] - f[row] * s.numerators[k]
-                for mono, v in ring_normal_form(w, s.ideal, s.builder).iterterms():
-                    col[(k, row, mono)] = v
-        columns.append(col)
-    _, null = _null_space(columns, len(fields), False, s.builder, nx)
-    trivial = [
-        tuple(
-            sp.expand(sum((v[i] * fields[i][k] for i in range(len(fields))), sp.S.Zero))
-            for k in range(nx)
-        )
-        for v in null
-    ]
-    if not trivial:
-        return (), tuple(fields)
-    # a complement: the found fields that raise the rank of the trivial span
-    chosen: list = []
-    span = list(trivial)
-    for f in fields:
-        trial = [*span, f]
-        if _rank_of_fields(trial, s.x) > _rank_of_fields(span, s.x):
-            chosen.append(f)
-            span = trial
-    return tuple(trivial), tuple(chosen)
-
-
-def _rank_of_fields(fields, x) -> int:
-    rows = []
-    for f in fields:
-        coeffs: dict = {}
-        for k, comp in enumerate(f):
-            for mono, c in sp.Poly(comp, *x).terms():
-                coeffs[(k, mono)] = c
-        rows.append(coeffs)
-    keys = sorted({key for r in rows for key in r})
-    return sp.Matrix(len(rows), len(keys), lambda i, j: rows[i].get(keys[j], 0)).rank()

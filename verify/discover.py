@@ -4,7 +4,7 @@ each then proved.
 The searches are :func:`chaplygin.derive.discovery.find_polynomial_integrals` (exact linear
 algebra modulo the phase-space ideal; its rank proves that the class holds no other
 integral) and, on request, :func:`chaplygin.derive.invariants.find_invariant_relations`
-and :func:`~chaplygin.derive.invariants.find_symmetries` (linear classes, see there). Each
+and :func:`~chaplygin.derive.symmetries.find_symmetries` (linear classes, see there). Each
 find is then decided independently by the verifier's own machinery: the Lie derivative of
 an integral along the model (:func:`.identity.lie_derivative`, which expands the auxiliary
 symbols such as ``omega``), ``dF/dt - lambda F`` for a relation, the components of
@@ -36,15 +36,10 @@ from chaplygin.derive.cachefiles import cache_root, read_signed, write_signed
 from chaplygin.derive.densities import DensitySearch, find_invariant_densities
 from chaplygin.derive.discovery import IntegralSearch, find_polynomial_integrals
 from chaplygin.derive.errors import UserInputError
-from chaplygin.derive.invariants import (
-    RelationSearch,
-    SymmetrySearch,
-    find_invariant_relations,
-    find_symmetries,
-    specialise,
-)
+from chaplygin.derive.invariants import RelationSearch, find_invariant_relations, specialise
 from chaplygin.derive.model import Model
 from chaplygin.derive.rolling_system import RollingSystem
+from chaplygin.derive.symmetries import SymmetrySearch, find_symmetries
 
 from .identity import Domain, Outcome, decide, lie_derivative, measure_residual
 
@@ -271,7 +266,7 @@ def discover(
         (:func:`~chaplygin.derive.invariants.find_invariant_relations`).
     symmetries : bool, optional
         Also search the symmetry fields of the linear class
-        (:func:`~chaplygin.derive.invariants.find_symmetries`).
+        (:func:`~chaplygin.derive.symmetries.find_symmetries`).
     linear_degree : int, optional
         Degree of the coefficients (in the other state variables) of the linear class of
         the relations and the symmetries.
@@ -300,6 +295,22 @@ def discover(
     >>> [sympy.sstr(F) for F in found.search.integrals], found.all_proved  # doctest: +SKIP
     (['M1*gamma1 + M2*gamma2 + M3*gamma3'], True)
     """
+    request = {
+        "degree": degree,
+        "coefficient_degree": coefficient_degree,
+        "momentum": momentum,
+        "in_parameters": in_parameters,
+        "densities": densities,
+        "relations": relations,
+        "symmetries": symmetries,
+        "linear_degree": linear_degree,
+        "cofactor_degree": cofactor_degree,
+    }
+    return _discover(system, effects, values, cache, request)
+
+
+def _discover(system, effects, values, cache: bool, request: dict) -> Discovery:
+    """:func:`discover` for a request (the class searched: the cache key's part)."""
     from chaplygin.derive.effects import parse_effects
     from chaplygin.derive.systems import (
         build_model,
@@ -315,18 +326,12 @@ def discover(
         raise UserInputError(f"the system must be a name or a RollingSystem, not {system!r}")
     effect_list = effects if isinstance(effects, str) else list(effects)
     fixed = tuple(sorted((str(k), str(v)) for k, v in (values or {}).items()))
-    request = {
-        "degree": degree,
-        "coefficient_degree": coefficient_degree,
-        "momentum": momentum,
-        "in_parameters": in_parameters,
-        "densities": densities,
-        "relations": relations,
-        "symmetries": symmetries,
-        "linear_degree": linear_degree,
-        "cofactor_degree": cofactor_degree,
-        "values": fixed,
-    }
+    request = {**request, "values": fixed}
+    degree, momentum, linear_degree = (
+        request["degree"],
+        request["momentum"],
+        request["linear_degree"],
+    )
     chosen = parse_effects(effect_list, get_system(system).effects)  # bad input refused here
     path = None
     if cache:
@@ -341,37 +346,19 @@ def discover(
         model,
         degree,
         momentum=momentum,
-        coefficient_degree=coefficient_degree,
-        in_parameters=in_parameters,
+        coefficient_degree=request["coefficient_degree"],
+        in_parameters=request["in_parameters"],
     )
     proofs = tuple(decide([lie_derivative(F, model)], Domain(model)) for F in search.integrals)
-    density_search = density_proof = None
-    if densities:
-        density_search = find_invariant_densities(model)
-        if density_search.found:
-            residual = measure_residual(density_search.density(), model)
-            density_proof = decide([residual], Domain(model))
-    relation_search, relation_proofs = None, ()
-    if relations:
-        relation_search = find_invariant_relations(
-            model,
-            momentum=momentum,
-            coefficient_degree=linear_degree,
-            cofactor_degree=cofactor_degree,
-        )
-        relation_proofs = tuple(
-            decide([relation_residual(r.expression, r.rate, model)], Domain(model))
-            for r in relation_search.relations
-        )
-    symmetry_search, symmetry_proofs = None, ()
-    if symmetries:
-        symmetry_search = find_symmetries(
-            model, momentum=momentum, coefficient_degree=linear_degree
-        )
-        symmetry_proofs = tuple(
-            decide(symmetry_residuals(X, symmetry_search.coordinates, model), Domain(model))
-            for X in symmetry_search.fields
-        )
+    density_search, density_proof = _densities(model) if request["densities"] else (None, None)
+    relation_search, relation_proofs = (
+        _relations(model, momentum, linear_degree, request["cofactor_degree"])
+        if request["relations"]
+        else (None, ())
+    )
+    symmetry_search, symmetry_proofs = (
+        _symmetries(model, momentum, linear_degree) if request["symmetries"] else (None, ())
+    )
     found = Discovery(
         search,
         proofs,
@@ -451,6 +438,38 @@ def _momentum_symbols(model: Model) -> tuple[sp.Symbol, ...]:
 # ----------------------------------------------------------------- the cache
 #: First line of a discovery file: the format, then the HMAC of the pickle that follows.
 _MAGIC = b"chaplygin-discovery-1\n"
+
+
+def _densities(model: Model):
+    """The density search and the verifier's proof of the density found (or None)."""
+    search = find_invariant_densities(model)
+    proof = None
+    if search.found:
+        proof = decide([measure_residual(search.density(), model)], Domain(model))
+    return search, proof
+
+
+def _relations(model: Model, momentum, linear_degree: int, cofactor_degree: int):
+    """The relation search and the verifier's proof of each relation found."""
+    search = find_invariant_relations(
+        model, momentum=momentum, coefficient_degree=linear_degree,
+        cofactor_degree=cofactor_degree,
+    )  # fmt: skip
+    proofs = tuple(
+        decide([relation_residual(r.expression, r.rate, model)], Domain(model))
+        for r in search.relations
+    )
+    return search, proofs
+
+
+def _symmetries(model: Model, momentum, linear_degree: int):
+    """The symmetry search and the verifier's proof of each symmetry found."""
+    search = find_symmetries(model, momentum=momentum, coefficient_degree=linear_degree)
+    proofs = tuple(
+        decide(symmetry_residuals(X, search.coordinates, model), Domain(model))
+        for X in search.fields
+    )
+    return search, proofs
 
 
 def discovery_cache_dir() -> Path | None:

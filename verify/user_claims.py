@@ -217,7 +217,8 @@ def _class_claim(name, source, kind: str, dimension: int, note: str, search) -> 
 def _dimension_check(kind: str, stated: int, search: FileDiscovery, model: Model) -> Check:
     """The class searched again, exactly, without the cache: ``found - stated`` must be 0."""
     from ..derive.discovery import find_polynomial_integrals
-    from ..derive.invariants import find_invariant_relations, find_symmetries
+    from ..derive.invariants import find_invariant_relations
+    from ..derive.symmetries import find_symmetries
 
     if kind == "integrals":
         found = find_polynomial_integrals(

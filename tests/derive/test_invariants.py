@@ -13,8 +13,9 @@ from __future__ import annotations
 import pytest
 import sympy as sp
 from chaplygin.derive import UserInputError, build_model
-from chaplygin.derive.invariants import find_invariant_relations, find_symmetries, specialise
+from chaplygin.derive.invariants import find_invariant_relations, specialise
 from chaplygin.derive.model import Model
+from chaplygin.derive.symmetries import find_symmetries
 
 R = sp.Rational
 #: a = I^-1 with (a1 - a2)/(a2 - a3) = (3/2)^2: Hess's condition holds for r1/r3 = 3/2.

@@ -62,7 +62,7 @@ _PUBLIC: dict[str, str] = {
     "find_polynomial_integrals": "derive.discovery:find_polynomial_integrals",
     "find_invariant_densities": "derive.densities:find_invariant_densities",
     "find_invariant_relations": "derive.invariants:find_invariant_relations",
-    "find_symmetries": "derive.invariants:find_symmetries",
+    "find_symmetries": "derive.symmetries:find_symmetries",
     # figures (matplotlib Figure objects)
     "delta_figure": "verify.plots:delta_of_mu_figure",
     "separatrix_figures": "verify.plots:separatrix_figures",
