@@ -88,7 +88,8 @@ __all__ = [
     "SUPPORTED_EFFECTS",
 ]
 
-#: Effects a described system takes (the frame and the contact point, for traces).
+#: Effects a described system may take (the contact trace; rolling along the line alpha);
+#: which of them a description takes depends on its support (:attr:`RollingSystem.effects_taken`).
 SUPPORTED_EFFECTS = ("contact_point", "straight_line")
 
 #: Supports a description may name, and whether this version derives them.
@@ -317,8 +318,9 @@ class RollingSystem:
         Parameters
         ----------
         effects : iterable of str, optional
-            Any of :data:`SUPPORTED_EFFECTS` (``"contact_point"``: the space-fixed frame
-            ``alpha, beta`` and the contact point ``x, y``, for traces in the plane).
+            Any of :attr:`effects_taken` (``"contact_point"``: the space-fixed frame
+            ``alpha, beta`` and the contact point ``x, y``, for traces in the plane;
+            ``"straight_line"``: rolling along ``alpha``).
 
         Returns
         -------
