@@ -538,18 +538,28 @@ def _parse(s: RollingSystem) -> dict:
 
 def _check_rotation(s: RollingSystem, read) -> sp.Expr:
     """The rotating plane's angular velocity (zero otherwise); what it refuses."""
-    if s.support != "rotating_plane":
-        if s.rotation_rate is not None:
-            raise UserInputError(f"rotation_rate is given but the support is a {s.support}")
+    if not _moving_support(s, "rotating_plane", "rotation_rate", "its Omega"):
         return sp.S.Zero
-    if s.rotation_rate is None:
-        raise UserInputError("support 'rotating_plane' needs rotation_rate (its Omega)")
+    return read(s.rotation_rate, "rotation_rate")
+
+
+def _moving_support(s: RollingSystem, support: str, key: str, meaning: str) -> bool:
+    """Whether ``s`` rolls on ``support``, a plane moving by the law given as ``key``:
+    the law is refused on another support and required on this one, and the contact must
+    be rolling without slipping (the only one derived on a moving plane)."""
+    value = getattr(s, key)
+    if s.support != support:
+        if value is not None:
+            raise UserInputError(f"{key} is given but the support is a {s.support}")
+        return False
+    if value is None:
+        raise UserInputError(f"support {support!r} needs {key} ({meaning})")
     if s.contact != "rolling":
         raise UserInputError(
-            f"contact {s.contact!r} on a rotating plane is not derived by this version "
-            "(rolling without slipping is)"
+            f"contact {s.contact!r} on a {support.replace('_', ' ')} is not derived by this "
+            "version (rolling without slipping is)"
         )
-    return read(s.rotation_rate, "rotation_rate")
+    return True
 
 
 #: Names a description's texts use for the state (not parameters).
@@ -585,17 +595,8 @@ def _read_surface(s: RollingSystem, scope: dict, centre: sp.Matrix) -> sp.Expr |
 
 def _check_moving(s: RollingSystem, read) -> sp.Matrix:
     """The moving plane's velocity along the fixed axes (zero otherwise)."""
-    if s.support != "moving_plane":
-        if s.plane_velocity is not None:
-            raise UserInputError(f"plane_velocity is given but the support is a {s.support}")
+    if not _moving_support(s, "moving_plane", "plane_velocity", "its V1, V2"):
         return sp.zeros(2, 1)
-    if s.plane_velocity is None:
-        raise UserInputError("support 'moving_plane' needs plane_velocity (its V1, V2)")
-    if s.contact != "rolling":
-        raise UserInputError(
-            f"contact {s.contact!r} on a moving plane is not derived by this version "
-            "(rolling without slipping is)"
-        )
     entries = _entries(s.plane_velocity, 2, "plane_velocity")
     return sp.Matrix([read(x, "plane_velocity") for x in entries])
 
