@@ -151,7 +151,8 @@ def _density_applies(desc: MechanicalDescription, red: ReducedEquations, density
 def _geometric_integrals(
     desc: MechanicalDescription, frame: bool
 ) -> tuple[list[tuple[str, sp.Expr]], list[tuple[str, sp.Expr]]]:
-    """The frame's relations, and ``(gamma, gamma)`` (shipped after the relations)."""
+    """The frame's relations, and ``(X, X)`` of every unit vector (shipped after the
+    relations)."""
     vectors = desc.vectors
     before: list[tuple[str, sp.Expr]] = []
     if frame:
@@ -163,7 +164,8 @@ def _geometric_integrals(
             ("(gamma,alpha)", dot(gamma, alpha)),
             ("(gamma,beta)", dot(gamma, beta)),
         ]
-    return before, [("(gamma,gamma)", dot(vectors["gamma"], vectors["gamma"]))]
+    units = [n for group in desc.geometry() if group.kind != FRAME for n in group.names]
+    return before, [(f"({n},{n})", dot(vectors[n], vectors[n])) for n in units or ["gamma"]]
 
 
 @dataclass(frozen=True)
@@ -322,17 +324,21 @@ def _omega_of_momentum(
 
 
 def potential_torque(potential: sp.Expr, desc: MechanicalDescription) -> sp.Matrix:
-    """The torque of a potential of the space-fixed vectors: ``sum_X X x dV/dX``.
+    """The torque of a potential of the configuration's unit vectors: ``sum_X s_X X x dV/dX``.
 
-    ``delta X = X x delta theta`` gives ``delta V = (delta theta, dV/dX x X)``, so the
-    torque doing the work ``-delta V`` is ``X x dV/dX`` (the heavy top's
-    ``m g gamma x r_c`` for ``V = m g (r_c, gamma)``). On a plane the height of every
-    point of the body is a function of its orientation, so a field's potential is one.
+    A vector fixed in space turns as ``X' = X x omega`` (``s_X = 1``), the normal of a
+    fixed sphere the body rolls on as ``X' = s X x omega`` (``s = R/(R +- b)``). Along
+    every admissible virtual displacement ``delta X = s_X X x delta theta``, so ``delta V
+    = (delta theta, sum_X s_X dV/dX x X)`` and the torque doing the work ``-delta V`` is
+    ``sum_X s_X X x dV/dX`` (the heavy top's ``m g gamma x r_c`` for ``V = m g (r_c,
+    gamma)``). Only its projection on the admissible velocities enters the equations
+    (Lagrange–d'Alembert), so a potential of the sphere's normal — a function of where
+    the body is — needs no force beside it.
 
     Parameters
     ----------
     potential : sympy.Expr
-        In the space-fixed vectors and the parameters.
+        In the unit vectors of the kinematics and the parameters.
     desc : MechanicalDescription
 
     Returns
@@ -342,7 +348,8 @@ def potential_torque(potential: sp.Expr, desc: MechanicalDescription) -> sp.Matr
     Raises
     ------
     DerivationError
-        When the potential depends on the velocities, the momentum, another state or time.
+        When the potential depends on the velocities, the momentum, another state or time,
+        or on a vector whose rate is not a multiple of Poisson's.
     """
     torque = sp.zeros(3, 1)
     if potential == 0:
@@ -356,9 +363,26 @@ def potential_torque(potential: sp.Expr, desc: MechanicalDescription) -> sp.Matr
             f"{desc.system}: the potential must depend on the orientation (the space-fixed "
             f"vectors {', '.join(vectors)}) and the parameters only"
         )
-    for X in vectors.values():
-        torque += cross(X, sp.Matrix([sp.diff(potential, x) for x in X]))
+    for name, (X, rate) in desc.kinematics.items():
+        grad = sp.Matrix([sp.diff(potential, x) for x in X])
+        if grad.is_zero_matrix:
+            continue
+        torque += _poisson_factor(name, X, sp.Matrix(rate), desc) * cross(X, grad)
     return torque.applyfunc(sp.expand)
+
+
+def _poisson_factor(name: str, X: sp.Matrix, rate: sp.Matrix, desc: MechanicalDescription):
+    """``s`` with ``X' = s X x omega`` (constant in the state), or a DerivationError."""
+    poisson = cross(X, desc.omega)
+    s = sp.cancel(sp.expand(rate[0]) / sp.expand(poisson[0]))
+    state = {x for group in desc.states for x in group.symbols} | set(desc.omega)
+    rest = (rate - s * poisson).applyfunc(lambda e: sp.cancel(sp.together(e)))
+    if s.free_symbols & state or not rest.is_zero_matrix:
+        raise DerivationError(
+            f"{desc.system}: the potential depends on {name}, whose rate is not a multiple "
+            "of Poisson's (its torque is not derived)"
+        )
+    return s
 
 
 def _omega_by_adjugate(

@@ -29,9 +29,12 @@ slipping (``contact="rolling"``) or without slipping and twisting (``"rubber"``)
 up; outside a sphere: away from its centre; inside: towards it). On a sphere it is no
 longer fixed in space but turns at ``s = R/(R + b)`` (outside) or ``R/(R - b)``
 (inside) of Poisson's rate, ``gamma' = s gamma x omega`` (the body's geometric centre
-moves on the sphere of radius ``R +- b`` and rolls without slipping). Gravity, a
-potential and the fixed-frame contact trace are not derived on a sphere in this
-version.
+moves on the sphere of radius ``R +- b`` and rolls without slipping). A field on a
+sphere needs the vertical: the state gains ``zeta``, the upward unit vector in body axes
+(fixed in space, Poisson's equation); the body's centre is at ``c gamma`` from the
+sphere's centre (``c = R + b`` outside, ``-(R - b)`` inside), so gravity's potential is
+``m g (c (gamma, zeta) + (a, zeta))`` and a potential may use ``zeta`` beside
+``gamma``. The fixed-frame contact trace is not derived on a sphere in this version.
 
 On a rotating plane the constraint is affine: the body's contact point moves with the
 plane, ``v + omega x r = Omega gamma x rho``, ``rho`` the contact point's position from
@@ -116,7 +119,11 @@ _EFFECTS_BY_SUPPORT = {
 }
 #: Names a parameter cannot take: the state, the velocities, time and the functions.
 RESERVED_NAMES = frozenset(
-    {f"{n}{i}" for n in ("M", "gamma", "omega", "v", "alpha", "beta", "rho") for i in (1, 2, 3)}
+    {
+        f"{n}{i}"
+        for n in ("M", "gamma", "omega", "v", "alpha", "beta", "rho", "zeta")
+        for i in (1, 2, 3)
+    }
     | {"x", "y"}
     | {f"Adj{i}{j}" for i in (1, 2, 3) for j in (1, 2, 3)}
     | {"t", "Delta", "Z", "pi", "E", "I"}
@@ -185,7 +192,7 @@ class RollingSystem:
         A constant gyrostatic momentum ``K`` (body axes): ``T`` gains ``(K, omega)``.
     potential : str or sympy.Expr, optional
         A potential of the orientation: an expression of ``gamma1, gamma2, gamma3`` and
-        the parameters.
+        the parameters (on a sphere also of the vertical ``zeta1, zeta2, zeta3``).
     contact : {"rolling", "rubber", "line"}
         Rolling without slipping, without slipping and twisting (``(omega, gamma) =
         0``), or without slipping along the fixed line ``alpha`` (``(omega, alpha) = 0``,
@@ -379,7 +386,7 @@ class RollingSystem:
             desc.add_completion(("alpha", "beta"), "frame_bkm12_7")
         for along in _NO_SPIN_ABOUT[self.contact]:  # no twist about gamma, no spin about alpha
             desc.add_constraint(dot(omega, desc.vectors[along]), reacts_along=along)
-        desc.add_potential(p["field"] * m * dot(a, gamma) + p["potential"])
+        desc.add_potential(_potential_energy(self, desc))
         for s in p["parameters"]:
             domain = "positive" if s.is_positive else "real"
             desc.add_parameter(ParameterSpec(s.name, (s,), domain, _role(s, p)))
@@ -428,6 +435,26 @@ def _convex_body_description(s: RollingSystem) -> MechanicalDescription:
         domain = "positive" if x.is_positive else "real"
         desc.add_parameter(ParameterSpec(x.name, (x,), domain, _role(x, p)))
     return desc
+
+
+def _potential_energy(s: RollingSystem, desc: MechanicalDescription) -> sp.Expr:
+    """``m g`` times the centre of mass's height, plus the given potential. On a plane the
+    vertical is ``gamma`` (the height ``(a, gamma)`` less the constant ``b``); on a sphere it
+    is the state ``zeta`` (added here when a field or the potential needs it) and the
+    body's centre is at ``c gamma`` from the sphere's centre (``c = R + b`` outside,
+    ``-(R - b)`` inside; ``d/dt c (gamma, zeta) = (b omega x gamma, zeta)``, the centre's
+    rise)."""
+    p = s._parsed
+    gamma, a, potential = desc.vectors["gamma"], p["centre"], p["potential"]
+    if s.support != "sphere":
+        return p["field"] * p["mass"] * dot(a, gamma) + potential
+    zeta = vector("zeta", real=True)
+    if p["field"] == 0 and not potential.free_symbols & set(zeta):
+        return potential
+    desc.add_poisson_vector("zeta")
+    R, b = p["support_radius"], p["radius"]
+    c = R + b if s.side == "outside" else -(R - b)
+    return p["field"] * p["mass"] * (c * dot(gamma, zeta) + dot(a, zeta)) + potential
 
 
 def _normal_rate_factor(s: RollingSystem, parsed: dict) -> sp.Expr:
@@ -492,7 +519,8 @@ def _parse(s: RollingSystem) -> dict:
         else sp.Matrix([read(x, "gyrostat") for x in _entries(s.gyrostat, 3, "gyrostat")])
     )
     field_strength = sp.S.Zero if s.gravity is None else read(s.gravity, "gravity")
-    gamma = {f"gamma{i}": sp.Symbol(f"gamma{i}", real=True) for i in (1, 2, 3)}
+    vectors = ("gamma", "zeta") if s.support == "sphere" else ("gamma",)
+    gamma = {f"{n}{i}": sp.Symbol(f"{n}{i}", real=True) for n in vectors for i in (1, 2, 3)}
     potential = (
         sp.S.Zero
         if s.potential is None
@@ -500,7 +528,7 @@ def _parse(s: RollingSystem) -> dict:
     )
     surface = _read_surface(s, scope, centre)
     _check_physics(inertia, mass, radius, centre)
-    support_radius = _check_support(s, read, radius, field_strength, potential)
+    support_radius = _check_support(s, read, radius)
     timed = {**scope, "t": sp.Symbol("t", real=True)}
     read_timed = lambda v, what: parse_expression(v, timed, what)  # noqa: E731
     rotation_rate = _check_rotation(s, read_timed)
@@ -563,7 +591,7 @@ def _moving_support(s: RollingSystem, support: str, key: str, meaning: str) -> b
 
 
 #: Names a description's texts use for the state (not parameters).
-_STATE_NAMES = ("gamma1", "gamma2", "gamma3", "x1", "x2", "x3")
+_STATE_NAMES = ("gamma1", "gamma2", "gamma3", "zeta1", "zeta2", "zeta3", "x1", "x2", "x3")
 
 
 def _read_surface(s: RollingSystem, scope: dict, centre: sp.Matrix) -> sp.Expr | None:
@@ -601,7 +629,7 @@ def _check_moving(s: RollingSystem, read) -> sp.Matrix:
     return sp.Matrix([read(x, "plane_velocity") for x in entries])
 
 
-def _check_support(s: RollingSystem, read, radius, field_strength, potential) -> sp.Expr:
+def _check_support(s: RollingSystem, read, radius) -> sp.Expr:
     """The fixed sphere's radius (zero on a plane); what a sphere support refuses."""
     if s.support != "sphere":
         if s.support_radius is not None:
@@ -619,11 +647,6 @@ def _check_support(s: RollingSystem, read, radius, field_strength, potential) ->
     if s.contact == "line":
         raise UserInputError(
             "rolling along a line is derived on a fixed plane only, not on a sphere"
-        )
-    if field_strength != 0 or potential != 0:
-        raise UserInputError(
-            "gravity and a potential are derived on a plane only in this version, "
-            "not on a sphere (the vertical would be a further state)"
         )
     return R
 

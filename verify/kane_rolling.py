@@ -46,6 +46,9 @@ __all__ = ["KaneComparison", "kane_compare", "DIGITS", "RATIONAL_UNIT_VECTORS"]
 
 #: Working digits of the comparison.
 DIGITS = 40
+#: Where the body's centre sits on a fixed sphere at the comparison points (the angles
+#: ``x, y`` of ``O``): away from the pole, so that the vertical is not the normal.
+SPHERE_POSITION = ("1.1", "0.7")
 #: Exact unit vectors (Pythagorean quadruples) away from the Euler angles' singularity.
 RATIONAL_UNIT_VECTORS = (
     (sp.Rational(2, 7), sp.Rational(3, 7), sp.Rational(6, 7)),
@@ -135,7 +138,7 @@ def kane_compare(
     # also the carried contact's m r x (Omega gamma x rho))
     P0 = model.details.gyrostatic_momentum.xreplace(pvals)
     g = sp.Matrix(model.group("gamma"))
-    rate_groups = ["gamma"] + (["rho"] if "rho" in dict(model.state_groups) else [])
+    rate_groups = ["gamma"] + [n for n in ("rho", "zeta") if n in dict(model.state_groups)]
     at_group = {n: [list(model.state).index(s) for s in model.group(n)] for n in rate_groups}
     groups = dict(model.state_groups)
     time = sp.Symbol("t", real=True)
@@ -150,6 +153,11 @@ def kane_compare(
                 w = sp.Matrix(_RHO_SEED)
                 rho = list(w - w.dot(sp.Matrix(gamma)) * sp.Matrix(gamma))
                 point.update(zip(model.group("rho"), rho, strict=True))
+            if "zeta" in groups:  # the vertical where Kane's body is (40 digits)
+                point.update(
+                    (s, sp.Float(mpmath.nstr(c, DIGITS + 5), DIGITS))
+                    for s, c in zip(groups["zeta"], kane.vertical(gamma), strict=True)
+                )
             if "alpha" in groups:  # the fixed axes where Kane's body is (40 digits)
                 alpha, beta = kane.frame(gamma)
                 for name, comps in (("alpha", alpha), ("beta", beta)):
@@ -247,6 +255,17 @@ _RHO_SEED = (sp.Rational(5, 7), sp.Rational(-3, 11), sp.Rational(2, 13))
 _KANE: dict = {}
 
 
+def _frame_of(n: mpmath.matrix) -> mpmath.matrix:
+    """A right-handed orthonormal frame (columns) whose third column is the unit ``n``."""
+    helper = mpmath.matrix([1, 0, 0]) if abs(n[0]) < mpmath.mpf("0.9") else mpmath.matrix([0, 1, 0])
+    u = helper - (helper.T * n)[0] * n
+    u = u / mpmath.norm(u)
+    w = mpmath.matrix(
+        [n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]]
+    )
+    return mpmath.matrix([[u[i], w[i], n[i]] for i in range(3)])
+
+
 def _mpf(v: object) -> mpmath.mpf:
     """A number at :data:`DIGITS` (sympy's functions of exact arguments evaluated)."""
     if isinstance(v, mpmath.mpf):
@@ -324,14 +343,7 @@ class _KaneRolling:
         g_field = p["field"].xreplace(sub)
         if g_field != 0:
             loads.append((G, -m * g_field * N.z))
-        V = p["potential"].xreplace(sub)
-        if V != 0:
-            gs = sp.symbols("gamma1:4", real=True)
-            grad = sp.Matrix([sp.diff(V, s) for s in gs]).xreplace(
-                dict(zip(gs, gamma_B, strict=True))
-            )
-            tau = gamma_B.cross(grad)
-            loads.append((B, tau[0] * B.x + tau[1] * B.y + tau[2] * B.z))
+        loads += self._potential_loads(p["potential"].xreplace(sub), (N, B), normal, self._centre)
         independent = [s for s in u if s not in dependent]
         kane = me.KanesMethod(
             N,
@@ -354,6 +366,8 @@ class _KaneRolling:
         normal_B = sp.Matrix([normal.dot(B.x), normal.dot(B.y), normal.dot(B.z)])
         normal_rate = normal_B.diff(t).xreplace(kane.kindiffdict())
         self._normal_rate = sp.lambdify(args, normal_rate, modules="mpmath")
+        vertical_rate = gamma_B.diff(t).xreplace(kane.kindiffdict())  # N.z in body axes
+        self._vertical_rate = sp.lambdify(args, vertical_rate, modules="mpmath")
         if self._quadric:  # the contact point from the centre of mass, body axes
             position_B = self._position
         else:  # the contact point from the axis (a turntable)
@@ -364,6 +378,32 @@ class _KaneRolling:
         self._dep = sp.lambdify(args, sp.Matrix([dep[s] for s in dependent]), modules="mpmath")
         self._order = [str(s.func) for s in kane.u]
         self._dependent = [str(s.func) for s in dependent]
+
+    def _potential_loads(self, V: sp.Expr, frames, normal, O) -> list:
+        """The loads of a potential ``V(gamma, zeta)``: ``gamma`` the support's normal
+        into the body, ``zeta`` the vertical ``N.z``, both in body axes. Turning the body
+        by ``delta theta`` turns both: the torque ``gamma x dV/dgamma + zeta x dV/dzeta``
+        on ``B``; on a sphere the normal also turns when ``O`` moves, ``delta n = +- P
+        delta O/rho`` (``P`` the tangential projector; + outside): the force ``-+ P dV/dn
+        / rho`` at ``O``."""
+        if V == 0:
+            return []
+        N, B = frames
+        in_body = lambda vec: sp.Matrix([vec.dot(B.x), vec.dot(B.y), vec.dot(B.z)])  # noqa: E731
+        n_B, z_B = in_body(normal), in_body(N.z)
+        gs, zs = sp.symbols("gamma1:4", real=True), sp.symbols("zeta1:4", real=True)
+        at = {**dict(zip(gs, n_B, strict=True)), **dict(zip(zs, z_B, strict=True))}
+        grad_n = sp.Matrix([sp.diff(V, s) for s in gs]).xreplace(at)
+        grad_z = sp.Matrix([sp.diff(V, s) for s in zs]).xreplace(at)
+        tau = n_B.cross(grad_n) + z_B.cross(grad_z)
+        loads = [(B, tau[0] * B.x + tau[1] * B.y + tau[2] * B.z)]
+        if self._at_pole:  # on a sphere: the force of the normal's dependence on O
+            rho = self._rho
+            g_vec = grad_n[0] * B.x + grad_n[1] * B.y + grad_n[2] * B.z
+            tangential = g_vec - g_vec.dot(normal) * normal
+            sign = -1 if self._flip else 1
+            loads.append((O, -sign * tangential / rho))
+        return loads
 
     def _contact(self, system, p, sub, frames, q, u, t, solved):
         """The centre of mass ``G``, the body point ``P`` at the contact, the support's
@@ -385,7 +425,7 @@ class _KaneRolling:
         elif system.support == "sphere":
             R = p["support_radius"].xreplace(sub)
             inside = system.side == "inside"
-            rho = R - b if inside else R + b
+            rho = self._rho = R - b if inside else R + b
             e_r = (
                 sp.cos(q[3]) * N.x
                 + sp.sin(q[3]) * sp.cos(q[4]) * N.y
@@ -415,6 +455,7 @@ class _KaneRolling:
             P = O.locatenew("P", -b * normal)
             P.v2pt_theory(O, N, B)
         self._position = r_B if self._quadric else None
+        self._centre = O
         return G, P, normal, tangents, carried
 
     def frame(self, gamma: Sequence[sp.Expr]) -> tuple[list, list]:
@@ -425,14 +466,36 @@ class _KaneRolling:
             return [C[i, 0] for i in range(3)], [C[i, 1] for i in range(3)]
 
     def _angles(self, gamma: Sequence[sp.Expr]) -> list:
-        g = [mpmath.mpf(sp.Float(x, DIGITS)) for x in gamma]
-        if self._flip:  # inside a sphere the normal at the pole points down
-            g = [-x for x in g]
-        q2 = -mpmath.asin(g[0])
-        q3 = mpmath.atan2(g[1], g[2])
-        # N.z has body components g; on a sphere O sits where e_r = N.z
-        position = [mpmath.pi / 2] * 2 if self._at_pole else [mpmath.mpf(0)] * 2
-        return [mpmath.mpf("0.3"), q2, q3, *position]
+        """Euler angles and position putting the support's normal at body components
+        ``gamma``: on a plane ``N.z`` is the normal; on a sphere ``O`` sits at the generic
+        angles :data:`SPHERE_POSITION` (the vertical is not the normal there) and the
+        body is turned so that ``e_r`` (outside; ``-e_r`` inside) has components ``gamma``."""
+        g = mpmath.matrix([mpmath.mpf(sp.Float(x, DIGITS)) for x in gamma])
+        if self._flip:  # inside a sphere the normal into the body is -e_r
+            g = -g
+        if not self._at_pole:
+            q2 = -mpmath.asin(g[0])
+            q3 = mpmath.atan2(g[1], g[2])
+            return [mpmath.mpf("0.3"), q2, q3, mpmath.mpf(0), mpmath.mpf(0)]
+        x, y = (mpmath.mpf(c) for c in SPHERE_POSITION)
+        e_r = mpmath.matrix(
+            [mpmath.cos(x), mpmath.sin(x) * mpmath.cos(y), mpmath.sin(x) * mpmath.sin(y)]
+        )
+        # body axes in N (columns of C^T): any orthonormal right-handed frame with
+        # C e_r = g; built from g's frame and e_r's frame
+        Fb, Fs = _frame_of(g), _frame_of(e_r)
+        M = Fs * Fb.T  # N <- B: takes g (body) to e_r (space)
+        q2 = -mpmath.asin(M[2, 0])
+        q3 = mpmath.atan2(M[2, 1], M[2, 2])
+        q1 = mpmath.atan2(M[1, 0], M[0, 0])
+        return [q1, q2, q3, x, y]
+
+    def vertical(self, gamma: Sequence[sp.Expr]) -> list:
+        """The body components of ``N.z`` (the model's ``zeta``) where :meth:`at` puts the
+        body for ``gamma`` (at :data:`DIGITS` digits)."""
+        with mpmath.workdps(DIGITS):
+            C = mpmath.matrix(self._C(self._angles(gamma), [0] * 5, 0))
+            return [C[i, 2] for i in range(3)]
 
     def at(
         self,
@@ -468,6 +531,8 @@ class _KaneRolling:
             momentum = self._momentum(q, u, T)
             rate = self._normal_rate(q, u, T)  # of the normal into the body (the model's gamma)
             rates = {"gamma": [rate[i] for i in range(3)]}
+            rate = self._vertical_rate(q, u, T)
+            rates["zeta"] = [rate[i] for i in range(3)]
             if rho is not None or self._quadric:
                 rate = self._position_rate(q, u, T)
                 rates["r" if self._quadric else "rho"] = [rate[i] for i in range(3)]

@@ -212,19 +212,8 @@ def test_names_become_exact_parameters_and_decimals_stay_exact():
             },
             "does not fit",
         ),
-        (
-            {"inertia": (1, 1, 1), "support": "sphere", "support_radius": 2, "gravity": "g"},
-            "on a plane only",
-        ),
-        (
-            {
-                "inertia": (1, 1, 1),
-                "support": "sphere",
-                "support_radius": 2,
-                "potential": "gamma1**2",
-            },
-            "on a plane only",
-        ),
+        ({"inertia": (1, 1, 1), "potential": "zeta3*gamma1"}, "unknown name 'zeta3'"),
+        ({"inertia": (1, 1, 1), "mass": "zeta1"}, "unknown name 'zeta1'"),
         ({"inertia": (1, 1, 1), "contact": "sliding"}, "unknown contact"),
         ({"inertia": (1, 1)}, "expected 3 entries"),
     ],

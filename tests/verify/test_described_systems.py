@@ -244,6 +244,82 @@ def test_kane_agrees_on_a_sphere_and_refutes_the_other_side():
     assert control.max_acceleration_error > 1e6 * control.tolerance
 
 
+@pytest.mark.slow
+def test_kane_agrees_under_gravity_on_a_sphere_and_refutes_a_centre_at_rest():
+    """Gravity on a fixed sphere (the vertical zeta joins the state; Kane's body sits away
+    from the pole, so zeta is not the normal): an offset centre of mass outside and inside,
+    and a potential of gamma and zeta (its loads in Kane: a torque and, since the normal
+    turns as the centre moves, a force at the centre). Control: the model that takes only
+    the torque of the centre of mass about the body's centre, m g (a, zeta) — as if the
+    centre did not rise with gamma — is refuted by the same check."""
+    fields = dict(inertia=("I1", "I2", "I3"), support="sphere", support_radius="R")
+    values = dict(
+        m="1.3", b="0.7", I1="0.31", I2="0.43", I3="0.57", a1="0.11", a3="0.2", R="2.9",
+        g="9.81", k="0.37",
+    )  # fmt: skip
+    offset = dict(centre_of_mass=("a1", 0, "a3"), gravity="g")
+    for side in ("outside", "inside"):
+        system = RollingSystem("heavy_on_sphere", side=side, **fields, **offset)
+        result = kane_compare(system, system.model(), values)
+        assert result.points == 4 and result.agrees, (side, result)
+    potential = RollingSystem("pot_on_sphere", potential="k*zeta3*gamma1 + k*gamma2**2", **fields)
+    result = kane_compare(potential, potential.model(), values)
+    assert result.agrees, result
+    heavy = RollingSystem("heavy_on_sphere", **fields, **offset)
+    resting = RollingSystem(
+        "heavy_on_sphere", potential="m*g*(a1*zeta1 + a3*zeta3)", centre_of_mass=("a1", 0, "a3"),
+        **fields,
+    )  # fmt: skip
+    control = kane_compare(heavy, resting.model(), values)
+    assert control.max_acceleration_error > 1e6 * control.tolerance
+
+
+@pytest.mark.slow
+def test_a_homogeneous_ball_in_a_spherical_bowl_swings_as_a_pendulum_of_length_7_5_r():
+    """A homogeneous ball (I = 2/5 m b^2) rolling in a vertical plane inside a fixed sphere
+    of radius R: the energy m (R - b)^2 theta'^2 (1 + 2/5)/2 - m g (R - b) cos theta (the
+    centre's speed (R - b) theta', the spin (R - b) theta'/b) makes the centre a pendulum of
+    length 7/5 (R - b), period 4 K(sin^2(theta0/2)) sqrt(7 (R - b)/(5 g)) from rest at
+    theta0 (written here, not derived by chaplygin). After that period the state returns;
+    after half of it the ball is at rest on the other side, and the period of the
+    point-mass pendulum of length R - b is the control."""
+    import math
+
+    import chaplygin
+    import mpmath
+    import numpy as np
+
+    system = RollingSystem(
+        "ball_in_bowl", inertia=("2/5*m*b**2",) * 3, gravity="g", support="sphere",
+        support_radius="R", side="inside",
+    )  # fmt: skip
+    chaplygin.register_system(system)
+    m, b, R, g, theta0, rtol = 1.3, 0.7, 2.9, 9.81, 0.6, 1e-11
+    L = (R - b) * 7 / 5
+    period = float(4 * mpmath.ellipk(math.sin(theta0 / 2) ** 2) * mpmath.sqrt(L / g))
+    control = float(4 * mpmath.ellipk(math.sin(theta0 / 2) ** 2) * mpmath.sqrt((R - b) / g))
+    # the body axes start as the space axes: gamma points from the contact to the centre
+    gamma = (-math.sin(theta0), 0.0, math.cos(theta0))
+    times = [0.0, period / 2, control, period]  # control = period/sqrt(7/5)
+    run = chaplygin.integrate(
+        "ball_in_bowl", {"M": (0.0, 0.0, 0.0), "gamma": gamma, "zeta": (0.0, 0.0, 1.0)},
+        (0, period), {"m": m, "b": b, "R": R, "g": g}, method="DOP853", backend="numpy",
+        rtol=rtol, atol=rtol, t_eval=times,
+    )  # fmt: skip
+    y = np.asarray(run.y, dtype=float)
+    names = list(map(str, run.state_names))
+    M = y[[names.index(f"M{i}") for i in (1, 2, 3)], :]
+    height = sum(  # (gamma, zeta): the cosine of the swing
+        y[names.index(f"gamma{i}"), :] * y[names.index(f"zeta{i}"), :] for i in (1, 2, 3)
+    )
+    # about 10^3 steps: the global error of a tolerance-controlled run grows about linearly
+    bound = 1e3 * rtol
+    assert abs(height[3] - height[0]) <= bound and abs(height[1] - height[0]) <= bound
+    scale = m * b * math.sqrt(2 * g * (R - b) * (1 - math.cos(theta0)))  # |M| at the bottom
+    assert np.abs(M[:, 3]).max() <= bound * scale and np.abs(M[:, 1]).max() <= bound * scale
+    assert abs(height[2] - height[0]) > 1e6 * bound  # the point mass's period: not back
+
+
 def test_the_ball_over_a_sphere_keeps_the_plane_s_density_and_loses_the_area_integral():
     """The Chaplygin ball over a fixed sphere (examples/systems/chaplygin_ball_on_sphere.toml
     at numbers): in the class of degree <= 2 in omega with coefficients of degree <= 2 in
