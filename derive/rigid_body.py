@@ -264,7 +264,9 @@ class RigidBodyReduction:
             integrals.append(("H", sp.expand(red.energy + potential)))
         # P' = P x omega (+ reactions along the reacting vectors) makes (P, P) and (P, X)
         # integrals; a torque of the potential or of a displaced centre of mass breaks it
-        unreacted = remainder.xreplace({mu: 0 for mu in red.omega_multipliers})
+        # (with a prescribed K(t) the fixed momentum's rate is M' + K')
+        outside_rate = outside.applyfunc(lambda e: _time_derivative(e, kinematics, t))
+        unreacted = (remainder + outside_rate).xreplace({mu: 0 for mu in red.omega_multipliers})
         if all(ideal.is_zero(e) for e in unreacted):
             integrals += _reaction_free_integrals(desc, M + outside, P_name, frame)
         frame_relations, unit = _geometric_integrals(desc, frame)

@@ -189,7 +189,9 @@ class RollingSystem:
     gravity : number or str, optional
         Strength ``g`` of a constant field along ``-gamma``; None: no field.
     gyrostat : 3 numbers/expressions, optional
-        A constant gyrostatic momentum ``K`` (body axes): ``T`` gains ``(K, omega)``.
+        A gyrostatic momentum ``K`` (body axes): ``T`` gains ``(K, omega)``; constant, or
+        prescribed as expressions of the time ``t`` (rotors whose spin motors set:
+        ``M' = (M + K) x omega - K' + ...``, no energy integral then).
     potential : str or sympy.Expr, optional
         A potential of the orientation: an expression of ``gamma1, gamma2, gamma3`` and
         the parameters (on a sphere also of the vertical ``zeta1, zeta2, zeta3``).
@@ -489,7 +491,9 @@ def _parse(s: RollingSystem) -> dict:
         for n in sorted(_names_in(value)):
             if n not in names and n not in _STATE_NAMES:
                 names.append(n)
-    uses_time = {"t"} & (_names_in(s.rotation_rate) | _names_in(s.plane_velocity))
+    uses_time = {"t"} & set().union(
+        *(_names_in(v) for v in (s.rotation_rate, s.plane_velocity, s.gyrostat))
+    )
     names = [n for n in names if n not in uses_time]
     clash = sorted(set(names) & RESERVED_NAMES)
     if clash:
@@ -513,11 +517,6 @@ def _parse(s: RollingSystem) -> dict:
     centre = sp.Matrix(
         [read(x, "centre_of_mass") for x in _entries(s.centre_of_mass, 3, "centre_of_mass")]
     )
-    gyrostat = (
-        sp.zeros(3, 1)
-        if s.gyrostat is None
-        else sp.Matrix([read(x, "gyrostat") for x in _entries(s.gyrostat, 3, "gyrostat")])
-    )
     field_strength = sp.S.Zero if s.gravity is None else read(s.gravity, "gravity")
     vectors = ("gamma", "zeta") if s.support == "sphere" else ("gamma",)
     gamma = {f"{n}{i}": sp.Symbol(f"{n}{i}", real=True) for n in vectors for i in (1, 2, 3)}
@@ -532,6 +531,13 @@ def _parse(s: RollingSystem) -> dict:
     timed = {**scope, "t": sp.Symbol("t", real=True)}
     read_timed = lambda v, what: parse_expression(v, timed, what)  # noqa: E731
     rotation_rate = _check_rotation(s, read_timed)
+    gyrostat = (  # constant, or prescribed: a rotor whose spin the motors set
+        sp.zeros(3, 1)
+        if s.gyrostat is None
+        else sp.Matrix([read_timed(x, "gyrostat") for x in _entries(s.gyrostat, 3, "gyrostat")])
+    )
+    if s.surface is not None and gyrostat.has(timed["t"]):
+        raise UserInputError("a prescribed gyrostat K(t) is derived for a spherical body only")
     plane_velocity = _check_moving(s, read_timed)
     parameters = tuple(symbols[n] for n in names)
     if surface is not None:  # a name only in f's constant term is the level, set by r

@@ -19,9 +19,10 @@ that derived its model:
   constraint.
 * Loads: gravity ``-m g N.z`` at ``G``; a potential of the orientation as the torque
   ``gamma x dV/dgamma`` on ``B`` (the one place a formula is shared: the torque of a
-  potential); a constant gyrostatic momentum ``K`` as a real rotor (a massless body
-  turning about ``e = K/|K|`` relative to ``B`` at the constant rate ``s = |K|/Ia``;
-  the body's own tensor is the given one minus the rotor's).
+  potential); a gyrostatic momentum ``K`` (constant or prescribed ``K(t)``) as real
+  rotors (massless bodies turning about the body axes ``e_i`` relative to ``B`` at the
+  rates ``K_i(t)/Ia`` their motors set; the body's own tensor is the given one minus
+  the rotors').
 
 At exact points of the phase space the model's angular acceleration
 ``d omega/d(M, gamma) . (M', gamma')`` is compared with Kane's (body components of
@@ -142,7 +143,10 @@ def kane_compare(
     at_group = {n: [list(model.state).index(s) for s in model.group(n)] for n in rate_groups}
     groups = dict(model.state_groups)
     time = sp.Symbol("t", real=True)
-    timed = time in rhs.free_symbols | P0.free_symbols  # prescribed rates: at T0
+    # prescribed rates (of the model or of the system Kane sets up): compared at T0
+    prescribed = ("rotation_rate", "plane_velocity", "rotor_momentum")
+    timed = time in rhs.free_symbols | P0.free_symbols
+    timed = timed or any(sp.sympify(system._parsed[k]).has(time) for k in prescribed)
     worst_acc = worst_mom = worst_rate = 0.0
     count = 0
     for m0 in momenta:
@@ -328,16 +332,19 @@ class _KaneRolling:
             me.Dyadic(0),
         )
         bodies = []
-        K = p["rotor_momentum"].xreplace(sub)
-        if not K.is_zero_matrix:
-            size = sp.sqrt(sum(k**2 for k in K))
-            e = (K[0] * B.x + K[1] * B.y + K[2] * B.z) / size
-            Ia, It = sp.Integer(1), sp.Rational(1, 2)
-            R = me.ReferenceFrame("R")
-            R.set_ang_vel(B, size / Ia * e)
+        # the gyrostat as real rotors, one along each body axis K has a component on: a
+        # symmetric rotor turning about e_i relative to B at K_i(t)/Ia (prescribed by its
+        # motor); the body's own tensor is the given one minus the rotors'
+        K = p["rotor_momentum"].xreplace({sp.Symbol("t", real=True): t, **sub})
+        Ia, It = sp.Integer(1), sp.Rational(1, 2)
+        for i, e in enumerate((B.x, B.y, B.z)):
+            if K[i] == 0:
+                continue
+            R = me.ReferenceFrame(f"R{i + 1}")
+            R.set_ang_vel(B, K[i] / Ia * e)
             rotor = Ia * (e | e) + It * (me.inertia(B, 1, 1, 1) - (e | e))
             dyadic = dyadic - rotor
-            bodies.append(me.RigidBody("rotor", G, R, 0, (rotor, G)))
+            bodies.append(me.RigidBody(f"rotor{i + 1}", G, R, 0, (rotor, G)))
         bodies.insert(0, me.RigidBody("body", G, B, m, (dyadic, G)))
         loads = []
         g_field = p["field"].xreplace(sub)
