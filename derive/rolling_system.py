@@ -174,7 +174,10 @@ class RollingSystem:
         The system's name (a Python identifier, not a built-in system's name).
     inertia : 3 numbers/expressions or a 3 x 3 matrix
         Inertia tensor about the centre of mass, in body axes (3 entries: principal
-        moments). Symmetric and positive definite.
+        moments). Symmetric and positive definite. It may change with the time ``t``:
+        ``T = (omega, I(t) omega)/2 + ...``, the Lagrangian of masses moving inside the
+        body in symmetric pairs along lines through the centre of mass (BM20's ball);
+        then there is no energy integral.
     mass : number or str, default "m"
     radius : number or str, default "b"
         Radius of the body's spherical surface (not read with ``surface``).
@@ -492,7 +495,7 @@ def _parse(s: RollingSystem) -> dict:
             if n not in names and n not in _STATE_NAMES:
                 names.append(n)
     uses_time = {"t"} & set().union(
-        *(_names_in(v) for v in (s.rotation_rate, s.plane_velocity, s.gyrostat))
+        *(_names_in(v) for v in (s.rotation_rate, s.plane_velocity, s.gyrostat, rows))
     )
     names = [n for n in names if n not in uses_time]
     clash = sorted(set(names) & RESERVED_NAMES)
@@ -511,7 +514,11 @@ def _parse(s: RollingSystem) -> dict:
     }
     scope = {**symbols, "pi": sp.pi}
     read = lambda v, what: parse_expression(v, scope, what)  # noqa: E731
-    inertia = sp.Matrix(3, 3, lambda i, j: read(rows[i][j], f"inertia[{i + 1},{j + 1}]"))
+    timed = {**scope, "t": sp.Symbol("t", real=True)}
+    read_timed = lambda v, what: parse_expression(v, timed, what)  # noqa: E731
+    # constant, or I(t): masses moving inside the body in symmetric pairs along lines
+    # through the centre of mass (it stays; their relative motion carries no momentum)
+    inertia = sp.Matrix(3, 3, lambda i, j: read_timed(rows[i][j], f"inertia[{i + 1},{j + 1}]"))
     mass = read(s.mass, "mass")
     radius = read(s.radius, "radius") if s.surface is None else None
     centre = sp.Matrix(
@@ -528,16 +535,16 @@ def _parse(s: RollingSystem) -> dict:
     surface = _read_surface(s, scope, centre)
     _check_physics(inertia, mass, radius, centre)
     support_radius = _check_support(s, read, radius)
-    timed = {**scope, "t": sp.Symbol("t", real=True)}
-    read_timed = lambda v, what: parse_expression(v, timed, what)  # noqa: E731
     rotation_rate = _check_rotation(s, read_timed)
     gyrostat = (  # constant, or prescribed: a rotor whose spin the motors set
         sp.zeros(3, 1)
         if s.gyrostat is None
         else sp.Matrix([read_timed(x, "gyrostat") for x in _entries(s.gyrostat, 3, "gyrostat")])
     )
-    if s.surface is not None and gyrostat.has(timed["t"]):
-        raise UserInputError("a prescribed gyrostat K(t) is derived for a spherical body only")
+    if s.surface is not None and (gyrostat.has(timed["t"]) or inertia.has(timed["t"])):
+        raise UserInputError(
+            "a prescribed gyrostat K(t) or inertia I(t) is derived for a spherical body only"
+        )
     plane_velocity = _check_moving(s, read_timed)
     parameters = tuple(symbols[n] for n in names)
     if surface is not None:  # a name only in f's constant term is the level, set by r

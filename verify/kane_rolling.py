@@ -129,6 +129,7 @@ def kane_compare(
     omega_of_x = model.expand_aux(model.omega).xreplace(pvals)
     rhs = model.rhs_expanded.xreplace(pvals)
     jac = omega_of_x.jacobian(sp.Matrix(model.state))  # evaluated at exact points below
+    explicit = omega_of_x.diff(sp.Symbol("t", real=True))  # I(t): omega(M, t)
     relations = [  # the ones on the momentum (no twist); rho is placed horizontal below
         model.expand_aux(e).xreplace(pvals)
         for name, e in model.invariant_relations
@@ -144,7 +145,7 @@ def kane_compare(
     groups = dict(model.state_groups)
     time = sp.Symbol("t", real=True)
     # prescribed rates (of the model or of the system Kane sets up): compared at T0
-    prescribed = ("rotation_rate", "plane_velocity", "rotor_momentum")
+    prescribed = ("rotation_rate", "plane_velocity", "rotor_momentum", "inertia")
     timed = time in rhs.free_symbols | P0.free_symbols
     timed = timed or any(sp.sympify(system._parsed[k]).has(time) for k in prescribed)
     worst_acc = worst_mom = worst_rate = 0.0
@@ -182,7 +183,7 @@ def kane_compare(
                 point.update(zip(unknowns, A.LUsolve(rhs0), strict=True))
             w = [omega_of_x[i].xreplace(point) for i in range(3)]
             J, F = jac.xreplace(point), rhs.xreplace(point)
-            ours = list(J * F)
+            ours = list(J * F + explicit.xreplace(point))  # + d omega/dt at fixed state
             theirs, momentum, rates = kane.at(gamma, w, rho, point.get(time, 0))
             worst_acc = max(worst_acc, _relative(ours, theirs))
             for name, idx in at_group.items():
@@ -309,7 +310,8 @@ class _KaneRolling:
         B.set_ang_vel(N, u[0] * N.x + u[1] * N.y + u[2] * N.z)
         p = system._parsed
         m = p["mass"].xreplace(sub)
-        inertia = p["inertia"].xreplace(sub)
+        # a prescribed I(t) is a function of Kane's time (its dI/dt enters the torque)
+        inertia = p["inertia"].xreplace({sp.Symbol("t", real=True): t, **sub})
         self._flip = system.support == "sphere" and system.side == "inside"
         self._at_pole = system.support == "sphere"
         G, P, normal, tangents, carried = self._contact(system, p, sub, (N, B), q, u, t, solved)
@@ -477,7 +479,7 @@ class _KaneRolling:
         ``gamma``: on a plane ``N.z`` is the normal; on a sphere ``O`` sits at the generic
         angles :data:`SPHERE_POSITION` (the vertical is not the normal there) and the
         body is turned so that ``e_r`` (outside; ``-e_r`` inside) has components ``gamma``."""
-        g = mpmath.matrix([mpmath.mpf(sp.Float(x, DIGITS)) for x in gamma])
+        g = mpmath.matrix([_mpf(x) for x in gamma])
         if self._flip:  # inside a sphere the normal into the body is -e_r
             g = -g
         if not self._at_pole:
@@ -519,9 +521,9 @@ class _KaneRolling:
             T = mpmath.mpf(sp.Float(time, DIGITS))
             C = mpmath.matrix(self._C(q, [0] * 5, T))
             if rho is not None:  # its space components: the contact point at (x, y, 0)
-                space = C.T * mpmath.matrix([mpmath.mpf(sp.Float(x, DIGITS)) for x in rho])
+                space = C.T * mpmath.matrix([_mpf(x) for x in rho])
                 q[3], q[4] = space[0], space[1]
-            wb = mpmath.matrix([mpmath.mpf(sp.Float(x, DIGITS)) for x in omega_body])
+            wb = mpmath.matrix([_mpf(x) for x in omega_body])
             ws = C.T * wb  # space components
             u = [ws[0], ws[1], ws[2], mpmath.mpf(0), mpmath.mpf(0)]
             dep = self._dep(q, u, T)
