@@ -1,0 +1,134 @@
+"""A described system through the scene's dynamics: Poincaré sections and Lyapunov spectra.
+
+Routh's sphere (``examples/systems/routh_sphere.toml``: moments A, A, C, centre of mass on the
+axis at ``a`` from the centre, gravity) is integrable: the energy, Jellett's integral and
+Routh's integral hold, so a section lies on their common level and every Lyapunov exponent of
+a generic orbit is zero. The references are typed from the mechanics here, not taken from the
+derived model: ``M = I omega + m r x (omega x r)`` is the momentum about the contact point,
+``r = a e3 + b gamma`` runs from the contact to the centre of mass, and
+
+* the energy ``T + V = (omega, I omega)/2 + m |omega x r|^2/2 + m g a gamma3`` (+ const),
+* Jellett's integral ``(I omega, r) = (M, r)``,
+* Routh's integral ``omega3 sqrt(A C + m A b^2 (gamma1^2 + gamma2^2) + m C (a + b gamma3)^2)``
+
+(Routh 1884; Borisov & Mamaev, RCD 7, 2002). At rest with the centre of mass on top
+(``gamma = e3``, ``a > 0``) the body is an inverted pendulum rolling about its contact point:
+a tilt ``theta`` has ``I_P theta'' = m g a theta`` with ``I_P = A + m (a + b)^2``, so the
+two largest exponents are ``sqrt(m g a / I_P)`` per unit time.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from chaplygin.verify.cli import main
+
+ROOT = Path(__file__).resolve().parents[2]
+ROUTH = ROOT / "examples" / "systems" / "routh_sphere.toml"
+
+#: The example's parameter values (its [parameters] table).
+VALUES = dict(m=1.0, b=1.0, A=0.4, C=0.55, a=0.3, g=1.0)
+
+
+def _omega(M: np.ndarray, gamma: np.ndarray, p: dict) -> np.ndarray:
+    r = np.array([0.0, 0.0, p["a"]]) + p["b"] * gamma
+    II = np.diag([p["A"], p["A"], p["C"]]) + p["m"] * (r @ r * np.eye(3) - np.outer(r, r))
+    return np.linalg.solve(II, M)
+
+
+def routh_integrals(state: np.ndarray, p: dict = VALUES) -> np.ndarray:
+    """Energy, Jellett's and Routh's integrals of a state (M, gamma), from the mechanics."""
+    M, gamma = state[:3], state[3:6]
+    A, C, m, a, b, g = (p[k] for k in ("A", "C", "m", "a", "b", "g"))
+    r = np.array([0.0, 0.0, a]) + b * gamma
+    w = _omega(M, gamma, p)
+    energy = 0.5 * w @ (np.array([A, A, C]) * w) + 0.5 * m * np.cross(w, r) @ np.cross(w, r)
+    energy += m * g * a * gamma[2]
+    jellett = M @ r
+    routh = w[2] * math.sqrt(A * C + m * A * b**2 * (gamma[0] ** 2 + gamma[1] ** 2)
+                             + m * C * (a + b * gamma[2]) ** 2)  # fmt: skip
+    return np.array([energy, jellett, routh])
+
+
+def _scene(tmp_path: Path, outputs: str, initial: str | None = None) -> Path:
+    text = ROUTH.read_text().split("[outputs]")[0].replace("t_end = 60", "t_end = 1")
+    if initial is not None:
+        head, tail = text.split("[initial]")
+        text = head + "[initial]\n" + initial + "\n[run]" + tail.split("[run]")[1]
+    path = tmp_path / "scene.toml"
+    path.write_text(text + outputs)
+    return path
+
+
+def _run(tmp_path: Path, scene: Path) -> dict:
+    assert main(["run", str(scene), "--out", str(tmp_path / "out"), "--quiet"]) == 0
+    return json.loads((tmp_path / "out" / "summary.json").read_text())
+
+
+def test_a_section_of_a_described_system_lies_on_the_level_of_its_integrals(tmp_path):
+    """[outputs.poincare] with the section gamma1 = 0: every point has gamma1 = 0 and the
+    energy, Jellett's and Routh's integrals of the start (evaluated from the mechanics, above);
+    the balanced ball's (M, gamma), not an integral here, is refuted by the same comparison."""
+    xr = pytest.importorskip("xarray")
+    scene = _scene(
+        tmp_path,
+        '[outputs.poincare]\nsection = "gamma1"\ndirection = 1\niterations = 12\nplot = false\n',
+    )
+    summary = _run(tmp_path, scene)
+    section = summary["analyses"]["poincare"]
+    assert section["complete"] and section["points"] == 12
+    names = ["M1", "M2", "M3", "gamma1", "gamma2", "gamma3"]
+    with xr.open_dataset(tmp_path / "out" / "poincare.nc") as ds:
+        points = np.stack([ds[n].values[0] for n in names], axis=1)
+    start = np.array([float(v) for v in summary["resolved"]["initial"].values()])
+    rtol = 1e-12  # the example's run.rtol
+    # the crossings are located on the step polynomial to the working precision; a
+    # tolerance-controlled run's global error grows about linearly over its ~10^3 steps
+    bound = 1e3 * rtol
+    assert np.abs(points[:, 3]).max() <= bound
+    levels = np.array([routh_integrals(y) for y in points])
+    reference = routh_integrals(start)
+    assert (np.abs(levels - reference) <= bound * (1 + np.abs(reference))).all(), levels
+    area = np.sum(points[:, :3] * points[:, 3:], axis=1)
+    assert np.ptp(area) > 1e6 * bound  # control: not an integral of Routh's sphere
+
+
+def _spectrum_bound(block: dict, intervals: int, interval: float) -> np.ndarray:
+    """What a zero exponent may show after ``intervals`` QR intervals: the growth of a
+    tangent vector on a torus is linear (a shear), ln(N T)/(N T) per unit time, plus three
+    standard errors of the run."""
+    T = intervals * interval
+    return math.log(T) / T + 3 * np.array(block["errors"])
+
+
+def test_lyapunov_spectra_of_a_described_system_zero_on_a_torus_and_the_rolling_pendulum(
+    tmp_path,
+):
+    """A generic orbit of the integrable Routh's sphere: every exponent of both spectra is
+    zero within the run's bound (units: per unit time). At rest with the centre of mass on
+    top: the two largest are sqrt(m g a / (A + m (a + b)^2)) (the rolling inverted pendulum),
+    within the same bound, which refutes zero there."""
+    intervals, interval = 200, 1.0
+    lyapunov = (
+        f"[outputs.lyapunov]\niterations = {intervals}\ntransient = 5\ninterval = {interval}\n"
+        'spectrum = "both"\nstates = 2\nwindows = 4\nplot = false\n'
+    )
+    analyses = _run(tmp_path, _scene(tmp_path, lyapunov))["analyses"]["lyapunov"]
+    for spectrum in ("level_set", "full"):
+        block = analyses[spectrum]["per_unit_time"]
+        assert block["units"] == "per unit time"
+        exponents = np.array(block["exponents"])
+        assert (np.abs(exponents) <= _spectrum_bound(block, intervals, interval)).all(), block
+    assert len(analyses["full"]["per_unit_time"]["exponents"]) == 6
+    rest = lyapunov.replace('"both"', '"full"').replace("states = 2", "states = 1")
+    scene = _scene(tmp_path, rest, initial="M = [0, 0, 0]\ngamma = [0, 0, 1]\n")
+    block = _run(tmp_path, scene)["analyses"]["lyapunov"]["full"]["per_unit_time"]
+    p = VALUES
+    rate = math.sqrt(p["m"] * p["g"] * p["a"] / (p["A"] + p["m"] * (p["a"] + p["b"]) ** 2))
+    exponents, bound = np.array(block["exponents"]), _spectrum_bound(block, intervals, interval)
+    assert (np.abs(exponents[:2] - rate) <= bound[:2]).all(), (exponents, rate)
+    assert (np.abs(exponents[:2]) > bound[:2]).all()  # zero refuted by the same bound
