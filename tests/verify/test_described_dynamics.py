@@ -132,3 +132,92 @@ def test_lyapunov_spectra_of_a_described_system_zero_on_a_torus_and_the_rolling_
     exponents, bound = np.array(block["exponents"]), _spectrum_bound(block, intervals, interval)
     assert (np.abs(exponents[:2] - rate) <= bound[:2]).all(), (exponents, rate)
     assert (np.abs(exponents[:2]) > bound[:2]).all()  # zero refuted by the same bound
+
+
+#: Values of the energy and of two of the file's [[claims]] (Jellett's, Routh's squared).
+LEVELS = {"H": "1.3", "ROUTH-jellett": "0.4", "ROUTH-routh-squared": "0.2"}
+
+
+def _level_scene(tmp_path: Path, free: str, integrals: dict) -> Path:
+    """The example file (its claims kept, its outputs left out) with the initial state by
+    integral values."""
+    table = ", ".join(f'"{k}" = {v}' for k, v in integrals.items())
+    initial = (
+        'M = [0.3, -0.2, 0.9]\ngamma = [0.28, 0.3, "sqrt(1 - 0.28**2 - 0.3**2)"]\n'
+        f"free = {free}\nintegrals = {{ {table} }}\n"
+    )
+    text = ROUTH.read_text()
+    text = text.split("[outputs]")[0] + "[discover]" + text.split("[discover]")[1]  # no trace
+    head, rest = text.split("[initial]\n")
+    path = tmp_path / "levels.toml"
+    path.write_text(head + "[initial]\n" + initial + "\n[run]" + rest.split("[run]", 1)[1])
+    return path
+
+
+@pytest.mark.parametrize(
+    "free, integrals",
+    [('["M"]', LEVELS), ('["M1", "M3"]', {"H": "0.9", "ROUTH-jellett": "-0.35"})],
+)
+def test_an_initial_state_by_the_values_of_the_files_integrals(tmp_path, free, integrals):
+    """[initial] integrals = {...} with free components: the state the scene resolves has
+    those values of the energy, Jellett's and Routh's integrals, evaluated from the mechanics
+    (above, not with the model's generated integrals), and the other components as given."""
+    from chaplygin.verify.scene import Scene
+
+    res = Scene.from_toml(_level_scene(tmp_path, free, integrals)).resolve()
+    y = np.array([float(v) for v in res.y0])
+    values = dict(zip(("H", "ROUTH-jellett", "ROUTH-routh"), routh_integrals(y), strict=True))
+    values["ROUTH-routh-squared"] = values.pop("ROUTH-routh") ** 2
+    eps = np.finfo(float).eps  # the state is rounded once to double
+    for name, want in integrals.items():
+        assert abs(values[name] - float(want)) <= 100 * eps * (1 + abs(float(want))), name
+    kept = [1] if free == '["M1", "M3"]' else []
+    assert np.allclose(y[3:], [0.28, 0.3, math.sqrt(1 - 0.28**2 - 0.3**2)], rtol=0, atol=eps)
+    assert all(y[k] == [0.3, -0.2, 0.9][k] for k in kept)
+
+
+@pytest.mark.parametrize(
+    "free, integrals, message",
+    [
+        # the energy's least value over M3 (M1, M2, gamma as given) is 0.3056
+        ('["M3"]', {"H": "0.1"}, "no real state with the other components as given has H"),
+        ('["M"]', {"H": "1.3", "jellett": "0.4"}, "has no integral 'jellett'"),
+        ('["M1"]', LEVELS, "3 integral value(s) need as many free components, 1 given"),
+        ('["q1", "M2", "M3"]', LEVELS, "no state component 'q1'"),
+    ],
+)
+def test_integral_values_no_state_has_are_one_line_exit_2(
+    tmp_path, capsys, free, integrals, message
+):
+    scene = _level_scene(tmp_path, free, integrals)
+    assert main(["run", str(scene), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and message in err and "Traceback" not in err, err
+    assert not (tmp_path / "out").exists()
+
+
+def test_the_least_energy_a_refusal_states_is_the_mechanics_least(tmp_path, capsys):
+    """The refusal of H = 0.1 with M3 free is a proof: the energy from the mechanics is a
+    parabola in M3 (M1, M2, gamma as given) whose least value is the one the message states,
+    above 0.1."""
+    scene = _level_scene(tmp_path, '["M3"]', {"H": "0.1"})
+    assert main(["run", str(scene), "--out", str(tmp_path / "out")]) == 2
+    stated = float(capsys.readouterr().err.rsplit("least ", 1)[1])
+    gamma = [0.28, 0.3, math.sqrt(1 - 0.28**2 - 0.3**2)]
+    e = [routh_integrals(np.array([0.3, -0.2, m3, *gamma]))[0] for m3 in (-1.0, 0.0, 1.0)]
+    curvature, slope = e[0] + e[2] - 2 * e[1], (e[2] - e[0]) / 2
+    least = e[1] - slope**2 / (2 * curvature)
+    assert curvature > 0 and least > 0.1
+    assert abs(stated - least) <= 1e-9 * least  # the message prints 10 digits
+
+
+def test_explain_shows_a_described_state_solved_by_its_integrals(tmp_path, capsys):
+    """``--explain`` of a described system (no effect combination in generated/ to compare
+    with: it failed on ``max()`` of none) shows how the state was solved and the residuals."""
+    scene = _level_scene(tmp_path, '["M"]', LEVELS)
+    assert main(["run", str(scene), "--explain"]) == 0
+    out = capsys.readouterr().out
+    assert "M1, M2, M3 solved for the integral values H, ROUTH-jellett" in out
+    residuals = [float(x.split(": ")[1]) for x in out.splitlines() if "residual of" in x]
+    assert len(residuals) == 3 and max(map(abs, residuals)) <= 1e-14
+    assert "right-hand side:" in out and "largest effect combination" not in out
