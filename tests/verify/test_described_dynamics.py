@@ -221,3 +221,83 @@ def test_explain_shows_a_described_state_solved_by_its_integrals(tmp_path, capsy
     residuals = [float(x.split(": ")[1]) for x in out.splitlines() if "residual of" in x]
     assert len(residuals) == 3 and max(map(abs, residuals)) <= 1e-14
     assert "right-hand side:" in out and "largest effect combination" not in out
+
+
+def _rolling_over_period(energy: float, p: dict = VALUES) -> float:
+    """The period of Routh's sphere rolling over in the plane of its axis (omega along e1,
+    gamma = (0, sin phi, cos phi)): a one-degree-of-freedom motion with the energy
+    (A + m |r|^2) phi'^2 / 2 + m g a cos phi, |r|^2 = a^2 + b^2 + 2 a b cos phi (the contact
+    point is the instantaneous axis), so T = int_0^2pi sqrt(I_P / (2 (h - V))) dphi (mpmath's
+    quadrature, 30 digits)."""
+    import mpmath
+
+    A, m, a, b, g = (mpmath.mpf(p[k]) for k in ("A", "m", "a", "b", "g"))
+    with mpmath.workdps(30):
+
+        def integrand(phi):
+            inertia = A + m * (a * a + b * b + 2 * a * b * mpmath.cos(phi))
+            return mpmath.sqrt(inertia / (2 * (energy - m * g * a * mpmath.cos(phi))))
+
+        return float(mpmath.quad(integrand, [0, mpmath.pi, 2 * mpmath.pi]))
+
+
+def test_a_periodic_orbit_of_a_described_system_has_the_quadrature_s_period(tmp_path):
+    """[outputs.periodic_orbits] with a section (an autonomous model): from a start rolling
+    over in the plane of the axis, the return map to gamma2 = 0 closes after one crossing
+    and the orbit refined on the flow has the period of the one-degree-of-freedom quadrature
+    (above) at its energy, to the run's accuracy; det Phi = 1 (Routh's sphere keeps an
+    invariant density: Liouville). The plane pendulum's period of the same energy with the
+    inertia about the centre of mass only (A + m a^2) is refuted by the same comparison."""
+    outputs = (
+        '[outputs.periodic_orbits]\nsection = "gamma2"\ntransient = 0\nmax_period = 3\n'
+        "detect_tol = 1e-6\nrtol = 1e-12\n"
+    )
+    scene = _scene(tmp_path, outputs, initial="M = [1.5, 0, 0]\ngamma = [0, 0, -1]\n")
+    found = _run(tmp_path, scene)["analyses"]["periodic_orbits"]
+    assert found["period"] == 1 and found["converged"], found
+    point = np.array([float(v) for v in found["point"].values()])
+    energy = routh_integrals(point)[0]
+    T, reference = float(found["period_time"]), _rolling_over_period(energy)
+    bound = 1e3 * 1e-12 * reference  # the flow's error over ~10^3 steps at rtol 1e-12
+    assert abs(T - reference) <= bound, (T, reference)
+    assert abs(found["det Phi"] - 1) <= 1e3 * 1e-12 * found["max |multiplier|"]
+    wrong = _rolling_over_period(energy, {**VALUES, "b": 0.0})  # no rolling: A + m a^2
+    assert abs(T - wrong) > 1e6 * bound
+
+
+def test_newton_on_the_flow_corrects_a_wrong_period():
+    """refine_flow_orbit from a state on the rolling-over orbit with its period off by 1%:
+    Newton converges onto an orbit of the family whose period is the quadrature's at its own
+    energy."""
+    from chaplygin.numerics.code import load_model_code
+    from chaplygin.numerics.dynamics.flow_orbits import refine_flow_orbit
+    from chaplygin.verify.scene import Scene
+
+    Scene.from_toml(ROUTH)  # registers the described system
+    code = load_model_code("routh_sphere", ())
+    y0 = [1.5, 0.0, 0.0, 0.0, 0.0, -1.0]
+    start = _rolling_over_period(routh_integrals(np.array(y0))[0])
+    params = [VALUES[k] for k in code.params]
+    found = refine_flow_orbit(code, params, y0, start * (1 + 1e-2), rtol=1e-12)
+    assert found.converged and found.iterations >= 1
+    reference = _rolling_over_period(routh_integrals(found.point)[0])
+    assert abs(found.period - reference) <= 1e3 * 1e-12 * reference
+
+
+@pytest.mark.parametrize(
+    "table, message",
+    [
+        ('section = "gamma2"\n[outputs.periodic_orbits.continuation]\nrange = [0, 1]\nstep = 0.1\n',
+         "continuation follows orbits of the stroboscopic map only"),
+        ('section = "open(1)"\n', "outputs.periodic_orbits.section"),
+        ("max_period = 3\n", "or a section"),
+    ],
+)  # fmt: skip
+def test_a_periodic_orbit_table_the_flow_route_cannot_run_is_one_line_exit_2(
+    tmp_path, capsys, table, message
+):
+    scene = _scene(tmp_path, "[outputs.periodic_orbits]\n" + table)
+    assert main(["run", str(scene), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and message in err and "Traceback" not in err, err
+    assert not (tmp_path / "out").exists()
