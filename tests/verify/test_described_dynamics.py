@@ -301,3 +301,22 @@ def test_a_periodic_orbit_table_the_flow_route_cannot_run_is_one_line_exit_2(
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and message in err and "Traceback" not in err, err
     assert not (tmp_path / "out").exists()
+
+
+def test_the_dynamics_example_file_runs_on_its_integral_values(tmp_path):
+    """examples/systems/routh_sphere_dynamics.toml, shortened: the state it solves for has
+    its three integral values (from the mechanics) and its section points keep them."""
+    xr = pytest.importorskip("xarray")
+    path = ROUTH.parent / "routh_sphere_dynamics.toml"
+    shorter = ["outputs.poincare.iterations=6", "outputs.lyapunov.iterations=20"]
+    argv = ["run", str(path), "--out", str(tmp_path / "out"), "--quiet"]
+    assert main(argv + [a for s in shorter for a in ("--set", s)]) == 0
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    start = np.array([float(v) for v in summary["resolved"]["initial"].values()])
+    want = np.array([1.3, 0.4, math.sqrt(0.2)])
+    assert np.abs(routh_integrals(start) - want).max() <= 100 * np.finfo(float).eps
+    names = ["M1", "M2", "M3", "gamma1", "gamma2", "gamma3"]
+    with xr.open_dataset(tmp_path / "out" / "poincare.nc") as ds:
+        points = np.stack([ds[n].values[0] for n in names], axis=1)
+    levels = np.array([routh_integrals(y) for y in points])
+    assert np.abs(levels - want).max() <= 1e3 * 1e-12 * 2  # rtol 1e-12 over ~10^3 steps
