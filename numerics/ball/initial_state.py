@@ -191,10 +191,30 @@ def state_near_rotation(
 ANDOYER = ("G", "z", "l", "g")
 
 #: Keys of a request that are not state groups (a state group of the model is a key too).
-REQUEST_KEYS = (*INTEGRAL_KEYS, "point", *ANDOYER, "rest", "near", "separatrix", "offset")
+REQUEST_KEYS = (
+    *INTEGRAL_KEYS,
+    "point",
+    *ANDOYER,
+    "rest",
+    "near",
+    "separatrix",
+    "offset",
+    "integrals",
+    "free",
+)
 
 #: Keys that choose how (not what): left out of the state groups and integrals given.
-_CHOICE_KEYS = ("parallel", "point", "rest", "near", "separatrix", "offset", *ANDOYER)
+_CHOICE_KEYS = (
+    "parallel",
+    "point",
+    "rest",
+    "near",
+    "separatrix",
+    "offset",
+    "integrals",
+    "free",
+    *ANDOYER,
+)
 
 
 class InitialStateError(UserInputError):
@@ -255,11 +275,15 @@ def _split(code: ModelCode, request: Mapping[str, object]) -> _Request:
         "near": items.get("near"),
         "separatrix": items.get("separatrix"),
         "offset": items.get("offset", 0),
+        "integrals": dict(items.get("integrals") or {}),
+        "free": list(items.get("free") or []),
     }
     given = {k: v for k, v in items.items() if k not in _CHOICE_KEYS}
     if choices["parallel"]:
         given["parallel"] = True
     andoyer = {k: items[k] for k in ANDOYER if k in items}
+    if choices["free"] and not choices["integrals"]:
+        raise InitialStateError("free needs integrals = { NAME = value, ... }", "free")
     if choices["rest"]:
         andoyer.setdefault("G", 0)
         if "M" in given or (andoyer.get("G") not in (0, "0")):
@@ -297,7 +321,11 @@ def check_initial_request(code: ModelCode, request: Mapping[str, object]) -> Non
 
 
 def initial_state(
-    code: ModelCode, params: Mapping[str, object], request: Mapping[str, object], precision: Any
+    code: ModelCode,
+    params: Mapping[str, object],
+    request: Mapping[str, object],
+    precision: Any,
+    expressions: Mapping[str, str] | None = None,
 ) -> InitialState:
     """The initial state a request asks for, at the working precision (see the module).
 
@@ -310,11 +338,15 @@ def initial_state(
     request : mapping of str to value
         State groups of the model (``M``, ``gamma``, ...) and the keys of :data:`REQUEST_KEYS`:
         ``h``, ``C``, ``n``, ``parallel`` (bool), ``point`` (int), ``G, z, l, g``, ``rest``
-        (bool), ``near`` (``"p1"``..``"p3"``), ``separatrix`` (1..3), ``offset``. Values are
-        numbers or text :func:`~chaplygin.numerics.inputs.parse_number` reads; None means
-        absent.
+        (bool), ``near`` (``"p1"``..``"p3"``), ``separatrix`` (1..3), ``offset``,
+        ``integrals`` (name -> value) with ``free`` (components or groups solved for:
+        :mod:`chaplygin.numerics.integral_levels`). Values are numbers or text
+        :func:`~chaplygin.numerics.inputs.parse_number` reads; None means absent.
     precision : Precision
         The working precision (the request is read at ``precision.parse_dps`` digits).
+    expressions : mapping of str to str, optional
+        Integrals ``integrals`` may name beside the model's: name -> expression of the state,
+        ``omega1..3`` and the parameters (a described system's ``[[claims]]``).
 
     Returns
     -------
@@ -352,6 +384,8 @@ def initial_state(
                 "rest = true needs gamma (or the Andoyer-Deprit z, l, g)", "rest"
             )
         how = "from rest (M = 0)"
+    if choices["integrals"]:
+        return _on_levels(code, params, req, precision, dict(expressions or {}))
     if set(by_integrals) == {"h"} and "M" in given and not prescribed:
         given["M"], prescribed, how = _scaled_to_energy(
             code, params, given, by_integrals["h"], precision
@@ -359,9 +393,7 @@ def initial_state(
     elif by_integrals and not prescribed:
         resolved = _from_integrals(code, params, by_integrals, given, choices["point"], dps)
         prescribed, how = resolved.prescribed, resolved.how
-        given.update(
-            {k: [mpmath.nstr(c, dps + 5) for c in v] for k, v in resolved.values.items()}
-        )
+        given.update({k: [mpmath.nstr(c, dps + 5) for c in v] for k, v in resolved.values.items()})
     try:
         state = complete_state(code, given, precision)
     except UserInputError as exc:
@@ -374,6 +406,35 @@ def initial_state(
         residuals = integral_residuals(
             code, state.y, p, prescribed, max(precision.digits or 17, 17)
         )
+    return InitialState(state.y, how, prescribed, residuals)
+
+
+def _on_levels(code, params, req: _Request, precision, expressions) -> InitialState:
+    """``integrals`` with ``free``: :func:`chaplygin.numerics.integral_levels.state_on_levels`
+    (the other ways of giving integrals, Andoyer-Deprit and the named solutions excluded)."""
+    from ..inputs import complete_state
+    from ..integral_levels import LevelRequest, level_values, state_on_levels
+
+    choices = req.choices
+    clash = [*req.by_integrals, *req.andoyer] + [
+        k for k in ("rest", "near", "separatrix") if choices[k]
+    ]
+    if clash:
+        raise InitialStateError(f"give integrals = {{...}} or {clash[0]}, not both", clash[0])
+    free = choices["free"] or list(code.state_groups)[:1]
+    request = LevelRequest(req.given, free, choices["integrals"], expressions)
+    try:
+        values, prescribed, how = state_on_levels(code, params, request, precision)
+        state = complete_state(code, {**req.given, **values}, precision)
+        p = [params[k] for k in code.params]
+        dps = max(precision.digits or 17, 17)
+        reached = level_values(code, state.y, p, list(prescribed), expressions, dps)
+    except UserInputError as exc:
+        raise InitialStateError(str(exc), getattr(exc, "key", "integrals")) from None
+    with mpmath.workdps(dps):
+        residuals = {n: float(reached[n] - _num(prescribed[n], dps)) for n in prescribed}
+    for note in state.notes:
+        how += f"; {note}"
     return InitialState(state.y, how, prescribed, residuals)
 
 
@@ -468,9 +529,7 @@ def _from_integrals(code, params, by_integrals, given, point, dps) -> ResolvedSt
         }
         if "gamma" in request:
             num["gamma"] = [_num(v, dps) for v in request["gamma"]]
-        return state_from_integrals(
-            code, {k: mpmath.mpf(v) for k, v in params.items()}, num, dps
-        )
+        return state_from_integrals(code, {k: mpmath.mpf(v) for k, v in params.items()}, num, dps)
     except UserInputError as exc:
         key = "h" if "energy" in str(exc) else None
         raise InitialStateError(str(exc), key if key in by_integrals else None) from None

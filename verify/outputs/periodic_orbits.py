@@ -1,6 +1,7 @@
 """The ``periodic_orbits`` scene output: the period of the stroboscopic map's attractor,
 its Newton refinement and Floquet multipliers, and (optionally) its continuation in a
-parameter with the bifurcations met.
+parameter with the bifurcations met. (An autonomous model, a described system too, names a
+``section`` instead: :mod:`chaplygin.verify.outputs.periodic_orbits_flow`.)
 
 A scene of BM20's model (time-periodic ``I(t)``, ``k(t)``; ``(M, gamma) = 0``) asks for::
 
@@ -44,10 +45,15 @@ def _scene_error(message: str, path: str) -> Exception:
 
 
 def _check(scene: Any, code: Any, spec: PeriodicOrbitsOutput) -> None:
+    if spec.section is not None:
+        from .periodic_orbits_flow import check_flow_orbit
+
+        return check_flow_orbit(scene, code, spec)
     if "Omega" not in code.numpy.PARAMS:
         raise _scene_error(
             "periodic_orbits needs a time-periodic model (effects variable_inertia and/or "
-            "variable_gyrostat: the stroboscopic map has period 2 pi/Omega)",
+            "variable_gyrostat: the stroboscopic map has period 2 pi/Omega), or a section "
+            '(section = "gamma2": the return map of an autonomous model)',
             "outputs.periodic_orbits",
         )
     if tuple(code.numpy.STATE) != ("M1", "M2", "M3", "gamma1", "gamma2", "gamma3"):
@@ -67,6 +73,10 @@ def _complex_text(m: complex) -> str:
 
 
 def _run(scene: Any, res: Any, spec: PeriodicOrbitsOutput, progress: Any) -> AnalysisResult:
+    if spec.section is not None:
+        from .periodic_orbits_flow import run_flow_orbit
+
+        return run_flow_orbit(scene, res, spec)
     from ...derive.errors import ComputationError
     from ...numerics.ball.bm20_map import bm20_map_with_jacobian, bm20_point
     from ...numerics.dynamics.continuation import continue_periodic_orbit

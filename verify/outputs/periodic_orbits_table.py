@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, StrictBool, StrictFloat, StrictInt
+from pydantic import BaseModel, ConfigDict, Field, StrictBool, StrictFloat, StrictInt, StrictStr
 
 __all__ = ["ContinuationSpec", "PeriodicOrbitsOutput"]
 
@@ -35,7 +35,18 @@ class ContinuationSpec(_Table):
 
 
 class PeriodicOrbitsOutput(_Table):
-    """Periodic orbit of the stroboscopic map: period search, Newton, multipliers."""
+    """Periodic orbit of the stroboscopic map (a time-periodic model) or of the return map to
+    a surface (an autonomous model, ``section``): period search, Newton, multipliers."""
+
+    section: Annotated[StrictStr, Field(max_length=2000)] | None = Field(
+        None,
+        description="an autonomous model: the surface S(state) = 0 whose crossings are "
+        "iterated (an expression of the state and omega, as for outputs.poincare); the orbit "
+        "is then refined on the flow, phi_T(y) = y",
+    )
+    direction: Literal[-1, 0, 1] = Field(
+        1, description="crossings where S increases (1), decreases (-1) or both (0)"
+    )
 
     transient: Annotated[StrictInt, Field(ge=0, le=10_000_000)] = Field(
         5000, description="map iterations discarded before the period search"

@@ -44,9 +44,13 @@ def rhs_operation_count(code: Any) -> int:
 
 
 def _largest_variant(system: str) -> Any:
+    """The largest effect combination shipped in ``generated/``, or None (a described
+    system ships none)."""
     from ...numerics.code import load_model_code
 
     variants = SYSTEMS[system].variants
+    if not variants:
+        return None
     biggest = max(variants, key=lambda v: (len(v), v))
     return load_model_code(system, biggest)
 
@@ -84,11 +88,15 @@ def explain_text(scene: Scene, res: Resolved) -> str:
     for name, r in res.residuals.items():
         lines.append(f"  residual of {name}: {r:.3e}")
     big = _largest_variant(scene.system)
-    ops, ops_big = rhs_operation_count(code), rhs_operation_count(big)
-    lines.append(
-        f"right-hand side: {ops} operations ({len(code.state)} states) against {ops_big} "
-        f"({len(big.state)} states) for {big.name}, the largest effect combination in generated/"
-    )
+    ops = rhs_operation_count(code)
+    if big is None:
+        lines.append(f"right-hand side: {ops} operations ({len(code.state)} states)")
+    else:
+        lines.append(
+            f"right-hand side: {ops} operations ({len(code.state)} states) against "
+            f"{rhs_operation_count(big)} ({len(big.state)} states) for {big.name}, the largest "
+            "effect combination in generated/"
+        )
     manifest = generated_manifest()
     method = scene.run_options.method or "taylor"
     if code.name in manifest:

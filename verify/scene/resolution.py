@@ -238,7 +238,8 @@ def _initial_state(scene: Scene, code: Any, params: dict, prec: Any) -> Any:
     try:
         check_initial_request(code, request)
         _check_outputs(scene, code)
-        return initial_state(code, params, request, prec)
+        expressions = {c.id: c.expression for c in scene.claims if c.kind == "integral"}
+        return initial_state(code, params, request, prec, expressions)
     except InitialStateError as exc:
         loc = ("initial", exc.key) if exc.key else ("initial",)
         raise scene.key_error(str(exc), *loc) from None

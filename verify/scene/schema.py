@@ -287,7 +287,10 @@ class Initial(BaseModel):
     ``C = (M, gamma)`` (with the gyrostat ``(M + K, gamma)``),
     ``n = (M, M)`` or ``parallel = true`` (``M || gamma``); ``point`` picks a point of the level
     set (see :mod:`chaplygin.numerics.ball.initial_state`); a given ``gamma`` fixes it. Any
-    other key must be a state group of the model (checked when the model is known).
+    model (a described one too): ``integrals = {NAME = value}`` with ``free = [...]``, the
+    free components of the given state solved for those values
+    (:mod:`chaplygin.numerics.integral_levels`). Any other key must be a state group of the
+    model (checked when the model is known).
     """
 
     model_config = ConfigDict(extra="allow", frozen=True)
@@ -318,6 +321,17 @@ class Initial(BaseModel):
         None, description="M || gamma at h = C^2/(2 I_i), i the middle axis (K01 §3.3)"
     )
     offset: Number = Field(0, description="push off near/separatrix (relative)")
+    integrals: dict[Annotated[StrictStr, Field(max_length=100)], Number] | None = Field(
+        None,
+        description="integral name -> value: the model's integrals (H, (M,gamma), ...) or the "
+        "file's [[claims]] of kind integral by id; the components named by free are solved "
+        "for (Newton from their given values)",
+    )
+    free: list[Annotated[StrictStr, Field(max_length=100)]] | None = Field(
+        None,
+        description="state components (M1, gamma2, ...) or groups (M) solved for the "
+        "integrals' values, as many as there are values (default: the first state group)",
+    )
 
 
 class Scene(BaseModel):
