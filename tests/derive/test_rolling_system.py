@@ -217,7 +217,10 @@ def test_names_become_exact_parameters_and_decimals_stay_exact():
             {"inertia": ("1 + t**2", 1, 1), "surface": "x1**2 + x2**2 + x3**2 - 1"},
             "spherical body only",
         ),
-        ({"inertia": (1, 1, 1), "gyrostat": (0, 0, "t"), "potential": "t*gamma1"}, "unknown name 't'"),
+        (
+            {"inertia": (1, 1, 1), "gyrostat": (0, 0, "t"), "potential": "t*gamma1"},
+            "unknown name 't'",
+        ),
         ({"inertia": (1, 1, 1), "mass": "zeta1"}, "unknown name 'zeta1'"),
         ({"inertia": (1, 1, 1), "contact": "sliding"}, "unknown contact"),
         ({"inertia": (1, 1)}, "expected 3 entries"),
