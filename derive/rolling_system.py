@@ -53,9 +53,14 @@ contact point ``r`` from the centre of mass (``(dn/dr + n n^T) r' = n x omega``,
 -grad f/|grad f|`` the upward normal), the integrals the energy and the surface's level
 ``f`` (the contact point stays on it).
 
+The gyrostat may be prescribed, ``K(t)`` (rotors whose motors set the spin), and the
+inertia may change with time, ``I(t)`` (masses moving in symmetric pairs along lines
+through the centre of mass): ``T`` depends on ``t``, there is no energy integral, and the
+momentum integrals are kept where ``P' = P x omega`` still holds.
+
 Every other support, contact and surface the issue lists (convex bodies on the other
-supports, general support surfaces, rolling along a line, prescribed gyrostats and
-time-dependent inertia) is refused with a message that says so — before any work.
+supports, general support surfaces, rubber contact on a moving support) is refused with a
+message that says so — before any work.
 
 Every text a user types is read by :func:`~.expression_text.parse_expression` (no
 ``eval``); the checks of :meth:`RollingSystem.__post_init__` run before anything is
