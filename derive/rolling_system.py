@@ -58,8 +58,11 @@ inertia may change with time, ``I(t)`` (masses moving in symmetric pairs along l
 through the centre of mass): ``T`` depends on ``t``, there is no energy integral, and the
 momentum integrals are kept where ``P' = P x omega`` still holds.
 
-Every other support, contact and surface the issue lists (convex bodies on the other
-supports, general support surfaces, rubber contact on a moving support) is refused with a
+A convex body also rolls on a fixed sphere (no field): M03 §2's stage with the signed
+curvature ``k = -1/R`` outside, ``1/R`` inside, ``(k Id + dn/dr) r' = n x omega``.
+
+Every other support, contact and surface the issue lists (convex bodies on moving planes,
+general support surfaces, rubber contact on a moving support) is refused with a
 message that says so — before any work.
 
 Every text a user types is read by :func:`~.expression_text.parse_expression` (no
@@ -431,8 +434,9 @@ def _convex_body_description(s: RollingSystem) -> MechanicalDescription:
         time=sp.Symbol("t", real=True),
         omega=omega,
         reduction=BodyOnSphereReduction(
-            p["surface"], m, sp.S.Zero, gyrostat=p["rotor_momentum"], gravity=p["field"]
-        ),
+            p["surface"], m, _support_curvature(s), gyrostat=p["rotor_momentum"],
+            gravity=p["field"],
+        ),  # fmt: skip
         parameter_order=names,
         inertia=p["inertia"],
     )
@@ -465,6 +469,16 @@ def _potential_energy(s: RollingSystem, desc: MechanicalDescription) -> sp.Expr:
     R, b = p["support_radius"], p["radius"]
     c = R + b if s.side == "outside" else -(R - b)
     return p["field"] * p["mass"] * (c * dot(gamma, zeta) + dot(a, zeta)) + potential
+
+
+def _support_curvature(s: RollingSystem) -> sp.Expr:
+    """M03's signed curvature ``k`` of the support (the contact point is ``c - n/k``, ``n``
+    the normal into the body): 0 on a plane, ``-1/R`` outside a sphere (``n`` points away
+    from its centre ``c``), ``1/R`` inside."""
+    if s.support != "sphere":
+        return sp.S.Zero
+    R = s._parsed["support_radius"]
+    return -1 / R if s.side == "outside" else 1 / R
 
 
 def _normal_rate_factor(s: RollingSystem, parsed: dict) -> sp.Expr:
@@ -555,6 +569,7 @@ def _parse(s: RollingSystem) -> dict:
     if surface is not None:  # a name only in f's constant term is the level, set by r
         used = set().union(
             *(sp.sympify(e).free_symbols for e in (inertia, mass, centre, field_strength)),
+            sp.sympify(support_radius).free_symbols,
             gyrostat.free_symbols,
             *(sp.diff(surface, ri).free_symbols for ri in vector("r", real=True)),
         )
@@ -616,11 +631,13 @@ def _read_surface(s: RollingSystem, scope: dict, centre: sp.Matrix) -> sp.Expr |
     """``f`` in the contact point ``r`` from the centre of mass: ``f(r + c)``."""
     if s.surface is None:
         return None
-    if s.support != "plane" or s.contact != "rolling":
+    if s.support not in ("plane", "sphere") or s.contact != "rolling":
         raise UserInputError(
-            "a convex body (surface) is derived rolling without slipping on a fixed plane "
-            f"only in this version, not with support {s.support!r}, contact {s.contact!r}"
+            "a convex body (surface) is derived rolling without slipping on a fixed plane or "
+            f"sphere only in this version, not with support {s.support!r}, contact {s.contact!r}"
         )
+    if s.support == "sphere" and s.gravity is not None:
+        raise UserInputError("a convex body on a sphere is derived without gravity in this version")
     if s.potential is not None:
         raise UserInputError("a potential is derived for a spherical body only in this version")
     x = {f"x{i}": sp.Symbol(f"x{i}", real=True) for i in (1, 2, 3)}
@@ -658,7 +675,7 @@ def _check_support(s: RollingSystem, read, radius) -> sp.Expr:
     R = read(s.support_radius, "support_radius")
     if R.is_positive is False or R.is_zero:
         raise UserInputError(f"support_radius must be positive, got {R}")
-    if s.side == "inside" and (R - radius).is_number and R - radius <= 0:
+    if s.side == "inside" and radius is not None and (R - radius).is_number and R - radius <= 0:
         raise UserInputError(
             f"side 'inside': the body of radius {radius} does not fit in a sphere of radius {R}"
         )

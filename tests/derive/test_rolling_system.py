@@ -147,14 +147,24 @@ def test_names_become_exact_parameters_and_decimals_stay_exact():
             {
                 "inertia": (1, 1, 1),
                 "surface": "x1**2 + x2**2 + x3**2 - 1",
+                "support": "rotating_plane",
+                "rotation_rate": 1,
+            },
+            "fixed plane or sphere only",
+        ),
+        (
+            {
+                "inertia": (1, 1, 1),
+                "surface": "x1**2 + x2**2 + x3**2 - 1",
                 "support": "sphere",
                 "support_radius": 2,
+                "gravity": "g",
             },
-            "fixed plane only",
+            "without gravity",
         ),
         (
             {"inertia": (1, 1, 1), "surface": "x1**2 + x2**2 + x3**2 - 1", "contact": "rubber"},
-            "fixed plane only",
+            "fixed plane or sphere only",
         ),
         ({"inertia": (1, 1, 1), "surface": "x1**2 - x2**2 + x3**2 - 1"}, "not convex"),
         ({"inertia": (1, 1, 1), "surface": "x1 + x2 - 1"}, "degree 2 or more"),
@@ -317,3 +327,52 @@ def test_a_sphere_described_as_a_convex_surface_gives_the_sphere_s_equations():
     H_sphere = sphere.expand_aux(sphere.integral("H")).xreplace(at)
     H_body = body.expand_aux(body.integral("H")).xreplace(bt)
     assert sp.simplify(H_body - H_sphere - values["m"] * values["g"] * b) == 0
+
+
+@pytest.mark.parametrize("side", ["outside", "inside"])
+def test_a_spherical_body_written_as_a_surface_rolls_on_a_sphere_as_the_sphere_route(side):
+    """A convex body on a fixed sphere (M03 §2's body-frame stage, curvature -1/R outside,
+    1/R inside) against the spherical body's route in (M, gamma), where gamma turns at
+    R/(R +- b) of Poisson's rate: for the same offset body with a product of inertia and a
+    rotor, omega' and r' = -b gamma' agree exactly at a generic point. The other side's
+    convex model is the control (its r' differs)."""
+    common = dict(
+        inertia=[["I1", "c12", 0], ["c12", "I2", 0], [0, 0, "I3"]], centre_of_mass=("a1", 0, "a3"),
+        gyrostat=(0, "K2", 0), support="sphere", support_radius="R",
+    )  # fmt: skip
+    sphere = RollingSystem("as_sphere", side=side, **common).model()
+    surface = "x1**2 + x2**2 + x3**2 - b**2"
+    body = RollingSystem("as_surface", surface=surface, side=side, **common).model()
+    other = "inside" if side == "outside" else "outside"
+    control = RollingSystem("as_surface", surface=surface, side=other, **common).model()
+    R = sp.Rational
+    values = dict(
+        m=R(13, 10), I1=R(3, 7), I2=R(5, 9), I3=R(8, 11), c12=R(1, 17), a1=R(1, 9),
+        a3=R(-2, 13), K2=R(-3, 10), R=R(29, 10),
+    )  # fmt: skip
+    b = R(7, 10)
+    gamma = [R(2, 7), R(3, 7), R(6, 7)]
+    M = [R(3, 10), R(-7, 10), R(11, 10)]
+    ns = {s.name: s for s in (*sphere.state, *sphere.params)}
+    at = {ns[k]: v for k, v in values.items()}
+    at.update({ns["b"]: b, **{ns[f"gamma{i + 1}"]: gamma[i] for i in range(3)}})
+    at.update({ns[f"M{i + 1}"]: M[i] for i in range(3)})
+    omega_of_state = sphere.expand_aux(sphere.omega)
+    omega = omega_of_state.xreplace(at)
+    rates = sphere.rhs_expanded.xreplace(at)
+    acceleration = omega_of_state.jacobian(sp.Matrix(sphere.state)).xreplace(at) * rates
+    r = -b * sp.Matrix(gamma) - sp.Matrix([values["a1"], 0, values["a3"]])  # G -> contact
+
+    def rhs(model):
+        nc = {s.name: s for s in (*model.state, *model.params)}
+        bt = {nc[k]: v for k, v in values.items()}
+        bt.update({nc[f"omega{i + 1}"]: omega[i] for i in range(3)})
+        bt.update({nc[f"r{i + 1}"]: r[i] for i in range(3)})
+        return model.rhs_expanded.xreplace(bt)
+
+    theirs = rhs(body)
+    for i in range(3):
+        assert sp.simplify(theirs[i] - acceleration[i]) == 0
+        assert sp.simplify(theirs[3 + i] + b * rates[3 + i]) == 0
+    wrong = rhs(control)
+    assert any(sp.simplify(wrong[3 + i] + b * rates[3 + i]) != 0 for i in range(3))

@@ -688,3 +688,20 @@ def test_kane_agrees_along_a_line_and_refutes_a_perturbed_model():
     assert result.points == 4 and result.agrees, result
     bad = dataclasses.replace(model, rhs=(model.rhs[0] + sp.Rational(1, 1000), *model.rhs[1:]))
     assert kane_compare(system, bad, values).max_acceleration_error > 1e6 * result.tolerance
+
+
+def test_an_ellipsoid_on_a_sphere_keeps_its_energy_and_its_surface():
+    """An ellipsoid rolling inside a fixed sphere (M03 §2's stage): the energy and the
+    level of f are proved integrals by the verifier; (omega, omega) is refuted by the same
+    machinery (a tumbling body's spin changes)."""
+    system = RollingSystem(
+        "egg_in_bowl", inertia=("31/100", "43/100", "57/100"), mass="13/10",
+        surface="x1**2/(7/10)**2 + x2**2/(3/5)**2 + x3**2/(1/2)**2 - 1", support="sphere",
+        support_radius="29/10", side="inside",
+    )  # fmt: skip
+    model = system.model()
+    assert [n for n, _ in model.integrals] == ["H", "f"]
+    for name, expr in model.integrals:
+        assert decide([lie_derivative(expr, model)], Domain(model)).verdict == "proved", name
+    w = model.omega
+    assert decide([lie_derivative(w.dot(w), model)], Domain(model)).verdict == "refuted"
