@@ -153,6 +153,9 @@ class ReducedEquations:
     velocity_shift : sympy.Matrix, shape (3, 1)
         ``v`` at ``omega = 0``: the affine part of the constraints (zero unless the
         support moves, e.g. a rotating plane: ``v + omega x r = Omega gamma x rho``).
+    omega_shift : sympy.Matrix or None
+        ``c`` of the constraints on omega alone, ``C omega + c = 0`` (zero but for a
+        prescribed rate: no twist relative to a turntable, ``(omega, gamma) = Omega``).
     """
 
     with_multipliers: sp.Matrix
@@ -170,17 +173,20 @@ class ReducedEquations:
     omega_multipliers: tuple[sp.Symbol, ...] = ()
     time: sp.Symbol | None = None
     velocity_shift: sp.Matrix = field(default_factory=lambda: sp.zeros(3, 1))
+    omega_shift: sp.Matrix | None = None
 
     def multiplier_solution(
         self, rate: sp.Matrix, apply_inverse: Callable[[sp.Matrix], sp.Matrix]
     ) -> dict[sp.Symbol, sp.Expr]:
-        """Multipliers of the constraints on omega alone, ``C omega = 0``.
+        """Multipliers of the constraints on omega alone, ``C omega + c = 0``.
 
-        They follow from ``d/dt (C omega) = 0`` with ``omega' = II^-1 (M' - II' omega)``::
+        They follow from ``d/dt (C omega + c) = 0`` with ``omega' = II^-1 (M' - II'
+        omega)``::
 
-            mu = -(C II^-1 C^T)^-1 [C' omega + C II^-1 (F - II' omega)],
+            mu = -(C II^-1 C^T)^-1 [C' omega + c' + C II^-1 (F - II' omega)],
 
-        where ``M' = F + C^T mu``.
+        where ``M' = F + C^T mu`` (``c`` is zero but for a prescribed rate: no twist
+        relative to a turntable).
 
         Parameters
         ----------
@@ -201,6 +207,8 @@ class ReducedEquations:
         C_dot = C.applyfunc(lambda e: _time_derivative(e, self.kinematics, t))
         II_dot = self.inertia_operator.applyfunc(lambda e: _time_derivative(e, self.kinematics, t))
         rhs = C_dot * self.omega + C * apply_inverse(rate - II_dot * self.omega)
+        if self.omega_shift is not None:
+            rhs += self.omega_shift.applyfunc(lambda e: _time_derivative(e, self.kinematics, t))
         S = C * sp.Matrix.hstack(*[apply_inverse(C.row(j).T) for j in range(C.shape[0])])
         sol = -(S.LUsolve(rhs)) if S.shape[0] > 1 else sp.Matrix([-rhs[0] / S[0, 0]])
         return dict(zip(self.omega_multipliers, sol, strict=True))
@@ -323,8 +331,9 @@ def lagrange_dalembert(desc: RigidBodyDescription) -> ReducedEquations:
     Phi = sp.Matrix([[sp.diff(c, qi) for qi in q] for c in desc.constraints])
     for row, c in enumerate(desc.constraints):
         shift = sp.expand(c - (Phi.row(row) * sp.Matrix(q))[0])
-        # constraints on v may be affine (a moving support); those on omega alone not
-        affine_ok = bool(set(v) & sp.sympify(c).free_symbols) and not (shift.free_symbols & set(q))
+        # constraints may be affine (a moving support): the shift a function of time and
+        # configuration (no twist relative to a turntable: (omega, gamma) = Omega(t))
+        affine_ok = not (shift.free_symbols & set(q))
         if (shift != 0 and not affine_ok) or any(s in Phi.row(row).free_symbols for s in q):
             raise DerivationError(
                 f"constraint {c} is not linear in (omega, v) (homogeneous for omega alone)"
@@ -365,6 +374,11 @@ def lagrange_dalembert(desc: RigidBodyDescription) -> ReducedEquations:
             "constraints on omega alone"
         )
     C = sp.Matrix([[sp.diff(c, w) for w in omega] for c in omega_rows]) if omega_rows else None
+    omega_shift = (  # C omega + omega_shift = 0
+        sp.Matrix([sp.expand(c - (C.row(j) * omega)[0]) for j, c in enumerate(omega_rows)])
+        if omega_rows
+        else None
+    )
     mu = sp.symbols(f"mu1:{len(omega_rows) + 1}", real=True) if omega_rows else ()
     v_of_omega = v.subs(vmap)
     shift = v_of_omega.xreplace(dict.fromkeys(omega, 0)).applyfunc(sp.expand)
@@ -409,4 +423,5 @@ def lagrange_dalembert(desc: RigidBodyDescription) -> ReducedEquations:
         omega_multipliers=tuple(mu),
         time=t,
         velocity_shift=shift,
+        omega_shift=omega_shift,
     )

@@ -145,6 +145,8 @@ def _density_applies(desc: MechanicalDescription, red: ReducedEquations, density
     otherwise."""
     if density is None or not red.velocity_shift.is_zero_matrix:
         return False
+    if red.omega_shift is not None and not red.omega_shift.is_zero_matrix:
+        return False
     return not (set(desc.kinematics) - _space_fixed(desc)) and not density.has(desc.time)
 
 
@@ -260,6 +262,8 @@ class RigidBodyReduction:
         )
         # a moving support (affine constraints) does work too
         scleronomic = scleronomic and red.velocity_shift.is_zero_matrix
+        twist = red.omega_shift
+        scleronomic = scleronomic and (twist is None or twist.is_zero_matrix)
         if scleronomic:  # the parameters do work when they change: no energy (BM20-2.6)
             integrals.append(("H", sp.expand(red.energy + potential)))
         # P' = P x omega (+ reactions along the reacting vectors) makes (P, P) and (P, X)

@@ -397,8 +397,11 @@ class RollingSystem:
         if self.contact == "line":  # along the fixed line alpha (BKM12-57's constraint)
             desc.add_frame()
             desc.add_completion(("alpha", "beta"), "frame_bkm12_7")
-        for along in _NO_SPIN_ABOUT[self.contact]:  # no twist about gamma, no spin about alpha
-            desc.add_constraint(dot(omega, desc.vectors[along]), reacts_along=along)
+        # no twist about gamma (relative to the plane: a turntable turns at Omega about
+        # gamma), no spin about alpha
+        for along in _NO_SPIN_ABOUT[self.contact]:
+            twist = p["rotation_rate"] if along == "gamma" else sp.S.Zero
+            desc.add_constraint(dot(omega, desc.vectors[along]) - twist, reacts_along=along)
         desc.add_potential(_potential_energy(self, desc))
         for s in p["parameters"]:
             domain = "positive" if s.is_positive else "real"
@@ -607,7 +610,7 @@ def _check_rotation(s: RollingSystem, read) -> sp.Expr:
 def _moving_support(s: RollingSystem, support: str, key: str, meaning: str) -> bool:
     """Whether ``s`` rolls on ``support``, a plane moving by the law given as ``key``:
     the law is refused on another support and required on this one, and the contact must
-    be rolling without slipping (the only one derived on a moving plane)."""
+    be rolling or rubber rolling (along a line is not derived on a moving plane)."""
     value = getattr(s, key)
     if s.support != support:
         if value is not None:
@@ -615,10 +618,10 @@ def _moving_support(s: RollingSystem, support: str, key: str, meaning: str) -> b
         return False
     if value is None:
         raise UserInputError(f"support {support!r} needs {key} ({meaning})")
-    if s.contact != "rolling":
+    if s.contact == "line":
         raise UserInputError(
             f"contact {s.contact!r} on a {support.replace('_', ' ')} is not derived by this "
-            "version (rolling without slipping is)"
+            "version (rolling and rubber rolling are)"
         )
     return True
 

@@ -319,8 +319,9 @@ class _KaneRolling:
         slip = P.vel(N) - carried
         constraints = [slip.dot(tangents[0]), slip.dot(tangents[1])]
         dependent = [u[3], u[4]]
-        if system.contact == "rubber":
-            constraints.append(u[2])
+        if system.contact == "rubber":  # no twist relative to the support (a turntable's Omega)
+            Omega = p["rotation_rate"].xreplace({sp.Symbol("t", real=True): t, **sub})
+            constraints.append(u[2] - Omega)
             dependent = [u[2], u[3], u[4]]
         if line:  # along the fixed line N.x: no spin about it, (omega, N.x) = 0
             constraints.append(u[0])

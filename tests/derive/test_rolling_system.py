@@ -195,15 +195,6 @@ def test_names_become_exact_parameters_and_decimals_stay_exact():
         ),
         ({"inertia": (1, 1, 1), "support": "rotating_plane"}, "needs rotation_rate"),
         ({"inertia": (1, 1, 1), "rotation_rate": 2}, "the support is a plane"),
-        (
-            {
-                "inertia": (1, 1, 1),
-                "support": "rotating_plane",
-                "rotation_rate": 1,
-                "contact": "rubber",
-            },
-            "on a rotating plane is not derived",
-        ),
         ({"inertia": (1, 1, 1), "support": "rotating_plane", "rotation_rate": "rho1"}, "reserved"),
         ({"inertia": (1, 1, 1), "support": "sphere"}, "needs support_radius"),
         ({"inertia": (1, 1, 1), "support_radius": 2}, "the support is a plane"),
