@@ -40,8 +40,9 @@ On a rotating plane the constraint is affine: the body's contact point moves wit
 plane, ``v + omega x r = Omega gamma x rho``, ``rho`` the contact point's position from
 the axis in body axes (a state group, ``rho' = Omega gamma x rho + b omega x gamma +
 rho x omega``; ``(rho, gamma) = 0`` on the phase space, the invariant relation
-``(rho,gamma)``); the energy is not an integral (the plane does work); rolling without
-slipping only. On a moving plane ``v + omega x r = V1 alpha + V2 beta``: the state gains
+``(rho,gamma)``); the energy is not an integral (the plane does work); a rubber body
+does not twist relative to the plane, ``(omega, gamma) = Omega`` (an affine constraint on
+omega alone). On a moving plane ``v + omega x r = V1 alpha + V2 beta``: the state gains
 the fixed horizontal axes ``alpha, beta`` (Poisson vectors, with ``gamma`` a frame).
 The rates and velocities are expressions of the time ``t`` and the parameters.
 
@@ -62,7 +63,7 @@ A convex body also rolls on a fixed sphere (no field): M03 §2's stage with the 
 curvature ``k = -1/R`` outside, ``1/R`` inside, ``(k Id + dn/dr) r' = n x omega``.
 
 Every other support, contact and surface the issue lists (convex bodies on moving planes,
-general support surfaces, rubber contact on a moving support) is refused with a
+general support surfaces, rolling along a line on a moving plane) is refused with a
 message that says so — before any work.
 
 Every text a user types is read by :func:`~.expression_text.parse_expression` (no
