@@ -59,11 +59,16 @@ inertia may change with time, ``I(t)`` (masses moving in symmetric pairs along l
 through the centre of mass): ``T`` depends on ``t``, there is no energy integral, and the
 momentum integrals are kept where ``P' = P x omega`` still holds.
 
+A homogeneous ball rolls on a fixed support surface ``F(p) = 0`` (``support="surface"``,
+with gravity): :mod:`.ball_on_support`, the state ``omega`` and the contact point ``p``
+in the fixed frame.
+
 A convex body also rolls on a fixed sphere (no field): M03 §2's stage with the signed
 curvature ``k = -1/R`` outside, ``1/R`` inside, ``(k Id + dn/dr) r' = n x omega``.
 
 Every other support, contact and surface the issue lists (convex bodies on moving planes,
-general support surfaces, rolling along a line on a moving plane) is refused with a
+other bodies than a homogeneous ball on a support surface, rolling along a line on a
+moving plane) is refused with a
 message that says so — before any work.
 
 Every text a user types is read by :func:`~.expression_text.parse_expression` (no
@@ -82,6 +87,7 @@ from typing import Any
 
 import sympy as sp
 
+from .ball_on_support import SupportSurfaceReduction
 from .body_on_sphere import BodyOnSphereReduction
 from .description import MechanicalDescription, apply_effects, form_model
 from .effects import parse_effects
@@ -110,7 +116,7 @@ SUPPORTS = {
     "rotating_plane": True,
     "moving_plane": True,
     "sphere": True,
-    "surface": False,
+    "surface": True,
 }
 #: Sides of a fixed sphere the body may roll on.
 SIDES = ("outside", "inside")
@@ -130,7 +136,7 @@ _EFFECTS_BY_SUPPORT = {
 RESERVED_NAMES = frozenset(
     {
         f"{n}{i}"
-        for n in ("M", "gamma", "omega", "v", "alpha", "beta", "rho", "zeta")
+        for n in ("M", "gamma", "omega", "v", "alpha", "beta", "rho", "zeta", "p")
         for i in (1, 2, 3)
     }
     | {"x", "y"}
@@ -212,10 +218,10 @@ class RollingSystem:
         0``), or without slipping along the fixed line ``alpha`` (``(omega, alpha) = 0``,
         the effect ``straight_line``: the frame ``alpha, beta`` joins the state; a rubber
         body on a line is ``contact="rubber"`` with the effect).
-    support : {"plane", "rotating_plane", "moving_plane", "sphere"}
+    support : {"plane", "rotating_plane", "moving_plane", "sphere", "surface"}
         The fixed horizontal plane, a horizontal plane rotating about a vertical axis or
-        moving horizontally, or a fixed sphere (the other supports are refused in
-        this version).
+        moving horizontally, a fixed sphere, or a fixed support surface
+        (``support_surface``; a homogeneous ball only).
     support_radius : number or str, optional
         Radius ``R`` of the fixed sphere (``support="sphere"`` only).
     rotation_rate : number or str, optional
@@ -224,9 +230,15 @@ class RollingSystem:
     plane_velocity : 2 numbers/expressions, optional
         The horizontal velocity ``(V1, V2)`` of a moving plane along the fixed axes,
         constants or expressions of ``t`` (``support="moving_plane"`` only).
+    support_surface : str or sympy.Expr, optional
+        ``F(p1, p2, p3)`` of a fixed support surface ``F = 0`` in the fixed frame (``p3``
+        up, ``F < 0`` inside the support; ``support="surface"`` only): a homogeneous ball
+        (equal moments, centre of mass at its centre, no rotor, no potential) rolls on
+        it, with gravity along ``-p3``; the state is ``omega`` and the contact point
+        ``p`` in the fixed frame.
     side : {"outside", "inside"}
-        The body rolls on the outside of the fixed sphere, or inside it (a spherical
-        shell; then ``R > b``).
+        The body rolls on the outside of the fixed sphere (support surface), or inside it
+        (a spherical shell; then ``R > b``).
     positive : sequence of str, optional
         Parameters known positive beyond those that are (mass, radius, the diagonal
         moments and ``g`` when each is a single name).
@@ -260,6 +272,7 @@ class RollingSystem:
     side: str = "outside"
     rotation_rate: Any = None
     plane_velocity: Any = None
+    support_surface: Any = None
     surface: Any = None
     positive: Sequence[str] = ()
     description: str = ""
@@ -309,7 +322,7 @@ class RollingSystem:
                 self.name,
                 self.support,
                 self.contact,
-                self.side if self.support == "sphere" else "",
+                self.side if self.support in ("sphere", "surface") else "",
                 sp.srepr(p["support_radius"]),
                 sp.srepr(p["rotation_rate"]),
                 sp.srepr(p["plane_velocity"]),
@@ -322,6 +335,8 @@ class RollingSystem:
                 sp.srepr(p["potential"]),
                 ",".join(f"{s.name}:{s.is_positive}" for s in p["parameters"]),
             ]
+            # (absent unless given: the other descriptions keep their fingerprints)
+            + ([] if p["support_surface"] is None else [sp.srepr(p["support_surface"])])
         )
         return hashlib.sha256(text.encode()).hexdigest()
 
@@ -355,6 +370,8 @@ class RollingSystem:
         effects = parse_effects(effects, self.effects_taken)
         if self._parsed["surface"] is not None:
             return _convex_body_description(self)
+        if self.support == "surface":
+            return _support_surface_description(self)
         p = self._parsed
         t = sp.Symbol("t", real=True)
         omega, v = vector("omega", real=True), vector("v", real=True)
@@ -475,6 +492,70 @@ def _potential_energy(s: RollingSystem, desc: MechanicalDescription) -> sp.Expr:
     return p["field"] * p["mass"] * (c * dot(gamma, zeta) + dot(a, zeta)) + potential
 
 
+def _support_surface_description(s: RollingSystem) -> MechanicalDescription:
+    """A homogeneous ball on the support ``F(p) = 0``: state ``omega`` (fixed frame) and
+    the contact point ``p``."""
+    p = s._parsed
+    omega, contact = vector("omega", real=True), vector("p", real=True)
+    b, m = p["radius"], p["mass"]
+    ratio = sp.simplify(p["inertia"][0, 0] / (m * b**2))
+    if ratio.is_number:  # m drops out of the equations: the energy per unit mass
+        m = sp.S.One
+    desc = MechanicalDescription(
+        system=s.name,
+        effects=frozenset(),
+        time=sp.Symbol("t", real=True),
+        omega=omega,
+        reduction=SupportSurfaceReduction(
+            p["support_surface"], m, ratio * m, b,
+            side=1 if s.side == "outside" else -1, gravity=p["field"],
+        ),  # fmt: skip
+        parameter_order=tuple(x.name for x in p["parameters"]),
+    )
+    desc.add_state("omega", tuple(omega), None)
+    desc.add_state("p", tuple(contact), None)
+    for x in p["parameters"]:
+        domain = "positive" if x.is_positive else "real"
+        desc.add_parameter(ParameterSpec(x.name, (x,), domain, _role(x, p)))
+    return desc
+
+
+def _read_support_surface(s: RollingSystem, scope: dict, parsed: dict) -> sp.Expr | None:
+    """``F(p)`` of a support surface; what it refuses (anything but a homogeneous ball)."""
+    if s.support != "surface":
+        if s.support_surface is not None:
+            raise UserInputError(f"support_surface is given but the support is a {s.support}")
+        return None
+    if s.support_surface is None:
+        raise UserInputError("support 'surface' needs support_surface (F(p1, p2, p3) = 0)")
+    inertia = parsed["inertia"]
+    homogeneous = inertia.is_diagonal() and inertia[0, 0] == inertia[1, 1] == inertia[2, 2]
+    plain = (
+        homogeneous
+        and not inertia.has(sp.Symbol("t", real=True))
+        and parsed["centre"].is_zero_matrix
+        and parsed["rotor_momentum"].is_zero_matrix
+        and parsed["potential"] == 0
+        and s.surface is None
+        and s.contact == "rolling"
+    )
+    if not plain:
+        raise UserInputError(
+            "on a support surface this version derives a homogeneous ball (equal moments, "
+            "centre of mass at the centre, no rotor, no potential) rolling without slipping"
+        )
+    x = {f"p{i}": sp.Symbol(f"p{i}", real=True) for i in (1, 2, 3)}
+    F = parse_expression(s.support_surface, {**scope, **x}, "support_surface")
+    xs = list(x.values())
+    if not F.is_polynomial(*xs) or sp.Poly(F, *xs).total_degree() < 1:
+        raise UserInputError("support_surface: F must be a polynomial in p1, p2, p3")
+    hessian = sp.hessian(F, xs)
+    if sp.Poly(F, *xs).total_degree() == 2 and hessian.is_symbolic() is False:
+        if not hessian.is_positive_semidefinite:
+            raise UserInputError(f"support_surface: the quadric {F} = 0 is not convex")
+    return F.xreplace({x[f"p{i + 1}"]: c for i, c in enumerate(vector("p", real=True))})
+
+
 def _support_curvature(s: RollingSystem) -> sp.Expr:
     """M03's signed curvature ``k`` of the support (the contact point is ``c - n/k``, ``n``
     the normal into the body): 0 on a plane, ``-1/R`` outside a sphere (``n`` points away
@@ -511,7 +592,7 @@ def _parse(s: RollingSystem) -> dict:
     radius = None if s.surface is not None else s.radius  # a convex body has no radius
     typed = [s.mass, radius, rows, s.centre_of_mass, s.gravity, s.support_radius]
     typed += [s.rotation_rate, s.plane_velocity]  # these two may use the time t
-    typed += [s.gyrostat, s.potential, s.surface]
+    typed += [s.gyrostat, s.potential, s.surface, s.support_surface]
     names: list[str] = []
     for value in typed:
         for n in sorted(_names_in(value)):
@@ -569,6 +650,10 @@ def _parse(s: RollingSystem) -> dict:
             "a prescribed gyrostat K(t) or inertia I(t) is derived for a spherical body only"
         )
     plane_velocity = _check_moving(s, read_timed)
+    support_surface = _read_support_surface(
+        s, scope, {"inertia": inertia, "centre": centre, "rotor_momentum": gyrostat,
+                   "potential": potential},
+    )  # fmt: skip
     parameters = tuple(symbols[n] for n in names)
     if surface is not None:  # a name only in f's constant term is the level, set by r
         used = set().union(
@@ -576,6 +661,15 @@ def _parse(s: RollingSystem) -> dict:
             sp.sympify(support_radius).free_symbols,
             gyrostat.free_symbols,
             *(sp.diff(surface, ri).free_symbols for ri in vector("r", real=True)),
+        )
+        parameters = tuple(x for x in parameters if x in used)
+    if support_surface is not None:  # the same for F's level, set by p; and the mass
+        # drops out when I = k m b^2 with a number k (the energy is then per unit mass)
+        ratio = sp.simplify(inertia[0, 0] / (mass * radius**2))
+        kept = (radius,) if ratio.is_number else (inertia, mass, radius)
+        used = set().union(
+            *(sp.sympify(e).free_symbols for e in (*kept, field_strength)),
+            *(sp.diff(support_surface, c).free_symbols for c in vector("p", real=True)),
         )
         parameters = tuple(x for x in parameters if x in used)
     return {
@@ -589,6 +683,7 @@ def _parse(s: RollingSystem) -> dict:
         "rotation_rate": rotation_rate,
         "plane_velocity": plane_velocity,
         "surface": surface,
+        "support_surface": support_surface,
         "potential": potential,
         "parameters": parameters,
         "roles": {
@@ -628,7 +723,10 @@ def _moving_support(s: RollingSystem, support: str, key: str, meaning: str) -> b
 
 
 #: Names a description's texts use for the state (not parameters).
-_STATE_NAMES = ("gamma1", "gamma2", "gamma3", "zeta1", "zeta2", "zeta3", "x1", "x2", "x3")
+_STATE_NAMES = (
+    *("gamma1", "gamma2", "gamma3", "zeta1", "zeta2", "zeta3", "x1", "x2", "x3"),
+    *("p1", "p2", "p3"),
+)
 
 
 def _read_surface(s: RollingSystem, scope: dict, centre: sp.Matrix) -> sp.Expr | None:

@@ -129,7 +129,16 @@ def test_names_become_exact_parameters_and_decimals_stay_exact():
         ({"inertia": (1, 1, 1), "potential": "k*M1*gamma1"}, "reserved"),
         ({"inertia": (1, 1, 1), "potential": "__import__('os').system('true')"}, "not allowed"),
         ({"inertia": (1, 1, 1), "potential": "gamma1**(10**10)"}, "exponent"),
-        ({"inertia": (1, 1, 1), "support": "surface"}, "not derived by this version"),
+        ({"inertia": (1, 1, 1), "support": "surface"}, "needs support_surface"),
+        ({"inertia": (1, 1, 1), "support_surface": "p1**2 + p3 - 1"}, "the support is a plane"),
+        (
+            {"inertia": (1, 2, 1), "support": "surface", "support_surface": "p1**2 + p3 - 1"},
+            "homogeneous ball",
+        ),
+        (
+            {"inertia": (1, 1, 1), "support": "surface", "support_surface": "p1**2 - p2**2 + p3"},
+            "not convex",
+        ),
         (
             {"inertia": (1, 1, 1), "contact": "line", "support": "sphere", "support_radius": 2},
             "fixed plane only",
@@ -367,3 +376,57 @@ def test_a_spherical_body_written_as_a_surface_rolls_on_a_sphere_as_the_sphere_r
         assert sp.simplify(theirs[3 + i] + b * rates[3 + i]) == 0
     wrong = rhs(control)
     assert any(sp.simplify(wrong[3 + i] + b * rates[3 + i]) != 0 for i in range(3))
+
+
+@pytest.mark.parametrize("side", ["outside", "inside"])
+def test_a_ball_on_a_spherical_support_surface_moves_as_on_the_sphere_support(side):
+    """Two routes for a homogeneous heavy ball on a fixed sphere of radius R: the support
+    surface F = |p|^2 - R^2 (fixed frame, state omega and the contact point p; M03 section
+    1's derivation with n(p) = s grad F/|grad F|) and the sphere support (body frame, M and
+    gamma, the vertical zeta). With the body axes at the space axes at that instant:
+    omega' is the same, and p' = s' R (gamma' + omega x gamma) (the contact point is R times
+    the normal from the sphere's centre: p = R gamma outside, -R gamma inside). The other
+    side's support model is the control."""
+    R_ = sp.Rational
+    m, b, R, g = R_(13, 10), R_(7, 10), R_(29, 10), R_(49, 5)
+    ball = dict(inertia=("2/5*m*b**2",) * 3, gravity="g")
+    sphere = RollingSystem("on_sphere", support="sphere", support_radius="R", side=side, **ball)
+    shape = "p1**2 + p2**2 + p3**2 - R**2"
+    support = RollingSystem(
+        "on_support", support="surface", support_surface=shape, side=side, **ball
+    ).model()
+    other = "inside" if side == "outside" else "outside"
+    control = RollingSystem(
+        "on_support", support="surface", support_surface=shape, side=other, **ball
+    ).model()
+    body = sphere.model()
+    sign = 1 if side == "outside" else -1
+    gamma = sp.Matrix([R_(2, 7), R_(3, 7), R_(6, 7)])  # from the contact to the centre
+    omega = sp.Matrix([R_(3, 10), R_(-7, 10), R_(11, 10)])
+    ns = {x.name: x for x in (*body.state, *body.params)}
+    at = {ns["m"]: m, ns["b"]: b, ns["R"]: R, ns["g"]: g}
+    at.update({ns[f"gamma{i + 1}"]: gamma[i] for i in range(3)})
+    at.update({ns[f"zeta{i + 1}"]: v for i, v in enumerate((0, 0, 1))})
+    # M = II omega: solve for M at the given omega
+    M = sp.Matrix(body.group("M"))
+    w_of_M = body.expand_aux(body.omega).xreplace(at)
+    at.update(sp.solve(list(w_of_M - omega), list(M), dict=True)[0])
+    rates = body.rhs_expanded.xreplace(at)
+    acceleration = body.expand_aux(body.omega).jacobian(sp.Matrix(body.state)).xreplace(at)
+    acceleration = acceleration * rates
+    g_rate = sp.Matrix(rates[3:6])
+    p_rate = sign * R * (g_rate + omega.cross(gamma))
+
+    def rhs(model):
+        nc = {x.name: x for x in (*model.state, *model.params)}
+        point = {nc["b"]: b, nc["g"]: g}
+        point.update({nc[f"omega{i + 1}"]: omega[i] for i in range(3)})
+        point.update({nc[f"p{i + 1}"]: sign * R * gamma[i] for i in range(3)})
+        return model.rhs_expanded.xreplace(point)
+
+    theirs = rhs(support)
+    for i in range(3):
+        assert sp.simplify(theirs[i] - acceleration[i]) == 0
+        assert sp.simplify(theirs[3 + i] - p_rate[i]) == 0
+    wrong = rhs(control)
+    assert any(sp.simplify(wrong[3 + i] - p_rate[i]) != 0 for i in range(3))

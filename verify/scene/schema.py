@@ -217,7 +217,9 @@ class SystemTable(_Table):
         None, description="radius R of the fixed sphere (support = 'sphere')"
     )
     side: Literal["outside", "inside"] = Field(
-        "outside", description="the body rolls on the outside of the fixed sphere or inside it"
+        "outside",
+        description="the body rolls on the outside of the fixed sphere (support surface) or "
+        "inside it",
     )
     rotation_rate: TypedValue | None = Field(
         None,
@@ -228,6 +230,11 @@ class SystemTable(_Table):
         None,
         description="(V1, V2): the horizontal velocity of a moving plane along the fixed axes "
         "(moving_plane), constants or expressions of t",
+    )
+    support_surface: TypedValue | None = Field(
+        None,
+        description="F(p1, p2, p3) of a fixed support surface F = 0 in the fixed frame (p3 up; "
+        "support = 'surface', a homogeneous ball)",
     )
     positive: list[StrictStr] = Field(default_factory=list)
     description: Annotated[StrictStr, Field(max_length=500)] = ""
