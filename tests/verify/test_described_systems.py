@@ -728,3 +728,22 @@ def test_kane_agrees_with_rubber_rolling_on_a_turntable_and_refutes_the_other_tu
     assert "(omega,gamma)" in relations and "H" not in dict(model.integrals)
     for name, expr in model.integrals:
         assert decide([lie_derivative(expr, model)], Domain(model)).verdict == "proved", name
+
+
+@pytest.mark.slow  # 30 s under load: the normal's square root in every decision
+def test_a_ball_on_an_ellipsoidal_hill_keeps_its_energy_and_the_support_s_level():
+    """A homogeneous heavy ball outside a fixed ellipsoid (support_surface, the contact
+    point p in the fixed frame): the energy and the level of F are proved integrals; the
+    kinetic energy alone (the energy less m g times the centre's height p3 + b nu3) is
+    refuted by the same machinery."""
+    system = RollingSystem(
+        "ball_on_hill", inertia=("2/5*m*(7/10)**2",) * 3, radius="7/10", gravity="49/5",
+        support="surface", support_surface="p1**2/4 + p2**2/(9/4) + p3**2 - 1",
+    )  # fmt: skip
+    model = system.model()
+    assert [n for n, _ in model.integrals] == ["H", "F"]
+    for name, expr in model.integrals:
+        assert decide([lie_derivative(expr, model)], Domain(model)).verdict == "proved", name
+    p3 = model.group("p")[2]
+    kinetic = model.integral("H") - sp.Rational(49, 5) * (p3 + sp.Rational(7, 10) * model.aux[2][0])
+    assert decide([lie_derivative(kinetic, model)], Domain(model)).verdict == "refuted"
