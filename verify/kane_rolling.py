@@ -112,13 +112,22 @@ def kane_compare(
         A value of every parameter (exact: rationals; strings are read exactly).
     momenta : sequence of 3 numbers
         Momentum components; with ``"rubber"`` the third is solved from the invariant
-        relation. Each is paired with each of :data:`RATIONAL_UNIT_VECTORS`.
+        relation. Each is paired with each of :data:`RATIONAL_UNIT_VECTORS`. On a
+        support surface: the angular velocity's (space) components, each paired with
+        each contact point of :data:`~.kane_support.SUPPORT_ANGLES` (the ball's
+        ``omega'`` and ``p'`` compared; ``max_momentum_error`` is 0: no momentum state).
 
     Returns
     -------
     KaneComparison
     """
     pvals = {s: sp.Rational(str(values[s.name])) for s in model.params}
+    tolerance = 10.0 ** -(DIGITS - 10)
+    if system.support == "surface":  # a homogeneous ball on an ellipsoid: omega' and p'
+        from .kane_support import compare_on_support
+
+        count, acc, rate = compare_on_support(system, model, pvals, momenta, DIGITS, _relative)
+        return KaneComparison(count, acc, 0.0, rate, tolerance)  # no momentum state there
     line = "(omega,alpha)" in dict(model.invariant_relations)  # along the fixed line N.x
     key = (system.fingerprint(), line, tuple(sorted((s.name, v) for s, v in pvals.items())))
     kane = _KANE.get(key)

@@ -1,0 +1,182 @@
+"""Kane's cross-check of a homogeneous ball on an ellipsoidal support surface.
+
+The model (:mod:`chaplygin.derive.ball_on_support`) takes the contact point ``p`` as the
+state and the support's normal from the implicit ``grad F``. Here the ball is set up
+again with ``sympy.physics.mechanics.KanesMethod`` from a *parametrisation* of the
+support: for ``F = (p - p0)^T A (p - p0) - s^2`` (``A > 0``) the contact point is ``p =
+p0 + s L^-T e(x, y)`` with ``A = L L^T`` and ``e = (cos x, sin x cos y, sin x sin y)``;
+the centre ``O = p + sigma b nu(p)`` (``sigma = 1`` outside, ``-1`` inside), the
+generalised coordinates the body's 3-2-1 Euler angles and ``x, y``; speeds the space
+components of ``omega`` and ``x', y'``; no slip at the body point ``O - sigma b nu``
+along the two tangents ``dp/dx, dp/dy`` (``x', y'`` dependent); gravity ``-m g N.z`` at
+``O``. At points of the support (40 digits) the model's ``omega'`` and ``p'`` are
+compared with Kane's ``u1', u2', u3'`` and ``(dp/dx) x' + (dp/dy) y'``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import mpmath
+import sympy as sp
+import sympy.physics.mechanics as me
+
+from ..derive.model import Model
+from ..derive.rolling_system import RollingSystem
+from ..derive.vectors import vector
+
+__all__ = ["compare_on_support", "ellipsoid_support"]
+
+#: Where the contact point sits at the comparison points (the angles ``x, y``).
+SUPPORT_ANGLES = (("1.1", "0.7"), ("0.4", "2.3"), ("2.6", "-1.2"), ("1.9", "0.3"))
+
+
+def ellipsoid_support(F: sp.Expr, p: Sequence[sp.Symbol]) -> tuple[sp.Matrix, sp.Matrix, sp.Expr]:
+    """``A``, ``p0`` and ``s^2`` of ``F = (p - p0)^T A (p - p0) - s^2``.
+
+    Parameters
+    ----------
+    F : sympy.Expr
+        A polynomial of degree 2 in ``p`` with numeric coefficients.
+    p : sequence of sympy.Symbol
+
+    Returns
+    -------
+    tuple of (sympy.Matrix, sympy.Matrix, sympy.Expr)
+
+    Raises
+    ------
+    ValueError
+        When ``F`` is not an ellipsoid.
+    """
+    A = sp.hessian(F, list(p)) / 2
+    if A.free_symbols or not A.is_positive_definite:
+        raise ValueError("the Kane comparison takes an ellipsoidal support (A > 0) only")
+    linear = sp.Matrix([sp.diff(F, c) for c in p]).xreplace(dict.fromkeys(p, 0))
+    p0 = -A.inv() * linear / 2
+    s2 = -F.xreplace(dict(zip(p, p0, strict=True)))
+    if not s2 > 0:
+        raise ValueError("the support's quadric is empty")
+    return A, p0, s2
+
+
+class _KaneOnSupport:
+    """Kane's equations of the homogeneous ball on the ellipsoid (parameters substituted)."""
+
+    def __init__(self, system: RollingSystem, pvals: Mapping[sp.Symbol, sp.Expr]) -> None:
+        sub = dict(pvals)
+        parsed = system._parsed
+        q = list(me.dynamicsymbols("q1 q2 q3 x y"))
+        u = list(me.dynamicsymbols("u1 u2 u3 u4 u5"))
+        t = me.dynamicsymbols._t
+        N, B = me.ReferenceFrame("N"), me.ReferenceFrame("B")
+        B.orient_body_fixed(N, tuple(q[:3]), "zyx")
+        w_q = B.ang_vel_in(N)
+        implicit = [w_q.dot(N.x) - u[0], w_q.dot(N.y) - u[1], w_q.dot(N.z) - u[2]]
+        rates = [s.diff(t) for s in q[:3]]
+        solved = sp.solve(implicit, rates, dict=True)[0]
+        kd = [r - sp.simplify(solved[r]) for r in rates]
+        kd += [q[3].diff(t) - u[3], q[4].diff(t) - u[4]]
+        B.set_ang_vel(N, u[0] * N.x + u[1] * N.y + u[2] * N.z)
+        ps = list(vector("p", real=True))
+        F = parsed["support_surface"].xreplace(sub)
+        A, p0, s2 = ellipsoid_support(F, ps)
+        L = A.cholesky(hermitian=False)
+        e = sp.Matrix([sp.cos(q[3]), sp.sin(q[3]) * sp.cos(q[4]), sp.sin(q[3]) * sp.sin(q[4])])
+        p = p0 + sp.sqrt(s2) * L.T.inv() * e
+        grad = A * (p - p0)
+        nu = grad / sp.sqrt(grad.dot(grad))
+        b = parsed["radius"].xreplace(sub)
+        sigma = 1 if system.side == "outside" else -1
+        to_vec = lambda c: c[0] * N.x + c[1] * N.y + c[2] * N.z  # noqa: E731
+        origin = me.Point("origin")
+        origin.set_vel(N, 0)
+        O = origin.locatenew("O", to_vec(p + sigma * b * nu))
+        O.set_vel(N, O.pos_from(origin).dt(N).subs({q[3].diff(t): u[3], q[4].diff(t): u[4]}))
+        P = O.locatenew("P", to_vec(-sigma * b * nu))
+        P.v2pt_theory(O, N, B)
+        tangents = [to_vec(p.diff(q[3])), to_vec(p.diff(q[4]))]
+        constraints = [P.vel(N).dot(tangent) for tangent in tangents]
+        m = parsed["mass"].xreplace(sub)
+        moment = parsed["inertia"][0, 0].xreplace(sub)
+        ball = me.RigidBody("ball", O, B, m, (me.inertia(B, moment, moment, moment), O))
+        loads = [(O, -m * parsed["field"].xreplace(sub) * N.z)]
+        kane = me.KanesMethod(
+            N, q_ind=q, u_ind=u[:3], u_dependent=u[3:], kd_eqs=kd,
+            velocity_constraints=constraints,
+        )  # fmt: skip
+        kane.kanes_equations([ball], loads)
+        dep = sp.solve(constraints, u[3:], dict=True)[0]
+        args = (q, u, t)
+        self._mass = sp.lambdify(args, kane.mass_matrix, modules="mpmath")
+        self._forcing = sp.lambdify(args, kane.forcing, modules="mpmath")
+        self._dep = sp.lambdify(args, sp.Matrix([dep[s] for s in u[3:]]), modules="mpmath")
+        self._p = sp.lambdify(args, p, modules="mpmath")
+        self._p_rate = sp.lambdify(args, p.diff(q[3]) * u[3] + p.diff(q[4]) * u[4], "mpmath")
+        self._order = [str(s.func) for s in kane.u]
+
+    def at(self, angles: Sequence[str], omega: Sequence[sp.Expr]):
+        """The contact point, Kane's ``omega'`` and ``p'`` (space components)."""
+        q = [mpmath.mpf("0.3"), mpmath.mpf("0.2"), mpmath.mpf("-0.4")]
+        q += [mpmath.mpf(a) for a in angles]
+        u = [mpmath.mpf(sp.Float(w, 50)) for w in omega] + [mpmath.mpf(0)] * 2
+        u[3], u[4] = (self._dep(q, u, 0)[i] for i in range(2))
+        solved = mpmath.lu_solve(
+            mpmath.matrix(self._mass(q, u, 0)), mpmath.matrix(self._forcing(q, u, 0))
+        )
+        udot = dict(zip(self._order, solved, strict=True))
+        acc = [udot[f"u{i}"] for i in (1, 2, 3)]
+        contact = self._p(q, u, 0)
+        rate = self._p_rate(q, u, 0)
+        return [contact[i] for i in range(3)], acc, [rate[i] for i in range(3)]
+
+
+def compare_on_support(
+    system: RollingSystem,
+    model: Model,
+    pvals: Mapping[sp.Symbol, sp.Expr],
+    omegas: Sequence[Sequence[object]],
+    digits: int,
+    relative,
+):
+    """``omega'`` and ``p'`` of the model against Kane's at :data:`SUPPORT_ANGLES`.
+
+    Parameters
+    ----------
+    system : RollingSystem
+        With ``support="surface"`` and an ellipsoidal ``support_surface``.
+    model : Model
+    pvals : mapping of sympy.Symbol to sympy.Expr
+        Exact parameter values.
+    omegas : sequence of 3 numbers
+        Angular velocities (space components), each paired with each contact point.
+    digits : int
+        Working digits.
+    relative : callable
+        ``relative(a, b)``: the relative difference of two vectors.
+
+    Returns
+    -------
+    tuple of (int, float, float)
+        Points compared, the largest ``omega'`` and ``p'`` differences.
+    """
+    kane = _KaneOnSupport(system, pvals)
+    omega, p = sp.Matrix(model.group("omega")), sp.Matrix(model.group("p"))
+    rhs = model.rhs_expanded.xreplace(pvals)
+    index = [list(model.state).index(s) for s in (*omega, *p)]
+    worst_acc = worst_rate = 0.0
+    count = 0
+    with mpmath.workdps(digits):
+        for w in omegas:
+            for angles in SUPPORT_ANGLES:
+                contact, acc, rate = kane.at(angles, w)
+                point = dict(zip(omega, w, strict=True))
+                point.update(
+                    (s, sp.Float(mpmath.nstr(c, digits + 5), digits + 5))
+                    for s, c in zip(p, contact, strict=True)
+                )
+                F = [sp.N(rhs[i].xreplace(point), digits + 5) for i in index]
+                worst_acc = max(worst_acc, relative(F[:3], acc))
+                worst_rate = max(worst_rate, relative(F[3:], rate))
+                count += 1
+    return count, worst_acc, worst_rate
