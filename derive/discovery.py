@@ -50,6 +50,7 @@ from .algebra import (
 )
 from .errors import UserInputError
 from .model import Model
+from .sparse_nullspace import annihilates, markowitz_null_vectors
 
 __all__ = [
     "IntegralClass",
@@ -696,89 +697,13 @@ def _block_null_parametric(columns, builder, nx):
     _, pivots = special.transpose().rref()  # rows of the block independent at the point
     polynomial = _sparse(columns, domain.ring.from_dict, domain)
     chosen = _primitive_rows(polynomial, pivots, field_)
-    vectors = _sparse_null_vectors(chosen.rep.to_sdm(), len(columns), field_)
+    vectors = markowitz_null_vectors(chosen.rep.to_sdm(), len(columns), field_)
     if vectors is not None and len(vectors) == len(columns) - r0:
         reduced = DomainMatrix(vectors, (len(vectors), len(columns)), field_).rref()[0]
-        if _annihilates(polynomial, reduced, domain, field_):
+        if annihilates(polynomial, reduced, domain, field_):
             return r0, _as_sympy(reduced, field_)
     matrix = _sparse(columns, exact, field_)
     return matrix.rank(), _as_sympy(_reduced_null(matrix), field_)
-
-
-def _sparse_null_vectors(rows, ncols, field_):
-    """A basis of the null space of a sparse matrix over a field (rows ``{j: entry}``), by
-    Gauss elimination with Markowitz pivots, or None when a row becomes zero.
-
-    Each step takes the pivot that minimises ``(row length - 1) (column count - 1)``
-    (the fill-in bound), the entry with the fewest terms among those: over QQ(parameters)
-    that keeps the fractions small (sympy's ``rref`` takes the first non-zero entry of
-    each column, and its fractions of seven parameters grow past any time bound, the
-    gyrostat at degree 2/2). The rows given are independent at a rational point, so
-    each one gives a pivot (a zero row is reported, never skipped). The null vectors are
-    ``e_j`` for the free columns ``j`` completed by back substitution.
-    """
-    active = [dict(r) for r in rows.values()]
-    done: list[tuple[int, dict]] = []
-    while active:
-        counts: dict = {}
-        for r in active:
-            for j in r:
-                counts[j] = counts.get(j, 0) + 1
-        best = None
-        for i, r in enumerate(active):
-            if not r:
-                return None
-            for j, v in r.items():
-                size = len(field_.numer(v)) + len(field_.denom(v))
-                key = ((len(r) - 1) * (counts[j] - 1), size, i, j)
-                if best is None or key < best:
-                    best = key
-        _, _, i, j = best
-        pivot_row = active.pop(i)
-        inverse = field_.one / pivot_row[j]
-        pivot_row = {k: v * inverse for k, v in pivot_row.items()}
-        for r in active:
-            factor = r.get(j)
-            if factor is None:
-                continue
-            for k, v in pivot_row.items():
-                value = r.get(k, field_.zero) - factor * v
-                if value:
-                    r[k] = value
-                else:
-                    r.pop(k, None)
-        done.append((j, pivot_row))
-    pivot_columns = {j for j, _ in done}
-    vectors = []
-    for free in (j for j in range(ncols) if j not in pivot_columns):
-        v = {free: field_.one}
-        for j, row in reversed(done):
-            value = -sum((c * v[k] for k, c in row.items() if k != j and k in v), field_.zero)
-            if value:
-                v[j] = value
-        vectors.append([v.get(k, field_.zero) for k in range(ncols)])
-    return vectors
-
-
-def _annihilates(polynomial, reduced, domain, field_):
-    """True when every row of ``reduced`` (over QQ(parameters)) is a null vector of the
-    whole block ``polynomial`` (over QQ[parameters]): each row is multiplied by the
-    least common multiple of its denominators and the products are computed exactly."""
-    entries = polynomial.rep.to_sdm()
-    for row in reduced.to_list():
-        common = domain.one
-        for c in row:
-            if c:
-                common = domain.lcm(common, field_.denom(c))
-        vector = {
-            j: domain.exquo(field_.numer(c) * common, field_.denom(c))
-            for j, c in enumerate(row)
-            if c
-        }
-        for line in entries.values():
-            if sum((c * vector[j] for j, c in line.items() if j in vector), domain.zero):
-                return False
-    return True
 
 
 def _primitive_rows(matrix, rows, field_):

@@ -226,7 +226,7 @@ def test_parametric_null_space_matches_sympys_on_a_small_block():
     """The Markowitz elimination over QQ(parameters), checked against sympy's own
     ``Matrix.nullspace`` (an independent route) on a 3 x 5 block of rank 3 with entries
     polynomial in two parameters; and a block whose rows are dependent is refused (None)."""
-    from chaplygin.derive.discovery import _sparse_null_vectors
+    from chaplygin.derive.sparse_nullspace import markowitz_null_vectors
     from sympy.polys.domains import QQ
 
     p, q = sp.symbols("p q")
@@ -242,11 +242,11 @@ def test_parametric_null_space_matches_sympys_on_a_small_block():
         i: {j: field_.from_sympy(rows[i, j]) for j in range(5) if rows[i, j] != 0}
         for i in range(3)
     }
-    vectors = _sparse_null_vectors(sdm, 5, field_)
+    vectors = markowitz_null_vectors(sdm, 5, field_)
     assert vectors is not None and len(vectors) == 2
     mine = sp.Matrix([[field_.to_sympy(c) for c in v] for v in vectors])
     reference = sp.Matrix.hstack(*rows.nullspace()).T
     assert (rows * mine.T).applyfunc(sp.cancel).is_zero_matrix
     assert mine.rank() == 2 and sp.Matrix.vstack(mine, reference).rank(simplify=True) == 2
     dependent = {0: dict(sdm[0]), 1: {j: 2 * c for j, c in sdm[0].items()}}
-    assert _sparse_null_vectors(dependent, 5, field_) is None
+    assert markowitz_null_vectors(dependent, 5, field_) is None
