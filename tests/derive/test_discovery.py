@@ -186,9 +186,9 @@ def test_rubber_ball_in_omega_finds_its_energy_and_quadratic_integral():
         model, 2, coefficient_degree=2, momentum="omega", in_parameters=True
     )
     assert found.dimension == 2 and found.rank == found.unknowns - 2
-    w, g = sp.symbols("omega1:4"), sp.symbols("gamma1:4")
-    inertia, D = sp.symbols("I1:4"), sp.Symbol("D")
-    assert tuple(model.omega) == w and tuple(model.group("gamma")) == g
+    w, g = tuple(model.omega), tuple(model.group("gamma"))
+    p = {s.name: s for s in model.params}
+    inertia, D = (p["I1"], p["I2"], p["I3"]), p["D"]
     M = _ball_momentum(w, g, inertia, D)
     J = sp.diag(*(i + D for i in inertia))
     wv, gv = sp.Matrix(w), sp.Matrix(g)
@@ -210,8 +210,10 @@ def test_gyrostat_in_omega_finds_markeevs_integrals():
         model, 2, coefficient_degree=2, momentum="omega", in_parameters=True
     )
     assert (found.unknowns, found.dimension, found.rank) == (89, 4, 85)
-    w, g = sp.symbols("omega1:4"), sp.symbols("gamma1:4")
-    inertia, D, Kv = sp.symbols("I1:4"), sp.Symbol("D"), sp.Matrix(sp.symbols("K1:4"))
+    w, g = tuple(model.omega), tuple(model.group("gamma"))
+    p = {s.name: s for s in model.params}
+    inertia, D = (p["I1"], p["I2"], p["I3"]), p["D"]
+    Kv = sp.Matrix([p["K1"], p["K2"], p["K3"]])
     M = _ball_momentum(w, g, inertia, D)
     gv = sp.Matrix(g)
     C = (M + Kv).dot(gv)
