@@ -10,10 +10,13 @@ terms keep them small. The vectors found are checked exactly against every row o
 
 from __future__ import annotations
 
+from sympy.polys.domains import Domain
+from sympy.polys.matrices import DomainMatrix
+
 __all__ = ["markowitz_null_vectors", "annihilates"]
 
 
-def markowitz_null_vectors(rows: dict, ncols: int, field_) -> list[list] | None:
+def markowitz_null_vectors(rows: dict, ncols: int, field_: Domain) -> list[list] | None:
     """A basis of the null space of a sparse matrix over a field (rows ``{j: entry}``), by
     Gauss elimination with Markowitz pivots, or None when a row becomes zero.
 
@@ -83,7 +86,9 @@ def markowitz_null_vectors(rows: dict, ncols: int, field_) -> list[list] | None:
     return vectors
 
 
-def annihilates(polynomial, reduced, domain, field_) -> bool:
+def annihilates(
+    polynomial: DomainMatrix, reduced: DomainMatrix, domain: Domain, field_: Domain
+) -> bool:
     """True when every row of ``reduced`` (over QQ(parameters)) is a null vector of the
     whole block ``polynomial`` (over QQ[parameters]): each row is multiplied by the
     least common multiple of its denominators and the products are computed exactly.
