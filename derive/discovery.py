@@ -672,9 +672,12 @@ def _block_null_parametric(columns, builder, nx):
     At a rational point ``p0`` the rank ``r0`` is computed over QQ: the generic rank is
     at least ``r0`` (a non-zero minor at ``p0`` is a non-zero polynomial). Full rank
     there proves the block has no solution. Else ``r0`` rows independent at ``p0`` are
-    solved over QQ(parameters), and every vector of their null space is checked against
-    the whole block exactly: when all pass, the null space is exact and the rank is
-    ``r0``; if one fails (an unlucky point) the whole block is solved over QQ(parameters).
+    solved over QQ(parameters) (Gauss elimination with Markowitz pivots,
+    :func:`.sparse_nullspace.markowitz_null_vectors`), and every vector of their null
+    space is checked against the whole block exactly over QQ[parameters]: when all
+    ``n - r0`` pass, the null space has dimension at least ``n - r0`` and at most
+    ``n - r0`` (the rank at the point), so it is exact and the rank is ``r0``; otherwise
+    (an unlucky point) the whole block is solved over QQ(parameters).
     """
     import random
 
