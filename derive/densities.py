@@ -26,8 +26,8 @@ alone, on a level set of an invariant relation), but ``f`` is written on the amb
 The models' ``f`` keeps every level set of the constraint functions ``c`` (``(gamma,
 gamma)``, the orthonormality of the frame: identically, off the manifold too) and of the
 invariant relations ``r`` (``d r/dt = 0`` on the whole phase space: the claims
-``BKM12-3rub.constraint`` and ``BKM12-57.constraint``; for the rubber ball on a line, with
-both relations, no claim states it yet). For a flow with that property,
+``BKM12-3rub.constraint``, ``BKM12-57.constraint`` and, for the rubber ball on a line with
+both relations, ``BKM12-3rub57.constraint``). For a flow with that property,
 ``L_f(rho dV) = L_f(nu) ^ dc ^ dr`` where ``nu = rho dV / (dc dr)`` is the measure induced on
 the level set; so the ambient residual vanishes on the phase space exactly when the induced
 measure ``rho dV / (dc dr)`` is invariant there, whatever the extension off it. That is the

@@ -42,9 +42,15 @@ import sympy as sp
 from sympy.polys.domains import QQ
 from sympy.polys.matrices import DomainMatrix
 
-from .algebra import RationalFunctionBuilder, UnsupportedExpression, ring_normal_form
+from .algebra import (
+    RationalFunctionBuilder,
+    UnsupportedExpression,
+    exact_quotient,
+    ring_normal_form,
+)
 from .errors import UserInputError
 from .model import Model
+from .sparse_nullspace import annihilates, markowitz_null_vectors
 
 __all__ = [
     "IntegralClass",
@@ -446,17 +452,45 @@ def _check_ideal(ideal: Sequence[sp.Expr], x: Sequence[sp.Symbol], model: Model)
 
 
 def _common_numerators(velocity, builder, ideal, model):
-    """Numerators ``P_k`` of ``x_k' = P_k/Q`` over one common denominator ``Q``.
+    """Numerators ``P_k`` of ``x_k' = P_k/Q`` over one common denominator ``Q``, made small.
 
     Every factor of ``Q`` must be non-zero on the phase space (its normal form is not
-    zero), else multiplying by ``Q`` would make any function an integral.
+    zero), else multiplying by ``Q`` would make any function an integral. Two changes
+    leave the system's solutions as they are and shrink it (the rubber ball's numerators
+    in ``omega``: 26522 terms of degree 10 in the state before, a few hundred after):
+
+    - each ``P_k`` is replaced by its normal form modulo the ideal: ``sum_k db/dx_k P_k``
+      changes by an element of the ideal, so its normal form does not change;
+    - a factor of ``Q`` free of the state (a polynomial in the parameters, such as
+      ``(D + I1)^4``) is divided out of all ``P_k`` as often as it divides every one of
+      them exactly: every equation is multiplied by the same non-zero polynomial of the
+      parameters (the ideal is free of them, so ``NF(c p) = c NF(p)``), which changes
+      no rank over QQ(parameters) and, over QQ, no solution (QQ[parameters] has no
+      zero divisors).
     """
-    return _common_fraction(velocity, builder, ideal, model)[0]
+    numerators, _, factors = _fraction_parts(velocity, builder, ideal, model)
+    numerators = [ring_normal_form(p, ideal, builder) for p in numerators]
+    nx = len(builder.gens) - len(model.params)
+    for f, k in factors.items():
+        if any(sum(m[:nx]) for m in f.itermonoms()):
+            continue
+        for _ in range(k):
+            quotients = [exact_quotient(p, f) for p in numerators]
+            if any(q is None for q in quotients):
+                break
+            numerators = quotients
+    return numerators
 
 
 def _common_fraction(velocity, builder, ideal, model):
     """``([P_k], Q)``: the vector field ``x_k' = P_k/Q`` over one common denominator ``Q``
     (ring elements), each factor of ``Q`` checked non-zero on the phase space."""
+    numerators, common, _ = _fraction_parts(velocity, builder, ideal, model)
+    return numerators, common
+
+
+def _fraction_parts(velocity, builder, ideal, model):
+    """``([P_k], Q, {factor: power of Q})``, see :func:`_common_fraction`."""
     try:
         parts = [builder.convert(sp.sympify(v)) for v in velocity]
     except (UnsupportedExpression, ZeroDivisionError) as exc:
@@ -484,7 +518,7 @@ def _common_fraction(velocity, builder, ideal, model):
     common = builder.ring.one
     for f, k in den.items():
         common = common * f**k
-    return out, common
+    return out, common, den
 
 
 def _ansatz_basis(coords, degree, coefficient_degree, builder, ideal, constants=False):
@@ -638,9 +672,12 @@ def _block_null_parametric(columns, builder, nx):
     At a rational point ``p0`` the rank ``r0`` is computed over QQ: the generic rank is
     at least ``r0`` (a non-zero minor at ``p0`` is a non-zero polynomial). Full rank
     there proves the block has no solution. Else ``r0`` rows independent at ``p0`` are
-    solved over QQ(parameters), and every vector of their null space is checked against
-    the whole block exactly: when all pass, the null space is exact and the rank is
-    ``r0``; if one fails (an unlucky point) the whole block is solved over QQ(parameters).
+    solved over QQ(parameters) (Gauss elimination with Markowitz pivots,
+    :func:`.sparse_nullspace.markowitz_null_vectors`), and every vector of their null
+    space is checked against the whole block exactly over QQ[parameters]: when all
+    ``n - r0`` pass, the null space has dimension at least ``n - r0`` and at most
+    ``n - r0`` (the rank at the point), so it is exact and the rank is ``r0``; otherwise
+    (an unlucky point) the whole block is solved over QQ(parameters).
     """
     import random
 
@@ -660,12 +697,15 @@ def _block_null_parametric(columns, builder, nx):
     def exact(coeffs):
         return field_.convert_from(domain.ring.from_dict(coeffs), domain)
 
-    matrix = _sparse(columns, exact, field_)
     _, pivots = special.transpose().rref()  # rows of the block independent at the point
-    chosen = _primitive_rows(_sparse(columns, domain.ring.from_dict, domain), pivots, field_)
-    reduced = _reduced_null(chosen)
-    if reduced is not None and (matrix.to_dense() * reduced.to_dense().transpose()).is_zero_matrix:
-        return r0, _as_sympy(reduced, field_)
+    polynomial = _sparse(columns, domain.ring.from_dict, domain)
+    chosen = _primitive_rows(polynomial, pivots, field_)
+    vectors = markowitz_null_vectors(chosen.rep.to_sdm(), len(columns), field_)
+    if vectors is not None and len(vectors) == len(columns) - r0:
+        reduced = DomainMatrix(vectors, (len(vectors), len(columns)), field_).rref()[0]
+        if annihilates(polynomial, reduced, domain, field_):
+            return r0, _as_sympy(reduced, field_)
+    matrix = _sparse(columns, exact, field_)
     return matrix.rank(), _as_sympy(_reduced_null(matrix), field_)
 
 

@@ -22,6 +22,7 @@ BKM12-1..7, K01-2.1..2.6, K01-4.1, K01-4.2, BM20-2.2..2.7.
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import sympy as sp
@@ -441,9 +442,20 @@ def _eliminate_multipliers(
     # satisfies Liouville's equation (no twist: rho ~ (gamma, A gamma)^(1/2) /
     # (D^-1 - (gamma, A gamma)); proved by the claims MODEL:...density), so
     # rho dM dgamma / d(C omega) is invariant. With two such constraints (no twist and
-    # the line) the proof does not finish in reasonable time: no density is shipped.
+    # the line) it is (D^-1 - (gamma, A gamma))^-1, the density chaplygin discover finds,
+    # times the square root of a first integral (claims BKM12-3rub57.*).
     C = red.omega_constraints
-    if C.shape[0] != 1 or X is None:
+    if X is None:
         return mu_aux, None
-    S = (C * apply_inverse(C.T))[0, 0]
+    if C.shape[0] == 1:
+        S = (C * apply_inverse(C.T))[0, 0]
+    else:  # Leibniz's sum: Matrix.det simplifies its products (minutes for two rows)
+        gram = C * sp.Matrix.hstack(*(apply_inverse(C[i, :].T) for i in range(C.shape[0])))
+        S = sp.Add(
+            *(
+                (-1) ** sum(a > b for a, b in itertools.combinations(p, 2))
+                * sp.Mul(*(gram[i, j] for i, j in enumerate(p)))
+                for p in itertools.permutations(range(gram.shape[0]))
+            )
+        )
     return mu_aux, sp.sqrt(sp.together(S)) * X.det() ** sp.Rational(-1, 2)

@@ -94,10 +94,29 @@ def test_a_state_off_the_relation_is_refused_with_the_nearest_admissible_momentu
     assert r.success
 
 
-def test_the_rubber_ball_on_a_line_has_two_multipliers_and_no_density():
+def test_the_rubber_ball_on_a_line_has_two_multipliers_and_the_density_found():
+    """The shipped density is (D^-1 - (gamma, A gamma))^-1 (the find, claim
+    BKM12-3rub57.measure) times the root of (gamma x alpha, J gamma x alpha): the ratio
+    rho^2 (D^-1 - (gamma, A gamma))^2 / (gamma x alpha, J gamma x alpha) takes the same value
+    at two orthonormal pairs (gamma, alpha), exact rationals (the symbolic identity is the
+    claim BKM12-3rub57.shipped-density)."""
     model = build_model(BALL, ["rubber", "straight_line"])
     assert [s.name for s in model.aux_symbols if s.name.startswith("mu")] == ["mu1", "mu2"]
-    assert model.density is None
+    rho = model.expand_aux(model.density)
+    p = {s.name: s for s in model.params}
+    values = {p["I1"]: sp.Rational(3, 2), p["I2"]: sp.Rational(5, 3), p["I3"]: sp.Rational(7, 4)}
+    values[p["D"]] = sp.Rational(2, 5)
+    J = sp.diag(*(values[p[f"I{i}"]] + values[p["D"]] for i in (1, 2, 3)))
+    ratios = []
+    for g, a in (((2, 1, 2), (1, 2, -2)), ((2, 3, 6), (3, -6, 2))):
+        n = 3 if g[0] == 2 and g[1] == 1 else 7
+        gv, av = sp.Matrix(g) / n, sp.Matrix(a) / n
+        at = dict(zip((*model.group("gamma"), *model.group("alpha")), (*gv, *av), strict=True))
+        found = 1 / (1 / values[p["D"]] - (gv.T * J.inv() * gv)[0, 0])
+        g_x_a = gv.cross(av)
+        value = sp.simplify(rho.xreplace({**values, **at}) ** 2)
+        ratios.append(sp.simplify(value / (found**2 * (g_x_a.T * J * g_x_a)[0, 0])))
+    assert ratios[0] == ratios[1] and ratios[0] > 0
     names = [n for n, _ in model.integrals]
     assert {"(omega,gamma)", "(omega,alpha)", "(M,beta)"} <= set(names)
     assert "(M,gamma)" not in names and "(M,alpha)" not in names

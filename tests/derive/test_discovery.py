@@ -150,3 +150,105 @@ def test_time_dependent_models_are_refused():
     model = build_model("chaplygin_ball", ["variable_inertia"])
     with pytest.raises(UserInputError, match="autonomous"):
         find_polynomial_integrals(model, 1)
+
+
+def _in_span_modulo(target, basis, gens, ideal):
+    """``_in_span`` modulo several generators (a Groebner basis computed here by sympy)."""
+    a = sp.symbols(f"a0:{len(basis) + 1}")
+    combo = target - a[0] - sum((ai * b for ai, b in zip(a[1:], basis, strict=True)), sp.S.Zero)
+    groebner = sp.groebner(ideal, *gens, order="grevlex")
+    _, nf = sp.reduced(sp.expand(combo), list(groebner.exprs), *gens, order="grevlex")
+    equations = sp.Poly(sp.expand(nf), *gens).coeffs() if nf != 0 else []
+    return bool(equations == [] or sp.linsolve(equations, *a) != sp.EmptySet)
+
+
+def _same_span(found, references, gens, ideal):
+    """Span equality modulo constants and the ideal, both ways."""
+    return all(_in_span_modulo(r, found, gens, ideal) for r in references) and all(
+        _in_span_modulo(f, references, gens, ideal) for f in found
+    )
+
+
+def _ball_momentum(omega, gamma, inertia, D):
+    """M = I omega + D gamma x (omega x gamma) (BKM12-1, K01-2.1), written here."""
+    w, g = sp.Matrix(omega), sp.Matrix(gamma)
+    return sp.diag(*inertia) * w + D * g.cross(w.cross(g))
+
+
+@pytest.mark.expensive
+def test_rubber_ball_in_omega_finds_its_energy_and_quadratic_integral():
+    """Degree <= 2 in omega, coefficients of degree <= 2 in gamma, in QQ(I, D), modulo
+    (gamma, gamma) = 1 and (omega, gamma) = 0: exactly H = (M, omega)/2 and (K, K) with
+    K = (J - gamma ⊗ J gamma) omega, J = I + D Id (BKM12 §3, the rubber ball; the claims
+    BKM12-3rub.H, BKM12-3rub.K, BKM12-3rub.KK), dimension 2 (about 20 s)."""
+    model = build_model("chaplygin_ball", ["rubber"])
+    found = find_polynomial_integrals(
+        model, 2, coefficient_degree=2, momentum="omega", in_parameters=True
+    )
+    assert found.dimension == 2 and found.rank == found.unknowns - 2
+    w, g = tuple(model.omega), tuple(model.group("gamma"))
+    p = {s.name: s for s in model.params}
+    inertia, D = (p["I1"], p["I2"], p["I3"]), p["D"]
+    M = _ball_momentum(w, g, inertia, D)
+    J = sp.diag(*(i + D for i in inertia))
+    wv, gv = sp.Matrix(w), sp.Matrix(g)
+    K = J * wv - gv * (J * gv).dot(wv)
+    references = [sp.expand(M.dot(wv) / 2), sp.expand(K.dot(K))]
+    ideal = [gv.dot(gv) - 1, gv.dot(wv)]
+    assert _same_span(list(found.integrals), references, (*w, *g), ideal)
+    # (M, M), an integral of the ball without the no-twist constraint, is not in the span
+    assert not _in_span_modulo(sp.expand(M.dot(M)), list(found.integrals), (*w, *g), ideal)
+
+
+@pytest.mark.expensive
+def test_gyrostat_in_omega_finds_markeevs_integrals():
+    """Degree <= 2 in omega, coefficients of degree <= 2 in gamma, in QQ(I, D, K): the span
+    of K01-4.2's h = (M, omega)/2, n = (M + K, M + K), C = (M + K, gamma) and C^2,
+    dimension 4; the rank (85 of 89) proves there is no other (about a minute)."""
+    model = build_model("chaplygin_ball", ["gyrostat"])
+    found = find_polynomial_integrals(
+        model, 2, coefficient_degree=2, momentum="omega", in_parameters=True
+    )
+    assert (found.unknowns, found.dimension, found.rank) == (89, 4, 85)
+    w, g = tuple(model.omega), tuple(model.group("gamma"))
+    p = {s.name: s for s in model.params}
+    inertia, D = (p["I1"], p["I2"], p["I3"]), p["D"]
+    Kv = sp.Matrix([p["K1"], p["K2"], p["K3"]])
+    M = _ball_momentum(w, g, inertia, D)
+    gv = sp.Matrix(g)
+    C = (M + Kv).dot(gv)
+    references = [sp.expand(e) for e in (M.dot(sp.Matrix(w)) / 2, (M + Kv).dot(M + Kv), C, C**2)]
+    assert _same_span(list(found.integrals), references, (*w, *g), [gv.dot(gv) - 1])
+    # (M, M) (the integral without the rotor) is not in the span
+    assert not _in_span_modulo(sp.expand(M.dot(M)), list(found.integrals), (*w, *g),
+                               [gv.dot(gv) - 1])  # fmt: skip
+
+
+def test_parametric_null_space_matches_sympys_on_a_small_block():
+    """The Markowitz elimination over QQ(parameters), checked against sympy's own
+    ``Matrix.nullspace`` (an independent route) on a 3 x 5 block of rank 3 with entries
+    polynomial in two parameters; and a block whose rows are dependent is refused (None)."""
+    from chaplygin.derive.sparse_nullspace import markowitz_null_vectors
+    from sympy.polys.domains import QQ
+
+    p, q = sp.symbols("p q")
+    rows = sp.Matrix(
+        [
+            [p, 1, 0, q + 2, 0],
+            [0, q, p**2 - 3, 0, 1],
+            [1, 0, p * q, 5, sp.Rational(2, 7)],
+        ]
+    )
+    field_ = QQ.frac_field(p, q)
+    sdm = {
+        i: {j: field_.from_sympy(rows[i, j]) for j in range(5) if rows[i, j] != 0}
+        for i in range(3)
+    }
+    vectors = markowitz_null_vectors(sdm, 5, field_)
+    assert vectors is not None and len(vectors) == 2
+    mine = sp.Matrix([[field_.to_sympy(c) for c in v] for v in vectors])
+    reference = sp.Matrix.hstack(*rows.nullspace()).T
+    assert (rows * mine.T).applyfunc(sp.cancel).is_zero_matrix
+    assert mine.rank() == 2 and sp.Matrix.vstack(mine, reference).rank(simplify=True) == 2
+    dependent = {0: dict(sdm[0]), 1: {j: 2 * c for j, c in sdm[0].items()}}
+    assert markowitz_null_vectors(dependent, 5, field_) is None

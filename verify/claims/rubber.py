@@ -23,6 +23,7 @@ from .notation import ball_notation
 BALL = "chaplygin_ball"
 RUBBER = ("rubber",)
 LINE = ("straight_line",)
+RUBBER_LINE = ("rubber", "straight_line")
 
 
 def _omega(model: Model) -> sp.Matrix:
@@ -133,6 +134,47 @@ def _rubber_density(kind: str):
         return Check([measure_residual(rho, model)])
 
     return build
+
+
+# ------------------------------------------------- the rubber ball along a straight line
+def _rubber_line_constraints(model: Model) -> Check:
+    """Both multipliers eliminated, the flow keeps ``(omega, gamma)`` and ``(omega, alpha)``
+    constant everywhere (identically, not only on their zero levels)."""
+    n = ball_notation(model)
+    return Check(
+        [lie_derivative(dot(n.omega, v), model) for v in (n.gamma, n.alpha)], everywhere=True
+    )
+
+
+def _rubber_line_density(power: sp.Rational):
+    """``(D^-1 - (gamma, A gamma))^power``: ``-1`` is the density ``chaplygin discover
+    --densities`` finds for the rubber ball on a line; ``-1/2`` (the plain ball's) is the
+    negative control."""
+
+    def build(model: Model) -> Check:
+        n = ball_notation(model)
+        return Check([measure_residual((1 / n.D - dot(n.gamma, n.A * n.gamma)) ** power, model)])
+
+    return build
+
+
+def _rubber_line_shipped_density(model: Model) -> Check:
+    """The model's density is the find times the square root of ``det(J) (gamma x alpha,
+    J gamma x alpha)``, a first integral: ``rho^2 (D^-1 - (gamma, A gamma))^2 / (gamma x alpha,
+    J gamma x alpha)`` is a constant on the phase space and that quadratic form's rate vanishes
+    there (the constant is the ratio's value at one point of the phase space)."""
+    n = ball_notation(model)
+    found = 1 / (1 / n.D - dot(n.gamma, n.A * n.gamma))
+    g_x_a = cross(n.gamma, n.alpha)
+    form = dot(g_x_a, n.J * g_x_a)
+    rho = model.expand_aux(model.density)
+    ratio = sp.together(rho**2 / (found**2 * form))
+    # its value at gamma = e3, alpha = e1 (the density is free of M and beta)
+    at = dict(zip((*n.gamma, *n.alpha), (0, 0, 1, 1, 0, 0), strict=True))
+    if rho.free_symbols & (set(model.state) - set(at)):
+        raise ValueError("the model's density depends on more than gamma and alpha")
+    constant = sp.factor(sp.cancel(ratio.xreplace(at)))
+    return Check([lie_derivative(form, model), ratio - constant])
 
 
 # ---------------------------------------------------- the ball along a straight line
@@ -337,6 +379,54 @@ register(
         system=BALL,
         effects=RUBBER,
         build=_rubber_density("chaplygin"),
+        expected="fails",
+    ),
+    # ------------------------------------------ the rubber ball along a straight line
+    Claim(
+        id="BKM12-3rub57.constraint",
+        source="BKM12 §3 (rubber ball along a straight line)",
+        kind="equation",
+        statement="with both multipliers eliminated the flow keeps (omega, gamma) and (omega, "
+        "alpha) constant on the whole phase space, so their common zero level is invariant and "
+        "an ambient density that satisfies Liouville's equation there is the density of an "
+        "invariant measure rho dM dgamma dalpha dbeta / (d(omega, gamma) d(omega, alpha))",
+        system=BALL,
+        effects=RUBBER_LINE,
+        build=_rubber_line_constraints,
+        note="constraints v + omega x r = 0, (omega, gamma) = 0, (omega, alpha) = 0",
+    ),
+    Claim(
+        id="BKM12-3rub57.measure",
+        source="BKM12 §3 (rubber ball along a straight line); found by chaplygin discover",
+        kind="measure",
+        statement="rho = (D^-1 - (gamma, A gamma))^-1 satisfies Liouville's equation on "
+        "(omega, gamma) = (omega, alpha) = 0 (the density chaplygin discover --densities finds "
+        "in the family of the vector field's denominator factors; BKM12 leaves it open)",
+        system=BALL,
+        effects=RUBBER_LINE,
+        build=_rubber_line_density(sp.Integer(-1)),
+        note="invariant with BKM12-3rub57.constraint (the level-set property)",
+    ),
+    Claim(
+        id="BKM12-3rub57.shipped-density",
+        source="BKM12 §3 (rubber ball along a straight line)",
+        kind="measure",
+        statement="the model's density det(C II^-1 C^T)^(1/2) det(X)^(-1/2) (C = (gamma; "
+        "alpha)) is the found one times (gamma x alpha, J gamma x alpha)^(1/2), and that "
+        "quadratic form is a first integral: the shipped density is invariant too",
+        system=BALL,
+        effects=RUBBER_LINE,
+        build=_rubber_line_shipped_density,
+    ),
+    Claim(
+        id="BKM12-3rub57/control-measure",
+        source="negative control",
+        kind="measure",
+        statement="the plain ball's density (D^-1 - (gamma, A gamma))^-1/2 is invariant for the "
+        "rubber ball along a line (false: the exponent is -1)",
+        system=BALL,
+        effects=RUBBER_LINE,
+        build=_rubber_line_density(sp.Rational(-1, 2)),
         expected="fails",
     ),
     # -------------------------------------------------- the ball along a straight line
