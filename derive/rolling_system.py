@@ -535,7 +535,7 @@ def _read_support_surface(s: RollingSystem, scope: dict, parsed: dict) -> sp.Exp
         and not inertia.has(sp.Symbol("t", real=True))
         and parsed["centre"].is_zero_matrix
         and parsed["rotor_momentum"].is_zero_matrix
-        and parsed["potential"] == 0
+        and parsed["potential"].is_zero
         and s.surface is None
         and s.contact == "rolling"
     )
