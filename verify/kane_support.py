@@ -27,6 +27,9 @@ from ..derive.vectors import vector
 
 __all__ = ["compare_on_support", "ellipsoid_support"]
 
+#: Kane's equations formed, by (description fingerprint, parameter values).
+_FORMED: dict = {}
+
 #: Where the contact point sits at the comparison points (the angles ``x, y``).
 SUPPORT_ANGLES = (("1.1", "0.7"), ("0.4", "2.3"), ("2.6", "-1.2"), ("1.9", "0.3"))
 
@@ -64,8 +67,9 @@ class _KaneOnSupport:
     """Kane's equations of the homogeneous ball on the ellipsoid (parameters substituted)."""
 
     def __init__(self, system: RollingSystem, pvals: Mapping[sp.Symbol, sp.Expr]) -> None:
-        sub = dict(pvals)
         parsed = system._parsed
+        # a mass the model dropped (I = k m b^2: the equations do not depend on it) is 1
+        sub = {**dict.fromkeys(parsed["mass"].free_symbols, sp.S.One), **dict(pvals)}
         q = list(me.dynamicsymbols("q1 q2 q3 x y"))
         u = list(me.dynamicsymbols("u1 u2 u3 u4 u5"))
         t = me.dynamicsymbols._t
@@ -106,11 +110,13 @@ class _KaneOnSupport:
             velocity_constraints=constraints,
         )  # fmt: skip
         kane.kanes_equations([ball], loads)
-        dep = sp.solve(constraints, u[3:], dict=True)[0]
+        # the dependent speeds: linear in them, solved numerically at each point
+        C = sp.Matrix(constraints)
         args = (q, u, t)
+        self._dep_matrix = sp.lambdify(args, C.jacobian(u[3:]), modules="mpmath")
+        self._dep_rhs = sp.lambdify(args, -C.xreplace(dict.fromkeys(u[3:], 0)), modules="mpmath")
         self._mass = sp.lambdify(args, kane.mass_matrix, modules="mpmath")
         self._forcing = sp.lambdify(args, kane.forcing, modules="mpmath")
-        self._dep = sp.lambdify(args, sp.Matrix([dep[s] for s in u[3:]]), modules="mpmath")
         self._p = sp.lambdify(args, p, modules="mpmath")
         self._p_rate = sp.lambdify(args, p.diff(q[3]) * u[3] + p.diff(q[4]) * u[4], "mpmath")
         self._order = [str(s.func) for s in kane.u]
@@ -120,7 +126,10 @@ class _KaneOnSupport:
         q = [mpmath.mpf("0.3"), mpmath.mpf("0.2"), mpmath.mpf("-0.4")]
         q += [mpmath.mpf(a) for a in angles]
         u = [mpmath.mpf(sp.Float(w, 50)) for w in omega] + [mpmath.mpf(0)] * 2
-        u[3], u[4] = (self._dep(q, u, 0)[i] for i in range(2))
+        dep = mpmath.lu_solve(
+            mpmath.matrix(self._dep_matrix(q, u, 0)), mpmath.matrix(self._dep_rhs(q, u, 0))
+        )
+        u[3], u[4] = dep[0], dep[1]
         solved = mpmath.lu_solve(
             mpmath.matrix(self._mass(q, u, 0)), mpmath.matrix(self._forcing(q, u, 0))
         )
@@ -160,22 +169,28 @@ def compare_on_support(
     tuple of (int, float, float)
         Points compared, the largest ``omega'`` and ``p'`` differences.
     """
-    kane = _KaneOnSupport(system, pvals)
+    key = (system.fingerprint(), tuple(sorted((s.name, v) for s, v in pvals.items())))
+    kane = _FORMED.get(key)
+    if kane is None:  # forming Kane's equations is the cost: once per system and values
+        kane = _FORMED[key] = _KaneOnSupport(system, pvals)
     omega, p = sp.Matrix(model.group("omega")), sp.Matrix(model.group("p"))
-    rhs = model.rhs_expanded.xreplace(pvals)
     index = [list(model.state).index(s) for s in (*omega, *p)]
+
+    def field(w, contact):  # the model's rates: its auxiliary definitions in order
+        values = {**pvals, **dict(zip(omega, w, strict=True))}
+        values.update((s, sp.Float(mpmath.nstr(c, digits + 5), digits + 5)) for s, c in
+                      zip(p, contact, strict=True))  # fmt: skip
+        for symbol, expr in model.aux:
+            values[symbol] = sp.N(expr.xreplace(values), digits + 5)
+        return [sp.N(model.rhs[i].xreplace(values), digits + 5) for i in index]
+
     worst_acc = worst_rate = 0.0
     count = 0
     with mpmath.workdps(digits):
         for w in omegas:
             for angles in SUPPORT_ANGLES:
                 contact, acc, rate = kane.at(angles, w)
-                point = dict(zip(omega, w, strict=True))
-                point.update(
-                    (s, sp.Float(mpmath.nstr(c, digits + 5), digits + 5))
-                    for s, c in zip(p, contact, strict=True)
-                )
-                F = [sp.N(rhs[i].xreplace(point), digits + 5) for i in index]
+                F = field(w, contact)
                 worst_acc = max(worst_acc, relative(F[:3], acc))
                 worst_rate = max(worst_rate, relative(F[3:], rate))
                 count += 1

@@ -304,7 +304,8 @@ def _shipped(model: Model, name: str, file_name: str) -> list[Claim]:
 
 def kane_covers(system: RollingSystem) -> bool:
     """Whether :mod:`.kane_rolling` sets the system up: a spherical body, or an ellipsoid
-    (its contact point in closed form); a general convex surface has an implicit one.
+    (its contact point in closed form); a general convex surface has an implicit one. A
+    ball on a support surface: when the support is an ellipsoid (:mod:`.kane_support`).
 
     Parameters
     ----------
@@ -315,7 +316,17 @@ def kane_covers(system: RollingSystem) -> bool:
     bool
     """
     from .kane_rolling import quadric_contact
+    from .kane_support import ellipsoid_support
 
+    support = system._parsed["support_surface"]
+    if support is not None:  # a homogeneous ball on a support: an ellipsoid's parametrisation
+        values = {s: sp.Rational(7 + 4 * i, 5 + 3 * i) for i, s in enumerate(support.free_symbols)}
+        values = {s: v for s, v in values.items() if s.name not in ("p1", "p2", "p3")}
+        try:
+            ellipsoid_support(support.xreplace(values), sp.symbols("p1:4", real=True))
+        except ValueError:
+            return False
+        return True
     surface = system._parsed["surface"]
     if surface is None:
         return True

@@ -747,3 +747,29 @@ def test_a_ball_on_an_ellipsoidal_hill_keeps_its_energy_and_the_support_s_level(
     p3 = model.group("p")[2]
     kinetic = model.integral("H") - sp.Rational(49, 5) * (p3 + sp.Rational(7, 10) * model.aux[2][0])
     assert decide([lie_derivative(kinetic, model)], Domain(model)).verdict == "refuted"
+
+
+@pytest.mark.slow
+def test_kane_agrees_with_a_ball_on_an_ellipsoidal_support_and_refutes_the_other_side():
+    """A homogeneous heavy ball outside an ellipsoid off the origin: Kane's method on a
+    parametrisation of the support (the contact point p(x, y), the centre p + b nu(p))
+    against the model's implicit normal grad F/|grad F|: omega' and p' agree at 40 digits;
+    the model of the ball inside the same ellipsoid is refuted by the same check. The
+    file's :kane claim exists for ellipsoidal supports only."""
+    from chaplygin.verify.user_claims import kane_covers
+
+    fields = dict(
+        inertia=("2/5*m*b**2",) * 3, gravity="g", support="surface",
+        support_surface="p1**2/4 + p2**2/(9/4) + (p3 - 1/3)**2 - 1",
+    )  # fmt: skip
+    system = RollingSystem("ball_on_egg", **fields)
+    values = dict(b="0.7", g="9.81")
+    result = kane_compare(system, system.model(), values)
+    assert result.points == 4 and result.agrees, result
+    inside = RollingSystem("ball_on_egg", side="inside", **fields).model()
+    control = kane_compare(system, inside, values)
+    assert control.max_acceleration_error > 1e6 * control.tolerance
+    assert control.max_normal_rate_error > 1e6 * control.tolerance  # p' too
+    assert kane_covers(system)
+    bumpy = dict(fields, support_surface="p1**4 + p2**2 + p3**2 - 1")
+    assert not kane_covers(RollingSystem("ball_on_bump", **bumpy))
