@@ -374,11 +374,7 @@ def lagrange_dalembert(desc: RigidBodyDescription) -> ReducedEquations:
             "constraints on omega alone"
         )
     C = sp.Matrix([[sp.diff(c, w) for w in omega] for c in omega_rows]) if omega_rows else None
-    omega_shift = (  # C omega + omega_shift = 0
-        sp.Matrix([sp.expand(c - (C.row(j) * omega)[0]) for j, c in enumerate(omega_rows)])
-        if omega_rows
-        else None
-    )
+    omega_shift = None if C is None else (sp.Matrix(omega_rows) - C * omega).applyfunc(sp.expand)
     mu = sp.symbols(f"mu1:{len(omega_rows) + 1}", real=True) if omega_rows else ()
     v_of_omega = v.subs(vmap)
     shift = v_of_omega.xreplace(dict.fromkeys(omega, 0)).applyfunc(sp.expand)

@@ -87,14 +87,19 @@ from typing import Any
 
 import sympy as sp
 
-from .ball_on_support import SupportSurfaceReduction
-from .body_on_sphere import BodyOnSphereReduction
 from .description import MechanicalDescription, apply_effects, form_model
 from .effects import parse_effects
 from .errors import UserInputError
 from .expression_text import parse_expression
 from .model import Model, ParameterSpec
 from .rigid_body import RigidBodyReduction
+from .rolling_surfaces import (
+    _convex_body_description,
+    _read_support_surface,
+    _read_surface,
+    _role,
+    _support_surface_description,
+)
 from .vectors import cross, dot, vector
 
 __all__ = [
@@ -443,35 +448,6 @@ class RollingSystem:
         return form_model(self.mechanical_description(effects))
 
 
-def _convex_body_description(s: RollingSystem) -> MechanicalDescription:
-    """A convex body on the fixed plane: state ``omega`` and the contact point ``r``."""
-    p = s._parsed
-    omega, r = vector("omega", real=True), vector("r", real=True)
-    m = p["mass"]
-    names = tuple(x.name for x in p["parameters"])
-    desc = MechanicalDescription(
-        system=s.name,
-        effects=frozenset(),
-        time=sp.Symbol("t", real=True),
-        omega=omega,
-        reduction=BodyOnSphereReduction(
-            p["surface"], m, _support_curvature(s), gyrostat=p["rotor_momentum"],
-            gravity=p["field"],
-        ),  # fmt: skip
-        parameter_order=names,
-        inertia=p["inertia"],
-    )
-    desc.add_state("omega", tuple(omega), None)
-    desc.add_state("r", tuple(r), None)
-    # the contact point stays on the surface: its level is an integral
-    r_free = p["surface"].xreplace(dict.fromkeys(r, 0))
-    desc.add_integral("f", sp.expand(p["surface"] - r_free))  # the level: up to a constant
-    for x in p["parameters"]:
-        domain = "positive" if x.is_positive else "real"
-        desc.add_parameter(ParameterSpec(x.name, (x,), domain, _role(x, p)))
-    return desc
-
-
 def _potential_energy(s: RollingSystem, desc: MechanicalDescription) -> sp.Expr:
     """``m g`` times the centre of mass's height, plus the given potential. On a plane the
     vertical is ``gamma`` (the height ``(a, gamma)`` less the constant ``b``); on a sphere it
@@ -490,80 +466,6 @@ def _potential_energy(s: RollingSystem, desc: MechanicalDescription) -> sp.Expr:
     R, b = p["support_radius"], p["radius"]
     c = R + b if s.side == "outside" else -(R - b)
     return p["field"] * p["mass"] * (c * dot(gamma, zeta) + dot(a, zeta)) + potential
-
-
-def _support_surface_description(s: RollingSystem) -> MechanicalDescription:
-    """A homogeneous ball on the support ``F(p) = 0``: state ``omega`` (fixed frame) and
-    the contact point ``p``."""
-    p = s._parsed
-    omega, contact = vector("omega", real=True), vector("p", real=True)
-    b, m = p["radius"], p["mass"]
-    ratio = sp.simplify(p["inertia"][0, 0] / (m * b**2))
-    if ratio.is_number:  # m drops out of the equations: the energy per unit mass
-        m = sp.S.One
-    desc = MechanicalDescription(
-        system=s.name,
-        effects=frozenset(),
-        time=sp.Symbol("t", real=True),
-        omega=omega,
-        reduction=SupportSurfaceReduction(
-            p["support_surface"], m, ratio * m, b,
-            side=1 if s.side == "outside" else -1, gravity=p["field"],
-        ),  # fmt: skip
-        parameter_order=tuple(x.name for x in p["parameters"]),
-    )
-    desc.add_state("omega", tuple(omega), None)
-    desc.add_state("p", tuple(contact), None)
-    for x in p["parameters"]:
-        domain = "positive" if x.is_positive else "real"
-        desc.add_parameter(ParameterSpec(x.name, (x,), domain, _role(x, p)))
-    return desc
-
-
-def _read_support_surface(s: RollingSystem, scope: dict, parsed: dict) -> sp.Expr | None:
-    """``F(p)`` of a support surface; what it refuses (anything but a homogeneous ball)."""
-    if s.support != "surface":
-        if s.support_surface is not None:
-            raise UserInputError(f"support_surface is given but the support is a {s.support}")
-        return None
-    if s.support_surface is None:
-        raise UserInputError("support 'surface' needs support_surface (F(p1, p2, p3) = 0)")
-    inertia = parsed["inertia"]
-    homogeneous = inertia.is_diagonal() and inertia[0, 0] == inertia[1, 1] == inertia[2, 2]
-    plain = (
-        homogeneous
-        and not inertia.has(sp.Symbol("t", real=True))
-        and parsed["centre"].is_zero_matrix
-        and parsed["rotor_momentum"].is_zero_matrix
-        and parsed["potential"].is_zero
-        and s.surface is None
-        and s.contact == "rolling"
-    )
-    if not plain:
-        raise UserInputError(
-            "on a support surface this version derives a homogeneous ball (equal moments, "
-            "centre of mass at the centre, no rotor, no potential) rolling without slipping"
-        )
-    x = {f"p{i}": sp.Symbol(f"p{i}", real=True) for i in (1, 2, 3)}
-    F = parse_expression(s.support_surface, {**scope, **x}, "support_surface")
-    xs = list(x.values())
-    if not F.is_polynomial(*xs) or sp.Poly(F, *xs).total_degree() < 1:
-        raise UserInputError("support_surface: F must be a polynomial in p1, p2, p3")
-    hessian = sp.hessian(F, xs)
-    if sp.Poly(F, *xs).total_degree() == 2 and hessian.is_symbolic() is False:
-        if not hessian.is_positive_semidefinite:
-            raise UserInputError(f"support_surface: the quadric {F} = 0 is not convex")
-    return F.xreplace({x[f"p{i + 1}"]: c for i, c in enumerate(vector("p", real=True))})
-
-
-def _support_curvature(s: RollingSystem) -> sp.Expr:
-    """M03's signed curvature ``k`` of the support (the contact point is ``c - n/k``, ``n``
-    the normal into the body): 0 on a plane, ``-1/R`` outside a sphere (``n`` points away
-    from its centre ``c``), ``1/R`` inside."""
-    if s.support != "sphere":
-        return sp.S.Zero
-    R = s._parsed["support_radius"]
-    return -1 / R if s.side == "outside" else 1 / R
 
 
 def _normal_rate_factor(s: RollingSystem, parsed: dict) -> sp.Expr:
@@ -729,35 +631,6 @@ _STATE_NAMES = (
 )
 
 
-def _read_surface(s: RollingSystem, scope: dict, centre: sp.Matrix) -> sp.Expr | None:
-    """``f`` in the contact point ``r`` from the centre of mass: ``f(r + c)``."""
-    if s.surface is None:
-        return None
-    if s.support not in ("plane", "sphere") or s.contact != "rolling":
-        raise UserInputError(
-            "a convex body (surface) is derived rolling without slipping on a fixed plane or "
-            f"sphere only in this version, not with support {s.support!r}, contact {s.contact!r}"
-        )
-    if s.support == "sphere" and s.gravity is not None:
-        raise UserInputError("a convex body on a sphere is derived without gravity in this version")
-    if s.potential is not None:
-        raise UserInputError("a potential is derived for a spherical body only in this version")
-    x = {f"x{i}": sp.Symbol(f"x{i}", real=True) for i in (1, 2, 3)}
-    f = parse_expression(s.surface, {**scope, **x}, "surface")
-    if not f.is_polynomial(*x.values()) or sp.Poly(f, *x.values()).total_degree() < 2:
-        raise UserInputError("surface: f must be a polynomial of degree 2 or more in x1, x2, x3")
-    xs = list(x.values())
-    hessian = sp.hessian(f, xs)
-    if sp.Poly(f, *xs).total_degree() == 2 and hessian.is_symbolic() is False:
-        if not hessian.is_positive_definite:  # a quadric: convex iff its Hessian is PD
-            raise UserInputError(f"surface: the quadric {f} = 0 is not convex (Hessian {hessian})")
-    inside = f.xreplace(dict(zip(xs, centre, strict=True)))
-    if inside.is_number and inside >= 0:
-        raise UserInputError(f"centre_of_mass: f = {inside} >= 0 there, not inside the body f < 0")
-    r = vector("r", real=True)
-    return f.xreplace({x[f"x{i + 1}"]: r[i] + centre[i] for i in range(3)})
-
-
 def _check_moving(s: RollingSystem, read) -> sp.Matrix:
     """The moving plane's velocity along the fixed axes (zero otherwise)."""
     if not _moving_support(s, "moving_plane", "plane_velocity", "its V1, V2"):
@@ -827,15 +700,3 @@ def _principal_symbols(inertia: sp.Matrix) -> tuple[sp.Symbol, ...]:
             return tuple(diagonal)
     return ()
 
-
-def _role(symbol: sp.Symbol, parsed: dict) -> str:
-    for role, value in parsed["roles"].items():
-        if value == symbol:
-            return role
-    if symbol in parsed["inertia"].free_symbols:
-        return "inertia tensor entry"
-    if symbol in parsed["centre"].free_symbols:
-        return "centre of mass coordinate"
-    if symbol in parsed["rotor_momentum"].free_symbols:
-        return "gyrostatic momentum component"
-    return "parameter of the description"

@@ -15,7 +15,7 @@ compared with Kane's ``u1', u2', u3'`` and ``(dp/dx) x' + (dp/dy) y'``.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
 import mpmath
 import sympy as sp
@@ -146,8 +146,8 @@ def compare_on_support(
     pvals: Mapping[sp.Symbol, sp.Expr],
     omegas: Sequence[Sequence[object]],
     digits: int,
-    relative,
-):
+    relative: Callable[[Sequence[object], Sequence[object]], float],
+) -> tuple[int, float, float]:
     """``omega'`` and ``p'`` of the model against Kane's at :data:`SUPPORT_ANGLES`.
 
     Parameters
