@@ -132,7 +132,11 @@ def test_discover_reads_a_description_file(tmp_path, capsys, monkeypatch):
         ('name = "bad"\ninertia = [[1, 0, 0], [0, 1, 0], [0, 0, 0]]', "singular"),
         ('name = "bad"\ninertia = [1, 1, 1]\npotential = "open(1)"', "not allowed"),
         ('name = "chaplygin_ball"\ninertia = [1, 1, 1]', "taken by a built-in"),
-        ('name = "bad"\ninertia = [1, 1, 1]\nsupport = "surface"', "not derived"),
+        (
+            'name = "bad"\ninertia = [1, 2, 1]\nsupport = "surface"\n'
+            'support_surface = "p1**2 + p3"',
+            "homogeneous ball",
+        ),
         ('name = "bad"\ninertia = [1, 1, 1]\nsupport = "sphere"', "needs support_radius"),
     ],
 )
