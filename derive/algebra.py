@@ -415,8 +415,7 @@ def exact_quotient(
     ring = p.ring
     if not f:
         raise ZeroDivisionError("polynomial division")
-    key, zero = _heap_key(ring.order), ring.domain.zero
-    monomial_mul, monomial_div = ring.monomial_mul, ring.monomial_div
+    key, monomial_div = _heap_key(ring.order), ring.monomial_div
     lm, lc = f.LM, f.LC
     tail = [(m, c) for m, c in f.iterterms() if m != lm]
     todo = dict(p.iterterms())
@@ -433,17 +432,26 @@ def exact_quotient(
             return None
         qc = c / lc
         quotient[q] = qc
-        for mg, cg in tail:
-            m1 = monomial_mul(mg, q)
-            old = todo.get(m1)
-            c1 = (zero if old is None else old) - qc * cg
-            if not c1:
-                todo.pop(m1, None)
-            else:
-                if old is None:
-                    heapq.heappush(heap, (key(m1), m1))
-                todo[m1] = c1
+        _subtract_multiple(todo, heap, key, ring, tail, q, qc)
     return quotient
+
+
+def _subtract_multiple(todo: dict, heap: list, key, ring, tail, q, qc) -> None:
+    """One division step on a heap-held dividend: subtract ``qc x^q`` times a divisor's
+    tail (its leading term already cancelled); new monomials join the heap."""
+    import heapq
+
+    zero, monomial_mul = ring.domain.zero, ring.monomial_mul
+    for mg, cg in tail:
+        m1 = monomial_mul(mg, q)
+        old = todo.get(m1)
+        c1 = (zero if old is None else old) - qc * cg
+        if not c1:
+            todo.pop(m1, None)
+        else:
+            if old is None:
+                heapq.heappush(heap, (key(m1), m1))
+            todo[m1] = c1
 
 
 def _negated(key):
@@ -478,8 +486,7 @@ def _remainder(f, G):
     ring = f.ring
     if not all(G):
         raise ZeroDivisionError("polynomial division")
-    key, zero = _heap_key(ring.order), ring.domain.zero
-    monomial_mul, monomial_div = ring.monomial_mul, ring.monomial_div
+    key, monomial_div = _heap_key(ring.order), ring.monomial_div
     leads = [(g.LM, g.LC, [(m, c) for m, c in g.iterterms() if m != g.LM]) for g in G]
     todo = dict(f.iterterms())
     heap = [(key(m), m) for m in todo]
@@ -494,17 +501,7 @@ def _remainder(f, G):
             q = monomial_div(m, lm)
             if q is None:
                 continue
-            qc = c / lc
-            for mg, cg in tail:
-                m1 = monomial_mul(mg, q)
-                old = todo.get(m1)
-                c1 = (zero if old is None else old) - qc * cg
-                if not c1:
-                    todo.pop(m1, None)
-                else:
-                    if old is None:
-                        heapq.heappush(heap, (key(m1), m1))
-                    todo[m1] = c1
+            _subtract_multiple(todo, heap, key, ring, tail, q, c / lc)
             break
         else:
             r[m] = c

@@ -51,9 +51,7 @@ def _convex_body_description(s: RollingSystem) -> MechanicalDescription:
     # the contact point stays on the surface: its level is an integral
     r_free = p["surface"].xreplace(dict.fromkeys(r, 0))
     desc.add_integral("f", sp.expand(p["surface"] - r_free))  # the level: up to a constant
-    for x in p["parameters"]:
-        domain = "positive" if x.is_positive else "real"
-        desc.add_parameter(ParameterSpec(x.name, (x,), domain, _role(x, p)))
+    _declare_parameters(desc, p)
     return desc
 
 
@@ -79,9 +77,7 @@ def _support_surface_description(s: RollingSystem) -> MechanicalDescription:
     )
     desc.add_state("omega", tuple(omega), None)
     desc.add_state("p", tuple(contact), None)
-    for x in p["parameters"]:
-        domain = "positive" if x.is_positive else "real"
-        desc.add_parameter(ParameterSpec(x.name, (x,), domain, _role(x, p)))
+    _declare_parameters(desc, p)
     return desc
 
 
@@ -158,6 +154,13 @@ def _read_surface(s: RollingSystem, scope: dict, centre: sp.Matrix) -> sp.Expr |
         raise UserInputError(f"centre_of_mass: f = {inside} >= 0 there, not inside the body f < 0")
     r = vector("r", real=True)
     return f.xreplace({x[f"x{i + 1}"]: r[i] + centre[i] for i in range(3)})
+
+
+def _declare_parameters(desc: MechanicalDescription, parsed: dict) -> None:
+    """Declare each parameter of a parsed description, with its domain and role."""
+    for x in parsed["parameters"]:
+        domain = "positive" if x.is_positive else "real"
+        desc.add_parameter(ParameterSpec(x.name, (x,), domain, _role(x, parsed)))
 
 
 def _role(symbol: sp.Symbol, parsed: dict) -> str:

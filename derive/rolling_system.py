@@ -91,13 +91,13 @@ from .description import MechanicalDescription, apply_effects, form_model
 from .effects import parse_effects
 from .errors import UserInputError
 from .expression_text import parse_expression
-from .model import Model, ParameterSpec
+from .model import Model
 from .rigid_body import RigidBodyReduction
 from .rolling_surfaces import (
     _convex_body_description,
+    _declare_parameters,
     _read_support_surface,
     _read_surface,
-    _role,
     _support_surface_description,
 )
 from .vectors import cross, dot, vector
@@ -426,9 +426,7 @@ class RollingSystem:
             twist = p["rotation_rate"] if along == "gamma" else sp.S.Zero
             desc.add_constraint(dot(omega, desc.vectors[along]) - twist, reacts_along=along)
         desc.add_potential(_potential_energy(self, desc))
-        for s in p["parameters"]:
-            domain = "positive" if s.is_positive else "real"
-            desc.add_parameter(ParameterSpec(s.name, (s,), domain, _role(s, p)))
+        _declare_parameters(desc, p)
         apply_effects(desc, effects, SUPPORTED_EFFECTS)
         return desc
 
