@@ -293,3 +293,35 @@ def test_heap_remainder_equals_sympys_remainder(order):
         assert _remainder(f, G) == f.rem(G)
         member = sum((poly(4, 3) * g for g in G), R.zero)
         assert _remainder(member, G) == 0
+
+
+def test_flints_remainder_equals_the_heap_remainder():
+    """FLINT's quasi-division (``ring_normal_form``'s route for grevlex rings over QQ)
+    gives the same normal form as the heap remainder, scale included, and zero on
+    members of the ideal; rational coefficients and a parameter generator as in the
+    verifier's rings."""
+    from chaplygin.derive.algebra import _flint_remainder, _flint_serves, _remainder
+    from sympy.polys.domains import QQ
+    from sympy.polys.groebnertools import groebner
+    from sympy.polys.rings import ring
+
+    R, x, y, z, a = ring("x,y,z,a", QQ, order="grevlex")
+    assert _flint_serves(R)
+    rng = random.Random(7)
+
+    def poly(n: int, degree: int):
+        p = R.zero
+        for _ in range(n):
+            mono = R.one
+            for _ in range(rng.randint(0, degree)):
+                mono *= rng.choice((x, y, z, a))
+            p += QQ(rng.randint(-9, 9), rng.randint(1, 7)) * mono
+        return p
+
+    G = groebner([x**2 + y**2 + z**2 - 1, QQ(5, 3) * a * x * y - QQ(3, 7) * z + 2], R)
+    for _ in range(25):
+        f = poly(25, 7)
+        assert _flint_remainder(f, G) == _remainder(f, G)
+        member = sum((poly(5, 3) * g for g in G), R.zero)
+        assert _flint_remainder(member, G) == 0
+        assert _flint_remainder(member + f, G) == _remainder(f, G)
