@@ -9,7 +9,10 @@ saying where to report it and status 3; ``--debug`` shows its traceback.
 
 Each subcommand is a module of this package with ``add_parser(subparsers)`` (returns its
 parser) and ``run(args) -> int`` (the exit status); :data:`COMMANDS` lists them in the order
-``chaplygin --help`` shows them.
+``chaplygin --help`` shows them. A command module imports at its top only the standard library,
+the command-line helpers and ``chaplygin.derive.errors``; the work (sympy, numpy, the numerics,
+matplotlib, Dask) is imported inside ``run``, so ``--help`` and ``--version`` build the parser
+without it (``tests/verify/test_cli_imports.py``).
 """
 
 from __future__ import annotations

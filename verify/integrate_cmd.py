@@ -7,10 +7,14 @@ import math
 
 from chaplygin.derive.errors import UserInputError
 
-from ..numerics.step_budget import DEFAULT_MAX_STEPS, estimated_steps, motion_rate
 from .cli_common import EXIT_FAILED, EXIT_OK, json_text, key_values, positive_float
 
-__all__ = ["add_parser", "run", "DEFAULT_MAX_STEPS", "estimated_steps"]
+__all__ = ["add_parser", "run", "DEFAULT_MAX_STEPS"]
+
+#: ``--max-steps``'s default: :data:`chaplygin.numerics.step_budget.DEFAULT_MAX_STEPS`, written
+#: out so that building the parser loads no numerics (``tests/verify/test_cli_imports.py``
+#: holds the two equal).
+DEFAULT_MAX_STEPS = 10_000_000
 
 
 def _rate(args: argparse.Namespace) -> float:
@@ -19,6 +23,7 @@ def _rate(args: argparse.Namespace) -> float:
     import numpy as np
     from chaplygin.numerics.code import load_model_code
     from chaplygin.numerics.inputs import Precision, pack_params, pack_state, parse_number
+    from chaplygin.numerics.step_budget import motion_rate
 
     double = Precision("double")
     try:
@@ -34,6 +39,7 @@ def _rate(args: argparse.Namespace) -> float:
 def _check_step_budget(args: argparse.Namespace, prec) -> None:
     """Refuse, before any work, a span whose estimated steps exceed the budget."""
     from chaplygin.numerics.inputs import parse_number
+    from chaplygin.numerics.step_budget import estimated_steps
 
     if args.max_steps < 1:
         raise UserInputError(f"--max-steps must be a positive whole number, got {args.max_steps}")
