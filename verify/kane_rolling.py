@@ -35,6 +35,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from functools import lru_cache
 
 import mpmath
 import sympy as sp
@@ -296,6 +297,36 @@ def _relative(a: Sequence[object], b: Sequence[object]) -> float:
         return float(diff / scale)
 
 
+@lru_cache(maxsize=1)
+def euler_rates() -> dict[sp.Expr, sp.Expr]:
+    """The rates of 3-2-1 (``zyx``) Euler angles ``q1, q2, q3`` of ``B`` in ``N`` in terms
+    of the angular velocity's components ``u1, u2, u3`` on ``N.x, N.y, N.z``.
+
+    The kinematic equations are linear in the rates: solved by the adjugate over the
+    determinant ``-cos q2`` (only ``1/cos q2``, the 3-2-1 singularity, is left; the
+    implicit form LU-solved by KanesMethod divides by spurious factors). The same for
+    every body, so formed once per process (``sympy.solve`` and ``simplify`` took 25 s).
+
+    Returns
+    -------
+    dict
+        ``{q_i'(t): expression in q1, q2, u1, u2, u3}``.
+    """
+    q = me.dynamicsymbols("q1 q2 q3")
+    u = me.dynamicsymbols("u1 u2 u3")
+    t = me.dynamicsymbols._t
+    N, B = me.ReferenceFrame("N"), me.ReferenceFrame("B")
+    B.orient_body_fixed(N, tuple(q), "zyx")
+    w = B.ang_vel_in(N)
+    rates = [s.diff(t) for s in q]
+    implicit = [w.dot(e) - ui for e, ui in zip((N.x, N.y, N.z), u, strict=True)]
+    A, b = sp.linear_eq_to_matrix(implicit, rates)
+    A = A.applyfunc(sp.trigsimp)
+    det = sp.trigsimp(A.det())
+    adjugate = A.adjugate().applyfunc(sp.trigsimp)
+    return {r: sp.trigsimp(sp.expand(e / det)) for r, e in zip(rates, adjugate * b, strict=True)}
+
+
 class _KaneRolling:
     """Kane's equations of the described body, parameters substituted (exact)."""
 
@@ -308,13 +339,8 @@ class _KaneRolling:
         t = me.dynamicsymbols._t
         N, B = me.ReferenceFrame("N"), me.ReferenceFrame("B")
         B.orient_body_fixed(N, tuple(q[:3]), "zyx")
-        w_q = B.ang_vel_in(N)
-        implicit = [w_q.dot(N.x) - u[0], w_q.dot(N.y) - u[1], w_q.dot(N.z) - u[2]]
-        # solved for the Euler rates (only 1/cos(q2), the 3-2-1 singularity, is left; the
-        # implicit form LU-solved by KanesMethod divides by spurious factors)
-        rates = [s.diff(t) for s in q[:3]]
-        solved = sp.solve(implicit, rates, dict=True)[0]
-        kd = [r - sp.simplify(solved[r]) for r in rates]
+        solved = euler_rates()
+        kd = [r - solved[r] for r in (s.diff(t) for s in q[:3])]
         kd += [q[3].diff(t) - u[3], q[4].diff(t) - u[4]]
         B.set_ang_vel(N, u[0] * N.x + u[1] * N.y + u[2] * N.z)
         p = system._parsed
@@ -373,7 +399,9 @@ class _KaneRolling:
             velocity_constraints=constraints,
         )
         kane.kanes_equations(bodies, loads)
-        dep = sp.solve(constraints, dependent, dict=True)[0]
+        # linear in the dependent speeds (lambdified below: no simplification needed)
+        A_dep, b_dep = sp.linear_eq_to_matrix(constraints, dependent)
+        dep = dict(zip(dependent, A_dep.LUsolve(b_dep), strict=True))
         H = sum((body.angular_momentum(P, N) for body in bodies), me.Vector(0))
         H_B = sp.Matrix([H.dot(B.x), H.dot(B.y), H.dot(B.z)]).xreplace(dep)
         C = sp.Matrix(3, 3, lambda i, j: (B.x, B.y, B.z)[i].dot((N.x, N.y, N.z)[j]))

@@ -24,6 +24,7 @@ import sympy.physics.mechanics as me
 from ..derive.model import Model
 from ..derive.rolling_system import RollingSystem
 from ..derive.vectors import vector
+from .kane_rolling import euler_rates
 
 __all__ = ["compare_on_support", "ellipsoid_support"]
 
@@ -75,11 +76,8 @@ class _KaneOnSupport:
         t = me.dynamicsymbols._t
         N, B = me.ReferenceFrame("N"), me.ReferenceFrame("B")
         B.orient_body_fixed(N, tuple(q[:3]), "zyx")
-        w_q = B.ang_vel_in(N)
-        implicit = [w_q.dot(N.x) - u[0], w_q.dot(N.y) - u[1], w_q.dot(N.z) - u[2]]
-        rates = [s.diff(t) for s in q[:3]]
-        solved = sp.solve(implicit, rates, dict=True)[0]
-        kd = [r - sp.simplify(solved[r]) for r in rates]
+        solved = euler_rates()
+        kd = [r - solved[r] for r in (s.diff(t) for s in q[:3])]
         kd += [q[3].diff(t) - u[3], q[4].diff(t) - u[4]]
         B.set_ang_vel(N, u[0] * N.x + u[1] * N.y + u[2] * N.z)
         ps = list(vector("p", real=True))
