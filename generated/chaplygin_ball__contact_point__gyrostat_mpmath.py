@@ -68,155 +68,123 @@ def jac(t, y, p):
     """Jacobian d(dy/dt)/dy, shape (14, 14, ...)."""
     M1, M2, M3, gamma1, gamma2, gamma3, alpha1, alpha2, alpha3, beta1, beta2, beta3, x, y, = y
     I1, I2, I3, D, b, K1, K2, K3, = p
-    x0 = 1/(D + I2)
-    x1 = K3 + M3
-    x2 = x0*x1
-    x3 = 1/(D + I1)
-    x4 = gamma2*x3
+    x0 = K2 + M2
+    x1 = D + I3
+    x2 = 1/x1
+    x3 = gamma3*x2
+    x4 = x0*x3
     x5 = gamma1**2
-    x6 = x3*x5
-    x7 = gamma2**2
-    x8 = x0*x7
-    x9 = 1/(D + I3)
-    x10 = gamma3**2*x9
-    x11 = -x10 - x6 - x8 + 1/D
-    x12 = 1/x11
-    x13 = gamma1*x12
-    x14 = x13*x4
-    x15 = x14*x2
-    x16 = K2 + M2
-    x17 = x16*x9
-    x18 = gamma3*x3
-    x19 = x13*x18
-    x20 = x17*x19
-    x21 = gamma3*x0
-    x22 = gamma2*x21
-    x23 = x12*x22
-    x24 = x12*x8
-    x25 = x24 + 1
-    x26 = M1*x3
-    x27 = gamma1*x26
-    x28 = M2*x0
-    x29 = gamma2*x28
-    x30 = M3*x9
-    x31 = gamma3*x30
-    x32 = x27 + x29 + x31
-    x33 = x12*x32
-    x34 = M3 + gamma3*x33
-    x35 = x34*x9
-    x36 = gamma2*x9
-    x37 = gamma3*x36
-    x38 = x10*x12
-    x39 = x38 + 1
-    x40 = M2 + gamma2*x33
-    x41 = x0*x40
-    x42 = x12*x26
-    x43 = 2*x32/x11**2
-    x44 = gamma1*x43
-    x45 = gamma3*x42 + x18*x44
-    x46 = gamma2*x42 + x4*x44
-    x47 = x12*x28
-    x48 = gamma3*x47 + x22*x43
-    x49 = x12*x29 + x33 + x43*x8
-    x50 = x12*x30
-    x51 = gamma2*x50 + x37*x43
-    x52 = x10*x43 + x12*x31 + x33
-    x53 = K1 + M1
-    x54 = x53*x9
-    x55 = x12*x6
-    x56 = x55 + 1
-    x57 = -x23*x54
-    x58 = gamma1*x9
-    x59 = gamma3*x58
-    x60 = M1 + gamma1*x33
-    x61 = x3*x60
-    x62 = x12*x27 + x33 + x43*x6
-    x63 = gamma1*x0
-    x64 = gamma2*x63
-    x65 = gamma1*x47 + x43*x64
-    x66 = gamma1*x50 + x43*x59
-    x67 = x0*x53
-    x68 = x16*x3
-    x69 = x19*x36
-    x70 = x14*x21
-    x71 = -x70
-    x72 = gamma3*x9
-    x73 = gamma2*x0
-    x74 = x36*x45
-    x75 = x36*x48
-    x76 = x21*x36
-    x77 = x13*x76
-    x78 = gamma1*x3
-    x79 = x39*x58
-    x80 = x18*x66
-    x81 = x46*x63
-    x82 = x51*x63
-    x83 = alpha2*x12
-    x84 = x18*x58
-    x85 = x83*x84
-    x86 = alpha3*x12
-    x87 = x4*x63
-    x88 = -x86*x87
-    x89 = alpha3*x0
-    x90 = alpha2*x9
-    x91 = -x41
-    x92 = alpha1*x12
-    x93 = x76*x92
-    x94 = alpha1*x9
-    x95 = -x35
-    x96 = alpha2*x3
-    x97 = alpha1*x0
-    x98 = -x61
-    x99 = beta2*x12
-    x100 = x84*x99
-    x101 = beta3*x12
-    x102 = -x101*x87
-    x103 = beta3*x0
-    x104 = beta2*x9
-    x105 = beta1*x12
-    x106 = x105*x76
-    x107 = beta1*x9
-    x108 = beta2*x3
-    x109 = beta1*x0
-    x110 = alpha1*b
-    x111 = b*gamma2*x55
-    x112 = x18*x56
-    x113 = alpha2*b
-    x114 = b*gamma3*x24
-    x115 = x25*x63
-    x116 = alpha3*b
-    x117 = b*x38
-    x118 = gamma2*x117
-    x119 = gamma1*x117
-    x120 = x36*x39
-    x121 = x18*x62
-    x122 = b*x35
-    x123 = x18*x65
-    x124 = x49*x63
-    x125 = b*x61
-    x126 = x36*x52
-    x127 = b*gamma3*x0*x40 - gamma2*x122
-    x128 = gamma1*x122 - gamma3*x125
-    x129 = b*x41
-    x130 = b*gamma2*x3*x60 - gamma1*x129
-    x131 = b*beta1
-    x132 = b*beta2
-    x133 = b*beta3
+    x6 = D + I1
+    x7 = 1/x6
+    x8 = x5*x7
+    x9 = gamma2**2
+    x10 = D + I2
+    x11 = 1/x10
+    x12 = x11*x9
+    x13 = gamma3**2
+    x14 = x13*x2
+    x15 = -x12 - x14 - x8 + 1/D
+    x16 = 1/x15
+    x17 = gamma1*x7
+    x18 = x16*x17
+    x19 = K3 + M3
+    x20 = -x19
+    x21 = gamma2*x11
+    x22 = x20*x21
+    x23 = x16*x21
+    x24 = x11 + x16*x9/x10**2
+    x25 = M1*x7
+    x26 = M2*x11
+    x27 = M3*x2
+    x28 = gamma1*x25 + gamma2*x26 + gamma3*x27
+    x29 = x16*x28
+    x30 = x2*(M3 + gamma3*x29)
+    x31 = x2 + x13*x16/x1**2
+    x32 = x16*x3
+    x33 = M2 + gamma2*x29
+    x34 = x11*x33
+    x35 = -x34
+    x36 = 2*x28/x15**2
+    x37 = x16*x25 + x17*x36
+    x38 = x16*x26 + x21*x36
+    x39 = x11*x29 + x21*x38
+    x40 = x16*x27 + x3*x36
+    x41 = x2*x29 + x3*x40
+    x42 = x16*x5/x6**2 + x7
+    x43 = K1 + M1
+    x44 = -x43
+    x45 = x3*x44
+    x46 = -x30
+    x47 = x17*x19
+    x48 = M1 + gamma1*x29
+    x49 = x48*x7
+    x50 = x17*x37 + x29*x7
+    x51 = x21*x43
+    x52 = -x0
+    x53 = x17*x52
+    x54 = -x49
+    x55 = gamma2*x3
+    x56 = x18*x55
+    x57 = gamma3*x21
+    x58 = -x18*x57
+    x59 = x14*x16
+    x60 = gamma1*x3
+    x61 = x23*x60
+    x62 = gamma1*x21
+    x63 = gamma2*x17
+    x64 = alpha2*x3
+    x65 = x18*x64
+    x66 = alpha3*x21
+    x67 = -x18*x66
+    x68 = alpha1*x3
+    x69 = x23*x68
+    x70 = alpha1*x21
+    x71 = alpha2*x17
+    x72 = beta2*x3
+    x73 = x18*x72
+    x74 = beta3*x21
+    x75 = -x18*x74
+    x76 = beta1*x3
+    x77 = x23*x76
+    x78 = beta1*x21
+    x79 = beta2*x17
+    x80 = b*gamma3
+    x81 = alpha3*b
+    x82 = alpha1*x80 - gamma1*x81
+    x83 = x21*x82
+    x84 = b*gamma2
+    x85 = -alpha1*x84 + alpha2*b*gamma1
+    x86 = x3*x85
+    x87 = -alpha2*x80 + alpha3*b*gamma2
+    x88 = x17*x87
+    x89 = b*x30
+    x90 = b*x34
+    x91 = b*x49
+    x92 = b*gamma3*x11*x33 - x30*x84
+    x93 = b*gamma1
+    x94 = x30*x93 - x49*x80
+    x95 = b*gamma2*x48*x7 - x34*x93
+    x96 = beta1*x80 - beta3*x93
+    x97 = x21*x96
+    x98 = b*beta2*gamma1 - beta1*x84
+    x99 = x3*x98
+    x100 = b*beta3*gamma2 - beta2*x80
+    x101 = x100*x17
     return [
-        [-x15 + x20, x17*x23 - x2*x25 + x35, -x12*x2*x37 + x16*x39*x9 - x41, x17*x45 - x2*x46, x17*x48 - x2*x49, x17*x52 - x2*x51, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x1*x3*x56 - x19*x54 - x35, x15 + x57, x1*x12*x3*x59 - x39*x54 + x61, x1*x3*x62 - x45*x54, x1*x3*x65 - x48*x54, x1*x3*x66 - x52*x54, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x14*x67 + x41 - x56*x68, x0*x25*x53 - x12*x64*x68 - x61, -x20 - x57, x46*x67 - x62*x68, x49*x67 - x65*x68, x51*x67 - x66*x68, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x69 + x71, -x21*x25 + x24*x72, gamma2*x39*x9 - x38*x73, -x21*x46 + x74, -x21*x49 + x35 + x75, gamma2*x52*x9 - x21*x51 - x41, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [gamma3*x3*x56 - x55*x72, -x71 - x77, x38*x78 - x79, gamma3*x3*x62 - x35 - x45*x58, gamma3*x3*x65 - x48*x58, -x52*x58 + x61 + x80, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [-x4*x56 + x55*x73, gamma1*x0*x25 - x24*x78, -x69 + x77, -x4*x62 + x41 + x81, gamma1*x0*x49 - x4*x65 - x61, -x4*x66 + x82, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x85 + x88, -x25*x89 + x76*x83, x39*x90 - x76*x86, x45*x90 - x46*x89, x48*x90 - x49*x89, -x51*x89 + x52*x90, mpmath.mpf(0), x35, x91, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [alpha3*x3*x56 - x84*x92, -x88 - x93, alpha3*gamma1*gamma3*x12*x3*x9 - x39*x94, alpha3*x3*x62 - x45*x94, alpha3*x3*x65 - x48*x94, alpha3*x3*x66 - x52*x94, x95, mpmath.mpf(0), x61, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [-x56*x96 + x87*x92, x25*x97 - x83*x87, -x85 + x93, x46*x97 - x62*x96, x49*x97 - x65*x96, x51*x97 - x66*x96, x41, x98, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x100 + x102, -x103*x25 + x76*x99, -x101*x76 + x104*x39, -x103*x46 + x104*x45, -x103*x49 + x104*x48, -x103*x51 + x104*x52, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), x35, x91, mpmath.mpf(0), mpmath.mpf(0)],
-        [beta3*x3*x56 - x105*x84, -x102 - x106, beta3*gamma1*gamma3*x12*x3*x9 - x107*x39, beta3*x3*x62 - x107*x45, beta3*x3*x65 - x107*x48, beta3*x3*x66 - x107*x52, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), x95, mpmath.mpf(0), x61, mpmath.mpf(0), mpmath.mpf(0)],
-        [x105*x87 - x108*x56, x109*x25 - x87*x99, -x100 + x106, -x108*x62 + x109*x46, -x108*x65 + x109*x49, -x108*x66 + x109*x51, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), x41, x98, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [alpha1*b*gamma1*gamma2*gamma3*x0*x12*x3 + alpha2*b*gamma3*x12*x3*x5*x9 + alpha3*b*gamma2*x3*x56 - x110*x69 - x111*x89 - x112*x113, alpha1*b*gamma3*x0*x25 + alpha2*b*gamma1*gamma2*gamma3*x0*x12*x9 + alpha3*b*gamma1*x0*x12*x3*x7 - x113*x70 - x114*x94 - x115*x116, -x110*x120 + x113*x79 + x116*x69 - x116*x77 + x118*x97 - x119*x96, alpha1*b*gamma3*x0*x46 + alpha2*b*gamma1*x45*x9 + alpha2*b*x34*x9 + alpha3*b*gamma2*x3*x62 - x110*x74 - x113*x121 - x116*x41 - x116*x81, alpha1*b*gamma3*x0*x49 - alpha1*x122 + alpha2*b*gamma1*x48*x9 + alpha3*b*gamma2*x3*x65 + alpha3*b*x3*x60 - x110*x75 - x113*x123 - x116*x124, alpha1*b*gamma3*x0*x51 + alpha1*b*x0*x40 + alpha2*b*gamma1*x52*x9 - alpha2*x125 + alpha3*b*gamma2*x3*x66 - x110*x126 - x113*x80 - x116*x82, x127, x128, x130, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [b*beta1*gamma1*gamma2*gamma3*x0*x12*x3 + b*beta2*gamma3*x12*x3*x5*x9 + b*beta3*gamma2*x3*x56 - x103*x111 - x112*x132 - x131*x69, b*beta1*gamma3*x0*x25 + b*beta2*gamma1*gamma2*gamma3*x0*x12*x9 + b*beta3*gamma1*x0*x12*x3*x7 - x107*x114 - x115*x133 - x132*x70, -x108*x119 + x109*x118 - x120*x131 + x132*x79 + x133*x69 - x133*x77, b*beta1*gamma3*x0*x46 + b*beta2*gamma1*x45*x9 + b*beta2*x34*x9 + b*beta3*gamma2*x3*x62 - beta3*x129 - x121*x132 - x131*x74 - x133*x81, b*beta1*gamma3*x0*x49 + b*beta2*gamma1*x48*x9 + b*beta3*gamma2*x3*x65 + b*beta3*x3*x60 - beta1*x122 - x123*x132 - x124*x133 - x131*x75, b*beta1*gamma3*x0*x51 + b*beta1*x0*x40 + b*beta2*gamma1*x52*x9 + b*beta3*gamma2*x3*x66 - beta2*x125 - x126*x131 - x132*x80 - x133*x82, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), x127, x128, x130, mpmath.mpf(0), mpmath.mpf(0)],
+        [x18*x22 + x18*x4, x20*x24 + x23*x4 + x30, x0*x31 + x22*x32 + x35, x22*x37 + x37*x4, x20*x39 + x38*x4, x0*x41 + x22*x40, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [x18*x45 + x19*x42 + x46, x23*x45 + x23*x47, x31*x44 + x32*x47 + x49, x19*x50 + x37*x45, x38*x45 + x38*x47, x40*x47 + x41*x44, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [x18*x51 + x34 + x42*x52, x23*x53 + x24*x43 + x54, x32*x51 + x32*x53, x37*x51 + x50*x52, x38*x53 + x39*x43, x40*x51 + x40*x53, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [x56 + x58, -gamma3*x24 + x12*x32, gamma2*x31 - x21*x59, x37*x55 - x37*x57, -gamma3*x39 + x30 + x38*x55, gamma2*x41 - x34 - x40*x57, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [gamma3*x42 - x32*x8, -x58 - x61, -gamma1*x31 + x17*x59, gamma3*x50 - x30 - x37*x60, gamma1*gamma3*x38*x7 - x38*x60, -gamma1*x41 + gamma3*x17*x40 + x49, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [-gamma2*x42 + x23*x8, gamma1*x24 - x12*x18, -x56 + x61, -gamma2*x50 + x34 + x37*x62, gamma1*x39 - x38*x63 - x49, x40*x62 - x40*x63, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [x65 + x67, -alpha3*x24 + x23*x64, alpha2*x31 - x32*x66, x37*x64 - x37*x66, -alpha3*x39 + x38*x64, alpha2*x41 - x40*x66, mpmath.mpf(0), x30, x35, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [alpha3*x42 - x18*x68, -x67 - x69, -alpha1*x31 + alpha3*gamma1*gamma3*x16*x2*x7, alpha3*x50 - x37*x68, alpha3*gamma1*x38*x7 - x38*x68, -alpha1*x41 + alpha3*gamma1*x40*x7, x46, mpmath.mpf(0), x49, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [-alpha2*x42 + x18*x70, alpha1*x24 - x23*x71, -x65 + x69, -alpha2*x50 + x37*x70, alpha1*x39 - x38*x71, x40*x70 - x40*x71, x34, x54, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [x73 + x75, -beta3*x24 + x23*x72, beta2*x31 - x32*x74, x37*x72 - x37*x74, -beta3*x39 + x38*x72, beta2*x41 - x40*x74, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), x30, x35, mpmath.mpf(0), mpmath.mpf(0)],
+        [beta3*x42 - x18*x76, -x75 - x77, -beta1*x31 + beta3*gamma1*gamma3*x16*x2*x7, beta3*x50 - x37*x76, beta3*gamma1*x38*x7 - x38*x76, -beta1*x41 + beta3*gamma1*x40*x7, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), x46, mpmath.mpf(0), x49, mpmath.mpf(0), mpmath.mpf(0)],
+        [-beta2*x42 + x18*x78, beta1*x24 - x23*x79, -x73 + x77, -beta2*x50 + x37*x78, beta1*x39 - x38*x79, x40*x78 - x40*x79, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), x34, x54, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [x18*x83 + x18*x86 + x42*x87, x23*x86 + x23*x88 + x24*x82, x31*x85 + x32*x83 + x32*x88, alpha2*x89 - x34*x81 + x37*x83 + x37*x86 + x50*x87, -alpha1*x89 + x38*x86 + x38*x88 + x39*x82 + x49*x81, alpha1*x90 - alpha2*x91 + x40*x83 + x40*x88 + x41*x85, x92, x94, x95, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [x100*x42 + x18*x97 + x18*x99, x101*x23 + x23*x99 + x24*x96, x101*x32 + x31*x98 + x32*x97, beta2*x89 - beta3*x90 + x100*x50 + x37*x97 + x37*x99, -beta1*x89 + beta3*x91 + x101*x38 + x38*x99 + x39*x96, beta1*x90 - beta2*x91 + x101*x40 + x40*x97 + x41*x98, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), x92, x94, x95, mpmath.mpf(0), mpmath.mpf(0)],
     ]
 
 

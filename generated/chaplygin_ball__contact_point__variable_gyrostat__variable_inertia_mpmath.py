@@ -70,157 +70,123 @@ def jac(t, y, p):
     """Jacobian d(dy/dt)/dy, shape (14, 14, ...)."""
     M1, M2, M3, gamma1, gamma2, gamma3, alpha1, alpha2, alpha3, beta1, beta2, beta3, x, y, = y
     I1, I2, I3, D, b, J_off, delta, K1, K2, K3, Omega, = p
-    x0 = 1/(D + I2)
-    x1 = M3*x0
-    x2 = mpmath.sin(Omega*t)
-    x3 = D + J_off**2 + 2*J_off*delta*x2 + delta**2*x2**2
-    x4 = 1/(I1 + x3)
-    x5 = gamma2*x4
-    x6 = gamma2**2
-    x7 = x0*x6
-    x8 = gamma1**2
-    x9 = x4*x8
-    x10 = 1/(I3 + x3)
-    x11 = gamma3**2*x10
-    x12 = -x11 - x7 - x9 + 1/D
-    x13 = 1/x12
-    x14 = gamma1*x13
-    x15 = x14*x5
-    x16 = -x1*x15
-    x17 = M2*x10
-    x18 = gamma3*x4
-    x19 = x14*x18
-    x20 = x17*x19
-    x21 = x13*x7
-    x22 = x21 + 1
-    x23 = gamma3*x0
-    x24 = gamma2*x23
-    x25 = x13*x24
-    x26 = K3*x2
-    x27 = K2*x2
-    x28 = x0*(M2 - x27)
-    x29 = gamma2*x28
-    x30 = K1*x2
-    x31 = x4*(M1 - x30)
-    x32 = gamma1*x31
-    x33 = x10*(M3 - x26)
-    x34 = gamma3*x33
-    x35 = x29 + x32 + x34
-    x36 = x13*x35
-    x37 = M3 + gamma3*x36 - x26
-    x38 = x10*x37
-    x39 = gamma2*x10
-    x40 = gamma3*x39
-    x41 = x11*x13
-    x42 = x41 + 1
-    x43 = M2 + gamma2*x36 - x27
-    x44 = x0*x43
-    x45 = x13*x31
-    x46 = 2*x35/x12**2
-    x47 = gamma1*x46
-    x48 = gamma2*x45 + x47*x5
-    x49 = gamma3*x45 + x18*x47
-    x50 = x13*x28
-    x51 = gamma3*x50 + x24*x46
-    x52 = x13*x29 + x36 + x46*x7
-    x53 = x13*x33
-    x54 = gamma2*x53 + x40*x46
-    x55 = x11*x46 + x13*x34 + x36
-    x56 = M1*x10
-    x57 = x13*x9
-    x58 = x57 + 1
-    x59 = x25*x56
-    x60 = gamma1*x10
-    x61 = gamma3*x60
-    x62 = M1 + gamma1*x36 - x30
-    x63 = x4*x62
-    x64 = x13*x32 + x36 + x46*x9
-    x65 = gamma1*x0
-    x66 = gamma2*x65
-    x67 = gamma1*x50 + x46*x66
-    x68 = gamma1*x53 + x46*x61
-    x69 = M1*x0
-    x70 = M2*x4
-    x71 = x15*x23
-    x72 = -x71
-    x73 = x19*x39
-    x74 = gamma3*x10
-    x75 = gamma2*x0
-    x76 = x39*x49
-    x77 = x39*x51
-    x78 = x23*x39
-    x79 = x14*x78
-    x80 = gamma1*x4
-    x81 = x42*x60
-    x82 = x18*x68
-    x83 = x48*x65
-    x84 = x54*x65
-    x85 = alpha3*x13
-    x86 = x5*x65
-    x87 = -x85*x86
-    x88 = alpha2*x13
-    x89 = x18*x60
-    x90 = x88*x89
-    x91 = alpha3*x0
-    x92 = alpha2*x10
-    x93 = -x44
-    x94 = alpha1*x13
-    x95 = x78*x94
-    x96 = alpha1*x10
-    x97 = -x38
-    x98 = alpha2*x4
-    x99 = alpha1*x0
-    x100 = -x63
-    x101 = beta3*x13
-    x102 = -x101*x86
-    x103 = beta2*x13
-    x104 = x103*x89
-    x105 = beta3*x0
-    x106 = beta2*x10
-    x107 = beta1*x13
-    x108 = x107*x78
-    x109 = beta1*x10
-    x110 = beta2*x4
-    x111 = beta1*x0
-    x112 = b*gamma2*x57
-    x113 = alpha1*b
-    x114 = x18*x58
-    x115 = alpha2*b
-    x116 = x22*x65
-    x117 = alpha3*b
-    x118 = b*gamma3*x21
-    x119 = b*x41
-    x120 = gamma2*x119
-    x121 = gamma1*x119
-    x122 = x39*x42
-    x123 = x18*x64
-    x124 = b*x38
-    x125 = x18*x67
-    x126 = x52*x65
-    x127 = b*x63
-    x128 = x39*x55
-    x129 = b*gamma3*x0*x43 - gamma2*x124
-    x130 = gamma1*x124 - gamma3*x127
-    x131 = b*x44
-    x132 = b*gamma2*x4*x62 - gamma1*x131
-    x133 = b*beta1
-    x134 = b*beta2
-    x135 = b*beta3
+    x0 = D + I2
+    x1 = 1/x0
+    x2 = gamma2*x1
+    x3 = M3*x2
+    x4 = gamma2**2
+    x5 = x1*x4
+    x6 = gamma1**2
+    x7 = mpmath.sin(Omega*t)
+    x8 = D + J_off**2 + 2*J_off*delta*x7 + delta**2*x7**2
+    x9 = I1 + x8
+    x10 = 1/x9
+    x11 = x10*x6
+    x12 = gamma3**2
+    x13 = I3 + x8
+    x14 = 1/x13
+    x15 = x12*x14
+    x16 = -x11 - x15 - x5 + 1/D
+    x17 = 1/x16
+    x18 = gamma1*x10
+    x19 = x17*x18
+    x20 = -x19*x3
+    x21 = gamma3*x14
+    x22 = M2*x21
+    x23 = x19*x22
+    x24 = x1 + x17*x4/x0**2
+    x25 = x17*x2
+    x26 = K3*x7
+    x27 = K2*x7
+    x28 = x1*(M2 - x27)
+    x29 = K1*x7
+    x30 = x10*(M1 - x29)
+    x31 = x14*(M3 - x26)
+    x32 = gamma1*x30 + gamma2*x28 + gamma3*x31
+    x33 = x17*x32
+    x34 = x14*(M3 + gamma3*x33 - x26)
+    x35 = x17*x21
+    x36 = x12*x17/x13**2 + x14
+    x37 = M2 + gamma2*x33 - x27
+    x38 = x1*x37
+    x39 = 2*x32/x16**2
+    x40 = x17*x30 + x18*x39
+    x41 = x17*x28 + x2*x39
+    x42 = x1*x33 + x2*x41
+    x43 = x17*x31 + x21*x39
+    x44 = x14*x33 + x21*x43
+    x45 = M1*x21
+    x46 = x10 + x17*x6/x9**2
+    x47 = x25*x45
+    x48 = M1 + gamma1*x33 - x29
+    x49 = x10*x48
+    x50 = x10*x33 + x18*x40
+    x51 = M1*x2
+    x52 = M2*x18
+    x53 = gamma3*x2
+    x54 = -x19*x53
+    x55 = gamma2*x21
+    x56 = x19*x55
+    x57 = x15*x17
+    x58 = gamma1*x21
+    x59 = x25*x58
+    x60 = gamma2*x18
+    x61 = alpha3*x2
+    x62 = -x19*x61
+    x63 = alpha2*x21
+    x64 = x19*x63
+    x65 = -x38
+    x66 = alpha1*x21
+    x67 = x25*x66
+    x68 = -x34
+    x69 = alpha1*x2
+    x70 = alpha2*x18
+    x71 = -x49
+    x72 = beta3*x2
+    x73 = -x19*x72
+    x74 = beta2*x21
+    x75 = x19*x74
+    x76 = beta1*x21
+    x77 = x25*x76
+    x78 = beta1*x2
+    x79 = beta2*x18
+    x80 = b*gamma3
+    x81 = alpha3*b
+    x82 = alpha1*x80 - gamma1*x81
+    x83 = x2*x82
+    x84 = b*gamma2
+    x85 = -alpha1*x84 + alpha2*b*gamma1
+    x86 = x21*x85
+    x87 = -alpha2*x80 + alpha3*b*gamma2
+    x88 = x18*x87
+    x89 = b*x34
+    x90 = b*x38
+    x91 = b*x49
+    x92 = b*gamma3*x1*x37 - x34*x84
+    x93 = b*gamma1
+    x94 = x34*x93 - x49*x80
+    x95 = b*gamma2*x10*x48 - x38*x93
+    x96 = beta1*x80 - beta3*x93
+    x97 = x2*x96
+    x98 = b*beta2*gamma1 - beta1*x84
+    x99 = x21*x98
+    x100 = b*beta3*gamma2 - beta2*x80
+    x101 = x100*x18
     return [
-        [x16 + x20, -x1*x22 + x17*x25 + x38, M2*x10*x42 - x1*x13*x40 - x44, -x1*x48 + x17*x49, -x1*x52 + x17*x51, -x1*x54 + x17*x55, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [M3*x4*x58 - x19*x56 - x38, -x16 - x59, M3*x13*x4*x61 - x42*x56 + x63, M3*x4*x64 - x49*x56, M3*x4*x67 - x51*x56, M3*x4*x68 - x55*x56, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x15*x69 + x44 - x58*x70, M1*x0*x22 - x13*x66*x70 - x63, -x20 + x59, x48*x69 - x64*x70, x52*x69 - x67*x70, x54*x69 - x68*x70, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x72 + x73, x21*x74 - x22*x23, gamma2*x10*x42 - x41*x75, -x23*x48 + x76, -x23*x52 + x38 + x77, gamma2*x10*x55 - x23*x54 - x44, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [gamma3*x4*x58 - x57*x74, -x72 - x79, x41*x80 - x81, gamma3*x4*x64 - x38 - x49*x60, gamma3*x4*x67 - x51*x60, -x55*x60 + x63 + x82, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [-x5*x58 + x57*x75, gamma1*x0*x22 - x21*x80, -x73 + x79, x44 - x5*x64 + x83, gamma1*x0*x52 - x5*x67 - x63, -x5*x68 + x84, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x87 + x90, -x22*x91 + x78*x88, x42*x92 - x78*x85, -x48*x91 + x49*x92, x51*x92 - x52*x91, -x54*x91 + x55*x92, mpmath.mpf(0), x38, x93, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [alpha3*x4*x58 - x89*x94, -x87 - x95, alpha3*gamma1*gamma3*x10*x13*x4 - x42*x96, alpha3*x4*x64 - x49*x96, alpha3*x4*x67 - x51*x96, alpha3*x4*x68 - x55*x96, x97, mpmath.mpf(0), x63, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [-x58*x98 + x86*x94, x22*x99 - x86*x88, -x90 + x95, x48*x99 - x64*x98, x52*x99 - x67*x98, x54*x99 - x68*x98, x44, x100, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x102 + x104, x103*x78 - x105*x22, -x101*x78 + x106*x42, -x105*x48 + x106*x49, -x105*x52 + x106*x51, -x105*x54 + x106*x55, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), x38, x93, mpmath.mpf(0), mpmath.mpf(0)],
-        [beta3*x4*x58 - x107*x89, -x102 - x108, beta3*gamma1*gamma3*x10*x13*x4 - x109*x42, beta3*x4*x64 - x109*x49, beta3*x4*x67 - x109*x51, beta3*x4*x68 - x109*x55, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), x97, mpmath.mpf(0), x63, mpmath.mpf(0), mpmath.mpf(0)],
-        [x107*x86 - x110*x58, -x103*x86 + x111*x22, -x104 + x108, -x110*x64 + x111*x48, -x110*x67 + x111*x52, -x110*x68 + x111*x54, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), x44, x100, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [alpha1*b*gamma1*gamma2*gamma3*x0*x13*x4 + alpha2*b*gamma3*x10*x13*x4*x8 + alpha3*b*gamma2*x4*x58 - x112*x91 - x113*x73 - x114*x115, alpha1*b*gamma3*x0*x22 + alpha2*b*gamma1*gamma2*gamma3*x0*x10*x13 + alpha3*b*gamma1*x0*x13*x4*x6 - x115*x71 - x116*x117 - x118*x96, -x113*x122 + x115*x81 + x117*x73 - x117*x79 + x120*x99 - x121*x98, alpha1*b*gamma3*x0*x48 + alpha2*b*gamma1*x10*x49 + alpha2*b*x10*x37 + alpha3*b*gamma2*x4*x64 - x113*x76 - x115*x123 - x117*x44 - x117*x83, alpha1*b*gamma3*x0*x52 - alpha1*x124 + alpha2*b*gamma1*x10*x51 + alpha3*b*gamma2*x4*x67 + alpha3*b*x4*x62 - x113*x77 - x115*x125 - x117*x126, alpha1*b*gamma3*x0*x54 + alpha1*b*x0*x43 + alpha2*b*gamma1*x10*x55 - alpha2*x127 + alpha3*b*gamma2*x4*x68 - x113*x128 - x115*x82 - x117*x84, x129, x130, x132, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [b*beta1*gamma1*gamma2*gamma3*x0*x13*x4 + b*beta2*gamma3*x10*x13*x4*x8 + b*beta3*gamma2*x4*x58 - x105*x112 - x114*x134 - x133*x73, b*beta1*gamma3*x0*x22 + b*beta2*gamma1*gamma2*gamma3*x0*x10*x13 + b*beta3*gamma1*x0*x13*x4*x6 - x109*x118 - x116*x135 - x134*x71, -x110*x121 + x111*x120 - x122*x133 + x134*x81 + x135*x73 - x135*x79, b*beta1*gamma3*x0*x48 + b*beta2*gamma1*x10*x49 + b*beta2*x10*x37 + b*beta3*gamma2*x4*x64 - beta3*x131 - x123*x134 - x133*x76 - x135*x83, b*beta1*gamma3*x0*x52 + b*beta2*gamma1*x10*x51 + b*beta3*gamma2*x4*x67 + b*beta3*x4*x62 - beta1*x124 - x125*x134 - x126*x135 - x133*x77, b*beta1*gamma3*x0*x54 + b*beta1*x0*x43 + b*beta2*gamma1*x10*x55 + b*beta3*gamma2*x4*x68 - beta2*x127 - x128*x133 - x134*x82 - x135*x84, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), x129, x130, x132, mpmath.mpf(0), mpmath.mpf(0)],
+        [x20 + x23, -M3*x24 + x22*x25 + x34, M2*x36 - x3*x35 - x38, x22*x40 - x3*x40, -M3*x42 + x22*x41, M2*x44 - x3*x43, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [M3*x46 - x19*x45 - x34, -x20 - x47, -M1*x36 + M3*x18*x35 + x49, M3*x50 - x40*x45, M3*gamma1*x10*x41 - x41*x45, -M1*x44 + M3*gamma1*x10*x43, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [-M2*x46 + x19*x51 + x38, M1*x24 - x25*x52 - x49, -x23 + x47, -M2*x50 + x40*x51, M1*x42 - x41*x52, x43*x51 - x43*x52, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [x54 + x56, -gamma3*x24 + x35*x5, gamma2*x36 - x2*x57, -x40*x53 + x40*x55, -gamma3*x42 + x34 + x41*x55, gamma2*x44 - x38 - x43*x53, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [gamma3*x46 - x11*x35, -x54 - x59, -gamma1*x36 + x18*x57, gamma3*x50 - x34 - x40*x58, gamma1*gamma3*x10*x41 - x41*x58, -gamma1*x44 + gamma3*x18*x43 + x49, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [-gamma2*x46 + x11*x25, gamma1*x24 - x19*x5, -x56 + x59, gamma1*x2*x40 - gamma2*x50 + x38, gamma1*x42 - x41*x60 - x49, gamma1*gamma2*x1*x43 - x43*x60, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [x62 + x64, -alpha3*x24 + x25*x63, alpha2*x36 - x35*x61, -x40*x61 + x40*x63, -alpha3*x42 + x41*x63, alpha2*x44 - x43*x61, mpmath.mpf(0), x34, x65, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [alpha3*x46 - x19*x66, -x62 - x67, -alpha1*x36 + alpha3*gamma1*gamma3*x10*x14*x17, alpha3*x50 - x40*x66, alpha3*gamma1*x10*x41 - x41*x66, -alpha1*x44 + alpha3*gamma1*x10*x43, x68, mpmath.mpf(0), x49, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [-alpha2*x46 + x19*x69, alpha1*x24 - x25*x70, -x64 + x67, -alpha2*x50 + x40*x69, alpha1*x42 - x41*x70, x43*x69 - x43*x70, x38, x71, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [x73 + x75, -beta3*x24 + x25*x74, beta2*x36 - x35*x72, -x40*x72 + x40*x74, -beta3*x42 + x41*x74, beta2*x44 - x43*x72, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), x34, x65, mpmath.mpf(0), mpmath.mpf(0)],
+        [beta3*x46 - x19*x76, -x73 - x77, -beta1*x36 + beta3*gamma1*gamma3*x10*x14*x17, beta3*x50 - x40*x76, beta3*gamma1*x10*x41 - x41*x76, -beta1*x44 + beta3*gamma1*x10*x43, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), x68, mpmath.mpf(0), x49, mpmath.mpf(0), mpmath.mpf(0)],
+        [-beta2*x46 + x19*x78, beta1*x24 - x25*x79, -x75 + x77, -beta2*x50 + x40*x78, beta1*x42 - x41*x79, x43*x78 - x43*x79, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), x38, x71, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [x19*x83 + x19*x86 + x46*x87, x24*x82 + x25*x86 + x25*x88, x35*x83 + x35*x88 + x36*x85, alpha2*x89 - x38*x81 + x40*x83 + x40*x86 + x50*x87, -alpha1*x89 + x41*x86 + x41*x88 + x42*x82 + x49*x81, alpha1*x90 - alpha2*x91 + x43*x83 + x43*x88 + x44*x85, x92, x94, x95, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [x100*x46 + x19*x97 + x19*x99, x101*x25 + x24*x96 + x25*x99, x101*x35 + x35*x97 + x36*x98, beta2*x89 - beta3*x90 + x100*x50 + x40*x97 + x40*x99, -beta1*x89 + beta3*x91 + x101*x41 + x41*x99 + x42*x96, beta1*x90 - beta2*x91 + x101*x43 + x43*x97 + x44*x98, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), x92, x94, x95, mpmath.mpf(0), mpmath.mpf(0)],
     ]
 
 

@@ -65,152 +65,122 @@ def jac(t, y, p):
     """Jacobian d(dy/dt)/dy, shape (14, 14, ...)."""
     M1, M2, M3, gamma1, gamma2, gamma3, alpha1, alpha2, alpha3, beta1, beta2, beta3, x, y, = y
     I1, I2, I3, D, b, = p
-    x0 = 1/(D + I3)
-    x1 = M2*x0
-    x2 = 1/(D + I1)
-    x3 = gamma3*x2
+    x0 = D + I3
+    x1 = 1/x0
+    x2 = gamma3*x1
+    x3 = M2*x2
     x4 = gamma1**2
-    x5 = x2*x4
-    x6 = gamma2**2
-    x7 = 1/(D + I2)
-    x8 = x6*x7
-    x9 = gamma3**2*x0
-    x10 = -x5 - x8 - x9 + 1/D
-    x11 = 1/x10
-    x12 = gamma1*x11
-    x13 = x12*x3
-    x14 = x1*x13
-    x15 = M3*x7
-    x16 = gamma2*x2
-    x17 = x12*x16
-    x18 = -x15*x17
-    x19 = M2*x7
-    x20 = gamma2*x19
-    x21 = x11*x20
-    x22 = gamma3*x0
-    x23 = x11*x8
-    x24 = x23 + 1
-    x25 = M1*x2
-    x26 = gamma1*x25
-    x27 = M3*x0
-    x28 = gamma3*x27
-    x29 = x20 + x26 + x28
-    x30 = x11*x29
-    x31 = M3 + gamma3*x30
-    x32 = x0*x31
-    x33 = x11*x28
-    x34 = gamma2*x7
-    x35 = x11*x9
-    x36 = x35 + 1
-    x37 = M2 + gamma2*x30
-    x38 = x37*x7
-    x39 = x11*x25
-    x40 = 2*x29/x10**2
-    x41 = gamma1*x40
-    x42 = gamma3*x39 + x3*x41
-    x43 = gamma2*x39 + x16*x41
-    x44 = x11*x19
-    x45 = gamma3*x7
-    x46 = gamma2*x45
-    x47 = gamma3*x44 + x40*x46
-    x48 = x21 + x30 + x40*x8
-    x49 = x11*x27
-    x50 = gamma2*x0
-    x51 = gamma3*x40
-    x52 = gamma2*x49 + x50*x51
-    x53 = x30 + x33 + x40*x9
-    x54 = x11*x26
-    x55 = x11*x5
-    x56 = x55 + 1
-    x57 = M1*x0
-    x58 = x11*x46*x57
-    x59 = gamma1*x2
-    x60 = M1 + gamma1*x30
-    x61 = x2*x60
-    x62 = x30 + x40*x5 + x54
-    x63 = gamma1*x7
-    x64 = gamma1*x44 + gamma2*x40*x63
-    x65 = gamma1*x0
-    x66 = gamma1*x49 + x51*x65
-    x67 = M2*x2
-    x68 = M1*x7
-    x69 = x13*x50
-    x70 = x17*x45
-    x71 = -x70
-    x72 = x42*x50
-    x73 = x47*x50
-    x74 = x45*x50
-    x75 = x12*x74
-    x76 = x36*x65
-    x77 = x3*x66
-    x78 = x43*x63
-    x79 = x52*x63
-    x80 = alpha2*x11
-    x81 = x3*x65
-    x82 = x80*x81
-    x83 = alpha3*x11
-    x84 = x16*x63
-    x85 = -x83*x84
-    x86 = alpha3*x7
-    x87 = alpha2*x0
-    x88 = -x38
-    x89 = alpha1*x11
-    x90 = x74*x89
-    x91 = alpha1*x0
-    x92 = -x32
-    x93 = alpha2*x2
-    x94 = alpha1*x7
-    x95 = -x61
-    x96 = beta2*x11
-    x97 = x81*x96
-    x98 = beta3*x11
-    x99 = -x84*x98
-    x100 = beta3*x7
-    x101 = beta2*x0
-    x102 = beta1*x11
-    x103 = x102*x74
-    x104 = beta1*x0
-    x105 = beta2*x2
-    x106 = beta1*x7
-    x107 = alpha1*b
-    x108 = b*gamma2*x55
-    x109 = x3*x56
-    x110 = alpha2*b
-    x111 = b*gamma3*x23
-    x112 = x24*x63
-    x113 = alpha3*b
-    x114 = b*x35
-    x115 = gamma2*x114
-    x116 = gamma1*x114
-    x117 = x36*x50
-    x118 = x3*x62
-    x119 = b*x32
-    x120 = x3*x64
-    x121 = x48*x63
-    x122 = b*x61
-    x123 = x50*x53
-    x124 = b*gamma3*x37*x7 - gamma2*x119
-    x125 = gamma1*x119 - gamma3*x122
-    x126 = b*x38
-    x127 = b*gamma2*x2*x60 - gamma1*x126
-    x128 = b*beta1
-    x129 = b*beta2
-    x130 = b*beta3
+    x5 = D + I1
+    x6 = 1/x5
+    x7 = x4*x6
+    x8 = gamma2**2
+    x9 = D + I2
+    x10 = 1/x9
+    x11 = x10*x8
+    x12 = gamma3**2
+    x13 = x1*x12
+    x14 = -x11 - x13 - x7 + 1/D
+    x15 = 1/x14
+    x16 = gamma1*x6
+    x17 = x15*x16
+    x18 = x17*x3
+    x19 = gamma2*x10
+    x20 = M3*x19
+    x21 = -x17*x20
+    x22 = M2*x10
+    x23 = gamma2*x22
+    x24 = x15*x2
+    x25 = x10 + x15*x8/x9**2
+    x26 = M1*x6
+    x27 = gamma1*x26
+    x28 = M3*x1
+    x29 = gamma3*x28
+    x30 = x23 + x27 + x29
+    x31 = x15*x30
+    x32 = x1*(M3 + gamma3*x31)
+    x33 = x15*x19
+    x34 = x1 + x12*x15/x0**2
+    x35 = M2 + gamma2*x31
+    x36 = x10*x35
+    x37 = 2*x30/x14**2
+    x38 = x15*x26 + x16*x37
+    x39 = x15*x22 + x19*x37
+    x40 = x10*x31 + x19*x39
+    x41 = x15*x28 + x2*x37
+    x42 = x1*x31 + x2*x41
+    x43 = x15*x4/x5**2 + x6
+    x44 = M1*x2
+    x45 = x33*x44
+    x46 = M1 + gamma1*x31
+    x47 = x46*x6
+    x48 = x16*x38 + x31*x6
+    x49 = M1*x19
+    x50 = M2*x16
+    x51 = gamma2*x2
+    x52 = x17*x51
+    x53 = gamma3*x19
+    x54 = -x17*x53
+    x55 = x13*x15
+    x56 = gamma1*x2
+    x57 = x33*x56
+    x58 = gamma1*x19
+    x59 = gamma2*x16
+    x60 = alpha2*x2
+    x61 = x17*x60
+    x62 = alpha3*x19
+    x63 = -x17*x62
+    x64 = -x36
+    x65 = alpha1*x2
+    x66 = x33*x65
+    x67 = -x32
+    x68 = alpha1*x19
+    x69 = alpha2*x16
+    x70 = -x47
+    x71 = beta2*x2
+    x72 = x17*x71
+    x73 = beta3*x19
+    x74 = -x17*x73
+    x75 = beta1*x2
+    x76 = x33*x75
+    x77 = beta1*x19
+    x78 = beta2*x16
+    x79 = b*gamma3
+    x80 = alpha3*b
+    x81 = alpha1*x79 - gamma1*x80
+    x82 = x19*x81
+    x83 = b*gamma2
+    x84 = -alpha1*x83 + alpha2*b*gamma1
+    x85 = x2*x84
+    x86 = -alpha2*x79 + alpha3*b*gamma2
+    x87 = x16*x86
+    x88 = b*x32
+    x89 = b*x36
+    x90 = b*x47
+    x91 = b*gamma3*x10*x35 - x32*x83
+    x92 = b*gamma1
+    x93 = x32*x92 - x47*x79
+    x94 = b*gamma2*x46*x6 - x36*x92
+    x95 = beta1*x79 - beta3*x92
+    x96 = x19*x95
+    x97 = b*beta2*gamma1 - beta1*x83
+    x98 = x2*x97
+    x99 = b*beta3*gamma2 - beta2*x79
+    x100 = x16*x99
     return [
-        [x14 + x18, -x15*x24 + x21*x22 + x32, M2*x0*x36 - x33*x34 - x38, x1*x42 - x15*x43, x1*x47 - x15*x48, x1*x53 - x15*x52, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [M3*x2*x56 - x22*x54 - x32, -x18 - x58, x33*x59 - x36*x57 + x61, M3*x2*x62 - x42*x57, M3*x2*x64 - x47*x57, M3*x2*x66 - x53*x57, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x34*x54 + x38 - x56*x67, M1*x24*x7 - x21*x59 - x61, -x14 + x58, x43*x68 - x62*x67, x48*x68 - x64*x67, x52*x68 - x66*x67, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x69 + x71, x22*x23 - x24*x45, gamma2*x0*x36 - x34*x35, -x43*x45 + x72, x32 - x45*x48 + x73, gamma2*x0*x53 - x38 - x45*x52, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [gamma3*x2*x56 - x22*x55, -x71 - x75, x35*x59 - x76, gamma3*x2*x62 - x32 - x42*x65, gamma3*x2*x64 - x47*x65, -x53*x65 + x61 + x77, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [-x16*x56 + x34*x55, gamma1*x24*x7 - x23*x59, -x69 + x75, -x16*x62 + x38 + x78, gamma1*x48*x7 - x16*x64 - x61, -x16*x66 + x79, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x82 + x85, -x24*x86 + x74*x80, x36*x87 - x74*x83, x42*x87 - x43*x86, x47*x87 - x48*x86, -x52*x86 + x53*x87, mpmath.mpf(0), x32, x88, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [alpha3*x2*x56 - x81*x89, -x85 - x90, alpha3*gamma1*gamma3*x0*x11*x2 - x36*x91, alpha3*x2*x62 - x42*x91, alpha3*x2*x64 - x47*x91, alpha3*x2*x66 - x53*x91, x92, mpmath.mpf(0), x61, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [-x56*x93 + x84*x89, x24*x94 - x80*x84, -x82 + x90, x43*x94 - x62*x93, x48*x94 - x64*x93, x52*x94 - x66*x93, x38, x95, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x97 + x99, -x100*x24 + x74*x96, x101*x36 - x74*x98, -x100*x43 + x101*x42, -x100*x48 + x101*x47, -x100*x52 + x101*x53, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), x32, x88, mpmath.mpf(0), mpmath.mpf(0)],
-        [beta3*x2*x56 - x102*x81, -x103 - x99, beta3*gamma1*gamma3*x0*x11*x2 - x104*x36, beta3*x2*x62 - x104*x42, beta3*x2*x64 - x104*x47, beta3*x2*x66 - x104*x53, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), x92, mpmath.mpf(0), x61, mpmath.mpf(0), mpmath.mpf(0)],
-        [x102*x84 - x105*x56, x106*x24 - x84*x96, x103 - x97, -x105*x62 + x106*x43, -x105*x64 + x106*x48, -x105*x66 + x106*x52, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), x38, x95, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [alpha1*b*gamma1*gamma2*gamma3*x11*x2*x7 + alpha2*b*gamma3*x0*x11*x2*x4 + alpha3*b*gamma2*x2*x56 - x107*x69 - x108*x86 - x109*x110, alpha1*b*gamma3*x24*x7 + alpha2*b*gamma1*gamma2*gamma3*x0*x11*x7 + alpha3*b*gamma1*x11*x2*x6*x7 - x110*x70 - x111*x91 - x112*x113, -x107*x117 + x110*x76 + x113*x69 - x113*x75 + x115*x94 - x116*x93, alpha1*b*gamma3*x43*x7 + alpha2*b*gamma1*x0*x42 + alpha2*b*x0*x31 + alpha3*b*gamma2*x2*x62 - x107*x72 - x110*x118 - x113*x38 - x113*x78, alpha1*b*gamma3*x48*x7 - alpha1*x119 + alpha2*b*gamma1*x0*x47 + alpha3*b*gamma2*x2*x64 + alpha3*b*x2*x60 - x107*x73 - x110*x120 - x113*x121, alpha1*b*gamma3*x52*x7 + alpha1*b*x37*x7 + alpha2*b*gamma1*x0*x53 - alpha2*x122 + alpha3*b*gamma2*x2*x66 - x107*x123 - x110*x77 - x113*x79, x124, x125, x127, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [b*beta1*gamma1*gamma2*gamma3*x11*x2*x7 + b*beta2*gamma3*x0*x11*x2*x4 + b*beta3*gamma2*x2*x56 - x100*x108 - x109*x129 - x128*x69, b*beta1*gamma3*x24*x7 + b*beta2*gamma1*gamma2*gamma3*x0*x11*x7 + b*beta3*gamma1*x11*x2*x6*x7 - x104*x111 - x112*x130 - x129*x70, -x105*x116 + x106*x115 - x117*x128 + x129*x76 + x130*x69 - x130*x75, b*beta1*gamma3*x43*x7 + b*beta2*gamma1*x0*x42 + b*beta2*x0*x31 + b*beta3*gamma2*x2*x62 - beta3*x126 - x118*x129 - x128*x72 - x130*x78, b*beta1*gamma3*x48*x7 + b*beta2*gamma1*x0*x47 + b*beta3*gamma2*x2*x64 + b*beta3*x2*x60 - beta1*x119 - x120*x129 - x121*x130 - x128*x73, b*beta1*gamma3*x52*x7 + b*beta1*x37*x7 + b*beta2*gamma1*x0*x53 + b*beta3*gamma2*x2*x66 - beta2*x122 - x123*x128 - x129*x77 - x130*x79, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), x124, x125, x127, mpmath.mpf(0), mpmath.mpf(0)],
+        [x18 + x21, -M3*x25 + x23*x24 + x32, M2*x34 - x29*x33 - x36, -x20*x38 + x3*x38, -M3*x40 + x3*x39, M2*x42 - x20*x41, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [M3*x43 - x24*x27 - x32, -x21 - x45, -M1*x34 + x17*x29 + x47, M3*x48 - x38*x44, M3*gamma1*x39*x6 - x39*x44, -M1*x42 + M3*gamma1*x41*x6, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [-M2*x43 + x27*x33 + x36, M1*x25 - x17*x23 - x47, -x18 + x45, -M2*x48 + x38*x49, M1*x40 - x39*x50, x41*x49 - x41*x50, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [x52 + x54, -gamma3*x25 + x11*x24, gamma2*x34 - x19*x55, x38*x51 - x38*x53, -gamma3*x40 + x32 + x39*x51, gamma2*x42 - x36 - x41*x53, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [gamma3*x43 - x24*x7, -x54 - x57, -gamma1*x34 + x16*x55, gamma3*x48 - x32 - x38*x56, gamma1*gamma3*x39*x6 - x39*x56, -gamma1*x42 + gamma3*x16*x41 + x47, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [-gamma2*x43 + x33*x7, gamma1*x25 - x11*x17, -x52 + x57, -gamma2*x48 + x36 + x38*x58, gamma1*x40 - x39*x59 - x47, x41*x58 - x41*x59, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [x61 + x63, -alpha3*x25 + x33*x60, alpha2*x34 - x24*x62, x38*x60 - x38*x62, -alpha3*x40 + x39*x60, alpha2*x42 - x41*x62, mpmath.mpf(0), x32, x64, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [alpha3*x43 - x17*x65, -x63 - x66, -alpha1*x34 + alpha3*gamma1*gamma3*x1*x15*x6, alpha3*x48 - x38*x65, alpha3*gamma1*x39*x6 - x39*x65, -alpha1*x42 + alpha3*gamma1*x41*x6, x67, mpmath.mpf(0), x47, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [-alpha2*x43 + x17*x68, alpha1*x25 - x33*x69, -x61 + x66, -alpha2*x48 + x38*x68, alpha1*x40 - x39*x69, x41*x68 - x41*x69, x36, x70, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [x72 + x74, -beta3*x25 + x33*x71, beta2*x34 - x24*x73, x38*x71 - x38*x73, -beta3*x40 + x39*x71, beta2*x42 - x41*x73, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), x32, x64, mpmath.mpf(0), mpmath.mpf(0)],
+        [beta3*x43 - x17*x75, -x74 - x76, -beta1*x34 + beta3*gamma1*gamma3*x1*x15*x6, beta3*x48 - x38*x75, beta3*gamma1*x39*x6 - x39*x75, -beta1*x42 + beta3*gamma1*x41*x6, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), x67, mpmath.mpf(0), x47, mpmath.mpf(0), mpmath.mpf(0)],
+        [-beta2*x43 + x17*x77, beta1*x25 - x33*x78, -x72 + x76, -beta2*x48 + x38*x77, beta1*x40 - x39*x78, x41*x77 - x41*x78, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), x36, x70, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [x17*x82 + x17*x85 + x43*x86, x25*x81 + x33*x85 + x33*x87, x24*x82 + x24*x87 + x34*x84, alpha2*x88 - x36*x80 + x38*x82 + x38*x85 + x48*x86, -alpha1*x88 + x39*x85 + x39*x87 + x40*x81 + x47*x80, alpha1*x89 - alpha2*x90 + x41*x82 + x41*x87 + x42*x84, x91, x93, x94, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [x17*x96 + x17*x98 + x43*x99, x100*x33 + x25*x95 + x33*x98, x100*x24 + x24*x96 + x34*x97, beta2*x88 - beta3*x89 + x38*x96 + x38*x98 + x48*x99, -beta1*x88 + beta3*x90 + x100*x39 + x39*x98 + x40*x95, beta1*x89 - beta2*x90 + x100*x41 + x41*x96 + x42*x97, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0), x91, x93, x94, mpmath.mpf(0), mpmath.mpf(0)],
     ]
 
 

@@ -55,83 +55,72 @@ def jac(t, y, p):
     """Jacobian d(dy/dt)/dy, shape (6, 6, ...)."""
     M1, M2, M3, gamma1, gamma2, gamma3, = y
     I1, I2, I3, D, K1, K2, K3, = p
-    x0 = 1/(D + I2)
-    x1 = K3 + M3
-    x2 = x0*x1
-    x3 = 1/(D + I1)
-    x4 = gamma2*x3
-    x5 = gamma1**2*x3
-    x6 = gamma2**2*x0
-    x7 = 1/(D + I3)
-    x8 = gamma3**2*x7
-    x9 = -x5 - x6 - x8 + 1/D
-    x10 = 1/x9
-    x11 = gamma1*x10
-    x12 = x11*x4
-    x13 = x12*x2
-    x14 = K2 + M2
-    x15 = x14*x7
-    x16 = gamma3*x3
-    x17 = x11*x16
-    x18 = x15*x17
-    x19 = gamma3*x0
-    x20 = gamma2*x19
-    x21 = x10*x20
-    x22 = x10*x6
-    x23 = x22 + 1
-    x24 = M1*x3
-    x25 = gamma1*x24
-    x26 = M2*x0
-    x27 = gamma2*x26
-    x28 = M3*x7
-    x29 = gamma3*x28
-    x30 = x25 + x27 + x29
-    x31 = x10*x30
-    x32 = x7*(M3 + gamma3*x31)
-    x33 = gamma2*x7
-    x34 = gamma3*x33
-    x35 = x10*x8
-    x36 = x35 + 1
-    x37 = x0*(M2 + gamma2*x31)
-    x38 = x10*x24
-    x39 = 2*x30/x9**2
-    x40 = gamma1*x39
-    x41 = gamma3*x38 + x16*x40
-    x42 = gamma2*x38 + x4*x40
-    x43 = x10*x26
-    x44 = gamma3*x43 + x20*x39
-    x45 = x10*x27 + x31 + x39*x6
-    x46 = x10*x28
-    x47 = gamma2*x46 + x34*x39
-    x48 = x10*x29 + x31 + x39*x8
-    x49 = K1 + M1
-    x50 = x49*x7
-    x51 = x10*x5
-    x52 = x51 + 1
-    x53 = -x21*x50
-    x54 = gamma1*x7
-    x55 = gamma3*x54
-    x56 = x3*(M1 + gamma1*x31)
-    x57 = x10*x25 + x31 + x39*x5
-    x58 = gamma1*x0
-    x59 = gamma2*x58
-    x60 = gamma1*x43 + x39*x59
-    x61 = gamma1*x46 + x39*x55
-    x62 = x0*x49
-    x63 = x14*x3
-    x64 = x17*x33
-    x65 = -x12*x19
-    x66 = gamma3*x7
-    x67 = gamma2*x0
-    x68 = x11*x19*x33
-    x69 = gamma1*x3
+    x0 = K2 + M2
+    x1 = D + I3
+    x2 = 1/x1
+    x3 = gamma3*x2
+    x4 = x0*x3
+    x5 = gamma1**2
+    x6 = D + I1
+    x7 = 1/x6
+    x8 = x5*x7
+    x9 = gamma2**2
+    x10 = D + I2
+    x11 = 1/x10
+    x12 = x11*x9
+    x13 = gamma3**2
+    x14 = x13*x2
+    x15 = -x12 - x14 - x8 + 1/D
+    x16 = 1/x15
+    x17 = gamma1*x7
+    x18 = x16*x17
+    x19 = K3 + M3
+    x20 = -x19
+    x21 = gamma2*x11
+    x22 = x20*x21
+    x23 = x16*x21
+    x24 = x11 + x16*x9/x10**2
+    x25 = M1*x7
+    x26 = M2*x11
+    x27 = M3*x2
+    x28 = gamma1*x25 + gamma2*x26 + gamma3*x27
+    x29 = x16*x28
+    x30 = x2*(M3 + gamma3*x29)
+    x31 = x2 + x13*x16/x1**2
+    x32 = x16*x3
+    x33 = x11*(M2 + gamma2*x29)
+    x34 = 2*x28/x15**2
+    x35 = x16*x25 + x17*x34
+    x36 = x16*x26 + x21*x34
+    x37 = x11*x29 + x21*x36
+    x38 = x16*x27 + x3*x34
+    x39 = x2*x29 + x3*x38
+    x40 = x16*x5/x6**2 + x7
+    x41 = K1 + M1
+    x42 = -x41
+    x43 = x3*x42
+    x44 = x17*x19
+    x45 = x7*(M1 + gamma1*x29)
+    x46 = x17*x35 + x29*x7
+    x47 = x21*x41
+    x48 = -x0
+    x49 = x17*x48
+    x50 = gamma2*x3
+    x51 = x18*x50
+    x52 = gamma3*x21
+    x53 = -x18*x52
+    x54 = x14*x16
+    x55 = gamma1*x3
+    x56 = x23*x55
+    x57 = gamma1*x21
+    x58 = gamma2*x17
     return [
-        [-x13 + x18, x15*x21 - x2*x23 + x32, -x10*x2*x34 + x14*x36*x7 - x37, x15*x41 - x2*x42, x15*x44 - x2*x45, x15*x48 - x2*x47],
-        [x1*x3*x52 - x17*x50 - x32, x13 + x53, x1*x10*x3*x55 - x36*x50 + x56, x1*x3*x57 - x41*x50, x1*x3*x60 - x44*x50, x1*x3*x61 - x48*x50],
-        [x12*x62 + x37 - x52*x63, x0*x23*x49 - x10*x59*x63 - x56, -x18 - x53, x42*x62 - x57*x63, x45*x62 - x60*x63, x47*x62 - x61*x63],
-        [x64 + x65, -x19*x23 + x22*x66, gamma2*x36*x7 - x35*x67, -x19*x42 + x33*x41, -x19*x45 + x32 + x33*x44, gamma2*x48*x7 - x19*x47 - x37],
-        [gamma3*x3*x52 - x51*x66, -x65 - x68, x35*x69 - x36*x54, gamma3*x3*x57 - x32 - x41*x54, gamma3*x3*x60 - x44*x54, x16*x61 - x48*x54 + x56],
-        [-x4*x52 + x51*x67, gamma1*x0*x23 - x22*x69, -x64 + x68, x37 - x4*x57 + x42*x58, gamma1*x0*x45 - x4*x60 - x56, -x4*x61 + x47*x58],
+        [x18*x22 + x18*x4, x20*x24 + x23*x4 + x30, x0*x31 + x22*x32 - x33, x22*x35 + x35*x4, x20*x37 + x36*x4, x0*x39 + x22*x38],
+        [x18*x43 + x19*x40 - x30, x23*x43 + x23*x44, x31*x42 + x32*x44 + x45, x19*x46 + x35*x43, x36*x43 + x36*x44, x38*x44 + x39*x42],
+        [x18*x47 + x33 + x40*x48, x23*x49 + x24*x41 - x45, x32*x47 + x32*x49, x35*x47 + x46*x48, x36*x49 + x37*x41, x38*x47 + x38*x49],
+        [x51 + x53, -gamma3*x24 + x12*x32, gamma2*x31 - x21*x54, x35*x50 - x35*x52, -gamma3*x37 + x30 + x36*x50, gamma2*x39 - x33 - x38*x52],
+        [gamma3*x40 - x32*x8, -x53 - x56, -gamma1*x31 + x17*x54, gamma3*x46 - x30 - x35*x55, gamma1*gamma3*x36*x7 - x36*x55, -gamma1*x39 + gamma3*x17*x38 + x45],
+        [-gamma2*x40 + x23*x8, gamma1*x24 - x12*x18, -x51 + x56, -gamma2*x46 + x33 + x35*x57, gamma1*x37 - x36*x58 - x45, x38*x57 - x38*x58],
     ]
 
 

@@ -57,85 +57,72 @@ def jac(t, y, p):
     """Jacobian d(dy/dt)/dy, shape (6, 6, ...)."""
     M1, M2, M3, gamma1, gamma2, gamma3, = y
     I1, I2, I3, D, J_off, delta, K1, K2, K3, Omega, = p
-    x0 = 1/(D + I2)
-    x1 = M3*x0
-    x2 = mpmath.sin(Omega*t)
-    x3 = D + J_off**2 + 2*J_off*delta*x2 + delta**2*x2**2
-    x4 = 1/(I1 + x3)
-    x5 = gamma2*x4
-    x6 = gamma2**2*x0
-    x7 = gamma1**2*x4
-    x8 = 1/(I3 + x3)
-    x9 = gamma3**2*x8
-    x10 = -x6 - x7 - x9 + 1/D
-    x11 = 1/x10
-    x12 = gamma1*x11
-    x13 = x12*x5
-    x14 = -x1*x13
-    x15 = M2*x8
-    x16 = gamma3*x4
-    x17 = x12*x16
-    x18 = x15*x17
-    x19 = x11*x6
-    x20 = x19 + 1
-    x21 = gamma3*x0
-    x22 = gamma2*x21
-    x23 = x11*x22
-    x24 = K3*x2
-    x25 = K2*x2
-    x26 = x0*(M2 - x25)
-    x27 = gamma2*x26
-    x28 = K1*x2
-    x29 = x4*(M1 - x28)
-    x30 = gamma1*x29
-    x31 = x8*(M3 - x24)
-    x32 = gamma3*x31
-    x33 = x27 + x30 + x32
-    x34 = x11*x33
-    x35 = x8*(M3 + gamma3*x34 - x24)
-    x36 = gamma2*x8
-    x37 = gamma3*x36
-    x38 = x11*x9
-    x39 = x38 + 1
-    x40 = x0*(M2 + gamma2*x34 - x25)
-    x41 = x11*x29
-    x42 = 2*x33/x10**2
-    x43 = gamma1*x42
-    x44 = gamma2*x41 + x43*x5
-    x45 = gamma3*x41 + x16*x43
-    x46 = x11*x26
-    x47 = gamma3*x46 + x22*x42
-    x48 = x11*x27 + x34 + x42*x6
-    x49 = x11*x31
-    x50 = gamma2*x49 + x37*x42
-    x51 = x11*x32 + x34 + x42*x9
-    x52 = M1*x8
-    x53 = x11*x7
-    x54 = x53 + 1
-    x55 = x23*x52
-    x56 = gamma1*x8
-    x57 = gamma3*x56
-    x58 = x4*(M1 + gamma1*x34 - x28)
-    x59 = x11*x30 + x34 + x42*x7
-    x60 = gamma1*x0
-    x61 = gamma2*x60
-    x62 = gamma1*x46 + x42*x61
-    x63 = gamma1*x49 + x42*x57
-    x64 = M1*x0
-    x65 = M2*x4
-    x66 = -x13*x21
-    x67 = x17*x36
-    x68 = gamma3*x8
-    x69 = gamma2*x0
-    x70 = x12*x21*x36
-    x71 = gamma1*x4
+    x0 = D + I2
+    x1 = 1/x0
+    x2 = gamma2*x1
+    x3 = M3*x2
+    x4 = gamma2**2
+    x5 = x1*x4
+    x6 = gamma1**2
+    x7 = mpmath.sin(Omega*t)
+    x8 = D + J_off**2 + 2*J_off*delta*x7 + delta**2*x7**2
+    x9 = I1 + x8
+    x10 = 1/x9
+    x11 = x10*x6
+    x12 = gamma3**2
+    x13 = I3 + x8
+    x14 = 1/x13
+    x15 = x12*x14
+    x16 = -x11 - x15 - x5 + 1/D
+    x17 = 1/x16
+    x18 = gamma1*x10
+    x19 = x17*x18
+    x20 = -x19*x3
+    x21 = gamma3*x14
+    x22 = M2*x21
+    x23 = x19*x22
+    x24 = x1 + x17*x4/x0**2
+    x25 = x17*x2
+    x26 = K3*x7
+    x27 = K2*x7
+    x28 = x1*(M2 - x27)
+    x29 = K1*x7
+    x30 = x10*(M1 - x29)
+    x31 = x14*(M3 - x26)
+    x32 = gamma1*x30 + gamma2*x28 + gamma3*x31
+    x33 = x17*x32
+    x34 = x14*(M3 + gamma3*x33 - x26)
+    x35 = x17*x21
+    x36 = x12*x17/x13**2 + x14
+    x37 = x1*(M2 + gamma2*x33 - x27)
+    x38 = 2*x32/x16**2
+    x39 = x17*x30 + x18*x38
+    x40 = x17*x28 + x2*x38
+    x41 = x1*x33 + x2*x40
+    x42 = x17*x31 + x21*x38
+    x43 = x14*x33 + x21*x42
+    x44 = M1*x21
+    x45 = x10 + x17*x6/x9**2
+    x46 = x25*x44
+    x47 = x10*(M1 + gamma1*x33 - x29)
+    x48 = x10*x33 + x18*x39
+    x49 = M1*x2
+    x50 = M2*x18
+    x51 = gamma3*x2
+    x52 = -x19*x51
+    x53 = gamma2*x21
+    x54 = x19*x53
+    x55 = x15*x17
+    x56 = gamma1*x21
+    x57 = x25*x56
+    x58 = gamma2*x18
     return [
-        [x14 + x18, -x1*x20 + x15*x23 + x35, M2*x39*x8 - x1*x11*x37 - x40, -x1*x44 + x15*x45, -x1*x48 + x15*x47, -x1*x50 + x15*x51],
-        [M3*x4*x54 - x17*x52 - x35, -x14 - x55, M3*x11*x4*x57 - x39*x52 + x58, M3*x4*x59 - x45*x52, M3*x4*x62 - x47*x52, M3*x4*x63 - x51*x52],
-        [x13*x64 + x40 - x54*x65, M1*x0*x20 - x11*x61*x65 - x58, -x18 + x55, x44*x64 - x59*x65, x48*x64 - x62*x65, x50*x64 - x63*x65],
-        [x66 + x67, x19*x68 - x20*x21, gamma2*x39*x8 - x38*x69, -x21*x44 + x36*x45, -x21*x48 + x35 + x36*x47, gamma2*x51*x8 - x21*x50 - x40],
-        [gamma3*x4*x54 - x53*x68, -x66 - x70, x38*x71 - x39*x56, gamma3*x4*x59 - x35 - x45*x56, gamma3*x4*x62 - x47*x56, x16*x63 - x51*x56 + x58],
-        [-x5*x54 + x53*x69, gamma1*x0*x20 - x19*x71, -x67 + x70, x40 + x44*x60 - x5*x59, gamma1*x0*x48 - x5*x62 - x58, -x5*x63 + x50*x60],
+        [x20 + x23, -M3*x24 + x22*x25 + x34, M2*x36 - x3*x35 - x37, x22*x39 - x3*x39, -M3*x41 + x22*x40, M2*x43 - x3*x42],
+        [M3*x45 - x19*x44 - x34, -x20 - x46, -M1*x36 + M3*x18*x35 + x47, M3*x48 - x39*x44, M3*gamma1*x10*x40 - x40*x44, -M1*x43 + M3*gamma1*x10*x42],
+        [-M2*x45 + x19*x49 + x37, M1*x24 - x25*x50 - x47, -x23 + x46, -M2*x48 + x39*x49, M1*x41 - x40*x50, x42*x49 - x42*x50],
+        [x52 + x54, -gamma3*x24 + x35*x5, gamma2*x36 - x2*x55, -x39*x51 + x39*x53, -gamma3*x41 + x34 + x40*x53, gamma2*x43 - x37 - x42*x51],
+        [gamma3*x45 - x11*x35, -x52 - x57, -gamma1*x36 + x18*x55, gamma3*x48 - x34 - x39*x56, gamma1*gamma3*x10*x40 - x40*x56, -gamma1*x43 + gamma3*x18*x42 + x47],
+        [-gamma2*x45 + x11*x25, gamma1*x24 - x19*x5, -x54 + x57, gamma1*x2*x39 - gamma2*x48 + x37, gamma1*x41 - x40*x58 - x47, gamma1*gamma2*x1*x42 - x42*x58],
     ]
 
 

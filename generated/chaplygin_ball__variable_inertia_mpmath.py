@@ -54,82 +54,72 @@ def jac(t, y, p):
     """Jacobian d(dy/dt)/dy, shape (6, 6, ...)."""
     M1, M2, M3, gamma1, gamma2, gamma3, = y
     I1, I2, I3, D, J_off, delta, Omega, = p
-    x0 = 1/(D + I2)
-    x1 = M3*x0
-    x2 = mpmath.sin(Omega*t)
-    x3 = D + J_off**2 + 2*J_off*delta*x2 + delta**2*x2**2
-    x4 = 1/(I1 + x3)
-    x5 = gamma2*x4
-    x6 = gamma2**2*x0
-    x7 = gamma1**2*x4
-    x8 = 1/(I3 + x3)
-    x9 = gamma3**2*x8
-    x10 = -x6 - x7 - x9 + 1/D
-    x11 = 1/x10
-    x12 = gamma1*x11
-    x13 = x12*x5
-    x14 = -x1*x13
-    x15 = M2*x8
-    x16 = gamma3*x4
-    x17 = x12*x16
-    x18 = x15*x17
-    x19 = x11*x6
-    x20 = x19 + 1
-    x21 = M2*x0
-    x22 = gamma2*x21
-    x23 = x11*x22
-    x24 = gamma3*x8
-    x25 = M1*x4
-    x26 = gamma1*x25
-    x27 = M3*x8
-    x28 = gamma3*x27
-    x29 = x22 + x26 + x28
-    x30 = x11*x29
-    x31 = x8*(M3 + gamma3*x30)
-    x32 = x11*x28
-    x33 = gamma2*x0
-    x34 = x11*x9
-    x35 = x34 + 1
-    x36 = x0*(M2 + gamma2*x30)
-    x37 = x11*x25
-    x38 = 2*x29/x10**2
-    x39 = gamma1*x38
-    x40 = gamma2*x37 + x39*x5
-    x41 = gamma3*x37 + x16*x39
-    x42 = x11*x21
-    x43 = gamma3*x0
-    x44 = gamma2*x43
-    x45 = gamma3*x42 + x38*x44
-    x46 = x23 + x30 + x38*x6
-    x47 = x11*x27
-    x48 = gamma2*x8
-    x49 = gamma3*x38
-    x50 = gamma2*x47 + x48*x49
-    x51 = x30 + x32 + x38*x9
-    x52 = x11*x26
-    x53 = x11*x7
-    x54 = x53 + 1
-    x55 = M1*x8
-    x56 = x11*x44*x55
-    x57 = gamma1*x4
-    x58 = x4*(M1 + gamma1*x30)
-    x59 = x30 + x38*x7 + x52
-    x60 = gamma1*x0
-    x61 = gamma1*x42 + gamma2*x38*x60
-    x62 = gamma1*x8
-    x63 = gamma1*x47 + x49*x62
-    x64 = M2*x4
-    x65 = M1*x0
-    x66 = -x13*x43
-    x67 = x17*x48
-    x68 = x12*x43*x48
+    x0 = D + I2
+    x1 = 1/x0
+    x2 = gamma2*x1
+    x3 = M3*x2
+    x4 = gamma2**2
+    x5 = x1*x4
+    x6 = gamma1**2
+    x7 = mpmath.sin(Omega*t)
+    x8 = D + J_off**2 + 2*J_off*delta*x7 + delta**2*x7**2
+    x9 = I1 + x8
+    x10 = 1/x9
+    x11 = x10*x6
+    x12 = gamma3**2
+    x13 = I3 + x8
+    x14 = 1/x13
+    x15 = x12*x14
+    x16 = -x11 - x15 - x5 + 1/D
+    x17 = 1/x16
+    x18 = gamma1*x10
+    x19 = x17*x18
+    x20 = -x19*x3
+    x21 = gamma3*x14
+    x22 = M2*x21
+    x23 = x19*x22
+    x24 = x1 + x17*x4/x0**2
+    x25 = M2*x1
+    x26 = gamma2*x25
+    x27 = x17*x21
+    x28 = M1*x10
+    x29 = gamma1*x28
+    x30 = M3*x14
+    x31 = gamma3*x30
+    x32 = x26 + x29 + x31
+    x33 = x17*x32
+    x34 = x14*(M3 + gamma3*x33)
+    x35 = x17*x2
+    x36 = x12*x17/x13**2 + x14
+    x37 = x1*(M2 + gamma2*x33)
+    x38 = 2*x32/x16**2
+    x39 = x17*x28 + x18*x38
+    x40 = x17*x25 + x2*x38
+    x41 = x1*x33 + x2*x40
+    x42 = x17*x30 + x21*x38
+    x43 = x14*x33 + x21*x42
+    x44 = x10 + x17*x6/x9**2
+    x45 = M1*x21
+    x46 = x35*x45
+    x47 = x10*(M1 + gamma1*x33)
+    x48 = x10*x33 + x18*x39
+    x49 = M1*x2
+    x50 = M2*x18
+    x51 = gamma3*x2
+    x52 = -x19*x51
+    x53 = gamma2*x21
+    x54 = x19*x53
+    x55 = x15*x17
+    x56 = gamma1*x21
+    x57 = x35*x56
+    x58 = gamma2*x18
     return [
-        [x14 + x18, -x1*x20 + x23*x24 + x31, M2*x35*x8 - x32*x33 - x36, -x1*x40 + x15*x41, -x1*x46 + x15*x45, -x1*x50 + x15*x51],
-        [M3*x4*x54 - x24*x52 - x31, -x14 - x56, x32*x57 - x35*x55 + x58, M3*x4*x59 - x41*x55, M3*x4*x61 - x45*x55, M3*x4*x63 - x51*x55],
-        [x33*x52 + x36 - x54*x64, M1*x0*x20 - x23*x57 - x58, -x18 + x56, x40*x65 - x59*x64, x46*x65 - x61*x64, x50*x65 - x63*x64],
-        [x66 + x67, x19*x24 - x20*x43, gamma2*x35*x8 - x33*x34, -x40*x43 + x41*x48, x31 - x43*x46 + x45*x48, gamma2*x51*x8 - x36 - x43*x50],
-        [gamma3*x4*x54 - x24*x53, -x66 - x68, x34*x57 - x35*x62, gamma3*x4*x59 - x31 - x41*x62, gamma3*x4*x61 - x45*x62, x16*x63 - x51*x62 + x58],
-        [x33*x53 - x5*x54, gamma1*x0*x20 - x19*x57, -x67 + x68, x36 + x40*x60 - x5*x59, gamma1*x0*x46 - x5*x61 - x58, -x5*x63 + x50*x60],
+        [x20 + x23, -M3*x24 + x26*x27 + x34, M2*x36 - x31*x35 - x37, x22*x39 - x3*x39, -M3*x41 + x22*x40, M2*x43 - x3*x42],
+        [M3*x44 - x27*x29 - x34, -x20 - x46, -M1*x36 + x19*x31 + x47, M3*x48 - x39*x45, M3*gamma1*x10*x40 - x40*x45, -M1*x43 + M3*gamma1*x10*x42],
+        [-M2*x44 + x29*x35 + x37, M1*x24 - x19*x26 - x47, -x23 + x46, -M2*x48 + x39*x49, M1*x41 - x40*x50, x42*x49 - x42*x50],
+        [x52 + x54, -gamma3*x24 + x27*x5, gamma2*x36 - x2*x55, -x39*x51 + x39*x53, -gamma3*x41 + x34 + x40*x53, gamma2*x43 - x37 - x42*x51],
+        [gamma3*x44 - x11*x27, -x52 - x57, -gamma1*x36 + x18*x55, gamma3*x48 - x34 - x39*x56, gamma1*gamma3*x10*x40 - x40*x56, -gamma1*x43 + gamma3*x18*x42 + x47],
+        [-gamma2*x44 + x11*x35, gamma1*x24 - x19*x5, -x54 + x57, gamma1*x2*x39 - gamma2*x48 + x37, gamma1*x41 - x40*x58 - x47, gamma1*gamma2*x1*x42 - x42*x58],
     ]
 
 

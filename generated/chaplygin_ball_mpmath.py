@@ -52,80 +52,71 @@ def jac(t, y, p):
     """Jacobian d(dy/dt)/dy, shape (6, 6, ...)."""
     M1, M2, M3, gamma1, gamma2, gamma3, = y
     I1, I2, I3, D, = p
-    x0 = 1/(D + I3)
-    x1 = M2*x0
-    x2 = 1/(D + I1)
-    x3 = gamma3*x2
-    x4 = gamma1**2*x2
-    x5 = 1/(D + I2)
-    x6 = gamma2**2*x5
-    x7 = gamma3**2*x0
-    x8 = -x4 - x6 - x7 + 1/D
-    x9 = 1/x8
-    x10 = gamma1*x9
-    x11 = x10*x3
-    x12 = x1*x11
-    x13 = M3*x5
-    x14 = gamma2*x2
-    x15 = x10*x14
-    x16 = -x13*x15
-    x17 = M2*x5
-    x18 = gamma2*x17
-    x19 = x18*x9
-    x20 = gamma3*x0
-    x21 = x6*x9
-    x22 = x21 + 1
-    x23 = M1*x2
-    x24 = gamma1*x23
-    x25 = M3*x0
-    x26 = gamma3*x25
-    x27 = x18 + x24 + x26
-    x28 = x27*x9
-    x29 = x0*(M3 + gamma3*x28)
-    x30 = x26*x9
-    x31 = gamma2*x5
-    x32 = x7*x9
-    x33 = x32 + 1
-    x34 = x5*(M2 + gamma2*x28)
-    x35 = x23*x9
-    x36 = 2*x27/x8**2
-    x37 = gamma1*x36
-    x38 = gamma3*x35 + x3*x37
-    x39 = gamma2*x35 + x14*x37
-    x40 = x17*x9
-    x41 = gamma3*x5
-    x42 = gamma2*x41
-    x43 = gamma3*x40 + x36*x42
-    x44 = x19 + x28 + x36*x6
-    x45 = x25*x9
-    x46 = gamma2*x0
-    x47 = gamma3*x36
-    x48 = gamma2*x45 + x46*x47
-    x49 = x28 + x30 + x36*x7
-    x50 = x24*x9
-    x51 = x4*x9
-    x52 = x51 + 1
-    x53 = M1*x0
-    x54 = x42*x53*x9
-    x55 = gamma1*x2
-    x56 = x2*(M1 + gamma1*x28)
-    x57 = x28 + x36*x4 + x50
-    x58 = gamma1*x5
-    x59 = gamma1*x40 + gamma2*x36*x58
-    x60 = gamma1*x0
-    x61 = gamma1*x45 + x47*x60
-    x62 = M2*x2
-    x63 = M1*x5
-    x64 = x11*x46
-    x65 = -x15*x41
-    x66 = x10*x41*x46
+    x0 = D + I3
+    x1 = 1/x0
+    x2 = gamma3*x1
+    x3 = M2*x2
+    x4 = gamma1**2
+    x5 = D + I1
+    x6 = 1/x5
+    x7 = x4*x6
+    x8 = gamma2**2
+    x9 = D + I2
+    x10 = 1/x9
+    x11 = x10*x8
+    x12 = gamma3**2
+    x13 = x1*x12
+    x14 = -x11 - x13 - x7 + 1/D
+    x15 = 1/x14
+    x16 = gamma1*x6
+    x17 = x15*x16
+    x18 = x17*x3
+    x19 = gamma2*x10
+    x20 = M3*x19
+    x21 = -x17*x20
+    x22 = M2*x10
+    x23 = gamma2*x22
+    x24 = x15*x2
+    x25 = x10 + x15*x8/x9**2
+    x26 = M1*x6
+    x27 = gamma1*x26
+    x28 = M3*x1
+    x29 = gamma3*x28
+    x30 = x23 + x27 + x29
+    x31 = x15*x30
+    x32 = x1*(M3 + gamma3*x31)
+    x33 = x15*x19
+    x34 = x1 + x12*x15/x0**2
+    x35 = x10*(M2 + gamma2*x31)
+    x36 = 2*x30/x14**2
+    x37 = x15*x26 + x16*x36
+    x38 = x15*x22 + x19*x36
+    x39 = x10*x31 + x19*x38
+    x40 = x15*x28 + x2*x36
+    x41 = x1*x31 + x2*x40
+    x42 = x15*x4/x5**2 + x6
+    x43 = M1*x2
+    x44 = x33*x43
+    x45 = x6*(M1 + gamma1*x31)
+    x46 = x16*x37 + x31*x6
+    x47 = M1*x19
+    x48 = M2*x16
+    x49 = gamma2*x2
+    x50 = x17*x49
+    x51 = gamma3*x19
+    x52 = -x17*x51
+    x53 = x13*x15
+    x54 = gamma1*x2
+    x55 = x33*x54
+    x56 = gamma1*x19
+    x57 = gamma2*x16
     return [
-        [x12 + x16, -x13*x22 + x19*x20 + x29, M2*x0*x33 - x30*x31 - x34, x1*x38 - x13*x39, x1*x43 - x13*x44, x1*x49 - x13*x48],
-        [M3*x2*x52 - x20*x50 - x29, -x16 - x54, x30*x55 - x33*x53 + x56, M3*x2*x57 - x38*x53, M3*x2*x59 - x43*x53, M3*x2*x61 - x49*x53],
-        [x31*x50 + x34 - x52*x62, M1*x22*x5 - x19*x55 - x56, -x12 + x54, x39*x63 - x57*x62, x44*x63 - x59*x62, x48*x63 - x61*x62],
-        [x64 + x65, x20*x21 - x22*x41, gamma2*x0*x33 - x31*x32, x38*x46 - x39*x41, x29 - x41*x44 + x43*x46, gamma2*x0*x49 - x34 - x41*x48],
-        [gamma3*x2*x52 - x20*x51, -x65 - x66, x32*x55 - x33*x60, gamma3*x2*x57 - x29 - x38*x60, gamma3*x2*x59 - x43*x60, x3*x61 - x49*x60 + x56],
-        [-x14*x52 + x31*x51, gamma1*x22*x5 - x21*x55, -x64 + x66, -x14*x57 + x34 + x39*x58, gamma1*x44*x5 - x14*x59 - x56, -x14*x61 + x48*x58],
+        [x18 + x21, -M3*x25 + x23*x24 + x32, M2*x34 - x29*x33 - x35, -x20*x37 + x3*x37, -M3*x39 + x3*x38, M2*x41 - x20*x40],
+        [M3*x42 - x24*x27 - x32, -x21 - x44, -M1*x34 + x17*x29 + x45, M3*x46 - x37*x43, M3*gamma1*x38*x6 - x38*x43, -M1*x41 + M3*gamma1*x40*x6],
+        [-M2*x42 + x27*x33 + x35, M1*x25 - x17*x23 - x45, -x18 + x44, -M2*x46 + x37*x47, M1*x39 - x38*x48, x40*x47 - x40*x48],
+        [x50 + x52, -gamma3*x25 + x11*x24, gamma2*x34 - x19*x53, x37*x49 - x37*x51, -gamma3*x39 + x32 + x38*x49, gamma2*x41 - x35 - x40*x51],
+        [gamma3*x42 - x24*x7, -x52 - x55, -gamma1*x34 + x16*x53, gamma3*x46 - x32 - x37*x54, gamma1*gamma3*x38*x6 - x38*x54, -gamma1*x41 + gamma3*x16*x40 + x45],
+        [-gamma2*x42 + x33*x7, gamma1*x25 - x11*x17, -x50 + x55, -gamma2*x46 + x35 + x37*x56, gamma1*x39 - x38*x57 - x45, x40*x56 - x40*x57],
     ]
 
 

@@ -71,144 +71,118 @@ def jac(t, y, p):
     """Jacobian d(dy/dt)/dy, shape (12, 12, ...)."""
     M1, M2, M3, alpha1, alpha2, alpha3, beta1, beta2, beta3, gamma1, gamma2, gamma3, = y
     I1, I2, I3, D_iso, D_al, D_be, K1, K2, K3, = p
-    x0 = 1/(D_iso + I1)
-    x1 = alpha1*x0
-    x2 = 1/(D_iso + I2)
-    x3 = alpha2*x2
-    x4 = 1/(D_iso + I3)
-    x5 = alpha3*x4
-    x6 = -beta1*x1 - beta2*x3 - beta3*x5
-    x7 = -alpha1**2*x0 - alpha2**2*x2 - alpha3**2*x4 + 1/D_al
-    x8 = -beta1**2*x0 - beta2**2*x2 - beta3**2*x4 + 1/D_be
-    x9 = -x6**2 + x7*x8
-    x10 = 1/x9
-    x11 = beta1*x0
-    x12 = x11*x6
-    x13 = x1*x8
-    x14 = x10*(-x12 + x13)
-    x15 = x1*x6
-    x16 = x10*(beta1*x0*x7 - x15)
-    x17 = alpha3*x14 + beta3*x16
-    x18 = K2 + M2
-    x19 = x18*x4
-    x20 = alpha2*x14 + beta2*x16
-    x21 = K3 + M3
-    x22 = x2*x21
-    x23 = beta2*x2
-    x24 = x23*x6
-    x25 = x3*x8
-    x26 = x10*(-x24 + x25)
-    x27 = x3*x6
-    x28 = x10*(beta2*x2*x7 - x27)
-    x29 = alpha3*x26 + beta3*x28
-    x30 = alpha2*x26 + beta2*x28 + 1
-    x31 = beta3*x4
-    x32 = M1*x11 + M2*x23 + M3*x31
-    x33 = M1*x1 + M2*x3 + M3*x5
-    x34 = -x32*x6 + x33*x8
-    x35 = x10*x34
-    x36 = x32*x7 - x33*x6
-    x37 = x10*x36
-    x38 = x4*(M3 + alpha3*x35 + beta3*x37)
-    x39 = x31*x6
-    x40 = x5*x8
-    x41 = x10*(-x39 + x40)
-    x42 = x5*x6
-    x43 = x10*(beta3*x4*x7 - x42)
-    x44 = alpha2*x41 + beta2*x43
-    x45 = alpha3*x41 + beta3*x43 + 1
-    x46 = x2*(M2 + alpha2*x35 + beta2*x37)
-    x47 = M1*x0
-    x48 = x10*(x11*x32 + x47*x8)
-    x49 = x47*x6
-    x50 = x10*(beta1*x0*x33 - 2*x1*x32 - x49)
-    x51 = x9**(-2)
-    x52 = x51*(-2*x12 + 2*x13)
-    x53 = x34*x52
-    x54 = x36*x52
-    x55 = alpha3*x48 + alpha3*x53 + beta3*x50 + beta3*x54
-    x56 = alpha2*x48 + alpha2*x53 + beta2*x50 + beta2*x54
-    x57 = M2*x2
-    x58 = x10*(x23*x32 + x57*x8)
-    x59 = x57*x6
-    x60 = x10*(beta2*x2*x33 - 2*x3*x32 - x59)
-    x61 = x51*(-2*x24 + 2*x25)
-    x62 = x34*x61
-    x63 = x36*x61
-    x64 = alpha3*x58 + alpha3*x62 + beta3*x60 + beta3*x63
-    x65 = alpha2*x58 + alpha2*x62 + beta2*x60 + beta2*x63 + x35
-    x66 = M3*x4
-    x67 = x10*(x31*x32 + x66*x8)
-    x68 = x6*x66
-    x69 = x10*(beta3*x33*x4 - 2*x32*x5 - x68)
-    x70 = x51*(-2*x39 + 2*x40)
-    x71 = x34*x70
-    x72 = x36*x70
-    x73 = alpha2*x67 + alpha2*x71 + beta2*x69 + beta2*x72
-    x74 = alpha3*x67 + alpha3*x71 + beta3*x69 + beta3*x72 + x35
-    x75 = x10*(x1*x33 + x47*x7)
-    x76 = x10*(alpha1*x0*x32 - 2*x11*x33 - x49)
-    x77 = x51*(2*beta1*x0*x7 - 2*x15)
-    x78 = x34*x77
-    x79 = x36*x77
-    x80 = alpha3*x76 + alpha3*x78 + beta3*x75 + beta3*x79
-    x81 = alpha2*x76 + alpha2*x78 + beta2*x75 + beta2*x79
-    x82 = x10*(x3*x33 + x57*x7)
-    x83 = x10*(alpha2*x2*x32 - 2*x23*x33 - x59)
-    x84 = x51*(2*beta2*x2*x7 - 2*x27)
-    x85 = x34*x84
-    x86 = x36*x84
-    x87 = alpha3*x83 + alpha3*x85 + beta3*x82 + beta3*x86
-    x88 = alpha2*x83 + alpha2*x85 + beta2*x82 + beta2*x86 + x37
-    x89 = x10*(x33*x5 + x66*x7)
-    x90 = x10*(alpha3*x32*x4 - 2*x31*x33 - x68)
-    x91 = x51*(2*beta3*x4*x7 - 2*x42)
-    x92 = x34*x91
-    x93 = x36*x91
-    x94 = alpha2*x90 + alpha2*x92 + beta2*x89 + beta2*x93
-    x95 = alpha3*x90 + alpha3*x92 + beta3*x89 + beta3*x93 + x37
-    x96 = K1 + M1
-    x97 = x4*x96
-    x98 = alpha1*x14 + beta1*x16 + 1
-    x99 = alpha1*x26 + beta1*x28
-    x100 = alpha1*x41 + beta1*x43
-    x101 = x0*(M1 + alpha1*x35 + beta1*x37)
-    x102 = alpha1*x48 + alpha1*x53 + beta1*x50 + beta1*x54 + x35
-    x103 = alpha1*x58 + alpha1*x62 + beta1*x60 + beta1*x63
-    x104 = alpha1*x67 + alpha1*x71 + beta1*x69 + beta1*x72
-    x105 = alpha1*x76 + alpha1*x78 + beta1*x75 + beta1*x79 + x37
-    x106 = alpha1*x83 + alpha1*x85 + beta1*x82 + beta1*x86
-    x107 = alpha1*x90 + alpha1*x92 + beta1*x89 + beta1*x93
-    x108 = x2*x96
-    x109 = x0*x18
-    x110 = alpha2*x4
-    x111 = alpha3*x2
-    x112 = alpha1*x4
-    x113 = alpha1*x2
-    x114 = alpha2*x0
-    x115 = beta2*x4
-    x116 = beta3*x2
-    x117 = beta1*x4
-    x118 = beta1*x2
-    x119 = beta2*x0
-    x120 = gamma2*x4
-    x121 = gamma3*x2
-    x122 = gamma1*x4
-    x123 = gamma1*x2
-    x124 = gamma2*x0
+    x0 = K2 + M2
+    x1 = 1/(D_iso + I3)
+    x2 = alpha3*x1
+    x3 = 1/(D_iso + I1)
+    x4 = alpha1*x3
+    x5 = 1/(D_iso + I2)
+    x6 = alpha2*x5
+    x7 = -beta1*x4 - beta2*x6 - beta3*x2
+    x8 = -alpha1**2*x3 - alpha2**2*x5 - alpha3**2*x1 + 1/D_al
+    x9 = -beta1**2*x3 - beta2**2*x5 - beta3**2*x1 + 1/D_be
+    x10 = -x7**2 + x8*x9
+    x11 = 1/x10
+    x12 = beta1*x3
+    x13 = x12*x7
+    x14 = x4*x9
+    x15 = x11*(-x13 + x14)
+    x16 = beta3*x1
+    x17 = x4*x7
+    x18 = x11*(beta1*x3*x8 - x17)
+    x19 = x15*x2 + x16*x18
+    x20 = K3 + M3
+    x21 = -x20
+    x22 = beta2*x5
+    x23 = x15*x6 + x18*x22
+    x24 = x22*x7
+    x25 = x6*x9
+    x26 = x11*(-x24 + x25)
+    x27 = x6*x7
+    x28 = x11*(beta2*x5*x8 - x27)
+    x29 = x16*x28 + x2*x26
+    x30 = x22*x28 + x26*x6 + x5
+    x31 = M1*x12 + M2*x22 + M3*x16
+    x32 = M1*x4 + M2*x6 + M3*x2
+    x33 = -x31*x7 + x32*x9
+    x34 = x11*x33
+    x35 = x31*x8 - x32*x7
+    x36 = x11*x35
+    x37 = x1*(M3 + alpha3*x34 + beta3*x36)
+    x38 = x16*x7
+    x39 = x2*x9
+    x40 = x11*(-x38 + x39)
+    x41 = x2*x7
+    x42 = x11*(beta3*x1*x8 - x41)
+    x43 = x22*x42 + x40*x6
+    x44 = x1 + x16*x42 + x2*x40
+    x45 = x5*(M2 + alpha2*x34 + beta2*x36)
+    x46 = -x45
+    x47 = M1*x3
+    x48 = x10**(-2)
+    x49 = x48*(-2*x13 + 2*x14)
+    x50 = x11*(x12*x31 + x47*x9) + x33*x49
+    x51 = x47*x7
+    x52 = x11*(beta1*x3*x32 - 2*x31*x4 - x51) + x35*x49
+    x53 = x16*x52 + x2*x50
+    x54 = x22*x52 + x50*x6
+    x55 = M2*x5
+    x56 = x48*(-2*x24 + 2*x25)
+    x57 = x11*(x22*x31 + x55*x9) + x33*x56
+    x58 = x55*x7
+    x59 = x11*(beta2*x32*x5 - 2*x31*x6 - x58) + x35*x56
+    x60 = x16*x59 + x2*x57
+    x61 = x22*x59 + x34*x5 + x57*x6
+    x62 = M3*x1
+    x63 = x48*(-2*x38 + 2*x39)
+    x64 = x11*(x16*x31 + x62*x9) + x33*x63
+    x65 = x62*x7
+    x66 = x11*(beta3*x1*x32 - 2*x2*x31 - x65) + x35*x63
+    x67 = x22*x66 + x6*x64
+    x68 = x1*x34 + x16*x66 + x2*x64
+    x69 = x48*(2*beta1*x3*x8 - 2*x17)
+    x70 = x11*(x32*x4 + x47*x8) + x35*x69
+    x71 = x11*(alpha1*x3*x31 - 2*x12*x32 - x51) + x33*x69
+    x72 = x16*x70 + x2*x71
+    x73 = x22*x70 + x6*x71
+    x74 = x48*(2*beta2*x5*x8 - 2*x27)
+    x75 = x11*(x32*x6 + x55*x8) + x35*x74
+    x76 = x11*(alpha2*x31*x5 - 2*x22*x32 - x58) + x33*x74
+    x77 = x16*x75 + x2*x76
+    x78 = x22*x75 + x36*x5 + x6*x76
+    x79 = x48*(2*beta3*x1*x8 - 2*x41)
+    x80 = x11*(x2*x32 + x62*x8) + x35*x79
+    x81 = x11*(alpha3*x1*x31 - 2*x16*x32 - x65) + x33*x79
+    x82 = x22*x80 + x6*x81
+    x83 = x1*x36 + x16*x80 + x2*x81
+    x84 = K1 + M1
+    x85 = -x84
+    x86 = x12*x18 + x15*x4 + x3
+    x87 = -x37
+    x88 = x12*x28 + x26*x4
+    x89 = x12*x42 + x4*x40
+    x90 = x3*(M1 + alpha1*x34 + beta1*x36)
+    x91 = x12*x52 + x3*x34 + x4*x50
+    x92 = x12*x59 + x4*x57
+    x93 = x12*x66 + x4*x64
+    x94 = x12*x70 + x3*x36 + x4*x71
+    x95 = x12*x75 + x4*x76
+    x96 = x12*x80 + x4*x81
+    x97 = -x0
+    x98 = -x90
     return [
-        [x17*x19 - x20*x22, x19*x29 - x22*x30 + x38, x18*x4*x45 - x22*x44 - x46, x19*x55 - x22*x56, x19*x64 - x22*x65, x19*x74 - x22*x73, x19*x80 - x22*x81, x19*x87 - x22*x88, x19*x95 - x22*x94, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x0*x21*x98 - x17*x97 - x38, x0*x21*x99 - x29*x97, x0*x100*x21 + x101 - x45*x97, x0*x102*x21 - x55*x97, x0*x103*x21 - x64*x97, x0*x104*x21 - x74*x97, x0*x105*x21 - x80*x97, x0*x106*x21 - x87*x97, x0*x107*x21 - x95*x97, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x108*x20 - x109*x98 + x46, -x101 - x109*x99 + x2*x30*x96, -x100*x109 + x108*x44, -x102*x109 + x108*x56, -x103*x109 + x108*x65, -x104*x109 + x108*x73, -x105*x109 + x108*x81, -x106*x109 + x108*x88, -x107*x109 + x108*x94, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x110*x17 - x111*x20, x110*x29 - x111*x30, x110*x45 - x111*x44, x110*x55 - x111*x56, x110*x64 - x111*x65 + x38, alpha2*x4*x74 - x111*x73 - x46, x110*x80 - x111*x81, x110*x87 - x111*x88, x110*x95 - x111*x94, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [alpha3*x0*x98 - x112*x17, alpha3*x0*x99 - x112*x29, alpha3*x0*x100 - x112*x45, alpha3*x0*x102 - x112*x55 - x38, alpha3*x0*x103 - x112*x64, alpha3*x0*x104 + x101 - x112*x74, alpha3*x0*x105 - x112*x80, alpha3*x0*x106 - x112*x87, alpha3*x0*x107 - x112*x95, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x113*x20 - x114*x98, x113*x30 - x114*x99, -x100*x114 + x113*x44, -x102*x114 + x113*x56 + x46, alpha1*x2*x65 - x101 - x103*x114, -x104*x114 + x113*x73, -x105*x114 + x113*x81, -x106*x114 + x113*x88, -x107*x114 + x113*x94, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x115*x17 - x116*x20, x115*x29 - x116*x30, x115*x45 - x116*x44, x115*x55 - x116*x56, x115*x64 - x116*x65, x115*x74 - x116*x73, x115*x80 - x116*x81, x115*x87 - x116*x88 + x38, beta2*x4*x95 - x116*x94 - x46, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [beta3*x0*x98 - x117*x17, beta3*x0*x99 - x117*x29, beta3*x0*x100 - x117*x45, beta3*x0*x102 - x117*x55, beta3*x0*x103 - x117*x64, beta3*x0*x104 - x117*x74, beta3*x0*x105 - x117*x80 - x38, beta3*x0*x106 - x117*x87, beta3*x0*x107 + x101 - x117*x95, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x118*x20 - x119*x98, x118*x30 - x119*x99, -x100*x119 + x118*x44, -x102*x119 + x118*x56, -x103*x119 + x118*x65, -x104*x119 + x118*x73, -x105*x119 + x118*x81 + x46, beta1*x2*x88 - x101 - x106*x119, -x107*x119 + x118*x94, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x120*x17 - x121*x20, x120*x29 - x121*x30, x120*x45 - x121*x44, x120*x55 - x121*x56, x120*x64 - x121*x65, x120*x74 - x121*x73, x120*x80 - x121*x81, x120*x87 - x121*x88, x120*x95 - x121*x94, mpmath.mpf(0), x38, -x46],
-        [gamma3*x0*x98 - x122*x17, gamma3*x0*x99 - x122*x29, gamma3*x0*x100 - x122*x45, gamma3*x0*x102 - x122*x55, gamma3*x0*x103 - x122*x64, gamma3*x0*x104 - x122*x74, gamma3*x0*x105 - x122*x80, gamma3*x0*x106 - x122*x87, gamma3*x0*x107 - x122*x95, -x38, mpmath.mpf(0), x101],
-        [x123*x20 - x124*x98, x123*x30 - x124*x99, -x100*x124 + x123*x44, -x102*x124 + x123*x56, -x103*x124 + x123*x65, -x104*x124 + x123*x73, -x105*x124 + x123*x81, -x106*x124 + x123*x88, -x107*x124 + x123*x94, x46, -x101, mpmath.mpf(0)],
+        [x0*x19 + x21*x23, x0*x29 + x21*x30 + x37, x0*x44 + x21*x43 + x46, x0*x53 + x21*x54, x0*x60 + x21*x61, x0*x68 + x21*x67, x0*x72 + x21*x73, x0*x77 + x21*x78, x0*x83 + x21*x82, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [x19*x85 + x20*x86 + x87, x20*x88 + x29*x85, x20*x89 + x44*x85 + x90, x20*x91 + x53*x85, x20*x92 + x60*x85, x20*x93 + x68*x85, x20*x94 + x72*x85, x20*x95 + x77*x85, x20*x96 + x83*x85, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [x23*x84 + x45 + x86*x97, x30*x84 + x88*x97 + x98, x43*x84 + x89*x97, x54*x84 + x91*x97, x61*x84 + x92*x97, x67*x84 + x93*x97, x73*x84 + x94*x97, x78*x84 + x95*x97, x82*x84 + x96*x97, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [alpha2*x19 - alpha3*x23, alpha2*x29 - alpha3*x30, alpha2*x44 - alpha3*x43, alpha2*x53 - alpha3*x54, alpha2*x60 - alpha3*x61 + x37, alpha2*x68 - alpha3*x67 - x45, alpha2*x72 - alpha3*x73, alpha2*x77 - alpha3*x78, alpha2*x83 - alpha3*x82, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [-alpha1*x19 + alpha3*x86, -alpha1*x29 + alpha3*x88, -alpha1*x44 + alpha3*x89, -alpha1*x53 + alpha3*x91 - x37, -alpha1*x60 + alpha3*x92, -alpha1*x68 + alpha3*x93 + x90, -alpha1*x72 + alpha3*x94, -alpha1*x77 + alpha3*x95, -alpha1*x83 + alpha3*x96, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [alpha1*x23 - alpha2*x86, alpha1*x30 - alpha2*x88, alpha1*x43 - alpha2*x89, alpha1*x54 - alpha2*x91 + x45, alpha1*x61 - alpha2*x92 - x90, alpha1*x67 - alpha2*x93, alpha1*x73 - alpha2*x94, alpha1*x78 - alpha2*x95, alpha1*x82 - alpha2*x96, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [beta2*x19 - beta3*x23, beta2*x29 - beta3*x30, beta2*x44 - beta3*x43, beta2*x53 - beta3*x54, beta2*x60 - beta3*x61, beta2*x68 - beta3*x67, beta2*x72 - beta3*x73, beta2*x77 - beta3*x78 + x37, beta2*x83 - beta3*x82 - x45, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [-beta1*x19 + beta3*x86, -beta1*x29 + beta3*x88, -beta1*x44 + beta3*x89, -beta1*x53 + beta3*x91, -beta1*x60 + beta3*x92, -beta1*x68 + beta3*x93, -beta1*x72 + beta3*x94 - x37, -beta1*x77 + beta3*x95, -beta1*x83 + beta3*x96 + x90, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [beta1*x23 - beta2*x86, beta1*x30 - beta2*x88, beta1*x43 - beta2*x89, beta1*x54 - beta2*x91, beta1*x61 - beta2*x92, beta1*x67 - beta2*x93, beta1*x73 - beta2*x94 + x45, beta1*x78 - beta2*x95 - x90, beta1*x82 - beta2*x96, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [gamma2*x19 - gamma3*x23, gamma2*x29 - gamma3*x30, gamma2*x44 - gamma3*x43, gamma2*x53 - gamma3*x54, gamma2*x60 - gamma3*x61, gamma2*x68 - gamma3*x67, gamma2*x72 - gamma3*x73, gamma2*x77 - gamma3*x78, gamma2*x83 - gamma3*x82, mpmath.mpf(0), x37, x46],
+        [-gamma1*x19 + gamma3*x86, -gamma1*x29 + gamma3*x88, -gamma1*x44 + gamma3*x89, -gamma1*x53 + gamma3*x91, -gamma1*x60 + gamma3*x92, -gamma1*x68 + gamma3*x93, -gamma1*x72 + gamma3*x94, -gamma1*x77 + gamma3*x95, -gamma1*x83 + gamma3*x96, x87, mpmath.mpf(0), x90],
+        [gamma1*x23 - gamma2*x86, gamma1*x30 - gamma2*x88, gamma1*x43 - gamma2*x89, gamma1*x54 - gamma2*x91, gamma1*x61 - gamma2*x92, gamma1*x67 - gamma2*x93, gamma1*x73 - gamma2*x94, gamma1*x78 - gamma2*x95, gamma1*x82 - gamma2*x96, x45, x98, mpmath.mpf(0)],
     ]
 
 

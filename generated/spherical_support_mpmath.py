@@ -68,141 +68,109 @@ def jac(t, y, p):
     """Jacobian d(dy/dt)/dy, shape (12, 12, ...)."""
     M1, M2, M3, alpha1, alpha2, alpha3, beta1, beta2, beta3, gamma1, gamma2, gamma3, = y
     I1, I2, I3, D_iso, D_al, D_be, = p
-    x0 = 1/(D_iso + I1)
-    x1 = alpha1*x0
-    x2 = 1/(D_iso + I2)
-    x3 = alpha2*x2
-    x4 = 1/(D_iso + I3)
-    x5 = alpha3*x4
-    x6 = -beta1*x1 - beta2*x3 - beta3*x5
-    x7 = -alpha1**2*x0 - alpha2**2*x2 - alpha3**2*x4 + 1/D_al
-    x8 = -beta1**2*x0 - beta2**2*x2 - beta3**2*x4 + 1/D_be
+    x0 = 1/(D_iso + I3)
+    x1 = alpha3*x0
+    x2 = 1/(D_iso + I1)
+    x3 = alpha1*x2
+    x4 = 1/(D_iso + I2)
+    x5 = alpha2*x4
+    x6 = -beta1*x3 - beta2*x5 - beta3*x1
+    x7 = -alpha1**2*x2 - alpha2**2*x4 - alpha3**2*x0 + 1/D_al
+    x8 = -beta1**2*x2 - beta2**2*x4 - beta3**2*x0 + 1/D_be
     x9 = -x6**2 + x7*x8
     x10 = 1/x9
-    x11 = beta1*x0
+    x11 = beta1*x2
     x12 = x11*x6
-    x13 = x1*x8
+    x13 = x3*x8
     x14 = x10*(-x12 + x13)
-    x15 = x1*x6
-    x16 = x10*(beta1*x0*x7 - x15)
-    x17 = alpha3*x14 + beta3*x16
-    x18 = M2*x4
-    x19 = alpha2*x14 + beta2*x16
-    x20 = M3*x2
-    x21 = beta2*x2
-    x22 = x21*x6
-    x23 = x3*x8
-    x24 = x10*(-x22 + x23)
-    x25 = x3*x6
-    x26 = x10*(beta2*x2*x7 - x25)
-    x27 = alpha3*x24 + beta3*x26
-    x28 = alpha2*x24 + beta2*x26 + 1
-    x29 = beta3*x4
-    x30 = M1*x11 + M2*x21 + M3*x29
-    x31 = M1*x1 + M2*x3 + M3*x5
-    x32 = -x30*x6 + x31*x8
+    x15 = beta3*x0
+    x16 = x3*x6
+    x17 = x10*(beta1*x2*x7 - x16)
+    x18 = x1*x14 + x15*x17
+    x19 = beta2*x4
+    x20 = x14*x5 + x17*x19
+    x21 = x19*x6
+    x22 = x5*x8
+    x23 = x10*(-x21 + x22)
+    x24 = x5*x6
+    x25 = x10*(beta2*x4*x7 - x24)
+    x26 = x1*x23 + x15*x25
+    x27 = x19*x25 + x23*x5 + x4
+    x28 = M1*x11 + M2*x19 + M3*x15
+    x29 = M1*x3 + M2*x5 + M3*x1
+    x30 = -x28*x6 + x29*x8
+    x31 = x10*x30
+    x32 = x28*x7 - x29*x6
     x33 = x10*x32
-    x34 = x30*x7 - x31*x6
-    x35 = x10*x34
-    x36 = x4*(M3 + alpha3*x33 + beta3*x35)
-    x37 = x29*x6
-    x38 = x5*x8
-    x39 = x10*(-x37 + x38)
-    x40 = x5*x6
-    x41 = x10*(beta3*x4*x7 - x40)
-    x42 = alpha2*x39 + beta2*x41
-    x43 = alpha3*x39 + beta3*x41 + 1
-    x44 = x2*(M2 + alpha2*x33 + beta2*x35)
-    x45 = M1*x0
-    x46 = x10*(x11*x30 + x45*x8)
-    x47 = x45*x6
-    x48 = x10*(beta1*x0*x31 - 2*x1*x30 - x47)
-    x49 = x9**(-2)
-    x50 = x49*(-2*x12 + 2*x13)
-    x51 = x32*x50
-    x52 = x34*x50
-    x53 = alpha3*x46 + alpha3*x51 + beta3*x48 + beta3*x52
-    x54 = alpha2*x46 + alpha2*x51 + beta2*x48 + beta2*x52
-    x55 = M2*x2
-    x56 = x10*(x21*x30 + x55*x8)
-    x57 = x55*x6
-    x58 = x10*(beta2*x2*x31 - 2*x3*x30 - x57)
-    x59 = x49*(-2*x22 + 2*x23)
-    x60 = x32*x59
-    x61 = x34*x59
-    x62 = alpha3*x56 + alpha3*x60 + beta3*x58 + beta3*x61
-    x63 = alpha2*x56 + alpha2*x60 + beta2*x58 + beta2*x61 + x33
-    x64 = M3*x4
-    x65 = x10*(x29*x30 + x64*x8)
-    x66 = x6*x64
-    x67 = x10*(beta3*x31*x4 - 2*x30*x5 - x66)
-    x68 = x49*(-2*x37 + 2*x38)
-    x69 = x32*x68
-    x70 = x34*x68
-    x71 = alpha2*x65 + alpha2*x69 + beta2*x67 + beta2*x70
-    x72 = alpha3*x65 + alpha3*x69 + beta3*x67 + beta3*x70 + x33
-    x73 = x10*(x1*x31 + x45*x7)
-    x74 = x10*(alpha1*x0*x30 - 2*x11*x31 - x47)
-    x75 = x49*(2*beta1*x0*x7 - 2*x15)
-    x76 = x32*x75
-    x77 = x34*x75
-    x78 = alpha3*x74 + alpha3*x76 + beta3*x73 + beta3*x77
-    x79 = alpha2*x74 + alpha2*x76 + beta2*x73 + beta2*x77
-    x80 = x10*(x3*x31 + x55*x7)
-    x81 = x10*(alpha2*x2*x30 - 2*x21*x31 - x57)
-    x82 = x49*(2*beta2*x2*x7 - 2*x25)
-    x83 = x32*x82
-    x84 = x34*x82
-    x85 = alpha3*x81 + alpha3*x83 + beta3*x80 + beta3*x84
-    x86 = alpha2*x81 + alpha2*x83 + beta2*x80 + beta2*x84 + x35
-    x87 = x10*(x31*x5 + x64*x7)
-    x88 = x10*(alpha3*x30*x4 - 2*x29*x31 - x66)
-    x89 = x49*(2*beta3*x4*x7 - 2*x40)
-    x90 = x32*x89
-    x91 = x34*x89
-    x92 = alpha2*x88 + alpha2*x90 + beta2*x87 + beta2*x91
-    x93 = alpha3*x88 + alpha3*x90 + beta3*x87 + beta3*x91 + x35
-    x94 = M1*x4
-    x95 = alpha1*x14 + beta1*x16 + 1
-    x96 = alpha1*x24 + beta1*x26
-    x97 = alpha1*x39 + beta1*x41
-    x98 = x0*(M1 + alpha1*x33 + beta1*x35)
-    x99 = alpha1*x46 + alpha1*x51 + beta1*x48 + beta1*x52 + x33
-    x100 = alpha1*x56 + alpha1*x60 + beta1*x58 + beta1*x61
-    x101 = alpha1*x65 + alpha1*x69 + beta1*x67 + beta1*x70
-    x102 = alpha1*x74 + alpha1*x76 + beta1*x73 + beta1*x77 + x35
-    x103 = alpha1*x81 + alpha1*x83 + beta1*x80 + beta1*x84
-    x104 = alpha1*x88 + alpha1*x90 + beta1*x87 + beta1*x91
-    x105 = M1*x2
-    x106 = M2*x0
-    x107 = alpha2*x4
-    x108 = alpha3*x2
-    x109 = alpha1*x4
-    x110 = alpha1*x2
-    x111 = alpha2*x0
-    x112 = beta2*x4
-    x113 = beta3*x2
-    x114 = beta1*x4
-    x115 = beta1*x2
-    x116 = beta2*x0
-    x117 = gamma2*x4
-    x118 = gamma3*x2
-    x119 = gamma1*x4
-    x120 = gamma1*x2
-    x121 = gamma2*x0
+    x34 = x0*(M3 + alpha3*x31 + beta3*x33)
+    x35 = x15*x6
+    x36 = x1*x8
+    x37 = x10*(-x35 + x36)
+    x38 = x1*x6
+    x39 = x10*(beta3*x0*x7 - x38)
+    x40 = x19*x39 + x37*x5
+    x41 = x0 + x1*x37 + x15*x39
+    x42 = x4*(M2 + alpha2*x31 + beta2*x33)
+    x43 = M1*x2
+    x44 = x9**(-2)
+    x45 = x44*(-2*x12 + 2*x13)
+    x46 = x10*(x11*x28 + x43*x8) + x30*x45
+    x47 = x43*x6
+    x48 = x10*(beta1*x2*x29 - 2*x28*x3 - x47) + x32*x45
+    x49 = x1*x46 + x15*x48
+    x50 = x19*x48 + x46*x5
+    x51 = M2*x4
+    x52 = x44*(-2*x21 + 2*x22)
+    x53 = x10*(x19*x28 + x51*x8) + x30*x52
+    x54 = x51*x6
+    x55 = x10*(beta2*x29*x4 - 2*x28*x5 - x54) + x32*x52
+    x56 = x1*x53 + x15*x55
+    x57 = x19*x55 + x31*x4 + x5*x53
+    x58 = M3*x0
+    x59 = x44*(-2*x35 + 2*x36)
+    x60 = x10*(x15*x28 + x58*x8) + x30*x59
+    x61 = x58*x6
+    x62 = x10*(beta3*x0*x29 - 2*x1*x28 - x61) + x32*x59
+    x63 = x19*x62 + x5*x60
+    x64 = x0*x31 + x1*x60 + x15*x62
+    x65 = x44*(2*beta1*x2*x7 - 2*x16)
+    x66 = x10*(x29*x3 + x43*x7) + x32*x65
+    x67 = x10*(alpha1*x2*x28 - 2*x11*x29 - x47) + x30*x65
+    x68 = x1*x67 + x15*x66
+    x69 = x19*x66 + x5*x67
+    x70 = x44*(2*beta2*x4*x7 - 2*x24)
+    x71 = x10*(x29*x5 + x51*x7) + x32*x70
+    x72 = x10*(alpha2*x28*x4 - 2*x19*x29 - x54) + x30*x70
+    x73 = x1*x72 + x15*x71
+    x74 = x19*x71 + x33*x4 + x5*x72
+    x75 = x44*(2*beta3*x0*x7 - 2*x38)
+    x76 = x10*(x1*x29 + x58*x7) + x32*x75
+    x77 = x10*(alpha3*x0*x28 - 2*x15*x29 - x61) + x30*x75
+    x78 = x19*x76 + x5*x77
+    x79 = x0*x33 + x1*x77 + x15*x76
+    x80 = x11*x17 + x14*x3 + x2
+    x81 = x11*x25 + x23*x3
+    x82 = x11*x39 + x3*x37
+    x83 = x2*(M1 + alpha1*x31 + beta1*x33)
+    x84 = x11*x48 + x2*x31 + x3*x46
+    x85 = x11*x55 + x3*x53
+    x86 = x11*x62 + x3*x60
+    x87 = x11*x66 + x2*x33 + x3*x67
+    x88 = x11*x71 + x3*x72
+    x89 = x11*x76 + x3*x77
     return [
-        [x17*x18 - x19*x20, x18*x27 - x20*x28 + x36, M2*x4*x43 - x20*x42 - x44, x18*x53 - x20*x54, x18*x62 - x20*x63, x18*x72 - x20*x71, x18*x78 - x20*x79, x18*x85 - x20*x86, x18*x93 - x20*x92, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [M3*x0*x95 - x17*x94 - x36, M3*x0*x96 - x27*x94, M3*x0*x97 - x43*x94 + x98, M3*x0*x99 - x53*x94, M3*x0*x100 - x62*x94, M3*x0*x101 - x72*x94, M3*x0*x102 - x78*x94, M3*x0*x103 - x85*x94, M3*x0*x104 - x93*x94, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x105*x19 - x106*x95 + x44, M1*x2*x28 - x106*x96 - x98, x105*x42 - x106*x97, x105*x54 - x106*x99, -x100*x106 + x105*x63, -x101*x106 + x105*x71, -x102*x106 + x105*x79, -x103*x106 + x105*x86, -x104*x106 + x105*x92, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x107*x17 - x108*x19, x107*x27 - x108*x28, x107*x43 - x108*x42, x107*x53 - x108*x54, x107*x62 - x108*x63 + x36, alpha2*x4*x72 - x108*x71 - x44, x107*x78 - x108*x79, x107*x85 - x108*x86, x107*x93 - x108*x92, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [alpha3*x0*x95 - x109*x17, alpha3*x0*x96 - x109*x27, alpha3*x0*x97 - x109*x43, alpha3*x0*x99 - x109*x53 - x36, alpha3*x0*x100 - x109*x62, alpha3*x0*x101 - x109*x72 + x98, alpha3*x0*x102 - x109*x78, alpha3*x0*x103 - x109*x85, alpha3*x0*x104 - x109*x93, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x110*x19 - x111*x95, x110*x28 - x111*x96, x110*x42 - x111*x97, x110*x54 - x111*x99 + x44, alpha1*x2*x63 - x100*x111 - x98, -x101*x111 + x110*x71, -x102*x111 + x110*x79, -x103*x111 + x110*x86, -x104*x111 + x110*x92, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x112*x17 - x113*x19, x112*x27 - x113*x28, x112*x43 - x113*x42, x112*x53 - x113*x54, x112*x62 - x113*x63, x112*x72 - x113*x71, x112*x78 - x113*x79, x112*x85 - x113*x86 + x36, beta2*x4*x93 - x113*x92 - x44, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [beta3*x0*x95 - x114*x17, beta3*x0*x96 - x114*x27, beta3*x0*x97 - x114*x43, beta3*x0*x99 - x114*x53, beta3*x0*x100 - x114*x62, beta3*x0*x101 - x114*x72, beta3*x0*x102 - x114*x78 - x36, beta3*x0*x103 - x114*x85, beta3*x0*x104 - x114*x93 + x98, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x115*x19 - x116*x95, x115*x28 - x116*x96, x115*x42 - x116*x97, x115*x54 - x116*x99, -x100*x116 + x115*x63, -x101*x116 + x115*x71, -x102*x116 + x115*x79 + x44, beta1*x2*x86 - x103*x116 - x98, -x104*x116 + x115*x92, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
-        [x117*x17 - x118*x19, x117*x27 - x118*x28, x117*x43 - x118*x42, x117*x53 - x118*x54, x117*x62 - x118*x63, x117*x72 - x118*x71, x117*x78 - x118*x79, x117*x85 - x118*x86, x117*x93 - x118*x92, mpmath.mpf(0), x36, -x44],
-        [gamma3*x0*x95 - x119*x17, gamma3*x0*x96 - x119*x27, gamma3*x0*x97 - x119*x43, gamma3*x0*x99 - x119*x53, gamma3*x0*x100 - x119*x62, gamma3*x0*x101 - x119*x72, gamma3*x0*x102 - x119*x78, gamma3*x0*x103 - x119*x85, gamma3*x0*x104 - x119*x93, -x36, mpmath.mpf(0), x98],
-        [x120*x19 - x121*x95, x120*x28 - x121*x96, x120*x42 - x121*x97, x120*x54 - x121*x99, -x100*x121 + x120*x63, -x101*x121 + x120*x71, -x102*x121 + x120*x79, -x103*x121 + x120*x86, -x104*x121 + x120*x92, x44, -x98, mpmath.mpf(0)],
+        [M2*x18 - M3*x20, M2*x26 - M3*x27 + x34, M2*x41 - M3*x40 - x42, M2*x49 - M3*x50, M2*x56 - M3*x57, M2*x64 - M3*x63, M2*x68 - M3*x69, M2*x73 - M3*x74, M2*x79 - M3*x78, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [-M1*x18 + M3*x80 - x34, -M1*x26 + M3*x81, -M1*x41 + M3*x82 + x83, -M1*x49 + M3*x84, -M1*x56 + M3*x85, -M1*x64 + M3*x86, -M1*x68 + M3*x87, -M1*x73 + M3*x88, -M1*x79 + M3*x89, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [M1*x20 - M2*x80 + x42, M1*x27 - M2*x81 - x83, M1*x40 - M2*x82, M1*x50 - M2*x84, M1*x57 - M2*x85, M1*x63 - M2*x86, M1*x69 - M2*x87, M1*x74 - M2*x88, M1*x78 - M2*x89, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [alpha2*x18 - alpha3*x20, alpha2*x26 - alpha3*x27, alpha2*x41 - alpha3*x40, alpha2*x49 - alpha3*x50, alpha2*x56 - alpha3*x57 + x34, alpha2*x64 - alpha3*x63 - x42, alpha2*x68 - alpha3*x69, alpha2*x73 - alpha3*x74, alpha2*x79 - alpha3*x78, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [-alpha1*x18 + alpha3*x80, -alpha1*x26 + alpha3*x81, -alpha1*x41 + alpha3*x82, -alpha1*x49 + alpha3*x84 - x34, -alpha1*x56 + alpha3*x85, -alpha1*x64 + alpha3*x86 + x83, -alpha1*x68 + alpha3*x87, -alpha1*x73 + alpha3*x88, -alpha1*x79 + alpha3*x89, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [alpha1*x20 - alpha2*x80, alpha1*x27 - alpha2*x81, alpha1*x40 - alpha2*x82, alpha1*x50 - alpha2*x84 + x42, alpha1*x57 - alpha2*x85 - x83, alpha1*x63 - alpha2*x86, alpha1*x69 - alpha2*x87, alpha1*x74 - alpha2*x88, alpha1*x78 - alpha2*x89, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [beta2*x18 - beta3*x20, beta2*x26 - beta3*x27, beta2*x41 - beta3*x40, beta2*x49 - beta3*x50, beta2*x56 - beta3*x57, beta2*x64 - beta3*x63, beta2*x68 - beta3*x69, beta2*x73 - beta3*x74 + x34, beta2*x79 - beta3*x78 - x42, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [-beta1*x18 + beta3*x80, -beta1*x26 + beta3*x81, -beta1*x41 + beta3*x82, -beta1*x49 + beta3*x84, -beta1*x56 + beta3*x85, -beta1*x64 + beta3*x86, -beta1*x68 + beta3*x87 - x34, -beta1*x73 + beta3*x88, -beta1*x79 + beta3*x89 + x83, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [beta1*x20 - beta2*x80, beta1*x27 - beta2*x81, beta1*x40 - beta2*x82, beta1*x50 - beta2*x84, beta1*x57 - beta2*x85, beta1*x63 - beta2*x86, beta1*x69 - beta2*x87 + x42, beta1*x74 - beta2*x88 - x83, beta1*x78 - beta2*x89, mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)],
+        [gamma2*x18 - gamma3*x20, gamma2*x26 - gamma3*x27, gamma2*x41 - gamma3*x40, gamma2*x49 - gamma3*x50, gamma2*x56 - gamma3*x57, gamma2*x64 - gamma3*x63, gamma2*x68 - gamma3*x69, gamma2*x73 - gamma3*x74, gamma2*x79 - gamma3*x78, mpmath.mpf(0), x34, -x42],
+        [-gamma1*x18 + gamma3*x80, -gamma1*x26 + gamma3*x81, -gamma1*x41 + gamma3*x82, -gamma1*x49 + gamma3*x84, -gamma1*x56 + gamma3*x85, -gamma1*x64 + gamma3*x86, -gamma1*x68 + gamma3*x87, -gamma1*x73 + gamma3*x88, -gamma1*x79 + gamma3*x89, -x34, mpmath.mpf(0), x83],
+        [gamma1*x20 - gamma2*x80, gamma1*x27 - gamma2*x81, gamma1*x40 - gamma2*x82, gamma1*x50 - gamma2*x84, gamma1*x57 - gamma2*x85, gamma1*x63 - gamma2*x86, gamma1*x69 - gamma2*x87, gamma1*x74 - gamma2*x88, gamma1*x78 - gamma2*x89, x42, -x83, mpmath.mpf(0)],
     ]
 
 

@@ -96,7 +96,7 @@ class ModelRoutines:
         Routine
             ``"jac"``, outputs of shape ``(n, n)``, row-major.
         """
-        J = self.model.rhs_expanded.jacobian(sp.Matrix(self.model.state))
+        J = self.model.jacobian_expanded
         n = len(self.model.state)
         return _cse("jac", list(J), (n, n))
 
