@@ -8,6 +8,10 @@ must exit 2 with exactly one line on stderr, no traceback, nothing on stdout and
 created; no example may take longer than :data:`HANG_SECONDS`. Each family fails at
 validation, before any work, so about 1,100 examples run in well under a minute; a few
 subprocess runs check the real exit status of the console entry point.
+
+The fixed cases and the public API's examples are in the developers' quick loop (``pytest -m
+quick``); the generated command-line families and the unmutated bifurcation command (it draws
+a figure) only in the default run.
 """
 
 from __future__ import annotations
@@ -29,8 +33,6 @@ from chaplygin.verify import cli, integrate_cmd
 from chaplygin.verify.cli import main
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-
-pytestmark = pytest.mark.quick
 
 #: Longest an example may run before it counts as a hang.
 HANG_SECONDS = 20
@@ -515,6 +517,7 @@ def _api_calls() -> list[Callable[[str], object]]:
     ]
 
 
+@pytest.mark.quick  # in-process API calls only: a fraction of a second
 @settings(max_examples=120, **_SETTINGS)
 @given(st.integers(0, 7), hostile_number)
 def test_public_api_raises_user_input_error(which, value):
@@ -532,10 +535,10 @@ def test_public_api_raises_user_input_error(which, value):
 @pytest.mark.parametrize(
     "argv",
     [
-        INTEGRATE,
-        ROTATION,
-        DELTA,
-        ["bifurcation", "chaplygin_ball", "--samples", "1", "--out", "d.png"],
+        pytest.param(INTEGRATE, marks=pytest.mark.quick),
+        pytest.param(ROTATION, marks=pytest.mark.quick),
+        pytest.param(DELTA, marks=pytest.mark.quick),
+        ["bifurcation", "chaplygin_ball", "--samples", "1", "--out", "d.png"],  # a figure: slower
     ],
     ids=lambda argv: argv[0],
 )
@@ -547,6 +550,7 @@ def test_the_mutated_command_lines_are_valid(argv):
     assert created == ({"d.png"} if argv[0] == "bifurcation" else set())
 
 
+@pytest.mark.quick
 @pytest.mark.parametrize(
     ("argv", "message"),
     [
@@ -568,6 +572,7 @@ def test_known_cases_are_refused_before_any_work(argv, message):
     assert time.perf_counter() - start < 5  # refused at validation, not after the work
 
 
+@pytest.mark.quick
 def test_step_budget_can_be_raised():
     assert "--max-steps" in assert_refused(_with(INTEGRATE, "--t-end", "2e6"))
     from chaplygin.numerics.step_budget import estimated_steps
@@ -584,6 +589,7 @@ def test_step_budget_can_be_raised():
     integrate_cmd._check_step_budget(ns, Precision("double"))
 
 
+@pytest.mark.quick
 def test_internal_error_is_one_line_exit_3(monkeypatch):
     def broken(args):
         raise KeyError("a bug")
@@ -600,6 +606,7 @@ def test_internal_error_is_one_line_exit_3(monkeypatch):
     assert code == 3 and "Traceback" in err
 
 
+@pytest.mark.quick
 def test_os_error_while_working_is_one_line(monkeypatch):
     def full_disk(args):
         raise OSError(28, "No space left on device", "out.png")
@@ -610,6 +617,7 @@ def test_os_error_while_working_is_one_line(monkeypatch):
     assert err.strip() == "chaplygin: error: out.png: No space left on device"
 
 
+@pytest.mark.quick
 @pytest.mark.parametrize(
     "argv",
     [

@@ -10,6 +10,7 @@ matplotlib backend.
 from __future__ import annotations
 
 import ast
+import functools
 import importlib.util
 import os
 import re
@@ -213,6 +214,8 @@ def dynamic_imports(
     partly known (``f"{__name__}.{name}"`` with ``name`` from ``pkgutil``) counts as loading
     every module under its known prefix, which is what it may do.
     """
+    if not any(call in source for call in _IMPORT_CALLS):
+        return set(), []  # no such call in the text: none in the tree either
     tree = ast.parse(source)
     strings = _Strings(tree, RUNTIME_NAMES.get(module, module), package)
     parents = {id(child): node for node in ast.walk(tree) for child in ast.iter_child_nodes(node)}
@@ -277,7 +280,12 @@ def imports_of(module: str, modules: dict = MODULES, dynamic: bool = True) -> se
     return out
 
 
-GRAPH = {module: imports_of(module) for module in MODULES}
+@functools.cache
+def import_graph() -> dict[str, set[str]]:
+    """Every module of the package -> the modules it imports (:func:`imports_of`). Read on
+    first use, not at import: reading all sources takes seconds, which collecting the tests
+    (and ``pytest -m quick``, which runs none of these) would otherwise pay in every process."""
+    return {module: imports_of(module) for module in MODULES}
 
 
 def _layer(module: str) -> int:
@@ -286,14 +294,15 @@ def _layer(module: str) -> int:
 
 def test_the_graph_is_read():
     # a control: the parser sees relative, absolute and function-level imports
-    assert "chaplygin.derive.errors" in GRAPH["chaplygin.numerics.ball.separatrix"]
-    assert "chaplygin.verify.delta_cmd" in GRAPH["chaplygin.verify.cli"]
-    assert "chaplygin.numerics.integrate" in GRAPH["chaplygin.verify.plots"]  # inside a function
-    assert "chaplygin.generated" in GRAPH["chaplygin.numerics.code"]  # import_module(f"...")
+    graph = import_graph()
+    assert "chaplygin.derive.errors" in graph["chaplygin.numerics.ball.separatrix"]
+    assert "chaplygin.verify.delta_cmd" in graph["chaplygin.verify.cli"]
+    assert "chaplygin.numerics.integrate" in graph["chaplygin.verify.plots"]  # inside a function
+    assert "chaplygin.generated" in graph["chaplygin.numerics.code"]  # import_module(f"...")
     # names loaded through importlib: from a dict's values, a tuple, a pkgutil prefix
-    assert "chaplygin.verify.outputs.poincare" in GRAPH["chaplygin.verify.scene.registry"]
-    assert "chaplygin.derive.chaplygin_ball" in GRAPH["chaplygin.derive.systems"]
-    assert "chaplygin.verify.claims.ball" in GRAPH["chaplygin.verify.claims"]
+    assert "chaplygin.verify.outputs.poincare" in graph["chaplygin.verify.scene.registry"]
+    assert "chaplygin.derive.chaplygin_ball" in graph["chaplygin.derive.systems"]
+    assert "chaplygin.verify.claims.ball" in graph["chaplygin.verify.claims"]
     assert len(MODULES) > 40
 
 
@@ -309,8 +318,9 @@ def test_every_import_by_name_is_read():
 
 
 def test_no_lower_layer_imports_a_higher_one():
+    graph = import_graph()
     bad = sorted(
-        f"{m} imports {d}" for m, deps in GRAPH.items() for d in deps if _layer(d) > _layer(m)
+        f"{m} imports {d}" for m, deps in graph.items() for d in deps if _layer(d) > _layer(m)
     )
     assert bad == []
 
@@ -357,7 +367,7 @@ def test_cycle_finder_finds_a_cycle():
 
 
 def test_no_import_cycles():
-    assert strongly_connected(GRAPH) == []
+    assert strongly_connected(import_graph()) == []
 
 
 # ------------------------------------------------------------------------ scene outputs
@@ -1041,7 +1051,7 @@ def test_the_engine_does_not_import_the_ball_room():
     bad = sorted(
         f"{m} imports {d}"
         for m in engine_modules()
-        for d in GRAPH[m]
+        for d in import_graph()[m]
         if d.startswith(BALL_ROOM)
     )
     assert bad == []

@@ -25,8 +25,10 @@ from collections.abc import Callable, Sequence
 import numpy as np
 from chaplygin.derive import build_model
 
-from .. import kane_samples
 from .base import Computed, ComputedClaim, register
+
+# kane_samples (and with it sympy.physics.mechanics, ~0.4 s) is imported by the functions that
+# compute: loading the registry imports this module, and most runs decide no Kane claim.
 
 BALL = "chaplygin_ball"
 EPS = float(np.finfo(float).eps)
@@ -43,6 +45,8 @@ def _comparison(
     largest relative difference over the states, the bound :data:`BOUND`."""
 
     def run() -> Computed:
+        from .. import kane_samples
+
         differences = [kane_samples.relative_difference(k, ours) for k, ours in pairs()]
         worst = int(np.argmax(differences))
         return Computed(
@@ -58,6 +62,8 @@ def _comparison(
 
 
 def _ball(D_factor: float = 1.0) -> list[tuple[np.ndarray, np.ndarray]]:
+    from .. import kane_samples
+
     model = build_model(BALL)
     return [
         (s.kane(), kane_samples.model_angular_acceleration(model, s.params(D_factor), s.M, s.gamma))
@@ -67,6 +73,8 @@ def _ball(D_factor: float = 1.0) -> list[tuple[np.ndarray, np.ndarray]]:
 
 def _constrained(constraint: str, effects: tuple[str, ...]) -> Callable[[], list]:
     def pairs() -> list[tuple[np.ndarray, np.ndarray]]:
+        from .. import kane_samples
+
         model = build_model(BALL, effects)
         return [(cs.kane(), cs.ours(model)) for cs in kane_samples.constrained_samples(constraint)]
 
@@ -74,6 +82,8 @@ def _constrained(constraint: str, effects: tuple[str, ...]) -> Callable[[], list
 
 
 def _gyrostat(sign: float) -> list[tuple[np.ndarray, np.ndarray]]:
+    from .. import kane_samples
+
     model = build_model(BALL, ["gyrostat"])
     return [
         (
@@ -87,6 +97,8 @@ def _gyrostat(sign: float) -> list[tuple[np.ndarray, np.ndarray]]:
 
 
 def _moving_masses(frozen: bool) -> list[tuple[np.ndarray, np.ndarray]]:
+    from .. import kane_samples
+
     model = build_model(BALL, [] if frozen else ["variable_inertia"])
     out = []
     for x in kane_samples.moving_mass_samples():

@@ -233,7 +233,6 @@ def _assert_refused(status: int, err: str, out: Path) -> None:
     assert not out.exists()
 
 
-@pytest.mark.quick
 @settings(
     max_examples=500,
     deadline=None,
