@@ -35,7 +35,6 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from functools import lru_cache
 
 import mpmath
 import sympy as sp
@@ -43,6 +42,7 @@ import sympy.physics.mechanics as me
 
 from ..derive.model import Model
 from ..derive.rolling_system import RollingSystem
+from .kane_euler import euler_rates
 
 __all__ = ["KaneComparison", "kane_compare", "DIGITS", "RATIONAL_UNIT_VECTORS"]
 
@@ -295,36 +295,6 @@ def _relative(a: Sequence[object], b: Sequence[object]) -> float:
         diff = mpmath.sqrt(sum((p - q) ** 2 for p, q in zip(x, y, strict=True)))
         scale = 1 + mpmath.sqrt(sum(p**2 for p in x))
         return float(diff / scale)
-
-
-@lru_cache(maxsize=1)
-def euler_rates() -> dict[sp.Expr, sp.Expr]:
-    """The rates of 3-2-1 (``zyx``) Euler angles ``q1, q2, q3`` of ``B`` in ``N`` in terms
-    of the angular velocity's components ``u1, u2, u3`` on ``N.x, N.y, N.z``.
-
-    The kinematic equations are linear in the rates: solved by the adjugate over the
-    determinant ``-cos q2`` (only ``1/cos q2``, the 3-2-1 singularity, is left; the
-    implicit form LU-solved by KanesMethod divides by spurious factors). The same for
-    every body, so formed once per process (``sympy.solve`` and ``simplify`` took 25 s).
-
-    Returns
-    -------
-    dict
-        ``{q_i'(t): expression in q1, q2, u1, u2, u3}``.
-    """
-    q = me.dynamicsymbols("q1 q2 q3")
-    u = me.dynamicsymbols("u1 u2 u3")
-    t = me.dynamicsymbols._t
-    N, B = me.ReferenceFrame("N"), me.ReferenceFrame("B")
-    B.orient_body_fixed(N, tuple(q), "zyx")
-    w = B.ang_vel_in(N)
-    rates = [s.diff(t) for s in q]
-    implicit = [w.dot(e) - ui for e, ui in zip((N.x, N.y, N.z), u, strict=True)]
-    A, b = sp.linear_eq_to_matrix(implicit, rates)
-    A = A.applyfunc(sp.trigsimp)
-    det = sp.trigsimp(A.det())
-    adjugate = A.adjugate().applyfunc(sp.trigsimp)
-    return {r: sp.trigsimp(sp.expand(e / det)) for r, e in zip(rates, adjugate * b, strict=True)}
 
 
 class _KaneRolling:

@@ -24,7 +24,7 @@ import sympy.physics.mechanics as me
 from ..derive.model import Model
 from ..derive.rolling_system import RollingSystem
 from ..derive.vectors import vector
-from .kane_rolling import euler_rates
+from .kane_euler import euler_rates
 
 __all__ = ["compare_on_support", "ellipsoid_support"]
 
