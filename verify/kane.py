@@ -83,6 +83,7 @@ import sympy as sp
 from sympy.physics import mechanics as me
 
 from ..arith import detlinalg
+from .kane_euler import euler_rates
 
 if TYPE_CHECKING:  # pragma: no cover
     pass
@@ -212,21 +213,14 @@ def _kane_system(rotor: bool = False) -> _KaneSystem:
     N = me.ReferenceFrame("N")
     B = me.ReferenceFrame("B")
     B.orient_body_fixed(N, (q1, q2, q3), "zyx")
-    omega_q = B.ang_vel_in(N)  # in terms of the Euler-angle rates
-    kd_implicit = [omega_q.dot(B.x) - u1, omega_q.dot(B.y) - u2, omega_q.dot(B.z) - u3]
-    # Pass the kinematic equations already solved for the Euler-angle rates (simplified: only
-    # 1/cos(q2), the true 3-2-1 singularity). Letting KanesMethod LU-solve the implicit form
-    # leaves spurious denominators sin(q3), cos(q3) in the unsimplified rates, which lose digits
-    # to cancellation near gamma2 = 0 or gamma3 = 0 (seen: 1.5e-11 relative error at
+    # The kinematic equations already solved for the Euler-angle rates (only 1/cos(q2), the
+    # true 3-2-1 singularity). Letting KanesMethod LU-solve the implicit form leaves spurious
+    # denominators sin(q3), cos(q3) in the unsimplified rates, which lose digits to
+    # cancellation near gamma2 = 0 or gamma3 = 0 (seen: 1.5e-11 relative error at
     # gamma3 = 3e-4, against 1e-14 with the solved form).
     rates = [s.diff(t) for s in (q1, q2, q3)]
-    rate_sol = sp.solve(kd_implicit, rates, dict=True)[0]
-    kd = [r - sp.trigsimp(sp.simplify(rate_sol[r])) for r in rates]
-    if any(
-        sp.simplify(e.xreplace({r: r - k for r, k in zip(rates, kd, strict=True)})) != 0
-        for e in kd_implicit
-    ):  # pragma: no cover - guards the solved kinematics
-        raise AssertionError("solved Euler kinematics do not satisfy omega = u")
+    rate_sol = euler_rates("body")
+    kd = [r - rate_sol[r] for r in rates]
     kd += [x.diff(t) - u4, y.diff(t) - u5]
     B.set_ang_vel(N, u1 * B.x + u2 * B.y + u3 * B.z)
 
@@ -270,8 +264,9 @@ def _kane_system(rotor: bool = False) -> _KaneSystem:
     speed_order = tuple(str(s.func) for s in kane.u)
 
     # Dependent speeds from the (linear) no-slip constraints.
-    dep = sp.solve(velocity_constraints, [u4, u5], dict=True)[0]
-    u_dep = sp.Matrix([dep[u4], dep[u5]])
+    A_dep, b_dep = sp.linear_eq_to_matrix(velocity_constraints, [u4, u5])
+    u_dep = A_dep.LUsolve(b_dep)
+    dep = {u4: u_dep[0], u5: u_dep[1]}
 
     # Body-frame upward vertical and angular momentum about the contact point.
     gamma = sp.Matrix([N.z.dot(B.x), N.z.dot(B.y), N.z.dot(B.z)])
@@ -280,8 +275,7 @@ def _kane_system(rotor: bool = False) -> _KaneSystem:
 
     # Kinetic energy (gravity does no work) and its gradient, to check energy conservation.
     T = sum(body.kinetic_energy(N) for body in bodies)
-    qdot_sol = sp.solve(kd, [s.diff(t) for s in q], dict=True)[0]
-    qdot = sp.Matrix([qdot_sol[s.diff(t)] for s in q])
+    qdot = sp.Matrix([rate_sol[r] for r in rates] + [u4, u5])  # kd solved
     T_grad = sp.Matrix([T]).jacobian(q + u)
 
     def lam(expr: Any) -> Callable[..., Any]:
@@ -354,21 +348,11 @@ def _kane_constrained_system(constraint: str) -> _KaneConstrainedSystem:
     u = [u1, u2, u3, u4, u5]
     p = [I1, I2, I3, m, b, g]
 
-    # Kinematics: u1..u3 = space-frame components of the angular velocity. The relation is
-    # linear in the Euler-angle rates; solve it by LU (fast) and simplify to the form whose
-    # only denominator is cos(q2), the true 3-2-1 singularity.
-    omega_q = B.ang_vel_in(N)
+    # Kinematics: u1..u3 = space-frame components of the angular velocity, the Euler-angle
+    # rates solved in the form whose only denominator is cos(q2), the 3-2-1 singularity.
     rates = [s.diff(t) for s in (q1, q2, q3)]
-    omega_space = sp.Matrix([omega_q.dot(n) for n in (N.x, N.y, N.z)])
-    A = omega_space.jacobian(rates).applyfunc(sp.trigsimp)
-    if sp.simplify(omega_space - A * sp.Matrix(rates)) != sp.zeros(3, 1):  # pragma: no cover
-        raise AssertionError("angular velocity is not linear in the Euler-angle rates")
-    rate_values = A.LUsolve(sp.Matrix([u1, u2, u3])).applyfunc(
-        lambda e: sp.trigsimp(sp.simplify(e))
-    )
-    residual = (A * rate_values - sp.Matrix([u1, u2, u3])).applyfunc(sp.simplify)
-    if residual != sp.zeros(3, 1):  # pragma: no cover - guards the solved kinematics
-        raise AssertionError("solved Euler kinematics do not satisfy omega = u")
+    rate_sol = euler_rates("space")
+    rate_values = [rate_sol[r] for r in rates]
     kd = [r - v for r, v in zip(rates, rate_values, strict=True)]
     kd += [x.diff(t) - u4, y.diff(t) - u5]
     B.set_ang_vel(N, u1 * N.x + u2 * N.y + u3 * N.z)

@@ -15,6 +15,7 @@ from sympy.physics import mechanics as me
 
 from ..arith import detlinalg
 from .kane import euler_angles_for_gamma, omega_from_momentum
+from .kane_euler import euler_rates
 
 __all__ = ["kane_moving_masses_angular_acceleration"]
 
@@ -42,12 +43,9 @@ def _kane_moving_masses_system() -> tuple[Callable[..., Any], Callable[..., Any]
     N = me.ReferenceFrame("N")
     B = me.ReferenceFrame("B")
     B.orient_body_fixed(N, (q1, q2, q3), "zyx")
-    omega_q = B.ang_vel_in(N)
     rates = [s_.diff(t) for s_ in (q1, q2, q3)]
-    sol = sp.solve(
-        [omega_q.dot(B.x) - u1, omega_q.dot(B.y) - u2, omega_q.dot(B.z) - u3], rates, dict=True
-    )[0]
-    kd = [r - sp.trigsimp(sp.simplify(sol[r])) for r in rates]
+    sol = euler_rates("body")
+    kd = [r - sol[r] for r in rates]
     kd += [x.diff(t) - u4, y.diff(t) - u5]
     B.set_ang_vel(N, u1 * B.x + u2 * B.y + u3 * B.z)
 
@@ -78,12 +76,13 @@ def _kane_moving_masses_system() -> tuple[Callable[..., Any], Callable[..., Any]
         velocity_constraints=velocity_constraints,
     )
     kane.kanes_equations(bodies, [])
-    dep = sp.solve(velocity_constraints, [u4, u5], dict=True)[0]
+    A_dep, b_dep = sp.linear_eq_to_matrix(velocity_constraints, [u4, u5])
+    u_dep = A_dep.LUsolve(b_dep)
 
     def lam(expr: Any) -> Callable[..., Any]:
         return sp.lambdify((q, u, p, t), expr, modules="numpy", cse=True)
 
-    return lam(kane.mass_matrix), lam(kane.forcing), lam(sp.Matrix([dep[u4], dep[u5]]))
+    return lam(kane.mass_matrix), lam(kane.forcing), lam(u_dep)
 
 
 def kane_moving_masses_angular_acceleration(
