@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from .algebra import ConstraintIdeal
+from .algebra import ConstraintIdeal, seeded_factor
 from .description import MechanicalDescription, Reduced
 from .engine import (
     ReducedEquations,
@@ -400,7 +400,7 @@ def _omega_by_adjugate(
     alone, so that the emitted code and its Taylor decomposition stay small); and
     ``u -> II^-1 u`` for the multipliers."""
     delta = sp.Symbol("Delta", real=True)
-    det = sp.factor(II.det())
+    det = seeded_factor(II.det())  # Wang's random points: the same path in every process
     adjugate = II.adjugate().applyfunc(sp.expand)
     symmetric = (adjugate - adjugate.T).is_zero_matrix
     names = {}
