@@ -379,61 +379,59 @@ def ring_normal_form(
     from sympy.polys.groebnertools import groebner as ring_groebner
 
     key = (tuple(constraints), builder.gens)
-    basis = _RING_BASES.get(key)
-    if basis is None:
+    entry = _RING_BASES.get(key)
+    if entry is None:
         basis = ring_groebner(
             [builder.ring.from_expr(sp.expand(c)) for c in constraints], builder.ring
         )
-        _RING_BASES[key] = basis
-    if _flint_serves(poly.ring):
-        return _flint_remainder(poly, basis)
+        # FLINT's division serves a grevlex ring over QQ (every ring the builder makes)
+        entry = (basis, _flint_basis(basis) if _flint_serves(builder.ring) else None)
+        _RING_BASES[key] = entry
+    basis, flint_basis = entry
+    if flint_basis is not None:
+        return _flint_remainder(poly, flint_basis)
     return _remainder(poly, basis)
 
 
-_FLINT_BASES: dict = {}
-
-
 def _flint_serves(ring) -> bool:
-    """FLINT's division applies to a grevlex ring over QQ (every ring the builder makes)."""
+    """A grevlex ring over QQ: the rings :func:`_flint_remainder` reproduces exactly."""
     from sympy.polys.domains import QQ
 
     return getattr(ring.order, "alias", None) == "grevlex" and ring.domain == QQ
 
 
-def _flint_remainder(f, G):
-    """The remainder of :func:`_remainder`, computed by FLINT's division over ZZ.
-
-    ``fmpz_mpoly.reduction_primitive_part`` divides ``c f`` by the basis (``c`` a non-zero
-    integer FLINT picks to stay in ZZ) and returns the remainder's primitive part, so the
-    scale is lost. A fresh generator ``z`` (the last, in a degree-reverse-lexicographic
-    order that agrees with the ring's on monomials without ``z``; no leading monomial of
-    the basis involves it) added to ``f`` with coefficient 1 carries it: the remainder of
-    ``c (f + z)`` is ``c (NF(f) + z)``, so ``NF(f) = pp / pp[z] - z``. The normal form
-    modulo a Groebner basis is unique, hence equal to :func:`_remainder`'s (a test
-    compares them); FLINT does in C what the heap does in Python (98 s -> seconds for the
-    rubber ball on a line).
-    """
-
+def _flint_basis(G) -> tuple:
+    """``(context, basis)``: the polynomials ``G`` (one ring) in FLINT's ``fmpz_mpoly``
+    with denominators cleared and one more generator ``z`` (last), degree-reverse-
+    lexicographic like the ring on monomials without ``z``."""
     import flint
 
+    n = G[0].ring.ngens
+    ctx = flint.fmpz_mpoly_ctx.get(tuple(f"x{i}" for i in range(n + 1)), "degrevlex")
+    return ctx, flint.fmpz_mpoly_vec([_to_flint(g, ctx)[0] for g in G], ctx)
+
+
+def _flint_remainder(f, flint_basis: tuple):
+    """The remainder of :func:`_remainder` by the basis of :func:`_flint_basis`, computed
+    by FLINT's division over ZZ.
+
+    ``fmpz_mpoly.reduction_primitive_part`` divides ``c g`` by the basis (``c`` a non-zero
+    integer FLINT picks to stay in ZZ) and returns the remainder's primitive part, so the
+    scale is lost. The fresh generator ``z`` (no leading monomial of the basis involves
+    it) carries it: with ``d`` the common denominator of ``f``, the remainder of ``c (d f
+    + d z)`` is ``c d (NF(f) + z)``, so ``NF(f) = pp / pp[z] - z``. The normal form modulo
+    a Groebner basis is unique, hence equal to :func:`_remainder`'s (a test compares
+    them); FLINT does in C what the heap does in Python (the rubber ball on a line's
+    density claim: 103 s -> 13 s).
+    """
     ring = f.ring
     n = ring.ngens
-    key = (ring, tuple(G))
-    cached = _FLINT_BASES.get(key)
-    if cached is None:
-        ctx = flint.fmpz_mpoly_ctx.get(tuple(f"x{i}" for i in range(n + 1)), "degrevlex")
-        cached = (ctx, flint.fmpz_mpoly_vec([_to_flint(g, ctx)[0] for g in G], ctx))
-        _FLINT_BASES[key] = cached
-    ctx, basis = cached
+    ctx, basis = flint_basis
     z = (0,) * n + (1,)
     scaled, d = _to_flint(f, ctx)  # d f, d an integer
-    pp = (scaled + ctx.from_dict({z: d})).reduction_primitive_part(basis)
-    terms = pp.to_dict()
-    scale = terms.pop(z)
-    domain = ring.domain
-    return ring.from_dict(
-        {m[:n]: domain(int(c), int(scale)) for m, c in terms.items()}
-    )
+    terms = (scaled + ctx.from_dict({z: d})).reduction_primitive_part(basis).to_dict()
+    scale = int(terms.pop(z))
+    return ring.from_dict({m[:n]: ring.domain(int(c), scale) for m, c in terms.items()})
 
 
 def _to_flint(p, ctx):
