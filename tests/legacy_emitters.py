@@ -488,8 +488,9 @@ _LANEWISE = frozenset(
 )
 
 
-def vector_rhs_source(c_source: str) -> str | None:
-    """``bm_rhs_vec``: the generated ``chaplygin_rhs`` with every double a vector of lanes.
+def vector_rhs_source(c_source: str, routine: str = "rhs") -> str | None:
+    """``bm_rhs_vec``: the generated ``chaplygin_rhs`` with every double a vector of lanes
+    (``routine="jac"``: ``bm_jac_vec`` from ``chaplygin_jac``).
 
     The emitted function is straight-line code (``const double x = expression;`` and
     ``OUT[i] = expression;``); with GCC's vector types the same text computes every lane with
@@ -505,7 +506,8 @@ def vector_rhs_source(c_source: str) -> str | None:
     -------
     str or None
     """
-    head = "void chaplygin_rhs(double T, const double *restrict Y, const double *restrict P, "
+    head = f"void chaplygin_{routine}(double T, const double *restrict Y, const double *restrict "
+    head += "P, "
     start = c_source.find(head)
     if start < 0:
         return None
@@ -521,6 +523,6 @@ def vector_rhs_source(c_source: str) -> str | None:
     for name in called:
         body = re.sub(rf"\b{name}\s*\(", f"bm_v_{name}(", body)
     return (
-        "static void bm_rhs_vec(bm_vec T, const bm_vec *restrict Y, const bm_vec *restrict P, "
-        "bm_vec *restrict OUT)\n" + body
+        f"static void bm_{routine}_vec(bm_vec T, const bm_vec *restrict Y, "
+        "const bm_vec *restrict P, bm_vec *restrict OUT)\n" + body
     )

@@ -457,9 +457,22 @@ def _lyapunov_max(ctx: PointContext) -> dict:
         intervals=opts.intervals,
         transient=opts.transient,
         t0=float(res.t_span[0]),
-        rtol=run.rtol if run.rtol is not None else 1e-10,
-        atol=run.atol if run.atol is not None else 1e-12,
+        rtol=_lyapunov_tolerances(run)[0],
+        atol=_lyapunov_tolerances(run)[1],
+        count=1,
     )
+    return _lyapunov_values(spec, opts.intervals)
+
+
+def _lyapunov_tolerances(run: Any) -> tuple[float, float]:
+    return (
+        run.rtol if run.rtol is not None else 1e-10,
+        run.atol if run.atol is not None else 1e-12,
+    )
+
+
+def _lyapunov_values(spec: Any, intervals: int) -> dict:
+    """The reducer's values from the spectrum (one exponent) of a point."""
     lam, err = float(spec.exponents[0]), float(spec.errors[0])
     per_iteration, per_iteration_error = lam * spec.period, err * spec.period
     return {
@@ -467,18 +480,57 @@ def _lyapunov_max(ctx: PointContext) -> dict:
         "lyapunov_max_error": err,
         "lyapunov_max_per_iteration": per_iteration,
         "lyapunov_max_per_iteration_error": per_iteration_error,
-        "chaotic": int(
-            per_iteration - 3 * per_iteration_error > linear_growth_rate(opts.intervals)
-        ),
+        "chaotic": int(per_iteration - 3 * per_iteration_error > linear_growth_rate(intervals)),
     }
+
+
+def _lyapunov_max_batch(contexts: list[PointContext]) -> list[Any]:
+    """The ``lyapunov_max`` reducer for a chunk: the points of one model and tolerances in one
+    call of :func:`~chaplygin.numerics.dynamics.lyapunov_batch.lyapunov_spectra` (vector lanes;
+    each point's numbers bit-identical to :func:`_lyapunov_max`'s)."""
+    from ..numerics.dynamics.lyapunov_batch import lyapunov_spectra
+
+    out: list[Any] = [None] * len(contexts)
+    groups: dict[tuple, list[int]] = {}
+    for i, ctx in enumerate(contexts):
+        code = ctx.resolved.code
+        if code.forcing is None:
+            continue  # an autonomous model: _lyapunov_max says what is missing
+        key = (code.hash, *_lyapunov_tolerances(ctx.scene.run_options))
+        groups.setdefault(key, []).append(i)
+    for (_, rtol, atol), indices in groups.items():
+        first = contexts[indices[0]]
+        code, opts = first.resolved.code, first.sweep.lyapunov
+        res = [contexts[i].resolved for i in indices]
+        try:
+            r = lyapunov_spectra(
+                code,
+                [[float(x.params[k]) for k in code.params] for x in res],
+                [[float(v) for v in x.y0] for x in res],
+                intervals=opts.intervals,
+                transient=opts.transient,
+                t0=[float(x.t_span[0]) for x in res],
+                rtol=rtol,
+                atol=atol,
+                count=1,
+            )
+        except UserInputError:  # e.g. one point's settings: each point on its own then
+            continue
+        for j, i in enumerate(indices):
+            spec = r.spectra[j]
+            out[i] = ComputationError(r.messages[j]) if spec is None else _lyapunov_values(
+                spec, opts.intervals
+            )
+    return out
 
 
 def _lyapunov_variables(code: Any, sweep: Any) -> dict[str, Variable]:
     from ..numerics.dynamics.lyapunov import UNITS_PER_ITERATION, UNITS_PER_TIME
 
     what = (
-        "largest Lyapunov exponent on the integrals' level set (Benettin/QR, one QR per forcing "
-        f"period, {sweep.lyapunov.intervals} periods after {sweep.lyapunov.transient})"
+        "largest Lyapunov exponent on the integrals' level set (Benettin/QR with one tangent "
+        f"vector, one QR per forcing period, {sweep.lyapunov.intervals} periods after "
+        f"{sweep.lyapunov.transient})"
     )
     error = "its error bar (one standard error)"
     return {
@@ -509,6 +561,7 @@ register_reducer(
         None,
         "the largest Lyapunov exponent (per unit time and per forcing period) with its error "
         "bar: about 0 quasi-periodic or periodic, > 0 chaotic (time-periodic models, double)",
+        _lyapunov_max_batch,
     )
 )
 

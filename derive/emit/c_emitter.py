@@ -255,12 +255,15 @@ def lanes_obstacle(routine: Routine) -> str | None:
 
 @register
 class CLanesEmitter(Emitter):
-    """The right-hand side in the vector lanes of the DOP853 batch (``bm_rhs_vec``).
+    """The right-hand side and the Jacobian in the vector lanes of the DOP853 batches
+    (``bm_rhs_vec``, ``bm_jac_vec``).
 
-    The emitted ``chaplygin_rhs`` with every double a ``bm_vec`` (a GNU C vector of doubles,
-    ``templates/batch_map.c``) and the functions applied lane by lane: every lane computes
-    the IEEE operations of the scalar code. No file for a model whose right-hand side has
-    another operation (:func:`lanes_obstacle`): its batch advances one point at a time.
+    The emitted ``chaplygin_rhs`` (and ``chaplygin_jac``) with every double a ``bm_vec`` (a GNU
+    C vector of doubles, ``templates/batch_map.c``) and the functions applied lane by lane:
+    every lane computes the IEEE operations of the scalar code. No file for a model whose
+    right-hand side has another operation (:func:`lanes_obstacle`): its batch advances one
+    point at a time; no ``bm_jac_vec`` when only the Jacobian has one (the variational batch
+    then advances one point at a time).
     """
 
     language = "c_lanes"
@@ -270,14 +273,19 @@ class CLanesEmitter(Emitter):
         if lanes_obstacle(routines.rhs) is not None:
             return []
         printer = ChaplyginCPrinter(c_names(model), LANEWISE_FUNCTIONS, sqrt="bm_v_sqrt")
-        signature = (
-            "static void bm_rhs_vec(bm_vec T, const bm_vec *restrict Y, const bm_vec *restrict P, "
-            "bm_vec *restrict OUT)"
-        )
+        arguments = "(bm_vec T, const bm_vec *restrict Y, const bm_vec *restrict P, " \
+            "bm_vec *restrict OUT)"  # fmt: skip
+        lanes = {"bm_rhs_vec": routines.rhs}
+        if lanes_obstacle(routines.jacobian) is None:
+            lanes["bm_jac_vec"] = routines.jacobian
+        functions = [
+            routine_function(model, routine, printer, f"static void {name}{arguments}", "bm_vec")
+            for name, routine in lanes.items()
+        ]
         text = read_template(LANES_TEMPLATE)
         for key, value in {
             "HEADER": "\n".join(header_lines(model, "c, vector lanes")),
-            "FUNCTION": routine_function(model, routines.rhs, printer, signature, "bm_vec"),
+            "FUNCTION": "\n\n".join(functions),
         }.items():
             text = text.replace("{{" + key + "}}", value)
         return [(self.filename(model), text)]

@@ -15,7 +15,8 @@ compiles and loads what these functions return:
   (``templates/variational.c``);
 * :func:`batch_source` and :func:`taylor_batch_source` -- the stroboscopic map of many points
   (``templates/batch_map.c`` with the model's right-hand side in vector lanes,
-  ``<model>_lanes.c``; ``templates/taylor_batch_map.c``);
+  ``<model>_lanes.c``; ``templates/taylor_batch_map.c``) and Benettin's loop of many points
+  (``templates/variational_batch.c``, with the Jacobian in the lanes too);
 * :func:`fastcall_source` -- the CPython trampoline (``templates/fastcall.c``);
 * :func:`inline_project_headers` -- the project's header ``detmath.h`` put in place of its
   ``#include`` line (done by :func:`chaplygin.numerics.ccompile.compile_c` for every source,
@@ -29,6 +30,7 @@ from importlib import resources
 __all__ = [
     "TAYLOR_DEFINES",
     "MODEL_MANY_MARKER",
+    "JACOBIAN_LANES",
     "model_library_source",
     "taylor_source",
     "variational_source",
@@ -48,6 +50,10 @@ TAYLOR_DEFINES = {
 
 #: First line of ``templates/model_many.c``: a source that has it has its batch routines.
 MODEL_MANY_MARKER = "/* chaplygin.numerics.compiled batch shim v1 */"
+
+#: The name of the Jacobian in vector lanes: a lanes source that defines it has the lanes of the
+#: variational batch (``templates/variational_batch.c``).
+JACOBIAN_LANES = "static void bm_jac_vec("
 
 #: The ``#include`` line of emitted sources that :func:`inline_project_headers` replaces.
 _PROJECT_INCLUDE = '#include "detmath.h"'
@@ -137,15 +143,19 @@ def batch_source(c_source: str, lanes_source: str | None) -> tuple[str, bool]:
     Returns
     -------
     (str, bool)
-        The source (the model's C, ``variational.c``'s DOP853 tableau, ``batch_map.c`` and
-        the lanes where there are some) and whether the lane driver is built.
+        The source (the model's C, ``variational.c``'s DOP853, ``batch_map.c``,
+        ``variational_batch.c`` and the lanes where there are some) and whether the map's lane
+        driver is built (the variational lanes also need the Jacobian's,
+        :data:`JACOBIAN_LANES`).
     """
     source = "\n".join(
         (
             c_source,
             _template("variational.c"),
             "#define BM_VEC_RHS 1" if lanes_source else "",
+            "#define BM_VEC_JAC 1" if lanes_source and JACOBIAN_LANES in lanes_source else "",
             _batch_map(),
+            _template("variational_batch.c"),
             lanes_source or "",
         )
     )

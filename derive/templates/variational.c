@@ -436,42 +436,53 @@ int chaplygin_var_normal_rank(double t, const double *y, const double *P)
     return cv_normal_basis(t, y, P, Q);
 }
 
+/* The end of an interval of one point (z its augmented state at tb): the divergence integral,
+ * the projection onto the level set's tangent space and the QR of Benettin's loop (here and in
+ * templates/variational_batch.c). Returns 0 or 3 (a vanishing or non-finite tangent vector). */
+static int cv_interval_end(double tb, double *z, int k, const double *P, int project,
+                           double *logs, double *div)
+{
+    double *V = z + CV_N;
+    double Q[CV_NI * CV_N];
+    *div = z[CV_N + CV_N * k];
+    if (project) {
+        int r = cv_normal_basis(tb, z, P, Q);
+        for (int j = 0; j < k; ++j)
+            for (int q = 0; q < r; ++q) {
+                double d = 0.0;
+                for (int l = 0; l < CV_N; ++l) d += Q[q * CV_N + l] * V[l * k + j];
+                for (int l = 0; l < CV_N; ++l) V[l * k + j] -= d * Q[q * CV_N + l];
+            }
+    }
+    for (int j = 0; j < k; ++j) {
+        double rjj = 0.0;
+        for (int pass = 0; pass < 2; ++pass)
+            for (int q = 0; q < j; ++q) {
+                double d = 0.0;
+                for (int l = 0; l < CV_N; ++l) d += V[l * k + q] * V[l * k + j];
+                for (int l = 0; l < CV_N; ++l) V[l * k + j] -= d * V[l * k + q];
+            }
+        for (int l = 0; l < CV_N; ++l) rjj += V[l * k + j] * V[l * k + j];
+        rjj = sqrt(rjj);
+        if (!(rjj > 0.0) || !isfinite(rjj)) return 3;
+        logs[j] = chaplygin_log(rjj);
+        for (int l = 0; l < CV_N; ++l) V[l * k + j] /= rjj;
+    }
+    return 0;
+}
+
 int chaplygin_var_renormalised(double t0, double tau, long n_intervals, double *z, int k,
                                const double *P, double rtol, double atol, int project,
                                long max_steps, double *logs, double *divs, double *stats)
 {
-    double *V = z + CV_N;
-    double Q[CV_NI * CV_N];
     const int iq = CV_N + CV_N * k;
     for (long it = 0; it < n_intervals; ++it) {
         const double ta = t0 + (double)it * tau, tb = t0 + (double)(it + 1) * tau;
         z[iq] = 0.0;
         int status = chaplygin_var_flow(ta, tb, z, k, P, rtol, atol, max_steps, stats);
         if (status) return status;
-        divs[it] = z[iq];
-        if (project) { /* keep V in the tangent space of the integrals' level set */
-            int r = cv_normal_basis(tb, z, P, Q);
-            for (int j = 0; j < k; ++j)
-                for (int q = 0; q < r; ++q) {
-                    double d = 0.0;
-                    for (int l = 0; l < CV_N; ++l) d += Q[q * CV_N + l] * V[l * k + j];
-                    for (int l = 0; l < CV_N; ++l) V[l * k + j] -= d * Q[q * CV_N + l];
-                }
-        }
-        for (int j = 0; j < k; ++j) { /* modified Gram-Schmidt, two passes */
-            double rjj = 0.0;
-            for (int pass = 0; pass < 2; ++pass)
-                for (int q = 0; q < j; ++q) {
-                    double d = 0.0;
-                    for (int l = 0; l < CV_N; ++l) d += V[l * k + q] * V[l * k + j];
-                    for (int l = 0; l < CV_N; ++l) V[l * k + j] -= d * V[l * k + q];
-                }
-            for (int l = 0; l < CV_N; ++l) rjj += V[l * k + j] * V[l * k + j];
-            rjj = sqrt(rjj);
-            if (!(rjj > 0.0) || !isfinite(rjj)) return 3;
-            logs[it * k + j] = chaplygin_log(rjj);
-            for (int l = 0; l < CV_N; ++l) V[l * k + j] /= rjj;
-        }
+        status = cv_interval_end(tb, z, k, P, project, logs + it * k, divs + it);
+        if (status) return status;
     }
     return 0;
 }

@@ -499,7 +499,6 @@ class _StateRuns:
     def run(self, s, vs, y, V, t0, tau, transient, intervals, windows, checkpoints, project,
             with_density) -> None:  # fmt: skip
         """Renormalised runs from state number ``s``: the transient, then the measured ones."""
-        k = V.shape[1]
         t = t0
         if transient:
             _, _, y, V, w = vs.renormalised(y, V, t, tau, transient, project=project)
@@ -510,6 +509,14 @@ class _StateRuns:
         logs, divs, y, V, w = vs.renormalised(y, V, t, tau, intervals, project=project)
         for key in self.work:
             self.work[key] += w[key]
+        density = (vs.code, vs.params, t_start, y_start, y) if with_density else None
+        self.record(s, logs, divs, tau, windows, checkpoints, density)
+
+    def record(self, s, logs, divs, tau, windows, checkpoints, density) -> None:  # fmt: skip
+        """The statistics of state number ``s`` from its measured intervals' ``logs`` (intervals,
+        k) and divergence integrals ``divs``; ``density`` is ``(code, params, t_start, y_start,
+        y_end)`` for the density route of the divergence, or None."""
+        intervals, k = logs.shape
         self.per_state[s] = logs.mean(axis=0) / tau
         usable = (intervals // windows) * windows
         batches = logs[intervals - usable :].reshape(windows, -1, k).mean(axis=1) / tau
@@ -518,8 +525,8 @@ class _StateRuns:
         div_batches = divs[intervals - usable :].reshape(windows, -1).mean(axis=1) / tau
         self.divergence_se[s] = div_batches.std(ddof=1) / math.sqrt(windows)
         self.running[s] = np.cumsum(logs, axis=0)[checkpoints - 1] / (checkpoints[:, None] * tau)
-        if with_density:
-            code, p = vs.code, vs.params
+        if density is not None:
+            code, p, t_start, y_start, y = density
             t_end = t_start + intervals * tau
             self.density_rate[s] = -(
                 _log_density(code, t_end, y, p) - _log_density(code, t_start, y_start, p)

@@ -27,6 +27,7 @@ from .flows import (
     Renormalisation,
     ReversedFlow,
     StroboscopicTimes,
+    VariationalBatch,
     VariationalFlow,
 )
 from .odefun import MpmathOdefun
@@ -47,6 +48,7 @@ __all__ = [
     "Batch",
     "StroboscopicTimes",
     "Renormalisation",
+    "VariationalBatch",
     "ScipyMethod",
     "RK45",
     "DOP853",

@@ -23,7 +23,7 @@ from typing import Any
 import cffi
 import numpy as np
 
-from ...derive.emit.c_sources import batch_source, taylor_batch_source
+from ...derive.emit.c_sources import JACOBIAN_LANES, batch_source, taylor_batch_source
 from ..ccompile import CacheError, CompilationError, CompilerError, compile_c
 from ..code import ModelCode
 from ..compiled import CompilerUnavailableWarning
@@ -37,7 +37,9 @@ __all__ = [
     "cached_library",
     "cpu_identity",
     "lockstep_available",
+    "variational_lockstep_available",
     "run_batch",
+    "run_variational_batch",
     "taylor_batch_library",
 ]
 
@@ -50,6 +52,16 @@ void chaplygin_batch_map_lockstep(long N, const double *Y0, const double *P, con
                                   const double *TAU_HI, const double *TAU_LO, long transient,
                                   long n_record, double rtol, double atol, long max_steps,
                                   double *OUT, double *STATS, int *STATUS);
+void chaplygin_var_renormalised_many(long N, int k, const double *Z0, const double *P,
+                                     const double *T0, const double *TAU, long n_intervals,
+                                     double rtol, double atol, int project, long max_steps,
+                                     double *Z, double *LOGS, double *DIVS, double *STATS,
+                                     int *STATUS);
+void chaplygin_var_renormalised_lockstep(long N, int k, const double *Z0, const double *P,
+                                         const double *T0, const double *TAU, long n_intervals,
+                                         double rtol, double atol, int project, long max_steps,
+                                         double *Z, double *LOGS, double *DIVS, double *STATS,
+                                         int *STATUS);
 void chaplygin_taylor_batch_map(long N, const double *Y0, const double *P, const double *T0,
                                 const double *TAU_HI, const double *TAU_LO, long transient,
                                 long n_record, double rtol, double atol, long max_steps,
@@ -99,6 +111,7 @@ STATUS_MESSAGES = {
 _LIBRARIES: dict[str, Any] = {}
 _TAYLOR_LIBRARIES: dict[str, Any] = {}
 _LOCKSTEP: dict[str, bool] = {}
+_VARIATIONAL_LOCKSTEP: dict[str, bool] = {}
 
 
 def cached_library(
@@ -155,6 +168,7 @@ def batch_library(code: ModelCode) -> Any | None:
         source, has_lanes = batch_source(code.c_source, code.lanes_c_source)
         lib = _compile_native(source)
         _LOCKSTEP[code.hash] = has_lanes
+        _VARIATIONAL_LOCKSTEP[code.hash] = has_lanes and JACOBIAN_LANES in code.lanes_c_source
         return lib
 
     return cached_library(
@@ -186,6 +200,21 @@ def lockstep_available(code: ModelCode) -> bool:
     bool
     """
     return _LOCKSTEP.get(code.hash, False)
+
+
+def variational_lockstep_available(code: ModelCode) -> bool:
+    """Whether the DOP853 batch library of ``code`` has the vector-lane driver of Benettin's
+    loop (the model's right-hand side and Jacobian call only sin, cos, exp, log, sqrt, fabs).
+
+    Parameters
+    ----------
+    code : ModelCode
+
+    Returns
+    -------
+    bool
+    """
+    return _VARIATIONAL_LOCKSTEP.get(code.hash, False)
 
 
 def taylor_batch_library(code: ModelCode) -> Any | None:
@@ -259,3 +288,53 @@ def run_batch(driver: Any, problem: Problem) -> tuple[Solution, np.ndarray]:
         info={"status": status, "wall_s": wall, "periods": times.transient + times.count - 1},
     )
     return sol, stats
+
+
+def run_variational_batch(
+    lib: Any, problem: Problem, lockstep: bool
+) -> tuple[np.ndarray, dict[str, Any]]:
+    """Benettin's loop for many points in one call (``templates/variational_batch.c``).
+
+    Parameters
+    ----------
+    lib : cffi library
+        The batch library of the problem's model (:func:`batch_library`).
+    problem : Problem
+        A :class:`~chaplygin.numerics.integrators.flows.VariationalBatch`: ``y0`` the augmented
+        states ``(N, n + n k + 1)`` and ``params`` ``(N, n_param)`` (C-contiguous float64),
+        ``options["renormalise"]`` a
+        :class:`~chaplygin.numerics.integrators.flows.Renormalisation` whose ``tau`` and
+        ``t0`` are arrays of shape ``(N,)``.
+    lockstep : bool
+        The vector-lane driver (else one point after another; the same bits).
+
+    Returns
+    -------
+    (ndarray, dict)
+        The augmented states at the end ``(N, n + n k + 1)``, and ``status`` (N,), ``logs``
+        (N, intervals, k), ``divergence`` (N, intervals), ``stats`` (N, 4) and ``wall_s``.
+    """
+    plan = problem.options["renormalise"]
+    Z0, P = problem.y0, problem.params
+    N, k = len(Z0), problem.system.tangents
+    Z = np.empty_like(Z0)
+    logs = np.zeros((N, plan.intervals, k))
+    divs = np.zeros((N, plan.intervals))
+    stats = np.zeros((N, 4))
+    status = np.zeros(N, dtype=np.int32)
+
+    def buf(a: np.ndarray, kind: str = "double[]") -> Any:
+        return _ffi.from_buffer(kind, a, require_writable=False)
+
+    driver = (
+        lib.chaplygin_var_renormalised_lockstep if lockstep else lib.chaplygin_var_renormalised_many
+    )
+    start = time.perf_counter()
+    driver(
+        N, k, buf(Z0), buf(P), buf(plan.t0), buf(plan.tau), plan.intervals, problem.rtol,
+        problem.atol, int(bool(plan.project)), problem.max_steps, buf(Z), buf(logs), buf(divs),
+        buf(stats), buf(status, "int[]"),
+    )  # fmt: skip
+    info = {"status": status, "logs": logs, "divergence": divs, "stats": stats,
+            "wall_s": time.perf_counter() - start}  # fmt: skip
+    return Z, info

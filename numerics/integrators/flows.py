@@ -9,7 +9,9 @@ Everything the project integrates is one of these, made from a model's generated
   divergence, ``z = (y, V, q)``: ``y' = f``, ``V' = J V``, ``q' = tr J`` (``J`` the generated
   Jacobian);
 * :class:`Batch` -- many copies of a flow, each with its own state and parameters (a
-  problem's ``y0`` and ``params`` have one row per copy).
+  problem's ``y0`` and ``params`` have one row per copy);
+* :class:`VariationalBatch` -- many copies of the variational equations, each with its own
+  augmented state, parameters, start time and renormalisation interval.
 
 An :class:`~chaplygin.numerics.integrators.Integrator` names the flows it integrates
 (``flows``); the flows give the scipy and mpmath methods their right-hand sides.
@@ -33,6 +35,7 @@ __all__ = [
     "ReversedFlow",
     "VariationalFlow",
     "Batch",
+    "VariationalBatch",
     "StroboscopicTimes",
     "Renormalisation",
 ]
@@ -279,6 +282,24 @@ class Batch(Flow):
 
 
 @dataclass(frozen=True)
+class VariationalBatch(Flow):
+    """Many copies of a :class:`VariationalFlow` with ``tangents`` tangent vectors each: a
+    problem's ``y0`` has shape ``(N, n + n k + 1)`` (the augmented states ``(y, V, q)``, one
+    row per copy) and its ``params`` ``(N, n_param)``; its ``options["renormalise"]`` is a
+    :class:`Renormalisation` with one ``tau`` and one ``t0`` per copy.
+
+    Attributes
+    ----------
+    code : ModelCode
+    tangents : int
+        ``k`` (1..n).
+    """
+
+    tangents: int = 1
+    what: ClassVar[str] = "a batch of variational equations"
+
+
+@dataclass(frozen=True)
 class StroboscopicTimes:
     """Output times of a batch of a time-periodic model: point ``j`` at
     ``t0_j + (transient + k) tau_j``, ``k = 0 .. count - 1``, ``tau_j = 2 pi/Omega_j`` (a
@@ -329,15 +350,18 @@ class Renormalisation:
 
     Attributes
     ----------
-    tau : float
+    tau : float, or ndarray of shape (N,) for a :class:`VariationalBatch`
     intervals : int
     project : bool
     normal_basis : callable or None
         ``(t, y) -> orthonormal basis (n, r)`` of the integrals' gradients, for a method that
         projects in Python (the compiled one has its own).
+    t0 : ndarray of shape (N,), or None
+        A :class:`VariationalBatch`'s start times (one problem starts at ``t_span[0]``).
     """
 
-    tau: float
+    tau: float | np.ndarray
     intervals: int
     project: bool
     normal_basis: Callable[[float, np.ndarray], np.ndarray] | None = None
+    t0: np.ndarray | None = None

@@ -56,12 +56,18 @@ def test_the_written_out_coefficients_are_the_text_the_rewriting_wrote(system, e
 @pytest.mark.parametrize("system,effects", VARIANTS)
 def test_the_lanes_are_the_function_the_rewriting_wrote(system, effects):
     code = load_model_code(system, effects)
-    old = legacy.vector_rhs_source(code.c_source)
-    assert old is not None and code.lanes_c_source is not None
-    assert code.lanes_c_source.endswith("\n" + old)  # after the file's comment header
+    """The emitted lanes (right-hand side, then Jacobian) are the scalar functions rewritten
+    as text by the legacy rewriter; the variational lanes are switched on by them."""
+    old_rhs = legacy.vector_rhs_source(code.c_source)
+    old_jac = legacy.vector_rhs_source(code.c_source, "jac")
+    assert old_rhs is not None and code.lanes_c_source is not None
+    # after the file's comment header; a Jacobian with a power the lanes lack has none
+    tail = old_rhs if old_jac is None else old_rhs.rstrip("\n") + "\n\n" + old_jac
+    assert code.lanes_c_source.endswith("\n" + tail)
     source, lanes = batch_source(code.c_source, code.lanes_c_source)
     assert lanes and source.endswith(code.lanes_c_source)
     assert source.index("#define BM_VEC_RHS 1") < source.index("typedef double bm_vec")
+    assert ("#define BM_VEC_JAC 1" in source) == (old_jac is not None)
 
 
 def test_the_program_round_trips_and_is_the_models():

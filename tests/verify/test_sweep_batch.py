@@ -226,3 +226,37 @@ def test_carry_both_adds_a_leading_dimension_and_is_checked(tmp_path):
         path.write_text(textwrap.dedent(bad.replace(old, new)))
         with pytest.raises(SceneError, match=needle):
             plan_sweep(Scene.from_toml(path))
+
+
+def test_lyapunov_max_through_the_batch_equals_the_point_by_point_reducer(tmp_path, monkeypatch):
+    """A chunk of three forcing frequencies (three intervals) and a J = 0.3 body: the chunk's
+    exponents from one call of the Lyapunov batch (vector lanes) equal, bit for bit, those of
+    the same chunk with the reducer's batch removed (lyapunov_spectrum point by point)."""
+    import dataclasses
+
+    from chaplygin.verify import sweep_reducers
+
+    text = FROM_REST.replace(', engine = "ENGINE"', "").replace(
+        'reduce = ["period"]',
+        'reduce = ["lyapunov_max"]\nlyapunov = { transient = 20, intervals = 100 }',
+    )
+    text = (
+        text.replace("J_off = 0\n", "J_off = 0.3\n")
+        .replace("rest = true\ngamma = [0.6, 0.0, 0.8]", "G = 3\nz = 0.5\nl = 1\ng = 1")
+        .replace(
+            '"parameters.Omega" = [0.18, 0.4]\n"parameters.J_off" = [0, -0.5, -0.23]',
+            '"parameters.Omega" = [0.93, 1.07, 1.21]',
+        )
+    )
+    assert '"parameters.Omega" = [0.93' in text
+    batched, _ = _chunk(tmp_path, text)
+    reducer = sweep_reducers.REDUCERS["lyapunov_max"]
+    assert reducer.batch is not None
+    monkeypatch.setitem(
+        sweep_reducers.REDUCERS, "lyapunov_max", dataclasses.replace(reducer, batch=None)
+    )
+    single, _ = _chunk(tmp_path, text)
+    assert (batched["status"] == 0).all() and (single["status"] == 0).all()
+    for name in ("lyapunov_max", "lyapunov_max_error", "lyapunov_max_per_iteration", "chaotic"):
+        assert np.array_equal(batched[name], single[name]), name
+    assert len(set(np.asarray(batched["lyapunov_max"]).tolist())) == 3  # three different points
