@@ -44,7 +44,7 @@ from ..numerics.code import load_model_code
 from ..numerics.inputs import Precision
 from ..numerics.integrate import integrate
 from .bench_described import described_system_times
-from .bench_map import map_throughput
+from .bench_map import lyapunov_throughput, map_throughput
 from .bench_peers import heyoka_rows, jitcode_rows
 from .bench_problems import (
     PROBLEMS,
@@ -312,8 +312,9 @@ def run_study(
         ``"rows"`` (list of :meth:`BenchRow.to_json` dicts, the peers' rows included,
         or a row saying they are not installed), ``"rhs_call_s"``
         (:func:`rhs_call_times`), ``"compile_s"`` (:func:`compile_times` and the peers'
-        compile/JIT times), ``"map_throughput"`` (:func:`map_throughput`), ``"quick"`` and
-        ``"repeats"``.
+        compile/JIT times), ``"map_throughput"`` (:func:`map_throughput`),
+        ``"lyapunov_throughput"`` (:func:`~chaplygin.verify.bench_map.lyapunov_throughput`),
+        ``"quick"`` and ``"repeats"``.
     """
     out.mkdir(parents=True, exist_ok=True)
     repeats = (1 if quick else 5) if repeats is None else repeats
@@ -373,6 +374,9 @@ def run_study(
         "rhs_call_s": rhs_call_times(2000 if quick else 20000),
         "compile_s": {**compile_times(), **peer_compile},
         "map_throughput": map_throughput(100 if quick else 700, repeats),
+        "lyapunov_throughput": (
+            lyapunov_throughput(200, 20, 1, 4) if quick else lyapunov_throughput(repeats=repeats)
+        ),
         "described_system_s": {} if quick else described_system_times(),
         "quick": quick,
         "repeats": repeats,

@@ -1,5 +1,6 @@
 """The stroboscopic map's throughput: BM20's map iterated by the batch lanes, against heyoka's
-batch mode when it is installed."""
+batch mode when it is installed; and the largest Lyapunov exponent per point, one point per call
+and in the lanes of the variational batch."""
 
 from __future__ import annotations
 
@@ -15,7 +16,7 @@ from ..numerics.code import load_model_code
 from ..numerics.integrate import integrate
 from .bench_timing import peers_available
 
-__all__ = ["MAP_BENCH_PARAMS", "MAP_BENCH_START", "map_throughput"]
+__all__ = ["MAP_BENCH_PARAMS", "MAP_BENCH_START", "lyapunov_throughput", "map_throughput"]
 
 
 # ------------------------------------------------------- the stroboscopic map's throughput
@@ -175,5 +176,85 @@ def map_throughput(
                 row[f"ratio_batch{n}_to_heyoka_batch4_cpu"] = (
                     row[f"ours_batch{n}_cpu_us"] / row["heyoka_batch4_cpu_us"]
                 )
+    row["load_after"] = os.getloadavg()[0]
+    return row
+
+
+# ------------------------------------------------------- the Lyapunov exponent's throughput
+def lyapunov_throughput(
+    intervals: int = 2000, transient: int = 200, repeats: int = 3, points: int = 16
+) -> dict[str, Any]:
+    """Seconds per point of the largest Lyapunov exponent of BM20's map (issue 26; the sweep's
+    ``lyapunov_max`` at its defaults: 2000 forcing periods after 200, one tangent vector,
+    rtol 1e-10, atol 1e-12): one point per call
+    (:func:`~chaplygin.numerics.dynamics.lyapunov.lyapunov_spectrum`, row ``ours_one``) and
+    ``points`` points per call
+    (:func:`~chaplygin.numerics.dynamics.lyapunov_batch.lyapunov_spectra`) in vector lanes
+    (``ours_lanes``) and one after another (``ours_serial``), the same points throughout: the
+    Fig. 6 chart's centre with ``d`` and ``Omega`` spread over the chart; the three-vector
+    spectrum the reducer computed before (``ours_one_3_vectors``) for comparison. Medians of
+    ``repeats`` interleaved runs, wall and CPU time.
+
+    Parameters
+    ----------
+    intervals, transient : int
+        Forcing periods measured and discarded.
+    repeats : int
+    points : int
+        Points of the batched rows.
+
+    Returns
+    -------
+    dict
+        ``<row>_s`` and ``<row>_cpu_s`` per point; whether the lanes ran; the ratio of the
+        lanes to one point per call; the 101 x 101 chart's CPU time at the lanes' rate
+        (``chart_101x101_core_min``) and on 2 cores (``chart_101x101_2_cores_min``).
+
+    Raises
+    ------
+    UserInputError
+        ``intervals < 10``, ``repeats < 1`` or ``points < 1``.
+    """
+    from ..numerics.ball.map_coordinates import state_from_reduced
+    from ..numerics.dynamics.lyapunov import lyapunov_spectrum
+    from ..numerics.dynamics.lyapunov_batch import lyapunov_spectra
+
+    if intervals < 10 or repeats < 1 or points < 1:
+        raise UserInputError("lyapunov_throughput needs intervals >= 10, repeats, points >= 1")
+    code = load_model_code("chaplygin_ball", ["variable_inertia", "variable_gyrostat"])
+    y0 = [float(v) for v in state_from_reduced(*MAP_BENCH_START, [0] * 6, code.state)]
+    P = np.tile(np.array(MAP_BENCH_PARAMS), (points, 1))
+    P[:, 3] = np.linspace(4.37, 4.39, points)  # d over the Fig. 6 chart
+    P[:, 9] = np.linspace(1.064, 1.08, points)[::-1]  # Omega
+    Y = np.tile(np.array(y0), (points, 1))
+    settings = {"intervals": intervals, "transient": transient, "rtol": 1e-10, "atol": 1e-12}
+    runs: dict[str, list[float]] = {}
+    row: dict[str, Any] = {**settings, "repeats": repeats, "points": points}
+    row["load_before"] = os.getloadavg()[0]
+
+    def timed(name: str, per: int, call) -> Any:
+        wall, cpu = time.perf_counter(), time.process_time()
+        out = call()
+        runs.setdefault(f"{name}_s", []).append((time.perf_counter() - wall) / per)
+        runs.setdefault(f"{name}_cpu_s", []).append((time.process_time() - cpu) / per)
+        return out
+
+    lyapunov_spectra(code, P[:2], Y[:2], count=1, intervals=10, transient=0)  # compiled first
+    for _ in range(repeats):
+        for name, count in (("ours_one", 1), ("ours_one_3_vectors", None)):
+            timed(name, points, lambda count=count: [
+                lyapunov_spectrum(code, p, y, count=count, **settings) for p, y in zip(P, Y, strict=True)
+            ])  # fmt: skip
+        lanes = timed("ours_lanes", points,
+                      lambda: lyapunov_spectra(code, P, Y, count=1, **settings))  # fmt: skip
+        serial = {**settings, "count": 1, "lockstep": False}
+        timed("ours_serial", points, lambda: lyapunov_spectra(code, P, Y, **serial))
+    row.update({name: float(np.median(values)) for name, values in runs.items()})
+    row["lanes_ran"] = bool(lanes.lockstep)
+    row["failed_points"] = int((lanes.status != 0).sum())
+    row["ratio_lanes_to_one"] = row["ours_lanes_s"] / row["ours_one_s"]
+    row["ratio_lanes_to_one_3_vectors"] = row["ours_lanes_s"] / row["ours_one_3_vectors_s"]
+    row["chart_101x101_core_min"] = row["ours_lanes_cpu_s"] * 101 * 101 / 60
+    row["chart_101x101_2_cores_min"] = row["chart_101x101_core_min"] / 2
     row["load_after"] = os.getloadavg()[0]
     return row

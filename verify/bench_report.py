@@ -70,6 +70,11 @@ def render_markdown(study: dict) -> str:
         lines += ["", "## BM20's stroboscopic map (us per forcing period per point)", ""]
         lines += [f"- {k}: {v:.4g}" if isinstance(v, float) else f"- {k}: {v}"
                   for k, v in study["map_throughput"].items()]  # fmt: skip
+    if study.get("lyapunov_throughput"):
+        lines += ["", "## BM20's largest Lyapunov exponent (seconds per point; issue 26's target "
+                  "<= 0.05 s, a 101 x 101 chart <= 15 min on 2 cores)", ""]  # fmt: skip
+        lines += [f"- {k}: {v:.4g}" if isinstance(v, float) else f"- {k}: {v}"
+                  for k, v in study["lyapunov_throughput"].items()]  # fmt: skip
     described = study.get("described_system_s") or {}
     if described:
         lines += ["", "## A described system: description -> equations -> discovery -> proofs "

@@ -103,3 +103,20 @@ def test_bad_batches_are_refused():
         lyapunov_spectra(code, P, Y, **SETTINGS)
     with pytest.raises(UserInputError, match="spectrum"):
         lyapunov_spectra(code, P[:1], Y[:1], spectrum="some", **SETTINGS)
+
+
+def test_lyapunov_throughput_reports_the_work_it_did():
+    """The bench section (no timing asserted): every row present and positive, no point
+    failed, the lanes ran where the library has them, the chart's estimate from the lanes'
+    rate."""
+    from chaplygin.verify.bench_map import lyapunov_throughput
+
+    row = lyapunov_throughput(intervals=20, transient=2, repeats=1, points=5)
+    for name in ("ours_one", "ours_one_3_vectors", "ours_lanes", "ours_serial"):
+        assert row[f"{name}_s"] > 0 and row[f"{name}_cpu_s"] >= 0
+    assert row["failed_points"] == 0
+    code = load_model_code(*BM20)
+    assert row["lanes_ran"] == c_batch.variational_lockstep_available(code)
+    assert row["chart_101x101_core_min"] == row["ours_lanes_cpu_s"] * 101 * 101 / 60
+    with pytest.raises(UserInputError):
+        lyapunov_throughput(intervals=5)
