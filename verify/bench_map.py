@@ -239,15 +239,16 @@ def lyapunov_throughput(
         runs.setdefault(f"{name}_cpu_s", []).append((time.process_time() - cpu) / per)
         return out
 
+    serial = {**settings, "count": 1, "lockstep": False}
     lyapunov_spectra(code, P[:2], Y[:2], count=1, intervals=10, transient=0)  # compiled first
     for _ in range(repeats):
         for name, count in (("ours_one", 1), ("ours_one_3_vectors", None)):
             timed(name, points, lambda count=count: [
-                lyapunov_spectrum(code, p, y, count=count, **settings) for p, y in zip(P, Y, strict=True)
+                lyapunov_spectrum(code, p, y, count=count, **settings)
+                for p, y in zip(P, Y, strict=True)
             ])  # fmt: skip
         lanes = timed("ours_lanes", points,
                       lambda: lyapunov_spectra(code, P, Y, count=1, **settings))  # fmt: skip
-        serial = {**settings, "count": 1, "lockstep": False}
         timed("ours_serial", points, lambda: lyapunov_spectra(code, P, Y, **serial))
     row.update({name: float(np.median(values)) for name, values in runs.items()})
     row["lanes_ran"] = bool(lanes.lockstep)
