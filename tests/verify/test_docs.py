@@ -12,6 +12,7 @@ MODULES = [
     "chaplygin.derive.emit.functions",
     "chaplygin.numerics.integrate",
     "chaplygin.numerics.ball.quadratures",
+    "chaplygin.numerics.dynamics.lyapunov_batch",
     "chaplygin.numerics.taylor",
     "chaplygin.verify.cli_common",
     "chaplygin.verify.output_folder",

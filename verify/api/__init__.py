@@ -52,6 +52,7 @@ _PUBLIC: dict[str, str] = {
     "torus_quadratures": "numerics.ball.quadratures:torus_quadratures",
     "flow_with_jacobian": "numerics.dynamics.variational:flow_with_jacobian",
     "lyapunov_spectrum": "numerics.dynamics.lyapunov:lyapunov_spectrum",
+    "lyapunov_spectra": "numerics.dynamics.lyapunov_batch:lyapunov_spectra",
     # claims and verdicts (verify)
     "claims": "verify.claims:select_claims",
     "check": "verify.check:check",
