@@ -490,7 +490,7 @@ _LANEWISE = frozenset(
 
 def vector_rhs_source(c_source: str, routine: str = "rhs") -> str | None:
     """``bm_rhs_vec``: the generated ``chaplygin_rhs`` with every double a vector of lanes
-    (``routine="jac"``: ``bm_jac_vec`` from ``chaplygin_jac``).
+    (``routine="rhs_jac"``: ``bm_rhs_jac_vec`` from ``chaplygin_rhs_jac``).
 
     The emitted function is straight-line code (``const double x = expression;`` and
     ``OUT[i] = expression;``); with GCC's vector types the same text computes every lane with

@@ -101,6 +101,21 @@ class ModelRoutines:
         return _cse("jac", list(J), (n, n))
 
     @cached_property
+    def rhs_jacobian(self) -> Routine:
+        """The right-hand side and the Jacobian in one routine (one common subexpression
+        elimination: ``sin(Omega t)`` and the temporaries they share computed once), what the
+        variational equations evaluate at every stage.
+
+        Returns
+        -------
+        Routine
+            ``"rhs_jac"``, outputs of shape ``(n + n n,)``: ``f`` then ``J`` row-major.
+        """
+        n = len(self.model.state)
+        exprs = list(self.model.rhs_expanded) + list(self.model.jacobian_expanded)
+        return _cse("rhs_jac", exprs, (n + n * n,))
+
+    @cached_property
     def aux(self) -> Routine:
         """Auxiliary quantities (``omega`` ...) in the state and parameters.
 

@@ -196,7 +196,9 @@ class CEmitter(Emitter):
 
     def _emit_files(self, model: Model, routines: ModelRoutines) -> list[tuple[str, str]]:
         printer = ChaplyginCPrinter(c_names(model))
-        body = "\n\n".join(self._routine(model, r, printer) for r in routines.all())
+        body = "\n\n".join(
+            self._routine(model, r, printer) for r in (*routines.all(), routines.rhs_jacobian)
+        )
         text = read_template()
         for key, value in {
             "HEADER": "\n".join(header_lines(model, self.language)),
@@ -255,15 +257,15 @@ def lanes_obstacle(routine: Routine) -> str | None:
 
 @register
 class CLanesEmitter(Emitter):
-    """The right-hand side and the Jacobian in the vector lanes of the DOP853 batches
-    (``bm_rhs_vec``, ``bm_jac_vec``).
+    """The right-hand side, and the right-hand side with the Jacobian, in the vector lanes of
+    the DOP853 batches (``bm_rhs_vec``, ``bm_rhs_jac_vec``).
 
-    The emitted ``chaplygin_rhs`` (and ``chaplygin_jac``) with every double a ``bm_vec`` (a GNU
-    C vector of doubles, ``templates/batch_map.c``) and the functions applied lane by lane:
-    every lane computes the IEEE operations of the scalar code. No file for a model whose
+    The emitted ``chaplygin_rhs`` (and ``chaplygin_rhs_jac``) with every double a ``bm_vec``
+    (a GNU C vector of doubles, ``templates/batch_map.c``) and the functions applied lane by
+    lane: every lane computes the IEEE operations of the scalar code. No file for a model whose
     right-hand side has another operation (:func:`lanes_obstacle`): its batch advances one
-    point at a time; no ``bm_jac_vec`` when only the Jacobian has one (the variational batch
-    then advances one point at a time).
+    point at a time; no ``bm_rhs_jac_vec`` when only the Jacobian has one (the variational
+    batch then advances one point at a time).
     """
 
     language = "c_lanes"
@@ -276,8 +278,8 @@ class CLanesEmitter(Emitter):
         arguments = "(bm_vec T, const bm_vec *restrict Y, const bm_vec *restrict P, " \
             "bm_vec *restrict OUT)"  # fmt: skip
         lanes = {"bm_rhs_vec": routines.rhs}
-        if lanes_obstacle(routines.jacobian) is None:
-            lanes["bm_jac_vec"] = routines.jacobian
+        if lanes_obstacle(routines.rhs_jacobian) is None:
+            lanes["bm_rhs_jac_vec"] = routines.rhs_jacobian
         functions = [
             routine_function(model, routine, printer, f"static void {name}{arguments}", "bm_vec")
             for name, routine in lanes.items()

@@ -53,7 +53,7 @@ MODEL_MANY_MARKER = "/* chaplygin.numerics.compiled batch shim v1 */"
 
 #: The name of the Jacobian in vector lanes: a lanes source that defines it has the lanes of the
 #: variational batch (``templates/variational_batch.c``).
-JACOBIAN_LANES = "static void bm_jac_vec("
+JACOBIAN_LANES = "static void bm_rhs_jac_vec("
 
 #: The ``#include`` line of emitted sources that :func:`inline_project_headers` replaces.
 _PROJECT_INCLUDE = '#include "detmath.h"'
@@ -114,7 +114,7 @@ def variational_source(c_source: str) -> str:
     Parameters
     ----------
     c_source : str
-        The model's emitted C (``chaplygin_rhs``, ``chaplygin_jac``, ``chaplygin_integrals``).
+        The model's emitted C (``chaplygin_rhs_jac``, ``chaplygin_integrals``).
 
     Returns
     -------

@@ -1,7 +1,8 @@
 /* chaplygin.numerics.dynamics.variational: the variational equations of one model, integrated in C.
  *
- * Appended to a model's emitted C source (generated/<model>.c), whose chaplygin_rhs and
- * chaplygin_jac (the generated Jacobian) it calls. The augmented state is
+ * Appended to a model's emitted C source (generated/<model>.c), whose chaplygin_rhs_jac (the
+ * right-hand side and the generated Jacobian in one routine, their common subexpressions
+ * computed once) it calls. The augmented state is
  *     Z = (y, V, q),  y' = f(t, y),  V' = J(t, y) V,  q' = tr J(t, y) = div f,
  * with y the state (n doubles), V an n x k matrix of tangent vectors (row-major, V[i*k + j] is
  * component i of vector j; V = identity gives the state-transition matrix Phi) and q the integral
@@ -239,13 +240,14 @@ static const double DOP_E5[13] = {
 
 static void cv_f(double t, const double *z, int k, const double *P, double *out)
 {
-    double J[CV_N * CV_N];
+    double FJ[CV_N + CV_N * CV_N];
+    const double *J = FJ + CV_N;
     const double *V = z + CV_N;
     double *dV = out + CV_N;
-    chaplygin_rhs(t, z, P, out);
-    chaplygin_jac(t, z, P, J);
+    chaplygin_rhs_jac(t, z, P, FJ);
     double tr = 0.0;
     for (int i = 0; i < CV_N; ++i) {
+        out[i] = FJ[i];
         tr += J[i * CV_N + i];
         for (int j = 0; j < k; ++j) {
             double s = 0.0;

@@ -1,7 +1,7 @@
 /* chaplygin.numerics.dynamics.lyapunov: Benettin's loop for many points in one call, in C.
  *
  * Appended after templates/batch_map.c (chaplygin.derive.emit.c_sources.batch_source), so that
- * the model's C (chaplygin_rhs, chaplygin_jac, chaplygin_integrals), the DOP853 of
+ * the model's C (chaplygin_rhs, chaplygin_rhs_jac, chaplygin_integrals), the DOP853 of
  * templates/variational.c (cv_f, cv_initial_step, cv_normal_basis, chaplygin_var_renormalised)
  * and the vector type of batch_map.c (bm_vec, BM_W, the lane-wise functions) are defined.
  *
@@ -18,8 +18,8 @@
  * row, with its own statistics starting at zero (no step size carried between points).
  *
  * chaplygin_var_renormalised_lockstep(same arguments): the same computation, BM_W points at a
- * time in the lanes of GCC vector types (BM_VEC_JAC defined: bm_jac_vec of
- * generated/<model>_lanes.c is the emitted chaplygin_jac in lanes). Every lane takes its own
+ * time in the lanes of GCC vector types (BM_VEC_JAC defined: bm_rhs_jac_vec of
+ * generated/<model>_lanes.c is the emitted chaplygin_rhs_jac in lanes). Every lane takes its own
  * steps; the stage sums, the right-hand side, the Jacobian and the tangent vectors' products
  * run on all lanes at once, each lane with the IEEE operations of chaplygin_var_flow in the same
  * order (no contraction, lane-wise libm calls; stage sums without the zero coefficients of the
@@ -48,19 +48,20 @@ void chaplygin_var_renormalised_many(long N, int k, const double *Z0, const doub
 }
 
 #if defined(BM_VEC_RHS) && defined(BM_VEC_JAC)
-static void bm_jac_vec(bm_vec T, const bm_vec *restrict Y, const bm_vec *restrict P,
-                       bm_vec *restrict OUT);
+static void bm_rhs_jac_vec(bm_vec T, const bm_vec *restrict Y, const bm_vec *restrict P,
+                           bm_vec *restrict OUT);
 
 /* cv_f in the lanes: f, J V and tr J, the sums in cv_f's order */
 static void cvl_f(bm_vec t, const bm_vec *z, int k, const bm_vec *P, bm_vec *out)
 {
-    bm_vec J[CV_N * CV_N];
+    bm_vec FJ[CV_N + CV_N * CV_N];
+    const bm_vec *J = FJ + CV_N;
     const bm_vec *V = z + CV_N;
     bm_vec *dV = out + CV_N;
-    bm_rhs_vec(t, z, P, out);
-    bm_jac_vec(t, z, P, J);
+    bm_rhs_jac_vec(t, z, P, FJ);
     bm_vec tr = {0};
     for (int i = 0; i < CV_N; ++i) {
+        out[i] = FJ[i];
         tr += J[i * CV_N + i];
         for (int j = 0; j < k; ++j) {
             bm_vec s = {0};
@@ -212,34 +213,36 @@ void chaplygin_var_renormalised_lockstep(long N, int k, const double *Z0, const 
             hs[l] = h;
         }
         if (active == 0) break;
+        /* the sums of variational.c, term by term in the same order over r; the loops over
+         * the components innermost (independent: vectorised) */
         for (int s = 1; s < CV_STAGES; ++s) {
-            for (int i = 0; i < mz; ++i) {
-                bm_vec a = {0};
-                for (int r = 0; r < s; ++r) {
-                    const double c = DOP_A[s * CV_STAGES + r];
-                    if (c != 0.0) a += c * K[r][i];
-                }
-                zs[i] = z[i] + hs * a;
+            for (int i = 0; i < mz; ++i) zs[i] = (bm_vec){0};
+            for (int r = 0; r < s; ++r) {
+                const double c = DOP_A[s * CV_STAGES + r];
+                if (c == 0.0) continue;
+                for (int i = 0; i < mz; ++i) zs[i] += c * K[r][i];
             }
+            for (int i = 0; i < mz; ++i) zs[i] = z[i] + hs * zs[i];
             cvl_f(tv + DOP_C[s] * hs, zs, k, P, K[s]);
         }
         bm_vec tn = tv + hs;
-        for (int i = 0; i < mz; ++i) {
-            bm_vec b = {0};
-            for (int r = 0; r < CV_STAGES; ++r)
-                if (DOP_B[r] != 0.0) b += DOP_B[r] * K[r][i];
-            zn[i] = z[i] + hs * b;
+        for (int i = 0; i < mz; ++i) zn[i] = (bm_vec){0};
+        for (int r = 0; r < CV_STAGES; ++r) {
+            if (DOP_B[r] == 0.0) continue;
+            for (int i = 0; i < mz; ++i) zn[i] += DOP_B[r] * K[r][i];
         }
+        for (int i = 0; i < mz; ++i) zn[i] = z[i] + hs * zn[i];
         for (int l = 0; l < BM_W; ++l)
             if (last[l]) tn[l] = lane[l].t1;
         cvl_f(tn, zn, k, P, K[CV_STAGES]);
         bm_vec a5[CV_ZMAX], a3[CV_ZMAX];
-        for (int i = 0; i < m; ++i) {
-            a5[i] = a3[i] = (bm_vec){0};
-            for (int r = 0; r <= CV_STAGES; ++r) {
-                if (DOP_E5[r] != 0.0) a5[i] += DOP_E5[r] * K[r][i];
-                if (DOP_E3[r] != 0.0) a3[i] += DOP_E3[r] * K[r][i];
-            }
+        for (int i = 0; i < m; ++i) a5[i] = a3[i] = (bm_vec){0};
+        for (int r = 0; r <= CV_STAGES; ++r) {
+            const double c5 = DOP_E5[r], c3 = DOP_E3[r];
+            if (c5 != 0.0)
+                for (int i = 0; i < m; ++i) a5[i] += c5 * K[r][i];
+            if (c3 != 0.0)
+                for (int i = 0; i < m; ++i) a3[i] += c3 * K[r][i];
         }
         for (int l = 0; l < BM_W; ++l) {
             cvl_lane *L = &lane[l];

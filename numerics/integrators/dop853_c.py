@@ -1,7 +1,7 @@
 """Hairer's DOP853 written in C, for the variational equations and the batches.
 
 ``derive/templates/variational.c`` is compiled with the model's emitted C source
-(``chaplygin_rhs``, ``chaplygin_jac``): the augmented system of a
+(``chaplygin_rhs_jac``: the right-hand side and Jacobian in one routine): the augmented system of a
 :class:`~chaplygin.numerics.integrators.flows.VariationalFlow` is integrated with no Python
 inside a step, the error of a step measured on the state and the tangent vectors together,
 optionally with Benettin's QR renormalisation after each of equal intervals (a
