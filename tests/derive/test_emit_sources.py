@@ -55,9 +55,9 @@ def test_the_written_out_coefficients_are_the_text_the_rewriting_wrote(system, e
 
 @pytest.mark.parametrize("system,effects", VARIANTS)
 def test_the_lanes_are_the_function_the_rewriting_wrote(system, effects):
-    code = load_model_code(system, effects)
     """The emitted lanes (right-hand side, then with the Jacobian) are the scalar functions
     rewritten as text by the legacy rewriter; the variational lanes are switched on by them."""
+    code = load_model_code(system, effects)
     old_rhs = legacy.vector_rhs_source(code.c_source)
     old_jac = legacy.vector_rhs_source(code.c_source, "rhs_jac")
     assert old_rhs is not None and code.lanes_c_source is not None
