@@ -44,6 +44,7 @@ from ..numerics.code import load_model_code
 from ..numerics.inputs import Precision
 from ..numerics.integrate import integrate
 from .bench_described import described_system_times
+from .bench_ensemble import ensemble_throughput
 from .bench_map import lyapunov_throughput, map_throughput
 from .bench_peers import heyoka_rows, jitcode_rows
 from .bench_problems import (
@@ -314,7 +315,9 @@ def run_study(
         (:func:`rhs_call_times`), ``"compile_s"`` (:func:`compile_times` and the peers'
         compile/JIT times), ``"map_throughput"`` (:func:`map_throughput`),
         ``"lyapunov_throughput"`` (:func:`~chaplygin.verify.bench_map.lyapunov_throughput`),
-        ``"quick"`` and ``"repeats"``.
+        ``"ensemble_throughput"``
+        (:func:`~chaplygin.verify.bench_ensemble.ensemble_throughput`), ``"quick"`` and
+        ``"repeats"``.
     """
     out.mkdir(parents=True, exist_ok=True)
     repeats = (1 if quick else 5) if repeats is None else repeats
@@ -377,6 +380,7 @@ def run_study(
         "lyapunov_throughput": (
             lyapunov_throughput(200, 20, 1, 4) if quick else lyapunov_throughput(repeats=repeats)
         ),
+        "ensemble_throughput": ensemble_throughput(8 if quick else 16, repeats, quick),
         "described_system_s": {} if quick else described_system_times(),
         "quick": quick,
         "repeats": repeats,

@@ -75,6 +75,17 @@ def render_markdown(study: dict) -> str:
                   "<= 0.05 s, a 101 x 101 chart <= 15 min on 2 cores)", ""]  # fmt: skip
         lines += [f"- {k}: {v:.4g}" if isinstance(v, float) else f"- {k}: {v}"
                   for k, v in study["lyapunov_throughput"].items()]  # fmt: skip
+    ensemble = study.get("ensemble_throughput") or {}
+    if ensemble:
+        lines += ["", "## Many orbits at once (seconds per orbit; issue 26: integrate_many at or "
+                  "below heyoka's batch mode)", ""]  # fmt: skip
+        for key, row in ensemble.items():
+            if isinstance(row, dict):
+                cells = ", ".join(f"{k} {v:.4g}" if isinstance(v, float) else f"{k} {v}"
+                                  for k, v in row.items())  # fmt: skip
+                lines.append(f"- {key}: {cells}")
+            else:
+                lines.append(f"- {key}: {row}")
     described = study.get("described_system_s") or {}
     if described:
         lines += ["", "## A described system: description -> equations -> discovery -> proofs "

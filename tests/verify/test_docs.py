@@ -11,6 +11,7 @@ MODULES = [
     "chaplygin.derive.chaplygin_ball",
     "chaplygin.derive.emit.functions",
     "chaplygin.numerics.integrate",
+    "chaplygin.numerics.ensemble",
     "chaplygin.numerics.ball.quadratures",
     "chaplygin.numerics.dynamics.lyapunov_batch",
     "chaplygin.numerics.taylor",

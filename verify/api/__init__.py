@@ -43,6 +43,8 @@ _PUBLIC: dict[str, str] = {
     "CacheError": "derive.errors:CacheError",
     # numerics
     "integrate": "numerics.integrate:integrate",
+    "integrate_many": "numerics.ensemble:integrate_many",
+    "EnsembleResult": "numerics.ensemble:EnsembleResult",
     "Propagator": "numerics.propagator:Propagator",
     "IntegrationResult": "numerics.integrate:IntegrationResult",
     "METHODS": "numerics.integrate:METHODS",

@@ -1,0 +1,266 @@
+"""Many orbits in one call: :func:`integrate_many` and its :class:`EnsembleResult`.
+
+``integrate_many`` integrates ``N`` orbits of one model over one span: ``N`` initial states
+with one parameter set, one initial state with ``N`` parameter sets, or ``N`` of each. Every
+orbit is read and checked as :func:`~chaplygin.numerics.integrate.integrate` reads and checks
+its inputs (all of them before any work: a bad orbit raises :class:`UserInputError` naming
+its index, and nothing runs), then integrated by the same integrator through the one door,
+so that orbit ``j``'s result is the :class:`IntegrationResult` that ``integrate`` gives for
+it, bit for bit, with its own status, message, work counters and the drift of every first
+integral as its evidence.
+
+In double precision the orbits are spread over ``threads`` threads (default: the usable CPUs):
+the compiled loops (the Taylor method in C, the variational and batch drivers) release the
+interpreter lock, so two cores integrate two orbits at once. The orbits are independent and
+each is placed by its index, so the numbers do not depend on the number of threads or on the
+order in which the threads finish. In quad and in decimal digits the orbits run one after
+another (mpmath's working precision is one setting of the process).
+
+What this is not (yet): the orbits do not share vector lanes (each orbit is one call of the
+one-orbit loop; issue 26's SIMD ensemble is open), so a short run still pays the fixed cost of
+one call per orbit.
+
+Examples
+--------
+>>> import chaplygin
+>>> states = [{"M": (0.7, -0.4, 0.5), "gamma": (0.2, 0.3, "sqrt(0.87)")},
+...           {"M": (0.6, -0.3, 0.4), "gamma": (0.6, 0.0, 0.8)}]
+>>> r = chaplygin.integrate_many("chaplygin_ball", states, 10.0, {"I": (1, 2, 3), "D": 1},
+...                              rtol=1e-12, atol=1e-12)
+>>> r.success.tolist(), r.y.shape, bool(r.drift["H"].max() < 1e-10)
+([True, True], (2, 6, 11), True)
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Mapping, Sequence
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..derive.errors import UserInputError
+from .code import ModelCode
+from .integrate import DEFAULT_MAX_WALL_S, prepare_problem
+from .integrators import IntegrationResult
+from .precision import Precision
+
+__all__ = ["EnsembleResult", "integrate_many"]
+
+
+@dataclass
+class EnsembleResult:
+    """The orbits of :func:`integrate_many`, each with its evidence.
+
+    Attributes
+    ----------
+    results : list of IntegrationResult
+        Orbit ``j``'s result, as ``integrate`` gives it.
+    t : ndarray, shape (n_points,)
+        The output times (the same for every orbit).
+    y : ndarray, shape (N, n_state, n_points)
+        The outputs (``float64`` in double precision, ``object`` of mpmath.mpf otherwise); an
+        orbit that stopped early has NaN (double) or None after its last output.
+    status : ndarray of int, shape (N,)
+        0: reached the end; else the orbit's failure (its ``message``).
+    drift : dict of str to ndarray, shape (N,)
+        Every first integral's drift, per orbit (as ``IntegrationResult.drift``).
+    nsteps : ndarray of int, shape (N,)
+    wall_s : float
+        Wall time of the whole call (reading the inputs included).
+    threads : int
+        Threads that integrated.
+    """
+
+    results: list[IntegrationResult]
+    t: np.ndarray
+    y: np.ndarray
+    status: np.ndarray
+    drift: dict[str, np.ndarray]
+    nsteps: np.ndarray
+    wall_s: float
+    threads: int
+
+    @property
+    def success(self) -> np.ndarray:
+        """Which orbits reached the end.
+
+        Returns
+        -------
+        ndarray of bool, shape (N,)
+        """
+        return self.status == 0
+
+    @property
+    def messages(self) -> list[str]:
+        """Each orbit's message.
+
+        Returns
+        -------
+        list of str
+        """
+        return [r.message for r in self.results]
+
+    def __len__(self) -> int:
+        return len(self.results)
+
+    def __repr__(self) -> str:
+        done = int(self.success.sum())
+        worst = {k: float(np.nanmax(v)) if len(v) else float("nan") for k, v in self.drift.items()}
+        return (
+            f"EnsembleResult({len(self)} orbits, {done} reached the end, {len(self.t)} outputs, "
+            f"largest drift {worst}, {self.wall_s:.3g} s on {self.threads} thread(s))"
+        )
+
+
+def _is_one_vector(value: Any) -> bool:
+    """A mapping, or a flat sequence of numbers or number texts: one state or parameter set."""
+    if isinstance(value, Mapping):
+        return True
+    if isinstance(value, np.ndarray):
+        return value.ndim == 1
+    if isinstance(value, str) or not isinstance(value, Sequence):
+        return False
+    return all(not isinstance(v, Mapping | Sequence | np.ndarray) or isinstance(v, str)
+               for v in value)  # fmt: skip
+
+
+def _rows(value: Any, what: str) -> list[Any] | None:
+    """``value`` as a list of rows, or None when it is one vector (shared by every orbit)."""
+    if _is_one_vector(value):
+        return None
+    if isinstance(value, np.ndarray):
+        if value.ndim != 2:
+            raise UserInputError(f"{what} must be one vector or N rows, got shape {value.shape}")
+        return list(value)
+    if isinstance(value, str) or not isinstance(value, Sequence) or len(value) == 0:
+        raise UserInputError(f"{what} must be one vector (or mapping) or a non-empty list of them")
+    return list(value)
+
+
+def _thread_count(threads: int | None, precision: Precision, orbits: int) -> int:
+    if threads is not None and (
+        isinstance(threads, bool) or not isinstance(threads, int) or threads < 1
+    ):
+        raise UserInputError(f"threads must be a positive integer, got {threads!r}")
+    if not precision.is_double:
+        return 1
+    usable = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    return max(1, min(threads or usable or 1, orbits))
+
+
+def integrate_many(
+    system: str | ModelCode,
+    y0: Any,
+    t_span: tuple[float, float] | float,
+    params: Any,
+    *,
+    effects: Sequence[str] | str | None = None,
+    method: str | None = None,
+    precision: str | int = "double",
+    rtol: float | None = None,
+    atol: float | None = None,
+    backend: str = "auto",
+    t_eval: Sequence[float] | None = None,
+    taylor_options: Mapping[str, object] | None = None,
+    max_steps: int | None = None,
+    max_wall_s: float | None = DEFAULT_MAX_WALL_S,
+    threads: int | None = None,
+) -> EnsembleResult:
+    """Integrate many orbits of one model over one span; every orbit with its evidence.
+
+    Parameters
+    ----------
+    system : str or ModelCode
+        As for :func:`~chaplygin.numerics.integrate.integrate`.
+    y0 : mapping or sequence, or a list (or 2-D array) of them
+        One initial state for every orbit, or one per orbit (each as ``integrate`` takes it).
+    t_span : (t0, t1) or float
+        The span of every orbit.
+    params : mapping or sequence, or a list (or 2-D array) of them
+        One parameter set, or one per orbit. ``y0`` and ``params`` given per orbit must have
+        the same number of rows.
+    effects, method, precision, rtol, atol, backend, t_eval, taylor_options, max_steps, \
+max_wall_s
+        As for ``integrate`` (``t_eval`` default: 11 points, as ``integrate``'s Taylor
+        method; give it for a method whose default output is every step, so that the orbits
+        share their output times).
+    threads : int, optional
+        Threads in double precision (default: the usable CPUs, at most one per orbit);
+        ignored in quad and digits (one after another).
+
+    Returns
+    -------
+    EnsembleResult
+
+    Raises
+    ------
+    UserInputError
+        What ``integrate`` refuses, for any orbit (the message names the orbit's index);
+        ``y0`` and ``params`` with different numbers of rows; a bad ``threads``.
+    """
+    start = time.perf_counter()
+    states, sets = _rows(y0, "y0"), _rows(params, "params")
+    if states is not None and sets is not None and len(states) != len(sets):
+        raise UserInputError(
+            f"y0 has {len(states)} rows but params has {len(sets)}: give one of them once or "
+            "both with the same number of rows"
+        )
+    count = len(states) if states is not None else len(sets) if sets is not None else 1
+    prec = Precision(precision)
+    workers = _thread_count(threads, prec, count)
+    def prepare(j: int, system: Any, t_eval: Any) -> tuple:
+        try:
+            return prepare_problem(
+                system, y0 if states is None else states[j], t_span,
+                params if sets is None else sets[j], effects=effects, method=method,
+                precision=precision, rtol=rtol, atol=atol, t_eval=t_eval,
+                taylor_options=taylor_options, max_steps=max_steps, max_wall_s=max_wall_s,
+            )  # fmt: skip
+        except UserInputError as exc:
+            raise UserInputError(f"orbit {j}: {exc}") from None
+
+    first = prepare(0, system, t_eval)
+    code = first[1].code
+    if t_eval is None and first[0].name != "taylor":  # shared output times: 11, as Taylor's
+        a, b = first[1].t_span
+        t_eval = [a + (b - a) * k / 10 for k in range(10)] + [b]
+        first = prepare(0, code, t_eval)
+    prepared = [first] + [prepare(j, code, t_eval) for j in range(1, count)]
+    setup_s = time.perf_counter() - start
+
+    def run(j: int) -> IntegrationResult:
+        integrator, problem = prepared[j]
+        return integrator.run(problem, backend, setup_s=setup_s / count)
+
+    results = [run(0)]  # the first in this thread: compiled libraries loaded once
+    if count > 1:
+        with ThreadPoolExecutor(max_workers=workers) as pool:
+            results += list(pool.map(run, range(1, count)))
+    return _collect(results, prec, time.perf_counter() - start, workers)
+
+
+def _collect(results: list[IntegrationResult], prec: Precision, wall: float,
+             threads: int) -> EnsembleResult:  # fmt: skip
+    """The ensemble's arrays from its orbits' results."""
+    longest = max(results, key=lambda r: len(r.t))
+    n_points, n_state = len(longest.t), len(longest.state_names)
+    dtype = np.float64 if prec.is_double else object
+    y = np.full((len(results), n_state, n_points), np.nan if prec.is_double else None, dtype=dtype)
+    for j, r in enumerate(results):
+        y[j, :, : r.y.shape[-1]] = r.y
+    drift = {name: np.array([r.drift.get(name, np.nan) for r in results], dtype=float)
+             for name in longest.drift}  # fmt: skip
+    return EnsembleResult(
+        results=results,
+        t=np.asarray(longest.t),
+        y=y,
+        status=np.array([r.status for r in results], dtype=np.int64),
+        drift=drift,
+        nsteps=np.array([r.nsteps for r in results], dtype=np.int64),
+        wall_s=wall,
+        threads=threads,
+    )

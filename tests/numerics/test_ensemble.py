@@ -1,0 +1,126 @@
+"""Many orbits in one call (numerics/ensemble.py): every orbit is integrate()'s result for it,
+bit for bit, whatever the number of threads; states, parameter sets or both per orbit; quad
+orbits keep their precision; a failing orbit fails alone; bad input names the orbit and runs
+nothing."""
+
+from __future__ import annotations
+
+import mpmath
+import numpy as np
+import pytest
+from chaplygin.derive.errors import UserInputError
+from chaplygin.numerics import ensemble
+from chaplygin.numerics.ensemble import integrate_many
+from chaplygin.numerics.integrate import integrate
+
+PARAMS = {"I": ("1.13", "2.07", "3.31"), "D": "0.93"}
+
+
+def _states(count: int, seed: int = 3) -> list[dict]:
+    """Generic (non-dyadic) states on |gamma| = 1."""
+    rng = np.random.default_rng(seed)
+    out = []
+    for _ in range(count):
+        g = rng.normal(size=3)
+        g /= np.linalg.norm(g)
+        out.append({"M": tuple(rng.uniform(-0.9, 0.9, 3)), "gamma": tuple(g)})
+    return out
+
+
+def _same(a, b) -> bool:
+    a, b = np.asarray(a), np.asarray(b)
+    return a.shape == b.shape and bool(np.all(a == b))
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_every_orbit_is_integrates_result_bit_for_bit(threads):
+    """Five states, one parameter set, the Taylor method in double: each orbit's outputs,
+    drift and steps equal integrate()'s for that state alone, with 1 and 2 threads."""
+    states = _states(5)
+    r = integrate_many("chaplygin_ball", states, 7.3, PARAMS, rtol=1e-12, atol=1e-12,
+                       threads=threads)  # fmt: skip
+    assert r.threads == threads and len(r) == 5 and r.success.all()
+    for j, s in enumerate(states):
+        one = integrate("chaplygin_ball", s, 7.3, PARAMS, rtol=1e-12, atol=1e-12)
+        assert _same(r.y[j], one.y) and _same(r.t, one.t)
+        assert r.drift["H"][j] == one.drift["H"] and r.nsteps[j] == one.nsteps
+        assert r.results[j].drift == one.drift
+    assert r.drift["H"].max() < 1e4 * 1e-12  # the evidence is there (and small)
+    assert len({float(v) for v in r.y[:, 0, -1]}) == 5  # five different orbits
+
+
+def test_one_state_many_parameter_sets_and_a_failing_orbit():
+    """One state, four bodies (per-orbit parameter sets): every orbit is integrate()'s result
+    for its body. Then a step limit that the three slow bodies stay within and the fast one
+    (inertia a twentieth: it turns twenty times faster and needs more steps) exceeds: that
+    orbit fails alone, with its status and message, and the others do not change a bit."""
+    state = _states(1, seed=8)[0]
+    sets = [{"I": ("1.13", "2.07", "3.31"), "D": d} for d in ("0.93", "1.7", "0.41")]
+    sets.append({"I": ("0.0565", "0.1035", "0.1655"), "D": "0.0465"})
+    r = integrate_many("chaplygin_ball", state, 3.1, sets, rtol=1e-11, atol=1e-11)
+    assert r.success.all()
+    for j, p in enumerate(sets):
+        one = integrate("chaplygin_ball", state, 3.1, p, rtol=1e-11, atol=1e-11)
+        assert _same(r.y[j], one.y)
+    assert not _same(r.y[0], r.y[1])
+    slow = int(max(r.nsteps[:3]))
+    assert r.nsteps[3] > slow
+    limited = integrate_many("chaplygin_ball", state, 3.1, sets, rtol=1e-11, atol=1e-11,
+                             max_steps=slow)  # fmt: skip
+    assert limited.status.tolist()[:3] == [0, 0, 0] and limited.status[3] != 0
+    assert "max_steps" in limited.messages[3]
+    assert np.isnan(limited.y[3][:, -1]).all()
+    for j in range(3):
+        assert _same(limited.y[j], r.y[j])
+
+
+def test_quad_orbits_keep_their_precision():
+    """precision = "quad": the orbits run one after another (threads ignored) and each is
+    integrate()'s quad result; the outputs are mpf at 34 digits, not doubles."""
+    states = _states(2, seed=5)
+    r = integrate_many("chaplygin_ball", states, 1.7, PARAMS, precision="quad", threads=2)
+    assert r.threads == 1 and r.y.dtype == object
+    one = integrate("chaplygin_ball", states[1], 1.7, PARAMS, precision="quad")
+    assert all(a == b for a, b in zip(r.y[1].ravel(), one.y.ravel(), strict=True))
+    assert isinstance(r.y[1, 0, -1], mpmath.mpf)
+
+
+def test_scipy_orbits_share_eleven_output_times():
+    """A method whose own output is every step gets the 11 times of the Taylor method, so
+    that the orbits share them; the last is the end of the span exactly."""
+    r = integrate_many("chaplygin_ball", _states(3), (0.25, 2.5), PARAMS, method="DOP853")
+    assert r.success.all() and len(r.t) == 11 and r.t[0] == 0.25 and r.t[-1] == 2.5
+    assert r.y.shape == (3, 6, 11)
+
+
+def test_bad_input_names_the_orbit_and_runs_nothing(monkeypatch):
+    """A bad state among good ones: UserInputError naming its index, raised before any orbit
+    is integrated; mismatched rows and a bad thread count are refused too."""
+    ran = []
+    monkeypatch.setattr(ensemble, "_collect", lambda *a, **k: ran.append(1))
+    states = _states(3)
+    states[2] = {"M": (0.1, 0.2, 0.3), "gamma": (0.0, 0.0, 2.0)}  # |gamma| != 1
+    with pytest.raises(UserInputError, match="orbit 2"):
+        integrate_many("chaplygin_ball", states, 1.0, PARAMS)
+    with pytest.raises(UserInputError, match="rows"):
+        integrate_many("chaplygin_ball", _states(3), 1.0, [PARAMS, PARAMS])
+    with pytest.raises(UserInputError, match="threads"):
+        integrate_many("chaplygin_ball", _states(2), 1.0, PARAMS, threads=0)
+    with pytest.raises(UserInputError):
+        integrate_many("chaplygin_ball", [], 1.0, PARAMS)
+    assert not ran
+
+
+def test_the_bench_section_reports_every_row():
+    """chaplygin bench's ensemble section (no timing asserted): every row for both problems
+    and tolerances, positive, no orbit failed."""
+    from chaplygin.verify.bench_ensemble import ensemble_throughput
+
+    out = ensemble_throughput(orbits=3, repeats=1, quick=True, peers=False)
+    rows = [v for v in out.values() if isinstance(v, dict)]
+    assert len(rows) == 4
+    for row in rows:
+        assert row["failed"] == 0 and row["steps_per_orbit"] > 0
+        assert row["ours_one_s"] > 0 and row["ours_many_1_s"] > 0
+    with pytest.raises(UserInputError):
+        ensemble_throughput(orbits=0)

@@ -1,0 +1,128 @@
+"""Many orbits at once: seconds per orbit of ``integrate_many`` against one ``integrate`` call
+per orbit and, when installed, heyoka's ensemble (``ensemble_propagate_until``, threads) and
+batch mode (``taylor_adaptive_batch``, SIMD lanes), on the study's problems, side by side in
+one run (issue 26)."""
+
+from __future__ import annotations
+
+import os
+import statistics
+import time
+from typing import Any
+
+import mpmath
+import numpy as np
+
+from ..derive.errors import UserInputError
+from ..numerics.ensemble import integrate_many
+from ..numerics.integrate import integrate
+from .bench_peers import heyoka_system
+from .bench_problems import PROBLEMS, state_strings
+from .bench_timing import peers_available
+
+__all__ = ["ensemble_throughput"]
+
+#: The study's Taylor tolerances of the ensemble rows (issue 26's tol 1e-9 and 1e-12).
+ENSEMBLE_TOLERANCES = (1e-9, 1e-12)
+
+
+def _orbits(name: str, count: int) -> list[list[float]]:
+    """``count`` starts: the problem's state with ``M`` scaled by ``1 + j 1e-3`` (the same
+    level of ``(M, gamma)``'s direction; every start generic, none the same)."""
+    y = [float(mpmath.mpf(v)) for v in state_strings(PROBLEMS[name], 17)]
+    return [[v * (1 + 1e-3 * j) for v in y[:3]] + y[3:] for j in range(count)]
+
+
+def _heyoka_rows(name: str, starts: list[list[float]], T: float, tol: float,
+                 repeats: int) -> dict[str, float]:  # fmt: skip
+    """heyoka's seconds per orbit: the ensemble (threads) and the batch mode (4 lanes)."""
+    import heyoka as hy
+
+    sys_ = heyoka_system(hy, PROBLEMS[name])
+    ta = hy.taylor_adaptive(sys_, np.array(starts[0]), tol=tol)
+    N = len(starts)
+
+    def gen(ta_copy, j):
+        ta_copy.time = 0.0
+        ta_copy.state[:] = starts[j]
+        return ta_copy
+
+    ens, bat = [], []
+    width = 4
+    tb = hy.taylor_adaptive_batch(sys_, np.array(starts[:width]).T.copy(), tol=tol)
+    for _ in range(repeats):
+        start = time.perf_counter()
+        hy.ensemble_propagate_until(ta, T, N, gen)
+        ens.append((time.perf_counter() - start) / N)
+        start = time.perf_counter()
+        for k in range(0, N, width):
+            tb.set_time(0.0)
+            block = np.array([starts[(k + i) % N] for i in range(width)]).T
+            tb.state[:] = block
+            tb.propagate_until(T)
+        bat.append((time.perf_counter() - start) / N)
+    return {"heyoka_ensemble": statistics.median(ens), "heyoka_batch4": statistics.median(bat)}
+
+
+def ensemble_throughput(orbits: int = 16, repeats: int = 3, quick: bool = False,
+                        peers: bool = True) -> dict[str, Any]:  # fmt: skip
+    """Seconds per orbit of the reference problem and the separatrix run in double (Taylor,
+    tol 1e-9 and 1e-12): ``ours_one`` (one ``integrate`` call per orbit), ``ours_many_1`` and
+    ``ours_many_<cpus>`` (``integrate_many`` on 1 thread and on the usable CPUs), heyoka's
+    ensemble and batch mode when installed; medians of ``repeats``; the ratios to heyoka.
+
+    Parameters
+    ----------
+    orbits : int
+        Orbits per call (perturbed copies of the problem's start).
+    repeats : int
+    quick : bool
+        Short spans (T = 20 and 5).
+    peers : bool
+        Include heyoka when it is installed.
+
+    Returns
+    -------
+    dict
+        ``"<problem> tol=<tol>"`` -> ``{"<row>_s": seconds per orbit, ..., ratios}``, and the
+        load average before and after.
+
+    Raises
+    ------
+    UserInputError
+        ``orbits < 1`` or ``repeats < 1``.
+    """
+    if orbits < 1 or repeats < 1:
+        raise UserInputError("ensemble_throughput needs orbits >= 1 and repeats >= 1")
+    cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 1
+    have_heyoka = peers and peers_available()["heyoka"]
+    out: dict[str, Any] = {"orbits": orbits, "threads": cpus, "load_before": os.getloadavg()[0]}
+    for name in ("reference", "separatrix"):
+        problem = PROBLEMS[name]
+        T = (20.0 if name == "reference" else 5.0) if quick else problem.t_double
+        starts = _orbits(name, orbits)
+        p = problem.params
+        for tol in ENSEMBLE_TOLERANCES:
+            kw = {"rtol": tol, "atol": tol, "t_eval": [0.0, T]}
+            integrate("chaplygin_ball", starts[0], T, p, **kw)  # compiled first
+            runs: dict[str, list[float]] = {}
+            for _ in range(repeats):
+                start = time.perf_counter()
+                for y in starts:
+                    integrate("chaplygin_ball", y, T, p, **kw)
+                runs.setdefault("ours_one_s", []).append((time.perf_counter() - start) / orbits)
+                for threads in sorted({1, cpus}):
+                    r = integrate_many("chaplygin_ball", starts, T, p, threads=threads, **kw)
+                    runs.setdefault(f"ours_many_{threads}_s", []).append(r.wall_s / orbits)
+            row = {k: statistics.median(v) for k, v in runs.items()}
+            row["steps_per_orbit"] = float(np.median(r.nsteps))
+            row["failed"] = int((r.status != 0).sum())
+            if have_heyoka:
+                row.update({f"{k}_s": v for k, v in
+                            _heyoka_rows(name, starts, T, tol, repeats).items()})  # fmt: skip
+                best = row[f"ours_many_{cpus}_s"]
+                row["ratio_many_to_heyoka_ensemble"] = best / row["heyoka_ensemble_s"]
+                row["ratio_many_to_heyoka_batch4"] = best / row["heyoka_batch4_s"]
+            out[f"{name} tol={tol:g} T={T:g}"] = row
+    out["load_after"] = os.getloadavg()[0]
+    return out
