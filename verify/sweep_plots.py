@@ -372,9 +372,48 @@ def regime_search_figure(ds: Any) -> Figure:
     return fig
 
 
+def lyapunov_chart_figure(ds: Any) -> Figure:
+    """The largest Lyapunov exponent over two axes (per map iteration, with its units), and
+    where it says chaos (``chaotic``: above ``ln(N)/N`` by 3 error bars).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A store with ``lyapunov_max_per_iteration`` and ``chaotic`` over two axes.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.figure import Figure
+
+    y_name, x_name = ds["lyapunov_max_per_iteration"].dims
+    x, y = ds[x_name].values, ds[y_name].values
+    lam = np.asarray(ds["lyapunov_max_per_iteration"].values, dtype=float)
+    chaotic = np.asarray(ds["chaotic"].values, dtype=float)
+    chaotic[chaotic < 0] = np.nan
+    fig = Figure(figsize=(13, 5), layout="constrained")
+    a, b = fig.subplots(1, 2)
+    finite = lam[np.isfinite(lam)]
+    top = float(np.max(np.abs(finite))) if finite.size else 1.0
+    mesh = a.pcolormesh(x, y, lam, cmap="RdBu_r", vmin=-top, vmax=top, shading="nearest")
+    units = ds["lyapunov_max_per_iteration"].attrs.get("units", "per map iteration")
+    fig.colorbar(mesh, ax=a, label="per map iteration")
+    a.set_title(f"largest Lyapunov exponent, {units}", fontsize=8)
+    _category_mesh(b, fig, x, y, chaotic, ["not chaotic", "chaotic"],
+                   ["tab:blue", "tab:red"],
+                   f"chaotic: {int(np.nansum(chaotic))} of {int(np.isfinite(chaotic).sum())} "
+                   "points (exponent - 3 errors > ln(N)/N)")  # fmt: skip
+    for ax in (a, b):
+        ax.set_xlabel(x_name)
+        ax.set_ylabel(y_name)
+    fig.suptitle(_title(ds), fontsize=10)
+    return fig
+
+
 def sweep_figure(ds: Any) -> Figure:
-    """The picture a store calls for: the period chart, Delta over mu (log scale), the frame
-    turn with its zeros, or the first numbers per point over the first axis.
+    """The picture a store calls for: the period chart, the Lyapunov chart, Delta over mu (log
+    scale), the frame turn with its zeros, or the first numbers per point over the first axis.
 
     Parameters
     ----------
@@ -389,6 +428,8 @@ def sweep_figure(ds: Any) -> Figure:
         return regime_chart_figure(ds) if len(grid) == 2 else regime_search_figure(ds)
     if "period" in ds and ds["period"].ndim == 2:
         return period_chart_figure(ds)
+    if "lyapunov_max_per_iteration" in ds and ds["lyapunov_max_per_iteration"].ndim == 2:
+        return lyapunov_chart_figure(ds)
     if "delta_measured" in ds:
         from matplotlib.figure import Figure
 

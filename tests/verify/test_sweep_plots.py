@@ -104,3 +104,31 @@ def test_a_search_over_more_axes_shows_the_most_irregular_regime():
     assert tuple(cells[0, 1]) == (0.0, 0.0, 0.0, 1.0)  # chaotic at one start: black
     assert tuple(cells[0, 0]) != tuple(cells[1, 2]) != tuple(cells[0, 1])
     assert fig.axes[0].get_yscale() == "log"  # Omega over decades
+
+
+def test_lyapunov_chart_draws_the_exponent_and_the_chaotic_points():
+    """A 2-D lyapunov_max store: the exponent on a diverging scale centred at 0 (the largest
+    magnitude at either end), its units in the title, and the chaotic points counted and drawn
+    in their own colour (a non-chaotic point in the other)."""
+    from chaplygin.verify.sweep_plots import lyapunov_chart_figure
+
+    lam = np.array([[0.21, -0.03, 0.004], [0.0, 0.11, -0.12]])
+    chaotic = np.array([[1, 0, 0], [0, 1, 0]], dtype="int8")
+    ds = xr.Dataset(
+        {
+            "lyapunov_max_per_iteration": (("Omega", "D"), lam, {"units": "per iteration"}),
+            "chaotic": (("Omega", "D"), chaotic),
+            "status": (("Omega", "D"), np.zeros_like(chaotic)),
+        },
+        coords={"Omega": [1.06, 1.07], "D": [4.37, 4.38, 4.39]},
+    )
+    fig = sweep_figure(ds)
+    assert fig.axes[0].get_title().endswith("per iteration")
+    mesh = fig.axes[0].collections[0]
+    assert mesh.norm.vmin == -0.21 and mesh.norm.vmax == 0.21
+    right = [ax for ax in fig.axes if "chaotic:" in ax.get_title()]
+    assert len(right) == 1 and right[0].get_title().startswith("chaotic: 2 of 6 points")
+    colours = _cell_colours(right[0].collections[0], lam.shape)
+    assert (colours[chaotic == 1] == colours[0, 0]).all()
+    assert not (colours[0, 1] == colours[0, 0]).all()
+    assert lyapunov_chart_figure(ds).axes[0].get_title() == fig.axes[0].get_title()
