@@ -395,6 +395,43 @@ def test_bm20_tongue_example_finds_the_continued_period_seven_cycle(client, tmp_
     assert orbit.converged and orbit.stable
 
 
+def test_the_lyapunov_chart_example_gives_the_one_point_exponents(client, tmp_path):
+    """examples/sweeps/bm20-fig6-lyapunov.toml on 2 x 2 of its points, shorter runs, on the
+    Dask cluster: every point's exponent (through the chunk's one call of the Lyapunov batch)
+    is lyapunov_spectrum's for that point alone with one tangent vector, bit for bit, in the
+    store's units per iteration; the store draws as the Lyapunov chart."""
+    from chaplygin.numerics.code import load_model_code
+    from chaplygin.numerics.dynamics.lyapunov import lyapunov_spectrum
+    from chaplygin.verify.sweep_plots import sweep_figure
+
+    text = (EXAMPLES / "bm20-fig6-lyapunov.toml").read_text()
+    axes = text.index("[sweep.axes]")
+    text = text[:axes] + (
+        '[sweep.axes]\n"parameters.Omega" = [1.0671, 1.0753]\n"parameters.D" = [4.3733, 4.3871]\n'
+    )
+    text = text.replace("transient = 200, intervals = 2000", "transient = 10, intervals = 60")
+    text = text.replace("chunk = 101", "chunk = 4")
+    assert "intervals = 60" in text and "chunk = 4" in text
+    run_sweep(Scene.from_toml(_scene(tmp_path, text, "lyap.toml")), tmp_path / "l.zarr",
+              client=client)  # fmt: skip
+    ds = _load(tmp_path / "l.zarr")
+    assert (ds["status"].values == 0).all()
+    code = load_model_code("chaplygin_ball", ["variable_inertia", "variable_gyrostat"])
+    single = text[: text.index("[sweep]")]
+    for i, omega in enumerate(ds["Omega"].values):
+        for j, d in enumerate(ds["D"].values):
+            point = single.replace("D = 4.385", f"D = {float(d)!r}")
+            point = point.replace("Omega = 1.07", f"Omega = {float(omega)!r}")
+            res = Scene.from_toml(_scene(tmp_path, point, "point.toml")).resolve()
+            p = [float(res.params[k]) for k in code.params]
+            assert p[3] == d and p[9] == omega
+            y0 = [float(v) for v in res.y0]
+            one = lyapunov_spectrum(code, p, y0, intervals=60, transient=10, count=1)
+            assert ds["lyapunov_max"].values[i, j] == one.exponents[0]
+            assert ds["lyapunov_max_per_iteration"].values[i, j] == one.exponents[0] * one.period
+    assert "Lyapunov" in sweep_figure(ds).axes[0].get_title()
+
+
 def test_cli_without_the_dask_extra_says_how_to_get_it(tmp_path, monkeypatch, capsys):
     from chaplygin.verify.cli import main
 
