@@ -45,10 +45,8 @@ from numpy.typing import ArrayLike, NDArray
 from ...arith import detlinalg
 from ...derive.errors import ComputationError, UserInputError
 from ..code import ModelCode
-from ..integrators import INTEGRATORS, Problem, Renormalisation, VariationalBatch, VariationalFlow
-from ..integrators.c_batch import batch_library
+from ..integrators import VariationalFlow
 from ..integrators.dop853_c import VARIATIONAL_STATUS
-from ..precision import Precision
 from .lyapunov import (
     CONVERGENCE_POINTS,
     LyapunovSpectrum,
@@ -61,7 +59,12 @@ from .lyapunov import (
     forcing_period,
     lyapunov_spectrum,
 )
-from .variational import DEFAULT_MAX_STEPS, VariationalSystem
+from .variational import (
+    DEFAULT_MAX_STEPS,
+    VariationalSystem,
+    renormalised_many,
+    variational_batch_available,
+)
 
 __all__ = ["LyapunovBatch", "lyapunov_spectra"]
 
@@ -179,7 +182,7 @@ def lyapunov_spectra(
     if len(P) != N:
         raise UserInputError(f"y0 has {N} rows but params has {len(P)}")
     T0 = np.ascontiguousarray(np.broadcast_to(np.asarray(t0, dtype=np.float64), (N,)))
-    if batch_library(code) is None:  # no compiler: one point after another (scipy's DOP853)
+    if not variational_batch_available(code):  # no compiler: one by one (scipy's DOP853)
         return _one_by_one(code, P, Y, T0, start, spectrum=spectrum, intervals=intervals,
                            transient=transient, interval=interval, windows=windows, rtol=rtol,
                            atol=atol, seed=seed, count=count)  # fmt: skip
@@ -189,16 +192,11 @@ def lyapunov_spectra(
          for vs in systems]
     )  # fmt: skip
     Z0, k, ranks = _initial_tangents(code, systems, Y, T0, spectrum, count, seed)
-    flow = VariationalBatch(code, k)
-    integrator = INTEGRATORS["dop853"]()
-    project = spectrum == "level_set"
+    settings = {"tangents": k, "project": spectrum == "level_set", "rtol": rtol, "atol": atol,
+                "max_steps": max_steps, "lockstep": lockstep}  # fmt: skip
 
     def run(Z: NDArray, times: NDArray, count: int):
-        plan = Renormalisation(taus, count, project, t0=times)
-        problem = Problem(flow, Z, None, P, Precision("double"), float(rtol), float(atol),
-                          options={"renormalise": plan, "lockstep": lockstep},
-                          max_steps=int(max_steps))  # fmt: skip
-        return integrator.solve(problem)
+        return renormalised_many(code, P, Z, times, taus, count, **settings)
 
     Z, status, work = Z0, np.zeros(N, dtype=np.int32), np.zeros((N, 3), dtype=np.int64)
     T_start = T0

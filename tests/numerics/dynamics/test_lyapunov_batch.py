@@ -120,3 +120,41 @@ def test_lyapunov_throughput_reports_the_work_it_did():
     assert row["chart_101x101_core_min"] == row["ours_lanes_cpu_s"] * 101 * 101 / 60
     with pytest.raises(UserInputError):
         lyapunov_throughput(intervals=5)
+
+
+def test_several_states_run_in_the_lanes_with_the_bits_of_one_after_another(monkeypatch):
+    """lyapunov_spectrum with states = 3 runs the three starts in one batch call: its
+    exponents, error bars (batch means and the spread over the states), convergence,
+    divergence and density rate equal, bit for bit, those of the same call with the batch
+    switched off (each state's loop on its own)."""
+    from chaplygin.numerics.dynamics import lyapunov
+
+    code = load_model_code(*BM20)
+    P, Y = _points(1, seed=31)
+    kw = {"states": 3, "intervals": 40, "transient": 5, "windows": 4}
+    lanes = lyapunov_spectrum(code, P[0], Y[0], **kw)
+    monkeypatch.setattr(lyapunov, "variational_batch_available", lambda code: False)
+    alone = lyapunov_spectrum(code, P[0], Y[0], **kw)
+    for name in ("exponents", "errors", "window_errors", "state_errors", "per_state",
+                 "convergence", "initial_states"):  # fmt: skip
+        assert _same(getattr(lanes, name), getattr(alone, name)), name
+    assert lanes.mean_divergence == alone.mean_divergence
+    assert lanes.divergence_error == alone.divergence_error and lanes.work == alone.work
+    assert np.all(np.isfinite(lanes.state_errors))  # three states: a spread was measured
+
+
+def test_the_density_route_is_the_same_in_the_lanes(monkeypatch):
+    """The autonomous ball (its proved density, BKM12-4): two states in the lanes give the
+    density rate, divergence and exponents of the two loops one after another, bit for bit."""
+    from chaplygin.numerics.dynamics import lyapunov
+
+    code = load_model_code("chaplygin_ball")
+    p = [1.13, 2.07, 3.31, 0.93]
+    y = [0.61, -0.37, 0.52, 0.2, 0.3, float(np.sqrt(0.87))]
+    kw = {"states": 2, "intervals": 30, "transient": 3, "windows": 3, "interval": 0.7}
+    lanes = lyapunov_spectrum(code, p, y, **kw)
+    monkeypatch.setattr(lyapunov, "variational_batch_available", lambda code: False)
+    alone = lyapunov_spectrum(code, p, y, **kw)
+    assert lanes.density_rate is not None and lanes.density_rate == alone.density_rate
+    assert _same(lanes.exponents, alone.exponents)
+    assert lanes.mean_divergence == alone.mean_divergence
