@@ -21,6 +21,7 @@ __all__ = [
     "check_claim",
     "check_claims",
     "iter_verdicts",
+    "claim_families",
     "default_jobs",
     "registered_claim",
     "FAILURES",
@@ -282,6 +283,8 @@ class _Slot:
         child.close()
         self.task: tuple[int, str] | None = None
         self.since = 0.0
+        #: the claims of the family it is deciding that are still to come
+        self.queue: list[tuple[int, str]] = []
 
     def send(self, task: tuple[int, str]) -> None:
         self.task, self.since = task, time.perf_counter()
@@ -300,6 +303,27 @@ class _Slot:
             self.process.kill()
             self.process.join()
         self.conn.close()
+
+
+def claim_families(claims: list[Claim]) -> list[list[tuple[int, str]]]:
+    """The claims as families, ``(index, ID)`` lists in the order of their first claim: a
+    claim with the part of its ID before the first ``/`` (``BM20-Lyap`` and
+    ``BM20-Lyap/control-sign``). A worker process decides a whole family, so that a control
+    finds the work its claim shares with it (a Groebner basis, a derived model, a run)
+    already done in that process.
+
+    Parameters
+    ----------
+    claims : list of Claim
+
+    Returns
+    -------
+    list of list of (int, str)
+    """
+    families: dict[str, list[tuple[int, str]]] = {}
+    for index, claim in enumerate(claims):
+        families.setdefault(claim.id.split("/")[0], []).append((index, claim.id))
+    return list(families.values())
 
 
 def iter_verdicts(
@@ -321,7 +345,8 @@ def iter_verdicts(
     method : {"auto", "symbolic", "exact-sampled", "numeric"}
     jobs : int
         Worker processes. With more than one, the claims are decided in parallel by
-        fresh (spawned) processes, each deriving or loading the models it needs once; a
+        fresh (spawned) processes, each deriving or loading the models it needs once, a
+        family of claims (:func:`claim_families`: a claim and its controls) in one process; a
         verdict is the same whichever process decides it (the sampler is seeded).
     timeout : float, optional
         Seconds a single claim may take. With a timeout the claims are always decided
@@ -344,13 +369,21 @@ def iter_verdicts(
             yield _check_or_error(c, method)
         return
     ctx = multiprocessing.get_context("spawn")  # no fork of a parent with locks or threads
-    pending = list(enumerate(c.id for c in claims))[::-1]
-    slots = [_Slot(ctx, method, lookup) for _ in range(max(1, min(jobs, len(claims))))]
+    pending = claim_families(claims)[::-1]
+    slots = [_Slot(ctx, method, lookup) for _ in range(max(1, min(jobs, len(pending))))]
     done: dict[int, Verdict] = {}
     nxt = 0
+
+    def send_next(slot: _Slot) -> None:
+        """The slot's next claim: the rest of its family first, else a new family."""
+        if not slot.queue and pending:
+            slot.queue = pending.pop()
+        if slot.queue:
+            slot.send(slot.queue.pop(0))
+
     try:
         for slot in slots:
-            slot.send(pending.pop())
+            send_next(slot)
         while nxt < len(claims):
             busy = [s for s in slots if s.task is not None]
             ready = multiprocessing.connection.wait(
@@ -388,9 +421,10 @@ def iter_verdicts(
                 slot.task = None
                 if replace:
                     slot.stop(kill=True)
+                    queue = slot.queue
                     slot = slots[i] = _Slot(ctx, method, lookup)
-                if pending:
-                    slot.send(pending.pop())
+                    slot.queue = queue
+                send_next(slot)
             while nxt in done:
                 yield done.pop(nxt)
                 nxt += 1

@@ -36,3 +36,22 @@ def test_workers_survive_errors_deaths_and_hangs_and_keep_the_order():
     for i, v in zip(GOOD, check_claims([REGISTRY[i] for i in GOOD], jobs=1), strict=True):
         assert (got[i].verdict, got[i].residual, got[i].ok) == (v.verdict, v.residual, v.ok)
         assert got[i].ok
+
+
+def test_a_claim_and_its_controls_are_one_family():
+    """claim_families: the claims by the part of their ID before the first '/', in the order
+    of their first claim, each with its index in the list; nothing lost, nothing repeated."""
+    from chaplygin.verify.verdict import claim_families
+
+    ids = ["BM20-Lyap", "K01-2.2", "BM20-Lyap/control-sign", "K01-2.3.h", "K01-2.2/control-x"]
+
+    class Named:
+        def __init__(self, claim_id):
+            self.id = claim_id
+
+    families = claim_families([Named(i) for i in ids])
+    assert families == [
+        [(0, "BM20-Lyap"), (2, "BM20-Lyap/control-sign")],
+        [(1, "K01-2.2"), (4, "K01-2.2/control-x")],
+        [(3, "K01-2.3.h")],
+    ]
