@@ -22,6 +22,7 @@ __all__ = [
     "RationalFunctionBuilder",
     "UnsupportedExpression",
     "ring_normal_form",
+    "ring_sum_of_products",
     "exact_quotient",
 ]
 
@@ -444,6 +445,56 @@ def _to_flint(p, ctx):
     return ctx.from_dict(
         {(*m, 0): int(c.numerator) * (d // int(c.denominator)) for m, c in terms}
     ), d
+
+
+def ring_sum_of_products(ring, products) -> sp.polys.rings.PolyElement:
+    """``sum_i prod_j f_ij ** e_ij`` of elements of a polynomial ring over QQ, multiplied in
+    FLINT (``fmpq_mpoly``: exact, in C) and returned in ``ring``.
+
+    Parameters
+    ----------
+    ring : sympy.polys.rings.PolyRing
+        Over QQ.
+    products : iterable of sequences of (PolyElement, int)
+        Each product as its factors with their exponents (>= 0).
+
+    Returns
+    -------
+    sympy.polys.rings.PolyElement
+        The same polynomial sympy's ring arithmetic gives (exact arithmetic either way; over
+        another domain sympy's arithmetic is used).
+    """
+    import flint
+    from sympy.polys.domains import QQ
+
+    if ring.domain != QQ:
+        total = ring.zero
+        for factors in products:
+            term = ring.one
+            for f, k in factors:
+                term *= f ** int(k)
+            total += term
+        return total
+    ctx = flint.fmpq_mpoly_ctx.get(tuple(f"x{i}" for i in range(ring.ngens)), "lex")
+    seen: dict[int, object] = {}
+
+    def to_flint(p):
+        if id(p) not in seen:
+            seen[id(p)] = (p, ctx.from_dict({
+                m: flint.fmpq(int(c.numerator), int(c.denominator)) for m, c in p.iterterms()
+            }))  # fmt: skip
+        return seen[id(p)][1]
+
+    total = ctx.from_dict({})
+    for factors in products:
+        term = ctx.from_dict({(0,) * ring.ngens: 1})
+        for f, k in factors:
+            if k:
+                term *= to_flint(f) ** int(k)
+        total += term
+    return ring.from_dict(
+        {m: ring.domain(int(c.p), int(c.q)) for m, c in total.to_dict().items()}
+    )
 
 
 def exact_quotient(

@@ -33,6 +33,7 @@ from chaplygin.derive.algebra import (
     RationalFunctionBuilder,
     UnsupportedExpression,
     ring_normal_form,
+    ring_sum_of_products,
 )
 from chaplygin.derive.model import Model, Reparametrisation
 from chaplygin.derive.phase_space import invariant_relation_exprs, sample_point
@@ -309,28 +310,22 @@ class Residuals:
         """``poly = A + B r`` with ``r^2 = S``: the numerators of ``A`` and ``B``."""
         R = self.builder.ring
         idx = self.symbols.index(r)
-        by_power: dict[int, object] = {}
-        for monom, coeff in poly.terms():
-            k = monom[idx]
-            rest = list(monom)
-            rest[idx] = 0
-            by_power[k] = by_power.get(k, R.zero) + R({tuple(rest): coeff})
-        if set(by_power) <= {0}:
+        terms: dict[int, dict] = {}  # power of r -> the coefficient's terms
+        for monom, coeff in poly.iterterms():
+            terms.setdefault(monom[idx], {})[monom[:idx] + (0,) + monom[idx + 1 :]] = coeff
+        if set(terms) <= {0}:
             return [poly]
+        by_power = {k: R.from_dict(d) for k, d in terms.items()}
         Sn, Sd = self.builder.convert(S)
         Sden = R.one
         for f, k in Sd.items():
             Sden *= f**k
         top = max(by_power) // 2
-        even, odd = R.zero, R.zero
+        parts: dict[int, list] = {0: [], 1: []}  # the even and odd powers of r
         for k, c in by_power.items():
             j = k // 2
-            term = c * Sn**j * Sden ** (top - j)
-            if k % 2 == 0:
-                even += term
-            else:
-                odd += term
-        return [even, odd]
+            parts[k % 2].append(((c, 1), (Sn, j), (Sden, top - j)))
+        return [ring_sum_of_products(R, parts[e]) for e in (0, 1)]
 
     # ------------------------------------------------------------------ methods
     def normal_forms(self) -> list[sp.polys.rings.PolyElement]:

@@ -331,3 +331,37 @@ def test_flints_remainder_equals_the_heap_remainder():
         member = sum((poly(5, 3) * g for g in G), R.zero)
         assert _flint_remainder(member, F) == 0
         assert _flint_remainder(member + f, F) == _remainder(f, G)
+
+
+def test_ring_sum_of_products_is_sympys_ring_arithmetic():
+    """FLINT's products and sums (ring_sum_of_products) against sympy's ring arithmetic on
+    random rational polynomials, and over ZZ (no FLINT) the same; an empty sum is zero."""
+    import random
+
+    from chaplygin.derive.algebra import ring_sum_of_products
+    from sympy.polys.domains import QQ, ZZ
+    from sympy.polys.rings import ring
+
+    rng = random.Random(5)
+
+    def poly(R, domain):
+        terms = {}
+        for _ in range(rng.randint(1, 5)):
+            monom = (rng.randint(0, 3), rng.randint(0, 3), rng.randint(0, 2))
+            c = domain(rng.randint(-9, 9))
+            terms[monom] = c / domain(rng.randint(1, 7)) if domain == QQ else c
+        return R.from_dict(terms)
+
+    for domain in (QQ, ZZ):
+        R, x, y, z = ring("x y z", domain, order="grevlex")
+        for _ in range(10):
+            products = [[(poly(R, domain), rng.randint(0, 3)) for _ in range(rng.randint(1, 3))]
+                        for _ in range(rng.randint(1, 4))]  # fmt: skip
+            expected = R.zero
+            for factors in products:
+                term = R.one
+                for f, k in factors:
+                    term *= f**k
+                expected += term
+            assert ring_sum_of_products(R, products) == expected
+        assert ring_sum_of_products(R, []) == R.zero
