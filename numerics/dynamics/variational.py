@@ -5,7 +5,7 @@ generated Jacobian, ``q`` the integral of the divergence of the vector field; a
 :class:`~chaplygin.numerics.integrators.flows.VariationalFlow`) is integrated through the
 integrators' door by the ``dop853`` integrator: an adaptive DOP853 written in C
 (``derive/templates/variational.c``) that is compiled together with the model's emitted C
-source (``generated/<model>.c``: ``chaplygin_rhs`` and ``chaplygin_jac``), so the right-hand
+source (``generated/<model>.c``: ``chaplygin_rhs_jac``, the two in one routine), so the right-hand
 side and Jacobian are the generated ones and no Python runs inside a step. The error of a
 step is measured on ``y`` and ``V`` together. Double precision only.
 

@@ -150,8 +150,8 @@ class CompiledDOP853(Integrator):
         if isinstance(problem.system, Batch | VariationalBatch):
             if c_batch.batch_library(code) is None:
                 raise ComputationError(
-                    "the batch map needs a C compiler (the Taylor one also the model's "
-                    "generated Taylor code); use StroboscopicMap"
+                    "the batches need a C compiler (the Taylor one also the model's generated "
+                    "Taylor code); use StroboscopicMap or lyapunov_spectrum per point"
                 )
             return "c"
         if backend == "numpy":
