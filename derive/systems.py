@@ -33,6 +33,7 @@ __all__ = [
     "SYSTEMS",
     "SYSTEM_MODULES",
     "build_model",
+    "store_derived",
     "builtin_variants",
     "variant_name",
     "variant_signature",
@@ -117,6 +118,8 @@ def _load_systems() -> dict[str, System]:
 SYSTEMS: dict[str, System] = _load_systems()
 
 _CACHE: dict[tuple[str, frozenset[str]], Model] = {}
+#: The cache file of each model in :data:`_CACHE` (by ``id``), for :func:`store_derived`.
+_CACHE_FILES: dict[int, Path] = {}
 
 
 def get_system(name: str) -> System:
@@ -266,15 +269,16 @@ def _load_cached(path: Path | None) -> Model | None:
     return model if isinstance(model, Model) else None
 
 
-def _store(path: Path | None, model: Model) -> None:
-    """Write atomically (parallel processes may derive the same model at once), signed."""
+def _store(path: Path | None, model: Model) -> bool:
+    """Write atomically (parallel processes may derive the same model at once), signed;
+    whether it was written."""
     if path is None:
-        return
+        return False
     try:
         data = pickle.dumps(model, protocol=pickle.HIGHEST_PROTOCOL)
     except (pickle.PicklingError, AttributeError, TypeError):
-        return  # an unpicklable definition: the cache is only an aid
-    write_signed(path, _MODEL_MAGIC, data)
+        return False  # an unpicklable definition: the cache is only an aid
+    return bool(write_signed(path, _MODEL_MAGIC, data))
 
 
 def build_model(
@@ -316,7 +320,31 @@ def build_model(
             model = sysdef.builder(chosen)
             _store(path, model)
         _CACHE[key] = model
+        if path is not None:
+            _CACHE_FILES[id(model)] = path
     return _CACHE[key]
+
+
+def store_derived(model: Model) -> bool:
+    """Write a model of :func:`build_model` to its disk cache again, with what has been
+    derived from it since it was built or loaded (its Jacobian, ...: the cached properties
+    travel with the pickle), so that the next process loads them instead of deriving them.
+
+    Parameters
+    ----------
+    model : Model
+        A model :func:`build_model` returned in this process.
+
+    Returns
+    -------
+    bool
+        Whether it was written (False: not from :func:`build_model`, no disk cache, or the
+        cache refused the write).
+    """
+    path = _CACHE_FILES.get(id(model))
+    if path is None or not any(m is model for m in _CACHE.values()):
+        return False
+    return _store(path, model)
 
 
 def variant_signature(

@@ -37,6 +37,7 @@ from chaplygin.derive.algebra import (
 )
 from chaplygin.derive.model import Model, Reparametrisation
 from chaplygin.derive.phase_space import invariant_relation_exprs, sample_point
+from chaplygin.derive.systems import store_derived
 
 __all__ = [
     "Domain",
@@ -699,7 +700,10 @@ def measure_residual(density: sp.Expr, model: Model) -> sp.Expr:
         invariant density.
     """
     f = model.rhs_expanded
+    derived = "jacobian_expanded" not in vars(model)
     J = model.jacobian_expanded  # the chain rule through the auxiliaries (faster, smaller)
+    if derived:  # seconds for the rubber ball: kept in the model's disk cache for next time
+        store_derived(model)
     log_rho = sp.expand_log(sp.log(model.expand_aux(density)), force=True)
     return sp.diff(log_rho, model.time) + sum(
         (J[i, i] + f[i] * sp.diff(log_rho, y) for i, y in enumerate(model.state)),

@@ -112,3 +112,23 @@ def test_xdg_cache_home_is_honoured(tmp_path, monkeypatch):
     monkeypatch.delenv("CHAPLYGIN_CACHE_DIR", raising=False)
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
     assert systems.model_cache_dir() == tmp_path / "xdg" / "chaplygin" / "models"
+
+
+def test_what_is_derived_later_is_stored_for_the_next_process(fresh_cache):
+    """store_derived: the Jacobian derived after the model was cached goes into the cache
+    file, and the next load has it without deriving it, equal to a fresh derivation; a model
+    that build_model did not return is not written."""
+    model = systems.build_model("chaplygin_ball", ["gyrostat"])
+    assert "jacobian_expanded" not in vars(model)
+    J = model.jacobian_expanded
+    assert systems.store_derived(model)
+    systems._CACHE.clear()
+    loaded = systems.build_model("chaplygin_ball", ["gyrostat"])
+    assert loaded is not model and "jacobian_expanded" in vars(loaded)
+    assert loaded.jacobian_expanded == J
+    # the control: a model not from build_model is refused; the cache keeps the loaded one
+    assert not systems.store_derived(pickle.loads(pickle.dumps(loaded)))
+    systems._CACHE.clear()
+    again = systems.build_model("chaplygin_ball", ["gyrostat"])
+    fresh = systems.get_system("chaplygin_ball").builder(frozenset({"gyrostat"}))
+    assert again.jacobian_expanded == fresh.jacobian_expanded
