@@ -21,12 +21,13 @@ from numpy.typing import ArrayLike, NDArray
 from ...arith import detlinalg
 from ...derive.errors import UserInputError
 from ..dynamics.periodic_orbits import SmoothMap
-from .map_coordinates import reduced_point, reduced_tangent, state_from_reduced
+from .map_coordinates import andoyer_deprit, reduced_point, reduced_tangent, state_from_reduced
 
 __all__ = [
     "BM20_EFFECTS",
     "BM20_STATE",
     "bm20_map_with_jacobian",
+    "bm20_points",
     "bm20_point",
     "bm20_state",
     "reduced_step",
@@ -68,6 +69,25 @@ def bm20_point(y: ArrayLike) -> NDArray[np.float64]:
     ndarray, shape (3,)
     """
     return np.asarray(reduced_point(np.asarray(y, float), BM20_STATE)[1], dtype=float)
+
+
+def bm20_points(Y: ArrayLike) -> NDArray[np.float64]:
+    """:func:`bm20_point` of many states at once (one array pass of the project's elementary
+    functions, whose bits do not depend on the array: the same points as one at a time).
+
+    Parameters
+    ----------
+    Y : array_like, shape (n, 6)
+
+    Returns
+    -------
+    ndarray, shape (n, 3)
+    """
+    Y = np.asarray(Y, dtype=float)
+    M = [Y[:, BM20_STATE.index(f"M{i}")] for i in (1, 2, 3)]
+    gamma = [Y[:, BM20_STATE.index(f"gamma{i}")] for i in (1, 2, 3)]
+    _, z, l, g = andoyer_deprit(M, gamma)
+    return np.column_stack([np.asarray(v, dtype=float) for v in (z, l, g)])
 
 
 def bm20_map_with_jacobian(

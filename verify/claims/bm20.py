@@ -1010,9 +1010,8 @@ _FIG4_TRANSIENT, _FIG4_OTHER_TRANSIENT, _FIG4_POINTS = 40000, 3000, 2000
 
 @cache
 def _fig4_samples():
-    import numpy as np
     from chaplygin.numerics import load_model_code
-    from chaplygin.numerics.ball.bm20_map import bm20_point, bm20_state
+    from chaplygin.numerics.ball.bm20_map import bm20_points, bm20_state
     from chaplygin.numerics.dynamics.batch_map import BatchStroboscopicMap
 
     code = load_model_code(BALL, VB)
@@ -1023,7 +1022,7 @@ def _fig4_samples():
         if r.status[0]:
             raise ComputationError(f"BM20 Fig. 4 map failed from {x}")
         y = r.y[0]
-        out.append((y, np.array([bm20_point(v) for v in y])))
+        out.append((y, bm20_points(y)))
     return code, out
 
 

@@ -325,3 +325,20 @@ def test_reduced_tangent_refuses_the_poles():
 
     with pytest.raises(UserInputError, match="singular"):
         reduced_tangent((1.0, 0.3, 0.2), 3.0)
+
+
+def test_many_map_points_at_once_are_the_points_one_at_a_time():
+    """bm20_points on an array of states: bit for bit bm20_point on each (the poles, where
+    l = 0 by convention, and a state at the pole included)."""
+    import numpy as np
+    from chaplygin.numerics.ball.bm20_map import bm20_point, bm20_points, bm20_state
+
+    rng = np.random.default_rng(7)
+    X = np.column_stack([rng.uniform(-0.99, 0.99, 200), rng.uniform(-3, 3, 200),
+                         rng.uniform(-3, 3, 200)])  # fmt: skip
+    Y = np.array([bm20_state(x, 3.0) for x in X] + [bm20_state([1.0, 0.0, 0.4], 3.0)])
+    many = bm20_points(Y)
+    one = np.array([bm20_point(y) for y in Y])
+    assert many.shape == (201, 3)
+    assert np.array_equal(many.view(np.uint64), one.view(np.uint64))
+    assert np.allclose(many[:200], X, atol=1e-12)  # and they are the map points
