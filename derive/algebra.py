@@ -447,7 +447,10 @@ def _to_flint(p, ctx):
     ), d
 
 
-def ring_sum_of_products(ring, products) -> sp.polys.rings.PolyElement:
+def ring_sum_of_products(
+    ring: sp.polys.rings.PolyRing,
+    products: Iterable[Sequence[tuple[sp.polys.rings.PolyElement, int]]],
+) -> sp.polys.rings.PolyElement:
     """``sum_i prod_j f_ij ** e_ij`` of elements of a polynomial ring over QQ, multiplied in
     FLINT (``fmpq_mpoly``: exact, in C) and returned in ``ring``.
 
