@@ -56,6 +56,7 @@ from .bench_problems import (
     separatrix_state,
 )
 from .bench_timing import median_run, peers_available, timed_runs
+from .bench_verify import verify_time
 
 __all__ = [
     "BenchProblem",
@@ -316,8 +317,9 @@ def run_study(
         compile/JIT times), ``"map_throughput"`` (:func:`map_throughput`),
         ``"lyapunov_throughput"`` (:func:`~chaplygin.verify.bench_map.lyapunov_throughput`),
         ``"ensemble_throughput"``
-        (:func:`~chaplygin.verify.bench_ensemble.ensemble_throughput`), ``"quick"`` and
-        ``"repeats"``.
+        (:func:`~chaplygin.verify.bench_ensemble.ensemble_throughput`), ``"verify_time"``
+        (:func:`~chaplygin.verify.bench_verify.verify_time`: every claim; quick: K01-2.2's),
+        ``"quick"`` and ``"repeats"``.
     """
     out.mkdir(parents=True, exist_ok=True)
     repeats = (1 if quick else 5) if repeats is None else repeats
@@ -381,6 +383,7 @@ def run_study(
             lyapunov_throughput(200, 20, 1, 4) if quick else lyapunov_throughput(repeats=repeats)
         ),
         "ensemble_throughput": ensemble_throughput(8 if quick else 16, repeats, quick),
+        "verify_time": verify_time("K01-2.2*") if quick else verify_time(),
         "described_system_s": {} if quick else described_system_times(),
         "quick": quick,
         "repeats": repeats,

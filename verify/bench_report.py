@@ -75,6 +75,12 @@ def render_markdown(study: dict) -> str:
                   "<= 0.05 s, a 101 x 101 chart <= 15 min on 2 cores)", ""]  # fmt: skip
         lines += [f"- {k}: {v:.4g}" if isinstance(v, float) else f"- {k}: {v}"
                   for k, v in study["lyapunov_throughput"].items()]  # fmt: skip
+    checked = study.get("verify_time") or {}
+    if checked:
+        lines += ["", "## The main job: chaplygin verify in its own process (issue 26: <= 60 s "
+                  "warm on 2 cores)", ""]  # fmt: skip
+        lines += [f"- {k}: {v:.4g}" if isinstance(v, float) else f"- {k}: {v}"
+                  for k, v in checked.items()]  # fmt: skip
     ensemble = study.get("ensemble_throughput") or {}
     if ensemble:
         lines += ["", "## Many orbits at once (seconds per orbit; issue 26: integrate_many at or "

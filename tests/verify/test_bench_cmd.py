@@ -176,3 +176,18 @@ def test_short_runs_are_repeated_to_a_time_budget():
 
     times, last = timed_runs(fn, 5)
     assert len(times) == len(calls) == last == 20
+
+
+def test_the_verify_time_row_runs_the_command_and_counts_its_verdicts():
+    """bench's verify-time row (no timing asserted): the command in its own process on a
+    claim and its control, its verdicts counted as verify decides them; a selection that
+    matches nothing is the command's error, raised as ComputationError."""
+    from chaplygin.derive.errors import ComputationError
+    from chaplygin.verify.bench_verify import verify_time
+
+    row = verify_time("K01-2.2,BKM12-4/control-rho=1", jobs=1)
+    assert row["claims"] == 2 and row["unexpected"] == 0
+    assert row["verdicts"] == {"proved": 1, "refuted": 1}
+    assert row["wall_s"] > row["checking_s"] > 0
+    with pytest.raises(ComputationError):
+        verify_time("NO-SUCH-CLAIM-*")
