@@ -44,7 +44,11 @@ from ...derive.errors import UserInputError
 from ..code import ModelCode
 from ..integrators import VariationalFlow
 from ..integrators.dop853_c import VARIATIONAL_STATUS
-from .variational import VariationalSystem, renormalised_many, variational_batch_available
+from .variational import (
+    VariationalSystem,
+    renormalised_after_transient,
+    variational_batch_available,
+)
 
 __all__ = [
     "SPECTRA",
@@ -529,30 +533,24 @@ class _StateRuns:
         count, k = len(starts), vectors[0].shape[1]
         flow = VariationalFlow(vs.code, k)
         Z = np.array([flow.pack(y, V) for y, V in zip(starts, vectors, strict=True)])
-        P = np.tile(vs.params, (count, 1))
-        taus = np.full(count, float(tau))
-        settings = {"tangents": k, "project": project, "rtol": vs.rtol, "atol": vs.atol,
-                    "max_steps": vs.max_steps}  # fmt: skip
-
-        def run(Z, t, n):
-            sol = renormalised_many(vs.code, P, Z, np.full(count, t), taus, n, **settings)
-            failed = np.flatnonzero(sol.info["status"])
-            if failed.size:
-                status = int(sol.info["status"][failed[0]])
-                vs._raise(VARIATIONAL_STATUS.get(status, f"status {status}"), t)
-            for key in self.work:
-                self.work[key] += int(sol.info[key].sum())
-            return sol
-
-        t = t0
-        if transient:
-            Z = run(Z, t, transient).y.copy()
-            Z[:, -1] = 0.0
-            t = t0 + transient * tau
-        sol = run(np.ascontiguousarray(Z), t, intervals)
-        n = vs.n
+        runs = renormalised_after_transient(
+            vs.code, np.tile(vs.params, (count, 1)), Z, np.full(count, float(t0)),
+            np.full(count, float(tau)), transient, intervals, tangents=k, project=project,
+            rtol=vs.rtol, atol=vs.atol, max_steps=vs.max_steps,
+        )  # fmt: skip
+        failed = np.flatnonzero(runs.status)
+        if failed.size:  # the one-point loop's error, at the start of the call that failed
+            j = failed[0]
+            status = int(runs.status[j])
+            t = t0 if runs.failed_in_transient[j] else float(runs.t_start[j])
+            vs._raise(VARIATIONAL_STATUS.get(status, f"status {status}"), t)
+        for key, total in zip(("steps", "rejected", "evaluations"), runs.work.sum(axis=0),
+                              strict=True):  # fmt: skip
+            self.work[key] += int(total)
+        sol, n = runs.measured, vs.n
         for s in range(count):
-            density = (vs.code, vs.params, t, Z[s, :n], sol.y[s, :n]) if with_density else None
+            t_start, y_start = float(runs.t_start[s]), runs.start[s, :n]
+            density = (vs.code, vs.params, t_start, y_start, sol.y[s, :n]) if with_density else None
             self.record(s, sol.info["logs"][s], sol.info["divergence"][s], tau, windows,
                         checkpoints, density)  # fmt: skip
 

@@ -62,7 +62,7 @@ from .lyapunov import (
 from .variational import (
     DEFAULT_MAX_STEPS,
     VariationalSystem,
-    renormalised_many,
+    renormalised_after_transient,
     variational_batch_available,
 )
 
@@ -194,21 +194,10 @@ def lyapunov_spectra(
     Z0, k, ranks = _initial_tangents(code, systems, Y, T0, spectrum, count, seed)
     settings = {"tangents": k, "project": spectrum == "level_set", "rtol": rtol, "atol": atol,
                 "max_steps": max_steps, "lockstep": lockstep}  # fmt: skip
-
-    def run(Z: NDArray, times: NDArray, count: int):
-        return renormalised_many(code, P, Z, times, taus, count, **settings)
-
-    Z, status, work = Z0, np.zeros(N, dtype=np.int32), np.zeros((N, 3), dtype=np.int64)
-    T_start = T0
-    if transient:
-        sol = run(Z0, T0, transient)
-        Z, status = sol.y.copy(), sol.info["status"].copy()
-        work += _work(sol.info)
-        T_start = T0 + transient * taus
-        Z[:, -1] = 0.0
-    sol = run(np.ascontiguousarray(Z), T_start, intervals)
-    status = np.where(status != 0, status, sol.info["status"])
-    work += _work(sol.info)
+    runs_all = renormalised_after_transient(code, P, Z0, T0, taus, transient, intervals,
+                                            **settings)  # fmt: skip
+    Z, T_start, sol, status, work = (runs_all.start, runs_all.t_start, runs_all.measured,
+                                     runs_all.status, runs_all.work)  # fmt: skip
     wall = time.perf_counter() - start
     checkpoints = np.unique(np.geomspace(1, intervals, CONVERGENCE_POINTS).astype(int))
     with_density = _has_density(code)
@@ -231,10 +220,6 @@ def lyapunov_spectra(
     messages = [VARIATIONAL_STATUS.get(int(s), f"status {s}") if s else "done" for s in status]
     return LyapunovBatch(spectra, status.astype(np.int32), messages,
                          bool(sol.info["lockstep"]), wall)  # fmt: skip
-
-
-def _work(info: dict) -> NDArray[np.int64]:
-    return np.stack([info["steps"], info["rejected"], info["evaluations"]], axis=1)
 
 
 def _initial_tangents(code, systems, Y, T0, spectrum, count, seed):  # fmt: skip

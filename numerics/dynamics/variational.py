@@ -49,6 +49,8 @@ __all__ = [
     "TangentFlow",
     "flow_with_jacobian",
     "renormalised_many",
+    "renormalised_after_transient",
+    "BenettinRuns",
     "variational_batch_available",
     "variational_system",
 ]
@@ -415,6 +417,81 @@ def renormalised_many(
                       float(atol), options={"renormalise": plan, "lockstep": lockstep},
                       max_steps=int(max_steps))  # fmt: skip
     return INTEGRATORS["dop853"]().solve(problem)
+
+
+@dataclass
+class BenettinRuns:
+    """What :func:`renormalised_after_transient` returns.
+
+    Attributes
+    ----------
+    start : ndarray, shape (N, n + n k + 1)
+        The augmented states the measured intervals start from (after the transient).
+    t_start : ndarray, shape (N,)
+        Their times.
+    measured : Solution
+        :func:`renormalised_many`'s solution over the measured intervals.
+    status : ndarray of int, shape (N,)
+        0, or the first failure of each row (transient or measured).
+    failed_in_transient : ndarray of bool, shape (N,)
+    work : ndarray of int, shape (N, 3)
+        Accepted and rejected steps and evaluations of both calls.
+    """
+
+    start: NDArray[np.float64]
+    t_start: NDArray[np.float64]
+    measured: Solution
+    status: NDArray[np.int32]
+    failed_in_transient: NDArray[np.bool_]
+    work: NDArray[np.int64]
+
+
+def _work(info: dict) -> NDArray[np.int64]:
+    return np.stack([info["steps"], info["rejected"], info["evaluations"]], axis=1)
+
+
+def renormalised_after_transient(
+    code: ModelCode,
+    params: NDArray[np.float64],
+    Z0: NDArray[np.float64],
+    t0: NDArray[np.float64],
+    tau: NDArray[np.float64],
+    transient: int,
+    intervals: int,
+    **settings: Any,
+) -> BenettinRuns:
+    """Benettin's loop as the Lyapunov functions run it, for ``N`` rows: ``transient``
+    intervals (their logs dropped), then ``intervals`` measured ones from where they got, the
+    divergence integral reset (:func:`renormalised_many` twice; a row's measured run is its
+    one-point :meth:`VariationalSystem.renormalised` from the same start, bit for bit).
+
+    Parameters
+    ----------
+    code, params, Z0, t0, tau
+        As :func:`renormalised_many`.
+    transient, intervals : int
+    **settings
+        ``tangents``, ``project``, ``rtol``, ``atol``, ``max_steps``, ``lockstep`` of
+        :func:`renormalised_many`.
+
+    Returns
+    -------
+    BenettinRuns
+    """
+    Z, T = Z0, np.asarray(t0, dtype=np.float64)
+    status = np.zeros(len(Z0), dtype=np.int32)
+    work = np.zeros((len(Z0), 3), dtype=np.int64)
+    if transient:
+        first = renormalised_many(code, params, Z0, T, tau, transient, **settings)
+        Z, status = first.y.copy(), first.info["status"].astype(np.int32)
+        Z[:, -1] = 0.0
+        work += _work(first.info)
+        T = T + transient * np.asarray(tau, dtype=np.float64)
+    in_transient = status != 0
+    sol = renormalised_many(code, params, np.ascontiguousarray(Z), T, tau, intervals, **settings)
+    status = np.where(in_transient, status, sol.info["status"]).astype(np.int32)
+    work += _work(sol.info)
+    return BenettinRuns(Z, T, sol, status, in_transient, work)
 
 
 def variational_system(

@@ -143,6 +143,24 @@ def test_several_states_run_in_the_lanes_with_the_bits_of_one_after_another(monk
     assert np.all(np.isfinite(lanes.state_errors))  # three states: a spread was measured
 
 
+def test_a_failing_state_raises_what_the_loop_raises(monkeypatch):
+    """Two states of a body whose equations blow up (I1 + I(t) crosses zero): the batch
+    raises the ComputationError of the loop one state after another, the same message."""
+    from chaplygin.derive.errors import ComputationError
+    from chaplygin.numerics.dynamics import lyapunov
+
+    code = load_model_code(*BM20)
+    P, Y = _points(1, seed=41)
+    P[0, 0] = -(P[0, 3] + P[0, 4] ** 2) - 0.5 * P[0, 5] ** 2
+    kw = {"states": 2, "count": 1, **SETTINGS}
+    with pytest.raises(ComputationError, match="near t") as lanes:
+        lyapunov_spectrum(code, P[0], Y[0], **kw)
+    monkeypatch.setattr(lyapunov, "variational_batch_available", lambda code: False)
+    with pytest.raises(ComputationError, match="near t") as alone:
+        lyapunov_spectrum(code, P[0], Y[0], **kw)
+    assert str(lanes.value) == str(alone.value)
+
+
 def test_the_density_route_is_the_same_in_the_lanes(monkeypatch):
     """The autonomous ball (its proved density, BKM12-4): two states in the lanes give the
     density rate, divergence and exponents of the two loops one after another, bit for bit."""
