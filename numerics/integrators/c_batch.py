@@ -242,6 +242,11 @@ def taylor_batch_library(code: ModelCode) -> Any | None:
     )  # fmt: skip
 
 
+def _buf(a: np.ndarray, kind: str = "double[]") -> Any:
+    """A C pointer to ``a``'s data (the driver writes into the output arrays)."""
+    return _ffi.from_buffer(kind, a, require_writable=False)
+
+
 def run_batch(driver: Any, problem: Problem) -> tuple[Solution, np.ndarray]:
     """Call one batch driver on a problem of a
     :class:`~chaplygin.numerics.integrators.flows.Batch`.
@@ -269,14 +274,11 @@ def run_batch(driver: Any, problem: Problem) -> tuple[Solution, np.ndarray]:
     stats = np.zeros((N, 3))
     status = np.zeros(N, dtype=np.int32)
 
-    def buf(a: np.ndarray, kind: str = "double[]") -> Any:
-        return _ffi.from_buffer(kind, a, require_writable=False)
-
     start = time.perf_counter()
     driver(
-        N, buf(Y0), buf(P), buf(times.t0), buf(tau_hi), buf(tau_lo), times.transient,
-        times.count, problem.rtol, problem.atol, problem.max_steps, buf(out), buf(stats),
-        buf(status, "int[]"),
+        N, _buf(Y0), _buf(P), _buf(times.t0), _buf(tau_hi), _buf(tau_lo), times.transient,
+        times.count, problem.rtol, problem.atol, problem.max_steps, _buf(out), _buf(stats),
+        _buf(status, "int[]"),
     )  # fmt: skip
     wall = time.perf_counter() - start
     sol = Solution(
@@ -323,17 +325,14 @@ def run_variational_batch(
     stats = np.zeros((N, 4))
     status = np.zeros(N, dtype=np.int32)
 
-    def buf(a: np.ndarray, kind: str = "double[]") -> Any:
-        return _ffi.from_buffer(kind, a, require_writable=False)
-
     driver = (
         lib.chaplygin_var_renormalised_lockstep if lockstep else lib.chaplygin_var_renormalised_many
     )
     start = time.perf_counter()
     driver(
-        N, k, buf(Z0), buf(P), buf(plan.t0), buf(plan.tau), plan.intervals, problem.rtol,
-        problem.atol, int(bool(plan.project)), problem.max_steps, buf(Z), buf(logs), buf(divs),
-        buf(stats), buf(status, "int[]"),
+        N, k, _buf(Z0), _buf(P), _buf(plan.t0), _buf(plan.tau), plan.intervals, problem.rtol,
+        problem.atol, int(bool(plan.project)), problem.max_steps, _buf(Z), _buf(logs), _buf(divs),
+        _buf(stats), _buf(status, "int[]"),
     )  # fmt: skip
     info = {"status": status, "logs": logs, "divergence": divs, "stats": stats,
             "wall_s": time.perf_counter() - start}  # fmt: skip
