@@ -1,0 +1,209 @@
+"""First-order jets over Arb balls: a value and its gradient, both enclosed.
+
+The generated Taylor recurrences (``taylor_coefficients(t0, y, p, order, lib)``, see
+:mod:`chaplygin.derive.emit.taylor`) work with any number type that has ``+ - * /`` and a
+namespace ``lib`` of ``mpf, sqrt, exp, sin, cos``. Run on :class:`ArbJet` numbers seeded with
+the unit gradients of the state, they give every Taylor coefficient of the solution *and* its
+derivative with respect to the initial state, each as an Arb ball (python-flint) that
+contains the exact value for every point of the input balls: what the validated integrator
+(:mod:`~chaplygin.numerics.validated.lohner`) needs for the flow and its derivative (C^1).
+
+The gradient is a 1 x n ``arb_mat`` row (one C call per operation on the whole gradient).
+"""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+from typing import Any
+
+from flint import arb, arb_mat
+
+__all__ = [
+    "ArbJet",
+    "ARB_LIB",
+    "JET_LIB",
+    "jet_atan2",
+    "jet_gradient",
+    "jet_value",
+    "jets_from_matrix",
+    "seed_jets",
+]
+
+
+class ArbJet:
+    """A value ``v`` and its gradient ``g`` (a 1 x n ``arb_mat``) with respect to n seeds.
+
+    Parameters
+    ----------
+    v : arb
+        The value (a ball).
+    g : arb_mat or None
+        The gradient; ``None`` for a constant (gradient zero), which keeps constants cheap.
+    """
+
+    __slots__ = ("v", "g")
+
+    def __init__(self, v: Any, g: arb_mat | None = None) -> None:
+        self.v = v
+        self.g = g
+
+    # ---------------------------------------------------------------- helpers
+    @staticmethod
+    def _split(x: Any) -> tuple[Any, arb_mat | None]:
+        if isinstance(x, ArbJet):
+            return x.v, x.g
+        return x, None
+
+    @staticmethod
+    def _scaled(g: arb_mat | None, c: Any) -> arb_mat | None:
+        return None if g is None else g * c
+
+    @staticmethod
+    def _plus(g: arb_mat | None, h: arb_mat | None) -> arb_mat | None:
+        if g is None:
+            return h
+        if h is None:
+            return g
+        return g + h
+
+    # ---------------------------------------------------------------- arithmetic
+    def __add__(self, other: Any) -> ArbJet:
+        w, h = self._split(other)
+        return ArbJet(self.v + w, self._plus(self.g, h))
+
+    __radd__ = __add__
+
+    def __sub__(self, other: Any) -> ArbJet:
+        w, h = self._split(other)
+        return ArbJet(self.v - w, self._plus(self.g, None if h is None else -h))
+
+    def __rsub__(self, other: Any) -> ArbJet:
+        w, h = self._split(other)
+        return ArbJet(w - self.v, self._plus(h, None if self.g is None else -self.g))
+
+    def __neg__(self) -> ArbJet:
+        return ArbJet(-self.v, None if self.g is None else -self.g)
+
+    def __mul__(self, other: Any) -> ArbJet:
+        w, h = self._split(other)
+        return ArbJet(self.v * w, self._plus(self._scaled(self.g, w), self._scaled(h, self.v)))
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, other: Any) -> ArbJet:
+        w, h = self._split(other)
+        q = self.v / w
+        if h is None:
+            return ArbJet(q, self._scaled(self.g, 1 / w))
+        # (u/w)' = (u' - q w') / w
+        return ArbJet(q, self._scaled(self._plus(self.g, -(h * q)), 1 / w))
+
+    def __rtruediv__(self, other: Any) -> ArbJet:
+        w, h = self._split(other)
+        q = w / self.v
+        g = self._plus(h, None if self.g is None else -(self.g * q))
+        return ArbJet(q, self._scaled(g, 1 / self.v))
+
+    def __pow__(self, r: Any) -> ArbJet:
+        r_v = r.v if isinstance(r, ArbJet) else r
+        if isinstance(r, ArbJet) and r.g is not None:
+            raise TypeError("a jet exponent with a gradient is not supported")
+        p = self.v**r_v
+        return ArbJet(p, self._scaled(self.g, r_v * self.v ** (r_v - 1)))
+
+    def __repr__(self) -> str:
+        return f"ArbJet({self.v}, {self.g})"
+
+
+def _lift(fn_value, fn_derivative):  # noqa: ANN001, ANN202 - internal factory
+    def f(x: Any) -> Any:
+        if not isinstance(x, ArbJet):
+            return fn_value(arb(x) if not isinstance(x, arb) else x)
+        v = fn_value(x.v)
+        return ArbJet(v, None if x.g is None else x.g * fn_derivative(x.v, v))
+
+    return f
+
+
+def _sqrt(x: Any) -> Any:
+    return x.sqrt()
+
+
+def _exp(x: Any) -> Any:
+    return x.exp()
+
+
+def _sin(x: Any) -> Any:
+    return x.sin()
+
+
+def _cos(x: Any) -> Any:
+    return x.cos()
+
+
+#: ``lib`` for the generated recurrences on plain Arb balls.
+ARB_LIB = SimpleNamespace(mpf=arb, sqrt=_sqrt, exp=_exp, sin=_sin, cos=_cos)
+
+#: ``lib`` for the generated recurrences on :class:`ArbJet` numbers.
+JET_LIB = SimpleNamespace(
+    mpf=arb,
+    sqrt=_lift(_sqrt, lambda v, s: 1 / (2 * s)),
+    exp=_lift(_exp, lambda v, e: e),
+    sin=_lift(_sin, lambda v, s: v.cos()),
+    cos=_lift(_cos, lambda v, c: -v.sin()),
+)
+
+
+def seed_jets(values: list) -> list[ArbJet]:
+    """Jets for the state components: component i has the gradient e_i.
+
+    Parameters
+    ----------
+    values : list of arb
+        The state's balls.
+
+    Returns
+    -------
+    list of ArbJet
+    """
+    n = len(values)
+    out = []
+    for i, v in enumerate(values):
+        row = [0] * n
+        row[i] = 1
+        out.append(ArbJet(v, arb_mat([row])))
+    return out
+
+
+def jet_value(x: Any) -> Any:
+    """The value of a jet (or the number itself)."""
+    return x.v if isinstance(x, ArbJet) else x
+
+
+def jet_gradient(x: Any, n: int) -> list:
+    """The gradient of a jet as a list of n balls (zeros for a constant)."""
+    if isinstance(x, ArbJet) and x.g is not None:
+        return [x.g[0, j] for j in range(n)]
+    return [arb(0)] * n
+
+
+def jet_atan2(y: Any, x: Any) -> Any:
+    """``atan2(y, x)`` of balls or jets (the angle of ``(x, y)``; the balls must not meet the
+    branch cut ``x <= 0, y = 0``, where Arb returns an indeterminate ball)."""
+    yv, xv = jet_value(y), jet_value(x)
+    v = arb.atan2(yv, xv)
+    gy = y.g if isinstance(y, ArbJet) else None
+    gx = x.g if isinstance(x, ArbJet) else None
+    if gy is None and gx is None:
+        return v
+    r2 = xv * xv + yv * yv
+    g = ArbJet._plus(ArbJet._scaled(gy, xv / r2), ArbJet._scaled(gx, -yv / r2))
+    return ArbJet(v, g)
+
+
+def jets_from_matrix(values: list, gradient: arb_mat) -> list[ArbJet]:
+    """Jets with the given values and the rows of ``gradient`` as their gradients."""
+    k = gradient.ncols()
+    return [
+        ArbJet(v, arb_mat([[gradient[i, j] for j in range(k)]])) for i, v in enumerate(values)
+    ]
