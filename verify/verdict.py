@@ -13,6 +13,7 @@ from collections.abc import Callable, Iterable, Iterator
 from dataclasses import asdict, dataclass
 
 from .claims import REGISTRY, Claim, ComputedClaim
+from .claims.base import PROVED_BY_COMPUTATION
 from .identity import Domain, decide
 from .latex import plain_to_latex
 
@@ -40,7 +41,9 @@ class Verdict:
     ----------
     id, statement, source, kind : str
         From the claim.
-    verdict : {"proved", "exact-sampled", "numeric", "refuted", "error", "timeout"}
+    verdict : str
+        One of ``"proved"``, ``"proved by computation"``, ``"exact-sampled"``,
+        ``"numeric"``, ``"refuted"``, ``"error"``, ``"timeout"``.
         ``"error"`` and ``"timeout"`` are not decisions: the check raised, its worker
         died or it ran out of time (the method says which); they are never ``ok``.
     method : str
@@ -161,10 +164,18 @@ def check_claim(claim: Claim, method: str = "auto", points: int = 8) -> Verdict:
         start = time.perf_counter()
         result = claim.compute()
         holds = result.holds
+        if result.decided is not None:
+            verdict = {"proved": PROVED_BY_COMPUTATION, "refuted": "refuted"}.get(
+                result.decided, "numeric"
+            )
+            how = f"computed in ball arithmetic ({result.decided}): {result.what}"
+        else:
+            verdict = "numeric" if holds else "refuted"
+            how = f"computed: {result.what}; error {result.error:.3g}, bound {result.bound:.3g}"
         return _verdict(
             claim,
-            "numeric" if holds else "refuted",
-            f"computed: {result.what}; error {result.error:.3g}, bound {result.bound:.3g}",
+            verdict,
+            how,
             time.perf_counter() - start,
             residual=f"{result.error:.6g}",
             witness=None if holds else dict(result.values),

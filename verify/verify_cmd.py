@@ -106,7 +106,14 @@ def run(args: argparse.Namespace) -> int:
     if not args.json:
         counts = {
             k: sum(v.verdict == k for v in verdicts)
-            for k in ("proved", "exact-sampled", "numeric", "refuted", *FAILURES)
+            for k in (
+                "proved",
+                "proved by computation",
+                "exact-sampled",
+                "numeric",
+                "refuted",
+                *FAILURES,
+            )
         }
         counts = {k: n for k, n in counts.items() if n or k not in FAILURES}
         total = sum(v.seconds for v in verdicts)

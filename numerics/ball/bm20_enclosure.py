@@ -41,7 +41,7 @@ from ..validated.krawczyk import krawczyk_test, schur_cohn
 from ..validated.lohner import enclose_flow, to_ball, working_precision
 from .bm20_map import BM20_EFFECTS
 
-__all__ = ["MapOrbitProof", "prove_bm20_periodic_orbit", "BM20_FIG5_BODY"]
+__all__ = ["MapOrbitProof", "prove_bm20_periodic_orbit", "bm20_orbit_guess", "BM20_FIG5_BODY"]
 
 #: BM20 Fig. 5-7's body as decimal strings, in the model's parameter order
 #: (I1, I2, I3, D, J_off, delta, K1, K2, K3, Omega); Omega is set per call.
@@ -176,6 +176,37 @@ def _cyclic_jacobian(blocks: list) -> arb_mat:
     return arb_mat(rows)
 
 
+class _BoxRuns:
+    """The period maps' derivatives over boxes around the shooting points (C^1 runs)."""
+
+    def __init__(self, code, params, G, tau, xs, order, tol) -> None:  # noqa: ANN001
+        self.args = (code, params, G, tau, xs, order, tol)
+        self.steps, self.widths, self.blocks_done = 0, [], []
+
+    def blocks(self, boxes: list) -> list:
+        code, params, G, tau, xs, order, tol = self.args
+        k = len(xs)
+        self.blocks_done = []
+        for i in range(k):
+            box = boxes[3 * i : 3 * i + 3]
+            _F, DF, e = _period_map(code, params, box, xs[(i + 1) % k], G, tau, True, order, tol)
+            self.blocks_done.append(DF)
+            self.steps += e.steps
+            self.widths += e.widths
+        return self.blocks_done
+
+
+def _product(blocks: list) -> arb_mat:
+    DP = blocks[0]
+    for A in blocks[1:]:
+        DP = A * DP
+    return DP
+
+
+def _multipliers_test(blocks: list) -> str:
+    return schur_cohn(_product(blocks))[0]
+
+
 def prove_bm20_periodic_orbit(
     omega: str,
     guess: Sequence[float],
@@ -187,6 +218,8 @@ def prove_bm20_periodic_orbit(
     order: int = 28,
     prec: int = 128,
     tol: float = 1e-20,
+    box_order: int = 20,
+    box_tol: float = 1e-16,
 ) -> MapOrbitProof:
     """Prove a periodic orbit of BM20's stroboscopic map and decide whether it attracts.
 
@@ -217,7 +250,12 @@ def prove_bm20_periodic_orbit(
     radius : float, optional
         Half-width of the boxes ``X_i`` around the shooting points.
     order, prec, tol : optional
-        The validated integrator's Taylor order, Arb precision (bits) and step control.
+        The validated integrator's Taylor order, Arb precision (bits) and step control
+        (the remainder per step) of the runs from the points.
+    box_order, box_tol : optional
+        Taylor order and step control of the runs over the boxes (whose width dominates
+        there). When the multipliers are undecided on the boxes, the runs are repeated over
+        the Krawczyk boxes ``K`` (which contain the cycle too, and are much smaller).
 
     Returns
     -------
@@ -225,7 +263,8 @@ def prove_bm20_periodic_orbit(
 
     Examples
     --------
-    >>> r = prove_bm20_periodic_orbit("1.06675", [-0.91325039282, 1.82298161216, 1.49515242952])  # doctest: +SKIP
+    >>> x = ["-0.913250392820383617", "1.822981612162557638", "1.495152429516041719"]
+    >>> r = prove_bm20_periodic_orbit("1.06675", x)  # doctest: +SKIP
     >>> r.exists, r.attracting  # doctest: +SKIP
     ('unique zero', 'inside')
     """
@@ -236,22 +275,16 @@ def prove_bm20_periodic_orbit(
         Gb = to_ball(G)
         tau = 2 * arb.pi() / params[-1]
         xs, residuals = _shooting_points(code, params, guess, Gb, tau, period, order, tol)
-        blocks, steps, widths = [], 0, []
-        for i in range(period):
-            box = [v + arb(0, radius) for v in xs[i]]
-            _F, DF, e = _period_map(code, params, box, xs[(i + 1) % period], Gb, tau, True,
-                                    order, tol)
-            blocks.append(DF)
-            steps += e.steps
-            widths += e.widths
         centre = [v for x in xs for v in x]
         big_box = [v + arb(0, radius) for v in centre]
         F = [v for r in residuals for v in r]
-        test = krawczyk_test(centre, big_box, F, _cyclic_jacobian(blocks))
-        DP = blocks[0]
-        for A in blocks[1:]:
-            DP = A * DP
-        attracting, _steps = schur_cohn(DP)
+        run = _BoxRuns(code, params, Gb, tau, xs, box_order, box_tol)
+        test = krawczyk_test(centre, big_box, F, _cyclic_jacobian(run.blocks(big_box)))
+        attracting = _multipliers_test(run.blocks_done)
+        if test.verdict == "unique zero" and attracting == "undecided":
+            # the cycle is in K too: the derivatives over K's (much smaller) boxes
+            attracting = _multipliers_test(run.blocks(test.image))
+        DP = _product(run.blocks_done)
         mid = [[float(DP[i, j].mid()) for j in range(3)] for i in range(3)]
     multipliers = [complex(m) for m in detlinalg.eigvals(mid)]
     return MapOrbitProof(
@@ -264,7 +297,60 @@ def prove_bm20_periodic_orbit(
         multipliers=multipliers,
         derivative=[[DP[i, j] for j in range(3)] for i in range(3)],
         residual=max(float(abs(f).upper()) for f in F),
-        steps=steps,
+        steps=run.steps,
         seconds=time.perf_counter() - started,
-        widths=widths,
+        widths=run.widths,
     )
+
+
+def bm20_orbit_guess(omega: str, period: int = 7, *, digits: int = 30) -> list[str]:
+    """A starting point for :func:`prove_bm20_periodic_orbit`, by the floating-point route:
+    the attractor of BM20 Fig. 5's start (``z = 0.5, l = 1, g = 1``, ``G = 3``) at
+    ``Omega = 1.06675`` (Fig. 7A), its period-``period`` orbit refined in double, continued in
+    ``Omega`` to ``omega`` and refined there by Newton at ``digits`` digits.
+
+    Parameters
+    ----------
+    omega : str
+        The target frequency (decimal string).
+    period : int, optional
+    digits : int, optional
+
+    Returns
+    -------
+    list of str
+        ``(z, l, g)`` to ``digits`` digits.
+
+    Raises
+    ------
+    ArithmeticError
+        The attractor at 1.06675 is not of the period asked for, or Newton did not converge.
+    """
+    import mpmath
+    import numpy as np
+
+    from ..dynamics.continuation import continue_periodic_orbit
+    from ..dynamics.periodic_orbits import detect_period, refine_periodic_orbit
+    from ..dynamics.reversibility import stroboscopic_samples
+    from .bm20_map import bm20_map_with_jacobian, bm20_point, bm20_state
+
+    body = [float(v) for v in BM20_FIG5_BODY] + [1.06675]
+    code = load_model_code("chaplygin_ball", BM20_EFFECTS)
+    start = bm20_state(np.array([0.5, 1.0, 1.0]), 3.0)
+    states = stroboscopic_samples(code, body, start, 700, transient=12000, rtol=1e-10)
+    points = np.array([bm20_point(y) for y in states])
+    if detect_period(points, 64, 1e-4, angles=(1, 2), window=600) != period:
+        raise ArithmeticError(f"the attractor at Omega = 1.06675 is not of period {period}")
+    smap = bm20_map_with_jacobian(body, 3.0, rtol=1e-12)
+    x = refine_periodic_orbit(smap, points[-1], period, 1.06675).points[0]
+    if float(omega) != 1.06675:
+        r = continue_periodic_orbit(
+            smap, x, period, 1.06675, float(omega), step=5e-4, max_points=300
+        )
+        x = r.branches[0].points[-1]
+    with mpmath.workdps(digits):
+        fine = bm20_map_with_jacobian([*BM20_FIG5_BODY, omega], 3, digits=digits, rtol=1e-12)
+        orbit = refine_periodic_orbit(fine, mpmath.matrix(list(x)), period, mpmath.mpf(omega))
+        if not orbit.converged:
+            raise ArithmeticError(f"Newton at {digits} digits: {orbit.message}")
+        return [mpmath.nstr(v, digits) for v in orbit.points[0]]

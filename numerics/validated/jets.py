@@ -68,8 +68,12 @@ class ArbJet:
 
     # ---------------------------------------------------------------- arithmetic
     def __add__(self, other: Any) -> ArbJet:
-        w, h = self._split(other)
-        return ArbJet(self.v + w, self._plus(self.g, h))
+        if type(other) is ArbJet:
+            g, h = self.g, other.g
+            if g is None:
+                return ArbJet(self.v + other.v, h)
+            return ArbJet(self.v + other.v, g if h is None else g + h)
+        return ArbJet(self.v + other, self.g)
 
     __radd__ = __add__
 
@@ -85,8 +89,13 @@ class ArbJet:
         return ArbJet(-self.v, None if self.g is None else -self.g)
 
     def __mul__(self, other: Any) -> ArbJet:
-        w, h = self._split(other)
-        return ArbJet(self.v * w, self._plus(self._scaled(self.g, w), self._scaled(h, self.v)))
+        v, g = self.v, self.g
+        if type(other) is ArbJet:
+            w, h = other.v, other.g
+            if g is None:
+                return ArbJet(v * w, None if h is None else h * v)
+            return ArbJet(v * w, g * w if h is None else g * w + h * v)
+        return ArbJet(v * other, None if g is None else g * other)
 
     __rmul__ = __mul__
 
@@ -94,7 +103,7 @@ class ArbJet:
         w, h = self._split(other)
         q = self.v / w
         if h is None:
-            return ArbJet(q, self._scaled(self.g, 1 / w))
+            return ArbJet(q, self._scaled(self.g, arb(1) / w))  # 1/w for an int w is a float
         # (u/w)' = (u' - q w') / w
         return ArbJet(q, self._scaled(self._plus(self.g, -(h * q)), 1 / w))
 
@@ -204,6 +213,4 @@ def jet_atan2(y: Any, x: Any) -> Any:
 def jets_from_matrix(values: list, gradient: arb_mat) -> list[ArbJet]:
     """Jets with the given values and the rows of ``gradient`` as their gradients."""
     k = gradient.ncols()
-    return [
-        ArbJet(v, arb_mat([[gradient[i, j] for j in range(k)]])) for i, v in enumerate(values)
-    ]
+    return [ArbJet(v, arb_mat([[gradient[i, j] for j in range(k)]])) for i, v in enumerate(values)]

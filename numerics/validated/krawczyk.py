@@ -16,6 +16,7 @@ Schur-Cohn test for the multipliers of a matrix, both decided in Arb ball arithm
 from __future__ import annotations
 
 from dataclasses import dataclass
+
 from flint import arb_mat
 
 __all__ = ["KrawczykResult", "krawczyk_test", "schur_cohn"]
@@ -72,7 +73,11 @@ def krawczyk_test(centre: list, box: list, F_centre: list, DF_box: arb_mat) -> K
     C = arb_mat([[C[i, j].mid() for j in range(n)] for i in range(n)])
     eye = arb_mat([[1 if i == j else 0 for j in range(n)] for i in range(n)])
     dx = arb_mat([[box[i] - centre[i]] for i in range(n)])
-    K = arb_mat([[c] for c in centre]) - C * arb_mat([[f] for f in F_centre]) + (eye - C * DF_box) * dx
+    K = (
+        arb_mat([[c] for c in centre])
+        - C * arb_mat([[f] for f in F_centre])
+        + (eye - C * DF_box) * dx
+    )
     image = [K[i, 0] for i in range(n)]
     inside = all(box[i].contains_interior(image[i]) for i in range(n))
     margin = min(

@@ -293,16 +293,18 @@ def _step(prob: _Problem, t: arb, box: list, c: list, h: arb) -> dict | None:
     else:
         cZ = prob.taylor(T, Z, prob.params, order + 1, ARB_LIB)
     hp = h ** (order + 1)
-    u = [_horner(c[i], h) + cZ[i][order + 1] * hp for i in range(n)]
+    R = [cZ[i][order + 1] * hp for i in range(n)]
+    u = [_horner(c[i], h) + R[i] for i in range(n)]
     S = [[arb(0)] * n for _ in range(n)]
     for i in range(n):
         grads = [jet_gradient(jets[i][k], n) for k in range(order + 1)]
         for j in range(n):
             S[i][j] = _horner([g[j] for g in grads], h)
-    out = {"u": u, "S": _mat(S), "Z": Z}
+    out = {"u": u, "R": R, "S": _mat(S), "Z": Z}
     if prob.want_jacobian:
         Df = [jet_gradient(jz[i][1], n) for i in range(n)]
-        L = max(sum(float(abs(x).upper()) for x in row) for row in Df)
+        # a float sum of 6 upper bounds, rounded up by far more than its rounding error
+        L = max(sum(float(abs(x).upper()) for x in row) for row in Df) * (1 + 2**-40)
         e = math.expm1(float((h * L).upper()) * (1 + 2**-40)) * (1 + 2**-40)
         W = _identity(n) + arb_mat([[arb(0, e)] * n for _ in range(n)])
         G = _mat([jet_gradient(jz[i][order + 1], n) for i in range(n)])
@@ -367,7 +369,8 @@ def enclose_flow(
     --------
     >>> from chaplygin.numerics import load_model_code
     >>> code = load_model_code("chaplygin_ball")
-    >>> e = enclose_flow(code, ["1.1", "1.7", "2.3", "0.9"], ["0.3", "-0.2", "0.5", "0.6", "0", "0.8"], 0, 1)
+    >>> body, start = ["1.1", "1.7", "2.3", "0.9"], ["0.3", "-0.2", "0.5", "0.6", "0", "0.8"]
+    >>> e = enclose_flow(code, body, start, 0, 1)
     >>> e.max_width < 1e-25
     True
     """
@@ -447,7 +450,9 @@ def _integrate(
 
 
 def _remainder_width(piece: dict) -> float:
-    w = max(_width(u) for u in piece["u"])
+    """The largest Lagrange remainder of the step (state and, for C^1, derivative): what the
+    step control bounds (not the width the state already has, e.g. from a parameter ball)."""
+    w = max(float(abs(r).upper()) for r in piece["R"])
     if "DR" in piece:
         DR = piece["DR"]
         w = max(

@@ -24,7 +24,11 @@ __all__ = [
     "CLAIMS",
     "KINDS",
     "VERDICT_OF_METHOD",
+    "PROVED_BY_COMPUTATION",
 ]
+
+#: The verdict of a statement decided by enclosures in ball arithmetic.
+PROVED_BY_COMPUTATION = "proved by computation"
 
 KINDS = ("equation", "integral", "measure", "definition", "transformation", "solution", "value")
 
@@ -102,16 +106,23 @@ class Computed:
     values : dict
         The numbers behind the verdict (``name -> value`` as strings): the witness of a
         refutation.
+    decided : {"proved", "refuted", "undecided"} or None
+        For a computation in ball arithmetic (a proof by computation): what the enclosures
+        decided. None for a floating-point computation (``error`` against ``bound``).
     """
 
     error: float
     bound: float
     what: str
     values: dict[str, str] = field(default_factory=dict)
+    decided: str | None = None
 
     @property
     def holds(self) -> bool:
-        """The error is within the bound (False for NaN)."""
+        """The statement holds: proved by the enclosures, or (floating point) the error is
+        within the bound (False for NaN)."""
+        if self.decided is not None:
+            return self.decided == "proved"
         return bool(self.error <= self.bound)
 
 
@@ -205,10 +216,15 @@ class ComputedClaim(Claim):
         A function of no arguments that runs the computation and returns a
         :class:`Computed`. The verdict is ``numeric`` (error within its derived bound)
         or ``refuted``, whatever method the caller asks for.
+    rigorous : bool
+        The computation is in ball arithmetic and decides the statement
+        (:attr:`Computed.decided`): the verdict is ``proved by computation`` or ``refuted``;
+        an enclosure too wide to decide gives ``numeric`` (not the expected verdict).
     """
 
     build: None = None
     compute: Callable[[], Computed]
+    rigorous: bool = False
 
     def model(self) -> None:
         """A computed claim needs no model (the verifier derives none)."""
@@ -227,9 +243,12 @@ class ComputedClaim(Claim):
         Returns
         -------
         str
-            ``"numeric"`` or ``"refuted"``.
+            ``"proved by computation"`` (a rigorous claim that holds), ``"numeric"`` or
+            ``"refuted"``.
         """
-        return "refuted" if self.expected == "fails" else "numeric"
+        if self.expected == "fails":
+            return "refuted"
+        return PROVED_BY_COMPUTATION if self.rigorous else "numeric"
 
 
 class ClaimStore:
