@@ -9,12 +9,11 @@ from types import SimpleNamespace
 
 import mpmath
 import pytest
-from flint import arb
-
 from chaplygin.derive.errors import UserInputError
 from chaplygin.numerics import load_model_code
 from chaplygin.numerics.validated import EnclosureError, enclose_flow, to_ball, working_precision
 from chaplygin.numerics.validated.jets import ARB_LIB
+from flint import arb
 
 DPS = 40
 #: Double precision's unit roundoff: every enclosure here must be narrower than that.
