@@ -15,7 +15,14 @@ from .coverage import SECTIONS, CoverageRow, coverage
 from .latex import plain_to_latex
 from .verdict import Verdict
 
-__all__ = ["plain_to_latex", "render_report", "render_coverage", "paper_of"]
+__all__ = [
+    "plain_to_latex",
+    "render_report",
+    "render_coverage",
+    "render_summary",
+    "by_paper_of",
+    "paper_of",
+]
 
 
 def paper_of(claim_id: str) -> str:
@@ -81,6 +88,51 @@ def render_coverage(rows: Sequence[CoverageRow]) -> list[str]:
     return lines
 
 
+def by_paper_of(verdicts: Sequence[Verdict]) -> dict[str, list[Verdict]]:
+    """The verdicts grouped by paper (:func:`paper_of`), in the order first met.
+
+    Parameters
+    ----------
+    verdicts : sequence of Verdict
+        The verdicts.
+
+    Returns
+    -------
+    dict of str to list of Verdict
+        Paper key -> its verdicts, each list in the order given.
+    """
+    by_paper: dict[str, list[Verdict]] = {}
+    for v in verdicts:
+        by_paper.setdefault(paper_of(v.id), []).append(v)
+    return by_paper
+
+
+def render_summary(verdicts: Sequence[Verdict]) -> list[str]:
+    """Markdown lines of the summary per paper: how many claims got each verdict.
+
+    Parameters
+    ----------
+    verdicts : sequence of Verdict
+        The verdicts.
+
+    Returns
+    -------
+    list of str
+        A Markdown table: header, separator and one line per paper.
+    """
+    lines = [
+        "| paper | claims | proved | exact-sampled | numeric | refuted | unexpected |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for paper, vs in by_paper_of(verdicts).items():
+        c = Counter(v.verdict for v in vs)
+        lines.append(
+            f"| {paper} | {len(vs)} | {c['proved']} | {c['exact-sampled']} | {c['numeric']} | "
+            f"{c['refuted']} | {sum(not v.ok for v in vs)} |"
+        )
+    return lines
+
+
 def render_report(verdicts: Sequence[Verdict]) -> str:
     """Markdown text of the report.
 
@@ -114,18 +166,9 @@ def render_report(verdicts: Sequence[Verdict]) -> str:
         "",
         "## Summary per paper",
         "",
-        "| paper | claims | proved | exact-sampled | numeric | refuted | unexpected |",
-        "|---|---|---|---|---|---|---|",
+        *render_summary(verdicts),
     ]
-    by_paper: dict[str, list[Verdict]] = {}
-    for v in verdicts:
-        by_paper.setdefault(paper_of(v.id), []).append(v)
-    for paper, vs in by_paper.items():
-        c = Counter(v.verdict for v in vs)
-        lines.append(
-            f"| {paper} | {len(vs)} | {c['proved']} | {c['exact-sampled']} | {c['numeric']} | "
-            f"{c['refuted']} | {sum(not v.ok for v in vs)} |"
-        )
+    by_paper = by_paper_of(verdicts)
     lines += ["", "## Errata", ""]
     literal = [v for v in verdicts if v.id.endswith("/literal")]
     if not literal:
