@@ -8,7 +8,7 @@ to its correction; counts per paper.
 from __future__ import annotations
 
 from collections import Counter
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 from .claims import REGISTRY
 from .coverage import SECTIONS, CoverageRow, coverage
@@ -21,6 +21,7 @@ __all__ = [
     "render_coverage",
     "render_summary",
     "by_paper_of",
+    "errata",
     "paper_of",
 ]
 
@@ -94,7 +95,7 @@ def by_paper_of(verdicts: Sequence[Verdict]) -> dict[str, list[Verdict]]:
     Parameters
     ----------
     verdicts : sequence of Verdict
-        The verdicts.
+        The verdicts, in the order the report lists them.
 
     Returns
     -------
@@ -107,13 +108,13 @@ def by_paper_of(verdicts: Sequence[Verdict]) -> dict[str, list[Verdict]]:
     return by_paper
 
 
-def render_summary(verdicts: Sequence[Verdict]) -> list[str]:
+def render_summary(by_paper: Mapping[str, Sequence[Verdict]]) -> list[str]:
     """Markdown lines of the summary per paper: how many claims got each verdict.
 
     Parameters
     ----------
-    verdicts : sequence of Verdict
-        The verdicts.
+    by_paper : mapping of str to sequence of Verdict
+        What :func:`by_paper_of` returns.
 
     Returns
     -------
@@ -124,13 +125,31 @@ def render_summary(verdicts: Sequence[Verdict]) -> list[str]:
         "| paper | claims | proved | exact-sampled | numeric | refuted | unexpected |",
         "|---|---|---|---|---|---|---|",
     ]
-    for paper, vs in by_paper_of(verdicts).items():
+    for paper, vs in by_paper.items():
         c = Counter(v.verdict for v in vs)
         lines.append(
             f"| {paper} | {len(vs)} | {c['proved']} | {c['exact-sampled']} | {c['numeric']} | "
             f"{c['refuted']} | {sum(not v.ok for v in vs)} |"
         )
     return lines
+
+
+def errata(verdicts: Sequence[Verdict]) -> list[tuple[Verdict, Verdict | None]]:
+    """Each literal reading of a garbled formula (``.../literal``) with its correction.
+
+    Parameters
+    ----------
+    verdicts : sequence of Verdict
+        The verdicts of a run, literal readings and corrections among them.
+
+    Returns
+    -------
+    list of (Verdict, Verdict or None)
+        The literal reading's verdict and the verdict of the claim it corrects (the ID
+        without ``/literal``; None when that claim is not among ``verdicts``), in order.
+    """
+    index = {v.id: v for v in verdicts}
+    return [(v, index.get(v.id[: -len("/literal")])) for v in verdicts if v.id.endswith("/literal")]
 
 
 def render_report(verdicts: Sequence[Verdict]) -> str:
@@ -149,6 +168,7 @@ def render_report(verdicts: Sequence[Verdict]) -> str:
         it ends with a newline.
     """
     lines = ["# chaplygin verification report", ""]
+    by_paper = by_paper_of(verdicts)
     bad = [v for v in verdicts if not v.ok]
     lines += [
         f"{len(verdicts)} claims, {sum(v.seconds for v in verdicts):.1f} s of checking; "
@@ -166,18 +186,15 @@ def render_report(verdicts: Sequence[Verdict]) -> str:
         "",
         "## Summary per paper",
         "",
-        *render_summary(verdicts),
+        *render_summary(by_paper),
     ]
-    by_paper = by_paper_of(verdicts)
     lines += ["", "## Errata", ""]
-    literal = [v for v in verdicts if v.id.endswith("/literal")]
-    if not literal:
+    pairs = errata(verdicts)
+    if not pairs:
         lines.append("No literal reading among the checked claims.")
     else:
         lines += ["| literal reading | verdict | correction | verdict |", "|---|---|---|---|"]
-        index = {v.id: v for v in verdicts}
-        for v in literal:
-            fix = index.get(v.id[: -len("/literal")])
+        for v, fix in pairs:
             fix_text = f"{fix.id}: ${fix.latex}$" if fix else "(not checked)"
             lines.append(
                 f"| {v.id}: ${v.latex}$ | {v.verdict} ({_evidence(v)}) | {fix_text} | "

@@ -21,14 +21,9 @@ from collections import Counter
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from sphinx.application import Sphinx
-from sphinx.errors import ExtensionError
-from sphinx.util import logging
-
-if TYPE_CHECKING:
+if TYPE_CHECKING:  # sphinx is imported only when Sphinx runs the extension (tests need none)
     from chaplygin.verify.verdict import Verdict
-
-logger = logging.getLogger(__name__)
+    from sphinx.application import Sphinx
 
 PAPERS = {
     "BKM12": "Borisov, Kilin, Mamaev 2012",
@@ -52,23 +47,24 @@ def _code(text: object) -> str:
 
 def verify_json() -> tuple[list[Verdict], str]:
     """The verdicts of ``chaplygin verify --json`` and where they came from."""
+    from sphinx.errors import ExtensionError
+    from sphinx.util import logging
+
     given = os.environ.get("CHAPLYGIN_VERIFY_JSON")
     if given:
         path = Path(given)
         if not path.is_file():
             raise ExtensionError(f"CHAPLYGIN_VERIFY_JSON names {given}, which is not a file")
         items = json.loads(path.read_text(encoding="utf-8"))
-        return verdicts_of_json(
-            items
-        ), f"the file {path.name}, written by `chaplygin verify --json`"
+        return verdicts_of_json(items), f"the file {path.name}, from `chaplygin verify --json`"
     started = time.perf_counter()
     cmd = [sys.executable, "-m", "chaplygin.verify.cli", "verify", "--json"]
-    logger.info("running chaplygin verify --json for the claims catalogue (about 2 minutes)")
+    logging.getLogger(__name__).info("chaplygin verify --json for the claims catalogue (~2 min)")
     run = subprocess.run(cmd, capture_output=True, text=True, check=False)
     if run.returncode not in (0, 1):  # 1: some verdict is unexpected; it is shown as such
         raise ExtensionError(f"chaplygin verify --json failed: {run.stderr.strip()[-2000:]}")
     wall = time.perf_counter() - started
-    return verdicts_of_json(json.loads(run.stdout)), f"a run during this build ({wall:.0f} s wall)"
+    return verdicts_of_json(json.loads(run.stdout)), f"a run during this build, {wall:.0f} s wall"
 
 
 def _evidence(v: Verdict) -> str:
@@ -118,9 +114,10 @@ def render_catalogue(verdicts: list[Verdict], origin: str) -> str:
         seconds).
     """
     from chaplygin.verify.claims import REGISTRY
-    from chaplygin.verify.report import by_paper_of, render_summary
+    from chaplygin.verify.report import by_paper_of, errata, render_summary
 
     bad = [v for v in verdicts if not v.ok]
+    by_paper = by_paper_of(verdicts)
     counts = Counter(v.verdict for v in verdicts)
     lines = [
         "# Claims catalogue",
@@ -136,7 +133,7 @@ def render_catalogue(verdicts: list[Verdict], origin: str) -> str:
         "",
         "## Summary per paper",
         "",
-        *render_summary(verdicts),
+        *render_summary(by_paper),
         "",
         "## Errata",
         "",
@@ -146,18 +143,14 @@ def render_catalogue(verdicts: list[Verdict], origin: str) -> str:
         "| literal reading | verdict | correction | verdict |",
         "|---|---|---|---|",
     ]
-    index = {v.id: v for v in verdicts}
-    for v in verdicts:
-        if not v.id.endswith("/literal"):
-            continue
-        fix = index.get(v.id[: -len("/literal")])
+    for v, fix in errata(verdicts):
         fixed = f"**{fix.id}**: {_code(fix.statement)}" if fix else "(not checked)"
         lines.append(
             f"| **{v.id}**: {_code(v.statement)} | {v.verdict} | {fixed} | "
             f"{fix.verdict if fix else '-'} |"
         )
     lines += ["", "## Claims", ""]
-    for paper, vs in by_paper_of(verdicts).items():
+    for paper, vs in by_paper.items():
         lines += [
             f"### {paper}: {PAPERS.get(paper, paper)}",
             "",
