@@ -30,9 +30,11 @@ def ext():
 def verdicts():
     import chaplygin
 
-    # BM20-2.6: the energy's corrected form, its literal reading (refuted: an erratum) and
-    # the time-varying control; BKM12-4: the measure and its two controls
-    return chaplygin.check("BM20-2.6*") + chaplygin.check("BKM12-4*")
+    # BM20-2.6: the energy's corrected form and its literal reading (refuted: an erratum);
+    # BKM12-4: the measure and its two controls (refuted, with their witnesses)
+    return [chaplygin.check(c) for c in ("BM20-2.6", "BM20-2.6/literal")] + chaplygin.check(
+        "BKM12-4*"
+    )
 
 
 def _rows(page: str, claim_id: str) -> list[list[str]]:
@@ -45,12 +47,14 @@ def _rows(page: str, claim_id: str) -> list[list[str]]:
     return out
 
 
+@pytest.mark.slow  # the verdicts: their models derived in this process (~10 s)
 def test_json_round_trip(ext, verdicts):
     items = json.loads(json.dumps([v.to_json() for v in verdicts]))
     assert any("witness" not in item for item in items)  # to_json drops an empty witness
     assert ext.verdicts_of_json(items) == verdicts
 
 
+@pytest.mark.slow  # the verdicts: their models derived in this process (~10 s)
 def test_catalogue_lists_every_claim_with_its_evidence(ext, verdicts):
     page = ext.render_catalogue(verdicts, "a test")
     claims = page.split("## Claims")[1]
@@ -66,6 +70,7 @@ def test_catalogue_lists_every_claim_with_its_evidence(ext, verdicts):
     assert f"{len(verdicts)} claims" in page
 
 
+@pytest.mark.slow  # the verdicts: their models derived in this process (~10 s)
 def test_catalogue_errata_pair_each_literal_reading_with_its_correction(ext, verdicts):
     page = ext.render_catalogue(verdicts, "a test")
     errata = page.split("## Errata")[1].split("## Claims")[0]
@@ -79,6 +84,7 @@ def test_catalogue_errata_pair_each_literal_reading_with_its_correction(ext, ver
         assert row[3] == fix.verdict
 
 
+@pytest.mark.slow  # the verdicts: their models derived in this process (~10 s)
 def test_catalogue_marks_an_unexpected_verdict(ext, verdicts):
     import dataclasses
 
