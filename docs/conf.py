@@ -48,6 +48,7 @@ autodoc_default_options = {"members": True, "undoc-members": False}
 napoleon_numpy_docstring = True
 napoleon_google_docstring = False
 napoleon_use_rtype = False
+napoleon_use_ivar = True  # a class's Attributes as fields: autodoc lists the members themselves
 
 html_theme = "furo"
 html_title = "chaplygin"

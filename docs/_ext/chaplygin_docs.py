@@ -5,7 +5,7 @@
   ``chaplygin verify --json`` (the file ``CHAPLYGIN_VERIFY_JSON`` names, else a run of it);
 * ``reference/_entries.md``: every entry of the reference sheet (``FORMULAS_ENTRIES``) and the
   claims that decide it;
-* ``reference/api.md``: the API reference of every name in ``chaplygin.__all__``.
+* ``reference/api.rst``: the API reference of every name in ``chaplygin.__all__``.
 
 Nothing here is typed in by hand: a claim added to the registry appears at the next build.
 """
@@ -198,22 +198,24 @@ def render_entries() -> str:
 
 
 def render_api() -> str:
-    """The API reference page: one autodoc directive per name of ``chaplygin.__all__``.
+    """The API reference page (reStructuredText: autodoc's output is reST, not Markdown).
 
     Returns
     -------
     str
-        The page.
+        The page: one autodoc directive per name of ``chaplygin.__all__``.
     """
     import inspect
 
     import chaplygin
 
+    title = "API reference"
     lines = [
-        "# API reference",
+        title,
+        "=" * len(title),
         "",
-        "Every public name of `import chaplygin` (`chaplygin.__all__`), with its numpydoc "
-        "docstring. Errors a user can fix raise `chaplygin.UserInputError` (a `ValueError`).",
+        "Every public name of ``import chaplygin`` (``chaplygin.__all__``), with its numpydoc "
+        "docstring. Errors a user can fix raise ``chaplygin.UserInputError`` (a ``ValueError``).",
         "",
     ]
     for name in chaplygin.__all__:
@@ -221,12 +223,18 @@ def render_api() -> str:
             continue
         obj = getattr(chaplygin, name)
         if inspect.isclass(obj):
-            directive = "autoclass"
+            lines += [f".. autoclass:: chaplygin.{name}", ""]
         elif callable(obj):
-            directive = "autofunction"
-        else:
-            directive = "autodata"
-        lines += [f"```{{{directive}}} chaplygin.{name}", "```", ""]
+            lines += [f".. autofunction:: chaplygin.{name}", ""]
+        else:  # a registry: its keys (autodoc would show the docstring of its type)
+            keys = ", ".join(f"``{k}``" for k in obj)
+            lines += [
+                f".. py:data:: chaplygin.{name}",
+                f"   :type: {type(obj).__name__}",
+                "",
+                f"   The valid names, in order: {keys}.",
+                "",
+            ]
     return "\n".join(lines)
 
 
@@ -246,7 +254,7 @@ def generate(app: Sphinx) -> None:
         The application (its ``srcdir``).
     """
     src = Path(app.srcdir)
-    _write(src / "reference" / "api.md", render_api())
+    _write(src / "reference" / "api.rst", render_api())
     _write(src / "reference" / "_entries.md", render_entries())
     _write(src / "results" / "catalogue.md", render_catalogue(*verify_json()))
 

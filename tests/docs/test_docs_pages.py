@@ -112,7 +112,7 @@ def test_api_page_documents_every_public_name(ext):
     import chaplygin
 
     page = ext.render_api()
-    documented = re.findall(r"```\{auto\w+\} chaplygin\.(\w+)", page)
+    documented = re.findall(r"^\.\. (?:auto\w+|py:data):: chaplygin\.(\w+)$", page, re.M)
     assert documented == [n for n in chaplygin.__all__ if n != "__version__"]
 
 
