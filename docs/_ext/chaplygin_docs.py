@@ -56,7 +56,7 @@ def verify_json() -> tuple[list[Verdict], str]:
         if not path.is_file():
             raise ExtensionError(f"CHAPLYGIN_VERIFY_JSON names {given}, which is not a file")
         items = json.loads(path.read_text(encoding="utf-8"))
-        return verdicts_of_json(items), f"the file {path.name}, from `chaplygin verify --json`"
+        return verdicts_of_json(items), f"read from {path.name}"
     started = time.perf_counter()
     cmd = [sys.executable, "-m", "chaplygin.verify.cli", "verify", "--json"]
     logging.getLogger(__name__).info("chaplygin verify --json for the claims catalogue (~2 min)")
@@ -64,7 +64,7 @@ def verify_json() -> tuple[list[Verdict], str]:
     if run.returncode not in (0, 1):  # 1: some verdict is unexpected; it is shown as such
         raise ExtensionError(f"chaplygin verify --json failed: {run.stderr.strip()[-2000:]}")
     wall = time.perf_counter() - started
-    return verdicts_of_json(json.loads(run.stdout)), f"a run during this build, {wall:.0f} s wall"
+    return verdicts_of_json(json.loads(run.stdout)), f"run during this build, {wall:.0f} s wall"
 
 
 def _evidence(v: Verdict) -> str:
