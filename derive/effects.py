@@ -15,7 +15,7 @@ starts. Numeric parameter values are never part of an effect.
 Adding an effect: write a subclass here with its ``declare`` (it returns a
 ``Declaration``; it never modifies the description), put an instance in :data:`EFFECTS`
 (with the references it ``cites``) and its name in the ``SUPPORTED_EFFECTS`` of the
-systems that take it (see "How to add an effect or a system" in the README).
+systems that take it (see "How to add an effect or a system" in docs/development/derivation.md).
 """
 
 from __future__ import annotations

@@ -8,14 +8,22 @@ to its correction; counts per paper.
 from __future__ import annotations
 
 from collections import Counter
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 from .claims import REGISTRY
 from .coverage import SECTIONS, CoverageRow, coverage
 from .latex import plain_to_latex
 from .verdict import Verdict
 
-__all__ = ["plain_to_latex", "render_report", "render_coverage", "paper_of"]
+__all__ = [
+    "plain_to_latex",
+    "render_report",
+    "render_coverage",
+    "render_summary",
+    "by_paper_of",
+    "errata",
+    "paper_of",
+]
 
 
 def paper_of(claim_id: str) -> str:
@@ -81,6 +89,71 @@ def render_coverage(rows: Sequence[CoverageRow]) -> list[str]:
     return lines
 
 
+def by_paper_of(verdicts: Sequence[Verdict]) -> dict[str, list[Verdict]]:
+    """The verdicts grouped by paper (:func:`paper_of`), in the order first met.
+
+    Parameters
+    ----------
+    verdicts : sequence of Verdict
+        The verdicts, in the order the report lists them.
+
+    Returns
+    -------
+    dict of str to list of Verdict
+        Paper key -> its verdicts, each list in the order given.
+    """
+    by_paper: dict[str, list[Verdict]] = {}
+    for v in verdicts:
+        by_paper.setdefault(paper_of(v.id), []).append(v)
+    return by_paper
+
+
+def render_summary(by_paper: Mapping[str, Sequence[Verdict]]) -> list[str]:
+    """Markdown lines of the summary per paper: how many claims got each verdict.
+
+    Parameters
+    ----------
+    by_paper : mapping of str to sequence of Verdict
+        What :func:`by_paper_of` returns.
+
+    Returns
+    -------
+    list of str
+        A Markdown table: header, separator and one line per paper.
+    """
+    lines = [
+        "| paper | claims | proved | proved by computation | exact-sampled | numeric | refuted "
+        "| unexpected |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for paper, vs in by_paper.items():
+        c = Counter(v.verdict for v in vs)
+        lines.append(
+            f"| {paper} | {len(vs)} | {c['proved']} | {c['proved by computation']} | "
+            f"{c['exact-sampled']} | {c['numeric']} | {c['refuted']} | "
+            f"{sum(not v.ok for v in vs)} |"
+        )
+    return lines
+
+
+def errata(verdicts: Sequence[Verdict]) -> list[tuple[Verdict, Verdict | None]]:
+    """Each literal reading of a garbled formula (``.../literal``) with its correction.
+
+    Parameters
+    ----------
+    verdicts : sequence of Verdict
+        The verdicts of a run, literal readings and corrections among them.
+
+    Returns
+    -------
+    list of (Verdict, Verdict or None)
+        The literal reading's verdict and the verdict of the claim it corrects (the ID
+        without ``/literal``; None when that claim is not among ``verdicts``), in order.
+    """
+    index = {v.id: v for v in verdicts}
+    return [(v, index.get(v.id[: -len("/literal")])) for v in verdicts if v.id.endswith("/literal")]
+
+
 def render_report(verdicts: Sequence[Verdict]) -> str:
     """Markdown text of the report.
 
@@ -97,6 +170,7 @@ def render_report(verdicts: Sequence[Verdict]) -> str:
         it ends with a newline.
     """
     lines = ["# chaplygin verification report", ""]
+    by_paper = by_paper_of(verdicts)
     bad = [v for v in verdicts if not v.ok]
     lines += [
         f"{len(verdicts)} claims, {sum(v.seconds for v in verdicts):.1f} s of checking; "
@@ -116,29 +190,15 @@ def render_report(verdicts: Sequence[Verdict]) -> str:
         "",
         "## Summary per paper",
         "",
-        "| paper | claims | proved | proved by computation | exact-sampled | numeric | refuted "
-        "| unexpected |",
-        "|---|---|---|---|---|---|---|---|",
+        *render_summary(by_paper),
     ]
-    by_paper: dict[str, list[Verdict]] = {}
-    for v in verdicts:
-        by_paper.setdefault(paper_of(v.id), []).append(v)
-    for paper, vs in by_paper.items():
-        c = Counter(v.verdict for v in vs)
-        lines.append(
-            f"| {paper} | {len(vs)} | {c['proved']} | {c['proved by computation']} | "
-            f"{c['exact-sampled']} | {c['numeric']} | "
-            f"{c['refuted']} | {sum(not v.ok for v in vs)} |"
-        )
     lines += ["", "## Errata", ""]
-    literal = [v for v in verdicts if v.id.endswith("/literal")]
-    if not literal:
+    pairs = errata(verdicts)
+    if not pairs:
         lines.append("No literal reading among the checked claims.")
     else:
         lines += ["| literal reading | verdict | correction | verdict |", "|---|---|---|---|"]
-        index = {v.id: v for v in verdicts}
-        for v in literal:
-            fix = index.get(v.id[: -len("/literal")])
+        for v, fix in pairs:
             fix_text = f"{fix.id}: ${fix.latex}$" if fix else "(not checked)"
             lines.append(
                 f"| {v.id}: ${v.latex}$ | {v.verdict} ({_evidence(v)}) | {fix_text} | "

@@ -1102,7 +1102,7 @@ register(
 
 # ------------------------------------------------- BM20 Fig. 6: the doubling 7 -> 14
 #: Omega along the stable branch of the Fig. 7 cycle at d = 4.385 (saddle-node 1.0662312,
-#: Neimark-Sacker 1.0670746: README, "Periodic orbits and continuation"), up and down from
+#: Neimark-Sacker 1.0670746: docs/howto/dynamics.md), up and down from
 #: Fig. 7A's 1.06675, each refined by Newton from the previous one.
 _BRANCH = ((1.06675, 1.0669, 1.0670), (1.0665, 1.0664, 1.06635))
 
