@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 from flint import arb, arb_mat
 
 from ...arith import detlinalg
+from ...derive.errors import ComputationError
 from ..code import load_model_code
 from ..validated.jets import (
     JET_LIB,
@@ -323,7 +324,7 @@ def bm20_orbit_guess(omega: str, period: int = 7, *, digits: int = 30) -> list[s
 
     Raises
     ------
-    ArithmeticError
+    ComputationError
         The attractor at 1.06675 is not of the period asked for, or Newton did not converge.
     """
     import mpmath
@@ -340,7 +341,7 @@ def bm20_orbit_guess(omega: str, period: int = 7, *, digits: int = 30) -> list[s
     states = stroboscopic_samples(code, body, start, 700, transient=12000, rtol=1e-10)
     points = np.array([bm20_point(y) for y in states])
     if detect_period(points, 64, 1e-4, angles=(1, 2), window=600) != period:
-        raise ArithmeticError(f"the attractor at Omega = 1.06675 is not of period {period}")
+        raise ComputationError(f"the attractor at Omega = 1.06675 is not of period {period}")
     smap = bm20_map_with_jacobian(body, 3.0, rtol=1e-12)
     x = refine_periodic_orbit(smap, points[-1], period, 1.06675).points[0]
     if float(omega) != 1.06675:
@@ -352,5 +353,5 @@ def bm20_orbit_guess(omega: str, period: int = 7, *, digits: int = 30) -> list[s
         fine = bm20_map_with_jacobian([*BM20_FIG5_BODY, omega], 3, digits=digits, rtol=1e-12)
         orbit = refine_periodic_orbit(fine, mpmath.matrix(list(x)), period, mpmath.mpf(omega))
         if not orbit.converged:
-            raise ArithmeticError(f"Newton at {digits} digits: {orbit.message}")
+            raise ComputationError(f"Newton at {digits} digits: {orbit.message}")
         return [mpmath.nstr(v, digits) for v in orbit.points[0]]

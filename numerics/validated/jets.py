@@ -185,12 +185,32 @@ def seed_jets(values: list) -> list[ArbJet]:
 
 
 def jet_value(x: Any) -> Any:
-    """The value of a jet (or the number itself)."""
+    """The value of a jet (or the number itself).
+
+    Parameters
+    ----------
+    x : ArbJet or arb
+
+    Returns
+    -------
+    arb
+    """
     return x.v if isinstance(x, ArbJet) else x
 
 
 def jet_gradient(x: Any, n: int) -> list:
-    """The gradient of a jet as a list of n balls (zeros for a constant)."""
+    """The gradient of a jet as a list of n balls (zeros for a constant).
+
+    Parameters
+    ----------
+    x : ArbJet or arb
+    n : int
+        The number of seeds.
+
+    Returns
+    -------
+    list of arb
+    """
     if isinstance(x, ArbJet) and x.g is not None:
         return [x.g[0, j] for j in range(n)]
     return [arb(0)] * n
@@ -198,7 +218,17 @@ def jet_gradient(x: Any, n: int) -> list:
 
 def jet_atan2(y: Any, x: Any) -> Any:
     """``atan2(y, x)`` of balls or jets (the angle of ``(x, y)``; the balls must not meet the
-    branch cut ``x <= 0, y = 0``, where Arb returns an indeterminate ball)."""
+    branch cut ``x <= 0, y = 0``, where Arb returns an indeterminate ball).
+
+    Parameters
+    ----------
+    y, x : ArbJet or arb
+
+    Returns
+    -------
+    ArbJet or arb
+        A jet when either argument has a gradient.
+    """
     yv, xv = jet_value(y), jet_value(x)
     v = arb.atan2(yv, xv)
     gy = y.g if isinstance(y, ArbJet) else None
@@ -211,6 +241,17 @@ def jet_atan2(y: Any, x: Any) -> Any:
 
 
 def jets_from_matrix(values: list, gradient: arb_mat) -> list[ArbJet]:
-    """Jets with the given values and the rows of ``gradient`` as their gradients."""
+    """Jets with the given values and the rows of ``gradient`` as their gradients.
+
+    Parameters
+    ----------
+    values : list of arb
+    gradient : arb_mat
+        One row per value.
+
+    Returns
+    -------
+    list of ArbJet
+    """
     k = gradient.ncols()
     return [ArbJet(v, arb_mat([[gradient[i, j] for j in range(k)]])) for i, v in enumerate(values)]

@@ -14,6 +14,8 @@ MODULES = [
     "chaplygin.numerics.ensemble",
     "chaplygin.numerics.ball.quadratures",
     "chaplygin.numerics.dynamics.lyapunov_batch",
+    "chaplygin.numerics.validated.lohner",
+    "chaplygin.numerics.validated.krawczyk",
     "chaplygin.numerics.taylor",
     "chaplygin.verify.cli_common",
     "chaplygin.verify.output_folder",

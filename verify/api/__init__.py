@@ -55,6 +55,11 @@ _PUBLIC: dict[str, str] = {
     "flow_with_jacobian": "numerics.dynamics.variational:flow_with_jacobian",
     "lyapunov_spectrum": "numerics.dynamics.lyapunov:lyapunov_spectrum",
     "lyapunov_spectra": "numerics.dynamics.lyapunov_batch:lyapunov_spectra",
+    # proofs by computation (Arb ball arithmetic)
+    "enclose_flow": "numerics.validated.lohner:enclose_flow",
+    "FlowEnclosure": "numerics.validated.lohner:FlowEnclosure",
+    "EnclosureError": "numerics.validated.lohner:EnclosureError",
+    "prove_bm20_periodic_orbit": "numerics.ball.bm20_enclosure:prove_bm20_periodic_orbit",
     # claims and verdicts (verify)
     "claims": "verify.claims:select_claims",
     "check": "verify.check:check",
