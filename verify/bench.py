@@ -44,6 +44,7 @@ from ..numerics.code import load_model_code
 from ..numerics.inputs import Precision
 from ..numerics.integrate import integrate
 from .bench_described import described_system_times
+from .bench_enclosure import enclosure_cost
 from .bench_ensemble import ensemble_throughput
 from .bench_map import lyapunov_throughput, map_throughput
 from .bench_peers import heyoka_rows, jitcode_rows
@@ -319,6 +320,7 @@ def run_study(
         ``"ensemble_throughput"``
         (:func:`~chaplygin.verify.bench_ensemble.ensemble_throughput`), ``"verify_time"``
         (:func:`~chaplygin.verify.bench_verify.verify_time`: every claim; quick: K01-2.2's),
+        ``"enclosure_cost"`` (:func:`~chaplygin.verify.bench_enclosure.enclosure_cost`),
         ``"quick"`` and ``"repeats"``.
     """
     out.mkdir(parents=True, exist_ok=True)
@@ -384,6 +386,7 @@ def run_study(
         ),
         "ensemble_throughput": ensemble_throughput(8 if quick else 16, repeats, quick),
         "verify_time": verify_time("K01-2.2*") if quick else verify_time(),
+        "enclosure_cost": enclosure_cost(1, proof=False) if quick else enclosure_cost(repeats),
         "described_system_s": {} if quick else described_system_times(),
         "quick": quick,
         "repeats": repeats,

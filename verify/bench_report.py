@@ -81,6 +81,12 @@ def render_markdown(study: dict) -> str:
                   "warm on 2 cores)", ""]  # fmt: skip
         lines += [f"- {k}: {v:.4g}" if isinstance(v, float) else f"- {k}: {v}"
                   for k, v in checked.items()]  # fmt: skip
+    enclosed = study.get("enclosure_cost") or {}
+    if enclosed:
+        lines += ["", "## Proofs by computation: an enclosure beside the floating-point run "
+                  "(issue 27; the BM20 7-cycle proof <= 2 min on 2 cores)", ""]  # fmt: skip
+        lines += [f"- {k}: {v:.4g}" if isinstance(v, float) else f"- {k}: {v}"
+                  for k, v in enclosed.items()]  # fmt: skip
     ensemble = study.get("ensemble_throughput") or {}
     if ensemble:
         lines += ["", "## Many orbits at once (seconds per orbit; issue 26: integrate_many at or "

@@ -191,3 +191,17 @@ def test_the_verify_time_row_runs_the_command_and_counts_its_verdicts():
     assert row["wall_s"] > row["checking_s"] > 0
     with pytest.raises(ComputationError):
         verify_time("NO-SUCH-CLAIM-*")
+
+
+def test_the_enclosure_row_compares_an_enclosure_with_the_floating_point_run():
+    """bench's enclosure row (no timing asserted): one BM20 period enclosed from a point is
+    narrower than over a 1e-13 box and than one rounding of a double; the ratios are the
+    times' ratios."""
+    from chaplygin.verify.bench_enclosure import enclosure_cost
+
+    row = enclosure_cost(1, proof=False)
+    assert 0 < row["width from the point"] < 2**-52
+    assert row["width from the point"] < row["width over the box"]
+    point = row["one period, enclosure from a point (s)"]
+    double = row["one period, double Taylor rtol 1e-15 (s)"]
+    assert row["ratio point enclosure / double"] == point / double
