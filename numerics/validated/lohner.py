@@ -141,6 +141,8 @@ class FlowEnclosure:
         The widest component (diameter) of ``state``.
     widths : list of float
         The widest component of the enclosure after each step (where wrapping grew).
+    times : list of float
+        The time reached by each step (``widths[i]`` is the width at ``times[i]``).
     seconds : float
         Wall time.
     """
@@ -154,6 +156,7 @@ class FlowEnclosure:
     prec: int
     max_width: float
     widths: list = field(default_factory=list)
+    times: list = field(default_factory=list)
     seconds: float = 0.0
 
     def contains(self, y: Sequence) -> bool:
@@ -415,6 +418,7 @@ def enclose_flow(
         prec=prec,
         max_width=max(_width(b) for b in result["state"]),
         widths=result["widths"],
+        times=result["times"],
         seconds=time.perf_counter() - started,
     )
 
@@ -428,7 +432,7 @@ def _integrate(
     )
     j_set = _LohnerSet(_identity(n), _identity(n), arb_mat(n, n)) if prob.want_jacobian else None
     box = list(X0)
-    t, steps, widths, scale = ta, 0, [], 1.0
+    t, steps, widths, times, scale = ta, 0, [], [], 1.0
     while True:
         remaining = tb - t
         last_possible = True
@@ -449,18 +453,34 @@ def _integrate(
         x_set = new_set
         steps += 1
         widths.append(max(_width(b) for b in box))
+        times.append(float((t + h).mid()))
         if widths[-1] > max_width or not all(b.is_finite() for b in box):
-            raise EnclosureError(
-                f"the enclosure grew to width {widths[-1]:.3g} at step {steps} "
-                f"(t = {float(t.mid()):.6g})"
-            )
+            raise EnclosureError(_growth_report(widths, times, max_width))
         if last_possible:
             break
         t = t + h
         if steps >= max_steps:
             raise EnclosureError(f"{max_steps} steps were not enough")
     jac = None if j_set is None else _entries(j_set.hull())
-    return {"state": box, "jacobian": jac, "steps": steps, "widths": widths}
+    return {"state": box, "jacobian": jac, "steps": steps, "widths": widths, "times": times}
+
+
+def _growth_report(widths: list, times: list, limit: float) -> str:
+    """Where the enclosure grew: its width at the start, when it passed 10^3 and 10^6 times
+    that, and where it passed the limit (or stopped being finite)."""
+    start = widths[0]
+    marks = []
+    for factor in (1e3, 1e6):
+        k = next((i for i, w in enumerate(widths) if w > factor * start), None)
+        if k is not None:
+            marks.append(f"x{factor:.0e} by t = {times[k]:.6g}")
+    end = f"{widths[-1]:.3g}" if math.isfinite(widths[-1]) else "not finite"
+    return (
+        f"the enclosure grew past {limit:.3g} (width {end} at t = {times[-1]:.6g}, step "
+        f"{len(widths)}; width {start:.3g} after the first step" + "".join(", " + m for m in marks)
+        + "): the flow cannot be enclosed this far at this precision (a chaotic orbit's "
+        "enclosure grows like its largest exponent)"
+    )
 
 
 def _remainder_width(piece: dict) -> float:

@@ -238,3 +238,18 @@ def test_arb_lib_runs_the_generated_recurrences_like_mpmath() -> None:
         for row_b, row_r in zip(ball, ref, strict=True):
             for b, r in zip(row_b, row_r, strict=True):
                 assert _contains(b, r)
+
+
+def test_an_enclosure_that_grows_past_its_limit_says_where() -> None:
+    """BM20 at Omega = 1.07 (Fig. 7C, chaotic) from a box of half-width 1e-12: the width grows
+    with the flow; past the limit the integrator stops with where it grew, and a run that stops
+    before the limit returns the widths and times of every step."""
+    code = load_model_code("chaplygin_ball", "variable_gyrostat,variable_inertia")
+    params = ["4", "3", "2", "4.385", "0", "2", "-6", "-3", "-9", "1.07"]
+    box = [to_ball(v) + arb(0, 1e-12) for v in ["0.7", "-1.9", "2.1", "0.48", "0.6", "0.64"]]
+    e = enclose_flow(code, params, box, 0, "2", order=20, tol=1e-16)
+    assert len(e.widths) == len(e.times) == e.steps
+    assert e.times == sorted(e.times) and e.times[-1] == pytest.approx(2)
+    limit = 2 * e.widths[-1]
+    with pytest.raises(EnclosureError, match=r"grew past .* at t = .*step"):
+        enclose_flow(code, params, box, 0, "40", order=20, tol=1e-16, max_width=limit)
