@@ -211,6 +211,24 @@ def test_run_writes_outputs_and_json(tmp_path, capsys):
         assert set(summary["states"]) <= set(nc.variables)
 
 
+def test_run_json_of_several_scenes_is_one_document(tmp_path, capsys):
+    """``run A.toml B.toml --json`` prints one JSON document (issue 28, 2): a list of the
+    scenes' objects in the order given, each the object one scene alone prints."""
+    scenes = []
+    for stem in ("first", "second"):
+        scenes.append(tmp_path / f"{stem}.toml")
+        scenes[-1].write_text(FIG6F.read_text())
+    argv = ["--set", "run.t_end=1", "--json", "--quiet"]
+    out = tmp_path / "out"
+    assert main(["run", *map(str, scenes), "--out", str(out), *argv]) == 0
+    both = json.loads(capsys.readouterr().out)
+    assert isinstance(both, list) and len(both) == 2
+    assert [Path(d["outputs"][0]).parent.name for d in both] == ["first", "second"]
+    assert main(["run", str(scenes[0]), "--out", str(tmp_path / "one"), *argv]) == 0
+    one = json.loads(capsys.readouterr().out)
+    assert isinstance(one, dict) and one["y"] == both[0]["y"] and one.keys() == both[0].keys()
+
+
 def test_run_refuses_a_foreign_non_empty_folder(tmp_path, capsys):
     out = tmp_path / "mine"
     out.mkdir()
