@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 
 from ..derive.errors import UserInputError
-from .cli_common import EXIT_FAILED, EXIT_OK, json_text, printable
+from .cli_common import EXIT_FAILED, EXIT_OK, add_quiet, json_text, printable
 
 __all__ = ["add_parser", "run"]
 
@@ -20,6 +20,7 @@ __all__ = ["add_parser", "run"]
 JSON_KEYS = (
     "title",
     "system",
+    "model",
     "effects",
     "states",
     "y",
@@ -155,7 +156,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
         "them (in the order given) for several",
     )
     p.add_argument("--explain", action="store_true", help="say what would run; run nothing")
-    p.add_argument("--quiet", action="store_true", help="no progress bar, no report line")
+    add_quiet(p, "no progress bar, no report line")
     p.add_argument(
         "--schema",
         action="store_true",

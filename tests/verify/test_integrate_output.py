@@ -1,4 +1,4 @@
-"""``chaplygin integrate --t-eval N --output FILE``: a trajectory without a scene."""
+"""``chaplygin integrate --points N --out FILE``: a trajectory without a scene."""
 
 from __future__ import annotations
 
@@ -29,8 +29,8 @@ ARGS = [
 
 def test_csv_and_netcdf_agree_and_keep_the_integrals(tmp_path):
     csv, nc = tmp_path / "t.csv", tmp_path / "t.nc"
-    assert main([*ARGS, "--t-eval", "21", "--output", str(csv)]) == 0
-    assert main([*ARGS, "--t-eval", "21", "--output", str(nc)]) == 0
+    assert main([*ARGS, "--points", "21", "--out", str(csv)]) == 0
+    assert main([*ARGS, "--points", "21", "--out", str(nc)]) == 0
     header = csv.read_text().splitlines()[0]
     assert header.startswith("# t [time],M1 [mass*length^2/time]")
     data = np.loadtxt(csv, delimiter=",")
@@ -46,12 +46,23 @@ def test_csv_and_netcdf_agree_and_keep_the_integrals(tmp_path):
 @pytest.mark.parametrize(
     "extra, words",
     [
-        (["--t-eval", "1"], "at least 2"),
-        (["--output", "x.txt"], ".nc"),
-        (["--output", "/nonexistent-folder/x.nc"], "does not exist"),
+        (["--points", "1"], "--points needs at least 2"),
+        (["--out", "x.txt"], "--out must end in .nc"),
+        (["--out", "/nonexistent-folder/x.nc"], "does not exist"),
+        (["--t-eval", "1"], "--points needs at least 2"),  # the old spellings: the same checks
+        (["--output", "x.txt"], "--out must end in .nc"),
     ],
 )
 def test_bad_output_flags_exit_2(extra, words, capsys):
     assert main([*ARGS, *extra]) == 2
     err = capsys.readouterr().err
     assert words in err and err.count("\n") == 1
+
+
+def test_the_old_spellings_write_the_same_file(tmp_path):
+    """``--t-eval N --output FILE`` (before the one vocabulary, issue 28) still work: the
+    same trajectory as ``--points N --out FILE``."""
+    new, old = tmp_path / "new.csv", tmp_path / "old.csv"
+    assert main([*ARGS, "--points", "5", "--out", str(new)]) == 0
+    assert main([*ARGS, "--t-eval", "5", "--output", str(old)]) == 0
+    assert new.read_text() == old.read_text() and len(new.read_text().splitlines()) == 6
