@@ -105,11 +105,14 @@ def run(args: argparse.Namespace) -> int:
     if args.out is not None:
         from chaplygin.numerics.code import load_model_code
 
-        from .outputs.trajectory import trajectory_columns, write_trajectory
+        from .outputs.trajectory import run_attributes, trajectory_columns, write_trajectory
+        from .scene.result import software_versions
 
         code = load_model_code(args.system, args.effects)
         columns = trajectory_columns(result.t, result.y, result.state_names, code.state_groups)
-        write_trajectory(args.out, columns, {"model": code.name, "model_hash": code.hash})
+        attrs = run_attributes(result, code, prec, software_versions(), system=args.system,
+                               effects=_effects(args.effects))  # fmt: skip
+        write_trajectory(args.out, columns, attrs)
     final = {k: prec.format(v) for k, v in result.y_final.items()}
     if args.json:
         out = {

@@ -500,6 +500,8 @@ class Integrator:
             t_events=[shown(te) for te in sol.t_events],
             y_events=[shown(ye) for ye in sol.y_events],
             info=sol.info,
+            rtol=float(problem.rtol),
+            atol=float(problem.atol),
         )
 
     # ---------------------------------------------------------------- hooks

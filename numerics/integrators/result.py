@@ -138,6 +138,8 @@ class IntegrationResult:
     info : dict
         Method-specific evidence (the Taylor method: ``order_min``, ``order_max``,
         ``rtol``, ``atol``, ``taylor_backend``).
+    rtol, atol : float or None
+        The tolerances the run asked for (the defaults filled in).
     """
 
     status: int
@@ -160,6 +162,8 @@ class IntegrationResult:
     t_events: list = field(default_factory=list)
     y_events: list = field(default_factory=list)
     info: dict[str, object] = field(default_factory=dict)
+    rtol: float | None = None
+    atol: float | None = None
 
     @property
     def success(self) -> bool:

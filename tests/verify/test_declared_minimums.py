@@ -35,9 +35,10 @@ def _numbers(text: str) -> tuple[int, ...]:
 
 
 def _declared_minimums() -> dict[str, tuple[int, ...]]:
-    extras = tomllib.loads(PYPROJECT.read_text())["project"]["optional-dependencies"]
+    project = tomllib.loads(PYPROJECT.read_text())["project"]
+    groups = [project["dependencies"], *project["optional-dependencies"].values()]
     found = {}
-    for requirement in (r for group in extras.values() for r in group):
+    for requirement in (r for group in groups for r in group):
         match = re.fullmatch(r"([A-Za-z0-9_.-]+)(\[[^\]]*\])?>=([\d.]+)", requirement)
         if match:
             found[match.group(1).lower()] = _numbers(match.group(3))

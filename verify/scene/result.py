@@ -479,10 +479,15 @@ class SceneResult:
         return trajectory_columns(self.t, self.integration.y, code.state, code.state_groups)
 
     def _write_netcdf(self, path: Path) -> None:
-        from ..outputs.trajectory import write_trajectory
+        from ...numerics.precision import Precision
+        from ..outputs.trajectory import run_attributes, write_trajectory
 
         code = self.resolved.code
-        attrs = {"title": self.scene.title or "", "model": code.name, "model_hash": code.hash}
+        attrs = run_attributes(
+            self.integration, code, Precision(self.scene.run_options.precision),
+            software_versions(), title=self.scene.title or "", system=self.scene.system,
+            effects=self.resolved.effects,
+        )  # fmt: skip
         write_trajectory(path, self._columns(), attrs)
 
     def _write_csv(self, path: Path) -> None:
