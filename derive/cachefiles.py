@@ -1,7 +1,9 @@
 """Where the caches live, who may write there, and files only we can have written.
 
-Both caches (derived models, compiled libraries) live under one root:
-``$CHAPLYGIN_CACHE_DIR``, else ``$XDG_CACHE_HOME/chaplygin``, else ``~/.cache/chaplygin``.
+Both caches (derived models, compiled libraries) live under one root (:func:`cache_root`):
+``$CHAPLYGIN_CACHE_DIR``, else the platform's user cache folder as platformdirs gives it
+(``$XDG_CACHE_HOME/chaplygin`` or ``~/.cache/chaplygin`` on Linux, ``~/Library/Caches/chaplygin``
+on macOS, ``%LOCALAPPDATA%\\chaplygin\\Cache`` on Windows).
 What is loaded from there can run code in our process (a pickle, a shared library), so a
 folder other users can write to is refused, and a model file is loaded only when it
 carries an HMAC made with a per-user secret key that only we can read.
@@ -16,6 +18,8 @@ import secrets
 import stat
 import tempfile
 from pathlib import Path
+
+import platformdirs
 
 from .errors import CacheError
 
@@ -45,17 +49,16 @@ def cache_root(cache_dir: str | os.PathLike[str] | None = None) -> Path:
     Returns
     -------
     pathlib.Path
-        ``cache_dir``, else ``$CHAPLYGIN_CACHE_DIR``, else ``$XDG_CACHE_HOME/chaplygin``,
-        else ``~/.cache/chaplygin`` (not created here).
+        ``cache_dir``, else ``$CHAPLYGIN_CACHE_DIR``, else the platform's user cache folder
+        of ``chaplygin`` (``platformdirs.user_cache_dir``: it honours ``$XDG_CACHE_HOME``);
+        not created here.
     """
     if cache_dir is not None:
         root = Path(cache_dir)
     elif os.environ.get("CHAPLYGIN_CACHE_DIR"):
         root = Path(os.environ["CHAPLYGIN_CACHE_DIR"])
     else:
-        xdg = os.environ.get("XDG_CACHE_HOME")
-        base = Path(xdg) if xdg else Path.home() / ".cache"
-        root = base / "chaplygin"
+        root = Path(platformdirs.user_cache_dir("chaplygin", appauthor=False))
     return root.expanduser()
 
 

@@ -172,8 +172,8 @@ def model_cache_dir() -> Path | None:
     Returns
     -------
     pathlib.Path or None
-        ``<cache root>/models`` (the root: ``$CHAPLYGIN_CACHE_DIR``, else
-        ``$XDG_CACHE_HOME/chaplygin``, else ``~/.cache/chaplygin``); None when
+        ``<cache root>/models`` (the root:
+        :func:`~chaplygin.derive.cachefiles.cache_root`); None when
         ``CHAPLYGIN_MODEL_CACHE=0``.
     """
     if os.environ.get("CHAPLYGIN_MODEL_CACHE", "1") == "0":

@@ -16,8 +16,9 @@ and no fused multiply-add contraction, so results are IEEE double precision and 
 gcc does on aarch64). ``CHAPLYGIN_OPT_LEVEL`` (``0``..``3``, ``s``) replaces the
 optimisation level, for the determinism test (the same bits at every level).
 
-The cache lives in ``$CHAPLYGIN_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/chaplygin`` or
-``~/.cache/chaplygin``; libraries go into its ``c/`` subfolder (see :func:`c_cache_dir`).
+The cache lives in ``$CHAPLYGIN_CACHE_DIR`` if set, else the platform's user cache folder
+(:func:`~chaplygin.derive.cachefiles.cache_root`); libraries go into its ``c/`` subfolder
+(see :func:`c_cache_dir`).
 """
 
 from __future__ import annotations
@@ -107,7 +108,7 @@ def c_cache_dir(cache_dir: str | os.PathLike[str] | None = None) -> Path:
     ----------
     cache_dir : path-like, optional
         Root of the chaplygin cache.  Default: ``$CHAPLYGIN_CACHE_DIR`` if set and non-empty,
-        else ``$XDG_CACHE_HOME/chaplygin``, else ``~/.cache/chaplygin``.
+        else the platform's user cache folder (:func:`~chaplygin.derive.cachefiles.cache_root`).
 
     Returns
     -------

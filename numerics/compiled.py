@@ -25,8 +25,9 @@ The flags are ``-O2 -shared -fPIC -std=c99 -ffp-contract=off`` and ``-lm``: no `
 and no fused multiply-add contraction, so results are IEEE double precision and reproducible
 (clang contracts ``a*b + c`` into an FMA by default, hence the explicit ``-ffp-contract=off``).
 
-The cache lives in ``$CHAPLYGIN_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/chaplygin`` or
-``~/.cache/chaplygin``; libraries go into its ``c/`` subfolder (see :func:`c_cache_dir`).
+The cache lives in ``$CHAPLYGIN_CACHE_DIR`` if set, else the platform's user cache folder
+(:func:`~chaplygin.derive.cachefiles.cache_root`); libraries go into its ``c/`` subfolder
+(see :func:`c_cache_dir`).
 
 Examples
 --------

@@ -4,8 +4,8 @@ first use, and cached on disk so that later processes only load it.
 The emitted sources (numpy, mpmath, C, Taylor Python, Taylor C, Taylor C on MPFR, the Taylor
 program, the right-hand side in vector lanes) of a variant are stored in
 ``<cache root>/emitted/<variant>-<key>.src`` (the root:
-``$CHAPLYGIN_CACHE_DIR``, else ``$XDG_CACHE_HOME/chaplygin``, else ``~/.cache/chaplygin``;
-none with ``CHAPLYGIN_MODEL_CACHE=0``). The key (:func:`chaplygin.derive.systems.variant_cache_key`)
+:func:`~chaplygin.derive.cachefiles.cache_root`; none with ``CHAPLYGIN_MODEL_CACHE=0``).
+The key (:func:`chaplygin.derive.systems.variant_cache_key`)
 changes with any edit of ``derive/`` and with the versions of Python, sympy and mpmath. The
 Python sources are executed when loaded, so a file is used only when it carries the HMAC made
 with the cache root's per-user secret (:mod:`chaplygin.derive.cachefiles`), and a folder other

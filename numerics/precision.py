@@ -183,6 +183,31 @@ class Precision:
     def is_double(self) -> bool:
         return self.digits is None
 
+    @property
+    def decimal_digits(self) -> int:
+        """Decimal digits the working numbers carry: 15 (double: what ``mpmath.mp.dps`` is
+        at 53 bits), 34 (binary128) or the digits asked for."""
+        return 15 if self.is_double else self.digits
+
+    def to_json(self) -> dict[str, object]:
+        """The precision as a structured JSON value (never prose such as ``"30 digits"``).
+
+        Returns
+        -------
+        dict
+            ``{"kind": "double" | "quad" | "digits", "digits": int, "bits": int}``: the
+            kind, the decimal digits the numbers carry (:attr:`decimal_digits`) and the
+            significand bits (:attr:`prec`).
+
+        Examples
+        --------
+        >>> Precision(30).to_json()
+        {'kind': 'digits', 'digits': 30, 'bits': 103}
+        >>> Precision("double").to_json()
+        {'kind': 'double', 'digits': 15, 'bits': 53}
+        """
+        return {"kind": self.kind, "digits": self.decimal_digits, "bits": self.prec}
+
     # ---------------------------------------------------------------- bits
     @property
     def prec(self) -> int:

@@ -7,7 +7,7 @@ import sys
 
 from chaplygin.derive.errors import UserInputError
 
-from .cli_common import EXIT_OK, check_output_dir, json_text
+from .cli_common import EXIT_OK, add_quiet, check_output_dir, json_text
 
 __all__ = ["add_parser", "run", "MAX_REPEATS"]
 
@@ -45,7 +45,7 @@ def run(args: argparse.Namespace) -> int:
         )
 
     def progress(msg: str) -> None:
-        if not args.json:
+        if not (args.json or args.quiet):
             print(f"  {msg}", file=sys.stderr, flush=True)
 
     study = run_study(
@@ -94,4 +94,5 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     p.add_argument(
         "--problems", default="reference,separatrix", help="comma-separated: reference,separatrix"
     )
+    add_quiet(p, "no progress lines on stderr")
     return p

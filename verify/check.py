@@ -2,11 +2,12 @@
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Iterable, Mapping
 
 from ..derive.errors import UserInputError
 from .claims import select_claims
-from .verdict import Verdict, check_claim, check_claims
+from .verdict import Verdict, check_claim, default_jobs, iter_verdicts
 
 __all__ = ["check"]
 
@@ -17,8 +18,9 @@ def check(
     claims: str | Iterable[str],
     *,
     method: str = "auto",
-    jobs: int = 1,
+    jobs: int | None = None,
     timeout: float | None = None,
+    progress: bool | None = None,
 ) -> Verdict | list[Verdict]:
     """Decide one claim, or a selection of claims, and return the verdicts.
 
@@ -30,10 +32,17 @@ def check(
         registry's order).
     method : {"auto", "symbolic", "exact-sampled", "numeric"}
         Force a cheaper method (as ``chaplygin verify --method``).
-    jobs : int
-        Worker processes; 1 decides in this process (a check that hangs then blocks).
+    jobs : int, optional
+        Worker processes; 1 decides in this process (a check that hangs then blocks). The
+        default: in an interactive session (a notebook, the REPL, ``python -c``) a selection
+        runs in the verifier's pool as ``chaplygin verify`` does (one worker per CPU this
+        process may use); in a script, in this process, since spawned workers re-import the
+        script (a script asking for ``jobs > 1`` needs ``if __name__ == "__main__":``).
     timeout : float, optional
         Seconds per claim (``jobs > 1`` only: a claim past it gets the verdict ``timeout``).
+    progress : bool, optional
+        A progress bar of a selection's claims on stderr (tqdm); the default shows it when
+        stderr is a terminal, ``False`` never.
 
     Returns
     -------
@@ -45,6 +54,11 @@ def check(
         ``claims`` neither text nor a list of text, no claim matches, an unknown method,
         ``jobs < 1`` or a timeout that is not a positive number.
 
+    Notes
+    -----
+    ``chaplygin.check("BKM12-4*")`` decides 18 claims (the claim and its controls); in the
+    pool the families of claims run side by side.
+
     Examples
     --------
     >>> import chaplygin
@@ -55,7 +69,7 @@ def check(
         raise UserInputError(
             f"unknown method {method!r}; valid: auto, symbolic, exact-sampled, numeric"
         )
-    if not isinstance(jobs, int) or isinstance(jobs, bool) or jobs < 1:
+    if jobs is not None and (not isinstance(jobs, int) or isinstance(jobs, bool) or jobs < 1):
         raise UserInputError(f"jobs must be a positive integer, got {jobs!r}")
     if timeout is not None and (
         isinstance(timeout, bool)
@@ -84,6 +98,23 @@ def check(
         )
     if single:
         return check_claim(selected[0], method=method)
-    if jobs == 1:
-        return [check_claim(c, method=method) for c in selected]
-    return check_claims(selected, method=method, jobs=jobs, timeout=timeout)
+    if jobs is None:
+        jobs = default_jobs() if _interactive() else 1
+    from tqdm import tqdm
+
+    shown = sys.stderr.isatty() if progress is None else bool(progress)
+    verdicts = []
+    with tqdm(total=len(selected), desc="claims", unit="claim", file=sys.stderr,
+              disable=not shown) as bar:  # fmt: skip
+        for verdict in iter_verdicts(selected, method=method, jobs=jobs, timeout=timeout):
+            verdicts.append(verdict)
+            bar.set_postfix_str(f"{verdict.id}: {verdict.verdict}", refresh=False)
+            bar.update()
+    return verdicts
+
+
+def _interactive() -> bool:
+    """Whether the main module is no file (a notebook, the REPL, ``python -c``): spawned
+    worker processes then have no script to re-import."""
+    main = sys.modules.get("__main__")
+    return getattr(main, "__file__", None) is None

@@ -25,6 +25,9 @@ __all__ = [
     "check_output_dir",
     "json_text",
     "printable",
+    "add_quiet",
+    "add_precision_digits",
+    "precision_digits",
 ]
 
 #: Exit statuses: success, a check or run that failed, a user error (one line on stderr),
@@ -256,8 +259,22 @@ def positive_float(text: str) -> float:
     return value
 
 
+def add_quiet(parser: argparse.ArgumentParser, what: str = "no progress, no report line") -> None:
+    """``--quiet``: the one spelling of "print no progress" on every command that prints any.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+    what : str
+        What it leaves out, for the help.
+    """
+    parser.add_argument("--quiet", action="store_true", help=what)
+
+
 def add_precision_digits(parser: argparse.ArgumentParser, default: int) -> None:
-    """``--precision N`` (digits) with ``--digits N`` kept as a hidden alias.
+    """``--precision`` as ``integrate`` takes it (``double``, ``quad`` or a number of digits)
+    for a command that works at a number of decimal digits, with ``--digits N`` kept as a
+    hidden alias.
 
     Parameters
     ----------
@@ -267,13 +284,28 @@ def add_precision_digits(parser: argparse.ArgumentParser, default: int) -> None:
     """
     parser.add_argument(
         "--precision",
-        type=int,
         default=None,
-        metavar="DIGITS",
-        help=f"working precision in decimal digits (default {default})",
+        metavar="PRECISION",
+        help=f"'double', 'quad' (binary128) or a number of digits (default {default} digits)",
     )
     parser.add_argument("--digits", type=int, default=None, help=argparse.SUPPRESS)
     parser.set_defaults(default_digits=default)
+
+
+def _digits_of(text: str) -> int:
+    """The decimal digits of a ``--precision`` value: ``double`` and ``quad`` are the digits
+    their significands carry (:attr:`~chaplygin.numerics.precision.Precision.decimal_digits`),
+    a whole number is itself."""
+    from chaplygin.numerics.precision import Precision
+
+    if text.strip().lower() in ("double", "quad"):
+        return Precision(text).decimal_digits
+    try:
+        return int(text)
+    except ValueError:
+        raise UserInputError(
+            f"--precision {text!r} is neither 'double', 'quad' nor a number of digits"
+        ) from None
 
 
 def precision_digits(args: argparse.Namespace) -> int:
@@ -290,11 +322,12 @@ def precision_digits(args: argparse.Namespace) -> int:
     Raises
     ------
     UserInputError
-        Both spellings given with different values.
+        A value that is not a precision, or both spellings given with different values.
     """
-    if args.precision is not None and args.digits is not None and args.precision != args.digits:
+    given = None if args.precision is None else _digits_of(args.precision)
+    if given is not None and args.digits is not None and given != args.digits:
         raise UserInputError("give --precision once (--digits is its old name)")
-    for value in (args.precision, args.digits):
+    for value in (given, args.digits):
         if value is not None:
             return value
     return args.default_digits

@@ -104,6 +104,7 @@ def run(args: argparse.Namespace) -> int:
     """
     import mpmath
     from chaplygin.numerics.ball.separatrix import check_inertia, delta_three_ways, mu_of
+    from chaplygin.numerics.precision import Precision
 
     plot = figures = None
     if args.plot is not None:
@@ -146,7 +147,7 @@ def run(args: argparse.Namespace) -> int:
                     "delta_ode": fmt(r.ode),
                     "delta_quadrature": fmt(r.quadrature),
                     "delta_closed_form": fmt(r.closed),
-                    "digits_requested": digits,
+                    "precision": Precision.working(digits).to_json(),
                     "digits_agree": round(agree, 2),
                     "ok": ok,
                     "wall_s": round(wall, 3),

@@ -85,8 +85,8 @@ def run(args: argparse.Namespace) -> int:
         if value is not None and not value > 0:
             raise UserInputError(f"{name} must be a positive number, got {value}")
     t_eval = _t_eval(args, prec)
-    if args.output is not None:
-        _check_output(args.output)
+    if args.out is not None:
+        _check_output(args.out)
     _check_step_budget(args, prec)
     result = integrate(
         args.system,
@@ -102,23 +102,28 @@ def run(args: argparse.Namespace) -> int:
         t_eval=t_eval,
         max_steps=args.max_steps,  # the integrator enforces the same budget while it runs
     )
-    if args.output is not None:
+    if args.out is not None:
         from chaplygin.numerics.code import load_model_code
 
-        from .outputs.trajectory import trajectory_columns, write_trajectory
+        from .outputs.trajectory import run_attributes, trajectory_columns, write_trajectory
+        from .scene.result import software_versions
 
         code = load_model_code(args.system, args.effects)
         columns = trajectory_columns(result.t, result.y, result.state_names, code.state_groups)
-        write_trajectory(args.output, columns, {"model": code.name, "model_hash": code.hash})
+        attrs = run_attributes(result, code, prec, software_versions(), system=args.system,
+                               effects=_effects(args.effects))  # fmt: skip
+        write_trajectory(args.out, columns, attrs)
     final = {k: prec.format(v) for k, v in result.y_final.items()}
     if args.json:
         out = {
             "status": result.status,
             "message": result.message,
+            "system": args.system,
+            "effects": _effects(args.effects),
             "model": result.model,
             "method": result.method,
             "backend": result.backend,
-            "precision": result.precision,
+            "precision": prec.to_json(),
             "t": prec.format(result.t[-1]),
             "y": final,
             # untrusted evidence (NaN, inf) is null, never a bare NaN (not JSON)
@@ -126,7 +131,7 @@ def run(args: argparse.Namespace) -> int:
             "drift_absolute": list(result.drift_absolute),
             "nfev": result.nfev,
             "njev": result.njev,
-            "nsteps": result.nsteps,
+            "steps": result.nsteps,
             "wall_s": result.wall_s,
             "setup_s": result.setup_s,
             "info": {
@@ -153,16 +158,21 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _t_eval(args: argparse.Namespace, prec) -> list | None:
-    """``--t-eval N``: N evenly spaced output times from --t-start to --t-end."""
-    if args.t_eval is None:
+    """``--points N``: N evenly spaced output times from --t-start to --t-end."""
+    if args.points is None:
         return None
-    if args.t_eval < 2:
-        raise UserInputError(f"--t-eval needs at least 2 points, got {args.t_eval}")
+    if args.points < 2:
+        raise UserInputError(f"--points needs at least 2 points, got {args.points}")
     from chaplygin.numerics.inputs import working_number
 
     t0, t1 = working_number(args.t_start, prec), working_number(args.t_end, prec)
-    n = args.t_eval
+    n = args.points
     return [t0 + (t1 - t0) * i / (n - 1) for i in range(n)]
+
+
+def _effects(given: str | None) -> list[str]:
+    """``--effects a,b`` as the sorted list the JSON of ``run`` also gives."""
+    return sorted(e.strip() for e in (given or "").split(",") if e.strip())
 
 
 def _check_output(path: str) -> None:
@@ -170,11 +180,11 @@ def _check_output(path: str) -> None:
 
     out = Path(path)
     if out.suffix not in (".nc", ".csv"):
-        raise UserInputError(f"--output must end in .nc (netCDF) or .csv, got {path!r}")
+        raise UserInputError(f"--out must end in .nc (netCDF) or .csv, got {path!r}")
     if not out.parent.is_dir():
-        raise UserInputError(f"--output: folder {str(out.parent)!r} does not exist")
+        raise UserInputError(f"--out: folder {str(out.parent)!r} does not exist")
     if out.is_dir():
-        raise UserInputError(f"--output {path!r} is a folder")
+        raise UserInputError(f"--out {path!r} is a folder")
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -223,18 +233,21 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     )
     p.add_argument("--backend", default="auto", choices=("auto", "c", "numpy"))
     p.add_argument(
-        "--t-eval",
+        "--points",
         type=int,
         default=None,
         metavar="N",
-        help="N evenly spaced output times from --t-start to --t-end",
+        help="N evenly spaced output times from --t-start to --t-end (a scene's run.points)",
     )
     p.add_argument(
-        "--output",
+        "--out",
         default=None,
         metavar="FILE",
         help="write the trajectory: FILE.nc (netCDF, names and units) or FILE.csv",
     )
+    # the old spellings (before the one vocabulary), kept working
+    p.add_argument("--t-eval", dest="points", type=int, help=argparse.SUPPRESS)
+    p.add_argument("--output", dest="out", help=argparse.SUPPRESS)
     p.add_argument(
         "--max-steps",
         type=int,

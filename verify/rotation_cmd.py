@@ -94,6 +94,7 @@ def run(args: argparse.Namespace) -> int:
     import mpmath
     from chaplygin.derive.errors import UserInputError
     from chaplygin.numerics.ball.quadratures import measured_rotation_number, torus_quadratures
+    from chaplygin.numerics.precision import Precision
 
     digits = precision_digits(args)
     given = _named_values(args)
@@ -126,7 +127,7 @@ def run(args: argparse.Namespace) -> int:
         "q_star": s(tq.details["q_star"]),
         "h": s(tq.h),
         "n": s(tq.n),
-        "digits": d,
+        "precision": Precision.working(d).to_json(),
     }
     if args.simulate is not None:
         mr = measured_rotation_number(
@@ -146,7 +147,7 @@ def run(args: argparse.Namespace) -> int:
         print(json_text(out, indent=1))
     else:
         for k, v in out.items():
-            print(f"{k:16s} {v}")
+            print(f"{k:16s} {Precision.working(d) if k == 'precision' else v}")
     return EXIT_OK
 
 

@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 
 from ..derive.errors import UserInputError
-from .cli_common import EXIT_FAILED, EXIT_OK, json_text, printable
+from .cli_common import EXIT_FAILED, EXIT_OK, add_quiet, json_text, printable
 
 __all__ = ["add_parser", "run"]
 
@@ -20,6 +20,7 @@ __all__ = ["add_parser", "run"]
 JSON_KEYS = (
     "title",
     "system",
+    "model",
     "effects",
     "states",
     "y",
@@ -87,6 +88,8 @@ def run(args: argparse.Namespace) -> int:
     progress = not args.quiet and sys.stderr.isatty()
     from .scene import run_resolved
 
+    documents = []  # --json: one object per scene, printed together at the end
+
     for scene, res, folder in zip(scenes, resolved, folders, strict=True):
         if res.code.note and not args.quiet:
             print(printable(f"note: {res.code.note}"), file=sys.stderr)
@@ -96,7 +99,7 @@ def run(args: argparse.Namespace) -> int:
         if not result.success:
             status = EXIT_FAILED
         if args.json:
-            print(json_text({k: summary[k] for k in JSON_KEYS if k in summary}, indent=2))
+            documents.append({k: summary[k] for k in JSON_KEYS if k in summary})
         elif not args.quiet and result.integration is None:
             print(
                 printable(
@@ -113,6 +116,8 @@ def run(args: argparse.Namespace) -> int:
                     f"max drift {worst:.2e} -> {folder.given}/"
                 )
             )
+    if args.json:  # one valid JSON document: the object of one scene, a list for several
+        print(json_text(documents[0] if len(documents) == 1 else documents, indent=2))
     return status
 
 
@@ -144,9 +149,14 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
         metavar="KEY=VALUE",
         help="override a key, e.g. --set run.t_end=100 --set initial.h=0.17 (TOML values)",
     )
-    p.add_argument("--json", action="store_true", help="print the summary as JSON")
+    p.add_argument(
+        "--json",
+        action="store_true",
+        help="print the summary as one JSON document: an object for one scene, a list of "
+        "them (in the order given) for several",
+    )
     p.add_argument("--explain", action="store_true", help="say what would run; run nothing")
-    p.add_argument("--quiet", action="store_true", help="no progress bar, no report line")
+    add_quiet(p, "no progress bar, no report line")
     p.add_argument(
         "--schema",
         action="store_true",

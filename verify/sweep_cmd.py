@@ -16,6 +16,7 @@ from pathlib import Path
 from .cli_common import (
     EXIT_FAILED,
     EXIT_OK,
+    add_quiet,
     check_output_file,
     json_text,
     positive_float,
@@ -161,5 +162,5 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
         "--plot", default=None, metavar="FILE.png", help="draw the store (.png/.svg/.pdf)"
     )
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
-    p.add_argument("--quiet", action="store_true", help="no progress bar, no report line")
+    add_quiet(p, "no progress bar, no report line")
     return p

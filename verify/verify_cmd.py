@@ -9,7 +9,7 @@ import time
 
 from chaplygin.derive.errors import UserInputError
 
-from .cli_common import EXIT_FAILED, EXIT_OK, check_output_file, json_text
+from .cli_common import EXIT_FAILED, EXIT_OK, add_quiet, check_output_file, json_text
 
 __all__ = ["add_parser", "run", "DEFAULT_CLAIM_TIMEOUT", "MAX_JOBS"]
 
@@ -83,12 +83,13 @@ def run(args: argparse.Namespace) -> int:
     timeout = args.timeout or None
     verdicts = []
     started = time.perf_counter()
-    if not args.json:
+    listing = not (args.json or args.quiet)  # a line per claim as it is decided
+    if listing:
         print(f"{'claim':<46} {'verdict':<14} {'ok':<3} {'seconds':>8}  method / statement")
     extra = {} if lookup is None else {"lookup": lookup}
     for v in iter_verdicts(claims, method=args.method, jobs=jobs, timeout=timeout, **extra):
         verdicts.append(v)
-        if not args.json:
+        if listing:
             flag = "yes" if v.ok else "NO"
             extra = "" if v.expected == "holds" else "  [expected: refuted]"
             print(f"{v.id:<46} {v.verdict:<14} {flag:<3} {v.seconds:8.3f}  {v.method}{extra}")
@@ -188,4 +189,5 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
             " checks in this process"
         ),
     )
+    add_quiet(p, "no line per claim (the summary and the unexpected verdicts only)")
     return p

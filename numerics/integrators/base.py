@@ -26,7 +26,7 @@ from ...derive.errors import UserInputError
 from ..code import ModelCode
 from ..precision import Precision
 from .flows import Flow, ModelFlow, ReversedFlow
-from .result import IntegrationResult
+from .result import IntegrationResult, shown_at
 
 __all__ = [
     "BACKENDS",
@@ -477,11 +477,13 @@ class Integrator:
                 f"the error evidence is not finite (drift of {', '.join(bad)}): the result "
                 "cannot be trusted; check the parameters and state"
             )
+        # mpf values show themselves at the run's precision, not at the global mp.dps
+        shown = (lambda v: v) if prec.is_double else (lambda v: shown_at(v, prec.prec))
         return IntegrationResult(
             status=status,
             message=message,
-            t=np.asarray(sol.t),
-            y=sol.y,
+            t=shown(np.asarray(sol.t)),
+            y=shown(sol.y),
             state_names=code.state,
             drift=drift,
             drift_absolute=absolute,
@@ -494,10 +496,12 @@ class Integrator:
             method=self.name,
             backend=sol.backend or chosen,
             model=code.name,
-            params=dict(zip(code.params, p, strict=True)),
-            t_events=list(sol.t_events),
-            y_events=list(sol.y_events),
+            params={k: shown(v) for k, v in zip(code.params, p, strict=True)},
+            t_events=[shown(te) for te in sol.t_events],
+            y_events=[shown(ye) for ye in sol.y_events],
             info=sol.info,
+            rtol=float(problem.rtol),
+            atol=float(problem.atol),
         )
 
     # ---------------------------------------------------------------- hooks

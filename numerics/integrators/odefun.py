@@ -51,7 +51,10 @@ class MpmathOdefun(Integrator):
             return rhs(t, y, p)
 
         t0, t1 = (mpmath.mpf(v) for v in problem.t_span)
-        solution = mpmath.odefun(F, t0, list(problem.y0))
+        # mpmath's own default degree, given so that the steps can be counted: each step
+        # (one Taylor series) evaluates F exactly ``degree`` times (mpmath ``ode_taylor``)
+        degree = 3 + int(3 * mpmath.mp.dps / 2)
+        solution = mpmath.odefun(F, t0, list(problem.y0), degree=degree)
         t_eval = problem.t_eval
         times = list(t_eval) if t_eval is not None else list(mpmath.linspace(t0, t1, 11))
         try:
@@ -63,7 +66,7 @@ class MpmathOdefun(Integrator):
                 status=stop.status,
                 message=stop.message,
                 nfev=budget.calls,
-                nsteps=0,
+                nsteps=budget.calls // degree,
             )
         return Solution(
             t=np.array(times, dtype=object),
@@ -71,7 +74,7 @@ class MpmathOdefun(Integrator):
             status=0,
             message="reached t_end",
             nfev=budget.calls,
-            nsteps=len(times) - 1,
+            nsteps=budget.calls // degree,
         )
 
 

@@ -8,8 +8,86 @@ from dataclasses import dataclass, field
 
 import mpmath
 import numpy as np
+from mpmath.libmp import prec_to_dps, repr_dps, to_str
 
-__all__ = ["IntegrationResult"]
+__all__ = ["IntegrationResult", "RunNumber", "shown_at"]
+
+
+class RunNumber(mpmath.mpf):
+    """An ``mpmath.mpf`` that shows itself at the precision of the run that computed it.
+
+    ``str`` and ``repr`` of a plain ``mpf`` use the global ``mpmath.mp.dps`` (15 digits unless
+    the user changed it), so a 30-digit result would print 15 digits; this subclass keeps the
+    run's bits and prints at them, without touching mpmath's global state. It is an ``mpf``
+    in every other respect (arithmetic returns plain ``mpf`` at the working precision).
+
+    Parameters
+    ----------
+    value : mpmath.mpf
+    bits : int
+        The run's significand bits (:attr:`~chaplygin.numerics.precision.Precision.prec`).
+
+    Examples
+    --------
+    >>> from mpmath.libmp import dps_to_prec
+    >>> with mpmath.workdps(30):
+    ...     third = mpmath.mpf(1) / 3
+    >>> print(third, RunNumber(third, dps_to_prec(30)))
+    0.333333333333333 0.333333333333333333333333333333
+    """
+
+    __slots__ = ("_bits",)
+
+    def __new__(cls, value: mpmath.mpf, bits: int) -> RunNumber:
+        number = object.__new__(cls)
+        number._mpf_ = value._mpf_
+        number._bits = int(bits)
+        return number
+
+    def __str__(self) -> str:
+        return to_str(self._mpf_, prec_to_dps(self._bits))
+
+    def __repr__(self) -> str:
+        return f"mpf('{to_str(self._mpf_, repr_dps(self._bits))}')"
+
+    def __reduce__(self):
+        return (_run_number, (self._mpf_, self._bits))
+
+    def __getstate__(self):  # (mpf's own drops the bits; __reduce__ keeps them)
+        return None
+
+
+def _run_number(mpf_tuple: tuple, bits: int) -> RunNumber:
+    number = object.__new__(RunNumber)
+    number._mpf_, number._bits = mpf_tuple, bits
+    return number
+
+
+def shown_at(values: object, bits: int) -> object:
+    """``values`` (an mpf, or an object array of them) with every mpf as a
+    :class:`RunNumber` of ``bits``; other values (floats, float arrays) as they are.
+
+    Parameters
+    ----------
+    values : mpmath.mpf, ndarray, list or object
+        A list (an event's states) is converted item by item.
+    bits : int
+
+    Returns
+    -------
+    object
+    """
+    if isinstance(values, np.ndarray) and values.dtype == object:
+        out = np.empty(values.shape, dtype=object)
+        flat, src = out.reshape(-1), values.reshape(-1)
+        for i, v in enumerate(src):
+            flat[i] = RunNumber(v, bits) if isinstance(v, mpmath.mpf) else v
+        return out
+    if isinstance(values, list):
+        return [shown_at(v, bits) for v in values]
+    if isinstance(values, mpmath.mpf):
+        return RunNumber(values, bits)
+    return values
 
 
 def _short(value: object, digits: int = 6) -> str:
@@ -60,6 +138,8 @@ class IntegrationResult:
     info : dict
         Method-specific evidence (the Taylor method: ``order_min``, ``order_max``,
         ``rtol``, ``atol``, ``taylor_backend``).
+    rtol, atol : float or None
+        The tolerances the run asked for (the defaults filled in).
     """
 
     status: int
@@ -82,6 +162,8 @@ class IntegrationResult:
     t_events: list = field(default_factory=list)
     y_events: list = field(default_factory=list)
     info: dict[str, object] = field(default_factory=dict)
+    rtol: float | None = None
+    atol: float | None = None
 
     @property
     def success(self) -> bool:

@@ -19,6 +19,29 @@ from .flows import ModelFlow, ReversedFlow, VariationalFlow
 __all__ = ["ScipyMethod", "RK45", "DOP853", "LSODA", "Radau", "BDF"]
 
 
+def _counting(method: str) -> tuple[type, list[int]]:
+    """scipy's solver class ``method`` counting its accepted steps into the returned list.
+
+    ``solve_ivp`` reports no step count, and with ``t_eval`` its ``t`` holds the output
+    times, not the steps; ``solve_ivp`` takes an ``OdeSolver`` subclass as ``method``, whose
+    public :meth:`~scipy.integrate.OdeSolver.step` is one accepted step when it returns None.
+    """
+    import scipy.integrate
+
+    base = getattr(scipy.integrate, method)
+    count = [0]
+
+    class Counting(base):
+        def step(self):
+            message = super().step()
+            if message is None:
+                count[0] += 1
+            return message
+
+    Counting.__name__ = base.__name__
+    return Counting, count
+
+
 def _scipy_event(g):
     """``g(t, y)`` as scipy calls events (with the ``args``), keeping terminal/direction."""
 
@@ -65,12 +88,13 @@ class ScipyMethod(Integrator):
         steps = problem.max_steps or self.default_max_steps
         budget = Budget(steps * self.calls_per_step, problem.max_wall_s, f"max_steps={steps}")
         y0 = np.asarray(problem.y0, dtype=float)
+        method, steps_taken = _counting(self.name)
         try:
             sol = solve_ivp(
                 budget.wrap(rhs),
                 problem.t_span,
                 y0,
-                method=self.name,
+                method=method,
                 rtol=problem.rtol,
                 atol=flow.atol(problem.atol, y0.size),
                 args=(np.asarray(problem.params, dtype=float),),
@@ -84,7 +108,7 @@ class ScipyMethod(Integrator):
                 status=stop.status,
                 message=stop.message,
                 nfev=budget.calls,
-                nsteps=budget.calls // self.calls_per_step,
+                nsteps=steps_taken[0],
             )
         message = sol.message
         if sol.status != 0 and not isinstance(flow, VariationalFlow):
@@ -96,7 +120,7 @@ class ScipyMethod(Integrator):
             message=message,
             nfev=sol.nfev,
             njev=sol.njev,
-            nsteps=len(sol.t) - 1,
+            nsteps=steps_taken[0],  # the solver's accepted steps (not the outputs)
             t_events=list(sol.t_events) if problem.events else [],
             y_events=list(sol.y_events) if problem.events else [],
         )

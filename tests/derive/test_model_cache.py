@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import pickle
+from pathlib import Path
 
 import pytest
 from chaplygin.derive import systems
@@ -112,6 +113,26 @@ def test_xdg_cache_home_is_honoured(tmp_path, monkeypatch):
     monkeypatch.delenv("CHAPLYGIN_CACHE_DIR", raising=False)
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
     assert systems.model_cache_dir() == tmp_path / "xdg" / "chaplygin" / "models"
+
+
+def test_the_cache_root_is_the_platforms_user_cache_folder(tmp_path, monkeypatch):
+    """The root comes from platformdirs (issue 28, 8), so it is the platform's own folder:
+    here platformdirs answering as on macOS (``~/Library/Caches/chaplygin``, not
+    ``~/.cache``); ``CHAPLYGIN_CACHE_DIR`` and an explicit folder still come first."""
+    import platformdirs
+    import platformdirs.macos
+    from chaplygin.derive.cachefiles import cache_root
+
+    def as_on_macos(appname=None, appauthor=None, *args, **kwargs):
+        return platformdirs.macos.MacOS(appname, appauthor, *args, **kwargs).user_cache_dir
+
+    monkeypatch.delenv("CHAPLYGIN_CACHE_DIR", raising=False)
+    monkeypatch.setattr(platformdirs, "user_cache_dir", as_on_macos)
+    assert cache_root() == Path.home() / "Library" / "Caches" / "chaplygin"
+    assert systems.model_cache_dir() == cache_root() / "models"
+    monkeypatch.setenv("CHAPLYGIN_CACHE_DIR", str(tmp_path / "mine"))
+    assert cache_root() == tmp_path / "mine"
+    assert cache_root(tmp_path / "arg") == tmp_path / "arg"
 
 
 def test_what_is_derived_later_is_stored_for_the_next_process(fresh_cache):

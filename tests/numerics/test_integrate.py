@@ -199,3 +199,31 @@ def test_result_repr_is_short_and_names_the_evidence():
     assert html.startswith("<table>") and "taylor" in html and "nfev" in html
     q = integrate(BALL, REFERENCE_Y0, 1, REFERENCE_PARAMS, precision=40)
     assert "40 digits" in repr(q) and len(repr(q)) < 600
+
+
+@pytest.mark.parametrize("precision", [30, "quad"])
+def test_a_results_values_show_at_the_runs_precision(precision):
+    """``r.y_final["M1"]`` of a 30-digit run prints 30 digits (issue 28, 5): what ``str`` of
+    the same number gives with mpmath's global precision raised to the run's bits, while
+    the global precision stays where the user left it (15 digits)."""
+    import pickle
+
+    from chaplygin.numerics.precision import Precision
+    from mpmath.libmp import prec_to_dps
+
+    bits = Precision(precision).prec
+    digits = prec_to_dps(bits)  # 30, and 33 for binary128's 113 bits
+    r = integrate("chaplygin_ball", REFERENCE_Y0, 1, REFERENCE_PARAMS, precision=precision)
+    assert mpmath.mp.dps == 15
+    values = [r.y_final["M1"], r.t[-1], r.y[2, 3], r.params["D"]]
+    shown = [str(v) for v in values]
+    with mpmath.workprec(bits):
+        expected = [str(mpmath.mpf(v)) for v in values]
+        # repr reads back to the same number at the run's precision
+        assert all(mpmath.mpf(repr(v)[5:-2]) == v for v in values)
+    assert shown == expected and len(shown[0].lstrip("-0.")) >= digits - 1 >= 29
+    assert str(mpmath.mpf(r.y_final["M1"])) != shown[0]  # a plain mpf: 15 digits (control)
+    assert type(r.y_final["M1"] + 1) is mpmath.mpf  # arithmetic: plain mpf
+    assert str(pickle.loads(pickle.dumps(r.y_final["M1"]))) == shown[0]
+    assert isinstance(integrate("chaplygin_ball", REFERENCE_Y0, 1, REFERENCE_PARAMS).y[0, -1],
+                      float)  # fmt: skip

@@ -109,6 +109,48 @@ def test_the_reversed_flow_forward_is_the_model_backward(method):
     assert np.abs(forward.y[:, -1] - ends[1]).max() > 1e-3  # a control
 
 
+# ------------------------------------------------------------------ work counters
+
+
+@pytest.mark.parametrize("method", ["RK45", "DOP853", "LSODA", "Radau", "BDF"])
+def test_nsteps_is_the_solvers_steps_also_with_output_times(method):
+    """``nsteps`` counts the solver's accepted steps, not the output times (issue 28, 1):
+    with 1000 output times it is the step count of scipy's own run without them (its ``t``
+    then lists every step), far from 999."""
+    code = load_model_code(BALL)
+    rtol = 1e-8
+    direct = solve_ivp(
+        code.numpy.rhs, (0.0, 4.0), Y0, method=method, rtol=rtol, atol=rtol,
+        args=(np.asarray(P, dtype=float),),
+        **({"jac": code.numpy.jac} if method in ("LSODA", "Radau", "BDF") else {}),
+    )  # fmt: skip
+    steps = len(direct.t) - 1
+    for t_eval in (None, np.linspace(0.0, 4.0, 1000)):
+        problem = Problem(code, Y0, (0.0, 4.0), P, DOUBLE, rtol, rtol, t_eval=t_eval)
+        sol = INTEGRATORS[method]().solve(problem, chosen="numpy")
+        assert sol.status == 0 and sol.nsteps == steps != 999
+
+
+def test_odefun_nsteps_is_its_taylor_series_count():
+    """``method="odefun"``: one step is one Taylor series of ``mpmath.odefun``, counted here
+    from the list of expansion points in a direct call's solution (its closure), with and
+    without output times."""
+    import inspect
+
+    code = load_model_code(BALL)
+    with mpmath.workdps(20):
+        y0, p = [mpmath.mpf(v) for v in Y0], [mpmath.mpf(v) for v in P]
+        counts = []
+        for t_eval in (None, [mpmath.mpf(k) / 4 for k in range(5)]):
+            problem = Problem(code, y0, (0, 1), p, Precision(20), 1e-18, 1e-18, t_eval=t_eval)
+            counts.append(INTEGRATORS["odefun"]().solve(problem).nsteps)
+        solution = mpmath.odefun(lambda t, y: code.mpmath.rhs(t, y, p), 0, y0)
+        solution(mpmath.mpf(1))
+        get_series = inspect.getclosurevars(solution).nonlocals["get_series"]
+        expected = len(inspect.getclosurevars(get_series).nonlocals["series_data"])
+    assert counts == [expected, expected] and expected not in (4, 10)
+
+
 # ------------------------------------------------------------------ the door against direct calls
 
 

@@ -438,7 +438,8 @@ def test_cli_integrate_quad_taylor(capsys):
     ]
     assert main(args) == 0
     out = json.loads(capsys.readouterr().out)
-    assert out["precision"] == "quad" and out["backend"] == "c-quad"
+    assert out["precision"] == {"kind": "quad", "digits": 34, "bits": 113}
+    assert out["backend"] == "c-quad"
     assert out["info"]["order_max"] == jorba_zou_order(10 * EPS_QUAD)
     assert max(out["drift"].values()) < 1e-31
     assert len(out["y"]["M1"].lstrip("-").replace(".", "").lstrip("0")) >= 33

@@ -65,3 +65,46 @@ def test_check_a_pattern_gives_the_verdicts_in_order():
 def test_check_refuses_bad_arguments_with_the_documented_error(claims, kwargs, match):
     with pytest.raises(chaplygin.UserInputError, match=match):
         chaplygin.check(claims, **kwargs)
+
+
+def test_check_of_a_selection_shows_progress_on_stderr_only_when_asked(capsys):
+    """``chaplygin.check`` of several claims (issue 28, 6): a tqdm bar on stderr with
+    ``progress=True``, nothing with ``progress=False`` nor by default when stderr is not a
+    terminal (as here); the verdicts the same either way."""
+    shown = chaplygin.check("BKM12-4,BKM12-4/control-*", progress=True)
+    err = capsys.readouterr().err
+    n = len(shown)
+    assert n >= 2 and f"{n}/{n}" in err and "claims" in err
+    for progress in (False, None):
+        quiet = chaplygin.check("BKM12-4,BKM12-4/control-*", progress=progress)
+        assert capsys.readouterr().err == ""
+        assert [(v.id, v.verdict) for v in quiet] == [(v.id, v.verdict) for v in shown]
+
+
+@pytest.mark.quick
+@pytest.mark.parametrize(("script", "pool"), [(None, True), ("/some/script.py", False)])
+def test_check_runs_a_selection_in_the_verifiers_pool_where_spawning_is_safe(
+    monkeypatch, script, pool
+):
+    """The default ``jobs``: the verifier's pool (``default_jobs()``, as ``chaplygin
+    verify``) in an interactive session, this process in a script (spawned workers would
+    re-import it); a given ``jobs`` is kept."""
+    import types
+
+    from chaplygin.verify import check as check_module
+    from chaplygin.verify.verdict import default_jobs
+
+    main = types.ModuleType("__main__")
+    if script is not None:
+        main.__file__ = script
+    monkeypatch.setitem(sys.modules, "__main__", main)
+    asked = []
+
+    def record(claims, method, jobs, timeout):
+        asked.append(jobs)
+        return iter(())
+
+    monkeypatch.setattr(check_module, "iter_verdicts", record)
+    chaplygin.check("BKM12-4,BKM12-4/control-*")
+    chaplygin.check("BKM12-4,BKM12-4/control-*", jobs=3)
+    assert asked == [default_jobs() if pool else 1, 3]

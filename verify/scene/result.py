@@ -375,6 +375,8 @@ class SceneResult:
         dict
         """
 
+        from ...numerics.precision import Precision
+
         r, res = self.integration, self.resolved
         digits = res.digits
         summary = {
@@ -392,13 +394,14 @@ class SceneResult:
                 "residuals": res.residuals,
             },
             "system": self.scene.system,
+            "model": res.code.name,
             "effects": sorted(res.effects),
             "states": list(res.code.state),
             "model_hash": res.code.hash,
             "code_origin": res.code.origin,
             "code_load_s": res.load_s,
             **({"code_note": res.code.note} if res.code.note else {}),
-            "precision": str(self.scene.run_options.precision),
+            "precision": Precision(self.scene.run_options.precision).to_json(),
             "rtol": self.scene.run_options.rtol,
             "atol": self.scene.run_options.atol,
             "wall_s": self.wall_s,
@@ -420,7 +423,6 @@ class SceneResult:
                     "message": r.message,
                     "method": r.method,
                     "backend": r.backend,
-                    "precision": r.precision,
                     "steps": r.nsteps,
                     "nfev": r.nfev,
                     "integration_wall_s": r.wall_s,
@@ -477,10 +479,15 @@ class SceneResult:
         return trajectory_columns(self.t, self.integration.y, code.state, code.state_groups)
 
     def _write_netcdf(self, path: Path) -> None:
-        from ..outputs.trajectory import write_trajectory
+        from ...numerics.precision import Precision
+        from ..outputs.trajectory import run_attributes, write_trajectory
 
         code = self.resolved.code
-        attrs = {"title": self.scene.title or "", "model": code.name, "model_hash": code.hash}
+        attrs = run_attributes(
+            self.integration, code, Precision(self.scene.run_options.precision),
+            software_versions(), title=self.scene.title or "", system=self.scene.system,
+            effects=self.resolved.effects,
+        )  # fmt: skip
         write_trajectory(path, self._columns(), attrs)
 
     def _write_csv(self, path: Path) -> None:

@@ -209,6 +209,32 @@ def test_run_writes_outputs_and_json(tmp_path, capsys):
         assert nc.variables["x"].units == b"length"
         assert nc.variables["t"][-1] == pytest.approx(20)
         assert set(summary["states"]) <= set(nc.variables)
+    import xarray as xr
+
+    with xr.open_dataset(out / "trajectory.nc") as ds:  # the run, as summary.json has it
+        assert ds.attrs["Conventions"].startswith("CF-1.")
+        assert (ds.attrs["system"], ds.attrs["effects"]) == (full["system"], "contact_point")
+        assert ds.attrs["model"] == full["model"] and ds.attrs["method"] == full["method"]
+        assert ds.attrs["precision_kind"] == full["precision"]["kind"]
+        assert ds.attrs["mpmath_version"] == full["versions"]["mpmath"]
+
+
+def test_run_json_of_several_scenes_is_one_document(tmp_path, capsys):
+    """``run A.toml B.toml --json`` prints one JSON document (issue 28, 2): a list of the
+    scenes' objects in the order given, each the object one scene alone prints."""
+    scenes = []
+    for stem in ("first", "second"):
+        scenes.append(tmp_path / f"{stem}.toml")
+        scenes[-1].write_text(FIG6F.read_text())
+    argv = ["--set", "run.t_end=1", "--json", "--quiet"]
+    out = tmp_path / "out"
+    assert main(["run", *map(str, scenes), "--out", str(out), *argv]) == 0
+    both = json.loads(capsys.readouterr().out)
+    assert isinstance(both, list) and len(both) == 2
+    assert [Path(d["outputs"][0]).parent.name for d in both] == ["first", "second"]
+    assert main(["run", str(scenes[0]), "--out", str(tmp_path / "one"), *argv]) == 0
+    one = json.loads(capsys.readouterr().out)
+    assert isinstance(one, dict) and one["y"] == both[0]["y"] and one.keys() == both[0].keys()
 
 
 def test_run_refuses_a_foreign_non_empty_folder(tmp_path, capsys):
@@ -327,7 +353,7 @@ def test_scene_and_api_complete_the_frame_by_one_rule(precision):
     assert "M || gamma: alpha = the body axis least aligned with gamma" in res.how
     r = integrate("chaplygin_ball", {"M": M, "gamma": gamma}, 1e-3, params,
                   effects="contact_point", precision=precision)
-    assert [str(v) for v in r.y[:, 0]] == [str(v) for v in res.y0]
+    assert list(r.y[:, 0]) == list(res.y0)  # the same numbers (mpf: exact comparison)
     off = scene.with_initial(M=["0.3", "0.45", "1.3990"])  # off the line: BKM12-7, no note
     assert "M || gamma" not in off.resolve().how
 
