@@ -358,7 +358,9 @@ def enclose_flow(
         The initial state, the same kinds of numbers: a ball or interval per component
         encloses every initial state in the box.
     t0, t1 : number, str or arb
-        Start and end time (``t1 > t0``; ``t1`` may be a ball, e.g. a period ``2 pi/Omega``).
+        Start and end time (``t1 > t0``; ``t1`` may be a ball, e.g. a period ``2 pi/Omega``,
+        or an interval ``(t_a, t_b)`` with ``t_a >= t0``: the result then encloses the flow at
+        every time in it).
     jacobian : bool, optional
         Also enclose ``d phi / d x0`` over the initial box (C^1).
     order : int, optional
@@ -404,7 +406,9 @@ def enclose_flow(
         P = [to_ball(p) for p in params]
         X0 = [to_ball(x) for x in state]
         ta, tb = to_ball(t0), to_ball(t1)
-        if not (tb > ta):
+        # t1 may be a ball reaching down to t0 (the flow over a whole time interval; the Taylor
+        # step and its a-priori enclosure hold on a step interval containing 0 on either side)
+        if not (tb.mid() > ta.mid()):
             raise UserInputError(f"t1 must be after t0 (got {t0!r}, {t1!r})")
         prob = _Problem(code.taylor.taylor_coefficients, P, n, order, jacobian)
         result = _integrate(prob, X0, ta, tb, tol, max_steps, max_width)
@@ -431,38 +435,60 @@ def _integrate(
         _column([x.mid() for x in X0]), _identity(n), _column([x - x.mid() for x in X0])
     )
     j_set = _LohnerSet(_identity(n), _identity(n), arb_mat(n, n)) if prob.want_jacobian else None
-    box = list(X0)
-    t, steps, widths, times, scale = ta, 0, [], [], 1.0
-    while True:
-        remaining = tb - t
-        last_possible = True
-        centre = [x_set.centre[i, 0] for i in range(n)]
+    run = {"x": x_set, "j": j_set, "box": list(X0), "widths": [], "times": []}
+    # an end time that is an interval: steps to its lower end, then one step over all of it
+    interval_end = float(tb.rad()) > 2.0 ** (20 - ctx.prec) * (1 + float(abs(tb).upper()))
+    stop = arb(tb.lower()) if interval_end else tb
+    t, scale = ta, 1.0
+    while stop.mid() > t.mid() and (not interval_end or stop > t):
+        centre = [run["x"].centre[i, 0] for i in range(n)]
         c = prob.taylor(t, centre, prob.params, prob.order, ARB_LIB)
         h_try = _step_size(c, prob.order, tol)
-        piece, h, last_possible = _take_step(prob, t, box, c, h_try * scale, remaining, tol)
-        if not last_possible:  # remember how far the remainder control cut the estimate
+        piece, h, last = _take_step(prob, t, run["box"], c, h_try * scale, stop - t, tol)
+        if not last:  # remember how far the remainder control cut the estimate
             scale = min(1.0, 1.1 * float(h.mid()) / h_try)
-        S, U = piece["S"], _column(piece["u"])
-        new_set = x_set.advance(U, S)
-        hull = new_set.hull()
-        direct = U + S * (x_set.basis * x_set.coeffs)
-        box = [_tighter(hull[i, 0], direct[i, 0]) for i in range(n)]
-        if prob.want_jacobian:
-            SJ = S + piece["DR"]
-            j_set = j_set.advance(SJ * j_set.centre, SJ)
-        x_set = new_set
-        steps += 1
-        widths.append(max(_width(b) for b in box))
-        times.append(float((t + h).mid()))
-        if widths[-1] > max_width or not all(b.is_finite() for b in box):
-            raise EnclosureError(_growth_report(widths, times, max_width))
-        if last_possible:
-            break
+        _apply(prob, run, piece, t + h, max_width)
         t = t + h
-        if steps >= max_steps:
+        if last:
+            break
+        if len(run["widths"]) >= max_steps:
             raise EnclosureError(f"{max_steps} steps were not enough")
-    jac = None if j_set is None else _entries(j_set.hull())
-    return {"state": box, "jacobian": jac, "steps": steps, "widths": widths, "times": times}
+    if interval_end:
+        centre = [run["x"].centre[i, 0] for i in range(n)]
+        c = prob.taylor(t, centre, prob.params, prob.order, ARB_LIB)
+        piece = _step(prob, t, run["box"], c, tb - t)
+        if piece is None:
+            raise EnclosureError(
+                f"the end-time interval {tb} is too long for one Taylor step from "
+                f"t = {float(t.mid()):.6g}: split it"
+            )
+        _apply(prob, run, piece, tb, max_width)
+    jac = None if run["j"] is None else _entries(run["j"].hull())
+    return {
+        "state": run["box"],
+        "jacobian": jac,
+        "steps": len(run["widths"]),
+        "widths": run["widths"],
+        "times": run["times"],
+    }
+
+
+def _apply(prob: _Problem, run: dict, piece: dict, t_new: arb, max_width: float) -> None:
+    """Carry the sets (and the box) over one accepted step."""
+    x_set = run["x"]
+    S, U = piece["S"], _column(piece["u"])
+    new_set = x_set.advance(U, S)
+    hull = new_set.hull()
+    direct = U + S * (x_set.basis * x_set.coeffs)
+    run["box"] = [_tighter(hull[i, 0], direct[i, 0]) for i in range(prob.n)]
+    if run["j"] is not None:
+        SJ = S + piece["DR"]
+        run["j"] = run["j"].advance(SJ * run["j"].centre, SJ)
+    run["x"] = new_set
+    run["widths"].append(max(_width(b) for b in run["box"]))
+    run["times"].append(float(t_new.mid()))
+    if run["widths"][-1] > max_width or not all(b.is_finite() for b in run["box"]):
+        raise EnclosureError(_growth_report(run["widths"], run["times"], max_width))
 
 
 def _growth_report(widths: list, times: list, limit: float) -> str:
@@ -477,7 +503,8 @@ def _growth_report(widths: list, times: list, limit: float) -> str:
     end = f"{widths[-1]:.3g}" if math.isfinite(widths[-1]) else "not finite"
     return (
         f"the enclosure grew past {limit:.3g} (width {end} at t = {times[-1]:.6g}, step "
-        f"{len(widths)}; width {start:.3g} after the first step" + "".join(", " + m for m in marks)
+        f"{len(widths)}; width {start:.3g} after the first step"
+        + "".join(", " + m for m in marks)
         + "): the flow cannot be enclosed this far at this precision (a chaotic orbit's "
         "enclosure grows like its largest exponent)"
     )
