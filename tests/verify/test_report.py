@@ -34,7 +34,7 @@ def test_errata_pair_each_literal_reading_with_its_correction():
     errata = text.split("## Errata", 1)[1].split("## Claims", 1)[0]
     assert "XYZ-1/literal" in errata and "| XYZ-1: $" in errata and "a = 1/2" in errata
     assert "ABC-2" not in errata
-    assert "| XYZ | 2 | 1 | 0 | 0 | 1 | 0 |" in text
+    assert "| XYZ | 2 | 1 | 0 | 0 | 0 | 1 | 0 |" in text
     assert "every verdict is the expected one" in text
 
 
