@@ -380,7 +380,11 @@ def iter_verdicts(
             yield _check_or_error(c, method)
         return
     ctx = multiprocessing.get_context("spawn")  # no fork of a parent with locks or threads
-    pending = claim_families(claims)[::-1]
+    # the families with a proof in ball arithmetic (minutes each) are handed out first, so
+    # that the short claims fill the other workers meanwhile; verdicts keep the claims' order
+    families = claim_families(claims)
+    heavy = [f for f in families if any(getattr(claims[i], "rigorous", False) for i, _ in f)]
+    pending = (heavy + [f for f in families if f not in heavy])[::-1]
     slots = [_Slot(ctx, method, lookup) for _ in range(max(1, min(jobs, len(pending))))]
     done: dict[int, Verdict] = {}
     nxt = 0
