@@ -66,27 +66,21 @@ def render_markdown(study: dict) -> str:
         f"- {k}: {v:.2f} s" if isinstance(v, float) else f"- {k}: {v}"
         for k, v in study["compile_s"].items()
     ]
-    if study.get("map_throughput"):
-        lines += ["", "## BM20's stroboscopic map (us per forcing period per point)", ""]
-        lines += [f"- {k}: {v:.4g}" if isinstance(v, float) else f"- {k}: {v}"
-                  for k, v in study["map_throughput"].items()]  # fmt: skip
-    if study.get("lyapunov_throughput"):
-        lines += ["", "## BM20's largest Lyapunov exponent (seconds per point; issue 26's target "
-                  "<= 0.05 s, a 101 x 101 chart <= 15 min on 2 cores)", ""]  # fmt: skip
-        lines += [f"- {k}: {v:.4g}" if isinstance(v, float) else f"- {k}: {v}"
-                  for k, v in study["lyapunov_throughput"].items()]  # fmt: skip
-    checked = study.get("verify_time") or {}
-    if checked:
-        lines += ["", "## The main job: chaplygin verify in its own process (issue 26: <= 60 s "
-                  "warm on 2 cores)", ""]  # fmt: skip
-        lines += [f"- {k}: {v:.4g}" if isinstance(v, float) else f"- {k}: {v}"
-                  for k, v in checked.items()]  # fmt: skip
-    enclosed = study.get("enclosure_cost") or {}
-    if enclosed:
-        lines += ["", "## Proofs by computation: an enclosure beside the floating-point run "
-                  "(issue 27; the BM20 7-cycle proof <= 2 min on 2 cores)", ""]  # fmt: skip
-        lines += [f"- {k}: {v:.4g}" if isinstance(v, float) else f"- {k}: {v}"
-                  for k, v in enclosed.items()]  # fmt: skip
+    sections = (
+        ("map_throughput", "BM20's stroboscopic map (us per forcing period per point)"),
+        ("lyapunov_throughput", "BM20's largest Lyapunov exponent (seconds per point; issue "
+         "26's target <= 0.05 s, a 101 x 101 chart <= 15 min on 2 cores)"),
+        ("verify_time", "The main job: chaplygin verify in its own process (issue 26: <= 60 s "
+         "warm on 2 cores)"),
+        ("enclosure_cost", "Proofs by computation: an enclosure beside the floating-point run "
+         "(issue 27; the BM20 7-cycle proof <= 2 min on 2 cores)"),
+    )  # fmt: skip
+    for key, title in sections:
+        values = study.get(key) or {}
+        if values:
+            lines += ["", f"## {title}", ""]
+            lines += [f"- {k}: {v:.4g}" if isinstance(v, float) else f"- {k}: {v}"
+                      for k, v in values.items()]  # fmt: skip
     ensemble = study.get("ensemble_throughput") or {}
     if ensemble:
         lines += ["", "## Many orbits at once (seconds per orbit; issue 26: integrate_many at or "

@@ -59,6 +59,7 @@ _PUBLIC: dict[str, str] = {
     "enclose_flow": "numerics.validated.lohner:enclose_flow",
     "FlowEnclosure": "numerics.validated.lohner:FlowEnclosure",
     "EnclosureError": "numerics.validated.lohner:EnclosureError",
+    "enclose_crossing": "numerics.validated.sections:enclose_crossing",
     "prove_bm20_periodic_orbit": "numerics.ball.bm20_enclosure:prove_bm20_periodic_orbit",
     # claims and verdicts (verify)
     "claims": "verify.claims:select_claims",
