@@ -69,7 +69,10 @@ def krawczyk_test(centre: list, box: list, F_centre: list, DF_box: arb_mat) -> K
     """
     n = len(box)
     mid = arb_mat([[DF_box[i, j].mid() for j in range(n)] for i in range(n)])
-    C = mid.inv()
+    try:
+        C = mid.inv()
+    except ZeroDivisionError:  # the midpoint derivative is singular: nothing to decide with
+        return KrawczykResult("undecided", list(box), float("-inf"))
     C = arb_mat([[C[i, j].mid() for j in range(n)] for i in range(n)])
     eye = arb_mat([[1 if i == j else 0 for j in range(n)] for i in range(n)])
     dx = arb_mat([[box[i] - centre[i]] for i in range(n)])

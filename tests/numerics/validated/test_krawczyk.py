@@ -78,3 +78,10 @@ def test_schur_cohn_on_a_rotation_near_the_circle(radius: float) -> None:
             m = arb_mat([[c, -s], [s, c]]) + arb_mat([[arb(0, radius)] * 2] * 2)
             out.append(schur_cohn(m)[0])
     assert out == (["inside", "not inside"] if radius == 0 else ["undecided", "undecided"])
+
+
+def test_a_singular_derivative_leaves_the_question_open() -> None:
+    """F(x, y) = (x^2, y) at the double zero x = 0: the midpoint derivative is singular."""
+    box = [arb(0, 1e-3), arb(0, 1e-3)]
+    r = krawczyk_test([arb(0), arb(0)], box, [arb(0), arb(0)], arb_mat([[2 * box[0], 0], [0, 1]]))
+    assert r.verdict == "undecided"
