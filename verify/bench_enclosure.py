@@ -53,7 +53,11 @@ def enclosure_cost(repeats: int = 3, proof: bool = True) -> dict[str, Any]:
     from flint import arb
 
     from ..numerics import load_model_code
-    from ..numerics.ball.bm20_enclosure import BM20_FIG5_BODY, _chart, prove_bm20_periodic_orbit
+    from ..numerics.ball.bm20_enclosure import (
+        BM20_FIG5_BODY,
+        bm20_chart,
+        prove_bm20_periodic_orbit,
+    )
     from ..numerics.ball.bm20_map import BM20_EFFECTS
     from ..numerics.integrate import integrate
     from ..numerics.validated import enclose_flow, to_ball, working_precision
@@ -61,7 +65,7 @@ def enclosure_cost(repeats: int = 3, proof: bool = True) -> dict[str, Any]:
     code = load_model_code("chaplygin_ball", BM20_EFFECTS)
     params = [*BM20_FIG5_BODY, "1.06675"]
     with working_precision(128):
-        y0 = [v.mid() for v in _chart([to_ball(v) for v in FIG7A_POINT], arb(3))]
+        y0 = [v.mid() for v in bm20_chart([to_ball(v) for v in FIG7A_POINT], arb(3))]
         box = [v + arb(0, 1e-13) for v in y0]
         period = 2 * arb.pi() / to_ball("1.06675")
     start = [float(v) for v in y0]

@@ -25,7 +25,7 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
-from flint import arb, arb_mat
+from flint import arb, arb_mat, ctx
 
 from ...arith import detlinalg
 from ...derive.errors import ComputationError
@@ -42,7 +42,13 @@ from ..validated.krawczyk import krawczyk_test, schur_cohn
 from ..validated.lohner import enclose_flow, to_ball, working_precision
 from .bm20_map import BM20_EFFECTS
 
-__all__ = ["MapOrbitProof", "prove_bm20_periodic_orbit", "bm20_orbit_guess", "BM20_FIG5_BODY"]
+__all__ = [
+    "MapOrbitProof",
+    "prove_bm20_periodic_orbit",
+    "bm20_orbit_guess",
+    "bm20_chart",
+    "BM20_FIG5_BODY",
+]
 
 #: BM20 Fig. 5-7's body as decimal strings, in the model's parameter order
 #: (I1, I2, I3, D, J_off, delta, K1, K2, K3, Omega); Omega is set per call.
@@ -97,8 +103,22 @@ class MapOrbitProof:
     widths: list = field(default_factory=list)
 
 
-def _chart(x: Sequence, G: arb) -> list:
-    """BM20 (3.7): ``(M, gamma)`` of ``(z, l, g)`` (balls or jets)."""
+def bm20_chart(x: Sequence, G: arb) -> list:
+    """BM20 (3.7): ``(M, gamma)`` of ``(z, l, g)`` on balls or jets (the derivative of the
+    chart comes with jets).
+
+    Parameters
+    ----------
+    x : sequence of 3 arb or ArbJet
+        ``(z, l, g)``.
+    G : arb
+        ``|M|``.
+
+    Returns
+    -------
+    list of 6 arb or ArbJet
+        ``M1, M2, M3, gamma1, gamma2, gamma3``.
+    """
     z, l_, g = x
     s = JET_LIB.sqrt(1 - z * z)
     sl, cl, sg, cg = JET_LIB.sin(l_), JET_LIB.cos(l_), JET_LIB.sin(g), JET_LIB.cos(g)
@@ -128,9 +148,11 @@ def _period_map(code, params, x, x_next, G, t1, jacobian, order, tol):  # noqa: 
     ``jacobian``, its derivative with respect to ``x`` over them (that with respect to
     ``x_next`` is ``-Id`` exactly)."""
     xj = seed_jets(list(x)) if jacobian else list(x)
-    y0 = _chart(xj, G)
+    y0 = bm20_chart(xj, G)
+    y_start = [jet_value(v) for v in y0]
+    # at the caller's working precision (prove_bm20_periodic_orbit's ``prec``)
     e = enclose_flow(
-        code, params, [jet_value(v) for v in y0], 0, t1, jacobian=jacobian, order=order, tol=tol
+        code, params, y_start, 0, t1, jacobian=jacobian, order=order, tol=tol, prec=ctx.prec
     )
     if jacobian:
         Dchart = arb_mat([jet_gradient(v, 3) for v in y0])

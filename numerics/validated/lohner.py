@@ -179,10 +179,6 @@ def _width(b: arb) -> float:
     return 2 * float(b.rad())
 
 
-def _mid(b: arb) -> arb:
-    return b.mid()
-
-
 def _mat(rows: Sequence[Sequence[Any]]) -> arb_mat:
     return arb_mat([list(r) for r in rows])
 

@@ -128,11 +128,13 @@ def enclose_crossing(
         P = [to_ball(p) for p in params]
         ta, tb = to_ball(window[0]), to_ball(window[1])
         start = to_ball(t0)
-        Xa = (
-            enclose_flow(code, P, state, start, ta, prec=prec, **options).state
+        # to the window's start (with the derivative when the section map's is asked for)
+        first = (
+            enclose_flow(code, P, state, start, ta, jacobian=jacobian, prec=prec, **options)
             if ta.mid() > start.mid()
-            else [to_ball(v) for v in state]
+            else None
         )
+        Xa = first.state if first is not None else [to_ball(v) for v in state]
         Xb = enclose_flow(code, P, Xa, ta, tb, prec=prec, **options).state
         sa, sb = jet_value(section(Xa)), jet_value(section(Xb))
         if not ((sa < 0 and sb > 0) or (sa > 0 and sb < 0)):
@@ -171,12 +173,8 @@ def enclose_crossing(
             grad = jet_gradient(section(seed_jets(final.state)), n)
             f = _field(code, P, T, final.state)
             Dphi = arb_mat(final.jacobian)
-            if ta.mid() > start.mid():
-                Dphi = Dphi * arb_mat(
-                    enclose_flow(
-                        code, P, state, start, ta, jacobian=True, prec=prec, **options
-                    ).jacobian
-                )
+            if first is not None:
+                Dphi = Dphi * arb_mat(first.jacobian)
             fg = arb_mat([[f[i] * grad[j] / slope for j in range(n)] for i in range(n)])
             eye = arb_mat([[1 if i == j else 0 for j in range(n)] for i in range(n)])
             Dm = (eye - fg) * Dphi
