@@ -268,8 +268,9 @@ def _step_size(c: list[list], order: int, tol: float) -> float:
     return 0.9 * h if math.isfinite(h) else 1.0
 
 
-def _apriori(prob: _Problem, t: arb, X: list, cX: list, h: arb) -> list | None:
-    """An enclosure ``Z`` of every solution from ``X`` over ``[t, t + h]``, or None."""
+def _apriori(prob: _Problem, t: arb, cX: list, h: arb) -> list | None:
+    """An enclosure ``Z`` of every solution from the box over ``[t, t + h]``, or None
+    (``cX``: the Taylor coefficients over the box)."""
     n, order = prob.n, prob.order
     H = _hull_interval(h)
     T = t + H
@@ -295,7 +296,7 @@ def _step(prob: _Problem, t: arb, box: list, c: list, h: arb) -> dict | None:
     n, order = prob.n, prob.order
     jets = prob.taylor(t, seed_jets(box), prob.params, order, JET_LIB)
     cX = [[jet_value(x) for x in row] for row in jets]
-    Z = _apriori(prob, t, box, cX, h)
+    Z = _apriori(prob, t, cX, h)
     if Z is None:
         return None
     H = _hull_interval(h)
