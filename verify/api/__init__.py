@@ -61,6 +61,9 @@ _PUBLIC: dict[str, str] = {
     "EnclosureError": "numerics.validated.lohner:EnclosureError",
     "enclose_crossing": "numerics.validated.sections:enclose_crossing",
     "prove_bm20_periodic_orbit": "numerics.ball.bm20_enclosure:prove_bm20_periodic_orbit",
+    "prove_steady_rotation_stability": (
+        "numerics.ball.steady_enclosure:prove_steady_rotation_stability"
+    ),
     # claims and verdicts (verify)
     "claims": "verify.claims:select_claims",
     "check": "verify.check:check",
