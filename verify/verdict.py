@@ -13,7 +13,7 @@ from collections.abc import Callable, Iterable, Iterator
 from dataclasses import asdict, dataclass
 
 from .claims import REGISTRY, Claim, ComputedClaim
-from .claims.base import PROVED_BY_COMPUTATION
+from .claims.base import PROVED_BY_COMPUTATION, Computed
 from .identity import Domain, decide
 from .latex import plain_to_latex
 
@@ -144,6 +144,31 @@ class Verdict:
         )
 
 
+def _computed(claim: ComputedClaim) -> Computed:
+    """The claim's computation. Where a proof by computation cannot enclose the flow (a long
+    chaotic run, wrapping past the limit), nothing is decided: the verdict stays ``numeric``
+    and the report says where the enclosure grew and how wide it got."""
+    if not claim.rigorous:
+        return claim.compute()
+    from ..numerics.validated.lohner import EnclosureError
+
+    try:
+        return claim.compute()
+    except EnclosureError as exc:
+        values = {"why undecided": str(exc)}
+        widths, times = exc.widths, exc.times
+        if widths:
+            k = max(range(len(widths)), key=widths.__getitem__)
+            values["widest enclosure"] = f"{widths[k]:.3g} at t = {times[k]:.6g}"
+        return Computed(
+            error=float("nan"),
+            bound=0.0,
+            what=f"the enclosure blew up, so nothing is proved: {exc}",
+            values=values,
+            decided="undecided",
+        )
+
+
 def check_claim(claim: Claim, method: str = "auto", points: int = 8) -> Verdict:
     """Build the claim's model and residuals and decide them.
 
@@ -162,7 +187,7 @@ def check_claim(claim: Claim, method: str = "auto", points: int = 8) -> Verdict:
     """
     if isinstance(claim, ComputedClaim):
         start = time.perf_counter()
-        result = claim.compute()
+        result = _computed(claim)
         holds = result.holds
         if result.decided is not None:
             verdict = {"proved": PROVED_BY_COMPUTATION, "refuted": "refuted"}.get(

@@ -87,6 +87,8 @@ class MapOrbitProof:
         Integration steps of the box run; wall time of the whole proof.
     widths : list of float
         The box run's widest state enclosure after each step.
+    cycle_box, cycle_image : list of arb
+        ``X`` and ``K`` for all ``3k`` unknowns (the orbit's ``k`` points).
     """
 
     exists: str
@@ -101,6 +103,8 @@ class MapOrbitProof:
     steps: int
     seconds: float
     widths: list = field(default_factory=list)
+    cycle_box: list = field(default_factory=list)
+    cycle_image: list = field(default_factory=list)
 
 
 def bm20_chart(x: Sequence, G: arb) -> list:
@@ -150,9 +154,20 @@ def _period_map(code, params, x, x_next, G, t1, jacobian, order, tol):  # noqa: 
     xj = seed_jets(list(x)) if jacobian else list(x)
     y0 = bm20_chart(xj, G)
     y_start = [jet_value(v) for v in y0]
-    # at the caller's working precision (prove_bm20_periodic_orbit's ``prec``)
+    # at the caller's working precision (prove_bm20_periodic_orbit's ``prec``); a parameter
+    # interval (Omega over a range) is carried in the Lohner set, not in the coefficients
+    carry = [i for i, q in enumerate(params) if float(q.rad()) > 1e-20 * float(abs(q).upper())]
     e = enclose_flow(
-        code, params, y_start, 0, t1, jacobian=jacobian, order=order, tol=tol, prec=ctx.prec
+        code,
+        params,
+        y_start,
+        0,
+        t1,
+        jacobian=jacobian,
+        order=order,
+        tol=tol,
+        prec=ctx.prec,
+        carry=carry,
     )
     if jacobian:
         Dchart = arb_mat([jet_gradient(v, 3) for v in y0])
@@ -231,10 +246,11 @@ def _multipliers_test(blocks: list) -> str:
 
 
 def prove_bm20_periodic_orbit(
-    omega: str,
+    omega: str | tuple[str, str],
     guess: Sequence[float],
     period: int = 7,
     *,
+    multipliers: bool = True,
     body: Sequence[str] = BM20_FIG5_BODY,
     G: str = "3",
     radius: float = 1e-13,
@@ -256,8 +272,11 @@ def prove_bm20_periodic_orbit(
 
     Parameters
     ----------
-    omega : str
-        The forcing frequency as typed (a decimal string is enclosed, not rounded to double).
+    omega : str or (str, str)
+        The forcing frequency as typed (a decimal string is enclosed, not rounded to double),
+        or an interval ``(lo, hi)``: then the Krawczyk test proves, for every ``Omega`` in
+        it, one and only one cycle through the boxes (the interval is carried through the
+        flow as a constant state; the forcing period ``2 pi/Omega`` is an end-time interval).
     guess : sequence of 3 numbers or decimal strings
         A point ``(z, l, g)`` near the orbit, closer than ``radius`` over the conditioning of
         the shooting system (e.g. refined to 30 digits by
@@ -275,6 +294,8 @@ def prove_bm20_periodic_orbit(
     order, prec, tol : optional
         The validated integrator's Taylor order, Arb precision (bits) and step control
         (the remainder per step) of the runs from the points.
+    multipliers : bool, optional
+        Decide the multipliers (False: existence only; ``attracting`` is ``"undecided"``).
     box_order, box_tol : optional
         Taylor order and step control of the runs over the boxes (whose width dominates
         there). When the multipliers are undecided on the boxes, the runs are repeated over
@@ -303,8 +324,8 @@ def prove_bm20_periodic_orbit(
         F = [v for r in residuals for v in r]
         run = _BoxRuns(code, params, Gb, tau, xs, box_order, box_tol)
         test = krawczyk_test(centre, big_box, F, _cyclic_jacobian(run.blocks(big_box)))
-        attracting = _multipliers_test(run.blocks_done)
-        if test.verdict == "unique zero" and attracting == "undecided":
+        attracting = _multipliers_test(run.blocks_done) if multipliers else "undecided"
+        if multipliers and test.verdict == "unique zero" and attracting == "undecided":
             # the cycle is in K too: the derivatives over K's (much smaller) boxes
             attracting = _multipliers_test(run.blocks(test.image))
         DP = _product(run.blocks_done)
@@ -323,6 +344,8 @@ def prove_bm20_periodic_orbit(
         steps=run.steps,
         seconds=time.perf_counter() - started,
         widths=run.widths,
+        cycle_box=big_box,
+        cycle_image=test.image,
     )
 
 

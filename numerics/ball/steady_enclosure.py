@@ -138,13 +138,13 @@ def steady_rotation_ball(
     if not (all(v > 0 for v in Ib) and Db > 0 and Cb > 0):
         raise UserInputError("the moments of inertia, D and C must be positive")
     Ia = Ib[axis]
-    w = ((Cb + Db * (2 * Ia + Db) * Mgb**2 / Ia**2) / (Ia + Db) ** 2).sqrt()
+    w = ((Cb + Db * (2 * Ia + Db) * Mgb * Mgb / (Ia * Ia)) / ((Ia + Db) * (Ia + Db))).sqrt()
     w = -w if branch == 0 else w
     g = Mgb / (Ia * w)
-    if not (g**2 < 1):
+    if not (g * g < 1):
         raise UserInputError(f"no steady rotation about e_{axis + 1} at C = {C}, M_gamma = {Mg}")
     gamma = [arb(0)] * 3
-    gamma[axis], gamma[(axis + 1) % 3] = g, (1 - g**2).sqrt()
+    gamma[axis], gamma[(axis + 1) % 3] = g, (1 - g * g).sqrt()
     M = [-Db * w * g * c for c in gamma]
     M[axis] += (Ia + Db) * w
     return [*M, *gamma], 2 * arb.pi() / abs(w)

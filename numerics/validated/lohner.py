@@ -53,7 +53,19 @@ __all__ = [
 
 class EnclosureError(ComputationError):
     """The validated integrator could not enclose the flow (the a-priori enclosure failed at
-    the smallest step allowed, or the enclosure grew past the limit given)."""
+    the smallest step allowed, or the enclosure grew past the limit given).
+
+    Attributes
+    ----------
+    widths, times : list of float
+        The widest component after each step and the time it reached (empty when the
+        failure is not a growth): where the wrapping grew.
+    """
+
+    def __init__(self, message: str, widths: list | None = None, times: list | None = None):
+        super().__init__(message)
+        self.widths = list(widths or [])
+        self.times = list(times or [])
 
 
 @contextmanager
@@ -145,6 +157,8 @@ class FlowEnclosure:
         The time reached by each step (``widths[i]`` is the width at ``times[i]``).
     seconds : float
         Wall time.
+    parameter_jacobian : list of list of arb or None
+        Encloses ``d phi / d p`` for the parameters carried as states (``carry``).
     """
 
     t0: arb
@@ -158,6 +172,7 @@ class FlowEnclosure:
     widths: list = field(default_factory=list)
     times: list = field(default_factory=list)
     seconds: float = 0.0
+    parameter_jacobian: list | None = None
 
     def contains(self, y: Sequence) -> bool:
         """Whether every component of ``y`` lies in the enclosure.
@@ -249,6 +264,22 @@ class _Problem:
     n: int
     order: int
     want_jacobian: bool
+    invariants: list = field(default_factory=list)
+
+
+def _carrying(taylor: Callable, n: int, carry: list[int]) -> Callable:
+    """The Taylor recurrences of the model extended by the carried parameters as constant
+    states (their series ``p, 0, 0, ...``), which the recurrences read as parameters."""
+
+    def coefficients(t0: Any, y: list, p: list, order: int, lib: Any) -> list:
+        p = list(p)
+        for k, index in enumerate(carry):
+            p[index] = y[n + k]
+        zero = lib.mpf(0)
+        constant = [[y[n + k]] + [zero] * order for k in range(len(carry))]
+        return [*taylor(t0, y[:n], p, order, lib), *constant]
+
+    return coefficients
 
 
 def _horner(coeffs: Sequence[Any], h: Any) -> Any:
@@ -340,6 +371,8 @@ def enclose_flow(
     tol: float = 1e-20,
     max_steps: int = 100000,
     max_width: float = 1.0,
+    carry: Sequence[int] = (),
+    invariants: Sequence[Callable[[list], list]] = (),
 ) -> FlowEnclosure:
     """Enclose the flow of a generated model from ``t0`` to ``t1`` (and its derivative).
 
@@ -369,6 +402,19 @@ def enclose_flow(
     max_steps : int, optional
     max_width : float, optional
         Stop with :class:`EnclosureError` when a component's enclosure gets wider than this.
+    carry : sequence of int, optional
+        Indices of parameters carried as constant states (``p' = 0``) in the Lohner set:
+        a parameter interval then moves the enclosure through the flow's derivative in
+        it, instead of widening every Taylor coefficient (which wraps: the width would be
+        added again at each step). The state and ``jacobian`` stay those of
+        the model's state; ``parameter_jacobian`` encloses ``d phi/d p`` for the carried
+        parameters when ``jacobian`` is asked for.
+    invariants : sequence of callable, optional
+        Relations the flow keeps, as tightenings ``box -> box`` (e.g.
+        :func:`~chaplygin.numerics.validated.constraints.unit_norm` for ``|gamma| = 1``),
+        applied to the state's box after each step. The intersection assumes the relation:
+        give only relations proved to be kept; the result then encloses the flow of the
+        initial states in the box that meet them.
 
     Returns
     -------
@@ -399,25 +445,35 @@ def enclose_flow(
         )
     if not (isinstance(order, int) and 2 <= order <= 60):
         raise UserInputError(f"order must be an integer in 2..60, got {order!r}")
+    carry = list(carry)
+    if any(not isinstance(k, int) or not 0 <= k < len(params) for k in carry) or len(
+        set(carry)
+    ) != len(carry):
+        raise UserInputError(f"carry must be distinct parameter indices, got {carry!r}")
     with working_precision(prec):
         P = [to_ball(p) for p in params]
-        X0 = [to_ball(x) for x in state]
+        X0 = [to_ball(x) for x in state] + [P[k] for k in carry]
         ta, tb = to_ball(t0), to_ball(t1)
         # t1 may be a ball reaching down to t0 (the flow over a whole time interval; the Taylor
         # step and its a-priori enclosure hold on a step interval containing 0 on either side)
         if not (tb.mid() > ta.mid()):
             raise UserInputError(f"t1 must be after t0 (got {t0!r}, {t1!r})")
-        prob = _Problem(code.taylor.taylor_coefficients, P, n, order, jacobian)
+        taylor = code.taylor.taylor_coefficients
+        if carry:
+            taylor = _carrying(taylor, n, carry)
+        prob = _Problem(taylor, P, n + len(carry), order, jacobian, list(invariants))
         result = _integrate(prob, X0, ta, tb, tol, max_steps, max_width)
+    jac = result["jacobian"]
     return FlowEnclosure(
         t0=ta,
         t1=tb,
-        state=result["state"],
-        jacobian=result["jacobian"],
+        state=result["state"][:n],
+        jacobian=None if jac is None else [row[:n] for row in jac[:n]],
+        parameter_jacobian=None if jac is None or not carry else [row[n:] for row in jac[:n]],
         steps=result["steps"],
         order=order,
         prec=prec,
-        max_width=max(_width(b) for b in result["state"]),
+        max_width=max(_width(b) for b in result["state"][:n]),
         widths=result["widths"],
         times=result["times"],
         seconds=time.perf_counter() - started,
@@ -478,6 +534,8 @@ def _apply(prob: _Problem, run: dict, piece: dict, t_new: arb, max_width: float)
     hull = new_set.hull()
     direct = U + S * (x_set.basis * x_set.coeffs)
     run["box"] = [_tighter(hull[i, 0], direct[i, 0]) for i in range(prob.n)]
+    for tighten in prob.invariants:
+        run["box"] = tighten(run["box"])
     if run["j"] is not None:
         SJ = S + piece["DR"]
         run["j"] = run["j"].advance(SJ * run["j"].centre, SJ)
@@ -485,7 +543,9 @@ def _apply(prob: _Problem, run: dict, piece: dict, t_new: arb, max_width: float)
     run["widths"].append(max(_width(b) for b in run["box"]))
     run["times"].append(float(t_new.mid()))
     if run["widths"][-1] > max_width or not all(b.is_finite() for b in run["box"]):
-        raise EnclosureError(_growth_report(run["widths"], run["times"], max_width))
+        raise EnclosureError(
+            _growth_report(run["widths"], run["times"], max_width), run["widths"], run["times"]
+        )
 
 
 def _growth_report(widths: list, times: list, limit: float) -> str:

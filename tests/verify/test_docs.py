@@ -16,6 +16,7 @@ MODULES = [
     "chaplygin.numerics.dynamics.lyapunov_batch",
     "chaplygin.numerics.validated.lohner",
     "chaplygin.numerics.validated.krawczyk",
+    "chaplygin.numerics.validated.constraints",
     "chaplygin.numerics.ball.steady_enclosure",
     "chaplygin.numerics.taylor",
     "chaplygin.verify.cli_common",

@@ -52,3 +52,41 @@ def test_the_bm20_cycle_claims_are_rigorous_with_a_control() -> None:
         "proved by computation",
         "refuted",
     ]
+
+
+def test_an_enclosure_that_blows_up_leaves_the_claim_numeric_with_where_it_grew() -> None:
+    """A rigorous claim whose flow cannot be enclosed (x' = 3 x from a ball of radius 1e-30,
+    limit 1e-20: passed at t = ln(5e9)/3 = 7.44) is not decided: verdict ``numeric`` (not
+    the expected one), the widest enclosure and the growth report in the witness."""
+    from types import SimpleNamespace
+
+    from chaplygin.numerics.validated import enclose_flow, to_ball, working_precision
+    from flint import arb
+
+    def coefficients(t0, y, p, order, lib):  # noqa: ANN001, ANN202
+        c = [y[0]]
+        for k in range(order):
+            c.append(p[0] * c[k] / (k + 1))
+        return [c]
+
+    code = SimpleNamespace(
+        name="growth", state=("x",), params=("p",),
+        taylor=SimpleNamespace(taylor_coefficients=coefficients),
+    )  # fmt: skip
+
+    def run() -> Computed:
+        with working_precision(128):
+            enclose_flow(
+                code, ["3"], [to_ball("1") + arb(0, 1e-30)], 0, 20, max_width=1e-20, tol=1e-36
+            )
+        return Computed(error=0.0, bound=0.0, what="never reached", decided="proved")
+
+    claim = ComputedClaim(
+        id="TEST-blow-up", source="test", kind="solution", statement="a long unstable run",
+        system="chaplygin_ball", compute=run, rigorous=True,
+    )  # fmt: skip
+    v = check_claim(claim)
+    assert (v.verdict, v.ok) == ("numeric", False)
+    assert "blew up" in v.method and "grew past 1e-20" in v.method
+    widest, at = v.witness["widest enclosure"].split(" at t = ")
+    assert float(widest) > 1e-20 and abs(float(at) - 7.44) < 0.5

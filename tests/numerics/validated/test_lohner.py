@@ -5,6 +5,7 @@ for that containment to mean something (a reference moved by a few widths falls 
 
 from __future__ import annotations
 
+import math
 from types import SimpleNamespace
 
 import mpmath
@@ -253,3 +254,106 @@ def test_an_enclosure_that_grows_past_its_limit_says_where() -> None:
     limit = 2 * e.widths[-1]
     with pytest.raises(EnclosureError, match=r"grew past .* at t = .*step"):
         enclose_flow(code, params, box, 0, "40", order=20, tol=1e-16, max_width=limit)
+
+
+def _growth_code() -> SimpleNamespace:
+    """x' = p x: Taylor coefficients c_(k+1) = p c_k/(k+1)."""
+
+    def coefficients(t0, y, p, order, lib):  # noqa: ANN001, ANN202
+        c = [y[0]]
+        for k in range(order):
+            c.append(p[0] * c[k] / (k + 1))
+        return [c]
+
+    return _code("growth", ("x",), ("p",), coefficients)
+
+
+def _rotation_code() -> SimpleNamespace:
+    """x' = p y, y' = -p x: c_(k+1) = (p cy_k, -p cx_k)/(k+1)."""
+
+    def coefficients(t0, y, p, order, lib):  # noqa: ANN001, ANN202
+        cx, cy = [y[0]], [y[1]]
+        for k in range(order):
+            cx.append(p[0] * cy[k] / (k + 1))
+            cy.append(-p[0] * cx[k] / (k + 1))
+        return [cx, cy]
+
+    return _code("rotation", ("x", "y"), ("p",), coefficients)
+
+
+def test_a_parameter_interval_carried_as_a_state_does_not_wrap() -> None:
+    """A rotation at a rate p in [p0 - d, p0 + d] for t = 23: the exact set is an arc of
+    x-width about 2 d |dx/dp|. Carried as a state the enclosure contains the flows of both
+    ends and is within 1% of that width (plus the step remainders); with p in the
+    coefficients the wrapping of the rotating box makes it wider (1.4 times here)."""
+    code = _rotation_code()
+    with working_precision(128):
+        p_ball = to_ball(("0.729999999", "0.730000001"))
+        carried = enclose_flow(
+            code, [p_ball], ["1.37", "-0.41"], 0, "23", jacobian=True, carry=[0], tol=1e-30
+        )
+        plain = enclose_flow(code, [p_ball], ["1.37", "-0.41"], 0, "23", tol=1e-30)
+    with mpmath.workdps(40):
+        p0, d, x0, y0, t = (mpmath.mpf(v) for v in ("0.73", "1e-9", "1.37", "-0.41", "23"))
+
+        def x_at(p: mpmath.mpf) -> mpmath.mpf:
+            return x0 * mpmath.cos(p * t) + y0 * mpmath.sin(p * t)
+
+        ends = [x_at(p0 - d), x_at(p0 + d)]
+        slope = mpmath.diff(x_at, p0)  # dx/dp
+    x = carried.state[0]
+    with working_precision(128):
+        assert all(x.contains(to_ball(mpmath.nstr(e, 35))) for e in ends)
+        dp = carried.parameter_jacobian[0][0]
+        assert dp.contains(to_ball(mpmath.nstr(slope, 30)))
+    arc = float(2 * d * abs(slope))
+    assert 2 * float(x.rad()) < 1.01 * arc
+    assert float(plain.state[0].rad()) > 1.2 * float(x.rad())  # wrapping, carrying avoids
+    assert float(dp.rad()) < 1e-6 * abs(float(slope))
+    with pytest.raises(UserInputError, match="carry"):
+        enclose_flow(code, [p_ball], ["1.37", "-0.41"], 0, "4.1", carry=[1])
+
+
+def test_growth_past_the_limit_is_reported_with_where_it_grew() -> None:
+    """x' = 3 x from a ball of radius 1e-30: its width 2e-30 exp(3 t) passes 1e-20 at
+    t = ln(5e9)/3 = 7.44; the error carries the widths and the times."""
+    code = _growth_code()
+    with working_precision(128):
+        start = to_ball("1") + arb(0, 1e-30)
+        with pytest.raises(EnclosureError, match="grew past") as info:
+            enclose_flow(code, ["3"], [start], 0, 20, max_width=1e-20, tol=1e-36)
+    exc = info.value
+    crossing = math.log(5e9) / 3
+    assert exc.widths[-1] > 1e-20 >= exc.widths[-2]
+    assert exc.times[-2] <= crossing * (1 + 1e-6) and exc.times[-1] >= crossing * (1 - 1e-6)
+
+
+def test_an_invariant_relation_tightens_the_box_and_keeps_the_flow() -> None:
+    """|gamma| = 1 (BKM12-5.F0) as a tightening: from a box of radius 1e-6 around a state
+    with |gamma| = 1 exactly, the enclosure at t = 3 still contains mpmath.odefun's flow
+    of the centre (30 digits) and is narrower in gamma3 than without the relation; a box
+    with no point on the sphere is refused."""
+    from chaplygin.derive.errors import ComputationError
+    from chaplygin.numerics.validated.constraints import unit_norm
+
+    code = load_model_code("chaplygin_ball")
+    body, centre = ["1.1", "1.7", "2.3", "0.9"], ["0.3", "-0.2", "0.5", "0.6", "0", "0.8"]
+    with working_precision(128):
+        box = [to_ball(v) + (arb(0, 1e-6) if i >= 3 else 0) for i, v in enumerate(centre)]
+        tight = enclose_flow(code, body, box, 0, 3, invariants=[unit_norm((3, 4, 5))])
+        loose = enclose_flow(code, body, box, 0, 3)
+    with mpmath.workdps(30):
+        p = [mpmath.mpf(v) for v in body]
+        flow = mpmath.odefun(lambda t, y: code.mpmath.rhs(t, y, p), 0,
+                             [mpmath.mpf(v) for v in centre])  # fmt: skip
+        ref = flow(3)
+    with working_precision(128):
+        pairs = zip(tight.state, ref, strict=True)
+        assert all(b.contains(to_ball(mpmath.nstr(r, 30))) for b, r in pairs)
+    assert float(tight.state[5].rad()) < 0.995 * float(loose.state[5].rad())  # 1.2% here
+    pairs = zip(tight.state, loose.state, strict=True)
+    assert all(float(a.rad()) <= float(b.rad()) for a, b in pairs)
+    with pytest.raises(ComputationError, match="no point"):
+        unit_norm((0, 1, 2))([arb("0.1", 1e-3)] * 3)
+    with pytest.raises(UserInputError, match="indices"):
+        unit_norm((1, 1))
