@@ -147,13 +147,32 @@ def _read_back(y: Sequence, x: Sequence) -> list:
     return [z1 - z, dl, dg]
 
 
+def _chart_set(x: Sequence, G: arb) -> tuple[list, list, list, arb_mat]:
+    """The chart's image of the box ``x`` in Lohner's form ``c + B r``: ``c`` the image of the
+    midpoint plus ``E = (Dchart(X) - A)(X - mid)`` (mean value theorem), ``B = [A | K]`` with
+    ``A`` the midpoint of the chart's derivative over the box and ``K`` an orthonormal
+    complement, ``r = (x - mid, 0)``; and the derivative over the box."""
+    mid = [v.mid() for v in x]
+    jets = bm20_chart(seed_jets(list(x)), G)
+    D = arb_mat([jet_gradient(v, 3) for v in jets])
+    A = [[float(D[i, j].mid()) for j in range(3)] for i in range(6)]
+    E = [sum((D[i, j] - A[i][j]) * (x[j] - mid[j]) for j in range(3)) for i in range(6)]
+    c = bm20_chart(mid, G)
+    _, K = detlinalg.orthonormal_split([[A[i][j] for i in range(6)] for j in range(3)])
+    basis = [[*A[i], *(float(v) for v in K[i])] for i in range(6)]
+    coefficients = [x[j] - mid[j] for j in range(3)] + [arb(0)] * 3
+    return [c[i] + E[i] for i in range(6)], basis, coefficients, D
+
+
 def _period_map(code, params, x, x_next, G, t1, jacobian, order, tol):  # noqa: ANN001, ANN202
     """``F = P(x) - x_next`` over the balls ``x`` (angles as rotated differences) and, with
     ``jacobian``, its derivative with respect to ``x`` over them (that with respect to
-    ``x_next`` is ``-Id`` exactly)."""
-    xj = seed_jets(list(x)) if jacobian else list(x)
-    y0 = bm20_chart(xj, G)
-    y_start = [jet_value(v) for v in y0]
+    ``x_next`` is ``-Id`` exactly). The box's image under the chart starts the flow as a thin
+    set in Lohner's form (not as the 6-D box around it)."""
+    if jacobian:
+        y_start, basis, coefficients, Dchart = _chart_set(x, G)
+    else:
+        y_start, basis, coefficients = bm20_chart(list(x), G), None, None
     # at the caller's working precision (prove_bm20_periodic_orbit's ``prec``); a parameter
     # interval (Omega over a range) is carried in the Lohner set, not in the coefficients
     carry = [i for i, q in enumerate(params) if float(q.rad()) > 1e-20 * float(abs(q).upper())]
@@ -168,9 +187,10 @@ def _period_map(code, params, x, x_next, G, t1, jacobian, order, tol):  # noqa: 
         tol=tol,
         prec=ctx.prec,
         carry=carry,
+        basis=basis,
+        coefficients=coefficients,
     )
     if jacobian:
-        Dchart = arb_mat([jet_gradient(v, 3) for v in y0])
         y = jets_from_matrix(e.state, arb_mat(e.jacobian) * Dchart)
     else:
         y = e.state

@@ -373,6 +373,8 @@ def enclose_flow(
     max_width: float = 1.0,
     carry: Sequence[int] = (),
     invariants: Sequence[Callable[[list], list]] = (),
+    basis: Sequence[Sequence] | None = None,
+    coefficients: Sequence | None = None,
 ) -> FlowEnclosure:
     """Enclose the flow of a generated model from ``t0`` to ``t1`` (and its derivative).
 
@@ -415,6 +417,12 @@ def enclose_flow(
         applied to the state's box after each step. The intersection assumes the relation:
         give only relations proved to be kept; the result then encloses the flow of the
         initial states in the box that meet them.
+    basis, coefficients : optional
+        An initial set in Lohner's form: ``{state + basis r : r in coefficients}`` with
+        ``basis`` an invertible ``n x n`` matrix of floats and ``coefficients`` ``n`` balls or
+        intervals (the widths of ``state`` are added). A thin set that is not a box (the image
+        of a small box of a chart) then does not start as the box around it, whose wrapping
+        would widen every later step.
 
     Returns
     -------
@@ -462,7 +470,8 @@ def enclose_flow(
         if carry:
             taylor = _carrying(taylor, n, carry)
         prob = _Problem(taylor, P, n + len(carry), order, jacobian, list(invariants))
-        result = _integrate(prob, X0, ta, tb, tol, max_steps, max_width)
+        start = _initial_set(X0, n, basis, coefficients)
+        result = _integrate(prob, start, ta, tb, tol, max_steps, max_width)
     jac = result["jacobian"]
     return FlowEnclosure(
         t0=ta,
@@ -480,13 +489,40 @@ def enclose_flow(
     )
 
 
+def _initial_set(X0: list, n: int, basis: Any, coefficients: Any) -> tuple[_LohnerSet, list]:
+    """The initial state in Lohner's form: the box ``X0``, or ``mid(X0) + B r`` with ``r`` in
+    ``coefficients`` plus ``B^-1 (X0 - mid(X0))`` (the first ``n`` components; carried
+    parameters keep their own axes)."""
+    m = len(X0)
+    centre = _column([x.mid() for x in X0])
+    offsets = _column([x - x.mid() for x in X0])
+    if basis is None and coefficients is None:
+        return _LohnerSet(centre, _identity(m), offsets), list(X0)
+    if basis is None or coefficients is None or len(basis) != n or len(coefficients) != n:
+        raise UserInputError(f"basis (n x n) and coefficients (n) go together, n = {n}")
+    rows = [[to_ball(v) for v in row] for row in basis]
+    if any(len(r) != n for r in rows):
+        raise UserInputError(f"basis must be {n} x {n}")
+    B = _identity(m)
+    for i in range(n):
+        for j in range(n):
+            B[i, j] = rows[i][j]
+    try:
+        inv = B.inv()
+    except ZeroDivisionError:
+        raise UserInputError("basis must be invertible") from None
+    r = [to_ball(c) for c in coefficients] + [arb(0)] * (m - n)
+    start = _LohnerSet(centre, B, _column(r) + inv * offsets)
+    hull = start.hull()
+    return start, [hull[i, 0] for i in range(m)]
+
+
 def _integrate(
-    prob: _Problem, X0: list, ta: arb, tb: arb, tol: float, max_steps: int, max_width: float
-) -> dict:
+    prob: _Problem, start: tuple, ta: arb, tb: arb, tol: float, max_steps: int,
+    max_width: float,
+) -> dict:  # fmt: skip
     n = prob.n
-    x_set = _LohnerSet(
-        _column([x.mid() for x in X0]), _identity(n), _column([x - x.mid() for x in X0])
-    )
+    x_set, X0 = start
     j_set = _LohnerSet(_identity(n), _identity(n), arb_mat(n, n)) if prob.want_jacobian else None
     run = {"x": x_set, "j": j_set, "box": list(X0), "widths": [], "times": []}
     # an end time that is an interval: steps to its lower end, then one step over all of it

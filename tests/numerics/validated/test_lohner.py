@@ -357,3 +357,46 @@ def test_an_invariant_relation_tightens_the_box_and_keeps_the_flow() -> None:
         unit_norm((0, 1, 2))([arb("0.1", 1e-3)] * 3)
     with pytest.raises(UserInputError, match="indices"):
         unit_norm((1, 1))
+
+
+def test_an_initial_set_in_lohner_form_contains_the_flow_of_its_points() -> None:
+    """A thin segment {c + B (r, 0)} tilted by 0.7 rad, under the rotation at rate 0.73 for
+    t = 23: the exact images of its ends and of its centre (cos/sin at 40 digits) lie in the
+    enclosure, which is thinner than that of the box around the segment; a singular basis
+    is refused."""
+    code = _rotation_code()
+    a, half = mpmath.mpf("0.7"), mpmath.mpf("1e-6")
+    basis = [
+        [float(mpmath.cos(a)), -float(mpmath.sin(a))],
+        [float(mpmath.sin(a)), float(mpmath.cos(a))],
+    ]
+    with working_precision(128):
+        r = [arb(0, float(half)), arb(0)]
+        thin = enclose_flow(code, ["0.73"], ["1.37", "-0.41"], 0, "23", basis=basis,
+                            coefficients=r, tol=1e-30)  # fmt: skip
+        hull = [
+            to_ball(v) + arb(0, float(half) * abs(basis[i][0]))
+            for i, v in enumerate(("1.37", "-0.41"))
+        ]
+        box = enclose_flow(code, ["0.73"], hull, 0, "23", tol=1e-30)
+    with mpmath.workdps(40):
+        w = mpmath.mpf("0.73") * 23
+        starts = [
+            (mpmath.mpf("1.37") + s * basis[0][0], mpmath.mpf("-0.41") + s * basis[1][0])
+            for s in (-half, 0, half)
+        ]
+        images = [
+            (x * mpmath.cos(w) + y * mpmath.sin(w), -x * mpmath.sin(w) + y * mpmath.cos(w))
+            for x, y in starts
+        ]
+    with working_precision(128):
+        for image in images:
+            assert all(
+                b.contains(to_ball(mpmath.nstr(v, 35)))
+                for b, v in zip(thin.state, image, strict=True)
+            )
+    # the segment's image is thinner than the image of the box around it (0.66 times here)
+    widths = [sum(float(b.rad()) for b in e.state) for e in (thin, box)]
+    assert widths[0] < 0.75 * widths[1]
+    with pytest.raises(UserInputError, match="invertible"):
+        enclose_flow(code, ["0.73"], ["1", "0"], 0, 1, basis=[[1, 2], [2, 4]], coefficients=[0, 0])
