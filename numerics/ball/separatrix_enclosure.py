@@ -211,14 +211,16 @@ def separatrix_ball(
         return [Cb * g for g in gamma] + gamma + alpha + beta + [zero, zero], Q
 
 
-def delta_closed_form_ball(mu: arb, b: arb, half: bool = True) -> arb:
+def delta_closed_form_ball(mu: arb, b: arb | int, half: bool = True) -> arb:
     """``pi b/ch(pi mu/2)`` (K01-3.7) in Arb; ``half=False``: ``pi b/ch(pi mu)`` (the
     control with the factor 1/2 dropped).
 
     Parameters
     ----------
-    mu, b : arb
-        ``mu = kap/lam`` and the radius.
+    mu : arb
+        ``mu = kap/lam``.
+    b : arb or int
+        The radius.
     half : bool
         The factor ``1/2`` in the argument of ``ch``.
 
