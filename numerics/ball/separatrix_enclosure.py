@@ -330,10 +330,10 @@ def enclose_delta(
 
     Examples
     --------
-    >>> r = enclose_delta(["1", "3", "5"], 1, 1, L=8, prec=128, tol=1e-16)
-    >>> r.delta.contains(r.closed)
+    >>> r = enclose_delta(["1", "3", "5"], 1, 1, L=5, terms=4, order=16, tol=1e-12)
+    >>> r.delta.contains(r.closed)  # the closed form pi b/ch(pi mu/2) lies inside
     True
-    >>> r.width < 1e-8
+    >>> r.width < 1e-6
     True
     """
     started = time.perf_counter()
