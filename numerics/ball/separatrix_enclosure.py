@@ -130,7 +130,8 @@ class DeltaEnclosure:
         -------
         bool
         """
-        return bool(self.delta.contains(to_ball(value)))
+        with working_precision(self.prec):
+            return bool(self.delta.contains(to_ball(value)))
 
 
 def _body(I: Sequence, D: Any, b: Any, C: Any) -> tuple[list[arb], arb, arb, arb]:
@@ -320,7 +321,7 @@ def enclose_delta(
     ------
     UserInputError
         Not ``0 < I1 < I2 < I3``, ``D, b, C`` not positive, ``L`` outside 1..200, ``terms``
-        outside 0..50, a bad ``prec`` or ``order``.
+        outside 0..50, ``tol`` outside (0, 1), a bad ``prec`` or ``order``.
     EnclosureError
         The flow could not be enclosed (``prec`` too low or ``tol`` too large for ``L``).
 
@@ -341,6 +342,8 @@ def enclose_delta(
         raise UserInputError(f"L must be a number in 1..200, got {L!r}")
     if isinstance(terms, bool) or not isinstance(terms, int) or not 0 <= terms <= 50:
         raise UserInputError(f"terms must be an integer in 0..50, got {terms!r}")
+    if isinstance(tol, bool) or not isinstance(tol, int | float) or not 0 < tol < 1:
+        raise UserInputError(f"tol must be a number in (0, 1), got {tol!r}")
     state, Q = separatrix_ball(I, D, C, prec)
     code = load_model_code(SYSTEM, EFFECTS)
     with working_precision(prec):

@@ -72,6 +72,7 @@ def test_the_enclosure_contains_the_floating_and_the_closed_form(generic) -> Non
         moved = ref + 3 * r.width
         assert not r.delta.contains(moved)
     assert r.delta.contains(r.closed)
+    assert r.contains(mpmath.nstr(closed, 30))  # a decimal string, enclosed at r.prec
     assert r.y_shift.contains(0)  # K01-3.6: y(+oo) = y(-oo)
     assert r.width < 1e-6 * float(r.delta.mid())
     assert r.signed < 0  # the contact point moves along -alpha (nu = -b lam)
@@ -105,6 +106,8 @@ def test_the_tail_series_contains_the_quadrature(terms: int) -> None:
         {"terms": -1},
         {"prec": 10},
         {"order": 1},
+        {"tol": -1e-20},
+        {"tol": float("nan")},
     ],
 )
 def test_bad_input_is_refused(kwargs: dict) -> None:
