@@ -47,6 +47,7 @@ from typing import Any
 from flint import arb
 
 from ...derive.errors import UserInputError
+from ..arguments import check_inertia_vector, check_real
 from ..code import load_model_code
 from ..validated.lohner import enclose_flow, to_ball, working_precision
 
@@ -134,21 +135,26 @@ class DeltaEnclosure:
             return bool(self.delta.contains(to_ball(value)))
 
 
-def _body(I: Sequence, D: Any, b: Any, C: Any) -> tuple[list[arb], arb, arb, arb]:
-    """The balls of ``I, D, b, C``, or :class:`UserInputError` unless ``0 < I1 < I2 < I3`` and
-    ``D, b, C > 0`` (decided on the balls)."""
-    if isinstance(I, str | bytes) or not isinstance(I, Sequence) or len(I) != 3:
-        raise UserInputError(f"I must be three moments of inertia I1 < I2 < I3, got {I!r}")
-    Ib = [to_ball(v) for v in I]
-    Db, bb, Cb = to_ball(D), to_ball(b), to_ball(C)
-    if not (Ib[0] > 0 and Ib[0] < Ib[1] and Ib[1] < Ib[2]):
+def _ball(value: Any, name: str) -> arb:
+    try:
+        return to_ball(value)
+    except UserInputError as exc:
+        raise UserInputError(f"{name}: {exc} (give a number or a decimal)") from None
+
+
+def _body(I: Any, D: Any, b: Any, C: Any) -> tuple[list[arb], arb, arb, arb]:
+    """The balls of ``I, D, b, C``, or :class:`UserInputError` naming the argument unless
+    ``0 < I1 < I2 < I3`` and ``D, b, C > 0`` (the order decided on the balls)."""
+    check_inertia_vector(I, D)
+    check_real(b, "b", positive=True)
+    check_real(C, "C", positive=True)
+    Ib = [_ball(v, f"I[{i}]") for i, v in enumerate(I)]
+    Db, bb, Cb = _ball(D, "D"), _ball(b, "b"), _ball(C, "C")
+    if not (Ib[0] < Ib[1] and Ib[1] < Ib[2]):
         raise UserInputError(
-            f"I = {list(I)!r}: give 0 < I1 < I2 < I3 (K01-3.4 is proved for that order; the "
+            f"I = {list(I)!r}: give I1 < I2 < I3 (K01-3.4 is proved for that order; the "
             "separatrix belongs to the middle axis)"
         )
-    for name, v, raw in (("D", Db, D), ("b", bb, b), ("C", Cb, C)):
-        if not v > 0:
-            raise UserInputError(f"{name} must be positive (the corrected K01-3.4), got {raw!r}")
     return Ib, Db, bb, Cb
 
 
