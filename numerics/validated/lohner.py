@@ -388,11 +388,9 @@ def enclose_flow(
         The initial state, the same kinds of numbers: a ball or interval per component
         encloses every initial state in the box.
     t0, t1 : number, str or arb
-        Start and end time (``t1 != t0``; ``t1 < t0`` integrates backward in time, with
-        negative steps and the a-priori enclosures over ``[t + h, t]``). ``t1`` may be a ball,
-        e.g. a period ``2 pi/Omega``, or an interval ``(t_a, t_b)`` on one side of ``t0``
-        (``t_a >= t0``, or ``t_b <= t0`` backward): the result then encloses the flow at every
-        time in it.
+        Start and end time (``t1 < t0``: backward, negative steps). ``t1`` may be a ball, e.g.
+        a period ``2 pi/Omega``, or an interval ``(t_a, t_b)`` on one side of ``t0``: the
+        result then encloses the flow at every time in it.
     jacobian : bool, optional
         Also enclose ``d phi / d x0`` over the initial box (C^1).
     order : int, optional
