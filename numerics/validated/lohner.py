@@ -211,7 +211,7 @@ def _mid_float_matrix(m: arb_mat) -> np.ndarray:
 
 
 def _hull_interval(h: arb) -> arb:
-    """A ball containing ``[0, h]`` for ``h >= 0``."""
+    """A ball containing ``[0, h]`` (``[h, 0]`` for a backward step ``h < 0``)."""
     return arb(0).union(h)
 
 
@@ -350,7 +350,7 @@ def _step(prob: _Problem, t: arb, box: list, c: list, h: arb) -> dict | None:
         Df = [jet_gradient(jz[i][1], n) for i in range(n)]
         # a float sum of 6 upper bounds, rounded up by far more than its rounding error
         L = max(sum(float(abs(x).upper()) for x in row) for row in Df) * (1 + 2**-40)
-        e = math.expm1(float((h * L).upper()) * (1 + 2**-40)) * (1 + 2**-40)
+        e = math.expm1(float(abs(h * L).upper()) * (1 + 2**-40)) * (1 + 2**-40)
         W = _identity(n) + arb_mat([[arb(0, e)] * n for _ in range(n)])
         G = _mat([jet_gradient(jz[i][order + 1], n) for i in range(n)])
         out["DR"] = (G * W) * hp
@@ -390,9 +390,9 @@ def enclose_flow(
         The initial state, the same kinds of numbers: a ball or interval per component
         encloses every initial state in the box.
     t0, t1 : number, str or arb
-        Start and end time (``t1 > t0``; ``t1`` may be a ball, e.g. a period ``2 pi/Omega``,
-        or an interval ``(t_a, t_b)`` with ``t_a >= t0``: the result then encloses the flow at
-        every time in it).
+        Start and end time (``t1 < t0``: backward, negative steps). ``t1`` may be a ball, e.g.
+        a period ``2 pi/Omega``, or an interval ``(t_a, t_b)`` on one side of ``t0``: the
+        result then encloses the flow at every time in it.
     jacobian : bool, optional
         Also enclose ``d phi / d x0`` over the initial box (C^1).
     order : int, optional
@@ -431,7 +431,7 @@ def enclose_flow(
     Raises
     ------
     UserInputError
-        Wrong number of parameters or state components, ``t1 <= t0``, a bad order.
+        Wrong number of parameters or state components, ``t1 = t0``, a bad order.
     EnclosureError
         The flow could not be enclosed (blow-up, a step too small, too many steps).
 
@@ -464,8 +464,8 @@ def enclose_flow(
         ta, tb = to_ball(t0), to_ball(t1)
         # t1 may be a ball reaching down to t0 (the flow over a whole time interval; the Taylor
         # step and its a-priori enclosure hold on a step interval containing 0 on either side)
-        if not (tb.mid() > ta.mid()):
-            raise UserInputError(f"t1 must be after t0 (got {t0!r}, {t1!r})")
+        if tb.mid() == ta.mid():
+            raise UserInputError(f"t1 must differ from t0 (got {t0!r}, {t1!r})")
         taylor = code.taylor.taylor_coefficients
         if carry:
             taylor = _carrying(taylor, n, carry)
@@ -525,17 +525,20 @@ def _integrate(
     x_set, X0 = start
     j_set = _LohnerSet(_identity(n), _identity(n), arb_mat(n, n)) if prob.want_jacobian else None
     run = {"x": x_set, "j": j_set, "box": list(X0), "widths": [], "times": []}
-    # an end time that is an interval: steps to its lower end, then one step over all of it
+    # backward (sign -1): the same steps with h < 0 (Taylor's formula and the Lagrange
+    # remainder hold on [t + h, t]); the loop runs on sign * t
+    sign = 1 if tb.mid() > ta.mid() else -1
+    # an end time that is an interval: steps to its near end, then one step over all of it
     interval_end = float(tb.rad()) > 2.0 ** (20 - ctx.prec) * (1 + float(abs(tb).upper()))
-    stop = arb(tb.lower()) if interval_end else tb
+    stop = arb(tb.lower() if sign > 0 else tb.upper()) if interval_end else tb
     t, scale = ta, 1.0
-    while stop.mid() > t.mid() and (not interval_end or stop > t):
+    while sign * (stop.mid() - t.mid()) > 0 and (not interval_end or sign * (stop - t) > 0):
         centre = [run["x"].centre[i, 0] for i in range(n)]
         c = prob.taylor(t, centre, prob.params, prob.order, ARB_LIB)
         h_try = _step_size(c, prob.order, tol)
-        piece, h, last = _take_step(prob, t, run["box"], c, h_try * scale, stop - t, tol)
+        piece, h, last = _take_step(prob, t, run["box"], c, sign * h_try * scale, stop - t, tol)
         if not last:  # remember how far the remainder control cut the estimate
-            scale = min(1.0, 1.1 * float(h.mid()) / h_try)
+            scale = min(1.0, 1.1 * abs(float(h.mid())) / h_try)
         _apply(prob, run, piece, t + h, max_width)
         t = t + h
         if last:
@@ -621,8 +624,9 @@ def _take_step(
 ) -> tuple[dict, arb, bool]:
     """The step from ``t``: the first of ``h_try``, ``remaining`` (the last step) or smaller
     steps whose a-priori enclosure exists and whose remainder is at most ``tol`` wide (three
-    shrinkings at most on the remainder; the a-priori test may halve the step 30 times)."""
-    last = h_try >= float(remaining.lower())
+    shrinkings at most on the remainder; the a-priori test may halve the step 30 times).
+    ``h_try`` and ``remaining`` have the sign of the direction of integration."""
+    last = abs(h_try) >= float(abs(remaining).lower())
     h = remaining if last else arb(h_try)
     for attempt in range(33):
         piece = _step(prob, t, box, c, h)

@@ -18,6 +18,7 @@ MODULES = [
     "chaplygin.numerics.validated.krawczyk",
     "chaplygin.numerics.validated.constraints",
     "chaplygin.numerics.ball.steady_enclosure",
+    "chaplygin.numerics.ball.separatrix_enclosure",
     "chaplygin.numerics.taylor",
     "chaplygin.verify.cli_common",
     "chaplygin.verify.output_folder",

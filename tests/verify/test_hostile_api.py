@@ -334,6 +334,29 @@ def test_separatrix_state(case):
 @SETTINGS
 @given(
     spoil(
+        {**SEP, "b": 1, "C": 1, "L": 14.0, "terms": 2, "prec": 128, "order": 24, "tol": 1e-24},
+        {
+            "I": pool(BAD_ORDERED),
+            "D": pool(BAD_POSITIVE, floats=NEG_FLOATS),
+            "b": pool(BAD_POSITIVE, floats=NEG_FLOATS),
+            "C": pool(BAD_POSITIVE, floats=NEG_FLOATS),
+            "L": pool([None, "14", 0, 0.5, 201, NAN, INF, True, [14]]),
+            "terms": pool([None, "2", 1.5, -1, 51, True, NAN]),
+            "prec": pool([None, "128", 128.0, 10, 5000, True]),
+            "order": pool([None, "24", 2.5, 1, 61, True]),
+            "tol": pool([None, "1e-24", 0, -1e-20, 1.0, NAN, INF, True]),
+        },
+    )
+)
+def test_enclose_delta(case):
+    from chaplygin.numerics.ball.separatrix_enclosure import enclose_delta
+
+    check(enclose_delta, case)
+
+
+@SETTINGS
+@given(
+    spoil(
         {**SEP, "h": 0.15, "C": 1, "rtol": 1e-8},
         {
             "I": pool(BAD_MIDDLE),

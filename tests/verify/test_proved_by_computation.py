@@ -90,3 +90,35 @@ def test_an_enclosure_that_blows_up_leaves_the_claim_numeric_with_where_it_grew(
     assert "blew up" in v.method and "grew past 1e-20" in v.method
     widest, at = v.witness["widest enclosure"].split(" at t = ")
     assert float(widest) > 1e-20 and abs(float(at) - 7.44) < 0.5
+
+
+def test_the_delta_claims_are_rigorous_with_a_control() -> None:
+    ids = [
+        "K01-Fig4.delta-enclosed-1",
+        "K01-Fig4.delta-enclosed-2",
+        "K01-3.7.enclosed/control-ch(pi mu)",
+    ]
+    claims = [REGISTRY[i] for i in ids]
+    assert all(c.rigorous for c in claims)
+    assert [c.expected_verdict() for c in claims] == [
+        "proved by computation",
+        "proved by computation",
+        "refuted",
+    ]
+    # every hypothesis the proof uses is a claim of the catalogue, named in its 'what'
+    assert all(h in REGISTRY for h in ("K01-3.4", "K01-3.5", "K01-3.7"))
+
+
+def test_a_delta_enclosure_that_fails_leaves_the_claim_numeric(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from chaplygin.numerics.validated import EnclosureError
+    from chaplygin.verify.claims import enclosures_delta
+
+    def fails(key: str) -> None:
+        raise EnclosureError("the enclosure grew past 1", [1e-20, 2.0], [0.5, 1.5])
+
+    monkeypatch.setattr(enclosures_delta, "_enclosure", fails)
+    v = check_claim(REGISTRY["K01-Fig4.delta-enclosed-1"])
+    assert (v.verdict, v.ok) == ("numeric", False)
+    assert "blew up" in v.method

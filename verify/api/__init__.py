@@ -64,6 +64,7 @@ _PUBLIC: dict[str, str] = {
     "prove_steady_rotation_stability": (
         "numerics.ball.steady_enclosure:prove_steady_rotation_stability"
     ),
+    "enclose_delta": "numerics.ball.separatrix_enclosure:enclose_delta",
     # claims and verdicts (verify)
     "claims": "verify.claims:select_claims",
     "check": "verify.check:check",

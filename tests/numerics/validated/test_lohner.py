@@ -97,6 +97,50 @@ def test_linear_system_flow_and_derivative_contain_the_matrix_exponential() -> N
     assert e.max_width < EPS  # tighter than the rounding of one double result
 
 
+def _linear_reference(x0: list[str], t: str) -> tuple:
+    """``expm(A t)`` and ``expm(A t) x0`` by mpmath at DPS digits."""
+    E = mpmath.expm(mpmath.matrix([[mpmath.mpf(a) for a in r] for r in A_LINEAR]) * mpmath.mpf(t))
+    return E, E * mpmath.matrix([mpmath.mpf(v) for v in x0])
+
+
+def test_backward_flow_and_derivative_contain_the_matrix_exponential() -> None:
+    params = [a for row in A_LINEAR for a in row]
+    x0 = ["0.7", "-0.3", "1.3"]
+    e = enclose_flow(LINEAR, params, x0, "0.4", "-2.5", jacobian=True)
+    assert e.times[-1] < e.times[0] < 0.4  # negative steps
+    with mpmath.workdps(DPS):
+        E, x = _linear_reference(x0, "-2.9")
+        for i in range(3):
+            assert _contains(e.state[i], x[i])
+            assert _outside_when_moved(e.state[i], x[i])
+            for j in range(3):
+                assert _contains(e.jacobian[i][j], E[i, j])
+    assert e.max_width < EPS
+    # an end-time interval before t0: the flow at every time in it
+    wide = enclose_flow(LINEAR, params, x0, 0, ("-1.3", "-1.2"))
+    with mpmath.workdps(DPS):
+        for t in ("-1.3", "-1.25", "-1.2"):
+            _, x = _linear_reference(x0, t)
+            assert all(_contains(wide.state[i], x[i]) for i in range(3))
+
+
+def test_forward_then_backward_returns_to_the_start() -> None:
+    # x' = x^2, x(0) = 1: x(t) = 1/(1 - t), so x(-1) = 1/2 (a nonlinear closed form)
+    square = _code(
+        "square", ("x",), (), lambda t0, y, p, order, lib: [_square_series(y[0], order, lib)]
+    )
+    back = enclose_flow(square, [], ["1"], 0, -1)
+    assert back.state[0].contains(arb(1) / 2)
+    assert not back.state[0].contains(arb(1) / 2 + 3 * back.max_width)
+    # the pendulum forward to t = 4.125, then back from that ball: the (exact) start is inside
+    start = [2.125, 0.0]
+    fwd = enclose_flow(PENDULUM, [], start, 0, 4.125)
+    bwd = enclose_flow(PENDULUM, [], fwd.state, 4.125, 0)
+    assert bwd.contains(start)
+    assert bwd.max_width < 1e-18  # the round trip adds a few widths of the forward run
+    assert not bwd.state[0].contains(arb(2.125) + 3 * bwd.max_width)
+
+
 def test_pendulum_contains_the_jacobi_elliptic_solution() -> None:
     theta0, t1 = "2.1", "7.3"  # a large swing, past one half-period
     e = enclose_flow(PENDULUM, [], [theta0, "0"], 0, t1, jacobian=True)
