@@ -446,18 +446,7 @@ def enclose_flow(
     """
     started = time.perf_counter()
     n = len(code.state)
-    if len(state) != n or len(params) != len(code.params):
-        raise UserInputError(
-            f"{code.name} needs {n} state components and {len(code.params)} parameters, "
-            f"got {len(state)} and {len(params)}"
-        )
-    if not (isinstance(order, int) and 2 <= order <= 60):
-        raise UserInputError(f"order must be an integer in 2..60, got {order!r}")
-    carry = list(carry)
-    if any(not isinstance(k, int) or not 0 <= k < len(params) for k in carry) or len(
-        set(carry)
-    ) != len(carry):
-        raise UserInputError(f"carry must be distinct parameter indices, got {carry!r}")
+    carry = _check_arguments(code, params, state, order, carry)
     with working_precision(prec):
         P = [to_ball(p) for p in params]
         X0 = [to_ball(x) for x in state] + [P[k] for k in carry]
@@ -487,6 +476,24 @@ def enclose_flow(
         times=result["times"],
         seconds=time.perf_counter() - started,
     )
+
+
+def _check_arguments(code: Any, params: Sequence, state: Sequence, order: Any, carry: Any) -> list:
+    """Refuse wrong counts, orders and carried indices; the carried indices as a list."""
+    n = len(code.state)
+    if len(state) != n or len(params) != len(code.params):
+        raise UserInputError(
+            f"{code.name} needs {n} state components and {len(code.params)} parameters, "
+            f"got {len(state)} and {len(params)}"
+        )
+    if not (isinstance(order, int) and 2 <= order <= 60):
+        raise UserInputError(f"order must be an integer in 2..60, got {order!r}")
+    carry = list(carry)
+    if any(not isinstance(k, int) or not 0 <= k < len(params) for k in carry) or len(
+        set(carry)
+    ) != len(carry):
+        raise UserInputError(f"carry must be distinct parameter indices, got {carry!r}")
+    return carry
 
 
 def _initial_set(X0: list, n: int, basis: Any, coefficients: Any) -> tuple[_LohnerSet, list]:
