@@ -33,6 +33,34 @@ def _median_time(fn, repeats: int) -> tuple[float, Any]:  # noqa: ANN001
     return statistics.median(times), out
 
 
+def _steady_rotation_cost(repeats: int) -> dict[str, Any]:
+    """BKM12's steady rotation about the middle axis (I = (1, 1.5, 3), D = C = 1): the
+    monodromy over one period enclosed (the proof of BKM12-1.5stab.enclosed) against
+    :func:`~chaplygin.numerics.ball.stability.floquet` in double (DOP853, rtol 1e-12)."""
+    from ..numerics.ball.stability import critical_state, floquet
+    from ..numerics.ball.steady_enclosure import prove_steady_rotation_stability
+
+    def enclosed() -> Any:
+        return prove_steady_rotation_stability(("1", "1.5", "3"), "1", 1, order=20, tol=1e-20)
+
+    def double() -> Any:
+        y0, T = critical_state((1.0, 1.5, 3.0), 1.0, 1, 1.0)
+        return floquet((1.0, 1.5, 3.0), 1.0, y0, T, rtol=1e-12)
+
+    t_enclosed, r = _median_time(enclosed, repeats)
+    t_double, f = _median_time(double, repeats)
+    trace = float(r.trace.mid())
+    return {
+        "steady rotation e_2, monodromy enclosed (s)": t_enclosed,
+        "steady rotation e_2, monodromy in double (s)": t_double,
+        "ratio monodromy enclosure / double": t_enclosed / t_double,
+        "steady rotation e_2, width of tr Phi - 4": 2 * float(r.trace.rad()),
+        "steady rotation e_2, |double - enclosed| of tr Phi - 4": abs(
+            float(sum(f.nontrivial).real) - trace
+        ),
+    }
+
+
 def enclosure_cost(repeats: int = 3, proof: bool = True) -> dict[str, Any]:
     """Seconds of one BM20 forcing period enclosed (from a point; over a box with C^1) and
     integrated in floating point, their ratios, and (``proof``) the 7-cycle proof's time.
@@ -98,6 +126,7 @@ def enclosure_cost(repeats: int = 3, proof: bool = True) -> dict[str, Any]:
         "width over the box": e_box.max_width,
         "steps from the point": e_point.steps,
     }
+    out.update(_steady_rotation_cost(repeats))
     if proof:
         t = time.perf_counter()
         r = prove_bm20_periodic_orbit("1.06675", FIG7A_POINT)

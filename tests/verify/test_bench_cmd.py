@@ -205,3 +205,7 @@ def test_the_enclosure_row_compares_an_enclosure_with_the_floating_point_run():
     point = row["one period, enclosure from a point (s)"]
     double = row["one period, double Taylor rtol 1e-15 (s)"]
     assert row["ratio point enclosure / double"] == point / double
+    # the steady rotation's row: the enclosed trace agrees with the double one within the
+    # double run's tolerance (sqrt(rtol), FloquetResult.tolerance) and is far narrower
+    assert row["steady rotation e_2, |double - enclosed| of tr Phi - 4"] < 1e-6
+    assert row["steady rotation e_2, width of tr Phi - 4"] < 1e-12
