@@ -61,6 +61,8 @@ _PUBLIC: dict[str, str] = {
     "EnclosureError": "numerics.validated.lohner:EnclosureError",
     "enclose_crossing": "numerics.validated.sections:enclose_crossing",
     "prove_bm20_periodic_orbit": "numerics.ball.bm20_enclosure:prove_bm20_periodic_orbit",
+    "prove_critical_energy": "numerics.ball.frame_turn_enclosure:prove_critical_energy",
+    "enclose_frame_turn": "numerics.ball.frame_turn_enclosure:enclose_frame_turn",
     "prove_steady_rotation_stability": (
         "numerics.ball.steady_enclosure:prove_steady_rotation_stability"
     ),
