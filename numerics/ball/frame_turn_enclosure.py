@@ -229,6 +229,7 @@ def prove_critical_energy(
     C: Any = "1",
     *,
     radius: float = 1e-7,
+    slope_tol: float | None = None,
     **options: Any,
 ) -> CriticalEnergyProof:
     """Prove one and only one critical energy (``Phi = 0``) near ``h_guess``, or none.
@@ -252,6 +253,9 @@ def prove_critical_energy(
         The floating-point period there.
     radius : float, optional
         Half-width of the neighbourhood ``N``.
+    slope_tol : float, optional
+        The integrator's step control for ``Phi'`` over ``N`` (whose width is ``N``'s, not
+        the steps'): a looser one than the point enclosures' ``tol`` saves steps.
     **options
         Passed to :func:`enclose_frame_turn` (``prec``, ``order``, ``tol``, ``window``).
 
@@ -269,7 +273,8 @@ def prove_critical_energy(
     with working_precision(prec):
         m = to_ball(h_guess)
         N = m + arb(0, radius)
-    over = enclose_frame_turn(I, D, N, period_guess, C, derivative=True, **options)
+    over_options = options if slope_tol is None else {**options, "tol": slope_tol}
+    over = enclose_frame_turn(I, D, N, period_guess, C, derivative=True, **over_options)
     centre = enclose_frame_turn(I, D, m, period_guess, C, **options)
     with working_precision(prec):
         slope = over.slope

@@ -54,6 +54,25 @@ def test_the_bm20_cycle_claims_are_rigorous_with_a_control() -> None:
     ]
 
 
+def test_the_k01_critical_energy_claims_are_rigorous_with_controls() -> None:
+    """K01 Fig. 6(f): two critical energies to prove, FORMULAS.md's third resonance (atan2's
+    branch cut) and the printed energy as controls to refute."""
+    ids = [
+        "K01-Fig6f.critical",
+        "K01-Fig6f.critical-2",
+        "K01-Fig6f.critical/resonance-0.171990",
+        "K01-Fig6f.critical/control-printed",
+    ]
+    claims = [REGISTRY[i] for i in ids]
+    assert all(isinstance(c, ComputedClaim) and c.rigorous for c in claims)
+    assert [c.expected_verdict() for c in claims] == [
+        "proved by computation",
+        "proved by computation",
+        "refuted",
+        "refuted",
+    ]
+
+
 def test_an_enclosure_that_blows_up_leaves_the_claim_numeric_with_where_it_grew() -> None:
     """A rigorous claim whose flow cannot be enclosed (x' = 3 x from a ball of radius 1e-30,
     limit 1e-20: passed at t = ln(5e9)/3 = 7.44) is not decided: verdict ``numeric`` (not

@@ -5,19 +5,23 @@ For ``I = (1, 3, 5)``, ``C = D = b = 1`` on the segment ``M = C gamma``, the fra
 ``Phi(h)`` per period of ``gamma`` is enclosed by the rigorous section map (the return to
 ``gamma2 = 0``, :mod:`chaplygin.numerics.ball.frame_turn_enclosure`) with its derivative in the
 energy; the interval Newton test on ``Phi`` proves one and only one critical energy
-(``Phi = 0``) in a neighbourhood ``N`` of half-width 1e-7, inside an interval of width at most
-1e-12, with ``Phi`` enclosed at that interval's ends (opposite signs). The floating-point route
-(Brent on the double-precision frame turn) gives the starting energy and the period's window;
-the proof does not depend on it. The control reads Fig. 6(f)'s printed energy 0.180278 as a
-critical energy: refuted by the same computation (no zero in its neighbourhood).
+(``Phi = 0``) in a neighbourhood ``N`` around Brent's zero (half-width 3e-7 and 2e-6, as wide
+as the enclosure of ``Phi'`` over it allows; checked to cover the statement's neighbourhood of
+the printed energy), inside an interval of width at most 1e-12, with ``Phi`` enclosed at that
+interval's ends (opposite signs). The floating-point route (Brent on the double-precision frame
+turn) gives the starting energy and the period's window; the proof does not depend on it.
+The control reads Fig. 6(f)'s printed energy 0.180278 as a critical energy: refuted by the same
+computation (no zero in its neighbourhood).
 
 FORMULAS.md lists 0.171990 as a third resonance in ``(h2, h1)``: there the double-precision
 turn jumps from ``+pi`` to ``-pi`` (Brent found ``atan2``'s branch cut, not a zero); the
-enclosures give ``cos Phi < 0`` over its neighbourhood (``Phi = pi`` mod ``2 pi``): the trace's
+enclosures give ``cos Phi < 0`` over ``0.171990 +- 1e-7`` (``Phi = pi`` mod ``2 pi``): the trace's
 copies alternate and stay bounded. That reading is refuted, as expected.
 """
 
 from __future__ import annotations
+
+from typing import Any
 
 from .base import Computed, ComputedClaim, register
 
@@ -25,26 +29,45 @@ BALL = "chaplygin_ball"
 S33 = "K01 §3.3, Fig. 6(f)"
 I135 = (1.0, 3.0, 5.0)
 #: The critical energies the double-precision sweep finds in (h2, h1) (K01-Fig6f.circle's
-#: statement and FORMULAS.md), each bracketed +- 2e-6 for Brent.
-SWEEP = {"1": 0.1803189, "2": 0.293688, "pi": 0.171990}
+#: statement and FORMULAS.md), each bracketed +- 2e-6 for Brent: the energy, the half-width
+#: of the stated neighbourhood around it and the radius of ``N`` around Brent's zero (large
+#: enough to cover the stated neighbourhood, small enough for ``Phi'`` over ``N`` to exclude 0).
+SWEEP = {
+    "1": ("0.1803189", 2e-7, 3e-7),
+    "2": ("0.293688", 1e-6, 2e-6),
+}
 
 
 def _critical(key: str | None, printed: str | None = None):  # noqa: ANN202 - the compute
     def run() -> Computed:
         from chaplygin.numerics.ball.frame_turn import critical_energy, frame_turn
         from chaplygin.numerics.ball.frame_turn_enclosure import prove_critical_energy
+        from chaplygin.numerics.validated import to_ball, working_precision
+        from flint import arb
 
         if printed is None:
-            x = SWEEP[key]
-            guess = repr(critical_energy(I135, 1.0, (x - 2e-6, x + 2e-6)))
+            x, half, radius = SWEEP[key]
+            guess = repr(critical_energy(I135, 1.0, (float(x) - 2e-6, float(x) + 2e-6)))
         else:
+            x, half, radius = printed, 1e-7, 1e-7
             guess = printed
         period, _ = frame_turn(I135, 1.0, float(guess))
-        r = prove_critical_energy(("1", "3", "5"), "1", guess, period)
-        # the claim: a critical energy in N (for the control: near the printed energy)
+        # Phi' over N at a looser step control (its width is N's, not the steps')
+        r = prove_critical_energy(
+            ("1", "3", "5"), "1", guess, period, radius=radius, slope_tol=1e-12
+        )
+        with working_precision(128):  # N covers the statement's neighbourhood x +- half
+            covered = r.neighbourhood.contains(to_ball(x) + arb(0, half))
+        # the claim: a critical energy in N (for the controls: near the printed energy)
         decided = {"unique zero": "proved", "no zero": "refuted"}.get(r.verdict, "undecided")
+        decided = decided if covered else "undecided"
         width = 2 * float(r.energy.rad())
         ends = ", ".join(e.str(3) for e in r.ends) if r.ends else "(not evaluated)"
+        monotone = "0 excluded: Phi monotone on N" if not r.slope.contains(0) else "contains 0"
+        if r.cosine < 0:  # the branch cut: the verdict from cos Phi alone
+            test = "cos Phi < 0 over N: no zero of Phi mod 2 pi in N"
+        else:
+            test = f"interval Newton: {r.verdict} in N, in {r.energy.str(15)} (width {width:.2g})"
         return Computed(
             error=0.0,
             bound=0.0,
@@ -52,15 +75,17 @@ def _critical(key: str | None, printed: str | None = None):  # noqa: ANN202 - th
             what=(
                 f"I = (1, 3, 5), C = D = b = 1, M = C gamma: the frame turn Phi(h) per period of "
                 f"gamma by the validated section map (return to gamma2 = 0, Taylor order 20, "
-                f"128 bits), Phi' over N = {guess} +- 1e-7: {r.slope.str(8)} (0 excluded: Phi "
-                f"monotone on N); cos Phi over N {r.cosine.str(5)}; Phi({guess}) = "
-                f"{r.turn_at_centre.str(3)}; interval Newton: "
-                f"{r.verdict} in N, in {r.energy.str(15)} (width {width:.2g}); Phi at its ends "
-                f"{ends}; {r.seconds:.0f} s"
+                f"128 bits, step tolerance 1e-20; 1e-12 for Phi' over N), Phi' over "
+                f"N = {guess} +- {radius:g} (covers {x} +- {half:g}: {covered}): "
+                f"[{_bound(r.slope.lower())}, {_bound(r.slope.upper())}] ({monotone}); "
+                f"cos Phi over N {r.cosine.str(5)}; Phi({guess}) = "
+                f"{r.turn_at_centre.str(3)}; {test}; Phi at its ends {ends}; "
+                f"{r.seconds:.0f} s"
             ),
             values={
                 "critical energy": r.energy.str(15),
                 "width": f"{width:.2g}",
+                "N": f"{guess} +- {radius:g}",
                 "Phi' over N": r.slope.str(8),
                 "Newton test": r.verdict,
             },
@@ -69,13 +94,18 @@ def _critical(key: str | None, printed: str | None = None):  # noqa: ANN202 - th
     return run
 
 
+def _bound(v: Any) -> str:
+    """An interval's end (an exact binary ``arb``), to 6 digits, for the report."""
+    return v.str(6, radius=False)
+
+
 register(
     ComputedClaim(
         id="K01-Fig6f.critical",
         source=f"{S33} (computed)",
         kind="value",
         statement="I = (1, 3, 5), C = D = b = 1, M || gamma: the frame turn per period vanishes "
-        "(the trace is unbounded) at exactly one energy within 1e-7 of 0.1803189, enclosed in "
+        "(the trace is unbounded) at exactly one energy within 2e-7 of 0.1803189, enclosed in "
         "an interval of width <= 1e-12, across which the turn changes sign",
         system=BALL,
         compute=_critical("1"),
@@ -85,7 +115,7 @@ register(
         id="K01-Fig6f.critical-2",
         source=f"{S33} (computed)",
         kind="value",
-        statement="the same at exactly one energy within 1e-7 of 0.293688",
+        statement="the same at exactly one energy within 1e-6 of 0.293688",
         system=BALL,
         compute=_critical("2"),
         rigorous=True,
@@ -97,7 +127,7 @@ register(
         statement="(wrong) the frame turn also vanishes within 1e-7 of 0.171990 (there it is "
         "pi mod 2 pi: atan2's branch cut)",
         system=BALL,
-        compute=_critical("pi"),
+        compute=_critical(None, "0.171990"),
         rigorous=True,
         expected="fails",
     ),

@@ -90,6 +90,27 @@ def test_interval_newton_decides_on_the_enclosures(
             assert r.ends[0] < 0 < r.ends[1]
 
 
+def test_the_slope_tolerance_reaches_only_the_enclosure_over_n(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """``slope_tol`` loosens the step control of ``Phi'`` over ``N`` only; the point
+    enclosures (the centre, the image's ends) keep ``tol``."""
+    calls = []
+    with working_precision(128):
+        fake = _stand_in("0.18031891515", arb(240), arb(1))
+
+        def recording(*args, derivative=False, **kw):  # noqa: ANN001, ANN002, ANN202
+            calls.append((derivative, kw.get("tol")))
+            return fake(*args, derivative=derivative, **kw)
+
+        monkeypatch.setattr(fte, "enclose_frame_turn", recording)
+        r = fte.prove_critical_energy(
+            BODY, D, "0.180318915145", 42.14, C, tol=1e-20, slope_tol=1e-12
+        )
+    assert r.verdict == "unique zero"
+    assert calls == [(True, 1e-12), (False, 1e-20), (False, 1e-20), (False, 1e-20)]
+
+
 def test_bad_input_is_refused() -> None:
     with pytest.raises(UserInputError, match="segment"):
         fte.enclose_frame_turn(BODY, D, "100", PERIOD_GUESS, C)  # above h1
