@@ -101,7 +101,8 @@ class CriticalEnergyProof:
     slope : arb
         ``Phi'`` over ``N``.
     turn_at_centre : arb
-        ``Phi`` at the centre of ``N``.
+        ``Phi`` at the centre of ``N`` (over all of ``N`` when that enclosure already
+        decides: ``cos Phi < 0``, or ``0 < cos Phi`` and ``Phi`` away from 0 on ``N``).
     ends : tuple of arb
         ``Phi`` at the two ends of ``energy`` (opposite signs when a zero is proved).
     seconds : float
@@ -237,8 +238,9 @@ def prove_critical_energy(
     ``Phi'`` enclosed over ``N = m +- radius`` (``m = h_guess``), ``Phi(m)`` enclosed: the
     interval Newton image ``m - Phi(m)/Phi'(N)``
     inside ``N`` proves exactly one zero in ``N``, inside the image; disjoint from ``N``,
-    proves none; so does ``cos Phi < 0`` over ``N`` (``Phi`` near ``pi``, where ``atan2``'s
-    branch cut would leave the turn indeterminate). ``Phi`` is enclosed at the image's ends
+    proves none; so do ``cos Phi < 0`` over ``N`` (``Phi`` near ``pi``, where ``atan2``'s
+    branch cut would leave the turn indeterminate) and ``0 < cos Phi`` with ``Phi`` away from
+    0 over ``N`` (then ``Phi(m)`` is not computed). ``Phi`` is enclosed at the image's ends
     too (their signs differ).
 
     Parameters
@@ -275,15 +277,20 @@ def prove_critical_energy(
         N = m + arb(0, radius)
     over_options = options if slope_tol is None else {**options, "tol": slope_tol}
     over = enclose_frame_turn(I, D, N, period_guess, C, derivative=True, **over_options)
-    centre = enclose_frame_turn(I, D, m, period_guess, C, **options)
+    slope, centre_turn = over.slope, over.turn
     with working_precision(prec):
-        slope = over.slope
         if over.cosine < 0:  # Phi is at least pi/2 from 0 mod 2 pi on all of N
+            verdict, image = "no zero", N
+        elif over.cosine > 0 and not over.turn.contains(0):  # |Phi| < pi/2, never 0 on N
             verdict, image = "no zero", N
         elif slope.contains(0):
             verdict, image = "undecided", N
         else:
-            newton = m - centre.turn / slope
+            verdict, image = "newton", N
+    if verdict == "newton":
+        centre_turn = enclose_frame_turn(I, D, m, period_guess, C, **options).turn
+        with working_precision(prec):
+            newton = m - centre_turn / slope
             if N.contains_interior(newton):
                 verdict, image = "unique zero", newton
             elif not N.overlaps(newton):
@@ -301,7 +308,7 @@ def prove_critical_energy(
         energy=image,
         neighbourhood=N,
         slope=slope,
-        turn_at_centre=centre.turn,
+        turn_at_centre=centre_turn,
         ends=ends,
         seconds=time.perf_counter() - started,
         cosine=over.cosine,

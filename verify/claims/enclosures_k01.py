@@ -66,6 +66,8 @@ def _critical(key: str | None, printed: str | None = None):  # noqa: ANN202 - th
         monotone = "0 excluded: Phi monotone on N" if not r.slope.contains(0) else "contains 0"
         if r.cosine < 0:  # the branch cut: the verdict from cos Phi alone
             test = "cos Phi < 0 over N: no zero of Phi mod 2 pi in N"
+        elif r.verdict == "no zero" and r.energy is r.neighbourhood:
+            test = "0 < cos Phi and 0 not in Phi over N: no zero of Phi mod 2 pi in N"
         else:
             test = f"interval Newton: {r.verdict} in N, in {r.energy.str(15)} (width {width:.2g})"
         return Computed(
@@ -78,8 +80,8 @@ def _critical(key: str | None, printed: str | None = None):  # noqa: ANN202 - th
                 f"128 bits, step tolerance 1e-20; 1e-12 for Phi' over N), Phi' over "
                 f"N = {guess} +- {radius:g} (covers {x} +- {half:g}: {covered}): "
                 f"[{_bound(r.slope.lower())}, {_bound(r.slope.upper())}] ({monotone}); "
-                f"cos Phi over N {r.cosine.str(5)}; Phi({guess}) = "
-                f"{r.turn_at_centre.str(3)}; {test}; Phi at its ends {ends}; "
+                f"cos Phi over N {r.cosine.str(5)}; Phi at {guess} (over N when that "
+                f"decides) {r.turn_at_centre.str(3)}; {test}; Phi at its ends {ends}; "
                 f"{r.seconds:.0f} s"
             ),
             values={
