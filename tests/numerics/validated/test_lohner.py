@@ -444,3 +444,46 @@ def test_an_initial_set_in_lohner_form_contains_the_flow_of_its_points() -> None
     assert widths[0] < 0.75 * widths[1]
     with pytest.raises(UserInputError, match="invertible"):
         enclose_flow(code, ["0.73"], ["1", "0"], 0, 1, basis=[[1, 2], [2, 4]], coefficients=[0, 0])
+
+
+def _euler_top_code() -> SimpleNamespace:
+    """The free rigid body: I1 w1' = (I2 - I3) w2 w3 and cyclically (Taylor recurrences of
+    the quadratic right-hand side)."""
+
+    def coefficients(t0, y, p, order, lib):  # noqa: ANN001, ANN202
+        I1, I2, I3 = p
+        a = ((I2 - I3) / I1, (I3 - I1) / I2, (I1 - I2) / I3)
+        c = [[y[0]], [y[1]], [y[2]]]
+        for k in range(order):
+            for i in range(3):
+                u, v = c[(i + 1) % 3], c[(i + 2) % 3]
+                c[i].append(a[i] * sum(u[j] * v[k - j] for j in range(k + 1)) / (k + 1))
+        return c
+
+    return _code("euler top", ("w1", "w2", "w3"), ("I1", "I2", "I3"), coefficients)
+
+
+def test_the_free_rigid_body_is_enclosed_around_its_jacobi_elliptic_solution() -> None:
+    """From w = (w10, 0, w30) the free rigid body (I1 < I2 < I3) turns as w1 = w10 cn(l t),
+    w2 = B sn(l t), w3 = w30 dn(l t) with l^2 = -a1 a2 w30^2, B = a2 w10 w30/l and
+    k^2 = -a2 a3 w10^2/l^2 (a_i the Euler coefficients): the enclosure at t = 3.7 contains
+    it (mpmath's Jacobi functions at 40 digits), moved by three widths it does not."""
+    code = _euler_top_code()
+    body, start = ["1.1", "1.7", "2.3"], ["0.6", "0", "1.3"]
+    with working_precision(128):
+        e = enclose_flow(code, body, start, 0, "3.7", tol=1e-30)
+    with mpmath.workdps(40):
+        I1, I2, I3 = (mpmath.mpf(v) for v in body)
+        w10, w30, t = mpmath.mpf("0.6"), mpmath.mpf("1.3"), mpmath.mpf("3.7")
+        a1, a2, a3 = (I2 - I3) / I1, (I3 - I1) / I2, (I1 - I2) / I3
+        lam = mpmath.sqrt(-a1 * a2) * w30
+        B, m = a2 * w10 * w30 / lam, -a2 * a3 * w10**2 / lam**2
+        u = lam * t
+        exact = [w10 * mpmath.ellipfun("cn", u, m=m), B * mpmath.ellipfun("sn", u, m=m),
+                 w30 * mpmath.ellipfun("dn", u, m=m)]  # fmt: skip
+    with working_precision(128):
+        refs = [to_ball(mpmath.nstr(v, 38)) for v in exact]
+        assert all(b.contains(r) for b, r in zip(e.state, refs, strict=True))
+        assert e.max_width < 1e-25
+        for b, r in zip(e.state, refs, strict=True):
+            assert not b.contains(r + 3 * 2 * b.rad())
