@@ -175,7 +175,9 @@ def _period_map(code, params, x, x_next, G, t1, jacobian, order, tol):  # noqa: 
         y_start, basis, coefficients = bm20_chart(list(x), G), None, None
     # at the caller's working precision (prove_bm20_periodic_orbit's ``prec``); a parameter
     # interval (Omega over a range) is carried in the Lohner set, not in the coefficients
-    carry = [i for i, q in enumerate(params) if float(q.rad()) > 1e-20 * float(abs(q).upper())]
+    # (wider than the working precision's rounding of a typed decimal, as lohner's end times)
+    wide = 2.0 ** (20 - ctx.prec)
+    carry = [i for i, q in enumerate(params) if float(q.rad()) > wide * float(abs(q).upper())]
     e = enclose_flow(
         code,
         params,

@@ -57,10 +57,13 @@ def _critical(key: str | None, printed: str | None = None):  # noqa: ANN202 - th
             ("1", "3", "5"), "1", guess, period, radius=radius, slope_tol=1e-12
         )
         with working_precision(128):  # N covers the statement's neighbourhood x +- half
-            covered = r.neighbourhood.contains(to_ball(x) + arb(0, half))
+            stated = to_ball(x) + arb(0, half)
+            covered = r.neighbourhood.contains(stated)
+            # 'exactly one within half of x': the one zero of N must lie in x +- half too
+            inside = r.verdict != "unique zero" or stated.contains(r.energy)
         # the claim: a critical energy in N (for the controls: near the printed energy)
         decided = {"unique zero": "proved", "no zero": "refuted"}.get(r.verdict, "undecided")
-        decided = decided if covered else "undecided"
+        decided = decided if covered and inside else "undecided"
         width = 2 * float(r.energy.rad())
         ends = ", ".join(e.str(3) for e in r.ends) if r.ends else "(not evaluated)"
         monotone = "0 excluded: Phi monotone on N" if not r.slope.contains(0) else "contains 0"
