@@ -26,7 +26,7 @@ __all__ = [
 ]
 
 #: Version of the code generator: part of every stamp (bump when the output changes).
-GENERATOR_VERSION = "3"
+GENERATOR_VERSION = "4"
 
 
 @dataclass(frozen=True)

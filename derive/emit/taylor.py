@@ -375,23 +375,27 @@ def _python_lines(prog: TaylorProgram, printer: _GenericPrinter) -> tuple[list, 
         elif op in ("mul", "sq"):
             b = ar[1] if op == "mul" else ar[0]
             zero.append(f"    {x}[0] = {ar[0]}[0] * {b}[0]")
-            body.append(f"        {x}[k] = _sum(_map(_mul, {ar[0]}[:k1], {b}[k::-1]))")
+            body.append(
+                f"        {x}[k] = (_conv({ar[0]}, {b}, 0, k, k) if _conv "
+                f"else _sum(_map(_mul, {ar[0]}[:k1], {b}[k::-1])))"
+            )
         elif op == "div":
             zero.append(f"    {x}[0] = {ar[0]}[0] / {ar[1]}[0]")
             body.append(
-                f"        {x}[k] = ({ar[0]}[k] - _sum(_map(_mul, {ar[1]}[1:k1], "
-                f"{x}[k - 1::-1]))) / {ar[1]}[0]"
+                f"        {x}[k] = ({ar[0]}[k] - (_conv({ar[1]}, {x}, 1, k, k) if _conv "
+                f"else _sum(_map(_mul, {ar[1]}[1:k1], {x}[k - 1::-1])))) / {ar[1]}[0]"
             )
         elif op == "cdiv":
             zero.append(f"    {x}[0] = {ar[0]}[0] / {ar[1]}[0]")
             body.append(
-                f"        {x}[k] = -_sum(_map(_mul, {ar[1]}[1:k1], {x}[k - 1::-1])) / {ar[1]}[0]"
+                f"        {x}[k] = -(_conv({ar[1]}, {x}, 1, k, k) if _conv "
+                f"else _sum(_map(_mul, {ar[1]}[1:k1], {x}[k - 1::-1]))) / {ar[1]}[0]"
             )
         elif op == "sqrt":
             zero.append(f"    {x}[0] = _sqrt({ar[0]}[0])")
             body.append(
-                f"        {x}[k] = ({ar[0]}[k] - _sum(_map(_mul, {x}[1:k], {x}[k - 1:0:-1])))"
-                f" / (2 * {x}[0])"
+                f"        {x}[k] = ({ar[0]}[k] - (_conv({x}, {x}, 1, k - 1, k) if _conv "
+                f"else _sum(_map(_mul, {x}[1:k], {x}[k - 1:0:-1])))) / (2 * {x}[0])"
             )
         elif op == "pow":
             r = sp.Rational(node.expr)
@@ -404,7 +408,8 @@ def _python_lines(prog: TaylorProgram, printer: _GenericPrinter) -> tuple[list, 
         elif op == "exp":
             zero.append(f"    {x}[0] = _exp({ar[0]}[0])")
             body.append(
-                f"        {x}[k] = _sum([j * {ar[0]}[j] * {x}[k - j] for j in range(1, k1)]) / k"
+                f"        {x}[k] = (_wconv({ar[0]}, {x}, 1, k, k) if _conv "
+                f"else _sum([j * {ar[0]}[j] * {x}[k - j] for j in range(1, k1)])) / k"
             )
         elif op in ("sin", "cos"):
             partner = ar[1]
@@ -412,8 +417,8 @@ def _python_lines(prog: TaylorProgram, printer: _GenericPrinter) -> tuple[list, 
             zero.append(f"    {x}[0] = {fn}({ar[0]}[0])")
             sign = "" if op == "sin" else "-"
             body.append(
-                f"        {x}[k] = {sign}_sum([j * {ar[0]}[j] * {partner}[k - j] "
-                "for j in range(1, k1)]) / k"
+                f"        {x}[k] = {sign}(_wconv({ar[0]}, {partner}, 1, k, k) if _conv "
+                f"else _sum([j * {ar[0]}[j] * {partner}[k - j] for j in range(1, k1)])) / k"
             )
         else:  # pragma: no cover
             raise ValueError(op)
@@ -454,12 +459,15 @@ class TaylorPythonEmitter(Emitter):
             '    """Normalised Taylor coefficients ``y_i^(k)(t0) / k!``, ``k = 0..order``.',
             "",
             "    ``lib`` provides ``mpf, sqrt, exp, sin, cos`` (``mpmath`` or a gmpy2 namespace)",
-            "    and optionally ``fsum`` (sums of products; default the built-in ``sum``);",
+            "    and optionally ``fsum`` (sums of products; default the built-in ``sum``)",
+            "    and ``conv``/``wconv`` (both or neither: ``conv(a, b, lo, hi, k)`` is",
+            "    ``sum(a[j] * b[k - j] for j in lo..hi)``, ``wconv`` the same with weights ``j``);",
             "    the working precision is the caller's. Returns ``n_state`` lists of",
             "    ``order + 1`` numbers.",
             '    """',
             "    _mpf, _sqrt, _exp, _sin, _cos = lib.mpf, lib.sqrt, lib.exp, lib.sin, lib.cos",
             "    _sum, _map = getattr(lib, 'fsum', sum), map",
+            "    _conv, _wconv = getattr(lib, 'conv', None), getattr(lib, 'wconv', None)",
             "    _zero = _mpf(0)",
             "    S = order + 1",
         ]

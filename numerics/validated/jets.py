@@ -153,13 +153,102 @@ def _cos(x: Any) -> Any:
 #: ``lib`` for the generated recurrences on plain Arb balls.
 ARB_LIB = SimpleNamespace(mpf=arb, sqrt=_sqrt, exp=_exp, sin=_sin, cos=_cos)
 
-#: ``lib`` for the generated recurrences on :class:`ArbJet` numbers.
+
+class _Stacks:
+    """The Taylor coefficients of one recurrence's series, stacked as matrices for the
+    convolutions: for a coefficient list ``a`` (the generated code's ``a7`` ...), the column
+    ``V`` of the values and the matrix ``G`` whose row ``j`` is the gradient of ``a[j]``,
+    filled as the recurrence computes them. A convolution is then three matrix products in
+    Arb (one C call each) instead of ``k`` jet products in Python.
+
+    Lists are recognised by identity and kept referenced while cached (so an identity is
+    never reused by another list); the generated code writes ``a[j]`` once per call, before
+    any convolution reads it, so a filled row never changes. The cache is emptied when it
+    holds more than :attr:`LIMIT` lists (a few calls' worth).
+    """
+
+    LIMIT = 1024
+
+    def __init__(self) -> None:
+        self.stacks: dict[int, list] = {}
+
+    def get(self, a: list, upto: int) -> tuple[list, arb_mat, arb_mat | None]:
+        """``(values, V, G)`` of ``a`` with the rows ``0..upto`` filled (``G`` None while no
+        entry has a gradient; ``values`` the filled values as a list)."""
+        entry = self.stacks.get(id(a))
+        if entry is None or entry[0] is not a:
+            if len(self.stacks) >= self.LIMIT:
+                self.stacks.clear()
+            entry = [a, arb_mat(len(a), 1), None, []]
+            self.stacks[id(a)] = entry
+        _, V, G, values = entry
+        for j in range(len(values), upto + 1):
+            x = a[j]
+            if type(x) is not ArbJet:
+                V[j, 0] = x
+                values.append(x)
+                continue
+            V[j, 0] = x.v
+            values.append(x.v)
+            g = x.g
+            if g is not None:
+                if G is None:  # the first gradient: the rows before it are zero
+                    G = entry[2] = arb_mat(len(a), g.ncols())
+                for c in range(g.ncols()):
+                    G[j, c] = g[0, c]
+        return values, V, G
+
+    def conv(self, a: list, b: list, lo: int, hi: int, k: int, weighted: bool = False) -> Any:
+        """``sum(w_j a[j] b[k - j] for j in lo..hi)``, ``w_j = j`` when weighted, else 1:
+        the value ``ra V_a`` and the gradient ``ra G_a + rb G_b`` with the rows
+        ``ra[j] = w_j b[k - j]`` and ``rb[k - j] = w_j a[j]`` (values)."""
+        va, Va, Ga = self.get(a, hi)
+        vb, _, Gb = self.get(b, k - lo)
+        ra, rb = [0] * len(a), [0] * len(b)
+        b_rev = vb[k - lo : (k - hi - 1 if k > hi else None) : -1]  # b[k - j], j = lo..hi
+        if weighted:
+            ra[lo : hi + 1] = [w * x for w, x in zip(range(lo, hi + 1), b_rev, strict=True)]
+            a_rev = va[hi : (lo - 1 if lo else None) : -1]  # a[j], j = hi..lo
+            rb[k - hi : k - lo + 1] = [
+                w * x for w, x in zip(range(hi, lo - 1, -1), a_rev, strict=True)
+            ]
+        else:
+            ra[lo : hi + 1] = b_rev
+            rb[k - hi : k - lo + 1] = va[hi : (lo - 1 if lo else None) : -1]
+        row_a = arb_mat([ra])
+        value = (row_a * Va)[0, 0]
+        if Ga is None and Gb is None:
+            return value
+        if Gb is None:
+            return ArbJet(value, row_a * Ga)
+        grad = arb_mat([rb]) * Gb
+        return ArbJet(value, grad if Ga is None else row_a * Ga + grad)
+
+
+def _convolutions() -> tuple[Any, Any]:
+    stacks = _Stacks()
+
+    def conv(a: list, b: list, lo: int, hi: int, k: int) -> Any:
+        return stacks.conv(a, b, lo, hi, k)
+
+    def wconv(a: list, b: list, lo: int, hi: int, k: int) -> Any:
+        return stacks.conv(a, b, lo, hi, k, weighted=True)
+
+    return conv, wconv
+
+
+_CONV, _WCONV = _convolutions()
+
+#: ``lib`` for the generated recurrences on :class:`ArbJet` numbers (``conv`` and ``wconv``:
+#: the convolutions as matrix products, see :class:`_Stacks`).
 JET_LIB = SimpleNamespace(
     mpf=arb,
     sqrt=_lift(_sqrt, lambda v, s: 1 / (2 * s)),
     exp=_lift(_exp, lambda v, e: e),
     sin=_lift(_sin, lambda v, s: v.cos()),
     cos=_lift(_cos, lambda v, c: -v.sin()),
+    conv=_CONV,
+    wconv=_WCONV,
 )
 
 

@@ -321,12 +321,21 @@ def _apriori(prob: _Problem, t: arb, cX: list, h: arb) -> list | None:
     return None
 
 
-def _step(prob: _Problem, t: arb, box: list, c: list, h: arb) -> dict | None:
+def _box_jets(prob: _Problem, t: arb, box: list) -> tuple[list, list]:
+    """The Taylor coefficients over the box at ``t`` as jets, and their values: what every
+    trial step from ``t`` shares."""
+    jets = prob.taylor(t, seed_jets(box), prob.params, prob.order, JET_LIB)
+    return jets, [[jet_value(x) for x in row] for row in jets]
+
+
+def _step(
+    prob: _Problem, t: arb, box: list, c: list, h: arb, box_jets: tuple | None = None
+) -> dict | None:
     """One step of size ``h`` from the box: the pieces of the update, or None when the
-    a-priori enclosure fails."""
+    a-priori enclosure fails (``box_jets``: :func:`_box_jets` of ``t`` and the box, when
+    known)."""
     n, order = prob.n, prob.order
-    jets = prob.taylor(t, seed_jets(box), prob.params, order, JET_LIB)
-    cX = [[jet_value(x) for x in row] for row in jets]
+    jets, cX = _box_jets(prob, t, box) if box_jets is None else box_jets
     Z = _apriori(prob, t, cX, h)
     if Z is None:
         return None
@@ -635,8 +644,9 @@ def _take_step(
     ``h_try`` and ``remaining`` have the sign of the direction of integration."""
     last = abs(h_try) >= float(abs(remaining).lower())
     h = remaining if last else arb(h_try)
+    box_jets = _box_jets(prob, t, box)  # the same for every trial step
     for attempt in range(33):
-        piece = _step(prob, t, box, c, h)
+        piece = _step(prob, t, box, c, h, box_jets)
         if piece is None:
             h, last = arb(float(h.mid()) / 2), False
             continue
