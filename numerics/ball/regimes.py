@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -55,6 +56,7 @@ __all__ = [
     "REGIMES",
     "AttractorRegime",
     "attractor_regime",
+    "attractor_regimes",
     "classify_exponent",
     "closing_period",
     "settled_period",
@@ -330,9 +332,104 @@ def attractor_regime(
     ComputationError
         An integration failed.
     """
-    from ..dynamics.batch_map import STATUS_MESSAGES, BatchStroboscopicMap
-    from ..dynamics.lyapunov import lyapunov_spectrum
+    (r,) = attractor_regimes(
+        code, [params], [y0], transient=transient, recorded=recorded, max_period=max_period,
+        tol=tol, intervals=intervals, lyapunov_transient=lyapunov_transient, rtol=rtol,
+        atol=atol, t0=t0,
+    )  # fmt: skip
+    if isinstance(r, ComputationError):
+        raise r
+    return r
 
+
+def attractor_regimes(
+    code: ModelCode,
+    params: ArrayLike,
+    y0: ArrayLike,
+    *,
+    transient: int = 2000,
+    recorded: int = 600,
+    max_period: int = 64,
+    tol: float = 1e-4,
+    intervals: int = 2000,
+    lyapunov_transient: int = 100,
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    t0: ArrayLike = 0.0,
+) -> list[AttractorRegime | ComputationError]:
+    """:func:`attractor_regime` of ``N`` starts at once: the map of every start in one call of
+    the batch map (vector lanes), then the largest exponents of the starts without a period in
+    one call of :func:`~chaplygin.numerics.dynamics.lyapunov_batch.lyapunov_spectra` (vector
+    lanes). Each start's result is :func:`attractor_regime`'s for it, bit for bit (the lanes
+    give every point the bits of a run on its own), whatever ``N`` and the other starts.
+
+    Parameters
+    ----------
+    code : ModelCode
+    params : array_like, shape (N, n_param)
+        Parameters of every start, in ``code.params`` order (double).
+    y0 : array_like, shape (N, n)
+        Starts.
+    transient, recorded, max_period, tol, intervals, lyapunov_transient, rtol, atol
+        As :func:`attractor_regime`, the same for every start.
+    t0 : float or array_like, shape (N,)
+        Phases of the section.
+
+    Returns
+    -------
+    list of AttractorRegime or ComputationError
+        Per start its regime, or the error of the integration that failed for it (the other
+        starts are unaffected).
+
+    Raises
+    ------
+    UserInputError
+        Bad counts, tolerances or shapes; a model without ``Omega`` or without ``M``, ``gamma``.
+    """
+    from ..dynamics.batch_map import STATUS_MESSAGES, BatchStroboscopicMap
+
+    _check_settings(code, transient, recorded, max_period, tol, intervals, lyapunov_transient)
+    P = np.asarray(params, dtype=float)
+    Y = np.asarray(y0, dtype=float)
+    if P.ndim != 2 or Y.ndim != 2 or len(P) != len(Y):
+        raise UserInputError(f"params {P.shape} and y0 {Y.shape} must be (N, .) with one N")
+    T0 = np.broadcast_to(np.asarray(t0, dtype=float), (len(Y),))
+    bm = BatchStroboscopicMap(code, rtol=rtol, atol=atol)
+    r = bm.run(Y, P, n=recorded + 1, transient=transient, t0=T0)
+    state, out = tuple(code.state), []
+    periods: list[int] = []
+    for j in range(len(Y)):
+        if r.status[j]:
+            out.append(ComputationError(f"the map failed: {STATUS_MESSAGES[int(r.status[j])]}"))
+            periods.append(-1)
+            continue
+        points = np.asarray(r.y[j], dtype=float)[:-1]
+        scaled = map_points_scaled(points, state)
+        period = settled_period(scaled, closing_period(scaled, max_period, float(tol)))
+        if period > 1:
+            period = _newton_period(code, list(P[j]), points, scaled, period, float(tol), rtol)
+        periods.append(period)
+        out.append(None)
+    lyap = _exponents(
+        code, P, np.asarray(r.y, dtype=float)[:, -1], T0, periods, transient + recorded,
+        intervals, lyapunov_transient, rtol, atol,
+    )  # fmt: skip
+    for j, period in enumerate(periods):
+        if period < 0:
+            continue
+        y = np.asarray(r.y[j], dtype=float)
+        out[j] = _regime_of(code, list(P[j]), y[:-1], y[-1], period, lyap.get(j), tol, intervals)
+        if isinstance(out[j], AttractorRegime):
+            out[j].work["map_periods"] = transient + recorded
+            if period == 0:
+                out[j].work["lyapunov_periods"] = intervals + lyapunov_transient
+    return out
+
+
+def _check_settings(
+    code: ModelCode, transient: int, recorded: int, max_period: int, tol: float,
+    intervals: int, lyapunov_transient: int,
+) -> None:  # fmt: skip
     for name, value, least in (
         ("transient", transient, 0),
         ("recorded", recorded, 2),
@@ -346,46 +443,76 @@ def attractor_regime(
         raise UserInputError(f"recorded ({recorded}) must exceed max_period ({max_period})")
     if not 0 < float(tol) < 1:
         raise UserInputError(f"tol must be in (0, 1), got {tol}")
-    state = tuple(code.state)
-    if not {"M1", "gamma1"} <= set(state):
+    if not {"M1", "gamma1"} <= set(code.state):
         raise UserInputError(f"{code.name} has no M and gamma: no map regime")
-    p = [float(v) for v in params]
-    y0 = np.asarray(y0, dtype=float)
-    bm = BatchStroboscopicMap(code, rtol=rtol, atol=atol)
-    r = bm.run([y0], [p], n=recorded + 1, transient=transient, t0=float(t0))
-    if r.status[0]:
-        raise ComputationError(f"the map failed: {STATUS_MESSAGES[int(r.status[0])]}")
-    y = np.asarray(r.y[0], dtype=float)
-    points, end = y[:-1], y[-1]
-    scaled = map_points_scaled(points, state)
-    period = settled_period(scaled, closing_period(scaled, max_period, float(tol)))
-    if period > 1:
-        period = _newton_period(code, p, points, scaled, period, float(tol), rtol)
-    work = {"map_periods": transient + recorded}
+    if "Omega" not in code.params:
+        raise UserInputError(f"{code.name} has no Omega: no stroboscopic map")
+
+
+def _exponents(
+    code: ModelCode, P: NDArray, ends: NDArray, T0: NDArray, periods: list[int], maps: int,
+    intervals: int, lyapunov_transient: int, rtol: float, atol: float,
+) -> dict[int, tuple[float, float] | ComputationError]:  # fmt: skip
+    """The largest exponent per iteration and its error of the starts without a period
+    (``periods[j] == 0``), from their end states: in vector lanes, except from rest (on the
+    sphere of ``gamma`` alone: one at a time in its subspace)."""
+    from ..dynamics.lyapunov import lyapunov_spectrum
+    from ..dynamics.lyapunov_batch import lyapunov_spectra
+
+    state, found = tuple(code.state), {}
+    omega = code.params.index("Omega")
+    t_end = {j: float(T0[j]) + maps * (2 * math.pi / P[j][omega]) for j in range(len(P))}
+    lanes = [j for j, q in enumerate(periods) if q == 0]
+    for j in [j for j in lanes if _from_rest_subspace(ends[j], state) is not None]:
+        lanes.remove(j)
+        try:
+            spec = lyapunov_spectrum(
+                code, list(P[j]), ends[j], intervals=intervals, transient=lyapunov_transient,
+                t0=t_end[j], rtol=rtol, atol=atol, count=1,
+                subspace=_from_rest_subspace(ends[j], state),
+            )  # fmt: skip
+        except ComputationError as exc:
+            found[j] = exc
+            continue
+        found[j] = (spec.per_iteration(spec.exponents)[0], spec.per_iteration(spec.errors)[0])
+    if lanes:
+        batch = lyapunov_spectra(
+            code, P[lanes], ends[lanes], intervals=intervals, transient=lyapunov_transient,
+            t0=[t_end[j] for j in lanes], rtol=rtol, atol=atol, count=1,
+        )  # fmt: skip
+        for k, j in enumerate(lanes):
+            spec = batch.spectra[k]
+            found[j] = (
+                ComputationError(batch.messages[k])
+                if spec is None
+                else (spec.per_iteration(spec.exponents)[0], spec.per_iteration(spec.errors)[0])
+            )
+    return found
+
+
+def _regime_of(
+    code: ModelCode, p: list, points: NDArray, end: NDArray, period: int, lyap: Any,
+    tol: float, intervals: int,
+) -> AttractorRegime | ComputationError:  # fmt: skip
+    """The regime from the period and (without one) the exponent; the copy named."""
+    if isinstance(lyap, ComputationError):
+        return lyap
+    state = tuple(code.state)
     lam = err = math.nan
-    threshold = linear_growth_rate(intervals)
     if period:
         regime = "periodic"
     else:
-        tau = 2 * math.pi / p[code.params.index("Omega")]
-        t_end = float(t0) + (transient + recorded) * tau
-        spec = lyapunov_spectrum(
-            code, p, end, intervals=intervals, transient=lyapunov_transient, t0=t_end,
-            rtol=rtol, atol=atol, count=1, subspace=_from_rest_subspace(end, state),
-        )  # fmt: skip
-        lam = float(spec.per_iteration(spec.exponents)[0])
-        err = float(spec.per_iteration(spec.errors)[0])
-        work["lyapunov_periods"] = intervals + lyapunov_transient
+        lam, err = float(lyap[0]), float(lyap[1])
         regime = classify_exponent(lam, err, intervals)
     copy = None
     if symmetries_of(code):
         if period:  # tol is relative to |M| in M: in state units at most tol max(1, |M|)
             m = [state.index(f"M{i}") for i in (1, 2, 3)]
-            scale = max(1.0, max(detlinalg.norm(p) for p in points[:, m]))
+            scale = max(1.0, max(detlinalg.norm(q) for q in points[:, m]))
             copy = name_copy(points[-period:], state, periodic=True, tol=float(tol) * scale)
         else:
             copy = name_copy(points, state)
     return AttractorRegime(
-        regime=regime, period=period, lyapunov=lam, lyapunov_error=err, threshold=threshold,
-        copy=copy, points=points, end=end, work=work,
+        regime=regime, period=period, lyapunov=lam, lyapunov_error=err,
+        threshold=linear_growth_rate(intervals), copy=copy, points=points, end=end, work={},
     )  # fmt: skip

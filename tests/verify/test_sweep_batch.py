@@ -260,3 +260,45 @@ def test_lyapunov_max_through_the_batch_equals_the_point_by_point_reducer(tmp_pa
     for name in ("lyapunov_max", "lyapunov_max_error", "lyapunov_max_per_iteration", "chaotic"):
         assert np.array_equal(batched[name], single[name]), name
     assert len(set(np.asarray(batched["lyapunov_max"]).tolist())) == 3  # three different points
+
+
+def test_regime_through_the_batch_equals_the_point_by_point_reducer(tmp_path, monkeypatch):
+    """A chunk of three forcing frequencies without carry: the regimes from one call of
+    attractor_regimes (the map and the exponents in vector lanes) equal, bit for bit, those of
+    the same chunk with the reducer's batch removed (attractor_regime point by point)."""
+    import dataclasses
+
+    from chaplygin.verify import sweep_reducers
+
+    text = FROM_REST.replace(', engine = "ENGINE"', "").replace(
+        'reduce = ["period"]',
+        'reduce = ["regime"]\nregime = { transient = 200, recorded = 80, max_period = 16, '
+        "intervals = 100, lyapunov_transient = 10 }",
+    )
+    text = (
+        text.replace("J_off = 0\n", "J_off = 0.3\n")
+        .replace("rest = true\ngamma = [0.6, 0.0, 0.8]", "G = 3\nz = 0.5\nl = 1\ng = 1")
+        .replace(
+            '"parameters.Omega" = [0.18, 0.4]\n"parameters.J_off" = [0, -0.5, -0.23]',
+            '"parameters.Omega" = [0.93, 1.07, 1.21]',
+        )
+    )
+    assert '"parameters.Omega" = [0.93' in text and 'reduce = ["regime"]' in text
+    reducer = sweep_reducers.REDUCERS["regime"]
+    assert reducer.batch is not None
+
+    def no_point_by_point(ctx):  # the batched chunk must not fall back to the point reducer
+        raise AssertionError("point by point")
+
+    with monkeypatch.context() as m:
+        strict = dataclasses.replace(reducer, run=no_point_by_point)
+        m.setitem(sweep_reducers.REDUCERS, "regime", strict)
+        batched, _ = _chunk(tmp_path, text)
+    monkeypatch.setitem(sweep_reducers.REDUCERS, "regime", dataclasses.replace(reducer, batch=None))
+    single, _ = _chunk(tmp_path, text)
+    assert (batched["status"] == 0).all() and (single["status"] == 0).all()
+    names = ("regime", "period", "lyapunov_max_per_iteration", "lyapunov_max_per_iteration_error")
+    for name in (*names, "symmetric_copy", "copy_statistic"):
+        assert np.array_equal(batched[name], single[name], equal_nan=True), name
+    measured = np.asarray(batched["lyapunov_max_per_iteration"])
+    assert np.isfinite(measured).any()  # at least one point reached the exponent's lanes

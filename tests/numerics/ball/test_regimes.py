@@ -223,3 +223,49 @@ def test_lyapunov_from_rest_on_the_sphere_of_gamma():
     level = lyapunov_spectrum(CODE, p, y0, intervals=2000, transient=200, count=1)
     top = level.per_iteration(level.exponents)[0]
     assert top - lam[0] > 3 * (err[0] + level.per_iteration(level.errors)[0])
+
+
+def test_regimes_of_many_starts_are_each_start_s_on_its_own():
+    """attractor_regimes: five starts in one call (a 7-cycle, an invariant curve, two chaotic
+    starts with different phases, a start that fails) give each start the result of
+    attractor_regime on it alone, bit for bit (points, period, exponent, error); the
+    exponents are those of lyapunov_spectrum (one point, no lanes) from the end states. The
+    failing start (a non-finite state) fails alone."""
+    from chaplygin.derive.errors import ComputationError
+    from chaplygin.numerics.ball.regimes import attractor_regimes
+    from chaplygin.numerics.dynamics.lyapunov import lyapunov_spectrum
+
+    near = attractor_regime(CODE, [*FIG5, 1.06675], NEAR_CYCLE, transient=3000, max_period=32).end
+    bad = np.array(START, dtype=float)
+    bad[0] = np.nan
+    starts = [near, near, START, START, bad]
+    params = [[*FIG5, w] for w in (1.06675, 1.0675, 1.07, 1.0703, 1.07)]
+    phases = [0.0, 0.0, 0.0, 0.37, 0.0]
+    opts = dict(transient=400, max_period=32, intervals=300)
+    many = attractor_regimes(CODE, params, starts, t0=phases, **opts)
+    assert isinstance(many[4], ComputationError)
+    with pytest.raises(ComputationError):
+        attractor_regime(CODE, params[4], bad, **opts)
+    assert many[0].regime == "periodic" and many[0].period == 7
+    assert [r.period for r in many[1:4]] == [0, 0, 0]
+    for j in range(4):
+        one = attractor_regime(CODE, params[j], starts[j], t0=phases[j], **opts)
+        assert np.array_equal(one.points, many[j].points)
+        assert (one.regime, one.period, one.work) == (many[j].regime, many[j].period, many[j].work)
+        assert np.array_equal([one.lyapunov, one.lyapunov_error],
+                              [many[j].lyapunov, many[j].lyapunov_error], equal_nan=True)
+        if many[j].period == 0:
+            tau = 2 * np.pi / params[j][-1]
+            spec = lyapunov_spectrum(CODE, params[j], many[j].end, intervals=300, transient=100,
+                                     t0=phases[j] + (400 + 600) * tau, rtol=1e-10,
+                                     atol=1e-12, count=1)  # fmt: skip
+            assert spec.per_iteration(spec.exponents)[0] == many[j].lyapunov
+            assert spec.per_iteration(spec.errors)[0] == many[j].lyapunov_error
+
+
+def test_regimes_refuse_mismatched_shapes():
+    from chaplygin.derive.errors import UserInputError
+    from chaplygin.numerics.ball.regimes import attractor_regimes
+
+    with pytest.raises(UserInputError, match="one N"):
+        attractor_regimes(CODE, [[*FIG5, 1.07]] * 2, [START] * 3)
