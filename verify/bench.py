@@ -46,7 +46,7 @@ from ..numerics.integrate import integrate
 from .bench_described import described_system_times
 from .bench_enclosure import enclosure_cost
 from .bench_ensemble import ensemble_throughput
-from .bench_map import lyapunov_throughput, map_throughput
+from .bench_map import lyapunov_throughput, map_throughput, regime_throughput
 from .bench_peers import heyoka_rows, jitcode_rows
 from .bench_problems import (
     PROBLEMS,
@@ -317,6 +317,7 @@ def run_study(
         (:func:`rhs_call_times`), ``"compile_s"`` (:func:`compile_times` and the peers'
         compile/JIT times), ``"map_throughput"`` (:func:`map_throughput`),
         ``"lyapunov_throughput"`` (:func:`~chaplygin.verify.bench_map.lyapunov_throughput`),
+        ``"regime_throughput"`` (:func:`~chaplygin.verify.bench_map.regime_throughput`),
         ``"ensemble_throughput"``
         (:func:`~chaplygin.verify.bench_ensemble.ensemble_throughput`), ``"verify_time"``
         (:func:`~chaplygin.verify.bench_verify.verify_time`: every claim; quick: K01-2.2's),
@@ -384,6 +385,7 @@ def run_study(
         "lyapunov_throughput": (
             lyapunov_throughput(200, 20, 1, 4) if quick else lyapunov_throughput(repeats=repeats)
         ),
+        "regime_throughput": regime_throughput(1, 4, True) if quick else regime_throughput(repeats),
         "ensemble_throughput": ensemble_throughput(8 if quick else 16, repeats, quick),
         "verify_time": verify_time("K01-2.2*") if quick else verify_time(),
         "enclosure_cost": enclosure_cost(1, proof=False) if quick else enclosure_cost(repeats),

@@ -16,7 +16,13 @@ from ..numerics.code import load_model_code
 from ..numerics.integrate import integrate
 from .bench_timing import peers_available
 
-__all__ = ["MAP_BENCH_PARAMS", "MAP_BENCH_START", "lyapunov_throughput", "map_throughput"]
+__all__ = [
+    "MAP_BENCH_PARAMS",
+    "MAP_BENCH_START",
+    "lyapunov_throughput",
+    "map_throughput",
+    "regime_throughput",
+]
 
 
 # ------------------------------------------------------- the stroboscopic map's throughput
@@ -257,5 +263,69 @@ def lyapunov_throughput(
     row["ratio_lanes_to_one_3_vectors"] = row["ours_lanes_s"] / row["ours_one_3_vectors_s"]
     row["chart_101x101_core_min"] = row["ours_lanes_cpu_s"] * 101 * 101 / 60
     row["chart_101x101_2_cores_min"] = row["chart_101x101_core_min"] / 2
+    row["load_after"] = os.getloadavg()[0]
+    return row
+
+
+def regime_throughput(repeats: int = 3, points: int = 16, quick: bool = False) -> dict[str, Any]:
+    """Seconds per point of the ``regime`` reducer on BM20's map at its defaults (2000
+    transient periods, 600 recorded, the largest exponent over 2000 more where no period
+    closes; rtol 1e-10, atol 1e-12): one point per call
+    (:func:`~chaplygin.numerics.ball.regimes.attractor_regime`, row ``ours_one``) and
+    ``points`` points per call (:func:`~chaplygin.numerics.ball.regimes.attractor_regimes`,
+    the map and the exponents in vector lanes, row ``ours_lanes``); the points of
+    :func:`lyapunov_throughput` (``d`` and ``Omega`` spread over the Fig. 6 chart). Medians of
+    ``repeats`` interleaved runs, wall and CPU time.
+
+    Parameters
+    ----------
+    repeats : int
+    points : int
+    quick : bool
+        200 transient, 100 recorded and 200 exponent periods instead of the defaults.
+
+    Returns
+    -------
+    dict
+        ``<row>_s`` and ``<row>_cpu_s`` per point, the ratio, how many points were periodic,
+        and the 101 x 101 chart's time on 2 cores at the lanes' rate.
+
+    Raises
+    ------
+    UserInputError
+        ``repeats < 1`` or ``points < 1``.
+    """
+    from ..numerics.ball.map_coordinates import state_from_reduced
+    from ..numerics.ball.regimes import attractor_regime, attractor_regimes
+
+    if repeats < 1 or points < 1:
+        raise UserInputError("regime_throughput needs repeats >= 1 and points >= 1")
+    code = load_model_code("chaplygin_ball", ["variable_inertia", "variable_gyrostat"])
+    y0 = [float(v) for v in state_from_reduced(*MAP_BENCH_START, [0] * 6, code.state)]
+    P = np.tile(np.array(MAP_BENCH_PARAMS), (points, 1))
+    P[:, 3] = np.linspace(4.37, 4.39, points)
+    P[:, 9] = np.linspace(1.064, 1.08, points)[::-1]
+    Y = np.tile(np.array(y0), (points, 1))
+    settings: dict[str, Any] = {"transient": 2000, "recorded": 600, "intervals": 2000}
+    if quick:
+        settings = {"transient": 200, "recorded": 100, "intervals": 200, "max_period": 32}
+    runs: dict[str, list[float]] = {}
+    row: dict[str, Any] = {**settings, "repeats": repeats, "points": points}
+    row["load_before"] = os.getloadavg()[0]
+    attractor_regimes(code, P[:1], Y[:1], **{**settings, "intervals": 10})  # compiled first
+    for _ in range(repeats):
+        for name, call in (
+            ("ours_one", lambda: [attractor_regime(code, p, y, **settings)
+                                  for p, y in zip(P, Y, strict=True)]),  # fmt: skip
+            ("ours_lanes", lambda: attractor_regimes(code, P, Y, **settings)),
+        ):
+            wall, cpu = time.perf_counter(), time.process_time()
+            found = call()
+            runs.setdefault(f"{name}_s", []).append((time.perf_counter() - wall) / points)
+            runs.setdefault(f"{name}_cpu_s", []).append((time.process_time() - cpu) / points)
+    row.update({name: float(np.median(values)) for name, values in runs.items()})
+    row["periodic_points"] = sum(1 for r in found if getattr(r, "period", 0) > 0)
+    row["ratio_lanes_to_one"] = row["ours_lanes_s"] / row["ours_one_s"]
+    row["chart_101x101_2_cores_min"] = row["ours_lanes_cpu_s"] * 101 * 101 / 60 / 2
     row["load_after"] = os.getloadavg()[0]
     return row

@@ -70,6 +70,8 @@ def render_markdown(study: dict) -> str:
         ("map_throughput", "BM20's stroboscopic map (us per forcing period per point)"),
         ("lyapunov_throughput", "BM20's largest Lyapunov exponent (seconds per point; issue "
          "26's target <= 0.05 s, a 101 x 101 chart <= 15 min on 2 cores)"),
+        ("regime_throughput", "BM20's regime of the attractor (seconds per point; the sweep's "
+         "regime reducer, one point per call and a chunk in vector lanes)"),
         ("verify_time", "The main job: chaplygin verify in its own process (issue 26: <= 60 s "
          "warm on 2 cores)"),
         ("enclosure_cost", "Proofs by computation: an enclosure beside the floating-point run "
