@@ -9,13 +9,21 @@ from __future__ import annotations
 import math
 import numbers
 from collections.abc import Mapping, Sequence
+from typing import Any
 
 import mpmath
 
 from ..derive.errors import UserInputError
 from .inputs import parse_number
 
-__all__ = ["check_choice", "check_count", "check_inertia_vector", "check_real", "check_vector"]
+__all__ = [
+    "check_choice",
+    "check_count",
+    "check_inertia_vector",
+    "check_real",
+    "check_rows",
+    "check_vector",
+]
 
 
 def check_real(
@@ -197,3 +205,43 @@ def check_count(value: object, name: str, low: int, high: int) -> int:
     if not low <= int(value) <= high:
         raise UserInputError(f"{name} = {value} is out of range; use {low}..{high}")
     return int(value)
+
+
+def check_rows(value: object, name: str, width: int, count: int | None = None) -> Any:
+    """``value`` as a C-contiguous float64 array of shape ``(N, width)`` with finite entries
+    (double precision: the batched routines run in double).
+
+    Parameters
+    ----------
+    value : array_like
+    name : str
+        The argument's name, used in the message.
+    width : int
+        The number of columns required.
+    count : int, optional
+        The number of rows required (``N``); any ``N >= 1`` when None.
+
+    Returns
+    -------
+    numpy.ndarray
+
+    Raises
+    ------
+    UserInputError
+        Not numbers, another shape, no rows, or an entry that is not finite.
+    """
+    import numpy as np
+
+    if isinstance(value, str | bytes | Mapping) or value is None:
+        raise UserInputError(f"{name} must be an array of shape (N, {width}), got {value!r}")
+    try:
+        a = np.array(value, dtype=np.float64)
+    except (TypeError, ValueError, OverflowError):
+        raise UserInputError(f"{name} must be an array of numbers of shape (N, {width})") from None
+    if a.ndim != 2 or a.shape[1] != width or len(a) == 0:
+        raise UserInputError(f"{name} must be an array of shape (N, {width}), got {a.shape}")
+    if count is not None and len(a) != count:
+        raise UserInputError(f"{name} must have {count} rows (one per point), got {len(a)}")
+    if not np.isfinite(a).all():
+        raise UserInputError(f"{name} must be finite")
+    return np.ascontiguousarray(a)

@@ -440,13 +440,19 @@ int chaplygin_var_normal_rank(double t, const double *y, const double *P)
 
 /* The end of an interval of one point (z its augmented state at tb): the divergence integral,
  * the projection onto the level set's tangent space and the QR of Benettin's loop (here and in
- * templates/variational_batch.c). Returns 0 or 3 (a vanishing or non-finite tangent vector). */
+ * templates/variational_batch.c). Returns 0 or 3 (a vanishing or non-finite tangent vector).
+ * project < 0: neither projection nor QR (the tangent vectors stay the flow's derivative
+ * applied to the initial ones: the map Jacobians of flow_jacobians, one interval). */
 static int cv_interval_end(double tb, double *z, int k, const double *P, int project,
                            double *logs, double *div)
 {
     double *V = z + CV_N;
     double Q[CV_NI * CV_N];
     *div = z[CV_N + CV_N * k];
+    if (project < 0) {
+        for (int j = 0; j < k; ++j) logs[j] = 0.0;
+        return 0;
+    }
     if (project) {
         int r = cv_normal_basis(tb, z, P, Q);
         for (int j = 0; j < k; ++j)

@@ -49,6 +49,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ...arith import detlinalg, detmath
 from ...derive.errors import ComputationError, UserInputError
+from ..arguments import check_rows
 from ..code import ModelCode
 from .symmetry import CopyName, map_points_scaled, name_copy, symmetries_of
 
@@ -389,11 +390,14 @@ def attractor_regimes(
     from ..dynamics.batch_map import STATUS_MESSAGES, BatchStroboscopicMap
 
     _check_settings(code, transient, recorded, max_period, tol, intervals, lyapunov_transient)
-    P = np.asarray(params, dtype=float)
-    Y = np.asarray(y0, dtype=float)
-    if P.ndim != 2 or Y.ndim != 2 or len(P) != len(Y):
-        raise UserInputError(f"params {P.shape} and y0 {Y.shape} must be (N, .) with one N")
-    T0 = np.broadcast_to(np.asarray(t0, dtype=float), (len(Y),))
+    Y = check_rows(y0, "y0", len(code.state))
+    P = check_rows(params, "params", len(code.params), len(Y))
+    try:
+        T0 = np.broadcast_to(np.asarray(t0, dtype=float), (len(Y),))
+    except (TypeError, ValueError, OverflowError):
+        raise UserInputError(f"t0 must be a number or {len(Y)} numbers") from None
+    if not np.isfinite(T0).all():
+        raise UserInputError("t0 must be finite")
     bm = BatchStroboscopicMap(code, rtol=rtol, atol=atol)
     r = bm.run(Y, P, n=recorded + 1, transient=transient, t0=T0)
     state, out = tuple(code.state), []

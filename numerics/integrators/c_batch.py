@@ -331,7 +331,8 @@ def run_variational_batch(
     start = time.perf_counter()
     driver(
         N, k, _buf(Z0), _buf(P), _buf(plan.t0), _buf(plan.tau), plan.intervals, problem.rtol,
-        problem.atol, int(bool(plan.project)), problem.max_steps, _buf(Z), _buf(logs), _buf(divs),
+        problem.atol, int(bool(plan.project)) if plan.orthonormalise else -1, problem.max_steps,
+        _buf(Z), _buf(logs), _buf(divs),
         _buf(stats), _buf(status, "int[]"),
     )  # fmt: skip
     info = {"status": status, "logs": logs, "divergence": divs, "stats": stats,

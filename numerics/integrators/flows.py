@@ -358,6 +358,9 @@ class Renormalisation:
         projects in Python (the compiled one has its own).
     t0 : ndarray of shape (N,), or None
         A :class:`VariationalBatch`'s start times (one problem starts at ``t_span[0]``).
+    orthonormalise : bool
+        False: no projection and no QR (a :class:`VariationalBatch` only): the tangent
+        vectors at the end are the flow's derivative applied to the initial ones.
     """
 
     tau: float | np.ndarray
@@ -365,3 +368,4 @@ class Renormalisation:
     project: bool
     normal_basis: Callable[[float, np.ndarray], np.ndarray] | None = None
     t0: np.ndarray | None = None
+    orthonormalise: bool = True

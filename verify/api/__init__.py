@@ -53,6 +53,8 @@ _PUBLIC: dict[str, str] = {
     "delta": "numerics.ball.separatrix:delta_three_ways",
     "torus_quadratures": "numerics.ball.quadratures:torus_quadratures",
     "flow_with_jacobian": "numerics.dynamics.variational:flow_with_jacobian",
+    "flow_jacobians": "numerics.dynamics.variational:flow_jacobians",
+    "attractor_regimes": "numerics.ball.regimes:attractor_regimes",
     "lyapunov_spectrum": "numerics.dynamics.lyapunov:lyapunov_spectrum",
     "lyapunov_spectra": "numerics.dynamics.lyapunov_batch:lyapunov_spectra",
     # proofs by computation (Arb ball arithmetic)

@@ -137,3 +137,53 @@ def test_bad_input_raises_documented_errors():
     tiny.max_steps = 2
     with pytest.raises(ComputationError, match="step limit"):
         tiny.flow(BM20_Y0, 0.0, 50.0)
+
+
+def test_many_flow_jacobians_are_each_point_s_on_its_own():
+    """flow_jacobians: seven points of BM20's model (different parameters, starts, phases and
+    lengths, one that blows up) in vector lanes and one after another give every point the
+    state and Phi of flow_with_jacobian on its own, bit for bit; the point that fails fails
+    alone. Phi itself is checked against the quad-precision differences for one point (the
+    independent route of the test above)."""
+    from chaplygin.numerics.dynamics.variational import flow_jacobians
+
+    code = load_model_code(*BM20)
+    rng = np.random.default_rng(20261127)
+    P = np.array([BM20_PARAMS] * 7) * rng.uniform(0.97, 1.03, (7, len(BM20_PARAMS)))
+    Y = np.array([BM20_Y0] * 7) + rng.uniform(-0.1, 0.1, (7, 6))
+    T0 = rng.uniform(0.0, 2.0, 7)
+    TAU = 2 * np.pi / P[:, -1] * np.array([1, 1, 0.5, 1, 2, 1, 1])
+    P[5, 3] = 1e300  # an absurd d: the equations overflow, this point fails
+    lanes = flow_jacobians(code, P, Y, T0, TAU, rtol=1e-10, atol=1e-12)
+    serial = flow_jacobians(code, P, Y, T0, TAU, rtol=1e-10, atol=1e-12, lockstep=False)
+    assert lanes.lockstep and not serial.lockstep
+    assert lanes.status[5] != 0 and np.isnan(lanes.jacobians[5]).all()
+    assert (np.delete(lanes.status, 5) == 0).all()
+    for j in range(7):
+        assert np.array_equal(lanes.y[j], serial.y[j], equal_nan=True)
+        assert np.array_equal(lanes.jacobians[j], serial.jacobians[j], equal_nan=True)
+        if j == 5:
+            with pytest.raises(ComputationError):
+                flow_with_jacobian(code, P[j], Y[j], T0[j], T0[j] + TAU[j])
+            continue
+        y1, phi = flow_with_jacobian(code, P[j], Y[j], T0[j], T0[j] + TAU[j])
+        assert np.array_equal(y1, lanes.y[j]) and np.array_equal(phi, lanes.jacobians[j])
+    y_ref, phi_ref = _reference_phi(code, P[2], Y[2], T0[2], T0[2] + TAU[2])
+    scale = 1e-12 + 1e-10 * np.abs(phi_ref).max()
+    assert (np.abs(lanes.jacobians[2] - phi_ref) / scale).max() < 5
+    assert (np.abs(lanes.jacobians[3] - phi_ref) / scale).max() > 1e3  # another point's Phi
+
+
+def test_flow_jacobians_refuse_bad_input():
+    from chaplygin.numerics.dynamics.variational import flow_jacobians
+
+    code = load_model_code(*BM20)
+    with pytest.raises(UserInputError, match="tau"):
+        flow_jacobians(code, [BM20_PARAMS], [BM20_Y0], 0.0, -1.0)
+    with pytest.raises(UserInputError, match="rows"):
+        flow_jacobians(code, [BM20_PARAMS], [BM20_Y0, BM20_Y0], 0.0, 1.0)
+    for bad in ("abc", None, [[1.0, "x"]], [BM20_Y0[:5]], [[np.nan] * 6]):
+        with pytest.raises(UserInputError, match="y0"):
+            flow_jacobians(code, [BM20_PARAMS], bad, 0.0, 1.0)
+    with pytest.raises(UserInputError, match="t0"):
+        flow_jacobians(code, [BM20_PARAMS], [BM20_Y0], "soon", 1.0)
