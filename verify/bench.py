@@ -46,7 +46,12 @@ from ..numerics.integrate import integrate
 from .bench_described import described_system_times
 from .bench_enclosure import enclosure_cost
 from .bench_ensemble import ensemble_throughput
-from .bench_map import lyapunov_throughput, map_throughput, regime_throughput
+from .bench_map import (
+    jacobian_throughput,
+    lyapunov_throughput,
+    map_throughput,
+    regime_throughput,
+)
 from .bench_peers import heyoka_rows, jitcode_rows
 from .bench_problems import (
     PROBLEMS,
@@ -318,6 +323,7 @@ def run_study(
         compile/JIT times), ``"map_throughput"`` (:func:`map_throughput`),
         ``"lyapunov_throughput"`` (:func:`~chaplygin.verify.bench_map.lyapunov_throughput`),
         ``"regime_throughput"`` (:func:`~chaplygin.verify.bench_map.regime_throughput`),
+        ``"jacobian_throughput"`` (:func:`~chaplygin.verify.bench_map.jacobian_throughput`),
         ``"ensemble_throughput"``
         (:func:`~chaplygin.verify.bench_ensemble.ensemble_throughput`), ``"verify_time"``
         (:func:`~chaplygin.verify.bench_verify.verify_time`: every claim; quick: K01-2.2's),
@@ -386,6 +392,7 @@ def run_study(
             lyapunov_throughput(200, 20, 1, 4) if quick else lyapunov_throughput(repeats=repeats)
         ),
         "regime_throughput": regime_throughput(1, 4, True) if quick else regime_throughput(repeats),
+        "jacobian_throughput": jacobian_throughput(1, 8) if quick else jacobian_throughput(repeats),
         "ensemble_throughput": ensemble_throughput(8 if quick else 16, repeats, quick),
         "verify_time": verify_time("K01-2.2*") if quick else verify_time(),
         "enclosure_cost": enclosure_cost(1, proof=False) if quick else enclosure_cost(repeats),

@@ -22,6 +22,7 @@ __all__ = [
     "lyapunov_throughput",
     "map_throughput",
     "regime_throughput",
+    "jacobian_throughput",
 ]
 
 
@@ -328,4 +329,58 @@ def regime_throughput(repeats: int = 3, points: int = 16, quick: bool = False) -
     row["ratio_lanes_to_one"] = row["ours_lanes_s"] / row["ours_one_s"]
     row["chart_101x101_2_cores_min"] = row["ours_lanes_cpu_s"] * 101 * 101 / 60 / 2
     row["load_after"] = os.getloadavg()[0]
+    return row
+
+
+def jacobian_throughput(repeats: int = 3, points: int = 64) -> dict[str, Any]:
+    """Seconds per point of BM20's map Jacobian (the state and ``Phi`` over one forcing period,
+    rtol 1e-10, atol 1e-12, the points of :func:`lyapunov_throughput`): one call per point
+    (:func:`~chaplygin.numerics.dynamics.variational.flow_with_jacobian`, row ``ours_one``),
+    ``points`` per call in vector lanes
+    (:func:`~chaplygin.numerics.dynamics.variational.flow_jacobians`, ``ours_lanes``) and one
+    after another in that call (``ours_serial``). Medians of ``repeats`` interleaved runs.
+
+    Parameters
+    ----------
+    repeats, points : int
+
+    Returns
+    -------
+    dict
+        ``<row>_s`` per point and the ratio of the lanes to one call per point.
+
+    Raises
+    ------
+    UserInputError
+        ``repeats < 1`` or ``points < 1``.
+    """
+    from ..numerics.ball.map_coordinates import state_from_reduced
+    from ..numerics.dynamics.variational import flow_jacobians, flow_with_jacobian
+
+    if repeats < 1 or points < 1:
+        raise UserInputError("jacobian_throughput needs repeats >= 1 and points >= 1")
+    code = load_model_code("chaplygin_ball", ["variable_inertia", "variable_gyrostat"])
+    y0 = [float(v) for v in state_from_reduced(*MAP_BENCH_START, [0] * 6, code.state)]
+    P = np.tile(np.array(MAP_BENCH_PARAMS), (points, 1))
+    P[:, 3] = np.linspace(4.37, 4.39, points)
+    P[:, 9] = np.linspace(1.064, 1.08, points)[::-1]
+    Y = np.tile(np.array(y0), (points, 1))
+    tau = 2 * np.pi / P[:, 9]
+    tol = {"rtol": 1e-10, "atol": 1e-12}
+    flow_jacobians(code, P[:2], Y[:2], 0.0, tau[:2], **tol)  # compiled first
+    runs: dict[str, list[float]] = {}
+    calls = (
+        ("ours_one", lambda: [flow_with_jacobian(code, P[j], Y[j], 0.0, tau[j], **tol)
+                              for j in range(points)]),
+        ("ours_lanes", lambda: flow_jacobians(code, P, Y, 0.0, tau, **tol)),
+        ("ours_serial", lambda: flow_jacobians(code, P, Y, 0.0, tau, lockstep=False, **tol)),
+    )  # fmt: skip
+    for _ in range(repeats):
+        for name, call in calls:
+            wall = time.perf_counter()
+            call()
+            runs.setdefault(f"{name}_s", []).append((time.perf_counter() - wall) / points)
+    row: dict[str, Any] = {"repeats": repeats, "points": points, **tol}
+    row.update({name: float(np.median(values)) for name, values in runs.items()})
+    row["ratio_lanes_to_one"] = row["ours_lanes_s"] / row["ours_one_s"]
     return row

@@ -72,6 +72,8 @@ def render_markdown(study: dict) -> str:
          "26's target <= 0.05 s, a 101 x 101 chart <= 15 min on 2 cores)"),
         ("regime_throughput", "BM20's regime of the attractor (seconds per point; the sweep's "
          "regime reducer, one point per call and a chunk in vector lanes)"),
+        ("jacobian_throughput", "BM20's map Jacobian over one period (seconds per point; one "
+         "call per point and many in vector lanes)"),
         ("verify_time", "The main job: chaplygin verify in its own process (issue 26: <= 60 s "
          "warm on 2 cores)"),
         ("enclosure_cost", "Proofs by computation: an enclosure beside the floating-point run "
