@@ -30,6 +30,8 @@ __all__ = [
     "load_taylor_mpfr_library",
     "mpfr_build_flags",
     "UNROLLED_CFLAGS",
+    "UNROLLED_CFLAGS_MAX_BYTES",
+    "unrolled_cflags",
 ]
 
 
@@ -176,6 +178,28 @@ _LIBS: dict[tuple[str, str, tuple[int, ...]], CompiledTaylor | None] = {}
 #: They change the instruction order only, not the arithmetic (no -ffast-math).
 UNROLLED_CFLAGS = ("-fschedule-insns", "-fsched-pressure")
 
+#: Written-out sources longer than this (bytes) are compiled without :data:`UNROLLED_CFLAGS`:
+#: the scheduler's cost grows faster than the source (one basic block per order). Measured
+#: with gcc -O2 at order 20 (2 cores, 2026-11-27; without / with the flags): the ball 322 kB
+#: 0.9 / 1.8 s, BM20's ball 479 kB 1.8 / 4.4 s, the spherical support 733 kB 3.6 / 10.2 s, the
+#: described ball on a turntable 1.77 MB 16.7 / 105.8 s.
+UNROLLED_CFLAGS_MAX_BYTES = 512_000
+
+
+def unrolled_cflags(source: str) -> tuple[str, ...]:
+    """The extra flags of a written-out source: :data:`UNROLLED_CFLAGS` up to
+    :data:`UNROLLED_CFLAGS_MAX_BYTES`, none above (the same bits either way).
+
+    Parameters
+    ----------
+    source : str
+
+    Returns
+    -------
+    tuple of str
+    """
+    return UNROLLED_CFLAGS if len(source) <= UNROLLED_CFLAGS_MAX_BYTES else ()
+
 
 def load_taylor_library(
     code: ModelCode, kind: str, orders: Sequence[int] = ()
@@ -230,7 +254,8 @@ def load_taylor_library(
             if written_out is None:
                 break
             try:
-                path = _compile_quietly(written_out, ldlibs, (*real.cflags, *UNROLLED_CFLAGS))
+                flags = (*real.cflags, *unrolled_cflags(written_out))
+                path = _compile_quietly(written_out, ldlibs, flags)
                 lib = CompiledTaylor(path, kind, expected_hash=code.hash)
             except (CompilerError, OSError):
                 continue

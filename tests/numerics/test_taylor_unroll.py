@@ -315,3 +315,20 @@ def test_a_compiler_without_gnu_vectors_gets_the_scalar_code_then_the_loop(monke
     assert fallback is not None and "taylor_coefficients_12(" not in compiled[-1]
     assert np.array_equal(_bits(fallback.coefficients(12, 0.3, y, p)),
                           _bits(loop.coefficients(12, 0.3, y, p)))
+
+
+def test_the_scheduling_flags_only_where_the_scheduler_is_quick():
+    """-fschedule-insns -fsched-pressure for written-out sources up to the limit (the ball's,
+    the bench's reference problem, keeps them), none above (a 1.8 MB source took 106 s with
+    them and 17 s without); the bits are the loop's either way (the test above)."""
+    from chaplygin.numerics.taylor.library import (
+        UNROLLED_CFLAGS,
+        UNROLLED_CFLAGS_MAX_BYTES,
+        unrolled_cflags,
+    )
+
+    assert unrolled_cflags("x" * UNROLLED_CFLAGS_MAX_BYTES) == UNROLLED_CFLAGS
+    assert unrolled_cflags("x" * (UNROLLED_CFLAGS_MAX_BYTES + 1)) == ()
+    ball = load_model_code("chaplygin_ball")
+    written = unrolled_source(ball.taylor_c_source, ball.taylor_program, (20,))
+    assert unrolled_cflags(written) == UNROLLED_CFLAGS
