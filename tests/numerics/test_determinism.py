@@ -4,8 +4,9 @@ glibc code paths, two compilers and two optimisation levels (issue 22).
 BM20 Fig. 5 (Omega = 1.07, d = 4.385: the strange attractor) is run in fresh processes: a few
 hundred periods of the stroboscopic map (the Taylor integrator in C) and the Lyapunov spectrum
 in both forms (the variational DOP853 in C, QR in C, the level-set bases and start vectors in
-Python). Every array and number of both results (wall times aside) is hashed; the hashes must
-be equal under
+Python), then the vector lanes (map Jacobians of six points, their attractors' regimes: the batch
+map and the Lyapunov loop in lanes). Every array and number of those results (wall times
+aside) is hashed; the hashes must be equal under
 
 * ``OPENBLAS_CORETYPE`` = Prescott, Nehalem, Sandybridge, Haswell (numpy's BLAS kernels: they
   give other bits for ``@``, ``qr``, ``solve`` -- shown in tests/arith/test_detlinalg.py);
@@ -78,6 +79,23 @@ for path, overrides in (("bm20-fig5-map.toml", overrides_map),
         feed(f"{path}.{key}.summary", done.summary)
         for name, (_dims, values, _attrs) in sorted(done.arrays.items()):
             feed(f"{path}.{key}.{name}", np.asarray(values))
+# the vector lanes: map Jacobians (variational lanes) and regimes (batch map and Lyapunov lanes)
+from chaplygin.numerics.ball.regimes import attractor_regimes
+from chaplygin.numerics.code import load_model_code
+from chaplygin.numerics.dynamics.variational import flow_jacobians
+
+code = load_model_code("chaplygin_ball", "variable_gyrostat,variable_inertia")
+P = np.array([[4, 3, 2, 4.385, 0, 2, -6, -3, -9, w] for w in np.linspace(1.064, 1.08, 6)])
+Y = np.array([[1.3, -2.1, 0.7, 0.36, 0.48, 0.8]] * 6) * np.linspace(0.9, 1.1, 6)[:, None]
+Y[:, 3:] /= np.linalg.norm(Y[:, 3:], axis=1)[:, None]
+if nudge:
+    Y[0, 0] = math.nextafter(Y[0, 0], 2.0)
+jac = flow_jacobians(code, P, Y, 0.0, 2 * math.pi / P[:, -1])
+feed("flow_jacobians", {"y": jac.y, "jacobians": jac.jacobians, "status": jac.status})
+for j, r in enumerate(attractor_regimes(code, P, Y, transient=60, recorded=40, max_period=8,
+                                        intervals=40, lyapunov_transient=5)):
+    feed(f"regime[{j}]", {"regime": r.regime, "period": r.period, "lyapunov": r.lyapunov,
+                          "error": r.lyapunov_error, "points": r.points})
 print(json.dumps({"hash": h.hexdigest(), "sizes": sizes}))
 """
 
