@@ -288,7 +288,7 @@ def test_newton_on_the_flow_corrects_a_wrong_period():
     "table, message",
     [
         ('section = "gamma2"\n[outputs.periodic_orbits.continuation]\nrange = [0, 1]\nstep = 0.1\n',
-         "continuation follows orbits of the stroboscopic map only"),
+         "routh_sphere has no parameter 'Omega'"),
         ('section = "open(1)"\n', "outputs.periodic_orbits.section"),
         ("max_period = 3\n", "or a section"),
     ],
@@ -320,3 +320,36 @@ def test_the_dynamics_example_file_runs_on_its_integral_values(tmp_path):
         points = np.stack([ds[n].values[0] for n in names], axis=1)
     levels = np.array([routh_integrals(y) for y in points])
     assert np.abs(levels - want).max() <= 1e3 * 1e-12 * 2  # rtol 1e-12 over ~10^3 steps
+
+
+def test_the_rolling_over_orbit_continued_in_g_keeps_the_quadrature_s_period(tmp_path):
+    """[outputs.periodic_orbits.continuation] with a section: the rolling-over orbit followed
+    in the gravity g from 1 to 0.8 and to 1.23: at every point of the branch the period is the
+    quadrature's at that point's energy and g (the mechanics, above), to the run's accuracy;
+    the quadrature at the start's g is refuted at the ends by the same comparison. The orbit
+    stays stable (its multipliers on the unit circle: an integrable family)."""
+    xr = pytest.importorskip("xarray")
+    outputs = (
+        '[outputs.periodic_orbits]\nsection = "gamma2"\ntransient = 0\nmax_period = 3\n'
+        "detect_tol = 1e-6\nrtol = 1e-12\n[outputs.periodic_orbits.continuation]\n"
+        'parameter = "g"\nrange = [0.8, 1.23]\nstep = 0.1\n'
+    )
+    scene = _scene(tmp_path, outputs, initial="M = [1.5, 0, 0]\ngamma = [0, 0, -1]\n")
+    found = _run(tmp_path, scene)["analyses"]["periodic_orbits"]
+    branches = found["continuation"]["branches"]
+    assert [b["stopped"] for b in branches] == ["reached", "reached"]
+    assert [float(b["reached"]) for b in branches] == [0.8, 1.23]
+    with xr.open_dataset(tmp_path / "out" / "periodic_orbits.nc") as ds:
+        g = ds["branch_parameter"].values
+        periods, states = ds["branch_period_time"].values, ds["branch_state"].values
+        stable = ds["branch_stable"].values
+    assert len(g) == 2 + 2 + 3  # the start twice, 2 steps down, 3 up (0.1 at most each)
+    for value, T, state in zip(g, periods, states, strict=True):
+        p = {**VALUES, "g": float(value)}
+        reference = _rolling_over_period(routh_integrals(state, p)[0], p)
+        assert abs(T - reference) <= 1e3 * 1e-12 * reference, (value, T, reference)
+        if abs(value - 1.0) > 0.1:
+            wrong = _rolling_over_period(routh_integrals(state, p)[0], VALUES)
+            assert abs(T - wrong) > 1e6 * 1e-12 * reference
+    assert stable.all() and found["continuation"]["stability changes"] == []
+

@@ -37,6 +37,9 @@ if TYPE_CHECKING:
 
 __all__ = ["PeriodicOrbitsOutput", "ContinuationSpec", "PERIODIC_ORBITS", "multipliers_figure"]
 
+#: The parameters the stroboscopic map's orbits are continued in.
+MAP_PARAMETERS = ("Omega", "D", "delta", "J_off")
+
 
 def _scene_error(message: str, path: str) -> Exception:
     # a UserInputError naming the key path, without the file and line (the messages of this
@@ -55,6 +58,12 @@ def _check(scene: Any, code: Any, spec: PeriodicOrbitsOutput) -> None:
             "variable_gyrostat: the stroboscopic map has period 2 pi/Omega), or a section "
             '(section = "gamma2": the return map of an autonomous model)',
             "outputs.periodic_orbits",
+        )
+    if spec.continuation is not None and spec.continuation.parameter not in MAP_PARAMETERS:
+        raise _scene_error(
+            f"the stroboscopic map is continued in one of {', '.join(MAP_PARAMETERS)}, not "
+            f"{spec.continuation.parameter!r}",
+            "outputs.periodic_orbits.continuation.parameter",
         )
     if tuple(code.numpy.STATE) != ("M1", "M2", "M3", "gamma1", "gamma2", "gamma3"):
         raise _scene_error(

@@ -16,7 +16,14 @@ candidate, and the orbit through the last crossings is refined on the flow with 
 as an unknown (:func:`chaplygin.numerics.dynamics.flow_orbits.refine_flow_orbit`). The summary
 gives the crossings per period, the period in model time, the Newton residual, the Floquet
 multipliers and ``det Phi`` (1 where the model keeps an invariant density: Liouville).
-Continuation is for the stroboscopic map only.
+
+With ``[outputs.periodic_orbits.continuation]`` (``parameter`` any of the model's, ``range =
+[a, b]``, ``step``) the refined orbit is followed from the scene's value to ``a`` and to ``b``
+in steps of ``step`` (at most ``max_points`` per direction:
+:func:`chaplygin.numerics.dynamics.flow_orbits.continue_flow_orbit`, on the levels of the
+integrals the start has at each value); the summary gives where each direction stopped and
+between which values the stability changes, the arrays the branch (parameter, period,
+multipliers), the figure the multipliers along it.
 """
 
 from __future__ import annotations
@@ -48,7 +55,7 @@ def check_flow_orbit(scene: Any, code: Any, spec: Any) -> None:
     ------
     UserInputError
         A time-periodic model, a model whose right-hand side depends on the time, a bad
-        surface expression, a continuation.
+        surface expression, a continuation in a parameter the model does not have.
     """
     from ...numerics.ball.map_coordinates import StateExpression
 
@@ -57,8 +64,12 @@ def check_flow_orbit(scene: Any, code: Any, spec: Any) -> None:
             f"{code.name} is time-periodic: its periodic orbits are those of the stroboscopic "
             "map (leave section out)"
         )
-    if spec.continuation is not None:
-        raise _error("continuation follows orbits of the stroboscopic map only", "continuation")
+    if spec.continuation is not None and spec.continuation.parameter not in code.params:
+        raise _error(
+            f"{code.name} has no parameter {spec.continuation.parameter!r} "
+            f"({', '.join(code.params)})",
+            "continuation.parameter",
+        )
     try:
         StateExpression(spec.section, (*code.state, *code.aux_names))
     except UserInputError as exc:
@@ -150,4 +161,79 @@ def run_flow_orbit(scene: Any, res: Any, spec: Any) -> AnalysisResult:
             "det Phi": found.determinant,
         }
     )
-    return AnalysisResult(summary=summary, arrays=arrays, figures={})
+    figures: dict[str, Any] = {}
+    if spec.continuation is not None and found.converged:
+        summary["continuation"], more, figures["multipliers"] = _continue(
+            code, params, found, period, spec.continuation, spec.rtol
+        )
+        arrays.update(more)
+    return AnalysisResult(summary=summary, arrays=arrays, figures=figures)
+
+
+def _continue(code: Any, params: list, found: Any, crossings: int, cspec: Any, rtol: float):
+    """Both directions of the branch from the scene's value: summary, arrays, figure."""
+    import math
+    from types import SimpleNamespace
+
+    from ...numerics.dynamics.flow_orbits import continue_flow_orbit
+    from .periodic_orbits import multipliers_figure
+
+    name = cspec.parameter
+    value = float(params[code.params.index(name)])
+    runs = []
+    for end in cspec.range:
+        if float(end) == value:
+            continue
+        steps = min(max(1, math.ceil(abs(float(end) - value) / float(cspec.step))),
+                    cspec.max_points - 1)  # fmt: skip
+        try:
+            runs.append((float(end), continue_flow_orbit(code, params, found, name, float(end),
+                                                        steps, rtol=rtol)))  # fmt: skip
+        except UserInputError as exc:
+            raise _error(str(exc), "continuation") from None
+    par = np.concatenate([b.values for _, b in runs]) if runs else np.array([value])
+    orbits = [o for _, b in runs for o in b.orbits] or [found]
+    mul = np.array([o.multipliers for o in orbits])
+    stable = np.concatenate([b.stable for _, b in runs]) if runs else np.array([True])
+    changes = sorted(c for _, b in runs for c in b.changes)
+    summary = {
+        "parameter": name,
+        "range": [float(v) for v in cspec.range],
+        "branches": [
+            {"to": end, "points": len(b.values), "reached": f"{b.values[-1]:.15g}",
+             "stopped": b.stopped}
+            for end, b in runs
+        ],  # fmt: skip
+        "stability changes": [
+            {"between": [f"{a:.15g}", f"{b:.15g}"]} for a, b in changes
+        ],
+    }
+    arrays = {
+        "branch_parameter": (("branch_point",), par, {"long_name": name, "units": "1"}),
+        "branch_period_time": (
+            ("branch_point",),
+            np.array([o.period for o in orbits]),
+            {"long_name": "period", "units": "model time"},
+        ),
+        "branch_state": (
+            ("branch_point", "state"),
+            np.array([o.point for o in orbits]),
+            {"long_name": f"a point of the orbit ({', '.join(code.state)})",
+             "units": "model units"},  # fmt: skip
+        ),
+        "branch_stable": (
+            ("branch_point",),
+            stable.astype(np.int8),
+            {"long_name": "1: every |multiplier| <= 1 + its tolerance", "units": "1"},
+        ),
+        "multiplier_abs": (("branch_point", "multiplier"), np.abs(mul),
+                           {"long_name": "|Floquet multiplier|", "units": "1"}),
+        "multiplier_arg": (("branch_point", "multiplier"), np.angle(mul),
+                           {"long_name": "arg Floquet multiplier", "units": "rad"}),
+    }  # fmt: skip
+    events = [SimpleNamespace(kind="stability change", parameter=(a + b) / 2) for a, b in changes]
+
+    def figure():
+        return multipliers_figure(par, np.full(len(par), crossings), mul, events, name)
+
+    return summary, arrays, figure

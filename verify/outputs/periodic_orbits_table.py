@@ -19,13 +19,18 @@ class _Table(BaseModel):
 class ContinuationSpec(_Table):
     """Continuation of the periodic orbit found, in one parameter of the model."""
 
-    parameter: Literal["Omega", "D", "delta", "J_off"] = Field(
-        "Omega", description="the parameter varied (the scene's value is the start)"
+    parameter: Annotated[StrictStr, Field(min_length=1, max_length=100)] = Field(
+        "Omega",
+        description="the parameter varied (the scene's value is the start): Omega, D, delta or "
+        "J_off for the stroboscopic map; any parameter of the model with a section",
     )
     range: Annotated[list[StrictFloat | StrictInt], Field(min_length=2, max_length=2)] = Field(
         description="[a, b]: the branch is followed from the scene's value to a and to b"
     )
-    step: Positive = Field(description="initial arclength step (in (x, parameter))")
+    step: Positive = Field(
+        description="initial arclength step (in (x, parameter)); with a section, the step in "
+        "the parameter"
+    )
     max_points: Annotated[StrictInt, Field(ge=2, le=5000)] = Field(
         200, description="points per branch at most"
     )

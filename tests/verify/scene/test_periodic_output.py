@@ -100,6 +100,19 @@ def test_unknown_key_is_refused(tmp_path, capsys):
     assert status == 2 and "max_periods" in captured.err
 
 
+def test_a_map_continued_in_another_parameter_is_refused(tmp_path, capsys):
+    """The stroboscopic map is continued in Omega, D, delta or J_off only (a section's flow
+    route takes any parameter of the model): one line, exit 2, nothing written."""
+    text = BM20.format(omega=1.06675, transient=10, start=FIG5_START) + (
+        '[outputs.periodic_orbits.continuation]\nparameter = "I1"\nrange = [3.9, 4.1]\n'
+        "step = 0.01\n"
+    )
+    status, captured = _run(tmp_path, text, capsys)
+    assert status == 2 and captured.err.count("\n") == 1
+    assert "continuation.parameter" in captured.err and "'I1'" in captured.err
+    assert not (tmp_path / "out").exists()
+
+
 @pytest.mark.slow
 def test_period_seven_and_its_multipliers(tmp_path, capsys):
     text = BM20.format(omega=1.06675, transient=CYCLE_TRANSIENT, start=NEAR_CYCLE_START)
