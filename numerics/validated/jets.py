@@ -154,6 +154,9 @@ def _cos(x: Any) -> Any:
 ARB_LIB = SimpleNamespace(mpf=arb, sqrt=_sqrt, exp=_exp, sin=_sin, cos=_cos)
 
 
+_ZERO = arb(0)
+
+
 class _Stacks:
     """The Taylor coefficients of one recurrence's series, stacked as matrices for the
     convolutions: for a coefficient list ``a`` (the generated code's ``a7`` ...), the column
@@ -171,6 +174,7 @@ class _Stacks:
 
     def __init__(self) -> None:
         self.stacks: dict[int, list] = {}
+        self.rows: dict[tuple[int, int], list] = {}
 
     def get(self, a: list, upto: int) -> tuple[list, arb_mat, arb_mat | None]:
         """``(values, V, G)`` of ``a`` with the rows ``0..upto`` filled (``G`` None while no
@@ -204,25 +208,39 @@ class _Stacks:
         ``ra[j] = w_j b[k - j]`` and ``rb[k - j] = w_j a[j]`` (values)."""
         va, Va, Ga = self.get(a, hi)
         vb, _, Gb = self.get(b, k - lo)
-        ra, rb = [0] * len(a), [0] * len(b)
         b_rev = vb[k - lo : (k - hi - 1 if k > hi else None) : -1]  # b[k - j], j = lo..hi
+        a_rev = va[hi : (lo - 1 if lo else None) : -1]  # a[j], j = hi..lo
         if weighted:
-            ra[lo : hi + 1] = [w * x for w, x in zip(range(lo, hi + 1), b_rev, strict=True)]
-            a_rev = va[hi : (lo - 1 if lo else None) : -1]  # a[j], j = hi..lo
-            rb[k - hi : k - lo + 1] = [
-                w * x for w, x in zip(range(hi, lo - 1, -1), a_rev, strict=True)
-            ]
-        else:
-            ra[lo : hi + 1] = b_rev
-            rb[k - hi : k - lo + 1] = va[hi : (lo - 1 if lo else None) : -1]
-        row_a = arb_mat([ra])
+            b_rev = [w * x for w, x in zip(range(lo, hi + 1), b_rev, strict=True)]
+            a_rev = [w * x for w, x in zip(range(hi, lo - 1, -1), a_rev, strict=True)]
+        row_a = self._row(0, len(a), lo, b_rev)
         value = (row_a * Va)[0, 0]
         if Ga is None and Gb is None:
             return value
         if Gb is None:
             return ArbJet(value, row_a * Ga)
-        grad = arb_mat([rb]) * Gb
+        grad = self._row(1, len(b), k - hi, a_rev) * Gb
         return ArbJet(value, grad if Ga is None else row_a * Ga + grad)
+
+    def _row(self, which: int, size: int, first: int, entries: list) -> arb_mat:
+        """A ``1 x size`` row holding ``entries`` from position ``first`` and zeros elsewhere:
+        one of two rows kept per size, whose entries outside the last use's are zero, so
+        that only the entries that change are set (a row built afresh converts every zero)."""
+        key = (which, size)
+        kept = self.rows.get(key)
+        if kept is None:
+            kept = self.rows[key] = [arb_mat(1, size), 0, 0]  # the row, its nonzero range
+        row, start, stop = kept
+        end = first + len(entries)
+        zero = _ZERO
+        for j in range(start, min(stop, first)):
+            row[0, j] = zero
+        for j in range(max(start, end), stop):
+            row[0, j] = zero
+        for j, x in enumerate(entries, first):
+            row[0, j] = x
+        kept[1], kept[2] = first, end
+        return row
 
 
 def _convolutions() -> tuple[Any, Any]:

@@ -41,23 +41,28 @@ def test_convolution_is_the_sum_of_jet_products(weighted):
     with working_precision(128):
         a, b = _jets(rng), _jets(rng)
         c = [_ball(rng) for _ in range(LENGTH)]  # a constant's coefficients: no gradient
-        for k in range(1, LENGTH):
-            for x, y in ((a, b), (a, c), (c, a), (a, a)):
-                for lo, hi in ((0, k), (1, k), (1, k - 1)):
-                    if hi < lo:
-                        continue
-                    js = range(lo, hi + 1)
-                    if weighted:
-                        ref = sum([j * x[j] * y[k - j] for j in js])
-                        got = JET_LIB.wconv(x, y, lo, hi, k)
-                    else:
-                        ref = sum(map(mul, x[lo : hi + 1], [y[k - j] for j in js]))
-                        got = JET_LIB.conv(x, y, lo, hi, k)
-                    assert isinstance(got, ArbJet) == isinstance(ref, ArbJet)
-                    for r, g in zip(_parts(ref), _parts(got), strict=True):
-                        assert r.overlaps(g)
-                        assert float(g.rad()) <= 1.01 * float(r.rad()) + 1e-300
-                        assert float(g.rad()) < 1e-15
+        cases = [
+            (k, x, y, lo, hi)
+            for k in range(1, LENGTH)
+            for x, y in ((a, b), (a, c), (c, a), (a, a))
+            for lo, hi in ((0, k), (1, k), (1, k - 1))
+            if hi >= lo
+        ]
+        # in the recurrence's order (k rising), then shuffled: the rows kept between calls
+        # must not carry entries of an earlier call into a later one
+        for k, x, y, lo, hi in cases + rng.sample(cases, len(cases)):
+            js = range(lo, hi + 1)
+            if weighted:
+                ref = sum([j * x[j] * y[k - j] for j in js])
+                got = JET_LIB.wconv(x, y, lo, hi, k)
+            else:
+                ref = sum(map(mul, x[lo : hi + 1], [y[k - j] for j in js]))
+                got = JET_LIB.conv(x, y, lo, hi, k)
+            assert isinstance(got, ArbJet) == isinstance(ref, ArbJet)
+            for r, g in zip(_parts(ref), _parts(got), strict=True):
+                assert r.overlaps(g)
+                assert float(g.rad()) <= 1.01 * float(r.rad()) + 1e-300
+                assert float(g.rad()) < 1e-15
 
 
 def test_wrong_pairing_is_caught():
