@@ -66,6 +66,11 @@ void chaplygin_taylor_batch_map(long N, const double *Y0, const double *P, const
                                 const double *TAU_HI, const double *TAU_LO, long transient,
                                 long n_record, double rtol, double atol, long max_steps,
                                 double *OUT, double *STATS, int *STATUS);
+int chaplygin_taylor_run_lanes(long N, const double *T01, const double *Y0, const double *P,
+                               const double *CTRL, int fixed_order, long n_eval,
+                               const double *T_EVAL, long eval_stride, double *Y_EVAL,
+                               double *Y_END, double *T_REACHED, long max_steps, long *STATS,
+                               int *STATUS);
 """
 
 #: Extra compiler flags of the batch library (part of the compile cache key), tried first:
@@ -109,7 +114,7 @@ STATUS_MESSAGES = {
 }
 
 _LIBRARIES: dict[str, Any] = {}
-_TAYLOR_LIBRARIES: dict[str, Any] = {}
+_TAYLOR_LIBRARIES: dict[int | None, dict[str, Any]] = {}
 _LOCKSTEP: dict[str, bool] = {}
 _VARIATIONAL_LOCKSTEP: dict[str, bool] = {}
 
@@ -217,27 +222,35 @@ def variational_lockstep_available(code: ModelCode) -> bool:
     return _VARIATIONAL_LOCKSTEP.get(code.hash, False)
 
 
-def taylor_batch_library(code: ModelCode) -> Any | None:
+def taylor_batch_library(code: ModelCode, lanes: int | None = None) -> Any | None:
     """The compiled Taylor batch library of ``code`` (:func:`cached_library`), compiled with
-    the default flags; None also without generated Taylor code.
+    the default flags: the batch map and the Taylor integrator of many orbits in vector lanes
+    (``chaplygin_taylor_run_lanes``); None also without generated Taylor code or its printed
+    program.
 
     Parameters
     ----------
     code : ModelCode
+    lanes : int, optional
+        Orbits per vector (``TL_W``; default the template's, 4). Every orbit's numbers are
+        the same for every width; other widths are for the tests of that.
 
     Returns
     -------
     cffi library or None
     """
 
-    def build() -> Any:
-        source = taylor_batch_source(code.taylor_c_source) if code.taylor_c_source else None
+    def build() -> Any | None:
+        if not (code.taylor_c_source and code.taylor_program):
+            return None
+        source = taylor_batch_source(code.taylor_c_source, code.taylor_program)
         # the flags of the single-point Taylor library (-O2): -O3 (with or without
-        # -march=native) made it about 1.6 times slower here (vectorised short recurrences)
-        return None if source is None else _ffi.dlopen(str(compile_c(source)))
+        # -march=native) made the loop of one point about 1.6 times slower here
+        width = () if lanes is None else (f"-DTL_W={int(lanes)}",)
+        return _ffi.dlopen(str(compile_c(source, cflags=width)))
 
     return cached_library(
-        _TAYLOR_LIBRARIES, code, build,
+        _TAYLOR_LIBRARIES.setdefault(lanes, {}), code, build,
         "the compiled Taylor batch map is unavailable ({exc}); use StroboscopicMap",
     )  # fmt: skip
 

@@ -1,0 +1,111 @@
+"""The Taylor coefficients of several orbits at once, in the lanes of a GNU C vector.
+
+:func:`lanes_function` prints ``taylor_coefficients_lanes``: the loop over the orders of
+:func:`~chaplygin.derive.emit.taylor_c.loop_function` with every coefficient a ``tl_vec`` of
+``TL_W`` doubles, one orbit per lane (``derive/templates/taylor_lanes.c`` defines the type,
+the recurrences ``tl_mul`` .. ``tl_exp`` and the driver that calls it). Each lane computes
+the IEEE operations of the double loop in the same order: the arithmetic is the C operators
+on the vector (lane-wise, no contraction under ``-ffp-contract=off``), the constants and the
+transcendental functions at order 0 are the double code's text evaluated lane by lane
+(``R_SQRT``, ``R_EXP``, ``chaplygin_pow`` ... of the double build, in the same translation
+unit). So lane ``l``'s coefficients are, bit for bit, those the double loop computes for its
+orbit, whatever the other lanes hold; and the coefficient of order ``k`` does not depend on
+the order the loop runs to (a recurrence reads lower orders only), so lanes that want
+different orders share the highest and each reads its own.
+
+Printed at run time from the model's printed program (``<model>_taylor_program.json``),
+like :mod:`~chaplygin.derive.emit.taylor_unroll`.
+"""
+
+from __future__ import annotations
+
+from .taylor_c import PrintedNode, PrintedProgram, order_loop, order_zero
+
+__all__ = ["lanes_function"]
+
+#: order k >= 1 of an operation node in the lanes (the template's tl_* recurrences)
+_BODY = {
+    "add": lambda x, a, n: f"a{a[0]}[k] + a{a[1]}[k]",
+    "sub": lambda x, a, n: f"a{a[0]}[k] - a{a[1]}[k]",
+    "neg": lambda x, a, n: f"-(a{a[0]}[k])",
+    "addc": lambda x, a, n: f"a{a[0]}[k]",
+    "mulc": lambda x, a, n: f"a{a[0]}[k] * a{a[1]}[0]",
+    "mul": lambda x, a, n: f"tl_mul(a{a[0]}, a{a[1]}, k)",
+    "sq": lambda x, a, n: f"tl_sq(a{a[0]}, k)",
+    "div": lambda x, a, n: f"tl_div(a{a[0]}[k], a{a[1]}, a{x}, k)",
+    "cdiv": lambda x, a, n: f"tl_div(tl_zero(), a{a[1]}, a{x}, k)",
+    "sqrt": lambda x, a, n: f"tl_sqrt(a{a[0]}, a{x}, k)",
+    "pow": lambda x, a, n: f"tl_pow(a{a[0]}, a{x}, {n.power[0]}, {n.power[1]}, k)",
+    "exp": lambda x, a, n: f"tl_exp(a{a[0]}, a{x}, k)",
+    "sin": lambda x, a, n: f"tl_exp(a{a[0]}, a{a[1]}, k)",
+    "cos": lambda x, a, n: f"-(tl_exp(a{a[0]}, a{a[1]}, k))",
+}
+
+#: operations whose order 0 is a function call: evaluated lane by lane
+_LANEWISE = frozenset({"sqrt", "exp", "sin", "cos", "pow"})
+
+
+def _order_zero(i: int, node: PrintedNode) -> list[str]:
+    """Order 0 of operation node ``i``: vector operators, or lane by lane for a function."""
+    if node.op in _LANEWISE:
+        value = order_zero(node, lambda j: f"a{j}[0][l]")
+        return [f"    for (int l = 0; l < TL_W; ++l) a{i}[0][l] = {value};"]
+    return [f"    a{i}[0] = {order_zero(node, lambda j: f'a{j}[0]')};"]
+
+
+def lanes_function(printed: PrintedProgram) -> str:
+    """The C function ``taylor_coefficients_lanes(order, T0, Y, P, X)`` of ``printed``:
+    every node's coefficients up to ``order`` for ``TL_W`` orbits, ``X[node * (order + 1) +
+    k]`` the vector of their lanes; it goes after ``derive/templates/taylor_lanes.c``'s
+    definitions.
+
+    Parameters
+    ----------
+    printed : PrintedProgram
+        The model's Taylor program, constants printed in C.
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    ValueError
+        An operation the loop does not know.
+    """
+    params = printed.params
+    lines = ["    const int S = order + 1;"]
+    lines += [f"    tl_vec *restrict a{i} = X + {i} * S;" for i in range(len(printed.nodes))]
+    consts = [(i, n) for i, n in enumerate(printed.nodes) if n.op == "const"]
+    for i, node in enumerate(printed.nodes):
+        if node.op in ("time", "const"):
+            lines.append(f"    for (int k = 0; k < S; ++k) a{i}[k] = tl_zero();")
+    if consts:  # the double code's constants, lane by lane
+        lines.append("    for (int l = 0; l < TL_W; ++l) {")
+        lines += [f"        const REAL p_{name} = P[{j}][l];" for j, name in enumerate(params)]
+        lines += [f"        (void)p_{name};" for name in params]
+        lines += [f"        a{i}[0][l] = {node.c};" for i, node in consts]
+        lines.append("    }")
+    body = []
+    for i, node in enumerate(printed.nodes):
+        if node.op == "var":
+            lines.append(f"    a{i}[0] = Y[{node.index}];")
+        elif node.op == "time":
+            lines.append(f"    a{i}[0] = T0; if (S > 1) a{i}[1] = tl_zero() + 1.0;")
+        elif node.op in _BODY:
+            lines += _order_zero(i, node)
+            body.append(f"            a{i}[k] = {_BODY[node.op](i, node.args, node)};")
+        elif node.op != "const":
+            raise ValueError(f"no lanes form of the operation {node.op!r}")
+    out = [
+        f"        a{i}[k + 1] = a{o}[k] / (double)(k + 1);" for i, o in enumerate(printed.outputs)
+    ]
+    return "\n".join([
+        "static void taylor_coefficients_lanes(int order, tl_vec T0, const tl_vec *restrict Y,",
+        "                                      const tl_vec *restrict P, tl_vec *restrict X)",
+        "{",
+        *lines,
+        *order_loop(body, out),
+        "}",
+        "",
+    ])
