@@ -1,5 +1,5 @@
 """Many orbits in one call (numerics/ensemble.py): every orbit is integrate()'s result for it,
-bit for bit, whatever the number of threads; states, parameter sets or both per orbit; quad
+bit for bit, whatever the number of threads (the Taylor orbits in vector lanes); states, parameter sets or both per orbit; quad
 orbits keep their precision; a failing orbit fails alone; bad input names the orbit and runs
 nothing."""
 
@@ -72,6 +72,29 @@ def test_one_state_many_parameter_sets_and_a_failing_orbit():
     assert np.isnan(limited.y[3][:, -1]).all()
     for j in range(3):
         assert _same(limited.y[j], r.y[j])
+
+
+@pytest.mark.parametrize("threads", [1, 2, 3])
+def test_the_taylor_orbits_run_in_vector_lanes_bit_for_bit(threads, monkeypatch):
+    """Eleven orbits (not a multiple of the four lanes), each with its own state and body,
+    in the lanes driver (whose blocks follow the threads): every orbit's result is
+    integrate()'s -- outputs, status, steps, orders in the message, drift."""
+    used = []
+    lanes = ensemble.run_in_lanes
+    monkeypatch.setattr(ensemble, "run_in_lanes", lambda *a: used.append(a[3]) or lanes(*a))
+    states = _states(11, seed=11)
+    rng = np.random.default_rng(4)
+    sets = [{"I": tuple(rng.uniform(1.0, 3.0, 3)), "D": rng.uniform(0.5, 1.5)} for _ in states]
+    r = integrate_many("chaplygin_ball", states, 4.2, sets, rtol=1e-12, atol=1e-12,
+                       threads=threads)  # fmt: skip
+    assert used == [threads] and r.success.all()
+    for j, s in enumerate(states):
+        one = integrate("chaplygin_ball", s, 4.2, sets[j], rtol=1e-12, atol=1e-12)
+        got = r.results[j]
+        assert _same(got.y, one.y) and _same(got.t, one.t) and got.status == one.status
+        assert got.message == one.message and got.nsteps == one.nsteps
+        assert got.drift == one.drift and got.backend == one.backend
+    assert len({float(v) for v in r.y[:, 0, -1]}) == 11
 
 
 def test_quad_orbits_keep_their_precision():
