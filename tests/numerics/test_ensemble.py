@@ -1,7 +1,7 @@
 """Many orbits in one call (numerics/ensemble.py): every orbit is integrate()'s result for it,
-bit for bit, whatever the number of threads (the Taylor orbits in vector lanes); states, parameter sets or both per orbit; quad
-orbits keep their precision; a failing orbit fails alone; bad input names the orbit and runs
-nothing."""
+bit for bit, whatever the number of threads (the Taylor orbits in vector lanes); states,
+parameter sets or both per orbit; quad orbits keep their precision; a failing orbit fails
+alone; bad input names the orbit and runs nothing."""
 
 from __future__ import annotations
 
