@@ -393,7 +393,7 @@ def run_study(
         ),
         "regime_throughput": regime_throughput(1, 4, True) if quick else regime_throughput(repeats),
         "jacobian_throughput": jacobian_throughput(1, 8) if quick else jacobian_throughput(repeats),
-        "ensemble_throughput": ensemble_throughput(8 if quick else 16, repeats, quick),
+        "ensemble_throughput": ensemble_throughput((8,) if quick else (64, 1024), repeats, quick),
         "verify_time": verify_time("K01-2.2*") if quick else verify_time(),
         "enclosure_cost": enclosure_cost(1, proof=False) if quick else enclosure_cost(repeats),
         "described_system_s": {} if quick else described_system_times(),

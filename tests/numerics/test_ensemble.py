@@ -139,11 +139,11 @@ def test_the_bench_section_reports_every_row():
     and tolerances, positive, no orbit failed."""
     from chaplygin.verify.bench_ensemble import ensemble_throughput
 
-    out = ensemble_throughput(orbits=3, repeats=1, quick=True, peers=False)
+    out = ensemble_throughput(orbits=(3, 5), repeats=1, quick=True, peers=False)
     rows = [v for v in out.values() if isinstance(v, dict)]
-    assert len(rows) == 4
+    assert len(rows) == 8 and sum(key.endswith(" N=5") for key in out) == 4
     for row in rows:
         assert row["failed"] == 0 and row["steps_per_orbit"] > 0
         assert row["ours_one_s"] > 0 and row["ours_many_1_s"] > 0
     with pytest.raises(UserInputError):
-        ensemble_throughput(orbits=0)
+        ensemble_throughput(orbits=(0,))
