@@ -32,6 +32,7 @@
  *   chaplygin_taylor_run's return value of each orbit run (0, -1, -2, -3; -4 no memory)
  * Returns 0, or -4 when the workspace could not be allocated.
  */
+#include <stdint.h>
 #include <stdlib.h>
 
 #ifndef TL_W
@@ -273,9 +274,12 @@ int chaplygin_taylor_run_lanes(long N, const double *T01, const double *Y0, cons
     const int n = CHAPLYGIN_TAYLOR_N_STATE;
     const tl_call a = {T01, Y0, P, T_EVAL, n_eval, eval_stride, max_steps, Y_EVAL, Y_END,
                        T_REACHED, STATS, STATUS};
-    tl_vec *XV = malloc(sizeof(tl_vec) * (CHAPLYGIN_TAYLOR_MAX_ORDER + 1)
-                        * CHAPLYGIN_TAYLOR_N_NODES);
-    if (XV == NULL) {
+    /* the workspace aligned for the vector type (malloc's alignment may be less) */
+    char *block = malloc(sizeof(tl_vec) * ((CHAPLYGIN_TAYLOR_MAX_ORDER + 1)
+                                           * CHAPLYGIN_TAYLOR_N_NODES + 1));
+    tl_vec *XV = (tl_vec *)(block + (sizeof(tl_vec) - (uintptr_t)block % sizeof(tl_vec))
+                                        % sizeof(tl_vec));
+    if (block == NULL) {
         for (long j = 0; j < N; ++j)
             if (!STATUS[j]) STATUS[j] = -4;
         return -4;
@@ -312,6 +316,6 @@ int chaplygin_taylor_run_lanes(long N, const double *T01, const double *Y0, cons
             tl_next(L, &next, N, &a);
         }
     }
-    free(XV);
+    free(block);
     return 0;
 }

@@ -182,13 +182,14 @@ def batch_library(code: ModelCode) -> Any | None:
     )  # fmt: skip
 
 
-def _compile_native(source: str) -> Any:
-    """Compile ``source`` with :data:`NATIVE_CFLAGS` (else :data:`BATCH_CFLAGS`) and load it."""
+def _compile_native(source: str, defines: tuple[str, ...] = ()) -> Any:
+    """Compile ``source`` with :data:`NATIVE_CFLAGS` (else :data:`BATCH_CFLAGS`) and
+    ``defines`` and load it."""
     try:
-        native = (*NATIVE_CFLAGS, f"-DCHAPLYGIN_CPU_ID=cpu_{cpu_identity()}")
+        native = (*NATIVE_CFLAGS, f"-DCHAPLYGIN_CPU_ID=cpu_{cpu_identity()}", *defines)
         path = compile_c(source, cflags=native)
     except CompilationError:  # e.g. a compiler without -march=native
-        path = compile_c(source, cflags=BATCH_CFLAGS)
+        path = compile_c(source, cflags=(*BATCH_CFLAGS, *defines))
     return _ffi.dlopen(str(path))
 
 
@@ -223,8 +224,8 @@ def variational_lockstep_available(code: ModelCode) -> bool:
 
 
 def taylor_batch_library(code: ModelCode, lanes: int | None = None) -> Any | None:
-    """The compiled Taylor batch library of ``code`` (:func:`cached_library`), compiled with
-    the default flags: the batch map and the Taylor integrator of many orbits in vector lanes
+    """The compiled Taylor batch library of ``code`` (:func:`cached_library`): the batch
+    map and the Taylor integrator of many orbits in vector lanes
     (``chaplygin_taylor_run_lanes``); None also without generated Taylor code or its printed
     program.
 
@@ -244,10 +245,11 @@ def taylor_batch_library(code: ModelCode, lanes: int | None = None) -> Any | Non
         if not (code.taylor_c_source and code.taylor_program):
             return None
         source = taylor_batch_source(code.taylor_c_source, code.taylor_program)
-        # the flags of the single-point Taylor library (-O2): -O3 (with or without
-        # -march=native) made the loop of one point about 1.6 times slower here
+        # -O3 -march=native, as the DOP853 lanes: the recurrences on 4 lanes in one AVX2
+        # register (BM20's map: 48 -> 28 us per point and period against -O2); ccompile's
+        # -ffp-contract=off stays, so the bits are those of the -O2 loop of one orbit
         width = () if lanes is None else (f"-DTL_W={int(lanes)}",)
-        return _ffi.dlopen(str(compile_c(source, cflags=width)))
+        return _compile_native(source, width)
 
     return cached_library(
         _TAYLOR_LIBRARIES.setdefault(lanes, {}), code, build,
