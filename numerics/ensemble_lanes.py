@@ -26,7 +26,7 @@ import numpy as np
 from .integrators import IntegrationResult
 from .integrators.c_batch import taylor_batch_library
 from .integrators.flows import ModelFlow
-from .taylor import MAX_STEPS, REAL_TYPES
+from .taylor import MAX_STEPS, REAL_TYPES, run_orders
 from .taylor.solution import _MESSAGES, TaylorSolution
 from .taylor.stepper import _loop_linspace
 
@@ -60,7 +60,8 @@ def lanes_library(prepared: list[tuple], backend: str) -> tuple[Any, str] | None
     chosen = integrator.prepare(problem, backend)
     if chosen != "c":
         return None
-    lib = taylor_batch_library(problem.code)
+    orders = run_orders(problem.rtol, problem.atol, problem.options.get("order"))
+    lib = taylor_batch_library(problem.code, orders=orders)
     return None if lib is None else (lib, chosen)
 
 

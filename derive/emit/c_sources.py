@@ -26,10 +26,11 @@ compiles and loads what these functions return:
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from importlib import resources
 
 from .taylor_c import PrintedProgram
-from .taylor_lanes import lanes_function
+from .taylor_lanes import written_out_lanes
 
 __all__ = [
     "TAYLOR_DEFINES",
@@ -166,10 +167,12 @@ def batch_source(c_source: str, lanes_source: str | None) -> tuple[str, bool]:
     return source, bool(lanes_source)
 
 
-def taylor_batch_source(taylor_c_source: str, taylor_program: str) -> str:
+def taylor_batch_source(taylor_c_source: str, taylor_program: str,
+                        orders: Iterable[int] = ()) -> str:  # fmt: skip
     """The Taylor batch of a model: its Taylor integrator (double), the lanes driver
     (``templates/taylor_lanes.c`` with the coefficients in vector lanes printed from its
-    program, :func:`~chaplygin.derive.emit.taylor_lanes.lanes_function`),
+    program, written out for ``orders``:
+    :func:`~chaplygin.derive.emit.taylor_lanes.written_out_lanes`),
     ``templates/batch_time.c`` and ``templates/taylor_batch_map.c``.
 
     Parameters
@@ -178,6 +181,8 @@ def taylor_batch_source(taylor_c_source: str, taylor_program: str) -> str:
         The model's emitted Taylor C.
     taylor_program : str
         Its printed Taylor program (``<model>_taylor_program.json``).
+    orders : iterable of int, optional
+        The orders to write out (the others run the loop).
 
     Returns
     -------
@@ -189,7 +194,8 @@ def taylor_batch_source(taylor_c_source: str, taylor_program: str) -> str:
         ``taylor_program`` is not a printed program's JSON.
     """
     lanes = _template("taylor_lanes.c").replace(
-        "{{COEFFICIENTS_LANES}}", lanes_function(PrintedProgram.from_json(taylor_program)), 1
+        "{{COEFFICIENTS_LANES}}",
+        written_out_lanes(PrintedProgram.from_json(taylor_program), orders), 1,
     )
     return "\n".join(
         (

@@ -19,9 +19,12 @@ like :mod:`~chaplygin.derive.emit.taylor_unroll`.
 
 from __future__ import annotations
 
-from .taylor_c import PrintedNode, PrintedProgram, order_loop, order_zero
+from collections.abc import Iterable
 
-__all__ = ["lanes_function"]
+from .taylor_c import PrintedNode, PrintedProgram, order_loop, order_zero
+from .taylor_unroll import UNROLL_MAX_ORDER, _f, _n, _Printed, _Unrolled
+
+__all__ = ["lanes_function", "written_out_lanes"]
 
 #: order k >= 1 of an operation node in the lanes (the template's tl_* recurrences)
 _BODY = {
@@ -53,26 +56,9 @@ def _order_zero(i: int, node: PrintedNode) -> list[str]:
     return [f"    a{i}[0] = {order_zero(node, lambda j: f'a{j}[0]')};"]
 
 
-def lanes_function(printed: PrintedProgram) -> str:
-    """The C function ``taylor_coefficients_lanes(order, T0, Y, P, X)`` of ``printed``:
-    every node's coefficients up to ``order`` for ``TL_W`` orbits, ``X[node * (order + 1) +
-    k]`` the vector of their lanes; it goes after ``derive/templates/taylor_lanes.c``'s
-    definitions.
-
-    Parameters
-    ----------
-    printed : PrintedProgram
-        The model's Taylor program, constants printed in C.
-
-    Returns
-    -------
-    str
-
-    Raises
-    ------
-    ValueError
-        An operation the loop does not know.
-    """
+def _order_zero_lines(printed: PrintedProgram) -> tuple[list[str], list[str]]:
+    """The lines up to order 0 (rows of ``X``, the time's and constants' rows zeroed, the
+    constants lane by lane) and the loop's order-``k`` line of every operation node."""
     params = printed.params
     lines = ["    const int S = order + 1;"]
     lines += [f"    tl_vec *restrict a{i} = X + {i} * S;" for i in range(len(printed.nodes))]
@@ -97,15 +83,107 @@ def lanes_function(printed: PrintedProgram) -> str:
             body.append(f"            a{i}[k] = {_BODY[node.op](i, node.args, node)};")
         elif node.op != "const":
             raise ValueError(f"no lanes form of the operation {node.op!r}")
+    return lines, body
+
+
+_SIGNATURE = "(tl_vec T0, const tl_vec *restrict Y, const tl_vec *restrict P, tl_vec *restrict X)"
+
+
+def lanes_function(printed: PrintedProgram) -> str:
+    """The C function ``taylor_coefficients_lanes(order, T0, Y, P, X)`` of ``printed``:
+    every node's coefficients up to ``order`` for ``TL_W`` orbits, ``X[node * (order + 1) +
+    k]`` the vector of their lanes; it goes after ``derive/templates/taylor_lanes.c``'s
+    definitions.
+
+    Parameters
+    ----------
+    printed : PrintedProgram
+        The model's Taylor program, constants printed in C.
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    ValueError
+        An operation the loop does not know.
+    """
+    lines, body = _order_zero_lines(printed)
     out = [
         f"        a{i}[k + 1] = a{o}[k] / (double)(k + 1);" for i, o in enumerate(printed.outputs)
     ]
     return "\n".join([
-        "static void taylor_coefficients_lanes(int order, tl_vec T0, const tl_vec *restrict Y,",
-        "                                      const tl_vec *restrict P, tl_vec *restrict X)",
+        "static void taylor_coefficients_lanes(int order, " + _SIGNATURE[1:],
         "{",
         *lines,
         *order_loop(body, out),
         "}",
         "",
     ])
+
+
+def _value(tree: tuple) -> str:
+    """A written-out coefficient as a vector: a tree without coefficients (the time's and the
+    constants' literal orders only) is a double, copied into every lane."""
+    printed = _Printed(tree)
+    text = printed.text(twice="tl_twice")
+    return text if printed.leaves else f"tl_splat({text})"
+
+
+def _written_out_function(printed: PrintedProgram, u: _Unrolled, p: int) -> str:
+    """``taylor_coefficients_lanes_<p>``: order 0 as the loop computes it, then every
+    coefficient of orders 1 .. p a ``const`` vector, the trees of
+    :mod:`~chaplygin.derive.emit.taylor_unroll` (the loop's operations in its order: the
+    same bits); the state's rows stored in ``X``."""
+    zero, _ = _order_zero_lines(printed)
+    nodes = range(len(printed.nodes))
+    lines = [f"    const int order = {p};", *zero]
+    lines += [f"    const tl_vec a{i}_0 = a{i}[0];" for i in nodes]
+    lines += [f"    (void)a{i}_0;" for i in nodes]
+    assigned = [n for n, node in u.nodes.items() if node.op not in ("var", "time", "const")]
+    for k in range(p):
+        if k > 0:
+            lines += [f"    const tl_vec a{x}_{k} = {_value(u.expression(x, k))};"
+                      for x in assigned]  # fmt: skip
+        lines += [f"    const tl_vec a{i}_{k + 1} = "
+                  f"{_value(_f('R_DIV', u.ref(str(o), k), _n(k + 1)))};"
+                  for i, o in enumerate(printed.outputs)]  # fmt: skip
+    lines += [f"    a{i}[{k}] = a{i}_{k};" for i in range(printed.n_state) for k in range(1, p + 1)]
+    return "\n".join([f"static void taylor_coefficients_lanes_{p}" + _SIGNATURE, "{", *lines,
+                      "}", ""])  # fmt: skip
+
+
+def written_out_lanes(printed: PrintedProgram, orders: Iterable[int]) -> str:
+    """``taylor_coefficients_lanes`` (:func:`lanes_function`), the coefficients of the lanes
+    written out for each of ``orders`` (between 2 and
+    :data:`~chaplygin.derive.emit.taylor_unroll.UNROLL_MAX_ORDER`; others run the loop) and
+    ``TL_COEFFICIENTS``, which picks one by the order.
+
+    Parameters
+    ----------
+    printed : PrintedProgram
+        The model's Taylor program, constants printed in C.
+    orders : iterable of int
+        The orders of a run (:func:`chaplygin.numerics.taylor.run_orders`).
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    ValueError
+        An operation with no written-out recurrence.
+    """
+    wanted = sorted({int(p) for p in orders if 2 <= int(p) <= UNROLL_MAX_ORDER})
+    u = _Unrolled(printed)
+    parts = [lanes_function(printed)]
+    parts += [_written_out_function(printed, u, p) for p in wanted]
+    cases = [f"    case {p}: taylor_coefficients_lanes_{p}(T0, Y, P, X); return;" for p in wanted]
+    parts.append("\n".join([
+        "static void tl_coefficients(int order, " + _SIGNATURE[1:], "{", "    switch (order) {",
+        *cases, "    default: taylor_coefficients_lanes(order, T0, Y, P, X);", "    }", "}",
+        "#define TL_COEFFICIENTS tl_coefficients", "",
+    ]))  # fmt: skip
+    return "\n".join(parts)

@@ -40,12 +40,14 @@
 #endif
 typedef double tl_vec __attribute__((vector_size(TL_W * sizeof(double))));
 
-static inline tl_vec tl_zero(void)
+static inline tl_vec tl_splat(double x)
 {
     tl_vec z;
-    for (int l = 0; l < TL_W; ++l) z[l] = 0.0;
+    for (int l = 0; l < TL_W; ++l) z[l] = x;
     return z;
 }
+static inline tl_vec tl_zero(void) { return tl_splat(0.0); }
+static inline tl_vec tl_twice(tl_vec s) { return s + s; } /* 2 s as the loop writes it */
 
 /* The recurrences of taylor.c (tc_mul .. tc_exp) on the lanes: the same operations in the
  * same order, lane by lane. */
@@ -103,6 +105,10 @@ static inline tl_vec tl_exp(const tl_vec *restrict a, const tl_vec *restrict c, 
 }
 
 {{COEFFICIENTS_LANES}}
+
+#ifndef TL_COEFFICIENTS /* no written-out orders: the loop */
+#define TL_COEFFICIENTS taylor_coefficients_lanes
+#endif
 
 /* One orbit in a lane: chaplygin_taylor_run's locals. */
 typedef struct {
@@ -304,7 +310,7 @@ int chaplygin_taylor_run_lanes(long N, const double *T01, const double *Y0, cons
         }
         if (w < 0) break;
         tl_pack(lane, w, P, &T, Y, PV);
-        taylor_coefficients_lanes(order, T, Y, PV, XV);
+        TL_COEFFICIENTS(order, T, Y, PV, XV);
         for (int l = 0; l < TL_W; ++l) {
             tl_lane *L = &lane[l];
             if (L->point < 0) continue;

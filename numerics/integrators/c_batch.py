@@ -3,9 +3,12 @@
 The DOP853 batch (``derive/templates/batch_map.c`` with the DOP853 tableau of
 ``variational.c``; four points at a time in GCC vector lanes where the model's right-hand side
 has a vector form, ``generated/<model>_lanes.c``, bit-identical to one point after another)
-and the Taylor batch (``taylor_batch_map.c``: the model's generated Taylor integrator per
-point). Sources from :mod:`chaplygin.derive.emit.c_sources`, compiled and loaded here; the
-integrators that call them are
+and the Taylor batch (``taylor_batch_map.c``: the model's generated Taylor integrator, four
+points at a time in vector lanes, ``taylor_lanes.c``, each bit-identical to the one-point
+loop; its driver ``chaplygin_taylor_run_lanes`` also runs
+:func:`~chaplygin.numerics.ensemble.integrate_many`'s Taylor orbits). Sources from
+:mod:`chaplygin.derive.emit.c_sources`, compiled and loaded here; the integrators that call
+them are
 :class:`~chaplygin.numerics.integrators.dop853_c.CompiledDOP853` and
 :class:`~chaplygin.numerics.integrators.taylor_method.TaylorMethod`.
 """
@@ -114,7 +117,7 @@ STATUS_MESSAGES = {
 }
 
 _LIBRARIES: dict[str, Any] = {}
-_TAYLOR_LIBRARIES: dict[int | None, dict[str, Any]] = {}
+_TAYLOR_LIBRARIES: dict[tuple, dict[str, Any]] = {}
 _LOCKSTEP: dict[str, bool] = {}
 _VARIATIONAL_LOCKSTEP: dict[str, bool] = {}
 
@@ -223,7 +226,8 @@ def variational_lockstep_available(code: ModelCode) -> bool:
     return _VARIATIONAL_LOCKSTEP.get(code.hash, False)
 
 
-def taylor_batch_library(code: ModelCode, lanes: int | None = None) -> Any | None:
+def taylor_batch_library(code: ModelCode, lanes: int | None = None,
+                         orders: tuple[int, ...] = ()) -> Any | None:  # fmt: skip
     """The compiled Taylor batch library of ``code`` (:func:`cached_library`): the batch
     map and the Taylor integrator of many orbits in vector lanes
     (``chaplygin_taylor_run_lanes``); None also without generated Taylor code or its printed
@@ -235,6 +239,10 @@ def taylor_batch_library(code: ModelCode, lanes: int | None = None) -> Any | Non
     lanes : int, optional
         Orbits per vector (``TL_W``; default the template's, 4). Every orbit's numbers are
         the same for every width; other widths are for the tests of that.
+    orders : tuple of int, optional
+        The orders to write the coefficients out for (a run's
+        :func:`~chaplygin.numerics.taylor.run_orders`; the others run the loop: the same
+        bits, slower).
 
     Returns
     -------
@@ -244,7 +252,7 @@ def taylor_batch_library(code: ModelCode, lanes: int | None = None) -> Any | Non
     def build() -> Any | None:
         if not (code.taylor_c_source and code.taylor_program):
             return None
-        source = taylor_batch_source(code.taylor_c_source, code.taylor_program)
+        source = taylor_batch_source(code.taylor_c_source, code.taylor_program, orders)
         # -O3 -march=native, as the DOP853 lanes: the recurrences on 4 lanes in one AVX2
         # register (BM20's map: 48 -> 28 us per point and period against -O2); ccompile's
         # -ffp-contract=off stays, so the bits are those of the -O2 loop of one orbit
@@ -252,7 +260,7 @@ def taylor_batch_library(code: ModelCode, lanes: int | None = None) -> Any | Non
         return _compile_native(source, width)
 
     return cached_library(
-        _TAYLOR_LIBRARIES.setdefault(lanes, {}), code, build,
+        _TAYLOR_LIBRARIES.setdefault((lanes, tuple(orders)), {}), code, build,
         "the compiled Taylor batch map is unavailable ({exc}); use StroboscopicMap",
     )  # fmt: skip
 

@@ -37,8 +37,9 @@ def _orbits(count: int = 11) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.nda
     return np.array(t01), np.array(y0), np.array(params), np.array(t_eval)
 
 
-def _lanes(width: int | None, t01, y0, params, t_eval) -> dict[str, np.ndarray]:
-    lib = taylor_batch_library(CODE, width)
+def _lanes(width: int | None, t01, y0, params, t_eval, written: bool = True
+           ) -> dict[str, np.ndarray]:  # fmt: skip
+    lib = taylor_batch_library(CODE, width, run_orders(RTOL, ATOL) if written else ())
     count, m, n = len(y0), t_eval.shape[1], y0.shape[1]
     out = {"y_eval": np.full((count, m, n), np.nan), "y_end": np.empty((count, n)),
            "t_reached": np.empty(count), "stats": np.zeros((count, 4), dtype=np.int64),
@@ -58,10 +59,13 @@ def _same(a, b) -> bool:
     return a.shape == b.shape and a.tobytes() == b.tobytes()
 
 
-@pytest.mark.parametrize("width", [1, None, 8])
-def test_every_lane_is_the_one_orbit_loop_bit_for_bit(width):
+@pytest.mark.parametrize(("width", "written"), [(1, False), (None, False), (None, True),
+                                               (8, True)])  # fmt: skip
+def test_every_lane_is_the_one_orbit_loop_bit_for_bit(width, written):
+    """The lanes' coefficients in the loop over the orders or written out for the run's
+    orders (14 and 16)."""
     t01, y0, params, t_eval = _orbits()
-    got = _lanes(width, t01, y0, params, t_eval)
+    got = _lanes(width, t01, y0, params, t_eval, written)
     clib = load_taylor_library(CODE, "double", run_orders(RTOL, ATOL))
     for j in range(len(y0)):
         run = CompiledTaylorRun(clib, list(params[j]), RTOL, ATOL, None, None, MAX_STEPS)
@@ -80,13 +84,42 @@ def test_every_lane_is_the_one_orbit_loop_bit_for_bit(width):
 
 
 def test_the_numbers_do_not_depend_on_the_lanes_or_the_chunking():
-    """4 and 8 lanes, and the orbits in one call or in calls of 3 (the chunking of the
-    threads): the same bytes."""
+    """4 and 8 lanes, the loop or the written-out coefficients, and the orbits in one call or
+    in calls of 3 (the chunking of the threads): the same bytes."""
     t01, y0, params, t_eval = _orbits()
     whole = _lanes(None, t01, y0, params, t_eval)
+    loop = _lanes(None, t01, y0, params, t_eval, written=False)
     wide = _lanes(8, t01, y0, params, t_eval)
     parts = [_lanes(None, t01[a:a + 3], y0[a:a + 3], params[a:a + 3], t_eval[a:a + 3])
              for a in range(0, len(y0), 3)]  # fmt: skip
     for key, value in whole.items():
-        assert _same(value, wide[key]), key
+        assert _same(value, wide[key]) and _same(value, loop[key]), key
         assert _same(value, np.concatenate([p[key] for p in parts])), key
+
+
+@pytest.mark.parametrize("case", ["forced", "pow"])
+def test_lanes_with_functions_of_time_and_powers(case, monkeypatch):
+    """The other operations of the Taylor programs in lanes: BM20's forced ball (sin and cos
+    of the time, quotients by constants) and the ball on an ellipsoid (rational powers),
+    through integrate_many (in lanes: checked) against integrate(), bit for bit."""
+    from chaplygin.numerics import ensemble
+    from chaplygin.numerics.integrate import integrate
+
+    used = []
+    lanes = ensemble.run_in_lanes
+    monkeypatch.setattr(ensemble, "run_in_lanes", lambda *a: used.append(1) or lanes(*a))
+    if case == "forced":
+        system = load_model_code("chaplygin_ball", ["variable_inertia", "variable_gyrostat"])
+        params = [4.0, 3.0, 2.0, 4.385, 0.0, 2.0, -6.0, -3.0, -9.0, 1.07]
+        g = np.array([0.3, 0.5, 0.8]) / np.linalg.norm([0.3, 0.5, 0.8])
+        states = [[0.5 + 0.1 * j, 1.0 - 0.05 * j, 1.0, *g] for j in range(6)]
+    else:
+        system, params = "ball_on_surface", {"m": 1, "m_e": 0.4, "R": 0.3, "b": (1, 2, 3)}
+        states = [{"omega": (0.7 - 0.1 * j, -0.4, 0.5 + 0.05 * j), "x": (1, 0, 0)}
+                  for j in range(6)]  # fmt: skip
+    r = ensemble.integrate_many(system, states, 3.7, params, rtol=1e-12, atol=1e-12)
+    assert used == [1] and r.success.all()
+    for j, s in enumerate(states):
+        one = integrate(system, s, 3.7, params, rtol=1e-12, atol=1e-12)
+        assert _same(r.results[j].y, one.y) and r.results[j].nsteps == one.nsteps
+        assert r.results[j].message == one.message
