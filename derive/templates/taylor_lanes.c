@@ -3,8 +3,9 @@
  *
  * Appended to a model's emitted Taylor C source (generated/<model>_taylor.c, the double
  * build), whose order and step control (taylor_control_of, inf_norm) and compensated dense
- * output (taylor_eval_compensated) it calls; the coefficients of the lanes,
- * taylor_coefficients_lanes, are printed from the model's Taylor program
+ * output (taylor_eval_compensated) it calls; the coefficients of the lanes
+ * (taylor_coefficients_lanes, the loop over the orders, and the functions written out for the
+ * run's orders that TL_COEFFICIENTS picks from) are printed from the model's Taylor program
  * (chaplygin.derive.emit.taylor_lanes) where the placeholder below stands
  * (chaplygin.derive.emit.c_sources.taylor_batch_source).
  *
