@@ -114,7 +114,7 @@ static inline tl_vec tl_exp(const tl_vec *restrict a, const tl_vec *restrict c, 
 /* One orbit in a lane: chaplygin_taylor_run's locals. */
 typedef struct {
     long point; /* the orbit, -1: idle */
-    double t, t_end, dir, xn;
+    double t, t_end, dir, xn, t_new;
     long steps, j;
     int pmax, pmin, p, absolute, status;
     double y[CHAPLYGIN_TAYLOR_N_STATE], ylo[CHAPLYGIN_TAYLOR_N_STATE];
@@ -198,10 +198,22 @@ static int tl_prepare(tl_lane *L, const taylor_control *c, long max_steps)
     return 1;
 }
 
-/* taylor_step_size after the coefficients (X: the lane's state coefficients, stride p + 1). */
-static double tl_step_size(const tl_lane *L, const taylor_control *c, const double *X)
+/* inf_norm of lane l's state coefficients of order k (XV of row length S). */
+static double tl_norm(const tl_vec *restrict XV, int S, int k, int l)
 {
-    const int p = L->p, S = p + 1;
+    double m = 0;
+    for (int i = 0; i < CHAPLYGIN_TAYLOR_N_STATE; ++i) {
+        const double v = fabs(XV[i * S + k][l]);
+        if (m < v) m = v;
+    }
+    return m;
+}
+
+/* taylor_step_size after the coefficients (lane l of XV, row length S). */
+static double tl_step_size(const tl_lane *L, const taylor_control *c, const tl_vec *XV, int S,
+                           int l)
+{
+    const int p = L->p;
     const double remaining = L->t_end - L->t;
     const double dir = remaining < 0 ? -1 : 1;
     double h;
@@ -210,7 +222,7 @@ static double tl_step_size(const tl_lane *L, const taylor_control *c, const doub
     } else {
         double e = INFINITY;
         const double log_scale = L->absolute ? 0.0 : R_LOG_D(L->xn);
-        const double n1 = inf_norm(X, S, p - 1), n2 = inf_norm(X, S, p);
+        const double n1 = tl_norm(XV, S, p - 1, l), n2 = tl_norm(XV, S, p, l);
         if (0 < n1) {
             double r = (log_scale - R_LOG_D(n1)) / (p - 1);
             if (r < e) e = r;
@@ -227,14 +239,22 @@ static double tl_step_size(const tl_lane *L, const taylor_control *c, const doub
     return dir * h;
 }
 
-/* chaplygin_taylor_run's step of lane L from its coefficients X. Returns whether the orbit
- * goes on. */
-static int tl_advance(tl_lane *L, const taylor_control *c, const double *X, const tl_call *a)
+/* Lane l's state coefficients (orders 0 .. p) in X, row length p + 1, as taylor.c has them. */
+static void tl_extract(const tl_vec *restrict XV, int S, int p, int l, double *restrict X)
+{
+    for (int i = 0; i < CHAPLYGIN_TAYLOR_N_STATE; ++i)
+        for (int k = 0; k <= p; ++k) X[i * (p + 1) + k] = XV[i * S + k][l];
+}
+
+/* chaplygin_taylor_run's step of lane l up to the state update: the step size (0 when the
+ * step underflows: the orbit stops), the orders, the outputs inside the step. */
+static double tl_begin_step(tl_lane *L, const taylor_control *c, const tl_vec *XV, int S, int l,
+                            double *X, const tl_call *a)
 {
     const int n = CHAPLYGIN_TAYLOR_N_STATE, p = L->p;
     const double *t_eval = a->T_EVAL + L->point * a->eval_stride;
     double *y_eval = a->Y_EVAL + L->point * a->n_eval * n;
-    const double h = tl_step_size(L, c, X);
+    const double h = tl_step_size(L, c, XV, S, l);
     if (h == 0 || L->t + h == L->t) {
         L->status = -3;
         return 0;
@@ -242,20 +262,58 @@ static int tl_advance(tl_lane *L, const taylor_control *c, const double *X, cons
     if (p > L->pmax) L->pmax = p;
     if (p < L->pmin) L->pmin = p;
     const int last = h == L->t_end - L->t;
-    const double t_new = last ? L->t_end : L->t + h;
-    while (L->j < a->n_eval && L->dir * (t_eval[L->j] - t_new) <= 0) {
-        taylor_eval_compensated(X, p, t_eval[L->j] - L->t, L->ylo, y_eval + L->j * n, NULL);
-        ++L->j;
+    L->t_new = last ? L->t_end : L->t + h;
+    if (L->j < a->n_eval && L->dir * (t_eval[L->j] - L->t_new) <= 0) {
+        tl_extract(XV, S, p, l, X);
+        while (L->j < a->n_eval && L->dir * (t_eval[L->j] - L->t_new) <= 0) {
+            taylor_eval_compensated(X, p, t_eval[L->j] - L->t, L->ylo, y_eval + L->j * n, NULL);
+            ++L->j;
+        }
     }
-    double ynew[CHAPLYGIN_TAYLOR_N_STATE], ylo_new[CHAPLYGIN_TAYLOR_N_STATE];
-    taylor_eval_compensated(X, p, h, L->ylo, ynew, ylo_new);
-    ++L->steps;
+    return h;
+}
+
+/* The state update of every stepping lane (step hv[l] != 0): taylor_eval_compensated's
+ * operations, on the vectors when the lanes share the order p (else lane by lane). */
+static void tl_update(tl_lane *lane, const tl_vec *XV, int S, int p, tl_vec hv, double *X)
+{
+    const int n = CHAPLYGIN_TAYLOR_N_STATE;
+    if (p < 0) {
+        for (int l = 0; l < TL_W; ++l) {
+            tl_lane *L = &lane[l];
+            if (L->point < 0 || hv[l] == 0) continue;
+            double ylo_new[CHAPLYGIN_TAYLOR_N_STATE];
+            tl_extract(XV, S, L->p, l, X);
+            taylor_eval_compensated(X, L->p, hv[l], L->ylo, L->y, ylo_new);
+            for (int i = 0; i < n; ++i) L->ylo[i] = ylo_new[i];
+        }
+        return;
+    }
     for (int i = 0; i < n; ++i) {
-        if (!isfinite(ynew[i])) L->status = -1;
-        L->y[i] = ynew[i];
-        L->ylo[i] = ylo_new[i];
+        const tl_vec *c = XV + i * S;
+        tl_vec lo;
+        for (int l = 0; l < TL_W; ++l) lo[l] = lane[l].point >= 0 ? lane[l].ylo[i] : 0.0;
+        tl_vec v = c[p];
+        for (int k = p - 1; k >= 1; --k) v = v * hv + c[k];
+        const tl_vec d = v * hv + lo;
+        const tl_vec y = c[0] + d;
+        const tl_vec bb = y - c[0];
+        lo = (c[0] - (y - bb)) + (d - bb);
+        for (int l = 0; l < TL_W; ++l) {
+            if (lane[l].point < 0 || hv[l] == 0) continue;
+            lane[l].y[i] = y[l];
+            lane[l].ylo[i] = lo[l];
+        }
     }
-    L->t = t_new;
+}
+
+/* After the update: chaplygin_taylor_run's check and time. Returns whether the orbit goes on. */
+static int tl_end_step(tl_lane *L)
+{
+    ++L->steps;
+    for (int i = 0; i < CHAPLYGIN_TAYLOR_N_STATE; ++i)
+        if (!isfinite(L->y[i])) L->status = -1;
+    L->t = L->t_new;
     if (L->status) return 0;
     return 0 < L->dir * (L->t_end - L->t);
 }
@@ -278,7 +336,6 @@ int chaplygin_taylor_run_lanes(long N, const double *T01, const double *Y0, cons
                                double *Y_END, double *T_REACHED, long max_steps, long *STATS,
                                int *STATUS)
 {
-    const int n = CHAPLYGIN_TAYLOR_N_STATE;
     const tl_call a = {T01, Y0, P, T_EVAL, n_eval, eval_stride, max_steps, Y_EVAL, Y_END,
                        T_REACHED, STATS, STATUS};
     /* the workspace aligned for the vector type (malloc's alignment may be less) */
@@ -312,13 +369,20 @@ int chaplygin_taylor_run_lanes(long N, const double *T01, const double *Y0, cons
         if (w < 0) break;
         tl_pack(lane, w, P, &T, Y, PV);
         TL_COEFFICIENTS(order, T, Y, PV, XV);
+        tl_vec hv = tl_zero();
+        int common = -1; /* the order every stepping lane has, or -1 */
         for (int l = 0; l < TL_W; ++l) {
             tl_lane *L = &lane[l];
             if (L->point < 0) continue;
-            const int S = L->p + 1;
-            for (int i = 0; i < n; ++i)
-                for (int k = 0; k < S; ++k) X[i * S + k] = XV[i * (order + 1) + k][l];
-            if (tl_advance(L, &c, X, &a)) continue;
+            hv[l] = tl_begin_step(L, &c, XV, order + 1, l, X, &a);
+            if (hv[l] == 0) continue;
+            common = common == -1 || common == L->p ? L->p : -2;
+        }
+        tl_update(lane, XV, order + 1, common < 0 ? -1 : common, hv, X);
+        for (int l = 0; l < TL_W; ++l) {
+            tl_lane *L = &lane[l];
+            if (L->point < 0) continue;
+            if (hv[l] != 0 && tl_end_step(L)) continue;
             tl_finish(L, &a);
             tl_next(L, &next, N, &a);
         }
