@@ -12,8 +12,10 @@
  * Every lane is one orbit with its own time, state, compensation, parameters, order, step
  * and end time; the recurrences (the bulk of the work) run on all lanes at once, each lane
  * with the IEEE operations of chaplygin_taylor_run in the same order (no contraction: the
- * build has -ffp-contract=off; functions lane by lane through detmath), and the step control
- * and the state update run lane by lane with chaplygin_taylor_run's own code. So every orbit's
+ * build has -ffp-contract=off; functions lane by lane through detmath); the step control runs
+ * lane by lane with chaplygin_taylor_run's own code, and the state update (Horner and the
+ * compensated sum of taylor_eval_compensated) on the vectors when the stepping lanes share
+ * the order, else lane by lane. So every orbit's
  * outputs, final state, time reached and counters are, bit for bit, those of one
  * chaplygin_taylor_run call on it, whatever TL_W, the other lanes or the chunking of the
  * orbits over calls and threads. Lanes that want different orders (one under absolute, one
