@@ -10,9 +10,9 @@ it, bit for bit, with its own status, message, work counters and the drift of ev
 integral as its evidence.
 
 In double precision with the Taylor method (compiled, without events or dense output) the
-orbits run in vector lanes (:mod:`~chaplygin.numerics.ensemble_lanes`): four orbits at a time
-share the instructions of the Taylor recurrences, each lane bit-identical to the one-orbit
-loop, and the orbits are cut into one block per thread (``threads``, default the usable
+orbits run in vector lanes (:mod:`~chaplygin.numerics.ensemble_lanes`): four or eight orbits
+at a time share the instructions of the Taylor recurrences, each lane bit-identical to the
+one-orbit loop, and the orbits are cut into one block per thread (``threads``, default the usable
 CPUs; the compiled driver releases the interpreter lock); the wall-time limit is not checked
 inside a block. With another method in double the orbits are spread over the threads one
 call each (the compiled loops -- the variational and batch drivers, DOP853 -- release the

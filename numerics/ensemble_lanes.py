@@ -1,15 +1,16 @@
 """The Taylor orbits of :func:`~chaplygin.numerics.ensemble.integrate_many` in vector lanes.
 
-In double precision with the Taylor method on the C backend (no events, no dense output),
-the orbits run in the compiled lanes driver ``chaplygin_taylor_run_lanes``
-(``derive/templates/taylor_lanes.c``): four orbits at a time share the vector instructions of
-the Taylor recurrences, each lane with the operations of the one-orbit loop in the same order,
-so that every orbit's outputs, final time, steps and orders are those of ``integrate()``'s
-compiled loop, bit for bit, whatever the number of lanes, threads or orbits per call. The
-orbits are cut into one contiguous block per thread (the driver releases the interpreter
-lock), and every orbit's :class:`~chaplygin.numerics.integrators.IntegrationResult` is then
-made by the integrator's own :meth:`~chaplygin.numerics.integrators.base.Integrator._result`
-(the finiteness check and the drift of every first integral), as ``integrate()`` makes it.
+In double precision with the Taylor method on the C backend (no events, no dense output), the
+orbits run in the compiled lanes driver ``chaplygin_taylor_run_lanes``
+(``derive/templates/taylor_lanes.c``): four orbits at a time (eight where the compiler targets
+AVX-512) share the vector instructions of the Taylor recurrences, each lane with the operations
+of the one-orbit loop in the same order, so that every orbit's outputs, final time, steps and
+orders are those of ``integrate()``'s compiled loop, bit for bit, whatever the number of lanes,
+threads or orbits per call. The orbits are cut into one contiguous block per thread (the driver
+releases the interpreter lock), and every orbit's
+:class:`~chaplygin.numerics.integrators.IntegrationResult` is then made by the integrator's own
+:meth:`~chaplygin.numerics.integrators.base.Integrator._result` (the finiteness check and the
+drift of every first integral), as ``integrate()`` makes it.
 
 The one difference: the wall-time limit ``max_wall_s`` is not checked inside a block (the
 step limit is); a block's time is its orbits' ``wall_s`` shared out equally.
@@ -30,11 +31,7 @@ from .taylor import MAX_STEPS, REAL_TYPES, run_orders
 from .taylor.solution import _MESSAGES, TaylorSolution
 from .taylor.stepper import _loop_linspace
 
-__all__ = ["LANES", "lanes_library", "run_in_lanes"]
-
-#: Orbits per vector in the lanes driver (the template's ``TL_W``).
-LANES = 4
-
+__all__ = ["lanes_library", "run_in_lanes"]
 
 def lanes_library(prepared: list[tuple], backend: str) -> tuple[Any, str] | None:
     """The lanes library and the chosen backend when every orbit can run in the lanes.
@@ -65,10 +62,10 @@ def lanes_library(prepared: list[tuple], backend: str) -> tuple[Any, str] | None
     return None if lib is None else (lib, chosen)
 
 
-def _blocks(count: int, workers: int) -> list[range]:
-    """``count`` orbits in at most ``workers`` contiguous blocks, multiples of :data:`LANES`."""
+def _blocks(count: int, workers: int, lanes: int) -> list[range]:
+    """``count`` orbits in at most ``workers`` contiguous blocks, multiples of ``lanes``."""
     size = -(-count // workers)
-    size = -(-size // LANES) * LANES
+    size = -(-size // lanes) * lanes
     return [range(a, min(a + size, count)) for a in range(0, count, size)]
 
 
@@ -124,7 +121,7 @@ def run_in_lanes(prepared: list[tuple], lib: Any, chosen: str, workers: int,
         )  # fmt: skip
         return (time.perf_counter() - start) / (b - a)
 
-    blocks = _blocks(count, workers)
+    blocks = _blocks(count, workers, lib.chaplygin_taylor_lanes_width())
     with ThreadPoolExecutor(max_workers=max(1, len(blocks))) as pool:
         walls = list(pool.map(block, blocks))
     wall = np.concatenate([np.full(len(r), w) for r, w in zip(blocks, walls, strict=True)])

@@ -1,5 +1,5 @@
 /* The Taylor integrator of many orbits, TL_W at a time in the lanes of a GNU C vector
- * (issue 26; heyoka calls this its batch mode).
+ * (issue 26; heyoka calls this its batch mode). chaplygin_taylor_lanes_width() is TL_W.
  *
  * Appended to a model's emitted Taylor C source (generated/<model>_taylor.c, the double
  * build), whose order and step control (taylor_control_of, inf_norm) and compensated dense
@@ -38,8 +38,12 @@
 #include <stdint.h>
 #include <stdlib.h>
 
-#ifndef TL_W
+#ifndef TL_W /* the widest registers: 8 doubles with AVX-512 (-march=native), else 4 */
+#if defined(__AVX512F__)
+#define TL_W 8
+#else
 #define TL_W 4
+#endif
 #endif
 typedef double tl_vec __attribute__((vector_size(TL_W * sizeof(double))));
 
@@ -331,6 +335,8 @@ static void tl_pack(const tl_lane *lane, int w, const double *P, tl_vec *T, tl_v
             PV[i][l] = P[L->point * CHAPLYGIN_TAYLOR_N_PARAM + i];
     }
 }
+
+int chaplygin_taylor_lanes_width(void) { return TL_W; }
 
 int chaplygin_taylor_run_lanes(long N, const double *T01, const double *Y0, const double *P,
                                const double *CTRL, int fixed_order, long n_eval,

@@ -20,7 +20,7 @@ unaffected. Double precision only.
 
 ``BatchStroboscopicMap(code, method="taylor")`` runs the same call through the model's generated
 Taylor integrator instead (``derive/templates/taylor_batch_map.c`` appended to the double build
-of the model's Taylor C source and its lanes driver, ``derive/templates/taylor_lanes.c``: four
+of the model's Taylor C source and its lanes driver, ``derive/templates/taylor_lanes.c``: 4 or 8
 points at a time in vector lanes, each point's numbers those of ``chaplygin_taylor_run`` on it,
 bit for bit; the step polynomials evaluated at the sampling times; the steps of
 ``StroboscopicMap(method="taylor")`` and its map points up to the rounding of the sampling
@@ -169,7 +169,7 @@ class BatchStroboscopicMap:
 
     With ``method="taylor"`` every point is integrated by the model's generated Taylor
     integrator in vector lanes (``derive/templates/taylor_batch_map.c`` on
-    ``taylor_lanes.c``: four points at a time, each bit-identical to ``chaplygin_taylor_run``
+    ``taylor_lanes.c``: 4 or 8 points at a time, each bit-identical to ``chaplygin_taylor_run``
     of the double build on it): the steps of ``integrate(method="taylor")`` from ``t0`` to
     the last sampling time, the map points being the step polynomials evaluated at the
     sampling times.

@@ -3,7 +3,7 @@
 The DOP853 batch (``derive/templates/batch_map.c`` with the DOP853 tableau of
 ``variational.c``; four points at a time in GCC vector lanes where the model's right-hand side
 has a vector form, ``generated/<model>_lanes.c``, bit-identical to one point after another)
-and the Taylor batch (``taylor_batch_map.c``: the model's generated Taylor integrator, four
+and the Taylor batch (``taylor_batch_map.c``: the model's generated Taylor integrator, 4 or 8
 points at a time in vector lanes, ``taylor_lanes.c``, each bit-identical to the one-point
 loop; its driver ``chaplygin_taylor_run_lanes`` also runs
 :func:`~chaplygin.numerics.ensemble.integrate_many`'s Taylor orbits). Sources from
@@ -69,6 +69,7 @@ void chaplygin_taylor_batch_map(long N, const double *Y0, const double *P, const
                                 const double *TAU_HI, const double *TAU_LO, long transient,
                                 long n_record, double rtol, double atol, long max_steps,
                                 double *OUT, double *STATS, int *STATUS);
+int chaplygin_taylor_lanes_width(void);
 int chaplygin_taylor_run_lanes(long N, const double *T01, const double *Y0, const double *P,
                                const double *CTRL, int fixed_order, long n_eval,
                                const double *T_EVAL, long eval_stride, double *Y_EVAL,
@@ -237,8 +238,9 @@ def taylor_batch_library(code: ModelCode, lanes: int | None = None,
     ----------
     code : ModelCode
     lanes : int, optional
-        Orbits per vector (``TL_W``; default the template's, 4). Every orbit's numbers are
-        the same for every width; other widths are for the tests of that.
+        Orbits per vector (``TL_W``; default the template's: 8 where the compiler targets
+        AVX-512, else 4; ``chaplygin_taylor_lanes_width()``). Every orbit's numbers are the
+        same for every width; other widths are for the tests of that.
     orders : tuple of int, optional
         The orders to write the coefficients out for (a run's
         :func:`~chaplygin.numerics.taylor.run_orders`; the others run the loop: the same

@@ -27,7 +27,7 @@ class TaylorMethod(Integrator):
 
     It also integrates a :class:`~chaplygin.numerics.integrators.flows.Batch` of a
     time-periodic model in one C call (``derive/templates/taylor_batch_map.c``: the
-    double build's integrator four points at a time in vector lanes, ``taylor_lanes.c``, each
+    double build's integrator 4 or 8 points at a time in vector lanes, ``taylor_lanes.c``, each
     point bit-identical to ``chaplygin_taylor_run``; the step polynomials evaluated at the
     sampling times), and keeps the solution between the outputs in double precision when the
     problem asks for ``dense_output`` (:class:`~chaplygin.numerics.taylor.TaylorDense`).
