@@ -1,10 +1,9 @@
 """The Taylor integrator in vector lanes (derive/templates/taylor_lanes.c,
 chaplygin_taylor_run_lanes): every orbit's outputs, final state, time reached, steps, orders
-and status are those of the one-orbit compiled loop that integrate() runs
-(CompiledTaylorRun: chaplygin_taylor_run with the coefficients written out for the run's
-orders), bit for bit, for 1, 4 and 8 lanes (the default: 8 with AVX-512, else 4), with
-orbits that end at different times (one
-backward), parameters per orbit, lanes at different orders (absolute and relative control
+and status are those of the one-orbit compiled loop that integrate() runs (CompiledTaylorRun:
+chaplygin_taylor_run with the coefficients written out for the run's orders), bit for bit, for
+1, 4 and 8 lanes (the default: 8 with AVX-512, else 4), with orbits that end at different times
+(one backward), parameters per orbit, lanes at different orders (absolute and relative control
 in the same vector), an orbit that becomes non-finite and one that runs out of steps, and a
 number of orbits that is not a multiple of the lanes."""
 
