@@ -125,3 +125,24 @@ def test_lanes_with_functions_of_time_and_powers(case, monkeypatch):
         one = integrate(system, s, 3.7, params, rtol=1e-12, atol=1e-12)
         assert _same(r.results[j].y, one.y) and r.results[j].nsteps == one.nsteps
         assert r.results[j].message == one.message
+
+
+@pytest.mark.parametrize("options", [{"order": 10}, {"order": 12, "step": 0.05}, {"step": 0.1}])
+def test_lanes_with_a_fixed_order_or_step_backward(options, monkeypatch):
+    """taylor_options (a fixed order, a fixed step, both) on a backward span with output
+    times: integrate_many's orbits in lanes are integrate()'s, bit for bit."""
+    from chaplygin.numerics import ensemble
+    from chaplygin.numerics.integrate import integrate
+
+    used = []
+    lanes = ensemble.run_in_lanes
+    monkeypatch.setattr(ensemble, "run_in_lanes", lambda *a: used.append(1) or lanes(*a))
+    rng = np.random.default_rng(2)
+    states = [{"M": tuple(rng.uniform(-0.9, 0.9, 3)), "gamma": (0.6, 0.0, 0.8)} for _ in range(5)]
+    params = {"I": ("1.13", "2.07", "3.31"), "D": "0.93"}
+    kw = {"rtol": 1e-11, "atol": 1e-11, "taylor_options": options, "t_eval": [0, -1, -2.5, -3]}
+    r = ensemble.integrate_many("chaplygin_ball", states, (0.0, -3.0), params, **kw)
+    assert used == [1] and r.success.all() and r.y.shape == (5, 6, 4)
+    for j, s in enumerate(states):
+        one = integrate("chaplygin_ball", s, (0.0, -3.0), params, **kw)
+        assert _same(r.results[j].y, one.y) and r.results[j].nsteps == one.nsteps
