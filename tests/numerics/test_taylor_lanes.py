@@ -5,9 +5,11 @@ chaplygin_taylor_run with the coefficients written out for the run's orders), bi
 1, 4 and 8 lanes (the default: 8 with AVX-512, else 4), with orbits that end at different times
 (one backward), parameters per orbit, lanes at different orders (absolute and relative control
 in the same vector), an orbit that becomes non-finite and one that runs out of steps, and a
-number of orbits that is not a multiple of the lanes."""
+number of orbits that is not a multiple of the lanes; gcc and clang give the same bytes."""
 
 from __future__ import annotations
+
+import shutil
 
 import numpy as np
 import pytest
@@ -37,9 +39,10 @@ def _orbits(count: int = 11) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.nda
     return np.array(t01), np.array(y0), np.array(params), np.array(t_eval)
 
 
-def _lanes(width: int | None, t01, y0, params, t_eval, written: bool = True
+def _lanes(width: int | None, t01, y0, params, t_eval, written: bool = True, lib=None
            ) -> dict[str, np.ndarray]:  # fmt: skip
-    lib = taylor_batch_library(CODE, width, run_orders(RTOL, ATOL) if written else ())
+    if lib is None:
+        lib = taylor_batch_library(CODE, width, run_orders(RTOL, ATOL) if written else ())
     count, m, n = len(y0), t_eval.shape[1], y0.shape[1]
     out = {"y_eval": np.full((count, m, n), np.nan), "y_end": np.empty((count, n)),
            "t_reached": np.empty(count), "stats": np.zeros((count, 4), dtype=np.int64),
@@ -146,3 +149,24 @@ def test_lanes_with_a_fixed_order_or_step_backward(options, monkeypatch):
     for j, s in enumerate(states):
         one = integrate("chaplygin_ball", s, (0.0, -3.0), params, **kw)
         assert _same(r.results[j].y, one.y) and r.results[j].nsteps == one.nsteps
+
+
+@pytest.mark.skipif(shutil.which("gcc") is None or shutil.which("clang") is None,
+                    reason="needs gcc and clang")  # fmt: skip
+def test_gcc_and_clang_lanes_give_the_same_bytes():
+    """The lanes library built by gcc and by clang (the batch library's flags, -O3
+    -march=native, and -O2): the same bytes for every orbit."""
+    from chaplygin.derive.emit.c_sources import taylor_batch_source
+    from chaplygin.numerics.ccompile import compile_c
+    from chaplygin.numerics.integrators.c_batch import NATIVE_CFLAGS, _ffi
+
+    t01, y0, params, t_eval = _orbits()
+    source = taylor_batch_source(CODE.taylor_c_source, CODE.taylor_program, run_orders(RTOL, ATOL))
+    outs = []
+    for compiler in ("gcc", "clang"):
+        for flags in (NATIVE_CFLAGS, ()):
+            lib = _ffi.dlopen(str(compile_c(source, compiler=compiler, cflags=flags)))
+            outs.append(_lanes(None, t01, y0, params, t_eval, lib=lib))
+    for other in outs[1:]:
+        for key, value in outs[0].items():
+            assert _same(value, other[key]), key
