@@ -9,16 +9,17 @@ so that orbit ``j``'s result is the :class:`IntegrationResult` that ``integrate`
 it, bit for bit, with its own status, message, work counters and the drift of every first
 integral as its evidence.
 
-In double precision the orbits are spread over ``threads`` threads (default: the usable CPUs):
-the compiled loops (the Taylor method in C, the variational and batch drivers) release the
-interpreter lock, so two cores integrate two orbits at once. The orbits are independent and
-each is placed by its index, so the numbers do not depend on the number of threads or on the
-order in which the threads finish. In quad and in decimal digits the orbits run one after
-another (mpmath's working precision is one setting of the process).
-
-What this is not (yet): the orbits do not share vector lanes (each orbit is one call of the
-one-orbit loop; issue 26's SIMD ensemble is open), so a short run still pays the fixed cost of
-one call per orbit.
+In double precision with the Taylor method (compiled, without events or dense output) the
+orbits run in vector lanes (:mod:`~chaplygin.numerics.ensemble_lanes`): four or eight orbits
+at a time share the instructions of the Taylor recurrences, each lane bit-identical to the
+one-orbit loop, and the orbits are cut into one block per thread (``threads``, default the usable
+CPUs; the compiled driver releases the interpreter lock); the wall-time limit is not checked
+inside a block. With another method in double the orbits are spread over the threads one
+call each (the compiled loops -- the variational and batch drivers, DOP853 -- release the
+lock too). The orbits are independent and each is placed by its index, so the numbers do not
+depend on the number of threads or lanes or on the order in which the threads finish. In
+quad and in decimal digits the orbits run one after another (mpmath's working precision is
+one setting of the process).
 
 Examples
 --------
@@ -44,6 +45,7 @@ import numpy as np
 
 from ..derive.errors import UserInputError
 from .code import ModelCode
+from .ensemble_lanes import lanes_library, run_in_lanes
 from .integrate import DEFAULT_MAX_WALL_S, prepare_problem
 from .integrators import IntegrationResult
 from .precision import Precision
@@ -231,6 +233,11 @@ max_wall_s
         first = prepare(0, code, t_eval)
     prepared = [first] + [prepare(j, code, t_eval) for j in range(1, count)]
     setup_s = time.perf_counter() - start
+
+    lanes = lanes_library(prepared, backend)
+    if lanes is not None:  # the Taylor method in double: the orbits in vector lanes
+        results = run_in_lanes(prepared, *lanes, workers, time.perf_counter() - start)
+        return _collect(results, prec, time.perf_counter() - start, workers)
 
     def run(j: int) -> IntegrationResult:
         integrator, problem = prepared[j]

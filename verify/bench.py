@@ -51,6 +51,7 @@ from .bench_map import (
     lyapunov_throughput,
     map_throughput,
     regime_throughput,
+    taylor_map_equal_accuracy,
 )
 from .bench_peers import heyoka_rows, jitcode_rows
 from .bench_problems import (
@@ -321,6 +322,8 @@ def run_study(
         or a row saying they are not installed), ``"rhs_call_s"``
         (:func:`rhs_call_times`), ``"compile_s"`` (:func:`compile_times` and the peers'
         compile/JIT times), ``"map_throughput"`` (:func:`map_throughput`),
+        ``"taylor_map_equal_accuracy"``
+        (:func:`~chaplygin.verify.bench_map.taylor_map_equal_accuracy`),
         ``"lyapunov_throughput"`` (:func:`~chaplygin.verify.bench_map.lyapunov_throughput`),
         ``"regime_throughput"`` (:func:`~chaplygin.verify.bench_map.regime_throughput`),
         ``"jacobian_throughput"`` (:func:`~chaplygin.verify.bench_map.jacobian_throughput`),
@@ -388,12 +391,15 @@ def run_study(
         "rhs_call_s": rhs_call_times(2000 if quick else 20000),
         "compile_s": {**compile_times(), **peer_compile},
         "map_throughput": map_throughput(100 if quick else 700, repeats),
+        "taylor_map_equal_accuracy": taylor_map_equal_accuracy(
+            *((20, 1, 4) if quick else (200, repeats))
+        ),
         "lyapunov_throughput": (
             lyapunov_throughput(200, 20, 1, 4) if quick else lyapunov_throughput(repeats=repeats)
         ),
         "regime_throughput": regime_throughput(1, 4, True) if quick else regime_throughput(repeats),
         "jacobian_throughput": jacobian_throughput(1, 8) if quick else jacobian_throughput(repeats),
-        "ensemble_throughput": ensemble_throughput(8 if quick else 16, repeats, quick),
+        "ensemble_throughput": ensemble_throughput((8,) if quick else (64, 1024), repeats, quick),
         "verify_time": verify_time("K01-2.2*") if quick else verify_time(),
         "enclosure_cost": enclosure_cost(1, proof=False) if quick else enclosure_cost(repeats),
         "described_system_s": {} if quick else described_system_times(),

@@ -64,17 +64,20 @@ def _heyoka_rows(name: str, starts: list[list[float]], T: float, tol: float,
     return {"heyoka_ensemble": statistics.median(ens), "heyoka_batch4": statistics.median(bat)}
 
 
-def ensemble_throughput(orbits: int = 16, repeats: int = 3, quick: bool = False,
-                        peers: bool = True) -> dict[str, Any]:  # fmt: skip
+def ensemble_throughput(orbits: tuple[int, ...] = (64, 1024), repeats: int = 3,
+                        quick: bool = False, peers: bool = True) -> dict[str, Any]:  # fmt: skip
     """Seconds per orbit of the reference problem and the separatrix run in double (Taylor,
-    tol 1e-9 and 1e-12): ``ours_one`` (one ``integrate`` call per orbit), ``ours_many_1`` and
-    ``ours_many_<cpus>`` (``integrate_many`` on 1 thread and on the usable CPUs), heyoka's
+    tol 1e-9 and 1e-12), for each number of orbits: ``ours_one`` (one ``integrate`` call per
+    orbit, timed on at most :data:`ONE_AT_A_TIME` of them: its cost per orbit does not depend
+    on their number), ``ours_many_1`` and ``ours_many_<cpus>`` (``integrate_many``, the orbits
+    in vector lanes, on 1 thread and on the usable CPUs; the whole call) and
+    ``ours_many_1_c`` (the compiled integration alone, the orbits' ``wall_s``), heyoka's
     ensemble and batch mode when installed; medians of ``repeats``; the ratios to heyoka.
 
     Parameters
     ----------
-    orbits : int
-        Orbits per call (perturbed copies of the problem's start).
+    orbits : tuple of int
+        Orbits per call (perturbed copies of the problem's start), one row each.
     repeats : int
     quick : bool
         Short spans (T = 20 and 5).
@@ -84,45 +87,63 @@ def ensemble_throughput(orbits: int = 16, repeats: int = 3, quick: bool = False,
     Returns
     -------
     dict
-        ``"<problem> tol=<tol>"`` -> ``{"<row>_s": seconds per orbit, ..., ratios}``, and the
-        load average before and after.
+        ``"<problem> tol=<tol> T=<T> N=<orbits>"`` -> ``{"<row>_s": seconds per orbit, ...,
+        ratios}``, and the load average before and after.
 
     Raises
     ------
     UserInputError
-        ``orbits < 1`` or ``repeats < 1``.
+        No orbits, a count below 1 or ``repeats < 1``.
     """
-    if orbits < 1 or repeats < 1:
+    if not orbits or min(orbits) < 1 or repeats < 1:
         raise UserInputError("ensemble_throughput needs orbits >= 1 and repeats >= 1")
     cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 1
     have_heyoka = peers and peers_available()["heyoka"]
-    out: dict[str, Any] = {"orbits": orbits, "threads": cpus, "load_before": os.getloadavg()[0]}
+    out: dict[str, Any] = {"orbits": list(orbits), "threads": cpus,
+                           "load_before": os.getloadavg()[0]}  # fmt: skip
     for name in ("reference", "separatrix"):
         problem = PROBLEMS[name]
         T = (20.0 if name == "reference" else 5.0) if quick else problem.t_double
-        starts = _orbits(name, orbits)
-        p = problem.params
         for tol in ENSEMBLE_TOLERANCES:
-            kw = {"rtol": tol, "atol": tol, "t_eval": [0.0, T]}
-            integrate("chaplygin_ball", starts[0], T, p, **kw)  # compiled first
-            runs: dict[str, list[float]] = {}
-            for _ in range(repeats):
-                start = time.perf_counter()
-                for y in starts:
-                    integrate("chaplygin_ball", y, T, p, **kw)
-                runs.setdefault("ours_one_s", []).append((time.perf_counter() - start) / orbits)
-                for threads in sorted({1, cpus}):
-                    r = integrate_many("chaplygin_ball", starts, T, p, threads=threads, **kw)
-                    runs.setdefault(f"ours_many_{threads}_s", []).append(r.wall_s / orbits)
-            row = {k: statistics.median(v) for k, v in runs.items()}
-            row["steps_per_orbit"] = float(np.median(r.nsteps))
-            row["failed"] = int((r.status != 0).sum())
-            if have_heyoka:
-                row.update({f"{k}_s": v for k, v in
-                            _heyoka_rows(name, starts, T, tol, repeats).items()})  # fmt: skip
-                best = row[f"ours_many_{cpus}_s"]
-                row["ratio_many_to_heyoka_ensemble"] = best / row["heyoka_ensemble_s"]
-                row["ratio_many_to_heyoka_batch4"] = best / row["heyoka_batch4_s"]
-            out[f"{name} tol={tol:g} T={T:g}"] = row
+            for count in orbits:
+                row = _ours_rows(name, T, tol, count, repeats, cpus)
+                if have_heyoka:
+                    row.update({f"{k}_s": v for k, v in _heyoka_rows(
+                        name, _orbits(name, count), T, tol, repeats).items()})  # fmt: skip
+                    best = row[f"ours_many_{cpus}_s"]
+                    row["ratio_many_to_heyoka_ensemble"] = best / row["heyoka_ensemble_s"]
+                    row["ratio_many_to_heyoka_batch4"] = best / row["heyoka_batch4_s"]
+                out[f"{name} tol={tol:g} T={T:g} N={count}"] = row
     out["load_after"] = os.getloadavg()[0]
     return out
+
+
+#: At most this many orbits are integrated one ``integrate`` call each in a row of
+#: :func:`ensemble_throughput`.
+ONE_AT_A_TIME = 64
+
+
+def _ours_rows(name: str, T: float, tol: float, count: int, repeats: int,
+               cpus: int) -> dict[str, Any]:  # fmt: skip
+    """Our rows of one problem, tolerance and number of orbits (medians, seconds per orbit)."""
+    starts = _orbits(name, count)
+    p = PROBLEMS[name].params
+    kw = {"rtol": tol, "atol": tol, "t_eval": [0.0, T]}
+    integrate("chaplygin_ball", starts[0], T, p, **kw)  # compiled first
+    runs: dict[str, list[float]] = {}
+    few = starts[:ONE_AT_A_TIME]
+    for _ in range(repeats):
+        start = time.perf_counter()
+        for y in few:
+            integrate("chaplygin_ball", y, T, p, **kw)
+        runs.setdefault("ours_one_s", []).append((time.perf_counter() - start) / len(few))
+        for threads in sorted({1, cpus}):
+            r = integrate_many("chaplygin_ball", starts, T, p, threads=threads, **kw)
+            runs.setdefault(f"ours_many_{threads}_s", []).append(r.wall_s / count)
+            if threads == 1:  # the compiled integration alone (one thread: its wall time)
+                runs.setdefault("ours_many_1_c_s", []).append(
+                    sum(x.wall_s for x in r.results) / count)
+    row: dict[str, Any] = {k: statistics.median(v) for k, v in runs.items()}
+    row["steps_per_orbit"] = float(np.median(r.nsteps))
+    row["failed"] = int((r.status != 0).sum())
+    return row

@@ -384,3 +384,66 @@ def jacobian_throughput(repeats: int = 3, points: int = 64) -> dict[str, Any]:
     row.update({name: float(np.median(values)) for name, values in runs.items()})
     row["ratio_lanes_to_one"] = row["ours_lanes_s"] / row["ours_one_s"]
     return row
+
+
+#: The Taylor batch map's tolerances tried for :func:`taylor_map_equal_accuracy`, tightest first.
+EQUAL_ACCURACY_RTOLS = (1e-12, 1e-11, 1e-10, 1e-9, 1e-8)
+
+
+def taylor_map_equal_accuracy(periods: int = 200, repeats: int = 3, points: int = 16,
+                              rtol: float = 1e-12) -> dict[str, Any]:  # fmt: skip
+    """Microseconds per forcing period per point of BM20's map, the Taylor batch map in vector
+    lanes against the DOP853 lanes at equal accuracy (issue 26): the DOP853 batch at ``rtol``,
+    its error the largest over the first 10 periods against a Taylor run at rtol 1e-15; the
+    Taylor batch at the loosest of :data:`EQUAL_ACCURACY_RTOLS` whose error is not larger.
+    ``points`` copies of the bench's start per call; best of ``repeats`` calls.
+
+    Parameters
+    ----------
+    periods, repeats, points : int
+    rtol : float
+        The DOP853's tolerance (atol the same).
+
+    Returns
+    -------
+    dict
+        ``dop853_us``, ``dop853_error``, ``taylor_rtol``, ``taylor_us``, ``taylor_error``,
+        the Taylor time at every tolerance tried (``taylor_<rtol>_us``) and
+        ``ratio_taylor_to_dop853``.
+
+    Raises
+    ------
+    UserInputError
+        ``periods < 10``, ``repeats < 1`` or ``points < 1``.
+    """
+    from ..numerics.ball.map_coordinates import state_from_reduced
+    from ..numerics.dynamics.batch_map import BatchStroboscopicMap
+
+    if periods < 10 or repeats < 1 or points < 1:
+        raise UserInputError("taylor_map_equal_accuracy needs periods >= 10, repeats, points >= 1")
+    code = load_model_code("chaplygin_ball", ["variable_inertia", "variable_gyrostat"])
+    p = list(MAP_BENCH_PARAMS)
+    y0 = [float(v) for v in state_from_reduced(*MAP_BENCH_START, [0] * 6, code.state)]
+    tau = 2 * math.pi / p[-1]
+    ref = integrate(code, y0, (0, 10 * tau), p, method="taylor", rtol=1e-15, atol=1e-15,
+                    t_eval=[k * tau for k in range(11)])  # fmt: skip
+    ref_y = np.asarray(ref.y, dtype=float).T
+
+    def measure(tol: float, method: str) -> tuple[float, float]:
+        bm = BatchStroboscopicMap(code, rtol=tol, atol=tol, method=method)
+        walls, r = [], None
+        for _ in range(repeats):
+            r = bm.run(np.repeat([y0], points, 0), np.repeat([p], points, 0), n=periods + 1)
+            walls.append(r.wall_s / periods / points * 1e6)
+        return min(walls), float(np.abs(r.y[0][:11] - ref_y).max())
+
+    row: dict[str, Any] = {"periods": periods, "points": points, "rtol": rtol}
+    row["dop853_us"], row["dop853_error"] = measure(rtol, "dop853")
+    for tol in EQUAL_ACCURACY_RTOLS:
+        us, error = measure(tol, "taylor")
+        row[f"taylor_{tol:g}_us"] = us
+        if error <= row["dop853_error"]:
+            row["taylor_rtol"], row["taylor_us"], row["taylor_error"] = tol, us, error
+    if "taylor_us" in row:
+        row["ratio_taylor_to_dop853"] = row["taylor_us"] / row["dop853_us"]
+    return row

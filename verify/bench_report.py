@@ -68,6 +68,8 @@ def render_markdown(study: dict) -> str:
     ]
     sections = (
         ("map_throughput", "BM20's stroboscopic map (us per forcing period per point)"),
+        ("taylor_map_equal_accuracy", "BM20's map, the Taylor lanes against the DOP853 lanes at "
+         "equal accuracy (us per forcing period per point; issue 26: Taylor at or below)"),
         ("lyapunov_throughput", "BM20's largest Lyapunov exponent (seconds per point; issue "
          "26's target <= 0.05 s, a 101 x 101 chart <= 15 min on 2 cores)"),
         ("regime_throughput", "BM20's regime of the attractor (seconds per point; the sweep's "

@@ -15,7 +15,8 @@ compiles and loads what these functions return:
   (``templates/variational.c``);
 * :func:`batch_source` and :func:`taylor_batch_source` -- the stroboscopic map of many points
   (``templates/batch_map.c`` with the model's right-hand side in vector lanes,
-  ``<model>_lanes.c``; ``templates/taylor_batch_map.c``) and Benettin's loop of many points
+  ``<model>_lanes.c``; ``templates/taylor_batch_map.c`` on the Taylor integrator in vector
+  lanes, ``templates/taylor_lanes.c``) and Benettin's loop of many points
   (``templates/variational_batch.c``, with the Jacobian in the lanes too);
 * :func:`fastcall_source` -- the CPython trampoline (``templates/fastcall.c``);
 * :func:`inline_project_headers` -- the project's header ``detmath.h`` put in place of its
@@ -25,7 +26,11 @@ compiles and loads what these functions return:
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from importlib import resources
+
+from .taylor_c import PrintedProgram
+from .taylor_lanes import written_out_lanes
 
 __all__ = [
     "TAYLOR_DEFINES",
@@ -162,23 +167,41 @@ def batch_source(c_source: str, lanes_source: str | None) -> tuple[str, bool]:
     return source, bool(lanes_source)
 
 
-def taylor_batch_source(taylor_c_source: str) -> str:
-    """The Taylor batch of a time-periodic model: its Taylor integrator (double),
+def taylor_batch_source(taylor_c_source: str, taylor_program: str,
+                        orders: Iterable[int] = ()) -> str:  # fmt: skip
+    """The Taylor batch of a model: its Taylor integrator (double), the lanes driver
+    (``templates/taylor_lanes.c`` with the coefficients in vector lanes printed from its
+    program, written out for ``orders``:
+    :func:`~chaplygin.derive.emit.taylor_lanes.written_out_lanes`),
     ``templates/batch_time.c`` and ``templates/taylor_batch_map.c``.
 
     Parameters
     ----------
     taylor_c_source : str
         The model's emitted Taylor C.
+    taylor_program : str
+        Its printed Taylor program (``<model>_taylor_program.json``).
+    orders : iterable of int, optional
+        The orders to write out (the others run the loop).
 
     Returns
     -------
     str
+
+    Raises
+    ------
+    ValueError
+        ``taylor_program`` is not a printed program's JSON.
     """
+    lanes = _template("taylor_lanes.c").replace(
+        "{{COEFFICIENTS_LANES}}",
+        written_out_lanes(PrintedProgram.from_json(taylor_program), orders), 1,
+    )
     return "\n".join(
         (
             taylor_c_source,
             "#include <float.h>",
+            lanes,
             _template("batch_time.c"),
             _template("taylor_batch_map.c"),
         )

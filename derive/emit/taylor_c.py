@@ -42,6 +42,7 @@ __all__ = [
     "PrintedNode",
     "PrintedProgram",
     "printed_program",
+    "order_loop",
     "prologue_lines",
     "order_zero",
     "TaylorCEmitter",
@@ -460,15 +461,27 @@ def loop_function(printed: PrintedProgram) -> str:
             if node.op in ("time", "const")
         ],
         *zero,
-        "    for (int k = 0; k < order; ++k) {",
-        "        if (k > 0) {",
-        *["    " + ln for ln in body],
-        "        }",
-        *out,
-        "    }",
+        *order_loop(["    " + ln for ln in body], out),
         "}",
     ]
     return "\n".join(fn)
+
+
+def order_loop(body: list[str], out: list[str]) -> list[str]:
+    """The loop over the orders: ``body`` (the nodes' order ``k``, from 1) then ``out`` (the
+    state's order ``k + 1``), for ``k`` below ``order``.
+
+    Parameters
+    ----------
+    body, out : list of str
+        C lines, indented for their place in the loop.
+
+    Returns
+    -------
+    list of str
+    """
+    return ["    for (int k = 0; k < order; ++k) {", "        if (k > 0) {", *body, "        }",
+            *out, "    }"]  # fmt: skip
 
 
 def read_taylor_template() -> str:

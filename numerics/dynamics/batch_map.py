@@ -20,9 +20,11 @@ unaffected. Double precision only.
 
 ``BatchStroboscopicMap(code, method="taylor")`` runs the same call through the model's generated
 Taylor integrator instead (``derive/templates/taylor_batch_map.c`` appended to the double build
-of the model's Taylor C source: ``chaplygin_taylor_run`` per point from C, the step polynomials
-evaluated at the sampling times; the steps of ``StroboscopicMap(method="taylor")`` and its map
-points up to the rounding of the sampling times; one point after another, no vector lanes).
+of the model's Taylor C source and its lanes driver, ``derive/templates/taylor_lanes.c``: 4 or 8
+points at a time in vector lanes, each point's numbers those of ``chaplygin_taylor_run`` on it,
+bit for bit; the step polynomials evaluated at the sampling times; the steps of
+``StroboscopicMap(method="taylor")`` and its map points up to the rounding of the sampling
+times).
 
 Both are integrators of the one registry (``dop853`` and ``taylor`` of
 :data:`~chaplygin.numerics.integrators.INTEGRATORS`, on a
@@ -166,11 +168,11 @@ class BatchStroboscopicMap:
     """The period map ``y(t0) -> y(t0 + tau)`` of a time-periodic model for many points at once.
 
     With ``method="taylor"`` every point is integrated by the model's generated Taylor
-    integrator (``chaplygin_taylor_run`` of the double build, called per point from C by
-    ``derive/templates/taylor_batch_map.c``): the steps of
-    ``integrate(method="taylor")`` from ``t0`` to the last sampling time, the map points
-    being the step polynomials evaluated at the sampling times; one point after another (no
-    vector lanes).
+    integrator in vector lanes (``derive/templates/taylor_batch_map.c`` on
+    ``taylor_lanes.c``: 4 or 8 points at a time, each bit-identical to ``chaplygin_taylor_run``
+    of the double build on it): the steps of ``integrate(method="taylor")`` from ``t0`` to
+    the last sampling time, the map points being the step polynomials evaluated at the
+    sampling times.
 
     Parameters
     ----------

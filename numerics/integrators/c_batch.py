@@ -3,9 +3,12 @@
 The DOP853 batch (``derive/templates/batch_map.c`` with the DOP853 tableau of
 ``variational.c``; four points at a time in GCC vector lanes where the model's right-hand side
 has a vector form, ``generated/<model>_lanes.c``, bit-identical to one point after another)
-and the Taylor batch (``taylor_batch_map.c``: the model's generated Taylor integrator per
-point). Sources from :mod:`chaplygin.derive.emit.c_sources`, compiled and loaded here; the
-integrators that call them are
+and the Taylor batch (``taylor_batch_map.c``: the model's generated Taylor integrator, 4 or 8
+points at a time in vector lanes, ``taylor_lanes.c``, each bit-identical to the one-point
+loop; its driver ``chaplygin_taylor_run_lanes`` also runs
+:func:`~chaplygin.numerics.ensemble.integrate_many`'s Taylor orbits). Sources from
+:mod:`chaplygin.derive.emit.c_sources`, compiled and loaded here; the integrators that call
+them are
 :class:`~chaplygin.numerics.integrators.dop853_c.CompiledDOP853` and
 :class:`~chaplygin.numerics.integrators.taylor_method.TaylorMethod`.
 """
@@ -66,6 +69,12 @@ void chaplygin_taylor_batch_map(long N, const double *Y0, const double *P, const
                                 const double *TAU_HI, const double *TAU_LO, long transient,
                                 long n_record, double rtol, double atol, long max_steps,
                                 double *OUT, double *STATS, int *STATUS);
+int chaplygin_taylor_lanes_width(void);
+int chaplygin_taylor_run_lanes(long N, const double *T01, const double *Y0, const double *P,
+                               const double *CTRL, int fixed_order, long n_eval,
+                               const double *T_EVAL, long eval_stride, double *Y_EVAL,
+                               double *Y_END, double *T_REACHED, long max_steps, long *STATS,
+                               int *STATUS);
 """
 
 #: Extra compiler flags of the batch library (part of the compile cache key), tried first:
@@ -109,7 +118,7 @@ STATUS_MESSAGES = {
 }
 
 _LIBRARIES: dict[str, Any] = {}
-_TAYLOR_LIBRARIES: dict[str, Any] = {}
+_TAYLOR_LIBRARIES: dict[tuple, dict[str, Any]] = {}
 _LOCKSTEP: dict[str, bool] = {}
 _VARIATIONAL_LOCKSTEP: dict[str, bool] = {}
 
@@ -177,13 +186,14 @@ def batch_library(code: ModelCode) -> Any | None:
     )  # fmt: skip
 
 
-def _compile_native(source: str) -> Any:
-    """Compile ``source`` with :data:`NATIVE_CFLAGS` (else :data:`BATCH_CFLAGS`) and load it."""
+def _compile_native(source: str, defines: tuple[str, ...] = ()) -> Any:
+    """Compile ``source`` with :data:`NATIVE_CFLAGS` (else :data:`BATCH_CFLAGS`) and
+    ``defines`` and load it."""
     try:
-        native = (*NATIVE_CFLAGS, f"-DCHAPLYGIN_CPU_ID=cpu_{cpu_identity()}")
+        native = (*NATIVE_CFLAGS, f"-DCHAPLYGIN_CPU_ID=cpu_{cpu_identity()}", *defines)
         path = compile_c(source, cflags=native)
     except CompilationError:  # e.g. a compiler without -march=native
-        path = compile_c(source, cflags=BATCH_CFLAGS)
+        path = compile_c(source, cflags=(*BATCH_CFLAGS, *defines))
     return _ffi.dlopen(str(path))
 
 
@@ -217,27 +227,42 @@ def variational_lockstep_available(code: ModelCode) -> bool:
     return _VARIATIONAL_LOCKSTEP.get(code.hash, False)
 
 
-def taylor_batch_library(code: ModelCode) -> Any | None:
-    """The compiled Taylor batch library of ``code`` (:func:`cached_library`), compiled with
-    the default flags; None also without generated Taylor code.
+def taylor_batch_library(code: ModelCode, lanes: int | None = None,
+                         orders: tuple[int, ...] = ()) -> Any | None:  # fmt: skip
+    """The compiled Taylor batch library of ``code`` (:func:`cached_library`): the batch
+    map and the Taylor integrator of many orbits in vector lanes
+    (``chaplygin_taylor_run_lanes``); None also without generated Taylor code or its printed
+    program.
 
     Parameters
     ----------
     code : ModelCode
+    lanes : int, optional
+        Orbits per vector (``TL_W``; default the template's: 8 where the compiler targets
+        AVX-512, else 4; ``chaplygin_taylor_lanes_width()``). Every orbit's numbers are the
+        same for every width; other widths are for the tests of that.
+    orders : tuple of int, optional
+        The orders to write the coefficients out for (a run's
+        :func:`~chaplygin.numerics.taylor.run_orders`; the others run the loop: the same
+        bits, slower).
 
     Returns
     -------
     cffi library or None
     """
 
-    def build() -> Any:
-        source = taylor_batch_source(code.taylor_c_source) if code.taylor_c_source else None
-        # the flags of the single-point Taylor library (-O2): -O3 (with or without
-        # -march=native) made it about 1.6 times slower here (vectorised short recurrences)
-        return None if source is None else _ffi.dlopen(str(compile_c(source)))
+    def build() -> Any | None:
+        if not (code.taylor_c_source and code.taylor_program):
+            return None
+        source = taylor_batch_source(code.taylor_c_source, code.taylor_program, orders)
+        # -O3 -march=native, as the DOP853 lanes: the recurrences on 4 lanes in one AVX2
+        # register (BM20's map: 48 -> 28 us per point and period against -O2); ccompile's
+        # -ffp-contract=off stays, so the bits are those of the -O2 loop of one orbit
+        width = () if lanes is None else (f"-DTL_W={int(lanes)}",)
+        return _compile_native(source, width)
 
     return cached_library(
-        _TAYLOR_LIBRARIES, code, build,
+        _TAYLOR_LIBRARIES.setdefault((lanes, tuple(orders)), {}), code, build,
         "the compiled Taylor batch map is unavailable ({exc}); use StroboscopicMap",
     )  # fmt: skip
 

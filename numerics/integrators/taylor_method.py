@@ -27,7 +27,8 @@ class TaylorMethod(Integrator):
 
     It also integrates a :class:`~chaplygin.numerics.integrators.flows.Batch` of a
     time-periodic model in one C call (``derive/templates/taylor_batch_map.c``: the
-    double build's ``chaplygin_taylor_run`` per point, the step polynomials evaluated at the
+    double build's integrator 4 or 8 points at a time in vector lanes, ``taylor_lanes.c``, each
+    point bit-identical to ``chaplygin_taylor_run``; the step polynomials evaluated at the
     sampling times), and keeps the solution between the outputs in double precision when the
     problem asks for ``dense_output`` (:class:`~chaplygin.numerics.taylor.TaylorDense`).
     """
@@ -44,7 +45,8 @@ class TaylorMethod(Integrator):
         from ..taylor import load_taylor_library, load_taylor_mpfr_library, run_orders
 
         if isinstance(problem.system, Batch):
-            if c_batch.taylor_batch_library(problem.code) is None:
+            orders = run_orders(problem.rtol, problem.atol)
+            if c_batch.taylor_batch_library(problem.code, orders=orders) is None:
                 raise ComputationError(
                     "the batch map needs a C compiler (the Taylor one also the model's "
                     "generated Taylor code); use StroboscopicMap"
@@ -206,7 +208,10 @@ def _dense(problem: Problem, backend: str) -> Solution:
 
 
 def _batch(problem: Problem) -> Solution:
-    lib = c_batch.taylor_batch_library(problem.code)
+    from ..taylor import run_orders
+
+    orders = run_orders(problem.rtol, problem.atol)
+    lib = c_batch.taylor_batch_library(problem.code, orders=orders)
     sol, stats = c_batch.run_batch(lib.chaplygin_taylor_batch_map, problem)
     steps = stats[:, 0].astype(np.int64)  # STATS: steps, lowest order, highest order
     sol.info.update(
@@ -214,7 +219,7 @@ def _batch(problem: Problem) -> Solution:
         rejected=np.zeros(len(steps), dtype=np.int64),
         evaluations=steps.copy(),
         orders=stats[:, 1:].astype(np.int64),
-        lockstep=False,
+        lockstep=True,
     )
     sol.nsteps = sol.nfev = int(steps.sum())
     return sol

@@ -98,7 +98,7 @@ def test_the_sources_are_put_together_from_the_templates():
     assert quad == "#define CHAPLYGIN_TAYLOR_QUAD 1\n" + code.taylor_c_source
     with pytest.raises(KeyError):
         taylor_source(code.taylor_c_source, "octuple")
-    batch = taylor_batch_source(code.taylor_c_source)
+    batch = taylor_batch_source(code.taylor_c_source, code.taylor_program)
     assert batch.count("static double bm_time(") == 1
     dop853, _ = batch_source(code.c_source, None)
     assert dop853.count("static double bm_time(") == 1 and "{{" not in dop853

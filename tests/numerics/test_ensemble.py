@@ -1,7 +1,7 @@
 """Many orbits in one call (numerics/ensemble.py): every orbit is integrate()'s result for it,
-bit for bit, whatever the number of threads; states, parameter sets or both per orbit; quad
-orbits keep their precision; a failing orbit fails alone; bad input names the orbit and runs
-nothing."""
+bit for bit, whatever the number of threads (the Taylor orbits in vector lanes); states,
+parameter sets or both per orbit; quad orbits keep their precision; a failing orbit fails
+alone; bad input names the orbit and runs nothing."""
 
 from __future__ import annotations
 
@@ -74,6 +74,29 @@ def test_one_state_many_parameter_sets_and_a_failing_orbit():
         assert _same(limited.y[j], r.y[j])
 
 
+@pytest.mark.parametrize("threads", [1, 2, 3])
+def test_the_taylor_orbits_run_in_vector_lanes_bit_for_bit(threads, monkeypatch):
+    """Eleven orbits (not a multiple of the four lanes), each with its own state and body,
+    in the lanes driver (whose blocks follow the threads): every orbit's result is
+    integrate()'s -- outputs, status, steps, orders in the message, drift."""
+    used = []
+    lanes = ensemble.run_in_lanes
+    monkeypatch.setattr(ensemble, "run_in_lanes", lambda *a: used.append(a[3]) or lanes(*a))
+    states = _states(11, seed=11)
+    rng = np.random.default_rng(4)
+    sets = [{"I": tuple(rng.uniform(1.0, 3.0, 3)), "D": rng.uniform(0.5, 1.5)} for _ in states]
+    r = integrate_many("chaplygin_ball", states, 4.2, sets, rtol=1e-12, atol=1e-12,
+                       threads=threads)  # fmt: skip
+    assert used == [threads] and r.success.all()
+    for j, s in enumerate(states):
+        one = integrate("chaplygin_ball", s, 4.2, sets[j], rtol=1e-12, atol=1e-12)
+        got = r.results[j]
+        assert _same(got.y, one.y) and _same(got.t, one.t) and got.status == one.status
+        assert got.message == one.message and got.nsteps == one.nsteps
+        assert got.drift == one.drift and got.backend == one.backend
+    assert len({float(v) for v in r.y[:, 0, -1]}) == 11
+
+
 def test_quad_orbits_keep_their_precision():
     """precision = "quad": the orbits run one after another (threads ignored) and each is
     integrate()'s quad result; the outputs are mpf at 34 digits, not doubles."""
@@ -116,11 +139,11 @@ def test_the_bench_section_reports_every_row():
     and tolerances, positive, no orbit failed."""
     from chaplygin.verify.bench_ensemble import ensemble_throughput
 
-    out = ensemble_throughput(orbits=3, repeats=1, quick=True, peers=False)
+    out = ensemble_throughput(orbits=(3, 5), repeats=1, quick=True, peers=False)
     rows = [v for v in out.values() if isinstance(v, dict)]
-    assert len(rows) == 4
+    assert len(rows) == 8 and sum(key.endswith(" N=5") for key in out) == 4
     for row in rows:
         assert row["failed"] == 0 and row["steps_per_orbit"] > 0
         assert row["ours_one_s"] > 0 and row["ours_many_1_s"] > 0
     with pytest.raises(UserInputError):
-        ensemble_throughput(orbits=0)
+        ensemble_throughput(orbits=(0,))

@@ -142,6 +142,21 @@ def test_map_throughput_reports_the_work_it_did():
     assert row["ours_taylor_batch_steps_per_period"] > 0
 
 
+def test_the_equal_accuracy_section_picks_a_taylor_tolerance_no_less_accurate():
+    """The bench's Taylor-against-DOP853 section (no timing asserted): the Taylor tolerance
+    it picks is one of those tried whose error is at most the DOP853's; every tolerance is
+    timed."""
+    from chaplygin.verify.bench_map import EQUAL_ACCURACY_RTOLS, taylor_map_equal_accuracy
+
+    row = taylor_map_equal_accuracy(periods=12, repeats=1, points=5)
+    assert row["dop853_error"] > 0 and row["dop853_us"] > 0
+    assert row["taylor_error"] <= row["dop853_error"] and row["taylor_rtol"] in EQUAL_ACCURACY_RTOLS
+    assert all(row[f"taylor_{tol:g}_us"] > 0 for tol in EQUAL_ACCURACY_RTOLS)
+    assert row["ratio_taylor_to_dop853"] == row["taylor_us"] / row["dop853_us"]
+    with pytest.raises(UserInputError):
+        taylor_map_equal_accuracy(periods=5)
+
+
 # --------------------------------------------------------------- the Taylor batch (method="taylor")
 
 
@@ -155,7 +170,7 @@ def test_taylor_batch_equals_the_single_point_taylor_map():
     r = BatchStroboscopicMap(CODE, rtol=rtol, atol=rtol, method="taylor").run(
         y0, PARAMS, n, transient
     )
-    assert r.method == "taylor" and not r.lockstep and r.y.shape == (3, n, 6)
+    assert r.method == "taylor" and r.lockstep and r.y.shape == (3, n, 6)
     assert (r.status == 0).all() and (r.steps > 0).all() and (r.rejected == 0).all()
     for j, p in enumerate(PARAMS):
         ref = StroboscopicMap(CODE, p, rtol=rtol, atol=rtol, method="taylor").orbit(
