@@ -45,6 +45,7 @@ import numpy as np
 
 from ..derive.errors import UserInputError
 from .code import ModelCode
+from .ensemble_inputs import numeric_rows, read_many
 from .ensemble_lanes import lanes_library, run_in_lanes
 from .integrate import DEFAULT_MAX_WALL_S, prepare_problem
 from .integrators import IntegrationResult
@@ -231,7 +232,11 @@ max_wall_s
         a, b = first[1].t_span
         t_eval = [a + (b - a) * k / 10 for k in range(10)] + [b]
         first = prepare(0, code, t_eval)
-    prepared = [first] + [prepare(j, code, t_eval) for j in range(1, count)]
+    fast = _read_at_once(code, first, states, sets, prec, count)
+    prepared = [first] + [
+        (first[0], fast[j]) if fast[j] is not None else prepare(j, code, t_eval)
+        for j in range(1, count)
+    ]
     setup_s = time.perf_counter() - start
 
     lanes = lanes_library(prepared, backend)
@@ -248,6 +253,22 @@ max_wall_s
         with ThreadPoolExecutor(max_workers=workers) as pool:
             results += list(pool.map(run, range(1, count)))
     return _collect(results, prec, time.perf_counter() - start, workers)
+
+
+def _read_at_once(code: ModelCode, first: tuple, states: list | None, sets: list | None,
+                  prec: Precision, count: int) -> list:  # fmt: skip
+    """The problems of the starts read at once (double, numbers only:
+    :mod:`~chaplygin.numerics.ensemble_inputs`), None for those ``integrate``'s route reads."""
+    if not prec.is_double or count < 2:
+        return [None] * count
+    Y = numeric_rows(states, len(code.state)) if states is not None else None
+    P = numeric_rows(sets, len(code.params)) if sets is not None else None
+    if (states is not None and Y is None) or (sets is not None and P is None):
+        return [None] * count
+    problem = first[1]
+    if Y is None:
+        Y = np.tile(np.asarray(problem.y0, dtype=np.float64), (count, 1))
+    return read_many(code, problem, Y, P)
 
 
 def _collect(results: list[IntegrationResult], prec: Precision, wall: float,

@@ -134,6 +134,77 @@ def test_bad_input_names_the_orbit_and_runs_nothing(monkeypatch):
     assert not ran
 
 
+def test_states_as_arrays_are_read_at_once_and_give_integrate_s_results(monkeypatch):
+    """Eight states as a float array and eight parameter rows (numbers): the starts are read
+    at once (the per-orbit route runs for none of them: counted), and every orbit is
+    integrate()'s result for its row, bit for bit. A row off |gamma| = 1 by 0.3 of the
+    tolerance is renormalised as integrate renormalises it (the same bits); a row off by 1e-3
+    goes to integrate's own route and is refused with its index, as integrate refuses it."""
+    import importlib
+
+    from chaplygin.numerics.inputs import UNIT_TOLERANCE
+
+    integrate_module = importlib.import_module("chaplygin.numerics.integrate")
+
+    rng = np.random.default_rng(11)
+    G = rng.normal(size=(8, 3))
+    G /= np.linalg.norm(G, axis=1)[:, None]
+    Y = np.hstack([rng.uniform(-0.9, 0.9, (8, 3)), G])
+    P = np.column_stack([rng.uniform(1.0, 1.2, 8), rng.uniform(2.0, 2.2, 8),
+                         rng.uniform(3.1, 3.4, 8), rng.uniform(0.8, 1.1, 8)])  # fmt: skip
+    calls = []
+    real = integrate_module.prepare_problem
+    monkeypatch.setattr(ensemble, "prepare_problem",
+                        lambda *a, **k: calls.append(1) or real(*a, **k))  # fmt: skip
+    r = integrate_many("chaplygin_ball", Y, 4.1, P, rtol=1e-12, atol=1e-12)
+    assert len(calls) == 1  # the first orbit only
+    assert r.success.all()
+    for j in range(8):
+        one = integrate("chaplygin_ball", Y[j], 4.1, P[j], rtol=1e-12, atol=1e-12)
+        assert _same(r.y[j], one.y) and r.results[j].drift == one.drift
+        assert r.nsteps[j] == one.nsteps
+    Y[5, 3:] *= 1 + 0.3 * UNIT_TOLERANCE  # off |gamma| = 1 within the tolerance: renormalised
+    calls.clear()
+    r = integrate_many("chaplygin_ball", Y, 4.1, P, rtol=1e-12, atol=1e-12)
+    assert len(calls) == 1 and r.success.all()
+    one = integrate("chaplygin_ball", Y[5], 4.1, P[5], rtol=1e-12, atol=1e-12)
+    assert _same(r.y[5], one.y)
+    Y[6, 3:] *= 1 + 1e-3
+    with pytest.raises(UserInputError, match="orbit 6"):
+        integrate_many("chaplygin_ball", Y, 4.1, P, rtol=1e-12, atol=1e-12)
+    with pytest.raises(UserInputError):
+        integrate("chaplygin_ball", Y[6], 4.1, P[6], rtol=1e-12, atol=1e-12)
+
+
+def test_unit_vectors_renormalised_at_once_have_integrate_s_bits():
+    """unit_rows against pack_state (x/|x| at 30 digits, rounded once) on 3000 generic
+    vectors, a third of them off unit length within the tolerance: every row it accepts has
+    pack_state's bits, and it accepts them all (no ties in generic data); a row beyond the
+    tolerance is not accepted. The control: plain double x/|x| differs from pack_state on
+    some of the same rows (the comparison sees the last bit)."""
+    from chaplygin.numerics.code import load_model_code
+    from chaplygin.numerics.ensemble_inputs import unit_rows
+    from chaplygin.numerics.inputs import pack_state
+    from chaplygin.numerics.precision import Precision
+
+    code, prec = load_model_code("chaplygin_ball"), Precision("double")
+    rng = np.random.default_rng(2026)
+    G = rng.normal(size=(3000, 3))
+    G /= np.linalg.norm(G, axis=1)[:, None]
+    G[::3] *= 1 + rng.uniform(-5e-10, 5e-10, (1000, 1))
+    G[7] *= 1 + 1e-6
+    G[11] = (-(3**-0.5), 0.0, -((2 / 3) ** 0.5))  # a component exactly 0 (the separatrix start)
+    out, ok = unit_rows(G)
+    assert not ok[7] and ok.sum() == len(G) - 1
+    plain = G / np.linalg.norm(G, axis=1)[:, None]
+    differs = 0
+    for j in [11, *np.flatnonzero(ok)[::3]]:
+        ref = pack_state(code, {"M": (0.1, 0.2, 0.3), "gamma": tuple(G[j])}, prec)[3:]
+        assert list(out[j]) == list(ref), j
+        differs += list(plain[j]) != list(ref)
+    assert differs > 10
+
+
 def test_the_bench_section_reports_every_row():
     """chaplygin bench's ensemble section (no timing asserted): every row for both problems
     and tolerances, positive, no orbit failed."""

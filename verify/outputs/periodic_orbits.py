@@ -23,17 +23,15 @@ method has refined it to ``10 k`` times the map's accuracy (``100 rtol``).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from ...arith import detlinalg
 from ...derive.errors import UserInputError
 from ..scene.outputs import Analysis, AnalysisResult, register_analysis
+from .periodic_orbits_figure import multipliers_figure
 from .periodic_orbits_table import ContinuationSpec, PeriodicOrbitsOutput
-
-if TYPE_CHECKING:
-    from matplotlib.figure import Figure
 
 __all__ = ["PeriodicOrbitsOutput", "ContinuationSpec", "PERIODIC_ORBITS", "multipliers_figure"]
 
@@ -248,73 +246,6 @@ def _continue(smap, orbit, vary, value, cspec, progress, continue_periodic_orbit
         return multipliers_figure(par, per, mul, events, vary)
 
     return out, arrays, figure
-
-
-def multipliers_figure(
-    parameter: np.ndarray,
-    period: np.ndarray,
-    multipliers: np.ndarray,
-    events: list,
-    name: str,
-) -> Figure:
-    """|multipliers| and their arguments along the branches, with the events marked.
-
-    Parameters
-    ----------
-    parameter : ndarray, shape (n,)
-    period : ndarray, shape (n,)
-        Period of the branch each point belongs to.
-    multipliers : ndarray, shape (n, dim)
-    events : list of BifurcationEvent
-    name : str
-        The parameter's name.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(8, 6.4), layout="constrained")
-    top, bottom = fig.subplots(2, 1, sharex=True)
-    order = np.argsort(parameter, kind="stable")
-    colours = {"period-doubling": "C3", "saddle-node": "C2", "neimark-sacker": "C4"}
-    for k in np.unique(period):
-        sel = order[period[order] == k]
-        for j in range(multipliers.shape[1]):
-            top.plot(
-                parameter[sel],
-                np.abs(multipliers[sel, j]),
-                ".",
-                ms=2.5,
-                label=f"period {k}" if j == 0 else None,
-                color=f"C{int(np.log2(k)) % 10}",
-            )
-            bottom.plot(
-                parameter[sel],
-                np.angle(multipliers[sel, j]),
-                ".",
-                ms=2.5,
-                color=f"C{int(np.log2(k)) % 10}",
-            )
-    top.axhline(1.0, color="0.5", lw=0.8)
-    for e in events:
-        for ax in (top, bottom):
-            ax.axvline(e.parameter, color=colours.get(e.kind, "k"), lw=0.8, ls="--")
-        top.annotate(
-            f"{e.kind}\n{e.parameter:.7g}",
-            (e.parameter, top.get_ylim()[1]),
-            fontsize=7,
-            rotation=90,
-            va="top",
-            ha="right",
-        )
-    top.set_ylabel("|multiplier|")
-    bottom.set_ylabel("arg multiplier (rad)")
-    bottom.set_xlabel(name)
-    top.legend(fontsize=8, loc="lower left")
-    top.set_title("Floquet multipliers of the periodic orbit along its branch")
-    return fig
 
 
 PERIODIC_ORBITS = register_analysis(

@@ -176,7 +176,7 @@ def _continue(code: Any, params: list, found: Any, crossings: int, cspec: Any, r
     from types import SimpleNamespace
 
     from ...numerics.dynamics.flow_orbits import continue_flow_orbit
-    from .periodic_orbits import multipliers_figure
+    from .periodic_orbits_figure import multipliers_figure
 
     name = cspec.parameter
     value = float(params[code.params.index(name)])
