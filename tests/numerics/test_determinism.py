@@ -5,7 +5,8 @@ BM20 Fig. 5 (Omega = 1.07, d = 4.385: the strange attractor) is run in fresh pro
 hundred periods of the stroboscopic map (the Taylor integrator in C) and the Lyapunov spectrum
 in both forms (the variational DOP853 in C, QR in C, the level-set bases and start vectors in
 Python), then the vector lanes (map Jacobians of six points, their attractors' regimes: the batch
-map and the Lyapunov loop in lanes). Every array and number of those results (wall times
+map and the Lyapunov loop in lanes) and ``integrate_many`` (the starts read together, the Taylor
+integrator in its lanes). Every array and number of those results (wall times
 aside) is hashed; the hashes must be equal under
 
 * ``OPENBLAS_CORETYPE`` = Prescott, Nehalem, Sandybridge, Haswell (numpy's BLAS kernels: they
@@ -96,6 +97,13 @@ for j, r in enumerate(attractor_regimes(code, P, Y, transient=60, recorded=40, m
                                         intervals=40, lyapunov_transient=5)):
     feed(f"regime[{j}]", {"regime": r.regime, "period": r.period, "lyapunov": r.lyapunov,
                           "error": r.lyapunov_error, "points": r.points})
+# many orbits at once: the starts read together, the Taylor integrator in its lanes
+from chaplygin.numerics.ensemble import integrate_many
+
+ball = np.hstack([Y[:, :3] * 0.3, Y[:, 3:]])
+many = integrate_many("chaplygin_ball", ball, 9.7, {"I": (1.13, 2.07, 3.31), "D": 0.93},
+                      rtol=1e-11, atol=1e-11)
+feed("integrate_many", {"y": many.y, "drift": many.drift, "nsteps": many.nsteps})
 print(json.dumps({"hash": h.hexdigest(), "sizes": sizes}))
 """
 
