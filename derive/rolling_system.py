@@ -545,10 +545,6 @@ def _parse(s: RollingSystem) -> dict:
         if s.gyrostat is None
         else sp.Matrix([read_timed(x, "gyrostat") for x in _entries(s.gyrostat, 3, "gyrostat")])
     )
-    if s.surface is not None and (gyrostat.has(timed["t"]) or inertia.has(timed["t"])):
-        raise UserInputError(
-            "a prescribed gyrostat K(t) or inertia I(t) is derived for a spherical body only"
-        )
     plane_velocity = _check_moving(s, read_timed)
     support_surface = _read_support_surface(
         s, scope, {"inertia": inertia, "centre": centre, "rotor_momentum": gyrostat,
@@ -559,6 +555,9 @@ def _parse(s: RollingSystem) -> dict:
         used = set().union(
             *(sp.sympify(e).free_symbols for e in (inertia, mass, centre, field_strength)),
             sp.sympify(support_radius).free_symbols,
+            sp.sympify(rotation_rate).free_symbols,
+            # a constant velocity of the plane changes nothing (Galilean): only V' enters
+            plane_velocity.diff(timed["t"]).free_symbols,
             gyrostat.free_symbols,
             *(sp.diff(surface, ri).free_symbols for ri in vector("r", real=True)),
         )
