@@ -409,7 +409,7 @@ class BodyOnSphereReduction:
 
         The energy ``H`` is shipped on a fixed support with ``T`` free of time; on a
         plane turning at a constant rate the energy in its frame ``J``
-        (:meth:`PlaneMotion.jacobi_integral`); a rubber body's ``(omega,gamma)`` (``(omega,
+        (:meth:`PlaneMotion.jacobi_integral`; rolling, not rubber); a rubber body's ``(omega,gamma)`` (``(omega,
         n) - Omega``, zero on the phase space); on a moving plane the frame's products
         with itself and with ``n``; then the description's invariant relations.
 
@@ -464,7 +464,9 @@ class BodyOnSphereReduction:
         if not timed and not moves:
             integrals.append(("H", eq.energy))
         J = plane.jacobi_integral(eq, desc.inertia, self.mass, self.gravity, self.gyrostat)
-        if J is not None and not timed:
+        # (a rubber body's J holds on (omega, n) = Omega only, which is not a relation
+        # of the state here: not shipped)
+        if J is not None and not timed and not plane.no_twist:
             integrals.append(("J", sp.expand(J)))
         if plane.no_twist:
             integrals.append(("(omega,gamma)", dot(eq.omega, eq.normal) - plane.rotation_rate))

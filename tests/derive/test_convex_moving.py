@@ -171,3 +171,55 @@ def test_what_a_convex_body_is_not_derived_on_is_refused_in_one_line(fields, mes
     with pytest.raises(UserInputError, match=message) as info:
         RollingSystem("refused", inertia=("I1", "I2", "I3"), surface=SPHERE, **fields)
     assert "\n" not in str(info.value)
+
+
+ELLIPSOID = "x1**2/(9/10)**2 + x2**2/(7/10)**2 + x3**2/(1/2)**2 - 1"
+HEAVY = dict(
+    inertia=("31/100", "43/100", "57/100"), mass="13/10", surface=ELLIPSOID, gravity="49/5",
+    centre_of_mass=("1/13", 0, "1/10"), gyrostat=(0, "3/10", 0), support="rotating_plane",
+)  # fmt: skip
+
+
+def _energy_and_axial_momentum(model, Omega: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
+    """Written here from first principles: the energy E and the angular momentum about
+    the vertical axis (n, I omega + K + m (rho - r) x v), with v = r x omega + Omega n x
+    rho (no slip on the turntable), n = -grad f/|grad f| and the centre of mass at the
+    height -(r, n) (f the ellipsoid of HEAVY, its centre at -c from the centre of mass)."""
+    omega = sp.Matrix(model.group("omega"))
+    r, rho = sp.Matrix(model.group("r")), sp.Matrix(model.group("rho"))
+    x = r + sp.Matrix([R(1, 13), 0, R(1, 10)])
+    grad = sp.Matrix([2 * x[0] / R(81, 100), 2 * x[1] / R(49, 100), 2 * x[2] / R(1, 4)])
+    # the radicand in the model's canonical form (the verifier splits square roots off by
+    # their radicands: sqrt(4 S) and 2 sqrt(S) would be two independent generators)
+    n = -grad / sp.sqrt(sp.factor_terms(sp.expand(grad.dot(grad))))
+    m, g, K = R(13, 10), R(49, 5), sp.Matrix([0, R(3, 10), 0])
+    inertia = sp.diag(R(31, 100), R(43, 100), R(57, 100))
+    v = r.cross(omega) + Omega * n.cross(rho)
+    energy = (omega.T * inertia * omega)[0] / 2 + m * v.dot(v) / 2 - m * g * r.dot(n)
+    return energy, n.dot(inertia * omega + K + m * (rho - r).cross(v))
+
+
+@pytest.mark.slow
+def test_the_energy_in_the_turntable_s_frame_is_an_integral_at_a_constant_rate_only():
+    """A heavy ellipsoid with an offset centre and a rotor rolling on a turntable turning
+    at a constant rate: the energy is not an integral (the plane does work) but the energy
+    in the turning frame J (the Jacobi integral: the no-slip constraint is homogeneous in
+    the turning frame's velocities) is, proved by the verifier; the model ships it (the
+    same function). Controls refuted by the same machinery: the energy alone, and J on a
+    turntable whose rate changes (Omega = W cos t)."""
+    from chaplygin.verify.identity import Domain, decide, lie_derivative
+
+    model = RollingSystem("turntable_egg", rotation_rate="5/3", **HEAVY).model()
+    assert [n for n, _ in model.integrals] == ["J", "(rho,gamma)", "f"]
+    energy, axial = _energy_and_axial_momentum(model, R(5, 3))
+    J = energy - R(5, 3) * axial
+    proof = decide([lie_derivative(J, model)], Domain(model))
+    assert proof.verdict == "proved", proof
+    assert decide([model.integral("J") - J], Domain(model)).verdict == "proved"
+    assert decide([lie_derivative(energy, model)], Domain(model)).verdict == "refuted"
+    t = sp.Symbol("t", real=True)
+    turning = RollingSystem("turntable_egg", rotation_rate="5/3*cos(t)", **HEAVY).model()
+    assert "J" not in dict(turning.integrals)
+    energy, axial = _energy_and_axial_momentum(turning, R(5, 3) * sp.cos(t))
+    J_t = energy - R(5, 3) * sp.cos(t) * axial
+    assert decide([lie_derivative(J_t, turning)], Domain(turning)).verdict == "refuted"
