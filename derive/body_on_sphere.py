@@ -409,9 +409,10 @@ class BodyOnSphereReduction:
 
         The energy ``H`` is shipped on a fixed support with ``T`` free of time; on a
         plane turning at a constant rate the energy in its frame ``J``
-        (:meth:`PlaneMotion.jacobi_integral`; rolling, not rubber); a rubber body's ``(omega,gamma)`` (``(omega,
-        n) - Omega``, zero on the phase space); on a moving plane the frame's products
-        with itself and with ``n``; then the description's invariant relations.
+        (:meth:`PlaneMotion.jacobi_integral`; rolling, not rubber); a rubber body's
+        ``(omega,gamma)`` (``(omega, n) - Omega``, zero on the phase space); on a moving
+        plane the frame's products with itself and with ``n``; then the description's
+        invariant relations.
 
         Parameters
         ----------
