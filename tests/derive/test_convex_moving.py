@@ -135,14 +135,18 @@ def test_a_sphere_as_a_convex_surface_moves_as_the_spherical_body_on_a_moving_pl
     ],
     ids=["I(t)", "K(t)"],
 )
-@pytest.mark.parametrize("support", ["plane", "turntable"])
+@pytest.mark.parametrize("support", ["plane", "turntable", "sphere"])
 def test_a_sphere_as_a_convex_surface_with_prescribed_inertia_or_rotor(fields, support):
-    """I(t) (masses moving in symmetric pairs) and K(t) (driven rotors) on the fixed plane
-    and on a turntable: the convex route agrees exactly with the spherical body's; the
-    energy is not shipped (T depends on t). Control: the frozen law at T0 (the same
-    momentum then, no I' or K') is refuted by the same comparison."""
+    """I(t) (masses moving in symmetric pairs) and K(t) (driven rotors) on the fixed plane,
+    on a turntable and outside a fixed sphere (no field there): the convex route agrees
+    exactly with the spherical body's; the energy is not shipped (T depends on t).
+    Control: the frozen law at T0 (the same momentum then, no I' or K') is refuted by the
+    same comparison."""
     base = dict(COMMON, **fields)
     base.update(SUPPORTS.get(support, {}))
+    if support == "sphere":
+        base.pop("gravity")
+        base.update(support="sphere", support_radius="29/10")
     sphere = RollingSystem("as_sphere", **base).model()
     convex = RollingSystem("as_surface", surface=SPHERE, **base).model()
     assert not {"H", "J"} & {n for n, _ in convex.integrals}
