@@ -314,6 +314,7 @@ def derive_body_on_sphere(
         force=-m * gravity * n,
     )
     red = lagrange_dalembert(desc)
+    red.momentum = red.momentum.xreplace(to_n)
     red.momentum_rate = red.momentum_rate.xreplace(to_n)
     red.gyrostatic_momentum = red.gyrostatic_momentum.xreplace(to_n)
     II = red.inertia_operator
