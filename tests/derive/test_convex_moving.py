@@ -127,6 +127,7 @@ def test_a_sphere_as_a_convex_surface_moves_as_the_spherical_body_on_a_moving_pl
     assert any(sp.simplify(wrong[i] - acceleration[i]) != 0 for i in range(3))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     "fields",
     [
