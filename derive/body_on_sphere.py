@@ -40,13 +40,19 @@ import sympy as sp
 from .algebra import seeded_factor
 from .ball_on_surface import ellipsoid_sampler
 from .description import MechanicalDescription, Reduced, form_model
-from .engine import ReducedEquations, RigidBodyDescription, lagrange_dalembert
+from .engine import (
+    ReducedEquations,
+    RigidBodyDescription,
+    _time_derivative,
+    lagrange_dalembert,
+)
 from .model import Model, ModelDetails, ParameterSpec
 from .vectors import cross, dot, vector
 
 __all__ = [
     "BodyOnSphere",
     "BodyOnSphereReduction",
+    "PlaneMotion",
     "contact_normal_rate",
     "derive_body_on_sphere",
     "body_on_sphere_model",
@@ -95,6 +101,96 @@ def _adjugate_and_det(A: sp.Matrix) -> tuple[sp.Matrix, sp.Expr]:
     return cof.T, det
 
 
+@dataclass(frozen=True)
+class PlaneMotion:
+    """How the plane under a convex body moves, and whether the body may twist on it.
+
+    Parameters
+    ----------
+    rotation_rate : sympy.Expr
+        ``Omega``, a constant or a function of ``t``: the plane turns about the fixed
+        vertical axis through the point the carried position ``rho`` is measured from.
+    velocity : sympy.Matrix or None, shape (2, 1)
+        ``(V1, V2)`` along the fixed horizontal axes ``alpha, beta`` (Poisson vectors).
+    no_twist : bool
+        Rubber rolling: ``(omega, n) = Omega``.
+    """
+
+    rotation_rate: sp.Expr = sp.S.Zero
+    velocity: sp.Matrix | None = None
+    no_twist: bool = False
+
+    def kinematics(
+        self, n: sp.Matrix, omega: sp.Matrix, r: sp.Matrix, r_dot: sp.Matrix
+    ) -> tuple[dict[str, tuple[sp.Matrix, sp.Matrix]], sp.Matrix]:
+        """The configuration vectors with their body-frame rates, and the plane's velocity
+        at the contact.
+
+        On a rotating plane the contact point's position from the axis ``rho`` joins:
+        the contact point moves in space at ``v + r' + omega x r`` = ``Omega n x rho + r'``
+        (no slip), so ``rho' = Omega n x rho + r' + rho x omega``; on a moving plane the
+        fixed axes ``alpha, beta`` (``X' = X x omega``).
+
+        Parameters
+        ----------
+        n, omega, r, r_dot : sympy.Matrix
+            The upward normal ``n(r)``, the angular velocity, the contact point from the
+            centre of mass and its (abstract) rate, body axes.
+
+        Returns
+        -------
+        kinematics : dict of str to (sympy.Matrix, sympy.Matrix)
+        carried : sympy.Matrix, shape (3, 1)
+            ``Omega n x rho + V1 alpha + V2 beta``.
+        """
+        kinematics = {"r": (r, r_dot)}
+        carried = sp.zeros(3, 1)
+        if self.rotation_rate != 0:
+            rho = vector("rho", real=True)
+            carried += self.rotation_rate * cross(n, rho)
+            kinematics["rho"] = (rho, carried + r_dot + cross(rho, omega))
+        if self.velocity is not None and not self.velocity.is_zero_matrix:
+            for name, V in zip(("alpha", "beta"), self.velocity, strict=True):
+                X = vector(name, real=True)
+                kinematics[name] = (X, cross(X, omega))
+                carried += V * X
+        return kinematics, carried
+
+    def jacobi_integral(
+        self,
+        eq: BodyOnSphere,
+        inertia: sp.Matrix,
+        m: sp.Expr,
+        gravity: sp.Expr,
+        gyrostat: sp.Matrix | None,
+    ) -> sp.Expr | None:
+        """The energy in the frame turning with the plane, ``E - Omega (n, L_O)``, for a
+        constant ``Omega`` (``L_O`` the angular momentum about the axis: ``I omega + K +
+        m (rho - r) x v``); None on a moving plane or for ``Omega(t)``.
+
+        Parameters
+        ----------
+        eq : BodyOnSphere
+        inertia : sympy.Matrix
+            The central inertia tensor (constant).
+        m, gravity : sympy.Expr
+        gyrostat : sympy.Matrix or None
+
+        Returns
+        -------
+        sympy.Expr or None
+        """
+        Omega, t = self.rotation_rate, sp.Symbol("t", real=True)
+        if Omega == 0 or Omega.has(t) or (self.velocity is not None and any(self.velocity)):
+            return None
+        rho, n, omega, r = vector("rho", real=True), eq.normal, eq.omega, eq.r
+        v = cross(r, omega) + Omega * cross(n, rho)  # the centre of mass's velocity
+        K = sp.zeros(3, 1) if gyrostat is None else gyrostat
+        energy = (omega.T * inertia * omega)[0] / 2 + m * dot(v, v) / 2 - m * gravity * dot(r, n)
+        L = inertia * omega + K + m * cross(rho - r, v)
+        return energy - Omega * dot(n, L)
+
+
 @dataclass
 class BodyOnSphere:
     """Derived equations of a body rolling on a sphere (in ``omega, r`` and ``r'``).
@@ -112,6 +208,15 @@ class BodyOnSphere:
     r_rate : sympy.Matrix
         ``r' = (k Id + dn/dr)^-1 (n x omega)`` in the state.
     energy : sympy.Expr
+        ``T + V`` on the admissible velocities (an integral on a fixed support with ``T``
+        free of time).
+    multipliers : tuple of (sympy.Symbol, sympy.Expr)
+        The reaction ``mu`` of no twist (rubber) in the state and ``r'``; empty otherwise.
+    plane : PlaneMotion
+        The plane's motion the equations were derived for.
+    kinematics : dict
+        The engine's configuration vectors and their rates (``r``, ``rho``, ``alpha``,
+        ``beta``).
     """
 
     omega: sp.Matrix
@@ -124,6 +229,9 @@ class BodyOnSphere:
     normal_jacobian: sp.Matrix
     r_rate: sp.Matrix
     energy: sp.Expr
+    multipliers: tuple[tuple[sp.Symbol, sp.Expr], ...] = ()
+    plane: PlaneMotion | None = None
+    kinematics: dict | None = None
 
 
 def derive_body_on_sphere(
@@ -135,6 +243,7 @@ def derive_body_on_sphere(
     r: sp.Matrix,
     gyrostat: sp.Matrix | None = None,
     gravity: sp.Expr = sp.S.Zero,
+    plane: PlaneMotion | None = None,
 ) -> BodyOnSphere:
     """Derive the equations of a body with surface ``f(r) = 0`` rolling on a sphere.
 
@@ -154,14 +263,24 @@ def derive_body_on_sphere(
     omega, r : sympy.Matrix
         State symbols.
     gyrostat : sympy.Matrix, optional
-        A constant gyrostatic momentum ``K``: ``T`` gains ``(K, omega)``.
+        A gyrostatic momentum ``K``: ``T`` gains ``(K, omega)``; constant or a function
+        of the time ``t`` (rotors whose motors set it).
     gravity : sympy.Expr, optional
         ``g`` of a field along ``-n``; on a plane only (``k = 0``).
+    plane : PlaneMotion, optional
+        How the plane moves (``k = 0`` only): the no-slip constraint becomes affine, the
+        body's contact point moving with the plane's point under it, and a rubber body
+        does not twist relative to it. ``inertia`` may depend on ``t`` (``I(t)``).
 
     Returns
     -------
     BodyOnSphere
         The derived kinematics, momentum balance and energy.
+
+    Raises
+    ------
+    ValueError
+        For a field or a moving support on a sphere (``k != 0``).
     """
     t = sp.Symbol("t", real=True)
     v = vector("v", real=True)
@@ -172,22 +291,44 @@ def derive_body_on_sphere(
     grad = sp.Matrix([sp.diff(surface, s) for s in r])
     q = sp.sqrt(sp.factor_terms(sp.expand(dot(grad, grad))))
     n = (-grad / q).applyfunc(sp.factor_terms)
-    if gravity != 0 and k != 0:
-        raise ValueError("a field along the normal is derived on a plane (k = 0) only")
+    if (gravity != 0 or plane is not None) and k != 0:
+        raise ValueError("a field along the normal or a moving support: on a plane (k = 0) only")
+    plane = plane or PlaneMotion()
+    # the normal as a vector fixed in space for the engine (nu' = nu x omega, which
+    # (dn/dr) r' is), put back as n(r) after: no square roots in its solve
+    nu = vector("nu", real=True)
+    kinematics, carried = plane.kinematics(nu, omega, r, r_dot)
+    constraints = list(v + cross(omega, r) - carried)
+    if plane.no_twist:  # (omega, n) = Omega: no twist relative to the plane
+        constraints.append(dot(omega, nu) - plane.rotation_rate)
+    if set(kinematics) != {"r"} or plane.no_twist:
+        kinematics["nu"] = (nu, cross(nu, omega))
+    to_n = dict(zip(nu, n, strict=True))
     desc = RigidBodyDescription(
         omega=omega,
         v=v,
         kinetic_energy=T,
-        constraints=list(v + cross(omega, r)),
-        kinematics={"r": (r, r_dot)},
+        constraints=constraints,
+        kinematics=kinematics,
         time=t,
         force=-m * gravity * n,
     )
     red = lagrange_dalembert(desc)
+    red.momentum = red.momentum.xreplace(to_n)
+    red.momentum_rate = red.momentum_rate.xreplace(to_n)
+    red.gyrostatic_momentum = red.gyrostatic_momentum.xreplace(to_n)
     II = red.inertia_operator
-    II_rate = II.applyfunc(lambda e: sum(sp.diff(e, r[i]) * r_dot[i] for i in range(3)))
+    II_rate = II.applyfunc(lambda e: _time_derivative(e, kinematics, t))  # r' and I'(t)
     adj, det = _adjugate_and_det(II)
-    omega_rate = adj * (red.momentum_rate - II_rate * omega) / seeded_factor(det)
+    det = seeded_factor(det)
+    omega_rate = adj * (red.momentum_rate - II_rate * omega) / det
+    multipliers: tuple[tuple[sp.Symbol, sp.Expr], ...] = ()
+    if red.omega_multipliers:  # eliminated from d/dt ((omega, n) - Omega) = 0
+        free = red.momentum_rate.xreplace(dict.fromkeys(red.omega_multipliers, 0))
+        solved = red.multiplier_solution(free, lambda u: adj * u / det)
+        multipliers = tuple((mu, e.xreplace(to_n)) for mu, e in solved.items())
+    kinematics.pop("nu", None)
+    kinematics = {k: (X, rate.xreplace(to_n)) for k, (X, rate) in kinematics.items()}
     Dn = n.jacobian(r)
     if k == 0:  # a plane: n' = n x omega, and r' tangent to the surface
         equations = Dn * r_dot - cross(n, omega) + n * dot(n, r_dot)
@@ -208,6 +349,9 @@ def derive_body_on_sphere(
         normal_jacobian=Dn,
         r_rate=r_rate,
         energy=red.energy - m * gravity * dot(r, n),
+        multipliers=multipliers,
+        plane=plane,
+        kinematics=kinematics,
     )
 
 
@@ -243,9 +387,12 @@ class BodyOnSphereReduction:
     angular_velocity, position : str
         The state groups ``omega`` and ``r`` (their rates are derived).
     gyrostat : sympy.Matrix, optional
-        A constant gyrostatic momentum.
+        A gyrostatic momentum, constant or of the time ``t``.
     gravity : sympy.Expr
         ``g`` of a field along ``-n`` (on a plane).
+    plane : PlaneMotion, optional
+        A moving plane (``curvature`` 0): the state groups ``rho`` (rotating) or
+        ``alpha, beta`` (moving) are derived too.
     """
 
     surface: sp.Expr
@@ -255,15 +402,24 @@ class BodyOnSphereReduction:
     position: str = "r"
     gyrostat: sp.Matrix | None = None
     gravity: sp.Expr = sp.S.Zero
+    plane: PlaneMotion | None = None
 
     def reduce(self, desc: MechanicalDescription) -> Reduced:
-        """``omega'`` and ``r'`` (an auxiliary ``rdot``), the energy ``H``; no density.
+        """``omega'`` and ``r'`` (an auxiliary ``rdot``), the carried groups' rates and
+        the integrals; no density.
+
+        The energy ``H`` is shipped on a fixed support with ``T`` free of time; on a
+        plane turning at a constant rate the energy in its frame ``J``
+        (:meth:`PlaneMotion.jacobi_integral`; rolling, not rubber); a rubber body's
+        ``(omega,gamma)`` (``(omega, n) - Omega``, zero on the phase space); on a moving
+        plane the frame's products with itself and with ``n``; then the description's
+        invariant relations.
 
         Parameters
         ----------
         desc : MechanicalDescription
             With the body's ``inertia`` and the state groups :attr:`angular_velocity`,
-            :attr:`position`.
+            :attr:`position` (and ``rho`` or ``alpha, beta`` on a moving plane).
 
         Returns
         -------
@@ -285,17 +441,43 @@ class BodyOnSphereReduction:
         r = desc.state_group(self.position)
         eq = derive_body_on_sphere(
             self.surface, desc.inertia, self.mass, self.curvature, omega, r,
-            gyrostat=self.gyrostat, gravity=self.gravity,
+            gyrostat=self.gyrostat, gravity=self.gravity, plane=self.plane,
         )  # fmt: skip
         rdot = eq.r_rate_symbols
+        rates = {self.angular_velocity: list(eq.omega_rate), self.position: list(rdot)}
+        carried = {n: X for n, X in eq.kinematics.items() if n != "r"}
+        rates.update({n: list(eq.kinematics[n][1]) for n in carried})
         return Reduced(
-            rates={self.angular_velocity: list(eq.omega_rate), self.position: list(rdot)},
-            aux=tuple(zip(rdot, eq.r_rate, strict=True)),
-            integrals=[("H", eq.energy)],
+            rates=rates,
+            aux=tuple(zip(rdot, eq.r_rate, strict=True)) + eq.multipliers,
+            integrals=self._integrals(desc, eq) + sorted(desc.invariant_relations.items()),
             density=None,
             omega=omega,
+            relation_unknowns=tuple(s for X, _ in carried.values() for s in X),
             details=BodyOnSphereDetails(equations=eq, surface=self.surface, inertia=desc.inertia),
         )
+
+    def _integrals(self, desc: MechanicalDescription, eq: BodyOnSphere) -> list:
+        plane = eq.plane or PlaneMotion()
+        t = desc.time
+        timed = desc.inertia.has(t) or (self.gyrostat is not None and self.gyrostat.has(t))
+        moves = plane.rotation_rate != 0 or set(eq.kinematics) - {"r"}
+        integrals = []
+        if not timed and not moves:
+            integrals.append(("H", eq.energy))
+        J = plane.jacobi_integral(eq, desc.inertia, self.mass, self.gravity, self.gyrostat)
+        # (a rubber body's J holds on (omega, n) = Omega only, which is not a relation
+        # of the state here: not shipped)
+        if J is not None and not timed and not plane.no_twist:
+            integrals.append(("J", sp.expand(J)))
+        if plane.no_twist:
+            integrals.append(("(omega,gamma)", dot(eq.omega, eq.normal) - plane.rotation_rate))
+        if "alpha" in eq.kinematics:
+            a, b = (eq.kinematics[n][0] for n in ("alpha", "beta"))
+            integrals += [("(alpha,alpha)", dot(a, a)), ("(alpha,beta)", dot(a, b))]
+            integrals += [("(beta,beta)", dot(b, b)), ("(alpha,gamma)", dot(a, eq.normal))]
+            integrals += [("(beta,gamma)", dot(b, eq.normal))]
+        return integrals
 
 
 def body_on_sphere_model(

@@ -15,12 +15,12 @@ from typing import TYPE_CHECKING
 import sympy as sp
 
 from .ball_on_support import SupportSurfaceReduction
-from .body_on_sphere import BodyOnSphereReduction
+from .body_on_sphere import BodyOnSphereReduction, PlaneMotion
 from .description import MechanicalDescription
 from .errors import UserInputError
 from .expression_text import parse_expression
 from .model import ParameterSpec
-from .vectors import vector
+from .vectors import dot, vector
 
 if TYPE_CHECKING:
     from .rolling_system import RollingSystem
@@ -29,11 +29,20 @@ __all__: list[str] = []
 
 
 def _convex_body_description(s: RollingSystem) -> MechanicalDescription:
-    """A convex body on the fixed plane: state ``omega`` and the contact point ``r``."""
+    """A convex body on a plane or a fixed sphere: state ``omega`` and the contact point
+    ``r``; on a rotating plane also the contact's position ``rho`` from the axis, on a
+    moving plane the fixed axes ``alpha, beta``."""
     p = s._parsed
     omega, r = vector("omega", real=True), vector("r", real=True)
     m = p["mass"]
     names = tuple(x.name for x in p["parameters"])
+    plane = None
+    if s.support != "sphere":
+        velocity = p["plane_velocity"]
+        plane = PlaneMotion(
+            p["rotation_rate"], None if velocity.is_zero_matrix else velocity,
+            no_twist=s.contact != "rolling",  # rubber (a line is refused)
+        )  # fmt: skip
     desc = MechanicalDescription(
         system=s.name,
         effects=frozenset(),
@@ -41,13 +50,21 @@ def _convex_body_description(s: RollingSystem) -> MechanicalDescription:
         omega=omega,
         reduction=BodyOnSphereReduction(
             p["surface"], m, _support_curvature(s), gyrostat=p["rotor_momentum"],
-            gravity=p["field"],
+            gravity=p["field"], plane=plane,
         ),  # fmt: skip
         parameter_order=names,
         inertia=p["inertia"],
     )
     desc.add_state("omega", tuple(omega), None)
     desc.add_state("r", tuple(r), None)
+    if s.support == "rotating_plane":  # horizontal: (rho, grad f) = 0 on the phase space
+        rho = vector("rho", real=True)
+        desc.add_state("rho", tuple(rho), None)
+        grad = [sp.diff(p["surface"], x) for x in r]
+        desc.add_invariant_relation("(rho,gamma)", sp.expand(dot(rho, sp.Matrix(grad))))
+    if s.support == "moving_plane":
+        for name in ("alpha", "beta"):
+            desc.add_state(name, tuple(vector(name, real=True)), None)
     # the contact point stays on the surface: its level is an integral
     r_free = p["surface"].xreplace(dict.fromkeys(r, 0))
     desc.add_integral("f", sp.expand(p["surface"] - r_free))  # the level: up to a constant
@@ -131,10 +148,16 @@ def _read_surface(s: RollingSystem, scope: dict, centre: sp.Matrix) -> sp.Expr |
     """``f`` in the contact point ``r`` from the centre of mass: ``f(r + c)``."""
     if s.surface is None:
         return None
-    if s.support not in ("plane", "sphere") or s.contact != "rolling":
+    planes = ("plane", "rotating_plane", "moving_plane")
+    if s.support not in (*planes, "sphere") or s.contact == "line":
         raise UserInputError(
-            "a convex body (surface) is derived rolling without slipping on a fixed plane or "
-            f"sphere only in this version, not with support {s.support!r}, contact {s.contact!r}"
+            "a convex body (surface) is derived rolling or rubber rolling on a plane (fixed, "
+            "rotating or moving) or rolling on a fixed sphere only in this version, not with "
+            f"support {s.support!r}, contact {s.contact!r}"
+        )
+    if s.support == "sphere" and s.contact != "rolling":
+        raise UserInputError(
+            f"a convex body on a sphere is derived rolling only in this version, not {s.contact!r}"
         )
     if s.support == "sphere" and s.gravity is not None:
         raise UserInputError("a convex body on a sphere is derived without gravity in this version")

@@ -47,12 +47,19 @@ the fixed horizontal axes ``alpha, beta`` (Poisson vectors, with ``gamma`` a fra
 The rates and velocities are expressions of the time ``t`` and the parameters.
 
 A convex body ``f(x) = 0`` (``surface="..."``, an expression of ``x1, x2, x3`` in body
-axes from the point ``centre_of_mass`` is measured from) rolls without slipping on the
-fixed plane, with gravity and a constant gyrostat: the body-frame stage of a body on a
-sphere (:mod:`.body_on_sphere`) with curvature ``0``; the state is ``omega`` and the
-contact point ``r`` from the centre of mass (``(dn/dr + n n^T) r' = n x omega``, ``n =
--grad f/|grad f|`` the upward normal), the integrals the energy and the surface's level
-``f`` (the contact point stays on it).
+axes from the point ``centre_of_mass`` is measured from) rolls without slipping, or
+without slipping and twisting, on a plane — fixed, rotating (``Omega`` constant or of
+``t``) or moving (``V(t)``) —, with gravity and a gyrostat: the body-frame stage of a
+body on a sphere (:mod:`.body_on_sphere`) with curvature ``0``; the state is ``omega``
+and the contact point ``r`` from the centre of mass (``(dn/dr + n n^T) r' = n x omega``,
+``n = -grad f/|grad f|`` the upward normal), the integrals the energy (on the fixed plane)
+and the surface's level ``f`` (the contact point stays on it). On a rotating plane the
+state gains the contact's position ``rho`` from the axis (``rho' = Omega n x rho + r' + rho
+x omega``, the relation ``(rho, grad f) = 0``) and, at a constant rate and rolling, the
+energy in the plane's frame ``J = E - Omega (n, I omega + K + m (rho - r) x v)`` is an
+integral; on a moving plane the fixed axes ``alpha, beta`` (a constant velocity changes
+nothing: only ``V'`` enters). A rubber body ships ``(omega, n) - Omega`` (zero on the
+phase space).
 
 The gyrostat may be prescribed, ``K(t)`` (rotors whose motors set the spin), and the
 inertia may change with time, ``I(t)`` (masses moving in symmetric pairs along lines
@@ -66,10 +73,10 @@ in the fixed frame.
 A convex body also rolls on a fixed sphere (no field): M03 §2's stage with the signed
 curvature ``k = -1/R`` outside, ``1/R`` inside, ``(k Id + dn/dr) r' = n x omega``.
 
-Every other support, contact and surface the issue lists (convex bodies on moving planes,
-other bodies than a homogeneous ball on a support surface, rolling along a line on a
-moving plane) is refused with a
-message that says so — before any work.
+Every other support, contact and surface the issue lists (a convex body along a line, or
+rubber or under a field on a sphere, other bodies than a homogeneous ball on a support
+surface, rolling along a line on a moving plane) is refused with a message that says so —
+before any work.
 
 Every text a user types is read by :func:`~.expression_text.parse_expression` (no
 ``eval``); the checks of :meth:`RollingSystem.__post_init__` run before anything is
@@ -206,9 +213,10 @@ class RollingSystem:
         ``surface``'s coordinates), body axes.
     surface : str or sympy.Expr, optional
         A convex body ``f(x1, x2, x3) = 0`` instead of a sphere (``f < 0`` inside), on a
-        fixed plane, rolling without slipping. The equations hold on every level set of
-        ``f`` (the contact point ``r`` chooses it): a name only in ``f``'s constant term
-        (a sphere's radius) is not a parameter.
+        plane (fixed, rotating or moving; rolling or rubber) or rolling on a fixed sphere
+        (no field). The equations hold on every level set of ``f`` (the contact point
+        ``r`` chooses it): a name only in ``f``'s constant term (a sphere's radius) is
+        not a parameter, nor is a constant plane velocity.
     gravity : number or str, optional
         Strength ``g`` of a constant field along ``-gamma``; None: no field.
     gyrostat : 3 numbers/expressions, optional
@@ -545,10 +553,6 @@ def _parse(s: RollingSystem) -> dict:
         if s.gyrostat is None
         else sp.Matrix([read_timed(x, "gyrostat") for x in _entries(s.gyrostat, 3, "gyrostat")])
     )
-    if s.surface is not None and (gyrostat.has(timed["t"]) or inertia.has(timed["t"])):
-        raise UserInputError(
-            "a prescribed gyrostat K(t) or inertia I(t) is derived for a spherical body only"
-        )
     plane_velocity = _check_moving(s, read_timed)
     support_surface = _read_support_surface(
         s, scope, {"inertia": inertia, "centre": centre, "rotor_momentum": gyrostat,
@@ -559,6 +563,9 @@ def _parse(s: RollingSystem) -> dict:
         used = set().union(
             *(sp.sympify(e).free_symbols for e in (inertia, mass, centre, field_strength)),
             sp.sympify(support_radius).free_symbols,
+            sp.sympify(rotation_rate).free_symbols,
+            # a constant velocity of the plane changes nothing (Galilean): only V' enters
+            plane_velocity.diff(timed["t"]).free_symbols,
             gyrostat.free_symbols,
             *(sp.diff(surface, ri).free_symbols for ri in vector("r", real=True)),
         )

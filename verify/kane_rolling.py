@@ -238,24 +238,50 @@ def quadric_contact(surface: sp.Expr, up: sp.Matrix) -> sp.Matrix:
 
 
 def _compare_convex(system, model, kane, pvals, momenta) -> KaneComparison:
-    """``omega'`` and ``r'`` of the state ``(omega, r)`` against Kane's, and the momentum
-    about the contact, at the contact points of :data:`RATIONAL_UNIT_VECTORS`."""
-    omega, r = sp.Matrix(model.group("omega")), sp.Matrix(model.group("r"))
+    """``omega'``, ``r'`` (and on a turntable ``rho'``) of the state ``(omega, r, ...)``
+    against Kane's, and the momentum about the contact, at the contact points of
+    :data:`RATIONAL_UNIT_VECTORS` (at :data:`T0` when a law depends on time; a rubber
+    body's ``omega`` moved onto ``(omega, gamma) = Omega``; on a shaken plane the fixed
+    axes where Kane's body is)."""
+    groups = dict(model.state_groups)
+    omega, r = sp.Matrix(groups["omega"]), sp.Matrix(groups["r"])
+    time = sp.Symbol("t", real=True)
     rhs = model.rhs_expanded.xreplace(pvals)
-    index = {s: list(model.state).index(s) for s in (*omega, *r)}
+    compared = [n for n in ("omega", "r", "rho") if n in groups]
+    index = {s: list(model.state).index(s) for n in compared for s in groups[n]}
     momentum = model.details.equations.reduced.momentum.xreplace(pvals)
     surface = system._parsed["surface"].xreplace(pvals)
+    timed = rhs.has(time) or momentum.has(time)
+    now = T0 if timed else sp.S.Zero
+    Omega = system._parsed["rotation_rate"].xreplace({**pvals, time: now})
     worst = [0.0, 0.0, 0.0]
     count = 0
     for w in momenta:
         for gamma in RATIONAL_UNIT_VECTORS:
-            contact = quadric_contact(surface, sp.Matrix(gamma))
+            g = sp.Matrix(gamma)
+            contact = quadric_contact(surface, g)
+            w = sp.Matrix(w)
+            if system.contact == "rubber":
+                w = w + (Omega - w.dot(g)) * g
             point = {**dict(zip(omega, w, strict=True)), **dict(zip(r, contact, strict=True))}
+            point[time] = now
+            rho = None
+            if "rho" in groups:  # horizontal
+                rho = list(sp.Matrix(_RHO_SEED) - sp.Matrix(_RHO_SEED).dot(g) * g)
+                point.update(zip(groups["rho"], rho, strict=True))
+            if "alpha" in groups:
+                for name, comps in zip(("alpha", "beta"), kane.frame(gamma), strict=True):
+                    point.update(
+                        (s, sp.Float(mpmath.nstr(c, DIGITS + 5), DIGITS))
+                        for s, c in zip(groups[name], comps, strict=True)
+                    )
             F = rhs.xreplace(point)
-            theirs, H, rates = kane.at(gamma, list(w))
+            theirs, H, rates = kane.at(gamma, list(w), rho, now, contact if rho else None)
             worst[0] = max(worst[0], _relative([F[index[s]] for s in omega], theirs))
             worst[1] = max(worst[1], _relative(list(momentum.xreplace(point)), H))
-            worst[2] = max(worst[2], _relative([F[index[s]] for s in r], rates["r"]))
+            for name in compared[1:]:
+                ours = [F[index[s]] for s in groups[name]]
+                worst[2] = max(worst[2], _relative(ours, rates[name]))
             count += 1
     return KaneComparison(count, *worst, 10.0 ** -(DIGITS - 10))
 
@@ -385,13 +411,14 @@ class _KaneRolling:
         self._normal_rate = sp.lambdify(args, normal_rate, modules="mpmath")
         vertical_rate = gamma_B.diff(t).xreplace(kane.kindiffdict())  # N.z in body axes
         self._vertical_rate = sp.lambdify(args, vertical_rate, modules="mpmath")
-        if self._quadric:  # the contact point from the centre of mass, body axes
-            position_B = self._position
-        else:  # the contact point from the axis (a turntable)
-            position = q[3] * N.x + q[4] * N.y
-            position_B = sp.Matrix([position.dot(B.x), position.dot(B.y), position.dot(B.z)])
+        # the contact point from the axis (a turntable; for a quadric G + r lies on the plane)
+        position = P.pos_from(self._origin) if self._quadric else q[3] * N.x + q[4] * N.y
+        position_B = sp.Matrix([position.dot(B.x), position.dot(B.y), position.dot(B.z)])
         position_rate = position_B.diff(t).xreplace(kane.kindiffdict())
         self._position_rate = sp.lambdify(args, position_rate, modules="mpmath")
+        if self._quadric:  # the contact point from the centre of mass, body axes
+            contact_rate = self._position.diff(t).xreplace(kane.kindiffdict())
+            self._contact_rate = sp.lambdify(args, contact_rate, modules="mpmath")
         self._dep = sp.lambdify(args, sp.Matrix([dep[s] for s in dependent]), modules="mpmath")
         self._order = [str(s.func) for s in kane.u]
         self._dependent = [str(s.func) for s in dependent]
@@ -428,7 +455,7 @@ class _KaneRolling:
         N, B = frames
         b = None if p["radius"] is None else p["radius"].xreplace(sub)
         a = p["centre"].xreplace(sub)
-        origin = me.Point("origin")
+        origin = self._origin = me.Point("origin")
         origin.set_vel(N, 0)
         gamma_B = sp.Matrix([N.z.dot(B.x), N.z.dot(B.y), N.z.dot(B.z)])
         self._quadric = p["surface"] is not None
@@ -460,7 +487,10 @@ class _KaneRolling:
         # prescribed rates are functions of the model's time: Kane's t here
         now = {sp.Symbol("t", real=True): t, **sub}
         Omega = p["rotation_rate"].xreplace(now)
-        carried = Omega * N.z.cross(q[3] * N.x + q[4] * N.y) if Omega != 0 else me.Vector(0)
+        axis_to_contact = q[3] * N.x + q[4] * N.y  # O (G for a quadric) from the axis
+        if self._quadric:  # the contact point P = G + r, horizontally
+            axis_to_contact += r_B[0] * B.x + r_B[1] * B.y + r_B[2] * B.z
+        carried = Omega * N.z.cross(axis_to_contact) if Omega != 0 else me.Vector(0)
         V = p["plane_velocity"].xreplace(now)  # a moving plane: along the fixed axes
         carried = carried + V[0] * N.x + V[1] * N.y
         if self._quadric:
@@ -520,16 +550,21 @@ class _KaneRolling:
         omega_body: Sequence[sp.Expr],
         rho: Sequence[sp.Expr] | None = None,
         time: sp.Expr = sp.S.Zero,
+        contact: Sequence[sp.Expr] | None = None,
     ):
         """Kane's angular acceleration, momentum about the contact, the rate of the
         support's normal (``gamma'``) and of the contact point's position ``rho`` from a
-        rotating plane's axis (given: ``rho``), body components, at ``time``."""
+        rotating plane's axis (given: ``rho``), body components, at ``time``; a quadric's
+        contact point ``r`` from its centre of mass (given: ``contact``) places its centre
+        of mass at ``rho - r`` from the axis."""
         with mpmath.workdps(DIGITS):
             q = self._angles(gamma)
             T = mpmath.mpf(sp.Float(time, DIGITS))
             C = mpmath.matrix(self._C(q, [0] * 5, T))
             if rho is not None:  # its space components: the contact point at (x, y, 0)
                 space = C.T * mpmath.matrix([_mpf(x) for x in rho])
+                if contact is not None:  # the horizontal place of G = P - r
+                    space = space - C.T * mpmath.matrix([_mpf(x) for x in contact])
                 q[3], q[4] = space[0], space[1]
             wb = mpmath.matrix([_mpf(x) for x in omega_body])
             ws = C.T * wb  # space components
@@ -550,7 +585,10 @@ class _KaneRolling:
             rates = {"gamma": [rate[i] for i in range(3)]}
             rate = self._vertical_rate(q, u, T)
             rates["zeta"] = [rate[i] for i in range(3)]
-            if rho is not None or self._quadric:
+            if rho is not None:
                 rate = self._position_rate(q, u, T)
-                rates["r" if self._quadric else "rho"] = [rate[i] for i in range(3)]
+                rates["rho"] = [rate[i] for i in range(3)]
+            if self._quadric:
+                rate = self._contact_rate(q, u, T)
+                rates["r"] = [rate[i] for i in range(3)]
             return [acc[i] for i in range(3)], [momentum[i] for i in range(3)], rates

@@ -158,8 +158,9 @@ def test_names_become_exact_parameters_and_decimals_stay_exact():
                 "surface": "x1**2 + x2**2 + x3**2 - 1",
                 "support": "rotating_plane",
                 "rotation_rate": 1,
+                "contact": "line",
             },
-            "fixed plane or sphere only",
+            "rolling or rubber rolling on a plane",
         ),
         (
             {
@@ -172,8 +173,14 @@ def test_names_become_exact_parameters_and_decimals_stay_exact():
             "without gravity",
         ),
         (
-            {"inertia": (1, 1, 1), "surface": "x1**2 + x2**2 + x3**2 - 1", "contact": "rubber"},
-            "fixed plane or sphere only",
+            {
+                "inertia": (1, 1, 1),
+                "surface": "x1**2 + x2**2 + x3**2 - 1",
+                "contact": "rubber",
+                "support": "sphere",
+                "support_radius": 2,
+            },
+            "on a sphere is derived rolling only",
         ),
         ({"inertia": (1, 1, 1), "surface": "x1**2 - x2**2 + x3**2 - 1"}, "not convex"),
         ({"inertia": (1, 1, 1), "surface": "x1 + x2 - 1"}, "degree 2 or more"),
@@ -223,10 +230,6 @@ def test_names_become_exact_parameters_and_decimals_stay_exact():
             "does not fit",
         ),
         ({"inertia": (1, 1, 1), "potential": "zeta3*gamma1"}, "unknown name 'zeta3'"),
-        (
-            {"inertia": ("1 + t**2", 1, 1), "surface": "x1**2 + x2**2 + x3**2 - 1"},
-            "spherical body only",
-        ),
         (
             {"inertia": (1, 1, 1), "gyrostat": (0, 0, "t"), "potential": "t*gamma1"},
             "unknown name 't'",

@@ -207,7 +207,9 @@ class SystemTable(_Table):
         [0, 0, 0], description="centre of mass from the sphere's centre, body axes"
     )
     gravity: TypedValue | None = Field(None, description="g of a constant field along -gamma")
-    gyrostat: list[TypedValue] | None = Field(None, description="constant gyrostatic momentum")
+    gyrostat: list[TypedValue] | None = Field(
+        None, description="gyrostatic momentum: constants or expressions of the time t"
+    )
     potential: Annotated[StrictStr, Field(max_length=2000)] | None = Field(
         None, description="potential of the orientation: an expression of gamma1..gamma3"
     )
@@ -235,6 +237,11 @@ class SystemTable(_Table):
         None,
         description="F(p1, p2, p3) of a fixed support surface F = 0 in the fixed frame (p3 up; "
         "support = 'surface', a homogeneous ball)",
+    )
+    surface: TypedValue | None = Field(
+        None,
+        description="f(x1, x2, x3) of a convex body f = 0 instead of a sphere (body axes; on a "
+        "plane — fixed, rotating or moving —, rolling or rubber, or rolling on a fixed sphere)",
     )
     positive: list[StrictStr] = Field(default_factory=list)
     description: Annotated[StrictStr, Field(max_length=500)] = ""
