@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 
 from ..derive.errors import UserInputError
+from ..numerics.ball.map_coordinates import state_from_reduced
 from ..numerics.code import load_model_code
 from ..numerics.integrate import integrate
 from .bench_timing import peers_available
@@ -111,7 +112,6 @@ def map_throughput(
     UserInputError
         ``periods < 10`` or ``repeats < 1``.
     """
-    from ..numerics.ball.map_coordinates import state_from_reduced
     from ..numerics.dynamics.batch_map import BatchStroboscopicMap, batch_map_available
 
     if periods < 10 or repeats < 1:
@@ -222,18 +222,12 @@ def lyapunov_throughput(
     UserInputError
         ``intervals < 10``, ``repeats < 1`` or ``points < 1``.
     """
-    from ..numerics.ball.map_coordinates import state_from_reduced
     from ..numerics.dynamics.lyapunov import lyapunov_spectrum
     from ..numerics.dynamics.lyapunov_batch import lyapunov_spectra
 
     if intervals < 10 or repeats < 1 or points < 1:
         raise UserInputError("lyapunov_throughput needs intervals >= 10, repeats, points >= 1")
-    code = load_model_code("chaplygin_ball", ["variable_inertia", "variable_gyrostat"])
-    y0 = [float(v) for v in state_from_reduced(*MAP_BENCH_START, [0] * 6, code.state)]
-    P = np.tile(np.array(MAP_BENCH_PARAMS), (points, 1))
-    P[:, 3] = np.linspace(4.37, 4.39, points)  # d over the Fig. 6 chart
-    P[:, 9] = np.linspace(1.064, 1.08, points)[::-1]  # Omega
-    Y = np.tile(np.array(y0), (points, 1))
+    code, P, Y = _chart_points(points)
     settings = {"intervals": intervals, "transient": transient, "rtol": 1e-10, "atol": 1e-12}
     runs: dict[str, list[float]] = {}
     row: dict[str, Any] = {**settings, "repeats": repeats, "points": points}
@@ -296,17 +290,11 @@ def regime_throughput(repeats: int = 3, points: int = 16, quick: bool = False) -
     UserInputError
         ``repeats < 1`` or ``points < 1``.
     """
-    from ..numerics.ball.map_coordinates import state_from_reduced
     from ..numerics.ball.regimes import attractor_regime, attractor_regimes
 
     if repeats < 1 or points < 1:
         raise UserInputError("regime_throughput needs repeats >= 1 and points >= 1")
-    code = load_model_code("chaplygin_ball", ["variable_inertia", "variable_gyrostat"])
-    y0 = [float(v) for v in state_from_reduced(*MAP_BENCH_START, [0] * 6, code.state)]
-    P = np.tile(np.array(MAP_BENCH_PARAMS), (points, 1))
-    P[:, 3] = np.linspace(4.37, 4.39, points)
-    P[:, 9] = np.linspace(1.064, 1.08, points)[::-1]
-    Y = np.tile(np.array(y0), (points, 1))
+    code, P, Y = _chart_points(points)
     settings: dict[str, Any] = {"transient": 2000, "recorded": 600, "intervals": 2000}
     if quick:
         settings = {"transient": 200, "recorded": 100, "intervals": 200, "max_period": 32}
@@ -354,17 +342,11 @@ def jacobian_throughput(repeats: int = 3, points: int = 64) -> dict[str, Any]:
     UserInputError
         ``repeats < 1`` or ``points < 1``.
     """
-    from ..numerics.ball.map_coordinates import state_from_reduced
     from ..numerics.dynamics.variational import flow_jacobians, flow_with_jacobian
 
     if repeats < 1 or points < 1:
         raise UserInputError("jacobian_throughput needs repeats >= 1 and points >= 1")
-    code = load_model_code("chaplygin_ball", ["variable_inertia", "variable_gyrostat"])
-    y0 = [float(v) for v in state_from_reduced(*MAP_BENCH_START, [0] * 6, code.state)]
-    P = np.tile(np.array(MAP_BENCH_PARAMS), (points, 1))
-    P[:, 3] = np.linspace(4.37, 4.39, points)
-    P[:, 9] = np.linspace(1.064, 1.08, points)[::-1]
-    Y = np.tile(np.array(y0), (points, 1))
+    code, P, Y = _chart_points(points)
     tau = 2 * np.pi / P[:, 9]
     tol = {"rtol": 1e-10, "atol": 1e-12}
     flow_jacobians(code, P[:2], Y[:2], 0.0, tau[:2], **tol)  # compiled first
@@ -416,7 +398,6 @@ def taylor_map_equal_accuracy(periods: int = 200, repeats: int = 3, points: int 
     UserInputError
         ``periods < 10``, ``repeats < 1`` or ``points < 1``.
     """
-    from ..numerics.ball.map_coordinates import state_from_reduced
     from ..numerics.dynamics.batch_map import BatchStroboscopicMap
 
     if periods < 10 or repeats < 1 or points < 1:
@@ -447,3 +428,15 @@ def taylor_map_equal_accuracy(periods: int = 200, repeats: int = 3, points: int 
     if "taylor_us" in row:
         row["ratio_taylor_to_dop853"] = row["taylor_us"] / row["dop853_us"]
     return row
+
+
+def _chart_points(points: int) -> tuple[Any, np.ndarray, np.ndarray]:
+    """BM20's model and ``points`` points of the Fig. 6 chart (``d`` and ``Omega`` spread over
+    it) from the map bench's start: the points of the Lyapunov, regime and Jacobian rows."""
+
+    code = load_model_code("chaplygin_ball", ["variable_inertia", "variable_gyrostat"])
+    y0 = [float(v) for v in state_from_reduced(*MAP_BENCH_START, [0] * 6, code.state)]
+    P = np.tile(np.array(MAP_BENCH_PARAMS), (points, 1))
+    P[:, 3] = np.linspace(4.37, 4.39, points)  # d over the Fig. 6 chart
+    P[:, 9] = np.linspace(1.064, 1.08, points)[::-1]  # Omega
+    return code, P, np.tile(np.array(y0), (points, 1))
