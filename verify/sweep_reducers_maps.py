@@ -7,6 +7,7 @@ module between its period and integrals reducers (the registry's order)."""
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from typing import Any
 
 from ..derive.errors import ComputationError, UserInputError
@@ -62,25 +63,19 @@ def _lyapunov_max_batch(contexts: list[PointContext]) -> list[Any]:
     from ..numerics.dynamics.lyapunov_batch import lyapunov_spectra
 
     out: list[Any] = [None] * len(contexts)
-    groups: dict[tuple, list[int]] = {}
-    for i, ctx in enumerate(contexts):
+
+    def key(ctx: PointContext) -> tuple | None:  # an autonomous model: _lyapunov_max says why
         code = ctx.resolved.code
-        if code.forcing is None:
-            continue  # an autonomous model: _lyapunov_max says what is missing
-        key = (code.hash, *_lyapunov_tolerances(ctx.scene.run_options))
-        groups.setdefault(key, []).append(i)
-    for (_, rtol, atol), indices in groups.items():
-        first = contexts[indices[0]]
-        code, opts = first.resolved.code, first.sweep.lyapunov
-        res = [contexts[i].resolved for i in indices]
+        return None if code.forcing is None else _lyapunov_tolerances(ctx.scene.run_options)
+
+    for (rtol, atol), indices, code, (P, Y, T0) in _chunk_groups(contexts, key):
+        opts = contexts[indices[0]].sweep.lyapunov
         try:
             r = lyapunov_spectra(
-                code,
-                [[float(x.params[k]) for k in code.params] for x in res],
-                [[float(v) for v in x.y0] for x in res],
+                code, P, Y,
                 intervals=opts.intervals,
                 transient=opts.transient,
-                t0=[float(x.t_span[0]) for x in res],
+                t0=T0,
                 rtol=rtol,
                 atol=atol,
                 count=1,
@@ -143,7 +138,8 @@ def _regime(ctx: PointContext) -> dict:
     carried from the previous point."""
     from ..numerics.ball.regimes import attractor_regime
 
-    opts, run, res = ctx.sweep.regime, ctx.scene.run_options, ctx.resolved
+    opts, res = ctx.sweep.regime, ctx.resolved
+    rtol, atol = _regime_tolerances(ctx.scene.run_options)
     carried = ctx.start is not None
     y0 = ctx.start if carried else [float(v) for v in res.y0]
     transient = opts.transient
@@ -159,8 +155,8 @@ def _regime(ctx: PointContext) -> dict:
         tol=opts.tol,
         intervals=opts.intervals,
         lyapunov_transient=opts.lyapunov_transient,
-        rtol=run.rtol if run.rtol is not None else 1e-10,
-        atol=run.atol if run.atol is not None else 1e-12,
+        rtol=rtol,
+        atol=atol,
         t0=float(res.t_span[0]),
     )
     ctx.end = [float(v) for v in r.end]
@@ -188,27 +184,19 @@ def _regime_batch(contexts: list[PointContext]) -> list[Any]:
     from ..numerics.ball.regimes import attractor_regimes
 
     out: list[Any] = [None] * len(contexts)
-    groups: dict[tuple, list[int]] = {}
-    for i, ctx in enumerate(contexts):
-        if ctx.start is None and ctx.resolved.code.forcing is not None:
-            run = ctx.scene.run_options
-            key = (ctx.resolved.code.hash, run.rtol, run.atol)
-            groups.setdefault(key, []).append(i)
-    for (_, rtol, atol), indices in groups.items():
-        first = contexts[indices[0]]
-        code, opts = first.resolved.code, first.sweep.regime
-        res = [contexts[i].resolved for i in indices]
+
+    def key(ctx: PointContext) -> tuple | None:  # carried starts run one after another
+        if ctx.start is not None or ctx.resolved.code.forcing is None:
+            return None
+        return _regime_tolerances(ctx.scene.run_options)
+
+    for (rtol, atol), indices, code, (P, Y, T0) in _chunk_groups(contexts, key):
+        opts = contexts[indices[0]].sweep.regime
         try:
             found = attractor_regimes(
-                code,
-                [[float(x.params[k]) for k in code.params] for x in res],
-                [[float(v) for v in x.y0] for x in res],
-                transient=opts.transient, recorded=opts.recorded, max_period=opts.max_period,
-                tol=opts.tol, intervals=opts.intervals,
-                lyapunov_transient=opts.lyapunov_transient,
-                rtol=rtol if rtol is not None else 1e-10,
-                atol=atol if atol is not None else 1e-12,
-                t0=[float(x.t_span[0]) for x in res],
+                code, P, Y, transient=opts.transient, recorded=opts.recorded,
+                max_period=opts.max_period, tol=opts.tol, intervals=opts.intervals,
+                lyapunov_transient=opts.lyapunov_transient, rtol=rtol, atol=atol, t0=T0,
             )  # fmt: skip
         except UserInputError:  # e.g. one point's settings: each point on its own then
             continue
@@ -296,3 +284,29 @@ register_reducer(
         carries=True,
     )
 )
+
+
+def _regime_tolerances(run: Any) -> tuple[float, float]:
+    """The ``regime`` reducer's integration tolerances: the scene's, else 1e-10 and 1e-12."""
+    return (run.rtol if run.rtol is not None else 1e-10,
+            run.atol if run.atol is not None else 1e-12)  # fmt: skip
+
+
+def _chunk_groups(contexts: list[PointContext], key: Any) -> Iterator[tuple]:
+    """A chunk's points that a batch can take, grouped by model and ``key(ctx)`` (None: the
+    point goes through the point-by-point reducer): per group the key, the points' indices,
+    the model's code and their parameter rows, initial states and start times (double)."""
+    groups: dict[tuple, list[int]] = {}
+    for i, ctx in enumerate(contexts):
+        k = key(ctx)
+        if k is not None:
+            groups.setdefault((ctx.resolved.code.hash, k), []).append(i)
+    for (_, k), indices in groups.items():
+        res = [contexts[i].resolved for i in indices]
+        code = res[0].code
+        rows = (
+            [[float(x.params[n]) for n in code.params] for x in res],
+            [[float(v) for v in x.y0] for x in res],
+            [float(x.t_span[0]) for x in res],
+        )
+        yield k, indices, code, rows
