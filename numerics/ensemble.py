@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import os
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Any
@@ -45,13 +45,14 @@ import numpy as np
 
 from ..derive.errors import UserInputError
 from .code import ModelCode
-from .ensemble_inputs import numeric_rows, read_many
-from .ensemble_lanes import lanes_library, run_in_lanes
+from .ensemble_evidence import ensemble_evidence
+from .ensemble_inputs import ReadStarts, numeric_rows, read_starts
+from .ensemble_lanes import lanes_library, lanes_result, run_lanes
 from .integrate import DEFAULT_MAX_WALL_S, prepare_problem
 from .integrators import IntegrationResult
 from .precision import Precision
 
-__all__ = ["EnsembleResult", "integrate_many"]
+__all__ = ["EnsembleResult", "LazyResults", "integrate_many"]
 
 
 @dataclass
@@ -60,8 +61,9 @@ class EnsembleResult:
 
     Attributes
     ----------
-    results : list of IntegrationResult
-        Orbit ``j``'s result, as ``integrate`` gives it.
+    results : sequence of IntegrationResult
+        Orbit ``j``'s result, as ``integrate`` gives it (in the vector lanes made when it is
+        first asked for: the arrays below are computed for all orbits at once).
     t : ndarray, shape (n_points,)
         The output times (the same for every orbit).
     y : ndarray, shape (N, n_state, n_points)
@@ -76,9 +78,11 @@ class EnsembleResult:
         Wall time of the whole call (reading the inputs included).
     threads : int
         Threads that integrated.
+    orbit_wall_s : ndarray, shape (N,)
+        Each orbit's integration time (in the lanes, its share of its block's).
     """
 
-    results: list[IntegrationResult]
+    results: Sequence[IntegrationResult]
     t: np.ndarray
     y: np.ndarray
     status: np.ndarray
@@ -86,6 +90,7 @@ class EnsembleResult:
     nsteps: np.ndarray
     wall_s: float
     threads: int
+    orbit_wall_s: np.ndarray
 
     @property
     def success(self) -> np.ndarray:
@@ -119,6 +124,36 @@ class EnsembleResult:
         )
 
 
+class LazyResults(Sequence):
+    """Orbit ``j``'s :class:`IntegrationResult`, made by ``make(j)`` when first asked for.
+
+    Parameters
+    ----------
+    count : int
+    make : callable
+        ``j -> IntegrationResult``.
+    """
+
+    def __init__(self, count: int, make: Callable[[int], IntegrationResult]):
+        self._made: list[IntegrationResult | None] = [None] * count
+        self._make = make
+
+    def __len__(self) -> int:
+        return len(self._made)
+
+    def __getitem__(self, j: Any) -> Any:
+        if isinstance(j, slice):
+            return [self[i] for i in range(*j.indices(len(self)))]
+        j = range(len(self))[j]  # an IndexError for an index out of range, as a list's
+        made = self._made[j]
+        if made is None:
+            made = self._made[j] = self._make(j)
+        return made
+
+    def __repr__(self) -> str:
+        return f"<{len(self)} IntegrationResults>"
+
+
 def _is_one_vector(value: Any) -> bool:
     """A mapping, or a flat sequence of numbers or number texts: one state or parameter set."""
     if isinstance(value, Mapping):
@@ -131,14 +166,15 @@ def _is_one_vector(value: Any) -> bool:
                for v in value)  # fmt: skip
 
 
-def _rows(value: Any, what: str) -> list[Any] | None:
-    """``value`` as a list of rows, or None when it is one vector (shared by every orbit)."""
+def _rows(value: Any, what: str) -> list[Any] | np.ndarray | None:
+    """``value`` as a list of rows (a 2-D array as it is), or None when it is one vector
+    (shared by every orbit)."""
     if _is_one_vector(value):
         return None
     if isinstance(value, np.ndarray):
-        if value.ndim != 2:
+        if value.ndim != 2 or len(value) == 0:
             raise UserInputError(f"{what} must be one vector or N rows, got shape {value.shape}")
-        return list(value)
+        return value
     if isinstance(value, str) or not isinstance(value, Sequence) or len(value) == 0:
         raise UserInputError(f"{what} must be one vector (or mapping) or a non-empty list of them")
     return list(value)
@@ -232,17 +268,17 @@ max_wall_s
         a, b = first[1].t_span
         t_eval = [a + (b - a) * k / 10 for k in range(10)] + [b]
         first = prepare(0, code, t_eval)
-    fast = _read_at_once(code, first, states, sets, prec, count)
-    prepared = [first] + [
-        (first[0], fast[j]) if fast[j] is not None else prepare(j, code, t_eval)
-        for j in range(1, count)
-    ]
-    setup_s = time.perf_counter() - start
-
-    lanes = lanes_library(prepared, backend)
+    read = _read_at_once(code, first, states, sets, prec, count)
+    lanes = lanes_library(*first, backend)
     if lanes is not None:  # the Taylor method in double: the orbits in vector lanes
-        results = run_in_lanes(prepared, *lanes, workers, time.perf_counter() - start)
-        return _collect(results, prec, time.perf_counter() - start, workers)
+        return _in_lanes(first, read, lambda j: prepare(j, code, t_eval), count, lanes,
+                         workers, start)  # fmt: skip
+    prepared = [first] + [
+        (first[0], read.problem(j)) if read is not None and read.ok[j]
+        else prepare(j, code, t_eval)
+        for j in range(1, count)
+    ]  # fmt: skip
+    setup_s = time.perf_counter() - start
 
     def run(j: int) -> IntegrationResult:
         integrator, problem = prepared[j]
@@ -255,20 +291,57 @@ max_wall_s
     return _collect(results, prec, time.perf_counter() - start, workers)
 
 
-def _read_at_once(code: ModelCode, first: tuple, states: list | None, sets: list | None,
-                  prec: Precision, count: int) -> list:  # fmt: skip
-    """The problems of the starts read at once (double, numbers only:
-    :mod:`~chaplygin.numerics.ensemble_inputs`), None for those ``integrate``'s route reads."""
+def _read_at_once(code: ModelCode, first: tuple, states: Any, sets: Any, prec: Precision,
+                  count: int) -> ReadStarts | None:  # fmt: skip
+    """The starts read at once (double, numbers only:
+    :mod:`~chaplygin.numerics.ensemble_inputs`); None where ``integrate``'s route reads all."""
     if not prec.is_double or count < 2:
-        return [None] * count
+        return None
     Y = numeric_rows(states, len(code.state)) if states is not None else None
     P = numeric_rows(sets, len(code.params)) if sets is not None else None
     if (states is not None and Y is None) or (sets is not None and P is None):
-        return [None] * count
+        return None
     problem = first[1]
     if Y is None:
         Y = np.tile(np.asarray(problem.y0, dtype=np.float64), (count, 1))
-    return read_many(code, problem, Y, P)
+    return read_starts(code, problem, Y, P)
+
+
+def _in_lanes(first: tuple, read: ReadStarts | None, prepare: Callable[[int], tuple],
+              count: int, lanes: tuple, workers: int, start: float) -> EnsembleResult:  # fmt: skip
+    """The ensemble in vector lanes: the starts as arrays (those not read at once through
+    ``prepare``, ``integrate``'s route), the results made when asked for."""
+    integrator, problem = first
+    slow = {0: problem}
+    if read is None or not read.ok.all():
+        slow.update({j: prepare(j)[1] for j in range(1, count) if read is None or not read.ok[j]})
+    n = len(problem.code.state)
+    Y = np.empty((count, n)) if read is None else read.Y.copy()
+    shared = read is None or read.P is None
+    P = np.asarray(problem.params, dtype=float) if shared else read.P.copy()
+    P = np.tile(P, (count, 1)) if P.ndim == 1 else P
+    for j, other in slow.items():
+        Y[j] = [float(v) for v in other.y0]
+        P[j] = [float(v) for v in other.params]
+    if shared and len(slow) > 1:  # a start read by integrate's route may give other parameters
+        shared = bool((P == P[0]).all())
+    setup_s = (time.perf_counter() - start) / count
+    run = run_lanes(problem, lanes[0], workers, Y, P)
+
+    def problem_of(j: int) -> Any:
+        return slow[j] if j in slow else read.problem(j)
+
+    def result(j: int) -> IntegrationResult:
+        return lanes_result(integrator, problem_of(j), run, j, lanes[1], setup_s)
+
+    results = LazyResults(count, result)
+    status, drift = ensemble_evidence(
+        problem.code, problem.code.compiled(), run.t_eval, run.y, run.done, run.status,
+        P[0] if shared else None, problem.precision.zero, results.__getitem__,
+    )  # fmt: skip
+    return EnsembleResult(results=results, t=run.t_eval, y=run.y, status=status, drift=drift,
+                          nsteps=run.nsteps, wall_s=time.perf_counter() - start,
+                          threads=workers, orbit_wall_s=run.wall)  # fmt: skip
 
 
 def _collect(results: list[IntegrationResult], prec: Precision, wall: float,
@@ -291,4 +364,5 @@ def _collect(results: list[IntegrationResult], prec: Precision, wall: float,
         nsteps=np.array([r.nsteps for r in results], dtype=np.int64),
         wall_s=wall,
         threads=threads,
+        orbit_wall_s=np.array([r.wall_s for r in results]),
     )

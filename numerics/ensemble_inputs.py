@@ -27,7 +27,9 @@ same.
 from __future__ import annotations
 
 import dataclasses
+import itertools
 from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -35,7 +37,7 @@ import numpy as np
 from .code import ModelCode
 from .inputs import UNIT_TOLERANCE
 
-__all__ = ["numeric_rows", "read_many", "unit_rows"]
+__all__ = ["ReadStarts", "numeric_rows", "read_starts", "unit_rows"]
 
 #: Largest magnitude of a right-hand side or integral value accepted here.
 FINITE_BOUND = 1e300
@@ -56,6 +58,17 @@ def numeric_rows(rows: Sequence[Any] | None, width: int) -> np.ndarray | None:
     """
     if rows is None:
         return None
+    if isinstance(rows, np.ndarray):
+        if rows.ndim != 2 or rows.shape[1] != width or rows.dtype.kind not in "fi":
+            return None
+        return rows.astype(np.float64)
+    if set(map(type, rows)) <= {list, tuple} and set(map(len, rows)) == {width}:
+        # lists of Python numbers (the common case) checked in C-speed passes
+        if set(map(type, itertools.chain.from_iterable(rows))) <= {float, int}:
+            try:
+                return np.array(rows, dtype=np.float64)
+            except OverflowError:  # an integer beyond the doubles: integrate's route says so
+                return None
     for row in rows:
         if isinstance(row, np.ndarray):
             if row.dtype.kind not in "fi" or row.shape != (width,):
@@ -66,13 +79,53 @@ def numeric_rows(rows: Sequence[Any] | None, width: int) -> np.ndarray | None:
         if not all(type(v) in (float, int) or isinstance(v, np.floating | np.integer)
                    for v in row):  # fmt: skip
             return None
-    return np.array(rows, dtype=np.float64)
+    try:
+        return np.array(rows, dtype=np.float64)
+    except OverflowError:
+        return None
 
 
-def read_many(code: ModelCode, first: Any, Y: np.ndarray, P: np.ndarray | None) -> list:
-    """Problems for the starts ``Y`` (rows) with parameters ``P`` (rows; None: the first
-    problem's), where the checks pass with their margin (see the module); None where the
-    start must be read by ``integrate``'s route.
+@dataclass
+class ReadStarts:
+    """Starts read at once: the rows ``integrate`` would read, and which passed.
+
+    Attributes
+    ----------
+    first : Problem
+        The first start's problem (read by ``integrate``'s route).
+    Y : ndarray, shape (N, n_state)
+        The starts, unit vectors renormalised (where ``ok``).
+    P : ndarray, shape (N, n_param), or None
+        Each start's parameters; None: the first problem's for all.
+    ok : ndarray of bool, shape (N,)
+        Which starts passed the checks with their margin (the others: ``integrate``'s route).
+    """
+
+    first: Any
+    Y: np.ndarray
+    P: np.ndarray | None
+    ok: np.ndarray
+
+    def problem(self, j: int) -> Any:
+        """Start ``j``'s problem (``ok[j]`` must hold): the first's with its own numbers.
+
+        Parameters
+        ----------
+        j : int
+
+        Returns
+        -------
+        Problem
+        """
+        y = [float(v) for v in self.Y[j]]
+        p = self.first.params if self.P is None else [float(v) for v in self.P[j]]
+        return dataclasses.replace(self.first, y0=y, params=p)
+
+
+def read_starts(code: ModelCode, first: Any, Y: np.ndarray, P: np.ndarray | None) -> ReadStarts:
+    """The starts ``Y`` (rows) with parameters ``P`` (rows; None: the first problem's) read at
+    once: which pass the checks with their margin (see the module); the others must be read
+    by ``integrate``'s route.
 
     Parameters
     ----------
@@ -84,13 +137,14 @@ def read_many(code: ModelCode, first: Any, Y: np.ndarray, P: np.ndarray | None) 
 
     Returns
     -------
-    list of Problem or None, length N
+    ReadStarts
     """
     N = len(Y)
+    none = ReadStarts(first, Y, P, np.zeros(N, dtype=bool))
     if code.relation_names or (P is not None and len(P) != N):
-        return [None] * N
+        return none
     if code.completion or any(kind != "unit_vector" for kind, _ in code.geometry):
-        return [None] * N  # frames and completed groups: integrate's route
+        return none  # frames and completed groups: integrate's route
     Y, ok = Y.copy(), np.ones(N, dtype=bool)
     for _, (group,) in code.geometry:
         index = [code.state.index(s) for s in code.state_groups[group]]
@@ -111,15 +165,7 @@ def read_many(code: ModelCode, first: Any, Y: np.ndarray, P: np.ndarray | None) 
         for routine in (code.numpy.rhs, code.numpy.integrals):
             out = _stacked(routine(t0, columns, params), N)
             ok &= (np.abs(out) < FINITE_BOUND).all(axis=0)
-    problems: list = []
-    for j in range(N):
-        if not ok[j]:
-            problems.append(None)
-            continue
-        y = [float(v) for v in Y[j]]
-        p = first.params if P is None else [float(v) for v in P[j]]
-        problems.append(dataclasses.replace(first, y0=y, params=p))
-    return problems
+    return ReadStarts(first, Y, P, ok)
 
 
 def _stacked(values: Sequence[Any], N: int) -> np.ndarray:

@@ -7,10 +7,12 @@ AVX-512) share the vector instructions of the Taylor recurrences, each lane with
 of the one-orbit loop in the same order, so that every orbit's outputs, final time, steps and
 orders are those of ``integrate()``'s compiled loop, bit for bit, whatever the number of lanes,
 threads or orbits per call. The orbits are cut into one contiguous block per thread (the driver
-releases the interpreter lock), and every orbit's
-:class:`~chaplygin.numerics.integrators.IntegrationResult` is then made by the integrator's own
-:meth:`~chaplygin.numerics.integrators.base.Integrator._result` (the finiteness check and the
-drift of every first integral), as ``integrate()`` makes it.
+releases the interpreter lock). The orbits go in and come out as arrays (:class:`LanesRun`): no
+Python object per orbit is made on the way, and each orbit's
+:class:`~chaplygin.numerics.integrators.IntegrationResult` is made only when it is asked for,
+by the integrator's own :meth:`~chaplygin.numerics.integrators.base.Integrator._result`, as
+``integrate()`` makes it (:func:`lanes_result`); the evidence of all orbits at once is in
+:mod:`~chaplygin.numerics.ensemble_evidence`.
 
 The one difference: the wall-time limit ``max_wall_s`` is not checked inside a block (the
 step limit is); a block's time is its orbits' ``wall_s`` shared out equally.
@@ -20,6 +22,7 @@ from __future__ import annotations
 
 import time
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -31,15 +34,17 @@ from .taylor import MAX_STEPS, REAL_TYPES, run_orders
 from .taylor.solution import _MESSAGES, TaylorSolution
 from .taylor.stepper import _loop_linspace
 
-__all__ = ["lanes_library", "run_in_lanes"]
+__all__ = ["LanesRun", "lanes_library", "lanes_result", "run_lanes"]
 
-def lanes_library(prepared: list[tuple], backend: str) -> tuple[Any, str] | None:
-    """The lanes library and the chosen backend when every orbit can run in the lanes.
+def lanes_library(integrator: Any, problem: Any, backend: str) -> tuple[Any, str] | None:
+    """The lanes library and the chosen backend when the orbits of ``problem`` can run in the
+    lanes (every orbit of an ensemble shares its method, precision, options and system).
 
     Parameters
     ----------
-    prepared : list of (Integrator, Problem)
-        The orbits, as :func:`~chaplygin.numerics.integrate.prepare_problem` made them.
+    integrator : Integrator
+    problem : Problem
+        The first orbit's, as :func:`~chaplygin.numerics.integrate.prepare_problem` made it.
     backend : str
         The backend asked for.
 
@@ -49,10 +54,9 @@ def lanes_library(prepared: list[tuple], backend: str) -> tuple[Any, str] | None
         None for another method or precision, events, dense output, a reversed flow, a
         backend other than C, or no compiled lanes (no compiler, no printed program).
     """
-    integrator, problem = prepared[0]
     if integrator.name != "taylor" or not problem.precision.is_double:
         return None
-    if any(p.events or p.dense_output or type(p.system) is not ModelFlow for _, p in prepared):
+    if problem.events or problem.dense_output or type(problem.system) is not ModelFlow:
         return None
     chosen = integrator.prepare(problem, backend)
     if chosen != "c":
@@ -69,31 +73,57 @@ def _blocks(count: int, workers: int, lanes: int) -> list[range]:
     return [range(a, min(a + size, count)) for a in range(0, count, size)]
 
 
-def run_in_lanes(prepared: list[tuple], lib: Any, chosen: str, workers: int,
-                 setup_s: float) -> list[IntegrationResult]:  # fmt: skip
-    """Every orbit's result, from the lanes driver.
+@dataclass
+class LanesRun:
+    """What the lanes driver gives for ``N`` orbits (arrays, one row per orbit).
+
+    Attributes
+    ----------
+    t_eval : ndarray, shape (m,)
+        The output times.
+    y : ndarray, shape (N, n_state, m)
+        The outputs; NaN after an orbit's last output.
+    done : ndarray of int, shape (N,)
+        Outputs each orbit reached.
+    status : ndarray of int, shape (N,)
+        The driver's status (0: reached the end; else a key of the Taylor loop's messages).
+    nsteps, order_min, order_max : ndarray of int, shape (N,)
+    wall : ndarray, shape (N,)
+        Each orbit's share of its block's wall time.
+    """
+
+    t_eval: np.ndarray
+    y: np.ndarray
+    done: np.ndarray
+    status: np.ndarray
+    nsteps: np.ndarray
+    order_min: np.ndarray
+    order_max: np.ndarray
+    wall: np.ndarray
+
+
+def run_lanes(first: Any, lib: Any, workers: int, y0: np.ndarray,
+              params: np.ndarray) -> LanesRun:  # fmt: skip
+    """Integrate the orbits ``y0`` (rows) with ``params`` (rows) in the lanes driver.
 
     Parameters
     ----------
-    prepared : list of (Integrator, Problem)
-        Orbits sharing method, span, tolerances, options and output times.
+    first : Problem
+        The first orbit's problem: span, tolerances, options and output times of all.
     lib : cffi library
         :func:`lanes_library`'s.
-    chosen : str
-        The backend the integrator chose (``"c"``).
     workers : int
         Threads (one block of orbits each).
-    setup_s : float
-        Set-up time of the whole call, shared out.
+    y0 : ndarray, shape (N, n_state)
+    params : ndarray, shape (N, n_param)
 
     Returns
     -------
-    list of IntegrationResult
+    LanesRun
     """
     from .integrators.c_batch import _buf
 
-    integrator, first = prepared[0]
-    count, n = len(prepared), len(first.code.state)
+    count, n = y0.shape
     options = first.options
     max_steps = first.max_steps or options.get("max_steps") or MAX_STEPS
     t0, t1 = first.t_span
@@ -102,9 +132,9 @@ def run_in_lanes(prepared: list[tuple], lib: Any, chosen: str, workers: int,
         t_eval = _loop_linspace(first.precision, t0, t1, 11)
     t_eval = np.ascontiguousarray(t_eval, dtype=float)
     m = len(t_eval)
-    t01 = np.array([[float(v) for v in p.t_span] for _, p in prepared])
-    y0 = np.array([[float(v) for v in p.y0] for _, p in prepared])
-    params = np.array([[float(v) for v in p.params] for _, p in prepared]).reshape(count, -1)
+    t01 = np.tile(np.array([float(t0), float(t1)]), (count, 1))
+    y0 = np.ascontiguousarray(y0, dtype=float)
+    params = np.ascontiguousarray(params, dtype=float).reshape(count, -1)
     ctrl = np.array([first.rtol, first.atol, options.get("step") or 0.0], dtype=float)
     y_eval, y_end = np.full((count, max(m, 1), n), np.nan), np.empty((count, n))
     t_reached = np.empty(count)
@@ -122,23 +152,55 @@ def run_in_lanes(prepared: list[tuple], lib: Any, chosen: str, workers: int,
         return (time.perf_counter() - start) / (b - a)
 
     blocks = _blocks(count, workers, lib.chaplygin_taylor_lanes_width())
-    with ThreadPoolExecutor(max_workers=max(1, len(blocks))) as pool:
-        walls = list(pool.map(block, blocks))
+    if len(blocks) == 1:
+        walls = [block(blocks[0])]
+    else:
+        with ThreadPoolExecutor(max_workers=len(blocks)) as pool:
+            walls = list(pool.map(block, blocks))
     wall = np.concatenate([np.full(len(r), w) for r, w in zip(blocks, walls, strict=True)])
-    results = []
-    for j, (_, problem) in enumerate(prepared):
-        steps, done = int(stats[j, 0]), int(stats[j, 3])
-        sol = TaylorSolution(
-            t=REAL_TYPES["double"].times(t_eval[:done]),
-            y=y_eval[j, :done].T.copy(),
-            status=int(status[j]),
-            message=_MESSAGES.get(int(status[j]), "failed"),
-            nsteps=steps,
-            order_min=int(stats[j, 2]) if steps else 0,
-            order_max=int(stats[j, 1]),
-            backend="c-double",
-        )
-        solution = integrator._solution(problem, sol)
-        results.append(integrator._result(problem, solution, chosen, float(wall[j]),
-                                          setup_s / count))  # fmt: skip
-    return results
+    steps = stats[:, 0]
+    return LanesRun(
+        t_eval=t_eval,
+        y=y_eval[:, :m].transpose(0, 2, 1),
+        done=stats[:, 3].copy(),
+        status=status.astype(np.int64),
+        nsteps=steps.copy(),
+        order_min=np.where(steps > 0, stats[:, 2], 0),
+        order_max=stats[:, 1].copy(),
+        wall=wall,
+    )
+
+
+def lanes_result(integrator: Any, problem: Any, run: LanesRun, j: int, chosen: str,
+                 setup_s: float) -> IntegrationResult:  # fmt: skip
+    """Orbit ``j``'s result, made as ``integrate()`` makes it from the compiled loop's.
+
+    Parameters
+    ----------
+    integrator : Integrator
+    problem : Problem
+        Orbit ``j``'s problem.
+    run : LanesRun
+    j : int
+    chosen : str
+        The backend the integrator chose (``"c"``).
+    setup_s : float
+        The orbit's share of the call's set-up time.
+
+    Returns
+    -------
+    IntegrationResult
+    """
+    done, code = int(run.done[j]), int(run.status[j])
+    sol = TaylorSolution(
+        t=REAL_TYPES["double"].times(run.t_eval[:done]),
+        y=np.ascontiguousarray(run.y[j, :, :done]),
+        status=code,
+        message=_MESSAGES.get(code, "failed"),
+        nsteps=int(run.nsteps[j]),
+        order_min=int(run.order_min[j]),
+        order_max=int(run.order_max[j]),
+        backend="c-double",
+    )
+    solution = integrator._solution(problem, sol)
+    return integrator._result(problem, solution, chosen, float(run.wall[j]), setup_s)

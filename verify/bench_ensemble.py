@@ -142,7 +142,7 @@ def _ours_rows(name: str, T: float, tol: float, count: int, repeats: int,
             runs.setdefault(f"ours_many_{threads}_s", []).append(r.wall_s / count)
             if threads == 1:  # the compiled integration alone (one thread: its wall time)
                 runs.setdefault("ours_many_1_c_s", []).append(
-                    sum(x.wall_s for x in r.results) / count)
+                    float(r.orbit_wall_s.sum()) / count)
     row: dict[str, Any] = {k: statistics.median(v) for k, v in runs.items()}
     row["steps_per_orbit"] = float(np.median(r.nsteps))
     row["failed"] = int((r.status != 0).sum())

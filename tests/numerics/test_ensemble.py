@@ -80,8 +80,8 @@ def test_the_taylor_orbits_run_in_vector_lanes_bit_for_bit(threads, monkeypatch)
     in the lanes driver (whose blocks follow the threads): every orbit's result is
     integrate()'s -- outputs, status, steps, orders in the message, drift."""
     used = []
-    lanes = ensemble.run_in_lanes
-    monkeypatch.setattr(ensemble, "run_in_lanes", lambda *a: used.append(a[3]) or lanes(*a))
+    lanes = ensemble.run_lanes
+    monkeypatch.setattr(ensemble, "run_lanes", lambda *a: used.append(a[2]) or lanes(*a))
     states = _states(11, seed=11)
     rng = np.random.default_rng(4)
     sets = [{"I": tuple(rng.uniform(1.0, 3.0, 3)), "D": rng.uniform(0.5, 1.5)} for _ in states]
@@ -218,3 +218,72 @@ def test_the_bench_section_reports_every_row():
         assert row["ours_one_s"] > 0 and row["ours_many_1_s"] > 0
     with pytest.raises(UserInputError):
         ensemble_throughput(orbits=(0,))
+
+
+def test_the_evidence_of_all_orbits_at_once_is_each_orbit_s(monkeypatch):
+    """Fourteen states (numbers, one body) in the lanes with a step limit that the faster
+    orbits exceed: the ensemble's status and drift arrays, computed for all orbits at once,
+    are each orbit's integrate() result's, bit for bit -- orbits that reached the end and
+    orbits stopped after fewer outputs -- and no orbit's result was made to compute them
+    (counted: the results are made when asked for). With 20 output times (beyond the compiled
+    point-by-point evidence) every orbit's evidence is its own result's, and still integrate()'s."""
+    made = []
+    real = ensemble.lanes_result
+    monkeypatch.setattr(ensemble, "lanes_result", lambda *a: made.append(a[3]) or real(*a))
+    rng = np.random.default_rng(29)
+    G = rng.normal(size=(14, 3))
+    G /= np.linalg.norm(G, axis=1)[:, None]
+    scale = np.geomspace(0.3, 6.0, 14)[:, None]
+    Y = np.hstack([rng.uniform(-0.9, 0.9, (14, 3)) * scale, G]).tolist()
+    kw = {"rtol": 1e-11, "atol": 1e-11, "max_steps": 9}
+    for t_eval in (None, list(np.linspace(0.0, 4.3, 20))):
+        made.clear()
+        r = integrate_many("chaplygin_ball", Y, 4.3, PARAMS, t_eval=t_eval, **kw)
+        if t_eval is None:
+            assert made == []  # the arrays came first, no result was needed
+        assert 0 < int(r.success.sum()) < 14  # some orbits stopped at the step limit
+        for j in range(14):
+            one = integrate("chaplygin_ball", Y[j], 4.3, PARAMS, t_eval=t_eval, **kw)
+            assert r.status[j] == one.status and r.nsteps[j] == one.nsteps
+            assert {n: r.drift[n][j] for n in r.drift} == one.drift
+            assert r.results[j].drift == one.drift and r.results[j].message == one.message
+
+
+def test_evidence_at_once_keeps_what_the_point_by_point_loop_keeps():
+    """ensemble_evidence on made-up outputs -- NaN and infinity at the first or a later
+    output, an orbit with one output, outputs after an orbit's last that are garbage, an
+    integral starting at zero (absolute drift) -- against base._drift and the finiteness
+    check, orbit by orbit (the route integrate() takes for a run on the C backend)."""
+    from chaplygin.numerics.code import load_model_code
+    from chaplygin.numerics.ensemble_evidence import ensemble_evidence
+    from chaplygin.numerics.integrators.base import _all_finite, _drift
+    from chaplygin.numerics.precision import Precision
+
+    code, prec = load_model_code("chaplygin_ball"), Precision("double")
+    compiled = code.compiled()
+    p = np.array([1.13, 2.07, 3.31, 0.93])
+    rng = np.random.default_rng(5)
+    N, m = 9, 6
+    y = rng.normal(size=(N, 6, m))
+    y[:, :3, :] *= 1 + 1e-9 * rng.normal(size=(N, 3, m))
+    y[1, 2, 3] = np.nan
+    y[2, 0, 0] = np.inf
+    y[3, 1, 4] = -np.inf
+    y[4, :3, :] = 0.0  # M = 0: the energy starts at zero (absolute drift)
+    y[4, 0, 2] = 1e-9
+    done = np.array([6, 6, 6, 6, 6, 1, 3, 4, 6])
+    y[6, 0, 3:] = np.nan  # after orbit 6's last output: not its evidence
+    status = np.array([0, 0, 0, 0, 0, 0, -2, -3, 0])
+    got_status, got = ensemble_evidence(code, compiled, np.linspace(0, 1, m), y, done, status,
+                                        p, prec.zero, lambda j: None)  # fmt: skip
+    t = np.linspace(0, 1, m)
+    for j in range(N):
+        drift, _ = _drift(code, t[: done[j]], y[j, :, : done[j]], p, prec, compiled)
+        want = status[j] if _all_finite(y[j, :, : done[j]]) else -1
+        if want == 0 and not all(np.isfinite(list(drift.values()))):
+            want = -5
+        assert got_status[j] == want, j
+        for name, v in drift.items():
+            assert got[name][j] == v or (np.isnan(got[name][j]) and np.isnan(v)), (j, name)
+    assert got_status.tolist()[:4] == [0, -1, -1, -1] and got_status[6] == -2
+    assert np.isnan(got["H"][1]) and got["H"][4] > 0

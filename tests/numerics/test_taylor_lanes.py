@@ -111,8 +111,8 @@ def test_lanes_with_functions_of_time_and_powers(case, monkeypatch):
     from chaplygin.numerics.integrate import integrate
 
     used = []
-    lanes = ensemble.run_in_lanes
-    monkeypatch.setattr(ensemble, "run_in_lanes", lambda *a: used.append(1) or lanes(*a))
+    lanes = ensemble.run_lanes
+    monkeypatch.setattr(ensemble, "run_lanes", lambda *a: used.append(1) or lanes(*a))
     if case == "forced":
         system = load_model_code("chaplygin_ball", ["variable_inertia", "variable_gyrostat"])
         params = [4.0, 3.0, 2.0, 4.385, 0.0, 2.0, -6.0, -3.0, -9.0, 1.07]
@@ -138,8 +138,8 @@ def test_lanes_with_a_fixed_order_or_step_backward(options, monkeypatch):
     from chaplygin.numerics.integrate import integrate
 
     used = []
-    lanes = ensemble.run_in_lanes
-    monkeypatch.setattr(ensemble, "run_in_lanes", lambda *a: used.append(1) or lanes(*a))
+    lanes = ensemble.run_lanes
+    monkeypatch.setattr(ensemble, "run_lanes", lambda *a: used.append(1) or lanes(*a))
     rng = np.random.default_rng(2)
     states = [{"M": tuple(rng.uniform(-0.9, 0.9, 3)), "gamma": (0.6, 0.0, 0.8)} for _ in range(5)]
     params = {"I": ("1.13", "2.07", "3.31"), "D": "0.93"}
