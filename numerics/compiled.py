@@ -101,6 +101,21 @@ void chaplygin_many_integrals(double T, ptrdiff_t N, const double *Y, ptrdiff_t 
 void chaplygin_many_density(double T, ptrdiff_t N, const double *Y, ptrdiff_t YS0,
                             ptrdiff_t YS1, const double *P, double *OUT, ptrdiff_t OS0,
                             ptrdiff_t OS1);
+void chaplygin_many_params_rhs(double T, ptrdiff_t N, const double *Y, ptrdiff_t YS0,
+        ptrdiff_t YS1, const double *P, ptrdiff_t PS0, ptrdiff_t PS1, double *OUT,
+        ptrdiff_t OS0, ptrdiff_t OS1);
+void chaplygin_many_params_jac(double T, ptrdiff_t N, const double *Y, ptrdiff_t YS0,
+        ptrdiff_t YS1, const double *P, ptrdiff_t PS0, ptrdiff_t PS1, double *OUT,
+        ptrdiff_t OS0, ptrdiff_t OS1);
+void chaplygin_many_params_aux(double T, ptrdiff_t N, const double *Y, ptrdiff_t YS0,
+        ptrdiff_t YS1, const double *P, ptrdiff_t PS0, ptrdiff_t PS1, double *OUT,
+        ptrdiff_t OS0, ptrdiff_t OS1);
+void chaplygin_many_params_integrals(double T, ptrdiff_t N, const double *Y, ptrdiff_t YS0,
+        ptrdiff_t YS1, const double *P, ptrdiff_t PS0, ptrdiff_t PS1, double *OUT,
+        ptrdiff_t OS0, ptrdiff_t OS1);
+void chaplygin_many_params_density(double T, ptrdiff_t N, const double *Y, ptrdiff_t YS0,
+        ptrdiff_t YS1, const double *P, ptrdiff_t PS0, ptrdiff_t PS1, double *OUT,
+        ptrdiff_t OS0, ptrdiff_t OS1);
 """
 
 _ffi = cffi.FFI()
@@ -231,10 +246,11 @@ class CompiledModel:
         }
         self._many: dict[str, Any] = {}
         for name in self._out_shapes:
-            try:
-                self._many[name] = getattr(lib, f"chaplygin_many_{name}")
-            except AttributeError:  # library built without the batch shim
-                pass
+            for kind in ("many", "many_params"):
+                try:
+                    self._many[kind, name] = getattr(lib, f"chaplygin_{kind}_{name}")
+                except AttributeError:  # library built without (this version of) the shim
+                    pass
         self._p_last: tuple[Any, Any] = (None, None)
         # the CPython trampoline for single calls (None: the cffi path below)
         fast = load_fastcall()
@@ -404,26 +420,29 @@ class CompiledModel:
         out = np.empty(shape) if out is None else _as_output(out, shape)
         if N == 0:
             return out
-        fn = self._many.get(name)
+        per_state = np.ndim(p) == 2
+        fn = self._many.get(("many_params" if per_state else "many", name))
+        if per_state:
+            p = np.asarray(p, dtype=np.float64)
+            if p.shape != (self.n_param, N):
+                raise ValueError(f"p must have shape ({self.n_param},) or ({self.n_param}, {N})")
         if fn is None:  # no batch shim in this library: loop over columns
             single = getattr(self, name)
             for j in range(N):
-                out[..., j] = single(t, Y[:, j], p)
+                out[..., j] = single(t, Y[:, j], p[:, j] if per_state else p)
             return out
         m = out.size // N
-        pbuf = self._p_buffer(p)
         ys0, ys1 = (s // Y.itemsize for s in Y.strides)
-        fn(
-            t,
-            N,
-            _ffi.cast("double *", Y.ctypes.data),
-            ys0,
-            ys1,
-            pbuf,
-            _from_buffer(_DOUBLES, out),
-            N if m > 0 else 0,
-            1,
-        )
+        Yp = _ffi.cast("double *", Y.ctypes.data)
+        obuf = _from_buffer(_DOUBLES, out)
+        if per_state:
+            if not p.flags.aligned or any(s % p.itemsize for s in p.strides):
+                p = np.array(p, order="C")
+            ps0, ps1 = (s // p.itemsize for s in p.strides)
+            pp = _ffi.cast("double *", p.ctypes.data)
+            fn(t, N, Yp, ys0, ys1, pp, ps0, ps1, obuf, N if m > 0 else 0, 1)
+        else:
+            fn(t, N, Yp, ys0, ys1, self._p_buffer(p), obuf, N if m > 0 else 0, 1)
         return out
 
     def rhs_many(self, t: float, Y: ArrayLike, p: ArrayLike, out: NDArray | None = None) -> NDArray:
@@ -435,8 +454,9 @@ class CompiledModel:
             Time (shared by all states).
         Y : array_like, shape (n_state, N)
             States as columns, like the numpy modules' vectorised input; any strides.
-        p : array_like, shape (n_param,)
-            Parameters.
+        p : array_like, shape (n_param,) or (n_param, N)
+            Parameters: one set for all states, or one per state (columns; any strides).
+            Each state's values are the single-state routine's, bit for bit.
         out : ndarray, shape (n_state, N), optional
             float64 C-contiguous array receiving the result.
 

@@ -317,14 +317,13 @@ def _in_lanes(first: tuple, read: ReadStarts | None, prepare: Callable[[int], tu
         slow.update({j: prepare(j)[1] for j in range(1, count) if read is None or not read.ok[j]})
     n = len(problem.code.state)
     Y = np.empty((count, n)) if read is None else read.Y.copy()
-    shared = read is None or read.P is None
-    P = np.asarray(problem.params, dtype=float) if shared else read.P.copy()
-    P = np.tile(P, (count, 1)) if P.ndim == 1 else P
+    if read is None or read.P is None:
+        P = np.tile(np.asarray(problem.params, dtype=float), (count, 1))
+    else:
+        P = read.P.copy()
     for j, other in slow.items():
         Y[j] = [float(v) for v in other.y0]
         P[j] = [float(v) for v in other.params]
-    if shared and len(slow) > 1:  # a start read by integrate's route may give other parameters
-        shared = bool((P == P[0]).all())
     setup_s = (time.perf_counter() - start) / count
     run = run_lanes(problem, lanes[0], workers, Y, P)
 
@@ -337,7 +336,7 @@ def _in_lanes(first: tuple, read: ReadStarts | None, prepare: Callable[[int], tu
     results = LazyResults(count, result)
     status, drift = ensemble_evidence(
         problem.code, problem.code.compiled(), run.t_eval, run.y, run.done, run.status,
-        P[0] if shared else None, problem.precision.zero, results.__getitem__,
+        P, problem.precision.zero, results.__getitem__,
     )  # fmt: skip
     return EnsembleResult(results=results, t=run.t_eval, y=run.y, status=status, drift=drift,
                           nsteps=run.nsteps, wall_s=time.perf_counter() - start,

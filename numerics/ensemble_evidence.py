@@ -5,13 +5,13 @@ the outputs must be finite (else status -1), and every first integral's drift ov
 (relative, or absolute where the integral starts below the precision's ``zero``) must be
 finite (else status -5). For a run on the C backend with at most
 :data:`~chaplygin.numerics.integrators.base._POINTWISE_COMPILED` outputs the integrals are the
-compiled model's, point by point. :func:`ensemble_evidence` computes the same for ``N`` orbits
-at once: the compiled integrals of all orbits at one output time in one call of the model's
-batch routine (``integrals_many``: the same compiled function, called once per state, so the
-same bits), the largest change over each orbit's own outputs with NaN kept (as the point-by-
-point loop keeps it), the same quotient. An orbit with more outputs than that, or none, or
-with its own parameters where the batch routine takes one set, gets ``_result``'s own
-evidence through ``single`` (so every orbit's numbers are ``integrate()``'s, bit for bit).
+compiled model's, point by point. :func:`ensemble_evidence` computes the same for ``N``
+orbits at once: the compiled integrals of all orbits at one output time in one call of the
+model's batch routine (``integrals_many``: the same compiled function, called once per state
+with its orbit's parameters, so the same bits), the largest change over each orbit's own
+outputs with NaN kept (as the point-by-point loop keeps it), the same quotient. An orbit with
+more outputs than that, or none, gets ``_result``'s own evidence through ``single`` (so every
+orbit's numbers are ``integrate()``'s, bit for bit).
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ __all__ = ["ensemble_evidence"]
 
 
 def ensemble_evidence(code: ModelCode, compiled: Any, t: np.ndarray, y: np.ndarray,
-                      done: np.ndarray, status: np.ndarray, params: np.ndarray | None,
+                      done: np.ndarray, status: np.ndarray, params: np.ndarray,
                       zero: float, single: Callable[[int], Any]) -> tuple:  # fmt: skip
     """Every orbit's status and drifts, as its ``IntegrationResult`` would have them.
 
@@ -44,9 +44,8 @@ def ensemble_evidence(code: ModelCode, compiled: Any, t: np.ndarray, y: np.ndarr
     done : ndarray of int, shape (N,)
     status : ndarray of int, shape (N,)
         The integrator's status (before the evidence).
-    params : ndarray, shape (n_param,), or None
-        The parameters shared by every orbit; None: each orbit has its own (then every orbit's
-        evidence is ``single``'s).
+    params : ndarray, shape (N, n_param)
+        Each orbit's parameters (rows).
     zero : float
         The precision's ``zero`` (an integral starting below it drifts absolutely).
     single : callable
@@ -61,14 +60,13 @@ def ensemble_evidence(code: ModelCode, compiled: Any, t: np.ndarray, y: np.ndarr
     status = np.array(status, dtype=np.int64)
     drift = {name: np.full(N, np.nan) for name in names}
     alone = (done < 1) | (done > _POINTWISE_COMPILED)
-    if params is None:
-        alone[:] = True
     rows = np.flatnonzero(~alone)
     if len(rows):
         m = int(done[rows].max())
         V = np.empty((len(rows), m, len(names)))
+        P = params[rows].T
         for k in range(m):  # the compiled integrals of every orbit at output k
-            V[:, k, :] = compiled.integrals_many(float(t[k]), y[rows, :, k].T, params).T
+            V[:, k, :] = compiled.integrals_many(float(t[k]), y[rows, :, k].T, P).T
         upto = np.arange(m)[None, :] < done[rows][:, None]
         with np.errstate(invalid="ignore"):
             change = np.where(upto[:, :, None], np.abs(V - V[:, :1, :]), 0.0).max(axis=1)

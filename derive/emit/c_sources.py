@@ -54,7 +54,7 @@ TAYLOR_DEFINES = {
 }
 
 #: First line of ``templates/model_many.c``: a source that has it has its batch routines.
-MODEL_MANY_MARKER = "/* chaplygin.numerics.compiled batch shim v1 */"
+MODEL_MANY_MARKER = "/* chaplygin.numerics.compiled batch shim v2 */"
 
 #: The name of the Jacobian in vector lanes: a lanes source that defines it has the lanes of the
 #: variational batch (``templates/variational_batch.c``).

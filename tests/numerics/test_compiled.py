@@ -164,6 +164,27 @@ def test_many_accepts_strided_and_transposed_states(models):
         model.rhs_many(0.0, Y[:5], p)
 
 
+@pytest.mark.parametrize("routine", ROUTINES)
+def test_many_with_a_parameter_set_per_state(models, routine):
+    """A parameter set per state (columns, also strided): each column is the single-state
+    routine's at that state and that set, bit for bit; a set of the wrong shape is refused."""
+    model = models["chaplygin_ball"]
+    rng = np.random.default_rng(ROUTINES.index(routine) + 40)
+    Y = _random_states("chaplygin_ball", rng, 7)
+    P = np.column_stack([_random_params("chaplygin_ball", rng) for _ in range(7)])
+    many = getattr(model, f"{routine}_many")
+    got = many(0.29, Y, P)
+    for j in range(7):
+        np.testing.assert_array_equal(got[..., j], getattr(model, routine)(0.29, Y[:, j], P[:, j]))
+    wide = np.zeros((P.shape[0], 14))
+    wide[:, ::2] = P
+    np.testing.assert_array_equal(many(0.29, Y, wide[:, ::2]), got)
+    np.testing.assert_array_equal(many(0.29, Y, np.asfortranarray(P)), got)
+    assert not np.array_equal(many(0.29, Y, P[:, ::-1]), got)  # the sets do go by column
+    with pytest.raises(ValueError, match="shape"):
+        many(0.29, Y, P[:, :5])
+
+
 # --------------------------------------------------------------------------- call conventions
 
 

@@ -78,7 +78,8 @@ def test_one_state_many_parameter_sets_and_a_failing_orbit():
 def test_the_taylor_orbits_run_in_vector_lanes_bit_for_bit(threads, monkeypatch):
     """Eleven orbits (not a multiple of the four lanes), each with its own state and body,
     in the lanes driver (whose blocks follow the threads): every orbit's result is
-    integrate()'s -- outputs, status, steps, orders in the message, drift."""
+    integrate()'s -- outputs, status, steps, orders in the message, drift (the ensemble's
+    arrays, computed for all orbits with their own parameters at once, too)."""
     used = []
     lanes = ensemble.run_lanes
     monkeypatch.setattr(ensemble, "run_lanes", lambda *a: used.append(a[2]) or lanes(*a))
@@ -94,6 +95,7 @@ def test_the_taylor_orbits_run_in_vector_lanes_bit_for_bit(threads, monkeypatch)
         assert _same(got.y, one.y) and _same(got.t, one.t) and got.status == one.status
         assert got.message == one.message and got.nsteps == one.nsteps
         assert got.drift == one.drift and got.backend == one.backend
+        assert {n: r.drift[n][j] for n in r.drift} == one.drift and r.status[j] == one.status
     assert len({float(v) for v in r.y[:, 0, -1]}) == 11
 
 
@@ -274,11 +276,13 @@ def test_evidence_at_once_keeps_what_the_point_by_point_loop_keeps():
     done = np.array([6, 6, 6, 6, 6, 1, 3, 4, 6])
     y[6, 0, 3:] = np.nan  # after orbit 6's last output: not its evidence
     status = np.array([0, 0, 0, 0, 0, 0, -2, -3, 0])
+    P = np.tile(p, (N, 1))
+    P[8] = [1.41, 2.23, 3.17, 1.09]  # an orbit with its own body
     got_status, got = ensemble_evidence(code, compiled, np.linspace(0, 1, m), y, done, status,
-                                        p, prec.zero, lambda j: None)  # fmt: skip
+                                        P, prec.zero, lambda j: None)  # fmt: skip
     t = np.linspace(0, 1, m)
     for j in range(N):
-        drift, _ = _drift(code, t[: done[j]], y[j, :, : done[j]], p, prec, compiled)
+        drift, _ = _drift(code, t[: done[j]], y[j, :, : done[j]], P[j], prec, compiled)
         want = status[j] if _all_finite(y[j, :, : done[j]]) else -1
         if want == 0 and not all(np.isfinite(list(drift.values()))):
             want = -5
