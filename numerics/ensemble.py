@@ -268,8 +268,8 @@ max_wall_s
         a, b = first[1].t_span
         t_eval = [a + (b - a) * k / 10 for k in range(10)] + [b]
         first = prepare(0, code, t_eval)
-    read = _read_at_once(code, first, states, sets, prec, count)
     lanes = lanes_library(*first, backend)
+    read = _read_at_once(code, first, states, sets, prec, count, lanes is not None)
     if lanes is not None:  # the Taylor method in double: the orbits in vector lanes
         return _in_lanes(first, read, lambda j: prepare(j, code, t_eval), count, lanes,
                          workers, start)  # fmt: skip
@@ -292,9 +292,10 @@ max_wall_s
 
 
 def _read_at_once(code: ModelCode, first: tuple, states: Any, sets: Any, prec: Precision,
-                  count: int) -> ReadStarts | None:  # fmt: skip
+                  count: int, compiled: bool) -> ReadStarts | None:  # fmt: skip
     """The starts read at once (double, numbers only:
-    :mod:`~chaplygin.numerics.ensemble_inputs`); None where ``integrate``'s route reads all."""
+    :mod:`~chaplygin.numerics.ensemble_inputs`; ``compiled``: checked with the compiled
+    model); None where ``integrate``'s route reads all."""
     if not prec.is_double or count < 2:
         return None
     Y = numeric_rows(states, len(code.state)) if states is not None else None
@@ -304,7 +305,7 @@ def _read_at_once(code: ModelCode, first: tuple, states: Any, sets: Any, prec: P
     problem = first[1]
     if Y is None:
         Y = np.tile(np.asarray(problem.y0, dtype=np.float64), (count, 1))
-    return read_starts(code, problem, Y, P)
+    return read_starts(code, problem, Y, P, code.compiled() if compiled else None)
 
 
 def _in_lanes(first: tuple, read: ReadStarts | None, prepare: Callable[[int], tuple],

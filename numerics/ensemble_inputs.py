@@ -122,7 +122,8 @@ class ReadStarts:
         return dataclasses.replace(self.first, y0=y, params=p)
 
 
-def read_starts(code: ModelCode, first: Any, Y: np.ndarray, P: np.ndarray | None) -> ReadStarts:
+def read_starts(code: ModelCode, first: Any, Y: np.ndarray, P: np.ndarray | None,
+                compiled: Any = None) -> ReadStarts:  # fmt: skip
     """The starts ``Y`` (rows) with parameters ``P`` (rows; None: the first problem's) read at
     once: which pass the checks with their margin (see the module); the others must be read
     by ``integrate``'s route.
@@ -134,6 +135,9 @@ def read_starts(code: ModelCode, first: Any, Y: np.ndarray, P: np.ndarray | None
         The first start's problem, read and checked by ``integrate``'s route (double).
     Y : ndarray, shape (N, n_state)
     P : ndarray, shape (N, n_param), or None
+    compiled : CompiledModel, optional
+        The compiled model: the right-hand side and the integrals by its batch routines
+        (else the numpy module's).
 
     Returns
     -------
@@ -162,8 +166,14 @@ def read_starts(code: ModelCode, first: Any, Y: np.ndarray, P: np.ndarray | None
             values = _stacked(code.numpy.constraints(t0, columns, params), N)
             scale = np.maximum(np.abs(values[k:]), 1.0)
             ok &= (np.abs(values[:k]) <= 0.25 * UNIT_TOLERANCE * scale).all(axis=0)
-        for routine in (code.numpy.rhs, code.numpy.integrals):
-            out = _stacked(routine(t0, columns, params), N)
+        if compiled is not None:  # the compiled batch routines (the margin covers roundings)
+            Z = np.array(columns)
+            PZ = np.asarray(params, dtype=float) if P is None else np.ascontiguousarray(P.T)
+            outs = [compiled.rhs_many(t0, Z, PZ), compiled.integrals_many(t0, Z, PZ)]
+        else:
+            outs = [_stacked(routine(t0, columns, params), N)
+                    for routine in (code.numpy.rhs, code.numpy.integrals)]  # fmt: skip
+        for out in outs:
             ok &= (np.abs(out) < FINITE_BOUND).all(axis=0)
     return ReadStarts(first, Y, P, ok)
 
