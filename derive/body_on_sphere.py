@@ -164,9 +164,10 @@ class PlaneMotion:
         gravity: sp.Expr,
         gyrostat: sp.Matrix | None,
     ) -> sp.Expr | None:
-        """The energy in the frame turning with the plane, ``E - Omega (n, L_O)``, for a
-        constant ``Omega`` (``L_O`` the angular momentum about the axis: ``I omega + K +
-        m (rho - r) x v``); None on a moving plane or for ``Omega(t)``.
+        """The energy in the frame turning with the plane, ``E - Omega (n, L_O)`` (``E`` with
+        the potential ``V(n)``), for a constant ``Omega`` (``L_O`` the angular momentum
+        about the axis: ``I omega + K + m (rho - r) x v``); None on a moving plane or for
+        ``Omega(t)``.
 
         Parameters
         ----------
@@ -187,6 +188,7 @@ class PlaneMotion:
         v = cross(r, omega) + Omega * cross(n, rho)  # the centre of mass's velocity
         K = sp.zeros(3, 1) if gyrostat is None else gyrostat
         energy = (omega.T * inertia * omega)[0] / 2 + m * dot(v, v) / 2 - m * gravity * dot(r, n)
+        energy += eq.potential  # of the orientation to the vertical: the turning keeps it
         L = inertia * omega + K + m * cross(rho - r, v)
         return energy - Omega * dot(n, L)
 
@@ -217,6 +219,8 @@ class BodyOnSphere:
     kinematics : dict
         The engine's configuration vectors and their rates (``r``, ``rho``, ``alpha``,
         ``beta``).
+    potential : sympy.Expr
+        The given potential of the orientation ``V(n)`` in the state (part of ``energy``).
     """
 
     omega: sp.Matrix
@@ -232,6 +236,7 @@ class BodyOnSphere:
     multipliers: tuple[tuple[sp.Symbol, sp.Expr], ...] = ()
     plane: PlaneMotion | None = None
     kinematics: dict | None = None
+    potential: sp.Expr = sp.S.Zero
 
 
 def derive_body_on_sphere(
@@ -244,6 +249,7 @@ def derive_body_on_sphere(
     gyrostat: sp.Matrix | None = None,
     gravity: sp.Expr = sp.S.Zero,
     plane: PlaneMotion | None = None,
+    potential: tuple[sp.Expr, sp.Matrix] | None = None,
 ) -> BodyOnSphere:
     """Derive the equations of a body with surface ``f(r) = 0`` rolling on a sphere.
 
@@ -271,6 +277,10 @@ def derive_body_on_sphere(
         How the plane moves (``k = 0`` only): the no-slip constraint becomes affine, the
         body's contact point moving with the plane's point under it, and a rubber body
         does not twist relative to it. ``inertia`` may depend on ``t`` (``I(t)``).
+    potential : (sympy.Expr, sympy.Matrix), optional
+        A potential of the orientation ``V(gamma)`` and its vector ``gamma`` (the vertical
+        in body axes; on a plane ``n``): the torque ``n x dV/dn`` about the centre of mass
+        (``V`` changes by ``(dV/dn, n x omega)``), ``V(n)`` in the energy. On a plane only.
 
     Returns
     -------
@@ -291,8 +301,10 @@ def derive_body_on_sphere(
     grad = sp.Matrix([sp.diff(surface, s) for s in r])
     q = sp.sqrt(sp.factor_terms(sp.expand(dot(grad, grad))))
     n = (-grad / q).applyfunc(sp.factor_terms)
-    if (gravity != 0 or plane is not None) and k != 0:
-        raise ValueError("a field along the normal or a moving support: on a plane (k = 0) only")
+    if (gravity != 0 or plane is not None or potential is not None) and k != 0:
+        raise ValueError(
+            "a field, a potential or a moving support: on a plane (k = 0) only"
+        )
     plane = plane or PlaneMotion()
     # the normal as a vector fixed in space for the engine (nu' = nu x omega, which
     # (dn/dr) r' is), put back as n(r) after: no square roots in its solve
@@ -304,6 +316,10 @@ def derive_body_on_sphere(
     if set(kinematics) != {"r"} or plane.no_twist:
         kinematics["nu"] = (nu, cross(nu, omega))
     to_n = dict(zip(nu, n, strict=True))
+    torque, V = sp.zeros(3, 1), sp.S.Zero
+    if potential is not None:  # V(nu): dV/dt = (dV/dnu, nu x omega) = (omega, dV/dnu x nu)
+        V = potential[0].xreplace(dict(zip(potential[1], nu, strict=True)))
+        torque = cross(nu, sp.Matrix([sp.diff(V, x) for x in nu]))
     desc = RigidBodyDescription(
         omega=omega,
         v=v,
@@ -312,6 +328,7 @@ def derive_body_on_sphere(
         kinematics=kinematics,
         time=t,
         force=-m * gravity * n,
+        torque=torque,
     )
     red = lagrange_dalembert(desc)
     red.momentum = red.momentum.xreplace(to_n)
@@ -348,10 +365,11 @@ def derive_body_on_sphere(
         normal=n,
         normal_jacobian=Dn,
         r_rate=r_rate,
-        energy=red.energy - m * gravity * dot(r, n),
+        energy=red.energy - m * gravity * dot(r, n) + V.xreplace(to_n),
         multipliers=multipliers,
         plane=plane,
         kinematics=kinematics,
+        potential=V.xreplace(to_n),
     )
 
 
@@ -393,6 +411,8 @@ class BodyOnSphereReduction:
     plane : PlaneMotion, optional
         A moving plane (``curvature`` 0): the state groups ``rho`` (rotating) or
         ``alpha, beta`` (moving) are derived too.
+    potential : (sympy.Expr, sympy.Matrix), optional
+        A potential of the orientation ``V(gamma)`` and its ``gamma`` (on a plane).
     """
 
     surface: sp.Expr
@@ -403,6 +423,7 @@ class BodyOnSphereReduction:
     gyrostat: sp.Matrix | None = None
     gravity: sp.Expr = sp.S.Zero
     plane: PlaneMotion | None = None
+    potential: tuple[sp.Expr, sp.Matrix] | None = None
 
     def reduce(self, desc: MechanicalDescription) -> Reduced:
         """``omega'`` and ``r'`` (an auxiliary ``rdot``), the carried groups' rates and
@@ -442,6 +463,7 @@ class BodyOnSphereReduction:
         eq = derive_body_on_sphere(
             self.surface, desc.inertia, self.mass, self.curvature, omega, r,
             gyrostat=self.gyrostat, gravity=self.gravity, plane=self.plane,
+            potential=self.potential,
         )  # fmt: skip
         rdot = eq.r_rate_symbols
         rates = {self.angular_velocity: list(eq.omega_rate), self.position: list(rdot)}

@@ -51,6 +51,7 @@ def _convex_body_description(s: RollingSystem) -> MechanicalDescription:
         reduction=BodyOnSphereReduction(
             p["surface"], m, _support_curvature(s), gyrostat=p["rotor_momentum"],
             gravity=p["field"], plane=plane,
+            potential=_potential_of_gamma(p["potential"]),
         ),  # fmt: skip
         parameter_order=names,
         inertia=p["inertia"],
@@ -70,6 +71,11 @@ def _convex_body_description(s: RollingSystem) -> MechanicalDescription:
     desc.add_integral("f", sp.expand(p["surface"] - r_free))  # the level: up to a constant
     _declare_parameters(desc, p)
     return desc
+
+
+def _potential_of_gamma(potential: sp.Expr) -> tuple[sp.Expr, sp.Matrix] | None:
+    """The description's potential of the orientation and its vector ``gamma`` (None: none)."""
+    return None if potential.is_zero else (potential, vector("gamma", real=True))
 
 
 def _support_surface_description(s: RollingSystem) -> MechanicalDescription:
@@ -161,8 +167,10 @@ def _read_surface(s: RollingSystem, scope: dict, centre: sp.Matrix) -> sp.Expr |
         )
     if s.support == "sphere" and s.gravity is not None:
         raise UserInputError("a convex body on a sphere is derived without gravity in this version")
-    if s.potential is not None:
-        raise UserInputError("a potential is derived for a spherical body only in this version")
+    if s.support == "sphere" and s.potential is not None:
+        raise UserInputError(
+            "a convex body on a sphere is derived without a potential in this version"
+        )
     x = {f"x{i}": sp.Symbol(f"x{i}", real=True) for i in (1, 2, 3)}
     f = parse_expression(s.surface, {**scope, **x}, "surface")
     if not f.is_polynomial(*x.values()) or sp.Poly(f, *x.values()).total_degree() < 2:

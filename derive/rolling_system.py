@@ -567,6 +567,7 @@ def _parse(s: RollingSystem) -> dict:
             # a constant velocity of the plane changes nothing (Galilean): only V' enters
             plane_velocity.diff(timed["t"]).free_symbols,
             gyrostat.free_symbols,
+            potential.free_symbols,
             *(sp.diff(surface, ri).free_symbols for ri in vector("r", real=True)),
         )
         parameters = tuple(x for x in parameters if x in used)
