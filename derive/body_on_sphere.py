@@ -302,9 +302,7 @@ def derive_body_on_sphere(
     q = sp.sqrt(sp.factor_terms(sp.expand(dot(grad, grad))))
     n = (-grad / q).applyfunc(sp.factor_terms)
     if (gravity != 0 or plane is not None or potential is not None) and k != 0:
-        raise ValueError(
-            "a field, a potential or a moving support: on a plane (k = 0) only"
-        )
+        raise ValueError("a field, a potential or a moving support: on a plane (k = 0) only")
     plane = plane or PlaneMotion()
     # the normal as a vector fixed in space for the engine (nu' = nu x omega, which
     # (dn/dr) r' is), put back as n(r) after: no square roots in its solve
@@ -316,20 +314,10 @@ def derive_body_on_sphere(
     if set(kinematics) != {"r"} or plane.no_twist:
         kinematics["nu"] = (nu, cross(nu, omega))
     to_n = dict(zip(nu, n, strict=True))
-    torque, V = sp.zeros(3, 1), sp.S.Zero
-    if potential is not None:  # V(nu): dV/dt = (dV/dnu, nu x omega) = (omega, dV/dnu x nu)
-        V = potential[0].xreplace(dict(zip(potential[1], nu, strict=True)))
-        torque = cross(nu, sp.Matrix([sp.diff(V, x) for x in nu]))
-    desc = RigidBodyDescription(
-        omega=omega,
-        v=v,
-        kinetic_energy=T,
-        constraints=constraints,
-        kinematics=kinematics,
-        time=t,
-        force=-m * gravity * n,
-        torque=torque,
-    )
+    V, torque = _orientation_load(potential, nu)
+    desc = RigidBodyDescription(omega=omega, v=v, kinetic_energy=T, constraints=constraints,
+                                kinematics=kinematics, time=t, force=-m * gravity * n,
+                                torque=torque)  # fmt: skip
     red = lagrange_dalembert(desc)
     red.momentum = red.momentum.xreplace(to_n)
     red.momentum_rate = red.momentum_rate.xreplace(to_n)
@@ -347,14 +335,7 @@ def derive_body_on_sphere(
     kinematics.pop("nu", None)
     kinematics = {k: (X, rate.xreplace(to_n)) for k, (X, rate) in kinematics.items()}
     Dn = n.jacobian(r)
-    if k == 0:  # a plane: n' = n x omega, and r' tangent to the surface
-        equations = Dn * r_dot - cross(n, omega) + n * dot(n, r_dot)
-    else:  # (k Id + dn/dr) r' = n x omega, from contact_normal_rate and n' = (dn/dr) r'
-        equations = Dn * r_dot - contact_normal_rate(k, r, r_dot, n, omega)
-    system = equations.jacobian(r_dot)
-    source = -equations.xreplace(dict.fromkeys(r_dot, 0))
-    adj, det = _adjugate_and_det(system)
-    r_rate = adj * source / det
+    r_rate = _contact_rate(k, n, Dn, omega, r, r_dot)
     return BodyOnSphere(
         omega=omega,
         r=r,
@@ -371,6 +352,30 @@ def derive_body_on_sphere(
         kinematics=kinematics,
         potential=V.xreplace(to_n),
     )
+
+
+def _orientation_load(potential: tuple[sp.Expr, sp.Matrix] | None,
+                      nu: sp.Matrix) -> tuple[sp.Expr, sp.Matrix]:  # fmt: skip
+    """``V(nu)`` and its torque ``nu x dV/dnu`` (``dV/dt = (dV/dnu, nu x omega) = (omega,
+    dV/dnu x nu)``) for a potential of the orientation given in its vector; zero for none."""
+    if potential is None:
+        return sp.S.Zero, sp.zeros(3, 1)
+    V = potential[0].xreplace(dict(zip(potential[1], nu, strict=True)))
+    return V, cross(nu, sp.Matrix([sp.diff(V, x) for x in nu]))
+
+
+def _contact_rate(k: sp.Expr, n: sp.Matrix, Dn: sp.Matrix, omega: sp.Matrix, r: sp.Matrix,
+                  r_dot: sp.Matrix) -> sp.Matrix:  # fmt: skip
+    """``r'`` in the state: on a plane ``n' = n x omega`` with ``r'`` tangent to the surface,
+    on a sphere ``(k Id + dn/dr) r' = n x omega`` (contact_normal_rate, ``n' = (dn/dr) r'``)."""
+    if k == 0:
+        equations = Dn * r_dot - cross(n, omega) + n * dot(n, r_dot)
+    else:
+        equations = Dn * r_dot - contact_normal_rate(k, r, r_dot, n, omega)
+    system = equations.jacobian(r_dot)
+    source = -equations.xreplace(dict.fromkeys(r_dot, 0))
+    adj, det = _adjugate_and_det(system)
+    return adj * source / det
 
 
 @dataclass(frozen=True)

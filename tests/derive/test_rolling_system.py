@@ -194,8 +194,9 @@ def test_names_become_exact_parameters_and_decimals_stay_exact():
             "not inside the body",
         ),
         (
-            {"inertia": (1, 1, 1), "surface": "x1**2 + x2**2 + x3**2 - 1", "potential": "gamma1"},
-            "spherical body only",
+            {"inertia": (1, 1, 1), "surface": "x1**2 + x2**2 + x3**2 - 1", "potential": "gamma1",
+             "support": "sphere", "support_radius": 3},
+            "without a potential",
         ),
         ({"inertia": (1, 1, 1), "support": "moving_plane"}, "needs plane_velocity"),
         ({"inertia": (1, 1, 1), "support": "moving_plane", "plane_velocity": ("t",)}, "expected 2"),
