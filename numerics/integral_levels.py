@@ -59,12 +59,16 @@ class LevelRequest:
         Integral name -> value (numbers or text the number parser reads).
     expressions : mapping of str to str
         Integrals the model does not ship: name -> expression text.
+    point : int or None
+        None: the root Newton reaches from the given values; ``k``: the k-th point of the
+        level set's documented enumeration (:mod:`chaplygin.numerics.level_points`).
     """
 
     given: Mapping[str, Sequence]
     free: Sequence[str]
     targets: Mapping[str, object]
     expressions: Mapping[str, str]
+    point: int | None = None
 
 
 def _free_components(code: ModelCode, given: Mapping, free: Sequence[str]) -> list:
@@ -205,10 +209,18 @@ def state_on_levels(
     ------
     IntegralLevelError
         Unknown names, a count of free components other than the integrals', a start
-        missing, or no state reached with those values.
+        missing, or no state reached with those values; with ``point``, as
+        :func:`chaplygin.numerics.level_points.point_on_levels`.
     """
     from .inputs import parse_number
+    from .level_points import refuse_by_certificate
 
+    if request.point is not None:
+        from .level_points import point_on_levels
+
+        if request.point < 0:
+            raise IntegralLevelError(f"point must be 0 or more, got {request.point}", "point")
+        return point_on_levels(code, params, request, precision)
     with mpmath.workdps(precision.parse_dps + 10):
         _evaluators(code, request)  # unknown names first
     free = _free_components(code, request.given, request.free)
@@ -244,9 +256,7 @@ def state_on_levels(
         try:
             x = _newton(residual, x0, names, [n for _, _, n in free], target, dps)
         except IntegralLevelError as exc:
-            if "H" in names:
-                k = names.index("H")
-                _refuse_below_least_energy(lambda x: residual(x)[k] + target[k], x0, target[k])
+            refuse_by_certificate(lambda x: residual(x) + target, x0, names, target)
             raise exc from None
         values = groups_at(x)
     how = (
@@ -256,48 +266,13 @@ def state_on_levels(
     return values, dict(request.targets), how
 
 
-def _refuse_below_least_energy(energy: Callable, x0, h) -> None:
-    """Refuse, as a proof, an energy ``h`` below the least value the energy takes over the free
-    components, where it is a quadratic in them with a positive-definite Hessian (a free
-    momentum: ``T`` is positive definite). The quadratic is fitted exactly from values at
-    ``x0``, ``x0 + e_i``, ``x0 + e_i + e_j``, ``x0 - e_i`` and checked at ``x0 + 2 e``;
-    anything else returns without a verdict."""
-    n = len(x0)
-    unit = [mpmath.matrix([1 if i == j else 0 for i in range(n)]) for j in range(n)]
-    c = energy(x0)
-    up = [energy(x0 + e) for e in unit]
-    down = [energy(x0 - e) for e in unit]
-    grad = mpmath.matrix([(u - d) / 2 for u, d in zip(up, down, strict=True)])
-    Q = mpmath.matrix(n, n)
-    for i in range(n):
-        Q[i, i] = up[i] + down[i] - 2 * c
-        for j in range(i):
-            Q[i, j] = Q[j, i] = energy(x0 + unit[i] + unit[j]) - up[i] - up[j] + c
-    ones = mpmath.matrix([2] * n)
-    predicted = c + (grad.T * ones)[0] + (ones.T * Q * ones)[0] / 2
-    if abs(energy(x0 + ones) - predicted) > mpmath.mpf(10) ** (-mpmath.mp.dps // 2) * (1 + abs(c)):
-        return  # not a quadratic in the free components
-    try:
-        mpmath.cholesky(Q)
-    except ValueError:
-        return  # not positive definite: no least value
-    least = c - (grad.T * mpmath.lu_solve(Q, grad))[0] / 2
-    if h < least:
-        raise IntegralLevelError(
-            f"no real state with the other components as given has H = {mpmath.nstr(h, 10)}: "
-            "the energy is a positive-definite quadratic in the free components, least "
-            f"{mpmath.nstr(least, 10)}",
-            "integrals",
-        )
-
-
-def _newton(residual, x0, names, free_names, target, dps):
+def _newton(residual, x0, names, free_names, target, dps, iterations=MAX_ITERATIONS):
     """Damped Newton with a central-difference Jacobian; refuses with the least residual."""
     x, r = x0, residual(x0)
     scale = 1 + mpmath.norm(target, mpmath.inf)
     tol = mpmath.mpf(10) ** (-(dps - 8)) * scale
     h = mpmath.mpf(10) ** (-(dps // 2))
-    for _ in range(MAX_ITERATIONS):
+    for _ in range(iterations):
         size = mpmath.norm(r, mpmath.inf)
         if size <= tol:
             return x
@@ -311,8 +286,9 @@ def _newton(residual, x0, names, free_names, target, dps):
                 J[i, j] = column[i]
         try:
             dx = mpmath.lu_solve(J, -r)
-        except ZeroDivisionError:
-            break  # a singular Jacobian: no Newton step
+        except (ZeroDivisionError, TypeError):
+            break  # a singular Jacobian: no Newton step (mpmath's LU leaves the pivot of a
+            # zero column None: a TypeError)
         t = mpmath.mpf(1)
         while t > mpmath.mpf(2) ** -30:
             trial = x + t * dx

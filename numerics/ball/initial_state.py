@@ -270,7 +270,7 @@ def _split(code: ModelCode, request: Mapping[str, object]) -> _Request:
     items = {k: v for k, v in request.items() if v is not None}
     choices = {
         "parallel": bool(items.get("parallel", False)),
-        "point": items.get("point", 0),
+        "point": items.get("point"),
         "rest": bool(items.get("rest", False)),
         "near": items.get("near"),
         "separatrix": items.get("separatrix"),
@@ -337,7 +337,8 @@ def initial_state(
         Parameter values by symbol (``I1, I2, I3, D, ...``) at the working precision.
     request : mapping of str to value
         State groups of the model (``M``, ``gamma``, ...) and the keys of :data:`REQUEST_KEYS`:
-        ``h``, ``C``, ``n``, ``parallel`` (bool), ``point`` (int), ``G, z, l, g``, ``rest``
+        ``h``, ``C``, ``n``, ``parallel`` (bool), ``point`` (int; with ``integrals``: the
+        k-th point of :mod:`chaplygin.numerics.level_points`), ``G, z, l, g``, ``rest``
         (bool), ``near`` (``"p1"``..``"p3"``), ``separatrix`` (1..3), ``offset``,
         ``integrals`` (name -> value) with ``free`` (components or groups solved for:
         :mod:`chaplygin.numerics.integral_levels`). Values are numbers or text
@@ -391,7 +392,9 @@ def initial_state(
             code, params, given, by_integrals["h"], precision
         )
     elif by_integrals and not prescribed:
-        resolved = _from_integrals(code, params, by_integrals, given, choices["point"], dps)
+        resolved = _from_integrals(
+            code, params, by_integrals, given, choices["point"] or 0, dps
+        )
         prescribed, how = resolved.prescribed, resolved.how
         given.update({k: [mpmath.nstr(c, dps + 5) for c in v] for k, v in resolved.values.items()})
     try:
@@ -422,7 +425,10 @@ def _on_levels(code, params, req: _Request, precision, expressions) -> InitialSt
     if clash:
         raise InitialStateError(f"give integrals = {{...}} or {clash[0]}, not both", clash[0])
     free = choices["free"] or list(code.state_groups)[:1]
-    request = LevelRequest(req.given, free, choices["integrals"], expressions)
+    point = choices["point"]
+    request = LevelRequest(
+        req.given, free, choices["integrals"], expressions, None if point is None else int(point)
+    )
     try:
         values, prescribed, how = state_on_levels(code, params, request, precision)
         state = complete_state(code, {**req.given, **values}, precision)
