@@ -209,18 +209,16 @@ def state_on_levels(
     ------
     IntegralLevelError
         Unknown names, a count of free components other than the integrals', a start
-        missing, or no state reached with those values; with ``point``, as
-        :func:`chaplygin.numerics.level_points.point_on_levels`.
+        missing, or no state reached with those values; ``point`` set (that is
+        :func:`chaplygin.numerics.level_points.point_on_levels`).
     """
     from .inputs import parse_number
-    from .level_points import refuse_by_certificate
+    from .level_certificate import certificate_refusal
 
     if request.point is not None:
-        from .level_points import point_on_levels
-
-        if request.point < 0:
-            raise IntegralLevelError(f"point must be 0 or more, got {request.point}", "point")
-        return point_on_levels(code, params, request, precision)
+        raise IntegralLevelError(
+            "point = k is chosen by chaplygin.numerics.level_points.point_on_levels", "point"
+        )
     with mpmath.workdps(precision.parse_dps + 10):
         _evaluators(code, request)  # unknown names first
     free = _free_components(code, request.given, request.free)
@@ -256,8 +254,8 @@ def state_on_levels(
         try:
             x = _newton(residual, x0, names, [n for _, _, n in free], target, dps)
         except IntegralLevelError as exc:
-            refuse_by_certificate(lambda x: residual(x) + target, x0, names, target)
-            raise exc from None
+            proof = certificate_refusal(lambda x: residual(x) + target, x0, names, target)
+            raise (IntegralLevelError(proof, "integrals") if proof else exc) from None
         values = groups_at(x)
     how = (
         f"{', '.join(n for _, _, n in free)} solved for the integral values "
@@ -266,8 +264,9 @@ def state_on_levels(
     return values, dict(request.targets), how
 
 
-def _newton(residual, x0, names, free_names, target, dps, iterations=MAX_ITERATIONS):
-    """Damped Newton with a central-difference Jacobian; refuses with the least residual."""
+def _newton(residual, x0, names, free_names, target, dps, iterations=MAX_ITERATIONS, halvings=30):
+    """Damped Newton with a central-difference Jacobian (a step halved at most ``halvings``
+    times until the residual falls); refuses with the least residual."""
     x, r = x0, residual(x0)
     scale = 1 + mpmath.norm(target, mpmath.inf)
     tol = mpmath.mpf(10) ** (-(dps - 8)) * scale
@@ -290,7 +289,7 @@ def _newton(residual, x0, names, free_names, target, dps, iterations=MAX_ITERATI
             break  # a singular Jacobian: no Newton step (mpmath's LU leaves the pivot of a
             # zero column None: a TypeError)
         t = mpmath.mpf(1)
-        while t > mpmath.mpf(2) ** -30:
+        while t > mpmath.mpf(2) ** -halvings:
             trial = x + t * dx
             r_trial = residual(trial)
             if mpmath.norm(r_trial, mpmath.inf) < size:

@@ -24,7 +24,8 @@ not free, the parameters, the values and the working precision):
   ``1 + max |given|`` about the given values (a stated box, not a natural domain: points
   outside it can be missed). The starts are the product of the blocks' in this order.
 * **Roots.** From every start, the damped Newton of ``integral_levels`` (central-difference
-  Jacobian, steps halved until the residual falls; :data:`ITERATIONS` at most) at
+  Jacobian, a step halved at most :data:`HALVINGS` times until the residual falls;
+  :data:`ITERATIONS` at most) at
   ``parse_dps + 10`` digits, to a
   residual below ``10^-(digits - 8) (1 + |values|)``; starts that do not converge give none.
 * **De-duplication.** Two roots are one when their free components differ by at most
@@ -37,8 +38,8 @@ Everything runs in mpmath at the solve's digits: the same bits on every machine 
 What is a proof and what is not: a point returned satisfies the values to the residual stated;
 the enumeration is every root reached from the starts, not a proof that the level set has no
 other point. A request with no point found is refused; the refusal is a proof when a
-certificate is found (:func:`quadratic_certificate`): multipliers ``lambda`` for which
-``sum lambda_i (F_i - v_i)``, a quadratic in the free scalars, is positive definite with a
+certificate is found (:mod:`chaplygin.numerics.level_certificate`): multipliers ``lambda`` for
+which ``sum lambda_i (F_i - v_i)``, a quadratic in the free scalars, is positive definite with a
 positive least value, so no real point has the values (for the quadratics the conditions are,
 fitted exactly from their values and checked at another point; the energy alone below its
 least value is the case ``lambda = e_H``).
@@ -48,7 +49,7 @@ from __future__ import annotations
 
 import functools
 import itertools
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import mpmath
@@ -57,12 +58,26 @@ from ..derive.errors import UserInputError
 from .code import ModelCode
 from .frame import horizontal_frame
 from .inputs import complete_state
+from .integral_levels import (
+    IntegralLevelError,
+    LevelRequest,
+    _evaluators,
+    _free_components,
+    _newton,
+)
+from .level_certificate import (
+    certificate_refusal,
+    fibonacci_lattice,
+    least_of_quadratic,
+    quadratic_fit,
+    unit_sphere_lattice,
+)
 from .precision import Precision
 
 __all__ = [
     "LevelPoints",
     "level_points",
-    "quadratic_certificate",
+    "point_on_levels",
     "SPHERE_STARTS",
     "SPHERE_STARTS_WITH_SCALARS",
     "ELLIPSOID_STARTS",
@@ -80,10 +95,10 @@ ELLIPSOID_STARTS = 32
 CIRCLE_STARTS = 16
 #: Starts of the box grid of free scalars without an energy ellipsoid (at most).
 BOX_STARTS = 64
-#: How much finer than the starts' lattice the certificate's search of multipliers is.
-CERTIFICATE_LATTICE = 12
 #: Newton iterations from each start at most.
 ITERATIONS = 30
+#: Halvings of a Newton step at most (the start is given up when none lowers the residual).
+HALVINGS = 10
 
 
 @dataclass(frozen=True)
@@ -111,212 +126,6 @@ class LevelPoints:
     tolerance: mpmath.mpf
 
 
-def _fibonacci(n: int) -> list[list]:
-    """The Fibonacci lattice of the unit sphere (as in :mod:`.ball.level_set`)."""
-    from .ball.level_set import _fibonacci as fib
-
-    return fib(n)
-
-
-def _unit_sphere(m: int, size: int = 1) -> list[list]:
-    """The stated lattice of the unit sphere of ``R^m`` (see the module), ``size`` times finer
-    (the certificate's search: ``size`` times the points on a circle or a sphere,
-    ``{-2..2}^m`` beyond)."""
-    if m == 1:
-        return [[mpmath.mpf(-1)], [mpmath.mpf(1)]]
-    if m == 2:
-        count = CIRCLE_STARTS * size
-        angles = [2 * mpmath.pi * j / count for j in range(count)]
-        return [[mpmath.cos(t), mpmath.sin(t)] for t in angles]
-    if m == 3:
-        return _fibonacci(ELLIPSOID_STARTS * size)
-    out = []
-    reach = min(size, 2)
-    for signs in itertools.product(range(-reach, reach + 1), repeat=m):
-        if any(signs):
-            norm = mpmath.sqrt(sum(s * s for s in signs))
-            out.append([s / norm for s in signs])
-    return out
-
-
-def quadratic_fit(f: Callable, x0) -> list:
-    """``(c, g, Q)`` per entry of ``f`` with ``f_k(x0 + d) = c + g.d + d.Q.d/2``, fitted exactly
-    from the values at ``x0``, ``x0 +- e_i``, ``x0 + e_i + e_j`` and checked at ``x0 + 2 e`` (to
-    half the working digits); None for an entry that is not such a quadratic.
-
-    Parameters
-    ----------
-    f : callable
-        ``f(x)``: an mpmath column of numbers at an mpmath column ``x``.
-    x0 : mpmath.matrix
-        The centre of the fit.
-
-    Returns
-    -------
-    list of (mpmath.mpf, mpmath.matrix, mpmath.matrix) or None
-    """
-    n = len(x0)
-    unit = [mpmath.matrix([1 if i == j else 0 for i in range(n)]) for j in range(n)]
-    c = f(x0)
-    up = [f(x0 + e) for e in unit]
-    down = [f(x0 - e) for e in unit]
-    pairs = {(i, j): f(x0 + unit[i] + unit[j]) for i in range(n) for j in range(i)}
-    ones = mpmath.matrix([2] * n)
-    far = f(x0 + ones)
-    fits = []
-    for k in range(len(c)):
-        grad = mpmath.matrix([(u[k] - d[k]) / 2 for u, d in zip(up, down, strict=True)])
-        Q = mpmath.matrix(n, n)
-        for i in range(n):
-            Q[i, i] = up[i][k] + down[i][k] - 2 * c[k]
-            for j in range(i):
-                Q[i, j] = Q[j, i] = pairs[i, j][k] - up[i][k] - up[j][k] + c[k]
-        predicted = c[k] + (grad.T * ones)[0] + (ones.T * Q * ones)[0] / 2
-        scale = 1 + abs(c[k]) + mpmath.norm(grad, 1) + mpmath.mnorm(Q, 1)
-        exact = abs(far[k] - predicted) <= mpmath.mpf(10) ** (-mpmath.mp.dps // 2) * scale
-        fits.append((c[k], grad, Q) if exact else None)
-    return fits
-
-
-def least_of_quadratic(c, g, Q) -> tuple | None:
-    """``(least value, least point offset)`` of ``c + g.d + d.Q.d/2`` when ``Q`` is positive
-    definite (Cholesky at the working digits), else None."""
-    try:
-        mpmath.cholesky(Q)
-    except ValueError:
-        return None
-    d = -mpmath.lu_solve(Q, g)
-    return c + (g.T * d)[0] / 2, d
-
-
-def quadratic_certificate(c: Sequence, g: Sequence, Q: Sequence, values: Sequence):
-    """Multipliers proving that ``F_i(x) = values_i`` has no real solution, or None.
-
-    ``F_i(x0 + d) = c_i + g_i.d + d.Q_i.d/2`` (as :func:`quadratic_fit` gives them). A
-    certificate is ``lambda`` with ``Q_lambda = sum lambda_i Q_i`` positive definite and the
-    least value of ``sum lambda_i (F_i - values_i)`` positive (then that sum is positive
-    everywhere, so the ``F_i - values_i`` never vanish together). Candidates: each sign of each
-    ``e_i``, then the maximiser over ``|lambda| = 1`` of the smaller of the least value and the
-    least eigenvalue of ``Q_lambda``, by Nelder-Mead (scipy, in double) from the best point of
-    the lattice of that sphere; only the check decides, at the working digits (Cholesky, and
-    the least value above ``10^-(digits/2)`` of the scale).
-
-    Parameters
-    ----------
-    c, g, Q : sequence
-        Per condition: constant, gradient (column) and Hessian at the fit's centre.
-    values : sequence
-        The prescribed values.
-
-    Returns
-    -------
-    (list of mpmath.mpf, mpmath.mpf) or None
-        ``lambda`` and the least value of the combination.
-    """
-    k = len(c)
-
-    def least(lam):
-        cc = sum((li * (ci - vi) for li, ci, vi in zip(lam, c, values, strict=True)), 0)
-        gg = sum((li * gi for li, gi in zip(lam, g, strict=True)), mpmath.zeros(len(g[0]), 1))
-        QQ = sum((li * Qi for li, Qi in zip(lam, Q, strict=True)), mpmath.zeros(len(g[0])))
-        found = least_of_quadratic(cc, gg, QQ)
-        return None if found is None else found[0]
-
-    scale = 1 + max(abs(v) for v in [*c, *values])
-    margin = mpmath.mpf(10) ** (-mpmath.mp.dps // 2) * scale
-
-    def check(lam):
-        lam = [mpmath.mpf(v) for v in lam]
-        value = least(lam)
-        return (lam, value) if value is not None and value > margin else None
-
-    for i in range(k):
-        for sign in (1, -1):
-            found = check([sign * int(j == i) for j in range(k)])
-            if found:
-                return found
-    if k < 2:
-        return None
-    lattice = _unit_sphere(k, CERTIFICATE_LATTICE)
-
-    def objective(lam):
-        """``-min(least value, least eigenvalue of Q_lambda)`` at ``lambda/|lambda|``: the
-        maximiser is a certificate far from both edges (robust to rounding ``lambda``)."""
-        norm = mpmath.sqrt(sum(mpmath.mpf(v) ** 2 for v in lam))
-        if norm == 0:
-            return mpmath.mpf(1)
-        with mpmath.workdps(20):
-            unit = [mpmath.mpf(v) / norm for v in lam]
-            QQ = sum((li * Qi for li, Qi in zip(unit, Q, strict=True)), mpmath.zeros(len(g[0])))
-            lowest = min(mpmath.eigsy(QQ, eigvals_only=True))
-            value = least(unit) if lowest > 0 else None
-        return -lowest if value is None else -min(value, lowest)
-
-    best = min(lattice, key=lambda u: (objective(u), [float(v) for v in u]))
-    from scipy.optimize import minimize
-
-    refined = minimize(
-        lambda v: float(objective(list(v))), [float(v) for v in best], method="Nelder-Mead"
-    ).x
-    norm = sum(float(v) ** 2 for v in refined) ** 0.5
-    return check([float(v) / norm for v in refined]) or check(best)
-
-
-def refuse_by_certificate(conditions: Callable, x0, names: Sequence[str], target) -> None:
-    """Raise :class:`~chaplygin.numerics.integral_levels.IntegralLevelError` with a proof when
-    the conditions that are quadratics in the free scalars have a certificate
-    (:func:`quadratic_certificate`); return otherwise (no verdict).
-
-    Parameters
-    ----------
-    conditions : callable
-        ``x -> (F_i(x))`` (an mpmath column), the integrals at the free components ``x``.
-    x0 : mpmath.matrix
-        The centre of the fits.
-    names : sequence of str
-        The integrals' names, in the column's order.
-    target : mpmath.matrix
-        The prescribed values.
-    """
-    from .integral_levels import IntegralLevelError
-
-    try:
-        every = quadratic_fit(conditions, x0)
-    except UserInputError:
-        return  # a fit point off the state's domain
-    used = [i for i, fit in enumerate(every) if fit is not None]
-    fits = [every[i] for i in used]
-    if not fits:
-        return
-    found = quadratic_certificate(
-        [f[0] for f in fits], [f[1] for f in fits], [f[2] for f in fits], [target[i] for i in used]
-    )
-    if found is None:
-        return
-    lam, least = found
-    nonzero = [i for i, v in zip(used, lam, strict=True) if v != 0]
-    if len(nonzero) == 1 and names[nonzero[0]] == "H" and lam[used.index(nonzero[0])] > 0:
-        k = nonzero[0]
-        raise IntegralLevelError(
-            f"no real state with the other components as given has H = "
-            f"{mpmath.nstr(target[k], 10)}: the energy is a positive-definite quadratic in the "
-            f"free components, least {mpmath.nstr(least + target[k], 10)}",
-            "integrals",
-        )
-    terms = ", ".join(
-        f"{mpmath.nstr(v, 6)} ({names[i]} - {mpmath.nstr(target[i], 10)})"
-        for i, v in zip(used, lam, strict=True)
-        if v != 0
-    )
-    raise IntegralLevelError(
-        f"no real state with the other components as given has "
-        f"{', '.join(names)} = {', '.join(mpmath.nstr(v, 10) for v in target)}: the sum of "
-        f"{terms} is a positive-definite quadratic in the free components with least value "
-        f"{mpmath.nstr(least, 6)} > 0, so the values are never taken together",
-        "integrals",
-    )
-
-
 @dataclass(frozen=True)
 class _Unknowns:
     """The free components split into scalars ``(group, index, name)`` and unit vectors
@@ -328,9 +137,7 @@ class _Unknowns:
     base: dict
 
 
-def _unknowns(code: ModelCode, request, count: int) -> _Unknowns:
-    from .integral_levels import IntegralLevelError, _free_components
-
+def _unknowns(code: ModelCode, request: LevelRequest, count: int) -> _Unknowns:
     unit = {names[0] for kind, names in code.geometry if kind == "unit_vector"}
     tied = {n for _, names in code.geometry for n in names}
     groups = code.state_groups
@@ -341,10 +148,10 @@ def _unknowns(code: ModelCode, request, count: int) -> _Unknowns:
     free = _free_components(code, given, request.free)
     spheres = [g for g in dict.fromkeys(g for g, _, _ in free) if g in unit]
     for group, _, name in free:
-        if group in tied and (group not in spheres or item_count(free, group) != 3):
+        if group in tied and (group not in spheres or _item_count(free, group) != 3):
             raise IntegralLevelError(
                 f"point = k: {name} is part of the unit vector or frame {group}; free a unit "
-                f"vector as a whole (free = [\"{group}\"]: a point of its sphere)",
+                f'vector as a whole (free = ["{group}"]: a point of its sphere)',
                 "free",
             )
     scalars = [(g, i, n) for g, i, n in free if g not in spheres]
@@ -358,7 +165,7 @@ def _unknowns(code: ModelCode, request, count: int) -> _Unknowns:
     return _Unknowns(scalars, spheres, tuple(n for _, _, n in free), given)
 
 
-def item_count(free: Sequence, group: str) -> int:
+def _item_count(free: Sequence, group: str) -> int:
     """How many of the free components ``(group, index, name)`` are in ``group``."""
     return sum(1 for g, _, _ in free if g == group)
 
@@ -374,7 +181,7 @@ def _compare(tol):
 
 
 def level_points(
-    code: ModelCode, params: Mapping[str, object], request, precision: Precision
+    code: ModelCode, params: Mapping[str, object], request: LevelRequest, precision: Precision
 ) -> LevelPoints:
     """Every point of the level set the documented starts reach, in the documented order.
 
@@ -401,7 +208,6 @@ def level_points(
         or (no point found) a certificate that the values are never taken.
     """
     from .inputs import parse_number
-    from .integral_levels import IntegralLevelError, _evaluators, _newton
 
     dps = precision.parse_dps + 10
     with mpmath.workdps(dps):
@@ -422,7 +228,7 @@ def level_points(
                 try:
                     z = _newton(
                         lambda z, c=centres: solve.residual(z, c) - target,
-                        z0, names, list(unknowns.names), target, dps, ITERATIONS,
+                        z0, names, list(unknowns.names), target, dps, ITERATIONS, HALVINGS,
                     )  # fmt: skip
                 except IntegralLevelError:
                     continue  # no root from this start
@@ -433,7 +239,9 @@ def level_points(
         grid = solve.describe(kinds, starts)
         if not roots and not unknowns.spheres:
             x0 = mpmath.matrix([base[g][i] for g, i, _ in unknowns.scalars])
-            refuse_by_certificate(lambda x: solve.residual(x, []), x0, names, target)
+            proof = certificate_refusal(lambda x: solve.residual(x, []), x0, names, target)
+            if proof:
+                raise IntegralLevelError(proof, "integrals")
     return LevelPoints([g for _, g in roots], unknowns.names, grid, starts, tol)
 
 
@@ -443,12 +251,17 @@ class _Solve:
     def __init__(self, code, evaluate, names, p, base, unknowns, precision):
         self.code, self.evaluate, self.names, self.p = code, evaluate, names, p
         self.base, self.unknowns, self.precision = base, unknowns, precision
+        self.shipped = [n for n in names if n in code.integral_names]
+        self._frames: dict = {}
 
     def _vectors(self, z, centres):
         m = len(self.unknowns.scalars)
         out = []
         for k, g0 in enumerate(centres):
-            e1, e2 = horizontal_frame(g0)
+            key = tuple(g0)
+            if key not in self._frames:
+                self._frames[key] = horizontal_frame(g0)
+            e1, e2 = self._frames[key]
             a, b = z[m + 2 * k], z[m + 2 * k + 1]
             v = [g + a * u + b * w for g, u, w in zip(g0, e1, e2, strict=True)]
             norm = mpmath.sqrt(sum(c * c for c in v))
@@ -482,20 +295,24 @@ class _Solve:
         return [by_name[n] for n in self.unknowns.names]
 
     def residual(self, z, centres):
-        from .integral_levels import IntegralLevelError
-
         try:
             y = complete_state(self.code, self.groups(z, centres), self.precision).y
         except UserInputError as exc:
             raise IntegralLevelError(str(exc), "integrals") from None
         y = [mpmath.mpf(v) for v in y]
-        return mpmath.matrix([self.evaluate[n](y, self.p) for n in self.names])
+        shipped = {}
+        if self.shipped:  # the model's integrals at once
+            every = self.code.mpmath.integrals(mpmath.mpf(0), y, self.p)
+            shipped = {n: every[self.code.integral_names.index(n)] for n in self.shipped}
+        return mpmath.matrix(
+            [shipped[n] if n in shipped else self.evaluate[n](y, self.p) for n in self.names]
+        )
 
     def starts(self, target):
         """``(sphere centres, scalar starts, kind)`` in the documented order."""
         scalars = self.unknowns.scalars
         count = SPHERE_STARTS_WITH_SCALARS if scalars else SPHERE_STARTS
-        lattices = [_fibonacci(count) for _ in self.unknowns.spheres]
+        lattices = [fibonacci_lattice(count) for _ in self.unknowns.spheres]
         for centres in itertools.product(*lattices):
             if not scalars:
                 yield list(centres), [[]], "sphere"
@@ -521,7 +338,7 @@ class _Solve:
                 centre = x0 + offset
                 return [
                     list(centre + radius * mpmath.lu_solve(L.T, mpmath.matrix(u)))
-                    for u in _unit_sphere(m)
+                    for u in unit_sphere_lattice(m, CIRCLE_STARTS, ELLIPSOID_STARTS, 1)
                 ], "ellipsoid"
         per_axis = max(2, int(mpmath.floor(mpmath.mpf(BOX_STARTS) ** (mpmath.mpf(1) / m) + 1e-9)))
         half = 1 + max(abs(v) for v in x0)
@@ -550,7 +367,9 @@ def _join(x, centres):
     return mpmath.matrix([*x, *([0] * (2 * len(centres)))])
 
 
-def point_on_levels(code: ModelCode, params: Mapping[str, object], request, precision):
+def point_on_levels(
+    code: ModelCode, params: Mapping[str, object], request: LevelRequest, precision: Precision
+) -> tuple[dict, dict, str]:
     """The ``request.point``-th point of :func:`level_points` (as
     :func:`~chaplygin.numerics.integral_levels.state_on_levels` returns a state).
 
@@ -573,8 +392,8 @@ def point_on_levels(code: ModelCode, params: Mapping[str, object], request, prec
         As :func:`level_points`, or ``point`` beyond the points found (the message says how
         many were found and on which grid).
     """
-    from .integral_levels import IntegralLevelError
-
+    if request.point is None or request.point < 0:
+        raise IntegralLevelError(f"point must be 0 or more, got {request.point}", "point")
     found = level_points(code, params, request, precision)
     k, n = request.point, len(found.points)
     if k >= n:

@@ -417,6 +417,7 @@ def _on_levels(code, params, req: _Request, precision, expressions) -> InitialSt
     (the other ways of giving integrals, Andoyer-Deprit and the named solutions excluded)."""
     from ..inputs import complete_state
     from ..integral_levels import LevelRequest, level_values, state_on_levels
+    from ..level_points import point_on_levels
 
     choices = req.choices
     clash = [*req.by_integrals, *req.andoyer] + [
@@ -430,7 +431,8 @@ def _on_levels(code, params, req: _Request, precision, expressions) -> InitialSt
         req.given, free, choices["integrals"], expressions, None if point is None else int(point)
     )
     try:
-        values, prescribed, how = state_on_levels(code, params, request, precision)
+        solve = state_on_levels if point is None else point_on_levels
+        values, prescribed, how = solve(code, params, request, precision)
         state = complete_state(code, {**req.given, **values}, precision)
         p = [params[k] for k in code.params]
         dps = max(precision.digits or 17, 17)

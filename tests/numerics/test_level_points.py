@@ -19,7 +19,7 @@ from chaplygin.derive.rolling_system import RollingSystem
 from chaplygin.derive.systems import register_system
 from chaplygin.numerics.code import load_model_code
 from chaplygin.numerics.integral_levels import LevelRequest, state_on_levels
-from chaplygin.numerics.level_points import level_points
+from chaplygin.numerics.level_points import level_points, point_on_levels
 from chaplygin.numerics.precision import Precision
 from chaplygin.verify.cli import main
 
@@ -85,46 +85,65 @@ def test_each_point_has_the_values_at_higher_digits_is_distinct_and_reproducible
     assert min(gaps) > 0.1
 
 
+def _sphere_closed_form(G, C, h) -> list[list]:
+    """The four points of the level set over gamma at ``M = (0, 0, G)``, in order.
+
+    With ``J = diag(I_i + 1)`` the momentum's definition gives (Sherman-Morrison)
+    ``(M, omega) = G^2/J3 + G^2 g3^2/(J3^2 (1 - s))``, ``s = sum g_i^2/J_i``: so ``g3 = C/G``,
+    ``s`` follows from ``2 h``, and ``g1^2/J1 + g2^2/J2 = s - g3^2/J3``, ``g1^2 + g2^2 = 1 - g3^2``.
+    """
+    J = [mpmath.mpf(v) + 1 for v in INERTIA]
+    g3 = C / G
+    s = 1 - g3**2 / J[2] ** 2 / (2 * h / G**2 - 1 / J[2])
+    rest = s - g3**2 / J[2]
+    a2 = (rest - (1 - g3**2) / J[1]) / (1 / J[0] - 1 / J[1])
+    a, b = mpmath.sqrt(a2), mpmath.sqrt(1 - g3**2 - a2)
+    return [[sa * a, sb * b, g3] for sa in (-1, 1) for sb in (-1, 1)]
+
+
 def test_a_free_unit_vector_is_a_point_of_its_sphere(code):
-    """gamma free (two unknowns: H and (M, gamma)), M given: every point is a unit vector
-    with the values (the mechanics' energy at 60 digits), and the points are distinct."""
-    M = ["0.3", "0.4", "1"]
-    targets = {"H": "0.15", "(M,gamma)": "0.6"}
-    found = level_points(code, {}, _request(0, given={"M": M}, free=["gamma"], targets=targets),
-                         DOUBLE)  # fmt: skip
-    assert len(found.points) >= 2 and "Fibonacci lattice of 64 points" in found.grid
+    """gamma free (two unknowns: H and (M, gamma)), M = (0, 0, 1.2) given: the four points
+    are the closed form, in order, unit vectors with the values at 60 digits (the energy from
+    the mechanics)."""
+    M, targets = ["0", "0", "1.2"], {"H": "0.1538", "(M,gamma)": "0.6"}
+    request = _request(0, given={"M": M}, free=["gamma"], targets=targets)
+    found = level_points(code, {}, request, DOUBLE)
+    assert "Fibonacci lattice of 64 points" in found.grid
+    with mpmath.workdps(40):
+        want = _sphere_closed_form(mpmath.mpf("1.2"), mpmath.mpf("0.6"), mpmath.mpf("0.1538"))
+        got = [[mpmath.mpf(v) for v in p["gamma"]] for p in found.points]
+        assert len(got) == 4
+        for g, w in zip(got, want, strict=True):
+            assert max(abs(x - y) for x, y in zip(g, w, strict=True)) <= mpmath.mpf(10) ** -30
     with mpmath.workdps(60):
+        Mv = [mpmath.mpf(v) for v in M]
         for p in found.points:
             g = [mpmath.mpf(v) for v in p["gamma"]]
-            Mv = [mpmath.mpf(v) for v in M]
             assert abs(sum(v * v for v in g) - 1) <= mpmath.mpf(10) ** -35
-            assert abs(sum(a * b for a, b in zip(Mv, g, strict=True)) - mpmath.mpf("0.6")) <= (
-                mpmath.mpf(10) ** -30
-            )
-            assert abs(_energy(Mv, g) - mpmath.mpf("0.15")) <= mpmath.mpf(10) ** -30
-    gammas = [np.array([float(v) for v in p["gamma"]]) for p in found.points]
-    assert min(np.abs(a - b).max() for i, a in enumerate(gammas) for b in gammas[:i]) > 1e-3
+            assert abs(_energy(Mv, g) - mpmath.mpf("0.1538")) <= mpmath.mpf(10) ** -30
 
 
 def test_a_point_beyond_those_found_is_refused_with_their_number_and_grid(code):
     with pytest.raises(UserInputError, match=r"has 4 point\(s\) \(point = 0..3\) from the free "
                        "scalars on a lattice of the energy ellipsoid") as info:  # fmt: skip
-        state_on_levels(code, {}, _request(4), DOUBLE)
+        point_on_levels(code, {}, _request(4), DOUBLE)
     assert getattr(info.value, "key", None) == "point"
 
 
-def test_an_energy_above_the_level_s_range_is_refused_by_a_certificate(code):
-    """H = 0.3 exceeds the largest energy on (M, M) = 1.2, (M, gamma) = 0.5 at gamma = e3
-    (0.1896, from the closed form): the enumeration finds nothing and the refusal states a
-    combination of the conditions that is positive; its multipliers, read from the message,
-    give a positive-definite quadratic with a positive least value when the energy is the
-    mechanics' (an independent check of the proof)."""
+@pytest.mark.parametrize("point", [0, None])
+def test_an_energy_above_the_level_s_range_is_refused_by_a_certificate(code, point):
+    """With point = 0 (the enumeration) and without (Newton from the given M): H = 0.3
+    exceeds the largest energy on (M, M) = 1.2, (M, gamma) = 0.5 at gamma = e3 (0.1896, from
+    the closed form), and the refusal states a combination of the conditions that is positive;
+    its multipliers, read from the message, give a positive-definite quadratic with a positive
+    least value when the energy is the mechanics' (an independent check of the proof)."""
     with mpmath.workdps(40):
         top = (mpmath.mpf("0.95") / 3 + mpmath.mpf("0.25") / 4) / 2
     assert top < mpmath.mpf("0.3")
-    request = _request(0, targets={**LEVEL, "H": "0.3"})
+    given = {"M": [1, 0, 0], "gamma": [0, 0, 1]}
+    request = _request(point, given=given, targets={**LEVEL, "H": "0.3"})
     with pytest.raises(UserInputError, match="never taken together") as info:
-        state_on_levels(code, {}, request, DOUBLE)
+        (state_on_levels if point is None else point_on_levels)(code, {}, request, DOUBLE)
     text = str(info.value).split("the sum of ")[1].split(" is a positive")[0]
     lam = [float(term.split(" (")[0]) for term in text.split(", ")]
     assert len(lam) == 3 and "\n" not in str(info.value)
@@ -179,3 +198,21 @@ def test_a_scene_picks_the_point_and_refuses_one_beyond(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "initial.point" in err and "4 point(s)" in err, err
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize(
+    "free, targets, message",
+    [
+        # the energy on (M, gamma) = 0.6 at M = (0, 0, 1.2) lies in [0.15344, 0.15429]
+        (["gamma"], {"H": "0.2", "(M,gamma)": "0.6"}, "has no point from gamma on the Fibonacci "
+         "lattice of 64 points (64 starts) (not a proof that none exists)"),
+        (["gamma1", "gamma2"], {"H": "0.15", "(M,gamma)": "0.6"}, "free a unit vector as a whole"),
+        (["gamma"], {"H": "0.15"}, "1 integral value(s) need as many unknowns, 2 given"),
+    ],
+)  # fmt: skip
+def test_requests_the_enumeration_cannot_meet_are_refused_in_one_line(code, free, targets, message):
+    request = _request(0, given={"M": [0, 0, "1.2"], "gamma": [0, 0, 1]}, free=free,
+                       targets=targets)  # fmt: skip
+    with pytest.raises(UserInputError) as info:
+        point_on_levels(code, {}, request, DOUBLE)
+    assert message in str(info.value) and "\n" not in str(info.value), str(info.value)
