@@ -109,6 +109,7 @@ def _evaluators(code: ModelCode, request: LevelRequest) -> dict[str, Callable]:
     names = [*code.state, *code.aux_names, *code.params]
     symbols = {n: sp.Symbol(n, real=True) for n in names}
     out: dict[str, Callable] = {}
+    last: dict = {}
     for name in request.targets:
         if name in shipped:
             k = shipped.index(name)
@@ -118,7 +119,7 @@ def _evaluators(code: ModelCode, request: LevelRequest) -> dict[str, Callable]:
                 request.expressions[name], symbols, f"integral {name}"
             )  # the file's claim: state, omega, parameters only
             used = sorted(expr.free_symbols, key=lambda s: s.name)
-            out[name] = _expression_evaluator(code, expr, used)
+            out[name] = _expression_evaluator(code, expr, used, last)
         else:
             valid = [*shipped, *request.expressions]
             raise IntegralLevelError(
@@ -129,17 +130,22 @@ def _evaluators(code: ModelCode, request: LevelRequest) -> dict[str, Callable]:
     return out
 
 
-def _expression_evaluator(code: ModelCode, expr, used) -> Callable:
+def _expression_evaluator(code: ModelCode, expr, used, last: dict) -> Callable:
     """``f(y, p)`` of a sympy expression over state, auxiliary and parameter names (values
-    substituted exactly as binary numbers; no code is generated from the text)."""
+    substituted exactly as binary numbers; no code is generated from the text); ``last``
+    holds the auxiliary quantities of the last state (shared by a request's expressions)."""
     import sympy as sp
 
     state, aux, params = list(code.state), list(code.aux_names), list(code.params)
 
     def value(y, p):
-        aux_values = (
-            code.mpmath.aux(mpmath.mpf(0), y, p) if any(s.name in aux for s in used) else ()
-        )
+        aux_values = ()
+        if any(s.name in aux for s in used):
+            key = (tuple(y), tuple(p), mpmath.mp.prec)
+            if key not in last:
+                last.clear()
+                last[key] = code.mpmath.aux(mpmath.mpf(0), y, p)
+            aux_values = last[key]
         table = {}
         for s in used:
             if s.name in state:
@@ -148,10 +154,56 @@ def _expression_evaluator(code: ModelCode, expr, used) -> Callable:
                 v = aux_values[aux.index(s.name)]
             else:
                 v = p[params.index(s.name)]
-            table[s] = sp.Float(mpmath.mpf(v), mpmath.mp.dps + 5)
-        return mpmath.mpf(str(expr.xreplace(table).evalf(mpmath.mp.dps + 5)))
+            table[s] = mpmath.mpf(v)
+        dps = mpmath.mp.dps
+        try:
+            with mpmath.workdps(dps + 5):
+                out = _tree_value(expr, table)
+            if isinstance(out, mpmath.mpf):
+                return +out
+        except _NotInTree:
+            pass
+        floats = {s: sp.Float(v, dps + 5) for s, v in table.items()}
+        return mpmath.mpf(str(expr.xreplace(floats).evalf(dps + 5)))
 
     return value
+
+
+class _NotInTree(Exception):
+    """A node :func:`_tree_value` does not evaluate (sympy's evalf does it instead)."""
+
+
+def _tree_value(node, table: dict):
+    """A sympy expression's value in mpmath at the current precision, by walking its tree
+    (numbers, symbols from ``table``, sums, products, powers, the functions of
+    :data:`chaplygin.derive.expression_text.FUNCTIONS`, ``pi`` and ``E``): no code is made
+    from the text; a node it does not know raises :class:`_NotInTree`."""
+    import sympy as sp
+
+    from ..derive.expression_text import FUNCTIONS
+
+    if node.is_Symbol:
+        return table[node]
+    if node.is_Rational:
+        return mpmath.mpf(int(node.p)) / int(node.q)
+    if node.is_Float:
+        return mpmath.mpf(node._mpf_)
+    if node is sp.pi or node is sp.E:
+        return +mpmath.pi if node is sp.pi else +mpmath.e
+    args = [_tree_value(a, table) for a in node.args]
+    if node.is_Add:
+        return mpmath.fsum(args)
+    if node.is_Mul:
+        return mpmath.fprod(args)
+    if node.is_Pow:
+        exponent = node.args[1]
+        if exponent.is_Integer:
+            return args[0] ** int(exponent)
+        return args[0] ** args[1]
+    for name, func in FUNCTIONS.items():
+        if node.func is func and len(args) == 1:
+            return getattr(mpmath, name)(args[0])
+    raise _NotInTree(type(node).__name__)
 
 
 def level_values(
