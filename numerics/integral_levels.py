@@ -161,8 +161,8 @@ def _expression_evaluator(code: ModelCode, expr, used, last: dict) -> Callable:
                 out = _tree_value(expr, table)
             if isinstance(out, mpmath.mpf):
                 return +out
-        except _NotInTree:
-            pass
+        except (_NotInTree, ZeroDivisionError, ValueError):
+            pass  # sympy's evalf decides, as it always did
         floats = {s: sp.Float(v, dps + 5) for s, v in table.items()}
         return mpmath.mpf(str(expr.xreplace(floats).evalf(dps + 5)))
 

@@ -19,17 +19,17 @@ not free, the parameters, the values and the working precision):
   least point, ``Q = L L^T`` the Hessian and ``u`` on a lattice of the unit sphere of their
   dimension ``m``: ``u = -1, 1`` (m = 1), :data:`CIRCLE_STARTS` equal angles (m = 2), a
   Fibonacci lattice of :data:`ELLIPSOID_STARTS` points (m = 3), the normalised points of
-  ``{-1, 0, 1}^m`` without 0 (m >= 4). Otherwise the scalars start on the tensor grid of
-  :data:`BOX_STARTS` ** (1/m) (at least 2) cell centres per axis of the box of half-width
-  ``1 + max |given|`` about the given values (a stated box, not a natural domain: points
-  outside it can be missed). The starts are the product of the blocks' in this order.
+  ``{-1, 0, 1}^m`` without 0 (m >= 4); none where ``h < H*``. Otherwise the scalars start on
+  the tensor grid of :data:`BOX_STARTS` ** (1/m) (at least 2) cell centres per axis of the box
+  of half-width ``1 + max |given|`` about the given values (0 where a free group is not given;
+  a stated box, not a natural domain: points outside it can be missed). The starts are the
+  product of the blocks' (for each unit vector's lattice point, the scalars' starts there).
 * **Roots.** From every start, the damped Newton of ``integral_levels`` (central-difference
-  Jacobian, a step halved at most :data:`HALVINGS` times until the residual falls;
-  :data:`ITERATIONS` at most) at
-  ``parse_dps + 10`` digits, to a
+  Jacobian, a step halved at most :data:`HALVINGS` times until the residual falls,
+  :data:`ITERATIONS` iterations at most) at ``parse_dps + 10`` digits, to a
   residual below ``10^-(digits - 8) (1 + |values|)``; starts that do not converge give none.
-* **De-duplication.** Two roots are one when their free components differ by at most
-  ``10^-(digits/2) (1 + |x|)`` (max norm); the first found (in start order) is kept.
+* **De-duplication.** Two roots are one when each free component of one is within
+  ``10^-(digits/2) (1 + |x_i|)`` of the other's; the first found (in start order) is kept.
 * **Order.** The free components in the request's order (a unit vector's three components),
   compared one after the other, two of them equal within the de-duplication tolerance:
   point 0 has the least first free component.

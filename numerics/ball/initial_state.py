@@ -12,6 +12,10 @@ model in one of these ways, each a documented and reproducible choice:
 * by ``M`` as a direction, the configuration (``gamma`` ...) and the energy ``h`` alone: ``M``
   scaled so that ``H = h`` (any model whose energy is quadratic in ``M`` plus a function of
   the configuration: the ball, the gyrostat, a described body under gravity);
+* by the values of any model's integrals (``integrals`` with ``free``): the free components
+  solved by Newton from their given values (:mod:`chaplygin.numerics.integral_levels`), or with
+  ``point = k`` the k-th point of the level set's enumeration
+  (:mod:`chaplygin.numerics.level_points`);
 * by BM20's Andoyer-Deprit variables ``G, z, l, g`` (BM20 (3.7)), or ``rest = true`` (``M = 0``);
 * near a named solution of the plain ball: ``near = "p_i"`` (the steady rotation about axis
   ``i``, K01 (3.2)) or ``separatrix = i`` (``M || gamma`` at ``h = C^2/(2 I_i)``, the middle axis),

@@ -216,3 +216,19 @@ def test_requests_the_enumeration_cannot_meet_are_refused_in_one_line(code, free
     with pytest.raises(UserInputError) as info:
         point_on_levels(code, {}, request, DOUBLE)
     assert message in str(info.value) and "\n" not in str(info.value), str(info.value)
+
+
+def test_free_scalars_without_the_energy_start_on_the_stated_box(code):
+    """(M, M), (M, gamma) and M1 (an expression) at gamma = e3: M = (0.3, +-sqrt(1.2 - 0.25 -
+    0.09), 0.5), both inside the box [-1, 1]^3 about the M not given (zeros), found in order."""
+    targets = {"(M,M)": "1.2", "(M,gamma)": "0.5", "first": "0.3"}
+    request = _request(0, targets=targets, expressions={"first": "M1"})
+    found = level_points(code, {}, request, DOUBLE)
+    assert "box of half-width 1 + max |given|" in found.grid and found.starts == 64
+    with mpmath.workdps(40):
+        b = mpmath.sqrt(mpmath.mpf("1.2") - mpmath.mpf("0.25") - mpmath.mpf("0.09"))
+        want = [[mpmath.mpf("0.3"), s * b, mpmath.mpf("0.5")] for s in (-1, 1)]
+        got = [[mpmath.mpf(v) for v in p["M"]] for p in found.points]
+        assert len(got) == 2
+        for g, w in zip(got, want, strict=True):
+            assert max(abs(x - y) for x, y in zip(g, w, strict=True)) <= mpmath.mpf(10) ** -30
