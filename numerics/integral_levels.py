@@ -59,12 +59,16 @@ class LevelRequest:
         Integral name -> value (numbers or text the number parser reads).
     expressions : mapping of str to str
         Integrals the model does not ship: name -> expression text.
+    point : int or None
+        None: the root Newton reaches from the given values; ``k``: the k-th point of the
+        level set's documented enumeration (:mod:`chaplygin.numerics.level_points`).
     """
 
     given: Mapping[str, Sequence]
     free: Sequence[str]
     targets: Mapping[str, object]
     expressions: Mapping[str, str]
+    point: int | None = None
 
 
 def _free_components(code: ModelCode, given: Mapping, free: Sequence[str]) -> list:
@@ -105,6 +109,7 @@ def _evaluators(code: ModelCode, request: LevelRequest) -> dict[str, Callable]:
     names = [*code.state, *code.aux_names, *code.params]
     symbols = {n: sp.Symbol(n, real=True) for n in names}
     out: dict[str, Callable] = {}
+    last: dict = {}
     for name in request.targets:
         if name in shipped:
             k = shipped.index(name)
@@ -114,7 +119,7 @@ def _evaluators(code: ModelCode, request: LevelRequest) -> dict[str, Callable]:
                 request.expressions[name], symbols, f"integral {name}"
             )  # the file's claim: state, omega, parameters only
             used = sorted(expr.free_symbols, key=lambda s: s.name)
-            out[name] = _expression_evaluator(code, expr, used)
+            out[name] = _expression_evaluator(code, expr, used, last)
         else:
             valid = [*shipped, *request.expressions]
             raise IntegralLevelError(
@@ -125,17 +130,22 @@ def _evaluators(code: ModelCode, request: LevelRequest) -> dict[str, Callable]:
     return out
 
 
-def _expression_evaluator(code: ModelCode, expr, used) -> Callable:
+def _expression_evaluator(code: ModelCode, expr, used, last: dict) -> Callable:
     """``f(y, p)`` of a sympy expression over state, auxiliary and parameter names (values
-    substituted exactly as binary numbers; no code is generated from the text)."""
+    substituted exactly as binary numbers; no code is generated from the text); ``last``
+    holds the auxiliary quantities of the last state (shared by a request's expressions)."""
     import sympy as sp
 
     state, aux, params = list(code.state), list(code.aux_names), list(code.params)
 
     def value(y, p):
-        aux_values = (
-            code.mpmath.aux(mpmath.mpf(0), y, p) if any(s.name in aux for s in used) else ()
-        )
+        aux_values = ()
+        if any(s.name in aux for s in used):
+            key = (tuple(y), tuple(p), mpmath.mp.prec)
+            if key not in last:
+                last.clear()
+                last[key] = code.mpmath.aux(mpmath.mpf(0), y, p)
+            aux_values = last[key]
         table = {}
         for s in used:
             if s.name in state:
@@ -144,10 +154,56 @@ def _expression_evaluator(code: ModelCode, expr, used) -> Callable:
                 v = aux_values[aux.index(s.name)]
             else:
                 v = p[params.index(s.name)]
-            table[s] = sp.Float(mpmath.mpf(v), mpmath.mp.dps + 5)
-        return mpmath.mpf(str(expr.xreplace(table).evalf(mpmath.mp.dps + 5)))
+            table[s] = mpmath.mpf(v)
+        dps = mpmath.mp.dps
+        try:
+            with mpmath.workdps(dps + 5):
+                out = _tree_value(expr, table)
+            if isinstance(out, mpmath.mpf):
+                return +out
+        except (_NotInTree, ZeroDivisionError, ValueError):
+            pass  # sympy's evalf decides, as it always did
+        floats = {s: sp.Float(v, dps + 5) for s, v in table.items()}
+        return mpmath.mpf(str(expr.xreplace(floats).evalf(dps + 5)))
 
     return value
+
+
+class _NotInTree(Exception):
+    """A node :func:`_tree_value` does not evaluate (sympy's evalf does it instead)."""
+
+
+def _tree_value(node, table: dict):
+    """A sympy expression's value in mpmath at the current precision, by walking its tree
+    (numbers, symbols from ``table``, sums, products, powers, the functions of
+    :data:`chaplygin.derive.expression_text.FUNCTIONS`, ``pi`` and ``E``): no code is made
+    from the text; a node it does not know raises :class:`_NotInTree`."""
+    import sympy as sp
+
+    from ..derive.expression_text import FUNCTIONS
+
+    if node.is_Symbol:
+        return table[node]
+    if node.is_Rational:
+        return mpmath.mpf(int(node.p)) / int(node.q)
+    if node.is_Float:
+        return mpmath.mpf(node._mpf_)
+    if node is sp.pi or node is sp.E:
+        return +mpmath.pi if node is sp.pi else +mpmath.e
+    args = [_tree_value(a, table) for a in node.args]
+    if node.is_Add:
+        return mpmath.fsum(args)
+    if node.is_Mul:
+        return mpmath.fprod(args)
+    if node.is_Pow:
+        exponent = node.args[1]
+        if exponent.is_Integer:
+            return args[0] ** int(exponent)
+        return args[0] ** args[1]
+    for name, func in FUNCTIONS.items():
+        if node.func is func and len(args) == 1:
+            return getattr(mpmath, name)(args[0])
+    raise _NotInTree(type(node).__name__)
 
 
 def level_values(
@@ -205,10 +261,16 @@ def state_on_levels(
     ------
     IntegralLevelError
         Unknown names, a count of free components other than the integrals', a start
-        missing, or no state reached with those values.
+        missing, or no state reached with those values; ``point`` set (that is
+        :func:`chaplygin.numerics.level_points.point_on_levels`).
     """
     from .inputs import parse_number
+    from .level_certificate import certificate_refusal
 
+    if request.point is not None:
+        raise IntegralLevelError(
+            "point = k is chosen by chaplygin.numerics.level_points.point_on_levels", "point"
+        )
     with mpmath.workdps(precision.parse_dps + 10):
         _evaluators(code, request)  # unknown names first
     free = _free_components(code, request.given, request.free)
@@ -244,10 +306,8 @@ def state_on_levels(
         try:
             x = _newton(residual, x0, names, [n for _, _, n in free], target, dps)
         except IntegralLevelError as exc:
-            if "H" in names:
-                k = names.index("H")
-                _refuse_below_least_energy(lambda x: residual(x)[k] + target[k], x0, target[k])
-            raise exc from None
+            proof = certificate_refusal(lambda x: residual(x) + target, x0, names, target)
+            raise (IntegralLevelError(proof, "integrals") if proof else exc) from None
         values = groups_at(x)
     how = (
         f"{', '.join(n for _, _, n in free)} solved for the integral values "
@@ -256,48 +316,14 @@ def state_on_levels(
     return values, dict(request.targets), how
 
 
-def _refuse_below_least_energy(energy: Callable, x0, h) -> None:
-    """Refuse, as a proof, an energy ``h`` below the least value the energy takes over the free
-    components, where it is a quadratic in them with a positive-definite Hessian (a free
-    momentum: ``T`` is positive definite). The quadratic is fitted exactly from values at
-    ``x0``, ``x0 + e_i``, ``x0 + e_i + e_j``, ``x0 - e_i`` and checked at ``x0 + 2 e``;
-    anything else returns without a verdict."""
-    n = len(x0)
-    unit = [mpmath.matrix([1 if i == j else 0 for i in range(n)]) for j in range(n)]
-    c = energy(x0)
-    up = [energy(x0 + e) for e in unit]
-    down = [energy(x0 - e) for e in unit]
-    grad = mpmath.matrix([(u - d) / 2 for u, d in zip(up, down, strict=True)])
-    Q = mpmath.matrix(n, n)
-    for i in range(n):
-        Q[i, i] = up[i] + down[i] - 2 * c
-        for j in range(i):
-            Q[i, j] = Q[j, i] = energy(x0 + unit[i] + unit[j]) - up[i] - up[j] + c
-    ones = mpmath.matrix([2] * n)
-    predicted = c + (grad.T * ones)[0] + (ones.T * Q * ones)[0] / 2
-    if abs(energy(x0 + ones) - predicted) > mpmath.mpf(10) ** (-mpmath.mp.dps // 2) * (1 + abs(c)):
-        return  # not a quadratic in the free components
-    try:
-        mpmath.cholesky(Q)
-    except ValueError:
-        return  # not positive definite: no least value
-    least = c - (grad.T * mpmath.lu_solve(Q, grad))[0] / 2
-    if h < least:
-        raise IntegralLevelError(
-            f"no real state with the other components as given has H = {mpmath.nstr(h, 10)}: "
-            "the energy is a positive-definite quadratic in the free components, least "
-            f"{mpmath.nstr(least, 10)}",
-            "integrals",
-        )
-
-
-def _newton(residual, x0, names, free_names, target, dps):
-    """Damped Newton with a central-difference Jacobian; refuses with the least residual."""
+def _newton(residual, x0, names, free_names, target, dps, iterations=MAX_ITERATIONS, halvings=30):
+    """Damped Newton with a central-difference Jacobian (a step halved at most ``halvings``
+    times until the residual falls); refuses with the least residual."""
     x, r = x0, residual(x0)
     scale = 1 + mpmath.norm(target, mpmath.inf)
     tol = mpmath.mpf(10) ** (-(dps - 8)) * scale
     h = mpmath.mpf(10) ** (-(dps // 2))
-    for _ in range(MAX_ITERATIONS):
+    for _ in range(iterations):
         size = mpmath.norm(r, mpmath.inf)
         if size <= tol:
             return x
@@ -311,10 +337,11 @@ def _newton(residual, x0, names, free_names, target, dps):
                 J[i, j] = column[i]
         try:
             dx = mpmath.lu_solve(J, -r)
-        except ZeroDivisionError:
-            break  # a singular Jacobian: no Newton step
+        except (ZeroDivisionError, TypeError):
+            break  # a singular Jacobian: no Newton step (mpmath's LU leaves the pivot of a
+            # zero column None: a TypeError)
         t = mpmath.mpf(1)
-        while t > mpmath.mpf(2) ** -30:
+        while t > mpmath.mpf(2) ** -halvings:
             trial = x + t * dx
             r_trial = residual(trial)
             if mpmath.norm(r_trial, mpmath.inf) < size:

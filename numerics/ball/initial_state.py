@@ -12,6 +12,10 @@ model in one of these ways, each a documented and reproducible choice:
 * by ``M`` as a direction, the configuration (``gamma`` ...) and the energy ``h`` alone: ``M``
   scaled so that ``H = h`` (any model whose energy is quadratic in ``M`` plus a function of
   the configuration: the ball, the gyrostat, a described body under gravity);
+* by the values of any model's integrals (``integrals`` with ``free``): the free components
+  solved by Newton from their given values (:mod:`chaplygin.numerics.integral_levels`), or with
+  ``point = k`` the k-th point of the level set's enumeration
+  (:mod:`chaplygin.numerics.level_points`);
 * by BM20's Andoyer-Deprit variables ``G, z, l, g`` (BM20 (3.7)), or ``rest = true`` (``M = 0``);
 * near a named solution of the plain ball: ``near = "p_i"`` (the steady rotation about axis
   ``i``, K01 (3.2)) or ``separatrix = i`` (``M || gamma`` at ``h = C^2/(2 I_i)``, the middle axis),
@@ -270,7 +274,7 @@ def _split(code: ModelCode, request: Mapping[str, object]) -> _Request:
     items = {k: v for k, v in request.items() if v is not None}
     choices = {
         "parallel": bool(items.get("parallel", False)),
-        "point": items.get("point", 0),
+        "point": items.get("point"),
         "rest": bool(items.get("rest", False)),
         "near": items.get("near"),
         "separatrix": items.get("separatrix"),
@@ -337,7 +341,8 @@ def initial_state(
         Parameter values by symbol (``I1, I2, I3, D, ...``) at the working precision.
     request : mapping of str to value
         State groups of the model (``M``, ``gamma``, ...) and the keys of :data:`REQUEST_KEYS`:
-        ``h``, ``C``, ``n``, ``parallel`` (bool), ``point`` (int), ``G, z, l, g``, ``rest``
+        ``h``, ``C``, ``n``, ``parallel`` (bool), ``point`` (int; with ``integrals``: the
+        k-th point of :mod:`chaplygin.numerics.level_points`), ``G, z, l, g``, ``rest``
         (bool), ``near`` (``"p1"``..``"p3"``), ``separatrix`` (1..3), ``offset``,
         ``integrals`` (name -> value) with ``free`` (components or groups solved for:
         :mod:`chaplygin.numerics.integral_levels`). Values are numbers or text
@@ -391,7 +396,9 @@ def initial_state(
             code, params, given, by_integrals["h"], precision
         )
     elif by_integrals and not prescribed:
-        resolved = _from_integrals(code, params, by_integrals, given, choices["point"], dps)
+        resolved = _from_integrals(
+            code, params, by_integrals, given, choices["point"] or 0, dps
+        )
         prescribed, how = resolved.prescribed, resolved.how
         given.update({k: [mpmath.nstr(c, dps + 5) for c in v] for k, v in resolved.values.items()})
     try:
@@ -414,6 +421,7 @@ def _on_levels(code, params, req: _Request, precision, expressions) -> InitialSt
     (the other ways of giving integrals, Andoyer-Deprit and the named solutions excluded)."""
     from ..inputs import complete_state
     from ..integral_levels import LevelRequest, level_values, state_on_levels
+    from ..level_points import point_on_levels
 
     choices = req.choices
     clash = [*req.by_integrals, *req.andoyer] + [
@@ -422,9 +430,13 @@ def _on_levels(code, params, req: _Request, precision, expressions) -> InitialSt
     if clash:
         raise InitialStateError(f"give integrals = {{...}} or {clash[0]}, not both", clash[0])
     free = choices["free"] or list(code.state_groups)[:1]
-    request = LevelRequest(req.given, free, choices["integrals"], expressions)
+    point = choices["point"]
+    request = LevelRequest(
+        req.given, free, choices["integrals"], expressions, None if point is None else int(point)
+    )
     try:
-        values, prescribed, how = state_on_levels(code, params, request, precision)
+        solve = state_on_levels if point is None else point_on_levels
+        values, prescribed, how = solve(code, params, request, precision)
         state = complete_state(code, {**req.given, **values}, precision)
         p = [params[k] for k in code.params]
         dps = max(precision.digits or 17, 17)

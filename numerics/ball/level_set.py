@@ -42,6 +42,7 @@ from ...arith import detlinalg, detmath
 from ...derive.errors import UserInputError
 from ..code import ModelCode
 from ..frame import horizontal_frame
+from ..level_certificate import fibonacci_lattice
 
 __all__ = [
     "ResolvedState",
@@ -125,17 +126,6 @@ def _energy_fn(code: ModelCode, params: Sequence, dps: int):
         return code.mpmath.integrals(mpmath.mpf(0), y, list(params))[hi]
 
     return energy
-
-
-def _fibonacci(n: int) -> list[list]:
-    golden = (1 + mpmath.sqrt(5)) / 2
-    out = []
-    for i in range(n):
-        z = 1 - (2 * mpmath.mpf(i) + 1) / n
-        r = mpmath.sqrt(1 - z * z)
-        phi = 2 * mpmath.pi * i / golden
-        out.append([r * mpmath.cos(phi), r * mpmath.sin(phi), z])
-    return out
 
 
 def _dot(a, b):
@@ -273,7 +263,7 @@ def _state_on_level(code, params, request) -> ResolvedState:
         u = [r * (mpmath.cos(phi) * a + mpmath.sin(phi) * b) for a, b in zip(e1, e2, strict=True)]
         return [C * gi + ui - ki for gi, ui, ki in zip(g, u, Kv, strict=True)]
 
-    candidates = [gamma] if gamma is not None else _fibonacci(GRID)
+    candidates = [gamma] if gamma is not None else fibonacci_lattice(GRID)
     if r == 0:  # a point per gamma: M + K = C gamma; energy is a function on the sphere
         values = [energy(momentum(g, 0), g) - h for g in candidates]
         if gamma is not None:

@@ -196,6 +196,51 @@ def test_integral_values_no_state_has_are_one_line_exit_2(
     assert not (tmp_path / "out").exists()
 
 
+def _routh_level_points(gamma: np.ndarray, H: float, J: float, R2: float) -> list:
+    """Every M with the energy H, Jellett's J and Routh's R^2 at ``gamma``, from the mechanics:
+    M = Theta omega, omega3 = +-sqrt(R^2/k), Jellett's (Theta omega, r) = J a line in
+    (omega1, omega2), and the energy a quadratic along it: at most two points per sign."""
+    A, C, m, a, b, g = (VALUES[k] for k in ("A", "C", "m", "a", "b", "g"))
+    r = np.array([0.0, 0.0, a]) + b * gamma
+    theta = np.diag([A, A, C]) + m * (r @ r * np.eye(3) - np.outer(r, r))
+    k = A * C + m * A * b**2 * (gamma[0] ** 2 + gamma[1] ** 2) + m * C * (a + b * gamma[2]) ** 2
+    out = []
+    for w3 in (math.sqrt(R2 / k), -math.sqrt(R2 / k)):
+        u = theta @ r  # (Theta omega, r) = (omega, Theta r)
+        base = np.array([0.0, (J - u[2] * w3) / u[1], w3])
+        along = np.array([u[1], -u[0], 0.0])
+        # H(base + t along) = c2 t^2 + c1 t + c0
+        c2 = along @ theta @ along / 2
+        c1 = along @ theta @ base
+        c0 = base @ theta @ base / 2 + m * g * a * gamma[2] - H
+        disc = c1 * c1 - 4 * c2 * c0
+        if disc >= 0:
+            roots = [(-c1 + s * math.sqrt(disc)) / (2 * c2) for s in (-1, 1)]
+            out += [theta @ (base + t * along) for t in roots]
+    return sorted(out, key=lambda M: tuple(M))
+
+
+def test_the_points_of_a_level_set_of_routh_s_sphere_are_the_mechanics(tmp_path, capsys):
+    """point = k on the example's level set (H, Jellett, Routh^2 with gamma given, M free):
+    the enumeration finds exactly the points the mechanics gives (above: two here, the other
+    sign of omega3 misses the energy), in the order of M1, and refuses point = 2."""
+    from chaplygin.verify.scene import Scene
+
+    scene = _level_scene(tmp_path, '["M"]', LEVELS)
+    gamma = np.array([0.28, 0.3, math.sqrt(1 - 0.28**2 - 0.3**2)])
+    want = _routh_level_points(gamma, 1.3, 0.4, 0.2)
+    assert len(want) == 2
+    text = scene.read_text().replace('free = ["M"]', 'free = ["M"]\npoint = POINT')
+    for k, M in enumerate(want):
+        scene.write_text(text.replace("POINT", str(k)))
+        y = np.array([float(v) for v in Scene.from_toml(scene).resolve().y0])
+        assert np.abs(y[:3] - M).max() <= 1e-13, (k, y[:3], M)
+    scene.write_text(text.replace("POINT", "2"))
+    assert main(["run", str(scene), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert "has 2 point(s) (point = 0..1)" in err and err.count("\n") == 1, err
+
+
 def test_the_least_energy_a_refusal_states_is_the_mechanics_least(tmp_path, capsys):
     """The refusal of H = 0.1 with M3 free is a proof: the energy from the mechanics is a
     parabola in M3 (M1, M2, gamma as given) whose least value is the one the message states,

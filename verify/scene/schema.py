@@ -303,8 +303,9 @@ class Initial(BaseModel):
     set (see :mod:`chaplygin.numerics.ball.initial_state`); a given ``gamma`` fixes it. Any
     model (a described one too): ``integrals = {NAME = value}`` with ``free = [...]``, the
     free components of the given state solved for those values
-    (:mod:`chaplygin.numerics.integral_levels`). Any other key must be a state group of the
-    model (checked when the model is known).
+    (:mod:`chaplygin.numerics.integral_levels`); with ``point = k`` the k-th point of the level
+    set's documented enumeration (:mod:`chaplygin.numerics.level_points`). Any other key must
+    be a state group of the model (checked when the model is known).
     """
 
     model_config = ConfigDict(extra="allow", frozen=True)
@@ -320,8 +321,11 @@ class Initial(BaseModel):
     C: Number | None = Field(None, description="(M, gamma)")
     n: Number | None = Field(None, description="(M, M)")
     parallel: StrictBool = Field(False, description="M || gamma (n = C^2)")
-    point: Annotated[StrictInt, Field(ge=0, le=10_000)] = Field(
-        0, description="which point of the level set (reproducible order)"
+    point: Annotated[StrictInt, Field(ge=0, le=10_000)] | None = Field(
+        None,
+        description="which point of the level set (reproducible order; default 0); with "
+        "integrals: the k-th point of the enumerated level set (without it: Newton from the "
+        "given values)",
     )
     G: Number | None = Field(None, description="Andoyer-Deprit G = |M| (BM20 (3.7))")
     z: Number | None = Field(None, description="Andoyer-Deprit z = M3/G, |z| <= 1")
@@ -339,7 +343,7 @@ class Initial(BaseModel):
         None,
         description="integral name -> value: the model's integrals (H, (M,gamma), ...) or the "
         "file's [[claims]] of kind integral by id; the components named by free are solved "
-        "for (Newton from their given values)",
+        "for (Newton from their given values; with point = k: the k-th point of the level set)",
     )
     free: list[Annotated[StrictStr, Field(max_length=100)]] | None = Field(
         None,
