@@ -314,7 +314,13 @@ taylor_options, max_steps, max_wall_s
         options["step"] = working_number(options["step"], prec)
     t_span = _time_span(t_span, prec)
     if t_eval is not None:
-        t_eval = [working_number(v, prec) for v in _sequence(t_eval, "t_eval")]
+        values = _sequence(t_eval, "t_eval")
+        try:
+            t_eval = [working_number(v, prec) for v in values]
+        except UserInputError as exc:
+            raise UserInputError(f"t_eval: {exc}") from None
+        if not t_eval:  # the evidence compares the integrals at the outputs
+            raise UserInputError("t_eval must name at least one output time (or be left out)")
         check_output_times(t_eval, t_span)
     if max_steps is not None and not (
         isinstance(max_steps, int) and not isinstance(max_steps, bool) and max_steps >= 1

@@ -214,6 +214,7 @@ BAD_T_SPAN = [
             "method": pool(BAD_NAME[1:]),  # None is the default method
             "precision": pool([None, "nope", 5, 15, 10**6, NAN, INF, [], {}, 2.5]),
             "rtol": pool(BAD_POSITIVE[1:], floats=NEG_FLOATS),  # None: the default
+            "t_eval": pool([[], (), [0.02], [0.005, 0.001], "abc", [NAN], [[0.0]]]),
         },
     )
 )
