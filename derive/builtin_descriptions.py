@@ -23,6 +23,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from itertools import combinations
+from typing import Any
 
 import sympy as sp
 
@@ -150,45 +151,58 @@ def _plain(value: object) -> str:
 #: BM20-3.4: the moving pair of masses adds this to I1 and I3.
 _PAIR = "(J_off + delta*sin(Omega*t))**2"
 
+#: What each effect of the ball sets in its description, as data: fields of the
+#: RollingSystem, names known positive, the description's effects, identifications, notes.
+_BALL_EFFECTS: dict[str, dict[str, Any]] = {
+    "gyrostat": {"fields": {"gyrostat": ("K1", "K2", "K3")}},
+    "variable_gyrostat": {  # BM20-3.5; the built-in state is the total momentum
+        "fields": {"gyrostat": tuple(f"K{i}*sin(Omega*t)" for i in (1, 2, 3))},
+        "positive": ("Omega",),
+        "identification": {f"M{i}": f"M{i} + K{i}*sin(Omega*t)" for i in (1, 2, 3)},
+        "note": "the built-in state M is BM20's total momentum, the description's M plus "
+        "the rotors' k(t) = K sin(Omega t)",
+    },
+    "variable_inertia": {  # BM20-3.4
+        "fields": {"inertia": (f"I1 + {_PAIR}", "I2", f"I3 + {_PAIR}")},
+        "positive": ("I1", "I3", "Omega"),
+    },
+    "contact_point": {"described_effects": ("contact_point",)},
+}
+#: The effects that choose the contact, and the contact (with the description's effects)
+#: each combination of them is: a rubber body along a line takes the effect.
+_CONTACT_EFFECTS = frozenset({"rubber", "straight_line"})
+_CONTACTS: dict[frozenset[str], tuple[str, tuple[str, ...]]] = {
+    frozenset(): ("rolling", ()),
+    frozenset({"rubber"}): ("rubber", ()),
+    frozenset({"straight_line"}): ("line", ()),
+    frozenset({"rubber", "straight_line"}): ("rubber", ("straight_line",)),
+}
+
 
 def _ball(effects: frozenset[str]) -> BuiltinDescription:
     """The Chaplygin ball: a balanced sphere of mass ``m`` and radius ``b``, D = m b^2."""
-    variable_inertia = "variable_inertia" in effects
-    inertia = (f"I1 + {_PAIR}", "I2", f"I3 + {_PAIR}") if variable_inertia else ("I1", "I2", "I3")
-    gyrostat = None
-    if "gyrostat" in effects:
-        gyrostat = ("K1", "K2", "K3")
-    if "variable_gyrostat" in effects:  # BM20-3.5
-        gyrostat = tuple(f"K{i}*sin(Omega*t)" for i in (1, 2, 3))
-    periodic = variable_inertia or "variable_gyrostat" in effects
-    positive = (("I1", "I3") if variable_inertia else ()) + (("Omega",) if periodic else ())
-    rubber = "rubber" in effects
-    contact = "rubber" if rubber else "line" if "straight_line" in effects else "rolling"
-    described = ("contact_point",) if "contact_point" in effects else ()
-    if rubber and "straight_line" in effects:  # a rubber body along a line: the effect
-        described += ("straight_line",)
+    fields: dict[str, Any] = {"inertia": ("I1", "I2", "I3")}
+    positive: set[str] = set()
+    described: list[str] = []
     identification = {"D": "m*b**2"}
-    note = "D = m b^2 (the ball's mass m, radius b)"
-    if "variable_gyrostat" in effects:
-        identification.update({f"M{i}": f"M{i} + K{i}*sin(Omega*t)" for i in (1, 2, 3)})
-        note += (
-            "; the built-in state M is BM20's total momentum, the description's M plus the "
-            "rotors' k(t) = K sin(Omega t)"
-        )
+    notes = ["D = m b^2 (the ball's mass m, radius b)"]
+    for name in sorted(effects - _CONTACT_EFFECTS):
+        part = _BALL_EFFECTS[name]
+        fields.update(part.get("fields", {}))
+        positive.update(part.get("positive", ()))
+        described += part.get("described_effects", ())
+        identification.update(part.get("identification", {}))
+        notes += [part["note"]] if "note" in part else []
+    contact, along = _CONTACTS[effects & _CONTACT_EFFECTS]
+    system = RollingSystem(
+        "described_chaplygin_ball",
+        contact=contact,
+        positive=tuple(sorted(positive)),
+        description="the Chaplygin ball as a described system",
+        **fields,
+    )
     return BuiltinDescription(
-        "chaplygin_ball",
-        effects,
-        RollingSystem(
-            "described_chaplygin_ball",
-            inertia=inertia,
-            gyrostat=gyrostat,
-            contact=contact,
-            positive=positive,
-            description="the Chaplygin ball as a described system",
-        ),
-        described,
-        identification,
-        note,
+        "chaplygin_ball", effects, system, (*described, *along), identification, "; ".join(notes)
     )
 
 
