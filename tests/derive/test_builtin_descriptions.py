@@ -27,7 +27,7 @@ from chaplygin.derive.builtin_descriptions import (
 from chaplygin.derive.errors import UserInputError
 from chaplygin.derive.model import Model
 from chaplygin.derive.rolling_system import RollingSystem
-from chaplygin.derive.systems import build_model, builtin_variants, variant_name
+from chaplygin.derive.systems import SYSTEMS, build_model, builtin_variants, variant_name
 from chaplygin.verify.identity import Domain, decide, measure_residual
 
 DOCS = Path(__file__).resolve().parents[2] / "docs" / "howto" / "own-system.md"
@@ -192,6 +192,10 @@ def test_every_shipped_variant_is_described_or_refused_in_one_line():
         else:
             assert builtin_description(system, effects).system == system
     assert {s for s, _ in expressible_variants()} == {s for s, _ in SHIPPED}
+    for system in NOT_EXPRESSIBLE:  # each effect of theirs, shipped or not
+        for effect in SYSTEMS[system].effects:
+            with pytest.raises(UserInputError, match="not expressible"):
+                builtin_description(system, [effect])
 
 
 @pytest.mark.parametrize(
