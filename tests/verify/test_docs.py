@@ -9,6 +9,7 @@ import pytest
 
 MODULES = [
     "chaplygin.derive.chaplygin_ball",
+    "chaplygin.derive.builtin_descriptions",
     "chaplygin.derive.emit.functions",
     "chaplygin.numerics.integrate",
     "chaplygin.numerics.ensemble",

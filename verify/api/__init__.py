@@ -35,6 +35,8 @@ _PUBLIC: dict[str, str] = {
     "build_model": "derive.systems:build_model",
     "RollingSystem": "derive.rolling_system:RollingSystem",
     "register_system": "derive.systems:register_system",
+    "builtin_description": "derive.builtin_descriptions:builtin_description",
+    "BuiltinDescription": "derive.builtin_descriptions:BuiltinDescription",
     "Model": "derive.model:Model",
     "EFFECTS": "derive.effects:EFFECTS",
     "UserInputError": "derive.errors:UserInputError",

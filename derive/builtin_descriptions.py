@@ -1,0 +1,288 @@
+"""The built-in systems as :class:`~.rolling_system.RollingSystem` descriptions (issue 24).
+
+:func:`builtin_description` gives, for a built-in system and a combination of its
+effects, the public description of that variant and the identification of the two
+models' names: the built-in ball's ``D`` is the description's ``m b^2``; with
+``variable_gyrostat`` the built-in's state ``M`` is BM20's total momentum, which includes
+the rotors' ``k(t) = K sin(Omega t)``, while the description's ``M`` does not.
+
+The claims still run on the built-in modules (:data:`~.systems.SYSTEM_MODULES`, their
+code in ``generated/``); that the description derives the same model after the
+identification — the same vector field, integrals and density — is proved by
+``tests/derive/test_builtin_descriptions.py``, exactly (sympy, not sampling).
+
+What a description cannot express is refused in one line: the ball on a surface (its
+surface is the one the *centre* moves on, the ellipsoid ``(x, B^-1 x) = 1``, and its
+``potential`` acts on the centre; a description names the support ``F(p) = 0`` of the
+contact point and a field along the vertical) and the body in a spherical support (held
+by ``N`` balls that roll on it; a description has one contact with a fixed support).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+from itertools import combinations
+from typing import Any
+
+import sympy as sp
+
+from .effects import parse_effects
+from .errors import UserInputError
+from .expression_text import parse_expression
+from .model import Model
+from .rolling_system import RollingSystem
+from .systems import get_system, variant_name
+
+__all__ = ["BuiltinDescription", "builtin_description", "expressible_variants"]
+
+
+@dataclass(frozen=True)
+class BuiltinDescription:
+    """A built-in variant written as a :class:`~.rolling_system.RollingSystem`.
+
+    Attributes
+    ----------
+    system : str
+        The built-in system (``"chaplygin_ball"``).
+    effects : frozenset of str
+        The built-in variant's effects.
+    description : RollingSystem
+        The description of the same mechanics.
+    described_effects : tuple of str
+        The effects the description's model is derived with (``contact_point`` ...).
+    identification : dict of str to str
+        Each built-in name that is not the description's by the same name, as an
+        expression in the description's names (parameters, state, time ``t``):
+        ``{"D": "m*b**2"}``; with ``variable_gyrostat`` also ``"M1": "M1 +
+        K1*sin(Omega*t)"`` ... (a change of state).
+    note : str
+        One line on what the identification means.
+    """
+
+    system: str
+    effects: frozenset[str]
+    description: RollingSystem
+    described_effects: tuple[str, ...] = ()
+    identification: dict[str, str] = field(default_factory=dict)
+    note: str = ""
+
+    @property
+    def variant(self) -> str:
+        """The built-in variant's name (``chaplygin_ball__rubber``)."""
+        return variant_name(self.system, self.effects)
+
+    def model(self) -> Model:
+        """Derive the description's model (not cached).
+
+        Returns
+        -------
+        Model
+            :meth:`RollingSystem.model` with :attr:`described_effects`.
+        """
+        return self.description.model(self.described_effects)
+
+    def substitution(self, builtin: Model, described: Model) -> dict[sp.Symbol, sp.Expr]:
+        """The identification as a substitution of the built-in model's symbols.
+
+        Parameters
+        ----------
+        builtin : Model
+            The built-in variant's model (:func:`~.systems.build_model`).
+        described : Model
+            The model of :meth:`model`.
+
+        Returns
+        -------
+        dict of sympy.Symbol to sympy.Expr
+            Every state and parameter symbol of ``builtin`` (and its time) to an
+            expression in ``described``'s symbols: the identification's expression, or
+            the described symbol of the same name.
+
+        Raises
+        ------
+        UserInputError
+            When a built-in name is neither identified nor a name of ``described``.
+        """
+        names: dict[str, sp.Expr] = {
+            s.name: s for s in (*described.state, *described.params, described.time)
+        }
+        out: dict[sp.Symbol, sp.Expr] = {builtin.time: described.time}
+        for s in (*builtin.state, *builtin.params):
+            text = self.identification.get(s.name)
+            if text is not None:
+                out[s] = parse_expression(text, names, f"identification of {s.name}")
+            elif s.name in names:
+                out[s] = names[s.name]
+            else:
+                raise UserInputError(
+                    f"{self.variant}: {s.name} is neither identified nor a name of the description"
+                )
+        return out
+
+    def call(self) -> str:
+        """The description as the ``RollingSystem(...)`` call that makes it.
+
+        Returns
+        -------
+        str
+            The call with the fields that differ from their defaults.
+        """
+        d = self.description
+        fields = [repr(d.name)]
+        defaults = RollingSystem.__dataclass_fields__
+        for key in ("inertia", "gyrostat", "contact", "positive"):
+            value = getattr(d, key)
+            if value != defaults[key].default and value:
+                fields.append(f"{key}={_plain(value)}")
+        text = f"RollingSystem({', '.join(fields)})"
+        if self.described_effects:
+            text += f".model({list(self.described_effects)!r})"
+        return text
+
+
+def _plain(value: object) -> str:
+    """A tuple of strings as Python writes it."""
+    if isinstance(value, tuple):
+        return "(" + ", ".join(repr(v) for v in value) + ")"
+    return repr(value)
+
+
+#: BM20-3.4: the moving pair of masses adds this to I1 and I3.
+_PAIR = "(J_off + delta*sin(Omega*t))**2"
+
+#: What each effect of the ball sets in its description, as data: fields of the
+#: RollingSystem, names known positive, the description's effects, identifications, notes.
+_BALL_EFFECTS: dict[str, dict[str, Any]] = {
+    "gyrostat": {"fields": {"gyrostat": ("K1", "K2", "K3")}},
+    "variable_gyrostat": {  # BM20-3.5; the built-in state is the total momentum
+        "fields": {"gyrostat": tuple(f"K{i}*sin(Omega*t)" for i in (1, 2, 3))},
+        "positive": ("Omega",),
+        "identification": {f"M{i}": f"M{i} + K{i}*sin(Omega*t)" for i in (1, 2, 3)},
+        "note": "the built-in state M is BM20's total momentum, the description's M plus "
+        "the rotors' k(t) = K sin(Omega t)",
+    },
+    "variable_inertia": {  # BM20-3.4
+        "fields": {"inertia": (f"I1 + {_PAIR}", "I2", f"I3 + {_PAIR}")},
+        "positive": ("I1", "I3", "Omega"),
+    },
+    "contact_point": {"described_effects": ("contact_point",)},
+}
+#: The effects that choose the contact, and the contact (with the description's effects)
+#: each combination of them is: a rubber body along a line takes the effect.
+_CONTACT_EFFECTS = frozenset({"rubber", "straight_line"})
+_CONTACTS: dict[frozenset[str], tuple[str, tuple[str, ...]]] = {
+    frozenset(): ("rolling", ()),
+    frozenset({"rubber"}): ("rubber", ()),
+    frozenset({"straight_line"}): ("line", ()),
+    frozenset({"rubber", "straight_line"}): ("rubber", ("straight_line",)),
+}
+
+
+def _ball(effects: frozenset[str]) -> BuiltinDescription:
+    """The Chaplygin ball: a balanced sphere of mass ``m`` and radius ``b``, D = m b^2."""
+    fields: dict[str, Any] = {"inertia": ("I1", "I2", "I3")}
+    positive: set[str] = set()
+    described: list[str] = []
+    identification = {"D": "m*b**2"}
+    notes = ["D = m b^2 (the ball's mass m, radius b)"]
+    for name in sorted(effects - _CONTACT_EFFECTS):
+        part = _BALL_EFFECTS[name]
+        fields.update(part.get("fields", {}))
+        positive.update(part.get("positive", ()))
+        described += part.get("described_effects", ())
+        identification.update(part.get("identification", {}))
+        notes += [part["note"]] if "note" in part else []
+    contact, along = _CONTACTS[effects & _CONTACT_EFFECTS]
+    system = RollingSystem(
+        "described_chaplygin_ball",
+        contact=contact,
+        positive=tuple(sorted(positive)),
+        description="the Chaplygin ball as a described system",
+        **fields,
+    )
+    return BuiltinDescription(
+        "chaplygin_ball", effects, system, (*described, *along), identification, "; ".join(notes)
+    )
+
+
+#: How each built-in system is written as a description, or what a description lacks.
+_WRITERS: dict[str, Callable[[frozenset[str]], BuiltinDescription] | str] = {
+    "chaplygin_ball": _ball,
+    "ball_on_surface": (
+        "its surface is the one the ball's centre moves on, the ellipsoid (x, B^-1 x) = 1, "
+        "and its potential acts on the centre; a RollingSystem names the support F(p) = 0 of "
+        "the contact point and a field along the vertical"
+    ),
+    "spherical_support": (
+        "the body is held by N balls that roll on it (their inertia enters, the support "
+        "tensor D_sup); a RollingSystem has one contact with a fixed support"
+    ),
+}
+
+
+def builtin_description(
+    system: str, effects: Iterable[str] | str | None = ()
+) -> BuiltinDescription:
+    """A built-in variant as a :class:`~.rolling_system.RollingSystem`, with the
+    identification of the two models.
+
+    Parameters
+    ----------
+    system : str
+        A built-in system (``"chaplygin_ball"``, ...).
+    effects : iterable of str or comma-separated str, optional
+        Effects of that system.
+
+    Returns
+    -------
+    BuiltinDescription
+        The description, the effects its model takes and the identification
+        (``D = m b^2`` ...).
+
+    Raises
+    ------
+    UserInputError
+        An unknown system or effect, a combination the system refuses, a system that is
+        not built in, or a variant no description expresses (the message says what is
+        missing).
+
+    Examples
+    --------
+    >>> b = builtin_description("chaplygin_ball", ["rubber"])
+    >>> b.call()
+    "RollingSystem('described_chaplygin_ball', inertia=('I1', 'I2', 'I3'), contact='rubber')"
+    >>> b.identification
+    {'D': 'm*b**2'}
+    """
+    sysdef = get_system(system)
+    writer = _WRITERS.get(system)
+    if writer is None:
+        raise UserInputError(f"{system!r} is not a built-in system: it is described already")
+    chosen = parse_effects(effects, sysdef.effects)
+    if isinstance(writer, str):
+        raise UserInputError(f"{variant_name(system, chosen)} is not expressible: {writer}")
+    return writer(chosen)
+
+
+def expressible_variants() -> list[tuple[str, frozenset[str]]]:
+    """Every effect combination of the built-in systems that a description expresses.
+
+    Returns
+    -------
+    list of (str, frozenset of str)
+        ``(system, effects)``: each combination the system accepts (its effects'
+        exclusions respected), of the systems :func:`builtin_description` writes.
+    """
+    out = []
+    for system, writer in _WRITERS.items():
+        if isinstance(writer, str):
+            continue
+        supported = get_system(system).effects
+        for k in range(len(supported) + 1):
+            for combination in combinations(supported, k):
+                try:
+                    out.append((system, parse_effects(combination, supported)))
+                except UserInputError:  # effects that exclude each other
+                    continue
+    return out

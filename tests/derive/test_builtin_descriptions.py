@@ -1,0 +1,270 @@
+"""The built-in variants as RollingSystem descriptions (issue 24): the same models, exactly.
+
+The reference is the built-in model, derived by its own module (derive/chaplygin_ball.py,
+the code in generated/ and every claim run on it); the description is derived by the
+RollingSystem route. After the identification (``D = m b^2``; with ``variable_gyrostat``
+the built-in's total momentum ``M = M_described + K sin(Omega t)``) the vector fields are
+equal identically (sympy cancels every difference to 0), every built-in integral is
+conserved by the described field (Groebner normal form of its Lie derivative modulo the
+phase-space constraints: a proof), and the densities are the same and invariant. The
+negative controls are refuted by the same comparisons.
+"""
+
+from __future__ import annotations
+
+import functools
+import random
+import re
+from pathlib import Path
+
+import pytest
+import sympy as sp
+from chaplygin.derive.builtin_descriptions import (
+    BuiltinDescription,
+    builtin_description,
+    expressible_variants,
+)
+from chaplygin.derive.errors import UserInputError
+from chaplygin.derive.model import Model
+from chaplygin.derive.rolling_system import RollingSystem
+from chaplygin.derive.systems import SYSTEMS, build_model, builtin_variants, variant_name
+from chaplygin.verify.identity import Domain, decide, measure_residual
+
+DOCS = Path(__file__).resolve().parents[2] / "docs" / "howto" / "own-system.md"
+
+#: The systems no description expresses (derive/builtin_descriptions.py says why).
+NOT_EXPRESSIBLE = ("ball_on_surface", "spherical_support")
+SHIPPED = [v for v in builtin_variants() if v[0] not in NOT_EXPRESSIBLE]
+IDS = [variant_name(*v) for v in SHIPPED]
+
+
+@functools.cache
+def _pair(system: str, effects: frozenset[str]) -> tuple[BuiltinDescription, Model, Model]:
+    described = builtin_description(system, effects)
+    return described, build_model(system, effects), described.model()
+
+
+def _along(expr: sp.Expr, model: Model) -> sp.Expr:
+    """``d expr/dt`` along the model's flow (the explicit time dependence included)."""
+    f = model.rhs_expanded
+    return sp.diff(expr, model.time) + sum(
+        (sp.diff(expr, y) * f[i] for i, y in enumerate(model.state)), sp.S.Zero
+    )
+
+
+def _at_a_point(expr: sp.Expr, seed: int = 2012) -> sp.Expr:
+    """``expr`` at an exact rational point: every symbol a random rational, each
+    ``sin(u), cos(u)`` a rational point of the unit circle (they enter together)."""
+    rng = random.Random(seed)
+    rational = lambda: sp.Rational(rng.randint(-97, 97) or 1, rng.randint(1, 89))  # noqa: E731
+    circle = {}
+    for u in sorted({a.args[0] for a in expr.atoms(sp.sin, sp.cos)}, key=sp.default_sort_key):
+        w = rational()
+        circle[sp.sin(u)] = 2 * w / (1 + w**2)
+        circle[sp.cos(u)] = (1 - w**2) / (1 + w**2)
+    expr = expr.xreplace(circle)
+    symbols = sorted(expr.free_symbols, key=lambda s: s.name)
+    return expr.xreplace({s: rational() for s in symbols})
+
+
+def _is_zero(expr: sp.Expr) -> bool:
+    """Whether ``expr`` is identically zero: a non-zero exact value at a point proves it
+    is not (fast); otherwise sympy cancels it (a proof either way)."""
+    value = _at_a_point(expr)
+    if value.is_Rational and value != 0:
+        return False
+    return sp.cancel(sp.together(expr)) == 0
+
+
+def _field_mismatch(
+    builtin: Model, described: Model, substitution: dict[sp.Symbol, sp.Expr]
+) -> list[str]:
+    """The built-in state names whose rate the described flow does not reproduce.
+
+    Each built-in state ``y`` is ``phi(described state, t)`` (the substitution); the flows
+    agree when ``d phi/dt`` along the described flow is the built-in rate at ``phi``
+    (for ``phi`` a state of the same name: the two right-hand sides are equal).
+    """
+    bad = []
+    for i, y in enumerate(builtin.state):
+        ours = _along(substitution[y], described)
+        theirs = builtin.rhs_expanded[i].xreplace(substitution)
+        if not _is_zero(ours - theirs):
+            bad.append(y.name)
+    return bad
+
+
+def _derivative(builtin: Model, described: Model, substitution, name: str) -> sp.Expr:
+    """``d/dt`` of the built-in integral ``name`` along the described flow."""
+    integral = builtin.expand_aux(builtin.integral(name)).xreplace(substitution)
+    return _along(integral, described)
+
+
+def _on_the_phase_space(expr: sp.Expr, model: Model) -> sp.Expr:
+    """``expr`` at an exact rational point of the model's phase space (``gamma`` on the
+    sphere, random rational parameters and momenta): a witness when it is not 0."""
+    symbols = sorted(expr.free_symbols - set(model.params), key=lambda s: s.name)
+    point = Domain(model).sample(random.Random(2012), symbols)
+    return expr.xreplace(point)
+
+
+def _check_field(system: str, effects: frozenset[str]) -> None:
+    """The field, the integrals' names, count and expressions, the density."""
+    bd, builtin, described = _pair(system, effects)
+    sub = bd.substitution(builtin, described)
+    assert _field_mismatch(builtin, described, sub) == []
+    ours, theirs = described.integrals, builtin.integrals
+    assert len(ours) == len(theirs)
+    state_changed = any(s.name in bd.identification for s in builtin.state)
+    for (name, expr), (their_name, their_expr) in zip(ours, theirs, strict=True):
+        # the built-in total momentum M is the described M + K (K = k(t)): so are the names
+        assert name == (re.sub(r"\bM\b", "M+K", their_name) if state_changed else their_name)
+        pulled_back = builtin.expand_aux(their_expr).xreplace(sub)
+        assert _is_zero(described.expand_aux(expr) - pulled_back)
+    assert (described.density is None) == (builtin.density is None)
+    if builtin.density is not None:  # the state change is a translation: Jacobian 1
+        rho = builtin.expand_aux(builtin.density).xreplace(sub)
+        assert sp.simplify(described.expand_aux(described.density) - rho) == 0
+
+
+def _check_conservation(system: str, effects: frozenset[str]) -> None:
+    """Every built-in integral and the built-in density, on the described flow: proved."""
+    bd, builtin, described = _pair(system, effects)
+    sub = bd.substitution(builtin, described)
+    domain = Domain(described)
+    for name, _ in builtin.integrals:
+        lie = _derivative(builtin, described, sub, name)
+        assert decide([lie], domain, method="symbolic").verdict == "proved", name
+    if builtin.density is not None:
+        rho = builtin.expand_aux(builtin.density).xreplace(sub)
+        residual = measure_residual(rho, described)
+        assert decide([residual], domain, method="symbolic").verdict == "proved"
+
+
+#: The conservation proofs of more than a few seconds (Groebner normal forms in the frame).
+SLOW_PROOFS = {"chaplygin_ball__straight_line"}
+#: The effect combinations generated/ does not ship.
+UNSHIPPED = [v for v in expressible_variants() if v not in SHIPPED]
+
+
+@pytest.mark.parametrize("system, effects", SHIPPED, ids=IDS)
+def test_the_described_variant_has_the_built_in_field_integrals_and_density(system, effects):
+    """BKM12-2/3/4/5, K01-4.1/4.2, BM20-2.5, BKM12 §3, BKM12-57: the built-in equations,
+    integrals and density from the description, D = m b^2."""
+    _check_field(system, effects)
+
+
+@pytest.mark.parametrize(
+    "system, effects",
+    [
+        pytest.param(*v, marks=pytest.mark.slow) if name in SLOW_PROOFS else v
+        for v, name in zip(SHIPPED, IDS, strict=True)
+    ],
+    ids=IDS,
+)
+def test_the_described_flow_keeps_the_built_in_integrals_and_density(system, effects):
+    """Each built-in integral's derivative along the described flow, and the built-in
+    density's Liouville residual: Groebner normal form 0 modulo the phase space."""
+    _check_conservation(system, effects)
+
+
+@pytest.mark.expensive
+@pytest.mark.parametrize(
+    "system, effects",
+    UNSHIPPED,
+    ids=[variant_name(*v) for v in UNSHIPPED],
+)
+def test_every_expressible_combination_has_the_built_in_field(system, effects):
+    """The effect combinations generated/ does not ship (rubber along a line, a rubber
+    gyrostat, ...): the same field, integrals and density (their conservation then
+    follows from the built-in model's)."""
+    _check_field(system, effects)
+
+
+def test_every_shipped_variant_is_described_or_refused_in_one_line():
+    """Every variant of builtin_variants() either has a description or a one-line refusal
+    naming what a description lacks."""
+    for system, effects in builtin_variants():
+        if system in NOT_EXPRESSIBLE:
+            with pytest.raises(UserInputError, match="not expressible") as err:
+                builtin_description(system, effects)
+            assert "\n" not in str(err.value)
+        else:
+            assert builtin_description(system, effects).system == system
+    assert {s for s, _ in expressible_variants()} == {s for s, _ in SHIPPED}
+    for system in NOT_EXPRESSIBLE:  # each effect of theirs, shipped or not
+        for effect in SYSTEMS[system].effects:
+            with pytest.raises(UserInputError, match="not expressible"):
+                builtin_description(system, [effect])
+
+
+@pytest.mark.parametrize(
+    "system, effects, message",
+    [
+        ("no_such_system", (), "unknown system"),
+        ("chaplygin_ball", ("potential",), "unknown effect"),
+        ("chaplygin_ball", ("gyrostat", "variable_gyrostat"), "exclude each other"),
+    ],
+)
+def test_bad_input_is_refused(system, effects, message):
+    with pytest.raises(UserInputError, match=message):
+        builtin_description(system, effects)
+
+
+def test_a_described_system_is_not_a_built_in(monkeypatch):
+    from chaplygin.derive import systems
+
+    monkeypatch.setattr(systems, "SYSTEMS", dict(systems.SYSTEMS))
+    systems.register_system(RollingSystem("my_ball", inertia=(1, 2, 3)))
+    with pytest.raises(UserInputError, match="not a built-in system"):
+        builtin_description("my_ball")
+
+
+# ---------------------------------------------------------------- negative controls
+def test_a_wrong_identification_is_refuted():
+    """D = 2 m b^2: the fields differ and the energy is not conserved (a witness)."""
+    bd, builtin, described = _pair("chaplygin_ball", frozenset())
+    sub = bd.substitution(builtin, described)
+    D = next(s for s in builtin.params if s.name == "D")
+    wrong = {**sub, D: 2 * sub[D]}
+    assert _field_mismatch(builtin, described, wrong) != []
+    assert _on_the_phase_space(_derivative(builtin, described, wrong, "H"), described) != 0
+
+
+def test_the_wrong_contact_is_refuted():
+    """A ball that may twist is not the rubber ball: its field differs, and the rubber
+    ball's integral (omega, gamma) is not conserved by it."""
+    bd, builtin, _ = _pair("chaplygin_ball", frozenset({"rubber"}))
+    rolling = RollingSystem("described_chaplygin_ball", inertia=("I1", "I2", "I3")).model()
+    sub = bd.substitution(builtin, rolling)
+    assert _field_mismatch(builtin, rolling, sub) != []
+    twist = _derivative(builtin, rolling, sub, "(omega,gamma)")
+    assert _on_the_phase_space(twist, rolling) != 0
+
+
+def test_without_the_change_of_state_the_periodic_gyrostat_is_refuted():
+    """BM20's total momentum is not the described M: with D = m b^2 alone the fields differ."""
+    effects = frozenset({"variable_gyrostat", "variable_inertia"})
+    bd, builtin, described = _pair("chaplygin_ball", effects)
+    sub = bd.substitution(builtin, described)
+    plain = {y: sp.Symbol(y.name, real=True) for y in builtin.state}
+    assert _field_mismatch(builtin, described, {**sub, **plain}) != []
+
+
+# ---------------------------------------------------------------- public surface, docs
+def test_the_public_api_and_the_docs_table_name_every_shipped_variant():
+    import chaplygin
+
+    assert chaplygin.builtin_description is builtin_description
+    text = DOCS.read_text()
+    for system, effects in SHIPPED:
+        bd = builtin_description(system, effects)
+        row = next(
+            (line for line in text.splitlines() if line.startswith(f"| `{bd.variant}` |")), None
+        )
+        assert row is not None, bd.variant
+        assert f"`{bd.call()}`" in row
+        for name, value in bd.identification.items():
+            assert f"{name} = {value}" in row
+    for system in NOT_EXPRESSIBLE:
+        assert f"| `{system}`" in text
