@@ -20,6 +20,8 @@ step limit is); a block's time is its orbits' ``wall_s`` shared out equally.
 
 from __future__ import annotations
 
+import os
+import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
@@ -64,6 +66,26 @@ def lanes_library(integrator: Any, problem: Any, backend: str) -> tuple[Any, str
     orders = run_orders(problem.rtol, problem.atol, problem.options.get("order"))
     lib = taylor_batch_library(problem.code, orders=orders)
     return None if lib is None else (lib, chosen)
+
+
+#: Threads kept for the blocks of lanes (starting threads for every call cost 0.5-3 ms, more
+#: than a short ensemble's integration): [pool, its threads, the process it belongs to];
+#: grown to the most blocks asked for, made anew in a forked child (whose copy has no threads).
+_POOL: list = [None, 0, 0]
+_POOL_LOCK = threading.Lock()
+
+
+def _pool(threads: int) -> ThreadPoolExecutor:
+    """The kept pool of this process, with at least ``threads`` threads."""
+    with _POOL_LOCK:
+        pid = os.getpid()
+        if _POOL[1] < threads or _POOL[2] != pid:
+            old = _POOL[0] if _POOL[2] == pid else None
+            pool = ThreadPoolExecutor(max_workers=threads, thread_name_prefix="chaplygin-lanes")
+            _POOL[:] = [pool, threads, pid]
+            if old is not None:
+                old.shutdown(wait=False)  # its running blocks finish
+        return _POOL[0]
 
 
 def _blocks(count: int, workers: int, lanes: int) -> list[range]:
@@ -154,9 +176,10 @@ def run_lanes(first: Any, lib: Any, workers: int, y0: np.ndarray,
     blocks = _blocks(count, workers, lib.chaplygin_taylor_lanes_width())
     if len(blocks) == 1:
         walls = [block(blocks[0])]
-    else:
-        with ThreadPoolExecutor(max_workers=len(blocks)) as pool:
-            walls = list(pool.map(block, blocks))
+    else:  # the last block in this thread, the others on the kept pool's threads
+        others = [_pool(len(blocks) - 1).submit(block, rows) for rows in blocks[:-1]]
+        last = block(blocks[-1])
+        walls = [f.result() for f in others] + [last]
     wall = np.concatenate([np.full(len(r), w) for r, w in zip(blocks, walls, strict=True)])
     steps = stats[:, 0]
     return LanesRun(

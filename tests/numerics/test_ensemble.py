@@ -291,3 +291,22 @@ def test_evidence_at_once_keeps_what_the_point_by_point_loop_keeps():
             assert got[name][j] == v or (np.isnan(got[name][j]) and np.isnan(v)), (j, name)
     assert got_status.tolist()[:4] == [0, -1, -1, -1] and got_status[6] == -2
     assert np.isnan(got["H"][1]) and got["H"][4] > 0
+
+
+def test_the_kept_threads_of_the_lanes_serve_a_forked_child():
+    """The lanes' blocks run on threads kept between calls; a child forked after a call
+    (whose copy of the pool has no threads) gets a pool of its own and finishes its
+    ensemble with the parent's bits (a hang here would be the inherited pool)."""
+    import multiprocessing
+
+    states = _states(40, seed=21)
+    kw = {"rtol": 1e-11, "atol": 1e-11, "threads": 2}
+    parent = integrate_many("chaplygin_ball", states, 2.9, PARAMS, **kw)
+    ctx = multiprocessing.get_context("fork")
+    with ctx.Pool(1) as pool:
+        child = pool.apply_async(_ensemble_outputs, (states, kw)).get(timeout=120)
+    assert np.array_equal(child, parent.y) and parent.threads == 2
+
+
+def _ensemble_outputs(states, kw):
+    return integrate_many("chaplygin_ball", states, 2.9, PARAMS, **kw).y
