@@ -228,25 +228,23 @@ def unit_rows(X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         The rows renormalised (where certain; else as given), and where that is certain.
     """
     with np.errstate(all="ignore"):
+        P, E = _two_prod(X, X)  # every component's square, exactly, at once
         sh, sl = np.zeros(len(X)), np.zeros(len(X))
-        for j in range(X.shape[1]):  # the sum of squares in double-double
-            p, e = _two_prod(X[:, j], X[:, j])
-            s, t = _two_sum(sh, p)
-            sh, sl = _two_sum(s, t + sl + e)
+        for j in range(X.shape[1]):  # the sum of squares in double-double, in column order
+            s, t = _two_sum(sh, P[:, j])
+            sh, sl = _two_sum(s, t + sl + E[:, j])
         r = np.sqrt(sh)  # |x| in double-double: one Newton correction of the square root
         p, e = _two_prod(r, r)
         nh, nl = _two_sum(r, (((sh - p) - e) + sl) / (2 * r))
         ok = np.isfinite(nh) & (np.abs(nh - 1) <= UNIT_TOLERANCE * (1 - 1e-6))
-        out = X.copy()
-        for j in range(X.shape[1]):
-            x = X[:, j]
-            q1 = x / nh
-            p, e = _two_prod(q1, nh)
-            qh, ql = _two_sum(q1, (((x - p) - e) - q1 * nl) / nh)
-            side = np.where(ql >= 0, np.inf, -np.inf)
-            half = np.abs(np.nextafter(qh, side) - qh) / 2
-            exact_zero = x == 0  # 0/|x| is 0 in both routes
-            ok &= exact_zero | (np.abs(np.abs(ql) - half) > _TIE_MARGIN * np.abs(qh))
-            ok &= exact_zero | (np.abs(ql) <= half)
-            out[:, j] = np.where(ok, qh, x)
+        nh, nl = nh[:, None], nl[:, None]
+        q1 = X / nh  # every quotient at once, with its double-double correction
+        p, e = _two_prod(q1, np.broadcast_to(nh, X.shape))
+        qh, ql = _two_sum(q1, (((X - p) - e) - q1 * nl) / nh)
+        half = np.abs(np.nextafter(qh, np.where(ql >= 0, np.inf, -np.inf)) - qh) / 2
+        exact_zero = X == 0  # 0/|x| is 0 in both routes
+        fine = exact_zero | ((np.abs(np.abs(ql) - half) > _TIE_MARGIN * np.abs(qh))
+                             & (np.abs(ql) <= half))  # fmt: skip
+        ok &= fine.all(axis=1)
+        out = np.where(ok[:, None], qh, X)
     return out, ok
