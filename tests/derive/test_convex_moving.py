@@ -193,7 +193,7 @@ def _energy_and_axial_momentum(model, Omega: sp.Expr) -> tuple[sp.Expr, sp.Expr,
     centre at -c from the centre of mass)."""
     omega = sp.Matrix(model.group("omega"))
     r = sp.Matrix(model.group("r"))
-    rho = sp.Matrix(model.group("rho")) if "rho" in model.state_groups else sp.zeros(3, 1)
+    rho = model.group("rho") if "rho" in dict(model.state_groups) else sp.zeros(3, 1)
     x = r + sp.Matrix([R(1, 13), 0, R(1, 10)])
     grad = sp.Matrix([2 * x[0] / R(81, 100), 2 * x[1] / R(49, 100), 2 * x[2] / R(1, 4)])
     # the radicand in the model's canonical form (the verifier splits square roots off by
