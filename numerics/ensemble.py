@@ -153,6 +153,9 @@ class LazyResults(Sequence):
     def __repr__(self) -> str:
         return f"<{len(self)} IntegrationResults>"
 
+    def __reduce__(self) -> tuple:  # pickled (e.g. from a Dask task) as the plain list
+        return (list, (list(self),))
+
 
 def _is_one_vector(value: Any) -> bool:
     """A mapping, or a flat sequence of numbers or number texts: one state or parameter set."""

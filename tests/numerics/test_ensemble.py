@@ -310,3 +310,18 @@ def test_the_kept_threads_of_the_lanes_serve_a_forked_child():
 
 def _ensemble_outputs(states, kw):
     return integrate_many("chaplygin_ball", states, 2.9, PARAMS, **kw).y
+
+
+def test_an_ensemble_from_the_lanes_pickles_with_its_results():
+    """An EnsembleResult whose results are made when asked for (the lanes) goes through
+    pickle (a Dask task returns it so) with every orbit's result, equal to the original's."""
+    import pickle
+
+    r = integrate_many("chaplygin_ball", _states(6, seed=5), 1.7, PARAMS, rtol=1e-11,
+                       atol=1e-11)  # fmt: skip
+    back = pickle.loads(pickle.dumps(r))
+    assert isinstance(back.results, list) and len(back.results) == 6
+    for j in range(6):
+        assert _same(back.results[j].y, r.results[j].y)
+        assert back.results[j].drift == {n: r.drift[n][j] for n in r.drift}
+    assert _same(back.y, r.y) and back.status.tolist() == r.status.tolist()
