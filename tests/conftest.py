@@ -40,11 +40,13 @@ QUICK_MODULES = frozenset(
 #: are made once) they are handed out first, longest first, so that no long module starts
 #: last and keeps one core busy alone at the end.
 SLOW_MODULES_FIRST = (
+    "tests/derive/test_convex_moving.py",  # about 250 beside another job (2026-11-27)
     "tests/verify/test_claims.py",  # 241
     "tests/verify/test_sweep.py",  # 227
     "tests/verify/test_described_kane_supports.py",  # 211
     "tests/numerics/test_determinism.py",  # 151
     "tests/verify/test_described_kane_bodies.py",  # 145
+    "tests/verify/test_described_kane_convex.py",  # 140 beside another job
     "tests/derive/test_codegen.py",  # 136
     "tests/verify/test_described_systems.py",  # 129
     "tests/numerics/test_first_use.py",  # 100
@@ -56,6 +58,7 @@ SLOW_MODULES_FIRST = (
     "tests/verify/test_layers.py",  # 50
     "tests/verify/test_hostile_sweep.py",  # 46
     "tests/verify/test_hostile_cli.py",  # 45
+    "tests/derive/test_builtin_descriptions.py",  # 40 beside another job
     "tests/numerics/test_taylor_mpfr.py",  # 37
     "tests/derive/test_description.py",  # 37
     "tests/verify/scene/test_scene_diagram.py",  # 37
