@@ -250,13 +250,17 @@ def derive_body_on_sphere(
     gravity: sp.Expr = sp.S.Zero,
     plane: PlaneMotion | None = None,
     potential: tuple[sp.Expr, sp.Matrix] | None = None,
+    vertical: sp.Matrix | None = None,
 ) -> BodyOnSphere:
     """Derive the equations of a body with surface ``f(r) = 0`` rolling on a sphere.
 
     With ``k = 0`` the support is a fixed plane: ``n`` is fixed in space (``n' = n x
     omega``) and the contact point stays on the surface (``(n, r') = 0``), so ``(dn/dr +
     n n^T) r' = n x omega``; a field ``g`` along ``-n`` (gravity) acts at the centre of
-    mass, ``V = -m g (r, n)`` (the height of the centre of mass above the plane).
+    mass, ``V = -m g (r, n)`` (the height of the centre of mass above the plane). On a
+    sphere (``k != 0``) the field is along ``-zeta``, the given ``vertical`` (fixed in
+    space: ``zeta' = zeta x omega``), and the centre of mass is at ``-n/k - r`` from the
+    sphere's centre: ``V = -m g (r + n/k, zeta)``.
 
     Parameters
     ----------
@@ -272,15 +276,21 @@ def derive_body_on_sphere(
         A gyrostatic momentum ``K``: ``T`` gains ``(K, omega)``; constant or a function
         of the time ``t`` (rotors whose motors set it).
     gravity : sympy.Expr, optional
-        ``g`` of a field along ``-n``; on a plane only (``k = 0``).
+        ``g`` of a field along the downward vertical (``-n`` on a plane, ``-zeta`` on a
+        sphere).
     plane : PlaneMotion, optional
         How the plane moves (``k = 0`` only): the no-slip constraint becomes affine, the
         body's contact point moving with the plane's point under it, and a rubber body
-        does not twist relative to it. ``inertia`` may depend on ``t`` (``I(t)``).
+        does not twist relative to it. ``inertia`` may depend on ``t`` (``I(t)``). On a
+        sphere a fixed one only (``no_twist``: a rubber body, ``(omega, n) = 0``).
     potential : (sympy.Expr, sympy.Matrix), optional
-        A potential of the orientation ``V(gamma)`` and its vector ``gamma`` (the vertical
-        in body axes; on a plane ``n``): the torque ``n x dV/dn`` about the centre of mass
-        (``V`` changes by ``(dV/dn, n x omega)``), ``V(n)`` in the energy. On a plane only.
+        A potential of the orientation ``V(gamma)`` and its vector ``gamma`` (the support's
+        normal ``n`` in body axes; on a sphere also of the ``vertical``'s symbols): the
+        torque doing the work ``-dV`` along the admissible motions (on a plane ``n x
+        dV/dn``; on a sphere ``n x dV/dn + k L^T dV/dn + zeta x dV/dzeta`` with ``r' = L
+        omega``: the normal turns at ``n x omega - k r'``), ``V`` in the energy.
+    vertical : sympy.Matrix, optional
+        The upward vertical ``zeta`` in body axes, a state (on a sphere, for a field).
 
     Returns
     -------
@@ -290,7 +300,8 @@ def derive_body_on_sphere(
     Raises
     ------
     ValueError
-        For a field or a moving support on a sphere (``k != 0``).
+        For a moving support on a sphere (``k != 0``), a field on a sphere without the
+        vertical, or a vertical on a plane.
     """
     t = sp.Symbol("t", real=True)
     v = vector("v", real=True)
@@ -301,26 +312,22 @@ def derive_body_on_sphere(
     grad = sp.Matrix([sp.diff(surface, s) for s in r])
     q = sp.sqrt(sp.factor_terms(sp.expand(dot(grad, grad))))
     n = (-grad / q).applyfunc(sp.factor_terms)
-    if (gravity != 0 or plane is not None or potential is not None) and k != 0:
-        raise ValueError("a field, a potential or a moving support: on a plane (k = 0) only")
+    _check_support(k, gravity, plane, vertical)
     plane = plane or PlaneMotion()
-    # the normal as a vector fixed in space for the engine (nu' = nu x omega, which
-    # (dn/dr) r' is), put back as n(r) after: no square roots in its solve
     nu = vector("nu", real=True)
-    kinematics, carried = plane.kinematics(nu, omega, r, r_dot)
-    constraints = list(v + cross(omega, r) - carried)
-    if plane.no_twist:  # (omega, n) = Omega: no twist relative to the plane
-        constraints.append(dot(omega, nu) - plane.rotation_rate)
-    if set(kinematics) != {"r"} or plane.no_twist:
-        kinematics["nu"] = (nu, cross(nu, omega))
+    kinematics, constraints = _engine_kinematics(plane, k, nu, omega, v, r, r_dot, vertical)
     to_n = dict(zip(nu, n, strict=True))
-    V, torque = _orientation_load(potential, nu)
+    Dn = n.jacobian(r)
+    r_rate = _contact_rate(k, n, Dn, omega, r, r_dot)
+    L = sp.zeros(3, 3) if potential is None or k == 0 else r_rate.jacobian(omega)  # r' = L omega
+    V, torque, lag = _orientation_load(potential, nu, vertical, k * L)
+    up = n if k == 0 else vertical if vertical is not None else sp.zeros(3, 1)
     desc = RigidBodyDescription(omega=omega, v=v, kinetic_energy=T, constraints=constraints,
-                                kinematics=kinematics, time=t, force=-m * gravity * n,
+                                kinematics=kinematics, time=t, force=-m * gravity * up,
                                 torque=torque)  # fmt: skip
     red = lagrange_dalembert(desc)
     red.momentum = red.momentum.xreplace(to_n)
-    red.momentum_rate = red.momentum_rate.xreplace(to_n)
+    red.momentum_rate = red.momentum_rate.xreplace(lag).xreplace(to_n)
     red.gyrostatic_momentum = red.gyrostatic_momentum.xreplace(to_n)
     II = red.inertia_operator
     II_rate = II.applyfunc(lambda e: _time_derivative(e, kinematics, t))  # r' and I'(t)
@@ -333,9 +340,9 @@ def derive_body_on_sphere(
         solved = red.multiplier_solution(free, lambda u: adj * u / det)
         multipliers = tuple((mu, e.xreplace(to_n)) for mu, e in solved.items())
     kinematics.pop("nu", None)
-    kinematics = {k: (X, rate.xreplace(to_n)) for k, (X, rate) in kinematics.items()}
-    Dn = n.jacobian(r)
-    r_rate = _contact_rate(k, n, Dn, omega, r, r_dot)
+    kinematics = {name: (X, rate.xreplace(to_n)) for name, (X, rate) in kinematics.items()}
+    # minus the height of the centre of mass above the plane, or above the sphere's centre
+    depth = dot(r, n) if k == 0 else dot(r + n / k, up)
     return BodyOnSphere(
         omega=omega,
         r=r,
@@ -346,7 +353,7 @@ def derive_body_on_sphere(
         normal=n,
         normal_jacobian=Dn,
         r_rate=r_rate,
-        energy=red.energy - m * gravity * dot(r, n) + V.xreplace(to_n),
+        energy=red.energy - m * gravity * depth + V.xreplace(to_n),
         multipliers=multipliers,
         plane=plane,
         kinematics=kinematics,
@@ -354,24 +361,84 @@ def derive_body_on_sphere(
     )
 
 
-def _orientation_load(potential: tuple[sp.Expr, sp.Matrix] | None,
-                      nu: sp.Matrix) -> tuple[sp.Expr, sp.Matrix]:  # fmt: skip
-    """``V(nu)`` and its torque ``nu x dV/dnu`` (``dV/dt = (dV/dnu, nu x omega) = (omega,
-    dV/dnu x nu)``) for a potential of the orientation given in its vector; zero for none."""
+def _engine_kinematics(
+    plane: PlaneMotion, k: sp.Expr, nu: sp.Matrix, omega: sp.Matrix, v: sp.Matrix,
+    r: sp.Matrix, r_dot: sp.Matrix, vertical: sp.Matrix | None,
+) -> tuple[dict[str, tuple[sp.Matrix, sp.Matrix]], list[sp.Expr]]:  # fmt: skip
+    """The engine's configuration vectors with their rates, and the constraints: no slip
+    (the plane's velocity at the contact), no twist for a rubber body. The normal is handed
+    to the engine as the vector ``nu`` (on a plane fixed in space, ``nu' = nu x omega``, on
+    a sphere ``nu' = nu x omega - k r'``: ``(dn/dr) r'`` either way), put back as ``n(r)``
+    after: no square roots in its solve; the vertical is fixed in space."""
+    kinematics, carried = plane.kinematics(nu, omega, r, r_dot)
+    constraints = list(v + cross(omega, r) - carried)
+    if plane.no_twist:  # (omega, n) = Omega: no twist relative to the plane
+        constraints.append(dot(omega, nu) - plane.rotation_rate)
+    if set(kinematics) != {"r"} or plane.no_twist:
+        rate = cross(nu, omega) if k == 0 else contact_normal_rate(k, r, r_dot, nu, omega)
+        kinematics["nu"] = (nu, rate)
+    if vertical is not None:
+        kinematics["zeta"] = (vertical, cross(vertical, omega))
+    return kinematics, constraints
+
+
+def _check_support(k: sp.Expr, gravity: sp.Expr, plane: PlaneMotion | None,
+                   vertical: sp.Matrix | None) -> None:  # fmt: skip
+    """Refuse (ValueError) a moving sphere, a field on a sphere without the vertical and
+    a vertical on a plane (where it is the normal)."""
+    if k == 0:
+        if vertical is not None:
+            raise ValueError("on a plane (k = 0) the vertical is the normal: no vertical")
+        return
+    moving = plane is not None and (
+        plane.rotation_rate != 0 or (plane.velocity is not None and any(plane.velocity))
+    )
+    if moving:
+        raise ValueError("a moving support: on a plane (k = 0) only")
+    if gravity != 0 and vertical is None:
+        raise ValueError("a field on a sphere (k != 0) needs the vertical")
+
+
+def _orientation_load(
+    potential: tuple[sp.Expr, sp.Matrix] | None, nu: sp.Matrix, vertical: sp.Matrix | None,
+    lag: sp.Matrix,
+) -> tuple[sp.Expr, sp.Matrix, dict[sp.Symbol, sp.Expr]]:  # fmt: skip
+    """``V(nu, zeta)`` and its torque for a potential of the orientation given in its
+    vector (``nu`` the normal, ``zeta`` the vertical); zero for none.
+
+    Along the admissible motions ``dV/dt = (dV/dnu, nu') + (dV/dzeta, zeta x omega)`` with
+    ``nu' = nu x omega - k r'`` (:func:`contact_normal_rate`; ``k = 0`` on a plane) and
+    ``r' = L omega`` (``lag`` is ``k L``): the torque ``-d(dV/dt)/d omega`` is ``nu x
+    dV/dnu + zeta x dV/dzeta + k L^T dV/dnu`` (on a sphere of radius ``b`` written as a
+    surface, ``s nu x dV/dnu`` with the spherical body's ``s``). The last term stands in
+    the torque as the placeholder ``w`` (the engine expands the torque; ``L`` has the
+    contact's determinant in its denominator): the returned mapping puts it back.
+    """
     if potential is None:
-        return sp.S.Zero, sp.zeros(3, 1)
+        return sp.S.Zero, sp.zeros(3, 1), {}
     V = potential[0].xreplace(dict(zip(potential[1], nu, strict=True)))
-    return V, cross(nu, sp.Matrix([sp.diff(V, x) for x in nu]))
+    dV = sp.Matrix([sp.diff(V, x) for x in nu])
+    torque = cross(nu, dV)
+    if vertical is not None:
+        torque += cross(vertical, sp.Matrix([sp.diff(V, x) for x in vertical]))
+    if lag.is_zero_matrix or dV.is_zero_matrix:
+        return V, torque, {}
+    w = vector("w", real=True)
+    return V, torque + w, dict(zip(w, lag.T * dV, strict=True))
 
 
 def _contact_rate(k: sp.Expr, n: sp.Matrix, Dn: sp.Matrix, omega: sp.Matrix, r: sp.Matrix,
                   r_dot: sp.Matrix) -> sp.Matrix:  # fmt: skip
     """``r'`` in the state: on a plane ``n' = n x omega`` with ``r'`` tangent to the surface,
-    on a sphere ``(k Id + dn/dr) r' = n x omega`` (contact_normal_rate, ``n' = (dn/dr) r'``)."""
+    on a sphere ``(k Id + dn/dr) r' = n x omega`` (contact_normal_rate, ``n' = (dn/dr) r'``;
+    solved with an abstract normal, then ``n(r)``: the solve would rewrite ``|grad f|`` as
+    the square root of a multiple of its radicand, a second radicand for the verifier)."""
     if k == 0:
         equations = Dn * r_dot - cross(n, omega) + n * dot(n, r_dot)
     else:
-        equations = Dn * r_dot - contact_normal_rate(k, r, r_dot, n, omega)
+        nu = vector("nu", real=True)
+        rate = contact_normal_rate(k, r, r_dot, nu, omega)
+        equations = Dn * r_dot - rate.xreplace(dict(zip(nu, n, strict=True)))
     system = equations.jacobian(r_dot)
     source = -equations.xreplace(dict.fromkeys(r_dot, 0))
     adj, det = _adjugate_and_det(system)
@@ -412,12 +479,16 @@ class BodyOnSphereReduction:
     gyrostat : sympy.Matrix, optional
         A gyrostatic momentum, constant or of the time ``t``.
     gravity : sympy.Expr
-        ``g`` of a field along ``-n`` (on a plane).
+        ``g`` of a field along ``-n`` on a plane, ``-zeta`` on a sphere.
     plane : PlaneMotion, optional
         A moving plane (``curvature`` 0): the state groups ``rho`` (rotating) or
-        ``alpha, beta`` (moving) are derived too.
+        ``alpha, beta`` (moving) are derived too; on a sphere a fixed one (rubber).
     potential : (sympy.Expr, sympy.Matrix), optional
-        A potential of the orientation ``V(gamma)`` and its ``gamma`` (on a plane).
+        A potential of the orientation ``V(gamma)`` and its ``gamma`` (on a sphere also
+        of ``zeta``).
+    vertical : bool
+        On a sphere: the state group ``zeta``, the upward vertical in body axes (its rate
+        ``zeta x omega`` is derived), which a field or the potential needs.
     """
 
     surface: sp.Expr
@@ -429,6 +500,7 @@ class BodyOnSphereReduction:
     gravity: sp.Expr = sp.S.Zero
     plane: PlaneMotion | None = None
     potential: tuple[sp.Expr, sp.Matrix] | None = None
+    vertical: bool = False
 
     def reduce(self, desc: MechanicalDescription) -> Reduced:
         """``omega'`` and ``r'`` (an auxiliary ``rdot``), the carried groups' rates and
@@ -438,14 +510,15 @@ class BodyOnSphereReduction:
         plane turning at a constant rate the energy in its frame ``J``
         (:meth:`PlaneMotion.jacobi_integral`; rolling, not rubber); a rubber body's
         ``(omega,gamma)`` (``(omega, n) - Omega``, zero on the phase space); on a moving
-        plane the frame's products with itself and with ``n``; then the description's
-        invariant relations.
+        plane the frame's products with itself and with ``n``; the vertical's ``(zeta,
+        zeta)``; then the description's invariant relations.
 
         Parameters
         ----------
         desc : MechanicalDescription
             With the body's ``inertia`` and the state groups :attr:`angular_velocity`,
-            :attr:`position` (and ``rho`` or ``alpha, beta`` on a moving plane).
+            :attr:`position` (and ``rho`` or ``alpha, beta`` on a moving plane, ``zeta``
+            with :attr:`vertical`).
 
         Returns
         -------
@@ -469,6 +542,7 @@ class BodyOnSphereReduction:
             self.surface, desc.inertia, self.mass, self.curvature, omega, r,
             gyrostat=self.gyrostat, gravity=self.gravity, plane=self.plane,
             potential=self.potential,
+            vertical=desc.state_group("zeta") if self.vertical else None,
         )  # fmt: skip
         rdot = eq.r_rate_symbols
         rates = {self.angular_velocity: list(eq.omega_rate), self.position: list(rdot)}
@@ -488,7 +562,7 @@ class BodyOnSphereReduction:
         plane = eq.plane or PlaneMotion()
         t = desc.time
         timed = desc.inertia.has(t) or (self.gyrostat is not None and self.gyrostat.has(t))
-        moves = plane.rotation_rate != 0 or set(eq.kinematics) - {"r"}
+        moves = plane.rotation_rate != 0 or set(eq.kinematics) - {"r", "zeta"}
         integrals = []
         if not timed and not moves:
             integrals.append(("H", eq.energy))
@@ -504,6 +578,9 @@ class BodyOnSphereReduction:
             integrals += [("(alpha,alpha)", dot(a, a)), ("(alpha,beta)", dot(a, b))]
             integrals += [("(beta,beta)", dot(b, b)), ("(alpha,gamma)", dot(a, eq.normal))]
             integrals += [("(beta,gamma)", dot(b, eq.normal))]
+        if "zeta" in eq.kinematics:
+            zeta = eq.kinematics["zeta"][0]
+            integrals.append(("(zeta,zeta)", dot(zeta, zeta)))
         return integrals
 
 

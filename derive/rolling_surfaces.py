@@ -31,18 +31,22 @@ __all__: list[str] = []
 def _convex_body_description(s: RollingSystem) -> MechanicalDescription:
     """A convex body on a plane or a fixed sphere: state ``omega`` and the contact point
     ``r``; on a rotating plane also the contact's position ``rho`` from the axis, on a
-    moving plane the fixed axes ``alpha, beta``."""
+    moving plane the fixed axes ``alpha, beta``, on a sphere the vertical ``zeta`` when a
+    field or the potential needs it."""
     p = s._parsed
-    omega, r = vector("omega", real=True), vector("r", real=True)
+    omega, r, zeta = vector("omega", real=True), vector("r", real=True), vector("zeta", real=True)
     m = p["mass"]
     names = tuple(x.name for x in p["parameters"])
-    plane = None
+    rubber = s.contact != "rolling"  # (a line is refused)
+    plane = PlaneMotion(no_twist=True) if rubber else None  # on the fixed sphere
     if s.support != "sphere":
         velocity = p["plane_velocity"]
         plane = PlaneMotion(
-            p["rotation_rate"], None if velocity.is_zero_matrix else velocity,
-            no_twist=s.contact != "rolling",  # rubber (a line is refused)
+            p["rotation_rate"], None if velocity.is_zero_matrix else velocity, no_twist=rubber
         )  # fmt: skip
+    vertical = s.support == "sphere" and (
+        p["field"] != 0 or bool(p["potential"].free_symbols & set(zeta))
+    )
     desc = MechanicalDescription(
         system=s.name,
         effects=frozenset(),
@@ -51,7 +55,7 @@ def _convex_body_description(s: RollingSystem) -> MechanicalDescription:
         reduction=BodyOnSphereReduction(
             p["surface"], m, _support_curvature(s), gyrostat=p["rotor_momentum"],
             gravity=p["field"], plane=plane,
-            potential=_potential_of_gamma(p["potential"]),
+            potential=_potential_of_gamma(p["potential"]), vertical=vertical,
         ),  # fmt: skip
         parameter_order=names,
         inertia=p["inertia"],
@@ -66,6 +70,8 @@ def _convex_body_description(s: RollingSystem) -> MechanicalDescription:
     if s.support == "moving_plane":
         for name in ("alpha", "beta"):
             desc.add_state(name, tuple(vector(name, real=True)), None)
+    if vertical:  # fixed in space (Poisson's equation)
+        desc.add_state("zeta", tuple(zeta), None)
     # the contact point stays on the surface: its level is an integral
     r_free = p["surface"].xreplace(dict.fromkeys(r, 0))
     desc.add_integral("f", sp.expand(p["surface"] - r_free))  # the level: up to a constant
@@ -158,18 +164,8 @@ def _read_surface(s: RollingSystem, scope: dict, centre: sp.Matrix) -> sp.Expr |
     if s.support not in (*planes, "sphere") or s.contact == "line":
         raise UserInputError(
             "a convex body (surface) is derived rolling or rubber rolling on a plane (fixed, "
-            "rotating or moving) or rolling on a fixed sphere only in this version, not with "
+            "rotating or moving) or on a fixed sphere only in this version, not with "
             f"support {s.support!r}, contact {s.contact!r}"
-        )
-    if s.support == "sphere" and s.contact != "rolling":
-        raise UserInputError(
-            f"a convex body on a sphere is derived rolling only in this version, not {s.contact!r}"
-        )
-    if s.support == "sphere" and s.gravity is not None:
-        raise UserInputError("a convex body on a sphere is derived without gravity in this version")
-    if s.support == "sphere" and s.potential is not None:
-        raise UserInputError(
-            "a convex body on a sphere is derived without a potential in this version"
         )
     x = {f"x{i}": sp.Symbol(f"x{i}", real=True) for i in (1, 2, 3)}
     f = parse_expression(s.surface, {**scope, **x}, "surface")

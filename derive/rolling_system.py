@@ -70,13 +70,17 @@ A homogeneous ball rolls on a fixed support surface ``F(p) = 0`` (``support="sur
 with gravity): :mod:`.ball_on_support`, the state ``omega`` and the contact point ``p``
 in the fixed frame.
 
-A convex body also rolls on a fixed sphere (no field): M03 §2's stage with the signed
-curvature ``k = -1/R`` outside, ``1/R`` inside, ``(k Id + dn/dr) r' = n x omega``.
+A convex body also rolls, or rubber rolls (``(omega, n) = 0``), on a fixed sphere: M03
+§2's stage with the signed curvature ``k = -1/R`` outside, ``1/R`` inside, ``(k Id +
+dn/dr) r' = n x omega``. A field there adds the vertical ``zeta`` to the state (``zeta' =
+zeta x omega``), the weight ``-m g zeta`` at the centre of mass and ``-m g (r + n/k,
+zeta)`` to the energy (the centre of mass's height above the sphere's centre); a
+potential may use ``zeta`` beside ``gamma = n(r)``, its torque ``-d(dV/dt)/d omega``
+along the motion, ``n' = n x omega - k r'``.
 
-Every other support, contact and surface the issue lists (a convex body along a line, or
-rubber or under a field on a sphere, other bodies than a homogeneous ball on a support
-surface, rolling along a line on a moving plane) is refused with a message that says so —
-before any work.
+Every other support, contact and surface the issue lists (a convex body along a line,
+other bodies than a homogeneous ball on a support surface, rolling along a line on a
+moving plane) is refused with a message that says so — before any work.
 
 Every text a user types is read by :func:`~.expression_text.parse_expression` (no
 ``eval``); the checks of :meth:`RollingSystem.__post_init__` run before anything is
@@ -213,10 +217,10 @@ class RollingSystem:
         ``surface``'s coordinates), body axes.
     surface : str or sympy.Expr, optional
         A convex body ``f(x1, x2, x3) = 0`` instead of a sphere (``f < 0`` inside), on a
-        plane (fixed, rotating or moving; rolling or rubber) or rolling on a fixed sphere
-        (no field). The equations hold on every level set of ``f`` (the contact point
-        ``r`` chooses it): a name only in ``f``'s constant term (a sphere's radius) is
-        not a parameter, nor is a constant plane velocity.
+        plane (fixed, rotating or moving) or a fixed sphere, rolling or rubber. The
+        equations hold on every level set of ``f`` (the contact point ``r`` chooses it):
+        a name only in ``f``'s constant term (a sphere's radius) is not a parameter, nor
+        is a constant plane velocity.
     gravity : number or str, optional
         Strength ``g`` of a constant field along ``-gamma``; None: no field.
     gyrostat : 3 numbers/expressions, optional
