@@ -420,3 +420,23 @@ def test_the_body_frame_stage_refuses_a_moving_sphere_and_a_field_without_the_ve
     ):
         with pytest.raises(ValueError):
             derive_body_on_sphere(surface, sp.eye(3), m, k, omega, r, **extra)
+
+
+@pytest.mark.expensive
+def test_the_energy_with_a_potential_of_gamma_and_zeta_is_an_integral_on_a_sphere():
+    """The heavy ellipsoid off centre with a rotor outside a fixed sphere under V(gamma,
+    zeta), gamma = n(r): the shipped H is proved an integral (the Groebner proof through the
+    sphere's square root: about a minute) and equal to the first-principles energy plus V;
+    the energy without V is refuted by the same machinery."""
+    from chaplygin.verify.identity import Domain, decide, lie_derivative
+
+    fields = {k: v for k, v in HEAVY.items() if k != "support"}
+    model = RollingSystem("egg_on_a_ball", potential="(3/7)*gamma1*zeta2 - (2/7)*gamma3**2",
+                          **ON_SPHERE, **fields).model()  # fmt: skip
+    H = model.integral("H")
+    assert decide([lie_derivative(H, model)], Domain(model)).verdict == "proved"
+    energy, _, n = _energy_and_axial_momentum(model, 0, (R(29, 10), 1))
+    zeta = model.group("zeta")
+    V = R(3, 7) * n[0] * zeta[1] - R(2, 7) * n[2] ** 2
+    assert decide([H - energy - V], Domain(model)).verdict == "proved"
+    assert decide([lie_derivative(energy, model)], Domain(model)).verdict == "refuted"
