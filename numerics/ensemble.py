@@ -320,11 +320,12 @@ def _in_lanes(first: tuple, read: ReadStarts | None, prepare: Callable[[int], tu
     if read is None or not read.ok.all():
         slow.update({j: prepare(j)[1] for j in range(1, count) if read is None or not read.ok[j]})
     n = len(problem.code.state)
-    Y = np.empty((count, n)) if read is None else read.Y.copy()
+    # read's arrays are its own: the rows of the starts it did not accept are filled here
+    Y = np.empty((count, n)) if read is None else read.Y
     if read is None or read.P is None:
         P = np.tile(np.asarray(problem.params, dtype=float), (count, 1))
     else:
-        P = read.P.copy()
+        P = read.P
     for j, other in slow.items():
         Y[j] = [float(v) for v in other.y0]
         P[j] = [float(v) for v in other.params]

@@ -160,14 +160,14 @@ def read_starts(code: ModelCode, first: Any, Y: np.ndarray, P: np.ndarray | None
     if P is not None:
         ok &= np.isfinite(P).all(axis=1)
     with np.errstate(all="ignore"):
-        columns = list(np.where(ok[:, None], Y, 0.0).T)
+        Z = np.where(ok[:, None], Y, 0.0).T  # a column per start (bad ones zeroed)
+        columns = list(Z)
         if code.constraint_names:
             k = len(code.constraint_names)
             values = _stacked(code.numpy.constraints(t0, columns, params), N)
             scale = np.maximum(np.abs(values[k:]), 1.0)
             ok &= (np.abs(values[:k]) <= 0.25 * UNIT_TOLERANCE * scale).all(axis=0)
         if compiled is not None:  # the compiled batch routines (the margin covers roundings)
-            Z = np.array(columns)
             PZ = np.asarray(params, dtype=float) if P is None else np.ascontiguousarray(P.T)
             outs = [compiled.rhs_many(t0, Z, PZ), compiled.integrals_many(t0, Z, PZ)]
         else:
