@@ -46,6 +46,7 @@ from .engine import (
     _time_derivative,
     lagrange_dalembert,
 )
+from .errors import DerivationError
 from .model import Model, ModelDetails, ParameterSpec
 from .vectors import cross, dot, vector
 
@@ -58,6 +59,7 @@ __all__ = [
     "body_on_sphere_model",
     "generic_body_model",
     "ellipsoid_body_model",
+    "outer_normal",
 ]
 
 
@@ -119,6 +121,32 @@ class PlaneMotion:
     rotation_rate: sp.Expr = sp.S.Zero
     velocity: sp.Matrix | None = None
     no_twist: bool = False
+
+    @property
+    def moves(self) -> bool:
+        """Whether the plane turns or moves (then the energy is not an integral)."""
+        return self.rotation_rate != 0 or (
+            self.velocity is not None and not self.velocity.is_zero_matrix
+        )
+
+    def velocity_at_contact(self, n: sp.Matrix) -> sp.Matrix:
+        """The plane's velocity under the contact point (body axes): ``Omega n x rho + V1
+        alpha + V2 beta`` (the carried ``rho`` and fixed axes ``alpha, beta``).
+
+        Parameters
+        ----------
+        n : sympy.Matrix, shape (3, 1)
+            The upward normal at the contact, body axes.
+
+        Returns
+        -------
+        sympy.Matrix, shape (3, 1)
+        """
+        carried = self.rotation_rate * cross(n, vector("rho", real=True))
+        if self.velocity is not None:
+            for name, V in zip(("alpha", "beta"), self.velocity, strict=True):
+                carried += V * vector(name, real=True)
+        return carried
 
     def kinematics(
         self, n: sp.Matrix, omega: sp.Matrix, r: sp.Matrix, r_dot: sp.Matrix
@@ -303,15 +331,11 @@ def derive_body_on_sphere(
         For a moving support on a sphere (``k != 0``), a field on a sphere without the
         vertical, or a vertical on a plane.
     """
-    t = sp.Symbol("t", real=True)
-    v = vector("v", real=True)
-    r_dot = vector("rdot", real=True)
+    t, v, r_dot = sp.Symbol("t", real=True), vector("v", real=True), vector("rdot", real=True)
     T = (omega.T * inertia * omega)[0] / 2 + m * dot(v, v) / 2
     if gyrostat is not None:
         T += dot(gyrostat, omega)
-    grad = sp.Matrix([sp.diff(surface, s) for s in r])
-    q = sp.sqrt(sp.factor_terms(sp.expand(dot(grad, grad))))
-    n = (-grad / q).applyfunc(sp.factor_terms)
+    n = outer_normal(surface, r)
     _check_support(k, gravity, plane, vertical)
     plane = plane or PlaneMotion()
     nu = vector("nu", real=True)
@@ -359,6 +383,25 @@ def derive_body_on_sphere(
         kinematics=kinematics,
         potential=V.xreplace(to_n),
     )
+
+
+def outer_normal(surface: sp.Expr, r: sp.Matrix) -> sp.Matrix:
+    """The unit normal ``-grad f/|grad f|`` of a body's surface at ``r`` (out of the body
+    into the support: ``f < 0`` inside), its radicand in one canonical form.
+
+    Parameters
+    ----------
+    surface : sympy.Expr
+        ``f(r)``.
+    r : sympy.Matrix, shape (3, 1)
+
+    Returns
+    -------
+    sympy.Matrix, shape (3, 1)
+    """
+    grad = sp.Matrix([sp.diff(surface, s) for s in r])
+    q = sp.sqrt(sp.factor_terms(sp.expand(dot(grad, grad))))
+    return (-grad / q).applyfunc(sp.factor_terms)
 
 
 def _engine_kinematics(
@@ -529,13 +572,20 @@ class BodyOnSphereReduction:
         ------
         DerivationError
             For declared data this derivation does not take (further kinetic-energy
-            terms, a potential, velocity constraints, Poisson vectors, further bodies).
+            terms, a potential, velocity constraints, vectors that are not fixed in space,
+            further bodies).
         """
         desc.refuse(
             "body-on-sphere",
-            ("kinetic_energy", "potential", "constraints", "kinematics", "momentum_in_state")
+            ("kinetic_energy", "potential", "constraints", "momentum_in_state")
             + ("bodies", "positions"),
         )
+        for name, (X, rate) in desc.kinematics.items():  # only vectors fixed in space
+            if not (rate - cross(X, desc.omega)).applyfunc(sp.expand).is_zero_matrix:
+                raise DerivationError(
+                    f"{desc.system}: body-on-sphere takes vectors fixed in space only, not "
+                    f"{name!r} turning at {list(rate)}"
+                )
         omega = desc.state_group(self.angular_velocity)
         r = desc.state_group(self.position)
         eq = derive_body_on_sphere(
@@ -562,7 +612,7 @@ class BodyOnSphereReduction:
         plane = eq.plane or PlaneMotion()
         t = desc.time
         timed = desc.inertia.has(t) or (self.gyrostat is not None and self.gyrostat.has(t))
-        moves = plane.rotation_rate != 0 or set(eq.kinematics) - {"r", "zeta"}
+        moves = plane.moves
         integrals = []
         if not timed and not moves:
             integrals.append(("H", eq.energy))
@@ -573,14 +623,20 @@ class BodyOnSphereReduction:
             integrals.append(("J", sp.expand(J)))
         if plane.no_twist:
             integrals.append(("(omega,gamma)", dot(eq.omega, eq.normal) - plane.rotation_rate))
-        if "alpha" in eq.kinematics:
-            a, b = (eq.kinematics[n][0] for n in ("alpha", "beta"))
+        frame = {n: X for n, (X, _) in (*desc.kinematics.items(), *eq.kinematics.items())}
+        if "alpha" in frame:
+            a, b = frame["alpha"], frame["beta"]
             integrals += [("(alpha,alpha)", dot(a, a)), ("(alpha,beta)", dot(a, b))]
             integrals += [("(beta,beta)", dot(b, b)), ("(alpha,gamma)", dot(a, eq.normal))]
             integrals += [("(beta,gamma)", dot(b, eq.normal))]
         if "zeta" in eq.kinematics:
             zeta = eq.kinematics["zeta"][0]
             integrals.append(("(zeta,zeta)", dot(zeta, zeta)))
+        traced = {g.name: g.symbols for g in desc.states if g.name in ("x", "y")}
+        if traced and "rho" in eq.kinematics:  # the trace is the carried rho's projection
+            rho = eq.kinematics["rho"][0]
+            for u, X in (("x", "alpha"), ("y", "beta")):
+                integrals.append((f"{u}-(rho,{X})", traced[u][0] - dot(rho, frame[X])))
         return integrals
 
 

@@ -194,6 +194,14 @@ class MechanicalDescription:
         How omitted state groups are completed (``Model.completion``).
     sampler : callable or None
         ``Model.sampler``: exact points of a phase space not made of Poisson vectors.
+    trace_velocity : sympy.Matrix or None, shape (3, 1)
+        The velocity in space (body axes) the contact point's trace moves with, where it
+        is not that of the body's spherical centre (a convex body: the plane's velocity
+        under the contact plus the contact point's rate on the body); read by the
+        ``contact_point`` effect.
+    trace_parameters : tuple of ParameterSpec
+        Parameters only the trace uses (a constant velocity of a moving plane: it carries
+        the trace but not the body).
     """
 
     system: str
@@ -225,6 +233,8 @@ class MechanicalDescription:
     effect_references: dict[str, dict[str, str]] = field(default_factory=dict)
     completion: dict[tuple[str, ...], str] = field(default_factory=dict)
     sampler: PhaseSpaceSampler | None = None
+    trace_velocity: sp.Matrix | None = None
+    trace_parameters: tuple[ParameterSpec, ...] = ()
 
     # ------------------------------------------------------------------ add_*
     def add(self, declaration: Declaration) -> None:

@@ -161,19 +161,24 @@ class ContactPoint(Effect):
         centre = desc.v
         if desc.centre_offset is not None:
             centre = desc.v + cross(desc.omega, desc.centre_offset)
+        if desc.trace_velocity is not None:  # a convex body: the contact point's own
+            centre = desc.trace_velocity
         # the radius is a parameter here unless the description has it already (or a
         # number): the ball's own parameters are I and D = m b^2 only
         contact = desc.contact_vector
         needs_b = contact is not None and b in contact.free_symbols and "b" not in desc.parameters
+        radius = (ParameterSpec("b", (b,), "positive", "ball radius"),) if needs_b else ()
+        # a state given without the frame gets BKM12-7's (from gamma, where there is one);
+        # the contact point starts at 0
+        frame = ((("alpha", "beta"), "frame_bkm12_7"),) if "gamma" in desc.kinematics else ()
         return Declaration(
             poisson_vectors=("alpha", "beta"),
             states=(
                 StateGroup("x", (x,), (dot(centre, _ALPHA),)),
                 StateGroup("y", (y,), (dot(centre, _BETA),)),
             ),
-            parameters=(ParameterSpec("b", (b,), "positive", "ball radius"),) if needs_b else (),
-            # a state given without the frame gets BKM12-7's; the contact point starts at 0
-            completion=((("alpha", "beta"), "frame_bkm12_7"), (("x",), "zero"), (("y",), "zero")),
+            parameters=radius + tuple(desc.trace_parameters),
+            completion=(*frame, (("x",), "zero"), (("y",), "zero")),
         )
 
 

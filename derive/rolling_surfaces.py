@@ -15,8 +15,8 @@ from typing import TYPE_CHECKING
 import sympy as sp
 
 from .ball_on_support import SupportSurfaceReduction
-from .body_on_sphere import BodyOnSphereReduction, PlaneMotion
-from .description import MechanicalDescription
+from .body_on_sphere import BodyOnSphereReduction, PlaneMotion, outer_normal
+from .description import MechanicalDescription, apply_effects
 from .errors import UserInputError
 from .expression_text import parse_expression
 from .model import ParameterSpec
@@ -28,11 +28,14 @@ if TYPE_CHECKING:
 __all__: list[str] = []
 
 
-def _convex_body_description(s: RollingSystem) -> MechanicalDescription:
+def _convex_body_description(
+    s: RollingSystem, effects: frozenset[str] = frozenset()
+) -> MechanicalDescription:
     """A convex body on a plane or a fixed sphere: state ``omega`` and the contact point
     ``r``; on a rotating plane also the contact's position ``rho`` from the axis, on a
     moving plane the fixed axes ``alpha, beta``, on a sphere the vertical ``zeta`` when a
-    field or the potential needs it."""
+    field or the potential needs it. On a plane the trace's velocity (for the effect
+    ``contact_point``): the plane's under the contact plus ``r'``."""
     p = s._parsed
     omega, r, zeta = vector("omega", real=True), vector("r", real=True), vector("zeta", real=True)
     m = p["mass"]
@@ -49,7 +52,7 @@ def _convex_body_description(s: RollingSystem) -> MechanicalDescription:
     )
     desc = MechanicalDescription(
         system=s.name,
-        effects=frozenset(),
+        effects=frozenset(effects),
         time=sp.Symbol("t", real=True),
         omega=omega,
         reduction=BodyOnSphereReduction(
@@ -68,14 +71,24 @@ def _convex_body_description(s: RollingSystem) -> MechanicalDescription:
         grad = [sp.diff(p["surface"], x) for x in r]
         desc.add_invariant_relation("(rho,gamma)", sp.expand(dot(rho, sp.Matrix(grad))))
     if s.support == "moving_plane":
-        for name in ("alpha", "beta"):
-            desc.add_state(name, tuple(vector(name, real=True)), None)
+        desc.add_frame()  # the fixed axes the plane's velocity is given along
+    if s.support != "sphere":
+        n = outer_normal(p["surface"], r)
+        desc.trace_velocity = plane.velocity_at_contact(n) + vector("rdot", real=True)
+        t = sp.Symbol("t", real=True)  # a constant velocity carries the trace, not the body
+        constant = p["plane_velocity"].free_symbols - {t} - set(p["parameters"])
+        desc.trace_parameters = tuple(
+            ParameterSpec(x.name, (x,), "real", "plane velocity component")
+            for x in sorted(constant, key=lambda x: x.name)
+        )  # fmt: skip
+        desc.parameter_order += tuple(x.name for x in desc.trace_parameters)
     if vertical:  # fixed in space (Poisson's equation)
         desc.add_state("zeta", tuple(zeta), None)
     # the contact point stays on the surface: its level is an integral
     r_free = p["surface"].xreplace(dict.fromkeys(r, 0))
     desc.add_integral("f", sp.expand(p["surface"] - r_free))  # the level: up to a constant
     _declare_parameters(desc, p)
+    apply_effects(desc, effects, tuple(sorted(effects)))
     return desc
 
 

@@ -308,9 +308,10 @@ class RollingSystem:
     @property
     def effects_taken(self) -> tuple[str, ...]:
         """The effects this description takes (:data:`SUPPORTED_EFFECTS` on a fixed
-        plane; the contact trace on a moving one; none on a sphere or for a convex body)."""
-        if self._parsed["surface"] is not None:
-            return ()
+        plane; the contact trace on a moving one and for a convex body on any plane; none on
+        a sphere)."""
+        if self._parsed["surface"] is not None:  # the trace on a plane
+            return () if self.support == "sphere" else ("contact_point",)
         if self.contact == "line":
             return ("contact_point",)
         return _EFFECTS_BY_SUPPORT.get(self.support, ())
@@ -386,7 +387,7 @@ class RollingSystem:
         """
         effects = parse_effects(effects, self.effects_taken)
         if self._parsed["surface"] is not None:
-            return _convex_body_description(self)
+            return _convex_body_description(self, effects)
         if self.support == "surface":
             return _support_surface_description(self)
         p = self._parsed

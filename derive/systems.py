@@ -26,7 +26,7 @@ from .cachefiles import cache_root, read_signed, write_signed
 from .effects import parse_effects
 from .errors import UserInputError
 from .model import Model
-from .rolling_system import SUPPORTED_EFFECTS, RollingSystem
+from .rolling_system import RollingSystem
 
 __all__ = [
     "System",
@@ -414,7 +414,7 @@ def register_system(description: RollingSystem) -> System:
     entry = System(
         name,
         lambda effects, _d=description: _d.model(effects),
-        SUPPORTED_EFFECTS,
+        description.effects_taken,
         (),
         description.description or f"described rolling system {name}",
         lambda effects, _d=description: _d.mechanical_description(effects).input_signature(),

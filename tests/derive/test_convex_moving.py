@@ -440,3 +440,74 @@ def test_the_energy_with_a_potential_of_gamma_and_zeta_is_an_integral_on_a_spher
     V = R(3, 7) * n[0] * zeta[1] - R(2, 7) * n[2] ** 2
     assert decide([H - energy - V], Domain(model)).verdict == "proved"
     assert decide([lie_derivative(energy, model)], Domain(model)).verdict == "refuted"
+
+
+# ------------------------------------------------------------------ the contact trace
+# The trace of a convex body on a plane (the contact_point effect): the spherical body's route
+# (BKM12-6: the trace moves with the sphere's centre) against the body-frame stage (the trace
+# moves with the contact point's own velocity, the plane's under it plus r'): no shared formula.
+TRACE = ("contact_point",)
+PLANES = {
+    "fixed_plane": dict(support="plane"),
+    "turntable": dict(support="rotating_plane", rotation_rate="W"),
+    "shaken_plane": dict(support="moving_plane", plane_velocity=("V1*sin(w*t)", "V2*t")),
+}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("plane", list(PLANES))
+def test_the_trace_of_a_sphere_as_a_convex_surface_is_the_spherical_body_s(plane):
+    """Every rate equal, x' and y' included, on each plane; the control (the sphere on the
+    turntable against the convex body on the fixed plane, or the other way round) gives
+    another x' or y'."""
+    fields = dict(COMMON, **PLANES[plane])
+    sphere = RollingSystem("as_sphere", **fields).model(TRACE)
+    convex = RollingSystem("as_surface", surface=SPHERE, **fields).model(TRACE)
+    assert convex.state_names[-2:] == ("x", "y")
+    assert _same_motion(sphere, convex, OMEGA)
+    other = "fixed_plane" if plane != "fixed_plane" else "turntable"
+    control = RollingSystem("as_surface", surface=SPHERE, **COMMON, **PLANES[other])
+    wrong = _convex_rates(control.model(TRACE), OMEGA)
+    _, rates, _ = _sphere_rates(sphere, OMEGA)
+    assert any(sp.simplify(wrong[i] - rates[i]) != 0 for i in (-2, -1))
+
+
+def test_the_trace_of_a_constant_plane_velocity_is_a_parameter_of_the_trace_only():
+    """A constant velocity of the plane does not move the body (it is not a parameter of the
+    motion) but carries the trace: a parameter with the effect, and x' gains V1."""
+    fields = dict(surface=SPHERE, inertia=("A", "A", "C"), support="moving_plane",
+                  plane_velocity=("V1", "V2"))  # fmt: skip
+    system = RollingSystem("shaken_egg", **fields)
+    assert "V1" not in system.model().param_names
+    model = system.model(TRACE)
+    assert model.param_names[-2:] == ("V1", "V2")
+    x_rate = model.rhs_expanded[model.state_names.index("x")]
+    V1 = next(p for p in model.params if p.name == "V1")
+    assert sp.diff(x_rate, V1) != 0
+
+
+def test_a_convex_body_on_a_sphere_takes_no_trace_and_says_so():
+    """On a fixed sphere there is no plane to trace on: the effect is refused in one line."""
+    s = RollingSystem("egg_on_ball", surface=SPHERE, inertia=("A", "A", "C"), support="sphere",
+                      support_radius="3")  # fmt: skip
+    assert s.effects_taken == ()
+    with pytest.raises(UserInputError, match="unknown effect 'contact_point'") as err:
+        s.model(TRACE)
+    assert "\n" not in str(err.value)
+
+
+@pytest.mark.slow
+def test_the_trace_on_a_turntable_is_the_projection_of_rho_an_integral():
+    """A heavy ellipsoid (offset centre, rotor) on a turntable: x - (rho, alpha) and y -
+    (rho, beta) are integrals (the trace is where the carried rho points on the fixed
+    axes), proved by the verifier; x alone is refuted by the same machinery."""
+    from chaplygin.verify.identity import Domain, decide, lie_derivative
+
+    model = RollingSystem("turntable_egg", rotation_rate="5/3", **HEAVY).model(TRACE)
+    names = [n for n, _ in model.integrals]
+    assert {"x-(rho,alpha)", "y-(rho,beta)", "J", "(alpha,gamma)"} <= set(names)
+    domain = Domain(model)
+    for name in ("x-(rho,alpha)", "y-(rho,beta)"):
+        assert decide([lie_derivative(model.integral(name), model)], domain).verdict == "proved"
+    x = next(s for s in model.state if s.name == "x")
+    assert decide([lie_derivative(x, model)], domain).verdict == "refuted"

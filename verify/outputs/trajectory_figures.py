@@ -58,14 +58,16 @@ def contact_trace_figure(
     return fig
 
 
-def body_trace_figure(gamma: np.ndarray, b: float, title: str = "") -> Figure:
-    """The contact point ``-b gamma`` on the ball's surface in the body frame (K01 Fig. 2b).
+def body_trace_figure(points: np.ndarray, b: float | None = None, title: str = "") -> Figure:
+    """The contact point on the body's surface in the body frame (K01 Fig. 2b).
 
     Parameters
     ----------
-    gamma : ndarray, shape (3, n)
-    b : float
-        Ball radius.
+    points : ndarray, shape (3, n)
+        The contact point in body axes: ``-b gamma`` on a ball, ``r`` (from the centre of
+        mass) on a convex body.
+    b : float, optional
+        The ball's radius: its sphere is drawn as a wireframe (none for a convex body).
     title : str
 
     Returns
@@ -74,11 +76,13 @@ def body_trace_figure(gamma: np.ndarray, b: float, title: str = "") -> Figure:
     """
     fig = new_figure(figsize=(6, 6))
     ax = fig.add_subplot(projection="3d")
-    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 40), np.linspace(0, np.pi, 20))
-    ax.plot_wireframe(
-        b * np.cos(u) * np.sin(v), b * np.sin(u) * np.sin(v), b * np.cos(v), color="0.85", lw=0.4
-    )
-    p = -b * np.asarray(gamma, float)
+    if b is not None:
+        u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 40), np.linspace(0, np.pi, 20))
+        ax.plot_wireframe(
+            b * np.cos(u) * np.sin(v), b * np.sin(u) * np.sin(v), b * np.cos(v), color="0.85",
+            lw=0.4,
+        )  # fmt: skip
+    p = np.asarray(points, float)
     ax.plot(p[0], p[1], p[2], lw=0.8)
     ax.set_xlabel("e1")
     ax.set_ylabel("e2")

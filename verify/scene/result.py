@@ -184,7 +184,8 @@ class SceneResult:
         return contact_trace_figure(y["x"], y["y"], self._title(), aspect)
 
     def body_trace_figure(self) -> Figure:
-        """The contact point ``-b gamma`` on the ball's surface, in the body frame.
+        """The contact point on the body's surface, in the body frame: ``-b gamma`` on a
+        ball, the state ``r`` (from the centre of mass) on a convex body.
 
         Returns
         -------
@@ -193,8 +194,24 @@ class SceneResult:
         from ..outputs.trajectory_figures import body_trace_figure
 
         y = self.y
+        if "r1" in y and "gamma1" not in y:  # a described convex body
+            points = np.array([y["r1"], y["r2"], y["r3"]])
+            return body_trace_figure(points, None, self._title())
+        b = self._ball_radius()
         gamma = np.array([y["gamma1"], y["gamma2"], y["gamma3"]])
-        return body_trace_figure(gamma, float(self.resolved.params["b"]), self._title())
+        return body_trace_figure(-b * gamma, b, self._title())
+
+    def _ball_radius(self) -> float:
+        """The ball's radius: the parameter ``b``, or a described ball's number."""
+        params = self.resolved.params
+        if "b" in params:
+            return float(params["b"])
+        table = self.scene._described
+        radius = table.rolling_system()._parsed["radius"] if table is not None else None
+        if radius is None:  # no radius anywhere: the unit sphere (gamma itself)
+            return 1.0
+        values = {s: params[s.name] for s in radius.free_symbols if s.name in params}
+        return float(radius.xreplace(values))
 
     def series_figure(self, quantities: Sequence[str] | None = None) -> Figure:
         """Time series of ``quantities`` (default: those of ``outputs.series``).
