@@ -67,7 +67,12 @@ def _check(scene: Any, code: Any, spec: PoincareOutput) -> None:
             except UserInputError as exc:
                 raise _fail(scene, str(exc), "coordinates", i) from None
     elif not {"M", "gamma"} <= set(code.state_groups):
-        raise _fail(scene, f"{code.name} has no M and gamma for {spec.coordinates}", "coordinates")
+        raise _fail(
+            scene,
+            f"{code.name} has no M and gamma for the {spec.coordinates} coordinates: give two "
+            f"expressions of its state, e.g. coordinates = [{code.state[0]!r}, {code.state[-1]!r}]",
+            "coordinates",
+        )
     coords = _coordinate_names(spec)
     for i, pair in enumerate(spec.projections or []):
         for j, name in enumerate(pair):
