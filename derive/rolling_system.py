@@ -317,6 +317,22 @@ class RollingSystem:
         return _EFFECTS_BY_SUPPORT.get(self.support, ())
 
     @property
+    def parameter_conditions(self) -> tuple[tuple[sp.Expr, str], ...]:
+        """What the parameters' values must satisfy for the description to be a body, where
+        the exact checks on construction could not decide it (symbolic values): each
+        expression must be positive (checked when values are given, by
+        :func:`~chaplygin.numerics.inputs.pack_params`).
+
+        Returns
+        -------
+        tuple of (sympy.Expr, str)
+            The expression and what it says: a leading minor of the inertia tensor, the
+            centre of mass inside the ball (``b^2 - |a|^2``) or the convex body (``-f`` at
+            it), the body inside the fixed sphere (``R - b``).
+        """
+        return self._parsed["conditions"]
+
+    @property
     def parameter_names(self) -> tuple[str, ...]:
         """The parameters, in order of first appearance (mass, radius, inertia, ...)."""
         return tuple(s.name for s in self._parsed["parameters"])
@@ -599,6 +615,10 @@ def _parse(s: RollingSystem) -> dict:
         "support_surface": support_surface,
         "potential": potential,
         "parameters": parameters,
+        "conditions": _parameter_conditions(
+            inertia, radius, centre, support_radius if s.side == "inside" else None, surface,
+            parameters,
+        ),
         "roles": {
             "mass": mass,
             "radius": radius,
@@ -700,6 +720,31 @@ def _check_physics(inertia: sp.Matrix, mass: sp.Expr, radius: sp.Expr, centre: s
             f"centre_of_mass: at distance {sp.sqrt(distance2)} from the centre it is not "
             f"inside the body of radius {radius}"
         )
+
+
+def _parameter_conditions(
+    inertia: sp.Matrix, radius: sp.Expr | None, centre: sp.Matrix, inside: sp.Expr | None,
+    surface: sp.Expr | None, parameters: tuple[sp.Symbol, ...],
+) -> tuple[tuple[sp.Expr, str], ...]:  # fmt: skip
+    """The conditions :func:`_check_physics` and the support's checks leave to the values:
+    expressions of the parameters alone (not of time) that must be positive."""
+    found = [
+        (sp.factor(inertia[:k, :k].det()), f"inertia: its leading {k} x {k} minor")
+        for k in (1, 2, 3)
+    ]
+    if radius is not None and not centre.is_zero_matrix:
+        found.append((sp.expand(radius**2 - dot(centre, centre)), "the centre of mass inside "
+                      "the ball: b^2 - |centre_of_mass|^2"))  # fmt: skip
+    if surface is not None:
+        at_centre = surface.xreplace(dict.fromkeys(vector("r", real=True), 0))
+        found.append((-at_centre, "the centre of mass inside the convex body: -f there"))
+    if inside is not None and radius is not None:
+        found.append((inside - radius, "side 'inside': the fixed sphere's radius less the body's"))
+    t, names = sp.Symbol("t", real=True), set(parameters)
+    return tuple(
+        (e, text) for e, text in found
+        if not e.is_number and not e.has(t) and e.free_symbols <= names and not e.is_positive
+    )  # fmt: skip
 
 
 def _principal_symbols(inertia: sp.Matrix) -> tuple[sp.Symbol, ...]:

@@ -62,6 +62,7 @@ class System:
     description: str
     signature: Callable[[frozenset[str]], tuple] | None = None
     fingerprint: str = ""
+    conditions: tuple[tuple[object, str], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -419,6 +420,7 @@ def register_system(description: RollingSystem) -> System:
         description.description or f"described rolling system {name}",
         lambda effects, _d=description: _d.mechanical_description(effects).input_signature(),
         description.fingerprint(),
+        description.parameter_conditions,
     )
     SYSTEMS[name] = entry
     return entry

@@ -12,6 +12,7 @@ import math
 import numbers
 import operator
 import re
+import sys
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from decimal import Decimal
@@ -443,7 +444,29 @@ def pack_params(
                 f"{name} must be positive ({desc}); got {','.join(mpmath.nstr(v, 8) for v in vals)}"
             )
         out.update(zip(symbols, vals, strict=True))
+    _check_conditions(code, out)
     return [out[s] for s in code.params]
+
+
+def _check_conditions(code: ModelCode, values: Mapping[str, object]) -> None:
+    """A described system's conditions on its parameters' values (its registry entry's
+    :attr:`~chaplygin.derive.rolling_system.RollingSystem.parameter_conditions`: each must
+    be positive), decided in the values' own precision. Only a process that registered a
+    description has one (``derive.systems`` is loaded then)."""
+    systems = sys.modules.get("chaplygin.derive.systems")
+    system = getattr(code, "system", None) or code.name.split("__")[0]  # or a signature's
+    entry = systems.SYSTEMS.get(system) if systems is not None else None
+    for expr, what in getattr(entry, "conditions", ()):
+        import sympy as sp
+
+        at = {x: sp.Float(values[x.name]) for x in expr.free_symbols}
+        value = expr.xreplace(at)
+        if not value > 0:
+            names = sorted(x.name for x in at)
+            shown = ", ".join(f"{n} = {mpmath.nstr(values[n], 8)}" for n in names)
+            raise UserInputError(
+                f"{what} ({expr}) must be positive; it is {mpmath.nstr(value, 8)} at {shown}"
+            )
 
 
 def round_to(values: Sequence[mpmath.mpf], precision: Precision) -> list[float | mpmath.mpf]:

@@ -419,3 +419,58 @@ def test_a_ball_on_a_spherical_support_surface_moves_as_on_the_sphere_support(si
         assert sp.simplify(theirs[3 + i] - p_rate[i]) == 0
     wrong = rhs(control)
     assert any(sp.simplify(wrong[3 + i] - p_rate[i]) != 0 for i in range(3))
+
+
+# ------------------------------------------------- conditions left to the parameters' values
+@pytest.mark.parametrize(
+    "fields, bad, good, words",
+    [
+        (  # a product of inertia: the 2 x 2 minor I1 I2 - c^2
+            dict(inertia=[["I1", "c", 0], ["c", "I2", 0], [0, 0, "I3"]]),
+            dict(I1=0.3, I2=0.5, c=0.45), dict(I1=0.3, I2=0.5, c=0.35), "leading 2 x 2 minor",
+        ),
+        (  # the centre of mass at 5/2 from the centre of a ball of radius b
+            dict(inertia=(1, 2, 3), centre_of_mass=(0, 0, "5/2")),
+            dict(b=2.4), dict(b=2.6), "inside the ball",
+        ),
+        (  # a shell of radius b inside a fixed sphere of radius R
+            dict(inertia=(1, 2, 3), support="sphere", support_radius="R", side="inside"),
+            dict(b=1.3, R=1.2), dict(b=1.3, R=1.4), "side 'inside'",
+        ),
+        (  # an ellipsoid of semi-axes (s, 1, 1) with its centre of mass at 7/10 on e1
+            dict(inertia=(1, 2, 3), surface="x1**2/s**2 + x2**2 + x3**2 - 1",
+                 centre_of_mass=("7/10", 0, 0)),
+            dict(s=0.69), dict(s=0.71), "inside the convex body",
+        ),
+    ],
+)  # fmt: skip
+def test_what_only_the_values_decide_is_checked_when_they_are_given(fields, bad, good, words):
+    """A description with symbolic values is a body only for some values: the conditions
+    the construction could not decide are checked where the values meet the model (one
+    line, before any integration); values just on the right side pass the same check."""
+    from chaplygin.derive.systems import SYSTEMS, register_system
+    from chaplygin.numerics.code import load_model_code
+    from chaplygin.numerics.inputs import Precision, pack_params
+
+    name = "conditions_" + "".join(c if c.isalnum() else "_" for c in words)
+    system = RollingSystem(name, mass=1, **fields)
+    assert any(words in what for _, what in system.parameter_conditions)
+    register_system(system)
+    try:
+        code = load_model_code(name)
+        defaults = {n: 1 for n in code.parameter_groups}
+        with pytest.raises(UserInputError, match=words) as err:
+            pack_params(code, {**defaults, **bad}, Precision("double"))
+        assert "\n" not in str(err.value)
+        assert len(pack_params(code, {**defaults, **good}, Precision("double"))) == len(code.params)
+    finally:
+        SYSTEMS.pop(name, None)
+
+
+def test_conditions_the_construction_decides_are_not_left_to_the_values():
+    """Numbers are checked on construction (refused there); a diagonal of positive names
+    and a centre of mass at the centre leave nothing to the values."""
+    plain = RollingSystem("plain_top", inertia=("A", "B", "C"), centre_of_mass=(0, 0, 0))
+    assert plain.parameter_conditions == ()
+    with pytest.raises(UserInputError, match="not inside the body"):
+        RollingSystem("outside", inertia=(1, 2, 3), radius=2, centre_of_mass=(0, 0, "5/2"))
