@@ -11,11 +11,11 @@ code in ``generated/``); that the description derives the same model after the
 identification — the same vector field, integrals and density — is proved by
 ``tests/derive/test_builtin_descriptions.py``, exactly (sympy, not sampling).
 
-What a description cannot express is refused in one line: the ball on a surface (its
-surface is the one the *centre* moves on, the ellipsoid ``(x, B^-1 x) = 1``, and its
-``potential`` acts on the centre; a description names the support ``F(p) = 0`` of the
-contact point and a field along the vertical) and the body in a spherical support (held
-by ``N`` balls that roll on it; a description has one contact with a fixed support).
+The ball on a surface is named by the surface its *centre* moves on (``centre_surface``,
+the ellipsoid ``(x, B^-1 x) = 1``), with ``I = m_e R^2`` and its ``potential`` of the centre
+(M03-1.6): no identification is needed. What a description cannot express is refused in
+one line: the body in a spherical support (held by ``N`` balls that roll on it; a
+description has one contact with a fixed support).
 """
 
 from __future__ import annotations
@@ -131,7 +131,8 @@ class BuiltinDescription:
         d = self.description
         fields = [repr(d.name)]
         defaults = RollingSystem.__dataclass_fields__
-        for key in ("inertia", "gyrostat", "contact", "positive"):
+        keys = ("inertia", "mass", "radius", "gyrostat", "contact", "support", "centre_surface")
+        for key in (*keys, "potential", "positive"):
             value = getattr(d, key)
             if value != defaults[key].default and value:
                 fields.append(f"{key}={_plain(value)}")
@@ -206,14 +207,38 @@ def _ball(effects: frozenset[str]) -> BuiltinDescription:
     )
 
 
+#: M03-1.6's potential of the centre (the effect ``potential`` of the ball on a surface).
+_CENTRE_POTENTIAL = "k*(x1**2 + x2**2 + x3**2)/2 + (c1/x1**2 + c2/x2**2 + c3/x3**2)/2"
+
+
+#: What each effect of the ball on a surface sets in its description (fields).
+_SURFACE_EFFECTS: dict[str, dict[str, Any]] = {"potential": {"potential": _CENTRE_POTENTIAL}}
+
+
+def _ball_on_surface(effects: frozenset[str]) -> BuiltinDescription:
+    """M03's homogeneous ball (``I = m_e R^2``) whose centre moves on ``(x, B^-1 x) = 1``."""
+    fields: dict[str, Any] = {}
+    for name in sorted(effects):
+        fields.update(_SURFACE_EFFECTS[name])
+    system = RollingSystem(
+        "described_ball_on_surface",
+        inertia=("m_e*R**2",) * 3,
+        mass="m",
+        radius="R",
+        support="surface",
+        centre_surface="x1**2/b1 + x2**2/b2 + x3**2/b3 - 1",
+        positive=("m_e", "b1", "b2", "b3"),
+        description="M03's ball on an ellipsoid as a described system",
+        **fields,
+    )
+    note = "the same names; the description ships H and the level of the centre's surface"
+    return BuiltinDescription("ball_on_surface", effects, system, (), {}, note)
+
+
 #: How each built-in system is written as a description, or what a description lacks.
 _WRITERS: dict[str, Callable[[frozenset[str]], BuiltinDescription] | str] = {
     "chaplygin_ball": _ball,
-    "ball_on_surface": (
-        "its surface is the one the ball's centre moves on, the ellipsoid (x, B^-1 x) = 1, "
-        "and its potential acts on the centre; a RollingSystem names the support F(p) = 0 of "
-        "the contact point and a field along the vertical"
-    ),
+    "ball_on_surface": _ball_on_surface,
     "spherical_support": (
         "the body is held by N balls that roll on it (their inertia enters, the support "
         "tensor D_sup); a RollingSystem has one contact with a fixed support"

@@ -27,6 +27,10 @@ if TYPE_CHECKING:
 
 __all__: list[str] = []
 
+#: The centre's state symbols of a ball named by its centre's surface (``x_1`` ...: the
+#: emitters name subexpressions ``x0, x1, ...``) by the names a text uses for them.
+CENTRE = {f"x{i}": sp.Symbol(f"x_{i}", real=True) for i in (1, 2, 3)}
+
 
 def _convex_body_description(
     s: RollingSystem, effects: frozenset[str] = frozenset()
@@ -214,3 +218,26 @@ def _role(symbol: sp.Symbol, parsed: dict) -> str:
     if symbol in parsed["rotor_momentum"].free_symbols:
         return "gyrostatic momentum component"
     return "parameter of the description"
+
+
+def _used_parameters(parameters: tuple[sp.Symbol, ...], p: dict) -> tuple[sp.Symbol, ...]:
+    """The parameters a surface's description uses: a name only in the constant term of a
+    surface is its level, which the state (``r``, ``x`` or ``p``) sets; a constant velocity
+    of the plane changes nothing (Galilean: only ``V'`` enters); on a support surface the
+    mass drops out when ``I = k m b^2`` with a number ``k`` (the energy is per unit mass)."""
+    t = sp.Symbol("t", real=True)
+    free = lambda *values: set().union(*(sp.sympify(v).free_symbols for v in values))  # noqa: E731
+    used = None
+    if p["surface"] is not None:
+        used = free(p["inertia"], p["mass"], p["centre"], p["field"], p["support_radius"],
+                    p["rotation_rate"], p["plane_velocity"].diff(t), p["rotor_momentum"],
+                    p["potential"], *(sp.diff(p["surface"], c) for c in vector("r", real=True)))
+    if p["centre_surface"] is not None:
+        used = free(p["inertia"], p["mass"], p["radius"], p["field"], p["potential"],
+                    *(sp.diff(p["centre_surface"], c) for c in CENTRE.values()))
+    if p["support_surface"] is not None:
+        ratio = sp.simplify(p["inertia"][0, 0] / (p["mass"] * p["radius"] ** 2))
+        kept = (p["radius"],) if ratio.is_number else (p["inertia"], p["mass"], p["radius"])
+        used = free(*kept, p["field"],
+                    *(sp.diff(p["support_surface"], c) for c in vector("p", real=True)))
+    return parameters if used is None else tuple(x for x in parameters if x in used)

@@ -104,12 +104,15 @@ from .errors import UserInputError
 from .expression_text import parse_expression
 from .model import Model
 from .rigid_body import RigidBodyReduction
+from .rolling_centre import _centre_surface_description, _read_centre_surface
 from .rolling_surfaces import (
+    CENTRE,
     _convex_body_description,
     _declare_parameters,
     _read_support_surface,
     _read_surface,
     _support_surface_description,
+    _used_parameters,
 )
 from .vectors import cross, dot, vector
 
@@ -229,7 +232,8 @@ class RollingSystem:
         ``M' = (M + K) x omega - K' + ...``, no energy integral then).
     potential : str or sympy.Expr, optional
         A potential of the orientation: an expression of ``gamma1, gamma2, gamma3`` and
-        the parameters (on a sphere also of the vertical ``zeta1, zeta2, zeta3``).
+        the parameters (on a sphere also of the vertical ``zeta1, zeta2, zeta3``); with
+        ``centre_surface`` a potential of the centre's position ``x1, x2, x3``.
     contact : {"rolling", "rubber", "line"}
         Rolling without slipping, without slipping and twisting (``(omega, gamma) =
         0``), or without slipping along the fixed line ``alpha`` (``(omega, alpha) = 0``,
@@ -253,6 +257,11 @@ class RollingSystem:
         (equal moments, centre of mass at its centre, no rotor, no potential) rolls on
         it, with gravity along ``-p3``; the state is ``omega`` and the contact point
         ``p`` in the fixed frame.
+    centre_surface : str or sympy.Expr, optional
+        Instead of ``support_surface``: ``F(x1, x2, x3)``, the surface a homogeneous ball's
+        centre moves on (the support is its parallel surface at the radius, M03 §1); the
+        state is ``omega`` and the centre ``x`` in the fixed frame (``x3`` up), gravity
+        along ``-x3`` and ``potential`` a function of ``x``.
     side : {"outside", "inside"}
         The body rolls on the outside of the fixed sphere (support surface), or inside it
         (a spherical shell; then ``R > b``).
@@ -290,6 +299,7 @@ class RollingSystem:
     rotation_rate: Any = None
     plane_velocity: Any = None
     support_surface: Any = None
+    centre_surface: Any = None
     surface: Any = None
     positive: Sequence[str] = ()
     description: str = ""
@@ -371,6 +381,7 @@ class RollingSystem:
             ]
             # (absent unless given: the other descriptions keep their fingerprints)
             + ([] if p["support_surface"] is None else [sp.srepr(p["support_surface"])])
+            + ([] if p["centre_surface"] is None else ["centre", sp.srepr(p["centre_surface"])])
         )
         return hashlib.sha256(text.encode()).hexdigest()
 
@@ -405,7 +416,11 @@ class RollingSystem:
         if self._parsed["surface"] is not None:
             return _convex_body_description(self, effects)
         if self.support == "surface":
-            return _support_surface_description(self)
+            return (
+                _support_surface_description(self)
+                if self._parsed["centre_surface"] is None
+                else _centre_surface_description(self)
+            )
         p = self._parsed
         t = sp.Symbol("t", real=True)
         omega, v = vector("omega", real=True), vector("v", real=True)
@@ -521,7 +536,7 @@ def _parse(s: RollingSystem) -> dict:
     radius = None if s.surface is not None else s.radius  # a convex body has no radius
     typed = [s.mass, radius, rows, s.centre_of_mass, s.gravity, s.support_radius]
     typed += [s.rotation_rate, s.plane_velocity]  # these two may use the time t
-    typed += [s.gyrostat, s.potential, s.surface, s.support_surface]
+    typed += [s.gyrostat, s.potential, s.surface, s.support_surface, s.centre_surface]
     names: list[str] = []
     for value in typed:
         for n in sorted(_names_in(value)):
@@ -560,6 +575,8 @@ def _parse(s: RollingSystem) -> dict:
     field_strength = sp.S.Zero if s.gravity is None else read(s.gravity, "gravity")
     vectors = ("gamma", "zeta") if s.support == "sphere" else ("gamma",)
     gamma = {f"{n}{i}": sp.Symbol(f"{n}{i}", real=True) for n in vectors for i in (1, 2, 3)}
+    if s.centre_surface is not None:  # a potential of the centre's position
+        gamma = dict(CENTRE)
     potential = (
         sp.S.Zero
         if s.potential is None
@@ -575,33 +592,13 @@ def _parse(s: RollingSystem) -> dict:
         else sp.Matrix([read_timed(x, "gyrostat") for x in _entries(s.gyrostat, 3, "gyrostat")])
     )
     plane_velocity = _check_moving(s, read_timed)
-    support_surface = _read_support_surface(
-        s, scope, {"inertia": inertia, "centre": centre, "rotor_momentum": gyrostat,
-                   "potential": potential},
-    )  # fmt: skip
-    parameters = tuple(symbols[n] for n in names)
-    if surface is not None:  # a name only in f's constant term is the level, set by r
-        used = set().union(
-            *(sp.sympify(e).free_symbols for e in (inertia, mass, centre, field_strength)),
-            sp.sympify(support_radius).free_symbols,
-            sp.sympify(rotation_rate).free_symbols,
-            # a constant velocity of the plane changes nothing (Galilean): only V' enters
-            plane_velocity.diff(timed["t"]).free_symbols,
-            gyrostat.free_symbols,
-            potential.free_symbols,
-            *(sp.diff(surface, ri).free_symbols for ri in vector("r", real=True)),
-        )
-        parameters = tuple(x for x in parameters if x in used)
-    if support_surface is not None:  # the same for F's level, set by p; and the mass
-        # drops out when I = k m b^2 with a number k (the energy is then per unit mass)
-        ratio = sp.simplify(inertia[0, 0] / (mass * radius**2))
-        kept = (radius,) if ratio.is_number else (inertia, mass, radius)
-        used = set().union(
-            *(sp.sympify(e).free_symbols for e in (*kept, field_strength)),
-            *(sp.diff(support_surface, c).free_symbols for c in vector("p", real=True)),
-        )
-        parameters = tuple(x for x in parameters if x in used)
-    return {
+    parsed = {"inertia": inertia, "centre": centre, "rotor_momentum": gyrostat,
+              "potential": potential}  # fmt: skip
+    centre_surface = _read_centre_surface(s, scope, parsed)
+    support_surface = None if centre_surface is not None else _read_support_surface(
+        s, scope, parsed
+    )
+    parsed = {
         "inertia": inertia,
         "mass": mass,
         "radius": radius,
@@ -613,20 +610,20 @@ def _parse(s: RollingSystem) -> dict:
         "plane_velocity": plane_velocity,
         "surface": surface,
         "support_surface": support_surface,
+        "centre_surface": centre_surface,
         "potential": potential,
-        "parameters": parameters,
-        "conditions": _parameter_conditions(
-            inertia, radius, centre, support_radius if s.side == "inside" else None, surface,
-            parameters,
-        ),
-        "roles": {
-            "mass": mass,
-            "radius": radius,
-            "gravity": field_strength,
-            "radius of the fixed sphere": support_radius,
-            "angular velocity of the plane": rotation_rate,
-        },
     }
+    parameters = _used_parameters(tuple(symbols[n] for n in names), parsed)
+    inside = support_radius if s.side == "inside" else None
+    conditions = _parameter_conditions(inertia, radius, centre, inside, surface, parameters)
+    roles = {
+        "mass": mass,
+        "radius": radius,
+        "gravity": field_strength,
+        "radius of the fixed sphere": support_radius,
+        "angular velocity of the plane": rotation_rate,
+    }
+    return {**parsed, "parameters": parameters, "conditions": conditions, "roles": roles}
 
 
 def _check_rotation(s: RollingSystem, read) -> sp.Expr:

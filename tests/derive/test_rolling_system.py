@@ -223,8 +223,32 @@ def test_names_become_exact_parameters_and_decimals_stay_exact():
         ({"inertia": (1, 1, 1), "mass": "zeta1"}, "unknown name 'zeta1'"),
         ({"inertia": (1, 1, 1), "contact": "sliding"}, "unknown contact"),
         ({"inertia": (1, 1)}, "expected 3 entries"),
+        ({"inertia": (1, 1, 1), "centre_surface": "x1**2 + x2**2 + x3**2 - 4"}, "is a plane"),
+        (
+            {"inertia": (1, 1, 1), "support": "surface", "centre_surface": "x3",
+             "support_surface": "p3"},
+            "not both",
+        ),
+        (
+            {"inertia": (1, 2, 3), "support": "surface", "centre_surface": "x3 - x1**2"},
+            "homogeneous ball",
+        ),
+        (
+            {"inertia": (1, 1, 1), "support": "surface", "centre_surface": "x1**2 - x3**2 - 1"},
+            "not convex",
+        ),
+        (
+            {"inertia": (1, 1, 1), "support": "surface", "centre_surface": "sin(x1) + x3"},
+            "polynomial",
+        ),
+        (
+            {"inertia": (1, 1, 1), "support": "surface", "centre_surface": "x3",
+             "potential": "gamma1"},
+            "unknown name 'gamma1'",
+        ),
+        ({"inertia": (1, 1, 1), "support": "surface"}, "needs support_surface"),
     ],
-)
+)  # fmt: skip
 def test_bad_descriptions_are_refused_before_any_work(fields, message):
     with pytest.raises(UserInputError, match=message) as info:
         RollingSystem("bad", **fields)

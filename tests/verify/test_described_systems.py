@@ -571,3 +571,26 @@ def test_a_convex_body_on_a_turntable_draws_its_traces_from_a_scene(tmp_path):
     )
     assert main(["run", str(ball), "--out", str(tmp_path / "ball")]) == 0
     assert (tmp_path / "ball" / "body_trace.png").stat().st_size > 0
+
+
+def test_a_ball_on_an_ellipsoid_named_by_its_centre_s_surface_runs_from_a_scene(tmp_path):
+    """M03's ball whose centre moves on (x, B^-1 x) = 1 as a [system] table (centre_surface,
+    a potential of the centre; the built-in ball_on_surface's description): the scene gives
+    the centre x as three numbers; the energy and the level of the centre's surface keep
+    their values to the run's tolerance (their drifts are the evidence)."""
+    scene = tmp_path / "ellipsoid_ball.toml"
+    scene.write_text(
+        'title = "ball on an ellipsoid"\n[system]\nname = "scene_ellipsoid_ball"\n'
+        'inertia = ["m_e*R**2", "m_e*R**2", "m_e*R**2"]\nradius = "R"\nsupport = "surface"\n'
+        'centre_surface = "x1**2/b1 + x2**2/b2 + x3**2/b3 - 1"\n'
+        'potential = "k*(x1**2 + x2**2 + x3**2)/2"\npositive = ["m_e", "b1", "b2", "b3"]\n'
+        "[parameters]\nm = 1.3\nm_e = 0.4\nR = 0.2\nb1 = 4\nb2 = 2.25\nb3 = 1\nk = 0.3\n"
+        "[initial]\nomega = [0.3, -0.2, 0.9]\nx = [1.2, 0.9, \"sqrt(0.28)\"]\n"
+        '[run]\nt_end = 2\nrtol = 1e-11\natol = 1e-11\nbackend = "numpy"\nmethod = "DOP853"\n'
+    )
+    out = tmp_path / "out"
+    assert main(["run", str(scene), "--out", str(out)]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    drift = summary["run"]["drift"] if "run" in summary else summary["drift"]
+    assert set(drift) == {"H", "F"}
+    assert max(abs(float(v)) for v in drift.values()) < 1e3 * 1e-11

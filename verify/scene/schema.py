@@ -238,6 +238,11 @@ class SystemTable(_Table):
         description="F(p1, p2, p3) of a fixed support surface F = 0 in the fixed frame (p3 up; "
         "support = 'surface', a homogeneous ball)",
     )
+    centre_surface: TypedValue | None = Field(
+        None,
+        description="F(x1, x2, x3): instead of support_surface, the surface a homogeneous "
+        "ball's centre moves on (fixed frame, x3 up; support = 'surface'; potential of x)",
+    )
     surface: TypedValue | None = Field(
         None,
         description="f(x1, x2, x3) of a convex body f = 0 instead of a sphere (body axes; on a "
@@ -315,7 +320,9 @@ class Initial(BaseModel):
     gamma: Vector3 | None = Field(None, description="unit vertical (body frame)")
     alpha: Vector3 | None = None
     beta: Vector3 | None = None
-    x: Number | None = None
+    x: Number | Vector3 | None = Field(
+        None, description="the trace's x (contact_point), or a ball on a surface's centre (3)"
+    )
     y: Number | None = None
     h: Number | None = Field(None, description="energy")
     C: Number | None = Field(None, description="(M, gamma)")
