@@ -129,6 +129,10 @@ def kane_compare(
 
         count, acc, rate = compare_on_support(system, model, pvals, momenta, DIGITS, _relative)
         return KaneComparison(count, acc, 0.0, rate, tolerance)  # no momentum state there
+    if system._parsed["surface"] is not None and not _closed_form(system, pvals):
+        from .kane_implicit import compare_implicit  # the contact point as coordinates
+
+        return compare_implicit(system, model, pvals, momenta)
     line = "(omega,alpha)" in dict(model.invariant_relations)  # along the fixed line N.x
     key = (system.fingerprint(), line, tuple(sorted((s.name, v) for s, v in pvals.items())))
     kane = _KANE.get(key)
@@ -237,6 +241,18 @@ def quadric_contact(surface: sp.Expr, up: sp.Matrix) -> sp.Matrix:
     return r0 - sp.sqrt(s2) * w / sp.sqrt(up.dot(w))
 
 
+def _closed_form(system: RollingSystem, pvals: Mapping[sp.Symbol, sp.Expr]) -> bool:
+    """Whether the body's contact point is :func:`quadric_contact`'s: an ellipsoid on a
+    plane (on a sphere, or for any other surface, it is implicit)."""
+    if system.support == "sphere":
+        return False
+    try:
+        quadric_contact(system._parsed["surface"].xreplace(pvals), sp.Matrix([0, 0, 1]))
+    except ValueError:
+        return False
+    return True
+
+
 def _compare_convex(system, model, kane, pvals, momenta) -> KaneComparison:
     """``omega'``, ``r'`` (and on a turntable ``rho'``) of the state ``(omega, r, ...)``
     against Kane's, and the momentum about the contact, at the contact points of
@@ -307,6 +323,95 @@ def _frame_of(n: mpmath.matrix) -> mpmath.matrix:
     return mpmath.matrix([[u[i], w[i], n[i]] for i in range(3)])
 
 
+def rigid_bodies(p: Mapping, sub: Mapping, frames, G: me.Point, t: sp.Symbol) -> list:
+    """The described body at its centre of mass ``G`` (frame ``B``, mass, the given tensor,
+    a prescribed ``I(t)`` a function of Kane's time ``t``) and its gyrostat as real rotors:
+    one along each body axis ``K`` has a component on, a symmetric rotor turning about
+    ``e_i`` relative to ``B`` at ``K_i(t)/Ia`` (prescribed by its motor); the body's own
+    tensor is the given one minus the rotors'.
+
+    Parameters
+    ----------
+    p : mapping
+        The description's parsed fields (``RollingSystem._parsed``).
+    sub : mapping
+        The parameters' values.
+    frames : (ReferenceFrame, ReferenceFrame)
+        ``N`` and the body frame ``B``.
+    G : sympy.physics.mechanics.Point
+        The centre of mass (its velocity set).
+    t : sympy.Symbol
+        Kane's time.
+
+    Returns
+    -------
+    list of sympy.physics.mechanics.RigidBody
+        The body first, then the rotors.
+    """
+    _, B = frames
+    now = {sp.Symbol("t", real=True): t, **sub}
+    inertia = p["inertia"].xreplace(now)
+    axes = (B.x, B.y, B.z)
+    dyadic = sum(
+        (inertia[i, j] * (e_i | e_j) for i, e_i in enumerate(axes) for j, e_j in enumerate(axes)),
+        me.Dyadic(0),
+    )
+    bodies = []
+    K = p["rotor_momentum"].xreplace(now)
+    Ia, It = sp.Integer(1), sp.Rational(1, 2)
+    for i, e in enumerate(axes):
+        if K[i] == 0:
+            continue
+        R = me.ReferenceFrame(f"R{i + 1}")
+        R.set_ang_vel(B, K[i] / Ia * e)
+        rotor = Ia * (e | e) + It * (me.inertia(B, 1, 1, 1) - (e | e))
+        dyadic = dyadic - rotor
+        bodies.append(me.RigidBody(f"rotor{i + 1}", G, R, 0, (rotor, G)))
+    bodies.insert(0, me.RigidBody("body", G, B, p["mass"].xreplace(sub), (dyadic, G)))
+    return bodies
+
+
+def placement(gamma: Sequence[object], sphere: bool, inside: bool) -> list:
+    """Euler angles and position ``x, y`` putting the support's normal into the body at
+    body components ``gamma``: on a plane ``N.z`` is the normal; on a sphere the body's
+    place sits at the generic angles :data:`SPHERE_POSITION` (the vertical is not the
+    normal there) and the body is turned so that ``e_r`` (outside; ``-e_r`` inside) has
+    components ``gamma``.
+
+    Parameters
+    ----------
+    gamma : sequence of 3 numbers
+        A unit vector (body components).
+    sphere, inside : bool
+        On a fixed sphere; inside it.
+
+    Returns
+    -------
+    list of mpmath.mpf
+        ``q1, q2, q3, x, y`` at :data:`DIGITS` digits (``x = y = 0`` on a plane).
+    """
+    with mpmath.workdps(DIGITS):
+        g = mpmath.matrix([_mpf(x) for x in gamma])
+        if inside:  # inside a sphere the normal into the body is -e_r
+            g = -g
+        if not sphere:
+            q2 = -mpmath.asin(g[0])
+            q3 = mpmath.atan2(g[1], g[2])
+            return [mpmath.mpf("0.3"), q2, q3, mpmath.mpf(0), mpmath.mpf(0)]
+        x, y = (mpmath.mpf(c) for c in SPHERE_POSITION)
+        e_r = mpmath.matrix(
+            [mpmath.cos(x), mpmath.sin(x) * mpmath.cos(y), mpmath.sin(x) * mpmath.sin(y)]
+        )
+        # body axes in N (columns of C^T): any orthonormal right-handed frame with
+        # C e_r = g; built from g's frame and e_r's frame
+        Fb, Fs = _frame_of(g), _frame_of(e_r)
+        M = Fs * Fb.T  # N <- B: takes g (body) to e_r (space)
+        q2 = -mpmath.asin(M[2, 0])
+        q3 = mpmath.atan2(M[2, 1], M[2, 2])
+        q1 = mpmath.atan2(M[1, 0], M[0, 0])
+        return [q1, q2, q3, x, y]
+
+
 def _mpf(v: object) -> mpmath.mpf:
     """A number at :data:`DIGITS` (sympy's functions of exact arguments evaluated)."""
     if isinstance(v, mpmath.mpf):
@@ -341,8 +446,6 @@ class _KaneRolling:
         B.set_ang_vel(N, u[0] * N.x + u[1] * N.y + u[2] * N.z)
         p = system._parsed
         m = p["mass"].xreplace(sub)
-        # a prescribed I(t) is a function of Kane's time (its dI/dt enters the torque)
-        inertia = p["inertia"].xreplace({sp.Symbol("t", real=True): t, **sub})
         self._flip = system.support == "sphere" and system.side == "inside"
         self._at_pole = system.support == "sphere"
         G, P, normal, tangents, carried = self._contact(system, p, sub, (N, B), q, u, t, solved)
@@ -357,29 +460,8 @@ class _KaneRolling:
         if line:  # along the fixed line N.x: no spin about it, (omega, N.x) = 0
             constraints.append(u[0])
             dependent = [u[0], *dependent]
-        dyadic = sum(
-            (
-                inertia[i, j] * (e_i | e_j)
-                for i, e_i in enumerate((B.x, B.y, B.z))
-                for j, e_j in enumerate((B.x, B.y, B.z))
-            ),
-            me.Dyadic(0),
-        )
-        bodies = []
-        # the gyrostat as real rotors, one along each body axis K has a component on: a
-        # symmetric rotor turning about e_i relative to B at K_i(t)/Ia (prescribed by its
-        # motor); the body's own tensor is the given one minus the rotors'
-        K = p["rotor_momentum"].xreplace({sp.Symbol("t", real=True): t, **sub})
-        Ia, It = sp.Integer(1), sp.Rational(1, 2)
-        for i, e in enumerate((B.x, B.y, B.z)):
-            if K[i] == 0:
-                continue
-            R = me.ReferenceFrame(f"R{i + 1}")
-            R.set_ang_vel(B, K[i] / Ia * e)
-            rotor = Ia * (e | e) + It * (me.inertia(B, 1, 1, 1) - (e | e))
-            dyadic = dyadic - rotor
-            bodies.append(me.RigidBody(f"rotor{i + 1}", G, R, 0, (rotor, G)))
-        bodies.insert(0, me.RigidBody("body", G, B, m, (dyadic, G)))
+        # a prescribed I(t) is a function of Kane's time (its dI/dt enters the torque)
+        bodies = rigid_bodies(p, sub, (N, B), G, t)
         loads = []
         g_field = p["field"].xreplace(sub)
         if g_field != 0:
@@ -517,25 +599,7 @@ class _KaneRolling:
         ``gamma``: on a plane ``N.z`` is the normal; on a sphere ``O`` sits at the generic
         angles :data:`SPHERE_POSITION` (the vertical is not the normal there) and the
         body is turned so that ``e_r`` (outside; ``-e_r`` inside) has components ``gamma``."""
-        g = mpmath.matrix([_mpf(x) for x in gamma])
-        if self._flip:  # inside a sphere the normal into the body is -e_r
-            g = -g
-        if not self._at_pole:
-            q2 = -mpmath.asin(g[0])
-            q3 = mpmath.atan2(g[1], g[2])
-            return [mpmath.mpf("0.3"), q2, q3, mpmath.mpf(0), mpmath.mpf(0)]
-        x, y = (mpmath.mpf(c) for c in SPHERE_POSITION)
-        e_r = mpmath.matrix(
-            [mpmath.cos(x), mpmath.sin(x) * mpmath.cos(y), mpmath.sin(x) * mpmath.sin(y)]
-        )
-        # body axes in N (columns of C^T): any orthonormal right-handed frame with
-        # C e_r = g; built from g's frame and e_r's frame
-        Fb, Fs = _frame_of(g), _frame_of(e_r)
-        M = Fs * Fb.T  # N <- B: takes g (body) to e_r (space)
-        q2 = -mpmath.asin(M[2, 0])
-        q3 = mpmath.atan2(M[2, 1], M[2, 2])
-        q1 = mpmath.atan2(M[1, 0], M[0, 0])
-        return [q1, q2, q3, x, y]
+        return placement(gamma, self._at_pole, self._flip)
 
     def vertical(self, gamma: Sequence[sp.Expr]) -> list:
         """The body components of ``N.z`` (the model's ``zeta``) where :meth:`at` puts the
