@@ -24,7 +24,7 @@ no formula with the Lagrange–d'Alembert engine (:mod:`chaplygin.derive.body_on
   ``gamma = n`` and the vertical ``zeta = N.z`` (body axes) written as a function of the
   coordinates and applied as the generalised force ``-dV/dq_j`` (two massless points
   whose velocities are the coordinates' rates carry it: no torque formula); the gyrostat
-  as real rotors (:func:`~.kane_rolling.rigid_bodies`).
+  as real rotors (:func:`~.kane_common.rigid_bodies`).
 
 KanesMethod's ``constraint_solver`` is handed placeholders for ``B_dep^-1 B_ind`` (the
 dependent speeds' coefficients), filled numerically at each point: the symbolic inverse
@@ -45,18 +45,9 @@ import sympy.physics.mechanics as me
 from ..derive.model import Model
 from ..derive.rolling_system import RollingSystem
 from ..derive.vectors import vector
+from . import kane_common as common
+from .kane_common import DIGITS, KaneComparison, placement, rigid_bodies
 from .kane_euler import euler_rates
-from .kane_rolling import (
-    _RHO_SEED,
-    DIGITS,
-    RATIONAL_UNIT_VECTORS,
-    T0,
-    KaneComparison,
-    _mpf,
-    _relative,
-    placement,
-    rigid_bodies,
-)
 
 __all__ = ["compare_implicit", "contact_on_ray", "interior_point", "places_contacts"]
 
@@ -77,7 +68,7 @@ def interior_point(surface: sp.Expr) -> mpmath.matrix:
     Returns
     -------
     mpmath.matrix
-        At :data:`~.kane_rolling.DIGITS` + 20 digits.
+        At :data:`~.kane_common.DIGITS` + 20 digits.
 
     Raises
     ------
@@ -127,7 +118,7 @@ def contact_on_ray(surface: sp.Expr, direction: Sequence[sp.Expr]) -> list:
     Returns
     -------
     list of mpmath.mpf
-        The contact point (from the centre of mass), :data:`~.kane_rolling.DIGITS` + 20
+        The contact point (from the centre of mass), :data:`~.kane_common.DIGITS` + 20
         digits.
 
     Raises
@@ -155,7 +146,7 @@ def contact_on_ray(surface: sp.Expr, direction: Sequence[sp.Expr]) -> list:
 
 def places_contacts(surface: sp.Expr) -> bool:
     """Whether :func:`compare_implicit` finds its contact points: every ray along ``-g``
-    (``g`` in :data:`~.kane_rolling.RATIONAL_UNIT_VECTORS`) meets the surface.
+    (``g`` in :data:`~.kane_common.RATIONAL_UNIT_VECTORS`) meets the surface.
 
     Parameters
     ----------
@@ -167,7 +158,7 @@ def places_contacts(surface: sp.Expr) -> bool:
     bool
     """
     try:
-        for g in RATIONAL_UNIT_VECTORS:
+        for g in common.RATIONAL_UNIT_VECTORS:
             contact_on_ray(surface, [-c for c in g])
     except ValueError:
         return False
@@ -322,8 +313,8 @@ def compare_implicit(
     momenta: Sequence[Sequence[object]],
 ) -> KaneComparison:
     """The model's rates against Kane's at the contact points of the directions ``-g``,
-    ``g`` in :data:`~.kane_rolling.RATIONAL_UNIT_VECTORS`, at the time
-    :data:`~.kane_rolling.T0`.
+    ``g`` in :data:`~.kane_common.RATIONAL_UNIT_VECTORS`, at the time
+    :data:`~.kane_common.T0`.
 
     Compared: ``omega'`` and the momentum about the contact, and ``r'`` with the carried
     vectors' rates (``rho'`` on a turntable, ``alpha', beta'`` on a shaken plane,
@@ -357,29 +348,29 @@ def compare_implicit(
     surface = system._parsed["surface"].xreplace(sub)
     r = vector("r", real=True)
     grad = sp.lambdify([list(r)], [sp.diff(surface, s) for s in r], modules="mpmath")
-    Omega = system._parsed["rotation_rate"].xreplace({**sub, time: T0})
+    Omega = system._parsed["rotation_rate"].xreplace({**sub, time: common.T0})
     carried = [n for n in ("rho", "alpha", "beta", "zeta") if n in groups]
     worst = [0.0, 0.0, 0.0]
     count = 0
     with mpmath.workdps(DIGITS):
-        T = _mpf(T0)
+        T = common._mpf(common.T0)
         for w in momenta:
-            for g in RATIONAL_UNIT_VECTORS:
+            for g in common.RATIONAL_UNIT_VECTORS:
                 contact = contact_on_ray(surface, [-c for c in g])
                 n = -mpmath.matrix(grad(contact))
                 n = n / mpmath.norm(n)  # the support's normal into the body
                 q = placement(list(n), kane._sphere, kane._inside) + contact
                 C = kane.frame(q, T)
-                point = {time: T0}
+                point = {time: common.T0}
                 if "rho" in groups:  # the contact's place from the axis: horizontal
-                    seed = mpmath.matrix([_mpf(c) for c in _RHO_SEED])
+                    seed = mpmath.matrix([common._mpf(c) for c in common._RHO_SEED])
                     rho = seed - (seed.T * n)[0] * n
                     space = C.T * rho
                     q[3], q[4] = space[0], space[1]
                     point.update(zip(groups["rho"], map(_float, rho), strict=True))
-                wb = mpmath.matrix([_mpf(c) for c in w])
+                wb = mpmath.matrix([common._mpf(c) for c in w])
                 if system.contact == "rubber":
-                    wb = wb + (_mpf(Omega) - (wb.T * n)[0]) * n
+                    wb = wb + (common._mpf(Omega) - (wb.T * n)[0]) * n
                 point.update(zip(groups["omega"], map(_float, wb), strict=True))
                 point.update(zip(groups["r"], map(_float, contact), strict=True))
                 for name, column in (("alpha", 0), ("beta", 1), ("zeta", 2)):
@@ -389,11 +380,11 @@ def compare_implicit(
                 theirs = kane.at(q, list(C.T * wb), T)
                 F = _rates(model, {**pvals, **point})
                 ours = {name: [F[index[s]] for s in groups[name]] for name in groups}
-                worst[0] = max(worst[0], _relative(ours["omega"], theirs["omega"]))
+                worst[0] = max(worst[0], common._relative(ours["omega"], theirs["omega"]))
                 H = list(momentum.xreplace(point))
-                worst[1] = max(worst[1], _relative(H, theirs["momentum"]))
+                worst[1] = max(worst[1], common._relative(H, theirs["momentum"]))
                 for name in ("r", *carried):
-                    worst[2] = max(worst[2], _relative(ours[name], theirs[name]))
+                    worst[2] = max(worst[2], common._relative(ours[name], theirs[name]))
                 count += 1
     return KaneComparison(count, *worst, 10.0 ** -(DIGITS - 10))
 
