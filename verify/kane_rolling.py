@@ -29,6 +29,10 @@ At exact points of the phase space the model's angular acceleration
 ``C u'``), and the model's momentum ``M`` with sympy's angular momentum about the
 contact point, at :data:`DIGITS` digits: the tolerance is ``10**-(DIGITS - 10)``
 relative, ten digits left to the conditioning of the two linear solves.
+
+A convex body whose contact point has no closed form (any surface but an ellipsoid on a
+plane; every body on a fixed sphere) is compared by :mod:`.kane_implicit` instead: the
+contact point carried as coordinates with its holonomic conditions.
 """
 
 from __future__ import annotations
@@ -80,6 +84,9 @@ def kane_compare(
         support surface: the angular velocity's (space) components, each paired with
         each contact point of :data:`~.kane_support.SUPPORT_ANGLES` (the ball's
         ``omega'`` and ``p'`` compared; ``max_momentum_error`` is 0: no momentum state).
+        A convex body without a closed-form contact (:mod:`.kane_implicit`): the angular
+        velocity's body components, each paired with the contact points of the rays along
+        ``-g``, ``g`` in :data:`RATIONAL_UNIT_VECTORS`.
 
     Returns
     -------
