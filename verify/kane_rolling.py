@@ -29,12 +29,15 @@ At exact points of the phase space the model's angular acceleration
 ``C u'``), and the model's momentum ``M`` with sympy's angular momentum about the
 contact point, at :data:`DIGITS` digits: the tolerance is ``10**-(DIGITS - 10)``
 relative, ten digits left to the conditioning of the two linear solves.
+
+A convex body whose contact point has no closed form (any surface but an ellipsoid on a
+plane; every body on a fixed sphere) is compared by :mod:`.kane_implicit` instead: the
+contact point carried as coordinates with its holonomic conditions.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
 
 import mpmath
 import sympy as sp
@@ -42,57 +45,21 @@ import sympy.physics.mechanics as me
 
 from ..derive.model import Model
 from ..derive.rolling_system import RollingSystem
-from .kane_euler import euler_rates
-
-__all__ = ["KaneComparison", "kane_compare", "DIGITS", "RATIONAL_UNIT_VECTORS"]
-
-#: Working digits of the comparison.
-DIGITS = 40
-#: Where the body's centre sits on a fixed sphere at the comparison points (the angles
-#: ``x, y`` of ``O``): away from the pole, so that the vertical is not the normal.
-SPHERE_POSITION = ("1.1", "0.7")
-#: Exact unit vectors (Pythagorean quadruples) away from the Euler angles' singularity.
-RATIONAL_UNIT_VECTORS = (
-    (sp.Rational(2, 7), sp.Rational(3, 7), sp.Rational(6, 7)),
-    (sp.Rational(-1, 9), sp.Rational(4, 9), sp.Rational(8, 9)),
-    (sp.Rational(6, 11), sp.Rational(-2, 11), sp.Rational(9, 11)),
-    (sp.Rational(-2, 3), sp.Rational(1, 3), sp.Rational(-2, 3)),
+from .kane_common import (
+    _RHO_SEED,
+    DIGITS,
+    RATIONAL_UNIT_VECTORS,
+    T0,
+    KaneComparison,
+    _mpf,
+    _relative,
+    placement,
+    rigid_bodies,
 )
+from .kane_euler import euler_rates
+from .kane_implicit import compare_implicit
 
-
-@dataclass(frozen=True)
-class KaneComparison:
-    """The model against Kane's method at exact points.
-
-    Attributes
-    ----------
-    points : int
-    max_acceleration_error : float
-        Largest ``|omega'_model - omega'_Kane| / (1 + |omega'|)``.
-    max_momentum_error : float
-        Largest ``|M + K - H_P| / (1 + |M + K|)``, ``H_P`` sympy's angular momentum
-        about the contact point (body and rotor), ``K`` the gyrostatic momentum the
-        state leaves out.
-    max_normal_rate_error : float
-        Largest ``|gamma'_model - gamma'_Kane| / (1 + |gamma'|)`` (the support's normal
-        in body axes: Poisson's equation on a plane, a slower or faster turn on a
-        sphere).
-    tolerance : float
-        ``10**-(DIGITS - 10)``.
-    """
-
-    points: int
-    max_acceleration_error: float
-    max_momentum_error: float
-    max_normal_rate_error: float
-    tolerance: float
-
-    @property
-    def agrees(self) -> bool:
-        """Every error within the tolerance."""
-        worst = max(self.max_acceleration_error, self.max_momentum_error)
-        return max(worst, self.max_normal_rate_error) <= self.tolerance
-
+__all__ = ["KaneComparison", "kane_compare", "DIGITS", "RATIONAL_UNIT_VECTORS", "T0"]
 
 def kane_compare(
     system: RollingSystem,
@@ -117,6 +84,9 @@ def kane_compare(
         support surface: the angular velocity's (space) components, each paired with
         each contact point of :data:`~.kane_support.SUPPORT_ANGLES` (the ball's
         ``omega'`` and ``p'`` compared; ``max_momentum_error`` is 0: no momentum state).
+        A convex body without a closed-form contact (:mod:`.kane_implicit`): the angular
+        velocity's body components, each paired with the contact points of the rays along
+        ``-g``, ``g`` in :data:`RATIONAL_UNIT_VECTORS`.
 
     Returns
     -------
@@ -129,6 +99,8 @@ def kane_compare(
 
         count, acc, rate = compare_on_support(system, model, pvals, momenta, DIGITS, _relative)
         return KaneComparison(count, acc, 0.0, rate, tolerance)  # no momentum state there
+    if system._parsed["surface"] is not None and not _closed_form(system, pvals):
+        return compare_implicit(system, model, pvals, momenta)
     line = "(omega,alpha)" in dict(model.invariant_relations)  # along the fixed line N.x
     key = (system.fingerprint(), line, tuple(sorted((s.name, v) for s, v in pvals.items())))
     kane = _KANE.get(key)
@@ -237,6 +209,18 @@ def quadric_contact(surface: sp.Expr, up: sp.Matrix) -> sp.Matrix:
     return r0 - sp.sqrt(s2) * w / sp.sqrt(up.dot(w))
 
 
+def _closed_form(system: RollingSystem, pvals: Mapping[sp.Symbol, sp.Expr]) -> bool:
+    """Whether the body's contact point is :func:`quadric_contact`'s: an ellipsoid on a
+    plane (on a sphere, or for any other surface, it is implicit)."""
+    if system.support == "sphere":
+        return False
+    try:
+        quadric_contact(system._parsed["surface"].xreplace(pvals), sp.Matrix([0, 0, 1]))
+    except ValueError:
+        return False
+    return True
+
+
 def _compare_convex(system, model, kane, pvals, momenta) -> KaneComparison:
     """``omega'``, ``r'`` (and on a turntable ``rho'``) of the state ``(omega, r, ...)``
     against Kane's, and the momentum about the contact, at the contact points of
@@ -286,41 +270,8 @@ def _compare_convex(system, model, kane, pvals, momenta) -> KaneComparison:
     return KaneComparison(count, *worst, 10.0 ** -(DIGITS - 10))
 
 
-#: The time of the comparison when the support moves by a prescribed law.
-T0 = sp.Rational(7, 10)
-
-#: The contact point's position from the axis before its vertical part is removed.
-_RHO_SEED = (sp.Rational(5, 7), sp.Rational(-3, 11), sp.Rational(2, 13))
-
 #: Kane's equations formed, by (description fingerprint, parameter values).
 _KANE: dict = {}
-
-
-def _frame_of(n: mpmath.matrix) -> mpmath.matrix:
-    """A right-handed orthonormal frame (columns) whose third column is the unit ``n``."""
-    helper = mpmath.matrix([1, 0, 0]) if abs(n[0]) < mpmath.mpf("0.9") else mpmath.matrix([0, 1, 0])
-    u = helper - (helper.T * n)[0] * n
-    u = u / mpmath.norm(u)
-    w = mpmath.matrix(
-        [n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]]
-    )
-    return mpmath.matrix([[u[i], w[i], n[i]] for i in range(3)])
-
-
-def _mpf(v: object) -> mpmath.mpf:
-    """A number at :data:`DIGITS` (sympy's functions of exact arguments evaluated)."""
-    if isinstance(v, mpmath.mpf):
-        return v
-    return mpmath.mpf(sp.Float(sp.N(v, DIGITS + 5), DIGITS))
-
-
-def _relative(a: Sequence[object], b: Sequence[object]) -> float:
-    with mpmath.workdps(DIGITS):
-        x = [_mpf(v) for v in a]
-        y = [_mpf(v) for v in b]
-        diff = mpmath.sqrt(sum((p - q) ** 2 for p, q in zip(x, y, strict=True)))
-        scale = 1 + mpmath.sqrt(sum(p**2 for p in x))
-        return float(diff / scale)
 
 
 class _KaneRolling:
@@ -341,8 +292,6 @@ class _KaneRolling:
         B.set_ang_vel(N, u[0] * N.x + u[1] * N.y + u[2] * N.z)
         p = system._parsed
         m = p["mass"].xreplace(sub)
-        # a prescribed I(t) is a function of Kane's time (its dI/dt enters the torque)
-        inertia = p["inertia"].xreplace({sp.Symbol("t", real=True): t, **sub})
         self._flip = system.support == "sphere" and system.side == "inside"
         self._at_pole = system.support == "sphere"
         G, P, normal, tangents, carried = self._contact(system, p, sub, (N, B), q, u, t, solved)
@@ -357,29 +306,8 @@ class _KaneRolling:
         if line:  # along the fixed line N.x: no spin about it, (omega, N.x) = 0
             constraints.append(u[0])
             dependent = [u[0], *dependent]
-        dyadic = sum(
-            (
-                inertia[i, j] * (e_i | e_j)
-                for i, e_i in enumerate((B.x, B.y, B.z))
-                for j, e_j in enumerate((B.x, B.y, B.z))
-            ),
-            me.Dyadic(0),
-        )
-        bodies = []
-        # the gyrostat as real rotors, one along each body axis K has a component on: a
-        # symmetric rotor turning about e_i relative to B at K_i(t)/Ia (prescribed by its
-        # motor); the body's own tensor is the given one minus the rotors'
-        K = p["rotor_momentum"].xreplace({sp.Symbol("t", real=True): t, **sub})
-        Ia, It = sp.Integer(1), sp.Rational(1, 2)
-        for i, e in enumerate((B.x, B.y, B.z)):
-            if K[i] == 0:
-                continue
-            R = me.ReferenceFrame(f"R{i + 1}")
-            R.set_ang_vel(B, K[i] / Ia * e)
-            rotor = Ia * (e | e) + It * (me.inertia(B, 1, 1, 1) - (e | e))
-            dyadic = dyadic - rotor
-            bodies.append(me.RigidBody(f"rotor{i + 1}", G, R, 0, (rotor, G)))
-        bodies.insert(0, me.RigidBody("body", G, B, m, (dyadic, G)))
+        # a prescribed I(t) is a function of Kane's time (its dI/dt enters the torque)
+        bodies = rigid_bodies(p, sub, (N, B), G, t)
         loads = []
         g_field = p["field"].xreplace(sub)
         if g_field != 0:
@@ -517,25 +445,7 @@ class _KaneRolling:
         ``gamma``: on a plane ``N.z`` is the normal; on a sphere ``O`` sits at the generic
         angles :data:`SPHERE_POSITION` (the vertical is not the normal there) and the
         body is turned so that ``e_r`` (outside; ``-e_r`` inside) has components ``gamma``."""
-        g = mpmath.matrix([_mpf(x) for x in gamma])
-        if self._flip:  # inside a sphere the normal into the body is -e_r
-            g = -g
-        if not self._at_pole:
-            q2 = -mpmath.asin(g[0])
-            q3 = mpmath.atan2(g[1], g[2])
-            return [mpmath.mpf("0.3"), q2, q3, mpmath.mpf(0), mpmath.mpf(0)]
-        x, y = (mpmath.mpf(c) for c in SPHERE_POSITION)
-        e_r = mpmath.matrix(
-            [mpmath.cos(x), mpmath.sin(x) * mpmath.cos(y), mpmath.sin(x) * mpmath.sin(y)]
-        )
-        # body axes in N (columns of C^T): any orthonormal right-handed frame with
-        # C e_r = g; built from g's frame and e_r's frame
-        Fb, Fs = _frame_of(g), _frame_of(e_r)
-        M = Fs * Fb.T  # N <- B: takes g (body) to e_r (space)
-        q2 = -mpmath.asin(M[2, 0])
-        q3 = mpmath.atan2(M[2, 1], M[2, 2])
-        q1 = mpmath.atan2(M[1, 0], M[0, 0])
-        return [q1, q2, q3, x, y]
+        return placement(gamma, self._at_pole, self._flip)
 
     def vertical(self, gamma: Sequence[sp.Expr]) -> list:
         """The body components of ``N.z`` (the model's ``zeta``) where :meth:`at` puts the

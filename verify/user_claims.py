@@ -303,9 +303,11 @@ def _shipped(model: Model, name: str, file_name: str) -> list[Claim]:
 
 
 def kane_covers(system: RollingSystem) -> bool:
-    """Whether :mod:`.kane_rolling` sets the system up: a spherical body, or an ellipsoid
-    (its contact point in closed form); a general convex surface has an implicit one. A
-    ball on a support surface: when the support is an ellipsoid (:mod:`.kane_support`).
+    """Whether :mod:`.kane_rolling` sets the system up: a spherical body, or a convex body
+    on a plane (fixed, turning, shaken) or a fixed sphere — an ellipsoid on a plane with
+    its contact point in closed form, any other with the contact point as coordinates
+    (:mod:`.kane_implicit`) where the comparison's rays meet the surface. A ball on a
+    support surface: when the support is an ellipsoid (:mod:`.kane_support`).
 
     Parameters
     ----------
@@ -315,7 +317,6 @@ def kane_covers(system: RollingSystem) -> bool:
     -------
     bool
     """
-    from .kane_rolling import quadric_contact
     from .kane_support import ellipsoid_support
 
     support = system._parsed["support_surface"]
@@ -330,13 +331,14 @@ def kane_covers(system: RollingSystem) -> bool:
     surface = system._parsed["surface"]
     if surface is None:
         return True
-    values = {s: sp.Rational(7 + 4 * i, 5 + 3 * i) for i, s in enumerate(surface.free_symbols)}
-    values = {s: v for s, v in values.items() if s.name not in ("r1", "r2", "r3")}
-    try:
-        quadric_contact(surface.xreplace(values), sp.Matrix([0, 0, 1]))
-    except ValueError:
-        return False
-    return True
+    # a convex body: its contact point in closed form (an ellipsoid on a plane) or carried
+    # as coordinates (kane_implicit); placed where the comparison's rays from the centre of
+    # mass meet the surface at the parameter values _kane_computed takes
+    from .kane_implicit import places_contacts
+
+    values = {n: sp.Rational(7 + 4 * i, 5 + 3 * i) for i, n in enumerate(system.parameter_names)}
+    at = {s: values[s.name] for s in surface.free_symbols if s.name in values}
+    return places_contacts(surface.xreplace(at))
 
 
 def _kane_computed(system, parameter_names: tuple[str, ...]) -> Computed:
@@ -386,7 +388,7 @@ def claims_of_file(path: str | Path) -> list[Claim]:
     names = _names(model)
     file_name = Path(path).name
     claims = _shipped(model, name, file_name)
-    if kane_covers(system):  # a convex body other than an ellipsoid: no closed-form contact
+    if kane_covers(system):
         claims.append(
             ComputedClaim(
                 id=f"{name}:kane",

@@ -1,0 +1,194 @@
+"""What the Kane cross-checks of described bodies share (:mod:`.kane_rolling`,
+:mod:`.kane_implicit`): the working digits and the comparison's points, its result, the
+described body as sympy rigid bodies, and where the body is put for a given normal."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import mpmath
+import sympy as sp
+import sympy.physics.mechanics as me
+
+__all__ = [
+    "DIGITS",
+    "RATIONAL_UNIT_VECTORS",
+    "SPHERE_POSITION",
+    "T0",
+    "KaneComparison",
+    "placement",
+    "rigid_bodies",
+]
+
+#: Working digits of the comparison.
+DIGITS = 40
+#: Where the body's centre sits on a fixed sphere at the comparison points (the angles
+#: ``x, y`` of ``O``): away from the pole, so that the vertical is not the normal.
+SPHERE_POSITION = ("1.1", "0.7")
+#: Exact unit vectors (Pythagorean quadruples) away from the Euler angles' singularity.
+RATIONAL_UNIT_VECTORS = (
+    (sp.Rational(2, 7), sp.Rational(3, 7), sp.Rational(6, 7)),
+    (sp.Rational(-1, 9), sp.Rational(4, 9), sp.Rational(8, 9)),
+    (sp.Rational(6, 11), sp.Rational(-2, 11), sp.Rational(9, 11)),
+    (sp.Rational(-2, 3), sp.Rational(1, 3), sp.Rational(-2, 3)),
+)
+
+
+@dataclass(frozen=True)
+class KaneComparison:
+    """The model against Kane's method at exact points.
+
+    Attributes
+    ----------
+    points : int
+    max_acceleration_error : float
+        Largest ``|omega'_model - omega'_Kane| / (1 + |omega'|)``.
+    max_momentum_error : float
+        Largest ``|M + K - H_P| / (1 + |M + K|)``, ``H_P`` sympy's angular momentum
+        about the contact point (body and rotor), ``K`` the gyrostatic momentum the
+        state leaves out.
+    max_normal_rate_error : float
+        Largest ``|gamma'_model - gamma'_Kane| / (1 + |gamma'|)`` (the support's normal
+        in body axes: Poisson's equation on a plane, a slower or faster turn on a
+        sphere).
+    tolerance : float
+        ``10**-(DIGITS - 10)``.
+    """
+
+    points: int
+    max_acceleration_error: float
+    max_momentum_error: float
+    max_normal_rate_error: float
+    tolerance: float
+
+    @property
+    def agrees(self) -> bool:
+        """Every error within the tolerance."""
+        worst = max(self.max_acceleration_error, self.max_momentum_error)
+        return max(worst, self.max_normal_rate_error) <= self.tolerance
+
+
+#: The time of the comparison when the support moves by a prescribed law.
+T0 = sp.Rational(7, 10)
+
+#: The contact point's position from the axis before its vertical part is removed.
+_RHO_SEED = (sp.Rational(5, 7), sp.Rational(-3, 11), sp.Rational(2, 13))
+
+def _frame_of(n: mpmath.matrix) -> mpmath.matrix:
+    """A right-handed orthonormal frame (columns) whose third column is the unit ``n``."""
+    helper = mpmath.matrix([1, 0, 0]) if abs(n[0]) < mpmath.mpf("0.9") else mpmath.matrix([0, 1, 0])
+    u = helper - (helper.T * n)[0] * n
+    u = u / mpmath.norm(u)
+    w = mpmath.matrix(
+        [n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]]
+    )
+    return mpmath.matrix([[u[i], w[i], n[i]] for i in range(3)])
+
+
+def rigid_bodies(
+    p: Mapping, sub: Mapping, frames: tuple[me.ReferenceFrame, me.ReferenceFrame],
+    G: me.Point, t: sp.Symbol,
+) -> list:  # fmt: skip
+    """The described body at its centre of mass ``G`` (frame ``B``, mass, the given tensor,
+    a prescribed ``I(t)`` a function of Kane's time ``t``) and its gyrostat as real rotors:
+    one along each body axis ``K`` has a component on, a symmetric rotor turning about
+    ``e_i`` relative to ``B`` at ``K_i(t)/Ia`` (prescribed by its motor); the body's own
+    tensor is the given one minus the rotors'.
+
+    Parameters
+    ----------
+    p : mapping
+        The description's parsed fields (``RollingSystem._parsed``).
+    sub : mapping
+        The parameters' values.
+    frames : (ReferenceFrame, ReferenceFrame)
+        ``N`` and the body frame ``B``.
+    G : sympy.physics.mechanics.Point
+        The centre of mass (its velocity set).
+    t : sympy.Symbol
+        Kane's time.
+
+    Returns
+    -------
+    list of sympy.physics.mechanics.RigidBody
+        The body first, then the rotors.
+    """
+    _, B = frames
+    now = {sp.Symbol("t", real=True): t, **sub}
+    inertia = p["inertia"].xreplace(now)
+    axes = (B.x, B.y, B.z)
+    dyadic = sum(
+        (inertia[i, j] * (e_i | e_j) for i, e_i in enumerate(axes) for j, e_j in enumerate(axes)),
+        me.Dyadic(0),
+    )
+    bodies = []
+    K = p["rotor_momentum"].xreplace(now)
+    Ia, It = sp.Integer(1), sp.Rational(1, 2)
+    for i, e in enumerate(axes):
+        if K[i] == 0:
+            continue
+        R = me.ReferenceFrame(f"R{i + 1}")
+        R.set_ang_vel(B, K[i] / Ia * e)
+        rotor = Ia * (e | e) + It * (me.inertia(B, 1, 1, 1) - (e | e))
+        dyadic = dyadic - rotor
+        bodies.append(me.RigidBody(f"rotor{i + 1}", G, R, 0, (rotor, G)))
+    bodies.insert(0, me.RigidBody("body", G, B, p["mass"].xreplace(sub), (dyadic, G)))
+    return bodies
+
+
+def placement(gamma: Sequence[object], sphere: bool, inside: bool) -> list:
+    """Euler angles and position ``x, y`` putting the support's normal into the body at
+    body components ``gamma``: on a plane ``N.z`` is the normal; on a sphere the body's
+    place sits at the generic angles :data:`SPHERE_POSITION` (the vertical is not the
+    normal there) and the body is turned so that ``e_r`` (outside; ``-e_r`` inside) has
+    components ``gamma``.
+
+    Parameters
+    ----------
+    gamma : sequence of 3 numbers
+        A unit vector (body components).
+    sphere, inside : bool
+        On a fixed sphere; inside it.
+
+    Returns
+    -------
+    list of mpmath.mpf
+        ``q1, q2, q3, x, y`` at :data:`DIGITS` digits (``x = y = 0`` on a plane).
+    """
+    with mpmath.workdps(DIGITS):
+        g = mpmath.matrix([_mpf(x) for x in gamma])
+        if inside:  # inside a sphere the normal into the body is -e_r
+            g = -g
+        if not sphere:
+            q2 = -mpmath.asin(g[0])
+            q3 = mpmath.atan2(g[1], g[2])
+            return [mpmath.mpf("0.3"), q2, q3, mpmath.mpf(0), mpmath.mpf(0)]
+        x, y = (mpmath.mpf(c) for c in SPHERE_POSITION)
+        e_r = mpmath.matrix(
+            [mpmath.cos(x), mpmath.sin(x) * mpmath.cos(y), mpmath.sin(x) * mpmath.sin(y)]
+        )
+        # body axes in N (columns of C^T): any orthonormal right-handed frame with
+        # C e_r = g; built from g's frame and e_r's frame
+        Fb, Fs = _frame_of(g), _frame_of(e_r)
+        M = Fs * Fb.T  # N <- B: takes g (body) to e_r (space)
+        q2 = -mpmath.asin(M[2, 0])
+        q3 = mpmath.atan2(M[2, 1], M[2, 2])
+        q1 = mpmath.atan2(M[1, 0], M[0, 0])
+        return [q1, q2, q3, x, y]
+
+
+def _mpf(v: object) -> mpmath.mpf:
+    """A number at :data:`DIGITS` (sympy's functions of exact arguments evaluated)."""
+    if isinstance(v, mpmath.mpf):
+        return v
+    return mpmath.mpf(sp.Float(sp.N(v, DIGITS + 5), DIGITS))
+
+
+def _relative(a: Sequence[object], b: Sequence[object]) -> float:
+    with mpmath.workdps(DIGITS):
+        x = [_mpf(v) for v in a]
+        y = [_mpf(v) for v in b]
+        diff = mpmath.sqrt(sum((p - q) ** 2 for p, q in zip(x, y, strict=True)))
+        scale = 1 + mpmath.sqrt(sum(p**2 for p in x))
+        return float(diff / scale)
