@@ -470,6 +470,7 @@ class RollingSystem:
             twist = p["rotation_rate"] if along == "gamma" else sp.S.Zero
             desc.add_constraint(dot(omega, desc.vectors[along]) - twist, reacts_along=along)
         desc.add_potential(_potential_energy(self, desc))
+        _jacobi_integral(self, desc)
         _declare_parameters(desc, p)
         apply_effects(desc, effects, SUPPORTED_EFFECTS)
         return desc
@@ -488,6 +489,26 @@ class RollingSystem:
         Model
         """
         return form_model(self.mechanical_description(effects))
+
+
+def _jacobi_integral(s: RollingSystem, desc: MechanicalDescription) -> None:
+    """On a plane turning at a constant rate (rolling, nothing prescribed in time): the
+    energy in the turning frame ``J = E - Omega (gamma, I omega + K + m (rho - r) x v)``
+    with ``r = -a - b gamma`` and ``v = r x omega + Omega gamma x rho`` (the no-slip
+    constraint is homogeneous in the turning frame's velocities), in ``omega`` (the model's
+    ``omega(M)``), ``gamma`` and ``rho``."""
+    p, t = s._parsed, desc.time
+    Omega = p["rotation_rate"]
+    timed = p["inertia"].has(t) or p["rotor_momentum"].has(t)
+    if s.support != "rotating_plane" or Omega.has(t) or timed or s.contact != "rolling":
+        return
+    omega, gamma, rho = desc.omega, desc.vectors["gamma"], vector("rho", real=True)
+    r = -p["centre"] - p["radius"] * gamma
+    v = cross(r, omega) + Omega * cross(gamma, rho)
+    inertia, m = p["inertia"], p["mass"]
+    energy = (omega.T * inertia * omega)[0] / 2 + m * dot(v, v) / 2 + desc.potential
+    momentum = inertia * omega + p["rotor_momentum"] + m * cross(rho - r, v)
+    desc.add_integral("J", sp.expand(energy - Omega * dot(gamma, momentum)))
 
 
 def _potential_energy(s: RollingSystem, desc: MechanicalDescription) -> sp.Expr:
