@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import mpmath
 import sympy as sp
@@ -17,6 +18,7 @@ __all__ = [
     "SPHERE_POSITION",
     "T0",
     "KaneComparison",
+    "model_rates",
     "placement",
     "rigid_bodies",
 ]
@@ -192,3 +194,24 @@ def _relative(a: Sequence[object], b: Sequence[object]) -> float:
         diff = mpmath.sqrt(sum((p - q) ** 2 for p, q in zip(x, y, strict=True)))
         scale = 1 + mpmath.sqrt(sum(p**2 for p in x))
         return float(diff / scale)
+
+
+def model_rates(model: Any, values: dict) -> list:
+    """A model's rates at ``values`` (exact or ``DIGITS``-digit numbers): its auxiliary
+    definitions evaluated in order, five digits beyond the comparison's (the expanded
+    right-hand side repeats them: minutes at these digits).
+
+    Parameters
+    ----------
+    model : chaplygin.derive.model.Model
+    values : dict of sympy.Symbol to number
+        The state, parameters and time; the auxiliaries' values are added to it.
+
+    Returns
+    -------
+    list of sympy.Float
+        ``model.rhs`` at ``values``, in state order.
+    """
+    for symbol, expr in model.aux:
+        values[symbol] = sp.N(expr.xreplace(values), DIGITS + 5)
+    return [sp.N(e.xreplace(values), DIGITS + 5) for e in model.rhs]

@@ -378,7 +378,7 @@ def compare_implicit(
                         comps = [C[i, column] for i in range(3)]
                         point.update(zip(groups[name], map(_float, comps), strict=True))
                 theirs = kane.at(q, list(C.T * wb), T)
-                F = _rates(model, {**pvals, **point})
+                F = common.model_rates(model, {**pvals, **point})
                 ours = {name: [F[index[s]] for s in groups[name]] for name in groups}
                 worst[0] = max(worst[0], common._relative(ours["omega"], theirs["omega"]))
                 H = list(momentum.xreplace(point))
@@ -393,14 +393,6 @@ def _by_name(system: RollingSystem, pvals: Mapping[sp.Symbol, sp.Expr]) -> dict:
     """The values of the system's parameters, matched to ``pvals`` (the model's) by name."""
     values = {s.name: v for s, v in pvals.items()}
     return {x: values[x.name] for x in system._parsed["parameters"] if x.name in values}
-
-
-def _rates(model: Model, values: dict) -> list:
-    """The model's rates at ``values``: its auxiliary definitions evaluated in order (the
-    expanded right-hand side repeats them: minutes at these digits)."""
-    for symbol, expr in model.aux:
-        values[symbol] = sp.N(expr.xreplace(values), DIGITS + 5)
-    return [sp.N(e.xreplace(values), DIGITS + 5) for e in model.rhs]
 
 
 def _float(c: mpmath.mpf) -> sp.Float:

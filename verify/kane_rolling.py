@@ -53,6 +53,7 @@ from .kane_common import (
     KaneComparison,
     _mpf,
     _relative,
+    model_rates,
     placement,
     rigid_bodies,
 )
@@ -230,12 +231,12 @@ def _compare_convex(system, model, kane, pvals, momenta) -> KaneComparison:
     groups = dict(model.state_groups)
     omega, r = sp.Matrix(groups["omega"]), sp.Matrix(groups["r"])
     time = sp.Symbol("t", real=True)
-    rhs = model.rhs_expanded.xreplace(pvals)
+    laws = (*model.rhs, *(e for _, e in model.aux))
     compared = [n for n in ("omega", "r", "rho") if n in groups]
     index = {s: list(model.state).index(s) for n in compared for s in groups[n]}
     momentum = model.details.equations.reduced.momentum.xreplace(pvals)
     surface = system._parsed["surface"].xreplace(pvals)
-    timed = rhs.has(time) or momentum.has(time)
+    timed = any(e.has(time) for e in laws) or momentum.has(time)
     now = T0 if timed else sp.S.Zero
     Omega = system._parsed["rotation_rate"].xreplace({**pvals, time: now})
     worst = [0.0, 0.0, 0.0]
@@ -259,7 +260,7 @@ def _compare_convex(system, model, kane, pvals, momenta) -> KaneComparison:
                         (s, sp.Float(mpmath.nstr(c, DIGITS + 5), DIGITS))
                         for s, c in zip(groups[name], comps, strict=True)
                     )
-            F = rhs.xreplace(point)
+            F = model_rates(model, {**pvals, **point})
             theirs, H, rates = kane.at(gamma, list(w), rho, now, contact if rho else None)
             worst[0] = max(worst[0], _relative([F[index[s]] for s in omega], theirs))
             worst[1] = max(worst[1], _relative(list(momentum.xreplace(point)), H))

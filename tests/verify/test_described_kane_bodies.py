@@ -112,7 +112,7 @@ def test_kane_agrees_with_a_time_dependent_inertia_and_refutes_the_frozen_one():
     assert control.max_acceleration_error > 1e6 * control.tolerance
 
 
-@pytest.mark.expensive  # 87-390 s: Kane's equations of an ellipsoid carry its support function
+@pytest.mark.slow  # 4 s (87-390 s before the model was evaluated aux by aux)
 def test_kane_agrees_with_a_rolling_ellipsoid():
     """The ellipsoid's contact point in closed form r(gamma) and the centre of mass at the
     support height (verify/kane_rolling.py) against the body-frame stage's implicit

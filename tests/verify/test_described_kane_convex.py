@@ -66,7 +66,7 @@ def test_kane_agrees_with_an_ellipsoid_on_a_moving_plane(support, contact):
         assert wrong.max_normal_rate_error > 1e6 * wrong.tolerance
 
 
-@pytest.mark.expensive  # 433 s with its control (196 s alone): I(t) and the ellipsoid in Kane
+@pytest.mark.slow  # 22 s with its control (433 s before the model was evaluated aux by aux)
 def test_kane_agrees_with_an_ellipsoid_whose_inertia_and_rotor_are_prescribed():
     """I(t) with a product of inertia and K(t) (a driven rotor), an offset centre under
     gravity on the fixed plane: 1e-40. Control: the perturbed omega1'."""
