@@ -141,7 +141,12 @@ def test_names_become_exact_parameters_and_decimals_stay_exact():
             "not contact 'rubber'",
         ),
         (
-            {"inertia": (1, 1, 1), "support": "surface", "support_surface": "p3", "potential": "gamma1"},
+            {
+                "inertia": (1, 1, 1),
+                "support": "surface",
+                "support_surface": "p3",
+                "potential": "gamma1",
+            },
             "not a potential",
         ),
         (

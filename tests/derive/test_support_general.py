@@ -10,13 +10,14 @@ the vertical zeta); at a state ``(omega, p, Q)`` of the new route they are at
 
 from __future__ import annotations
 
+import random
 import re
 
 import pytest
 import sympy as sp
-
 from chaplygin.derive.ball_on_support_general import general_ball_model
 from chaplygin.derive.errors import UserInputError
+from chaplygin.derive.phase_space import sample_point
 from chaplygin.derive.rolling_system import RollingSystem
 from chaplygin.derive.vectors import vector
 
@@ -176,3 +177,59 @@ def test_a_general_ball_is_derived_and_what_is_not_is_refused():
             RollingSystem(
                 "bad", inertia=("A", "B", "C"), support="surface", support_surface="p3", **fields
             )
+
+
+def _exact(x: sp.Expr) -> sp.Expr:
+    """``a + b sqrt(d)``: a number of the field the normal's square root makes, canonical
+    (zero exactly when it is zero)."""
+    return sp.expand(sp.radsimp(sp.expand(x)))
+
+
+def _rate_at(model, expr: sp.Expr, point: dict) -> sp.Expr:
+    """``d expr/dt`` along the model's flow at an exact point, by the chain rule through
+    the auxiliary definitions in order (each evaluated at the point: the expanded
+    right-hand side has some 10^6 operations on a symbolic ellipsoid)."""
+    values, rates = dict(point), {}
+    for symbol, definition in model.aux:
+        values[symbol] = _exact(definition.xreplace(values))
+    f = {
+        y: _exact(sp.sympify(e).xreplace(values))
+        for y, e in zip(model.state, model.rhs, strict=True)
+    }
+
+    def along(e: sp.Expr) -> sp.Expr:
+        total = sum((sp.diff(e, y) * f[y] for y in model.state), sp.S.Zero)
+        total += sum((sp.diff(e, a) * rates[a] for a in rates), sp.S.Zero)
+        return _exact(total.xreplace(values))
+
+    for symbol, definition in model.aux:  # each auxiliary's rate, from those before it
+        rates[symbol] = along(definition)
+    return along(expr)
+
+
+@pytest.mark.parametrize("potential, conserved", [(1, True), (0, False), (-1, False)])
+def test_the_energy_is_an_integral_on_an_ellipsoid_with_symbolic_parameters(potential, conserved):
+    """H = T + m g (height of the centre of mass) on an ellipsoid with symbolic axes, a
+    symbolic inertia with a product, offset and rotor: exactly zero rate at exact points
+    of the phase space drawn by the verifier's sampler (random rational parameters, a
+    rational frame e1, e2, e3, omega and p; the flow keeps every level set of F, so p need
+    not be on F = 0); the level F too. H without its potential term, or with it of the
+    wrong sign, changes (the controls). The verifier's Groebner proof and its exact
+    sampling of the expanded residual (10^6 operations) do not finish in 10 minutes."""
+    system = RollingSystem(
+        "egg", inertia=[["A", "D", 0], ["D", "B", 0], [0, 0, "C"]], centre_of_mass=(0, 0, "a"),
+        gyrostat=(0, 0, "k"), gravity="g", support="surface",
+        support_surface="p1**2/c1 + p2**2/c2 + p3**2/c3 - 1",
+    )  # fmt: skip
+    model = system.model()
+    names = {x.name: x for x in model.params}
+    m, g = names["m"], names["g"]
+    e3 = model.vectors["e3"]
+    height = model.vectors["p"][2] + sp.Symbol("nu3", real=True) * names["b"] + names["a"] * e3[2]
+    H = model.integral("H")
+    energy = H + (potential - 1) * m * g * height
+    rng = random.Random(24)
+    for _ in range(2):
+        point = sample_point(model, rng, model.state)
+        assert (_rate_at(model, energy, point) == 0) is conserved
+        assert _rate_at(model, model.integral("F"), point) == 0
