@@ -63,8 +63,11 @@ __all__ = [
 
 #: The state groups of the body axes' fixed-frame components (the columns of ``Q``).
 AXES = ("e1", "e2", "e3")
-#: Base names of the auxiliary symbols (a parameter must not take them).
-AUX_NAMES = ("nu", "Dnu", "pdot", "af", "Kf", "If", "Pc", "hc")
+#: The names of the auxiliary symbols (a parameter must not take them).
+AUX_NAMES = frozenset(
+    {f"{n}{i}" for n in ("nu", "pdot", "af", "Kf", "hc") for i in (1, 2, 3)}
+    | {f"{n}{i}{j}" for n in ("Dnu", "If", "Pc") for i in (1, 2, 3) for j in (1, 2, 3)}
+)
 
 
 def _axis(name: str) -> sp.Matrix:

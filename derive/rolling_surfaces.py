@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 import sympy as sp
 
 from .ball_on_support import SupportSurfaceReduction
-from .ball_on_support_general import general_ball_description
+from .ball_on_support_general import AUX_NAMES, general_ball_description
 from .body_on_sphere import BodyOnSphereReduction, PlaneMotion, outer_normal
 from .description import MechanicalDescription, apply_effects
 from .errors import UserInputError
@@ -167,6 +167,9 @@ def _read_support_surface(s: RollingSystem, scope: dict, parsed: dict) -> sp.Exp
         "a potential": not parsed["potential"].is_zero,
         f"contact {s.contact!r}": s.contact != "rolling",
     }
+    clash = sorted(set(scope) & AUX_NAMES)  # (the homogeneous route's nu, Dnu, pdot too)
+    if clash:
+        raise UserInputError(f"parameter names {clash} are the derivation's auxiliaries")
     if any(refused.values()):
         what = ", ".join(k for k, v in refused.items() if v)
         raise UserInputError(

@@ -171,7 +171,11 @@ def test_a_general_ball_is_derived_and_what_is_not_is_refused():
     assert len(model.state) == 15 and len(model.constraints) == 6
     assert [n for n, _ in model.integrals] == ["H", "F"]
     assert set(model.param_names) == set("m b A B C D a g k c1 c2 c3".split())
-    refused = (({"contact": "rubber"}, "contact 'rubber'"), ({"gyrostat": (0, 0, "t")}, "K(t)"))
+    refused = (
+        ({"contact": "rubber"}, "contact 'rubber'"),
+        ({"gyrostat": (0, 0, "t")}, "K(t)"),
+        ({"centre_of_mass": (0, 0, "af3")}, "['af3'] are the derivation's auxiliaries"),
+    )
     for fields, message in refused:
         with pytest.raises(UserInputError, match=re.escape(message)):
             RollingSystem(
