@@ -1,11 +1,12 @@
 """The surfaces of a described rolling system: a convex body ``f(x) = 0`` (on a fixed
-plane or sphere) and a fixed support surface ``F(p) = 0`` (a homogeneous ball on it).
+plane or sphere) and a fixed support surface ``F(p) = 0`` (a ball on it).
 
 Split from :mod:`.rolling_system` (which calls these while reading and deriving a
 :class:`~.rolling_system.RollingSystem`): the reading of the two surfaces, what each
 refuses, and the descriptions their reduction stages derive
 (:class:`~.body_on_sphere.BodyOnSphereReduction`,
-:class:`~.ball_on_support.SupportSurfaceReduction`).
+:class:`~.ball_on_support.SupportSurfaceReduction` for a homogeneous ball,
+:class:`~.ball_on_support_general.GeneralBallReduction` for any other).
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from typing import TYPE_CHECKING
 import sympy as sp
 
 from .ball_on_support import SupportSurfaceReduction
+from .ball_on_support_general import AUX_NAMES, general_ball_description
 from .body_on_sphere import BodyOnSphereReduction, PlaneMotion, outer_normal
 from .description import MechanicalDescription, apply_effects
 from .errors import UserInputError
@@ -102,11 +104,22 @@ def _potential_of_gamma(potential: sp.Expr) -> tuple[sp.Expr, sp.Matrix] | None:
 
 
 def _support_surface_description(s: RollingSystem) -> MechanicalDescription:
-    """A homogeneous ball on the support ``F(p) = 0``: state ``omega`` (fixed frame) and
-    the contact point ``p``."""
+    """A ball on the support ``F(p) = 0``: homogeneous, state ``omega`` (fixed frame) and
+    the contact point ``p``; any other, also its body axes ``e1, e2, e3`` (fixed frame,
+    :mod:`.ball_on_support_general`)."""
     p = s._parsed
     omega, contact = vector("omega", real=True), vector("p", real=True)
     b, m = p["radius"], p["mass"]
+    side = 1 if s.side == "outside" else -1
+    names = tuple(x.name for x in p["parameters"])
+    if not _homogeneous(p):
+        desc = general_ball_description(
+            p["support_surface"], m, b, p["inertia"], p["centre"], p["rotor_momentum"],
+            side=side, gravity=p["field"], system=s.name,
+        )  # fmt: skip
+        desc.parameter_order = names
+        _declare_parameters(desc, p)
+        return desc
     ratio = sp.simplify(p["inertia"][0, 0] / (m * b**2))
     if ratio.is_number:  # m drops out of the equations: the energy per unit mass
         m = sp.S.One
@@ -116,10 +129,9 @@ def _support_surface_description(s: RollingSystem) -> MechanicalDescription:
         time=sp.Symbol("t", real=True),
         omega=omega,
         reduction=SupportSurfaceReduction(
-            p["support_surface"], m, ratio * m, b,
-            side=1 if s.side == "outside" else -1, gravity=p["field"],
-        ),  # fmt: skip
-        parameter_order=tuple(x.name for x in p["parameters"]),
+            p["support_surface"], m, ratio * m, b, side=side, gravity=p["field"]
+        ),
+        parameter_order=names,
     )
     desc.add_state("omega", tuple(omega), None)
     desc.add_state("p", tuple(contact), None)
@@ -127,29 +139,42 @@ def _support_surface_description(s: RollingSystem) -> MechanicalDescription:
     return desc
 
 
+def _homogeneous(parsed: dict) -> bool:
+    """Equal moments, the centre of mass at the centre, no rotor: the fixed-frame angular
+    momentum does not depend on the attitude."""
+    inertia = parsed["inertia"]
+    return (
+        inertia.is_diagonal()
+        and inertia[0, 0] == inertia[1, 1] == inertia[2, 2]
+        and parsed["centre"].is_zero_matrix
+        and parsed["rotor_momentum"].is_zero_matrix
+    )
+
+
 def _read_support_surface(s: RollingSystem, scope: dict, parsed: dict) -> sp.Expr | None:
-    """``F(p)`` of a support surface; what it refuses (anything but a homogeneous ball)."""
+    """``F(p)`` of a support surface; what it refuses (rubber or line contact, ``I(t)``,
+    ``K(t)``, a potential; a convex body is refused by :func:`_read_surface`)."""
     if s.support != "surface":
         if s.support_surface is not None:
             raise UserInputError(f"support_surface is given but the support is a {s.support}")
         return None
     if s.support_surface is None:
         raise UserInputError("support 'surface' needs support_surface (F(p1, p2, p3) = 0)")
-    inertia = parsed["inertia"]
-    homogeneous = inertia.is_diagonal() and inertia[0, 0] == inertia[1, 1] == inertia[2, 2]
-    plain = (
-        homogeneous
-        and not inertia.has(sp.Symbol("t", real=True))
-        and parsed["centre"].is_zero_matrix
-        and parsed["rotor_momentum"].is_zero_matrix
-        and parsed["potential"].is_zero
-        and s.surface is None
-        and s.contact == "rolling"
-    )
-    if not plain:
+    t = sp.Symbol("t", real=True)
+    refused = {
+        "a time-dependent inertia": parsed["inertia"].has(t),
+        "a prescribed rotor K(t)": parsed["rotor_momentum"].has(t),
+        "a potential": not parsed["potential"].is_zero,
+        f"contact {s.contact!r}": s.contact != "rolling",
+    }
+    clash = sorted(set(scope) & AUX_NAMES)  # (the homogeneous route's nu, Dnu, pdot too)
+    if clash:
+        raise UserInputError(f"parameter names {clash} are the derivation's auxiliaries")
+    if any(refused.values()):
+        what = ", ".join(k for k, v in refused.items() if v)
         raise UserInputError(
-            "on a support surface this version derives a homogeneous ball (equal moments, "
-            "centre of mass at the centre, no rotor, no potential) rolling without slipping"
+            f"on a support surface this version derives a ball (any constant inertia, centre "
+            f"of mass, constant rotor, gravity) rolling without slipping, not {what}"
         )
     x = {f"p{i}": sp.Symbol(f"p{i}", real=True) for i in (1, 2, 3)}
     F = parse_expression(s.support_surface, {**scope, **x}, "support_surface")
@@ -238,6 +263,8 @@ def _used_parameters(parameters: tuple[sp.Symbol, ...], p: dict) -> tuple[sp.Sym
     if p["support_surface"] is not None:
         ratio = sp.simplify(p["inertia"][0, 0] / (p["mass"] * p["radius"] ** 2))
         kept = (p["radius"],) if ratio.is_number else (p["inertia"], p["mass"], p["radius"])
+        if not _homogeneous(p):  # the general ball's
+            kept = (p["inertia"], p["mass"], p["radius"], p["centre"], p["rotor_momentum"])
         used = free(*kept, p["field"],
                     *(sp.diff(p["support_surface"], c) for c in vector("p", real=True)))
     return parameters if used is None else tuple(x for x in parameters if x in used)

@@ -66,9 +66,11 @@ inertia may change with time, ``I(t)`` (masses moving in symmetric pairs along l
 through the centre of mass): ``T`` depends on ``t``, there is no energy integral, and the
 momentum integrals are kept where ``P' = P x omega`` still holds.
 
-A homogeneous ball rolls on a fixed support surface ``F(p) = 0`` (``support="surface"``,
-with gravity): :mod:`.ball_on_support`, the state ``omega`` and the contact point ``p``
-in the fixed frame.
+A ball rolls without slipping on a fixed support surface ``F(p) = 0``
+(``support="surface"``, with gravity), in the fixed frame: a homogeneous one by
+:mod:`.ball_on_support` (state ``omega`` and the contact point ``p``), any other (constant
+inertia and rotor, any centre of mass) by :mod:`.ball_on_support_general` (with the body
+axes ``e1, e2, e3``).
 
 A convex body also rolls, or rubber rolls (``(omega, n) = 0``), on a fixed sphere: M03
 §2's stage with the signed curvature ``k = -1/R`` outside, ``1/R`` inside, ``(k Id +
@@ -79,8 +81,8 @@ potential may use ``zeta`` beside ``gamma = n(r)``, its torque ``-d(dV/dt)/d ome
 along the motion, ``n' = n x omega - k r'``.
 
 Every other support, contact and surface the issue lists (a convex body along a line,
-other bodies than a homogeneous ball on a support surface, rolling along a line on a
-moving plane) is refused with a message that says so — before any work.
+a convex body, a potential, rubber contact, ``I(t)`` or ``K(t)`` on a support surface,
+rolling along a line on a moving plane) is refused with a message that says so — before any work.
 
 Every text a user types is read by :func:`~.expression_text.parse_expression` (no
 ``eval``); the checks of :meth:`RollingSystem.__post_init__` run before anything is
@@ -160,6 +162,7 @@ RESERVED_NAMES = frozenset(
     }
     | {"x", "y"}
     | {f"Adj{i}{j}" for i in (1, 2, 3) for j in (1, 2, 3)}
+    | {f"e{i}_{j}" for i in (1, 2, 3) for j in (1, 2, 3)}  # a ball's axes on a surface
     | {"t", "Delta", "Z", "pi", "E", "I"}
 )
 
@@ -242,7 +245,7 @@ class RollingSystem:
     support : {"plane", "rotating_plane", "moving_plane", "sphere", "surface"}
         The fixed horizontal plane, a horizontal plane rotating about a vertical axis or
         moving horizontally, a fixed sphere, or a fixed support surface
-        (``support_surface``; a homogeneous ball only).
+        (``support_surface``; a ball only).
     support_radius : number or str, optional
         Radius ``R`` of the fixed sphere (``support="sphere"`` only).
     rotation_rate : number or str, optional
@@ -253,10 +256,10 @@ class RollingSystem:
         constants or expressions of ``t`` (``support="moving_plane"`` only).
     support_surface : str or sympy.Expr, optional
         ``F(p1, p2, p3)`` of a fixed support surface ``F = 0`` in the fixed frame (``p3``
-        up, ``F < 0`` inside the support; ``support="surface"`` only): a homogeneous ball
-        (equal moments, centre of mass at its centre, no rotor, no potential) rolls on
-        it, with gravity along ``-p3``; the state is ``omega`` and the contact point
-        ``p`` in the fixed frame.
+        up, ``F < 0`` inside the support; ``support="surface"`` only): a ball (constant
+        inertia and rotor, no potential) rolls on it, with gravity along ``-p3``; the
+        state is ``omega`` and the contact point ``p`` in the fixed frame, and unless the
+        ball is homogeneous its body axes ``e1, e2, e3`` (fixed-frame components).
     centre_surface : str or sympy.Expr, optional
         Instead of ``support_surface``: ``F(x1, x2, x3)``, the surface a homogeneous ball's
         centre moves on (the support is its parallel surface at the radius, M03 §1); the

@@ -1,16 +1,20 @@
-"""Kane's cross-check of a homogeneous ball on an ellipsoidal support surface.
+"""Kane's cross-check of a ball on an ellipsoidal support surface.
 
-The model (:mod:`chaplygin.derive.ball_on_support`) takes the contact point ``p`` as the
-state and the support's normal from the implicit ``grad F``. Here the ball is set up
+The model (:mod:`chaplygin.derive.ball_on_support`, or for a ball that is not homogeneous
+:mod:`chaplygin.derive.ball_on_support_general`, its body axes ``e1, e2, e3`` in the state)
+takes the contact point ``p`` as the state and the support's normal from the implicit
+``grad F``. Here the ball is set up
 again with ``sympy.physics.mechanics.KanesMethod`` from a *parametrisation* of the
 support: for ``F = (p - p0)^T A (p - p0) - s^2`` (``A > 0``) the contact point is ``p =
 p0 + s L^-T e(x, y)`` with ``A = L L^T`` and ``e = (cos x, sin x cos y, sin x sin y)``;
 the centre ``O = p + sigma b nu(p)`` (``sigma = 1`` outside, ``-1`` inside), the
 generalised coordinates the body's 3-2-1 Euler angles and ``x, y``; speeds the space
 components of ``omega`` and ``x', y'``; no slip at the body point ``O - sigma b nu``
-along the two tangents ``dp/dx, dp/dy`` (``x', y'`` dependent); gravity ``-m g N.z`` at
-``O``. At points of the support (40 digits) the model's ``omega'`` and ``p'`` are
-compared with Kane's ``u1', u2', u3'`` and ``(dp/dx) x' + (dp/dy) y'``.
+along the two tangents ``dp/dx, dp/dy`` (``x', y'`` dependent); the centre of mass ``G =
+O + a`` (body axes) with the inertia tensor about it, gravity ``-m g N.z`` at ``G`` and a
+rotor ``K`` as the torque ``-omega x K`` on the body. At points of the support (40
+digits) the model's ``omega'`` and ``p'`` are compared with Kane's ``u1', u2', u3'`` and
+``(dp/dx) x' + (dp/dy) y'``.
 """
 
 from __future__ import annotations
@@ -65,7 +69,7 @@ def ellipsoid_support(F: sp.Expr, p: Sequence[sp.Symbol]) -> tuple[sp.Matrix, sp
 
 
 class _KaneOnSupport:
-    """Kane's equations of the homogeneous ball on the ellipsoid (parameters substituted)."""
+    """Kane's equations of the ball on the ellipsoid (parameters substituted)."""
 
     def __init__(self, system: RollingSystem, pvals: Mapping[sp.Symbol, sp.Expr]) -> None:
         parsed = system._parsed
@@ -100,9 +104,18 @@ class _KaneOnSupport:
         tangents = [to_vec(p.diff(q[3])), to_vec(p.diff(q[4]))]
         constraints = [P.vel(N).dot(tangent) for tangent in tangents]
         m = parsed["mass"].xreplace(sub)
-        moment = parsed["inertia"][0, 0].xreplace(sub)
-        ball = me.RigidBody("ball", O, B, m, (me.inertia(B, moment, moment, moment), O))
-        loads = [(O, -m * parsed["field"].xreplace(sub) * N.z)]
+        I, a, K = (parsed[k].xreplace(sub) for k in ("inertia", "centre", "rotor_momentum"))
+        axes = (B.x, B.y, B.z)
+        G = O.locatenew("G", sum((a[i] * axes[i] for i in range(3)), me.Vector(0)))
+        G.v2pt_theory(O, N, B)
+        tensor = sum(
+            (I[i, j] * (axes[i] | axes[j]) for i in range(3) for j in range(3)), me.Dyadic(0)
+        )
+        ball = me.RigidBody("ball", G, B, m, (tensor, G))
+        loads = [(G, -m * parsed["field"].xreplace(sub) * N.z)]
+        if not K.is_zero_matrix:  # a rotor: d/dt K = omega x K, the body feels -omega x K
+            rotor = sum((K[i] * axes[i] for i in range(3)), me.Vector(0))
+            loads.append((B, -(B.ang_vel_in(N) ^ rotor)))
         kane = me.KanesMethod(
             N, q_ind=q, u_ind=u[:3], u_dependent=u[3:], kd_eqs=kd,
             velocity_constraints=constraints,
@@ -116,11 +129,13 @@ class _KaneOnSupport:
         self._mass = sp.lambdify(args, kane.mass_matrix, modules="mpmath")
         self._forcing = sp.lambdify(args, kane.forcing, modules="mpmath")
         self._p = sp.lambdify(args, p, modules="mpmath")
+        self._axes = sp.lambdify(args, N.dcm(B), modules="mpmath")  # columns: B's axes
         self._p_rate = sp.lambdify(args, p.diff(q[3]) * u[3] + p.diff(q[4]) * u[4], "mpmath")
         self._order = [str(s.func) for s in kane.u]
 
     def at(self, angles: Sequence[str], omega: Sequence[sp.Expr]):
-        """The contact point, Kane's ``omega'`` and ``p'`` (space components)."""
+        """The contact point, Kane's ``omega'`` and ``p'`` (space components) and the body
+        axes (the columns of the returned matrix, space components)."""
         q = [mpmath.mpf("0.3"), mpmath.mpf("0.2"), mpmath.mpf("-0.4")]
         q += [mpmath.mpf(a) for a in angles]
         u = [mpmath.mpf(sp.Float(w, 50)) for w in omega] + [mpmath.mpf(0)] * 2
@@ -135,7 +150,8 @@ class _KaneOnSupport:
         acc = [udot[f"u{i}"] for i in (1, 2, 3)]
         contact = self._p(q, u, 0)
         rate = self._p_rate(q, u, 0)
-        return [contact[i] for i in range(3)], acc, [rate[i] for i in range(3)]
+        axes = self._axes(q, u, 0)
+        return [contact[i] for i in range(3)], acc, [rate[i] for i in range(3)], axes
 
 
 def compare_on_support(
@@ -174,10 +190,15 @@ def compare_on_support(
     omega, p = sp.Matrix(model.group("omega")), sp.Matrix(model.group("p"))
     index = [list(model.state).index(s) for s in (*omega, *p)]
 
-    def field(w, contact):  # the model's rates: its auxiliary definitions in order
+    frame = [n for n in ("e1", "e2", "e3") if n in dict(model.state_groups)]
+
+    def field(w, contact, axes):  # the model's rates: its auxiliary definitions in order
         values = {**pvals, **dict(zip(omega, w, strict=True))}
         values.update((s, sp.Float(mpmath.nstr(c, digits + 5), digits + 5)) for s, c in
                       zip(p, contact, strict=True))  # fmt: skip
+        for j, name in enumerate(frame):  # a general ball's body axes (fixed frame)
+            for i, s in enumerate(model.group(name)):
+                values[s] = sp.Float(mpmath.nstr(axes[i, j], digits + 5), digits + 5)
         for symbol, expr in model.aux:
             values[symbol] = sp.N(expr.xreplace(values), digits + 5)
         return [sp.N(model.rhs[i].xreplace(values), digits + 5) for i in index]
@@ -187,8 +208,8 @@ def compare_on_support(
     with mpmath.workdps(digits):
         for w in omegas:
             for angles in SUPPORT_ANGLES:
-                contact, acc, rate = kane.at(angles, w)
-                F = field(w, contact)
+                contact, acc, rate, axes = kane.at(angles, w)
+                F = field(w, contact, axes)
                 worst_acc = max(worst_acc, relative(F[:3], acc))
                 worst_rate = max(worst_rate, relative(F[3:], rate))
                 count += 1

@@ -320,7 +320,7 @@ def kane_covers(system: RollingSystem) -> bool:
     from .kane_support import ellipsoid_support
 
     support = system._parsed["support_surface"]
-    if support is not None:  # a homogeneous ball on a support: an ellipsoid's parametrisation
+    if support is not None:  # a ball on a support: an ellipsoid's parametrisation
         values = {s: sp.Rational(7 + 4 * i, 5 + 3 * i) for i, s in enumerate(support.free_symbols)}
         values = {s: v for s, v in values.items() if s.name not in ("p1", "p2", "p3")}
         try:

@@ -132,8 +132,26 @@ def test_names_become_exact_parameters_and_decimals_stay_exact():
         ({"inertia": (1, 1, 1), "support": "surface"}, "needs support_surface"),
         ({"inertia": (1, 1, 1), "support_surface": "p1**2 + p3 - 1"}, "the support is a plane"),
         (
-            {"inertia": (1, 2, 1), "support": "surface", "support_surface": "p1**2 + p3 - 1"},
-            "homogeneous ball",
+            {
+                "inertia": (1, 2, 1),
+                "support": "surface",
+                "support_surface": "p1**2 + p3 - 1",
+                "contact": "rubber",
+            },
+            "not contact 'rubber'",
+        ),
+        (
+            {
+                "inertia": (1, 1, 1),
+                "support": "surface",
+                "support_surface": "p3",
+                "potential": "gamma1",
+            },
+            "not a potential",
+        ),
+        (
+            {"inertia": ("1 + t", 1, 1), "support": "surface", "support_surface": "p3"},
+            "not a time-dependent inertia",
         ),
         (
             {"inertia": (1, 1, 1), "support": "surface", "support_surface": "p1**2 - p2**2 + p3"},

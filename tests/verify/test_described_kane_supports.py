@@ -156,3 +156,27 @@ def test_kane_agrees_with_a_ball_on_an_ellipsoidal_support_and_refutes_the_other
     assert kane_covers(system)
     bumpy = dict(fields, support_surface="p1**4 + p2**2 + p3**2 - 1")
     assert not kane_covers(RollingSystem("ball_on_bump", **bumpy))
+
+
+@pytest.mark.slow
+def test_kane_agrees_with_a_general_ball_on_an_ellipsoidal_support_and_refutes_a_moved_centre():
+    """A ball with a product of inertia, its centre of mass off the centre and a rotor,
+    heavy, outside an ellipsoid off the origin (the general route, body axes e1, e2, e3 in
+    the state): Kane's method on the support's parametrisation (the centre of mass G = O +
+    a, the rotor as the torque -omega x K) agrees in omega' and p' at 40 digits; the model
+    with the centre of mass moved along the third axis is refuted in omega'."""
+    from chaplygin.verify.user_claims import kane_covers
+
+    inertia = [["0.31", "0.02", 0], ["0.02", "0.43", "-0.03"], [0, "-0.03", "0.57"]]
+    fields = dict(
+        inertia=inertia, gyrostat=("0.14", 0, "0.33"), gravity="g", support="surface",
+        support_surface="p1**2/4 + p2**2/(9/4) + (p3 - 1/3)**2 - 1",
+    )  # fmt: skip
+    system = RollingSystem("ball_on_egg", centre_of_mass=("0.1", "-0.05", "-0.2"), **fields)
+    values = dict(m="1.3", b="0.7", g="9.81")
+    result = kane_compare(system, system.model(), values)
+    assert result.points == 4 and result.agrees, result
+    moved = RollingSystem("ball_on_egg", centre_of_mass=("0.1", "-0.05", "-0.15"), **fields)
+    control = kane_compare(system, moved.model(), values)
+    assert control.max_acceleration_error > 1e6 * control.tolerance
+    assert kane_covers(system)
