@@ -21,8 +21,7 @@ import sympy as sp
 from .ball_on_surface import FixedFrameReduction
 from .description import MechanicalDescription
 from .errors import UserInputError
-from .expression_text import parse_expression
-from .rolling_surfaces import CENTRE, _declare_parameters
+from .rolling_surfaces import CENTRE, _declare_parameters, _homogeneous, read_fixed_surface
 from .vectors import vector
 
 if TYPE_CHECKING:
@@ -39,13 +38,9 @@ def _read_centre_surface(s: RollingSystem, scope: dict, parsed: dict) -> sp.Expr
         raise UserInputError(f"centre_surface is given but the support is a {s.support}")
     if s.support_surface is not None:
         raise UserInputError("give support_surface (the contact's) or centre_surface, not both")
-    inertia = parsed["inertia"]
-    homogeneous = inertia.is_diagonal() and inertia[0, 0] == inertia[1, 1] == inertia[2, 2]
     plain = (
-        homogeneous
-        and not inertia.has(sp.Symbol("t", real=True))
-        and parsed["centre"].is_zero_matrix
-        and parsed["rotor_momentum"].is_zero_matrix
+        _homogeneous(parsed)
+        and not parsed["inertia"].has(sp.Symbol("t", real=True))
         and s.surface is None
         and s.contact == "rolling"
     )
@@ -54,15 +49,7 @@ def _read_centre_surface(s: RollingSystem, scope: dict, parsed: dict) -> sp.Expr
             "with centre_surface this version derives a homogeneous ball (equal moments, centre "
             "of mass at its centre, no rotor) rolling without slipping"
         )
-    F = parse_expression(s.centre_surface, {**scope, **CENTRE}, "centre_surface")
-    xs = list(CENTRE.values())
-    if not F.is_polynomial(*xs) or sp.Poly(F, *xs).total_degree() < 1:
-        raise UserInputError("centre_surface: F must be a polynomial in x1, x2, x3")
-    hessian = sp.hessian(F, xs)
-    if sp.Poly(F, *xs).total_degree() == 2 and hessian.is_symbolic() is False:
-        if not hessian.is_positive_semidefinite:
-            raise UserInputError(f"centre_surface: the quadric {F} = 0 is not convex")
-    return F
+    return read_fixed_surface(s.centre_surface, scope, CENTRE, "centre_surface")
 
 
 def _centre_surface_description(s: RollingSystem) -> MechanicalDescription:

@@ -177,15 +177,42 @@ def _read_support_surface(s: RollingSystem, scope: dict, parsed: dict) -> sp.Exp
             f"of mass, constant rotor, gravity) rolling without slipping, not {what}"
         )
     x = {f"p{i}": sp.Symbol(f"p{i}", real=True) for i in (1, 2, 3)}
-    F = parse_expression(s.support_surface, {**scope, **x}, "support_surface")
+    F = read_fixed_surface(s.support_surface, scope, x, "support_surface")
+    return F.xreplace({x[f"p{i + 1}"]: c for i, c in enumerate(vector("p", real=True))})
+
+
+def read_fixed_surface(text: object, scope: dict, x: dict, what: str) -> sp.Expr:
+    """A surface of the fixed frame, ``F`` in the names of ``x``: a polynomial of degree 1
+    or more, and a quadric convex where its Hessian is numeric.
+
+    Parameters
+    ----------
+    text : str or sympy.Expr
+    scope : dict
+        The description's names.
+    x : dict of str to sympy.Symbol
+        The coordinates' names in ``text`` and their symbols.
+    what : str
+        The field, for the messages.
+
+    Returns
+    -------
+    sympy.Expr
+
+    Raises
+    ------
+    UserInputError
+        Not a polynomial in ``x``, a constant, or a quadric that is not convex.
+    """
+    F = parse_expression(text, {**scope, **x}, what)
     xs = list(x.values())
     if not F.is_polynomial(*xs) or sp.Poly(F, *xs).total_degree() < 1:
-        raise UserInputError("support_surface: F must be a polynomial in p1, p2, p3")
+        raise UserInputError(f"{what}: F must be a polynomial in {', '.join(x)}")
     hessian = sp.hessian(F, xs)
     if sp.Poly(F, *xs).total_degree() == 2 and hessian.is_symbolic() is False:
         if not hessian.is_positive_semidefinite:
-            raise UserInputError(f"support_surface: the quadric {F} = 0 is not convex")
-    return F.xreplace({x[f"p{i + 1}"]: c for i, c in enumerate(vector("p", real=True))})
+            raise UserInputError(f"{what}: the quadric {F} = 0 is not convex")
+    return F
 
 
 def _support_curvature(s: RollingSystem) -> sp.Expr:
