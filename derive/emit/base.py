@@ -64,6 +64,76 @@ def _cse(name: str, exprs: list[sp.Expr], shape: tuple[int, ...]) -> Routine:
     return Routine(name, tuple(temps), tuple(reduced), shape)
 
 
+#: Above this many operations in the right-hand side with the auxiliaries substituted
+#: (estimated through them, :func:`expanded_size`), the right-hand side and its Jacobian
+#: are written from the auxiliaries in order (:func:`_chained`) rather than expanded and
+#: reduced by common subexpression elimination: a ball of any inertia on a support surface
+#: has some 10^6 operations per component expanded, 5 10^3 in its auxiliaries. Every model
+#: in ``generated/`` is far below it (their code does not change).
+CHAIN_OPS = 200_000
+
+
+def expanded_size(model: Model) -> int:
+    """The operations of the largest right-hand side component once the auxiliaries are
+    substituted, estimated from each auxiliary's own count (no expansion is made).
+
+    Parameters
+    ----------
+    model : Model
+
+    Returns
+    -------
+    int
+    """
+    size: dict[sp.Symbol, int] = {}
+
+    def of(expr: sp.Expr) -> int:
+        used = [a for a in sp.sympify(expr).free_symbols if a in size]
+        return sp.count_ops(expr) + sum(size[a] * sp.sympify(expr).count(a) for a in used)
+
+    for symbol, expr in model.aux:
+        size[symbol] = of(expr)
+    return max((of(e) for e in model.rhs), default=0)
+
+
+def _chained(name: str, model: Model, rhs: bool, jacobian: bool) -> Routine:
+    """The right-hand side and/or its Jacobian from the auxiliaries in order: the
+    auxiliaries' definitions, then (for the Jacobian) each auxiliary's derivatives by the
+    state, ``dA_i/dy_k = de_i/dy_k + sum_j de_i/dA_j dA_j/dy_k`` (forward, one temporary per
+    non-zero entry), as temporaries; no common subexpression elimination."""
+    state = list(model.state)
+    temps: list[tuple[sp.Symbol, sp.Expr]] = list(model.aux)
+    taken = {s.name for s in (*state, *model.params, *(a for a, _ in model.aux))}
+    fresh = _temporaries(taken)
+    derivative: dict[sp.Symbol, list[sp.Expr]] = {}
+
+    def total(expr: sp.Expr) -> list[sp.Expr]:
+        inner = [a for a in sp.sympify(expr).free_symbols if a in derivative]
+        partial = {a: sp.diff(expr, a) for a in inner}
+        return [
+            sp.diff(expr, y) + sum((partial[a] * derivative[a][k] for a in inner), sp.S.Zero)
+            for k, y in enumerate(state)
+        ]
+
+    if jacobian:
+        for symbol, expr in model.aux:
+            row = []
+            for entry in total(expr):
+                if entry == 0:
+                    row.append(sp.S.Zero)
+                    continue
+                d = next(fresh)
+                temps.append((d, entry))
+                row.append(d)
+            derivative[symbol] = row
+    outputs = list(model.rhs) if rhs else []
+    if jacobian:
+        outputs += [entry for e in model.rhs for entry in total(e)]
+    n = len(state)
+    shape = (n + n * n,) if rhs and jacobian else (n, n) if jacobian else (n,)
+    return Routine(name, tuple(temps), tuple(outputs), shape)
+
+
 class ModelRoutines:
     """The routines of a model, shared by all emitters.
 
@@ -85,7 +155,20 @@ class ModelRoutines:
         Routine
             ``"rhs"``, outputs of shape ``(n,)`` with ``n`` the state dimension.
         """
+        if self.chained:
+            return _chained("rhs", self.model, rhs=True, jacobian=False)
         return _cse("rhs", list(self.model.rhs_expanded), (len(self.model.state),))
+
+    @cached_property
+    def chained(self) -> bool:
+        """Whether the right-hand side and its Jacobian are written from the auxiliaries in
+        order (the expanded right-hand side is over :data:`CHAIN_OPS` operations).
+
+        Returns
+        -------
+        bool
+        """
+        return bool(self.model.aux) and expanded_size(self.model) > CHAIN_OPS
 
     @cached_property
     def jacobian(self) -> Routine:
@@ -96,6 +179,8 @@ class ModelRoutines:
         Routine
             ``"jac"``, outputs of shape ``(n, n)``, row-major.
         """
+        if self.chained:
+            return _chained("jac", self.model, rhs=False, jacobian=True)
         J = self.model.jacobian_expanded
         n = len(self.model.state)
         return _cse("jac", list(J), (n, n))
@@ -111,6 +196,8 @@ class ModelRoutines:
         Routine
             ``"rhs_jac"``, outputs of shape ``(n + n n,)``: ``f`` then ``J`` row-major.
         """
+        if self.chained:
+            return _chained("rhs_jac", self.model, rhs=True, jacobian=True)
         n = len(self.model.state)
         exprs = list(self.model.rhs_expanded) + list(self.model.jacobian_expanded)
         return _cse("rhs_jac", exprs, (n + n * n,))
