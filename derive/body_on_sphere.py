@@ -60,6 +60,7 @@ __all__ = [
     "generic_body_model",
     "ellipsoid_body_model",
     "outer_normal",
+    "turning_frame_energy",
 ]
 
 
@@ -212,13 +213,39 @@ class PlaneMotion:
         Omega, t = self.rotation_rate, sp.Symbol("t", real=True)
         if Omega == 0 or Omega.has(t) or (self.velocity is not None and any(self.velocity)):
             return None
-        rho, n, omega, r = vector("rho", real=True), eq.normal, eq.omega, eq.r
-        v = cross(r, omega) + Omega * cross(n, rho)  # the centre of mass's velocity
         K = sp.zeros(3, 1) if gyrostat is None else gyrostat
-        energy = (omega.T * inertia * omega)[0] / 2 + m * dot(v, v) / 2 - m * gravity * dot(r, n)
-        energy += eq.potential  # of the orientation to the vertical: the turning keeps it
-        L = inertia * omega + K + m * cross(rho - r, v)
-        return energy - Omega * dot(n, L)
+        # the potential of the orientation to the vertical: the turning keeps it
+        V = eq.potential - m * gravity * dot(eq.r, eq.normal)
+        return turning_frame_energy(inertia, m, K, eq.omega, eq.r, eq.normal, Omega, V)
+
+
+def turning_frame_energy(
+    inertia: sp.Matrix, m: sp.Expr, gyrostat: sp.Matrix, omega: sp.Matrix, r: sp.Matrix,
+    n: sp.Matrix, Omega: sp.Expr, potential: sp.Expr,
+) -> sp.Expr:  # fmt: skip
+    """A body's energy in the frame of a plane turning at the constant rate ``Omega``,
+    ``J = E - Omega (n, I omega + K + m (rho - r) x v)`` with ``v = r x omega + Omega n x
+    rho`` the centre of mass's velocity (no slip) and ``rho`` the carried contact position:
+    the no-slip constraint is homogeneous in the turning frame's velocities.
+
+    Parameters
+    ----------
+    inertia, m, gyrostat : sympy.Matrix, sympy.Expr, sympy.Matrix
+        The constant central inertia tensor, the mass and ``K``.
+    omega, r, n : sympy.Matrix
+        The angular velocity, the contact point from the centre of mass and the upward
+        normal, body axes.
+    Omega, potential : sympy.Expr
+        The rate and the potential energy (gravity's and the given one).
+
+    Returns
+    -------
+    sympy.Expr
+    """
+    rho = vector("rho", real=True)
+    v = cross(r, omega) + Omega * cross(n, rho)
+    energy = (omega.T * inertia * omega)[0] / 2 + m * dot(v, v) / 2 + potential
+    return energy - Omega * dot(n, inertia * omega + gyrostat + m * cross(rho - r, v))
 
 
 @dataclass

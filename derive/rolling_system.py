@@ -100,6 +100,7 @@ from typing import Any
 
 import sympy as sp
 
+from .body_on_sphere import turning_frame_energy
 from .description import MechanicalDescription, apply_effects, form_model
 from .effects import parse_effects
 from .errors import UserInputError
@@ -505,13 +506,11 @@ def _jacobi_integral(s: RollingSystem, desc: MechanicalDescription) -> None:
     timed = p["inertia"].has(t) or p["rotor_momentum"].has(t)
     if s.support != "rotating_plane" or Omega.has(t) or timed or s.contact != "rolling":
         return
-    omega, gamma, rho = desc.omega, desc.vectors["gamma"], vector("rho", real=True)
+    gamma = desc.vectors["gamma"]
     r = -p["centre"] - p["radius"] * gamma
-    v = cross(r, omega) + Omega * cross(gamma, rho)
-    inertia, m = p["inertia"], p["mass"]
-    energy = (omega.T * inertia * omega)[0] / 2 + m * dot(v, v) / 2 + desc.potential
-    momentum = inertia * omega + p["rotor_momentum"] + m * cross(rho - r, v)
-    desc.add_integral("J", sp.expand(energy - Omega * dot(gamma, momentum)))
+    J = turning_frame_energy(p["inertia"], p["mass"], p["rotor_momentum"], desc.omega, r, gamma,
+                             Omega, desc.potential)  # fmt: skip
+    desc.add_integral("J", sp.expand(J))
 
 
 def _potential_energy(s: RollingSystem, desc: MechanicalDescription) -> sp.Expr:

@@ -82,6 +82,8 @@ class VariantSignature:
         The Poisson groups, ``(kind, names)``.
     completion : tuple of ((str, ...), str)
         How omitted state groups are completed.
+    system : str
+        The system the variant belongs to.
     """
 
     name: str
@@ -89,6 +91,7 @@ class VariantSignature:
     parameter_groups: dict[str, tuple[tuple[str, ...], str, str]]
     geometry: tuple[tuple[str, tuple[str, ...]], ...] = ()
     completion: tuple[tuple[tuple[str, ...], str], ...] = ()
+    system: str = ""
 
     @property
     def state(self) -> tuple[str, ...]:
@@ -379,6 +382,7 @@ def variant_signature(
         {p.name: (tuple(s.name for s in p.symbols), p.domain, p.description) for p in parameters},
         tuple(geometry),
         tuple(completion),
+        system,
     )
 
 

@@ -454,11 +454,11 @@ def _check_conditions(code: ModelCode, values: Mapping[str, object]) -> None:
     be positive), decided in the values' own precision. Only a process that registered a
     description has one (``derive.systems`` is loaded then)."""
     systems = sys.modules.get("chaplygin.derive.systems")
-    system = getattr(code, "system", None) or code.name.split("__")[0]  # or a signature's
-    entry = systems.SYSTEMS.get(system) if systems is not None else None
-    for expr, what in getattr(entry, "conditions", ()):
-        import sympy as sp
-
+    entry = systems.SYSTEMS.get(code.system) if systems is not None else None
+    conditions = getattr(entry, "conditions", ())
+    if conditions:
+        import sympy as sp  # (loaded already: a description was registered)
+    for expr, what in conditions:
         at = {x: sp.Float(values[x.name]) for x in expr.free_symbols}
         value = expr.xreplace(at)
         if not value > 0:

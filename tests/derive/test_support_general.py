@@ -157,15 +157,20 @@ def test_a_homogeneous_ball_moves_as_on_the_homogeneous_route(offset, agrees):
     assert (omega_rate == sp.Matrix(theirs[:3]).applyfunc(sp.radsimp)) is agrees
 
 
+#: A ball with a product of inertia, an offset, a rotor and gravity on an ellipsoid with
+#: symbolic axes.
+EGG = dict(
+    inertia=[["A", "D", 0], ["D", "B", 0], [0, 0, "C"]], centre_of_mass=(0, 0, "a"),
+    gyrostat=(0, 0, "k"), gravity="g", support="surface",
+    support_surface="p1**2/c1 + p2**2/c2 + p3**2/c3 - 1",
+)  # fmt: skip
+
+
 def test_a_general_ball_is_derived_and_what_is_not_is_refused():
     """The description with symbols (any inertia with a product, offset, rotor, an
     ellipsoid with symbolic axes) derives the state omega, p, e1, e2, e3 and the integrals
     H and F; a rubber contact and a prescribed rotor are refused on one line."""
-    system = RollingSystem(
-        "egg", inertia=[["A", "D", 0], ["D", "B", 0], [0, 0, "C"]], centre_of_mass=(0, 0, "a"),
-        gyrostat=(0, 0, "k"), gravity="g", support="surface",
-        support_surface="p1**2/c1 + p2**2/c2 + p3**2/c3 - 1",
-    )  # fmt: skip
+    system = RollingSystem("egg", **EGG)
     model = system.model()
     assert model.state_names[:6] == ("omega1", "omega2", "omega3", "p1", "p2", "p3")
     assert len(model.state) == 15 and len(model.constraints) == 6
@@ -220,11 +225,7 @@ def test_the_energy_is_an_integral_on_an_ellipsoid_with_symbolic_parameters(pote
     not be on F = 0); the level F too. H without its potential term, or with it of the
     wrong sign, changes (the controls). The verifier's Groebner proof and its exact
     sampling of the expanded residual (10^6 operations) do not finish in 10 minutes."""
-    system = RollingSystem(
-        "egg", inertia=[["A", "D", 0], ["D", "B", 0], [0, 0, "C"]], centre_of_mass=(0, 0, "a"),
-        gyrostat=(0, 0, "k"), gravity="g", support="surface",
-        support_surface="p1**2/c1 + p2**2/c2 + p3**2/c3 - 1",
-    )  # fmt: skip
+    system = RollingSystem("egg", **EGG)
     model = system.model()
     names = {x.name: x for x in model.params}
     m, g = names["m"], names["g"]
