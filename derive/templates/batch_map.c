@@ -28,8 +28,10 @@
  * lanes). Every lane takes its own
  * steps (own t, h, accept/reject, sampling times); the stage sums and the right-hand side run
  * on all lanes at once, each lane with the same IEEE operations in the same order as
- * chaplygin_batch_map (no contraction, lane-wise libm calls), so the results are bit-identical
- * to it. A lane whose point is done (or failed) takes the next point of the batch.
+ * chaplygin_batch_map (no contraction; detmath's sine and cosine written on vectors with the
+ * scalar functions' bits, the other functions lane by lane), so the results are bit-identical
+ * to it. A lane whose point is done (or failed) takes the next point of the batch. BM_W is 8
+ * where the compiler targets AVX-512, else 4: the bits do not depend on it.
  */
 #include <float.h>
 #include <math.h>
@@ -220,8 +222,12 @@ void chaplygin_batch_map(long N, const double *Y0, const double *P, const double
 }
 
 #ifdef BM_VEC_RHS
-#ifndef BM_W
+#ifndef BM_W /* the widest registers: 8 doubles with AVX-512 (-march=native), else 4 */
+#if defined(__AVX512F__)
+#define BM_W 8
+#else
 #define BM_W 4
+#endif
 #endif
 typedef double bm_vec __attribute__((vector_size(BM_W * sizeof(double))));
 
@@ -232,8 +238,102 @@ typedef double bm_vec __attribute__((vector_size(BM_W * sizeof(double))));
         for (int l = 0; l < BM_W; ++l) r[l] = name(x[l]);                                      \
         return r;                                                                              \
     }
-BM_LANEWISE(chaplygin_sin)
-BM_LANEWISE(chaplygin_cos)
+
+/* chaplygin_sin and chaplygin_cos on all lanes at once: where every lane's |x| lies in
+ * [2^-27, 2^20) (the Cody-Waite reduction of detmath.h), the scalar functions' operations
+ * written on vectors — both reductions (|x| <= pi/4 or not) and all four kernels (sin or cos,
+ * polynomial or table) computed and each lane's own one selected — so that every lane gets the
+ * bits of the scalar function; otherwise lane by lane. */
+typedef int64_t bm_ivec __attribute__((vector_size(BM_W * sizeof(int64_t))));
+
+static inline bm_vec bm_select(bm_ivec mask, bm_vec a, bm_vec b) /* mask -1: a, 0: b */
+{
+    return (bm_vec)((mask & (bm_ivec)a) | (~mask & (bm_ivec)b));
+}
+
+static inline bm_vec bm_sincos_vec(bm_vec x, int odd)
+{
+    const bm_ivec magnitude = (bm_ivec){0} + INT64_C(0x7fffffffffffffff); /* all but the sign bit */
+    const bm_vec ax = (bm_vec)((bm_ivec)x & magnitude);
+    const bm_ivec ok = (ax >= 0x1p-27) & (ax < 0x1p20);
+    int64_t all_ok = -1;
+    for (int l = 0; l < BM_W; ++l) all_ok &= ok[l];
+    if (!all_ok) {
+        bm_vec r;
+        for (int l = 0; l < BM_W; ++l) r[l] = odd ? chaplygin_cos(x[l]) : chaplygin_sin(x[l]);
+        return r;
+    }
+    /* chaplygin_dm__rem_pio2 below 2^20, and the identity at |x| <= pi/4 */
+    const bm_vec nd = (ax * chaplygin_dm_INV_PIO2 + CHAPLYGIN_DM_SHIFT) - CHAPLYGIN_DM_SHIFT;
+    const bm_vec t1 = ax - nd * chaplygin_dm_CW_P1;
+    const bm_vec p2 = -(nd * chaplygin_dm_CW_P2);
+    const bm_vec t2 = t1 + p2, b2 = t2 - t1, e2 = (t1 - (t2 - b2)) + (p2 - b2);
+    const bm_vec p3 = -(nd * chaplygin_dm_CW_P3);
+    const bm_vec t3 = t2 + p3, b3 = t3 - t2, e3 = (t2 - (t3 - b3)) + (p3 - b3);
+    const bm_vec lo = (e2 + e3) - nd * chaplygin_dm_CW_P4;
+    const bm_vec h = t3 + lo, hl = lo - (h - t3);
+    const bm_ivec small = ax <= chaplygin_dm_PI_O4;
+    const bm_vec rh = bm_select(small, ax, h), rl = bm_select(small, (bm_vec){0}, hl);
+    const bm_ivec n = (~small & (__builtin_convertvector(nd, bm_ivec) & 3)) + odd;
+    /* the polynomial kernels (|rh| < 0.125) */
+    const double *cs = chaplygin_dm_SIN_POLY, *cc = chaplygin_dm_COS_POLY;
+    const bm_vec z = rh * rh, z2 = z * z;
+    const bm_vec Ps = (cs[0] + z * cs[1]) + z2 * ((cs[2] + z * cs[3]) + z2 * cs[4]);
+    const bm_vec sin_poly = rh + (rl + ((rh * z) * Ps - (0.5 * z) * rl));
+    const bm_vec hz = 0.5 * z, w = 1.0 - hz, err = (1.0 - w) - hz;
+    const bm_vec Qc = (cc[1] + z * cc[2]) + z2 * (cc[3] + z * cc[4]);
+    const bm_vec cos_poly = w + (err + (z2 * Qc - rh * rl));
+    /* the table kernels (chaplygin_dm__trig_split) */
+    const bm_ivec neg = rh < 0.0;
+    const bm_vec sg = bm_select(neg, (bm_vec){0} - 1.0, (bm_vec){0} + 1.0);
+    const bm_vec xh = sg * rh, xl = sg * rl;
+    const bm_vec id = (xh * 128.0 + CHAPLYGIN_DM_SHIFT) - CHAPLYGIN_DM_SHIFT;
+    const bm_vec dh = xh - id * 0x1p-7, dz = dh * dh;
+    const bm_vec sd = (dh * dz) * (chaplygin_dm_SIND_POLY[0] + dz * chaplygin_dm_SIND_POLY[1]);
+    const bm_vec cd = dz * (chaplygin_dm_COSD_POLY[0] +
+                            dz * (chaplygin_dm_COSD_POLY[1] + dz * chaplygin_dm_COSD_POLY[2]));
+    const bm_ivec poly = (bm_vec)((bm_ivec)rh & magnitude) < 0.125;
+    const bm_ivec index = ~poly & (__builtin_convertvector(id, bm_ivec) - 16);
+    bm_vec S, Sl, C, Cl;
+    for (int l = 0; l < BM_W; ++l) { /* the polynomial lanes read entry 0 (not used) */
+        const long i = index[l];
+        S[l] = chaplygin_dm_TRIG_S_HI[i];
+        Sl[l] = chaplygin_dm_TRIG_S_LO[i];
+        C[l] = chaplygin_dm_TRIG_C_HI[i];
+        Cl[l] = chaplygin_dm_TRIG_C_LO[i];
+    }
+    const bm_vec bs = C * dh, ss = S + bs, es = bs - (ss - S);
+    const bm_vec tail_s = Sl + (C * xl + Cl * dh) + (S * cd + C * sd);
+    const bm_vec sin_table = sg * (ss + (es + tail_s));
+    const bm_vec bc = -(S * dh), sc = C + bc, ec = bc - (sc - C);
+    const bm_vec tail_c = Cl - (S * xl + Sl * dh) + (C * cd - S * sd);
+    const bm_vec cos_table = sc + (ec + tail_c);
+    const bm_vec sin_k = bm_select(poly, sin_poly, sin_table);
+    const bm_vec cos_k = bm_select(poly, cos_poly, cos_table);
+    bm_vec v = bm_select((n & 1) != 0, cos_k, sin_k);
+    v = bm_select((n & 2) != 0, -v, v);
+    return odd ? v : bm_select(x < 0.0, -v, v);
+}
+
+static inline bm_vec bm_v_chaplygin_sin(bm_vec x) { return bm_sincos_vec(x, 0); }
+static inline bm_vec bm_v_chaplygin_cos(bm_vec x) { return bm_sincos_vec(x, 1); }
+
+/* S, C = the lanes' sine and cosine of X[0 .. n-1], BM_W at a time (the last group padded
+ * with its first argument): what the tests compare with chaplygin_sin and chaplygin_cos. */
+int chaplygin_lanes_sincos(long n, const double *X, double *S, double *C)
+{
+    for (long j = 0; j < n; j += BM_W) {
+        bm_vec x, s, c;
+        for (int l = 0; l < BM_W; ++l) x[l] = X[j + l < n ? j + l : j];
+        s = bm_v_chaplygin_sin(x);
+        c = bm_v_chaplygin_cos(x);
+        for (int l = 0; l < BM_W && j + l < n; ++l) {
+            S[j + l] = s[l];
+            C[j + l] = c[l];
+        }
+    }
+    return BM_W;
+}
 BM_LANEWISE(chaplygin_exp)
 BM_LANEWISE(chaplygin_log)
 BM_LANEWISE(sqrt)

@@ -22,7 +22,8 @@
  * generated/<model>_lanes.c is the emitted chaplygin_rhs_jac in lanes). Every lane takes its own
  * steps; the stage sums, the right-hand side, the Jacobian and the tangent vectors' products
  * run on all lanes at once, each lane with the IEEE operations of chaplygin_var_flow in the same
- * order (no contraction, lane-wise libm calls; stage sums without the zero coefficients of the
+ * order (no contraction, detmath's sine and cosine on vectors with the scalar bits, other
+ * functions lane by lane; stage sums without the zero coefficients of the
  * tableau, which change no finite sum). At the end of an interval a lane's point leaves the
  * lanes for the projection and the QR (the scalar code of chaplygin_var_renormalised), and the
  * next interval starts as chaplygin_var_flow starts one: f evaluated afresh at the new tangent

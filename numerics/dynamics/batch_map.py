@@ -275,7 +275,7 @@ class BatchStroboscopicMap:
         t0 : float or array_like, shape (N,)
             Phase of the section (default 0).
         lockstep : bool, default True
-            Advance 4 points at a time in vector lanes where available (bit-identical to one
+            Advance 4 or 8 points at a time in vector lanes where available (bit-identical to one
             after another, faster); False: one after another. Ignored by the Taylor method
             (always one after another).
 

@@ -8,9 +8,11 @@ statistics. Point ``j``'s spectrum is bit-identical to ``lyapunov_spectrum(code,
 y0[j], ...)`` with the same settings. The integrations of all points run in one C call (the
 ``dop853`` integrator of :data:`~chaplygin.numerics.integrators.INTEGRATORS` on a
 :class:`~chaplygin.numerics.integrators.VariationalBatch`, ``derive/templates/
-variational_batch.c``): four points at a time in the lanes of GCC vector types where the
-model's right-hand side and Jacobian have a vector form (``generated/<model>_lanes.c``), each
-lane with the IEEE operations of the one-point integrator, so that the lanes change no bit.
+variational_batch.c``): eight points at a time in the lanes of GCC vector types where the
+compiler targets AVX-512, else four, where the model's right-hand side and Jacobian have a
+vector form (``generated/<model>_lanes.c``), each lane with the IEEE operations of the
+one-point integrator (the sine and cosine too: ``templates/batch_map.c`` writes detmath's on
+vectors), so that the lanes change no bit.
 Points are independent: one that fails gets its own status and message, the others are
 unaffected. Double precision only.
 
@@ -84,7 +86,7 @@ class LyapunovBatch:
     messages : list of str
         ``"done"`` or what went wrong, per point.
     lockstep : bool
-        Whether the points ran four at a time in vector lanes.
+        Whether the points ran in vector lanes (four or eight at a time).
     wall_time : float
         Seconds for the whole batch.
     """

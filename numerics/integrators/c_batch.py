@@ -1,7 +1,7 @@
 """The compiled batch drivers: many points of a time-periodic model in one C call.
 
 The DOP853 batch (``derive/templates/batch_map.c`` with the DOP853 tableau of
-``variational.c``; four points at a time in GCC vector lanes where the model's right-hand side
+``variational.c``; 4 or 8 points at a time in GCC vector lanes where the model's right-hand side
 has a vector form, ``generated/<model>_lanes.c``, bit-identical to one point after another)
 and the Taylor batch (``taylor_batch_map.c``: the model's generated Taylor integrator, 4 or 8
 points at a time in vector lanes, ``taylor_lanes.c``, each bit-identical to the one-point
@@ -70,6 +70,7 @@ void chaplygin_taylor_batch_map(long N, const double *Y0, const double *P, const
                                 long n_record, double rtol, double atol, long max_steps,
                                 double *OUT, double *STATS, int *STATUS);
 int chaplygin_taylor_lanes_width(void);
+int chaplygin_lanes_sincos(long n, const double *X, double *S, double *C);
 int chaplygin_taylor_run_lanes(long N, const double *T01, const double *Y0, const double *P,
                                const double *CTRL, int fixed_order, long n_eval,
                                const double *T_EVAL, long eval_stride, double *Y_EVAL,
