@@ -95,6 +95,16 @@ static double bm_initial_step(double t, const double *y, const double *f0, const
             for (int i_ = 0; i_ < BM_N; ++i_) (e3)[i_] += c3_ * (K)[r_][i_];                   \
     }
 
+/* A step's error from its sums of squares n5, n3 over the BM_N components, INFINITY when the
+ * new state yn is not finite. */
+static double bm_lane_error(double n5, double n3, const double *yn, double hs)
+{
+    double err = 0.0;
+    if (n5 > 0.0 || n3 > 0.0) err = hs * n5 / sqrt((n5 + 0.01 * n3) * BM_N);
+    if (!isfinite(err) && !cv_finite(yn, BM_N)) err = INFINITY;
+    return err;
+}
+
 /* The error of a step of size hs (dop853.f: err5 and err3 combined), INFINITY when the new
  * state is not finite. */
 static double bm_step_error(const double *e5, const double *e3, const double *y,
@@ -106,10 +116,7 @@ static double bm_step_error(const double *e5, const double *e3, const double *y,
         n5 += (e5[i] / sc) * (e5[i] / sc);
         n3 += (e3[i] / sc) * (e3[i] / sc);
     }
-    double err = 0.0;
-    if (n5 > 0.0 || n3 > 0.0) err = hs * n5 / sqrt((n5 + 0.01 * n3) * BM_N);
-    if (!isfinite(err) && !cv_finite(yn, BM_N)) err = INFINITY;
-    return err;
+    return bm_lane_error(n5, n3, yn, hs);
 }
 
 /* The factor of the next step size after a step with error err (accepted when err <= 1). */
@@ -315,6 +322,26 @@ static inline bm_vec bm_sincos_vec(bm_vec x, int odd)
     return odd ? v : bm_select(x < 0.0, -v, v);
 }
 
+/* The sums of squares of every lane's step error over its first m components (bm_step_error's
+ * and chaplygin_var_flow's estimate, their operations in their order; fmax and fabs as C's). */
+static void bm_error_sums_vec(const bm_vec *a5, const bm_vec *a3, const bm_vec *z,
+                              const bm_vec *zn, int m, double rtol, double atol, bm_vec *n5,
+                              bm_vec *n3)
+{
+    const bm_ivec magnitude = (bm_ivec){0} + INT64_C(0x7fffffffffffffff);
+    bm_vec s5 = {0}, s3 = {0};
+    for (int i = 0; i < m; ++i) {
+        const bm_vec a = (bm_vec)((bm_ivec)z[i] & magnitude);
+        const bm_vec b = (bm_vec)((bm_ivec)zn[i] & magnitude);
+        const bm_vec sc = atol + rtol * bm_select((a >= b) | (b != b), a, b); /* fmax */
+        const bm_vec e5 = a5[i] / sc, e3 = a3[i] / sc;
+        s5 += e5 * e5;
+        s3 += e3 * e3;
+    }
+    *n5 = s5;
+    *n3 = s3;
+}
+
 static inline bm_vec bm_v_chaplygin_sin(bm_vec x) { return bm_sincos_vec(x, 0); }
 static inline bm_vec bm_v_chaplygin_cos(bm_vec x) { return bm_sincos_vec(x, 1); }
 
@@ -480,21 +507,18 @@ void chaplygin_batch_map_lockstep(long N, const double *Y0, const double *PP, co
             if (last[l]) tn[l] = lane[l].t1;
         bm_rhs_vec(tn, yn, P, K[CV_STAGES]);
         BM_ERROR_SUMS(e5, e3, K)
+        bm_vec n5, n3;
+        bm_error_sums_vec(e5, e3, y, yn, BM_N, rtol, atol, &n5, &n3);
         for (int l = 0; l < BM_W; ++l) {
             bm_lane *L = &lane[l];
             if (L->point < 0) continue;
             const long j = L->point;
             double *stats = STATS + 3 * j;
             stats[2] += CV_STAGES;
-            double ynl[BM_N], yl[BM_N], e5l[BM_N], e3l[BM_N];
-            for (int i = 0; i < BM_N; ++i) {
-                ynl[i] = yn[i][l];
-                yl[i] = y[i][l];
-                e5l[i] = e5[i][l];
-                e3l[i] = e3[i][l];
-            }
+            double ynl[BM_N];
+            for (int i = 0; i < BM_N; ++i) ynl[i] = yn[i][l];
             const double h = hs[l];
-            const double err = bm_step_error(e5l, e3l, yl, ynl, h, rtol, atol);
+            const double err = bm_lane_error(n5[l], n3[l], ynl, h);
             const double fac = bm_step_factor(err, L->rejected_last);
             if (err > 1.0) {
                 L->h = h * fac;

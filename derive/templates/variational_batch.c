@@ -73,19 +73,9 @@ static void cvl_f(bm_vec t, const bm_vec *z, int k, const bm_vec *P, bm_vec *out
     out[CV_N + CV_N * k] = tr;
 }
 
-/* The error of a step of one lane (chaplygin_var_flow's estimate over the m controlled
- * components), INFINITY when the new state is not finite. */
-static double cvl_step_error(const double *a5, const double *a3, const double *z,
-                             const double *zn, int m, int mz, double hs, double rtol,
-                             double atol)
+/* One lane's error from its sums, INFINITY when the new state is not finite. */
+static double cvl_step_error(double n5, double n3, const double *zn, int m, int mz, double hs)
 {
-    double n5 = 0.0, n3 = 0.0;
-    for (int i = 0; i < m; ++i) {
-        const double sc = atol + rtol * fmax(fabs(z[i]), fabs(zn[i]));
-        const double e5 = a5[i] / sc, e3 = a3[i] / sc;
-        n5 += e5 * e5;
-        n3 += e3 * e3;
-    }
     double err = 0.0;
     if (n5 > 0.0 || n3 > 0.0) err = hs * n5 / sqrt((n5 + 0.01 * n3) * m);
     if (!isfinite(err) && !cv_finite(zn, mz)) err = INFINITY;
@@ -245,21 +235,18 @@ void chaplygin_var_renormalised_lockstep(long N, int k, const double *Z0, const 
             if (c3 != 0.0)
                 for (int i = 0; i < m; ++i) a3[i] += c3 * K[r][i];
         }
+        bm_vec n5, n3;
+        bm_error_sums_vec(a5, a3, z, zn, m, rtol, atol, &n5, &n3);
         for (int l = 0; l < BM_W; ++l) {
             cvl_lane *L = &lane[l];
             if (L->point < 0) continue;
             const long j = L->point;
             double *stats = STATS + 4 * j;
             stats[2] += CV_STAGES;
-            double a5l[CV_ZMAX], a3l[CV_ZMAX], znl[CV_ZMAX];
-            for (int i = 0; i < m; ++i) {
-                a5l[i] = a5[i][l];
-                a3l[i] = a3[i][l];
-            }
-            cvl_get(z, mz, l, zl);
+            double znl[CV_ZMAX];
             cvl_get(zn, mz, l, znl);
             const double h = hs[l];
-            const double err = cvl_step_error(a5l, a3l, zl, znl, m, mz, h, rtol, atol);
+            const double err = cvl_step_error(n5[l], n3[l], znl, m, mz, h);
             const double fac = bm_step_factor(err, L->rejected_last);
             if (err > 1.0) {
                 L->h = h * fac;
