@@ -7,6 +7,7 @@ eliminated once here; an emitter only prints them (``_emit_files`` hook).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -73,13 +74,15 @@ def _cse(name: str, exprs: list[sp.Expr], shape: tuple[int, ...]) -> Routine:
 CHAIN_OPS = 200_000
 
 
-def expanded_size(model: Model) -> int:
+def expanded_size(model: Model, exprs: Sequence[sp.Expr] | None = None) -> int:
     """The operations of the largest right-hand side component once the auxiliaries are
     substituted, estimated from each auxiliary's own count (no expansion is made).
 
     Parameters
     ----------
     model : Model
+    exprs : sequence of sympy.Expr, optional
+        The expressions to size instead of the right-hand side's components.
 
     Returns
     -------
@@ -93,7 +96,7 @@ def expanded_size(model: Model) -> int:
 
     for symbol, expr in model.aux:
         size[symbol] = of(expr)
-    return max((of(e) for e in model.rhs), default=0)
+    return max((of(e) for e in (model.rhs if exprs is None else exprs)), default=0)
 
 
 def _chained(name: str, model: Model, rhs: bool, jacobian: bool) -> Routine:

@@ -66,6 +66,10 @@ class Check:
         The method used when the caller asks for ``auto``: ``exact-sampled`` where the
         Groebner proof is known to take minutes, ``numeric`` for floating-point
         residuals. A check that chooses a method says why in its ``note``.
+    along_flow : bool
+        ``exprs`` are would-be integrals whose rate along the flow is decided through the
+        model's auxiliaries at exact points (:mod:`~chaplygin.verify.chained`: models whose
+        expanded right-hand side is too large to expand); the method is ``exact-sampled``.
 
     Raises
     ------
@@ -80,6 +84,7 @@ class Check:
     fallback: Check | None = None
     note: str = ""
     method: str = "auto"
+    along_flow: bool = False
 
     def __post_init__(self) -> None:
         if self.method not in VERDICT_OF_METHOD:
@@ -201,6 +206,8 @@ class Claim:
         """
         if self.expected == "fails":
             return "refuted"
+        if check is not None and check.along_flow:  # decided by exact sampling, always
+            return "exact-sampled"
         chosen = check.method if method == "auto" and check is not None else method
         return VERDICT_OF_METHOD[chosen]
 
