@@ -20,6 +20,7 @@ from chaplygin.derive.errors import UserInputError
 from chaplygin.derive.phase_space import sample_point
 from chaplygin.derive.rolling_system import RollingSystem
 from chaplygin.derive.vectors import vector
+from chaplygin.verify.chained import rate_at
 
 R_ = sp.Rational
 M, B, G = R_(13, 10), R_(7, 10), R_(49, 5)
@@ -188,34 +189,6 @@ def test_a_general_ball_is_derived_and_what_is_not_is_refused():
             )
 
 
-def _exact(x: sp.Expr) -> sp.Expr:
-    """``a + b sqrt(d)``: a number of the field the normal's square root makes, canonical
-    (zero exactly when it is zero)."""
-    return sp.expand(sp.radsimp(sp.expand(x)))
-
-
-def _rate_at(model, expr: sp.Expr, point: dict) -> sp.Expr:
-    """``d expr/dt`` along the model's flow at an exact point, by the chain rule through
-    the auxiliary definitions in order (each evaluated at the point: the expanded
-    right-hand side has some 10^6 operations on a symbolic ellipsoid)."""
-    values, rates = dict(point), {}
-    for symbol, definition in model.aux:
-        values[symbol] = _exact(definition.xreplace(values))
-    f = {
-        y: _exact(sp.sympify(e).xreplace(values))
-        for y, e in zip(model.state, model.rhs, strict=True)
-    }
-
-    def along(e: sp.Expr) -> sp.Expr:
-        total = sum((sp.diff(e, y) * f[y] for y in model.state), sp.S.Zero)
-        total += sum((sp.diff(e, a) * rates[a] for a in rates), sp.S.Zero)
-        return _exact(total.xreplace(values))
-
-    for symbol, definition in model.aux:  # each auxiliary's rate, from those before it
-        rates[symbol] = along(definition)
-    return along(expr)
-
-
 @pytest.mark.parametrize("potential, conserved", [(1, True), (0, False), (-1, False)])
 def test_the_energy_is_an_integral_on_an_ellipsoid_with_symbolic_parameters(potential, conserved):
     """H = T + m g (height of the centre of mass) on an ellipsoid with symbolic axes, a
@@ -236,5 +209,5 @@ def test_the_energy_is_an_integral_on_an_ellipsoid_with_symbolic_parameters(pote
     rng = random.Random(24)
     for _ in range(2):
         point = sample_point(model, rng, model.state)
-        assert (_rate_at(model, energy, point) == 0) is conserved
-        assert _rate_at(model, model.integral("F"), point) == 0
+        assert (rate_at(model, energy, point) == 0) is conserved
+        assert rate_at(model, model.integral("F"), point) == 0
