@@ -65,8 +65,8 @@ __all__ = [
 AXES = ("e1", "e2", "e3")
 #: The names of the auxiliary symbols (a parameter must not take them).
 AUX_NAMES = frozenset(
-    {f"{n}{i}" for n in ("nu", "pdot", "af", "Kf", "hc") for i in (1, 2, 3)}
-    | {f"{n}{i}{j}" for n in ("Dnu", "If", "Pc") for i in (1, 2, 3) for j in (1, 2, 3)}
+    {f"{n}{i}" for n in ("nu", "pdot", "af", "Kf", "Kdf", "hc", "tau") for i in (1, 2, 3)}
+    | {f"{n}{i}{j}" for n in ("Dnu", "If", "Idf", "Pc") for i in (1, 2, 3) for j in (1, 2, 3)}
 )
 
 
@@ -93,6 +93,9 @@ class GeneralBallDerivation:
     Attributes
     ----------
     omega, v, omega_dot, v_dot, n, ndot, inertia, offset, rotor : sympy.Matrix
+    inertia_rate, rotor_rate : sympy.Matrix
+        The abstract ``Q I'(t) Q^T`` (symmetric, ``Idf11 ...``) and ``Q K'(t)`` (``Kdf1
+        ...``): zero for a constant inertia and rotor.
     rho : sympy.Matrix
         ``b n + a_f``, from the contact point to the centre of mass.
     constraints : list of sympy.Expr
@@ -122,6 +125,8 @@ class GeneralBallDerivation:
     inertia: sp.Matrix
     offset: sp.Matrix
     rotor: sp.Matrix
+    inertia_rate: sp.Matrix
+    rotor_rate: sp.Matrix
     rho: sp.Matrix
     constraints: list[sp.Expr]
     with_multipliers: sp.Matrix
@@ -159,6 +164,7 @@ def derive_general_ball(
     """
     v, omega_dot, v_dot = (vector(x, real=True) for x in ("v", "omega_dot", "v_dot"))
     If, af, Kf = _symmetric("If"), vector("af", real=True), vector("Kf", real=True)
+    Idf, Kdf = _symmetric("Idf"), vector("Kdf", real=True)  # Q I'(t) Q^T, Q K'(t)
     q = sp.Matrix.vstack(omega, v)
     rho = b * n + af
     constraints = list(v - cross(omega, rho))
@@ -167,8 +173,9 @@ def derive_general_ball(
         raise DerivationError("the no-slip constraint is not linear and homogeneous")
     lam = sp.Matrix(sp.symbols("lambda1:4", real=True))
     # Newton–Euler in the fixed frame: d/dt (I_f omega + K_f), I_f' = [omega] I_f - I_f
-    # [omega], K_f' = omega x K_f; the weight at the centre of mass; the reactions.
-    rotation = If * omega_dot + cross(omega, If * omega + Kf)
+    # [omega] + Q I'(t) Q^T, K_f' = omega x K_f + Q K'(t); the weight at the centre of
+    # mass; the reactions.
+    rotation = If * omega_dot + cross(omega, If * omega + Kf) + Idf * omega + Kdf
     translation = m * v_dot - sp.Matrix([0, 0, -m * g])
     with_multipliers = sp.Matrix.vstack(rotation, translation) - Phi.T * lam
     v_of_omega = cross(omega, rho)
@@ -190,7 +197,8 @@ def derive_general_ball(
     kinetic = m * dot(v_of_omega, v_of_omega) / 2 + dot(omega, If * omega) / 2
     return GeneralBallDerivation(
         omega=omega, v=v, omega_dot=omega_dot, v_dot=v_dot, n=n, ndot=ndot, inertia=If,
-        offset=af, rotor=Kf, rho=rho, constraints=constraints,
+        offset=af, rotor=Kf, inertia_rate=Idf, rotor_rate=Kdf, rho=rho,
+        constraints=constraints,
         with_multipliers=with_multipliers, multipliers=tuple(lam), admissible=G,
         projected=projected, contact_inertia=P, forcing=forcing,
         kinetic_energy=sp.expand(kinetic), height=rho[2],
@@ -238,15 +246,21 @@ class GeneralBallReduction:
     mass, radius : sympy.Expr
         ``m`` and ``b``.
     inertia : sympy.Matrix
-        Central inertia tensor in body axes (constant, symmetric).
+        Central inertia tensor in body axes (symmetric; it may change with the time ``t``:
+        masses moving in the body in symmetric pairs, ``d/dt (I_f omega)`` gains ``Q I'
+        Q^T omega``).
     centre : sympy.Matrix
         ``a``: the centre of mass from the geometric centre, body axes.
     rotor : sympy.Matrix
-        ``K``: a constant gyrostatic momentum, body axes.
+        ``K``: a gyrostatic momentum, body axes (constant, or prescribed in ``t``: ``Q K'``).
     side : int
         1: outside the support (on the side of ``grad F``); -1: inside.
     gravity : sympy.Expr
         ``g`` of a field along ``-e3`` (0: none).
+    potential : sympy.Expr
+        ``V(p, e1, e2, e3)`` (0: none): its generalised force on the admissible velocities
+        ``tau = -d(dV/dt)/d omega = -(dp'/d omega)^T dV/dp - sum_i e_i x dV/de_i`` joins
+        ``h``, and ``V`` the energy.
     """
 
     support: sp.Expr
@@ -257,9 +271,11 @@ class GeneralBallReduction:
     rotor: sp.Matrix
     side: int = 1
     gravity: sp.Expr = sp.S.Zero
+    potential: sp.Expr = sp.S.Zero
 
     def reduce(self, desc: MechanicalDescription) -> Reduced:
-        """``omega'`` and ``p'`` (the axes' rates are declared), the energy and ``F``.
+        """``omega'`` and ``p'`` (the axes' rates are declared), the energy (when nothing
+        depends on the time) and ``F``.
 
         Parameters
         ----------
@@ -301,22 +317,28 @@ class GeneralBallReduction:
         }
         If = Q * self.inertia * Q.T
         frame = _frame_aux(der, Q * self.centre, Q * self.rotor, If)
+        t = desc.time
+        rates = _time_rates(der, Q * self.inertia.diff(t) * Q.T, Q * self.rotor.diff(t))
+        to_support.update(rates[1])
         Pc, hc = _symmetric("Pc"), vector("hc", real=True)
         contact_aux = [
             (Pc[i, j], der.contact_inertia[i, j].xreplace(to_support))
             for i in range(3)
             for j in range(i, 3)
         ]
-        contact_aux += [(hc[i], der.forcing[i].xreplace(to_support)) for i in range(3)]
+        tau, force = _potential_force(self.potential, omega, p, Q, p_rate)
+        contact_aux += force
+        contact_aux += [(hc[i], der.forcing[i].xreplace(to_support) + tau[i]) for i in range(3)]
         adjP, detP = _adjugate_and_det(Pc)
         omega_rate = adjP * hc / detP
-        potential = m * self.gravity * (p[2] + der.height.xreplace(to_support))
+        potential = m * self.gravity * (p[2] + der.height.xreplace(to_support)) + self.potential
         energy = der.kinetic_energy.xreplace(to_support) + potential
         aux = (
             tuple(zip(nu, nu_of_p, strict=True))
             + tuple(zip(J, nu_of_p.jacobian(p), strict=True))
             + tuple(zip(pdot, p_rate, strict=True))
             + frame
+            + rates[0]
             + tuple(contact_aux)
         )
         details = GeneralBallEquations(
@@ -325,16 +347,47 @@ class GeneralBallReduction:
         )  # fmt: skip
         level = sp.expand(self.support - self.support.xreplace(dict.fromkeys(p, 0)))
         frame_group = PoissonGroup(FRAME, AXES)
+        timed = any(sp.sympify(e).has(t) for _, e in aux)  # work done: no energy integral
         return Reduced(
             rates={"omega": list(omega_rate), "p": list(pdot)},
             aux=aux,
-            integrals=[("H", energy), ("F", level)],
+            integrals=([] if timed else [("H", energy)]) + [("F", level)],
             density=None,
             constraints=frame_group.constraints({e: desc.state_group(e) for e in AXES}),
             geometry=(frame_group,),
             omega=omega,
             details=details,
         )
+
+
+def _time_rates(
+    der: GeneralBallDerivation, inertia_rate: sp.Matrix, rotor_rate: sp.Matrix
+) -> tuple[tuple[tuple[sp.Symbol, sp.Expr], ...], dict]:
+    """The auxiliaries ``Q I' Q^T`` (upper triangle) and ``Q K'`` where they are not zero,
+    and the substitution of the zero ones."""
+    pairs = [*zip(der.rotor_rate, rotor_rate, strict=True)]
+    pairs += [
+        (der.inertia_rate[i, j], inertia_rate[i, j]) for i in range(3) for j in range(i, 3)
+    ]
+    pairs = [(x, sp.expand(e)) for x, e in pairs]
+    zero = {x: sp.S.Zero for x, e in pairs if e == 0}  # (Idf21 is Idf12)
+    return tuple((x, e) for x, e in pairs if e != 0), zero
+
+
+def _potential_force(
+    V: sp.Expr, omega: sp.Matrix, p: sp.Matrix, Q: sp.Matrix, p_rate: sp.Matrix
+) -> tuple[sp.Matrix, list[tuple[sp.Symbol, sp.Expr]]]:
+    """``tau = -(dp'/d omega)^T dV/dp - sum_i e_i x dV/de_i`` (the auxiliaries ``tau1..3``
+    and the symbols, or zeros without a potential)."""
+    if sp.sympify(V).is_zero:
+        return sp.zeros(3, 1), []
+    grad_p = sp.Matrix([sp.diff(V, c) for c in p])
+    force = -p_rate.jacobian(omega).T * grad_p
+    for i in range(3):
+        e = Q[:, i]
+        force -= cross(e, sp.Matrix([sp.diff(V, c) for c in e]))
+    tau = vector("tau", real=True)
+    return tau, [(tau[i], sp.expand(force[i])) for i in range(3)]
 
 
 def _frame_aux(
@@ -356,6 +409,7 @@ def general_ball_description(
     *,
     side: int = 1,
     gravity: sp.Expr = sp.S.Zero,
+    potential: sp.Expr = sp.S.Zero,
     parameters: tuple[ParameterSpec, ...] = (),
     system: str = "ball_on_support",
 ) -> MechanicalDescription:
@@ -373,6 +427,9 @@ def general_ball_description(
     side : int
         1 outside, -1 inside.
     gravity : sympy.Expr
+    potential : sympy.Expr
+        ``V`` of the contact point ``p`` and the axes ``e1_1 .. e3_3`` (see
+        :class:`GeneralBallReduction`).
     parameters : tuple of ParameterSpec
         Declared in this order.
     system : str
@@ -388,8 +445,9 @@ def general_ball_description(
         time=sp.Symbol("t", real=True),
         omega=omega,
         reduction=GeneralBallReduction(
-            support, mass, radius, inertia, centre, rotor, side=side, gravity=gravity
-        ),
+            support, mass, radius, inertia, centre, rotor, side=side, gravity=gravity,
+            potential=sp.sympify(potential),
+        ),  # fmt: skip
         parameter_order=tuple(spec.name for spec in parameters),
     )
     desc.add_state("omega", tuple(omega), None)
@@ -412,6 +470,7 @@ def general_ball_model(
     *,
     side: int = 1,
     gravity: sp.Expr = sp.S.Zero,
+    potential: sp.Expr = sp.S.Zero,
     parameters: tuple[ParameterSpec, ...] = (),
     system: str = "ball_on_support",
 ) -> Model:
@@ -419,7 +478,7 @@ def general_ball_model(
 
     Parameters
     ----------
-    support, mass, radius, inertia, centre, rotor, side, gravity, parameters, system
+    support, mass, radius, inertia, centre, rotor, side, gravity, potential, parameters, system
         As :func:`general_ball_description`.
 
     Returns
@@ -431,6 +490,6 @@ def general_ball_model(
     return form_model(
         general_ball_description(
             support, mass, radius, inertia, centre, rotor, side=side, gravity=gravity,
-            parameters=parameters, system=system,
+            potential=potential, parameters=parameters, system=system,
         )  # fmt: skip
     )

@@ -32,6 +32,12 @@ __all__: list[str] = []
 #: The centre's state symbols of a ball named by its centre's surface (``x_1`` ...: the
 #: emitters name subexpressions ``x0, x1, ...``) by the names a text uses for them.
 CENTRE = {f"x{i}": sp.Symbol(f"x_{i}", real=True) for i in (1, 2, 3)}
+#: The names a potential of a ball on a support surface may use: the contact point ``p1 ..
+#: p3`` and the body axes' fixed-frame components ``e1_1 .. e3_3`` (the state's symbols).
+SUPPORT_CONFIGURATION = {
+    **{f"p{i}": sp.Symbol(f"p{i}", real=True) for i in (1, 2, 3)},
+    **{f"e{i}_{j}": sp.Symbol(f"e{i}_{j}", real=True) for i in (1, 2, 3) for j in (1, 2, 3)},
+}
 
 
 def _convex_body_description(
@@ -112,10 +118,10 @@ def _support_surface_description(s: RollingSystem) -> MechanicalDescription:
     b, m = p["radius"], p["mass"]
     side = 1 if s.side == "outside" else -1
     names = tuple(x.name for x in p["parameters"])
-    if not _homogeneous(p):
+    if _attitude_needed(p):
         desc = general_ball_description(
             p["support_surface"], m, b, p["inertia"], p["centre"], p["rotor_momentum"],
-            side=side, gravity=p["field"], system=s.name,
+            side=side, gravity=p["field"], potential=p["potential"], system=s.name,
         )  # fmt: skip
         desc.parameter_order = names
         _declare_parameters(desc, p)
@@ -151,30 +157,33 @@ def _homogeneous(parsed: dict) -> bool:
     )
 
 
+def _attitude_needed(parsed: dict) -> bool:
+    """A ball on a support surface whose motion depends on its attitude or the time (not
+    homogeneous, a potential, ``I(t)``): the general route, the body axes in the state."""
+    t = sp.Symbol("t", real=True)
+    return (
+        not _homogeneous(parsed) or not parsed["potential"].is_zero or parsed["inertia"].has(t)
+    )
+
+
 def _read_support_surface(s: RollingSystem, scope: dict, parsed: dict) -> sp.Expr | None:
-    """``F(p)`` of a support surface; what it refuses (rubber or line contact, ``I(t)``,
-    ``K(t)``, a potential; a convex body is refused by :func:`_read_surface`)."""
+    """``F(p)`` of a support surface; what it refuses (rubber or line contact; a convex body
+    is refused by :func:`_read_surface`)."""
     if s.support != "surface":
         if s.support_surface is not None:
             raise UserInputError(f"support_surface is given but the support is a {s.support}")
         return None
     if s.support_surface is None:
         raise UserInputError("support 'surface' needs support_surface (F(p1, p2, p3) = 0)")
-    t = sp.Symbol("t", real=True)
-    refused = {
-        "a time-dependent inertia": parsed["inertia"].has(t),
-        "a prescribed rotor K(t)": parsed["rotor_momentum"].has(t),
-        "a potential": not parsed["potential"].is_zero,
-        f"contact {s.contact!r}": s.contact != "rolling",
-    }
+    refused = {f"contact {s.contact!r}": s.contact != "rolling"}
     clash = sorted(set(scope) & AUX_NAMES)  # (the homogeneous route's nu, Dnu, pdot too)
     if clash:
         raise UserInputError(f"parameter names {clash} are the derivation's auxiliaries")
     if any(refused.values()):
         what = ", ".join(k for k, v in refused.items() if v)
         raise UserInputError(
-            f"on a support surface this version derives a ball (any constant inertia, centre "
-            f"of mass, constant rotor, gravity) rolling without slipping, not {what}"
+            f"on a support surface this version derives a ball (any inertia, centre of mass, "
+            f"rotor, gravity, potential) rolling without slipping, not {what}"
         )
     x = {f"p{i}": sp.Symbol(f"p{i}", real=True) for i in (1, 2, 3)}
     F = read_fixed_surface(s.support_surface, scope, x, "support_surface")
@@ -290,8 +299,8 @@ def _used_parameters(parameters: tuple[sp.Symbol, ...], p: dict) -> tuple[sp.Sym
     if p["support_surface"] is not None:
         ratio = sp.simplify(p["inertia"][0, 0] / (p["mass"] * p["radius"] ** 2))
         kept = (p["radius"],) if ratio.is_number else (p["inertia"], p["mass"], p["radius"])
-        if not _homogeneous(p):  # the general ball's
+        if _attitude_needed(p):  # the general ball's
             kept = (p["inertia"], p["mass"], p["radius"], p["centre"], p["rotor_momentum"])
-        used = free(*kept, p["field"],
+        used = free(*kept, p["field"], p["potential"],
                     *(sp.diff(p["support_surface"], c) for c in vector("p", real=True)))
     return parameters if used is None else tuple(x for x in parameters if x in used)

@@ -68,9 +68,9 @@ momentum integrals are kept where ``P' = P x omega`` still holds.
 
 A ball rolls without slipping on a fixed support surface ``F(p) = 0``
 (``support="surface"``, with gravity), in the fixed frame: a homogeneous one by
-:mod:`.ball_on_support` (state ``omega`` and the contact point ``p``), any other (constant
-inertia and rotor, any centre of mass) by :mod:`.ball_on_support_general` (with the body
-axes ``e1, e2, e3``).
+:mod:`.ball_on_support` (state ``omega`` and the contact point ``p``), any other (any
+inertia, also ``I(t)``, any rotor, also ``K(t)``, any centre of mass, a potential of ``p``
+and the axes) by :mod:`.ball_on_support_general` (with the body axes ``e1, e2, e3``).
 
 A convex body also rolls, or rubber rolls (``(omega, n) = 0``), on a fixed sphere: M03
 §2's stage with the signed curvature ``k = -1/R`` outside, ``1/R`` inside, ``(k Id +
@@ -81,8 +81,8 @@ potential may use ``zeta`` beside ``gamma = n(r)``, its torque ``-d(dV/dt)/d ome
 along the motion, ``n' = n x omega - k r'``.
 
 Every other support, contact and surface the issue lists (a convex body along a line,
-a convex body, a potential, rubber contact, ``I(t)`` or ``K(t)`` on a support surface,
-rolling along a line on a moving plane) is refused with a message that says so — before any work.
+a convex body or rubber contact on a support surface, rolling along a line on a moving
+plane) is refused with a message that says so — before any work.
 
 Every text a user types is read by :func:`~.expression_text.parse_expression` (no
 ``eval``); the checks of :meth:`RollingSystem.__post_init__` run before anything is
@@ -110,6 +110,7 @@ from .rigid_body import RigidBodyReduction
 from .rolling_centre import _centre_surface_description, _read_centre_surface
 from .rolling_surfaces import (
     CENTRE,
+    SUPPORT_CONFIGURATION,
     _convex_body_description,
     _declare_parameters,
     _read_support_surface,
@@ -237,7 +238,9 @@ class RollingSystem:
     potential : str or sympy.Expr, optional
         A potential of the orientation: an expression of ``gamma1, gamma2, gamma3`` and
         the parameters (on a sphere also of the vertical ``zeta1, zeta2, zeta3``); with
-        ``centre_surface`` a potential of the centre's position ``x1, x2, x3``.
+        ``centre_surface`` a potential of the centre's position ``x1, x2, x3``; with
+        ``support_surface`` of the contact point ``p1, p2, p3`` and the body axes'
+        fixed-frame components ``e1_1 .. e3_3``.
     contact : {"rolling", "rubber", "line"}
         Rolling without slipping, without slipping and twisting (``(omega, gamma) =
         0``), or without slipping along the fixed line ``alpha`` (``(omega, alpha) = 0``,
@@ -257,10 +260,10 @@ class RollingSystem:
         constants or expressions of ``t`` (``support="moving_plane"`` only).
     support_surface : str or sympy.Expr, optional
         ``F(p1, p2, p3)`` of a fixed support surface ``F = 0`` in the fixed frame (``p3``
-        up, ``F < 0`` inside the support; ``support="surface"`` only): a ball (constant
-        inertia and rotor, no potential) rolls on it, with gravity along ``-p3``; the
-        state is ``omega`` and the contact point ``p`` in the fixed frame, and unless the
-        ball is homogeneous its body axes ``e1, e2, e3`` (fixed-frame components).
+        up, ``F < 0`` inside the support; ``support="surface"`` only): a ball rolls on it,
+        with gravity along ``-p3`` and a potential; the state is ``omega`` and the contact
+        point ``p`` in the fixed frame, and unless the ball is homogeneous (and free of a
+        potential and of ``I(t)``) its body axes ``e1, e2, e3`` (fixed-frame components).
     centre_surface : str or sympy.Expr, optional
         Instead of ``support_surface``: ``F(x1, x2, x3)``, the surface a homogeneous ball's
         centre moves on (the support is its parallel surface at the radius, M03 §1); the
@@ -600,6 +603,8 @@ def _parse(s: RollingSystem) -> dict:
     gamma = {f"{n}{i}": sp.Symbol(f"{n}{i}", real=True) for n in vectors for i in (1, 2, 3)}
     if s.centre_surface is not None:  # a potential of the centre's position
         gamma = dict(CENTRE)
+    elif s.support == "surface":  # of the contact point and the body axes (fixed frame)
+        gamma = dict(SUPPORT_CONFIGURATION)
     potential = (
         sp.S.Zero
         if s.potential is None
@@ -678,7 +683,7 @@ def _moving_support(s: RollingSystem, support: str, key: str, meaning: str) -> b
 #: Names a description's texts use for the state (not parameters).
 _STATE_NAMES = (
     *("gamma1", "gamma2", "gamma3", "zeta1", "zeta2", "zeta3", "x1", "x2", "x3"),
-    *("p1", "p2", "p3"),
+    *SUPPORT_CONFIGURATION,  # p1 .. p3 and the body axes e1_1 .. e3_3
 )
 
 

@@ -147,11 +147,12 @@ def test_names_become_exact_parameters_and_decimals_stay_exact():
                 "support_surface": "p3",
                 "potential": "gamma1",
             },
-            "not a potential",
+            "potential: unknown name 'gamma1'",  # of p and the axes e1_1 .. e3_3 there
         ),
         (
-            {"inertia": ("1 + t", 1, 1), "support": "surface", "support_surface": "p3"},
-            "not a time-dependent inertia",
+            {"inertia": (1, 1, 1), "support": "surface", "support_surface": "p3",
+             "contact": "line"},  # fmt: skip
+            "not contact 'line'",
         ),
         (
             {"inertia": (1, 1, 1), "support": "surface", "support_surface": "p1**2 - p2**2 + p3"},
