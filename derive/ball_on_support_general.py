@@ -65,7 +65,9 @@ __all__ = [
 AXES = ("e1", "e2", "e3")
 #: The names of the auxiliary symbols (a parameter must not take them).
 AUX_NAMES = frozenset(
-    {f"{n}{i}" for n in ("nu", "pdot", "af", "Kf", "Kdf", "hc", "tau") for i in (1, 2, 3)}
+    {f"{n}{i}" for n in ("nu", "pdot", "af", "Kf", "Kdf", "hc", "tau", "w", "zr")
+     for i in (1, 2, 3)}  # fmt: skip
+    | {"mu"}
     | {f"{n}{i}{j}" for n in ("Dnu", "If", "Idf", "Pc") for i in (1, 2, 3) for j in (1, 2, 3)}
 )
 
@@ -261,6 +263,11 @@ class GeneralBallReduction:
         ``V(p, e1, e2, e3)`` (0: none): its generalised force on the admissible velocities
         ``tau = -d(dV/dt)/d omega = -(dp'/d omega)^T dV/dp - sum_i e_i x dV/de_i`` joins
         ``h``, and ``V`` the energy.
+    rubber : bool
+        Rubber rolling: no spin about the normal, ``(omega, n) = 0`` (an invariant relation,
+        written ``(omega, grad F) = 0``); its reaction torque ``mu n`` joins ``P omega' = h
+        + mu n``, ``mu`` from ``d/dt (omega, n) = 0``: ``omega' = w + mu z``, ``w = P^-1 h``,
+        ``z = P^-1 n``, ``mu = -((omega, n') + (w, n))/(z, n)``.
     """
 
     support: sp.Expr
@@ -272,6 +279,7 @@ class GeneralBallReduction:
     side: int = 1
     gravity: sp.Expr = sp.S.Zero
     potential: sp.Expr = sp.S.Zero
+    rubber: bool = False
 
     def reduce(self, desc: MechanicalDescription) -> Reduced:
         """``omega'`` and ``p'`` (the axes' rates are declared), the energy (when nothing
@@ -331,6 +339,10 @@ class GeneralBallReduction:
         contact_aux += [(hc[i], der.forcing[i].xreplace(to_support) + tau[i]) for i in range(3)]
         adjP, detP = _adjugate_and_det(Pc)
         omega_rate = adjP * hc / detP
+        if self.rubber:  # the reaction mu n of (omega, n) = 0
+            omega_rate, no_spin = _no_spin(omega_rate, adjP * (s * nu) / detP, omega, s * nu,
+                                           s * J * pdot)  # fmt: skip
+            contact_aux += no_spin
         potential = m * self.gravity * (p[2] + der.height.xreplace(to_support)) + self.potential
         energy = der.kinetic_energy.xreplace(to_support) + potential
         aux = (
@@ -355,6 +367,7 @@ class GeneralBallReduction:
             density=None,
             constraints=frame_group.constraints({e: desc.state_group(e) for e in AXES}),
             geometry=(frame_group,),
+            relation_unknowns=tuple(omega) if self.rubber else (),
             omega=omega,
             details=details,
         )
@@ -372,6 +385,17 @@ def _time_rates(
     pairs = [(x, sp.expand(e)) for x, e in pairs]
     zero = {x: sp.S.Zero for x, e in pairs if e == 0}  # (Idf21 is Idf12)
     return tuple((x, e) for x, e in pairs if e != 0), zero
+
+
+def _no_spin(
+    free: sp.Matrix, z: sp.Matrix, omega: sp.Matrix, n: sp.Matrix, ndot: sp.Matrix
+) -> tuple[sp.Matrix, list[tuple[sp.Symbol, sp.Expr]]]:
+    """``omega' = w + mu z`` with ``w`` the rate without the no-spin reaction, ``z = P^-1
+    n`` and ``mu = -((omega, n') + (w, n))/(z, n)``: the auxiliaries ``w``, ``z``, ``mu``."""
+    w, zs, mu = vector("w", real=True), vector("zr", real=True), sp.Symbol("mu", real=True)
+    aux = [*zip(w, free, strict=True), *zip(zs, z, strict=True)]
+    aux.append((mu, -(dot(omega, ndot) + dot(w, n)) / dot(zs, n)))
+    return w + mu * zs, aux
 
 
 def _potential_force(
@@ -410,6 +434,7 @@ def general_ball_description(
     side: int = 1,
     gravity: sp.Expr = sp.S.Zero,
     potential: sp.Expr = sp.S.Zero,
+    rubber: bool = False,
     parameters: tuple[ParameterSpec, ...] = (),
     system: str = "ball_on_support",
 ) -> MechanicalDescription:
@@ -430,6 +455,8 @@ def general_ball_description(
     potential : sympy.Expr
         ``V`` of the contact point ``p`` and the axes ``e1_1 .. e3_3`` (see
         :class:`GeneralBallReduction`).
+    rubber : bool
+        Rubber rolling (see :class:`GeneralBallReduction`).
     parameters : tuple of ParameterSpec
         Declared in this order.
     system : str
@@ -446,12 +473,16 @@ def general_ball_description(
         omega=omega,
         reduction=GeneralBallReduction(
             support, mass, radius, inertia, centre, rotor, side=side, gravity=gravity,
-            potential=sp.sympify(potential),
+            potential=sp.sympify(potential), rubber=rubber,
         ),  # fmt: skip
         parameter_order=tuple(spec.name for spec in parameters),
     )
     desc.add_state("omega", tuple(omega), None)
-    desc.add_state("p", tuple(vector("p", real=True)), None)
+    p = vector("p", real=True)
+    desc.add_state("p", tuple(p), None)
+    if rubber:  # no spin about the normal: (omega, grad F) = 0, kept by the flow
+        grad = sp.Matrix([sp.diff(support, c) for c in p])
+        desc.add_invariant_relation("(omega,grad F)", sp.expand(dot(omega, grad)))
     for name in AXES:  # body-fixed: e' = omega x e
         e = _axis(name)
         desc.add_state(name, tuple(e), list(cross(omega, e)))
@@ -471,6 +502,7 @@ def general_ball_model(
     side: int = 1,
     gravity: sp.Expr = sp.S.Zero,
     potential: sp.Expr = sp.S.Zero,
+    rubber: bool = False,
     parameters: tuple[ParameterSpec, ...] = (),
     system: str = "ball_on_support",
 ) -> Model:
@@ -478,7 +510,9 @@ def general_ball_model(
 
     Parameters
     ----------
-    support, mass, radius, inertia, centre, rotor, side, gravity, potential, parameters, system
+    support, mass, radius, inertia, centre, rotor, side, gravity, potential, rubber
+        As :func:`general_ball_description`.
+    parameters, system
         As :func:`general_ball_description`.
 
     Returns
@@ -490,6 +524,6 @@ def general_ball_model(
     return form_model(
         general_ball_description(
             support, mass, radius, inertia, centre, rotor, side=side, gravity=gravity,
-            potential=potential, parameters=parameters, system=system,
+            potential=potential, rubber=rubber, parameters=parameters, system=system,
         )  # fmt: skip
     )

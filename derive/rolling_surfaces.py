@@ -121,7 +121,8 @@ def _support_surface_description(s: RollingSystem) -> MechanicalDescription:
     if _attitude_needed(p):
         desc = general_ball_description(
             p["support_surface"], m, b, p["inertia"], p["centre"], p["rotor_momentum"],
-            side=side, gravity=p["field"], potential=p["potential"], system=s.name,
+            side=side, gravity=p["field"], potential=p["potential"],
+            rubber=_no_spin_about_normal(p), system=s.name,
         )  # fmt: skip
         desc.parameter_order = names
         _declare_parameters(desc, p)
@@ -158,12 +159,20 @@ def _homogeneous(parsed: dict) -> bool:
 
 
 def _attitude_needed(parsed: dict) -> bool:
-    """A ball on a support surface whose motion depends on its attitude or the time (not
-    homogeneous, a potential, ``I(t)``): the general route, the body axes in the state."""
+    """A ball on a support surface the homogeneous route does not derive (not homogeneous, a
+    potential, ``I(t)``, rubber contact): the general route, the body axes in the state."""
     t = sp.Symbol("t", real=True)
     return (
-        not _homogeneous(parsed) or not parsed["potential"].is_zero or parsed["inertia"].has(t)
+        not _homogeneous(parsed)
+        or not parsed["potential"].is_zero
+        or parsed["inertia"].has(t)
+        or _no_spin_about_normal(parsed)
     )
+
+
+def _no_spin_about_normal(parsed: dict) -> bool:
+    """Whether the contact forbids spinning about the support's normal (``gamma``)."""
+    return "gamma" in parsed.get("no_spin_about", ())
 
 
 def _read_support_surface(s: RollingSystem, scope: dict, parsed: dict) -> sp.Expr | None:
@@ -175,7 +184,7 @@ def _read_support_surface(s: RollingSystem, scope: dict, parsed: dict) -> sp.Exp
         return None
     if s.support_surface is None:
         raise UserInputError("support 'surface' needs support_surface (F(p1, p2, p3) = 0)")
-    refused = {f"contact {s.contact!r}": s.contact != "rolling"}
+    refused = {f"contact {s.contact!r}": s.contact == "line"}
     clash = sorted(set(scope) & AUX_NAMES)  # (the homogeneous route's nu, Dnu, pdot too)
     if clash:
         raise UserInputError(f"parameter names {clash} are the derivation's auxiliaries")
@@ -183,7 +192,7 @@ def _read_support_surface(s: RollingSystem, scope: dict, parsed: dict) -> sp.Exp
         what = ", ".join(k for k, v in refused.items() if v)
         raise UserInputError(
             f"on a support surface this version derives a ball (any inertia, centre of mass, "
-            f"rotor, gravity, potential) rolling without slipping, not {what}"
+            f"rotor, gravity, potential) rolling or rubber rolling, not {what}"
         )
     x = {f"p{i}": sp.Symbol(f"p{i}", real=True) for i in (1, 2, 3)}
     F = read_fixed_surface(s.support_surface, scope, x, "support_surface")

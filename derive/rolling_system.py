@@ -70,7 +70,8 @@ A ball rolls without slipping on a fixed support surface ``F(p) = 0``
 (``support="surface"``, with gravity), in the fixed frame: a homogeneous one by
 :mod:`.ball_on_support` (state ``omega`` and the contact point ``p``), any other (any
 inertia, also ``I(t)``, any rotor, also ``K(t)``, any centre of mass, a potential of ``p``
-and the axes) by :mod:`.ball_on_support_general` (with the body axes ``e1, e2, e3``).
+and the axes, rubber rolling) by :mod:`.ball_on_support_general` (with the body axes ``e1,
+e2, e3``).
 
 A convex body also rolls, or rubber rolls (``(omega, n) = 0``), on a fixed sphere: M03
 §2's stage with the signed curvature ``k = -1/R`` outside, ``1/R`` inside, ``(k Id +
@@ -81,8 +82,8 @@ potential may use ``zeta`` beside ``gamma = n(r)``, its torque ``-d(dV/dt)/d ome
 along the motion, ``n' = n x omega - k r'``.
 
 Every other support, contact and surface the issue lists (a convex body along a line,
-a convex body or rubber contact on a support surface, rolling along a line on a moving
-plane) is refused with a message that says so — before any work.
+a convex body on a support surface, rolling along a line on a moving plane) is refused
+with a message that says so — before any work.
 
 Every text a user types is read by :func:`~.expression_text.parse_expression` (no
 ``eval``); the checks of :meth:`RollingSystem.__post_init__` run before anything is
@@ -640,6 +641,7 @@ def _parse(s: RollingSystem) -> dict:
         "support_surface": support_surface,
         "centre_surface": centre_surface,
         "potential": potential,
+        "no_spin_about": _NO_SPIN_ABOUT[s.contact],  # the contact's forbidden spins
     }
     parameters = _used_parameters(tuple(symbols[n] for n in names), parsed)
     inside = support_radius if s.side == "inside" else None

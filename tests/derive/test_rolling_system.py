@@ -136,9 +136,9 @@ def test_names_become_exact_parameters_and_decimals_stay_exact():
                 "inertia": (1, 2, 1),
                 "support": "surface",
                 "support_surface": "p1**2 + p3 - 1",
-                "contact": "rubber",
+                "surface": "x1**2 + x2**2 + 2*x3**2 - 1",
             },
-            "not contact 'rubber'",
+            "not with support 'surface'",  # a convex body on a support surface
         ),
         (
             {

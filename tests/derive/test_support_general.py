@@ -170,9 +170,9 @@ EGG = dict(
 def test_a_general_ball_is_derived_and_what_is_not_is_refused():
     """The description with symbols (any inertia with a product, offset, rotor, an
     ellipsoid with symbolic axes) derives the state omega, p, e1, e2, e3 and the integrals
-    H and F; a rubber contact, a line contact and a potential of what is not the
-    configuration are refused on one line (K(t), I(t) and potentials of p and the axes are
-    derived: tests/derive/test_support_general_fields.py)."""
+    H and F; a line contact and a potential of what is not the configuration are refused
+    on one line (rubber contact, K(t), I(t) and potentials of p and the axes are derived:
+    tests/derive/test_support_general_fields.py)."""
     system = RollingSystem("egg", **EGG)
     model = system.model()
     assert model.state_names[:6] == ("omega1", "omega2", "omega3", "p1", "p2", "p3")
@@ -180,7 +180,6 @@ def test_a_general_ball_is_derived_and_what_is_not_is_refused():
     assert [n for n, _ in model.integrals] == ["H", "F"]
     assert set(model.param_names) == set("m b A B C D a g k c1 c2 c3".split())
     refused = (
-        ({"contact": "rubber"}, "contact 'rubber'"),
         ({"contact": "line"}, "contact 'line'"),
         ({"potential": "omega1"}, "['omega1'] are reserved"),
         ({"centre_of_mass": (0, 0, "af3")}, "['af3'] are the derivation's auxiliaries"),

@@ -27,33 +27,35 @@ def _ball(name: str, **fields) -> RollingSystem:
     return RollingSystem(name, **fields)
 
 
-def _point(model, p: sp.Matrix) -> dict:
+def _point(model, p: sp.Matrix, omega: sp.Matrix = OMEGA) -> dict:
     names = {x.name: x for x in (*model.state, model.time)}
-    point = {names[f"omega{i + 1}"]: OMEGA[i] for i in range(3)}
+    point = {names[f"omega{i + 1}"]: omega[i] for i in range(3)}
     point.update({names[f"p{i + 1}"]: p[i] for i in range(3)})
     point.update({names[f"e{j + 1}_{i + 1}"]: Q[i, j] for i in range(3) for j in range(3)})
     point[model.time] = T0
     return point
 
 
-def _surface_rates(model, p: sp.Matrix) -> tuple[sp.Matrix, sp.Matrix]:
-    """``omega'`` and ``p'`` at ``(OMEGA, p, Q)``, time ``T0``, the auxiliaries in order."""
-    point = _point(model, p)
+def _surface_rates(model, p: sp.Matrix, omega: sp.Matrix = OMEGA) -> tuple[sp.Matrix, sp.Matrix]:
+    """``omega'`` and ``p'`` at ``(omega, p, Q)``, time ``T0``, the auxiliaries in order."""
+    point = _point(model, p, omega)
     for symbol, expr in model.aux:
         point[symbol] = sp.radsimp(expr.xreplace(point))
     rates = sp.Matrix(model.rhs).xreplace(point).applyfunc(sp.radsimp)
     return sp.Matrix(rates[:3]), sp.Matrix(rates[3:6])
 
 
-def _plane_acceleration(model) -> sp.Matrix:
-    """``Q omega_b'`` of the body-frame plane route at ``omega_b = Q^T OMEGA``, gamma = Q^T
-    e3, time ``T0`` (``omega = omega(M, gamma, t)``: its explicit time derivative too)."""
+def _plane_acceleration(model, omega: sp.Matrix = OMEGA, vectors: dict | None = None) -> sp.Matrix:
+    """``Q omega_b'`` of a body-frame route at ``omega_b = Q^T omega``, gamma = Q^T e3 (or
+    the body-frame ``vectors`` given), time ``T0`` (``omega = omega(M, gamma, t)``: its
+    explicit time derivative too)."""
     names = {x.name: x for x in model.state}
-    point = {names[f"gamma{i + 1}"]: (Q.T * E3)[i] for i in range(3)}
+    vectors = {"gamma": Q.T * E3} if vectors is None else vectors
+    point = {names[f"{n}{i + 1}"]: v[i] for n, v in vectors.items() for i in range(3)}
     point[model.time] = T0
     momentum = sp.Matrix(model.group("M"))
     omega_of_m = model.expand_aux(model.omega)
-    solved = sp.solve(list(omega_of_m.xreplace(point) - Q.T * OMEGA), list(momentum), dict=True)
+    solved = sp.solve(list(omega_of_m.xreplace(point) - Q.T * omega), list(momentum), dict=True)
     point.update(solved[0])
     rates = model.rhs_expanded.xreplace(point)
     state = sp.Matrix(model.state)
@@ -127,16 +129,19 @@ def test_a_prescribed_rotor_and_inertia_on_p3_move_as_on_the_plane(frozen, agree
     assert ((acceleration - omega_rate).applyfunc(sp.simplify) == sp.zeros(3, 1)) is agrees
 
 
+@pytest.mark.parametrize("contact", ["rolling", "rubber"])
 @pytest.mark.parametrize("sign, conserved", [(1, True), (-1, False)])
-def test_the_energy_with_a_potential_is_an_integral(sign, conserved):
+def test_the_energy_with_a_potential_is_an_integral(contact, sign, conserved):
     """On an ellipsoid with symbolic axes, a heavy unbalanced ball under a potential of the
-    contact point and the attitude: H (shipped) has exactly zero rate at sampled points of
-    the phase space, through the auxiliaries; H with the potential's sign flipped does not."""
+    contact point and the attitude, rolling or rubber rolling (the sampled points on its
+    invariant relation (omega, grad F) = 0): H (shipped) has exactly zero rate at sampled
+    points of the phase space, through the auxiliaries; H with the potential's sign flipped
+    does not."""
     system = RollingSystem(
-        "potential_egg", inertia=[["A", "D", 0], ["D", "B", 0], [0, 0, "C"]],
+        f"potential_egg_{contact}", inertia=[["A", "D", 0], ["D", "B", 0], [0, 0, "C"]],
         centre_of_mass=(0, 0, "a"), gravity="g", support="surface",
         support_surface="p1**2/c1 + p2**2/c2 + p3**2/c3 - 1",
-        potential="k*(p1**2 + e1_3*p2) + q*e2_1*e3_3",
+        potential="k*(p1**2 + e1_3*p2) + q*e2_1*e3_3", contact=contact,
     )  # fmt: skip
     model = system.model()
     names = {x.name: x for x in (*model.state, *model.params)}
@@ -146,4 +151,52 @@ def test_the_energy_with_a_potential_is_an_integral(sign, conserved):
     rng = random.Random(5)
     for _ in range(2):
         point = sample_point(model, rng, model.state)
+        for _, relation in model.invariant_relations:
+            assert relation.xreplace(point) == 0
         assert (rate_at(model, energy, point) == 0) is conserved
+        for _, relation in model.invariant_relations:  # kept by the flow
+            assert rate_at(model, relation, point) == 0
+
+
+#: Angular velocities with no spin about the normal: of the plane (e3) and of the sphere's
+#: normal n = (2, 3, 6)/7.
+NO_SPIN = {"plane": sp.Matrix([R_(3, 10), R_(-7, 10), 0]),
+           "sphere": sp.Matrix([R_(3, 10), R_(-1, 5), 0])}  # fmt: skip
+
+
+@pytest.mark.parametrize("contact, agrees", [("rubber", True), ("rolling", False)])
+def test_rubber_rolling_on_p3_moves_as_the_rubber_ball_on_the_plane(contact, agrees):
+    """Rubber rolling ((omega, n) = 0, the reaction mu n) on F = p3 against the plane
+    route's rubber ball (the no-twist constraint (omega, gamma) = 0 in the body frame), for an
+    unbalanced ball with a product of inertia and a rotor under gravity, at an angular
+    velocity without spin; the plane route rolling (twist allowed) is the control."""
+    omega = NO_SPIN["plane"]
+    common = {"gyrostat": list(ROTOR), "gravity": G}
+    surface = _ball("rubber_surface", support="surface", support_surface="p3",
+                    contact="rubber", **common).model()  # fmt: skip
+    plane = _ball("rubber_plane", contact=contact, **common).model()
+    omega_rate, _ = _surface_rates(surface, sp.Matrix([R_(1, 3), R_(2, 3), 0]), omega)
+    assert omega_rate[2] == 0  # no spin is kept
+    acceleration = _plane_acceleration(plane, omega)
+    assert ((acceleration - omega_rate).applyfunc(sp.simplify) == sp.zeros(3, 1)) is agrees
+
+
+@pytest.mark.parametrize("side", ["outside", "inside"])
+@pytest.mark.parametrize("contact, agrees", [("rubber", True), ("rolling", False)])
+def test_rubber_rolling_on_a_sphere_moves_as_on_the_sphere_support(side, contact, agrees):
+    """F = |p|^2 - R^2 with rubber contact against the sphere support's rubber ball (body
+    frame: the normal gamma, the vertical zeta), outside and inside; the sphere route rolling
+    is the control."""
+    R, s = R_(29, 10), 1 if side == "outside" else -1
+    n = sp.Matrix([R_(2, 7), R_(3, 7), R_(6, 7)])
+    omega = NO_SPIN["sphere"]
+    assert omega.dot(n) == 0
+    common = {"gyrostat": list(ROTOR), "gravity": G, "side": side}
+    shape = f"p1**2 + p2**2 + p3**2 - ({R})**2"
+    surface = _ball("rubber_on_sphere_surface", support="surface", support_surface=shape,
+                    contact="rubber", **common).model()  # fmt: skip
+    sphere = _ball("rubber_on_sphere", support="sphere", support_radius=R, contact=contact,
+                   **common).model()  # fmt: skip
+    omega_rate, _ = _surface_rates(surface, s * R * n, omega)
+    acceleration = _plane_acceleration(sphere, omega, {"gamma": Q.T * n, "zeta": Q.T * E3})
+    assert ((acceleration - omega_rate).applyfunc(sp.simplify) == sp.zeros(3, 1)) is agrees

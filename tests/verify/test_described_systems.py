@@ -94,8 +94,8 @@ def test_discover_reads_a_description_file(tmp_path, capsys, monkeypatch):
         ('name = "chaplygin_ball"\ninertia = [1, 1, 1]', "taken by a built-in"),
         (
             'name = "bad"\ninertia = [1, 2, 1]\nsupport = "surface"\n'
-            'support_surface = "p1**2 + p3"\ncontact = "rubber"',
-            "not contact 'rubber'",
+            'support_surface = "p1**2 + p3"\ncontact = "line"',
+            "not contact 'line'",
         ),
         ('name = "bad"\ninertia = [1, 1, 1]\nsupport = "sphere"', "needs support_radius"),
     ],
