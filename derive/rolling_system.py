@@ -55,8 +55,8 @@ and the contact point ``r`` from the centre of mass (``(dn/dr + n n^T) r' = n x 
 ``n = -grad f/|grad f|`` the upward normal), the integrals the energy (on the fixed plane)
 and the surface's level ``f`` (the contact point stays on it). On a rotating plane the
 state gains the contact's position ``rho`` from the axis (``rho' = Omega n x rho + r' + rho
-x omega``, the relation ``(rho, grad f) = 0``) and, at a constant rate and rolling, the
-energy in the plane's frame ``J = E - Omega (n, I omega + K + m (rho - r) x v)`` is an
+x omega``, the relation ``(rho, grad f) = 0``) and, at a constant rate, rolling or rubber,
+the energy in the plane's frame ``J = E - Omega (n, I omega + K + m (rho - r) x v)`` is an
 integral; on a moving plane the fixed axes ``alpha, beta`` (a constant velocity changes
 nothing: only ``V'`` enters). A rubber body ships ``(omega, n) - Omega`` (zero on the
 phase space).
@@ -500,7 +500,8 @@ class RollingSystem:
 
 
 def _jacobi_integral(s: RollingSystem, desc: MechanicalDescription) -> None:
-    """On a plane turning at a constant rate (rolling, nothing prescribed in time): the
+    """On a plane turning at a constant rate (rolling or rubber: the no-twist reaction does
+    no work in the turning frame on ``(omega, gamma) = Omega``; nothing prescribed in time): the
     energy in the turning frame ``J = E - Omega (gamma, I omega + K + m (rho - r) x v)``
     with ``r = -a - b gamma`` and ``v = r x omega + Omega gamma x rho`` (the no-slip
     constraint is homogeneous in the turning frame's velocities), in ``omega`` (the model's
@@ -508,7 +509,7 @@ def _jacobi_integral(s: RollingSystem, desc: MechanicalDescription) -> None:
     p, t = s._parsed, desc.time
     Omega = p["rotation_rate"]
     timed = p["inertia"].has(t) or p["rotor_momentum"].has(t)
-    if s.support != "rotating_plane" or Omega.has(t) or timed or s.contact != "rolling":
+    if s.support != "rotating_plane" or Omega.has(t) or timed or s.contact == "line":
         return
     gamma = desc.vectors["gamma"]
     r = -p["centre"] - p["radius"] * gamma
