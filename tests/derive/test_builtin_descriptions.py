@@ -173,6 +173,12 @@ def _check_field(system: str, effects: frozenset[str]) -> None:
         assert sp.simplify(ours - rho) == 0
 
 
+def _parameter_point(model: Model) -> dict[sp.Symbol, sp.Expr]:
+    """Exact positive rationals for the model's parameters (seeded)."""
+    rng = random.Random(33)
+    return {p: sp.Rational(rng.randint(1, 40), rng.randint(1, 13)) for p in model.params}
+
+
 def _check_conservation(system: str, effects: frozenset[str]) -> None:
     """Every built-in integral and the built-in density, on the described flow: proved.
     :data:`ON_THE_PHASE_SPACE`: at an exact rational point of the parameters (for symbolic
@@ -182,10 +188,7 @@ def _check_conservation(system: str, effects: frozenset[str]) -> None:
     bd, builtin, described = _pair(system, effects)
     sub = bd.substitution(builtin, described)
     domain = Domain(described)
-    point = {}
-    if system in ON_THE_PHASE_SPACE:
-        rng = random.Random(33)
-        point = {p: sp.Rational(rng.randint(1, 40), rng.randint(1, 13)) for p in described.params}
+    point = _parameter_point(described) if system in ON_THE_PHASE_SPACE else {}
     for name, _ in builtin.integrals:
         lie = _derivative(builtin, described, sub, name).xreplace(point)
         assert decide([lie], domain, method="symbolic").verdict == "proved", name
@@ -299,6 +302,22 @@ def test_the_wrong_contact_is_refuted():
     assert _field_mismatch(builtin, rolling, sub) != []
     twist = _derivative(builtin, rolling, sub, "(omega,gamma)")
     assert _on_the_phase_space(twist, rolling) != 0
+
+
+def test_a_wrong_support_identification_is_refuted():
+    """D_al = w1 + w3 (for w1 - w3): the built-in omega does not give the described
+    momentum on the phase space, and the energy's derivative along the described flow has
+    a witness at the parameter point of the conservation proof. Without the declared
+    factor the densities differ."""
+    bd, builtin, described = _pair("spherical_support", frozenset())
+    sub = bd.substitution(builtin, described)
+    names = {s.name: s for s in (*builtin.params, *described.params)}
+    wrong = {**sub, names["D_al"]: sub[names["D_al"]] + 2 * names["lambda3"] / names["r3"] ** 2}
+    assert _field_mismatch(builtin, described, wrong) == ["omega"]
+    lie = _derivative(builtin, described, wrong, "H").xreplace(_parameter_point(described))
+    assert decide([lie], Domain(described), method="symbolic").verdict == "refuted"
+    rho = builtin.expand_aux(builtin.density).xreplace(sub)
+    assert not _proved_zero(rho**2 - described.expand_aux(described.density) ** 2, described)
 
 
 def test_without_the_change_of_state_the_periodic_gyrostat_is_refuted():
