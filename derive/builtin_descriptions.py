@@ -13,9 +13,18 @@ identification — the same vector field, integrals and density — is proved by
 
 The ball on a surface is named by the surface its *centre* moves on (``centre_surface``,
 the ellipsoid ``(x, B^-1 x) = 1``), with ``I = m_e R^2`` and its ``potential`` of the centre
-(M03-1.6): no identification is needed. What a description cannot express is refused in
-one line: the body in a spherical support (held by ``N`` balls that roll on it; a
-description has one contact with a fixed support).
+(M03-1.6): no identification is needed.
+
+The body in a spherical support is a description on balls (``support="balls"``): three
+balls along ``alpha, beta, gamma`` with moments ``lambda_k`` and ratios ``r_k``, whose
+weights ``w_k`` (:func:`~.support_derivation.ball_weight`: ``lambda_k/r_k^2``, rubber
+``lambda_k (1/r_k^2 - 1)``) give the closed model's ``D_al = w1 - w3``, ``D_be = w2 - w3``
+and ``D_iso = sum_k lambda_k/r_k^2 - w3`` (BKM12-33, 2.2: ``w1 + w2`` for rolling balls,
+``lambda1/r1^2 + lambda2/r2^2 + lambda3`` for rubber ones). The two models are equal on the
+phase space (the closed one writes ``gamma⊗gamma`` as ``Id - alpha⊗alpha - beta⊗beta``), and
+the closed model's density ``det(X)^-1/2`` is ``sqrt(det(J) D_al D_be)`` times the
+description's ``det(II)^-1/2`` (:attr:`BuiltinDescription.density_factor`). What a
+description cannot express is refused in one line (no built-in is, in this version).
 """
 
 from __future__ import annotations
@@ -32,6 +41,7 @@ from .errors import UserInputError
 from .expression_text import parse_expression
 from .model import Model
 from .rolling_system import RollingSystem
+from .support_derivation import ball_weight
 from .systems import get_system, variant_name
 
 __all__ = ["BuiltinDescription", "builtin_description", "expressible_variants"]
@@ -58,6 +68,9 @@ class BuiltinDescription:
         K1*sin(Omega*t)"`` ... (a change of state).
     note : str
         One line on what the identification means.
+    density_factor : str
+        The built-in density over the description's, in the built-in's names (a density
+        is defined up to a constant factor); empty: 1.
     """
 
     system: str
@@ -66,6 +79,7 @@ class BuiltinDescription:
     described_effects: tuple[str, ...] = ()
     identification: dict[str, str] = field(default_factory=dict)
     note: str = ""
+    density_factor: str = ""
 
     @property
     def variant(self) -> str:
@@ -131,7 +145,8 @@ class BuiltinDescription:
         d = self.description
         fields = [repr(d.name)]
         defaults = RollingSystem.__dataclass_fields__
-        keys = ("inertia", "mass", "radius", "gyrostat", "contact", "support", "centre_surface")
+        keys = ("inertia", "mass", "radius", "gyrostat", "contact", "support", "centre_surface",
+                "balls")  # fmt: skip
         for key in (*keys, "potential", "positive"):
             value = getattr(d, key)
             if value != defaults[key].default and value:
@@ -235,14 +250,50 @@ def _ball_on_surface(effects: frozenset[str]) -> BuiltinDescription:
     return BuiltinDescription("ball_on_surface", effects, system, (), {}, note)
 
 
+#: What each effect of the support sets in its description (fields).
+_SUPPORT_EFFECTS: dict[str, dict[str, Any]] = {
+    "gyrostat": {"gyrostat": ("K1", "K2", "K3")},
+    "rubber_balls": {"contact": "rubber"},  # BKM12-39
+}
+#: Whether a contact leaves the balls' spins free (:func:`~.support_derivation.ball_weight`).
+_SPIN_FREE = {"rolling": True, "rubber": False}
+
+
+def _spherical_support(effects: frozenset[str]) -> BuiltinDescription:
+    """Fedorov's body on three balls along the eigenframe ``alpha, beta, gamma`` of the
+    support tensor (BKM12-33): ``D_sup = w1 alpha⊗alpha + w2 beta⊗beta + w3 gamma⊗gamma``."""
+    fields: dict[str, Any] = {"contact": "rolling"}
+    for name in sorted(effects):
+        fields.update(_SUPPORT_EFFECTS[name])
+    axes = ((1, 0, 0), (0, 1, 0), (0, 0, 1))
+    balls = tuple(
+        {"moment": f"lambda{k + 1}", "ratio": f"r{k + 1}", "direction": axes[k]} for k in range(3)
+    )
+    system = RollingSystem(
+        "described_spherical_support",
+        inertia=("I1", "I2", "I3"),
+        support="balls",
+        balls=balls,
+        description="Fedorov's body on three balls along the support's eigenframe",
+        **fields,
+    )
+    lam, r = sp.symbols("lambda1:4", positive=True), sp.symbols("r1:4", positive=True)
+    w = [ball_weight(lam[k], r[k], _SPIN_FREE[fields["contact"]]) for k in range(3)]
+    iso = sum((lam[k] / r[k] ** 2 for k in range(3)), sp.S.Zero)
+    identification = {"D_iso": iso - w[2], "D_al": w[0] - w[2], "D_be": w[1] - w[2]}
+    note = "D_iso = sum_k lambda_k/r_k^2 - w3, D_al = w1 - w3, D_be = w2 - w3 (w_k the weights)"
+    return BuiltinDescription(
+        "spherical_support", effects, system, (),
+        {name: sp.sstr(sp.expand(value)) for name, value in identification.items()}, note,
+        density_factor="sqrt((I1 + D_iso)*(I2 + D_iso)*(I3 + D_iso)*D_al*D_be)",
+    )  # fmt: skip
+
+
 #: How each built-in system is written as a description, or what a description lacks.
 _WRITERS: dict[str, Callable[[frozenset[str]], BuiltinDescription] | str] = {
     "chaplygin_ball": _ball,
     "ball_on_surface": _ball_on_surface,
-    "spherical_support": (
-        "the body is held by N balls that roll on it (their inertia enters, the support "
-        "tensor D_sup); a RollingSystem has one contact with a fixed support"
-    ),
+    "spherical_support": _spherical_support,
 }
 
 

@@ -312,4 +312,6 @@ def _used_parameters(parameters: tuple[sp.Symbol, ...], p: dict) -> tuple[sp.Sym
             kept = (p["inertia"], p["mass"], p["radius"], p["centre"], p["rotor_momentum"])
         used = free(*kept, p["field"], p["potential"],
                     *(sp.diff(p["support_surface"], c) for c in vector("p", real=True)))
+    if p.get("balls") is not None:  # the centre of mass is fixed: no mass, no radius
+        used = free(p["inertia"], p["rotor_momentum"], *(x for b in p["balls"] for x in b[:2]))
     return parameters if used is None else tuple(x for x in parameters if x in used)

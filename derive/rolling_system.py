@@ -71,7 +71,8 @@ A ball rolls without slipping on a fixed support surface ``F(p) = 0``
 :mod:`.ball_on_support` (state ``omega`` and the contact point ``p``), any other (any
 inertia, also ``I(t)``, any rotor, also ``K(t)``, any centre of mass, a potential of ``p``
 and the axes, rubber rolling) by :mod:`.ball_on_support_general` (with the body axes ``e1,
-e2, e3``).
+e2, e3``). A body in a spherical support of balls (``support="balls"``, BKM12 §2.1-2.3):
+:mod:`.rolling_balls`.
 
 A convex body also rolls, or rubber rolls (``(omega, n) = 0``), on a fixed sphere: M03
 §2's stage with the signed curvature ``k = -1/R`` outside, ``1/R`` inside, ``(k Id +
@@ -108,6 +109,7 @@ from .errors import UserInputError
 from .expression_text import parse_expression
 from .model import Model
 from .rigid_body import RigidBodyReduction
+from .rolling_balls import ball_values, balls_description, read_balls
 from .rolling_centre import _centre_surface_description, _read_centre_surface
 from .rolling_surfaces import (
     CENTRE,
@@ -141,6 +143,7 @@ SUPPORTS = {
     "moving_plane": True,
     "sphere": True,
     "surface": True,
+    "balls": True,
 }
 #: Sides of a fixed sphere the body may roll on.
 SIDES = ("outside", "inside")
@@ -270,6 +273,10 @@ class RollingSystem:
         centre moves on (the support is its parallel surface at the radius, M03 §1); the
         state is ``omega`` and the centre ``x`` in the fixed frame (``x3`` up), gravity
         along ``-x3`` and ``potential`` a function of ``x``.
+    balls : sequence of mappings, optional
+        ``support="balls"`` (only): a body in a spherical support, each ball ``{"moment":
+        lambda_k, "ratio": R_k/R0, "direction": n_k}`` (``n_k`` three exact numbers, the
+        space-fixed contact direction); see :mod:`.rolling_balls`.
     side : {"outside", "inside"}
         The body rolls on the outside of the fixed sphere (support surface), or inside it
         (a spherical shell; then ``R > b``).
@@ -307,6 +314,7 @@ class RollingSystem:
     rotation_rate: Any = None
     plane_velocity: Any = None
     support_surface: Any = None
+    balls: Any = None
     centre_surface: Any = None
     surface: Any = None
     positive: Sequence[str] = ()
@@ -390,6 +398,7 @@ class RollingSystem:
             # (absent unless given: the other descriptions keep their fingerprints)
             + ([] if p["support_surface"] is None else [sp.srepr(p["support_surface"])])
             + ([] if p["centre_surface"] is None else ["centre", sp.srepr(p["centre_surface"])])
+            + ([] if p["balls"] is None else ["balls", sp.srepr(p["balls"])])
         )
         return hashlib.sha256(text.encode()).hexdigest()
 
@@ -421,6 +430,8 @@ class RollingSystem:
             An effect a described system does not take.
         """
         effects = parse_effects(effects, self.effects_taken)
+        if self.support == "balls":
+            return balls_description(self, _principal_symbols(self._parsed["inertia"]))
         if self._parsed["surface"] is not None:
             return _convex_body_description(self, effects)
         if self.support == "surface":
@@ -565,6 +576,7 @@ def _parse(s: RollingSystem) -> dict:
     typed = [s.mass, radius, rows, s.centre_of_mass, s.gravity, s.support_radius]
     typed += [s.rotation_rate, s.plane_velocity]  # these two may use the time t
     typed += [s.gyrostat, s.potential, s.surface, s.support_surface, s.centre_surface]
+    typed += (balls := ball_values(s))  # the balls' moments and ratios
     names: list[str] = []
     for value in typed:
         for n in sorted(_names_in(value)):
@@ -579,7 +591,8 @@ def _parse(s: RollingSystem) -> dict:
         raise UserInputError(f"parameter names {clash} are reserved (state, velocities, time)")
     positive = set(s.positive) | {
         str(v).strip()
-        for v in (s.mass, radius, s.gravity, s.support_radius, *(rows[i][i] for i in range(3)))
+        for v in (s.mass, radius, s.gravity, s.support_radius, *balls,
+                  *(rows[i][i] for i in range(3)))  # fmt: skip
         if isinstance(v, str) and str(v).strip().isidentifier()
     }
     unknown = sorted(set(s.positive) - set(names))
@@ -643,6 +656,7 @@ def _parse(s: RollingSystem) -> dict:
         "centre_surface": centre_surface,
         "potential": potential,
         "no_spin_about": _NO_SPIN_ABOUT[s.contact],  # the contact's forbidden spins
+        "balls": read_balls(s, read, parsed),
     }
     parameters = _used_parameters(tuple(symbols[n] for n in names), parsed)
     inside = support_radius if s.side == "inside" else None

@@ -102,6 +102,7 @@ __all__ = [
     "SupportParameters",
     "derive_support",
     "n_ball_model",
+    "on_space_frame",
     "support_parameters",
     "build_spherical_support",
 ]
@@ -203,10 +204,19 @@ class NBallReduction:
         ``n_k = c_k1 alpha + c_k2 beta + c_k3 gamma``.
     momentum : str
         The state group of the reduced momentum (its rate is derived).
+    conserved : bool
+        With ``space_directions``: ship the closed model's integrals where they hold for
+        ``N`` balls (BKM12-35..37, Rem2, 2.3: ``H = (M, omega)/2``, ``(M + K, e)`` for each
+        space axis ``e``, ``(M + K, M + K)``, the frame's relations) and the density
+        ``det(II)^-1/2`` (BKM12-38 in any space frame), the momentum rate written ``(M +
+        K) x omega`` once its derived form is reduced to it modulo the frame's relations;
+        the state ``M`` is then ``II omega``, without ``K``, as in the closed model (a
+        :class:`~.rolling_system.RollingSystem` on balls).
     """
 
     space_directions: tuple[sp.Matrix, ...] | None = None
     momentum: str = "M"
+    conserved: bool = False
 
     def reduce(self, desc: MechanicalDescription) -> Reduced:
         """The momentum rate, ``omega = II^-1 M`` by cofactors, on the directions.
@@ -248,20 +258,30 @@ class NBallReduction:
         II = red.inertia_operator.xreplace(subs)
         adj, det = _adjugate_and_det(II)  # unexpanded: omega is only evaluated, never simplified
         detII = sp.Symbol("det_II", real=True)
-        omega_val = adj * (M - red.gyrostatic_momentum) / detII
+        # M = II omega + K as derived; a description's M = II omega (the closed model's)
+        K = sp.zeros(3, 1) if self.conserved else red.gyrostatic_momentum
+        omega_val = adj * (M - K) / detII
         vectors = {name: desc.state_group(name) for name in names}
         tensor = sum(
             (der.weight(k) * body_dirs[k] * body_dirs[k].T for k in range(n_balls)),
             sp.zeros(3, 3),
         )
+        constraints = [c for g in geometry for c in g.constraints(vectors)]
+        conserved: dict = {
+            "rates": {self.momentum: list(red.momentum_rate.xreplace(subs))},
+            "integrals": (),
+            "density": None,
+        }
+        if self.conserved and space is not None:
+            conserved = _n_ball_integrals(der, subs, M, [vectors[n] for n in names], constraints)
+            conserved["rates"] = {self.momentum: conserved["rates"]}
+            conserved["density"] = det ** sp.Rational(-1, 2)
         return Reduced(
-            rates={self.momentum: list(red.momentum_rate.xreplace(subs))},
             aux=[(detII, det)] + [(omega[i], omega_val[i]) for i in range(3)],
-            integrals=(),
-            density=None,
-            constraints=[c for g in geometry for c in g.constraints(vectors)],
+            constraints=constraints,
             geometry=geometry,
             omega=omega,
+            **conserved,
             details=NBallDetails(
                 derivation=der,
                 directions=body_dirs,
@@ -271,6 +291,29 @@ class NBallReduction:
                 n_balls=n_balls,
             ),
         )
+
+
+def _n_ball_integrals(
+    der: SupportDerivation, subs: dict, M: sp.Matrix, frame: list[sp.Matrix], constraints: list
+) -> dict:
+    """The momentum rate ``(M + K) x omega``, checked against the derived one modulo the
+    frame's relations, the closed model's integrals and ``M = II omega`` (N balls in a
+    space frame)."""
+    red, omega = der.reduction, der.omega
+    II = red.inertia_operator.xreplace(subs)
+    P0 = red.gyrostatic_momentum.xreplace(subs)
+    derived = red.momentum_rate.xreplace(subs)
+    frame_ideal = ConstraintIdeal(constraints, [s for v in frame for s in v])
+    remainder = derived - cross(II * omega + P0, omega)
+    if any(frame_ideal.reduce(sp.expand(e)) != 0 for e in remainder):  # pragma: no cover
+        raise DerivationError("the momentum rate of the balls is not (M + K) x omega")
+    name = "M" if der.K is None else "M+K"
+    return {
+        "rates": list(cross(M + P0, omega)),
+        "integrals": _closed_integrals(M, P0, omega, tuple(frame), name),
+        "momentum_of_omega": II * omega,
+        "inertia_operator": II,
+    }
 
 
 def n_ball_description(
@@ -315,9 +358,31 @@ def n_ball_description(
         space = [unit_exact(d, k) for k, d in enumerate(space_directions)]
     if len(space) != n_balls:
         raise UserInputError(f"{n_balls} balls need {n_balls} directions, got {len(space)}")
+    return on_space_frame(desc, space)
+
+
+def on_space_frame(
+    desc: MechanicalDescription, space: Sequence[sp.Matrix], conserved: bool = False
+) -> MechanicalDescription:
+    """Put a support on the body components ``alpha, beta, gamma`` of the space axes.
+
+    Parameters
+    ----------
+    desc : MechanicalDescription
+        A support (its balls in ``desc.bodies``) with the state ``M``.
+    space : sequence of sympy.Matrix
+        The exact space components of the balls' unit directions.
+    conserved : bool
+        See :class:`NBallReduction`.
+
+    Returns
+    -------
+    MechanicalDescription
+        ``desc``, with the frame and the stage :class:`NBallReduction`.
+    """
     for name in FRAME_NAMES:
         desc.add_poisson_vector(name)
-    desc.reduction = NBallReduction(space_directions=tuple(space))
+    desc.reduction = NBallReduction(space_directions=tuple(space), conserved=conserved)
     return desc
 
 

@@ -26,7 +26,7 @@ BKM12-27..31, BKM12-39..42, BKM12-2.1M, BKM12-2.2 (FORMULAS.md §1.6, §1.7).
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -152,7 +152,12 @@ def check_n_balls(n_balls: int) -> int:
     return n_balls
 
 
-def add_balls(desc: MechanicalDescription, n_balls: int) -> None:
+def add_balls(
+    desc: MechanicalDescription,
+    n_balls: int,
+    moments: Sequence[sp.Expr] | None = None,
+    ratios: Sequence[sp.Expr] | None = None,
+) -> None:
     """Add ``n_balls`` balls rolling without slipping on the body (BKM12-27).
 
     Their kinetic energy ``sum_k lambda_k (omega_k, omega_k)/2``, the no-slip constraints
@@ -164,23 +169,33 @@ def add_balls(desc: MechanicalDescription, n_balls: int) -> None:
     desc : MechanicalDescription
         Modified in place.
     n_balls : int
+    moments, ratios : sequence of sympy.Expr, optional
+        The balls' ``lambda_k`` and ``r_k`` (a description's numbers or names); by default
+        the symbols ``lambda1 .. lambdaN``, ``r1 .. rN``.
     """
     omega = desc.omega
-    lambdas = sp.symbols(f"lambda1:{n_balls + 1}", positive=True)
-    ratios = sp.symbols(f"r1:{n_balls + 1}", positive=True)
+    if moments is None:
+        moments = sp.symbols(f"lambda1:{n_balls + 1}", positive=True)
+    if ratios is None:
+        ratios = sp.symbols(f"r1:{n_balls + 1}", positive=True)
     balls = [vector(f"omega_{k + 1}_", real=True) for k in range(n_balls)]
     dirs = [vector(f"n{k + 1}_", real=True) for k in range(n_balls)]
     desc.add_kinetic_energy(
-        sum((lam * dot(w, w) / 2 for lam, w in zip(lambdas, balls, strict=True)), sp.S.Zero)
+        sum((lam * dot(w, w) / 2 for lam, w in zip(moments, balls, strict=True)), sp.S.Zero)
     )
-    desc.bodies = list(zip(balls, dirs, lambdas, ratios, strict=True))
+    desc.bodies = list(zip(balls, dirs, moments, ratios, strict=True))
     for k in range(n_balls):
         desc.add_kinematics(f"n{k + 1}", dirs[k], cross(dirs[k], omega))
         for c in cross(omega, dirs[k]) + ratios[k] * cross(balls[k], dirs[k]):
             desc.add_constraint(c)
 
 
-def support_body(system: str, effects: frozenset[str]) -> MechanicalDescription:
+def support_body(
+    system: str,
+    effects: frozenset[str],
+    inertia: sp.Matrix | None = None,
+    moments: tuple[sp.Symbol, ...] = (),
+) -> MechanicalDescription:
     """The body of a support: ``T = (omega, I omega)/2`` and its references.
 
     Parameters
@@ -188,11 +203,17 @@ def support_body(system: str, effects: frozenset[str]) -> MechanicalDescription:
     system : str
     effects : frozenset of str
         Recorded in the description; not applied here.
+    inertia : sympy.Matrix, optional
+        The body's central inertia tensor (a description's); by default ``diag(I1, I2,
+        I3)``, declared as the parameter ``I``.
+    moments : tuple of sympy.Symbol, optional
+        With ``inertia``: the symbols its principal moments are written in (none when
+        they are not three symbols).
 
     Returns
     -------
     MechanicalDescription
-        Parameter ``I``; no balls, stage or state yet.
+        No balls, stage or state yet.
     """
     omega = vector("omega", real=True)
     Iv = vector("I", positive=True)
@@ -201,12 +222,15 @@ def support_body(system: str, effects: frozenset[str]) -> MechanicalDescription:
         effects=effects,
         time=T_SYMBOL,
         omega=omega,
-        inertia=sp.diag(*Iv),
-        moments=tuple(Iv),
+        inertia=sp.diag(*Iv) if inertia is None else inertia,
+        moments=tuple(Iv) if inertia is None else moments,
     )
-    desc.add_parameter(
-        ParameterSpec("I", tuple(Iv), "positive", "central principal moments of inertia I1, I2, I3")
-    )
+    if inertia is None:
+        desc.add_parameter(
+            ParameterSpec(
+                "I", tuple(Iv), "positive", "central principal moments of inertia I1, I2, I3"
+            )
+        )
     # the gyrostat in a support: BKM12 §2.3 (instead of the ball's K01 §4)
     desc.effect_references["gyrostat"] = {"equations": "BKM12-2.3", "integrals": "BKM12-2.3"}
     return desc

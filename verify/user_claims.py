@@ -315,7 +315,9 @@ def kane_covers(system: RollingSystem) -> bool:
     on a plane (fixed, turning, shaken) or a fixed sphere — an ellipsoid on a plane with
     its contact point in closed form, any other with the contact point as coordinates
     (:mod:`.kane_implicit`) where the comparison's rays meet the surface. A ball on a
-    support surface: when the support is an ellipsoid (:mod:`.kane_support`).
+    support surface: when the support is an ellipsoid (:mod:`.kane_support`). Not a body in
+    a spherical support of balls (no Kane set-up of the balls: its model is the multi-body
+    reduction the claims of BKM12 §2.1 check).
 
     Parameters
     ----------
@@ -327,6 +329,8 @@ def kane_covers(system: RollingSystem) -> bool:
     """
     from .kane_support import ellipsoid_support
 
+    if system.support == "balls":
+        return False
     support = system._parsed["support_surface"]
     if support is not None:  # a ball on a support: an ellipsoid's parametrisation
         values = {s: sp.Rational(7 + 4 * i, 5 + 3 * i) for i, s in enumerate(support.free_symbols)}

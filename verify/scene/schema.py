@@ -188,6 +188,16 @@ class Run(_Table):
 TypedValue = StrictInt | StrictFloat | Annotated[StrictStr, Field(max_length=2000)]
 
 
+class BallTable(_Table):
+    """One ball of a spherical support (``[[system.balls]]``, ``support = "balls"``)."""
+
+    moment: TypedValue = Field(description="the ball's moment of inertia lambda_k")
+    ratio: TypedValue = Field(description="r_k = R_k/R0, the ball's radius over the shell's")
+    direction: list[TypedValue] = Field(
+        description="the space-fixed direction of its contact: three exact numbers (normalised)"
+    )
+
+
 class SystemTable(_Table):
     """A rolling system described in the scene (``[system]``): see
     :class:`chaplygin.derive.rolling_system.RollingSystem`. Texts are expressions read
@@ -214,7 +224,9 @@ class SystemTable(_Table):
         None, description="potential of the orientation: an expression of gamma1..gamma3"
     )
     contact: Literal["rolling", "rubber", "line"] = "rolling"
-    support: Literal["plane", "rotating_plane", "moving_plane", "sphere", "surface"] = "plane"
+    support: Literal["plane", "rotating_plane", "moving_plane", "sphere", "surface", "balls"] = (
+        "plane"
+    )
     support_radius: TypedValue | None = Field(
         None, description="radius R of the fixed sphere (support = 'sphere')"
     )
@@ -247,6 +259,12 @@ class SystemTable(_Table):
         None,
         description="f(x1, x2, x3) of a convex body f = 0 instead of a sphere (body axes; on a "
         "plane — fixed, rotating or moving —, rolling or rubber, or rolling on a fixed sphere)",
+    )
+    balls: list[BallTable] | None = Field(
+        None,
+        description="the balls of a spherical support (support = 'balls'): the body, its centre "
+        "of mass at the shell's centre, on balls that roll (contact 'rolling') or also do not "
+        "twist ('rubber')",
     )
     positive: list[StrictStr] = Field(default_factory=list)
     description: Annotated[StrictStr, Field(max_length=500)] = ""
