@@ -315,7 +315,8 @@ def kane_covers(system: RollingSystem) -> bool:
     on a plane (fixed, turning, shaken) or a fixed sphere — an ellipsoid on a plane with
     its contact point in closed form, any other with the contact point as coordinates
     (:mod:`.kane_implicit`) where the comparison's rays meet the surface. A ball on a
-    support surface: when the support is an ellipsoid (:mod:`.kane_support`). Not a body in
+    support surface: when the support is an ellipsoid (:mod:`.kane_support`), without a
+    potential, rubber contact, ``I(t)`` or ``K(t)`` (not set up there). Not a body in
     a spherical support of balls (no Kane set-up of the balls: its model is the multi-body
     reduction the claims of BKM12 §2.1 check).
 
@@ -333,6 +334,14 @@ def kane_covers(system: RollingSystem) -> bool:
         return False
     support = system._parsed["support_surface"]
     if support is not None:  # a ball on a support: an ellipsoid's parametrisation
+        parsed, t = system._parsed, sp.Symbol("t", real=True)
+        if (  # what kane_support does not set up: not claimed
+            not parsed["potential"].is_zero
+            or parsed["inertia"].has(t)
+            or parsed["rotor_momentum"].has(t)
+            or "gamma" in parsed["no_spin_about"]
+        ):
+            return False
         values = {s: sp.Rational(7 + 4 * i, 5 + 3 * i) for i, s in enumerate(support.free_symbols)}
         values = {s: v for s, v in values.items() if s.name not in ("p1", "p2", "p3")}
         try:

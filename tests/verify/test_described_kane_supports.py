@@ -180,3 +180,23 @@ def test_kane_agrees_with_a_general_ball_on_an_ellipsoidal_support_and_refutes_a
     control = kane_compare(system, moved.model(), values)
     assert control.max_acceleration_error > 1e6 * control.tolerance
     assert kane_covers(system)
+
+
+@pytest.mark.parametrize(
+    "fields",
+    [{"potential": "k*e3_3"}, {"contact": "rubber"}, {"gyrostat": (0, 0, "t")},
+     {"inertia": ("A", "B", "C + t**2")}],  # fmt: skip
+    ids=["potential", "rubber", "K(t)", "I(t)"],
+)
+def test_kane_is_not_claimed_for_a_support_surface_with_what_it_does_not_set_up(fields):
+    """kane_support's set-up has gravity, an offset and a constant rotor only: on the same
+    ellipsoid with a potential, rubber contact, K(t) or I(t) the file gets no ':kane' claim
+    (it would compare other equations), without them it does."""
+    from chaplygin.verify.user_claims import kane_covers
+
+    base = dict(
+        inertia=("A", "B", "C"), centre_of_mass=(0, 0, "a"), gravity="g", support="surface",
+        support_surface="p1**2/4 + p2**2 + p3**2 - 1",
+    )  # fmt: skip
+    assert kane_covers(RollingSystem("egg_kane", **base))
+    assert not kane_covers(RollingSystem("egg_no_kane", **{**base, **fields}))
