@@ -20,6 +20,7 @@ digits) the model's ``omega'`` and ``p'`` are compared with Kane's ``u1', u2', u
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
+from typing import Any
 
 import mpmath
 import sympy as sp
@@ -30,7 +31,13 @@ from ..derive.rolling_system import RollingSystem
 from ..derive.vectors import vector
 from .kane_euler import euler_rates
 
-__all__ = ["compare_on_support", "ellipsoid_support"]
+__all__ = [
+    "compare_at_points",
+    "compare_on_support",
+    "ellipsoid_support",
+    "heavy_ball",
+    "is_ellipsoid",
+]
 
 #: Kane's equations formed, by (description fingerprint, parameter values).
 _FORMED: dict = {}
@@ -68,6 +75,62 @@ def ellipsoid_support(F: sp.Expr, p: Sequence[sp.Symbol]) -> tuple[sp.Matrix, sp
     return A, p0, s2
 
 
+def is_ellipsoid(F: sp.Expr) -> bool:
+    """Whether :func:`ellipsoid_support` takes ``F`` (in ``p1, p2, p3``).
+
+    Parameters
+    ----------
+    F : sympy.Expr
+
+    Returns
+    -------
+    bool
+    """
+    try:
+        ellipsoid_support(F, sp.symbols("p1:4", real=True))
+    except ValueError:
+        return False
+    return True
+
+
+def heavy_ball(
+    parsed: Mapping, sub: Mapping, frames: tuple, O: me.Point
+) -> tuple[me.RigidBody, list]:
+    """The ball as Kane's rigid body and its loads: the centre of mass ``G = O + a`` (body
+    axes) with the inertia tensor about it, gravity ``-m g N.z`` at ``G`` and a constant
+    rotor ``K`` as the torque ``-omega x K``.
+
+    Parameters
+    ----------
+    parsed : mapping
+        The description's parsed fields (``mass``, ``inertia``, ``centre``,
+        ``rotor_momentum``, ``field``).
+    sub : mapping
+        The parameters' values.
+    frames : tuple of sympy.physics.mechanics.ReferenceFrame
+        ``(N, B)``: the fixed frame and the body's.
+    O : sympy.physics.mechanics.Point
+        The ball's geometric centre, its velocity in ``N`` set.
+
+    Returns
+    -------
+    tuple of (RigidBody, list)
+    """
+    N, B = frames
+    m = parsed["mass"].xreplace(sub)
+    I, a, K = (parsed[k].xreplace(sub) for k in ("inertia", "centre", "rotor_momentum"))
+    axes = (B.x, B.y, B.z)
+    G = O.locatenew("G", sum((a[i] * axes[i] for i in range(3)), me.Vector(0)))
+    G.v2pt_theory(O, N, B)
+    tensor = sum((I[i, j] * (axes[i] | axes[j]) for i in range(3) for j in range(3)), me.Dyadic(0))
+    ball = me.RigidBody("ball", G, B, m, (tensor, G))
+    loads = [(G, -m * parsed["field"].xreplace(sub) * N.z)]
+    if not K.is_zero_matrix:  # a rotor: d/dt K = omega x K, the body feels -omega x K
+        rotor = sum((K[i] * axes[i] for i in range(3)), me.Vector(0))
+        loads.append((B, -(B.ang_vel_in(N) ^ rotor)))
+    return ball, loads
+
+
 class _KaneOnSupport:
     """Kane's equations of the ball on the ellipsoid (parameters substituted)."""
 
@@ -103,19 +166,7 @@ class _KaneOnSupport:
         P.v2pt_theory(O, N, B)
         tangents = [to_vec(p.diff(q[3])), to_vec(p.diff(q[4]))]
         constraints = [P.vel(N).dot(tangent) for tangent in tangents]
-        m = parsed["mass"].xreplace(sub)
-        I, a, K = (parsed[k].xreplace(sub) for k in ("inertia", "centre", "rotor_momentum"))
-        axes = (B.x, B.y, B.z)
-        G = O.locatenew("G", sum((a[i] * axes[i] for i in range(3)), me.Vector(0)))
-        G.v2pt_theory(O, N, B)
-        tensor = sum(
-            (I[i, j] * (axes[i] | axes[j]) for i in range(3) for j in range(3)), me.Dyadic(0)
-        )
-        ball = me.RigidBody("ball", G, B, m, (tensor, G))
-        loads = [(G, -m * parsed["field"].xreplace(sub) * N.z)]
-        if not K.is_zero_matrix:  # a rotor: d/dt K = omega x K, the body feels -omega x K
-            rotor = sum((K[i] * axes[i] for i in range(3)), me.Vector(0))
-            loads.append((B, -(B.ang_vel_in(N) ^ rotor)))
+        ball, loads = heavy_ball(parsed, sub, (N, B), O)
         kane = me.KanesMethod(
             N, q_ind=q, u_ind=u[:3], u_dependent=u[3:], kd_eqs=kd,
             velocity_constraints=constraints,
@@ -187,18 +238,46 @@ def compare_on_support(
     kane = _FORMED.get(key)
     if kane is None:  # forming Kane's equations is the cost: once per system and values
         kane = _FORMED[key] = _KaneOnSupport(system, pvals)
+    return compare_at_points(kane, SUPPORT_ANGLES, model, pvals, omegas, digits, relative)
+
+
+def compare_at_points(
+    kane: Any,
+    points: Sequence[Any],
+    model: Model,
+    pvals: Mapping[sp.Symbol, sp.Expr],
+    omegas: Sequence[Sequence[object]],
+    digits: int,
+    relative: Callable[[Sequence[object], Sequence[object]], float],
+) -> tuple[int, float, float]:
+    """The model's ``omega'`` and ``p'`` (its auxiliaries in order) against Kane's
+    (``kane.at(point, omega)``: the contact point, ``omega'``, ``p'`` and the body axes as
+    columns) at each point and angular velocity.
+
+    Parameters
+    ----------
+    kane : object
+        Kane's equations formed (:mod:`.kane_support`, :mod:`.kane_support_implicit`).
+    points : sequence
+        Where ``kane.at`` places the contact.
+    model, pvals, omegas, digits, relative
+        As :func:`compare_on_support`.
+
+    Returns
+    -------
+    tuple of (int, float, float)
+        Points compared, the largest ``omega'`` and ``p'`` differences.
+    """
     omega, p = sp.Matrix(model.group("omega")), sp.Matrix(model.group("p"))
     index = [list(model.state).index(s) for s in (*omega, *p)]
-
     frame = [n for n in ("e1", "e2", "e3") if n in dict(model.state_groups)]
+    exact = lambda c: sp.Float(mpmath.nstr(c, digits + 5), digits + 5)  # noqa: E731
 
     def field(w, contact, axes):  # the model's rates: its auxiliary definitions in order
         values = {**pvals, **dict(zip(omega, w, strict=True))}
-        values.update((s, sp.Float(mpmath.nstr(c, digits + 5), digits + 5)) for s, c in
-                      zip(p, contact, strict=True))  # fmt: skip
+        values.update((s, exact(c)) for s, c in zip(p, contact, strict=True))
         for j, name in enumerate(frame):  # a general ball's body axes (fixed frame)
-            for i, s in enumerate(model.group(name)):
-                values[s] = sp.Float(mpmath.nstr(axes[i, j], digits + 5), digits + 5)
+            values.update((s, exact(axes[i, j])) for i, s in enumerate(model.group(name)))
         for symbol, expr in model.aux:
             values[symbol] = sp.N(expr.xreplace(values), digits + 5)
         return [sp.N(model.rhs[i].xreplace(values), digits + 5) for i in index]
@@ -207,8 +286,8 @@ def compare_on_support(
     count = 0
     with mpmath.workdps(digits):
         for w in omegas:
-            for angles in SUPPORT_ANGLES:
-                contact, acc, rate, axes = kane.at(angles, w)
+            for point in points:
+                contact, acc, rate, axes = kane.at(point, w)
                 F = field(w, contact, axes)
                 worst_acc = max(worst_acc, relative(F[:3], acc))
                 worst_rate = max(worst_rate, relative(F[3:], rate))

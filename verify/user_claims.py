@@ -315,8 +315,9 @@ def kane_covers(system: RollingSystem) -> bool:
     on a plane (fixed, turning, shaken) or a fixed sphere — an ellipsoid on a plane with
     its contact point in closed form, any other with the contact point as coordinates
     (:mod:`.kane_implicit`) where the comparison's rays meet the surface. A ball on a
-    support surface: when the support is an ellipsoid (:mod:`.kane_support`), without a
-    potential, rubber contact, ``I(t)`` or ``K(t)`` (not set up there). Not a body in
+    support surface: on an ellipsoid (:mod:`.kane_support`) or any other convex support where
+    the comparison's rays meet it (:mod:`.kane_support_implicit`), without a potential,
+    rubber contact, ``I(t)`` or ``K(t)`` (not set up there). Not a body in
     a spherical support of balls (no Kane set-up of the balls: its model is the multi-body
     reduction the claims of BKM12 §2.1 check).
 
@@ -328,7 +329,8 @@ def kane_covers(system: RollingSystem) -> bool:
     -------
     bool
     """
-    from .kane_support import ellipsoid_support
+    from .kane_support import is_ellipsoid
+    from .kane_support_implicit import support_contacts
 
     if system.support == "balls":
         return False
@@ -342,10 +344,13 @@ def kane_covers(system: RollingSystem) -> bool:
             or "gamma" in parsed["no_spin_about"]
         ):
             return False
-        values = {s: sp.Rational(7 + 4 * i, 5 + 3 * i) for i, s in enumerate(support.free_symbols)}
-        values = {s: v for s, v in values.items() if s.name not in ("p1", "p2", "p3")}
-        try:
-            ellipsoid_support(support.xreplace(values), sp.symbols("p1:4", real=True))
+        # at the parameter values _kane_computed takes
+        named = {n: sp.Rational(7 + 4 * i, 5 + 3 * i) for i, n in enumerate(system.parameter_names)}
+        F = support.xreplace({s: named[s.name] for s in support.free_symbols if s.name in named})
+        if is_ellipsoid(F):
+            return True
+        try:  # any other convex support: the contact point as coordinates, placed on rays
+            support_contacts(F)
         except ValueError:
             return False
         return True

@@ -138,7 +138,8 @@ def test_kane_agrees_with_a_ball_on_an_ellipsoidal_support_and_refutes_the_other
     parametrisation of the support (the contact point p(x, y), the centre p + b nu(p))
     against the model's implicit normal grad F/|grad F|: omega' and p' agree at 40 digits;
     the model of the ball inside the same ellipsoid is refuted by the same check. The
-    file's :kane claim exists for ellipsoidal supports only."""
+    file's :kane claim exists where the comparison places its contacts (not on an open
+    paraboloid)."""
     from chaplygin.verify.user_claims import kane_covers
 
     fields = dict(
@@ -154,8 +155,10 @@ def test_kane_agrees_with_a_ball_on_an_ellipsoidal_support_and_refutes_the_other
     assert control.max_acceleration_error > 1e6 * control.tolerance
     assert control.max_normal_rate_error > 1e6 * control.tolerance  # p' too
     assert kane_covers(system)
-    bumpy = dict(fields, support_surface="p1**4 + p2**2 + p3**2 - 1")
-    assert not kane_covers(RollingSystem("ball_on_bump", **bumpy))
+    bumpy = dict(fields, support_surface="p1**4 + p2**2 + p3**2 - 1")  # kane_support_implicit
+    assert kane_covers(RollingSystem("ball_on_bump", **bumpy))
+    bowl = dict(fields, support_surface="p1**2 + p2**2 - p3")  # rays that never leave it
+    assert not kane_covers(RollingSystem("ball_in_bowl", **bowl))
 
 
 @pytest.mark.slow
@@ -200,3 +203,30 @@ def test_kane_is_not_claimed_for_a_support_surface_with_what_it_does_not_set_up(
     )  # fmt: skip
     assert kane_covers(RollingSystem("egg_kane", **base))
     assert not kane_covers(RollingSystem("egg_no_kane", **{**base, **fields}))
+
+
+@pytest.mark.parametrize("side", ["outside", "inside"])
+def test_kane_agrees_with_a_general_ball_on_a_quartic_support_and_refutes_a_moved_centre(side):
+    """A support that is not an ellipsoid (a convex quartic, off the origin): Kane's method
+    with the contact point p as coordinates (no parametrisation: the support's equation
+    is never solved; no slip at the body point O - sigma b nu in all three components) for
+    a heavy ball with a product of inertia, its centre of mass off the centre and a rotor,
+    outside and inside: omega' and p' agree at 40 digits at the points where rays from
+    inside meet the support; the model with the centre of mass moved is refuted in
+    omega'; the file's :kane claim now covers such supports."""
+    from chaplygin.verify.user_claims import kane_covers
+
+    inertia = [["0.31", "0.02", 0], ["0.02", "0.43", "-0.03"], [0, "-0.03", "0.57"]]
+    fields = dict(
+        inertia=inertia, gyrostat=("0.14", 0, "0.33"), gravity="g", support="surface",
+        support_surface="p1**4 + p2**4/2 + p1**2 + (p2 - 1/5)**2 + (p3 + 1/3)**2 - 3",
+        side=side,
+    )  # fmt: skip
+    system = RollingSystem("ball_on_quartic", centre_of_mass=("0.1", "-0.05", "-0.2"), **fields)
+    values = dict(m="1.3", b="0.7", g="9.81")
+    result = kane_compare(system, system.model(), values)
+    assert result.points == 4 and result.agrees, result
+    moved = RollingSystem("ball_on_quartic", centre_of_mass=("0.1", "-0.05", "-0.15"), **fields)
+    control = kane_compare(system, moved.model(), values)
+    assert control.max_acceleration_error > 1e6 * control.tolerance
+    assert kane_covers(system)

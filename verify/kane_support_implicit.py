@@ -1,0 +1,177 @@
+"""Kane's cross-check of a ball on any convex support surface ``F(p) = 0`` (issue 24).
+
+:mod:`.kane_support` sets the ball up on an ellipsoid through its parametrisation. A
+support that is not an ellipsoid has none in closed form; here, as :mod:`.kane_implicit`
+does for a convex body, the contact point is carried as coordinates and the support's
+equation is never solved:
+
+* coordinates: the body-fixed 3-2-1 Euler angles ``q1, q2, q3`` of ``B`` and the contact
+  point ``p = (p1, p2, p3)`` (fixed frame, ``N.z`` up);
+* speeds: ``u1, u2, u3`` the space components of the angular velocity, ``u4, u5, u6`` the
+  rates of ``p`` (dependent);
+* the ball's centre ``O = p + sigma b nu(p)``, ``nu = grad F/|grad F|`` (``sigma = 1``
+  outside, ``-1`` inside), its velocity sympy's time derivative of that position; the
+  centre of mass ``G = O + a`` (body axes) with the inertia tensor about it, gravity ``-m g
+  N.z`` at ``G``, a constant rotor ``K`` as the torque ``-omega x K``;
+* velocity constraints: no slip at the body point ``O - sigma b nu`` (all three components:
+  the normal one keeps ``p`` on its level set of ``F``).
+
+KanesMethod's ``constraint_solver`` gets placeholders for ``B_dep^-1 B_ind``, filled
+numerically at each point (as in :mod:`.kane_implicit`). The comparison points are where
+rays from a point inside the support (``F < 0``) along the directions of
+:data:`~.kane_common.RATIONAL_UNIT_VECTORS` leave it (the smallest positive root of ``F``
+along the ray, 50 digits), at a fixed attitude; the model's ``omega'`` and ``p'`` are
+evaluated there through its auxiliaries and compared with Kane's ``u1', u2', u3'`` and
+``u4, u5, u6``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+
+import mpmath
+import sympy as sp
+import sympy.physics.mechanics as me
+
+from ..derive.model import Model
+from ..derive.rolling_system import RollingSystem
+from ..derive.vectors import vector
+from . import kane_common as common
+from .kane_euler import euler_rates
+from .kane_implicit import contact_on_ray
+from .kane_support import compare_at_points, heavy_ball
+
+__all__ = ["compare_on_implicit_support", "support_contacts"]
+
+#: Kane's equations formed, by (description fingerprint, parameter values).
+_FORMED: dict = {}
+#: The attitude (3-2-1 Euler angles) of the comparisons.
+ANGLES = ("0.3", "0.2", "-0.4")
+
+
+def support_contacts(support: sp.Expr) -> list[list]:
+    """The comparison's contact points on ``F = 0``: where the rays from a point inside
+    along :data:`~.kane_common.RATIONAL_UNIT_VECTORS` leave the support.
+
+    Parameters
+    ----------
+    support : sympy.Expr
+        ``F(p1, p2, p3)`` with exact numeric coefficients, convex.
+
+    Returns
+    -------
+    list of list of mpmath.mpf
+
+    Raises
+    ------
+    ValueError
+        When a ray does not meet ``F = 0`` or no inside point is found.
+    """
+    p, r = vector("p", real=True), vector("r", real=True)
+    in_r = support.xreplace(dict(zip(p, r, strict=True)))
+    return [contact_on_ray(in_r, g) for g in common.RATIONAL_UNIT_VECTORS]
+
+
+class _KaneOnImplicitSupport:
+    """Kane's equations of the ball with its contact point as coordinates."""
+
+    def __init__(self, system: RollingSystem, pvals: Mapping[sp.Symbol, sp.Expr]) -> None:
+        parsed = system._parsed
+        sub = {**dict.fromkeys(parsed["mass"].free_symbols, sp.S.One), **dict(pvals)}
+        t = me.dynamicsymbols._t
+        q = list(me.dynamicsymbols("q1 q2 q3 p1 p2 p3"))
+        u = list(me.dynamicsymbols("u1:7"))
+        N, B = me.ReferenceFrame("N"), me.ReferenceFrame("B")
+        B.orient_body_fixed(N, tuple(q[:3]), "zyx")
+        B.set_ang_vel(N, u[0] * N.x + u[1] * N.y + u[2] * N.z)
+        solved = euler_rates()
+        kd = [s.diff(t) - solved[s.diff(t)] for s in q[:3]]
+        kd += [q[i].diff(t) - u[i] for i in range(3, 6)]
+        rates = {q[i].diff(t): u[i] for i in range(3, 6)}
+        ps = vector("p", real=True)
+        F = parsed["support_surface"].xreplace(sub).xreplace(dict(zip(ps, q[3:], strict=True)))
+        grad = sp.Matrix([sp.diff(F, c) for c in q[3:]])
+        nu = grad / sp.sqrt(grad.dot(grad))
+        b = parsed["radius"].xreplace(sub)
+        sigma = 1 if system.side == "outside" else -1
+        to_vec = lambda c: c[0] * N.x + c[1] * N.y + c[2] * N.z  # noqa: E731
+        origin = me.Point("origin")
+        origin.set_vel(N, 0)
+        O = origin.locatenew("O", to_vec(sp.Matrix(q[3:]) + sigma * b * nu))
+        O.set_vel(N, O.pos_from(origin).dt(N).xreplace(rates))
+        P = O.locatenew("P", to_vec(-sigma * b * nu))
+        P.v2pt_theory(O, N, B)
+        constraints = [P.vel(N).dot(e) for e in (N.x, N.y, N.z)]
+        ball, loads = heavy_ball(parsed, sub, (N, B), O)
+        X = sp.Matrix(3, 3, lambda i, j: sp.Symbol(f"X{i}_{j}"))
+        kane = me.KanesMethod(
+            N, q_ind=q, u_ind=u[:3], u_dependent=u[3:], kd_eqs=kd,
+            velocity_constraints=constraints, constraint_solver=lambda A, b: X,
+        )  # fmt: skip
+        kane.kanes_equations([ball], loads)
+        kdmap = kane.kindiffdict()
+        A, rhs = sp.linear_eq_to_matrix([sp.sympify(c).xreplace(kdmap) for c in constraints], u)
+        args = (q, u, t)
+        fn = lambda e, *extra: sp.lambdify((*args, *extra), e, modules="mpmath", cse=True)  # noqa: E731
+        self._constraints = fn(A), fn(rhs)
+        self._mass = fn(kane.mass_matrix, list(X))
+        self._forcing = fn(kane.forcing, list(X))
+        self._axes = fn(N.dcm(B))  # columns: B's axes in N
+        self._order = [str(s.func) for s in kane.u]
+
+    def at(self, contact: Sequence[mpmath.mpf], omega: Sequence[sp.Expr]):
+        """The contact point, Kane's ``omega'`` and ``p'`` (space components) at it and the
+        angular velocity (space components), and the body axes (columns)."""
+        q = [mpmath.mpf(a) for a in ANGLES] + list(contact)
+        u = [mpmath.mpf(sp.Float(w, 50)) for w in omega] + [mpmath.mpf(0)] * 3
+        A = mpmath.matrix(self._constraints[0](q, u, 0))
+        b = mpmath.matrix(self._constraints[1](q, u, 0))
+        A_ind = mpmath.matrix([[A[i, j] for j in range(3)] for i in range(3)])
+        A_dep = mpmath.matrix([[A[i, j] for j in range(3, 6)] for i in range(3)])
+        u[3:] = list(mpmath.lu_solve(A_dep, b - A_ind * mpmath.matrix(u[:3])))
+        X = [mpmath.lu_solve(A_dep, A_ind.column(j)) for j in range(3)]
+        flat = [X[j][i] for i in range(3) for j in range(3)]
+        udot = mpmath.lu_solve(
+            mpmath.matrix(self._mass(q, u, 0, flat)), mpmath.matrix(self._forcing(q, u, 0, flat))
+        )
+        by_name = dict(zip(self._order, udot, strict=True))
+        acc = [by_name[f"u{i}"] for i in (1, 2, 3)]
+        return list(contact), acc, u[3:], mpmath.matrix(self._axes(q, u, 0))
+
+
+def compare_on_implicit_support(
+    system: RollingSystem,
+    model: Model,
+    pvals: Mapping[sp.Symbol, sp.Expr],
+    omegas: Sequence[Sequence[object]],
+    digits: int,
+    relative: Callable[[Sequence[object], Sequence[object]], float],
+) -> tuple[int, float, float]:
+    """``omega'`` and ``p'`` of the model against Kane's at :func:`support_contacts`.
+
+    Parameters
+    ----------
+    system : RollingSystem
+        With ``support="surface"`` (any convex ``support_surface``), rolling, gravity, an
+        offset centre and a constant rotor.
+    model : Model
+    pvals : mapping of sympy.Symbol to sympy.Expr
+        Exact parameter values.
+    omegas : sequence of 3 numbers
+        Angular velocities (space components), each paired with each contact point.
+    digits : int
+    relative : callable
+        ``relative(a, b)``: the relative difference of two vectors.
+
+    Returns
+    -------
+    tuple of (int, float, float)
+        Points compared, the largest ``omega'`` and ``p'`` differences.
+    """
+    key = (system.fingerprint(), tuple(sorted((s.name, v) for s, v in pvals.items())))
+    kane = _FORMED.get(key)
+    if kane is None:  # forming Kane's equations is the cost: once per system and values
+        kane = _FORMED[key] = _KaneOnImplicitSupport(system, pvals)
+    sub = {**dict.fromkeys(system._parsed["mass"].free_symbols, sp.S.One), **dict(pvals)}
+    contacts = support_contacts(system._parsed["support_surface"].xreplace(sub))
+    return compare_at_points(kane, contacts, model, pvals, omegas, digits, relative)
