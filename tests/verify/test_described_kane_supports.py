@@ -168,18 +168,26 @@ def test_kane_agrees_with_a_general_ball_on_an_ellipsoidal_support_and_refutes_a
     the state): Kane's method on the support's parametrisation (the centre of mass G = O +
     a, the rotor as the torque -omega x K) agrees in omega' and p' at 40 digits; the model
     with the centre of mass moved along the third axis is refuted in omega'."""
+    _general_ball_agrees_and_a_moved_centre_is_refuted(
+        "ball_on_egg", support_surface="p1**2/4 + p2**2/(9/4) + (p3 - 1/3)**2 - 1"
+    )
+
+
+def _general_ball_agrees_and_a_moved_centre_is_refuted(name: str, **support) -> None:
+    """A heavy ball with a product of inertia, an offset centre of mass and a rotor on the
+    support given: Kane agrees in omega' and p' at 4 points, the model with the centre of
+    mass moved by 0.05 is refuted in omega', and the file's :kane claim covers it."""
     from chaplygin.verify.user_claims import kane_covers
 
     inertia = [["0.31", "0.02", 0], ["0.02", "0.43", "-0.03"], [0, "-0.03", "0.57"]]
     fields = dict(
-        inertia=inertia, gyrostat=("0.14", 0, "0.33"), gravity="g", support="surface",
-        support_surface="p1**2/4 + p2**2/(9/4) + (p3 - 1/3)**2 - 1",
+        inertia=inertia, gyrostat=("0.14", 0, "0.33"), gravity="g", support="surface", **support
     )  # fmt: skip
-    system = RollingSystem("ball_on_egg", centre_of_mass=("0.1", "-0.05", "-0.2"), **fields)
+    system = RollingSystem(name, centre_of_mass=("0.1", "-0.05", "-0.2"), **fields)
     values = dict(m="1.3", b="0.7", g="9.81")
     result = kane_compare(system, system.model(), values)
     assert result.points == 4 and result.agrees, result
-    moved = RollingSystem("ball_on_egg", centre_of_mass=("0.1", "-0.05", "-0.15"), **fields)
+    moved = RollingSystem(name, centre_of_mass=("0.1", "-0.05", "-0.15"), **fields)
     control = kane_compare(system, moved.model(), values)
     assert control.max_acceleration_error > 1e6 * control.tolerance
     assert kane_covers(system)
@@ -214,19 +222,7 @@ def test_kane_agrees_with_a_general_ball_on_a_quartic_support_and_refutes_a_move
     outside and inside: omega' and p' agree at 40 digits at the points where rays from
     inside meet the support; the model with the centre of mass moved is refuted in
     omega'; the file's :kane claim now covers such supports."""
-    from chaplygin.verify.user_claims import kane_covers
-
-    inertia = [["0.31", "0.02", 0], ["0.02", "0.43", "-0.03"], [0, "-0.03", "0.57"]]
-    fields = dict(
-        inertia=inertia, gyrostat=("0.14", 0, "0.33"), gravity="g", support="surface",
+    _general_ball_agrees_and_a_moved_centre_is_refuted(
+        "ball_on_quartic", side=side,
         support_surface="p1**4 + p2**4/2 + p1**2 + (p2 - 1/5)**2 + (p3 + 1/3)**2 - 3",
-        side=side,
     )  # fmt: skip
-    system = RollingSystem("ball_on_quartic", centre_of_mass=("0.1", "-0.05", "-0.2"), **fields)
-    values = dict(m="1.3", b="0.7", g="9.81")
-    result = kane_compare(system, system.model(), values)
-    assert result.points == 4 and result.agrees, result
-    moved = RollingSystem("ball_on_quartic", centre_of_mass=("0.1", "-0.05", "-0.15"), **fields)
-    control = kane_compare(system, moved.model(), values)
-    assert control.max_acceleration_error > 1e6 * control.tolerance
-    assert kane_covers(system)
