@@ -31,7 +31,91 @@ from .description import MechanicalDescription, Reduced
 from .model import ModelDetails
 from .vectors import dot
 
-__all__ = ["SupportSurfaceReduction", "SupportSurfaceEquations"]
+__all__ = ["SupportSurfaceReduction", "SupportSurfaceEquations", "SupportNormal", "support_normal"]
+
+
+@dataclass(frozen=True)
+class SupportNormal:
+    """The support's geometry as a ball's reduction uses it (shared by the homogeneous and
+    the general ball).
+
+    Attributes
+    ----------
+    nu : sympy.Matrix
+        The auxiliary symbols ``nu1 .. nu3`` of the unit normal.
+    normal : sympy.Matrix
+        ``nu(p) = grad F/|grad F|``.
+    curvature : sympy.Matrix
+        The auxiliary symbols ``Dnu11 ..`` of ``dnu/dp``.
+    pdot : sympy.Matrix
+        The auxiliary symbols ``pdot1 .. pdot3`` of the contact's rate.
+    adjugate, determinant :
+        Of ``Id + s R dnu/dp`` (in the symbols): ``p' = adj (x')/det`` for the centre's
+        velocity ``x'``.
+    level : sympy.Expr
+        ``F`` without its constant term (an integral: the contact stays on its level set).
+    """
+
+    nu: sp.Matrix
+    normal: sp.Matrix
+    curvature: sp.Matrix
+    pdot: sp.Matrix
+    adjugate: sp.Matrix
+    determinant: sp.Expr
+    level: sp.Expr
+
+    def aux(self, p: sp.Matrix, p_rate: sp.Matrix) -> tuple[tuple[sp.Symbol, sp.Expr], ...]:
+        """The normal, its Jacobian and the contact's rate, as auxiliaries in that order.
+
+        Parameters
+        ----------
+        p : sympy.Matrix
+            The contact point's state symbols.
+        p_rate : sympy.Matrix
+            ``p'`` in the state and the auxiliary symbols.
+
+        Returns
+        -------
+        tuple of (sympy.Symbol, sympy.Expr)
+        """
+        return (
+            tuple(zip(self.nu, self.normal, strict=True))
+            + tuple(zip(self.curvature, self.normal.jacobian(p), strict=True))
+            + tuple(zip(self.pdot, p_rate, strict=True))
+        )
+
+
+def support_normal(F: sp.Expr, p: sp.Matrix, side: int, radius: sp.Expr) -> SupportNormal:
+    """The unit normal of ``F(p) = 0``, its curvature and the contact's rate's solver.
+
+    Parameters
+    ----------
+    F : sympy.Expr
+        The support in the contact point's symbols.
+    p : sympy.Matrix
+        Those symbols.
+    side : int
+        1 outside, -1 inside.
+    radius : sympy.Expr
+        The ball's radius ``R``.
+
+    Returns
+    -------
+    SupportNormal
+    """
+    grad = sp.Matrix([sp.diff(F, c) for c in p])
+    norm = sp.sqrt(sp.factor_terms(sp.expand(dot(grad, grad))))
+    J = sp.Matrix(3, 3, lambda i, j: sp.Symbol(f"Dnu{i + 1}{j + 1}", real=True))
+    adj, det = _adjugate_and_det(sp.eye(3) + side * radius * J)
+    return SupportNormal(
+        nu=sp.Matrix(sp.symbols("nu1:4", real=True)),
+        normal=(grad / norm).applyfunc(sp.factor_terms),
+        curvature=J,
+        pdot=sp.Matrix(sp.symbols("pdot1:4", real=True)),
+        adjugate=adj,
+        determinant=det,
+        level=sp.expand(F - F.xreplace(dict.fromkeys(p, 0))),
+    )
 
 
 @dataclass
@@ -117,17 +201,11 @@ class SupportSurfaceReduction:
         p = desc.state_group(self.contact)
         m, R, s = self.mass, self.radius, self.side
         der = derive_fixed_frame(m, self.effective_mass, R, omega)
-        grad = sp.Matrix([sp.diff(self.support, c) for c in p])
-        norm = sp.sqrt(sp.factor_terms(sp.expand(dot(grad, grad))))
-        nu_of_p = (grad / norm).applyfunc(sp.factor_terms)
-        # aux: the normal, its Jacobian, the centre's velocity and p' (adjugate/det)
-        nu = sp.Matrix(sp.symbols("nu1:4", real=True))
-        J = sp.Matrix(3, 3, lambda i, j: sp.Symbol(f"Dnu{i + 1}{j + 1}", real=True))
-        pdot = sp.Matrix(sp.symbols("pdot1:4", real=True))
+        geometry = support_normal(self.support, p, s, R)
+        nu, nu_of_p, J, pdot = geometry.nu, geometry.normal, geometry.curvature, geometry.pdot
         n = s * nu  # from the contact to the centre
         x_rate = der.v.xreplace(der.velocity_map).xreplace(dict(zip(der.nu, n, strict=True)))
-        adj, det = _adjugate_and_det(sp.eye(3) + s * R * J)
-        p_rate = (adj * x_rate / det).applyfunc(sp.expand)
+        p_rate = (geometry.adjugate * x_rate / geometry.determinant).applyfunc(sp.expand)
         force = sp.Matrix([0, 0, -m * self.gravity])
         to_support = {
             **dict(zip(der.nu, n, strict=True)),
@@ -137,20 +215,14 @@ class SupportSurfaceReduction:
         omega_rate = der.omega_rate.xreplace(to_support)
         height = p[2] + s * R * nu_of_p[2]
         energy = der.energy.xreplace(to_support) + m * self.gravity * height
-        aux = (
-            tuple(zip(nu, nu_of_p, strict=True))
-            + tuple(zip(J, nu_of_p.jacobian(p), strict=True))
-            + tuple(zip(pdot, p_rate, strict=True))
-        )
         details = SupportSurfaceEquations(
             support=self.support, normal=nu_of_p, side=s, p_rate=p_rate,
             omega_rate=omega_rate, energy=energy, derivation=der,
         )  # fmt: skip
-        level = sp.expand(self.support - self.support.xreplace(dict.fromkeys(p, 0)))
         return Reduced(
             rates={self.angular_velocity: list(omega_rate), self.contact: list(pdot)},
-            aux=aux,
-            integrals=[("H", energy), ("F", level)],
+            aux=geometry.aux(p, p_rate),
+            integrals=[("H", energy), ("F", geometry.level)],
             density=None,
             omega=omega,
             details=details,

@@ -40,9 +40,11 @@ level ``F(p)`` (``(nu, p') = 0``).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import sympy as sp
 
+from .ball_on_support import support_normal
 from .body_on_sphere import _adjugate_and_det
 from .description import MechanicalDescription, Reduced, form_model
 from .errors import DerivationError
@@ -309,16 +311,13 @@ class GeneralBallReduction:
         omega, p = desc.state_group("omega"), desc.state_group("p")
         Q = sp.Matrix.hstack(*(desc.state_group(e) for e in AXES))
         m, b, s = self.mass, self.radius, self.side
-        nu = vector("nu", real=True)
         n_abs, ndot_abs = vector("n", real=True), vector("ndot", real=True)
         der = derive_general_ball(m, b, self.gravity, omega, n_abs, ndot_abs)
-        grad = sp.Matrix([sp.diff(self.support, c) for c in p])
-        norm = sp.sqrt(sp.factor_terms(sp.expand(dot(grad, grad))))
-        nu_of_p = (grad / norm).applyfunc(sp.factor_terms)
-        J = sp.Matrix(3, 3, lambda i, j: sp.Symbol(f"Dnu{i + 1}{j + 1}", real=True))
-        pdot = vector("pdot", real=True)
-        adj, det = _adjugate_and_det(sp.eye(3) + s * b * J)
-        p_rate = (adj * (b * cross(omega, s * nu)) / det).applyfunc(sp.expand)
+        geometry = support_normal(self.support, p, s, b)
+        nu, nu_of_p, J, pdot = geometry.nu, geometry.normal, geometry.curvature, geometry.pdot
+        p_rate = (geometry.adjugate * (b * cross(omega, s * nu)) / geometry.determinant).applyfunc(
+            sp.expand
+        )
         to_support = {
             **dict(zip(n_abs, s * nu, strict=True)),
             **dict(zip(ndot_abs, s * J * pdot, strict=True)),
@@ -346,9 +345,7 @@ class GeneralBallReduction:
         potential = m * self.gravity * (p[2] + der.height.xreplace(to_support)) + self.potential
         energy = der.kinetic_energy.xreplace(to_support) + potential
         aux = (
-            tuple(zip(nu, nu_of_p, strict=True))
-            + tuple(zip(J, nu_of_p.jacobian(p), strict=True))
-            + tuple(zip(pdot, p_rate, strict=True))
+            geometry.aux(p, p_rate)
             + frame
             + rates[0]
             + tuple(contact_aux)
@@ -357,13 +354,12 @@ class GeneralBallReduction:
             support=self.support, normal=nu_of_p, side=s, rotation=Q, p_rate=p_rate,
             omega_rate=omega_rate, energy=energy, derivation=der,
         )  # fmt: skip
-        level = sp.expand(self.support - self.support.xreplace(dict.fromkeys(p, 0)))
         frame_group = PoissonGroup(FRAME, AXES)
         timed = any(sp.sympify(e).has(t) for _, e in aux)  # work done: no energy integral
         return Reduced(
             rates={"omega": list(omega_rate), "p": list(pdot)},
             aux=aux,
-            integrals=([] if timed else [("H", energy)]) + [("F", level)],
+            integrals=([] if timed else [("H", energy)]) + [("F", geometry.level)],
             density=None,
             constraints=frame_group.constraints({e: desc.state_group(e) for e in AXES}),
             geometry=(frame_group,),
@@ -491,39 +487,18 @@ def general_ball_description(
     return desc
 
 
-def general_ball_model(
-    support: sp.Expr,
-    mass: sp.Expr,
-    radius: sp.Expr,
-    inertia: sp.Matrix,
-    centre: sp.Matrix,
-    rotor: sp.Matrix,
-    *,
-    side: int = 1,
-    gravity: sp.Expr = sp.S.Zero,
-    potential: sp.Expr = sp.S.Zero,
-    rubber: bool = False,
-    parameters: tuple[ParameterSpec, ...] = (),
-    system: str = "ball_on_support",
-) -> Model:
-    """Derive the model of :func:`general_ball_description` (same parameters).
+def general_ball_model(*args: Any, **kwargs: Any) -> Model:
+    """Derive the model of :func:`general_ball_description` (the same arguments).
 
     Parameters
     ----------
-    support, mass, radius, inertia, centre, rotor, side, gravity, potential, rubber
-        As :func:`general_ball_description`.
-    parameters, system
+    *args, **kwargs
         As :func:`general_ball_description`.
 
     Returns
     -------
     Model
-        State ``omega, p, e1, e2, e3``; integrals ``H`` and ``F``; the frame's
-        constraints.
+        State ``omega, p, e1, e2, e3``; integrals ``H`` (when nothing depends on the time)
+        and ``F``; the frame's constraints.
     """
-    return form_model(
-        general_ball_description(
-            support, mass, radius, inertia, centre, rotor, side=side, gravity=gravity,
-            potential=potential, rubber=rubber, parameters=parameters, system=system,
-        )  # fmt: skip
-    )
+    return form_model(general_ball_description(*args, **kwargs))
