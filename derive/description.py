@@ -202,6 +202,10 @@ class MechanicalDescription:
     trace_parameters : tuple of ParameterSpec
         Parameters only the trace uses (a constant velocity of a moving plane: it carries
         the trace but not the body).
+    trace_on_normal : sympy.Expr or None
+        On a fixed sphere: the contact point is this times the normal ``gamma`` from the
+        sphere's centre (``R`` outside, ``-R`` inside); the ``contact_point`` effect then
+        adds the fixed frame ``alpha, beta, zeta`` instead of a trace in a plane.
     """
 
     system: str
@@ -235,6 +239,7 @@ class MechanicalDescription:
     sampler: PhaseSpaceSampler | None = None
     trace_velocity: sp.Matrix | None = None
     trace_parameters: tuple[ParameterSpec, ...] = ()
+    trace_on_normal: sp.Expr | None = None
 
     # ------------------------------------------------------------------ add_*
     def add(self, declaration: Declaration) -> None:
@@ -498,17 +503,22 @@ class MechanicalDescription:
         return rotation + self.kinetic_energy
 
     def geometry(self) -> tuple[PoissonGroup, ...]:
-        """A frame when ``alpha, beta, gamma`` are all there, else unit vectors.
+        """A frame when ``alpha, beta`` and the vertical are there, else unit vectors.
 
         Returns
         -------
         tuple of PoissonGroup
-            One ``FRAME`` group ``(alpha, beta, gamma)``, or one ``UNIT_VECTOR`` group per
-            space-fixed vector, in the order of ``kinematics``.
+            One ``FRAME`` group ``(alpha, beta, gamma)`` (``(alpha, beta, zeta)`` on a
+            fixed sphere, where ``gamma`` is the turning normal: then also its
+            ``UNIT_VECTOR`` group), or one ``UNIT_VECTOR`` group per space-fixed vector, in
+            the order of ``kinematics``.
         """
-        if {"alpha", "beta", "gamma"} <= set(self.kinematics):
-            return (PoissonGroup(FRAME, ("alpha", "beta", "gamma")),)
-        return tuple(PoissonGroup(UNIT_VECTOR, (name,)) for name in self.kinematics)
+        third = "zeta" if "zeta" in self.kinematics else "gamma"
+        frame = ("alpha", "beta", third)
+        if not set(frame) <= set(self.kinematics):
+            return tuple(PoissonGroup(UNIT_VECTOR, (name,)) for name in self.kinematics)
+        rest = [name for name in self.kinematics if name not in frame]
+        return (PoissonGroup(FRAME, frame), *(PoissonGroup(UNIT_VECTOR, (n,)) for n in rest))
 
     def ordered_parameters(self) -> tuple[ParameterSpec, ...]:
         """The declared parameter groups in :attr:`parameter_order`.

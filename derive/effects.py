@@ -146,12 +146,22 @@ class ContactPoint(Effect):
         Declaration
             Poisson vectors ``alpha, beta``; states ``x, y`` moving with the centre
             velocity ``v`` projected on ``alpha`` and ``beta`` (put on the admissible
-            velocities when the model is made); parameter ``b``; completion rules.
+            velocities when the model is made); parameter ``b``; completion rules. On a
+            fixed sphere (``desc.trace_on_normal``) the frame ``alpha, beta, zeta`` only
+            (the contact point is ``trace_on_normal`` times the normal, in that frame;
+            ``zeta`` starts as the normal unless the description has it).
 
         References
         ----------
         BKM12-6.
         """
+        if desc.trace_on_normal is not None:  # on a fixed sphere: the fixed frame only
+            new_zeta = "zeta" not in desc.kinematics  # (else the field's vertical, given)
+            return Declaration(
+                poisson_vectors=("alpha", "beta", "zeta"),
+                completion=((("alpha", "beta"), "frame_bkm12_7"),
+                            *([(("zeta",), "normal")] if new_zeta else [])),
+            )  # fmt: skip
         b = sp.Symbol("b", positive=True)
         x, y = sp.symbols("x y", real=True)
         # The contact point lies under the centre: its horizontal coordinates move with

@@ -25,7 +25,7 @@ __all__ = [
 ]
 
 #: Rules by which a missing state group is completed (see ``Model.completion``).
-COMPLETION_RULES = ("zero", "frame_bkm12_7")
+COMPLETION_RULES = ("zero", "frame_bkm12_7", "normal")
 
 #: ``sampler(rng, point)`` writes an exact rational point of a model's phase space (and
 #: the parameters that shape it) into the dict ``point``; picklable (models are cached).
@@ -146,7 +146,9 @@ class Model:
     completion : tuple of ((str, ...), str)
         How a partial initial state is completed, declared by the system or an effect:
         groups and a rule of :data:`COMPLETION_RULES` (``"zero"``: start at 0;
-        ``"frame_bkm12_7"``: ``alpha = M x gamma/|M x gamma|``, ``beta = gamma x alpha``).
+        ``"frame_bkm12_7"``: ``alpha = M x gamma/|M x gamma|``, ``beta = gamma x alpha``;
+        ``"normal"``: a fixed vector starting as the model's unit vector outside its frame,
+        the normal ``gamma`` of a fixed sphere).
         A group without a rule must be given. Not part of the hash.
 
     Raises

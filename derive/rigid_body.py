@@ -123,7 +123,8 @@ def _reaction_free_integrals(
         name = "".join(f"-({P_name},{x})^2" for x in sorted(reacting))
         value = dot(P, P) - sum((dot(P, vectors[x]) ** 2 for x in sorted(reacting)), sp.S.Zero)
         out.append((f"({P_name},{P_name}){name}", sp.expand(value)))
-    for name in ("gamma", "alpha", "beta") if frame else tuple(vectors):
+    frame_names = ("gamma", "alpha", "beta") if frame and "zeta" not in vectors else ()
+    for name in frame_names or tuple(vectors):
         if name not in reacting and name not in turning:
             out.append((f"({P_name},{name})", sp.expand(dot(P, vectors[name]))))
     return out
@@ -158,14 +159,15 @@ def _geometric_integrals(
     relations)."""
     vectors = desc.vectors
     before: list[tuple[str, sp.Expr]] = []
-    if frame:
-        alpha, beta, gamma = (vectors[n] for n in ("alpha", "beta", "gamma"))
+    if frame:  # alpha, beta and the third: gamma, or on a fixed sphere the vertical zeta
+        third = next(g.names[2] for g in desc.geometry() if g.kind == FRAME)
+        alpha, beta, normal = (vectors[n] for n in ("alpha", "beta", third))
         before = [
             ("(alpha,alpha)", dot(alpha, alpha)),
             ("(beta,beta)", dot(beta, beta)),
             ("(alpha,beta)", dot(alpha, beta)),
-            ("(gamma,alpha)", dot(gamma, alpha)),
-            ("(gamma,beta)", dot(gamma, beta)),
+            (f"({third},alpha)", dot(normal, alpha)),
+            (f"({third},beta)", dot(normal, beta)),
         ]
     units = [n for group in desc.geometry() if group.kind != FRAME for n in group.names]
     return before, [(f"({n},{n})", dot(vectors[n], vectors[n])) for n in units or ["gamma"]]

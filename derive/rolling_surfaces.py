@@ -315,3 +315,20 @@ def _used_parameters(parameters: tuple[sp.Symbol, ...], p: dict) -> tuple[sp.Sym
     if p.get("balls") is not None:  # the centre of mass is fixed: no mass, no radius
         used = free(p["inertia"], p["rotor_momentum"], *(x for b in p["balls"] for x in b[:2]))
     return parameters if used is None else tuple(x for x in parameters if x in used)
+
+
+def _trace_on_normal(s: RollingSystem, parsed: dict) -> sp.Expr | None:
+    """On a fixed sphere the contact point is ``+-R gamma`` from its centre (fixed frame)."""
+    if s.support != "sphere":
+        return None
+    return parsed["support_radius"] * (1 if s.side == "outside" else -1)
+
+
+def _normal_rate_factor(s: RollingSystem, parsed: dict) -> sp.Expr:
+    """``s`` of ``gamma' = s gamma x omega``: 1 on a plane; on a sphere of radius ``R``
+    the body's centre moves on the sphere of radius ``R +- b`` (outside/inside), and
+    no slip turns the normal at ``R/(R +- b)`` of the body's rate."""
+    if s.support != "sphere":
+        return sp.S.One
+    R, b = parsed["support_radius"], parsed["radius"]
+    return R / (R + b) if s.side == "outside" else R / (R - b)

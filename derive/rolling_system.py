@@ -34,7 +34,9 @@ sphere needs the vertical: the state gains ``zeta``, the upward unit vector in b
 (fixed in space, Poisson's equation); the body's centre is at ``c gamma`` from the
 sphere's centre (``c = R + b`` outside, ``-(R - b)`` inside), so gravity's potential is
 ``m g (c (gamma, zeta) + (a, zeta))`` and a potential may use ``zeta`` beside
-``gamma``. The fixed-frame contact trace is not derived on a sphere in this version.
+``gamma``. The effect ``contact_point`` there adds the fixed frame ``alpha, beta, zeta``
+(Poisson vectors; ``zeta`` starts as ``gamma`` unless a field put it in the state): the
+contact point is ``+-R ((gamma, alpha), (gamma, beta), (gamma, zeta))`` from the centre.
 
 On a rotating plane the constraint is affine: the body's contact point moves with the
 plane, ``v + omega x r = Omega gamma x rho``, ``rho`` the contact point's position from
@@ -116,9 +118,11 @@ from .rolling_surfaces import (
     SUPPORT_CONFIGURATION,
     _convex_body_description,
     _declare_parameters,
+    _normal_rate_factor,
     _read_support_surface,
     _read_surface,
     _support_surface_description,
+    _trace_on_normal,
     _used_parameters,
 )
 from .vectors import cross, dot, vector
@@ -157,7 +161,7 @@ _EFFECTS_BY_SUPPORT = {
     "plane": SUPPORTED_EFFECTS,
     "rotating_plane": ("contact_point",),
     "moving_plane": ("contact_point",),
-    "sphere": (),
+    "sphere": ("contact_point",),
 }
 #: Names a parameter cannot take: the state, the velocities, time and the functions.
 RESERVED_NAMES = frozenset(
@@ -458,8 +462,8 @@ class RollingSystem:
         )
         m, b, a, K = p["mass"], p["radius"], p["centre"], p["rotor_momentum"]
         desc.add_kinetic_energy(m * dot(v, v) / 2 + dot(K, omega))
-        desc.contact_vector = -a - b * gamma
-        desc.centre_offset = -a
+        desc.contact_vector, desc.centre_offset = -a - b * gamma, -a
+        desc.trace_on_normal = _trace_on_normal(self, p)
         desc.add_state("M", tuple(vector("M", real=True)), None)
         desc.add_poisson_vector("gamma", _normal_rate_factor(self, p))
         # the body's contact point moves with the support (zero but on a rotating plane)
@@ -547,16 +551,6 @@ def _potential_energy(s: RollingSystem, desc: MechanicalDescription) -> sp.Expr:
     R, b = p["support_radius"], p["radius"]
     c = R + b if s.side == "outside" else -(R - b)
     return p["field"] * p["mass"] * (c * dot(gamma, zeta) + dot(a, zeta)) + potential
-
-
-def _normal_rate_factor(s: RollingSystem, parsed: dict) -> sp.Expr:
-    """``s`` of ``gamma' = s gamma x omega``: 1 on a plane; on a sphere of radius ``R``
-    the body's centre moves on the sphere of radius ``R +- b`` (outside/inside), and
-    no slip turns the normal at ``R/(R +- b)`` of the body's rate."""
-    if s.support != "sphere":
-        return sp.S.One
-    R, b = parsed["support_radius"], parsed["radius"]
-    return R / (R + b) if s.side == "outside" else R / (R - b)
 
 
 def _check_choice(what: str, value: object, choices: Mapping[str, bool]) -> None:
@@ -659,7 +653,7 @@ def _parse(s: RollingSystem) -> dict:
         "balls": read_balls(s, read, parsed),
     }
     parameters = _used_parameters(tuple(symbols[n] for n in names), parsed)
-    inside = support_radius if s.side == "inside" else None
+    inside = support_radius if s.side == "inside" and s.support == "sphere" else None
     conditions = _parameter_conditions(inertia, radius, centre, inside, surface, parameters)
     roles = {
         "mass": mass,

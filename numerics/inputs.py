@@ -606,6 +606,11 @@ def complete_state(
             for name in values
         }
         rules = {g: rule for names, rule in code.completion for g in names}
+        # a fixed vector starting as the normal: the model's unit vector outside its frame
+        normal = next((n[0] for kind, n in code.geometry if kind == "unit_vector"), None)
+        for name, rule in rules.items():
+            if name not in got and rule == "normal" and normal in got:
+                got[name] = list(unit_vector(normal, got[normal], UNIT_TOLERANCE))
         for name, comps in groups.items():
             if name not in got and name not in rules:
                 raise UserInputError(

@@ -274,12 +274,18 @@ def test_bad_descriptions_are_refused_before_any_work(fields, message):
     assert "\n" not in str(info.value)
 
 
-def test_the_contact_trace_is_refused_on_a_sphere():
+def test_the_contact_trace_on_a_sphere_is_a_spherical_body_s_only():
+    """A spherical body on a fixed sphere takes the trace (the fixed frame joins the state:
+    tests/derive/test_sphere_trace.py); a convex body there is refused in one line."""
     system = RollingSystem("on_sphere", inertia=(1, 2, 3), support="sphere", support_radius=3)
+    groups = dict(system.model(("contact_point",)).state_groups)
+    assert {"alpha", "beta", "zeta"} <= set(groups) and "x" not in groups
+    convex = RollingSystem("egg_on_sphere", inertia=(1, 2, 3), support="sphere",
+                           support_radius=3, surface="x1**2 + x2**2/2 + x3**2/3 - 1")  # fmt: skip
     with pytest.raises(
         UserInputError, match="unknown effect 'contact_point'.*supports: none"
     ) as info:
-        system.model(("contact_point",))
+        convex.model(("contact_point",))
     assert "\n" not in str(info.value)
 
 

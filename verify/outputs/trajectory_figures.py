@@ -15,7 +15,13 @@ from ..figure_style import new_figure
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["contact_trace_figure", "body_trace_figure", "series_figure", "drift_figure"]
+__all__ = [
+    "contact_trace_figure",
+    "sphere_trace_figure",
+    "body_trace_figure",
+    "series_figure",
+    "drift_figure",
+]
 
 
 def contact_trace_figure(
@@ -55,6 +61,41 @@ def contact_trace_figure(
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3)
     fig.tight_layout()
+    return fig
+
+
+def sphere_trace_figure(points: np.ndarray, radius: float, title: str = "") -> Figure:
+    """The contact point's trace on a fixed sphere (its centre at the origin), in the fixed
+    frame ``alpha, beta, zeta``, over the sphere's wireframe.
+
+    Parameters
+    ----------
+    points : ndarray, shape (3, n)
+        The contact point in the fixed frame.
+    radius : float
+        The sphere's radius.
+    title : str
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig = new_figure(figsize=(6, 6))
+    ax = fig.add_subplot(projection="3d")
+    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 40), np.linspace(0, np.pi, 20))
+    R = float(radius)
+    ax.plot_wireframe(R * np.cos(u) * np.sin(v), R * np.sin(u) * np.sin(v), R * np.cos(v),
+                      color="0.85", lw=0.4)  # fmt: skip
+    p = np.asarray(points, float)
+    ax.plot(p[0], p[1], p[2], lw=0.8)
+    ax.plot([p[0, 0]], [p[1, 0]], [p[2, 0]], "o", color="tab:green", ms=4, label="start")
+    ax.plot([p[0, -1]], [p[1, -1]], [p[2, -1]], "s", color="tab:red", ms=4, label="end")
+    ax.set_xlabel("alpha")
+    ax.set_ylabel("beta")
+    ax.set_zlabel("zeta")
+    ax.set_box_aspect((1, 1, 1))
+    ax.set_title(title, fontsize=9)
+    ax.legend(fontsize=7)
     return fig
 
 

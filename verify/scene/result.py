@@ -170,15 +170,25 @@ class SceneResult:
 
     # ------------------------------------------------------------------ figures
     def contact_trace_figure(self) -> Figure:
-        """The contact point in the plane (``x, y``).
+        """The contact point in the plane (``x, y``); on a fixed sphere, on the sphere (the
+        point ``+-R ((gamma, alpha), (gamma, beta), (gamma, zeta))``, fixed frame).
 
         Returns
         -------
         matplotlib.figure.Figure
         """
-        from ..outputs.trajectory_figures import contact_trace_figure
+        from ..outputs.trajectory_figures import contact_trace_figure, sphere_trace_figure
 
         y = self.y
+        if "x" not in y and "alpha1" in y and "zeta1" in y:  # on a fixed sphere
+            system = self.scene._described.rolling_system()  # (only a description has it)
+            R = system._parsed["support_radius"]
+            R = float(R.xreplace({s: self.resolved.params[s.name] for s in R.free_symbols}))
+            gamma = np.array([y[f"gamma{i}"] for i in (1, 2, 3)])
+            gamma = gamma * (-R if system.side == "inside" else R)  # inside: at -R gamma
+            axes = [np.array([y[f"{n}{i}"] for i in (1, 2, 3)]) for n in ("alpha", "beta", "zeta")]
+            points = np.array([(gamma * a).sum(axis=0) for a in axes])
+            return sphere_trace_figure(points, R, self._title())
         spec = self.scene.outputs.contact_trace
         aspect = spec.aspect if spec is not None else "equal"
         return contact_trace_figure(y["x"], y["y"], self._title(), aspect)

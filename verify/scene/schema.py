@@ -128,7 +128,9 @@ class Outputs(_Table):
 
     trajectory: TrajectoryOutput = TrajectoryOutput()
     contact_trace: TraceOutput | None = Field(
-        None, description="the contact point (x, y) in the plane (needs contact_point)"
+        None,
+        description="the contact point (x, y) in the plane, or its longitude and latitude on "
+        "a fixed sphere (needs contact_point)",
     )
     body_trace: PlotOutput | None = Field(
         None, description="the contact point -b gamma on the ball's surface (needs contact_point)"
