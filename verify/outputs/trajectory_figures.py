@@ -64,6 +64,30 @@ def contact_trace_figure(
     return fig
 
 
+def _trace_on_sphere(points: np.ndarray, radius: float | None, axes: tuple, title: str,
+                     ends: bool) -> Figure:  # fmt: skip
+    """A 3-D trace, over a sphere's wireframe when ``radius`` is given."""
+    fig = new_figure(figsize=(6, 6))
+    ax = fig.add_subplot(projection="3d")
+    if radius is not None:
+        u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 40), np.linspace(0, np.pi, 20))
+        R = float(radius)
+        ax.plot_wireframe(R * np.cos(u) * np.sin(v), R * np.sin(u) * np.sin(v), R * np.cos(v),
+                          color="0.85", lw=0.4)  # fmt: skip
+    p = np.asarray(points, float)
+    ax.plot(p[0], p[1], p[2], lw=0.8)
+    if ends:
+        ax.plot([p[0, 0]], [p[1, 0]], [p[2, 0]], "o", color="tab:green", ms=4, label="start")
+        ax.plot([p[0, -1]], [p[1, -1]], [p[2, -1]], "s", color="tab:red", ms=4, label="end")
+        ax.legend(fontsize=7)
+    ax.set_xlabel(axes[0])
+    ax.set_ylabel(axes[1])
+    ax.set_zlabel(axes[2])
+    ax.set_box_aspect((1, 1, 1))
+    ax.set_title(title, fontsize=9)
+    return fig
+
+
 def sphere_trace_figure(points: np.ndarray, radius: float, title: str = "") -> Figure:
     """The contact point's trace on a fixed sphere (its centre at the origin), in the fixed
     frame ``alpha, beta, zeta``, over the sphere's wireframe.
@@ -80,23 +104,7 @@ def sphere_trace_figure(points: np.ndarray, radius: float, title: str = "") -> F
     -------
     matplotlib.figure.Figure
     """
-    fig = new_figure(figsize=(6, 6))
-    ax = fig.add_subplot(projection="3d")
-    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 40), np.linspace(0, np.pi, 20))
-    R = float(radius)
-    ax.plot_wireframe(R * np.cos(u) * np.sin(v), R * np.sin(u) * np.sin(v), R * np.cos(v),
-                      color="0.85", lw=0.4)  # fmt: skip
-    p = np.asarray(points, float)
-    ax.plot(p[0], p[1], p[2], lw=0.8)
-    ax.plot([p[0, 0]], [p[1, 0]], [p[2, 0]], "o", color="tab:green", ms=4, label="start")
-    ax.plot([p[0, -1]], [p[1, -1]], [p[2, -1]], "s", color="tab:red", ms=4, label="end")
-    ax.set_xlabel("alpha")
-    ax.set_ylabel("beta")
-    ax.set_zlabel("zeta")
-    ax.set_box_aspect((1, 1, 1))
-    ax.set_title(title, fontsize=9)
-    ax.legend(fontsize=7)
-    return fig
+    return _trace_on_sphere(points, radius, ("alpha", "beta", "zeta"), title, ends=True)
 
 
 def body_trace_figure(points: np.ndarray, b: float | None = None, title: str = "") -> Figure:
@@ -115,22 +123,7 @@ def body_trace_figure(points: np.ndarray, b: float | None = None, title: str = "
     -------
     matplotlib.figure.Figure
     """
-    fig = new_figure(figsize=(6, 6))
-    ax = fig.add_subplot(projection="3d")
-    if b is not None:
-        u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 40), np.linspace(0, np.pi, 20))
-        ax.plot_wireframe(
-            b * np.cos(u) * np.sin(v), b * np.sin(u) * np.sin(v), b * np.cos(v), color="0.85",
-            lw=0.4,
-        )  # fmt: skip
-    p = np.asarray(points, float)
-    ax.plot(p[0], p[1], p[2], lw=0.8)
-    ax.set_xlabel("e1")
-    ax.set_ylabel("e2")
-    ax.set_zlabel("e3")
-    ax.set_box_aspect((1, 1, 1))
-    ax.set_title(title, fontsize=9)
-    return fig
+    return _trace_on_sphere(points, b, ("e1", "e2", "e3"), title, ends=False)
 
 
 def series_figure(t: np.ndarray, series: Mapping[str, np.ndarray], title: str = "") -> Figure:
