@@ -256,6 +256,8 @@ class NBallReduction:
                 for s, e in zip(n, b, strict=True)
             }
         II = red.inertia_operator.xreplace(subs)
+        if self.conserved and space is not None:  # rational entries: the directions' radicals
+            II = II.applyfunc(sp.expand)  # cancel in n_k n_k^T (sum_k w_k c_k c_k^T is rational)
         adj, det = _adjugate_and_det(II)  # unexpanded: omega is only evaluated, never simplified
         detII = sp.Symbol("det_II", real=True)
         # M = II omega + K as derived; a description's M = II omega (the closed model's)
@@ -273,7 +275,7 @@ class NBallReduction:
             "density": None,
         }
         if self.conserved and space is not None:
-            conserved = _n_ball_integrals(der, subs, M, [vectors[n] for n in names], constraints)
+            conserved = _n_ball_integrals(der, subs, II, M, [vectors[n] for n in names], constraints)
             conserved["rates"] = {self.momentum: conserved["rates"]}
             conserved["density"] = det ** sp.Rational(-1, 2)
         return Reduced(
@@ -294,13 +296,17 @@ class NBallReduction:
 
 
 def _n_ball_integrals(
-    der: SupportDerivation, subs: dict, M: sp.Matrix, frame: list[sp.Matrix], constraints: list
+    der: SupportDerivation,
+    subs: dict,
+    II: sp.Matrix,
+    M: sp.Matrix,
+    frame: list[sp.Matrix],
+    constraints: list,
 ) -> dict:
     """The momentum rate ``(M + K) x omega``, checked against the derived one modulo the
     frame's relations, the closed model's integrals and ``M = II omega`` (N balls in a
-    space frame)."""
+    space frame; ``II`` the inertia operator on the frame)."""
     red, omega = der.reduction, der.omega
-    II = red.inertia_operator.xreplace(subs)
     P0 = red.gyrostatic_momentum.xreplace(subs)
     derived = red.momentum_rate.xreplace(subs)
     frame_ideal = ConstraintIdeal(constraints, [s for v in frame for s in v])
