@@ -40,6 +40,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from ..derive.algebra import RationalFunctionBuilder, UnsupportedExpression, ring_normal_form
+from ..derive.body_on_sphere import _adjugate_and_det
 from ..derive.model import Model
 
 __all__ = ["OmegaCoordinates", "applies", "coordinates", "integral_rate", "measure_residual"]
@@ -91,17 +92,6 @@ class OmegaCoordinates:
         sympy.Expr
         """
         return sum((self.adjugate[i, k] * self.v[k] for k in range(3)), sp.S.Zero) / self.det
-
-
-def _cofactors(A: sp.Matrix) -> tuple[sp.Matrix, sp.Expr]:
-    """Adjugate and determinant of a 3x3 matrix by cofactors, unexpanded."""
-
-    def cofactor(i: int, j: int) -> sp.Expr:
-        (a, b), (c, d) = ([A[p, q] for q in range(3) if q != j] for p in range(3) if p != i)
-        return (-1) ** (i + j) * (a * d - b * c)
-
-    cof = sp.Matrix(3, 3, cofactor)
-    return cof.T, sp.Add(*(A[0, j] * cof[0, j] for j in range(3)))
 
 
 def _momentum(model: Model) -> tuple[sp.Symbol, ...]:
@@ -175,7 +165,7 @@ def _coordinates(model: Model) -> OmegaCoordinates:
     m_dot = sp.Matrix([sp.sympify(rate[s]).xreplace(sub) for s in M])
     A = m.jacobian(omega).applyfunc(sp.expand)
     v = (m_dot - m.jacobian(g) * g_dot).applyfunc(sp.expand)
-    adj, det = _cofactors(A)
+    adj, det = _adjugate_and_det(A)
     return OmegaCoordinates(omega, g, sub, A, adj, det, v, g_dot)
 
 
