@@ -28,8 +28,10 @@ m(omega, g)``.
 The route is taken only where it is sound (:func:`applies`): an autonomous model without
 invariant relations whose ``omega`` are auxiliaries, whose momentum is linear in
 ``omega`` with a state-dependent ``II`` and a general inverse (no structured inverse),
-rational in its symbols, and whose ``omega`` solves ``M = m(omega, g)`` -- proved, not
-assumed: ``m(omega(M, g), g) - M`` has a zero normal form modulo the constraints.
+rational in its symbols, small enough to expand (a right-hand side of at most
+:data:`~chaplygin.derive.emit.base.CHAIN_OPS` operations expanded: larger models are
+:mod:`.chained`'s), and whose ``omega`` solves ``M = m(omega, g)`` -- proved, not assumed:
+``m(omega(M, g), g) - M`` has a zero normal form modulo the constraints.
 """
 
 from __future__ import annotations
@@ -41,6 +43,7 @@ import sympy as sp
 
 from ..derive.algebra import RationalFunctionBuilder, UnsupportedExpression, ring_normal_form
 from ..derive.body_on_sphere import _adjugate_and_det
+from ..derive.emit.base import CHAIN_OPS, expanded_size
 from ..derive.model import Model
 
 __all__ = ["OmegaCoordinates", "applies", "coordinates", "integral_rate", "measure_residual"]
@@ -104,6 +107,8 @@ def _shape_serves(model: Model) -> bool:
     if model.omega is None or model.momentum_of_omega is None or model.invariant_relations:
         return False
     if model.structured_inverse is not None or not set(model.omega) <= set(model.aux_symbols):
+        return False
+    if expanded_size(model) > CHAIN_OPS:  # too large to expand (verify/chained.py's models)
         return False
     exprs = [*model.rhs, *(e for _, e in model.aux), *model.momentum_of_omega]
     if any(model.time in sp.sympify(e).free_symbols for e in exprs):
