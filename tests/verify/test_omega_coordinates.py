@@ -140,10 +140,11 @@ def test_the_liouville_residual_in_omega_is_the_one_in_m(tmp_path, monkeypatch):
 def test_the_route_needs_omega_to_invert_the_momentum(tmp_path, monkeypatch):
     """A model whose stated ``M = m(omega, g)`` is not what its ``omega`` inverts (twice
     the true one) is not decided in ``(omega, g)``; nor is a model with a structured
-    inverse (the Chaplygin ball) or a state-independent ``II`` (the free rigid body)."""
+    inverse (the Chaplygin ball, the closed model of the spherical support)."""
     monkeypatch.setenv("CHAPLYGIN_CACHE_DIR", str(tmp_path / "cache"))
     model = _general_model(tmp_path)
     assert omega_coordinates.applies(model)
     wrong = dataclasses.replace(model, momentum_of_omega=2 * model.momentum_of_omega)
     assert not omega_coordinates.applies(wrong)
     assert not omega_coordinates.applies(build_model("chaplygin_ball"))
+    assert not omega_coordinates.applies(build_model("spherical_support"))
