@@ -14,7 +14,12 @@ equations reduced by projection, :class:`~.spherical_support.NBallReduction`) on
 user's data: state ``M = II omega`` (without ``K``) and the body components ``alpha, beta,
 gamma`` of the space axes; it ships the closed model's integrals, which hold for any ``N``
 (``H = (M, omega)/2``, ``(M + K, alpha)`` ..., ``(M + K, M + K)``, the frame's relations)
-and the density ``det(II)^-1/2``.
+and the density ``det(II)^-1/2``. The entries of ``II`` are polynomials of the frame with
+rational coefficients (the radicals of normalised directions cancel). In any placement of
+the balls (a support tensor ``sum_k lambda_k/r_k^2 n_k n_k^T`` diagonal in the space axes
+or not) ``chaplygin verify --system`` proves ``H`` and the density in seconds, in the
+coordinates ``(omega, alpha, beta, gamma)`` (:mod:`chaplygin.verify.omega_coordinates`:
+one denominator ``det II``); expanded in ``M`` (powers of ``det II``) they took minutes.
 
 The centre of mass is the shell's centre and does not move: the body's ``mass`` and
 ``radius`` (the shell's ``R0``) do not enter (the ratios carry the radii); they are read

@@ -62,6 +62,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .algebra import ConstraintIdeal
+from .body_on_sphere import _adjugate_and_det
 from .description import MechanicalDescription, Reduced, apply_effects, form_model
 from .effects import parse_effects
 from .engine import ReducedEquations, StructuredInverse
@@ -180,17 +181,6 @@ def _random_unit_vectors(n: int, seed: int) -> list[sp.Matrix]:
     return [sp.Matrix(group.sample_rational(rng)["n"]) for _ in range(n)]
 
 
-def _adjugate_and_det(A: sp.Matrix) -> tuple[sp.Matrix, sp.Expr]:
-    """Adjugate and determinant of a 3x3 matrix by cofactors, without simplification."""
-
-    def cofactor(i: int, j: int) -> sp.Expr:
-        (a, b), (c, d) = ([A[p, q] for q in range(3) if q != j] for p in range(3) if p != i)
-        return (-1) ** (i + j) * (a * d - b * c)
-
-    cof = sp.Matrix(3, 3, cofactor)
-    return cof.T, sum((A[0, j] * cof[0, j] for j in range(3)), sp.S.Zero)
-
-
 @dataclass(frozen=True)
 class NBallReduction:
     """The multi-body reduction of a support, as it stands (the N-ball models).
@@ -211,7 +201,9 @@ class NBallReduction:
         ``det(II)^-1/2`` (BKM12-38 in any space frame), the momentum rate written ``(M +
         K) x omega`` once its derived form is reduced to it modulo the frame's relations;
         the state ``M`` is then ``II omega``, without ``K``, as in the closed model (a
-        :class:`~.rolling_system.RollingSystem` on balls).
+        :class:`~.rolling_system.RollingSystem` on balls), and the entries of ``II`` are
+        expanded: polynomials of the frame with rational coefficients (the radicals of
+        normalised directions cancel in ``n_k n_k^T``).
     """
 
     space_directions: tuple[sp.Matrix, ...] | None = None
@@ -256,6 +248,8 @@ class NBallReduction:
                 for s, e in zip(n, b, strict=True)
             }
         II = red.inertia_operator.xreplace(subs)
+        if self.conserved and space is not None:  # rational entries: the directions' radicals
+            II = II.applyfunc(sp.expand)  # cancel in n_k n_k^T (sum_k w_k c_k c_k^T is rational)
         adj, det = _adjugate_and_det(II)  # unexpanded: omega is only evaluated, never simplified
         detII = sp.Symbol("det_II", real=True)
         # M = II omega + K as derived; a description's M = II omega (the closed model's)
@@ -273,7 +267,9 @@ class NBallReduction:
             "density": None,
         }
         if self.conserved and space is not None:
-            conserved = _n_ball_integrals(der, subs, M, [vectors[n] for n in names], constraints)
+            conserved = _n_ball_integrals(
+                der, subs, II, M, [vectors[n] for n in names], constraints
+            )
             conserved["rates"] = {self.momentum: conserved["rates"]}
             conserved["density"] = det ** sp.Rational(-1, 2)
         return Reduced(
@@ -294,13 +290,17 @@ class NBallReduction:
 
 
 def _n_ball_integrals(
-    der: SupportDerivation, subs: dict, M: sp.Matrix, frame: list[sp.Matrix], constraints: list
+    der: SupportDerivation,
+    subs: dict,
+    II: sp.Matrix,
+    M: sp.Matrix,
+    frame: list[sp.Matrix],
+    constraints: list,
 ) -> dict:
     """The momentum rate ``(M + K) x omega``, checked against the derived one modulo the
     frame's relations, the closed model's integrals and ``M = II omega`` (N balls in a
-    space frame)."""
+    space frame; ``II`` the inertia operator on the frame)."""
     red, omega = der.reduction, der.omega
-    II = red.inertia_operator.xreplace(subs)
     P0 = red.gyrostatic_momentum.xreplace(subs)
     derived = red.momentum_rate.xreplace(subs)
     frame_ideal = ConstraintIdeal(constraints, [s for v in frame for s in v])

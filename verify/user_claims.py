@@ -41,7 +41,7 @@ from ..derive.expression_text import parse_expression
 from ..derive.model import Model
 from ..derive.rolling_system import RollingSystem
 from ..derive.systems import build_model, register_system
-from . import chained
+from . import chained, omega_coordinates
 from .claims.base import Check, Claim, Computed, ComputedClaim
 from .identity import lie_derivative, measure_residual
 from .scene.schema import FileClaim, FileDiscovery
@@ -259,6 +259,13 @@ def _names(model: Model) -> dict[str, sp.Expr]:
     return names
 
 
+#: What a check in the coordinates (omega, g) says with its verdict.
+_IN_OMEGA = (
+    "in the coordinates (omega, g): M = II(g) omega, proved to invert the model's omega; "
+    "a witness gives omega"
+)
+
+
 def _integral_check(expr: sp.Expr, model: Model) -> Check:
     if chained.applies(model, expr):  # too large to expand: the rate through the auxiliaries
         return Check(
@@ -267,10 +274,17 @@ def _integral_check(expr: sp.Expr, model: Model) -> Check:
             method="exact-sampled",
             note="the expanded rate is too large for a Groebner proof",
         )
+    uses_aux = bool(sp.sympify(expr).free_symbols & set(model.aux_symbols))
+    if uses_aux and omega_coordinates.applies(model):  # one denominator det II, not powers
+        rate = omega_coordinates.integral_rate(expr, model)
+        return Check(exprs=[rate], free=list(model.omega), note=_IN_OMEGA)
     return Check(exprs=[lie_derivative(expr, model)])
 
 
 def _measure_check(expr: sp.Expr, model: Model) -> Check:
+    if omega_coordinates.applies(model):
+        residual = omega_coordinates.measure_residual(expr, model)
+        return Check(exprs=[residual], free=list(model.omega), note=_IN_OMEGA)
     return Check(exprs=[measure_residual(expr, model)])
 
 
