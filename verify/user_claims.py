@@ -317,7 +317,8 @@ def kane_covers(system: RollingSystem) -> bool:
     (:mod:`.kane_implicit`) where the comparison's rays meet the surface. A ball on a
     support surface: on an ellipsoid (:mod:`.kane_support`) or any other convex support where
     the comparison's rays meet it (:mod:`.kane_support_implicit`), without a potential,
-    rubber contact, ``I(t)`` or ``K(t)`` (not set up there). Not a body in
+    rubber contact, ``I(t)`` or ``K(t)`` (not set up there). Not a convex body on a support
+    surface (:mod:`~chaplygin.derive.body_on_support`: no Kane set-up of it), nor a body in
     a spherical support of balls (no Kane set-up of the balls: its model is the multi-body
     reduction the claims of BKM12 §2.1 check).
 
@@ -335,6 +336,9 @@ def kane_covers(system: RollingSystem) -> bool:
     if system.support == "balls":
         return False
     support = system._parsed["support_surface"]
+    if support is not None and system._parsed["surface"] is not None:
+        return False  # a convex body on a support: no Kane set-up of it
+
     if support is not None:  # a ball on a support: an ellipsoid's parametrisation
         parsed, t = system._parsed, sp.Symbol("t", real=True)
         if (  # what kane_support does not set up: not claimed
