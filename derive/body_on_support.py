@@ -73,11 +73,12 @@ __all__ = [
 ]
 
 #: The auxiliary symbols this derivation adds to the general ball's (a parameter must not
-#: take them): the body normal's Jacobian, it in the fixed frame, the contact's system and
-#: ``rho``.
+#: take them): the body's ``|grad f|``, normal and its Jacobian, that in the fixed frame, the
+#: contact's system and ``rho``.
 BODY_AUX_NAMES = frozenset(
     {f"{n}{i}{j}" for n in ("Dnb", "Cf", "Ac") for i in (1, 2, 3) for j in (1, 2, 3)}
-    | {f"rg{i}" for i in (1, 2, 3)}
+    | {f"{n}{i}" for n in ("rg", "nb") for i in (1, 2, 3)}
+    | {"gl"}
 )
 
 
@@ -156,6 +157,13 @@ class BodyOnSupportReduction:
         geometry = support_normal(self.support, p, s, sp.S.Zero)  # (its adjugate unused)
         nu, J, pdot = geometry.nu, geometry.curvature, geometry.pdot
         body_normal = -outer_normal(self.surface, r)  # grad f/|grad f|
+        # d(grad f/|grad f|)/dr = (Id - nu_b nu_b^T) (Hessian of f)/|grad f|, in the
+        # auxiliaries |grad f| (gl) and nu_b (nb): compact, no expanded square roots
+        length, nb = sp.Symbol("gl", real=True), vector("nb", real=True)
+        grad_f = sp.Matrix([sp.diff(self.surface, x) for x in r])
+        body_aux = [(length, sp.sqrt(sp.factor_terms(sp.expand(grad_f.dot(grad_f)))))]
+        body_aux += [*zip(nb, grad_f / length, strict=True)]
+        hessian = sp.hessian(self.surface, list(r))
         Dnb = sp.Matrix(3, 3, lambda i, j: sp.Symbol(f"Dnb{i + 1}{j + 1}", real=True))
         C = sp.Matrix(3, 3, lambda i, j: sp.Symbol(f"Cf{i + 1}{j + 1}", real=True))
         A = sp.Matrix(3, 3, lambda i, j: sp.Symbol(f"Ac{i + 1}{j + 1}", real=True))
@@ -168,7 +176,8 @@ class BodyOnSupportReduction:
         If, Kf = core["inertia"], core["rotor"]
         zero_rates = dict.fromkeys([*core["inertia_rate"], *core["rotor_rate"]], 0)
         Pc, hc = _symmetric("Pc"), vector("hc", real=True)
-        aux = [*_entries(Dnb, body_normal.jacobian(r)), *_entries(C, Q * Dnb * Q.T)]
+        body_aux += _entries(Dnb, (sp.eye(3) - nb * nb.T) * hessian / length)
+        aux = [*body_aux, *_entries(C, Q * Dnb * Q.T)]
         aux += [*zip(nu, geometry.normal, strict=True)]
         aux += [*_entries(J, geometry.normal.jacobian(p)), *_entries(A, system)]
         aux += [*zip(pdot, p_rate, strict=True), *zip(rho, -Q * r, strict=True)]

@@ -13,6 +13,7 @@ from __future__ import annotations
 import dataclasses
 import random
 import re
+from pathlib import Path
 
 import pytest
 import sympy as sp
@@ -23,6 +24,8 @@ from chaplygin.derive.phase_space import sample_point
 from chaplygin.derive.rolling_system import RollingSystem
 from chaplygin.derive.vectors import vector
 from chaplygin.verify.chained import rate_at
+from chaplygin.verify.user_claims import claims_of_file
+from chaplygin.verify.verdict import check_claim
 
 R_ = sp.Rational
 M, G = R_(13, 10), R_(49, 5)
@@ -193,7 +196,7 @@ def _mutated(model, wrong: str):
     return dataclasses.replace(model, aux=tuple(aux))
 
 
-@pytest.mark.slow  # 15-25 s a side: exact numbers with the normal's square root
+@pytest.mark.slow  # about 10 s a side: exact numbers with the normal's square root
 @pytest.mark.parametrize("side", ["outside", "inside"])
 def test_the_integrals_and_the_alignment_are_kept_and_the_controls_are_not(side):
     """An ellipsoid with symbolic axes, inertia with a product, offset and rotor on a
@@ -239,3 +242,20 @@ def test_what_is_not_derived_is_refused_on_one_line():
         with pytest.raises(UserInputError, match=re.escape(message)):
             RollingSystem("bad", **{**base, **fields})
     assert RollingSystem("good", **base).effects_taken == ()
+
+
+EXAMPLE = Path(__file__).resolve().parents[2] / "examples/systems/ellipsoid_on_ellipsoid.toml"
+
+
+@pytest.mark.slow  # about 7 s: the verifier's chained sampling of the shipped integrals
+def test_the_example_files_claims_are_exact_sampled_and_its_control_refuted():
+    """examples/systems/ellipsoid_on_ellipsoid.toml through the verifier's claims: the
+    derived H, F and f exact-sampled (through the auxiliaries, at aligned points of the
+    model's sampler), the file's control refuted with a witness, and no Kane claim."""
+    claims = {c.id.split(":")[-1]: c for c in claims_of_file(EXAMPLE)}
+    assert set(claims) == {"H", "F", "f", "ELLIPSOID-ON-ELLIPSOID/control"}
+    for name in ("H", "F", "f"):
+        result = check_claim(claims[name])
+        assert (result.verdict, result.ok) == ("exact-sampled", True), name
+    control = check_claim(claims["ELLIPSOID-ON-ELLIPSOID/control"])
+    assert (control.verdict, control.ok) == ("refuted", True) and control.witness
