@@ -55,10 +55,13 @@ from .vectors import cross, dot, vector
 __all__ = [
     "AXES",
     "AUX_NAMES",
+    "FIXED_FRAME_REFUSED",
     "GeneralBallDerivation",
     "GeneralBallEquations",
     "GeneralBallReduction",
+    "add_axes",
     "derive_general_ball",
+    "project_newton_euler",
     "general_ball_description",
     "general_ball_model",
 ]
@@ -71,6 +74,14 @@ AUX_NAMES = frozenset(
      for i in (1, 2, 3)}  # fmt: skip
     | {"mu"}
     | {f"{n}{i}{j}" for n in ("Dnu", "If", "Idf", "Pc") for i in (1, 2, 3) for j in (1, 2, 3)}
+)
+
+
+#: What a fixed-frame support reduction does not take from a description (it derives
+#: everything from its own data).
+FIXED_FRAME_REFUSED = (
+    ("inertia", "kinetic_energy", "potential", "constraints", "kinematics")
+    + ("momentum_in_state", "bodies", "positions")
 )
 
 
@@ -166,11 +177,44 @@ def derive_general_ball(
         When a step that must hold identically does not (``G^T Phi^T != 0``, a
         multiplier survives the projection, ``P`` is not symmetric).
     """
+    af = vector("af", real=True)
+    rho = b * n + af
+    core = project_newton_euler(m, g, omega, rho, b * ndot + cross(omega, af))  # a_f turns
+    return GeneralBallDerivation(n=n, ndot=ndot, offset=af, **core)
+
+
+def project_newton_euler(
+    m: sp.Expr, g: sp.Expr, omega: sp.Matrix, rho: sp.Matrix, rho_rate: sp.Matrix
+) -> dict[str, Any]:
+    """The fixed-frame Newton–Euler equations of a rolling body projected on its
+    admissible velocities ``v = omega x rho``: ``P omega' = h`` free of the reactions.
+
+    Parameters
+    ----------
+    m, g : sympy.Expr
+        Mass and the field's strength along ``-e3`` (0: none).
+    omega : sympy.Matrix
+        The angular velocity (fixed frame).
+    rho, rho_rate : sympy.Matrix
+        From the contact point to the centre of mass, and its rate along the motion.
+
+    Returns
+    -------
+    dict
+        The fields of :class:`GeneralBallDerivation` but ``n``, ``ndot``, ``offset``
+        (``inertia``, ``rotor`` and their rates the abstract ``If``, ``Kf``, ``Idf``,
+        ``Kdf``).
+
+    Raises
+    ------
+    DerivationError
+        When a step that must hold identically does not (``G^T Phi^T != 0``, a
+        multiplier survives the projection, ``P`` is not symmetric).
+    """
     v, omega_dot, v_dot = (vector(x, real=True) for x in ("v", "omega_dot", "v_dot"))
-    If, af, Kf = _symmetric("If"), vector("af", real=True), vector("Kf", real=True)
+    If, Kf = _symmetric("If"), vector("Kf", real=True)
     Idf, Kdf = _symmetric("Idf"), vector("Kdf", real=True)  # Q I'(t) Q^T, Q K'(t)
     q = sp.Matrix.vstack(omega, v)
-    rho = b * n + af
     constraints = list(v - cross(omega, rho))
     Phi = sp.Matrix(constraints).jacobian(q)
     if (Phi * q - sp.Matrix(constraints)).applyfunc(sp.expand) != sp.zeros(3, 1):
@@ -186,7 +230,6 @@ def derive_general_ball(
     G = sp.Matrix.vstack(sp.eye(3), v_of_omega.jacobian(omega))
     if (G.T * Phi.T).applyfunc(sp.expand) != sp.zeros(3, 3):
         raise DerivationError("G^T Phi^T != 0: the projection would not remove the reactions")
-    rho_rate = b * ndot + cross(omega, af)  # a_f = Q a turns with the body
     on_admissible = {
         **dict(zip(v, v_of_omega, strict=True)),
         **dict(zip(v_dot, cross(omega_dot, rho) + cross(omega, rho_rate), strict=True)),
@@ -199,10 +242,9 @@ def derive_general_ball(
         raise DerivationError("the projected inertia operator is not symmetric")
     forcing = -projected.xreplace(dict.fromkeys(omega_dot, 0)).applyfunc(sp.expand)
     kinetic = m * dot(v_of_omega, v_of_omega) / 2 + dot(omega, If * omega) / 2
-    return GeneralBallDerivation(
-        omega=omega, v=v, omega_dot=omega_dot, v_dot=v_dot, n=n, ndot=ndot, inertia=If,
-        offset=af, rotor=Kf, inertia_rate=Idf, rotor_rate=Kdf, rho=rho,
-        constraints=constraints,
+    return dict(
+        omega=omega, v=v, omega_dot=omega_dot, v_dot=v_dot, inertia=If, rotor=Kf,
+        inertia_rate=Idf, rotor_rate=Kdf, rho=rho, constraints=constraints,
         with_multipliers=with_multipliers, multipliers=tuple(lam), admissible=G,
         projected=projected, contact_inertia=P, forcing=forcing,
         kinetic_energy=sp.expand(kinetic), height=rho[2],
@@ -226,7 +268,9 @@ class GeneralBallEquations(ModelDetails):
     p_rate, omega_rate : sympy.Matrix
         In the state and the auxiliary symbols.
     energy : sympy.Expr
-    derivation : GeneralBallDerivation
+    derivation : GeneralBallDerivation or dict
+        The ball's; a convex body's (:mod:`.body_on_support`) the record of
+        :func:`project_newton_euler`.
     """
 
     support: sp.Expr
@@ -236,7 +280,7 @@ class GeneralBallEquations(ModelDetails):
     p_rate: sp.Matrix
     omega_rate: sp.Matrix
     energy: sp.Expr
-    derivation: GeneralBallDerivation
+    derivation: GeneralBallDerivation | dict
 
 
 @dataclass(frozen=True)
@@ -303,11 +347,7 @@ class GeneralBallReduction:
             For declared data this derivation does not take, or from
             :func:`derive_general_ball`.
         """
-        desc.refuse(
-            "general support-surface",
-            ("inertia", "kinetic_energy", "potential", "constraints", "kinematics")
-            + ("momentum_in_state", "bodies", "positions"),
-        )
+        desc.refuse("general support-surface", FIXED_FRAME_REFUSED)
         omega, p = desc.state_group("omega"), desc.state_group("p")
         Q = sp.Matrix.hstack(*(desc.state_group(e) for e in AXES))
         m, b, s = self.mass, self.radius, self.side
@@ -479,12 +519,25 @@ def general_ball_description(
     if rubber:  # no spin about the normal: (omega, grad F) = 0, kept by the flow
         grad = sp.Matrix([sp.diff(support, c) for c in p])
         desc.add_invariant_relation("(omega,grad F)", sp.expand(dot(omega, grad)))
+    add_axes(desc, parameters)
+    return desc
+
+
+def add_axes(desc: MechanicalDescription, parameters: tuple[ParameterSpec, ...]) -> None:
+    """Add the body axes ``e1, e2, e3`` (fixed frame, ``e' = omega x e``) to the state of a
+    fixed-frame description, then declare its parameters.
+
+    Parameters
+    ----------
+    desc : MechanicalDescription
+        With its angular velocity ``omega``.
+    parameters : tuple of ParameterSpec
+    """
     for name in AXES:  # body-fixed: e' = omega x e
         e = _axis(name)
-        desc.add_state(name, tuple(e), list(cross(omega, e)))
+        desc.add_state(name, tuple(e), list(cross(desc.omega, e)))
     for spec in parameters:
         desc.add_parameter(spec)
-    return desc
 
 
 def general_ball_model(*args: Any, **kwargs: Any) -> Model:

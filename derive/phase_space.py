@@ -110,7 +110,8 @@ def sample_point(
             point[s] = random_rational(rng, spec.domain == "positive")
     # A model whose phase space is not made of Poisson vectors (the centre of a ball
     # on an ellipsoid ...) supplies its own exact sampler; it may also choose the
-    # parameters that shape the variety (a rational point needs them to fit).
+    # parameters that shape the variety (a rational point needs them to fit) and the
+    # Poisson vectors (a body's frame its contact's normals align with).
     if model.sampler is not None:
         model.sampler(rng, point)
     rep = model.reparametrisation
@@ -123,6 +124,8 @@ def sample_point(
             else:
                 pending.add(s)
     for group in model.geometry:
+        if all(x in point for name in group.names for x in model.vectors[name]):
+            continue  # drawn by the model's sampler (a frame a contact is aligned with)
         for name, comps in group.sample_rational(rng).items():
             point.update(zip(model.vectors[name], comps, strict=True))
     positive = set(positive)

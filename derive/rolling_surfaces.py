@@ -1,12 +1,14 @@
-"""The surfaces of a described rolling system: a convex body ``f(x) = 0`` (on a fixed
-plane or sphere) and a fixed support surface ``F(p) = 0`` (a ball on it).
+"""The surfaces of a described rolling system: a convex body ``f(x) = 0`` (on a plane, a
+fixed sphere or a support surface) and a fixed support surface ``F(p) = 0`` (a ball or a
+convex body on it).
 
 Split from :mod:`.rolling_system` (which calls these while reading and deriving a
 :class:`~.rolling_system.RollingSystem`): the reading of the two surfaces, what each
 refuses, and the descriptions their reduction stages derive
 (:class:`~.body_on_sphere.BodyOnSphereReduction`,
 :class:`~.ball_on_support.SupportSurfaceReduction` for a homogeneous ball,
-:class:`~.ball_on_support_general.GeneralBallReduction` for any other).
+:class:`~.ball_on_support_general.GeneralBallReduction` for any other,
+:class:`~.body_on_support.BodyOnSupportReduction` for a convex body).
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ import sympy as sp
 from .ball_on_support import SupportSurfaceReduction
 from .ball_on_support_general import AUX_NAMES, general_ball_description
 from .body_on_sphere import BodyOnSphereReduction, PlaneMotion, outer_normal
+from .body_on_support import BODY_AUX_NAMES, body_on_support_description
 from .description import MechanicalDescription, apply_effects
 from .errors import UserInputError
 from .expression_text import parse_expression
@@ -49,6 +52,8 @@ def _convex_body_description(
     field or the potential needs it. On a plane the trace's velocity (for the effect
     ``contact_point``): the plane's under the contact plus ``r'``."""
     p = s._parsed
+    if s.support == "surface":  # on a support surface F(p) = 0: the fixed frame
+        return _body_on_support_description(s)
     omega, r, zeta = vector("omega", real=True), vector("r", real=True), vector("zeta", real=True)
     m = p["mass"]
     names = tuple(x.name for x in p["parameters"])
@@ -101,6 +106,19 @@ def _convex_body_description(
     desc.add_integral("f", sp.expand(p["surface"] - r_free))  # the level: up to a constant
     _declare_parameters(desc, p)
     apply_effects(desc, effects, tuple(sorted(effects)))
+    return desc
+
+
+def _body_on_support_description(s: RollingSystem) -> MechanicalDescription:
+    """A convex body on the support ``F(p) = 0`` (:mod:`.body_on_support`): state
+    ``omega``, ``p``, ``r`` and the body axes ``e1, e2, e3``."""
+    p = s._parsed
+    desc = body_on_support_description(
+        p["support_surface"], p["surface"], p["mass"], p["inertia"], p["rotor_momentum"],
+        side=1 if s.side == "outside" else -1, gravity=p["field"], system=s.name,
+    )  # fmt: skip
+    desc.parameter_order = tuple(x.name for x in p["parameters"])
+    _declare_parameters(desc, p)
     return desc
 
 
@@ -176,8 +194,8 @@ def _no_spin_about_normal(parsed: dict) -> bool:
 
 
 def _read_support_surface(s: RollingSystem, scope: dict, parsed: dict) -> sp.Expr | None:
-    """``F(p)`` of a support surface; what it refuses (rubber or line contact; a convex body
-    is refused by :func:`_read_surface`)."""
+    """``F(p)`` of a support surface; what it refuses (line contact; for a convex body also
+    rubber contact, a potential, ``K(t)`` and ``I(t)``)."""
     if s.support != "surface":
         if s.support_surface is not None:
             raise UserInputError(f"support_surface is given but the support is a {s.support}")
@@ -185,7 +203,10 @@ def _read_support_surface(s: RollingSystem, scope: dict, parsed: dict) -> sp.Exp
     if s.support_surface is None:
         raise UserInputError("support 'surface' needs support_surface (F(p1, p2, p3) = 0)")
     refused = {f"contact {s.contact!r}": s.contact == "line"}
-    clash = sorted(set(scope) & AUX_NAMES)  # (the homogeneous route's nu, Dnu, pdot too)
+    if s.surface is not None:
+        _refuse_on_support(s, parsed)
+    # (the homogeneous route's nu, Dnu, pdot too; a convex body's Dnb, Cf, Ac, rg)
+    clash = sorted(set(scope) & (AUX_NAMES | BODY_AUX_NAMES))
     if clash:
         raise UserInputError(f"parameter names {clash} are the derivation's auxiliaries")
     if any(refused.values()):
@@ -197,6 +218,23 @@ def _read_support_surface(s: RollingSystem, scope: dict, parsed: dict) -> sp.Exp
     x = {f"p{i}": sp.Symbol(f"p{i}", real=True) for i in (1, 2, 3)}
     F = read_fixed_surface(s.support_surface, scope, x, "support_surface")
     return F.xreplace({x[f"p{i + 1}"]: c for i, c in enumerate(vector("p", real=True))})
+
+
+def _refuse_on_support(s: RollingSystem, parsed: dict) -> None:
+    """What a convex body on a support surface does not take, in one message."""
+    t = sp.Symbol("t", real=True)
+    refused = {
+        f"contact {s.contact!r}": s.contact != "rolling",
+        "a potential": not parsed["potential"].is_zero,
+        "a gyrostat K(t)": parsed["rotor_momentum"].has(t),
+        "an inertia I(t)": parsed["inertia"].has(t),
+    }
+    if any(refused.values()):
+        what = ", ".join(k for k, v in refused.items() if v)
+        raise UserInputError(
+            "on a support surface this version derives a convex body (surface) rolling "
+            f"with gravity and a constant gyrostat, not {what}"
+        )
 
 
 def read_fixed_surface(text: object, scope: dict, x: dict, what: str) -> sp.Expr:
@@ -248,11 +286,11 @@ def _read_surface(s: RollingSystem, scope: dict, centre: sp.Matrix) -> sp.Expr |
     if s.surface is None:
         return None
     planes = ("plane", "rotating_plane", "moving_plane")
-    if s.support not in (*planes, "sphere") or s.contact == "line":
+    if s.support not in (*planes, "sphere", "surface") or s.contact == "line":
         raise UserInputError(
             "a convex body (surface) is derived rolling or rubber rolling on a plane (fixed, "
-            "rotating or moving) or on a fixed sphere only in this version, not with "
-            f"support {s.support!r}, contact {s.contact!r}"
+            "rotating or moving) or on a fixed sphere, or rolling on a support surface, only "
+            f"in this version, not with support {s.support!r}, contact {s.contact!r}"
         )
     x = {f"x{i}": sp.Symbol(f"x{i}", real=True) for i in (1, 2, 3)}
     f = parse_expression(s.surface, {**scope, **x}, "surface")
@@ -305,7 +343,9 @@ def _used_parameters(parameters: tuple[sp.Symbol, ...], p: dict) -> tuple[sp.Sym
     if p["centre_surface"] is not None:
         used = free(p["inertia"], p["mass"], p["radius"], p["field"], p["potential"],
                     *(sp.diff(p["centre_surface"], c) for c in CENTRE.values()))
-    if p["support_surface"] is not None:
+    if p["support_surface"] is not None and p["surface"] is not None:  # a convex body
+        used |= free(*(sp.diff(p["support_surface"], c) for c in vector("p", real=True)))
+    elif p["support_surface"] is not None:
         ratio = sp.simplify(p["inertia"][0, 0] / (p["mass"] * p["radius"] ** 2))
         kept = (p["radius"],) if ratio.is_number else (p["inertia"], p["mass"], p["radius"])
         if _attitude_needed(p):  # the general ball's

@@ -20,23 +20,22 @@ above the plane, less the constant ``m g b``).
 What it derives today: a body with a spherical surface on a fixed plane, on a plane
 rotating about a fixed vertical axis at a constant or prescribed rate ``Omega(t)``
 (``support="rotating_plane"``), on a plane moving horizontally with a prescribed velocity
-``(V1(t), V2(t))`` in the fixed frame (``support="moving_plane"``), or on a fixed sphere
-of radius ``R``
-(``support="sphere"``, the body ``side="outside"`` or ``"inside"`` it), rolling without
-slipping (``contact="rolling"``) or without slipping and twisting (``"rubber"``).
+``(V1(t), V2(t))`` in the fixed frame (``support="moving_plane"``), or on a fixed sphere of
+radius ``R`` (``support="sphere"``, the body ``side="outside"`` or ``"inside"`` it), rolling
+without slipping (``contact="rolling"``) or without slipping and twisting (``"rubber"``).
 
-``gamma`` is the support's normal at the contact, pointing into the body (on a plane:
-up; outside a sphere: away from its centre; inside: towards it). On a sphere it is no
-longer fixed in space but turns at ``s = R/(R + b)`` (outside) or ``R/(R - b)``
-(inside) of Poisson's rate, ``gamma' = s gamma x omega`` (the body's geometric centre
-moves on the sphere of radius ``R +- b`` and rolls without slipping). A field on a
-sphere needs the vertical: the state gains ``zeta``, the upward unit vector in body axes
-(fixed in space, Poisson's equation); the body's centre is at ``c gamma`` from the
-sphere's centre (``c = R + b`` outside, ``-(R - b)`` inside), so gravity's potential is
-``m g (c (gamma, zeta) + (a, zeta))`` and a potential may use ``zeta`` beside
-``gamma``. The effect ``contact_point`` there adds the fixed frame ``alpha, beta, zeta``
-(Poisson vectors; ``zeta`` starts as ``gamma`` unless a field put it in the state): the
-contact point is ``+-R ((gamma, alpha), (gamma, beta), (gamma, zeta))`` from the centre.
+``gamma`` is the support's normal at the contact, pointing into the body (on a plane: up;
+outside a sphere: away from its centre; inside: towards it). On a sphere it is no longer
+fixed in space but turns at ``s = R/(R + b)`` (outside) or ``R/(R - b)`` (inside) of
+Poisson's rate, ``gamma' = s gamma x omega`` (the body's geometric centre moves on the
+sphere of radius ``R +- b`` and rolls without slipping). A field on a sphere needs the
+vertical: the state gains ``zeta``, the upward unit vector in body axes (fixed in space,
+Poisson's equation); the body's centre is at ``c gamma`` from the sphere's centre (``c = R +
+b`` outside, ``-(R - b)`` inside), so gravity's potential is ``m g (c (gamma, zeta) + (a,
+zeta))`` and a potential may use ``zeta`` beside ``gamma``. The effect ``contact_point``
+there adds the fixed frame ``alpha, beta, zeta`` (``zeta`` starts as ``gamma`` unless a
+field put it in the state): the contact point is ``+-R ((gamma, alpha), (gamma, beta),
+(gamma, zeta))`` from the centre.
 
 On a rotating plane the constraint is affine: the body's contact point moves with the
 plane, ``v + omega x r = Omega gamma x rho``, ``rho`` the contact point's position from
@@ -48,20 +47,19 @@ omega alone). On a moving plane ``v + omega x r = V1 alpha + V2 beta``: the stat
 the fixed horizontal axes ``alpha, beta`` (Poisson vectors, with ``gamma`` a frame).
 The rates and velocities are expressions of the time ``t`` and the parameters.
 
-A convex body ``f(x) = 0`` (``surface="..."``, an expression of ``x1, x2, x3`` in body
-axes from the point ``centre_of_mass`` is measured from) rolls without slipping, or
-without slipping and twisting, on a plane — fixed, rotating (``Omega`` constant or of
-``t``) or moving (``V(t)``) —, with gravity and a gyrostat: the body-frame stage of a
-body on a sphere (:mod:`.body_on_sphere`) with curvature ``0``; the state is ``omega``
-and the contact point ``r`` from the centre of mass (``(dn/dr + n n^T) r' = n x omega``,
-``n = -grad f/|grad f|`` the upward normal), the integrals the energy (on the fixed plane)
-and the surface's level ``f`` (the contact point stays on it). On a rotating plane the
-state gains the contact's position ``rho`` from the axis (``rho' = Omega n x rho + r' + rho
-x omega``, the relation ``(rho, grad f) = 0``) and, at a constant rate, rolling or rubber,
-the energy in the plane's frame ``J = E - Omega (n, I omega + K + m (rho - r) x v)`` is an
-integral; on a moving plane the fixed axes ``alpha, beta`` (a constant velocity changes
-nothing: only ``V'`` enters). A rubber body ships ``(omega, n) - Omega`` (zero on the
-phase space).
+A convex body ``f(x) = 0`` (``surface="..."``, an expression of ``x1, x2, x3`` in body axes
+from the point ``centre_of_mass`` is measured from) rolls without slipping, or without
+slipping and twisting, on a plane — fixed, rotating (``Omega`` constant or of ``t``) or
+moving (``V(t)``) —, with gravity and a gyrostat: the body-frame stage of a body on a sphere
+(:mod:`.body_on_sphere`) with curvature ``0``; the state is ``omega`` and the contact point
+``r`` from the centre of mass (``(dn/dr + n n^T) r' = n x omega``, ``n = -grad f/|grad f|``
+the upward normal), the integrals the energy (on the fixed plane) and the surface's level
+``f`` (the contact point stays on it). On a rotating plane the state gains the contact's
+position ``rho`` from the axis (``rho' = Omega n x rho + r' + rho x omega``, the relation
+``(rho, grad f) = 0``) and, at a constant rate, rolling or rubber, the energy in the plane's
+frame ``J = E - Omega (n, I omega + K + m (rho - r) x v)`` is an integral; on a moving plane
+the fixed axes ``alpha, beta`` (a constant velocity changes nothing: only ``V'`` enters). A
+rubber body ships ``(omega, n) - Omega`` (zero on the phase space).
 
 The gyrostat may be prescribed, ``K(t)`` (rotors whose motors set the spin), and the
 inertia may change with time, ``I(t)`` (masses moving in symmetric pairs along lines
@@ -73,8 +71,10 @@ A ball rolls without slipping on a fixed support surface ``F(p) = 0``
 :mod:`.ball_on_support` (state ``omega`` and the contact point ``p``), any other (any
 inertia, also ``I(t)``, any rotor, also ``K(t)``, any centre of mass, a potential of ``p``
 and the axes, rubber rolling) by :mod:`.ball_on_support_general` (with the body axes ``e1,
-e2, e3``). A body in a spherical support of balls (``support="balls"``, BKM12 §2.1-2.3):
-:mod:`.rolling_balls`.
+e2, e3``); a convex body ``f(x) = 0`` (``surface=``) rolls on it with gravity and a constant
+rotor by :mod:`.body_on_support` (the state gains its contact point ``r``, body axes; the
+integrals ``H``, ``F`` and ``f``). In a spherical support of balls (``support="balls"``,
+BKM12 §2.1-2.3): :mod:`.rolling_balls`.
 
 A convex body also rolls, or rubber rolls (``(omega, n) = 0``), on a fixed sphere: M03
 §2's stage with the signed curvature ``k = -1/R`` outside, ``1/R`` inside, ``(k Id +
@@ -84,15 +84,15 @@ zeta)`` to the energy (the centre of mass's height above the sphere's centre); a
 potential may use ``zeta`` beside ``gamma = n(r)``, its torque ``-d(dV/dt)/d omega``
 along the motion, ``n' = n x omega - k r'``.
 
-Every other support, contact and surface the issue lists (a convex body along a line,
-a convex body on a support surface, rolling along a line on a moving plane) is refused
-with a message that says so — before any work.
+Every other support, contact and surface the issue lists (a convex body along a line, a convex
+body on a support surface rubber rolling, with a potential, ``K(t)`` or ``I(t)``, rolling
+along a line on a moving plane) is refused with a message that says so — before any work.
 
-Every text a user types is read by :func:`~.expression_text.parse_expression` (no
-``eval``); the checks of :meth:`RollingSystem.__post_init__` run before anything is
-derived: a singular or indefinite inertia tensor, a non-positive mass or radius, a
-centre of mass outside the body, a potential of anything but the orientation, names that
-clash with the state, an unknown support or contact.
+Every text a user types is read by :func:`~.expression_text.parse_expression` (no ``eval``);
+the checks of :meth:`RollingSystem.__post_init__` run before anything is derived: a singular
+or indefinite inertia tensor, a non-positive mass or radius, a centre of mass outside the
+body, a potential of anything but the orientation, names that clash with the state, an
+unknown support or contact.
 """
 
 from __future__ import annotations
@@ -233,10 +233,10 @@ class RollingSystem:
         ``surface``'s coordinates), body axes.
     surface : str or sympy.Expr, optional
         A convex body ``f(x1, x2, x3) = 0`` instead of a sphere (``f < 0`` inside), on a
-        plane (fixed, rotating or moving) or a fixed sphere, rolling or rubber. The
-        equations hold on every level set of ``f`` (the contact point ``r`` chooses it):
-        a name only in ``f``'s constant term (a sphere's radius) is not a parameter, nor
-        is a constant plane velocity.
+        plane (fixed, rotating or moving) or a fixed sphere, rolling or rubber, or rolling
+        on a support surface. The equations hold on every level set of ``f`` (the contact
+        point ``r`` chooses it): a name only in ``f``'s constant term (a sphere's radius) is
+        not a parameter, nor is a constant plane velocity.
     gravity : number or str, optional
         Strength ``g`` of a constant field along ``-gamma``; None: no field.
     gyrostat : 3 numbers/expressions, optional
@@ -256,8 +256,7 @@ class RollingSystem:
         body on a line is ``contact="rubber"`` with the effect).
     support : {"plane", "rotating_plane", "moving_plane", "sphere", "surface"}
         The fixed horizontal plane, a horizontal plane rotating about a vertical axis or
-        moving horizontally, a fixed sphere, or a fixed support surface
-        (``support_surface``; a ball only).
+        moving horizontally, a fixed sphere, or a fixed support surface (``support_surface``).
     support_radius : number or str, optional
         Radius ``R`` of the fixed sphere (``support="sphere"`` only).
     rotation_rate : number or str, optional
@@ -271,7 +270,8 @@ class RollingSystem:
         up, ``F < 0`` inside the support; ``support="surface"`` only): a ball rolls on it,
         with gravity along ``-p3`` and a potential; the state is ``omega`` and the contact
         point ``p`` in the fixed frame, and unless the ball is homogeneous (and free of a
-        potential and of ``I(t)``) its body axes ``e1, e2, e3`` (fixed-frame components).
+        potential and of ``I(t)``) its body axes ``e1, e2, e3`` (fixed-frame components); a
+        convex body (``surface``) also its contact point ``r`` (body axes).
     centre_surface : str or sympy.Expr, optional
         Instead of ``support_surface``: ``F(x1, x2, x3)``, the surface a homogeneous ball's
         centre moves on (the support is its parallel surface at the radius, M03 §1); the
@@ -341,7 +341,7 @@ class RollingSystem:
         plane; the contact trace on a moving one and for a convex body on any plane; none on
         a sphere)."""
         if self._parsed["surface"] is not None:  # the trace on a plane
-            return () if self.support == "sphere" else ("contact_point",)
+            return () if self.support in ("sphere", "surface") else ("contact_point",)
         if self.contact == "line":
             return ("contact_point",)
         return _EFFECTS_BY_SUPPORT.get(self.support, ())

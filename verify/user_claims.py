@@ -332,7 +332,8 @@ def kane_covers(system: RollingSystem) -> bool:
     support surface: on an ellipsoid (:mod:`.kane_support`: gravity, an offset and a constant
     rotor) or any convex support where the comparison's rays meet it
     (:mod:`.kane_support_implicit`: also a potential, rubber contact, ``I(t)`` and
-    ``K(t)``). Not a body in
+    ``K(t)``). Not a convex body on a support surface
+    (:mod:`~chaplygin.derive.body_on_support`: no Kane set-up of it), nor a body in
     a spherical support of balls (no Kane set-up of the balls: its model is the multi-body
     reduction the claims of BKM12 §2.1 check).
 
@@ -350,6 +351,9 @@ def kane_covers(system: RollingSystem) -> bool:
     if system.support == "balls":
         return False
     support = system._parsed["support_surface"]
+    if support is not None and system._parsed["surface"] is not None:
+        return False  # a convex body on a support: no Kane set-up of it
+
     if support is not None:  # a ball on a support: an ellipsoid's parametrisation
         # at the parameter values _kane_computed takes
         named = {n: sp.Rational(7 + 4 * i, 5 + 3 * i) for i, n in enumerate(system.parameter_names)}

@@ -137,8 +137,9 @@ def test_names_become_exact_parameters_and_decimals_stay_exact():
                 "support": "surface",
                 "support_surface": "p1**2 + p3 - 1",
                 "surface": "x1**2 + x2**2 + 2*x3**2 - 1",
+                "contact": "rubber",
             },
-            "not with support 'surface'",  # a convex body on a support surface
+            "not contact 'rubber'",  # a convex body rolls on a support surface, no more
         ),
         (
             {
@@ -189,7 +190,7 @@ def test_names_become_exact_parameters_and_decimals_stay_exact():
                 "support": "sphere",
                 "support_radius": 2,
             },
-            "or on a fixed sphere only in this version, not with support 'sphere', contact 'line'",
+            "only in this version, not with support 'sphere', contact 'line'",
         ),
         ({"inertia": (1, 1, 1), "surface": "x1**2 - x2**2 + x3**2 - 1"}, "not convex"),
         ({"inertia": (1, 1, 1), "surface": "x1 + x2 - 1"}, "degree 2 or more"),

@@ -250,7 +250,7 @@ class SystemTable(_Table):
     support_surface: TypedValue | None = Field(
         None,
         description="F(p1, p2, p3) of a fixed support surface F = 0 in the fixed frame (p3 up; "
-        "support = 'surface', a homogeneous ball)",
+        "support = 'surface'): a ball, or a convex body (surface) rolling on it",
     )
     centre_surface: TypedValue | None = Field(
         None,
@@ -260,7 +260,8 @@ class SystemTable(_Table):
     surface: TypedValue | None = Field(
         None,
         description="f(x1, x2, x3) of a convex body f = 0 instead of a sphere (body axes; on a "
-        "plane — fixed, rotating or moving —, rolling or rubber, or rolling on a fixed sphere)",
+        "plane — fixed, rotating or moving — or a fixed sphere, rolling or rubber, or rolling on "
+        "a support surface)",
     )
     balls: list[BallTable] | None = Field(
         None,
