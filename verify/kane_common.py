@@ -20,6 +20,7 @@ __all__ = [
     "KaneComparison",
     "model_rates",
     "placement",
+    "potential_loads",
     "rigid_bodies",
 ]
 
@@ -137,6 +138,36 @@ def rigid_bodies(
         bodies.append(me.RigidBody(f"rotor{i + 1}", G, R, 0, (rotor, G)))
     bodies.insert(0, me.RigidBody("body", G, B, p["mass"].xreplace(sub), (dyadic, G)))
     return bodies
+
+
+def potential_loads(V: sp.Expr, N: me.ReferenceFrame, groups: Sequence[tuple]) -> list:
+    """A potential ``V`` of the coordinates as loads: for each group ``(name, coordinates,
+    rates)`` a massless point moving at ``sum_j rate_j N_j`` with the force ``-sum_j
+    dV/dq_j N_j`` (its generalised active force is ``-sum_j dV/dq_j dq_j'/du_r``: the
+    potential's, whatever the kinematic equations are).
+
+    Parameters
+    ----------
+    V : sympy.Expr
+        The potential as a function of the coordinates (dynamic symbols).
+    N : sympy.physics.mechanics.ReferenceFrame
+        The fixed frame.
+    groups : sequence of (str, sequence, sequence)
+        At most three coordinates per group, with their rates in the speeds.
+
+    Returns
+    -------
+    list of (Point, Vector)
+    """
+    if V == 0:
+        return []
+    axes, loads = (N.x, N.y, N.z), []
+    for name, coords, rates in groups:
+        point = me.Point(name)
+        point.set_vel(N, sum((w * e for w, e in zip(rates, axes, strict=False)), me.Vector(0)))
+        pairs = zip(coords, axes, strict=False)
+        loads.append((point, sum((-sp.diff(V, c) * e for c, e in pairs), me.Vector(0))))
+    return loads
 
 
 def placement(gamma: Sequence[object], sphere: bool, inside: bool) -> list:

@@ -258,19 +258,8 @@ class _KaneImplicit:
         gs, zs = sp.symbols("gamma1:4", real=True), sp.symbols("zeta1:4", real=True)
         at = dict(zip(gs, [normal.dot(e) for e in (B.x, B.y, B.z)], strict=True))
         at.update(zip(zs, [N.z.dot(e) for e in (B.x, B.y, B.z)], strict=True))
-        Vq = V.xreplace(at)
-        axes, loads = (N.x, N.y, N.z), []
-        for name, coords, speeds in (
-            ("angles", q[:3], [euler[s.diff(t)] for s in q[:3]]),
-            ("place", q[3:5], u[3:5]),
-        ):
-            point = me.Point(name)
-            pairs = zip(speeds, axes, strict=False)
-            point.set_vel(N, sum((w * e for w, e in pairs), me.Vector(0)))
-            pairs = zip(coords, axes, strict=False)
-            force = sum((-sp.diff(Vq, c) * e for c, e in pairs), me.Vector(0))
-            loads.append((point, force))
-        return loads
+        groups = [("angles", q[:3], [euler[s.diff(t)] for s in q[:3]]), ("place", q[3:5], u[3:5])]
+        return common.potential_loads(V.xreplace(at), N, groups)
 
     def frame(self, q: Sequence[mpmath.mpf], time: mpmath.mpf) -> mpmath.matrix:
         """``C`` (rows: the body axes in ``N``) at the coordinates ``q``."""

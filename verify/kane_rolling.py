@@ -96,13 +96,14 @@ def kane_compare(
     pvals = {s: sp.Rational(str(values[s.name])) for s in model.params}
     tolerance = 10.0 ** -(DIGITS - 10)
     if system.support == "surface":  # a ball on a support surface: omega' and p'
-        from .kane_support import compare_on_support, is_ellipsoid
+        from .kane_support import compare_on_support, is_ellipsoid, parametrised_covers
         from .kane_support_implicit import compare_on_implicit_support
 
         by_name = {s.name: v for s, v in pvals.items()}
         F = system._parsed["support_surface"]
         F = F.xreplace({s: by_name[s.name] for s in F.free_symbols if s.name in by_name})
-        compare = compare_on_support if is_ellipsoid(F) else compare_on_implicit_support
+        closed = is_ellipsoid(F) and parametrised_covers(system._parsed)
+        compare = compare_on_support if closed else compare_on_implicit_support
         count, acc, rate = compare(system, model, pvals, momenta, DIGITS, _relative)
         return KaneComparison(count, acc, 0.0, rate, tolerance)  # no momentum state there
     if system._parsed["surface"] is not None and not _closed_form(system, pvals):

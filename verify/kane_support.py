@@ -29,6 +29,7 @@ import sympy.physics.mechanics as me
 from ..derive.model import Model
 from ..derive.rolling_system import RollingSystem
 from ..derive.vectors import vector
+from .kane_common import T0
 from .kane_euler import euler_rates
 
 __all__ = [
@@ -37,6 +38,7 @@ __all__ = [
     "ellipsoid_support",
     "heavy_ball",
     "is_ellipsoid",
+    "parametrised_covers",
 ]
 
 #: Kane's equations formed, by (description fingerprint, parameter values).
@@ -91,6 +93,29 @@ def is_ellipsoid(F: sp.Expr) -> bool:
     except ValueError:
         return False
     return True
+
+
+def parametrised_covers(parsed: Mapping) -> bool:
+    """Whether the parametrised set-up here covers the description's fields: gravity, an
+    offset centre of mass and a constant rotor — not a potential, rubber contact, ``I(t)``
+    or ``K(t)`` (:mod:`.kane_support_implicit` sets those up).
+
+    Parameters
+    ----------
+    parsed : mapping
+        The description's parsed fields (``RollingSystem._parsed``).
+
+    Returns
+    -------
+    bool
+    """
+    t = sp.Symbol("t", real=True)
+    return not (
+        not parsed["potential"].is_zero
+        or parsed["inertia"].has(t)
+        or parsed["rotor_momentum"].has(t)
+        or "gamma" in parsed["no_spin_about"]
+    )
 
 
 def heavy_ball(
@@ -184,9 +209,10 @@ class _KaneOnSupport:
         self._p_rate = sp.lambdify(args, p.diff(q[3]) * u[3] + p.diff(q[4]) * u[4], "mpmath")
         self._order = [str(s.func) for s in kane.u]
 
-    def at(self, angles: Sequence[str], omega: Sequence[sp.Expr]):
-        """The contact point, Kane's ``omega'`` and ``p'`` (space components) and the body
-        axes (the columns of the returned matrix, space components)."""
+    def at(self, angles: Sequence[str], omega: Sequence[sp.Expr], time: Any = 0):
+        """The contact point, the angular velocity, Kane's ``omega'`` and ``p'`` (space
+        components) and the body axes (the columns of the returned matrix, space
+        components); nothing here depends on ``time``."""
         q = [mpmath.mpf("0.3"), mpmath.mpf("0.2"), mpmath.mpf("-0.4")]
         q += [mpmath.mpf(a) for a in angles]
         u = [mpmath.mpf(sp.Float(w, 50)) for w in omega] + [mpmath.mpf(0)] * 2
@@ -202,7 +228,7 @@ class _KaneOnSupport:
         contact = self._p(q, u, 0)
         rate = self._p_rate(q, u, 0)
         axes = self._axes(q, u, 0)
-        return [contact[i] for i in range(3)], acc, [rate[i] for i in range(3)], axes
+        return [contact[i] for i in range(3)], u[:3], acc, [rate[i] for i in range(3)], axes
 
 
 def compare_on_support(
@@ -251,8 +277,9 @@ def compare_at_points(
     relative: Callable[[Sequence[object], Sequence[object]], float],
 ) -> tuple[int, float, float]:
     """The model's ``omega'`` and ``p'`` (its auxiliaries in order) against Kane's
-    (``kane.at(point, omega)``: the contact point, ``omega'``, ``p'`` and the body axes as
-    columns) at each point and angular velocity.
+    (``kane.at(point, omega, time)``: the contact point, the angular velocity it took,
+    ``omega'``, ``p'`` and the body axes as columns) at each point and angular velocity, at
+    :data:`~.kane_common.T0` (the time of a prescribed law).
 
     Parameters
     ----------
@@ -273,8 +300,10 @@ def compare_at_points(
     frame = [n for n in ("e1", "e2", "e3") if n in dict(model.state_groups)]
     exact = lambda c: sp.Float(mpmath.nstr(c, digits + 5), digits + 5)  # noqa: E731
 
+    time = sp.Symbol("t", real=True)
+
     def field(w, contact, axes):  # the model's rates: its auxiliary definitions in order
-        values = {**pvals, **dict(zip(omega, w, strict=True))}
+        values = {**pvals, time: T0, **{s: exact(c) for s, c in zip(omega, w, strict=True)}}
         values.update((s, exact(c)) for s, c in zip(p, contact, strict=True))
         for j, name in enumerate(frame):  # a general ball's body axes (fixed frame)
             values.update((s, exact(axes[i, j])) for i, s in enumerate(model.group(name)))
@@ -287,8 +316,8 @@ def compare_at_points(
     with mpmath.workdps(digits):
         for w in omegas:
             for point in points:
-                contact, acc, rate, axes = kane.at(point, w)
-                F = field(w, contact, axes)
+                contact, used, acc, rate, axes = kane.at(point, w, mpmath.mpf(T0))
+                F = field(used, contact, axes)
                 worst_acc = max(worst_acc, relative(F[:3], acc))
                 worst_rate = max(worst_rate, relative(F[3:], rate))
                 count += 1

@@ -11,10 +11,16 @@ equation is never solved:
   rates of ``p`` (dependent);
 * the ball's centre ``O = p + sigma b nu(p)``, ``nu = grad F/|grad F|`` (``sigma = 1``
   outside, ``-1`` inside), its velocity sympy's time derivative of that position; the
-  centre of mass ``G = O + a`` (body axes) with the inertia tensor about it, gravity ``-m g
-  N.z`` at ``G``, a constant rotor ``K`` as the torque ``-omega x K``;
+  centre of mass ``G = O + a`` (body axes) with the inertia tensor about it (a tensor
+  ``I(t)`` of Kane's time), gravity ``-m g N.z`` at ``G``, the rotor ``K`` (constant or
+  ``K(t)``) as real rotors (:func:`~.kane_common.rigid_bodies`), a potential ``V(p, e1,
+  e2, e3)`` (``e_i`` the body axes' space components, from the Euler angles) as the
+  loads ``-dV/dq_j`` of :func:`~.kane_common.potential_loads` on the angles and on ``p``;
 * velocity constraints: no slip at the body point ``O - sigma b nu`` (all three components:
-  the normal one keeps ``p`` on its level set of ``F``).
+  the normal one keeps ``p`` on its level set of ``F``); rubber contact adds ``(omega,
+  nu) = 0`` (no spin about the normal; ``u3`` dependent too, solved at each point).
+
+The comparison runs at the time :data:`~.kane_common.T0` (where a prescribed law is read).
 
 KanesMethod's ``constraint_solver`` gets placeholders for ``B_dep^-1 B_ind``, filled
 numerically at each point (as in :mod:`.kane_implicit`). The comparison points are where
@@ -39,7 +45,7 @@ from ..derive.vectors import vector
 from . import kane_common as common
 from .kane_euler import euler_rates
 from .kane_implicit import contact_on_ray
-from .kane_support import compare_at_points, heavy_ball
+from .kane_support import compare_at_points
 
 __all__ = ["compare_on_implicit_support", "support_contacts"]
 
@@ -89,7 +95,8 @@ class _KaneOnImplicitSupport:
         kd += [q[i].diff(t) - u[i] for i in range(3, 6)]
         rates = {q[i].diff(t): u[i] for i in range(3, 6)}
         ps = vector("p", real=True)
-        F = parsed["support_surface"].xreplace(sub).xreplace(dict(zip(ps, q[3:], strict=True)))
+        at_q = dict(zip(ps, q[3:], strict=True))
+        F = parsed["support_surface"].xreplace(sub).xreplace(at_q)
         grad = sp.Matrix([sp.diff(F, c) for c in q[3:]])
         nu = grad / sp.sqrt(grad.dot(grad))
         b = parsed["radius"].xreplace(sub)
@@ -102,13 +109,18 @@ class _KaneOnImplicitSupport:
         P = O.locatenew("P", to_vec(-sigma * b * nu))
         P.v2pt_theory(O, N, B)
         constraints = [P.vel(N).dot(e) for e in (N.x, N.y, N.z)]
-        ball, loads = heavy_ball(parsed, sub, (N, B), O)
-        X = sp.Matrix(3, 3, lambda i, j: sp.Symbol(f"X{i}_{j}"))
+        dependent = u[3:]
+        if "gamma" in parsed["no_spin_about"]:  # rubber: no spin about the support's normal
+            constraints.append(B.ang_vel_in(N).dot(to_vec(nu)))
+            dependent = [u[2], *dependent]
+        independent = [s for s in u if s not in dependent]
+        bodies, loads = self._loads(parsed, sub, (N, B), O, q, u, solved)
+        X = sp.Matrix(len(dependent), len(independent), lambda i, j: sp.Symbol(f"X{i}_{j}"))
         kane = me.KanesMethod(
-            N, q_ind=q, u_ind=u[:3], u_dependent=u[3:], kd_eqs=kd,
+            N, q_ind=q, u_ind=independent, u_dependent=dependent, kd_eqs=kd,
             velocity_constraints=constraints, constraint_solver=lambda A, b: X,
         )  # fmt: skip
-        kane.kanes_equations([ball], loads)
+        kane.kanes_equations(bodies, loads)
         kdmap = kane.kindiffdict()
         A, rhs = sp.linear_eq_to_matrix([sp.sympify(c).xreplace(kdmap) for c in constraints], u)
         args = (q, u, t)
@@ -117,26 +129,55 @@ class _KaneOnImplicitSupport:
         self._mass = fn(kane.mass_matrix, list(X))
         self._forcing = fn(kane.forcing, list(X))
         self._axes = fn(N.dcm(B))  # columns: B's axes in N
-        self._order = [str(s.func) for s in kane.u]
+        self._order = [str(s.func) for s in kane.u]  # independent first
+        self._n_dependent = len(dependent)
 
-    def at(self, contact: Sequence[mpmath.mpf], omega: Sequence[sp.Expr]):
-        """The contact point, Kane's ``omega'`` and ``p'`` (space components) at it and the
-        angular velocity (space components), and the body axes (columns)."""
+    @staticmethod
+    def _loads(parsed, sub, frames, O, q, u, euler) -> tuple[list, list]:  # noqa: ANN001
+        """The body and its rotors (:func:`~.kane_common.rigid_bodies`: ``I(t)``, ``K(t)``)
+        at ``G = O + a``; gravity at ``G``; a potential ``V(p, e1, e2, e3)`` as the loads of
+        :func:`~.kane_common.potential_loads` on the Euler angles and the contact point."""
+        N, B = frames
+        t = me.dynamicsymbols._t
+        a = parsed["centre"].xreplace(sub)
+        G = O.locatenew("G", a[0] * B.x + a[1] * B.y + a[2] * B.z)
+        G.v2pt_theory(O, N, B)
+        bodies = common.rigid_bodies(parsed, sub, (N, B), G, t)
+        loads = [(G, -bodies[0].mass * parsed["field"].xreplace(sub) * N.z)]
+        at = dict(zip(vector("p", real=True), q[3:], strict=True))
+        for i, axis in enumerate((B.x, B.y, B.z), 1):  # e_i_j: body axis i on N's axis j
+            at.update((sp.Symbol(f"e{i}_{j}", real=True), axis.dot(n))
+                      for j, n in enumerate((N.x, N.y, N.z), 1))  # fmt: skip
+        now = {sp.Symbol("t", real=True): t, **sub}
+        V = parsed["potential"].xreplace(now).xreplace(at)
+        groups = [("angles", q[:3], [euler[s.diff(t)] for s in q[:3]]), ("place", q[3:], u[3:])]
+        return bodies, loads + common.potential_loads(V, N, groups)
+
+    def at(self, contact: Sequence[mpmath.mpf], omega: Sequence[sp.Expr], time: mpmath.mpf):
+        """The contact point, the angular velocity (space components; with rubber contact
+        its normal component solved from the constraint), Kane's ``omega'`` and ``p'`` at
+        them and the body axes (columns), at ``time``."""
         q = [mpmath.mpf(a) for a in ANGLES] + list(contact)
-        u = [mpmath.mpf(sp.Float(w, 50)) for w in omega] + [mpmath.mpf(0)] * 3
-        A = mpmath.matrix(self._constraints[0](q, u, 0))
-        b = mpmath.matrix(self._constraints[1](q, u, 0))
-        A_ind = mpmath.matrix([[A[i, j] for j in range(3)] for i in range(3)])
-        A_dep = mpmath.matrix([[A[i, j] for j in range(3, 6)] for i in range(3)])
-        u[3:] = list(mpmath.lu_solve(A_dep, b - A_ind * mpmath.matrix(u[:3])))
-        X = [mpmath.lu_solve(A_dep, A_ind.column(j)) for j in range(3)]
-        flat = [X[j][i] for i in range(3) for j in range(3)]
+        n_ind = len(self._order) - self._n_dependent
+        known = {f"u{i + 1}": mpmath.mpf(sp.Float(w, 50)) for i, w in enumerate(omega)}
+        u = [known[name] if k < n_ind else mpmath.mpf(0) for k, name in enumerate(self._order)]
+        A = mpmath.matrix(self._constraints[0](q, u, time))
+        b = mpmath.matrix(self._constraints[1](q, u, time))
+        A_ind = mpmath.matrix([[A[i, j] for j in range(n_ind)] for i in range(A.rows)])
+        A_dep = mpmath.matrix([[A[i, j] for j in range(n_ind, A.cols)] for i in range(A.rows)])
+        u[n_ind:] = list(mpmath.lu_solve(A_dep, b - A_ind * mpmath.matrix(u[:n_ind])))
+        X = [mpmath.lu_solve(A_dep, A_ind.column(j)) for j in range(n_ind)]
+        flat = [X[j][i] for i in range(A.rows) for j in range(n_ind)]
         udot = mpmath.lu_solve(
-            mpmath.matrix(self._mass(q, u, 0, flat)), mpmath.matrix(self._forcing(q, u, 0, flat))
+            mpmath.matrix(self._mass(q, u, time, flat)),
+            mpmath.matrix(self._forcing(q, u, time, flat)),
         )
         by_name = dict(zip(self._order, udot, strict=True))
+        speed = dict(zip(self._order, u, strict=True))
+        w = [speed[f"u{i}"] for i in (1, 2, 3)]
         acc = [by_name[f"u{i}"] for i in (1, 2, 3)]
-        return list(contact), acc, u[3:], mpmath.matrix(self._axes(q, u, 0))
+        rate = [speed[f"u{i}"] for i in (4, 5, 6)]
+        return list(contact), w, acc, rate, mpmath.matrix(self._axes(q, u, time))
 
 
 def compare_on_implicit_support(

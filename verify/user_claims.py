@@ -315,10 +315,11 @@ def kane_covers(system: RollingSystem) -> bool:
     on a plane (fixed, turning, shaken) or a fixed sphere — an ellipsoid on a plane with
     its contact point in closed form, any other with the contact point as coordinates
     (:mod:`.kane_implicit`) where the comparison's rays meet the surface. A ball on a
-    support surface: on an ellipsoid (:mod:`.kane_support`) or any other convex support where
-    the comparison's rays meet it (:mod:`.kane_support_implicit`), without a potential,
-    rubber contact, ``I(t)`` or ``K(t)`` (not set up there). Not a convex body on a support
-    surface (:mod:`~chaplygin.derive.body_on_support`: no Kane set-up of it), nor a body in
+    support surface: on an ellipsoid (:mod:`.kane_support`: gravity, an offset and a constant
+    rotor) or any convex support where the comparison's rays meet it
+    (:mod:`.kane_support_implicit`: also a potential, rubber contact, ``I(t)`` and
+    ``K(t)``). Not a convex body on a support surface
+    (:mod:`~chaplygin.derive.body_on_support`: no Kane set-up of it), nor a body in
     a spherical support of balls (no Kane set-up of the balls: its model is the multi-body
     reduction the claims of BKM12 §2.1 check).
 
@@ -330,7 +331,7 @@ def kane_covers(system: RollingSystem) -> bool:
     -------
     bool
     """
-    from .kane_support import is_ellipsoid
+    from .kane_support import is_ellipsoid, parametrised_covers
     from .kane_support_implicit import support_contacts
 
     if system.support == "balls":
@@ -340,18 +341,10 @@ def kane_covers(system: RollingSystem) -> bool:
         return False  # a convex body on a support: no Kane set-up of it
 
     if support is not None:  # a ball on a support: an ellipsoid's parametrisation
-        parsed, t = system._parsed, sp.Symbol("t", real=True)
-        if (  # what kane_support does not set up: not claimed
-            not parsed["potential"].is_zero
-            or parsed["inertia"].has(t)
-            or parsed["rotor_momentum"].has(t)
-            or "gamma" in parsed["no_spin_about"]
-        ):
-            return False
         # at the parameter values _kane_computed takes
         named = {n: sp.Rational(7 + 4 * i, 5 + 3 * i) for i, n in enumerate(system.parameter_names)}
         F = support.xreplace({s: named[s.name] for s in support.free_symbols if s.name in named})
-        if is_ellipsoid(F):
+        if is_ellipsoid(F) and parametrised_covers(system._parsed):
             return True
         try:  # any other convex support: the contact point as coordinates, placed on rays
             support_contacts(F)

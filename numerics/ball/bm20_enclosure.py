@@ -164,7 +164,7 @@ def _chart_set(x: Sequence, G: arb) -> tuple[list, list, list, arb_mat]:
     return [c[i] + E[i] for i in range(6)], basis, coefficients, D
 
 
-def _period_map(code, params, x, x_next, G, t1, jacobian, order, tol):  # noqa: ANN001, ANN202
+def _period_map(code, params, x, x_next, G, t1, jacobian, order, tol, dtol=None):  # noqa: ANN001, ANN202
     """``F = P(x) - x_next`` over the balls ``x`` (angles as rotated differences) and, with
     ``jacobian``, its derivative with respect to ``x`` over them (that with respect to
     ``x_next`` is ``-Id`` exactly). The box's image under the chart starts the flow as a thin
@@ -187,6 +187,7 @@ def _period_map(code, params, x, x_next, G, t1, jacobian, order, tol):  # noqa: 
         jacobian=jacobian,
         order=order,
         tol=tol,
+        derivative_tol=dtol,
         prec=ctx.prec,
         carry=carry,
         basis=basis,
@@ -239,17 +240,18 @@ def _cyclic_jacobian(blocks: list) -> arb_mat:
 class _BoxRuns:
     """The period maps' derivatives over boxes around the shooting points (C^1 runs)."""
 
-    def __init__(self, code, params, G, tau, xs, order, tol) -> None:  # noqa: ANN001
-        self.args = (code, params, G, tau, xs, order, tol)
+    def __init__(self, code, params, G, tau, xs, order, tol, dtol) -> None:  # noqa: ANN001
+        self.args = (code, params, G, tau, xs, order, tol, dtol)
         self.steps, self.widths, self.blocks_done = 0, [], []
 
     def blocks(self, boxes: list) -> list:
-        code, params, G, tau, xs, order, tol = self.args
+        code, params, G, tau, xs, order, tol, dtol = self.args
         k = len(xs)
         self.blocks_done = []
         for i in range(k):
             box = boxes[3 * i : 3 * i + 3]
-            _F, DF, e = _period_map(code, params, box, xs[(i + 1) % k], G, tau, True, order, tol)
+            _F, DF, e = _period_map(code, params, box, xs[(i + 1) % k], G, tau, True, order,
+                                    tol, dtol)  # fmt: skip
             self.blocks_done.append(DF)
             self.steps += e.steps
             self.widths += e.widths
@@ -320,7 +322,9 @@ def prove_bm20_periodic_orbit(
         Decide the multipliers (False: existence only; ``attracting`` is ``"undecided"``).
     box_order, box_tol : optional
         Taylor order and step control of the runs over the boxes (whose width dominates
-        there). When the multipliers are undecided on the boxes, the runs are repeated over
+        there); the derivative's remainder per step there is bounded by ``radius/10``
+        (``derivative_tol`` of :func:`~chaplygin.numerics.validated.lohner.enclose_flow`).
+        When the multipliers are undecided on the boxes, the runs are repeated over
         the Krawczyk boxes ``K`` (which contain the cycle too, and are much smaller).
 
     Returns
@@ -344,7 +348,9 @@ def prove_bm20_periodic_orbit(
         centre = [v for x in xs for v in x]
         big_box = [v + arb(0, radius) for v in centre]
         F = [v for r in residuals for v in r]
-        run = _BoxRuns(code, params, Gb, tau, xs, box_order, box_tol)
+        # the derivative's remainder per step: a tenth of the box's radius (the derivative's
+        # own variation over the box, about |D^2 P| radius, dominates its width there)
+        run = _BoxRuns(code, params, Gb, tau, xs, box_order, box_tol, max(box_tol, radius / 10))
         test = krawczyk_test(centre, big_box, F, _cyclic_jacobian(run.blocks(big_box)))
         attracting = _multipliers_test(run.blocks_done) if multipliers else "undecided"
         if multipliers and test.verdict == "unique zero" and attracting == "undecided":

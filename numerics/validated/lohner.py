@@ -265,6 +265,8 @@ class _Problem:
     order: int
     want_jacobian: bool
     invariants: list = field(default_factory=list)
+    #: the largest remainder of the flow's derivative per step (C^1): the step control's
+    derivative_tol: float = math.inf
 
 
 def _carrying(taylor: Callable, n: int, carry: list[int]) -> Callable:
@@ -380,6 +382,7 @@ def enclose_flow(
     tol: float = 1e-20,
     max_steps: int = 100000,
     max_width: float = 1.0,
+    derivative_tol: float | None = None,
     carry: Sequence[int] = (),
     invariants: Sequence[Callable[[list], list]] = (),
     basis: Sequence[Sequence] | None = None,
@@ -413,6 +416,11 @@ def enclose_flow(
     max_steps : int, optional
     max_width : float, optional
         Stop with :class:`EnclosureError` when a component's enclosure gets wider than this.
+    derivative_tol : float, optional
+        With ``jacobian``: the largest Lagrange remainder of the flow's derivative a step
+        may take (default ``tol``). The derivative's enclosure widens by about this much per
+        step (times the derivative's growth); a looser bound than the state's lets the
+        steps be as long as the state's accuracy allows.
     carry : sequence of int, optional
         Indices of parameters carried as constant states (``p' = 0``) in the Lohner set:
         a parameter interval then moves the enclosure through the flow's derivative in
@@ -468,6 +476,7 @@ def enclose_flow(
         if carry:
             taylor = _carrying(taylor, n, carry)
         prob = _Problem(taylor, P, n + len(carry), order, jacobian, list(invariants))
+        prob.derivative_tol = _derivative_tol(tol, derivative_tol)
         start = _initial_set(X0, n, basis, coefficients)
         result = _integrate(prob, start, ta, tb, tol, max_steps, max_width)
     jac = result["jacobian"]
@@ -485,6 +494,14 @@ def enclose_flow(
         times=result["times"],
         seconds=time.perf_counter() - started,
     )
+
+
+def _derivative_tol(tol: float, derivative_tol: float | None) -> float:
+    """The derivative's remainder bound per step (``tol`` unless given; positive, finite)."""
+    d = tol if derivative_tol is None else derivative_tol
+    if isinstance(d, bool) or not isinstance(d, int | float) or not 0 < d < math.inf:
+        raise UserInputError(f"derivative_tol must be a positive number, got {derivative_tol!r}")
+    return float(d)
 
 
 def _check_arguments(code: Any, params: Sequence, state: Sequence, order: Any, carry: Any) -> list:
@@ -622,16 +639,15 @@ def _growth_report(widths: list, times: list, limit: float) -> str:
     )
 
 
-def _remainder_width(piece: dict) -> float:
-    """The largest Lagrange remainder of the step (state and, for C^1, derivative): what the
-    step control bounds (not the width the state already has, e.g. from a parameter ball)."""
-    w = max(float(abs(r).upper()) for r in piece["R"])
+def _remainder_width(prob: _Problem, piece: dict, tol: float) -> float:
+    """The largest Lagrange remainder of the step relative to its tolerance (the state's:
+    ``tol``; for C^1 the derivative's: ``prob.derivative_tol``): what the step control
+    bounds to 1 (not the width the state already has, e.g. from a parameter ball)."""
+    w = max(float(abs(r).upper()) for r in piece["R"]) / tol
     if "DR" in piece:
         DR = piece["DR"]
-        w = max(
-            w,
-            max(float(abs(DR[i, j]).upper()) for i in range(DR.nrows()) for j in range(DR.ncols())),
-        )
+        d = max(float(abs(DR[i, j]).upper()) for i in range(DR.nrows()) for j in range(DR.ncols()))
+        w = max(w, d / prob.derivative_tol)
     return w
 
 
@@ -650,10 +666,10 @@ def _take_step(
         if piece is None:
             h, last = arb(float(h.mid()) / 2), False
             continue
-        w = _remainder_width(piece)
-        if w <= tol or attempt >= 3:
+        w = _remainder_width(prob, piece, tol)
+        if w <= 1 or attempt >= 3:
             return piece, h, last
-        h, last = arb(float(h.mid()) * 0.9 * (tol / w) ** (1.0 / (prob.order + 1))), False
+        h, last = arb(float(h.mid()) * 0.9 * w ** (-1.0 / (prob.order + 1))), False
     raise EnclosureError(f"no a-priori enclosure at t = {float(t.mid()):.6g} even with h = {h}")
 
 

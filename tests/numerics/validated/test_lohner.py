@@ -198,12 +198,27 @@ def test_generated_models_contain_mpmaths_own_taylor_solution(
 
 def test_derivative_of_a_box_contains_central_differences() -> None:
     """The C^1 enclosure over a box of half-width 1e-9 contains the derivative at its centre
-    by central differences of mpmath's solution (step 1e-12 at 40 digits: error ~1e-24)."""
+    by central differences of mpmath's solution (step 1e-12 at 40 digits: error ~1e-24);
+    so does the run whose derivative remainder per step is bounded by 1e-11 (a hundredth of
+    the box's radius) instead of the state's 1e-20: it takes fewer steps, its derivative
+    is wider by less than a tenth (the box's own spread dominates it), and its state by
+    less than 1 %. A bound that is not a positive number is refused."""
     code = load_model_code("chaplygin_ball", "variable_gyrostat,variable_inertia")
     params = ["4", "3", "2", "4.385", "0", "2", "-6", "-3", "-9", "1.0669"]
     state = ["0.7", "-1.9", "2.1", "0.48", "0.6", "0.64"]
     box = [to_ball(v) + arb(0, 1e-9) for v in state]
     e = enclose_flow(code, params, box, 0, "1.3", jacobian=True)
+    loose = enclose_flow(code, params, box, 0, "1.3", jacobian=True, derivative_tol=1e-11)
+    assert loose.steps < e.steps
+    width = lambda m: max(2 * float(x.rad()) for row in m for x in row)  # noqa: E731
+    # the box's own spread dominates the derivative's width (6e-6 here): the longer steps
+    # add a few per cent to it (3 % here), the remainders at most steps x 1e-11 x |D|
+    assert width(e.jacobian) < width(loose.jacobian) < 1.1 * width(e.jacobian)
+    assert all(a.overlaps(b) for a, b in zip(e.state, loose.state, strict=True))
+    assert loose.max_width < 1.01 * e.max_width  # the box's image: 0.3 % wider here
+    for bad in (0, -1e-9, float("nan"), float("inf"), "1e-9", True):
+        with pytest.raises(UserInputError, match="derivative_tol"):
+            enclose_flow(code, params, state, 0, "0.1", jacobian=True, derivative_tol=bad)
     with mpmath.workdps(DPS):
         p = [mpmath.mpf(v) for v in params]
         h = mpmath.mpf("1e-12")
@@ -219,6 +234,7 @@ def test_derivative_of_a_box_contains_central_differences() -> None:
             for i in range(6):
                 d = (a[i] - b[i]) / (2 * h)
                 assert e.jacobian[i][j].overlaps(_ref(d) + arb(0, 1e-20))
+                assert loose.jacobian[i][j].overlaps(_ref(d) + arb(0, 1e-20))
 
 
 def test_a_parameter_ball_is_carried_to_the_result() -> None:
