@@ -417,10 +417,8 @@ def enclose_flow(
     max_width : float, optional
         Stop with :class:`EnclosureError` when a component's enclosure gets wider than this.
     derivative_tol : float, optional
-        With ``jacobian``: the largest Lagrange remainder of the flow's derivative a step
-        may take (default ``tol``). The derivative's enclosure widens by about this much per
-        step (times the derivative's growth); a looser bound than the state's lets the
-        steps be as long as the state's accuracy allows.
+        With ``jacobian``: the derivative's Lagrange remainder per step (default ``tol``);
+        looser, the state's accuracy sets the steps and the derivative widens by about this.
     carry : sequence of int, optional
         Indices of parameters carried as constant states (``p' = 0``) in the Lohner set:
         a parameter interval then moves the enclosure through the flow's derivative in
@@ -468,15 +466,12 @@ def enclose_flow(
         P = [to_ball(p) for p in params]
         X0 = [to_ball(x) for x in state] + [P[k] for k in carry]
         ta, tb = to_ball(t0), to_ball(t1)
-        # t1 may be a ball reaching down to t0 (the flow over a whole time interval; the Taylor
-        # step and its a-priori enclosure hold on a step interval containing 0 on either side)
-        if tb.mid() == ta.mid():
+        if tb.mid() == ta.mid():  # (t1 may be a ball reaching t0: a step interval holds 0)
             raise UserInputError(f"t1 must differ from t0 (got {t0!r}, {t1!r})")
-        taylor = code.taylor.taylor_coefficients
-        if carry:
-            taylor = _carrying(taylor, n, carry)
-        prob = _Problem(taylor, P, n + len(carry), order, jacobian, list(invariants))
-        prob.derivative_tol = _derivative_tol(tol, derivative_tol)
+        taylor = code.taylor.taylor_coefficients if not carry else _carrying(
+            code.taylor.taylor_coefficients, n, carry)  # fmt: skip
+        prob = _Problem(taylor, P, n + len(carry), order, jacobian, list(invariants),
+                        _derivative_tol(tol, derivative_tol))  # fmt: skip
         start = _initial_set(X0, n, basis, coefficients)
         result = _integrate(prob, start, ta, tb, tol, max_steps, max_width)
     jac = result["jacobian"]
