@@ -290,8 +290,8 @@ def test_kane_agrees_with_a_convex_body_on_a_support_surface_and_refutes_wrong_o
     result = kane_compare(system, system.model(), values)
     assert result.points == 4 and result.agrees, result
     assert kane_covers(system)
-    for wrong in ({"centre_of_mass": ("0.05", "-0.04", "0.11")},
-                  {"surface": "x1**2/(1/4) + x2**2/(1/9) + x3**2/(1/6) + x1*x2/7 - 1"}):  # fmt: skip
+    other_axis = _CONVEX["surface"].replace("x3**2/(1/5)", "x3**2/(1/6)")
+    for wrong in ({"centre_of_mass": ("0.05", "-0.04", "0.11")}, {"surface": other_axis}):
         control = RollingSystem(f"egg_on_egg_{side}_wrong", **{**fields, **wrong})
         refuted = kane_compare(system, control.model(), values)
         worst = max(refuted.max_acceleration_error, refuted.max_normal_rate_error)
