@@ -18,6 +18,7 @@ __all__ = [
     "SPHERE_POSITION",
     "T0",
     "KaneComparison",
+    "frame_of",
     "model_rates",
     "placement",
     "potential_loads",
@@ -78,8 +79,19 @@ T0 = sp.Rational(7, 10)
 #: The contact point's position from the axis before its vertical part is removed.
 _RHO_SEED = (sp.Rational(5, 7), sp.Rational(-3, 11), sp.Rational(2, 13))
 
-def _frame_of(n: mpmath.matrix) -> mpmath.matrix:
-    """A right-handed orthonormal frame (columns) whose third column is the unit ``n``."""
+def frame_of(n: mpmath.matrix) -> mpmath.matrix:
+    """A right-handed orthonormal frame (columns) whose third column is the unit ``n``.
+
+    Parameters
+    ----------
+    n : mpmath.matrix
+        A unit 3-vector.
+
+    Returns
+    -------
+    mpmath.matrix
+        3 x 3, orthogonal, determinant 1.
+    """
     helper = mpmath.matrix([1, 0, 0]) if abs(n[0]) < mpmath.mpf("0.9") else mpmath.matrix([0, 1, 0])
     u = helper - (helper.T * n)[0] * n
     u = u / mpmath.norm(u)
@@ -203,7 +215,7 @@ def placement(gamma: Sequence[object], sphere: bool, inside: bool) -> list:
         )
         # body axes in N (columns of C^T): any orthonormal right-handed frame with
         # C e_r = g; built from g's frame and e_r's frame
-        Fb, Fs = _frame_of(g), _frame_of(e_r)
+        Fb, Fs = frame_of(g), frame_of(e_r)
         M = Fs * Fb.T  # N <- B: takes g (body) to e_r (space)
         q2 = -mpmath.asin(M[2, 0])
         q3 = mpmath.atan2(M[2, 1], M[2, 2])

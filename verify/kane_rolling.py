@@ -37,7 +37,7 @@ contact point carried as coordinates with its holonomic conditions.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
 import mpmath
 import sympy as sp
@@ -61,6 +61,25 @@ from .kane_euler import euler_rates
 from .kane_implicit import compare_implicit
 
 __all__ = ["KaneComparison", "kane_compare", "DIGITS", "RATIONAL_UNIT_VECTORS", "T0"]
+
+def _support_compare(system: RollingSystem, pvals: Mapping[sp.Symbol, sp.Expr]) -> Callable:
+    """The comparison on a support surface: a ball on an ellipsoid's parametrisation
+    (gravity, an offset, a constant rotor; the support at the values ``pvals``), or with
+    its contact point as coordinates; a convex body with both contact points as
+    coordinates."""
+    from .kane_support import compare_on_support, is_ellipsoid, parametrised_covers
+    from .kane_support_implicit import compare_on_implicit_support
+
+    if system._parsed["surface"] is not None:
+        from .kane_body_support import compare_body_on_support
+
+        return compare_body_on_support
+    by_name = {s.name: v for s, v in pvals.items()}
+    F = system._parsed["support_surface"]
+    F = F.xreplace({s: by_name[s.name] for s in F.free_symbols if s.name in by_name})
+    closed = is_ellipsoid(F) and parametrised_covers(system._parsed)
+    return compare_on_support if closed else compare_on_implicit_support
+
 
 def kane_compare(
     system: RollingSystem,
@@ -95,15 +114,8 @@ def kane_compare(
     """
     pvals = {s: sp.Rational(str(values[s.name])) for s in model.params}
     tolerance = 10.0 ** -(DIGITS - 10)
-    if system.support == "surface":  # a ball on a support surface: omega' and p'
-        from .kane_support import compare_on_support, is_ellipsoid, parametrised_covers
-        from .kane_support_implicit import compare_on_implicit_support
-
-        by_name = {s.name: v for s, v in pvals.items()}
-        F = system._parsed["support_surface"]
-        F = F.xreplace({s: by_name[s.name] for s in F.free_symbols if s.name in by_name})
-        closed = is_ellipsoid(F) and parametrised_covers(system._parsed)
-        compare = compare_on_support if closed else compare_on_implicit_support
+    if system.support == "surface":  # on a support surface: omega' and the contact's rates
+        compare = _support_compare(system, pvals)
         count, acc, rate = compare(system, model, pvals, momenta, DIGITS, _relative)
         return KaneComparison(count, acc, 0.0, rate, tolerance)  # no momentum state there
     if system._parsed["surface"] is not None and not _closed_form(system, pvals):

@@ -228,7 +228,8 @@ class _KaneOnSupport:
         contact = self._p(q, u, 0)
         rate = self._p_rate(q, u, 0)
         axes = self._axes(q, u, 0)
-        return [contact[i] for i in range(3)], u[:3], acc, [rate[i] for i in range(3)], axes
+        contact, rate = [contact[i] for i in range(3)], [rate[i] for i in range(3)]
+        return {"p": contact}, u[:3], acc, {"p": rate}, axes
 
 
 def compare_on_support(
@@ -276,10 +277,11 @@ def compare_at_points(
     digits: int,
     relative: Callable[[Sequence[object], Sequence[object]], float],
 ) -> tuple[int, float, float]:
-    """The model's ``omega'`` and ``p'`` (its auxiliaries in order) against Kane's
-    (``kane.at(point, omega, time)``: the contact point, the angular velocity it took,
-    ``omega'``, ``p'`` and the body axes as columns) at each point and angular velocity, at
-    :data:`~.kane_common.T0` (the time of a prescribed law).
+    """The model's ``omega'`` and the contact points' rates (its auxiliaries in order)
+    against Kane's (``kane.at(point, omega, time)``: the contact points by state group —
+    ``p``, a convex body's ``r`` —, the angular velocity it took, ``omega'``, the contact
+    points' rates by group and the body axes as columns) at each point and angular velocity,
+    at :data:`~.kane_common.T0` (the time of a prescribed law).
 
     Parameters
     ----------
@@ -295,30 +297,32 @@ def compare_at_points(
     tuple of (int, float, float)
         Points compared, the largest ``omega'`` and ``p'`` differences.
     """
-    omega, p = sp.Matrix(model.group("omega")), sp.Matrix(model.group("p"))
-    index = [list(model.state).index(s) for s in (*omega, *p)]
+    omega = sp.Matrix(model.group("omega"))
+    state = list(model.state)
     frame = [n for n in ("e1", "e2", "e3") if n in dict(model.state_groups)]
     exact = lambda c: sp.Float(mpmath.nstr(c, digits + 5), digits + 5)  # noqa: E731
-
     time = sp.Symbol("t", real=True)
 
-    def field(w, contact, axes):  # the model's rates: its auxiliary definitions in order
+    def field(w, places, axes):  # the model's rates: its auxiliary definitions in order
         values = {**pvals, time: T0, **{s: exact(c) for s, c in zip(omega, w, strict=True)}}
-        values.update((s, exact(c)) for s, c in zip(p, contact, strict=True))
+        for name, where in places.items():  # the contact points (p; a convex body's r)
+            values.update((s, exact(c)) for s, c in zip(model.group(name), where, strict=True))
         for j, name in enumerate(frame):  # a general ball's body axes (fixed frame)
             values.update((s, exact(axes[i, j])) for i, s in enumerate(model.group(name)))
         for symbol, expr in model.aux:
             values[symbol] = sp.N(expr.xreplace(values), digits + 5)
-        return [sp.N(model.rhs[i].xreplace(values), digits + 5) for i in index]
+        rate = lambda s: sp.N(model.rhs[state.index(s)].xreplace(values), digits + 5)  # noqa: E731
+        return [rate(s) for s in omega], {n: [rate(s) for s in model.group(n)] for n in places}
 
     worst_acc = worst_rate = 0.0
     count = 0
     with mpmath.workdps(digits):
         for w in omegas:
             for point in points:
-                contact, used, acc, rate, axes = kane.at(point, w, mpmath.mpf(T0))
-                F = field(used, contact, axes)
-                worst_acc = max(worst_acc, relative(F[:3], acc))
-                worst_rate = max(worst_rate, relative(F[3:], rate))
+                places, used, acc, rates, axes = kane.at(point, w, mpmath.mpf(T0))
+                model_acc, model_rates = field(used, places, axes)
+                worst_acc = max(worst_acc, relative(model_acc, acc))
+                for name, rate in rates.items():
+                    worst_rate = max(worst_rate, relative(model_rates[name], rate))
                 count += 1
     return count, worst_acc, worst_rate

@@ -177,7 +177,7 @@ class _KaneOnImplicitSupport:
         w = [speed[f"u{i}"] for i in (1, 2, 3)]
         acc = [by_name[f"u{i}"] for i in (1, 2, 3)]
         rate = [speed[f"u{i}"] for i in (4, 5, 6)]
-        return list(contact), w, acc, rate, mpmath.matrix(self._axes(q, u, time))
+        return {"p": list(contact)}, w, acc, {"p": rate}, mpmath.matrix(self._axes(q, u, time))
 
 
 def compare_on_implicit_support(

@@ -332,8 +332,8 @@ def kane_covers(system: RollingSystem) -> bool:
     support surface: on an ellipsoid (:mod:`.kane_support`: gravity, an offset and a constant
     rotor) or any convex support where the comparison's rays meet it
     (:mod:`.kane_support_implicit`: also a potential, rubber contact, ``I(t)`` and
-    ``K(t)``). Not a convex body on a support surface
-    (:mod:`~chaplygin.derive.body_on_support`: no Kane set-up of it), nor a body in
+    ``K(t)``). A convex body on a support surface: both contact points as coordinates
+    (:mod:`.kane_body_support`), where the rays meet both surfaces. Not a body in
     a spherical support of balls (no Kane set-up of the balls: its model is the multi-body
     reduction the claims of BKM12 §2.1 check).
 
@@ -350,32 +350,26 @@ def kane_covers(system: RollingSystem) -> bool:
 
     if system.support == "balls":
         return False
-    support = system._parsed["support_surface"]
-    if support is not None and system._parsed["surface"] is not None:
-        return False  # a convex body on a support: no Kane set-up of it
-
-    if support is not None:  # a ball on a support: an ellipsoid's parametrisation
-        # at the parameter values _kane_computed takes
-        named = {n: sp.Rational(7 + 4 * i, 5 + 3 * i) for i, n in enumerate(system.parameter_names)}
-        F = support.xreplace({s: named[s.name] for s in support.free_symbols if s.name in named})
-        if is_ellipsoid(F) and parametrised_covers(system._parsed):
+    # at the parameter values _kane_computed takes
+    values = {n: sp.Rational(7 + 4 * i, 5 + 3 * i) for i, n in enumerate(system.parameter_names)}
+    at = lambda e: e.xreplace({s: values[s.name] for s in e.free_symbols if s.name in values})  # noqa: E731
+    support, surface = system._parsed["support_surface"], system._parsed["surface"]
+    if support is not None:  # on a support: an ellipsoid's parametrisation, or the contacts
+        F = at(support)  # as coordinates placed on rays (also a convex body's, on its rays)
+        if surface is None and is_ellipsoid(F) and parametrised_covers(system._parsed):
             return True
-        try:  # any other convex support: the contact point as coordinates, placed on rays
+        try:
             support_contacts(F)
         except ValueError:
             return False
-        return True
-    surface = system._parsed["surface"]
     if surface is None:
         return True
     # a convex body: its contact point in closed form (an ellipsoid on a plane) or carried
-    # as coordinates (kane_implicit); placed where the comparison's rays from the centre of
-    # mass meet the surface at the parameter values _kane_computed takes
+    # as coordinates (kane_implicit, kane_body_support); placed where the comparison's rays
+    # from the centre of mass meet the surface
     from .kane_implicit import places_contacts
 
-    values = {n: sp.Rational(7 + 4 * i, 5 + 3 * i) for i, n in enumerate(system.parameter_names)}
-    at = {s: values[s.name] for s in surface.free_symbols if s.name in values}
-    return places_contacts(surface.xreplace(at))
+    return places_contacts(at(surface))
 
 
 def _kane_computed(system, parameter_names: tuple[str, ...]) -> Computed:

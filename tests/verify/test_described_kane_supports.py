@@ -257,3 +257,42 @@ def test_kane_agrees_with_a_general_ball_on_a_quartic_support_and_refutes_a_move
         "ball_on_quartic", side=side,
         support_surface="p1**4 + p2**4/2 + p1**2 + (p2 - 1/5)**2 + (p3 + 1/3)**2 - 3",
     )  # fmt: skip
+
+
+#: A tilted ellipsoidal body (semi-axes about 1/2, 1/3, 0.45) with its centre of mass off
+#: its centre, on an ellipsoid off the origin (outside) or inside a larger one.
+_CONVEX = dict(
+    inertia=_QUARTIC["inertia"], gyrostat=("0.14", 0, "0.33"), gravity="g", support="surface",
+    surface="x1**2/(1/4) + x2**2/(1/9) + x3**2/(1/5) + x1*x2/7 - 1",
+    centre_of_mass=("0.05", "-0.04", "0.06"),
+)  # fmt: skip
+_CONVEX_SUPPORT = {
+    "outside": "p1**2/4 + p2**2/(9/4) + (p3 - 1/3)**2 - 1",
+    "inside": "p1**2/16 + p2**2/9 + (p3 - 1/3)**2/9 - 1",
+}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("side", ["outside", "inside"])
+def test_kane_agrees_with_a_convex_body_on_a_support_surface_and_refutes_wrong_ones(side):
+    """A convex body on a convex support (derive/body_on_support.py: the contact's rate from
+    both surfaces' curvatures): Kane's method with both contact points as coordinates
+    (kane_body_support: no slip at the body's material point, the contact kept on the
+    support and the two normals kept parallel — neither surface's curvature is written)
+    agrees in omega', p' and r' at 40 digits, outside an ellipsoid and inside a larger one;
+    the model with the centre of mass moved, and the model of a body with another third
+    axis, are refuted by the same comparison; the file's :kane claim covers it."""
+    from chaplygin.verify.user_claims import kane_covers
+
+    fields = dict(_CONVEX, side=side, support_surface=_CONVEX_SUPPORT[side])
+    system = RollingSystem(f"egg_on_egg_{side}", **fields)
+    values = dict(m="1.3", g="9.81")
+    result = kane_compare(system, system.model(), values)
+    assert result.points == 4 and result.agrees, result
+    assert kane_covers(system)
+    other_axis = _CONVEX["surface"].replace("x3**2/(1/5)", "x3**2/(1/6)")
+    for wrong in ({"centre_of_mass": ("0.05", "-0.04", "0.11")}, {"surface": other_axis}):
+        control = RollingSystem(f"egg_on_egg_{side}_wrong", **{**fields, **wrong})
+        refuted = kane_compare(system, control.model(), values)
+        worst = max(refuted.max_acceleration_error, refuted.max_normal_rate_error)
+        assert worst > 1e6 * refuted.tolerance, (wrong, refuted)
