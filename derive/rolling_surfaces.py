@@ -20,7 +20,7 @@ import sympy as sp
 from .ball_on_support import SupportSurfaceReduction
 from .ball_on_support_general import AUX_NAMES, general_ball_description
 from .body_on_sphere import BodyOnSphereReduction, PlaneMotion, outer_normal
-from .body_on_support import BODY_AUX_NAMES, body_on_support_description
+from .body_on_support import BODY_AUX_NAMES, aligned_sampler, body_on_support_description
 from .description import MechanicalDescription, apply_effects
 from .errors import UserInputError
 from .expression_text import parse_expression
@@ -217,7 +217,13 @@ def _read_support_surface(s: RollingSystem, scope: dict, parsed: dict) -> sp.Exp
         )
     x = {f"p{i}": sp.Symbol(f"p{i}", real=True) for i in (1, 2, 3)}
     F = read_fixed_surface(s.support_surface, scope, x, "support_surface")
-    return F.xreplace({x[f"p{i + 1}"]: c for i, c in enumerate(vector("p", real=True))})
+    F = F.xreplace({x[f"p{i + 1}"]: c for i, c in enumerate(vector("p", real=True))})
+    if s.surface is not None and aligned_sampler(F, parsed["surface"], 1) is None:
+        raise UserInputError(  # (the verifier's exact points need one of them to be a quadric)
+            "a convex body on a support surface needs the body or the support to be a quadric "
+            "(degree 2) in this version"
+        )
+    return F
 
 
 def _refuse_on_support(s: RollingSystem, parsed: dict) -> None:

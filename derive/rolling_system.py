@@ -630,7 +630,7 @@ def _parse(s: RollingSystem) -> dict:
     )
     plane_velocity = _check_moving(s, read_timed)
     parsed = {"inertia": inertia, "centre": centre, "rotor_momentum": gyrostat,
-              "potential": potential}  # fmt: skip
+              "potential": potential, "surface": surface}  # fmt: skip
     centre_surface = _read_centre_surface(s, scope, parsed)
     support_surface = None if centre_surface is not None else _read_support_surface(
         s, scope, parsed

@@ -226,7 +226,8 @@ def test_the_integrals_and_the_alignment_are_kept_and_the_controls_are_not(side)
 
 def test_what_is_not_derived_is_refused_on_one_line():
     """Rubber contact, a potential, K(t) and I(t) for a convex body on a support surface
-    are refused before any work, with one message naming them; a line contact too."""
+    are refused before any work, with one message naming them; a line contact too, and a
+    body and a support neither of which is a quadric."""
     base = dict(inertia=("A", "B", "C"), surface="x1**2 + x2**2/2 + x3**2/3 - 1",
                 support="surface", support_surface="p3")  # fmt: skip
     refused = (
@@ -242,6 +243,13 @@ def test_what_is_not_derived_is_refused_on_one_line():
         with pytest.raises(UserInputError, match=re.escape(message)):
             RollingSystem("bad", **{**base, **fields})
     assert RollingSystem("good", **base).effects_taken == ()
+    # neither surface a quadric: the verifier has no exact points with the normals aligned
+    # (it would refute f at points off them), so the description is refused
+    quartics = dict(base, surface="x1**4 + x2**2 + x3**2 + x1**2 - 1",
+                    support_surface="p1**4 + p2**2 + p3**2 - 1")  # fmt: skip
+    with pytest.raises(UserInputError, match="the body or the support to be a quadric"):
+        RollingSystem("bad", **quartics)
+    RollingSystem("good", **dict(quartics, support_surface="p1**2 + p2**2 + p3**2 - 1"))
 
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples/systems/ellipsoid_on_ellipsoid.toml"
