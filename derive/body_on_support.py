@@ -32,9 +32,11 @@ Derivation:
 The energy ``m (v, v)/2 + (omega, I_f omega)/2 + m g (p + rho)_3`` is an integral at every
 point with ``Q`` a rotation (the reaction does no work; ``(p + rho)' = v``), the support's
 level ``F(p)`` too (``(nu, p') = 0`` by construction), and on the normals' alignment
-(which the flow keeps) so is the body's level ``f(r)``. Gravity along ``-e3`` and a
-constant rotor ``K``; rubber rolling, a potential, ``K(t)`` and ``I(t)`` are not derived
-here (:mod:`.rolling_surfaces` refuses them).
+(which the flow keeps) so is the body's level ``f(r)``. Gravity along ``-e3``, a rotor
+``K`` (constant or ``K(t)``), an inertia ``I(t)``, a potential ``V(p, e1, e2, e3)`` and rubber
+rolling (``(omega, nu) = 0``) enter as in the general ball (its ``Q I' Q^T omega + Q K'``, the
+torque ``-d(dV/dt)/d omega`` and the reaction ``mu nu``); with ``I(t)`` or ``K(t)`` there is
+no energy integral.
 
 :func:`aligned_sampler` draws exact points of the phase space (the normals aligned) when
 the body or the support is a quadric: the verifier's sampling needs them.
@@ -45,6 +47,7 @@ from __future__ import annotations
 import random
 from collections.abc import Callable
 from dataclasses import dataclass
+from types import SimpleNamespace
 
 import sympy as sp
 
@@ -54,7 +57,10 @@ from .ball_on_support_general import (
     FIXED_FRAME_REFUSED,
     GeneralBallEquations,
     _axis,
+    _no_spin,
+    _potential_force,
     _symmetric,
+    _time_rates,
     add_axes,
     project_newton_euler,
 )
@@ -120,6 +126,13 @@ class BodyOnSupportReduction:
         1: outside the support (on the side of ``grad F``); -1: inside.
     gravity : sympy.Expr
         ``g`` of a field along ``-e3`` (0: none).
+    potential : sympy.Expr
+        ``V(p, e1, e2, e3)`` (the general ball's: its torque ``-d(dV/dt)/d omega``).
+    rubber : bool
+        No spin about the support's normal, ``(omega, nu) = 0`` (the reaction ``mu nu``).
+
+    The inertia and the rotor may be functions of the time ``t`` (``Q I' Q^T omega`` and
+    ``Q K'`` join the momentum's rate; no energy integral then).
     """
 
     support: sp.Expr
@@ -129,6 +142,8 @@ class BodyOnSupportReduction:
     rotor: sp.Matrix
     side: int = 1
     gravity: sp.Expr = sp.S.Zero
+    potential: sp.Expr = sp.S.Zero
+    rubber: bool = False
 
     def reduce(self, desc: MechanicalDescription) -> Reduced:
         """``omega'``, ``p'`` and ``r'`` (the axes' rates are declared), the energy and the
@@ -174,7 +189,11 @@ class BodyOnSupportReduction:
         rho = vector("rg", real=True)  # -Q r: from the contact to the centre of mass
         core = project_newton_euler(m, self.gravity, omega, rho, cross(omega, rho) - pdot)
         If, Kf = core["inertia"], core["rotor"]
-        zero_rates = dict.fromkeys([*core["inertia_rate"], *core["rotor_rate"]], 0)
+        t = desc.time
+        rated = SimpleNamespace(inertia_rate=core["inertia_rate"], rotor_rate=core["rotor_rate"])
+        timed, zero_rates = _time_rates(
+            rated, Q * self.inertia.diff(t) * Q.T, Q * self.rotor.diff(t)
+        )
         Pc, hc = _symmetric("Pc"), vector("hc", real=True)
         body_aux += _entries(Dnb, (sp.eye(3) - nb * nb.T) * hessian / length)
         aux = [*body_aux, *_entries(C, Q * Dnb * Q.T)]
@@ -184,11 +203,17 @@ class BodyOnSupportReduction:
         aux += [*zip(Kf, Q * self.rotor, strict=True)]
         aux += [(If[i, j], (Q * self.inertia * Q.T)[i, j]) for i in range(3) for j in range(i, 3)]
         P = core["contact_inertia"].xreplace(zero_rates)
-        aux += [(Pc[i, j], P[i, j]) for i in range(3) for j in range(i, 3)]
-        aux += [*zip(hc, core["forcing"].xreplace(zero_rates), strict=True)]
+        aux += [*timed, *((Pc[i, j], P[i, j]) for i in range(3) for j in range(i, 3))]
+        tau, force = _potential_force(self.potential, omega, p, Q, p_rate)
+        aux += [*force, *zip(hc, core["forcing"].xreplace(zero_rates) + tau, strict=True)]
         adjP, detP = _adjugate_and_det(Pc)
         omega_rate = adjP * hc / detP
-        energy = core["kinetic_energy"] + m * self.gravity * (p[2] + rho[2])
+        if self.rubber:  # the reaction mu nu of (omega, nu) = 0 (nu' = J p')
+            omega_rate, no_spin = _no_spin(omega_rate, adjP * (s * nu) / detP, omega, s * nu,
+                                           s * J * pdot)  # fmt: skip
+            aux += no_spin
+        potential = m * self.gravity * (p[2] + rho[2]) + self.potential
+        energy = core["kinetic_energy"] + potential
         level = sp.expand(self.surface - self.surface.xreplace(dict.fromkeys(r, 0)))
         frame_group = PoissonGroup(FRAME, AXES)
         details = BodyOnSupportEquations(
@@ -199,10 +224,11 @@ class BodyOnSupportReduction:
         return Reduced(
             rates={"omega": list(omega_rate), "p": list(pdot), "r": list(Q.T * pdot)},
             aux=tuple((x, sp.expand(e)) for x, e in aux),
-            integrals=[("H", energy), ("F", geometry.level), ("f", level)],
+            integrals=([] if timed else [("H", energy)]) + [("F", geometry.level), ("f", level)],
             density=None,
             constraints=frame_group.constraints({e: desc.state_group(e) for e in AXES}),
             geometry=(frame_group,),
+            relation_unknowns=tuple(omega) if self.rubber else (),
             omega=omega,
             details=details,
         )
@@ -285,6 +311,8 @@ def body_on_support_description(
     *,
     side: int = 1,
     gravity: sp.Expr = sp.S.Zero,
+    potential: sp.Expr = sp.S.Zero,
+    rubber: bool = False,
     parameters: tuple[ParameterSpec, ...] = (),
     system: str = "body_on_support",
 ) -> MechanicalDescription:
@@ -301,10 +329,14 @@ def body_on_support_description(
     inertia : sympy.Matrix
         Central inertia tensor, body axes.
     rotor : sympy.Matrix
-        A constant ``K``, body axes.
+        ``K``, body axes (constant or of ``t``; the inertia too).
     side : int
         1 outside, -1 inside.
     gravity : sympy.Expr
+    potential : sympy.Expr
+        ``V(p, e1, e2, e3)``.
+    rubber : bool
+        No spin about the support's normal (the invariant relation ``(omega, grad F)``).
     parameters : tuple of ParameterSpec
         Declared in this order.
     system : str
@@ -321,12 +353,16 @@ def body_on_support_description(
         time=sp.Symbol("t", real=True),
         omega=omega,
         reduction=BodyOnSupportReduction(
-            support, surface, mass, inertia, rotor, side=side, gravity=gravity
-        ),
+            support, surface, mass, inertia, rotor, side=side, gravity=gravity,
+            potential=sp.sympify(potential), rubber=rubber,
+        ),  # fmt: skip
         parameter_order=tuple(spec.name for spec in parameters),
     )
     for name in ("omega", "p", "r"):
         desc.add_state(name, tuple(vector(name, real=True)), None)
+    if rubber:  # no spin about the normal: (omega, grad F) = 0, kept by the flow
+        grad = _gradient(support, vector("p", real=True))
+        desc.add_invariant_relation("(omega,grad F)", sp.expand(grad.dot(omega)))
     add_axes(desc, parameters)
     desc.sampler = aligned_sampler(support, surface, side)
     return desc

@@ -115,7 +115,8 @@ def _body_on_support_description(s: RollingSystem) -> MechanicalDescription:
     p = s._parsed
     desc = body_on_support_description(
         p["support_surface"], p["surface"], p["mass"], p["inertia"], p["rotor_momentum"],
-        side=1 if s.side == "outside" else -1, gravity=p["field"], system=s.name,
+        side=1 if s.side == "outside" else -1, gravity=p["field"], potential=p["potential"],
+        rubber=_no_spin_about_normal(p), system=s.name,
     )  # fmt: skip
     desc.parameter_order = tuple(x.name for x in p["parameters"])
     _declare_parameters(desc, p)
@@ -194,8 +195,8 @@ def _no_spin_about_normal(parsed: dict) -> bool:
 
 
 def _read_support_surface(s: RollingSystem, scope: dict, parsed: dict) -> sp.Expr | None:
-    """``F(p)`` of a support surface; what it refuses (line contact; for a convex body also
-    rubber contact, a potential, ``K(t)`` and ``I(t)``)."""
+    """``F(p)`` of a support surface; what it refuses (line contact; for a convex body a
+    body and a support neither of which is a quadric)."""
     if s.support != "surface":
         if s.support_surface is not None:
             raise UserInputError(f"support_surface is given but the support is a {s.support}")
@@ -203,8 +204,6 @@ def _read_support_surface(s: RollingSystem, scope: dict, parsed: dict) -> sp.Exp
     if s.support_surface is None:
         raise UserInputError("support 'surface' needs support_surface (F(p1, p2, p3) = 0)")
     refused = {f"contact {s.contact!r}": s.contact == "line"}
-    if s.surface is not None:
-        _refuse_on_support(s, parsed)
     # (the homogeneous route's nu, Dnu, pdot too; a convex body's Dnb, Cf, Ac, rg)
     clash = sorted(set(scope) & (AUX_NAMES | BODY_AUX_NAMES))
     if clash:
@@ -224,23 +223,6 @@ def _read_support_surface(s: RollingSystem, scope: dict, parsed: dict) -> sp.Exp
             "(degree 2) in this version"
         )
     return F
-
-
-def _refuse_on_support(s: RollingSystem, parsed: dict) -> None:
-    """What a convex body on a support surface does not take, in one message."""
-    t = sp.Symbol("t", real=True)
-    refused = {
-        f"contact {s.contact!r}": s.contact != "rolling",
-        "a potential": not parsed["potential"].is_zero,
-        "a gyrostat K(t)": parsed["rotor_momentum"].has(t),
-        "an inertia I(t)": parsed["inertia"].has(t),
-    }
-    if any(refused.values()):
-        what = ", ".join(k for k, v in refused.items() if v)
-        raise UserInputError(
-            "on a support surface this version derives a convex body (surface) rolling "
-            f"with gravity and a constant gyrostat, not {what}"
-        )
 
 
 def read_fixed_surface(text: object, scope: dict, x: dict, what: str) -> sp.Expr:

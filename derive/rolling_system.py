@@ -71,10 +71,10 @@ A ball rolls without slipping on a fixed support surface ``F(p) = 0``
 :mod:`.ball_on_support` (state ``omega`` and the contact point ``p``), any other (any
 inertia, also ``I(t)``, any rotor, also ``K(t)``, any centre of mass, a potential of ``p``
 and the axes, rubber rolling) by :mod:`.ball_on_support_general` (with the body axes ``e1,
-e2, e3``); a convex body ``f(x) = 0`` (``surface=``) rolls on it with gravity and a constant
-rotor by :mod:`.body_on_support` (the state gains its contact point ``r``, body axes; the
-integrals ``H``, ``F`` and ``f``). In a spherical support of balls (``support="balls"``,
-BKM12 §2.1-2.3): :mod:`.rolling_balls`.
+e2, e3``); a convex body ``f(x) = 0`` (``surface=``) rolls or rubber rolls on it with the
+same fields by :mod:`.body_on_support` (the state gains its contact point ``r``, body axes;
+the integrals ``H``, ``F`` and ``f``; the body or the support a quadric). In a spherical
+support of balls (``support="balls"``, BKM12 §2.1-2.3): :mod:`.rolling_balls`.
 
 A convex body also rolls, or rubber rolls (``(omega, n) = 0``), on a fixed sphere: M03
 §2's stage with the signed curvature ``k = -1/R`` outside, ``1/R`` inside, ``(k Id +
@@ -84,9 +84,9 @@ zeta)`` to the energy (the centre of mass's height above the sphere's centre); a
 potential may use ``zeta`` beside ``gamma = n(r)``, its torque ``-d(dV/dt)/d omega``
 along the motion, ``n' = n x omega - k r'``.
 
-Every other support, contact and surface the issue lists (a convex body along a line, a convex
-body on a support surface rubber rolling, with a potential, ``K(t)`` or ``I(t)``, rolling
-along a line on a moving plane) is refused with a message that says so — before any work.
+Every other support, contact and surface the issue lists (a convex body along a line,
+rolling along a line on a moving plane) is refused with a message that says so — before
+any work.
 
 Every text a user types is read by :func:`~.expression_text.parse_expression` (no ``eval``);
 the checks of :meth:`RollingSystem.__post_init__` run before anything is derived: a singular

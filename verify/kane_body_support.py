@@ -137,12 +137,18 @@ class _KaneBodyOnSupport:
         constraints = [at_contact.vel(N).dot(e) for e in (N.x, N.y, N.z)]
         constraints.append(sum(g * w for g, w in zip(grad_F, u[3:6], strict=True)))
         constraints += [cross.dot(e).diff(t).xreplace(rates) for e in (N.x, N.y)]
+        dependent = u[3:]
+        if "gamma" in parsed["no_spin_about"]:  # rubber: no spin about the support's normal
+            constraints.append(B.ang_vel_in(N).dot(in_N(grad_F)))
+            dependent = [u[2], *dependent]
+        independent = [w for w in u if w not in dependent]
         bodies = common.rigid_bodies(parsed, sub, (N, B), G, t)
         loads = [(G, -bodies[0].mass * parsed["field"].xreplace(sub) * N.z)]
-        dependent = u[3:]
-        X = sp.Matrix(len(dependent), 3, lambda i, j: sp.Symbol(f"X{i}_{j}"))
+        loads += common.potential_loads(_potential(parsed, sub, (N, B), q), N, [
+            ("angles", q[:3], [euler[s.diff(t)] for s in q[:3]]), ("place", q[3:6], u[3:6])])
+        X = sp.Matrix(len(dependent), len(independent), lambda i, j: sp.Symbol(f"X{i}_{j}"))
         kane = me.KanesMethod(
-            N, q_ind=q, u_ind=u[:3], u_dependent=dependent, kd_eqs=kd,
+            N, q_ind=q, u_ind=independent, u_dependent=dependent, kd_eqs=kd,
             velocity_constraints=constraints, constraint_solver=lambda A, b: X,
         )  # fmt: skip
         kane.kanes_equations(bodies, loads)
@@ -155,6 +161,7 @@ class _KaneBodyOnSupport:
         self._forcing = fn(kane.forcing, list(X))
         self._axes = fn(N.dcm(B))  # columns: B's axes in N
         self._order = [str(s.func) for s in kane.u]  # independent first
+        self._n_dependent = len(dependent)
 
     def at(self, place: tuple, omega: Sequence[sp.Expr], time: mpmath.mpf):
         """The contact points (by state group), the angular velocity (space components),
@@ -164,22 +171,38 @@ class _KaneBodyOnSupport:
         axes = mpmath.matrix(self._axes(q, [mpmath.mpf(0)] * 9, time))
         if mpmath.mnorm(axes - Q, 1) > mpmath.mpf(10) ** (5 - common.DIGITS):
             raise ValueError("the attitude was not read back into Euler angles")
-        u = [mpmath.mpf(sp.Float(w, 50)) for w in omega] + [mpmath.mpf(0)] * 6
+        n_ind = len(self._order) - self._n_dependent
+        known = {f"u{i + 1}": mpmath.mpf(sp.Float(w, 50)) for i, w in enumerate(omega)}
+        u = [known[name] if k < n_ind else mpmath.mpf(0) for k, name in enumerate(self._order)]
         A = mpmath.matrix(self._constraints[0](q, u, time))
         b = mpmath.matrix(self._constraints[1](q, u, time))
-        A_ind = mpmath.matrix([[A[i, j] for j in range(3)] for i in range(A.rows)])
-        A_dep = mpmath.matrix([[A[i, j] for j in range(3, 9)] for i in range(A.rows)])
-        u[3:] = list(mpmath.lu_solve(A_dep, b - A_ind * mpmath.matrix(u[:3])))
-        X = [mpmath.lu_solve(A_dep, A_ind.column(j)) for j in range(3)]
-        flat = [X[j][i] for i in range(A.rows) for j in range(3)]
+        A_ind = mpmath.matrix([[A[i, j] for j in range(n_ind)] for i in range(A.rows)])
+        A_dep = mpmath.matrix([[A[i, j] for j in range(n_ind, A.cols)] for i in range(A.rows)])
+        u[n_ind:] = list(mpmath.lu_solve(A_dep, b - A_ind * mpmath.matrix(u[:n_ind])))
+        X = [mpmath.lu_solve(A_dep, A_ind.column(j)) for j in range(n_ind)]
+        flat = [X[j][i] for i in range(A.rows) for j in range(n_ind)]
         udot = mpmath.lu_solve(
             mpmath.matrix(self._mass(q, u, time, flat)),
             mpmath.matrix(self._forcing(q, u, time, flat)),
         )
         by_name = dict(zip(self._order, udot, strict=True))
+        speed = dict(zip(self._order, u, strict=True))
         acc = [by_name[f"u{i}"] for i in (1, 2, 3)]
+        rate = lambda k: [speed[f"u{i}"] for i in range(k, k + 3)]  # noqa: E731
         groups = {"p": list(p), "r": list(r)}
-        return groups, u[:3], acc, {"p": u[3:6], "r": u[6:9]}, axes
+        return groups, rate(1), acc, {"p": rate(4), "r": rate(7)}, axes
+
+
+def _potential(parsed: Mapping, sub: Mapping, frames: tuple, q: list) -> sp.Expr:
+    """``V(p, e1, e2, e3)`` in Kane's coordinates (``e_i_j``: body axis ``i`` on ``N``'s
+    axis ``j``, from the Euler angles) and time."""
+    N, B = frames
+    at = dict(zip(vector("p", real=True), q[3:6], strict=True))
+    for i, axis in enumerate((B.x, B.y, B.z), 1):
+        at.update((sp.Symbol(f"e{i}_{j}", real=True), axis.dot(n))
+                  for j, n in enumerate((N.x, N.y, N.z), 1))  # fmt: skip
+    now = {sp.Symbol("t", real=True): me.dynamicsymbols._t, **sub}
+    return parsed["potential"].xreplace(now).xreplace(at)
 
 
 def compare_body_on_support(

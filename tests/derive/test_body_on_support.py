@@ -48,9 +48,8 @@ Q = _rotation(7)
 
 
 def _system(name: str, **fields) -> RollingSystem:
-    return RollingSystem(
-        name, inertia=INERTIA.tolist(), mass=M, gyrostat=list(ROTOR), gravity=G, **fields
-    )
+    base = dict(inertia=INERTIA.tolist(), mass=M, gyrostat=list(ROTOR), gravity=G)
+    return RollingSystem(name, **{**base, **fields})
 
 
 def _rates(model, values: dict[str, sp.Matrix]) -> dict[str, sp.Matrix]:
@@ -225,17 +224,13 @@ def test_the_integrals_and_the_alignment_are_kept_and_the_controls_are_not(side)
 
 
 def test_what_is_not_derived_is_refused_on_one_line():
-    """Rubber contact, a potential, K(t) and I(t) for a convex body on a support surface
-    are refused before any work, with one message naming them; a line contact too, and a
-    body and a support neither of which is a quadric."""
+    """A line contact for a convex body on a support surface is refused before any work,
+    in one line, and so are a parameter named as an auxiliary and a body and a support
+    neither of which is a quadric (rubber contact, a potential, K(t) and I(t) are derived:
+    test_a_potential_rubber_contact_k_t_and_i_t_move_it_as_the_plane_route)."""
     base = dict(inertia=("A", "B", "C"), surface="x1**2 + x2**2/2 + x3**2/3 - 1",
                 support="surface", support_surface="p3")  # fmt: skip
     refused = (
-        ({"contact": "rubber"}, "not contact 'rubber'"),
-        ({"potential": "p1"}, "not a potential"),
-        ({"gyrostat": (0, 0, "t")}, "not a gyrostat K(t)"),
-        ({"inertia": ("A", "B", "C*(2 + sin(t))")}, "not an inertia I(t)"),
-        ({"contact": "rubber", "potential": "p1"}, "not contact 'rubber', a potential"),
         ({"contact": "line"}, "contact 'line'"),
         ({"centre_of_mass": (0, 0, "Ac11")}, "['Ac11'] are the derivation's auxiliaries"),
     )
@@ -259,11 +254,63 @@ EXAMPLE = Path(__file__).resolve().parents[2] / "examples/systems/ellipsoid_on_e
 def test_the_example_files_claims_are_exact_sampled_and_its_control_refuted():
     """examples/systems/ellipsoid_on_ellipsoid.toml through the verifier's claims: the
     derived H, F and f exact-sampled (through the auxiliaries, at aligned points of the
-    model's sampler), the file's control refuted with a witness, and no Kane claim."""
+    model's sampler), the file's control refuted with a witness, and the Kane claim
+    (verify/kane_body_support.py) agreeing."""
     claims = {c.id.split(":")[-1]: c for c in claims_of_file(EXAMPLE)}
-    assert set(claims) == {"H", "F", "f", "ELLIPSOID-ON-ELLIPSOID/control"}
+    assert set(claims) == {"H", "F", "f", "kane", "ELLIPSOID-ON-ELLIPSOID/control"}
     for name in ("H", "F", "f"):
         result = check_claim(claims[name])
         assert (result.verdict, result.ok) == ("exact-sampled", True), name
+    kane = check_claim(claims["kane"])
+    assert kane.ok and kane.verdict == "numeric", kane
     control = check_claim(claims["ELLIPSOID-ON-ELLIPSOID/control"])
     assert (control.verdict, control.ok) == ("refuted", True) and control.witness
+
+
+#: The fields a convex body on a support surface takes beyond gravity and a constant rotor,
+#: written for the support route (a potential of p and the body axes) and for the plane
+#: route on F = p3 (where the upward normal in body axes is gamma_i = e{i}_3), and each
+#: with its control (the same field wrong).
+_R3 = [0, "-1/30", "1/2"]
+FIELDS = {
+    "potential": ({"potential": "k*(e3_3*e1_3 + e2_3**2)"},
+                  {"potential": "k*(gamma3*gamma1 + gamma2**2)"},
+                  {"potential": "2*k*(gamma3*gamma1 + gamma2**2)"}),
+    "rubber": ({"contact": "rubber"}, {"contact": "rubber"}, {"contact": "rolling"}),
+    "K(t)": ({"gyrostat": ("1/7", "t/3", "1/3")}, {"gyrostat": ("1/7", "t/3", "1/3")},
+             {"gyrostat": ("1/7", "t/4", "1/3")}),
+    "I(t)": ({"inertia": [["3/10", "1/20", 0], ["1/20", "2/5 + t**2/5", "-1/30"], _R3]},
+             {"inertia": [["3/10", "1/20", 0], ["1/20", "2/5 + t**2/5", "-1/30"], _R3]},
+             {"inertia": [["3/10", "1/20", 0], ["1/20", "2/5 + t**2/7", "-1/30"], _R3]}),
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("field", sorted(FIELDS))
+def test_a_potential_rubber_contact_k_t_and_i_t_move_it_as_the_plane_route(field):
+    """On F = p3 the body with a potential of its axes, rubber contact, K(t) or I(t) moves
+    exactly as the body-frame convex body on a fixed plane with the same field (its own
+    potential torque n x dV/dn, no-twist reaction, rotor and inertia rates: no formula
+    shared with the support route's tau = -d(dV/dt)/d omega, mu nu, Q K', Q I' Q^T), at a
+    symbolic time t and parameter k; the plane route with the field wrong (twice the
+    potential, rolling for rubber, another law of K or I) is refuted by the same
+    comparison. With a rubber contact omega is taken on (omega, e3) = 0."""
+    ours_fields, plane_fields, wrong_fields = FIELDS[field]
+    name = {"K(t)": "kt", "I(t)": "it"}.get(field, field)
+    new = _system(f"fs_{name}", surface=BODY, centre_of_mass=list(CENTRE), support="surface",
+                  support_surface="p3", **ours_fields).model()  # fmt: skip
+    x = vector("x", real=True)
+    f = parse_body(BODY, x)
+    d = -Q.T * E[:, 2]
+    H = sp.hessian(f, list(x))
+    r = H.LUsolve(R_(3, 2) * d - sp.Matrix([sp.diff(f, v) for v in x]).subs(
+        dict.fromkeys(x, 0))) - CENTRE  # fmt: skip
+    omega = OMEGA - E[:, 2] * OMEGA[2] if field == "rubber" else OMEGA
+    ours = _rates(new, {"omega": omega, "p": sp.Matrix([R_(1, 3), R_(2, 3), 0]), "r": r,
+                        **_frame(Q)})  # fmt: skip
+    for fields, agrees in ((plane_fields, True), (wrong_fields, False)):
+        plane = _system(f"fp_{name}_{agrees}", surface=BODY, centre_of_mass=list(CENTRE),
+                        **fields).model()  # fmt: skip
+        theirs = _rates(plane, {"omega": Q.T * omega, "r": r})
+        assert _zero(ours["omega"] - Q * theirs["omega"]) is agrees, (field, agrees)
+        if agrees:
+            assert _zero(ours["r"] - theirs["r"])

@@ -260,8 +260,8 @@ class SystemTable(_Table):
     surface: TypedValue | None = Field(
         None,
         description="f(x1, x2, x3) of a convex body f = 0 instead of a sphere (body axes; on a "
-        "plane — fixed, rotating or moving — or a fixed sphere, rolling or rubber, or rolling on "
-        "a support surface)",
+        "plane — fixed, rotating or moving —, a fixed sphere or a support surface, rolling or "
+        "rubber)",
     )
     balls: list[BallTable] | None = Field(
         None,
