@@ -84,9 +84,11 @@ zeta)`` to the energy (the centre of mass's height above the sphere's centre); a
 potential may use ``zeta`` beside ``gamma = n(r)``, its torque ``-d(dV/dt)/d omega``
 along the motion, ``n' = n x omega - k r'``.
 
-Every other support, contact and surface the issue lists (a convex body along a line,
-rolling along a line on a moving plane) is refused with a message that says so — before
-any work.
+Rolling along the fixed line ``alpha`` (``contact="line"``, ``(omega, alpha) = 0``) is
+derived on a fixed plane and on a moving one (a translated plane keeps the line in space).
+Every other support, contact and surface the issue lists (a convex body along a line, a
+line on a turning plane or a sphere) is refused with a message that says so — before any
+work.
 
 Every text a user types is read by :func:`~.expression_text.parse_expression` (no ``eval``);
 the checks of :meth:`RollingSystem.__post_init__` run before anything is derived: a singular
@@ -674,8 +676,8 @@ def _check_rotation(s: RollingSystem, read) -> sp.Expr:
 
 def _moving_support(s: RollingSystem, support: str, key: str, meaning: str) -> bool:
     """Whether ``s`` rolls on ``support``, a plane moving by the law given as ``key``:
-    the law is refused on another support and required on this one, and the contact must
-    be rolling or rubber rolling (along a line is not derived on a moving plane)."""
+    the law is refused on another support and required on this one; along a line only on
+    a moving plane (translated: the line stays one in space), not on a turning one."""
     value = getattr(s, key)
     if s.support != support:
         if value is not None:
@@ -683,7 +685,7 @@ def _moving_support(s: RollingSystem, support: str, key: str, meaning: str) -> b
         return False
     if value is None:
         raise UserInputError(f"support {support!r} needs {key} ({meaning})")
-    if s.contact == "line":
+    if s.contact == "line" and support != "moving_plane":  # a line fixed in space stays one
         raise UserInputError(
             f"contact {s.contact!r} on a {support.replace('_', ' ')} is not derived by this "
             "version (rolling and rubber rolling are)"
@@ -723,7 +725,7 @@ def _check_support(s: RollingSystem, read, radius) -> sp.Expr:
         )
     if s.contact == "line":
         raise UserInputError(
-            "rolling along a line is derived on a fixed plane only, not on a sphere"
+            "rolling along a line is derived on a plane only (fixed or moving), not on a sphere"
         )
     return R
 

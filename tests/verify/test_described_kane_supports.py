@@ -90,6 +90,26 @@ def test_kane_agrees_on_a_rotating_plane_and_refutes_the_plane_turning_the_other
 
 
 @pytest.mark.slow
+def test_kane_agrees_with_rolling_along_a_line_on_a_moving_plane():
+    """Rolling along the fixed line alpha ((omega, alpha) = 0, Veselov's constraint,
+    BKM12-57) on a plane translated by V(t) = (sin t/3, t^2/5): the line stays one in space,
+    the model is the plane's with the constraint; Kane (its own (omega, N.x) = 0 and the
+    plane's law) agrees at 40 digits; the model of another law and that of the fixed plane
+    are refuted by the same comparison."""
+    base = dict(inertia=("0.31", "0.43", "0.57"), centre_of_mass=(0, 0, "0.1"), gravity="g",
+                support="moving_plane", contact="line")  # fmt: skip
+    system = RollingSystem("line_shaken", plane_velocity=("sin(t)/3", "t**2/5"), **base)
+    values = dict(m="1.3", b="0.7", g="9.81")
+    result = kane_compare(system, system.model(), values)
+    assert result.points == 4 and result.agrees, result
+    assert "(omega,alpha)" in dict(system.model().invariant_relations)
+    for wrong in (RollingSystem("line_shaken_w", plane_velocity=("sin(t)/3", "t**2/4"), **base),
+                  RollingSystem("line_fixed", **{**base, "support": "plane"})):  # fmt: skip
+        control = kane_compare(system, wrong.model(), values)
+        assert control.max_acceleration_error > 1e6 * control.tolerance
+
+
+@pytest.mark.slow
 def test_kane_agrees_on_a_plane_moving_by_a_prescribed_law_and_refutes_another_law():
     """An offset centre of mass under gravity on a plane shaken horizontally, V = (u cos wt,
     u sin 2wt) along the fixed axes, compared at t = 7/10 (a turntable at Omega (1 + e sin
