@@ -160,7 +160,7 @@ def test_names_become_exact_parameters_and_decimals_stay_exact():
         ),
         (
             {"inertia": (1, 1, 1), "contact": "line", "support": "sphere", "support_radius": 2},
-            "on a plane only (fixed or moving)",
+            "on a plane only .fixed or moving., not on a sphere",
         ),
         (
             {
