@@ -38,7 +38,6 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .algebra import seeded_factor
-from .ball_on_surface import ellipsoid_sampler
 from .description import MechanicalDescription, Reduced, form_model
 from .engine import (
     ReducedEquations,
@@ -57,8 +56,6 @@ __all__ = [
     "contact_normal_rate",
     "derive_body_on_sphere",
     "body_on_sphere_model",
-    "generic_body_model",
-    "ellipsoid_body_model",
     "outer_normal",
     "turning_frame_energy",
 ]
@@ -117,11 +114,15 @@ class PlaneMotion:
         ``(V1, V2)`` along the fixed horizontal axes ``alpha, beta`` (Poisson vectors).
     no_twist : bool
         Rubber rolling: ``(omega, n) = Omega``.
+    along_line : bool
+        Rolling along the fixed line ``alpha`` of the plane: ``(omega, alpha) = 0`` (BKM12-57's
+        constraint; the fixed axes ``alpha, beta`` join the configuration).
     """
 
     rotation_rate: sp.Expr = sp.S.Zero
     velocity: sp.Matrix | None = None
     no_twist: bool = False
+    along_line: bool = False
 
     @property
     def moves(self) -> bool:
@@ -178,8 +179,10 @@ class PlaneMotion:
             rho = vector("rho", real=True)
             carried += self.rotation_rate * cross(n, rho)
             kinematics["rho"] = (rho, carried + r_dot + cross(rho, omega))
-        if self.velocity is not None and not self.velocity.is_zero_matrix:
-            for name, V in zip(("alpha", "beta"), self.velocity, strict=True):
+        moving = self.velocity is not None and not self.velocity.is_zero_matrix
+        if moving or self.along_line:  # the fixed axes (X' = X x omega)
+            velocity = self.velocity if moving else sp.zeros(2, 1)
+            for name, V in zip(("alpha", "beta"), velocity, strict=True):
                 X = vector(name, real=True)
                 kinematics[name] = (X, cross(X, omega))
                 carried += V * X
@@ -444,6 +447,8 @@ def _engine_kinematics(
     constraints = list(v + cross(omega, r) - carried)
     if plane.no_twist:  # (omega, n) = Omega: no twist relative to the plane
         constraints.append(dot(omega, nu) - plane.rotation_rate)
+    if plane.along_line:  # no spin about the fixed line alpha
+        constraints.append(dot(omega, kinematics["alpha"][0]))
     if set(kinematics) != {"r"} or plane.no_twist:
         rate = cross(nu, omega) if k == 0 else contact_normal_rate(k, r, r_dot, nu, omega)
         kinematics["nu"] = (nu, rate)
@@ -651,6 +656,8 @@ class BodyOnSphereReduction:
         if plane.no_twist:
             integrals.append(("(omega,gamma)", dot(eq.omega, eq.normal) - plane.rotation_rate))
         frame = {n: X for n, (X, _) in (*desc.kinematics.items(), *eq.kinematics.items())}
+        if plane.along_line:  # the constraint, kept by the flow (zero on the phase space)
+            integrals.append(("(omega,alpha)", dot(eq.omega, frame["alpha"])))
         if "alpha" in frame:
             a, b = frame["alpha"], frame["beta"]
             integrals += [("(alpha,alpha)", dot(a, a)), ("(alpha,beta)", dot(a, b))]
@@ -726,73 +733,3 @@ def body_on_sphere_model(
         desc.add_phase_space_constraint(c)
     desc.sampler = sampler
     return form_model(desc)
-
-
-def generic_body_model() -> Model:
-    """Scalar inertia ``mu Id`` and a generic surface ``f`` (undefined Function of ``r``).
-
-    Returns
-    -------
-    Model
-        :func:`body_on_sphere_model` with effects ``generic_surface``, ``scalar`` and no
-        phase-space constraint.
-    """
-    r = vector("r", real=True)
-    mu = sp.Symbol("mu", positive=True)
-    f = sp.Function("f")(*r)
-    spec = ParameterSpec("mu", (mu,), "positive", "scalar central inertia I = mu Id")
-    return body_on_sphere_model(f, mu * sp.eye(3), (spec,), ("generic_surface", "scalar"))
-
-
-def ellipsoid_body_model(inertia: str = "special", on_surface: bool = True) -> Model:
-    """The ellipsoid ``(r, B^-1 r) = 1`` on a sphere.
-
-    Parameters
-    ----------
-    inertia : {"special", "general", "scalar", "double"}
-        ``I = mu Id + m B`` (M03-2.4), ``diag(I1, I2, I3)``, ``mu Id``, or
-        ``mu Id + 2 m B`` (not special: a negative control).
-    on_surface : bool
-        Carry the ellipsoid's equation as the phase-space constraint (with an exact
-        sampler); without it identities are checked for every ``r`` (every level set).
-
-    Returns
-    -------
-    Model
-        :func:`body_on_sphere_model` with effects ``ellipsoid`` and ``inertia``.
-
-    Raises
-    ------
-    ValueError
-        For an unknown ``inertia``.
-
-    References
-    ----------
-    M03-2.4, M03-2.5
-    """
-    r = vector("r", real=True)
-    b = sp.Matrix(sp.symbols("b1:4", positive=True))
-    m, mu = sp.Symbol("m", positive=True), sp.Symbol("mu", positive=True)
-    surface = sum((r[i] ** 2 / b[i] for i in range(3)), sp.S.Zero) - 1
-    specs = [ParameterSpec("b", tuple(b), "positive", "ellipsoid (r, B^-1 r) = 1")]
-    if inertia in ("special", "double"):
-        factor = 1 if inertia == "special" else 2
-        I = mu * sp.eye(3) + factor * m * sp.diag(*b)
-        specs.append(ParameterSpec("mu", (mu,), "positive", f"I = mu Id + {factor} m B"))
-    elif inertia == "general":
-        Iv = sp.symbols("I1:4", positive=True)
-        I = sp.diag(*Iv)
-        specs.append(ParameterSpec("I", Iv, "positive", "central principal moments"))
-    elif inertia == "scalar":
-        I = mu * sp.eye(3)
-        specs.append(ParameterSpec("mu", (mu,), "positive", "I = mu Id"))
-    else:
-        raise ValueError(f"unknown inertia {inertia!r}")
-    return body_on_sphere_model(
-        surface,
-        I,
-        tuple(specs),
-        ("ellipsoid", inertia),
-        constraints=(sp.expand(b[0] * b[1] * b[2] * surface),) if on_surface else (),
-        sampler=ellipsoid_sampler(b, r) if on_surface else None,
-    )

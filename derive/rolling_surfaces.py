@@ -57,12 +57,13 @@ def _convex_body_description(
     omega, r, zeta = vector("omega", real=True), vector("r", real=True), vector("zeta", real=True)
     m = p["mass"]
     names = tuple(x.name for x in p["parameters"])
-    rubber = s.contact != "rolling"  # (a line is refused)
+    rubber, line = ("gamma" in p["no_spin_about"]), ("alpha" in p["no_spin_about"])
     plane = PlaneMotion(no_twist=True) if rubber else None  # on the fixed sphere
     if s.support != "sphere":
         velocity = p["plane_velocity"]
         plane = PlaneMotion(
-            p["rotation_rate"], None if velocity.is_zero_matrix else velocity, no_twist=rubber
+            p["rotation_rate"], None if velocity.is_zero_matrix else velocity, no_twist=rubber,
+            along_line=line,
         )  # fmt: skip
     vertical = s.support == "sphere" and (
         p["field"] != 0 or bool(p["potential"].free_symbols & set(zeta))
@@ -87,8 +88,8 @@ def _convex_body_description(
         desc.add_state("rho", tuple(rho), None)
         grad = [sp.diff(p["surface"], x) for x in r]
         desc.add_invariant_relation("(rho,gamma)", sp.expand(dot(rho, sp.Matrix(grad))))
-    if s.support == "moving_plane":
-        desc.add_frame()  # the fixed axes the plane's velocity is given along
+    if s.support == "moving_plane" or line:
+        desc.add_frame()  # the fixed axes the plane's velocity or the line is given along
     if s.support != "sphere":
         n = outer_normal(p["surface"], r)
         desc.trace_velocity = plane.velocity_at_contact(n) + vector("rdot", real=True)
@@ -274,11 +275,13 @@ def _read_surface(s: RollingSystem, scope: dict, centre: sp.Matrix) -> sp.Expr |
     if s.surface is None:
         return None
     planes = ("plane", "rotating_plane", "moving_plane")
-    if s.support not in (*planes, "sphere", "surface") or s.contact == "line":
+    line = s.contact == "line" and s.support in ("plane", "moving_plane")
+    if s.support not in (*planes, "sphere", "surface") or (s.contact == "line" and not line):
         raise UserInputError(
             "a convex body (surface) is derived rolling or rubber rolling on a plane (fixed, "
-            "rotating or moving) or on a fixed sphere, or rolling on a support surface, only "
-            f"in this version, not with support {s.support!r}, contact {s.contact!r}"
+            "rotating or moving), a fixed sphere or a support surface, and along a line on a "
+            f"fixed or moving plane, only in this version, not with support {s.support!r}, "
+            f"contact {s.contact!r}"
         )
     x = {f"x{i}": sp.Symbol(f"x{i}", real=True) for i in (1, 2, 3)}
     f = parse_expression(s.surface, {**scope, **x}, "surface")

@@ -85,9 +85,9 @@ potential may use ``zeta`` beside ``gamma = n(r)``, its torque ``-d(dV/dt)/d ome
 along the motion, ``n' = n x omega - k r'``.
 
 Rolling along the fixed line ``alpha`` (``contact="line"``, ``(omega, alpha) = 0``) is
-derived on a fixed plane and on a moving one (a translated plane keeps the line in space).
-Every other support, contact and surface the issue lists (a convex body along a line, a
-line on a turning plane or a sphere) is refused with a message that says so — before any
+derived on a fixed plane and on a moving one (a translated plane keeps the line in space),
+for a spherical or a convex body. Every other support, contact and surface the issue lists
+(a line on a turning plane or a sphere) is refused with a message that says so — before any
 work.
 
 Every text a user types is read by :func:`~.expression_text.parse_expression` (no ``eval``);

@@ -212,6 +212,9 @@ class _KaneImplicit:
         if system.contact == "rubber":  # no twist relative to the support
             constraints.append(B.ang_vel_in(N).dot(normal) - Omega)
             dependent = [u[2], *dependent]
+        if system.contact == "line":  # along the fixed line N.x: (omega, N.x) = 0
+            constraints.append(B.ang_vel_in(N).dot(N.x))
+            dependent = [u[0], *dependent]
         independent = [s for s in u if s not in dependent]
         bodies = rigid_bodies(p, sub, (N, B), G, t)
         loads = []
@@ -360,6 +363,9 @@ def compare_implicit(
                 wb = mpmath.matrix([common._mpf(c) for c in w])
                 if system.contact == "rubber":
                     wb = wb + (common._mpf(Omega) - (wb.T * n)[0]) * n
+                if system.contact == "line":  # onto (omega, alpha) = 0, alpha = N.x in B
+                    alpha = mpmath.matrix([C[i, 0] for i in range(3)])
+                    wb = wb - (wb.T * alpha)[0] * alpha
                 point.update(zip(groups["omega"], map(_float, wb), strict=True))
                 point.update(zip(groups["r"], map(_float, contact), strict=True))
                 for name, column in (("alpha", 0), ("beta", 1), ("zeta", 2)):

@@ -120,7 +120,8 @@ def kane_compare(
         return KaneComparison(count, acc, 0.0, rate, tolerance)  # no momentum state there
     if system._parsed["surface"] is not None and not _closed_form(system, pvals):
         return compare_implicit(system, model, pvals, momenta)
-    line = "(omega,alpha)" in dict(model.invariant_relations)  # along the fixed line N.x
+    # along the fixed line N.x (a convex body's model has no relation for it: its omega is state)
+    line = system.contact == "line" or "(omega,alpha)" in dict(model.invariant_relations)
     key = (system.fingerprint(), line, tuple(sorted((s.name, v) for s, v in pvals.items())))
     kane = _KANE.get(key)
     if kane is None:  # forming Kane's equations is the cost (seconds): once per point
@@ -266,6 +267,10 @@ def _compare_convex(system, model, kane, pvals, momenta) -> KaneComparison:
             w = sp.Matrix(w)
             if system.contact == "rubber":
                 w = w + (Omega - w.dot(g)) * g
+            if system.contact == "line":  # onto (omega, alpha) = 0
+                a = sp.Matrix([sp.Float(mpmath.nstr(c, DIGITS + 5), DIGITS + 5)
+                               for c in kane.frame(gamma)[0]])  # fmt: skip
+                w = w - w.dot(a) * a
             point = {**dict(zip(omega, w, strict=True)), **dict(zip(r, contact, strict=True))}
             point[time] = now
             rho = None

@@ -29,7 +29,7 @@ import sympy as sp
 from chaplygin.derive import Model
 from chaplygin.derive.algebra import seeded_factor
 from chaplygin.derive.ball_on_surface import generic_surface_model
-from chaplygin.derive.body_on_sphere import ellipsoid_body_model, generic_body_model
+from chaplygin.derive.m03_bodies import ellipsoid_body_model, generic_body_model
 from chaplygin.derive.vectors import cross, dot
 
 from ..identity import Domain, Residuals, lie_derivative, measure_residual
@@ -563,7 +563,7 @@ class BodyClaim(Claim):
         Returns
         -------
         Model
-            :func:`~chaplygin.derive.body_on_sphere.generic_body_model` or an
+            :func:`~chaplygin.derive.m03_bodies.generic_body_model` or an
             ellipsoid body model.
         """
         return _body(self.body)
