@@ -171,22 +171,8 @@ class _KaneBodyOnSupport:
         axes = mpmath.matrix(self._axes(q, [mpmath.mpf(0)] * 9, time))
         if mpmath.mnorm(axes - Q, 1) > mpmath.mpf(10) ** (5 - common.DIGITS):
             raise ValueError("the attitude was not read back into Euler angles")
-        n_ind = len(self._order) - self._n_dependent
         known = {f"u{i + 1}": mpmath.mpf(sp.Float(w, 50)) for i, w in enumerate(omega)}
-        u = [known[name] if k < n_ind else mpmath.mpf(0) for k, name in enumerate(self._order)]
-        A = mpmath.matrix(self._constraints[0](q, u, time))
-        b = mpmath.matrix(self._constraints[1](q, u, time))
-        A_ind = mpmath.matrix([[A[i, j] for j in range(n_ind)] for i in range(A.rows)])
-        A_dep = mpmath.matrix([[A[i, j] for j in range(n_ind, A.cols)] for i in range(A.rows)])
-        u[n_ind:] = list(mpmath.lu_solve(A_dep, b - A_ind * mpmath.matrix(u[:n_ind])))
-        X = [mpmath.lu_solve(A_dep, A_ind.column(j)) for j in range(n_ind)]
-        flat = [X[j][i] for i in range(A.rows) for j in range(n_ind)]
-        udot = mpmath.lu_solve(
-            mpmath.matrix(self._mass(q, u, time, flat)),
-            mpmath.matrix(self._forcing(q, u, time, flat)),
-        )
-        by_name = dict(zip(self._order, udot, strict=True))
-        speed = dict(zip(self._order, u, strict=True))
+        speed, by_name, _ = common.solve_speeds(self, q, known, time)
         acc = [by_name[f"u{i}"] for i in (1, 2, 3)]
         rate = lambda k: [speed[f"u{i}"] for i in range(k, k + 3)]  # noqa: E731
         groups = {"p": list(p), "r": list(r)}

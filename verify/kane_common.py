@@ -23,6 +23,7 @@ __all__ = [
     "placement",
     "potential_loads",
     "rigid_bodies",
+    "solve_speeds",
 ]
 
 #: Working digits of the comparison.
@@ -150,6 +151,44 @@ def rigid_bodies(
         bodies.append(me.RigidBody(f"rotor{i + 1}", G, R, 0, (rotor, G)))
     bodies.insert(0, me.RigidBody("body", G, B, p["mass"].xreplace(sub), (dyadic, G)))
     return bodies
+
+
+def solve_speeds(kane: Any, q: list, known: Mapping[str, Any], time: Any) -> tuple:
+    """The dependent speeds from the velocity constraints and every speed's rate, at the
+    coordinates ``q``, for a set-up whose ``constraint_solver`` got placeholders ``X =
+    B_dep^-1 B_ind`` (filled here, row by row as KanesMethod's matrix is read).
+
+    Parameters
+    ----------
+    kane : object
+        With ``_order`` (the speeds' names, independent first), ``_n_dependent``,
+        ``_constraints`` (the lambdified ``A``, ``b`` of ``A u = b``), ``_mass`` and
+        ``_forcing`` (lambdified, taking ``q, u, t`` and the placeholders).
+    q : list of mpmath.mpf
+    known : mapping of str to number
+        The independent speeds by name (others are ignored).
+    time : mpmath.mpf
+
+    Returns
+    -------
+    (dict, dict, list)
+        The speeds and their rates by name, and ``u`` in order.
+    """
+    n_ind = len(kane._order) - kane._n_dependent
+    u = [mpmath.mpf(known[name]) if k < n_ind else mpmath.mpf(0)
+         for k, name in enumerate(kane._order)]  # fmt: skip
+    A = mpmath.matrix(kane._constraints[0](q, u, time))
+    b = mpmath.matrix(kane._constraints[1](q, u, time))
+    A_ind = mpmath.matrix([[A[i, j] for j in range(n_ind)] for i in range(A.rows)])
+    A_dep = mpmath.matrix([[A[i, j] for j in range(n_ind, A.cols)] for i in range(A.rows)])
+    u[n_ind:] = list(mpmath.lu_solve(A_dep, b - A_ind * mpmath.matrix(u[:n_ind])))
+    X = [mpmath.lu_solve(A_dep, A_ind.column(j)) for j in range(n_ind)]
+    flat = [X[j][i] for i in range(A.rows) for j in range(n_ind)]
+    udot = mpmath.lu_solve(
+        mpmath.matrix(kane._mass(q, u, time, flat)), mpmath.matrix(kane._forcing(q, u, time, flat))
+    )
+    speed = dict(zip(kane._order, u, strict=True))
+    return speed, dict(zip(kane._order, udot, strict=True)), u
 
 
 def potential_loads(V: sp.Expr, N: me.ReferenceFrame, groups: Sequence[tuple]) -> list:

@@ -273,23 +273,7 @@ class _KaneImplicit:
         ``omega'`` (body components), ``r'``, the carried vectors' rates and the momentum
         about the contact (body components)."""
         known = dict(zip(("u1", "u2", "u3"), omega_space, strict=True))
-        n_ind = len(self._order) - self._n_dependent
-        u = [known[name] if k < n_ind else mpmath.mpf(0) for k, name in enumerate(self._order)]
-        A = mpmath.matrix(self._constraints[0](q, u, time))
-        b = mpmath.matrix(self._constraints[1](q, u, time))
-        A_ind = mpmath.matrix([[A[i, j] for j in range(n_ind)] for i in range(A.rows)])
-        A_dep = mpmath.matrix([[A[i, j] for j in range(n_ind, A.cols)] for i in range(A.rows)])
-        u_dep = mpmath.lu_solve(A_dep, b - A_ind * mpmath.matrix(u[:n_ind]))
-        u[n_ind:] = list(u_dep)
-        # the placeholders X = B_dep^-1 B_ind (row by row, as KanesMethod's matrix is read)
-        X = [mpmath.lu_solve(A_dep, A_ind.column(j)) for j in range(n_ind)]
-        flat = [X[j][i] for i in range(A.rows) for j in range(n_ind)]
-        udot = mpmath.lu_solve(
-            mpmath.matrix(self._mass(q, u, time, flat)),
-            mpmath.matrix(self._forcing(q, u, time, flat)),
-        )
-        by_name = dict(zip(self._order, udot, strict=True))
-        speed = dict(zip(self._order, u, strict=True))
+        speed, by_name, u = common.solve_speeds(self, q, known, time)
         C = self.frame(q, time)
         acc = C * mpmath.matrix([by_name[f"u{i}"] for i in (1, 2, 3)])
         rates = {"omega": list(acc), "r": [speed[f"u{i}"] for i in (6, 7, 8)]}
