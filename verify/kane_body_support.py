@@ -142,10 +142,8 @@ class _KaneBodyOnSupport:
             constraints.append(B.ang_vel_in(N).dot(in_N(grad_F)))
             dependent = [u[2], *dependent]
         independent = [w for w in u if w not in dependent]
-        bodies = common.rigid_bodies(parsed, sub, (N, B), G, t)
-        loads = [(G, -bodies[0].mass * parsed["field"].xreplace(sub) * N.z)]
-        loads += common.potential_loads(_potential(parsed, sub, (N, B), q), N, [
-            ("angles", q[:3], [euler[s.diff(t)] for s in q[:3]]), ("place", q[3:6], u[3:6])])
+        angles = (q[:3], [euler[s.diff(t)] for s in q[:3]])
+        bodies, loads = common.support_loads(parsed, sub, (N, B), G, angles, (q[3:6], u[3:6]))
         X = sp.Matrix(len(dependent), len(independent), lambda i, j: sp.Symbol(f"X{i}_{j}"))
         kane = me.KanesMethod(
             N, q_ind=q, u_ind=independent, u_dependent=dependent, kd_eqs=kd,
@@ -177,18 +175,6 @@ class _KaneBodyOnSupport:
         rate = lambda k: [speed[f"u{i}"] for i in range(k, k + 3)]  # noqa: E731
         groups = {"p": list(p), "r": list(r)}
         return groups, rate(1), acc, {"p": rate(4), "r": rate(7)}, axes
-
-
-def _potential(parsed: Mapping, sub: Mapping, frames: tuple, q: list) -> sp.Expr:
-    """``V(p, e1, e2, e3)`` in Kane's coordinates (``e_i_j``: body axis ``i`` on ``N``'s
-    axis ``j``, from the Euler angles) and time."""
-    N, B = frames
-    at = dict(zip(vector("p", real=True), q[3:6], strict=True))
-    for i, axis in enumerate((B.x, B.y, B.z), 1):
-        at.update((sp.Symbol(f"e{i}_{j}", real=True), axis.dot(n))
-                  for j, n in enumerate((N.x, N.y, N.z), 1))  # fmt: skip
-    now = {sp.Symbol("t", real=True): me.dynamicsymbols._t, **sub}
-    return parsed["potential"].xreplace(now).xreplace(at)
 
 
 def compare_body_on_support(

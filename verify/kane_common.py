@@ -24,6 +24,7 @@ __all__ = [
     "potential_loads",
     "rigid_bodies",
     "solve_speeds",
+    "support_loads",
 ]
 
 #: Working digits of the comparison.
@@ -189,6 +190,43 @@ def solve_speeds(kane: Any, q: list, known: Mapping[str, Any], time: Any) -> tup
     )
     speed = dict(zip(kane._order, u, strict=True))
     return speed, dict(zip(kane._order, udot, strict=True)), u
+
+
+def support_loads(parsed: Mapping, sub: Mapping, frames: tuple, G: me.Point, angles: tuple,
+                  place: tuple) -> tuple[list, list]:  # fmt: skip
+    """The bodies and loads of a body on a support surface in Kane's set-up: the body and
+    its rotors at ``G`` (:func:`rigid_bodies`: ``I(t)``, ``K(t)``), gravity ``-m g N.z`` at
+    ``G``, and a potential ``V(p, e1, e2, e3)`` (``e_i_j``: body axis ``i`` on ``N``'s axis
+    ``j``, from the attitude) as the loads of :func:`potential_loads` on the Euler angles and
+    on the contact point.
+
+    Parameters
+    ----------
+    parsed, sub : mapping
+        The description's parsed fields and the parameters' values.
+    frames : (ReferenceFrame, ReferenceFrame)
+        ``N`` and ``B``.
+    G : sympy.physics.mechanics.Point
+        The centre of mass, its velocity set.
+    angles, place : (sequence, sequence)
+        The Euler angles and their rates, the contact point's coordinates and rates.
+
+    Returns
+    -------
+    (list, list)
+        The bodies and the loads.
+    """
+    N, B = frames
+    t = me.dynamicsymbols._t
+    bodies = rigid_bodies(parsed, sub, (N, B), G, t)
+    loads = [(G, -bodies[0].mass * parsed["field"].xreplace(sub) * N.z)]
+    at = dict(zip(sp.symbols("p1:4", real=True), place[0], strict=True))
+    for i, axis in enumerate((B.x, B.y, B.z), 1):
+        at.update((sp.Symbol(f"e{i}_{j}", real=True), axis.dot(n))
+                  for j, n in enumerate((N.x, N.y, N.z), 1))  # fmt: skip
+    V = parsed["potential"].xreplace({sp.Symbol("t", real=True): t, **sub}).xreplace(at)
+    groups = [("angles", *angles), ("place", *place)]
+    return bodies, loads + potential_loads(V, N, groups)
 
 
 def potential_loads(V: sp.Expr, N: me.ReferenceFrame, groups: Sequence[tuple]) -> list:

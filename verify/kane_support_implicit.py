@@ -142,16 +142,8 @@ class _KaneOnImplicitSupport:
         a = parsed["centre"].xreplace(sub)
         G = O.locatenew("G", a[0] * B.x + a[1] * B.y + a[2] * B.z)
         G.v2pt_theory(O, N, B)
-        bodies = common.rigid_bodies(parsed, sub, (N, B), G, t)
-        loads = [(G, -bodies[0].mass * parsed["field"].xreplace(sub) * N.z)]
-        at = dict(zip(vector("p", real=True), q[3:], strict=True))
-        for i, axis in enumerate((B.x, B.y, B.z), 1):  # e_i_j: body axis i on N's axis j
-            at.update((sp.Symbol(f"e{i}_{j}", real=True), axis.dot(n))
-                      for j, n in enumerate((N.x, N.y, N.z), 1))  # fmt: skip
-        now = {sp.Symbol("t", real=True): t, **sub}
-        V = parsed["potential"].xreplace(now).xreplace(at)
-        groups = [("angles", q[:3], [euler[s.diff(t)] for s in q[:3]]), ("place", q[3:], u[3:])]
-        return bodies, loads + common.potential_loads(V, N, groups)
+        angles = (q[:3], [euler[s.diff(t)] for s in q[:3]])
+        return common.support_loads(parsed, sub, (N, B), G, angles, (q[3:], u[3:]))
 
     def at(self, contact: Sequence[mpmath.mpf], omega: Sequence[sp.Expr], time: mpmath.mpf):
         """The contact point, the angular velocity (space components; with rubber contact
