@@ -14,6 +14,7 @@ import sympy.physics.mechanics as me
 
 __all__ = [
     "DIGITS",
+    "body_coordinates",
     "RATIONAL_UNIT_VECTORS",
     "SPHERE_POSITION",
     "T0",
@@ -152,6 +153,38 @@ def rigid_bodies(
         bodies.append(me.RigidBody(f"rotor{i + 1}", G, R, 0, (rotor, G)))
     bodies.insert(0, me.RigidBody("body", G, B, p["mass"].xreplace(sub), (dyadic, G)))
     return bodies
+
+
+def body_coordinates(extra: str) -> tuple:
+    """Kane's coordinates of a body: its body-fixed 3-2-1 Euler angles ``q1, q2, q3`` and
+    the coordinates named in ``extra``; speeds ``u1, u2, u3`` the space components of the
+    angular velocity and one more per extra coordinate, its rate.
+
+    Parameters
+    ----------
+    extra : str
+        The further coordinates' names, space-separated (``"p1 p2 p3"``).
+
+    Returns
+    -------
+    tuple
+        ``(q, u, N, B, euler, kd, rates)``: the coordinates and speeds (lists of dynamic
+        symbols), the fixed frame and the body's, the angles' rates in the speeds
+        (:func:`~.kane_euler.euler_rates`), the kinematic equations and the extra
+        coordinates' rates by their derivative.
+    """
+    from .kane_euler import euler_rates
+
+    t = me.dynamicsymbols._t
+    q = list(me.dynamicsymbols("q1 q2 q3 " + extra))
+    u = list(me.dynamicsymbols(f"u1:{len(q) + 1}"))
+    N, B = me.ReferenceFrame("N"), me.ReferenceFrame("B")
+    B.orient_body_fixed(N, tuple(q[:3]), "zyx")
+    B.set_ang_vel(N, u[0] * N.x + u[1] * N.y + u[2] * N.z)
+    euler = euler_rates()
+    kd = [s.diff(t) - euler[s.diff(t)] for s in q[:3]]
+    kd += [q[i].diff(t) - u[i] for i in range(3, len(q))]
+    return q, u, N, B, euler, kd, {q[i].diff(t): u[i] for i in range(3, len(q))}
 
 
 def solve_speeds(kane: Any, q: list, known: Mapping[str, Any], time: Any) -> tuple:

@@ -47,7 +47,6 @@ from ..derive.rolling_system import RollingSystem
 from ..derive.vectors import vector
 from . import kane_common as common
 from .kane_common import DIGITS, KaneComparison, placement, rigid_bodies
-from .kane_euler import euler_rates
 
 __all__ = ["compare_implicit", "contact_on_ray", "interior_point", "places_contacts"]
 
@@ -172,15 +171,7 @@ class _KaneImplicit:
         p, sub = system._parsed, _by_name(system, pvals)
         t = me.dynamicsymbols._t
         now = {sp.Symbol("t", real=True): t, **sub}
-        q = list(me.dynamicsymbols("q1 q2 q3 x y r1 r2 r3"))
-        u = list(me.dynamicsymbols("u1:9"))
-        N, B = me.ReferenceFrame("N"), me.ReferenceFrame("B")
-        B.orient_body_fixed(N, tuple(q[:3]), "zyx")
-        B.set_ang_vel(N, u[0] * N.x + u[1] * N.y + u[2] * N.z)
-        euler = euler_rates()
-        kd = [s.diff(t) - euler[s.diff(t)] for s in q[:3]]
-        kd += [q[i].diff(t) - u[i] for i in range(3, 8)]
-        rates = {q[i].diff(t): u[i] for i in range(3, 8)}
+        q, u, N, B, euler, kd, rates = common.body_coordinates("x y r1 r2 r3")
         in_B = lambda v: sp.Matrix([v.dot(B.x), v.dot(B.y), v.dot(B.z)])  # noqa: E731
         self._sphere, self._inside = system.support == "sphere", system.side == "inside"
         if self._sphere:

@@ -43,7 +43,6 @@ from ..derive.model import Model
 from ..derive.rolling_system import RollingSystem
 from ..derive.vectors import vector
 from . import kane_common as common
-from .kane_euler import euler_rates
 from .kane_implicit import contact_on_ray
 from .kane_support import compare_at_points
 
@@ -85,15 +84,7 @@ class _KaneOnImplicitSupport:
         parsed = system._parsed
         sub = {**dict.fromkeys(parsed["mass"].free_symbols, sp.S.One), **dict(pvals)}
         t = me.dynamicsymbols._t
-        q = list(me.dynamicsymbols("q1 q2 q3 p1 p2 p3"))
-        u = list(me.dynamicsymbols("u1:7"))
-        N, B = me.ReferenceFrame("N"), me.ReferenceFrame("B")
-        B.orient_body_fixed(N, tuple(q[:3]), "zyx")
-        B.set_ang_vel(N, u[0] * N.x + u[1] * N.y + u[2] * N.z)
-        solved = euler_rates()
-        kd = [s.diff(t) - solved[s.diff(t)] for s in q[:3]]
-        kd += [q[i].diff(t) - u[i] for i in range(3, 6)]
-        rates = {q[i].diff(t): u[i] for i in range(3, 6)}
+        q, u, N, B, solved, kd, rates = common.body_coordinates("p1 p2 p3")
         ps = vector("p", real=True)
         at_q = dict(zip(ps, q[3:], strict=True))
         F = parsed["support_surface"].xreplace(sub).xreplace(at_q)
