@@ -135,22 +135,10 @@ class _KaneBodyOnSupport:
         independent = [w for w in u if w not in dependent]
         angles = (q[:3], [euler[s.diff(t)] for s in q[:3]])
         bodies, loads = common.support_loads(parsed, sub, (N, B), G, angles, (q[3:6], u[3:6]))
-        X = sp.Matrix(len(dependent), len(independent), lambda i, j: sp.Symbol(f"X{i}_{j}"))
-        kane = me.KanesMethod(
-            N, q_ind=q, u_ind=independent, u_dependent=dependent, kd_eqs=kd,
-            velocity_constraints=constraints, constraint_solver=lambda A, b: X,
-        )  # fmt: skip
-        kane.kanes_equations(bodies, loads)
-        kdmap = kane.kindiffdict()
-        A, rhs = sp.linear_eq_to_matrix([sp.sympify(c).xreplace(kdmap) for c in constraints], u)
-        args = (q, u, t)
-        fn = lambda e, *extra: sp.lambdify((*args, *extra), e, modules="mpmath", cse=True)  # noqa: E731
-        self._constraints = fn(A), fn(rhs)
-        self._mass = fn(kane.mass_matrix, list(X))
-        self._forcing = fn(kane.forcing, list(X))
-        self._axes = fn(N.dcm(B))  # columns: B's axes in N
-        self._order = [str(s.func) for s in kane.u]  # independent first
-        self._n_dependent = len(dependent)
+        self._kane = common.form_with_placeholders(
+            N, q, (independent, dependent), kd, constraints, bodies, loads
+        )
+        self._axes = self._kane.lambdify(N.dcm(B))  # columns: B's axes in N
 
     def at(self, place: tuple, omega: Sequence[sp.Expr], time: mpmath.mpf):
         """The contact points (by state group), the angular velocity (space components),
@@ -161,7 +149,7 @@ class _KaneBodyOnSupport:
         if mpmath.mnorm(axes - Q, 1) > mpmath.mpf(10) ** (5 - common.DIGITS):
             raise ValueError("the attitude was not read back into Euler angles")
         known = {f"u{i + 1}": mpmath.mpf(sp.Float(w, 50)) for i, w in enumerate(omega)}
-        speed, by_name, _ = common.solve_speeds(self, q, known, time)
+        speed, by_name, _ = common.solve_speeds(self._kane, q, known, time)
         acc = [by_name[f"u{i}"] for i in (1, 2, 3)]
         rate = lambda k: [speed[f"u{i}"] for i in range(k, k + 3)]  # noqa: E731
         groups = {"p": list(p), "r": list(r)}

@@ -1,10 +1,12 @@
 """What the Kane cross-checks of described bodies share (:mod:`.kane_rolling`,
-:mod:`.kane_implicit`): the working digits and the comparison's points, its result, the
-described body as sympy rigid bodies, and where the body is put for a given normal."""
+:mod:`.kane_implicit`, :mod:`.kane_support_implicit`, :mod:`.kane_body_support`): the working
+digits and the comparison's points, its result, the described body as sympy rigid bodies,
+where the body is put for a given normal, and Kane's equations with placeholders for the
+constraint solver (:func:`form_with_placeholders`, :func:`solve_speeds`)."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -22,6 +24,8 @@ __all__ = [
     "frame_of",
     "model_rates",
     "placement",
+    "PlaceholderKane",
+    "form_with_placeholders",
     "potential_loads",
     "rigid_bodies",
     "solve_speeds",
@@ -187,17 +191,112 @@ def body_coordinates(extra: str) -> tuple:
     return q, u, N, B, euler, kd, {q[i].diff(t): u[i] for i in range(3, len(q))}
 
 
-def solve_speeds(kane: Any, q: list, known: Mapping[str, Any], time: Any) -> tuple:
+@dataclass(frozen=True)
+class PlaceholderKane:
+    """Kane's equations formed with placeholders ``X`` for ``B_dep^-1 B_ind`` (the
+    constraint solver's answer), lambdified at mpmath as functions of ``(q, u, t)``, ``u``
+    in KanesMethod's order (independent first).
+
+    Attributes
+    ----------
+    method : sympy.physics.mechanics.KanesMethod
+        The equations formed (``kanes_equations`` called).
+    order : list of str
+        The speeds' names, independent first.
+    n_dependent : int
+        How many speeds are dependent (the placeholders' rows).
+    constraints : (callable, callable)
+        ``A``, ``b`` of the velocity constraints ``A u = b`` (the coordinates' rates mapped).
+    mass, forcing : callable
+        The mass matrix and forcing, taking ``q, u, t`` and the placeholders (row by row).
+    args : tuple
+        ``(q, u, t)``: the coordinates, the speeds in order, Kane's time.
+    """
+
+    method: me.KanesMethod
+    order: list[str]
+    n_dependent: int
+    constraints: tuple[Callable, Callable]
+    mass: Callable
+    forcing: Callable
+    args: tuple
+
+    def lambdify(self, expr: Any, *extra: Any) -> Callable:
+        """``expr`` as an mpmath function of ``(q, u, t)`` and ``extra`` (with ``cse``).
+
+        Parameters
+        ----------
+        expr : sympy expression or matrix
+        *extra : sequence
+            Further arguments after ``(q, u, t)``.
+
+        Returns
+        -------
+        callable
+        """
+        return _mpmath_function(self.args, expr, extra)
+
+
+def _mpmath_function(args: tuple, expr: Any, extra: Sequence = ()) -> Callable:
+    """``expr`` lambdified at mpmath (with ``cse``) over ``args`` and then ``extra``."""
+    return sp.lambdify((*args, *extra), expr, modules="mpmath", cse=True)
+
+
+def form_with_placeholders(
+    N: me.ReferenceFrame, q: list, speeds: tuple[list, list], kd: list, constraints: list,
+    bodies: list, loads: list,
+) -> PlaceholderKane:  # fmt: skip
+    """Kane's equations with the constraint solver handed placeholders ``X`` (``X_i_j``,
+    dependent by independent) for ``B_dep^-1 B_ind`` (filled numerically by
+    :func:`solve_speeds`), and their mpmath functions.
+
+    Parameters
+    ----------
+    N : sympy.physics.mechanics.ReferenceFrame
+        The fixed frame.
+    q : list
+        The coordinates (all independent).
+    speeds : (list, list)
+        The independent and the dependent speeds.
+    kd : list
+        The kinematic differential equations.
+    constraints : list
+        The velocity constraints (their coordinates' rates are mapped to the speeds).
+    bodies, loads : list
+        For ``kanes_equations``.
+
+    Returns
+    -------
+    PlaceholderKane
+    """
+    independent, dependent = speeds
+    X = sp.Matrix(len(dependent), len(independent), lambda i, j: sp.Symbol(f"X{i}_{j}"))
+    kane = me.KanesMethod(
+        N, q_ind=q, u_ind=independent, u_dependent=dependent, kd_eqs=kd,
+        velocity_constraints=constraints, constraint_solver=lambda A, b: X,
+    )  # fmt: skip
+    kane.kanes_equations(bodies, loads)
+    q, u, kdmap = list(kane.q), list(kane.u), kane.kindiffdict()
+    A, b = sp.linear_eq_to_matrix([sp.sympify(c).xreplace(kdmap) for c in constraints], u)
+    args = (q, u, me.dynamicsymbols._t)
+    flat = list(X)
+    return PlaceholderKane(
+        kane, [str(s.func) for s in u], X.rows,
+        (_mpmath_function(args, A), _mpmath_function(args, b)),
+        _mpmath_function(args, kane.mass_matrix, (flat,)),
+        _mpmath_function(args, kane.forcing, (flat,)), args,
+    )  # fmt: skip
+
+
+def solve_speeds(kane: PlaceholderKane, q: list, known: Mapping[str, Any], time: Any) -> tuple:
     """The dependent speeds from the velocity constraints and every speed's rate, at the
     coordinates ``q``, for a set-up whose ``constraint_solver`` got placeholders ``X =
     B_dep^-1 B_ind`` (filled here, row by row as KanesMethod's matrix is read).
 
     Parameters
     ----------
-    kane : object
-        With ``_order`` (the speeds' names, independent first), ``_n_dependent``,
-        ``_constraints`` (the lambdified ``A``, ``b`` of ``A u = b``), ``_mass`` and
-        ``_forcing`` (lambdified, taking ``q, u, t`` and the placeholders).
+    kane : PlaceholderKane
+        Formed by :func:`form_with_placeholders`.
     q : list of mpmath.mpf
     known : mapping of str to number
         The independent speeds by name (others are ignored).
@@ -208,21 +307,21 @@ def solve_speeds(kane: Any, q: list, known: Mapping[str, Any], time: Any) -> tup
     (dict, dict, list)
         The speeds and their rates by name, and ``u`` in order.
     """
-    n_ind = len(kane._order) - kane._n_dependent
+    n_ind = len(kane.order) - kane.n_dependent
     u = [mpmath.mpf(known[name]) if k < n_ind else mpmath.mpf(0)
-         for k, name in enumerate(kane._order)]  # fmt: skip
-    A = mpmath.matrix(kane._constraints[0](q, u, time))
-    b = mpmath.matrix(kane._constraints[1](q, u, time))
+         for k, name in enumerate(kane.order)]  # fmt: skip
+    A = mpmath.matrix(kane.constraints[0](q, u, time))
+    b = mpmath.matrix(kane.constraints[1](q, u, time))
     A_ind = mpmath.matrix([[A[i, j] for j in range(n_ind)] for i in range(A.rows)])
     A_dep = mpmath.matrix([[A[i, j] for j in range(n_ind, A.cols)] for i in range(A.rows)])
     u[n_ind:] = list(mpmath.lu_solve(A_dep, b - A_ind * mpmath.matrix(u[:n_ind])))
     X = [mpmath.lu_solve(A_dep, A_ind.column(j)) for j in range(n_ind)]
     flat = [X[j][i] for i in range(A.rows) for j in range(n_ind)]
     udot = mpmath.lu_solve(
-        mpmath.matrix(kane._mass(q, u, time, flat)), mpmath.matrix(kane._forcing(q, u, time, flat))
+        mpmath.matrix(kane.mass(q, u, time, flat)), mpmath.matrix(kane.forcing(q, u, time, flat))
     )
-    speed = dict(zip(kane._order, u, strict=True))
-    return speed, dict(zip(kane._order, udot, strict=True)), u
+    speed = dict(zip(kane.order, u, strict=True))
+    return speed, dict(zip(kane.order, udot, strict=True)), u
 
 
 def support_loads(parsed: Mapping, sub: Mapping, frames: tuple, G: me.Point, angles: tuple,

@@ -213,29 +213,17 @@ class _KaneImplicit:
         if field != 0:
             loads.append((G, -bodies[0].mass * field * N.z))
         loads += self._potential(p["potential"].xreplace(sub), (N, B), q, u, normal, euler)
-        X = sp.Matrix(len(dependent), len(independent), lambda i, j: sp.Symbol(f"X{i}_{j}"))
-        kane = me.KanesMethod(
-            N, q_ind=q, u_ind=independent, u_dependent=dependent, kd_eqs=kd,
-            velocity_constraints=constraints, constraint_solver=lambda A, b: X,
-        )  # fmt: skip
-        kane.kanes_equations(bodies, loads)
-        self._lambdify(kane, constraints, X, (N, B), (P, S, bodies), t)
+        self._kane = common.form_with_placeholders(
+            N, q, (independent, dependent), kd, constraints, bodies, loads
+        )
+        self._lambdify((N, B), (P, S, bodies), t)
 
-    def _lambdify(self, kane, constraints, X, frames, places, t) -> None:
-        """The numeric functions of ``(q, u, t)`` (and ``X``) :meth:`at` evaluates."""
+    def _lambdify(self, frames, places, t) -> None:
+        """The further numeric functions of ``(q, u, t)`` :meth:`at` evaluates."""
         N, B = frames
         P, S, bodies = places
         in_B = lambda v: sp.Matrix([v.dot(B.x), v.dot(B.y), v.dot(B.z)])  # noqa: E731
-        q, u, kdmap = list(kane.q), list(kane.u), kane.kindiffdict()
-        self._order = [str(s.func) for s in u]  # independent first
-        self._n_dependent = X.rows
-        A, b = sp.linear_eq_to_matrix([sp.sympify(c).xreplace(kdmap) for c in constraints], u)
-        args = (q, u, t)
-        fn = lambda e, *extra: sp.lambdify((*args, *extra), e, modules="mpmath", cse=True)  # noqa: E731
-        self._constraints = fn(A), fn(b)
-        flat = list(X)
-        self._mass = fn(kane.mass_matrix, flat)
-        self._forcing = fn(kane.forcing, flat)
+        fn, kdmap = self._kane.lambdify, self._kane.method.kindiffdict()
         H = sum((body.angular_momentum(P, N) for body in bodies), me.Vector(0))
         self._momentum = fn(in_B(H))
         self._C = fn(sp.Matrix(3, 3, lambda i, j: (B.x, B.y, B.z)[i].dot((N.x, N.y, N.z)[j])))
@@ -264,7 +252,7 @@ class _KaneImplicit:
         ``omega'`` (body components), ``r'``, the carried vectors' rates and the momentum
         about the contact (body components)."""
         known = dict(zip(("u1", "u2", "u3"), omega_space, strict=True))
-        speed, by_name, u = common.solve_speeds(self, q, known, time)
+        speed, by_name, u = common.solve_speeds(self._kane, q, known, time)
         C = self.frame(q, time)
         acc = C * mpmath.matrix([by_name[f"u{i}"] for i in (1, 2, 3)])
         rates = {"omega": list(acc), "r": [speed[f"u{i}"] for i in (6, 7, 8)]}

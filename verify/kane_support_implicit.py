@@ -83,7 +83,6 @@ class _KaneOnImplicitSupport:
     def __init__(self, system: RollingSystem, pvals: Mapping[sp.Symbol, sp.Expr]) -> None:
         parsed = system._parsed
         sub = {**dict.fromkeys(parsed["mass"].free_symbols, sp.S.One), **dict(pvals)}
-        t = me.dynamicsymbols._t
         q, u, N, B, solved, kd, rates = common.body_coordinates("p1 p2 p3")
         ps = vector("p", real=True)
         at_q = dict(zip(ps, q[3:], strict=True))
@@ -106,22 +105,10 @@ class _KaneOnImplicitSupport:
             dependent = [u[2], *dependent]
         independent = [s for s in u if s not in dependent]
         bodies, loads = self._loads(parsed, sub, (N, B), O, q, u, solved)
-        X = sp.Matrix(len(dependent), len(independent), lambda i, j: sp.Symbol(f"X{i}_{j}"))
-        kane = me.KanesMethod(
-            N, q_ind=q, u_ind=independent, u_dependent=dependent, kd_eqs=kd,
-            velocity_constraints=constraints, constraint_solver=lambda A, b: X,
-        )  # fmt: skip
-        kane.kanes_equations(bodies, loads)
-        kdmap = kane.kindiffdict()
-        A, rhs = sp.linear_eq_to_matrix([sp.sympify(c).xreplace(kdmap) for c in constraints], u)
-        args = (q, u, t)
-        fn = lambda e, *extra: sp.lambdify((*args, *extra), e, modules="mpmath", cse=True)  # noqa: E731
-        self._constraints = fn(A), fn(rhs)
-        self._mass = fn(kane.mass_matrix, list(X))
-        self._forcing = fn(kane.forcing, list(X))
-        self._axes = fn(N.dcm(B))  # columns: B's axes in N
-        self._order = [str(s.func) for s in kane.u]  # independent first
-        self._n_dependent = len(dependent)
+        self._kane = common.form_with_placeholders(
+            N, q, (independent, dependent), kd, constraints, bodies, loads
+        )
+        self._axes = self._kane.lambdify(N.dcm(B))  # columns: B's axes in N
 
     @staticmethod
     def _loads(parsed, sub, frames, O, q, u, euler) -> tuple[list, list]:  # noqa: ANN001
@@ -142,7 +129,7 @@ class _KaneOnImplicitSupport:
         them and the body axes (columns), at ``time``."""
         q = [mpmath.mpf(a) for a in ANGLES] + list(contact)
         known = {f"u{i + 1}": mpmath.mpf(sp.Float(w, 50)) for i, w in enumerate(omega)}
-        speed, by_name, u = common.solve_speeds(self, q, known, time)
+        speed, by_name, u = common.solve_speeds(self._kane, q, known, time)
         w = [speed[f"u{i}"] for i in (1, 2, 3)]
         acc = [by_name[f"u{i}"] for i in (1, 2, 3)]
         rate = [speed[f"u{i}"] for i in (4, 5, 6)]
