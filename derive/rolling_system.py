@@ -171,7 +171,7 @@ _EFFECTS_BY_SUPPORT = {
 RESERVED_NAMES = frozenset(
     {
         f"{n}{i}"
-        for n in ("M", "gamma", "omega", "v", "alpha", "beta", "rho", "zeta", "p")
+        for n in ("M", "gamma", "omega", "v", "alpha", "beta", "rho", "zeta", "p", "r", "rdot")
         for i in (1, 2, 3)
     }
     | {"x", "y"}

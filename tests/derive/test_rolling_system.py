@@ -217,6 +217,8 @@ def test_names_become_exact_parameters_and_decimals_stay_exact():
         ({"inertia": (1, 1, 1), "support": "rotating_plane"}, "needs rotation_rate"),
         ({"inertia": (1, 1, 1), "rotation_rate": 2}, "the support is a plane"),
         ({"inertia": (1, 1, 1), "support": "rotating_plane", "rotation_rate": "rho1"}, "reserved"),
+        # a convex body's contact point r (and its rate) is state: not a parameter name
+        ({"inertia": ("r1", 2, 3), "surface": "x1**2 + x2**2/2 + x3**2/3 - 1"}, "reserved"),
         ({"inertia": (1, 1, 1), "support": "sphere"}, "needs support_radius"),
         ({"inertia": (1, 1, 1), "support_radius": 2}, "the support is a plane"),
         ({"inertia": (1, 1, 1), "support": "sphere", "support_radius": 0}, "must be positive"),
