@@ -493,10 +493,11 @@ def test_the_trace_of_a_constant_plane_velocity_is_a_parameter_of_the_trace_only
     assert sp.diff(x_rate, V1) != 0
 
 
-def test_a_convex_body_on_a_sphere_takes_no_trace_and_says_so():
-    """On a fixed sphere there is no plane to trace on: the effect is refused in one line."""
-    s = RollingSystem("egg_on_ball", surface=SPHERE, inertia=("A", "A", "C"), support="sphere",
-                      support_radius="3")  # fmt: skip
+def test_a_convex_body_on_a_support_surface_takes_no_trace_and_says_so():
+    """On a support surface the contact point p is the state itself: the effect is refused
+    in one line (on a fixed sphere it is derived: tests/derive/test_convex_sphere_trace.py)."""
+    s = RollingSystem("egg_on_bowl", surface=SPHERE, inertia=("A", "A", "C"),
+                      support="surface", support_surface="p1**2 + p2**2 + p3**2 - 9")  # fmt: skip
     assert s.effects_taken == ()
     with pytest.raises(UserInputError, match="unknown effect 'contact_point'") as err:
         s.model(TRACE)
