@@ -23,6 +23,7 @@ __all__ = [
     "UnsupportedExpression",
     "ring_normal_form",
     "ring_sum_of_products",
+    "ring_horner",
     "exact_quotient",
 ]
 
@@ -528,10 +529,58 @@ def ring_sum_of_products(
     return _from_fmpq_mpoly(total, ring)
 
 
+def ring_horner(
+    ring: sp.polys.rings.PolyRing,
+    coefficients: dict[int, sp.polys.rings.PolyElement],
+    x: sp.polys.rings.PolyElement,
+    y: sp.polys.rings.PolyElement,
+    top: int,
+) -> sp.polys.rings.PolyElement:
+    """``sum_j c_j x^j y^(top - j)`` of elements of a polynomial ring over QQ, by Horner's
+    rule in FLINT.
+
+    ``((c_top x + c_(top-1) y) x + c_(top-2) y^2) x + ...``: the large coefficients are
+    multiplied by ``x`` one at a time instead of by its powers (a radical's even and odd
+    parts, ``x`` the radicand's numerator: several times fewer products).
+
+    Parameters
+    ----------
+    ring : sympy.polys.rings.PolyRing
+        Over QQ.
+    coefficients : dict of int to PolyElement
+        ``j -> c_j`` for ``0 <= j <= top`` (missing ones are zero).
+    x, y : sympy.polys.rings.PolyElement
+        Elements of ``ring``.
+    top : int
+        The largest power of ``x``.
+
+    Returns
+    -------
+    sympy.polys.rings.PolyElement
+        The same polynomial as the sum of the products (exact arithmetic).
+    """
+    import flint
+
+    ctx = flint.fmpq_mpoly_ctx.get(tuple(f"x{i}" for i in range(ring.ngens)), "lex")
+    fx, fy = _to_fmpq_mpoly(x, ctx), _to_fmpq_mpoly(y, ctx)
+    acc, y_power = ctx.from_dict({}), ctx.constant(1)
+    for j in range(top, -1, -1):
+        if not acc.is_zero():
+            acc = acc * fx
+        c = coefficients.get(j)
+        if c is not None and c:
+            acc += _to_fmpq_mpoly(c, ctx) * y_power  # y_power = y^(top - j)
+        if j:
+            y_power = y_power * fy
+    return _from_fmpq_mpoly(acc, ring)
+
+
 def _fmpq(c):
     """A rational (sympy's, or an element of QQ) as FLINT's ``fmpq``."""
     import flint
 
+    if isinstance(c, flint.fmpq):
+        return c
     return flint.fmpq(int(c.numerator), int(c.denominator))
 
 
@@ -543,7 +592,12 @@ def _to_fmpq_mpoly(p: sp.polys.rings.PolyElement, ctx):
 def _from_fmpq_mpoly(f, ring: sp.polys.rings.PolyRing) -> sp.polys.rings.PolyElement:
     """An ``fmpq_mpoly`` as an element of ``ring`` over QQ (the same generators; FLINT's
     exponents are ``fmpz``, the ring's Python integers)."""
+    import flint
+
     QQ = ring.domain
+    if QQ.dtype is flint.fmpq:  # sympy's ground types are FLINT's: the coefficients as they are
+        monomials = [tuple(map(int, m)) for m in f.monoms()]
+        return ring.from_dict(dict(zip(monomials, f.coeffs(), strict=True)))
     return ring.from_dict(
         {
             tuple(map(int, m)): QQ(int(c.p), int(c.q))

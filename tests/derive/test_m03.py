@@ -367,6 +367,31 @@ def test_ring_sum_of_products_is_sympys_ring_arithmetic():
         assert ring_sum_of_products(R, []) == R.zero
 
 
+def test_ring_horner_is_the_sum_of_the_products():
+    """ring_horner's sum_j c_j x^j y^(top - j) (Horner's rule in FLINT) against sympy's ring
+    arithmetic term by term, with missing and zero coefficients, y = 1 and top 0."""
+    from chaplygin.derive.algebra import ring_horner
+    from sympy.polys.domains import QQ
+    from sympy.polys.rings import ring
+
+    R, x, y, z = ring("x y z", QQ, order="grevlex")
+    rng = random.Random(8)
+
+    def poly():
+        out = R.zero
+        for _ in range(4):
+            monomial = x ** rng.randint(0, 3) * y ** rng.randint(0, 3) * z ** rng.randint(0, 2)
+            out += QQ(rng.randint(-9, 9), rng.randint(1, 7)) * monomial
+        return out
+
+    for top in (0, 1, 3, 5):
+        for _ in range(4):
+            c = {j: poly() for j in range(top + 1) if rng.random() < 0.7}
+            X, Y = poly(), rng.choice([R.one, poly()])
+            expected = sum((cj * X**j * Y ** (top - j) for j, cj in c.items()), R.zero)
+            assert ring_horner(R, c, X, Y, top) == expected
+
+
 def test_the_rational_function_builder_is_sympys_ring_arithmetic():
     """The builder's numerators and denominators (multiplied in FLINT) against the same
     construction in sympy's ring arithmetic (the reference below, the builder's algorithm
