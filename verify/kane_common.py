@@ -14,6 +14,8 @@ import mpmath
 import sympy as sp
 import sympy.physics.mechanics as me
 
+from ..derive.expression_dag import dag_xreplace
+
 __all__ = [
     "DIGITS",
     "body_coordinates",
@@ -464,6 +466,58 @@ def model_rates(model: Any, values: dict) -> list:
     list of sympy.Float
         ``model.rhs`` at ``values``, in state order.
     """
-    for symbol, expr in model.aux:
-        values[symbol] = sp.N(expr.xreplace(values), DIGITS + 5)
-    return [sp.N(e.xreplace(values), DIGITS + 5) for e in model.rhs]
+    memo: dict = {}  # each distinct subexpression evaluated once, at twice the digits
+    with mpmath.workdps(2 * (DIGITS + 5)):
+        for symbol, expr in model.aux:
+            memo[symbol] = _numeric(expr, values, memo)
+            values[symbol] = sp.Float(memo[symbol], DIGITS + 5)
+        return [sp.Float(_numeric(e, values, memo), DIGITS + 5) for e in model.rhs]
+
+
+_MPMATH_FUNCTIONS = {sp.sin: mpmath.sin, sp.cos: mpmath.cos, sp.tan: mpmath.tan,
+                     sp.exp: mpmath.exp, sp.log: mpmath.log}  # fmt: skip
+
+
+def _numeric(expr: sp.Expr, values: dict, memo: dict) -> mpmath.mpf:
+    """``expr`` at ``values`` in mpmath at the working precision, each distinct
+    subexpression once (sympy's ``N`` walks a tree: the auxiliaries' shared parts again and
+    again); an expression with another kind of node is left to ``sympy.N``."""
+    try:
+        return _walk(expr, values, memo)
+    except _NotNumeric:
+        return mpmath.mpf(sp.N(dag_xreplace(expr, values), mpmath.mp.dps)._mpf_)
+
+
+class _NotNumeric(Exception):
+    """A node :func:`_walk` does not evaluate (then ``sympy.N`` does)."""
+
+
+def _walk(e: sp.Basic, values: dict, memo: dict) -> mpmath.mpf:
+    hit = memo.get(e)
+    if hit is not None:
+        return hit
+    if e in values:  # a number, or a constant expression (an exact algebraic point)
+        v = values[e]
+        out = _walk(v, {}, memo) if isinstance(v, sp.Basic) else mpmath.mpf(v)
+    elif isinstance(e, sp.Rational):
+        out = mpmath.mpf(e.p) / e.q
+    elif isinstance(e, sp.Float) or e in (sp.pi, sp.E):
+        out = mpmath.mpf(e.evalf(mpmath.mp.dps)._mpf_)
+    elif isinstance(e, sp.Add):
+        out = mpmath.fsum(_walk(a, values, memo) for a in e.args)
+    elif isinstance(e, sp.Mul):
+        out = mpmath.fprod(_walk(a, values, memo) for a in e.args)
+    elif isinstance(e, sp.Pow) and isinstance(e.exp, sp.Rational):
+        base = _walk(e.base, values, memo)
+        if e.exp.q == 1:
+            out = base ** int(e.exp.p)
+        elif base > 0:
+            out = mpmath.power(base, mpmath.mpf(e.exp.p) / e.exp.q)
+        else:
+            raise _NotNumeric(e)
+    elif type(e) in _MPMATH_FUNCTIONS:
+        out = _MPMATH_FUNCTIONS[type(e)](_walk(e.args[0], values, memo))
+    else:
+        raise _NotNumeric(e)
+    memo[e] = out
+    return out
