@@ -40,7 +40,7 @@ QUICK_MODULES = frozenset(
 #: are made once) they are handed out first, longest first, so that no long module starts
 #: last and keeps one core busy alone at the end.
 SLOW_MODULES_FIRST = (
-    "tests/derive/test_convex_moving.py",  # about 250 beside another job (2026-11-27)
+    "tests/derive/test_convex_moving.py",  # 250 beside another job; ~80 idle (FLINT builder)
     "tests/verify/test_claims.py",  # 241
     "tests/verify/test_sweep.py",  # 227
     "tests/verify/test_described_kane_supports.py",  # 211

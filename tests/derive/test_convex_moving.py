@@ -437,11 +437,12 @@ def test_the_body_frame_stage_refuses_a_moving_sphere_and_a_field_without_the_ve
             derive_body_on_sphere(surface, sp.eye(3), m, k, omega, r, **extra)
 
 
-@pytest.mark.expensive
+@pytest.mark.slow
 def test_the_energy_with_a_potential_of_gamma_and_zeta_is_an_integral_on_a_sphere():
     """The heavy ellipsoid off centre with a rotor outside a fixed sphere under V(gamma,
     zeta), gamma = n(r): the shipped H is proved an integral (the Groebner proof through the
-    sphere's square root: about a minute) and equal to the first-principles energy plus V;
+    sphere's square root: about 7 s since the builder works in FLINT, a minute before)
+    and equal to the first-principles energy plus V;
     the energy without V is refuted by the same machinery."""
     from chaplygin.verify.identity import Domain, decide, lie_derivative
 
