@@ -22,6 +22,8 @@ BODY = dict(inertia=("0.31", "0.43", "0.57"), mass="1.3", gravity="g", support="
 SPHERE = dict(radius="0.7", centre_of_mass=("0.1", "-0.05", "0.08"))
 ELLIPSOID = dict(surface="x1**2/(9/10)**2 + x2**2/(7/10)**2 + x3**2/(1/2)**2 - 1",
                  centre_of_mass=("1/13", 0, "1/10"))  # fmt: skip
+QUARTIC = dict(surface="x1**4 + x2**2/(1/9) + x3**2/(1/5) + x1**2 - 1",
+               centre_of_mass=("0.05", "-0.04", "0.06"))  # Kane: the contact as coordinates
 RATES = {"constant": "W", "prescribed": "W*(1 + e*sin(w*t))"}
 VALUES = {"g": "9.81", "W": "0.37", "e": "0.3", "w": "1.7"}
 
@@ -118,12 +120,16 @@ def test_the_verifier_proves_what_a_balanced_ball_along_a_turntables_line_ships(
 
 @pytest.mark.slow
 @pytest.mark.parametrize("rate", list(RATES), ids=list(RATES))
-@pytest.mark.parametrize("body", [SPHERE, ELLIPSOID], ids=["sphere", "ellipsoid"])
+@pytest.mark.parametrize(
+    "body", [SPHERE, ELLIPSOID, QUARTIC], ids=["sphere", "ellipsoid", "quartic"]
+)
 def test_kane_agrees_along_a_turntables_line_and_refutes_the_line_fixed_in_space(body, rate):
-    """An offset centre of mass under gravity, a spherical body and an ellipsoid (Kane's
-    contact in closed form): omega', the momentum about the contact and the rates of the
-    normal (the ellipsoid's r'), rho, alpha and beta agree with Kane at 40 digits; Kane's line
-    held fixed in space is refuted by the same comparison (omega' and the frame's rates)."""
+    """An offset centre of mass under gravity, a spherical body, an ellipsoid (Kane's
+    contact in closed form) and a quartic (Kane's contact point as coordinates,
+    :mod:`~chaplygin.verify.kane_implicit`): omega', the momentum about the contact and the
+    rates of the normal (a convex body's r'), rho, alpha and beta agree with Kane at 40
+    digits; Kane's line held fixed in space is refuted by the same comparison (omega' and the
+    frame's rates)."""
     system = RollingSystem("turning_line", rotation_rate=RATES[rate], **BODY, **body)
     model = system.model()
     result = kane_compare(system, model, _values(model))
