@@ -265,9 +265,10 @@ class RollingSystem:
         fixed-frame components ``e1_1 .. e3_3``.
     contact : {"rolling", "rubber", "line"}
         Rolling without slipping, without slipping and twisting (``(omega, gamma) =
-        0``), or without slipping along the fixed line ``alpha`` (``(omega, alpha) = 0``,
-        the effect ``straight_line``: the frame ``alpha, beta`` joins the state; a rubber
-        body on a line is ``contact="rubber"`` with the effect).
+        0``), or without slipping along the line ``alpha`` (``(omega, alpha) = 0``, the
+        effect ``straight_line``: the frame ``alpha, beta`` joins the state, fixed in space
+        or, on a rotating plane, carried by it; a rubber body on a line is
+        ``contact="rubber"`` with the effect).
     support : {"plane", "rotating_plane", "moving_plane", "sphere", "surface"}
         The fixed horizontal plane, a horizontal plane rotating about a vertical axis or
         moving horizontally, a fixed sphere, or a fixed support surface (``support_surface``).

@@ -20,6 +20,8 @@ no formula with the Lagrange–d'Alembert engine (:mod:`chaplygin.derive.body_on
   two tangents ``N.x, N.y`` (plane) or ``de_r/dx, de_r/dy`` (sphere), body components.
   (``f(r) = 0`` is kept by the normal component of no slip.) No twist (``"rubber"``):
   ``(omega, n) = Omega`` with ``u3`` dependent, ``n`` the support's normal into the body.
+  Along a line: no spin about it with ``u1`` dependent (``N.x``, on a turntable the line it
+  carries, :func:`~.kane_common.support_line`).
 * loads: gravity ``-m g N.z`` at ``G``; a potential ``V(gamma, zeta)`` of the normal
   ``gamma = n`` and the vertical ``zeta = N.z`` (body axes) written as a function of the
   coordinates and applied as the generalised force ``-dV/dq_j`` (two massless points

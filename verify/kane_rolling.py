@@ -16,7 +16,8 @@ that derived its model:
   the body point at the contact ``P`` has zero tangential velocity (``u4, u5``
   dependent) — on a rotating plane the plane's velocity there, ``Omega N.z x (x N.x + y
   N.y)`` (affine constraints). No twist (``"rubber"``): ``u3 = 0`` as a third velocity
-  constraint.
+  constraint. Along a line: no spin about it, ``u1`` dependent — the line ``N.x``, on a
+  turntable the line it carries (:func:`~.kane_common.support_line`).
 * Loads: gravity ``-m g N.z`` at ``G``; a potential of the orientation as the torque
   ``gamma x dV/dgamma`` on ``B`` (the one place a formula is shared: the torque of a
   potential); a gyrostatic momentum ``K`` (constant or prescribed ``K(t)``) as real
