@@ -207,7 +207,8 @@ class _KaneImplicit:
         if system.contact == "rubber":  # no twist relative to the support
             constraints.append(B.ang_vel_in(N).dot(normal) - Omega)
             dependent = [u[2], *dependent]
-        line, settle = support_line(N, Omega, line_carried)  # N.x, or a turntable's
+        turning = Omega if system.contact == "line" else sp.S.Zero
+        line, settle = support_line(N, turning, line_carried)  # N.x, or a turntable's
         if system.contact == "line":  # along the line: (omega, line) = 0
             constraints.append(B.ang_vel_in(N).dot(line))
             dependent = [u[0], *dependent]

@@ -126,7 +126,8 @@ def kane_compare(
         return KaneComparison(count, acc, 0.0, rate, tolerance)  # no momentum state there
     if system._parsed["surface"] is not None and not _closed_form(system, pvals):
         return compare_implicit(system, model, pvals, momenta, line_carried)
-    # along the fixed line N.x (a convex body's model has no relation for it: its omega is state)
+    # along a line, N.x or a turntable's (a convex body's model has no relation for it: its
+    # omega is state)
     line = system.contact == "line" or "(omega,alpha)" in dict(model.invariant_relations)
     values = tuple(sorted((s.name, v) for s, v in pvals.items()))
     key = (system.fingerprint(), line, line_carried, values)
@@ -337,7 +338,8 @@ class _KaneRolling:
             constraints.append(u[2] - Omega)
             dependent = [u[2], u[3], u[4]]
         now = {sp.Symbol("t", real=True): t, **sub}  # prescribed rates: of Kane's time
-        line_direction, settle = support_line(N, p["rotation_rate"].xreplace(now), line_carried)
+        turning = p["rotation_rate"].xreplace(now) if line else sp.S.Zero
+        line_direction, settle = support_line(N, turning, line_carried)
         if line:  # along the line (N.x, or a turntable's): no spin about it
             constraints.append(B.ang_vel_in(N).dot(line_direction))
             dependent = [u[0], *dependent]
