@@ -126,8 +126,7 @@ def kane_compare(
         return KaneComparison(count, acc, 0.0, rate, tolerance)  # no momentum state there
     if system._parsed["surface"] is not None and not _closed_form(system, pvals):
         return compare_implicit(system, model, pvals, momenta, line_carried)
-    # along a line, N.x or a turntable's (a convex body's model has no relation for it: its
-    # omega is state)
+    # along a line (a convex body's model has no relation for it: its omega is state)
     line = system.contact == "line" or "(omega,alpha)" in dict(model.invariant_relations)
     values = tuple(sorted((s.name, v) for s, v in pvals.items()))
     key = (system.fingerprint(), line, line_carried, values)
