@@ -46,6 +46,7 @@ from .engine import (
     lagrange_dalembert,
 )
 from .errors import DerivationError
+from .geometry import FRAME
 from .model import Model, ModelDetails, ParameterSpec
 from .vectors import cross, dot, vector
 
@@ -642,6 +643,8 @@ class BodyOnSphereReduction:
             density=None,
             omega=omega,
             relation_unknowns=tuple(s for X, _ in carried.values() for s in X),
+            # on a sphere with the trace: the fixed frame alpha, beta, zeta (completed, sampled)
+            geometry=tuple(g for g in desc.geometry() if g.kind == FRAME),
             details=BodyOnSphereDetails(equations=eq, surface=self.surface, inertia=desc.inertia),
         )
 
@@ -663,13 +666,18 @@ class BodyOnSphereReduction:
         frame = {n: X for n, (X, _) in (*desc.kinematics.items(), *eq.kinematics.items())}
         if plane.along_line:  # the constraint, kept by the flow (zero on the phase space)
             integrals.append(("(omega,alpha)", dot(eq.omega, frame["alpha"])))
-        if "alpha" in frame:
+        if "alpha" in frame:  # with the plane's normal, or on a sphere the vertical zeta
             a, b = frame["alpha"], frame["beta"]
             integrals += [("(alpha,alpha)", dot(a, a)), ("(alpha,beta)", dot(a, b))]
-            integrals += [("(beta,beta)", dot(b, b)), ("(alpha,gamma)", dot(a, eq.normal))]
-            integrals += [("(beta,gamma)", dot(b, eq.normal))]
-        if "zeta" in eq.kinematics:
-            zeta = eq.kinematics["zeta"][0]
+            integrals += [("(beta,beta)", dot(b, b))]
+            if self.curvature == 0:
+                integrals += [("(alpha,gamma)", dot(a, eq.normal))]
+                integrals += [("(beta,gamma)", dot(b, eq.normal))]
+            else:
+                integrals += [("(zeta,alpha)", dot(frame["zeta"], a))]
+                integrals += [("(zeta,beta)", dot(frame["zeta"], b))]
+        if "zeta" in frame:
+            zeta = frame["zeta"]
             integrals.append(("(zeta,zeta)", dot(zeta, zeta)))
         traced = {g.name: g.symbols for g in desc.states if g.name in ("x", "y")}
         if traced and "rho" in eq.kinematics:  # the trace is the carried rho's projection

@@ -191,13 +191,6 @@ class DensitySearch:
         return "\n".join(lines)
 
 
-class _AuxBuilder(RationalFunctionBuilder):
-    """A rational-function builder that knows the model's auxiliary symbols."""
-
-    def define(self, symbol: sp.Symbol, expr: sp.Expr) -> None:
-        self._memo[symbol] = self.convert(expr)
-
-
 def _working_parameters(model: Model) -> tuple[tuple[sp.Symbol, ...], dict, dict]:
     """Parameters the search runs in (the model's reparametrisation: ``A_i = 1/J_ii``)."""
     rep = model.reparametrisation
@@ -221,8 +214,8 @@ def _check_model(model: Model) -> None:
         )
 
 
-def _builder(model: Model, inverse: dict, params: tuple[sp.Symbol, ...]) -> _AuxBuilder:
-    builder = _AuxBuilder(model.state + params)
+def _builder(model: Model, inverse: dict, params: tuple[sp.Symbol, ...]) -> RationalFunctionBuilder:
+    builder = RationalFunctionBuilder(model.state + params)
     try:
         for sym, expr in model.aux:
             builder.define(sym, expr.xreplace(inverse))
@@ -256,7 +249,7 @@ def _irreducible(poly, ring) -> tuple:
     return ring.domain.convert(const), out
 
 
-def _common_denominator(model: Model, builder: _AuxBuilder, inverse: dict):
+def _common_denominator(model: Model, builder: RationalFunctionBuilder, inverse: dict):
     """Numerators ``P_i`` over ``Q = prod g^k`` (irreducible monic ``g``): ``(P, {g: k})``."""
     ring = builder.ring
     parts = []

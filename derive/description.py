@@ -513,9 +513,10 @@ class MechanicalDescription:
             ``UNIT_VECTOR`` group), or one ``UNIT_VECTOR`` group per space-fixed vector, in
             the order of ``kinematics``.
         """
-        third = "zeta" if "zeta" in self.kinematics else "gamma"
+        states = {g.name for g in self.states}  # (a convex body's vertical: a state)
+        third = "zeta" if "zeta" in self.kinematics or "zeta" in states else "gamma"
         frame = ("alpha", "beta", third)
-        if not set(frame) <= set(self.kinematics):
+        if not set(frame) <= set(self.kinematics) | ({"zeta"} & states):
             return tuple(PoissonGroup(UNIT_VECTOR, (name,)) for name in self.kinematics)
         rest = [name for name in self.kinematics if name not in frame]
         return (PoissonGroup(FRAME, frame), *(PoissonGroup(UNIT_VECTOR, (n,)) for n in rest))

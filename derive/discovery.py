@@ -210,6 +210,12 @@ def _momentum_group(model: Model) -> str:
     return "M" if "M" in names else names[0]
 
 
+def _through_momentum(model: Model, name: str) -> bool:
+    """Whether the search in ``name`` is in ``omega`` written through the momentum (``omega``
+    not a state group; a convex body's ``omega`` is one: searched as the group itself)."""
+    return name == OMEGA and OMEGA not in dict(model.state_groups)
+
+
 def _relations(model: Model, subs: dict) -> list[sp.Expr]:
     """Numerators of the invariant relations in the search coordinates (unit factors dropped)."""
     out = []
@@ -313,8 +319,9 @@ def _check_group_and_time(model: Model, momentum: str | None, searched: str) -> 
 
 def _group_sizes(model: Model, name: str) -> tuple[int, int]:
     """Sizes of the momentum group ``name`` (or omega) and of the other state variables."""
-    n_u = 3 if name == OMEGA else len(dict(model.state_groups)[name])
-    n_g = len(model.state) - (n_u if name != OMEGA else len(model.group(_momentum_group(model))))
+    through = _through_momentum(model, name)
+    n_u = 3 if through else len(dict(model.state_groups)[name])
+    n_g = len(model.state) - (len(model.group(_momentum_group(model))) if through else n_u)
     return n_u, n_g
 
 
@@ -389,7 +396,8 @@ def find_polynomial_integrals(
         )
     stages: dict[str, float] = {}
     clock = time.perf_counter()
-    coords = _omega_coordinates(model) if name == OMEGA else _state_coordinates(model, name)
+    through = _through_momentum(model, name)
+    coords = _omega_coordinates(model) if through else _state_coordinates(model, name)
     x = (*coords.u, *coords.g)
     builder = RationalFunctionBuilder([*x, *model.params])
     ideal = [sp.expand(c) for c in coords.ideal]

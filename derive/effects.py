@@ -156,11 +156,14 @@ class ContactPoint(Effect):
         BKM12-6.
         """
         if desc.trace_on_normal is not None:  # on a fixed sphere: the fixed frame only
-            new_zeta = "zeta" not in desc.kinematics  # (else the field's vertical, given)
+            # (the field's vertical is given; a convex body's zeta is a state its stage
+            # derives; without a field it starts as a spherical body's normal gamma)
+            has_zeta = "zeta" in desc.kinematics or any(g.name == "zeta" for g in desc.states)
+            normal = not has_zeta and "gamma" in desc.kinematics
             return Declaration(
-                poisson_vectors=("alpha", "beta", "zeta"),
+                poisson_vectors=("alpha", "beta") + (() if has_zeta else ("zeta",)),
                 completion=((("alpha", "beta"), "frame_bkm12_7"),
-                            *([(("zeta",), "normal")] if new_zeta else [])),
+                            *([(("zeta",), "normal")] if normal else [])),
             )  # fmt: skip
         b = sp.Symbol("b", positive=True)
         x, y = sp.symbols("x y", real=True)

@@ -65,7 +65,6 @@ from sympy.polys.matrices import DomainMatrix
 from .algebra import RationalFunctionBuilder, ring_normal_form
 from .discovery import (
     MAX_UNKNOWNS,
-    OMEGA,
     _ansatz_basis,
     _check_degree,
     _check_group_and_time,
@@ -78,6 +77,7 @@ from .discovery import (
     _null_space,
     _omega_coordinates,
     _state_coordinates,
+    _through_momentum,
 )
 from .errors import UserInputError
 from .model import Model
@@ -346,7 +346,8 @@ def _setup(model: Model, momentum: str | None, coefficient_degree: int, per_unkn
             f"{n_g} state variables has {monomials} unknowns, more than this machine searches "
             f"({MAX_UNKNOWNS}); lower the degree"
         )
-    coords = _omega_coordinates(model) if name == OMEGA else _state_coordinates(model, name)
+    through = _through_momentum(model, name)
+    coords = _omega_coordinates(model) if through else _state_coordinates(model, name)
     x = (*coords.u, *coords.g)
     builder = RationalFunctionBuilder([*x, *model.params])
     ideal = [sp.expand(c) for c in coords.ideal]

@@ -105,6 +105,7 @@ def _convex_body_description(
         desc.parameter_order += tuple(x.name for x in desc.trace_parameters)
     if vertical:  # fixed in space (Poisson's equation)
         desc.add_state("zeta", tuple(zeta), None)
+    desc.trace_on_normal = _trace_on_normal(s, p)  # on a sphere: +-R n(r) in alpha, beta, zeta
     # the contact point stays on the surface: its level is an integral
     r_free = p["surface"].xreplace(dict.fromkeys(r, 0))
     desc.add_integral("f", sp.expand(p["surface"] - r_free))  # the level: up to a constant

@@ -82,7 +82,9 @@ dn/dr) r' = n x omega``. A field there adds the vertical ``zeta`` to the state (
 zeta x omega``), the weight ``-m g zeta`` at the centre of mass and ``-m g (r + n/k,
 zeta)`` to the energy (the centre of mass's height above the sphere's centre); a
 potential may use ``zeta`` beside ``gamma = n(r)``, its torque ``-d(dV/dt)/d omega``
-along the motion, ``n' = n x omega - k r'``.
+along the motion, ``n' = n x omega - k r'``. The effect ``contact_point`` adds the fixed
+frame ``alpha, beta, zeta`` (``zeta`` given): the contact point is ``+-R ((n, alpha), (n,
+beta), (n, zeta))`` from the sphere's centre.
 
 Rolling along a line ``alpha`` of the plane (``contact="line"``, ``(omega, alpha) = 0``,
 BKM12-57's constraint) is derived on every plane, for a spherical or a convex body. On a
@@ -181,7 +183,7 @@ _EFFECTS_BY_SUPPORT = {
 RESERVED_NAMES = frozenset(
     {
         f"{n}{i}"
-        for n in ("M", "gamma", "omega", "v", "alpha", "beta", "rho", "zeta", "p")
+        for n in ("M", "gamma", "omega", "v", "alpha", "beta", "rho", "zeta", "p", "r", "rdot")
         for i in (1, 2, 3)
     }
     | {"x", "y"}
@@ -353,13 +355,13 @@ class RollingSystem:
     @property
     def effects_taken(self) -> tuple[str, ...]:
         """The effects this description takes (:data:`SUPPORTED_EFFECTS` on a fixed
-        plane; the contact trace on a moving one and for a convex body on any plane; none on
-        a sphere, nor along the line a turntable carries: its frame is the state's ``alpha,
-        beta``)."""
+        plane; the contact trace on a moving plane or a fixed sphere and for a convex body
+        there; none on a support surface, nor along the line a turntable carries: its frame
+        is the state's ``alpha, beta``)."""
         if self.contact == "line" and self.support == "rotating_plane":
             return ()
-        if self._parsed["surface"] is not None:  # the trace on a plane
-            return () if self.support in ("sphere", "surface") else ("contact_point",)
+        if self._parsed["surface"] is not None:  # the trace on a plane or a fixed sphere
+            return () if self.support == "surface" else ("contact_point",)
         if self.contact == "line":
             return ("contact_point",)
         return _EFFECTS_BY_SUPPORT.get(self.support, ())

@@ -32,9 +32,10 @@ import sympy as sp
 from chaplygin.derive.algebra import (
     RationalFunctionBuilder,
     UnsupportedExpression,
+    ring_horner,
     ring_normal_form,
-    ring_sum_of_products,
 )
+from chaplygin.derive.expression_dag import dag_replace, dag_xreplace, subexpressions
 from chaplygin.derive.model import Model, Reparametrisation
 from chaplygin.derive.phase_space import invariant_relation_exprs, sample_point
 from chaplygin.derive.systems import store_derived
@@ -256,9 +257,8 @@ class Residuals:
         radicands = sorted(
             {
                 p.base
-                for e in self.exprs
-                for p in e.atoms(sp.Pow)
-                if p.exp.is_Rational and p.exp.q == 2
+                for p in subexpressions(self.exprs)
+                if isinstance(p, sp.Pow) and p.exp.is_Rational and p.exp.q == 2
             },
             key=sp.default_sort_key,
         )
@@ -301,7 +301,8 @@ class Residuals:
 
     def _replace_radicals(self, e: sp.Expr) -> sp.Expr:
         for S, r in self.radicals:
-            e = e.replace(
+            e = dag_replace(
+                e,
                 lambda x, S=S: x.is_Pow and x.base == S and x.exp.is_Rational and x.exp.q == 2,
                 lambda x, r=r: r ** int(2 * x.exp),
             )
@@ -322,11 +323,11 @@ class Residuals:
         for f, k in Sd.items():
             Sden *= f**k
         top = max(by_power) // 2
-        parts: dict[int, list] = {0: [], 1: []}  # the even and odd powers of r
-        for k, c in by_power.items():
-            j = k // 2
-            parts[k % 2].append(((c, 1), (Sn, j), (Sden, top - j)))
-        return [ring_sum_of_products(R, parts[e]) for e in (0, 1)]
+        # the even and odd powers of r: sum_j c_j Sn^j Sden^(top - j), r^(2j (+1)) = S^j (r)
+        return [
+            ring_horner(R, {k // 2: c for k, c in by_power.items() if k % 2 == e}, Sn, Sden, top)
+            for e in (0, 1)
+        ]
 
     # ------------------------------------------------------------------ methods
     def normal_forms(self) -> list[sp.polys.rings.PolyElement]:
@@ -438,8 +439,8 @@ class Residuals:
         """
         vals = []
         for e in self.exprs:
-            e = e.xreplace({a: d for a, d in self.atom_map.items()})
-            v = sp.N(e.xreplace(point), digits)
+            e = dag_xreplace(e, self.atom_map)
+            v = sp.N(dag_xreplace(e, point), digits)
             vals.append(v)
         worst = max(vals, key=lambda v: abs(complex(v)))
         return sp.sstr(worst)
@@ -456,10 +457,8 @@ def _generic_atoms(exprs, extra=()):
     maps of a time-dependent reparametrisation). Returns the new expressions, the atom
     map, the circle pairs and the relations.
     """
-    atoms: set = set()
-    for e in [*exprs, *extra]:
-        atoms |= {a for a in e.atoms(sp.Derivative)}
-        atoms |= set(e.atoms(sp.Function))
+    kinds = (sp.Derivative, sp.Function)
+    atoms = {a for a in subexpressions([*exprs, *extra]) if isinstance(a, kinds)}
     for a in list(atoms):
         if isinstance(a, (sp.sin, sp.cos)):
             atoms |= {sp.sin(a.args[0]), sp.cos(a.args[0])}
@@ -469,7 +468,8 @@ def _generic_atoms(exprs, extra=()):
     atom_map = {}
     for a in derivs + funcs:
         atom_map[a] = sp.Dummy(str(a), real=True, positive=bool(a.is_positive) or None)
-    out = [e.xreplace({d: atom_map[d] for d in derivs}).xreplace(atom_map) for e in exprs]
+    first, memo_first, memo = {d: atom_map[d] for d in derivs}, {}, {}
+    out = [dag_xreplace(dag_xreplace(e, first, memo_first), atom_map, memo) for e in exprs]
     circles, relations = [], []
     for a in funcs:
         if isinstance(a, sp.sin) and sp.cos(a.args[0]) in atom_map:

@@ -117,14 +117,20 @@ class _TaylorMacroPrinter:
         Raises
         ------
         NotImplementedError
-            For another function, or an integer too large for a double.
+            For another function.
         """
         return self._print(sp.sympify(expr))
 
     def _int(self, n: int) -> str:
-        if abs(n) > 2**53:
-            raise NotImplementedError(f"integer {n} is not exact in a double")
-        return f"R_INT({n})"
+        """An integer: exact in a double up to ``2**53``; beyond, in digits of ``2**48``
+        (``hi 2**48 + lo``: exact scalings, the sum rounded once per digit at the working
+        precision, exact in double-double and quad up to their mantissas)."""
+        if abs(n) <= 2**53:
+            return f"R_INT({n})"
+        sign, m = (-1 if n < 0 else 1), abs(n)
+        hi, lo = divmod(m, 2**48)
+        out = f"R_ADD(R_MUL({self._int(hi)}, R_INT({2**48})), R_INT({lo}))"
+        return f"R_NEG({out})" if sign < 0 else out
 
     def _print(self, e: sp.Expr) -> str:
         if e.is_Symbol:

@@ -31,6 +31,7 @@ __all__ = [
     "mpfr_build_flags",
     "UNROLLED_CFLAGS",
     "UNROLLED_CFLAGS_MAX_BYTES",
+    "UNROLLED_MAX_BYTES",
     "unrolled_cflags",
 ]
 
@@ -185,6 +186,13 @@ UNROLLED_CFLAGS = ("-fschedule-insns", "-fsched-pressure")
 #: described ball on a turntable 1.77 MB 16.7 / 105.8 s.
 UNROLLED_CFLAGS_MAX_BYTES = 512_000
 
+#: Written-out sources longer than this (bytes) are not compiled: the loop's library runs
+#: instead (the same bits, a slower step). A large described model's program (a convex body
+#: on a support surface: 916 nodes, 3.1 MB at order 13) took minutes of gcc -O2 (328 s
+#: under load ~4, 2026-11-27) against 11 s for its loop; the built-ins write out at most
+#: 1.1 MB at order 20 (1.6 MB at order 24) and keep their written-out steps.
+UNROLLED_MAX_BYTES = 2_000_000
+
 
 def unrolled_cflags(source: str) -> tuple[str, ...]:
     """The extra flags of a written-out source: :data:`UNROLLED_CFLAGS` up to
@@ -221,7 +229,8 @@ def load_taylor_library(
     orders : sequence of int, optional
         Orders whose coefficients are written out
         (:mod:`chaplygin.derive.emit.taylor_unroll`, from the model's printed Taylor program;
-        double only, the same bits as the loop, faster): one more library per set of orders,
+        double only, the same bits as the loop, faster; not above :data:`UNROLLED_MAX_BYTES`
+        of source): one more library per set of orders,
         compiled once and cached like the others, with pairs of nodes in GNU C vectors; a
         compiler that refuses the vectors gets the written-out scalar code, one that refuses
         that (or a model without a printed program) the library of the loop.
@@ -251,8 +260,8 @@ def load_taylor_library(
             if code.taylor_program is None:
                 break
             written_out = unrolled_source(source, code.taylor_program, unroll, vectors=vectors)
-            if written_out is None:
-                break
+            if written_out is None or len(written_out) > UNROLLED_MAX_BYTES:
+                break  # (too large: the loop, whose compilation takes seconds, not minutes)
             try:
                 flags = (*real.cflags, *unrolled_cflags(written_out))
                 path = _compile_quietly(written_out, ldlibs, flags)

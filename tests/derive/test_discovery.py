@@ -252,3 +252,18 @@ def test_parametric_null_space_matches_sympys_on_a_small_block():
     assert mine.rank() == 2 and sp.Matrix.vstack(mine, reference).rank(simplify=True) == 2
     dependent = {0: dict(sdm[0]), 1: {j: 2 * c for j, c in sdm[0].items()}}
     assert markowitz_null_vectors(dependent, 5, field_) is None
+
+
+def test_a_convex_body_s_omega_is_searched_as_its_state_group():
+    """A convex body's state group is omega itself (no momentum): the default search and
+    momentum="omega" search in that group, and the field, which carries the normal's square
+    root, is refused for that reason (before: "no angular velocity expressed through its
+    momentum", which is not why)."""
+    from chaplygin.derive.rolling_system import RollingSystem
+
+    egg = RollingSystem("egg_discovered", inertia=("A", "B", "C"),
+                        surface="x1**2 + x2**2/2 + x3**2/3 - 1").model()  # fmt: skip
+    for momentum in (None, "omega"):
+        with pytest.raises(UserInputError, match="not a rational function") as info:
+            find_polynomial_integrals(egg, 1, coefficient_degree=1, momentum=momentum)
+        assert "r1" in str(info.value) and "\n" not in str(info.value)  # |grad f(r)|

@@ -365,3 +365,107 @@ def test_ring_sum_of_products_is_sympys_ring_arithmetic():
                 expected += term
             assert ring_sum_of_products(R, products) == expected
         assert ring_sum_of_products(R, []) == R.zero
+
+
+def test_ring_horner_is_the_sum_of_the_products():
+    """ring_horner's sum_j c_j x^j y^(top - j) (Horner's rule in FLINT) against sympy's ring
+    arithmetic term by term, with missing and zero coefficients, y = 1 and top 0."""
+    from chaplygin.derive.algebra import ring_horner
+    from sympy.polys.domains import QQ
+    from sympy.polys.rings import ring
+
+    R, x, y, z = ring("x y z", QQ, order="grevlex")
+    rng = random.Random(8)
+
+    def poly():
+        out = R.zero
+        for _ in range(4):
+            monomial = x ** rng.randint(0, 3) * y ** rng.randint(0, 3) * z ** rng.randint(0, 2)
+            out += QQ(rng.randint(-9, 9), rng.randint(1, 7)) * monomial
+        return out
+
+    for top in (0, 1, 3, 5):
+        for _ in range(4):
+            c = {j: poly() for j in range(top + 1) if rng.random() < 0.7}
+            X, Y = poly(), rng.choice([R.one, poly()])
+            expected = sum((cj * X**j * Y ** (top - j) for j, cj in c.items()), R.zero)
+            assert ring_horner(R, c, X, Y, top) == expected
+
+
+def test_the_rational_function_builder_is_sympys_ring_arithmetic():
+    """The builder's numerators and denominators (multiplied in FLINT) against the same
+    construction in sympy's ring arithmetic (the reference below, the builder's algorithm
+    before FLINT) on random nested fractions; num / prod(f^k) is the expression's value at
+    a rational point, every factor monic; an auxiliary symbol defined on the builder is expanded."""
+    from chaplygin.derive.algebra import RationalFunctionBuilder
+
+    x = sp.symbols("x0:4")
+    builder = RationalFunctionBuilder(x)
+    R = builder.ring
+
+    def reference(e):  # (numerator, {monic factor: power}) in sympy's ring
+        if e in x:
+            return R(e), {}
+        if e.is_Rational:
+            return R(e), {}
+        parts = [reference(a) for a in e.args]
+        if e.is_Add:
+            den = {}
+            for _, d in parts:
+                den.update({f: max(den.get(f, 0), k) for f, k in d.items()})
+            num = sum((n * product((f, k - d.get(f, 0)) for f, k in den.items())
+                       for n, d in parts), R.zero)  # fmt: skip
+            return num, den
+        if e.is_Mul:
+            den = {}
+            for _, d in parts:
+                den.update({f: den.get(f, 0) + k for f, k in d.items()})
+            return product((n, 1) for n, _ in parts), den
+        (n, d), k = parts[0], int(e.exp)
+        if k >= 0:
+            return n**k, {f: j * k for f, j in d.items()}
+        rest = product((f, j * -k) for f, j in d.items())
+        if n.is_ground:
+            return rest.quo_ground(n.LC**-k), {}
+        return rest.quo_ground(n.LC**-k), {n.quo_ground(n.LC): -k}
+
+    def product(powers):
+        out = R.one
+        for f, k in powers:
+            out *= f**k
+        return out
+
+    rng = random.Random(17)
+
+    def fraction(depth):
+        if depth == 0:
+            return rng.choice([*x, sp.Rational(rng.randint(-5, 5), rng.randint(1, 4))])
+        args = [fraction(depth - 1) for _ in range(rng.randint(2, 3))]
+        kind = rng.randrange(4)
+        if kind == 0:
+            return sp.Add(*args, evaluate=False)
+        if kind == 1:
+            return sp.Mul(*args)
+        return sp.Pow(sp.Add(*args), rng.choice([-2, -1, 2]))
+
+    checked = 0
+    while checked < 40:
+        e = fraction(2) + fraction(2) / fraction(1)
+        if not (e.is_Add or e.is_Mul or e.is_Pow) or e.has(sp.zoo, sp.nan):
+            continue
+        try:
+            expected = reference(e)
+        except ZeroDivisionError:
+            continue
+        num, den = builder.convert(e)
+        assert (num, den) == expected, e
+        assert all(f.LC == 1 for f in den)
+        at = {s: sp.Rational(rng.randint(-9, 9), rng.randint(1, 9)) for s in x}
+        value = e.xreplace(at).doit()
+        if value.is_finite:  # the expression at a rational point, its fraction's value
+            dens = [f.as_expr().xreplace(at) ** k for f, k in den.items()]
+            assert num.as_expr().xreplace(at) == value * sp.Mul(*dens)
+        checked += 1
+    a = sp.Symbol("a")
+    builder.define(a, 1 / (x[0] + 2 * x[1]))
+    assert builder.convert(a**2 * x[2]) == (R(x[2]), {R(x[0]) + 2 * R(x[1]): 2})

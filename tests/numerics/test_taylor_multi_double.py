@@ -14,9 +14,12 @@ step summed over the steps for solutions (the rule of ``test_input_precision.py`
 
 from __future__ import annotations
 
+import re
+
 import gmpy2
 import mpmath
 import pytest
+import sympy as sp
 from chaplygin.numerics import integrate, load_model_code
 from chaplygin.numerics.inputs import Precision, pack_state
 from chaplygin.numerics.taylor import (
@@ -317,3 +320,26 @@ def test_hardware_fma_gives_the_bits_of_dekkers_product():
         coefficients = [lib.coefficients(20, span[0], y, p) for lib in libs]
     assert runs[0].nsteps == runs[1].nsteps > 1
     assert np.array_equal(runs[0].y, runs[1].y) and coefficients[0] == coefficients[1]
+
+
+@pytest.mark.parametrize("value", ["19631876950440000/7", "-3**70/(2**60 + 1)", "-2**53 - 1"])
+def test_integers_wider_than_a_double_are_printed_exactly(value):
+    """A constant of the Taylor program whose numerator or denominator is wider than 2^53
+    (decimal inputs multiplied out make them): printed in digits of 2^48, the macro
+    expression evaluated with exact rational arithmetic is the constant itself (each
+    digit and scaling exact; the working precision rounds only the sums)."""
+    from fractions import Fraction
+
+    from chaplygin.derive.emit.taylor_c import _TaylorMacroPrinter
+
+    rational = sp.Rational(sp.sympify(value))
+    text = _TaylorMacroPrinter({}).doprint(rational)
+    assert "R_INT(" in text and all(
+        abs(int(n)) <= 2**53 for n in re.findall(r"R_INT\((-?\d+)\)", text)
+    )
+    exact = {
+        "R_INT": Fraction, "R_ADD": lambda a, b: a + b, "R_SUB": lambda a, b: a - b,
+        "R_MUL": lambda a, b: a * b, "R_DIV": lambda a, b: a / b, "R_NEG": lambda a: -a,
+    }  # fmt: skip
+    got = eval(text, {"__builtins__": {}}, exact)  # our own printer's output, not user text
+    assert got == Fraction(int(rational.p), int(rational.q))

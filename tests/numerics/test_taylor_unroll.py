@@ -332,3 +332,23 @@ def test_the_scheduling_flags_only_where_the_scheduler_is_quick():
     ball = load_model_code("chaplygin_ball")
     written = unrolled_source(ball.taylor_c_source, ball.taylor_program, (20,))
     assert unrolled_cflags(written) == UNROLLED_CFLAGS
+
+
+def test_a_written_out_source_above_the_limit_runs_the_loop(monkeypatch):
+    """Above UNROLLED_MAX_BYTES the written-out source is not compiled (a large described
+    model's took minutes of gcc): the orders run the loop's library, with the loop's bits;
+    at the limit it is written out."""
+    code = load_model_code("chaplygin_ball", ())
+    size = len(unrolled_source(taylor_library.taylor_source(code.taylor_c_source, "double"),
+                               code.taylor_program, (12,)))  # fmt: skip
+    loop = load_taylor_library(code, "double")
+    monkeypatch.setattr(taylor_library, "_LIBS", {})
+    monkeypatch.setattr(taylor_library, "UNROLLED_MAX_BYTES", size - 1)
+    assert load_taylor_library(code, "double", (12,)) is load_taylor_library(code, "double")
+    monkeypatch.setattr(taylor_library, "_LIBS", {})
+    monkeypatch.setattr(taylor_library, "UNROLLED_MAX_BYTES", size)
+    written = load_taylor_library(code, "double", (12,))
+    assert written is not load_taylor_library(code, "double")
+    y, p = _point(code, 5)
+    assert np.array_equal(_bits(written.coefficients(12, 0.3, y, p)),
+                          _bits(loop.coefficients(12, 0.3, y, p)))

@@ -182,16 +182,37 @@ class SceneResult:
         y = self.y
         if "x" not in y and "alpha1" in y and "zeta1" in y:  # on a fixed sphere
             system = self.scene._described.rolling_system()  # (only a description has it)
-            R = system._parsed["support_radius"]
-            R = float(R.xreplace({s: self.resolved.params[s.name] for s in R.free_symbols}))
-            gamma = np.array([y[f"gamma{i}"] for i in (1, 2, 3)])
-            gamma = gamma * (-R if system.side == "inside" else R)  # inside: at -R gamma
+            R = self._value(system._parsed["support_radius"])
+            normal = self._sphere_normal(system) * (-R if system.side == "inside" else R)
             axes = [np.array([y[f"{n}{i}"] for i in (1, 2, 3)]) for n in ("alpha", "beta", "zeta")]
-            points = np.array([(gamma * a).sum(axis=0) for a in axes])
+            points = np.array([(normal * a).sum(axis=0) for a in axes])  # inside: at -R n
             return sphere_trace_figure(points, R, self._title())
         spec = self.scene.outputs.contact_trace
         aspect = spec.aspect if spec is not None else "equal"
         return contact_trace_figure(y["x"], y["y"], self._title(), aspect)
+
+    def _value(self, expr: Any) -> float:
+        """A description's expression at the run's parameter values."""
+        params = self.resolved.params
+        return float(expr.xreplace({s: params[s.name] for s in expr.free_symbols}))
+
+    def _sphere_normal(self, system: Any) -> np.ndarray:
+        """The sphere's unit normal at the contact along the run, body axes: ``gamma`` of a
+        spherical body, ``-grad f(r)/|grad f(r)|`` of a convex one."""
+        y = self.y
+        if "gamma1" in y:
+            return np.array([y[f"gamma{i}"] for i in (1, 2, 3)])
+        import sympy as sp
+
+        surface = system._parsed["surface"]
+        r = sp.symbols("r1:4", real=True)
+        params = self.resolved.params
+        grad = [sp.diff(surface, x) for x in r]
+        grad = [g.xreplace({s: params[s.name] for s in g.free_symbols if s.name in params})
+                for g in grad]  # fmt: skip
+        at = sp.lambdify(r, grad, modules="numpy")(*(np.asarray(y[f"r{i}"]) for i in (1, 2, 3)))
+        grad = np.array([np.broadcast_to(np.asarray(g, float), np.shape(y["r1"])) for g in at])
+        return -grad / np.linalg.norm(grad, axis=0)
 
     def body_trace_figure(self) -> Figure:
         """The contact point on the body's surface, in the body frame: ``-b gamma`` on a
