@@ -116,8 +116,9 @@ class PlaneMotion:
     no_twist : bool
         Rubber rolling: ``(omega, n) = Omega``.
     along_line : bool
-        Rolling along the fixed line ``alpha`` of the plane: ``(omega, alpha) = 0`` (BKM12-57's
-        constraint; the fixed axes ``alpha, beta`` join the configuration).
+        Rolling along the line ``alpha`` of the plane: ``(omega, alpha) = 0`` (BKM12-57's
+        constraint; the axes ``alpha, beta`` join the configuration: fixed in space, or on a
+        rotating plane carried by it, ``X' = X x omega + Omega n x X``).
     """
 
     rotation_rate: sp.Expr = sp.S.Zero
@@ -160,7 +161,8 @@ class PlaneMotion:
         On a rotating plane the contact point's position from the axis ``rho`` joins:
         the contact point moves in space at ``v + r' + omega x r`` = ``Omega n x rho + r'``
         (no slip), so ``rho' = Omega n x rho + r' + rho x omega``; on a moving plane the
-        fixed axes ``alpha, beta`` (``X' = X x omega``).
+        fixed axes ``alpha, beta`` (``X' = X x omega``); along a line its axes ``alpha,
+        beta`` (on a rotating plane carried: ``X' = X x omega + Omega n x X``).
 
         Parameters
         ----------
@@ -181,11 +183,11 @@ class PlaneMotion:
             carried += self.rotation_rate * cross(n, rho)
             kinematics["rho"] = (rho, carried + r_dot + cross(rho, omega))
         moving = self.velocity is not None and not self.velocity.is_zero_matrix
-        if moving or self.along_line:  # the fixed axes (X' = X x omega)
+        if moving or self.along_line:  # the fixed axes (X' = X x omega), or the line's
             velocity = self.velocity if moving else sp.zeros(2, 1)
             for name, V in zip(("alpha", "beta"), velocity, strict=True):
-                X = vector(name, real=True)
-                kinematics[name] = (X, cross(X, omega))
+                X = vector(name, real=True)  # a turntable's line turns at Omega n x X too
+                kinematics[name] = (X, cross(X, omega) + self.rotation_rate * cross(n, X))
                 carried += V * X
         return kinematics, carried
 
@@ -199,8 +201,9 @@ class PlaneMotion:
     ) -> sp.Expr | None:
         """The energy in the frame turning with the plane, ``E - Omega (n, L_O)`` (``E`` with
         the potential ``V(n)``), for a constant ``Omega`` (``L_O`` the angular momentum
-        about the axis: ``I omega + K + m (rho - r) x v``); None on a moving plane or for
-        ``Omega(t)``.
+        about the axis: ``I omega + K + m (rho - r) x v``); None on a moving plane, for
+        ``Omega(t)`` and along a line (it holds on ``(omega, alpha) = 0``, but the line's
+        reaction does work off that level of the state ``omega``).
 
         Parameters
         ----------
@@ -216,6 +219,8 @@ class PlaneMotion:
         """
         Omega, t = self.rotation_rate, sp.Symbol("t", real=True)
         if Omega == 0 or Omega.has(t) or (self.velocity is not None and any(self.velocity)):
+            return None
+        if self.along_line:  # J holds on (omega, alpha) = 0 only: not a relation of this state
             return None
         K = sp.zeros(3, 1) if gyrostat is None else gyrostat
         # the potential of the orientation to the vertical: the turning keeps it

@@ -19,13 +19,13 @@ import sympy as sp
 
 from .ball_on_support import SupportSurfaceReduction
 from .ball_on_support_general import AUX_NAMES, general_ball_description
-from .body_on_sphere import BodyOnSphereReduction, PlaneMotion, outer_normal
+from .body_on_sphere import BodyOnSphereReduction, PlaneMotion, outer_normal, turning_frame_energy
 from .body_on_support import BODY_AUX_NAMES, aligned_sampler, body_on_support_description
 from .description import MechanicalDescription, apply_effects
 from .errors import UserInputError
 from .expression_text import parse_expression
 from .model import ParameterSpec
-from .vectors import dot, vector
+from .vectors import cross, dot, vector
 
 if TYPE_CHECKING:
     from .rolling_system import RollingSystem
@@ -88,7 +88,10 @@ def _convex_body_description(
         desc.add_state("rho", tuple(rho), None)
         grad = [sp.diff(p["surface"], x) for x in r]
         desc.add_invariant_relation("(rho,gamma)", sp.expand(dot(rho, sp.Matrix(grad))))
-    if s.support == "moving_plane" or line:
+    if line and s.support == "rotating_plane":  # the turntable's line: its rates derived
+        for name in ("alpha", "beta"):
+            desc.add_state(name, tuple(vector(name, real=True)), None)
+    elif s.support == "moving_plane" or line:
         desc.add_frame()  # the fixed axes the plane's velocity or the line is given along
     if s.support != "sphere":
         n = outer_normal(p["surface"], r)
@@ -276,12 +279,12 @@ def _read_surface(s: RollingSystem, scope: dict, centre: sp.Matrix) -> sp.Expr |
     if s.surface is None:
         return None
     planes = ("plane", "rotating_plane", "moving_plane")
-    line = s.contact == "line" and s.support in ("plane", "moving_plane")
+    line = s.contact == "line" and s.support in planes
     if s.support not in (*planes, "sphere", "surface") or (s.contact == "line" and not line):
         raise UserInputError(
             "a convex body (surface) is derived rolling or rubber rolling on a plane (fixed, "
             "rotating or moving), a fixed sphere or a support surface, and along a line on a "
-            f"fixed or moving plane, only in this version, not with support {s.support!r}, "
+            f"plane, only in this version, not with support {s.support!r}, "
             f"contact {s.contact!r}"
         )
     x = {f"x{i}": sp.Symbol(f"x{i}", real=True) for i in (1, 2, 3)}
@@ -364,3 +367,39 @@ def _normal_rate_factor(s: RollingSystem, parsed: dict) -> sp.Expr:
         return sp.S.One
     R, b = parsed["support_radius"], parsed["radius"]
     return R / (R + b) if s.side == "outside" else R / (R - b)
+
+
+def _line_frame(desc: MechanicalDescription, Omega: sp.Expr) -> None:
+    """The frame ``alpha, beta`` of the line a spherical body rolls along (``(omega, alpha)
+    = 0``), with its completion: fixed in space (Poisson's ``X' = X x omega``) or carried by
+    a plane turning at ``Omega`` about the vertical ``gamma`` (a horizontal vector turning
+    in space at ``Omega N.z x X`` has, in body axes, ``X' = X x omega + Omega gamma x
+    X``)."""
+    gamma = desc.vectors["gamma"]
+    for name in ("alpha", "beta"):
+        if name not in desc.kinematics:  # (a moving plane's fixed axes: there already)
+            X = vector(name, real=True)
+            rate = cross(X, desc.omega) + Omega * cross(gamma, X)
+            desc.add_kinematics(name, X, rate)
+            desc.add_state(name, tuple(X), list(rate))
+    desc.add_completion(("alpha", "beta"), "frame_bkm12_7")
+
+
+def _jacobi_integral(s: RollingSystem, desc: MechanicalDescription) -> None:
+    """On a plane turning at a constant rate (rolling, rubber or along the carried line: the
+    no-twist reaction does no work in the turning frame on ``(omega, gamma) = Omega``, the
+    line's on ``(omega, alpha) = 0``, relations of the state; nothing prescribed in time): the
+    energy in the turning frame ``J = E - Omega (gamma, I omega + K + m (rho - r) x v)``
+    with ``r = -a - b gamma`` and ``v = r x omega + Omega gamma x rho`` (the no-slip
+    constraint is homogeneous in the turning frame's velocities), in ``omega`` (the model's
+    ``omega(M)``), ``gamma`` and ``rho``."""
+    p, t = s._parsed, desc.time
+    Omega = p["rotation_rate"]
+    timed = p["inertia"].has(t) or p["rotor_momentum"].has(t)
+    if s.support != "rotating_plane" or Omega.has(t) or timed:
+        return
+    gamma = desc.vectors["gamma"]
+    r = -p["centre"] - p["radius"] * gamma
+    J = turning_frame_energy(p["inertia"], p["mass"], p["rotor_momentum"], desc.omega, r, gamma,
+                             Omega, desc.potential)  # fmt: skip
+    desc.add_integral("J", sp.expand(J))

@@ -86,11 +86,22 @@ along the motion, ``n' = n x omega - k r'``. The effect ``contact_point`` adds t
 frame ``alpha, beta, zeta`` (``zeta`` given): the contact point is ``+-R ((n, alpha), (n,
 beta), (n, zeta))`` from the sphere's centre.
 
-Rolling along the fixed line ``alpha`` (``contact="line"``, ``(omega, alpha) = 0``) is
-derived on a fixed plane and on a moving one (a translated plane keeps the line in space),
-for a spherical or a convex body. Every other support, contact and surface the issue lists
-(a line on a turning plane or a sphere) is refused with a message that says so — before any
-work.
+Rolling along a line ``alpha`` of the plane (``contact="line"``, ``(omega, alpha) = 0``,
+BKM12-57's constraint) is derived on every plane, for a spherical or a convex body. On a
+fixed or a moving plane the line is fixed in space (a translated plane keeps it): ``alpha,
+beta`` are Poisson vectors. A rotating plane carries it: a horizontal vector turning at
+``Omega`` about the vertical has, in body axes, ``alpha' = alpha x omega + Omega gamma x
+alpha`` (``beta`` likewise), and the body does not spin about the line relative to the
+plane, ``(omega - Omega gamma, alpha) = (omega, alpha) = 0`` (``alpha`` is horizontal);
+``Omega`` constant or of ``t``. Shipped there: the constraint ``(omega,alpha)`` and
+``(rho,gamma)`` (zero on the phase space), the frame's relations; no energy (the plane does
+work); at a constant rate a spherical body's ``J`` (the line's reaction does no work in the
+turning frame on ``(omega, alpha) = 0``, a relation of its momentum; a convex body's ``J``
+holds there too, but its ``omega`` is state and off that level ``J`` changes: not shipped).
+The contact trace is not taken there (its space-fixed axes are not the carried ``alpha,
+beta``): ``(rho, alpha), (rho, beta)`` are the contact's place in the plane's frame.
+A line on a sphere, and every other support, contact and surface the issue lists, is
+refused with a message that says so — before any work.
 
 Every text a user types is read by :func:`~.expression_text.parse_expression` (no ``eval``);
 the checks of :meth:`RollingSystem.__post_init__` run before anything is derived: a singular
@@ -108,7 +119,6 @@ from typing import Any
 
 import sympy as sp
 
-from .body_on_sphere import turning_frame_energy
 from .description import MechanicalDescription, apply_effects, form_model
 from .effects import parse_effects
 from .errors import UserInputError
@@ -122,6 +132,8 @@ from .rolling_surfaces import (
     SUPPORT_CONFIGURATION,
     _convex_body_description,
     _declare_parameters,
+    _jacobi_integral,
+    _line_frame,
     _normal_rate_factor,
     _read_support_surface,
     _read_surface,
@@ -255,9 +267,10 @@ class RollingSystem:
         fixed-frame components ``e1_1 .. e3_3``.
     contact : {"rolling", "rubber", "line"}
         Rolling without slipping, without slipping and twisting (``(omega, gamma) =
-        0``), or without slipping along the fixed line ``alpha`` (``(omega, alpha) = 0``,
-        the effect ``straight_line``: the frame ``alpha, beta`` joins the state; a rubber
-        body on a line is ``contact="rubber"`` with the effect).
+        0``), or without slipping along the line ``alpha`` (``(omega, alpha) = 0``, the
+        effect ``straight_line``: the frame ``alpha, beta`` joins the state, fixed in space
+        or, on a rotating plane, carried by it; a rubber body on a line is
+        ``contact="rubber"`` with the effect).
     support : {"plane", "rotating_plane", "moving_plane", "sphere", "surface"}
         The fixed horizontal plane, a horizontal plane rotating about a vertical axis or
         moving horizontally, a fixed sphere, or a fixed support surface (``support_surface``).
@@ -343,7 +356,10 @@ class RollingSystem:
     def effects_taken(self) -> tuple[str, ...]:
         """The effects this description takes (:data:`SUPPORTED_EFFECTS` on a fixed
         plane; the contact trace on a moving plane or a fixed sphere and for a convex body
-        there; none on a support surface)."""
+        there; none on a support surface, nor along the line a turntable carries: its frame
+        is the state's ``alpha, beta``)."""
+        if self.contact == "line" and self.support == "rotating_plane":
+            return ()
         if self._parsed["surface"] is not None:  # the trace on a plane or a fixed sphere
             return () if self.support == "surface" else ("contact_point",)
         if self.contact == "line":
@@ -488,9 +504,8 @@ class RollingSystem:
             support_velocity = V[0] * desc.vectors["alpha"] + V[1] * desc.vectors["beta"]
         for c in v + cross(omega, desc.contact_vector) - support_velocity:
             desc.add_constraint(c)
-        if self.contact == "line":  # along the fixed line alpha (BKM12-57's constraint)
-            desc.add_frame()
-            desc.add_completion(("alpha", "beta"), "frame_bkm12_7")
+        if self.contact == "line":  # along the line alpha (BKM12-57), a turntable's: carried
+            _line_frame(desc, p["rotation_rate"])
         # no twist about gamma (relative to the plane: a turntable turns at Omega about
         # gamma), no spin about alpha
         for along in _NO_SPIN_ABOUT[self.contact]:
@@ -516,25 +531,6 @@ class RollingSystem:
         Model
         """
         return form_model(self.mechanical_description(effects))
-
-
-def _jacobi_integral(s: RollingSystem, desc: MechanicalDescription) -> None:
-    """On a plane turning at a constant rate (rolling or rubber: the no-twist reaction does
-    no work in the turning frame on ``(omega, gamma) = Omega``; nothing prescribed in time): the
-    energy in the turning frame ``J = E - Omega (gamma, I omega + K + m (rho - r) x v)``
-    with ``r = -a - b gamma`` and ``v = r x omega + Omega gamma x rho`` (the no-slip
-    constraint is homogeneous in the turning frame's velocities), in ``omega`` (the model's
-    ``omega(M)``), ``gamma`` and ``rho``."""
-    p, t = s._parsed, desc.time
-    Omega = p["rotation_rate"]
-    timed = p["inertia"].has(t) or p["rotor_momentum"].has(t)
-    if s.support != "rotating_plane" or Omega.has(t) or timed or s.contact == "line":
-        return
-    gamma = desc.vectors["gamma"]
-    r = -p["centre"] - p["radius"] * gamma
-    J = turning_frame_energy(p["inertia"], p["mass"], p["rotor_momentum"], desc.omega, r, gamma,
-                             Omega, desc.potential)  # fmt: skip
-    desc.add_integral("J", sp.expand(J))
 
 
 def _potential_energy(s: RollingSystem, desc: MechanicalDescription) -> sp.Expr:
@@ -678,8 +674,7 @@ def _check_rotation(s: RollingSystem, read) -> sp.Expr:
 
 def _moving_support(s: RollingSystem, support: str, key: str, meaning: str) -> bool:
     """Whether ``s`` rolls on ``support``, a plane moving by the law given as ``key``:
-    the law is refused on another support and required on this one; along a line only on
-    a moving plane (translated: the line stays one in space), not on a turning one."""
+    the law is refused on another support and required on this one."""
     value = getattr(s, key)
     if s.support != support:
         if value is not None:
@@ -687,11 +682,6 @@ def _moving_support(s: RollingSystem, support: str, key: str, meaning: str) -> b
         return False
     if value is None:
         raise UserInputError(f"support {support!r} needs {key} ({meaning})")
-    if s.contact == "line" and support != "moving_plane":  # a line fixed in space stays one
-        raise UserInputError(
-            f"contact {s.contact!r} on a {support.replace('_', ' ')} is not derived by this "
-            "version (rolling and rubber rolling are)"
-        )
     return True
 
 
@@ -795,4 +785,3 @@ def _principal_symbols(inertia: sp.Matrix) -> tuple[sp.Symbol, ...]:
         if len(set(diagonal)) == 3:
             return tuple(diagonal)
     return ()
-

@@ -31,6 +31,7 @@ __all__ = [
     "potential_loads",
     "rigid_bodies",
     "solve_speeds",
+    "support_line",
     "support_loads",
 ]
 
@@ -244,9 +245,46 @@ def _mpmath_function(args: tuple, expr: Any, extra: Sequence = ()) -> Callable:
     return sp.lambdify((*args, *extra), expr, modules="mpmath", cse=True)
 
 
+def support_line(
+    N: me.ReferenceFrame, Omega: sp.Expr, carried: bool = True
+) -> tuple[me.Vector, Callable[[Any], Any]]:
+    """The line a body rolls along (``contact="line"``) and what completes Kane's
+    expressions once formed: ``N.x`` on a fixed or shaken plane; on a turntable (``Omega``
+    not zero) the line it carries, along ``N.x + tan(theta) N.y`` with the angle ``theta(t)``
+    a function of time — sympy differentiates the constraint with it —, then ``theta' =
+    Omega`` and ``theta = 0`` put in: the line is ``N.x`` at the compared instant, turning
+    at ``Omega N.y`` (the vector and its rate are the unit direction's there; scaled so,
+    ``u1``'s coefficient in the constraint is 1, as on a fixed plane, and sympy's solve of
+    the constraints pivots on it). ``carried=False`` holds it fixed in space: a control.
+
+    Parameters
+    ----------
+    N : sympy.physics.mechanics.ReferenceFrame
+        The fixed frame (``N.z`` up).
+    Omega : sympy.Expr
+        The turntable's rate (of Kane's time), or 0.
+    carried : bool
+        Whether the turntable carries the line.
+
+    Returns
+    -------
+    direction : sympy.physics.mechanics.Vector
+    settle : callable
+        Puts ``theta'`` and ``theta`` in a sympy expression or matrix.
+    """
+    if Omega == 0 or not carried:
+        return N.x, lambda e: e
+    t = me.dynamicsymbols._t
+    theta = me.dynamicsymbols("theta_line")
+    rate = {theta.diff(t): Omega}
+    return N.x + sp.tan(theta) * N.y, (
+        lambda e: sp.sympify(e).xreplace(rate).xreplace({theta: 0})
+    )
+
+
 def form_with_placeholders(
     N: me.ReferenceFrame, q: list, speeds: tuple[list, list], kd: list, constraints: list,
-    bodies: list, loads: list,
+    bodies: list, loads: list, settle: Callable[[Any], Any] = lambda e: e,
 ) -> PlaceholderKane:  # fmt: skip
     """Kane's equations with the constraint solver handed placeholders ``X`` (``X_i_j``,
     dependent by independent) for ``B_dep^-1 B_ind`` (filled numerically by
@@ -266,6 +304,8 @@ def form_with_placeholders(
         The velocity constraints (their coordinates' rates are mapped to the speeds).
     bodies, loads : list
         For ``kanes_equations``.
+    settle : callable, optional
+        Applied to the formed matrices (:func:`support_line`'s: a turntable's line).
 
     Returns
     -------
@@ -284,9 +324,9 @@ def form_with_placeholders(
     flat = list(X)
     return PlaceholderKane(
         kane, [str(s.func) for s in u], X.rows,
-        (_mpmath_function(args, A), _mpmath_function(args, b)),
-        _mpmath_function(args, kane.mass_matrix, (flat,)),
-        _mpmath_function(args, kane.forcing, (flat,)), args,
+        (_mpmath_function(args, settle(A)), _mpmath_function(args, settle(b))),
+        _mpmath_function(args, settle(kane.mass_matrix), (flat,)),
+        _mpmath_function(args, settle(kane.forcing), (flat,)), args,
     )  # fmt: skip
 
 

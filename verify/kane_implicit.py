@@ -20,6 +20,8 @@ no formula with the Lagrange–d'Alembert engine (:mod:`chaplygin.derive.body_on
   two tangents ``N.x, N.y`` (plane) or ``de_r/dx, de_r/dy`` (sphere), body components.
   (``f(r) = 0`` is kept by the normal component of no slip.) No twist (``"rubber"``):
   ``(omega, n) = Omega`` with ``u3`` dependent, ``n`` the support's normal into the body.
+  Along a line: no spin about it with ``u1`` dependent (``N.x``, on a turntable the line it
+  carries, :func:`~.kane_common.support_line`).
 * loads: gravity ``-m g N.z`` at ``G``; a potential ``V(gamma, zeta)`` of the normal
   ``gamma = n`` and the vertical ``zeta = N.z`` (body axes) written as a function of the
   coordinates and applied as the generalised force ``-dV/dq_j`` (two massless points
@@ -46,7 +48,7 @@ from ..derive.model import Model
 from ..derive.rolling_system import RollingSystem
 from ..derive.vectors import vector
 from . import kane_common as common
-from .kane_common import DIGITS, KaneComparison, placement, rigid_bodies
+from .kane_common import DIGITS, KaneComparison, placement, rigid_bodies, support_line
 
 __all__ = ["compare_implicit", "contact_on_ray", "interior_point", "places_contacts"]
 
@@ -167,7 +169,9 @@ def places_contacts(surface: sp.Expr) -> bool:
 class _KaneImplicit:
     """Kane's equations of the convex body with its contact point as coordinates."""
 
-    def __init__(self, system: RollingSystem, pvals: Mapping[sp.Symbol, sp.Expr]) -> None:
+    def __init__(
+        self, system: RollingSystem, pvals: Mapping[sp.Symbol, sp.Expr], line_carried: bool = True
+    ) -> None:
         p, sub = system._parsed, _by_name(system, pvals)
         t = me.dynamicsymbols._t
         now = {sp.Symbol("t", real=True): t, **sub}
@@ -203,8 +207,10 @@ class _KaneImplicit:
         if system.contact == "rubber":  # no twist relative to the support
             constraints.append(B.ang_vel_in(N).dot(normal) - Omega)
             dependent = [u[2], *dependent]
-        if system.contact == "line":  # along the fixed line N.x: (omega, N.x) = 0
-            constraints.append(B.ang_vel_in(N).dot(N.x))
+        turning = Omega if system.contact == "line" else sp.S.Zero
+        line, settle = support_line(N, turning, line_carried)  # N.x, or a turntable's
+        if system.contact == "line":  # along the line: (omega, line) = 0
+            constraints.append(B.ang_vel_in(N).dot(line))
             dependent = [u[0], *dependent]
         independent = [s for s in u if s not in dependent]
         bodies = rigid_bodies(p, sub, (N, B), G, t)
@@ -214,21 +220,24 @@ class _KaneImplicit:
             loads.append((G, -bodies[0].mass * field * N.z))
         loads += self._potential(p["potential"].xreplace(sub), (N, B), q, u, normal, euler)
         self._kane = common.form_with_placeholders(
-            N, q, (independent, dependent), kd, constraints, bodies, loads
+            N, q, (independent, dependent), kd, constraints, bodies, loads, settle
         )
-        self._lambdify((N, B), (P, S, bodies), t)
+        self._lambdify((N, B), (P, S, bodies), t, (line, settle))
 
-    def _lambdify(self, frames, places, t) -> None:
-        """The further numeric functions of ``(q, u, t)`` :meth:`at` evaluates."""
+    def _lambdify(self, frames, places, t, line) -> None:
+        """The further numeric functions of ``(q, u, t)`` :meth:`at` evaluates (``line``:
+        the line's direction and what settles its angle, :func:`~.kane_common.support_line`)."""
         N, B = frames
         P, S, bodies = places
         in_B = lambda v: sp.Matrix([v.dot(B.x), v.dot(B.y), v.dot(B.z)])  # noqa: E731
         fn, kdmap = self._kane.lambdify, self._kane.method.kindiffdict()
         H = sum((body.angular_momentum(P, N) for body in bodies), me.Vector(0))
-        self._momentum = fn(in_B(H))
+        line, settle = line
+        self._momentum = fn(settle(in_B(H)))
         self._C = fn(sp.Matrix(3, 3, lambda i, j: (B.x, B.y, B.z)[i].dot((N.x, N.y, N.z)[j])))
-        carried = {"rho": in_B(S), "alpha": in_B(N.x), "beta": in_B(N.y), "zeta": in_B(N.z)}
-        self._rates = {n: fn(v.diff(t).xreplace(kdmap)) for n, v in carried.items()}
+        carried = {"rho": in_B(S), "alpha": in_B(line), "beta": in_B(N.z.cross(line)),
+                   "zeta": in_B(N.z)}  # fmt: skip
+        self._rates = {n: fn(settle(v.diff(t).xreplace(kdmap))) for n, v in carried.items()}
 
     def _potential(self, V: sp.Expr, frames, q, u, normal, euler) -> list:
         """``V(gamma, zeta)`` as a function of the coordinates, applied as ``-dV/dq_j``: at a
@@ -266,6 +275,7 @@ def compare_implicit(
     model: Model,
     pvals: Mapping[sp.Symbol, sp.Expr],
     momenta: Sequence[Sequence[object]],
+    line_carried: bool = True,
 ) -> KaneComparison:
     """The model's rates against Kane's at the contact points of the directions ``-g``,
     ``g`` in :data:`~.kane_common.RATIONAL_UNIT_VECTORS`, at the time
@@ -286,15 +296,19 @@ def compare_implicit(
     momenta : sequence of 3 numbers
         Angular velocities (body components), each paired with each contact point; with
         ``"rubber"`` moved onto ``(omega, n) = Omega``.
+    line_carried : bool
+        Along a line on a turntable: Kane's line turns with it (False: held fixed in
+        space, a control).
 
     Returns
     -------
     KaneComparison
     """
-    key = (system.fingerprint(), tuple(sorted((s.name, v) for s, v in pvals.items())))
+    values = tuple(sorted((s.name, v) for s, v in pvals.items()))
+    key = (system.fingerprint(), line_carried, values)
     kane = _FORMED.get(key)
     if kane is None:  # forming Kane's equations is the cost: once per system and values
-        kane = _FORMED[key] = _KaneImplicit(system, pvals)
+        kane = _FORMED[key] = _KaneImplicit(system, pvals, line_carried)
     groups = dict(model.state_groups)
     time = sp.Symbol("t", real=True)
     index = {s: list(model.state).index(s) for s in model.state}

@@ -16,7 +16,8 @@ that derived its model:
   the body point at the contact ``P`` has zero tangential velocity (``u4, u5``
   dependent) — on a rotating plane the plane's velocity there, ``Omega N.z x (x N.x + y
   N.y)`` (affine constraints). No twist (``"rubber"``): ``u3 = 0`` as a third velocity
-  constraint.
+  constraint. Along a line: no spin about it, ``u1`` dependent — the line ``N.x``, on a
+  turntable the line it carries (:func:`~.kane_common.support_line`).
 * Loads: gravity ``-m g N.z`` at ``G``; a potential of the orientation as the torque
   ``gamma x dV/dgamma`` on ``B`` (the one place a formula is shared: the torque of a
   potential); a gyrostatic momentum ``K`` (constant or prescribed ``K(t)``) as real
@@ -56,6 +57,7 @@ from .kane_common import (
     model_rates,
     placement,
     rigid_bodies,
+    support_line,
 )
 from .kane_euler import euler_rates
 from .kane_implicit import compare_implicit
@@ -88,6 +90,7 @@ def kane_compare(
     momenta: Sequence[Sequence[object]] = (
         (sp.Rational(3, 10), sp.Rational(-7, 10), sp.Rational(11, 10)),
     ),
+    line_carried: bool = True,
 ) -> KaneComparison:
     """Compare ``model`` (derived from ``system``) with Kane's method.
 
@@ -107,6 +110,9 @@ def kane_compare(
         A convex body without a closed-form contact (:mod:`.kane_implicit`): the angular
         velocity's body components, each paired with the contact points of the rays along
         ``-g``, ``g`` in :data:`RATIONAL_UNIT_VECTORS`.
+    line_carried : bool
+        Along a line on a turntable: Kane's line turns with it (False: Kane's is held fixed
+        in space, a control the model should fail).
 
     Returns
     -------
@@ -119,13 +125,14 @@ def kane_compare(
         count, acc, rate = compare(system, model, pvals, momenta, DIGITS, _relative)
         return KaneComparison(count, acc, 0.0, rate, tolerance)  # no momentum state there
     if system._parsed["surface"] is not None and not _closed_form(system, pvals):
-        return compare_implicit(system, model, pvals, momenta)
-    # along the fixed line N.x (a convex body's model has no relation for it: its omega is state)
+        return compare_implicit(system, model, pvals, momenta, line_carried)
+    # along a line (a convex body's model has no relation for it: its omega is state)
     line = system.contact == "line" or "(omega,alpha)" in dict(model.invariant_relations)
-    key = (system.fingerprint(), line, tuple(sorted((s.name, v) for s, v in pvals.items())))
+    values = tuple(sorted((s.name, v) for s, v in pvals.items()))
+    key = (system.fingerprint(), line, line_carried, values)
     kane = _KANE.get(key)
     if kane is None:  # forming Kane's equations is the cost (seconds): once per point
-        kane = _KANE[key] = _KaneRolling(system, pvals, line)
+        kane = _KANE[key] = _KaneRolling(system, pvals, line, line_carried)
     if system._parsed["surface"] is not None:
         return _compare_convex(system, model, kane, pvals, momenta)
     omega_of_x = model.expand_aux(model.omega).xreplace(pvals)
@@ -142,7 +149,8 @@ def kane_compare(
     # also the carried contact's m r x (Omega gamma x rho))
     P0 = model.details.gyrostatic_momentum.xreplace(pvals)
     g = sp.Matrix(model.group("gamma"))
-    rate_groups = ["gamma"] + [n for n in ("rho", "zeta") if n in dict(model.state_groups)]
+    rate_groups = ["gamma"] + [n for n in ("rho", "zeta", "alpha", "beta")
+                               if n in dict(model.state_groups)]  # fmt: skip
     at_group = {n: [list(model.state).index(s) for s in model.group(n)] for n in rate_groups}
     groups = dict(model.state_groups)
     time = sp.Symbol("t", real=True)
@@ -251,7 +259,7 @@ def _compare_convex(system, model, kane, pvals, momenta) -> KaneComparison:
     omega, r = sp.Matrix(groups["omega"]), sp.Matrix(groups["r"])
     time = sp.Symbol("t", real=True)
     laws = (*model.rhs, *(e for _, e in model.aux))
-    compared = [n for n in ("omega", "r", "rho") if n in groups]
+    compared = [n for n in ("omega", "r", "rho", "alpha", "beta") if n in groups]
     index = {s: list(model.state).index(s) for n in compared for s in groups[n]}
     momentum = model.details.equations.reduced.momentum.xreplace(pvals)
     surface = system._parsed["surface"].xreplace(pvals)
@@ -302,8 +310,9 @@ class _KaneRolling:
     """Kane's equations of the described body, parameters substituted (exact)."""
 
     def __init__(
-        self, system: RollingSystem, pvals: Mapping[sp.Symbol, sp.Expr], line: bool = False
-    ) -> None:
+        self, system: RollingSystem, pvals: Mapping[sp.Symbol, sp.Expr], line: bool = False,
+        line_carried: bool = True,
+    ) -> None:  # fmt: skip
         sub = dict(pvals)
         q = list(me.dynamicsymbols("q1 q2 q3 x y"))
         u = list(me.dynamicsymbols("u1 u2 u3 u4 u5"))
@@ -327,8 +336,11 @@ class _KaneRolling:
             Omega = p["rotation_rate"].xreplace({sp.Symbol("t", real=True): t, **sub})
             constraints.append(u[2] - Omega)
             dependent = [u[2], u[3], u[4]]
-        if line:  # along the fixed line N.x: no spin about it, (omega, N.x) = 0
-            constraints.append(u[0])
+        now = {sp.Symbol("t", real=True): t, **sub}  # prescribed rates: of Kane's time
+        turning = p["rotation_rate"].xreplace(now) if line else sp.S.Zero
+        line_direction, settle = support_line(N, turning, line_carried)
+        if line:  # along the line (N.x, or a turntable's): no spin about it
+            constraints.append(B.ang_vel_in(N).dot(line_direction))
             dependent = [u[0], *dependent]
         # a prescribed I(t) is a function of Kane's time (its dI/dt enters the torque)
         bodies = rigid_bodies(p, sub, (N, B), G, t)
@@ -354,9 +366,9 @@ class _KaneRolling:
         H_B = sp.Matrix([H.dot(B.x), H.dot(B.y), H.dot(B.z)]).xreplace(dep)
         C = sp.Matrix(3, 3, lambda i, j: (B.x, B.y, B.z)[i].dot((N.x, N.y, N.z)[j]))
         args = (q, u, t)
-        self._mass = sp.lambdify(args, kane.mass_matrix, modules="mpmath")
-        self._forcing = sp.lambdify(args, kane.forcing, modules="mpmath")
-        self._momentum = sp.lambdify(args, H_B, modules="mpmath")
+        self._mass = sp.lambdify(args, settle(kane.mass_matrix), modules="mpmath")
+        self._forcing = sp.lambdify(args, settle(kane.forcing), modules="mpmath")
+        self._momentum = sp.lambdify(args, settle(H_B), modules="mpmath")
         self._C = sp.lambdify(args, C, modules="mpmath")
         normal_B = sp.Matrix([normal.dot(B.x), normal.dot(B.y), normal.dot(B.z)])
         normal_rate = normal_B.diff(t).xreplace(kane.kindiffdict())
@@ -371,7 +383,14 @@ class _KaneRolling:
         if self._quadric:  # the contact point from the centre of mass, body axes
             contact_rate = self._position.diff(t).xreplace(kane.kindiffdict())
             self._contact_rate = sp.lambdify(args, contact_rate, modules="mpmath")
-        self._dep = sp.lambdify(args, sp.Matrix([dep[s] for s in dependent]), modules="mpmath")
+        self._dep = sp.lambdify(args, settle(sp.Matrix([dep[s] for s in dependent])),
+                                modules="mpmath")  # fmt: skip
+        in_B = lambda v: sp.Matrix([v.dot(B.x), v.dot(B.y), v.dot(B.z)])  # noqa: E731
+        self._frame_rates = {  # the line's frame (alpha, beta: N.x, N.y when compared)
+            name: sp.lambdify(args, settle(in_B(X).diff(t).xreplace(kane.kindiffdict())),
+                              modules="mpmath")
+            for name, X in (("alpha", line_direction), ("beta", N.z.cross(line_direction)))
+        }  # fmt: skip
         self._order = [str(s.func) for s in kane.u]
         self._dependent = [str(s.func) for s in dependent]
 
@@ -525,4 +544,7 @@ class _KaneRolling:
             if self._quadric:
                 rate = self._contact_rate(q, u, T)
                 rates["r"] = [rate[i] for i in range(3)]
+            for name, f in self._frame_rates.items():
+                rate = f(q, u, T)
+                rates[name] = [rate[i] for i in range(3)]
             return [acc[i] for i in range(3)], [momentum[i] for i in range(3)], rates

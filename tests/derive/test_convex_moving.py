@@ -181,10 +181,8 @@ def test_a_sphere_as_a_convex_surface_with_prescribed_inertia_or_rotor(fields, s
 @pytest.mark.parametrize(
     "fields, message",
     [
-        (dict(contact="line", support="rotating_plane", rotation_rate="Omega"),
-         "not with support 'rotating_plane', contact 'line'"),
         (dict(contact="line", support="sphere", support_radius="R"), "contact 'line'"),
-    ],  # (along a line on a fixed or moving plane and on a support surface: derived)
+    ],  # (along a line on any plane: derived)
 )
 def test_what_a_convex_body_is_not_derived_on_is_refused_in_one_line(fields, message):
     with pytest.raises(UserInputError, match=message) as info:

@@ -165,25 +165,6 @@ def test_names_become_exact_parameters_and_decimals_stay_exact():
         (
             {
                 "inertia": (1, 1, 1),
-                "contact": "line",
-                "support": "rotating_plane",
-                "rotation_rate": 1,
-            },
-            "not derived",
-        ),
-        (
-            {
-                "inertia": (1, 1, 1),
-                "surface": "x1**2 + x2**2 + x3**2 - 1",
-                "support": "rotating_plane",
-                "rotation_rate": 1,
-                "contact": "line",
-            },
-            "rolling or rubber rolling on a plane",
-        ),
-        (
-            {
-                "inertia": (1, 1, 1),
                 "surface": "x1**2 + x2**2 + x3**2 - 1",
                 "contact": "line",
                 "support": "sphere",
