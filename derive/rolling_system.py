@@ -183,7 +183,7 @@ _EFFECTS_BY_SUPPORT = {
 RESERVED_NAMES = frozenset(
     {
         f"{n}{i}"
-        for n in ("M", "gamma", "omega", "v", "alpha", "beta", "rho", "zeta", "p", "r", "rdot")
+        for n in ("M", "gamma", "omega", "v", "alpha", "beta", "rho", "zeta", "p")
         for i in (1, 2, 3)
     }
     | {"x", "y"}
@@ -580,7 +580,9 @@ def _parse(s: RollingSystem) -> dict:
         *(_names_in(v) for v in (s.rotation_rate, s.plane_velocity, s.gyrostat, rows))
     )
     names = [n for n in names if n not in uses_time]
-    clash = sorted(set(names) & RESERVED_NAMES)
+    # a convex body's contact point r and its rate are state (a ball's r1.. are radii)
+    convex = {f"{n}{i}" for n in ("r", "rdot") for i in (1, 2, 3)} if s.surface else set()
+    clash = sorted(set(names) & (RESERVED_NAMES | convex))
     if clash:
         raise UserInputError(f"parameter names {clash} are reserved (state, velocities, time)")
     positive = set(s.positive) | {
