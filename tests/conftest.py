@@ -40,7 +40,9 @@ QUICK_MODULES = frozenset(
 #: are made once) they are handed out first, longest first, so that no long module starts
 #: last and keeps one core busy alone at the end.
 SLOW_MODULES_FIRST = (
+    "tests/derive/test_convex_sphere_trace.py",  # 121 (CI 24: two support-surface first uses)
     "tests/derive/test_convex_moving.py",  # 250 beside another job; ~80 idle (FLINT builder)
+    "tests/derive/test_sphere_trace.py",  # 75 (CI 24: it ran last)
     "tests/verify/test_claims.py",  # 241
     "tests/verify/test_sweep.py",  # 227
     "tests/verify/test_described_kane_supports.py",  # 211
