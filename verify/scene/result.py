@@ -194,7 +194,8 @@ class SceneResult:
     def _value(self, expr: Any) -> float:
         """A description's expression at the run's parameter values."""
         params = self.resolved.params
-        return float(expr.xreplace({s: params[s.name] for s in expr.free_symbols}))
+        return float(expr.xreplace({s: params[s.name] for s in expr.free_symbols
+                                    if s.name in params}))  # fmt: skip
 
     def _sphere_normal(self, system: Any) -> np.ndarray:
         """The sphere's unit normal at the contact along the run, body axes: ``gamma`` of a
@@ -241,8 +242,7 @@ class SceneResult:
         radius = table.rolling_system()._parsed["radius"] if table is not None else None
         if radius is None:  # no radius anywhere: the unit sphere (gamma itself)
             return 1.0
-        values = {s: params[s.name] for s in radius.free_symbols if s.name in params}
-        return float(radius.xreplace(values))
+        return self._value(radius)
 
     def series_figure(self, quantities: Sequence[str] | None = None) -> Figure:
         """Time series of ``quantities`` (default: those of ``outputs.series``).
