@@ -116,6 +116,7 @@ static inline REAL dd_pow(REAL a, REAL b) { return dd_from_q(powq(dd_to_q(a), dd
 #define R_DIV(a, b) dd_div((a), (b))
 #define R_NEG(a) dd_neg(a)
 #define R_INT(i) dd_make((double)(i), 0.0)
+#define R_DIV_INT(a, i) dd_div((a), R_INT(i))
 #define R_FROM_DOUBLE(d) dd_make((d), 0.0)
 #define R_TO_DOUBLE(a) ((a).hi + (a).lo)
 #define R_LT(a, b) dd_lt((a), (b))
@@ -332,6 +333,7 @@ static REAL qd_cos(REAL a)
 #define R_DIV(a, b) qd_div((a), (b))
 #define R_NEG(a) qd_neg(a)
 #define R_INT(i) qd_from_double((double)(i))
+#define R_DIV_INT(a, i) qd_div((a), R_INT(i))
 #define R_FROM_DOUBLE(d) qd_from_double(d)
 #define R_TO_DOUBLE(a) ((a).x[0] + (a).x[1])
 #define R_LT(a, b) qd_lt((a), (b))
@@ -383,6 +385,9 @@ typedef double REAL;
 #define R_DIV(a, b) ((a) / (b))
 #define R_NEG(a) (-(a))
 #define R_INT(i) ((REAL)(i))
+/* a / i for a positive integer i: times the reciprocal (a constant where i is one), one
+ * rounding more than the division and much cheaper (issue 26 allows the change) */
+#define R_DIV_INT(a, i) ((a) * ((REAL)1 / (REAL)(i)))
 #define R_FROM_DOUBLE(d) ((REAL)(d))
 #define R_TO_DOUBLE(a) ((double)(a))
 #define R_LT(a, b) ((a) < (b))
@@ -440,14 +445,16 @@ static inline REAL tc_sq(const REAL *restrict a, int k)
     return s;
 }
 
-/* c = a / b: c_k = ((a_k - b_k c_0) - sum_{j=1..k-1} b_j c_{k-j}) / b_0 (k >= 1) */
-static inline REAL tc_div(REAL ak, const REAL *restrict b, const REAL *restrict c, int k)
+/* c = a / b: c_k = ((a_k - b_k c_0) - sum_{j=1..k-1} b_j c_{k-j}) r (k >= 1), r = 1/b_0
+ * worked out once per step (a product instead of a division on every order's chain) */
+static inline REAL tc_div(REAL ak, const REAL *restrict b, const REAL *restrict c, REAL r,
+                          int k)
 {
     REAL last = R_SUB(ak, R_MUL(b[k], c[0]));
-    if (k < 2) return R_DIV(last, b[0]);
+    if (k < 2) return R_MUL(last, r);
     REAL s = R_MUL(b[1], c[k - 1]);
     for (int j = 2; j < k; ++j) s = R_ADD(s, R_MUL(b[j], c[k - j]));
-    return R_DIV(R_SUB(last, s), b[0]);
+    return R_MUL(R_SUB(last, s), r);
 }
 
 /* c = sqrt(a): c_k = (a_k - sum_{j=1..k-1} c_j c_{k-j}) / (2 c_0) */
@@ -472,7 +479,7 @@ static inline REAL tc_exp(const REAL *restrict a, const REAL *restrict c, int k)
 {
     REAL s = R_INT(0);
     for (int j = 1; j <= k; ++j) s = R_ADD(s, R_MUL(R_MUL(R_INT(j), a[j]), c[k - j]));
-    return R_DIV(s, R_INT(k));
+    return R_DIV_INT(s, k);
 }
 
 static void taylor_coefficients(int order, REAL T0, const REAL *restrict Y,
@@ -905,11 +912,14 @@ static void taylor_coefficients(int order, REAL T0, const REAL *restrict Y,
     a157[0] = R_SUB(a156[0], a145[0]);
     a158[0] = R_SUB(a157[0], a147[0]);
     a159[0] = R_MUL(a158[0], a117[0]);
+    const REAL a10r_0 = R_DIV(R_INT(1), a8[0]);
+    const REAL a107r_0 = R_DIV(R_INT(1), a105[0]);
+    const REAL a124r_0 = R_DIV(R_INT(1), a122[0]);
     for (int k = 0; k < order; ++k) {
         if (k > 0) {
             a7[k] = tc_sq(a5, k);
             a8[k] = tc_mul(a7, a5, k);
-            a10[k] = tc_div(R_INT(0), a8, a10, k);
+            a10[k] = tc_div(R_INT(0), a8, a10, a10r_0, k);
             a12[k] = R_MUL(a5[k], a11[0]);
             a13[k] = R_SUB(a10[k], a12[k]);
             a15[k] = R_MUL(a13[k], a14[0]);
@@ -992,7 +1002,7 @@ static void taylor_coefficients(int order, REAL T0, const REAL *restrict Y,
             a103[k] = tc_mul(a102, a29, k);
             a104[k] = tc_mul(a103, a0, k);
             a105[k] = tc_mul(a19, a4, k);
-            a107[k] = tc_div(R_INT(0), a105, a107, k);
+            a107[k] = tc_div(R_INT(0), a105, a107, a107r_0, k);
             a108[k] = R_MUL(a4[k], a11[0]);
             a109[k] = R_SUB(a107[k], a108[k]);
             a110[k] = tc_mul(a109, a33, k);
@@ -1007,7 +1017,7 @@ static void taylor_coefficients(int order, REAL T0, const REAL *restrict Y,
             a120[k] = tc_mul(a72, a1, k);
             a121[k] = tc_mul(a15, a36, k);
             a122[k] = tc_mul(a16, a3, k);
-            a124[k] = tc_div(R_INT(0), a122, a124, k);
+            a124[k] = tc_div(R_INT(0), a122, a124, a124r_0, k);
             a125[k] = R_MUL(a3[k], a11[0]);
             a126[k] = R_SUB(a124[k], a125[k]);
             a127[k] = tc_mul(a126, a33, k);
@@ -1044,12 +1054,12 @@ static void taylor_coefficients(int order, REAL T0, const REAL *restrict Y,
             a158[k] = R_SUB(a157[k], a147[k]);
             a159[k] = R_MUL(a158[k], a117[0]);
         }
-        a0[k + 1] = R_DIV(a118[k], R_INT(k + 1));
-        a1[k + 1] = R_DIV(a140[k], R_INT(k + 1));
-        a2[k + 1] = R_DIV(a159[k], R_INT(k + 1));
-        a3[k + 1] = R_DIV(a63[k], R_INT(k + 1));
-        a4[k + 1] = R_DIV(a53[k], R_INT(k + 1));
-        a5[k + 1] = R_DIV(a42[k], R_INT(k + 1));
+        a0[k + 1] = R_DIV_INT(a118[k], k + 1);
+        a1[k + 1] = R_DIV_INT(a140[k], k + 1);
+        a2[k + 1] = R_DIV_INT(a159[k], k + 1);
+        a3[k + 1] = R_DIV_INT(a63[k], k + 1);
+        a4[k + 1] = R_DIV_INT(a53[k], k + 1);
+        a5[k + 1] = R_DIV_INT(a42[k], k + 1);
     }
 }
 

@@ -116,6 +116,7 @@ static inline REAL dd_pow(REAL a, REAL b) { return dd_from_q(powq(dd_to_q(a), dd
 #define R_DIV(a, b) dd_div((a), (b))
 #define R_NEG(a) dd_neg(a)
 #define R_INT(i) dd_make((double)(i), 0.0)
+#define R_DIV_INT(a, i) dd_div((a), R_INT(i))
 #define R_FROM_DOUBLE(d) dd_make((d), 0.0)
 #define R_TO_DOUBLE(a) ((a).hi + (a).lo)
 #define R_LT(a, b) dd_lt((a), (b))
@@ -332,6 +333,7 @@ static REAL qd_cos(REAL a)
 #define R_DIV(a, b) qd_div((a), (b))
 #define R_NEG(a) qd_neg(a)
 #define R_INT(i) qd_from_double((double)(i))
+#define R_DIV_INT(a, i) qd_div((a), R_INT(i))
 #define R_FROM_DOUBLE(d) qd_from_double(d)
 #define R_TO_DOUBLE(a) ((a).x[0] + (a).x[1])
 #define R_LT(a, b) qd_lt((a), (b))
@@ -383,6 +385,9 @@ typedef double REAL;
 #define R_DIV(a, b) ((a) / (b))
 #define R_NEG(a) (-(a))
 #define R_INT(i) ((REAL)(i))
+/* a / i for a positive integer i: times the reciprocal (a constant where i is one), one
+ * rounding more than the division and much cheaper (issue 26 allows the change) */
+#define R_DIV_INT(a, i) ((a) * ((REAL)1 / (REAL)(i)))
 #define R_FROM_DOUBLE(d) ((REAL)(d))
 #define R_TO_DOUBLE(a) ((double)(a))
 #define R_LT(a, b) ((a) < (b))
@@ -440,14 +445,16 @@ static inline REAL tc_sq(const REAL *restrict a, int k)
     return s;
 }
 
-/* c = a / b: c_k = ((a_k - b_k c_0) - sum_{j=1..k-1} b_j c_{k-j}) / b_0 (k >= 1) */
-static inline REAL tc_div(REAL ak, const REAL *restrict b, const REAL *restrict c, int k)
+/* c = a / b: c_k = ((a_k - b_k c_0) - sum_{j=1..k-1} b_j c_{k-j}) r (k >= 1), r = 1/b_0
+ * worked out once per step (a product instead of a division on every order's chain) */
+static inline REAL tc_div(REAL ak, const REAL *restrict b, const REAL *restrict c, REAL r,
+                          int k)
 {
     REAL last = R_SUB(ak, R_MUL(b[k], c[0]));
-    if (k < 2) return R_DIV(last, b[0]);
+    if (k < 2) return R_MUL(last, r);
     REAL s = R_MUL(b[1], c[k - 1]);
     for (int j = 2; j < k; ++j) s = R_ADD(s, R_MUL(b[j], c[k - j]));
-    return R_DIV(R_SUB(last, s), b[0]);
+    return R_MUL(R_SUB(last, s), r);
 }
 
 /* c = sqrt(a): c_k = (a_k - sum_{j=1..k-1} c_j c_{k-j}) / (2 c_0) */
@@ -472,7 +479,7 @@ static inline REAL tc_exp(const REAL *restrict a, const REAL *restrict c, int k)
 {
     REAL s = R_INT(0);
     for (int j = 1; j <= k; ++j) s = R_ADD(s, R_MUL(R_MUL(R_INT(j), a[j]), c[k - j]));
-    return R_DIV(s, R_INT(k));
+    return R_DIV_INT(s, k);
 }
 
 static void taylor_coefficients(int order, REAL T0, const REAL *restrict Y,
@@ -873,6 +880,9 @@ static void taylor_coefficients(int order, REAL T0, const REAL *restrict Y,
     a150[0] = R_SUB(a149[0], a134[0]);
     a151[0] = R_SUB(a150[0], a136[0]);
     a152[0] = R_SUB(a151[0], a138[0]);
+    const REAL a30r_0 = R_DIV(R_INT(1), a28[0]);
+    const REAL a38r_0 = R_DIV(R_INT(1), a37[0]);
+    const REAL a63r_0 = R_DIV(R_INT(1), a47[0]);
     for (int k = 0; k < order; ++k) {
         if (k > 0) {
             a16[k] = R_MUL(a14[k], a15[0]);
@@ -884,12 +894,12 @@ static void taylor_coefficients(int order, REAL T0, const REAL *restrict Y,
             a24[k] = R_ADD(a21[k], a23[k]);
             a26[k] = a24[k];
             a28[k] = a26[k];
-            a30[k] = tc_div(R_INT(0), a28, a30, k);
+            a30[k] = tc_div(R_INT(0), a28, a30, a30r_0, k);
             a32[k] = R_MUL(a17[k], a31[0]);
             a33[k] = tc_sq(a4, k);
             a35[k] = R_MUL(a33[k], a34[0]);
             a37[k] = a26[k];
-            a38[k] = tc_div(R_INT(0), a37, a38, k);
+            a38[k] = tc_div(R_INT(0), a37, a38, a38r_0, k);
             a39[k] = tc_sq(a3, k);
             a40[k] = tc_mul(a38, a39, k);
             a41[k] = tc_sq(a5, k);
@@ -911,7 +921,7 @@ static void taylor_coefficients(int order, REAL T0, const REAL *restrict Y,
             a60[k] = tc_mul(a59, a58, k);
             a61[k] = R_ADD(a52[k], a57[k]);
             a62[k] = R_ADD(a61[k], a60[k]);
-            a63[k] = tc_div(a62[k], a47, a63, k);
+            a63[k] = tc_div(a62[k], a47, a63, a63r_0, k);
             a64[k] = tc_mul(a63, a5, k);
             a65[k] = R_ADD(a2[k], a64[k]);
             a66[k] = R_SUB(a65[k], a32[k]);
@@ -1001,20 +1011,20 @@ static void taylor_coefficients(int order, REAL T0, const REAL *restrict Y,
             a151[k] = R_SUB(a150[k], a136[k]);
             a152[k] = R_SUB(a151[k], a138[k]);
         }
-        a0[k + 1] = R_DIV(a74[k], R_INT(k + 1));
-        a1[k + 1] = R_DIV(a81[k], R_INT(k + 1));
-        a2[k + 1] = R_DIV(a84[k], R_INT(k + 1));
-        a3[k + 1] = R_DIV(a87[k], R_INT(k + 1));
-        a4[k + 1] = R_DIV(a90[k], R_INT(k + 1));
-        a5[k + 1] = R_DIV(a93[k], R_INT(k + 1));
-        a6[k + 1] = R_DIV(a96[k], R_INT(k + 1));
-        a7[k + 1] = R_DIV(a99[k], R_INT(k + 1));
-        a8[k + 1] = R_DIV(a102[k], R_INT(k + 1));
-        a9[k + 1] = R_DIV(a105[k], R_INT(k + 1));
-        a10[k + 1] = R_DIV(a108[k], R_INT(k + 1));
-        a11[k + 1] = R_DIV(a111[k], R_INT(k + 1));
-        a12[k + 1] = R_DIV(a132[k], R_INT(k + 1));
-        a13[k + 1] = R_DIV(a152[k], R_INT(k + 1));
+        a0[k + 1] = R_DIV_INT(a74[k], k + 1);
+        a1[k + 1] = R_DIV_INT(a81[k], k + 1);
+        a2[k + 1] = R_DIV_INT(a84[k], k + 1);
+        a3[k + 1] = R_DIV_INT(a87[k], k + 1);
+        a4[k + 1] = R_DIV_INT(a90[k], k + 1);
+        a5[k + 1] = R_DIV_INT(a93[k], k + 1);
+        a6[k + 1] = R_DIV_INT(a96[k], k + 1);
+        a7[k + 1] = R_DIV_INT(a99[k], k + 1);
+        a8[k + 1] = R_DIV_INT(a102[k], k + 1);
+        a9[k + 1] = R_DIV_INT(a105[k], k + 1);
+        a10[k + 1] = R_DIV_INT(a108[k], k + 1);
+        a11[k + 1] = R_DIV_INT(a111[k], k + 1);
+        a12[k + 1] = R_DIV_INT(a132[k], k + 1);
+        a13[k + 1] = R_DIV_INT(a152[k], k + 1);
     }
 }
 

@@ -116,6 +116,7 @@ static inline REAL dd_pow(REAL a, REAL b) { return dd_from_q(powq(dd_to_q(a), dd
 #define R_DIV(a, b) dd_div((a), (b))
 #define R_NEG(a) dd_neg(a)
 #define R_INT(i) dd_make((double)(i), 0.0)
+#define R_DIV_INT(a, i) dd_div((a), R_INT(i))
 #define R_FROM_DOUBLE(d) dd_make((d), 0.0)
 #define R_TO_DOUBLE(a) ((a).hi + (a).lo)
 #define R_LT(a, b) dd_lt((a), (b))
@@ -332,6 +333,7 @@ static REAL qd_cos(REAL a)
 #define R_DIV(a, b) qd_div((a), (b))
 #define R_NEG(a) qd_neg(a)
 #define R_INT(i) qd_from_double((double)(i))
+#define R_DIV_INT(a, i) qd_div((a), R_INT(i))
 #define R_FROM_DOUBLE(d) qd_from_double(d)
 #define R_TO_DOUBLE(a) ((a).x[0] + (a).x[1])
 #define R_LT(a, b) qd_lt((a), (b))
@@ -383,6 +385,9 @@ typedef double REAL;
 #define R_DIV(a, b) ((a) / (b))
 #define R_NEG(a) (-(a))
 #define R_INT(i) ((REAL)(i))
+/* a / i for a positive integer i: times the reciprocal (a constant where i is one), one
+ * rounding more than the division and much cheaper (issue 26 allows the change) */
+#define R_DIV_INT(a, i) ((a) * ((REAL)1 / (REAL)(i)))
 #define R_FROM_DOUBLE(d) ((REAL)(d))
 #define R_TO_DOUBLE(a) ((double)(a))
 #define R_LT(a, b) ((a) < (b))
@@ -440,14 +445,16 @@ static inline REAL tc_sq(const REAL *restrict a, int k)
     return s;
 }
 
-/* c = a / b: c_k = ((a_k - b_k c_0) - sum_{j=1..k-1} b_j c_{k-j}) / b_0 (k >= 1) */
-static inline REAL tc_div(REAL ak, const REAL *restrict b, const REAL *restrict c, int k)
+/* c = a / b: c_k = ((a_k - b_k c_0) - sum_{j=1..k-1} b_j c_{k-j}) r (k >= 1), r = 1/b_0
+ * worked out once per step (a product instead of a division on every order's chain) */
+static inline REAL tc_div(REAL ak, const REAL *restrict b, const REAL *restrict c, REAL r,
+                          int k)
 {
     REAL last = R_SUB(ak, R_MUL(b[k], c[0]));
-    if (k < 2) return R_DIV(last, b[0]);
+    if (k < 2) return R_MUL(last, r);
     REAL s = R_MUL(b[1], c[k - 1]);
     for (int j = 2; j < k; ++j) s = R_ADD(s, R_MUL(b[j], c[k - j]));
-    return R_DIV(R_SUB(last, s), b[0]);
+    return R_MUL(R_SUB(last, s), r);
 }
 
 /* c = sqrt(a): c_k = (a_k - sum_{j=1..k-1} c_j c_{k-j}) / (2 c_0) */
@@ -472,7 +479,7 @@ static inline REAL tc_exp(const REAL *restrict a, const REAL *restrict c, int k)
 {
     REAL s = R_INT(0);
     for (int j = 1; j <= k; ++j) s = R_ADD(s, R_MUL(R_MUL(R_INT(j), a[j]), c[k - j]));
-    return R_DIV(s, R_INT(k));
+    return R_DIV_INT(s, k);
 }
 
 static void taylor_coefficients(int order, REAL T0, const REAL *restrict Y,
@@ -732,6 +739,9 @@ static void taylor_coefficients(int order, REAL T0, const REAL *restrict Y,
     a83[0] = R_MUL(a3[0], a64[0]);
     a84[0] = R_MUL(a4[0], a70[0]);
     a85[0] = R_SUB(a83[0], a84[0]);
+    const REAL a22r_0 = R_DIV(R_INT(1), a20[0]);
+    const REAL a30r_0 = R_DIV(R_INT(1), a29[0]);
+    const REAL a55r_0 = R_DIV(R_INT(1), a39[0]);
     for (int k = 0; k < order; ++k) {
         if (k > 0) {
             a8[k] = R_MUL(a6[k], a7[0]);
@@ -743,12 +753,12 @@ static void taylor_coefficients(int order, REAL T0, const REAL *restrict Y,
             a16[k] = R_ADD(a13[k], a15[k]);
             a18[k] = a16[k];
             a20[k] = a18[k];
-            a22[k] = tc_div(R_INT(0), a20, a22, k);
+            a22[k] = tc_div(R_INT(0), a20, a22, a22r_0, k);
             a24[k] = R_MUL(a9[k], a23[0]);
             a25[k] = tc_sq(a4, k);
             a27[k] = R_MUL(a25[k], a26[0]);
             a29[k] = a18[k];
-            a30[k] = tc_div(R_INT(0), a29, a30, k);
+            a30[k] = tc_div(R_INT(0), a29, a30, a30r_0, k);
             a31[k] = tc_sq(a3, k);
             a32[k] = tc_mul(a30, a31, k);
             a33[k] = tc_sq(a5, k);
@@ -770,7 +780,7 @@ static void taylor_coefficients(int order, REAL T0, const REAL *restrict Y,
             a52[k] = tc_mul(a51, a50, k);
             a53[k] = R_ADD(a44[k], a49[k]);
             a54[k] = R_ADD(a53[k], a52[k]);
-            a55[k] = tc_div(a54[k], a39, a55, k);
+            a55[k] = tc_div(a54[k], a39, a55, a55r_0, k);
             a56[k] = tc_mul(a55, a5, k);
             a57[k] = R_ADD(a2[k], a56[k]);
             a58[k] = R_SUB(a57[k], a24[k]);
@@ -802,12 +812,12 @@ static void taylor_coefficients(int order, REAL T0, const REAL *restrict Y,
             a84[k] = tc_mul(a4, a70, k);
             a85[k] = R_SUB(a83[k], a84[k]);
         }
-        a0[k + 1] = R_DIV(a66[k], R_INT(k + 1));
-        a1[k + 1] = R_DIV(a73[k], R_INT(k + 1));
-        a2[k + 1] = R_DIV(a76[k], R_INT(k + 1));
-        a3[k + 1] = R_DIV(a79[k], R_INT(k + 1));
-        a4[k + 1] = R_DIV(a82[k], R_INT(k + 1));
-        a5[k + 1] = R_DIV(a85[k], R_INT(k + 1));
+        a0[k + 1] = R_DIV_INT(a66[k], k + 1);
+        a1[k + 1] = R_DIV_INT(a73[k], k + 1);
+        a2[k + 1] = R_DIV_INT(a76[k], k + 1);
+        a3[k + 1] = R_DIV_INT(a79[k], k + 1);
+        a4[k + 1] = R_DIV_INT(a82[k], k + 1);
+        a5[k + 1] = R_DIV_INT(a85[k], k + 1);
     }
 }
 

@@ -43,6 +43,7 @@ __all__ = [
     "PrintedProgram",
     "printed_program",
     "order_loop",
+    "reciprocal_lines",
     "prologue_lines",
     "order_zero",
     "TaylorCEmitter",
@@ -376,6 +377,30 @@ def order_zero(node: PrintedNode, a: Callable[[int], str]) -> str:
     return f"{_ORDER_ZERO[node.op]}({a(args[0])}, {a(args[1])})"
 
 
+def reciprocal_lines(printed: PrintedProgram, a: Callable[[int], str],
+                     real: str = "REAL") -> list[str]:
+    """``a<x>r_0 = 1 / b_0`` for every division node ``x = a / b``: its recurrences multiply
+    by the reciprocal of the divisor's order 0, worked out once per step.
+
+    Parameters
+    ----------
+    printed : PrintedProgram
+    a : callable
+        Node index -> the C name of its order-0 coefficient.
+    real : str
+        The C type of the locals.
+
+    Returns
+    -------
+    list of str
+    """
+    return [
+        f"    const {real} a{i}r_0 = R_DIV(R_INT(1), {a(node.args[1])});"
+        for i, node in enumerate(printed.nodes)
+        if node.op in ("div", "cdiv")
+    ]
+
+
 def prologue_lines(printed: PrintedProgram) -> list[str]:
     """The first lines of a ``taylor_coefficients`` function: the row length, the parameters
     and the rows of the workspace ``X``.
@@ -404,8 +429,8 @@ _LOOP_BODY: dict[str, Callable[[int, tuple[int, ...], PrintedNode], str]] = {
     "mulc": lambda x, a, n: f"R_MUL(a{a[0]}[k], a{a[1]}[0])",
     "mul": lambda x, a, n: f"tc_mul(a{a[0]}, a{a[1]}, k)",
     "sq": lambda x, a, n: f"tc_sq(a{a[0]}, k)",
-    "div": lambda x, a, n: f"tc_div(a{a[0]}[k], a{a[1]}, a{x}, k)",
-    "cdiv": lambda x, a, n: f"tc_div(R_INT(0), a{a[1]}, a{x}, k)",
+    "div": lambda x, a, n: f"tc_div(a{a[0]}[k], a{a[1]}, a{x}, a{x}r_0, k)",
+    "cdiv": lambda x, a, n: f"tc_div(R_INT(0), a{a[1]}, a{x}, a{x}r_0, k)",
     "sqrt": lambda x, a, n: f"tc_sqrt(a{a[0]}, a{x}, k)",
     "pow": lambda x, a, n: f"tc_pow(a{a[0]}, a{x}, {n.power[0]}, {n.power[1]}, k)",
     "exp": lambda x, a, n: f"tc_exp(a{a[0]}, a{x}, k)",
@@ -450,7 +475,7 @@ def loop_function(printed: PrintedProgram) -> str:
     """
     zero, body = _loop_lines(printed)
     out = [
-        f"        a{i}[k + 1] = R_DIV(a{o}[k], R_INT(k + 1));"
+        f"        a{i}[k + 1] = R_DIV_INT(a{o}[k], k + 1);"
         for i, o in enumerate(printed.outputs)
     ]
     fn = [
@@ -467,6 +492,7 @@ def loop_function(printed: PrintedProgram) -> str:
             if node.op in ("time", "const")
         ],
         *zero,
+        *reciprocal_lines(printed, lambda j: f"a{j}[0]"),
         *order_loop(["    " + ln for ln in body], out),
         "}",
     ]

@@ -29,8 +29,8 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from .taylor_c import PrintedNode, PrintedProgram, order_loop, order_zero
-from .taylor_unroll import UNROLL_MAX_ORDER, _f, _n, _Printed, _Unrolled
+from .taylor_c import PrintedNode, PrintedProgram, order_loop, order_zero, reciprocal_lines
+from .taylor_unroll import UNROLL_MAX_ORDER, _div_int, _Printed, _Unrolled
 
 __all__ = ["written_out_lanes"]
 
@@ -43,8 +43,8 @@ _BODY = {
     "mulc": lambda x, a, n: f"a{a[0]}[k] * a{a[1]}[0]",
     "mul": lambda x, a, n: f"tl_mul(a{a[0]}, a{a[1]}, k)",
     "sq": lambda x, a, n: f"tl_sq(a{a[0]}, k)",
-    "div": lambda x, a, n: f"tl_div(a{a[0]}[k], a{a[1]}, a{x}, k)",
-    "cdiv": lambda x, a, n: f"tl_div(tl_zero(), a{a[1]}, a{x}, k)",
+    "div": lambda x, a, n: f"tl_div(a{a[0]}[k], a{a[1]}, a{x}, a{x}r_0, k)",
+    "cdiv": lambda x, a, n: f"tl_div(tl_zero(), a{a[1]}, a{x}, a{x}r_0, k)",
     "sqrt": lambda x, a, n: f"tl_sqrt(a{a[0]}, a{x}, k)",
     "pow": lambda x, a, n: f"tl_pow(a{a[0]}, a{x}, {n.power[0]}, {n.power[1]}, k)",
     "exp": lambda x, a, n: f"tl_exp(a{a[0]}, a{x}, k)",
@@ -103,12 +103,14 @@ def _lanes_function(printed: PrintedProgram) -> str:
     the vector of their lanes."""
     lines, body = _order_zero_lines(printed)
     out = [
-        f"        a{i}[k + 1] = a{o}[k] / (double)(k + 1);" for i, o in enumerate(printed.outputs)
+        f"        a{i}[k + 1] = a{o}[k] * (1.0 / (double)(k + 1));"
+        for i, o in enumerate(printed.outputs)
     ]
     return "\n".join([
         "static void taylor_coefficients_lanes(int order, " + _SIGNATURE[1:],
         "{",
         *lines,
+        *reciprocal_lines(printed, lambda j: f"a{j}[0]", "tl_vec"),
         *order_loop(body, out),
         "}",
         "",
@@ -133,13 +135,14 @@ def _written_out_function(printed: PrintedProgram, u: _Unrolled, p: int) -> str:
     lines = [f"    const int order = {p};", *zero]
     lines += [f"    const tl_vec a{i}_0 = a{i}[0];" for i in nodes]
     lines += [f"    (void)a{i}_0;" for i in nodes]
+    lines += reciprocal_lines(printed, lambda j: f"a{j}_0", "tl_vec")
     assigned = [n for n, node in u.nodes.items() if node.op not in ("var", "time", "const")]
     for k in range(p):
         if k > 0:
             lines += [f"    const tl_vec a{x}_{k} = {_value(u.expression(x, k))};"
                       for x in assigned]  # fmt: skip
         lines += [f"    const tl_vec a{i}_{k + 1} = "
-                  f"{_value(_f('R_DIV', u.ref(str(o), k), _n(k + 1)))};"
+                  f"{_value(_div_int(u.ref(str(o), k), k + 1))};"
                   for i, o in enumerate(printed.outputs)]  # fmt: skip
     lines += [f"    a{i}[{k}] = a{i}_{k};" for i in range(printed.n_state) for k in range(1, p + 1)]
     return "\n".join([f"static void taylor_coefficients_lanes_{p}" + _SIGNATURE, "{", *lines,

@@ -31,7 +31,13 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from .taylor_c import PrintedNode, PrintedProgram, order_zero, prologue_lines
+from .taylor_c import (
+    PrintedNode,
+    PrintedProgram,
+    order_zero,
+    prologue_lines,
+    reciprocal_lines,
+)
 
 __all__ = ["UNROLL_MAX_ORDER", "MARKER", "VECTOR_PRELUDE", "unrolled_source"]
 
@@ -57,7 +63,7 @@ VECTOR_PRELUDE = (
 _Tree = tuple
 
 #: the operations GNU C applies lane by lane to vectors (the double kind's C operators)
-_LANEWISE = frozenset({"R_ADD", "R_SUB", "R_MUL", "R_DIV", "R_NEG", "_twice"})
+_LANEWISE = frozenset({"R_ADD", "R_SUB", "R_MUL", "R_DIV", "R_DIV_INT", "R_NEG", "_twice"})
 
 
 def _f(name: str, *args: _Tree) -> _Tree:
@@ -66,6 +72,12 @@ def _f(name: str, *args: _Tree) -> _Tree:
 
 def _n(value: int) -> _Tree:
     return ("n", value)
+
+
+def _div_int(a: _Tree, i: int) -> _Tree:
+    """``a / i`` for a positive integer ``i``: the template's ``R_DIV_INT`` (times the
+    reciprocal in double and binary128)."""
+    return _f("R_DIV_INT", a, ("i", i))
 
 
 class _Printed:
@@ -93,6 +105,8 @@ class _Printed:
             self.leaves.append((tree[1], tree[2]))
         elif kind == "n":
             parts.append(f"R_INT({tree[1]})")
+        elif kind == "i":  # the positive integer operand of R_DIV_INT, as C text
+            parts.append(str(tree[1]))
             self.lanewise = self.lanewise and tree[1] >= 0
         else:
             name = tree[1]
@@ -168,10 +182,11 @@ class _Unrolled:
     def div(self, ak: _Tree, b: str, c: str, k: int) -> _Tree:
         r = self.ref
         last = _f("R_SUB", ak, _mul(r(b, k), r(c, 0)))
+        inverse = ("a", f"{c}r", 0)  # 1 / b_0 (taylor_c.reciprocal_lines)
         if k < 2:
-            return _f("R_DIV", last, r(b, 0))
+            return _mul(last, inverse)
         s = self._sum(_mul(r(b, 1), r(c, k - 1)), (_mul(r(b, j), r(c, k - j)) for j in range(2, k)))
-        return _f("R_DIV", _f("R_SUB", last, s), r(b, 0))
+        return _mul(_f("R_SUB", last, s), inverse)
 
     def pow(self, a: str, c: str, p: int, q: int, k: int) -> _Tree:
         r = self.ref
@@ -181,7 +196,7 @@ class _Unrolled:
     def exp(self, a: str, c: str, k: int) -> _Tree:
         r = self.ref
         terms = (_mul(_mul(_n(j), r(a, j)), r(c, k - j)) for j in range(1, k + 1))
-        return _f("R_DIV", self._sum(_n(0), terms), _n(k))
+        return _div_int(self._sum(_n(0), terms), k)
 
     def sqrt(self, a: str, c: str, k: int) -> _Tree:
         r = self.ref
@@ -235,7 +250,7 @@ class _Expressions:
         for node in assigned:
             self.expr[node] = {k: _Printed(u.expression(node, k)) for k in range(1, p)}
         for node, src in state:
-            self.expr[node] = {k: _Printed(_f("R_DIV", u.ref(src, k - 1), _n(k)))
+            self.expr[node] = {k: _Printed(_div_int(u.ref(src, k - 1), k))
                                for k in range(1, p + 1)}
         self.shape = {n: tuple(e.template for e in es.values()) for n, es in self.expr.items()}
         self.tokens = {n: {k: e.leaves for k, e in es.items()} for n, es in self.expr.items()}
@@ -410,7 +425,8 @@ def _function(printed: PrintedProgram, state: list[tuple[str, str]], p: int,
               lines: list[str]) -> str:
     """``taylor_coefficients_<p>``: the prologue, the order-0 locals, ``lines`` and the
     stores of the state's coefficients."""
-    head = ["", *prologue_lines(printed), *_order_zero_locals(printed)]
+    head = ["", *prologue_lines(printed), *_order_zero_locals(printed),
+            *reciprocal_lines(printed, lambda j: f"a{j}_0")]
     stores = [f"    a{node}[{k}] = a{node}_{k};" for node, _ in state for k in range(1, p + 1)]
     return (
         f"static void taylor_coefficients_{p}(REAL T0, const REAL *restrict Y,\n"

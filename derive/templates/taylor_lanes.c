@@ -80,13 +80,14 @@ static inline tl_vec tl_sq(const tl_vec *restrict a, int k)
     return s;
 }
 
-static inline tl_vec tl_div(tl_vec ak, const tl_vec *restrict b, const tl_vec *restrict c, int k)
+static inline tl_vec tl_div(tl_vec ak, const tl_vec *restrict b, const tl_vec *restrict c,
+                            tl_vec r, int k)
 {
     tl_vec last = ak - b[k] * c[0];
-    if (k < 2) return last / b[0];
+    if (k < 2) return last * r;
     tl_vec s = b[1] * c[k - 1];
     for (int j = 2; j < k; ++j) s = s + b[j] * c[k - j];
-    return (last - s) / b[0];
+    return (last - s) * r;
 }
 
 static inline tl_vec tl_sqrt(const tl_vec *restrict a, const tl_vec *restrict c, int k)
@@ -108,7 +109,7 @@ static inline tl_vec tl_exp(const tl_vec *restrict a, const tl_vec *restrict c, 
 {
     tl_vec s = tl_zero();
     for (int j = 1; j <= k; ++j) s = s + ((double)j * a[j]) * c[k - j];
-    return s / (double)k;
+    return s * (1.0 / (double)k);
 }
 
 {{COEFFICIENTS_LANES}}
