@@ -25,6 +25,7 @@ from .integrators import (
     METHODS,
     IntegrationResult,
     Integrator,
+    ModelFlow,
     Problem,
     get_integrator,
 )
@@ -246,23 +247,115 @@ def integrate(
     True
     """
     start = time.perf_counter()
-    integrator, problem = prepare_problem(
-        system,
-        y0,
-        t_span,
-        params,
-        effects=effects,
-        method=method,
-        precision=precision,
-        rtol=rtol,
-        atol=atol,
-        t_eval=t_eval,
-        events=events,
-        taylor_options=taylor_options,
-        max_steps=max_steps,
-        max_wall_s=max_wall_s,
-    )
+    inputs = (system, y0, t_span, params, effects, method, precision, rtol, atol, t_eval,
+              events, taylor_options, max_steps, max_wall_s)
+    key = _call_key(inputs)
+    prepared = _PREPARED.get(key) if key is not None else None
+    if prepared is None:
+        prepared = prepare_problem(
+            system,
+            y0,
+            t_span,
+            params,
+            effects=effects,
+            method=method,
+            precision=precision,
+            rtol=rtol,
+            atol=atol,
+            t_eval=t_eval,
+            events=events,
+            taylor_options=taylor_options,
+            max_steps=max_steps,
+            max_wall_s=max_wall_s,
+        )
+        _keep(key, prepared)
+    else:
+        result = _run_again(key, prepared, backend, start)
+        if result is not None:
+            return result
+    integrator, problem = prepared
     return integrator.run(problem, backend, setup_s=time.perf_counter() - start)
+
+
+def _keep(key: tuple | None, prepared: tuple) -> None:
+    """Keep a call's checked problem for the same call again (the oldest forgotten first)."""
+    if key is not None:
+        with _STARTS_LOCK:
+            if len(_PREPARED) >= _PREPARED_MAX:
+                del _PREPARED[next(iter(_PREPARED))]
+            _PREPARED[key] = prepared
+
+
+def _run_again(key: tuple, prepared: tuple, backend: str, start: float
+               ) -> IntegrationResult | None:
+    """The result of a call made again, straight from its compiled loop (:func:`_session`),
+    or None where the call needs the method's whole path (a step limit, events, the
+    default outputs, dense output; not the Taylor method in double on the C backend)."""
+    integrator, problem = prepared
+    if problem.max_steps is not None or problem.t_eval is None:
+        return None
+    if problem.events or problem.dense_output:
+        return None
+    session = _session(key, prepared, backend)
+    if session is None:
+        return None
+    setup_s = time.perf_counter() - start
+    start = time.perf_counter()
+    sol = session.solve(problem, problem.y0, problem.t_span, problem.t_eval)
+    return integrator._result(problem, sol, "c", time.perf_counter() - start, setup_s)
+
+
+#: Problems :func:`integrate` already read and checked, by its inputs as typed
+#: (:func:`_call_key`): the same call again skips :func:`prepare_problem`, whose result
+#: depends on those inputs only (and on mpmath's precision, part of the key). A problem is
+#: never changed by a run (its lists are packed into C buffers or copied).
+_PREPARED: dict[tuple, tuple] = {}
+_PREPARED_MAX = 64
+
+
+#: The compiled loops of calls made again (:func:`_session`), per thread: a loop's buffers are
+#: its own while it runs, as :mod:`~chaplygin.numerics.taylor.c_run`'s.
+_SESSIONS = threading.local()
+
+
+def _session(key: tuple, prepared: tuple, backend: str):
+    """The method's compiled session of a call made again (its parameters, tolerances and
+    buffers converted once, as a :class:`~chaplygin.numerics.propagator.Propagator` keeps
+    it: the same loop with the same arguments, so the same bits), or None where the call
+    needs the method's whole path (not the Taylor method in double on the C backend)."""
+    sessions = getattr(_SESSIONS, "by_key", None)
+    if sessions is None:
+        sessions = _SESSIONS.by_key = {}
+    entry = sessions.get((key, backend))
+    if entry is None:
+        integrator, problem = prepared
+        make = getattr(integrator, "session", None)
+        if make is None or type(problem.system) is not ModelFlow:  # forward, a model's equations
+            return None
+        entry = (make(problem, integrator.prepare(problem, backend)),)
+        if len(sessions) >= _PREPARED_MAX:
+            del sessions[next(iter(sessions))]
+        sessions[(key, backend)] = entry
+    return entry[0]
+
+
+def _call_key(inputs: tuple) -> tuple | None:
+    """A hashable key of :func:`integrate`'s inputs as typed, or None when one of them is not
+    memoised (a loaded model, an integrator object, events, NaN, other types)."""
+    (system, y0, t_span, params, effects, method, precision, rtol, atol, t_eval, events,
+     options, max_steps, max_wall_s) = inputs  # fmt: skip
+    if not isinstance(system, str) or events is not None:
+        return None
+    if not (method is None or isinstance(method, str)):
+        return None
+    keys = [mpmath.mp.prec, system, method]
+    for value in (y0, t_span, params, effects, precision, rtol, atol, t_eval, options,
+                  max_steps, max_wall_s):  # fmt: skip
+        key = ("none",) if value is None else _input_key(value)
+        if key is None:
+            return None
+        keys.append(key)
+    return tuple(keys)
 
 
 def prepare_problem(
@@ -372,7 +465,29 @@ def _input_key(value: object) -> tuple | None:
     """A hashable key of an input as typed (its type and its exact value), or None for
     inputs that are not memoised (any other type, NaN: read anew every time)."""
     # the common inputs first (a key is made every call): numbers as text, floats, vectors,
-    # groups by name
+    # groups by name; the exact built-in types without isinstance's checks
+    kind = type(value)
+    if kind is str or kind is int:
+        return (kind.__name__, value)
+    if kind is float:
+        return ("float", value) if value == value else None
+    if kind is tuple or kind is list:
+        keys = []
+        for v in value:
+            kv = type(v)
+            key = (kv.__name__, v) if kv is str or kv is int else _input_key(v)
+            if key is None:
+                return None
+            keys.append(key)
+        return ("seq", tuple(keys))
+    if kind is dict:
+        items = []
+        for k, v in value.items():
+            key = _input_key(v)
+            if type(k) is not str or key is None:
+                return None
+            items.append((k, key))
+        return ("map", tuple(sorted(items)))
     if isinstance(value, str):
         return ("str", value)
     if isinstance(value, float):

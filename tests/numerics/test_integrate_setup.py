@@ -34,7 +34,51 @@ def counted(monkeypatch):
 
     monkeypatch.setattr(integrate_module, "pack_state", pack_state)
     monkeypatch.setattr(integrate_module, "_STARTS", {})
+    monkeypatch.setattr(integrate_module, "_PREPARED", {})
     return calls
+
+
+def test_a_call_made_again_is_prepared_once_and_gives_the_same_bits(monkeypatch):
+    """integrate called again with the same inputs skips reading and checking them and goes
+    to its compiled loop (a session, as a Propagator's); the result is bit for bit the one
+    the whole path gives (an integrator object as the method: never memoised)."""
+    import threading
+
+    from chaplygin.numerics.integrators import get_integrator
+
+    monkeypatch.setattr(integrate_module, "_PREPARED", {})
+    monkeypatch.setattr(integrate_module, "_SESSIONS", threading.local())
+    prepared = []
+    real = integrate_module.prepare_problem
+
+    def counted(*args, **kw):
+        prepared.append(args)
+        return real(*args, **kw)
+
+    monkeypatch.setattr(integrate_module, "prepare_problem", counted)
+
+    def run(method="taylor", **kw):
+        return integrate(BALL, REFERENCE_Y0, 7.3, REFERENCE_PARAMS, method=method, rtol=1e-11,
+                         atol=1e-11, t_eval=[0.0, 2.9, 7.3], **kw)
+
+    first, again, third = run(), run(), run()
+    assert len(prepared) == 1 and len(integrate_module._SESSIONS.by_key) == 1
+    whole = run(method=get_integrator("taylor"))
+    assert len(prepared) == 2 and len(integrate_module._SESSIONS.by_key) == 1
+    for r in (first, again, third):
+        assert r.success and np.array_equal(r.y, whole.y) and np.array_equal(r.t, whole.t)
+        assert r.drift == whole.drift and r.nsteps == whole.nsteps
+    # a step limit, events or the default outputs: the whole path, prepared once
+    for _ in range(2):
+        limited = run(max_steps=10**6)
+    assert len(prepared) == 3 and np.array_equal(limited.y, whole.y)
+    assert len(integrate_module._SESSIONS.by_key) == 1
+    # another working precision of mpmath is another call
+    import mpmath
+
+    with mpmath.workdps(40):
+        run()
+    assert len(prepared) == 4
 
 
 def test_the_same_start_is_read_once(counted):
@@ -136,29 +180,35 @@ def test_the_compiled_run_of_a_problem_is_kept_per_thread(monkeypatch):
             super().__init__(*args, **kw)
 
     monkeypatch.setattr(c_run, "CompiledTaylorRun", Counted)
+    # the sessions of calls made again (TaylorMethod.session) take it from the package
+    monkeypatch.setattr(importlib.import_module("chaplygin.numerics.taylor"),
+                        "CompiledTaylorRun", Counted)
 
     def run(params=REFERENCE_PARAMS, y0=REFERENCE_Y0):
         return integrate(BALL, y0, 3.7, params, method="taylor", rtol=1e-11, atol=1e-11,
                          backend="c", t_eval=[0.0, 1.3, 3.7])
 
+    monkeypatch.setattr(integrate_module, "_PREPARED", {})
+    monkeypatch.setattr(integrate_module, "_SESSIONS", threading.local())
     a = run()
-    b = run()
-    assert len(made) == 1 and a.success and b.success
+    b = run()  # the call made again: its own session (integrate_module._session)
+    assert len(made) == 2 and a.success and b.success
     assert np.array_equal(a.y, b.y) and a.y is not b.y
     b.y[:] = 0.0  # a result of its own: the first is untouched, the next is fresh
     assert np.array_equal(run().y, a.y) and not np.array_equal(a.y, b.y)
+    assert len(made) == 2
     # another start, same problem: the same run; other parameters: another one
     other = {**REFERENCE_Y0, "M": (0.6, -0.4, 0.5)}
     c = run(y0=other)
-    assert len(made) == 1 and not np.array_equal(c.y, a.y)
+    assert len(made) == 2 and not np.array_equal(c.y, a.y)
     run(params={**REFERENCE_PARAMS, "D": 1.3})
-    assert len(made) == 2
+    assert len(made) == 3
     # another thread makes its own (a run's buffers are in use while it runs)
     box = []
     worker = threading.Thread(target=lambda: box.append(run()))
     worker.start()
     worker.join()
-    assert len(made) == 3 and np.array_equal(box[0].y, a.y)
+    assert len(made) == 4 and np.array_equal(box[0].y, a.y)
 
 
 @pytest.mark.parametrize("size", [3, 12, 65, 400])
