@@ -14,6 +14,7 @@ from functools import cached_property
 import mpmath
 import sympy as sp
 
+from ..expression_dag import subexpressions
 from ..model import Model
 
 __all__ = [
@@ -60,7 +61,11 @@ def _temporaries(taken: set[str]):
 
 
 def _cse(name: str, exprs: list[sp.Expr], shape: tuple[int, ...]) -> Routine:
-    taken = {s.name for e in exprs for s in sp.sympify(e).free_symbols}
+    # every symbol's name, each distinct subexpression visited once (free_symbols walks a
+    # shared subtree once per path to it); a bound symbol's name too, which only skips a
+    # temporary's name
+    taken = {s.name for s in subexpressions([sp.sympify(e) for e in exprs])
+             if isinstance(s, sp.Symbol)}
     temps, reduced = sp.cse(exprs, symbols=_temporaries(taken), order="canonical")
     return Routine(name, tuple(temps), tuple(reduced), shape)
 

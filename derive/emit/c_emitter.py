@@ -98,10 +98,11 @@ class ChaplyginCPrinter(C99CodePrinter):
         if form == "reciprocal":
             return f"(1.0/{self.parenthesize(base, 100)})"
         if form == "sqrt":
-            b = self.parenthesize(base, 100)
             root = f"{self._sqrt}({self._print(base)})"
             k = abs(int(exp.p)) // 2
-            value = root if k == 0 else f"({'*'.join([b] * k)}*{root})"
+            # the base printed once more only when a power of it multiplies the root (a
+            # nested root would otherwise be printed twice per level: 2^depth)
+            value = root if k == 0 else f"({'*'.join([self.parenthesize(base, 100)] * k)}*{root})"
             return value if exp > 0 else f"(1.0/{value})"
         if form == "integer":
             return self._print_Pow(sp.Pow(base, sp.Integer(int(float(exp))), evaluate=False))
