@@ -8,10 +8,10 @@ from __future__ import annotations
 
 import importlib
 import json
+import threading
 import time
 import types
-import warnings
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from functools import cached_property
 from importlib import resources
@@ -79,17 +79,57 @@ class ModelCode:
 
     name: str
     numpy: types.ModuleType
-    mpmath: types.ModuleType
-    c_source: str
+    _mpmath: types.ModuleType | None
+    _c_source: str | None
     origin: str
     taylor: types.ModuleType | None = None
     taylor_c_source: str | None = None
     taylor_mpfr_source: str | None = None
     taylor_program: str | None = None
-    lanes_c_source: str | None = None
+    _lanes_c_source: str | None = None
     note: str | None = None
     _compiled: Any = field(default=None, repr=False)
     _compile_tried: bool = field(default=False, repr=False)
+    #: the kinds of source still to be emitted on first access (a variant outside
+    #: ``generated/``: ``"mpmath"``, ``"c"``, ``"c_lanes"``) and what emits one
+    _pending: frozenset = field(default=frozenset(), repr=False, compare=False)
+    _emit: Callable[[str], str] | None = field(default=None, repr=False, compare=False)
+    _lock: Any = field(default_factory=threading.Lock, init=False, repr=False, compare=False)
+
+    def _source(self, kind: str) -> None:
+        """The source of ``kind``, emitted now if it is still pending (once, under a lock)."""
+        with self._lock:
+            if kind in self._pending and self._emit is not None:
+                text = self._emit(kind)
+                if kind == "mpmath":
+                    self._mpmath = module_from_source(f"{self.name}_mpmath", text)
+                elif kind == "c":
+                    self._c_source = text
+                else:
+                    self._lanes_c_source = text or None
+                self._pending = self._pending - {kind}
+        return None
+
+    @property
+    def mpmath(self) -> types.ModuleType:
+        """The mpmath module (emitted when first asked for, for a variant outside
+        ``generated/``)."""
+        self._source("mpmath")
+        return self._mpmath
+
+    @property
+    def c_source(self) -> str:
+        """The C99 source (emitted when first asked for, for a variant outside
+        ``generated/``)."""
+        self._source("c")
+        return self._c_source
+
+    @property
+    def lanes_c_source(self) -> str | None:
+        """The right-hand side in vector lanes, or None (emitted when first asked for, for a
+        variant outside ``generated/``)."""
+        self._source("c_lanes")
+        return self._lanes_c_source
 
     # metadata straight from the generated module
     @property
@@ -244,14 +284,14 @@ def load_model_code(system: str, effects: str | Iterable[str] | None = None) -> 
         code = ModelCode(
             name=name,
             numpy=importlib.import_module(f"chaplygin.generated.{files['numpy'][:-3]}"),
-            mpmath=importlib.import_module(f"chaplygin.generated.{files['mpmath'][:-3]}"),
-            c_source=text("c"),
+            _mpmath=importlib.import_module(f"chaplygin.generated.{files['mpmath'][:-3]}"),
+            _c_source=text("c"),
             origin="generated/",
             taylor=importlib.import_module(f"chaplygin.generated.{files['taylor_py'][:-3]}"),
             taylor_c_source=text("taylor_c"),
             taylor_mpfr_source=text("taylor_mpfr"),
             taylor_program=text("taylor_program"),
-            lanes_c_source=text("c_lanes"),
+            _lanes_c_source=text("c_lanes"),
         )
     else:  # derived, emitted and compiled on first use; cached on disk (numerics.first_use)
         code = _first_use_code(system, chosen, name)
@@ -260,33 +300,41 @@ def load_model_code(system: str, effects: str | Iterable[str] | None = None) -> 
 
 
 def _first_use_code(system: str, chosen: frozenset[str], name: str) -> ModelCode:
-    """A variant not in ``generated/``: from the first-use cache, else derived, emitted and
-    compiled now (:mod:`chaplygin.numerics.first_use`); its ``note`` says which and how long."""
-    from .first_use import emitted_sources
+    """A variant not in ``generated/``: from the first-use cache, else derived and emitted now
+    (:mod:`chaplygin.numerics.first_use`); its mpmath, C and vector-lane code when first asked
+    for (:data:`~chaplygin.numerics.first_use.LAZY_KINDS`); its ``note`` says which and how
+    long."""
+    from .first_use import LAZY_KINDS, emitted_sources
 
     start = time.perf_counter()
     first = emitted_sources(system, chosen)
     src = first.sources
+
+    def emit(kind: str) -> str:
+        return emitted_sources(system, chosen, (kind,)).sources[kind]
+
     code = ModelCode(
         name=name,
         numpy=module_from_source(f"{name}_numpy", src["numpy"]),
-        mpmath=module_from_source(f"{name}_mpmath", src["mpmath"]),
-        c_source=src["c"],
+        _mpmath=module_from_source(f"{name}_mpmath", src["mpmath"]) if "mpmath" in src else None,
+        _c_source=src.get("c"),
         origin="derived on first use" if first.derived else "cache of first-use code",
         taylor=module_from_source(f"{name}_taylor", src["taylor_py"]),
         taylor_c_source=src["taylor_c"],
         taylor_mpfr_source=src["taylor_mpfr"],
         taylor_program=src["taylor_program"],
-        lanes_c_source=src["c_lanes"] or None,
+        _lanes_c_source=(src["c_lanes"] or None) if "c_lanes" in src else None,
+        _pending=frozenset(k for k in LAZY_KINDS if k not in src),
+        _emit=emit,
     )
     where = f"cached in {first.cache_file.parent}" if first.cache_file else "not cached"
     if first.derived:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")  # no compiler: the numpy code runs, said elsewhere
-            compiled = code.compiled() is not None
-        seconds = time.perf_counter() - start
-        done = "derived, emitted and compiled" if compiled else "derived and emitted"
-        code.note = f"{name} is not in generated/: {done} on first use in {seconds:.1f} s ({where})"
+        later = sorted(code._pending)
+        code.note = (
+            f"{name} is not in generated/: derived and emitted on first use in "
+            f"{time.perf_counter() - start:.1f} s ({where})"
+            + (f"; {', '.join(later)} when first needed" if later else "")
+        )
     else:
         code.note = (
             f"{name} is not in generated/: loaded from the first-use cache in "

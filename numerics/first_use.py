@@ -2,7 +2,8 @@
 first use, and cached on disk so that later processes only load it.
 
 The emitted sources (numpy, mpmath, C, Taylor Python, Taylor C, Taylor C on MPFR, the Taylor
-program, the right-hand side in vector lanes) of a variant are stored in
+program, the right-hand side in vector lanes; the C and the lanes only when first asked for,
+:data:`LAZY_KINDS`) of a variant are stored in
 ``<cache root>/emitted/<variant>-<key>.src`` (the root:
 :func:`~chaplygin.derive.cachefiles.cache_root`; none with ``CHAPLYGIN_MODEL_CACHE=0``).
 The key (:func:`chaplygin.derive.systems.variant_cache_key`)
@@ -23,12 +24,21 @@ from pathlib import Path
 from ..derive.cachefiles import read_signed, write_signed
 from ..derive.systems import variant_cache_file
 
-__all__ = ["FirstUse", "emitted_sources", "emitted_cache_file", "SOURCE_KINDS"]
+__all__ = ["FirstUse", "emitted_sources", "emitted_cache_file", "SOURCE_KINDS", "LAZY_KINDS"]
 
 #: The emitted sources of a variant, in the order of ``generated/manifest.json``'s files.
 SOURCE_KINDS = (
     "numpy", "mpmath", "c", "taylor_py", "taylor_c", "taylor_mpfr", "taylor_program", "c_lanes"
 )
+
+#: The kinds emitted only when first asked for (a run on the numpy backend needs no C, one
+#: that is not a batch of DOP853 orbits no vector lanes; every run reads its start with the
+#: mpmath module): for a large body that is most of a third of the emission (a convex body
+#: on a support surface: C 8.4 s, lanes 4.3 s of 28 s, and the C compiler's 7 s).
+LAZY_KINDS = ("c", "c_lanes")
+
+#: The kinds emitted on first use (the numpy module carries the model's metadata).
+EAGER_KINDS = tuple(k for k in SOURCE_KINDS if k not in LAZY_KINDS)
 
 #: First line of a cache file: the format, then the HMAC of the JSON that follows.
 _MAGIC = b"chaplygin-emitted-1\n"
@@ -41,8 +51,9 @@ class FirstUse:
     Attributes
     ----------
     sources : dict of str to str
-        :data:`SOURCE_KINDS` -> source text (``""`` for a kind the variant has none of: the
-        lanes of a right-hand side they cannot compute).
+        Kind of :data:`SOURCE_KINDS` -> source text, for every kind emitted so far (at least
+        the eager ones; ``""`` for a kind the variant has none of: the lanes of a right-hand
+        side they cannot compute).
     derived : bool
         True when it was derived and emitted now, False when loaded from the cache.
     seconds : float
@@ -81,7 +92,11 @@ def _load(path: Path | None) -> dict[str, str] | None:
         sources = json.loads(data)
     except ValueError:
         return None
-    if not isinstance(sources, dict) or set(sources) != set(SOURCE_KINDS):
+    if not isinstance(sources, dict) or not set(EAGER_KINDS) <= set(sources) <= set(
+        SOURCE_KINDS
+    ):
+        return None
+    if not all(isinstance(v, str) for v in sources.values()):
         return None
     return sources
 
@@ -91,14 +106,22 @@ def _store(path: Path | None, sources: dict[str, str]) -> Path | None:
     return path if write_signed(path, _MAGIC, json.dumps(sources).encode()) else None
 
 
-def emitted_sources(system: str, effects: frozenset[str]) -> FirstUse:
+def emitted_sources(
+    system: str, effects: frozenset[str], kinds: tuple[str, ...] = EAGER_KINDS
+) -> FirstUse:
     """The emitted sources of a variant: from the cache, else derived, emitted and cached.
+
+    Only ``kinds`` are emitted when missing (the eager ones by default; the lazy ones,
+    :data:`LAZY_KINDS`, when first asked for); the cache file keeps every kind emitted so
+    far, and ``sources`` holds them all.
 
     Parameters
     ----------
     system : str
     effects : frozenset of str
         Validated effect names (:func:`chaplygin.derive.effects.parse_effects`).
+    kinds : tuple of str, optional
+        The kinds wanted (of :data:`SOURCE_KINDS`).
 
     Returns
     -------
@@ -112,36 +135,52 @@ def emitted_sources(system: str, effects: frozenset[str]) -> FirstUse:
     start = time.perf_counter()
     path = emitted_cache_file(system, effects)
     cached = _load(path)
-    if cached is not None:
+    if cached is not None and all(k in cached for k in kinds):
         return FirstUse(cached, False, time.perf_counter() - start, path)
-    from ..derive.emit import (
-        CEmitter,
-        CLanesEmitter,
-        ModelRoutines,
-        MpmathEmitter,
-        NumpyEmitter,
-        TaylorCEmitter,
-        TaylorMpfrEmitter,
-        TaylorProgramEmitter,
-        TaylorPythonEmitter,
-    )
-    from ..derive.systems import build_model
-
-    model = build_model(system, effects)
-    routines = ModelRoutines(model)
-    emitters = (
-        NumpyEmitter,
-        MpmathEmitter,
-        CEmitter,
-        TaylorPythonEmitter,
-        TaylorCEmitter,
-        TaylorMpfrEmitter,
-        TaylorProgramEmitter,
-        CLanesEmitter,
-    )
-    sources = {}
-    for kind, emitter in zip(SOURCE_KINDS, emitters, strict=True):
-        files = emitter().emit(model, routines)  # one file, or none (no lanes)
+    sources = dict(cached or {})
+    wanted = [k for k in (*EAGER_KINDS, *kinds) if k not in sources]
+    model, routines = _derived(system, effects)
+    for kind in dict.fromkeys(wanted):
+        files = _EMITTERS[kind]().emit(model, routines)  # one file, or none (no lanes)
         sources[kind] = files[0][1] if files else ""
-    stored = _store(path, sources)
+    again = _load(path)  # another process may have added kinds meanwhile: keep them
+    stored = _store(path, {**(again or {}), **sources})
     return FirstUse(sources, True, time.perf_counter() - start, stored)
+
+
+class _Emitters(dict):
+    """:data:`SOURCE_KINDS` -> emitter class, imported when first needed."""
+
+    def __missing__(self, kind: str):  # noqa: ANN204
+        from ..derive import emit
+
+        self.update({
+            "numpy": emit.NumpyEmitter, "mpmath": emit.MpmathEmitter, "c": emit.CEmitter,
+            "taylor_py": emit.TaylorPythonEmitter, "taylor_c": emit.TaylorCEmitter,
+            "taylor_mpfr": emit.TaylorMpfrEmitter, "taylor_program": emit.TaylorProgramEmitter,
+            "c_lanes": emit.CLanesEmitter,
+        })  # fmt: skip
+        return self[kind]
+
+
+_EMITTERS = _Emitters()
+
+#: The derived models and their routines (the common subexpressions every emitter shares)
+#: of the last variants emitted in this process: a kind emitted later reuses them.
+_DERIVED: dict[tuple, tuple] = {}
+_DERIVED_MAX = 4
+
+
+def _derived(system: str, effects: frozenset[str]) -> tuple:
+    from ..derive.emit import ModelRoutines
+    from ..derive.systems import build_model, variant_cache_key
+
+    key = (system, effects, variant_cache_key(system, effects))
+    hit = _DERIVED.get(key)
+    if hit is None:
+        model = build_model(system, effects)
+        hit = (model, ModelRoutines(model))
+        if len(_DERIVED) >= _DERIVED_MAX:
+            del _DERIVED[next(iter(_DERIVED))]
+        _DERIVED[key] = hit
+    return hit

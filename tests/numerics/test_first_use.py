@@ -1,6 +1,7 @@
-"""An effect combination that is not in ``generated/`` is derived, emitted and compiled on first
-use, says so and how long it took, and is cached: a later process (simulated by emptying the
-in-process caches) loads it without deriving and gives bit-identical output."""
+"""An effect combination that is not in ``generated/`` is derived and emitted on first use (its
+mpmath, C and vector-lane code when first asked for), says so and how long it took, and is
+cached: a later process (simulated by emptying the in-process caches) loads it without deriving
+and gives bit-identical output."""
 
 from __future__ import annotations
 
@@ -58,8 +59,8 @@ def test_first_use_derives_compiles_says_so_and_the_second_run_uses_the_cache(
     captured = capsys.readouterr()
     first = json.loads(captured.out)
     message = re.search(
-        rf"note: {VARIANT} is not in generated/: derived, emitted and compiled on first use in "
-        r"([0-9.]+) s \(cached in (\S+)\)",
+        rf"note: {VARIANT} is not in generated/: derived and emitted on first use in "
+        r"([0-9.]+) s \(cached in (\S+)\); c, c_lanes when first needed",
         captured.err,
     )
     assert message, captured.err
@@ -105,3 +106,51 @@ def test_a_cache_file_that_is_not_ours_is_not_loaded(tmp_path, monkeypatch):
     assert _load(path) is None
     monkeypatch.setenv("CHAPLYGIN_MODEL_CACHE", "0")
     assert emitted_cache_file("chaplygin_ball", frozenset({"rubber"})) is None
+
+
+def test_the_mpmath_c_and_lane_code_are_emitted_when_first_needed(tmp_path, monkeypatch):
+    """A first use emits the numpy, mpmath and Taylor code; a run on the numpy backend emits
+    nothing more; the C and lane code are emitted when first asked for, each the text the
+    all-at-once emission writes (another cache), and kept in the cache file for the next
+    process, where the compiled C agrees with the numpy module."""
+    import numpy as np
+    from chaplygin.numerics import integrate
+    from chaplygin.numerics.first_use import (
+        LAZY_KINDS,
+        SOURCE_KINDS,
+        _load,
+        emitted_cache_file,
+        emitted_sources,
+    )
+
+    effects = frozenset({"rubber", "contact_point"})
+    monkeypatch.setenv("CHAPLYGIN_CACHE_DIR", str(tmp_path / "lazy"))
+    monkeypatch.delenv("CHAPLYGIN_MODEL_CACHE", raising=False)
+    _fresh_process(monkeypatch)
+    code = code_module.load_model_code("chaplygin_ball", effects)
+    path = emitted_cache_file("chaplygin_ball", effects)
+    assert code._pending == set(LAZY_KINDS) and not set(_load(path)) & set(LAZY_KINDS)
+    assert "c, c_lanes when first needed" in code.note
+    y0 = {"M": (0.6, -0.56, 0.0), "gamma": (0.0, 0.0, 1.0)}
+    p = {"I": (1.3, 2.1, 2.9), "D": 0.7, "b": 1}
+    r = integrate(code, y0, 0.5, p, method="DOP853", backend="numpy", rtol=1e-10, atol=1e-10)
+    assert r.success and code._pending == set(LAZY_KINDS)
+    lazy = {"c": code.c_source, "c_lanes": code.lanes_c_source}
+    assert not code._pending and set(_load(path)) == set(SOURCE_KINDS)
+    # the same texts as the emission of every kind at once, from another cache
+    monkeypatch.setenv("CHAPLYGIN_CACHE_DIR", str(tmp_path / "all"))
+    _fresh_process(monkeypatch)
+    whole = emitted_sources("chaplygin_ball", effects, SOURCE_KINDS).sources
+    assert lazy["c"] == whole["c"] and (lazy["c_lanes"] or "") == whole["c_lanes"]
+    # a new process reads the lazily emitted C from the first cache: it compiles and agrees
+    # with the numpy module
+    monkeypatch.setenv("CHAPLYGIN_CACHE_DIR", str(tmp_path / "lazy"))
+    _fresh_process(monkeypatch)
+    again = code_module.load_model_code("chaplygin_ball", effects)
+    assert not again._pending and again.c_source == lazy["c"]
+    compiled = again.compiled()
+    if compiled is not None:  # a machine with a C compiler
+        y = np.asarray(r.y[:, -1], dtype=float)
+        pv = np.array([float(r.params[name]) for name in again.params])
+        assert np.allclose(compiled.integrals(0.5, y, pv), again.numpy.integrals(0.5, y, pv),
+                           rtol=64 * np.finfo(float).eps, atol=0.0)
