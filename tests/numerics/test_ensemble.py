@@ -328,3 +328,35 @@ def test_an_ensemble_from_the_lanes_pickles_with_its_results():
         assert _same(back.results[j].y, r.results[j].y)
         assert back.results[j].drift == {n: r.drift[n][j] for n in r.drift}
     assert _same(back.y, r.y) and back.status.tolist() == r.status.tolist()
+
+
+def test_the_same_ensemble_again_reads_its_starts_once_and_gives_the_same_bits(monkeypatch):
+    """integrate_many called again with the same inputs (as typed) does not read its starts
+    again (counted); its arrays are the first call's bit for bit and its own; changed starts
+    are read anew; a refused orbit is refused every time."""
+    monkeypatch.setattr(ensemble, "_READ", {})
+    calls = []
+    real = ensemble.read_starts
+    monkeypatch.setattr(ensemble, "read_starts",
+                        lambda *a, **k: calls.append(1) or real(*a, **k))  # fmt: skip
+    rng = np.random.default_rng(23)
+    G = rng.normal(size=(6, 3))
+    G /= np.linalg.norm(G, axis=1)[:, None]
+    Y = np.hstack([rng.uniform(-0.9, 0.9, (6, 3)), G])
+    kw = {"rtol": 1e-11, "atol": 1e-11, "t_eval": [0.0, 1.7, 3.3]}
+    a = integrate_many("chaplygin_ball", Y, 3.3, PARAMS, **kw)
+    b = integrate_many("chaplygin_ball", Y, 3.3, PARAMS, **kw)
+    assert len(calls) == 1 and a.success.all() and b.success.all()
+    assert _same(a.y, b.y) and a.y is not b.y and _same(a.status, b.status)
+    for name in a.drift:
+        assert _same(a.drift[name], b.drift[name])
+    for j in range(6):
+        one = integrate("chaplygin_ball", Y[j], 3.3, PARAMS, **kw)
+        assert _same(b.y[j], one.y) and b.results[j].drift == one.drift
+    Y[2, 0] += 0.01  # another start: read anew
+    c = integrate_many("chaplygin_ball", Y, 3.3, PARAMS, **kw)
+    assert len(calls) == 2 and not _same(c.y[2], a.y[2]) and _same(c.y[3], a.y[3])
+    Y[4, 3:] *= 1 + 1e-3  # off |gamma| = 1: refused, each time
+    for _ in range(2):
+        with pytest.raises(UserInputError, match="orbit 4"):
+            integrate_many("chaplygin_ball", Y, 3.3, PARAMS, **kw)
