@@ -98,6 +98,8 @@ class ModelCode:
 
     def _source(self, kind: str) -> None:
         """The source of ``kind``, emitted now if it is still pending (once, under a lock)."""
+        if kind not in self._pending:  # the common case: nothing to do, no lock taken
+            return
         with self._lock:
             if kind in self._pending and self._emit is not None:
                 text = self._emit(kind)

@@ -22,17 +22,23 @@ BALL = "chaplygin_ball"
 EPS = float(np.finfo(float).eps)
 
 
-@pytest.fixture
-def counted(monkeypatch):
-    """pack_state wrapped to count the reads (the memo emptied first)."""
+def _count_calls(monkeypatch, name: str) -> list:
+    """integrate's module function ``name`` wrapped to record its calls (returned)."""
     calls = []
-    real = integrate_module.pack_state
+    real = getattr(integrate_module, name)
 
-    def pack_state(*args, **kw):
+    def wrapped(*args, **kw):
         calls.append(args)
         return real(*args, **kw)
 
-    monkeypatch.setattr(integrate_module, "pack_state", pack_state)
+    monkeypatch.setattr(integrate_module, name, wrapped)
+    return calls
+
+
+@pytest.fixture
+def counted(monkeypatch):
+    """pack_state wrapped to count the reads (the memo emptied first)."""
+    calls = _count_calls(monkeypatch, "pack_state")
     monkeypatch.setattr(integrate_module, "_STARTS", {})
     monkeypatch.setattr(integrate_module, "_PREPARED", {})
     return calls
@@ -48,14 +54,7 @@ def test_a_call_made_again_is_prepared_once_and_gives_the_same_bits(monkeypatch)
 
     monkeypatch.setattr(integrate_module, "_PREPARED", {})
     monkeypatch.setattr(integrate_module, "_SESSIONS", threading.local())
-    prepared = []
-    real = integrate_module.prepare_problem
-
-    def counted(*args, **kw):
-        prepared.append(args)
-        return real(*args, **kw)
-
-    monkeypatch.setattr(integrate_module, "prepare_problem", counted)
+    prepared = _count_calls(monkeypatch, "prepare_problem")
 
     def run(method="taylor", **kw):
         return integrate(BALL, REFERENCE_Y0, 7.3, REFERENCE_PARAMS, method=method, rtol=1e-11,
