@@ -468,8 +468,8 @@ def enclose_flow(
         ta, tb = to_ball(t0), to_ball(t1)
         if tb.mid() == ta.mid():  # (t1 may be a ball reaching t0: a step interval holds 0)
             raise UserInputError(f"t1 must differ from t0 (got {t0!r}, {t1!r})")
-        taylor = code.taylor.taylor_coefficients if not carry else _carrying(
-            code.taylor.taylor_coefficients, n, carry)  # fmt: skip
+        taylor = _recurrences(code)
+        taylor = taylor if not carry else _carrying(taylor, n, carry)
         prob = _Problem(taylor, P, n + len(carry), order, jacobian, list(invariants),
                         _derivative_tol(tol, derivative_tol))  # fmt: skip
         start = _initial_set(X0, n, basis, coefficients)
@@ -489,6 +489,16 @@ def enclose_flow(
         times=result["times"],
         seconds=time.perf_counter() - started,
     )
+
+
+def _recurrences(code: Any) -> Callable:
+    """The model's Taylor recurrences on balls and jets: the compiled Arb kernel when it can
+    be built (:func:`~chaplygin.numerics.validated.arb_kernel.arb_kernel`), else the
+    generated Python module's."""
+    from .arb_kernel import arb_kernel
+
+    kernel = arb_kernel(code)
+    return kernel if kernel is not None else code.taylor.taylor_coefficients
 
 
 def _derivative_tol(tol: float, derivative_tol: float | None) -> float:
