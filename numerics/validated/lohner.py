@@ -40,7 +40,7 @@ from flint import arb, arb_mat, ctx
 
 from ...arith import detlinalg
 from ...derive.errors import ComputationError, UserInputError
-from .jets import ARB_LIB, JET_LIB, jet_gradient, jet_value, seed_jets
+from .jets import ARB_LIB, JET_LIB, ArbJet, jet_gradient, jet_value, seed_jets
 
 __all__ = [
     "FlowEnclosure",
@@ -330,6 +330,23 @@ def _box_jets(prob: _Problem, t: arb, box: list) -> tuple[list, list]:
     return jets, [[jet_value(x) for x in row] for row in jets]
 
 
+def _gradient_polynomial(jets: list, n: int, order: int, h: arb) -> arb_mat:
+    """``S = sum_k D_x c_k h^k`` (``n x n``) from the coefficients' jets: each row by Horner's
+    rule on the jets' gradient rows (one Arb call per operation on a whole row)."""
+    rows = []
+    for i in range(n):
+        acc = None
+        for k in range(order, -1, -1):
+            x = jets[i][k]
+            g = x.g if isinstance(x, ArbJet) else None
+            if acc is not None:
+                acc = acc * h if g is None else acc * h + g
+            else:
+                acc = g
+        rows.append([arb(0)] * n if acc is None else [acc[0, j] for j in range(n)])
+    return _mat(rows)
+
+
 def _step(
     prob: _Problem, t: arb, box: list, c: list, h: arb, box_jets: tuple | None = None
 ) -> dict | None:
@@ -351,12 +368,7 @@ def _step(
     hp = h ** (order + 1)
     R = [cZ[i][order + 1] * hp for i in range(n)]
     u = [_horner(c[i], h) + R[i] for i in range(n)]
-    S = [[arb(0)] * n for _ in range(n)]
-    for i in range(n):
-        grads = [jet_gradient(jets[i][k], n) for k in range(order + 1)]
-        for j in range(n):
-            S[i][j] = _horner([g[j] for g in grads], h)
-    out = {"u": u, "R": R, "S": _mat(S), "Z": Z}
+    out = {"u": u, "R": R, "S": _gradient_polynomial(jets, n, order, h), "Z": Z}
     if prob.want_jacobian:
         Df = [jet_gradient(jz[i][1], n) for i in range(n)]
         # a float sum of 6 upper bounds, rounded up by far more than its rounding error

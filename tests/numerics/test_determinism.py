@@ -171,6 +171,33 @@ print(json.dumps({"hash": h.hexdigest(), "count": count}))
 """
 
 
+#: The validated integrator on the compiled Arb kernel (issue 26): BM20's model from a start of
+#: decimal balls for a while, with the flow's derivative (Lohner's QR in detlinalg, the
+#: recurrences in the kernel built by the configuration's compiler): every ball's midpoint and
+#: radius hashed exactly.
+#: The argument "1" moves one start coordinate by 10^-30 (the control).
+ENCLOSURE_PROBE = r"""
+import hashlib, json, sys
+from chaplygin.numerics.code import load_model_code
+from chaplygin.numerics.validated import enclose_flow
+from chaplygin.numerics.validated.arb_kernel import arb_kernel
+
+code = load_model_code("chaplygin_ball", "variable_gyrostat,variable_inertia")
+assert arb_kernel(code) is not None, "no compiled kernel"
+params = ["4", "3", "2", "4.385", "0", "2", "-6", "-3", "-9", "1.06675"]
+start = ["1.3", "-2.1", "0.7", "0.36", "0.48", "0.8"]
+if sys.argv[1] == "1":
+    start[0] = "1.300000000000000000000000000001"
+e = enclose_flow(code, params, start, 0, "0.37", jacobian=True, order=24, tol=1e-20)
+h = hashlib.sha256()
+count = 0
+for ball in [*e.state, *(x for row in e.jacobian for x in row)]:
+    h.update(repr((ball.mid().man_exp(), ball.rad().man_exp())).encode())
+    count += 1
+print(json.dumps({"hash": h.hexdigest(), "count": count, "steps": e.steps}))
+"""
+
+
 def _run(env_extra: dict[str, str], cache: Path, nudge: bool = False, probe: str = PROBE) -> dict:
     env = {k: v for k, v in os.environ.items() if not k.startswith(("OPENBLAS", "NPY_", "GLIBC"))}
     env.update(CHAPLYGIN_CACHE_DIR=str(cache), **env_extra)
@@ -227,4 +254,26 @@ def test_k01_trace_geometry_has_the_same_bits_on_every_code_path(cache):
     differing = {name: r["hash"] for name, r in seen.items() if r["hash"] != reference["hash"]}
     assert not differing, f"other bits than under Prescott ({reference['hash']}): {differing}"
     nudged = _run(configurations["OpenBLAS Prescott"], cache, nudge=True, probe=TRACE_PROBE)
+    assert nudged["hash"] != reference["hash"]
+
+
+def test_enclosures_on_the_arb_kernel_have_the_same_bits_on_every_code_path(cache):
+    """The compiled Arb kernel of the validated integrator built by gcc and clang at -O0 and
+    -O2, and Lohner's step under two BLAS kernels: the same balls to the last bit; the
+    control moves one start coordinate by 10^-30."""
+    gcc, clang = _compiler("gcc"), _compiler("clang")
+    configurations = {
+        "gcc -O2": {"CC": gcc},
+        "gcc -O0": {"CC": gcc, "CHAPLYGIN_OPT_LEVEL": "0"},
+        "clang -O2": {"CC": clang},
+        "clang -O0": {"CC": clang, "CHAPLYGIN_OPT_LEVEL": "0"},
+        "OpenBLAS Prescott": {"CC": gcc, "OPENBLAS_CORETYPE": "Prescott"},
+        "OpenBLAS Haswell": {"CC": gcc, "OPENBLAS_CORETYPE": "Haswell"},
+    }
+    seen = {n: _run(env, cache, probe=ENCLOSURE_PROBE) for n, env in configurations.items()}
+    reference = seen["gcc -O2"]
+    assert reference["count"] == 6 + 36 and reference["steps"] > 1
+    differing = {name: r["hash"] for name, r in seen.items() if r["hash"] != reference["hash"]}
+    assert not differing, f"other bits than gcc -O2 ({reference['hash']}): {differing}"
+    nudged = _run(configurations["gcc -O2"], cache, nudge=True, probe=ENCLOSURE_PROBE)
     assert nudged["hash"] != reference["hash"]
