@@ -219,6 +219,28 @@ def _node_lines(prog: PrintedProgram, printer: _ConstPrinter) -> tuple[list[str]
     return zero, body
 
 
+def _check_program(program: PrintedProgram) -> None:
+    """Refuse a program whose C would not be what it says: the state components first and
+    in order, every operand an earlier node (the C indexes arrays with them), the outputs
+    nodes, the hash hexadecimal (it is printed into a C string)."""
+    nodes, n = program.nodes, program.n_state
+    if any(nodes[i].op != "var" or nodes[i].index != i for i in range(min(n, len(nodes)))):
+        raise ValueError("the program's first nodes must be the state components in order")
+    arity = {"sqrt": 1, "pow": 1, "exp": 1, "neg": 1, "sq": 1, "var": 0, "time": 0, "const": 0}
+    for x, node in enumerate(nodes):
+        if len(node.args) != arity.get(node.op, 2) or any(
+            not 0 <= a < len(nodes) for a in node.args
+        ):
+            raise ValueError(f"node {x} ({node.op}) has operands {node.args}")
+        partner = node.op in ("sin", "cos")
+        if any(a >= x for a in node.args[: 1 if partner else None]):
+            raise ValueError(f"node {x} ({node.op}) reads a later node")
+    if len(nodes) < n or any(not 0 <= o < len(nodes) for o in program.outputs):
+        raise ValueError("the program's outputs are not its nodes")
+    if re.fullmatch(r"[0-9a-f]{64}", program.model_hash) is None:
+        raise ValueError("the program's model hash is not a sha256 in hex")
+
+
 def taylor_arb_source(program: PrintedProgram | str, header: str = "") -> str:
     """The C source of the model's Taylor coefficients on Arb balls and jets.
 
@@ -245,11 +267,11 @@ def taylor_arb_source(program: PrintedProgram | str, header: str = "") -> str:
         import json
 
         about = json.loads(program).get("about", [])
-        header = header or "\n".join(about)
+        header = header or "\n".join(str(line) for line in about)
         program = PrintedProgram.from_json(program)
+    header = header.replace("*/", "* /")  # inside the file's leading comment
+    _check_program(program)
     n = program.n_state
-    if any(program.nodes[i].op != "var" or program.nodes[i].index != i for i in range(n)):
-        raise ValueError("the program's first nodes must be the state components in order")
     printer = _ConstPrinter(program.params)
     zero, body = _node_lines(program, printer)
     g = _gradients(program)

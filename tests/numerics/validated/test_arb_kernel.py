@@ -226,3 +226,30 @@ def test_a_constant_outside_the_macros_is_refused_not_run() -> None:
     for bad in ("R_SQRT(p_a); system(1)", "__import__(p_a)", "R_ADD(p_a)", "p_c"):
         with pytest.raises(ValueError):
             taylor_arb_source(program.replace("R_SQRT(p_a)", bad))
+
+
+def test_a_program_whose_c_would_reach_outside_its_arrays_is_refused() -> None:
+    import json
+
+    program = _code(_every_op_model()).taylor_program
+    taylor_arb_source(program)  # the program itself is printed
+    data = json.loads(program)
+    mul = next(i for i, node in enumerate(data["nodes"]) if node["op"] == "mul")
+    changes = {
+        "a later operand": lambda d: d["nodes"][mul].update(args=[mul + 1, 0]),
+        "an operand past the end": lambda d: d["nodes"][mul].update(args=[0, 10**6]),
+        "a negative operand": lambda d: d["nodes"][mul].update(args=[-1, 0]),
+        "an operand missing": lambda d: d["nodes"][mul].update(args=[0]),
+        "an output past the end": lambda d: d.update(outputs=[0, 1, 10**6]),
+        "a hash with a quote": lambda d: d.update(model_hash='0" ; int x = 1; "'),
+    }
+    for change in changes.values():
+        bad = json.loads(program)
+        change(bad)
+        with pytest.raises(ValueError):
+            taylor_arb_source(json.dumps(bad))
+    # a comment's end in the header stays inside the comment
+    about = json.loads(program)
+    about["about"] = ["*/ int planted(void) { return 1; } /*"]
+    text = taylor_arb_source(json.dumps(about))
+    assert "*/ int planted" not in text and "* / int planted" in text
