@@ -124,6 +124,7 @@ from .effects import parse_effects
 from .errors import UserInputError
 from .expression_text import parse_expression
 from .model import Model
+from .model_store import described_model
 from .rigid_body import RigidBodyReduction
 from .rolling_balls import ball_values, balls_description, read_balls
 from .rolling_centre import _centre_surface_description, _read_centre_surface
@@ -143,14 +144,7 @@ from .rolling_surfaces import (
 )
 from .vectors import cross, dot, vector
 
-__all__ = [
-    "RollingSystem",
-    "SUPPORTS",
-    "SIDES",
-    "CONTACTS",
-    "RESERVED_NAMES",
-    "SUPPORTED_EFFECTS",
-]
+__all__ = ["RollingSystem", "SUPPORTS", "SIDES", "CONTACTS", "RESERVED_NAMES", "SUPPORTED_EFFECTS"]
 
 #: Effects a described system may take (the contact trace; rolling along the line alpha);
 #: which of them a description takes depends on its support (:attr:`RollingSystem.effects_taken`).
@@ -423,6 +417,7 @@ class RollingSystem:
             + ([] if p["support_surface"] is None else [sp.srepr(p["support_surface"])])
             + ([] if p["centre_surface"] is None else ["centre", sp.srepr(p["centre_surface"])])
             + ([] if p["balls"] is None else ["balls", sp.srepr(p["balls"])])
+            + ([] if p["field"] == 0 else ["field", sp.srepr(p["field"])])
         )
         return hashlib.sha256(text.encode()).hexdigest()
 
@@ -518,13 +513,27 @@ class RollingSystem:
         return desc
 
     def model(self, effects: frozenset[str] | Sequence[str] = ()) -> Model:
-        """Derive the model (not cached; :func:`~.systems.build_model` caches it once the
-        system is registered with :func:`~.systems.register_system`).
+        """The model, derived once, then kept in the process and on disk
+        (:func:`~.model_store.described_model`: keyed by :meth:`fingerprint`).
 
         Parameters
         ----------
         effects : iterable of str, optional
             Any of :data:`SUPPORTED_EFFECTS`.
+
+        Returns
+        -------
+        Model
+        """
+        return described_model(self, effects)
+
+    def derive(self, effects: frozenset[str] | Sequence[str] = ()) -> Model:
+        """Derive the model now, no cache read or written.
+
+        Parameters
+        ----------
+        effects : iterable of str, optional
+            As for :meth:`model`.
 
         Returns
         -------

@@ -11,21 +11,23 @@ from __future__ import annotations
 
 import hashlib
 import importlib
-import os
-import pickle
-import sys
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
-from functools import cache
 from pathlib import Path
 
-import mpmath
-import sympy as sp
-
-from .cachefiles import cache_root, read_signed, write_signed
 from .effects import parse_effects
 from .errors import UserInputError
 from .model import Model
+from .model_store import (  # noqa: F401 - (the cache's names, as they were here)
+    _MODEL_MAGIC,
+    MODEL_CACHE_VERSION,
+    _derivation_digest,
+    _load_cached,
+    _pickled,
+    _store,
+    described_model,
+    model_cache_dir,
+)
 from .rolling_system import RollingSystem
 
 __all__ = [
@@ -42,10 +44,8 @@ __all__ = [
     "model_cache_dir",
     "variant_cache_key",
     "variant_cache_file",
+    "described_model",
 ]
-
-#: Bumped when the layout of the on-disk model cache changes.
-MODEL_CACHE_VERSION = 1
 
 #: Modules of chaplygin.derive that define a system (see the module docstring).
 SYSTEM_MODULES = ("chaplygin_ball", "ball_on_surface", "spherical_support")
@@ -170,34 +170,6 @@ def variant_name(system: str, effects: Iterable[str]) -> str:
     return "__".join([system, *sorted(effects)])
 
 
-def model_cache_dir() -> Path | None:
-    """Folder of derived models on disk.
-
-    Returns
-    -------
-    pathlib.Path or None
-        ``<cache root>/models`` (the root:
-        :func:`~chaplygin.derive.cachefiles.cache_root`); None when
-        ``CHAPLYGIN_MODEL_CACHE=0``.
-    """
-    if os.environ.get("CHAPLYGIN_MODEL_CACHE", "1") == "0":
-        return None
-    return cache_root() / "models"
-
-
-@cache
-def _derivation_digest() -> str:
-    """Hash of everything a derivation depends on: this package's sources and the
-    versions of Python, sympy and mpmath. Any edit of ``derive/`` gives new keys."""
-    h = hashlib.sha256(f"{MODEL_CACHE_VERSION} {sys.version} {sp.__version__}".encode())
-    h.update(mpmath.__version__.encode())
-    here = Path(__file__).resolve().parent
-    for path in sorted(here.rglob("*.py")):
-        h.update(str(path.relative_to(here)).encode())
-        h.update(path.read_bytes())
-    return h.hexdigest()
-
-
 def variant_cache_key(system: str, effects: Iterable[str]) -> str:
     """Key of a variant's derived files in the on-disk caches (models, first-use code).
 
@@ -251,38 +223,6 @@ def variant_cache_file(
 
 def _cache_file(system: str, effects: frozenset[str]) -> Path | None:
     return variant_cache_file("models", system, effects, ".pickle")
-
-
-#: First line of a model file: the format, then the HMAC of the pickle that follows.
-_MODEL_MAGIC = b"chaplygin-model-1\n"
-
-
-def _load_cached(path: Path | None) -> Model | None:
-    """The cached model at ``path``, or None (absent, damaged, or not written by us).
-
-    The pickle is read only after its HMAC (made with the cache root's per-user secret when
-    we wrote it) checks out: a file anyone else put there is never unpickled.
-    """
-    data = read_signed(path, _MODEL_MAGIC)
-    if data is None:
-        return None  # not ours (or damaged): derive again and overwrite it
-    try:
-        model = pickle.loads(data)  # signed by us: our own bytes
-    except Exception:  # an older class layout: derive again
-        return None
-    return model if isinstance(model, Model) else None
-
-
-def _store(path: Path | None, model: Model) -> bool:
-    """Write atomically (parallel processes may derive the same model at once), signed;
-    whether it was written."""
-    if path is None:
-        return False
-    try:
-        data = pickle.dumps(model, protocol=pickle.HIGHEST_PROTOCOL)
-    except (pickle.PicklingError, AttributeError, TypeError):
-        return False  # an unpicklable definition: the cache is only an aid
-    return bool(write_signed(path, _MODEL_MAGIC, data))
 
 
 def build_model(
@@ -418,7 +358,7 @@ def register_system(description: RollingSystem) -> System:
         raise UserInputError(f"system name {name!r} is taken by {what}; choose another name")
     entry = System(
         name,
-        lambda effects, _d=description: _d.model(effects),
+        lambda effects, _d=description: _d.derive(effects),  # (build_model caches it)
         description.effects_taken,
         (),
         description.description or f"described rolling system {name}",

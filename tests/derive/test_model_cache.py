@@ -6,7 +6,7 @@ import pickle
 from pathlib import Path
 
 import pytest
-from chaplygin.derive import systems
+from chaplygin.derive import model_store, systems
 from chaplygin.verify.claims import REGISTRY, select_claims
 from chaplygin.verify.verdict import check_claim
 
@@ -16,6 +16,7 @@ def fresh_cache(tmp_path, monkeypatch):
     monkeypatch.setenv("CHAPLYGIN_CACHE_DIR", str(tmp_path))
     monkeypatch.delenv("CHAPLYGIN_MODEL_CACHE", raising=False)
     monkeypatch.setattr(systems, "_CACHE", {})
+    monkeypatch.setattr(model_store, "_DESCRIBED", {})
     return tmp_path / "models"
 
 
@@ -33,6 +34,81 @@ def test_a_cached_model_is_the_derivation(fresh_cache):
     select_claims()
     for claim_id in ("K01-4.2.n", "K01-4.2m", "K01-4.4/control-muK"):
         assert check_claim(REGISTRY[claim_id]).ok
+
+
+def test_a_described_systems_model_is_cached_by_its_fingerprint(fresh_cache):
+    """``RollingSystem.model()``: derived once, stored signed, loaded by the next process as
+    the derivation; another number or another effect is another entry; an effect the
+    description does not take raises and stores nothing."""
+    from chaplygin.derive.errors import UserInputError
+    from chaplygin.derive.rolling_system import RollingSystem
+
+    fields = dict(inertia=[["3/7", "1/17", 0], ["1/17", "5/9", 0], [0, 0, "8/11"]],
+                  mass="13/10", radius="7/10", centre_of_mass=("1/9", 0, "-2/13"),
+                  gravity="49/5")  # fmt: skip
+    body = RollingSystem("offset_heavy_ball", **fields)
+    derived = body.model()
+    assert body.model() is derived  # memoised in the process
+    (stored,) = fresh_cache.glob("described-*.pickle")
+    model_store._DESCRIBED.clear()
+    loaded = body.model()
+    assert loaded is not derived and loaded.canonical_text() == derived.canonical_text()
+    assert body.derive().canonical_text() == loaded.canonical_text()
+    other = RollingSystem("offset_heavy_ball", **{**fields, "gravity": "49/6"}).model()
+    assert other.canonical_text() != loaded.canonical_text()
+    body.model(["contact_point"])
+    assert len(list(fresh_cache.glob("described-*.pickle"))) == 3 and stored.exists()
+    with pytest.raises(UserInputError):
+        body.model(["no_such_effect"])
+    assert len(list(fresh_cache.glob("described-*.pickle"))) == 3
+
+
+#: One change of each field that changes the derived model (the base: a heavy offset ball
+#: with a rotor on a plane, rolling).
+_CHANGES = {
+    "name": "other_name", "mass": "11/10", "radius": "3/5", "centre_of_mass": (0, "1/7", 0),
+    "gravity": "49/6", "gyrostat": (0, 0, "1/4"), "potential": "gamma3**2/7",
+    "contact": "rubber", "support": "sphere", "positive": ("k",),
+    "inertia": [["3/7", 0, 0], [0, "5/9", 0], [0, 0, "8/11"]],
+}  # fmt: skip
+
+
+def test_every_field_that_changes_the_model_changes_the_fingerprint():
+    """The fingerprint keys the caches and tells registrations apart: a change of any field
+    the derivation reads gives another one (gravity was once left out, and a description
+    with another gravity loaded the cached model of the first); the same numbers written
+    otherwise give the same one."""
+    from chaplygin.derive.rolling_system import RollingSystem
+
+    base = dict(inertia=[["3/7", "1/17", 0], ["1/17", "5/9", 0], [0, 0, "8/11"]],
+                mass="13/10", radius="7/10", centre_of_mass=("1/9", 0, "-2/13"),
+                gravity="49/5", gyrostat=(0, 0, "k"))  # fmt: skip
+    first = RollingSystem("heavy", **base).fingerprint()
+    same = {**base, "mass": "1.3", "gravity": "9.8"}
+    assert RollingSystem("heavy", **same).fingerprint() == first
+    for field, value in _CHANGES.items():
+        changed = {**base, field: value}
+        if field == "support":
+            changed["support_radius"] = 5
+        name = changed.pop("name", "heavy")
+        assert RollingSystem(name, **changed).fingerprint() != first, field
+
+
+def test_a_described_system_with_another_gravity_is_not_served_the_cached_model(fresh_cache):
+    """Two processes register the same name with other gravities: the second builds its
+    own model, not the first's from the disk cache."""
+    from chaplygin.derive.rolling_system import RollingSystem
+
+    fields = dict(inertia=[[1, 0, 0], [0, 2, 0], [0, 0, 3]], centre_of_mass=(0, 0, "1/5"))
+    for g in ("49/5", "49/6"):
+        description = RollingSystem("moonball", gravity=g, **fields)
+        systems.register_system(description)
+        try:
+            built = systems.build_model("moonball")
+        finally:
+            systems.SYSTEMS.pop("moonball")  # (the next process)
+            systems._CACHE.clear()
+        assert built.canonical_text() == description.derive().canonical_text(), g
 
 
 def test_samplers_survive_the_cache(fresh_cache):

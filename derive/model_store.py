@@ -1,0 +1,159 @@
+"""The on-disk cache of derived models: where it is, the key of the derivation's sources and
+versions, signed pickles that load as they were written, and the models of descriptions
+(:meth:`~.rolling_system.RollingSystem.model`), memoised in the process and on disk.
+
+:mod:`.systems` builds the registered systems' models on it; this module imports neither it
+nor the descriptions (it is below both)."""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import os
+import pickle
+import sys
+from collections.abc import Iterable
+from functools import cache
+from pathlib import Path
+from typing import Any
+
+import mpmath
+import sympy as sp
+
+from .cachefiles import cache_root, read_signed, write_signed
+from .model import Model
+
+__all__ = ["MODEL_CACHE_VERSION", "model_cache_dir", "described_model"]
+
+#: Bumped when the layout of the on-disk model cache changes.
+MODEL_CACHE_VERSION = 1
+
+def model_cache_dir() -> Path | None:
+    """Folder of derived models on disk.
+
+    Returns
+    -------
+    pathlib.Path or None
+        ``<cache root>/models`` (the root:
+        :func:`~chaplygin.derive.cachefiles.cache_root`); None when
+        ``CHAPLYGIN_MODEL_CACHE=0``.
+    """
+    if os.environ.get("CHAPLYGIN_MODEL_CACHE", "1") == "0":
+        return None
+    return cache_root() / "models"
+
+
+@cache
+def _derivation_digest() -> str:
+    """Hash of everything a derivation depends on: this package's sources and the
+    versions of Python, sympy and mpmath. Any edit of ``derive/`` gives new keys."""
+    h = hashlib.sha256(f"{MODEL_CACHE_VERSION} {sys.version} {sp.__version__}".encode())
+    h.update(mpmath.__version__.encode())
+    here = Path(__file__).resolve().parent
+    for path in sorted(here.rglob("*.py")):
+        h.update(str(path.relative_to(here)).encode())
+        h.update(path.read_bytes())
+    return h.hexdigest()
+
+
+#: First line of a model file: the format, then the HMAC of the pickle that follows.
+_MODEL_MAGIC = b"chaplygin-model-1\n"
+
+
+def _load_cached(path: Path | None) -> Model | None:
+    """The cached model at ``path``, or None (absent, damaged, or not written by us).
+
+    The pickle is read only after its HMAC (made with the cache root's per-user secret when
+    we wrote it) checks out: a file anyone else put there is never unpickled.
+    """
+    data = read_signed(path, _MODEL_MAGIC)
+    if data is None:
+        return None  # not ours (or damaged): derive again and overwrite it
+    try:
+        model = pickle.loads(data)  # signed by us: our own bytes
+    except Exception:  # an older class layout: derive again
+        return None
+    return model if isinstance(model, Model) else None
+
+
+def _unevaluated(cls: type, args: tuple) -> sp.Basic:
+    """A sum, product or power from its arguments as they were (:class:`_ModelPickler`)."""
+    return cls(*args, evaluate=False)
+
+
+class _ModelPickler(pickle.Pickler):
+    """Pickles sums, products and powers so that they load as they were: sympy's own
+    pickles build them again with evaluation, which distributes a number over a sum (a
+    ``Mul(1/n, Add(...))`` of ``factor`` comes back expanded), so a loaded model would not
+    be the derivation and the code emitted from it would round otherwise."""
+
+    def reducer_override(self, obj: object) -> object:
+        if type(obj) in (sp.Add, sp.Mul, sp.Pow):
+            return _unevaluated, (type(obj), obj.args)
+        return NotImplemented
+
+
+def _pickled(model: Model) -> bytes:
+    out = io.BytesIO()
+    _ModelPickler(out, protocol=pickle.HIGHEST_PROTOCOL).dump(model)
+    return out.getvalue()
+
+
+def _store(path: Path | None, model: Model) -> bool:
+    """Write atomically (parallel processes may derive the same model at once), signed;
+    whether it was written."""
+    if path is None:
+        return False
+    try:
+        data = _pickled(model)
+    except (pickle.PicklingError, AttributeError, TypeError):
+        return False  # an unpicklable definition: the cache is only an aid
+    return bool(write_signed(path, _MODEL_MAGIC, data))
+
+
+#: Models of descriptions (:meth:`RollingSystem.model`) in this process, by the
+#: description's fingerprint and the effects.
+_DESCRIBED: dict[tuple[str, frozenset[str]], Model] = {}
+
+
+def described_model(description: Any, effects: Iterable[str] | str | None = ()) -> Model:
+    """The model of a description that need not be registered: memoised in the process and
+    kept in the on-disk model cache like :func:`build_model`'s, keyed by the description's
+    :meth:`~.rolling_system.RollingSystem.fingerprint`, the effects and the derivation's
+    sources and versions (:func:`variant_cache_key`'s digest).
+
+    Parameters
+    ----------
+    description : RollingSystem
+        (read through its ``fingerprint()`` and ``derive(effects)``)
+    effects : iterable of str or comma-separated str, optional
+
+    Returns
+    -------
+    Model
+
+    Raises
+    ------
+    UserInputError
+        What :meth:`~.rolling_system.RollingSystem.derive` raises (an effect the
+        description does not take, ...): nothing is cached then.
+    """
+    if isinstance(effects, str):
+        effects = [e.strip() for e in effects.split(",") if e.strip()]
+    chosen = frozenset(effects or ())
+    key = (description.fingerprint(), chosen)
+    model = _DESCRIBED.get(key)
+    if model is None:
+        path = None
+        models = model_cache_dir()
+        if models is not None:
+            digest = hashlib.sha256(
+                f"{_derivation_digest()} {key[0]} {sorted(chosen)}".encode()
+            ).hexdigest()[:32]
+            path = models / f"described-{digest}.pickle"
+        model = _load_cached(path)
+        if model is None:
+            model = description.derive(sorted(chosen))
+            _store(path, model)
+        _DESCRIBED[key] = model
+    return model
