@@ -21,6 +21,7 @@ import mpmath
 import sympy as sp
 
 from .cachefiles import cache_root, read_signed, write_signed
+from .effects import parse_effects
 from .model import Model
 
 __all__ = ["MODEL_CACHE_VERSION", "model_cache_dir", "described_model"]
@@ -125,7 +126,7 @@ def described_model(description: Any, effects: Iterable[str] | str | None = ()) 
     Parameters
     ----------
     description : RollingSystem
-        (read through its ``fingerprint()`` and ``derive(effects)``)
+        (read through its ``fingerprint()``, ``effects_taken`` and ``derive(effects)``)
     effects : iterable of str or comma-separated str, optional
 
     Returns
@@ -135,12 +136,10 @@ def described_model(description: Any, effects: Iterable[str] | str | None = ()) 
     Raises
     ------
     UserInputError
-        What :meth:`~.rolling_system.RollingSystem.derive` raises (an effect the
-        description does not take, ...): nothing is cached then.
+        An effect the description does not take (before any work), or what
+        :meth:`~.rolling_system.RollingSystem.derive` raises: nothing is cached then.
     """
-    if isinstance(effects, str):
-        effects = [e.strip() for e in effects.split(",") if e.strip()]
-    chosen = frozenset(effects or ())
+    chosen = parse_effects(effects, description.effects_taken)  # (checked before any work)
     key = (description.fingerprint(), chosen)
     model = _DESCRIBED.get(key)
     if model is None:
