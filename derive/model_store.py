@@ -29,6 +29,7 @@ __all__ = ["MODEL_CACHE_VERSION", "model_cache_dir", "described_model"]
 #: Bumped when the layout of the on-disk model cache changes.
 MODEL_CACHE_VERSION = 1
 
+
 def model_cache_dir() -> Path | None:
     """Folder of derived models on disk.
 
@@ -121,7 +122,7 @@ def described_model(description: Any, effects: Iterable[str] | str | None = ()) 
     """The model of a description that need not be registered: memoised in the process and
     kept in the on-disk model cache like :func:`build_model`'s, keyed by the description's
     :meth:`~.rolling_system.RollingSystem.fingerprint`, the effects and the derivation's
-    sources and versions (:func:`variant_cache_key`'s digest).
+    sources and versions (the digest :func:`~.systems.variant_cache_key` uses too).
 
     Parameters
     ----------

@@ -519,7 +519,7 @@ class RollingSystem:
         Parameters
         ----------
         effects : iterable of str, optional
-            Any of :data:`SUPPORTED_EFFECTS`.
+            Any of :attr:`effects_taken`.
 
         Returns
         -------

@@ -19,11 +19,9 @@ from .effects import parse_effects
 from .errors import UserInputError
 from .model import Model
 from .model_store import (  # noqa: F401 - (the cache's names, as they were here)
-    _MODEL_MAGIC,
     MODEL_CACHE_VERSION,
     _derivation_digest,
     _load_cached,
-    _pickled,
     _store,
     described_model,
     model_cache_dir,
