@@ -58,26 +58,40 @@ def ensemble_evidence(code: ModelCode, compiled: Any, t: np.ndarray, y: np.ndarr
     """
     N, names = len(y), code.integral_names
     status = np.array(status, dtype=np.int64)
-    drift = {name: np.full(N, np.nan) for name in names}
+    drift: dict[str, np.ndarray] = {}
     alone = (done < 1) | (done > _POINTWISE_COMPILED)
-    rows = np.flatnonzero(~alone)
+    rows: Any = np.flatnonzero(~alone)
     if len(rows):
         m = int(done[rows].max())
-        V = np.empty((len(rows), m, len(names)))
+        every = len(rows) == N and bool((done == m).all())
+        if every:  # every orbit has every output (the common case): views, no masks
+            rows = slice(None)
+        V = np.empty((N if every else len(rows), m, len(names)))
         P = params[rows].T
         for k in range(m):  # the compiled integrals of every orbit at output k
             V[:, k, :] = compiled.integrals_many(float(t[k]), y[rows, :, k].T, P).T
-        upto = np.arange(m)[None, :] < done[rows][:, None]
         with np.errstate(invalid="ignore"):
-            change = np.where(upto[:, :, None], np.abs(V - V[:, :1, :]), 0.0).max(axis=1)
+            if every:
+                change = np.abs(V - V[:, :1, :]).max(axis=1)
+                finite = np.isfinite(y[:, :, :m]).all(axis=(1, 2))
+            else:
+                upto = np.arange(m)[None, :] < done[rows][:, None]
+                change = np.where(upto[:, :, None], np.abs(V - V[:, :1, :]), 0.0).max(axis=1)
+                finite = np.where(upto[:, None, :], np.isfinite(y[rows, :, :m]), True).all(
+                    axis=(1, 2)
+                )
             ref = np.abs(V[:, 0, :])
             rel = np.where(ref <= zero, change, change / np.where(ref <= zero, 1.0, ref))
-        finite = np.where(upto[:, None, :], np.isfinite(y[rows, :, :m]), True).all(axis=(1, 2))
         code_rows = np.where(finite, status[rows], -1)
         bad = ~np.isfinite(rel).all(axis=1)
         status[rows] = np.where(bad & (code_rows == 0), -5, code_rows)
+        if every:
+            drift = dict(zip(names, np.ascontiguousarray(rel.T), strict=True))
+            return status, drift
         for i, name in enumerate(names):
-            drift[name][rows] = rel[:, i]
+            drift.setdefault(name, np.full(N, np.nan))[rows] = rel[:, i]
+    for name in names:
+        drift.setdefault(name, np.full(N, np.nan))
     for j in np.flatnonzero(alone):
         result = single(int(j))
         status[j] = result.status

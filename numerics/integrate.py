@@ -472,6 +472,10 @@ def _input_key(value: object) -> tuple | None:
     if kind is float:
         return ("float", value) if value == value else None
     if kind is tuple or kind is list:
+        # a vector of floats (none NaN) at once, keyed as below
+        keys = [("float", v) for v in value if type(v) is float and v == v]
+        if len(keys) == len(value):
+            return ("seq", tuple(keys))
         keys = []
         for v in value:
             kv = type(v)

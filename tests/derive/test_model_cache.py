@@ -94,6 +94,50 @@ def test_every_field_that_changes_the_model_changes_the_fingerprint():
         assert RollingSystem(name, **changed).fingerprint() != first, field
 
 
+#: Descriptions of the other supports and bodies, and a change of each field they use
+#: (the fields ``_CHANGES`` changes on the heavy ball are not repeated).
+_OTHER_BODIES = [
+    (dict(inertia=(1, 2, 3), radius="7/10", support="sphere", support_radius=5),
+     {"support_radius": "11/2", "side": "inside"}),
+    (dict(inertia=(1, 2, 3), radius="7/10", support="rotating_plane", rotation_rate="5/3"),
+     {"rotation_rate": "5/3*cos(t)"}),
+    (dict(inertia=(1, 2, 3), radius="7/10", support="moving_plane", plane_velocity=("V1", "V2")),
+     {"plane_velocity": ("V1", "2*V2")}),
+    (dict(inertia=("A", "A", "C"), surface="x1**2 + x2**2 + x3**2 - b**2", support="surface",
+          support_surface="p1**2 + p2**2 + p3**2 - 9"),
+     {"support_surface": "p1**2 + p2**2/4 + p3**2 - 9",
+      "surface": "x1**2 + x2**2/2 + x3**2 - b**2"}),
+    (dict(inertia=("A", "A", "A"), mass="m", radius="R", gravity="g", support="surface",
+          centre_surface="x1**2 + x2**2 + x3**2 - (R + S)**2"),
+     {"centre_surface": "x1**2 + x2**2 + x3**2/2 - (R + S)**2"}),
+    (dict(inertia=("I1", "I2", "I3"), support="balls",
+          balls=[{"moment": "3/7", "ratio": "5/11", "direction": (2, 3, 6)},
+                 {"moment": "4/13", "ratio": "2/3", "direction": (3, -6, 2)}]),
+     {"balls": [{"moment": "3/7", "ratio": "5/11", "direction": (2, 3, 6)},
+                {"moment": "4/13", "ratio": "3/5", "direction": (3, -6, 2)}]}),
+]  # fmt: skip
+
+
+def test_every_field_of_every_support_reaches_the_fingerprint():
+    """Every field of a description but its prose changes the fingerprint on a support that
+    uses it, so a field added to RollingSystem fails here until the fingerprint reads it
+    (or it is added to the prose). The description's prose alone leaves it unchanged."""
+    import dataclasses
+
+    from chaplygin.derive.rolling_system import RollingSystem
+
+    covered = set(_CHANGES)
+    for base, changes in _OTHER_BODIES:
+        first = RollingSystem("other", **base).fingerprint()
+        for field, value in changes.items():
+            assert RollingSystem("other", **{**base, field: value}).fingerprint() != first, field
+            covered.add(field)
+        prose = RollingSystem("other", description="a note", **base).fingerprint()
+        assert prose == first
+    prose_only = {"description", "_parsed"}  # the note, and the parsed cache
+    assert covered | prose_only == {f.name for f in dataclasses.fields(RollingSystem)}
+
+
 def test_a_described_system_with_another_gravity_is_not_served_the_cached_model(fresh_cache):
     """Two processes register the same name with other gravities: the second builds its
     own model, not the first's from the disk cache."""

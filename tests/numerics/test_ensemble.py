@@ -251,11 +251,13 @@ def test_the_evidence_of_all_orbits_at_once_is_each_orbit_s(monkeypatch):
             assert r.results[j].drift == one.drift and r.results[j].message == one.message
 
 
-def test_evidence_at_once_keeps_what_the_point_by_point_loop_keeps():
+@pytest.mark.parametrize("every_output", [False, True])
+def test_evidence_at_once_keeps_what_the_point_by_point_loop_keeps(every_output):
     """ensemble_evidence on made-up outputs -- NaN and infinity at the first or a later
     output, an orbit with one output, outputs after an orbit's last that are garbage, an
     integral starting at zero (absolute drift) -- against base._drift and the finiteness
-    check, orbit by orbit (the route integrate() takes for a run on the C backend)."""
+    check, orbit by orbit (the route integrate() takes for a run on the C backend).
+    ``every_output``: every orbit reached every output (the route without masks)."""
     from chaplygin.numerics.code import load_model_code
     from chaplygin.numerics.ensemble_evidence import ensemble_evidence
     from chaplygin.numerics.integrators.base import _all_finite, _drift
@@ -273,7 +275,7 @@ def test_evidence_at_once_keeps_what_the_point_by_point_loop_keeps():
     y[3, 1, 4] = -np.inf
     y[4, :3, :] = 0.0  # M = 0: the energy starts at zero (absolute drift)
     y[4, 0, 2] = 1e-9
-    done = np.array([6, 6, 6, 6, 6, 1, 3, 4, 6])
+    done = np.full(N, m) if every_output else np.array([6, 6, 6, 6, 6, 1, 3, 4, 6])
     y[6, 0, 3:] = np.nan  # after orbit 6's last output: not its evidence
     status = np.array([0, 0, 0, 0, 0, 0, -2, -3, 0])
     P = np.tile(p, (N, 1))
@@ -289,7 +291,9 @@ def test_evidence_at_once_keeps_what_the_point_by_point_loop_keeps():
         assert got_status[j] == want, j
         for name, v in drift.items():
             assert got[name][j] == v or (np.isnan(got[name][j]) and np.isnan(v)), (j, name)
-    assert got_status.tolist()[:4] == [0, -1, -1, -1] and got_status[6] == -2
+    assert got_status.tolist()[:4] == [0, -1, -1, -1]
+    assert got_status[6] == (-1 if every_output else -2)
+    assert every_output == bool(np.isnan(got["H"][6]))  # its garbage counts when it is output
     assert np.isnan(got["H"][1]) and got["H"][4] > 0
 
 

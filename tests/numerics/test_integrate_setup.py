@@ -118,6 +118,8 @@ def test_keys_keep_types_apart():
     assert key(True) is None and key(float("nan")) is None and key(object()) is None
     assert key(1) != key(1.0) and key("1") != key(1)
     assert key([1.0, 2.0]) == key(np.array([1.0, 2.0])) == key((1.0, 2.0))
+    assert key([1.0, float("nan")]) is None and key([[1.0], [float("nan")]]) is None
+    assert key([1.0, "2.0"]) != key([1.0, 2.0]) != key([1.0, 2]) and key([1.0, True]) is None
     assert key({"a": [1.0]}) == key({"a": (1.0,)}) and key({1: 2.0}) is None
 
 
