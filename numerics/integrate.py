@@ -472,10 +472,10 @@ def _input_key(value: object) -> tuple | None:
     if kind is float:
         return ("float", value) if value == value else None
     if kind is tuple or kind is list:
-        # a vector of floats (none NaN) at once, keyed as below
-        keys = [("float", v) for v in value if type(v) is float and v == v]
-        if len(keys) == len(value):
-            return ("seq", tuple(keys))
+        # a vector of floats (none NaN), the common input, keyed at once by its values
+        floats = tuple([v for v in value if type(v) is float and v == v])
+        if len(floats) == len(value):
+            return ("floats", floats)
         keys = []
         for v in value:
             kv = type(v)
@@ -500,6 +500,8 @@ def _input_key(value: object) -> tuple | None:
         if value.dtype.kind not in "if":
             return None
         value = value.tolist()
+        if type(value) is list:  # as the same numbers in a list
+            return _input_key(value)
     if isinstance(value, list | tuple):
         # strings and integers, the common entries, keyed here (a call per entry is most of
         # the cost of a key)
