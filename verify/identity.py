@@ -54,6 +54,44 @@ __all__ = [
 VERDICTS = ("proved", "exact-sampled", "numeric", "refuted")
 
 
+
+def exact_value(poly, args: Sequence, powers: list[dict] | None = None):
+    """The value of a polynomial of an exact ring at exact ``args``, term by term.
+
+    The same number as ``poly(*args)`` (rational arithmetic is exact, so the order of the
+    sum does not matter), without sympy's evaluation one variable at a time, which builds a
+    polynomial ring for every variable it removes (most of the time of an exact-sampled
+    claim).
+
+    Parameters
+    ----------
+    poly : sympy.polys.rings.PolyElement
+        Over an exact domain (QQ here).
+    args : sequence
+        One element of the domain per generator.
+    powers : list of dict, optional
+        Powers of ``args`` already computed (``powers[i][e] = args[i]**e``), shared between
+        polynomials evaluated at the same point; filled here.
+
+    Returns
+    -------
+    element of the domain
+    """
+    if powers is None:
+        powers = [{} for _ in args]
+    total = poly.ring.domain.zero
+    for monom, coeff in poly.iterterms():
+        term = coeff
+        for i, e in enumerate(monom):
+            if e:
+                cache = powers[i]
+                power = cache.get(e)
+                if power is None:
+                    power = cache[e] = args[i] ** e
+                term = term * power
+        total += term
+    return total
+
 @dataclass
 class Domain:
     """Where the variables of a residual live.
@@ -388,6 +426,7 @@ class Residuals:
             in it: below ``1e-25`` at 30 digits) or a radicand is not positive.
         """
         args = self._values(point)
+        powers: list[dict] = [{} for _ in args]
         radical_symbols = {r for _, r in self.radicals}
         roots = {r: sp.sqrt(S.xreplace(point)) for S, r in self.radicals}
         for f in self.denominators:
@@ -396,7 +435,7 @@ class Residuals:
                 value = sp.N(f.as_expr().xreplace({**point, **roots}), 30)
                 if abs(value) < sp.Float(10) ** -25:
                     return False
-            elif f(*args) == 0:
+            elif exact_value(f, args, powers) == 0:
                 return False
         # radicands must be positive for the real square root to exist
         for S, _ in self.radicals:
@@ -420,7 +459,8 @@ class Residuals:
             all zero exactly when every residual vanishes there.
         """
         args = self._values(point)
-        return [p(*args) for p in self.pieces]
+        powers: list[dict] = [{} for _ in args]
+        return [exact_value(p, args, powers) for p in self.pieces]
 
     def value_at(self, point: dict[sp.Symbol, sp.Rational], digits: int = 20) -> str:
         """The largest residual at ``point``, printed (the value a refutation reports).

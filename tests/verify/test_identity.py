@@ -77,3 +77,32 @@ def test_trigonometric_and_function_atoms_are_generators():
     assert wrong.verdict == "refuted" and "Derivative(I1(t), t)" in wrong.witness
     sampled = decide([sp.sin(w * t) ** 2 + sp.cos(w * t) ** 2 - 1], Domain(model), "exact-sampled")
     assert sampled.verdict == "exact-sampled"
+
+
+def test_exact_values_are_sympys_evaluation():
+    """The term-by-term evaluation of the sampling (exact_value) against sympy's own
+    evaluation one variable at a time: the same rational for random sparse polynomials over
+    QQ at random rational points (powers shared between polynomials at one point), for the
+    zero polynomial and a constant; a point one coordinate off gives another value."""
+    from chaplygin.verify.identity import exact_value
+    from sympy.polys.domains import QQ
+    from sympy.polys.rings import ring
+
+    rng = random.Random(7)
+    R, *x = ring(",".join(f"x{i}" for i in range(9)), QQ, order="grevlex")
+    for _ in range(5):
+        polys = [R.zero, R(QQ(-7, 3))]
+        for _ in range(3):
+            f = R.zero
+            for _ in range(200):
+                term = R(QQ(rng.randint(-50, 50), rng.randint(1, 30)))
+                for v in x:
+                    term *= v ** rng.choice([0, 0, 0, 1, 2, 5])
+                f += term
+            polys.append(f)
+        args = [QQ(rng.randint(-9, 9), rng.randint(1, 9)) for _ in x]
+        powers: list[dict] = [{} for _ in x]
+        for f in polys:
+            assert exact_value(f, args, powers) == f(*args)
+        moved = [args[0] + QQ(1, 11), *args[1:]]
+        assert exact_value(polys[-1], moved) != polys[-1](*args)
