@@ -12,7 +12,7 @@ import io
 import os
 import pickle
 import sys
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from functools import cache
 from pathlib import Path
 from typing import Any
@@ -24,7 +24,7 @@ from .cachefiles import cache_root, read_signed, write_signed
 from .effects import parse_effects
 from .model import Model
 
-__all__ = ["MODEL_CACHE_VERSION", "model_cache_dir", "described_model"]
+__all__ = ["MODEL_CACHE_VERSION", "model_cache_dir", "described_model", "kept_model"]
 
 #: Bumped when the layout of the on-disk model cache changes.
 MODEL_CACHE_VERSION = 1
@@ -113,6 +113,38 @@ def _store(path: Path | None, model: Model) -> bool:
     return bool(write_signed(path, _MODEL_MAGIC, data))
 
 
+def kept_model(kind: str, key: str, derive: Callable[[], Model]) -> Model:
+    """A derived model kept in the on-disk model cache: loaded when a model of ``kind`` with
+    ``key`` was derived before by the same sources and versions, else ``derive()``'d and
+    stored (signed, written atomically; the cache is only an aid: a model that does not
+    pickle is returned all the same).
+
+    Parameters
+    ----------
+    kind : str
+        A name for the files (``<kind>-<digest>.pickle``).
+    key : str
+        Everything the derivation reads besides ``derive/``'s sources and the versions of
+        Python, sympy and mpmath (which the file's digest includes).
+    derive : callable
+        Derives the model (what it raises is raised; nothing is stored then).
+
+    Returns
+    -------
+    Model
+    """
+    path = None
+    models = model_cache_dir()
+    if models is not None:
+        digest = hashlib.sha256(f"{_derivation_digest()} {kind} {key}".encode()).hexdigest()
+        path = models / f"{kind}-{digest[:32]}.pickle"
+    model = _load_cached(path)
+    if model is None:
+        model = derive()
+        _store(path, model)
+    return model
+
+
 #: Models of descriptions (:meth:`RollingSystem.model`) in this process, by the
 #: description's fingerprint and the effects.
 _DESCRIBED: dict[tuple[str, frozenset[str]], Model] = {}
@@ -144,16 +176,7 @@ def described_model(description: Any, effects: Iterable[str] | str | None = ()) 
     key = (description.fingerprint(), chosen)
     model = _DESCRIBED.get(key)
     if model is None:
-        path = None
-        models = model_cache_dir()
-        if models is not None:
-            digest = hashlib.sha256(
-                f"{_derivation_digest()} {key[0]} {sorted(chosen)}".encode()
-            ).hexdigest()[:32]
-            path = models / f"described-{digest}.pickle"
-        model = _load_cached(path)
-        if model is None:
-            model = description.derive(sorted(chosen))
-            _store(path, model)
+        model = kept_model("described", f"{key[0]} {sorted(chosen)}",
+                           lambda: description.derive(sorted(chosen)))  # fmt: skip
         _DESCRIBED[key] = model
     return model

@@ -69,6 +69,7 @@ from .engine import ReducedEquations, StructuredInverse
 from .errors import DerivationError, UserInputError
 from .geometry import FRAME, UNIT_VECTOR, PoissonGroup
 from .model import Model, ModelDetails, ParameterSpec
+from .model_store import kept_model
 from .rigid_body import moment_reparametrisation
 from .support_derivation import (
     SUPPORTED_EFFECTS,
@@ -420,7 +421,14 @@ def n_ball_model(
     chosen = parse_effects(effects, SUPPORTED_EFFECTS)
     desc = n_ball_description(check_n_balls(n_balls), chosen, space_directions)
     apply_effects(desc, chosen, SUPPORTED_EFFECTS)
-    return form_model(desc)
+    # the directions were read and checked above: a seed, None, or exact vectors
+    directions = (
+        repr(space_directions)
+        if space_directions is None or isinstance(space_directions, int)
+        else sp.srepr(tuple(tuple(sp.sympify(c) for c in v) for v in space_directions))
+    )
+    return kept_model("n-ball", f"{n_balls} {sorted(chosen)} {directions}",
+                      lambda: form_model(desc))  # fmt: skip
 
 
 # ============================================================== closed model

@@ -26,6 +26,7 @@ import random
 import time
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import mpmath
 import sympy as sp
@@ -55,7 +56,9 @@ VERDICTS = ("proved", "exact-sampled", "numeric", "refuted")
 
 
 
-def exact_value(poly, args: Sequence, powers: list[dict] | None = None):
+def exact_value(
+    poly: sp.polys.rings.PolyElement, args: Sequence, powers: list[dict] | None = None
+) -> object:
     """The value of a polynomial of an exact ring at exact ``args``, term by term.
 
     The same number as ``poly(*args)`` (rational arithmetic is exact, so the order of the
@@ -91,6 +94,17 @@ def exact_value(poly, args: Sequence, powers: list[dict] | None = None):
                 term = term * power
         total += term
     return total
+
+
+@lru_cache(maxsize=512)
+def _relation_polynomial(relation: sp.Expr, state: frozenset[sp.Symbol]) -> sp.Expr:
+    """The numerator of a relation without its factors free of ``state`` (they do not vanish
+    on the phase space). Memoised: every claim on a domain with relations needs them, and
+    factoring a relation's numerator costs a quarter of a second."""
+    num = sp.numer(sp.together(relation))
+    _, factors = sp.factor_list(num)
+    kept = [f**k for f, k in factors if f.free_symbols & state]
+    return sp.expand(sp.Mul(*kept))
 
 @dataclass
 class Domain:
@@ -153,14 +167,8 @@ class Domain:
     def _relation_polynomials(self) -> list[sp.Expr]:
         """Numerators of the relations in the verification parameters, without factors
         free of state variables (they do not vanish on the phase space)."""
-        out = []
-        state = set(self.model.state)
-        for e in self.relation_exprs:
-            num = sp.numer(sp.together(self.prepare(e)))
-            _, factors = sp.factor_list(num)
-            kept = [f**k for f, k in factors if f.free_symbols & state]
-            out.append(sp.expand(sp.Mul(*kept)))
-        return out
+        state = frozenset(self.model.state)
+        return [_relation_polynomial(self.prepare(e), state) for e in self.relation_exprs]
 
     @property
     def reparametrisation(self) -> Reparametrisation | None:

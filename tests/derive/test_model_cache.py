@@ -63,6 +63,31 @@ def test_a_described_systems_model_is_cached_by_its_fingerprint(fresh_cache):
     assert len(list(fresh_cache.glob("described-*.pickle"))) == 3
 
 
+
+def test_the_n_ball_models_are_kept_on_disk_as_derived(fresh_cache, monkeypatch):
+    """The multi-body derivation of a body on N balls (4 s each, nine of them in every run
+    of the verifier) is kept in the model cache: the next process loads the derivation (the
+    same canonical text and support tensor, no derivation run: counted), another seed or
+    number of balls or effect is another file, and bad directions raise and store nothing."""
+    from chaplygin.derive import spherical_support
+    from chaplygin.derive.errors import UserInputError
+
+    formed = []
+    real = spherical_support.form_model
+    monkeypatch.setattr(spherical_support, "form_model", lambda d: formed.append(1) or real(d))
+    derived = spherical_support.n_ball_model(2, (), space_directions=2102)
+    (stored,) = fresh_cache.glob("n-ball-*.pickle")
+    loaded = spherical_support.n_ball_model(2, (), space_directions=2102)
+    assert len(formed) == 1 and loaded is not derived
+    assert loaded.canonical_text() == derived.canonical_text()
+    assert loaded.details.support_tensor == derived.details.support_tensor
+    spherical_support.n_ball_model(2, (), space_directions=2103)
+    spherical_support.n_ball_model(1, (), space_directions=2102)
+    assert len(formed) == 3 and len(list(fresh_cache.glob("n-ball-*.pickle"))) == 3
+    with pytest.raises(UserInputError):
+        spherical_support.n_ball_model(2, (), space_directions=[(1, 0, 0)])
+    assert len(list(fresh_cache.glob("n-ball-*.pickle"))) == 3 and stored.exists()
+
 #: One change of each field that changes the derived model (the base: a heavy offset ball
 #: with a rotor on a plane, rolling).
 _CHANGES = {
