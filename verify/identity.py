@@ -46,6 +46,7 @@ __all__ = [
     "Outcome",
     "Residuals",
     "decide",
+    "exact_value",
     "lie_derivative",
     "measure_residual",
     "VERDICTS",
@@ -53,7 +54,6 @@ __all__ = [
 
 #: The only verdicts there are.
 VERDICTS = ("proved", "exact-sampled", "numeric", "refuted")
-
 
 
 def exact_value(
@@ -105,6 +105,7 @@ def _relation_polynomial(relation: sp.Expr, state: frozenset[sp.Symbol]) -> sp.E
     _, factors = sp.factor_list(num)
     kept = [f**k for f, k in factors if f.free_symbols & state]
     return sp.expand(sp.Mul(*kept))
+
 
 @dataclass
 class Domain:
