@@ -24,7 +24,13 @@ from .cachefiles import cache_root, read_signed, write_signed
 from .effects import parse_effects
 from .model import Model
 
-__all__ = ["MODEL_CACHE_VERSION", "model_cache_dir", "described_model", "kept_model"]
+__all__ = [
+    "MODEL_CACHE_VERSION",
+    "model_cache_dir",
+    "described_model",
+    "kept_model",
+    "load_or_derive",
+]
 
 #: Bumped when the layout of the on-disk model cache changes.
 MODEL_CACHE_VERSION = 1
@@ -138,6 +144,23 @@ def kept_model(kind: str, key: str, derive: Callable[[], Model]) -> Model:
     if models is not None:
         digest = hashlib.sha256(f"{_derivation_digest()} {kind} {key}".encode()).hexdigest()
         path = models / f"{kind}-{digest[:32]}.pickle"
+    return load_or_derive(path, derive)
+
+
+def load_or_derive(path: Path | None, derive: Callable[[], Model]) -> Model:
+    """The model cached at ``path``, else ``derive()``'d and stored there.
+
+    Parameters
+    ----------
+    path : pathlib.Path or None
+        The cache file (None: no disk cache, derive).
+    derive : callable
+        Derives the model (what it raises is raised; nothing is stored then).
+
+    Returns
+    -------
+    Model
+    """
     model = _load_cached(path)
     if model is None:
         model = derive()

@@ -24,6 +24,7 @@ from .model_store import (  # noqa: F401 - (the cache's names, as they were here
     _load_cached,
     _store,
     described_model,
+    load_or_derive,
     model_cache_dir,
 )
 from .rolling_system import RollingSystem
@@ -257,10 +258,7 @@ def build_model(
     key = (system, chosen)
     if key not in _CACHE:
         path = _cache_file(system, chosen) if disk_cache else None
-        model = _load_cached(path)
-        if model is None:
-            model = sysdef.builder(chosen)
-            _store(path, model)
+        model = load_or_derive(path, lambda: sysdef.builder(chosen))
         _CACHE[key] = model
         if path is not None:
             _CACHE_FILES[id(model)] = path
