@@ -12,14 +12,15 @@ integral as its evidence.
 In double precision with the Taylor method (compiled, without events or dense output) the
 orbits run in vector lanes (:mod:`~chaplygin.numerics.ensemble_lanes`): four or eight orbits
 at a time share the instructions of the Taylor recurrences, each lane bit-identical to the
-one-orbit loop, and the orbits are cut into one block per thread (``threads``, default the usable
-CPUs; the compiled driver releases the interpreter lock); the wall-time limit is not checked
-inside a block. With another method in double the orbits are spread over the threads one
-call each (the compiled loops -- the variational and batch drivers, DOP853 -- release the
-lock too). The orbits are independent and each is placed by its index, so the numbers do not
-depend on the number of threads or lanes or on the order in which the threads finish. In
-quad and in decimal digits the orbits run one after another (mpmath's working precision is
-one setting of the process).
+one-orbit loop, and the orbits are cut into one block per thread (``threads``; by default the
+usable CPUs, as many as the work needs: the first group of lanes is timed, and a short ensemble
+stays on the calling thread; the compiled driver releases the interpreter lock); the wall-time
+limit is not checked inside a block. With another method in double the orbits are spread over
+the threads one call each (the compiled loops -- the variational and batch drivers, DOP853 --
+release the lock too). The orbits are independent and each is placed by its index, so the
+numbers do not depend on the number of threads or lanes or on the order in which the threads
+finish. In quad and in decimal digits the orbits run one after another (mpmath's working
+precision is one setting of the process).
 
 Examples
 --------
@@ -232,8 +233,12 @@ max_wall_s
         method; give it for a method whose default output is every step, so that the orbits
         share their output times).
     threads : int, optional
-        Threads in double precision (default: the usable CPUs, at most one per orbit);
-        ignored in quad and digits (one after another).
+        Threads in double precision, at most one per orbit. Default: the usable CPUs; in
+        vector lanes, as many of them as the work needs (the first group of lanes is timed
+        alone, and the other orbits are spread over threads only where each gets at least
+        :data:`~chaplygin.numerics.ensemble_lanes.SPREAD_MIN_S` of work: a short ensemble runs
+        on this thread). Ignored in quad and digits (one after another). The numbers never
+        depend on it.
 
     Returns
     -------
@@ -272,7 +277,7 @@ max_wall_s
     if kept is not None:  # the same call again: its starts read and checked already
         first, lanes, read, t_eval = kept
         return _in_lanes(first, _copy(read), lambda j: prepare(j, first[1].code, t_eval),
-                         count, lanes, workers, start)  # fmt: skip
+                         count, lanes, workers, start, threads is None)  # fmt: skip
     first = prepare(0, system, t_eval)
     code = first[1].code
     if t_eval is None and first[0].name != "taylor":  # shared output times: 11, as Taylor's
@@ -287,7 +292,7 @@ max_wall_s
                 del _READ[next(iter(_READ))]
             _READ[(key, backend)] = (first, lanes, _copy(read), t_eval)
         return _in_lanes(first, _copy(read), lambda j: prepare(j, code, t_eval), count, lanes,
-                         workers, start)  # fmt: skip
+                         workers, start, threads is None)  # fmt: skip
     prepared = [first] + [
         (first[0], read.problem(j)) if read is not None and read.ok[j]
         else prepare(j, code, t_eval)
@@ -339,7 +344,8 @@ def _read_at_once(code: ModelCode, first: tuple, states: Any, sets: Any, prec: P
 
 
 def _in_lanes(first: tuple, read: ReadStarts | None, prepare: Callable[[int], tuple],
-              count: int, lanes: tuple, workers: int, start: float) -> EnsembleResult:  # fmt: skip
+              count: int, lanes: tuple, workers: int, start: float,
+              spread: bool) -> EnsembleResult:  # fmt: skip
     """The ensemble in vector lanes: the starts as arrays (those not read at once through
     ``prepare``, ``integrate``'s route), the results made when asked for."""
     integrator, problem = first
@@ -357,7 +363,7 @@ def _in_lanes(first: tuple, read: ReadStarts | None, prepare: Callable[[int], tu
         Y[j] = [float(v) for v in other.y0]
         P[j] = [float(v) for v in other.params]
     setup_s = (time.perf_counter() - start) / count
-    run = run_lanes(problem, lanes[0], workers, Y, P)
+    run = run_lanes(problem, lanes[0], workers, Y, P, spread)
 
     def problem_of(j: int) -> Any:
         return slow[j] if j in slow else read.problem(j)
@@ -372,7 +378,7 @@ def _in_lanes(first: tuple, read: ReadStarts | None, prepare: Callable[[int], tu
     )  # fmt: skip
     return EnsembleResult(results=results, t=run.t_eval, y=run.y, status=status, drift=drift,
                           nsteps=run.nsteps, wall_s=time.perf_counter() - start,
-                          threads=workers, orbit_wall_s=run.wall)  # fmt: skip
+                          threads=run.threads, orbit_wall_s=run.wall)  # fmt: skip
 
 
 def _collect(results: list[IntegrationResult], prec: Precision, wall: float,

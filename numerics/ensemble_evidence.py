@@ -57,37 +57,30 @@ def ensemble_evidence(code: ModelCode, compiled: Any, t: np.ndarray, y: np.ndarr
         The status after the evidence, and the drift of every integral per orbit.
     """
     N, names = len(y), code.integral_names
+    m = int(done[0]) if N else 0
+    if 1 <= m <= _POINTWISE_COMPILED and bool((done == m).all()):
+        return _every_output(compiled, t, y, m, status, params, zero, names)
     status = np.array(status, dtype=np.int64)
     drift: dict[str, np.ndarray] = {}
     alone = (done < 1) | (done > _POINTWISE_COMPILED)
-    rows: Any = np.flatnonzero(~alone)
+    rows = np.flatnonzero(~alone)
     if len(rows):
         m = int(done[rows].max())
-        every = len(rows) == N and bool((done == m).all())
-        if every:  # every orbit has every output (the common case): views, no masks
-            rows = slice(None)
-        V = np.empty((N if every else len(rows), m, len(names)))
+        V = np.empty((len(rows), m, len(names)))
         P = params[rows].T
         for k in range(m):  # the compiled integrals of every orbit at output k
             V[:, k, :] = compiled.integrals_many(float(t[k]), y[rows, :, k].T, P).T
         with np.errstate(invalid="ignore"):
-            if every:
-                change = np.abs(V - V[:, :1, :]).max(axis=1)
-                finite = np.isfinite(y[:, :, :m]).all(axis=(1, 2))
-            else:
-                upto = np.arange(m)[None, :] < done[rows][:, None]
-                change = np.where(upto[:, :, None], np.abs(V - V[:, :1, :]), 0.0).max(axis=1)
-                finite = np.where(upto[:, None, :], np.isfinite(y[rows, :, :m]), True).all(
-                    axis=(1, 2)
-                )
+            upto = np.arange(m)[None, :] < done[rows][:, None]
+            change = np.where(upto[:, :, None], np.abs(V - V[:, :1, :]), 0.0).max(axis=1)
+            finite = np.where(upto[:, None, :], np.isfinite(y[rows, :, :m]), True).all(
+                axis=(1, 2)
+            )
             ref = np.abs(V[:, 0, :])
             rel = np.where(ref <= zero, change, change / np.where(ref <= zero, 1.0, ref))
         code_rows = np.where(finite, status[rows], -1)
         bad = ~np.isfinite(rel).all(axis=1)
         status[rows] = np.where(bad & (code_rows == 0), -5, code_rows)
-        if every:
-            drift = dict(zip(names, np.ascontiguousarray(rel.T), strict=True))
-            return status, drift
         for i, name in enumerate(names):
             drift.setdefault(name, np.full(N, np.nan))[rows] = rel[:, i]
     for name in names:
@@ -98,3 +91,30 @@ def ensemble_evidence(code: ModelCode, compiled: Any, t: np.ndarray, y: np.ndarr
         for name in names:
             drift[name][j] = result.drift.get(name, np.nan)
     return status, drift
+
+
+def _every_output(compiled: Any, t: np.ndarray, y: np.ndarray, m: int, status: np.ndarray,
+                  params: np.ndarray, zero: float, names: Any) -> tuple:  # fmt: skip
+    """:func:`ensemble_evidence` where every orbit reached all its ``m`` outputs (the common
+    case): the same operations on views, without masks."""
+    V = np.empty((len(y), m, len(names)))
+    P = params.T
+    for k in range(m):  # the compiled integrals of every orbit at output k
+        V[:, k, :] = compiled.integrals_many(float(t[k]), y[:, :, k].T, P).T
+    with np.errstate(invalid="ignore"):
+        change = V - V[:, :1, :]
+        np.abs(change, out=change)
+        change = change.max(axis=1)
+        ref = np.abs(V[:, 0, :])
+        small = ref <= zero
+        if small.any():  # an integral starting below zero: its absolute change
+            rel = np.where(small, change, change / np.where(small, 1.0, ref))
+        else:
+            rel = change / ref
+    finite = np.isfinite(y[:, :, :m]).all(axis=(1, 2))
+    kept = np.isfinite(rel).all(axis=1)
+    status = np.array(status, dtype=np.int64)
+    if not (finite.all() and kept.all()):  # -1: outputs not finite; -5: a drift not finite
+        status = np.where(finite, status, -1)
+        status = np.where(~kept & (status == 0), -5, status)
+    return status, dict(zip(names, np.ascontiguousarray(rel.T), strict=True))

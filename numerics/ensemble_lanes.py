@@ -36,7 +36,14 @@ from .taylor import MAX_STEPS, REAL_TYPES, run_orders
 from .taylor.solution import _MESSAGES, TaylorSolution
 from .taylor.stepper import _loop_linspace
 
-__all__ = ["LanesRun", "lanes_library", "lanes_result", "run_lanes"]
+__all__ = [
+    "SPREAD_MIN_S",
+    "LanesRun",
+    "lanes_library",
+    "lanes_result",
+    "run_lanes",
+    "spread_threads",
+]
 
 def lanes_library(integrator: Any, problem: Any, backend: str) -> tuple[Any, str] | None:
     """The lanes library and the chosen backend when the orbits of ``problem`` can run in the
@@ -112,6 +119,8 @@ class LanesRun:
     nsteps, order_min, order_max : ndarray of int, shape (N,)
     wall : ndarray, shape (N,)
         Each orbit's share of its block's wall time.
+    threads : int
+        Threads the blocks ran on (after the first group of lanes, where it was timed alone).
     """
 
     t_eval: np.ndarray
@@ -122,10 +131,11 @@ class LanesRun:
     order_min: np.ndarray
     order_max: np.ndarray
     wall: np.ndarray
+    threads: int = 1
 
 
 def run_lanes(first: Any, lib: Any, workers: int, y0: np.ndarray,
-              params: np.ndarray) -> LanesRun:  # fmt: skip
+              params: np.ndarray, spread: bool = False) -> LanesRun:  # fmt: skip
     """Integrate the orbits ``y0`` (rows) with ``params`` (rows) in the lanes driver.
 
     Parameters
@@ -135,9 +145,14 @@ def run_lanes(first: Any, lib: Any, workers: int, y0: np.ndarray,
     lib : cffi library
         :func:`lanes_library`'s.
     workers : int
-        Threads (one block of orbits each).
+        Threads (one block of orbits each); with ``spread``, the most threads.
     y0 : ndarray, shape (N, n_state)
     params : ndarray, shape (N, n_param)
+    spread : bool
+        Choose the threads from the work (the default of ``integrate_many``): the first group
+        of lanes runs on this thread, and the other orbits are cut into blocks for
+        :func:`spread_threads` of them, estimated from that group's time (one thread, this
+        one, for a short ensemble). The orbits' numbers do not depend on it.
 
     Returns
     -------
@@ -154,32 +169,45 @@ def run_lanes(first: Any, lib: Any, workers: int, y0: np.ndarray,
         t_eval = _loop_linspace(first.precision, t0, t1, 11)
     t_eval = np.ascontiguousarray(t_eval, dtype=float)
     m = len(t_eval)
-    t01 = np.tile(np.array([float(t0), float(t1)]), (count, 1))
+    t01 = np.empty((count, 2))
+    t01[:, 0], t01[:, 1] = float(t0), float(t1)
     y0 = np.ascontiguousarray(y0, dtype=float)
     params = np.ascontiguousarray(params, dtype=float).reshape(count, -1)
     ctrl = np.array([first.rtol, first.atol, options.get("step") or 0.0], dtype=float)
     y_eval, y_end = np.full((count, max(m, 1), n), np.nan), np.empty((count, n))
     t_reached = np.empty(count)
     stats, status = np.zeros((count, 4), dtype=np.int64), np.zeros(count, dtype=np.int32)
+    # one pointer per array; a block's rows are an offset from it (the arrays are C-ordered)
+    arrays = (t01, y0, params, y_eval, y_end, t_reached, stats, status)
+    kinds = ("double[]",) * 6 + ("long[]", "int[]")
+    bufs = [_buf(a, k) for a, k in zip(arrays, kinds, strict=True)]
+    row = [a.size // count for a in arrays]
+    fixed = (_buf(ctrl), options.get("order") or 0, m, _buf(t_eval), 0)
+    run = lib.chaplygin_taylor_run_lanes
 
     def block(rows: range) -> float:
-        a, b = rows.start, rows.stop
+        a = rows.start
+        p = [b + a * k for b, k in zip(bufs, row, strict=True)]
         start = time.perf_counter()
-        lib.chaplygin_taylor_run_lanes(
-            b - a, _buf(t01[a:b]), _buf(y0[a:b]), _buf(params[a:b]), _buf(ctrl),
-            options.get("order") or 0, m, _buf(t_eval), 0, _buf(y_eval[a:b]),
-            _buf(y_end[a:b]), _buf(t_reached[a:b]), max_steps, _buf(stats[a:b], "long[]"),
-            _buf(status[a:b], "int[]"),
-        )  # fmt: skip
-        return (time.perf_counter() - start) / (b - a)
+        run(rows.stop - a, p[0], p[1], p[2], *fixed, p[3], p[4], p[5], max_steps, p[6], p[7])
+        return (time.perf_counter() - start) / (rows.stop - a)
 
-    blocks = _blocks(count, workers, lib.chaplygin_taylor_lanes_width())
-    if len(blocks) == 1:
-        walls = [block(blocks[0])]
+    width = lib.chaplygin_taylor_lanes_width()
+    walls: list[float] = []
+    first_rows = range(0)
+    if spread and workers > 1 and count > width:  # the first group tells the work per orbit
+        first_rows = range(0, width)
+        walls.append(block(first_rows))
+        workers = spread_threads(walls[0], count - width, workers)
+    rest = [range(first_rows.stop + r.start, first_rows.stop + r.stop)
+            for r in _blocks(count - first_rows.stop, workers, width)]  # fmt: skip
+    if len(rest) == 1:
+        walls.append(block(rest[0]))
     else:  # the last block in this thread, the others on the kept pool's threads
-        others = [_pool(len(blocks) - 1).submit(block, rows) for rows in blocks[:-1]]
-        last = block(blocks[-1])
-        walls = [f.result() for f in others] + [last]
+        others = [_pool(len(rest) - 1).submit(block, rows) for rows in rest[:-1]]
+        last = block(rest[-1])
+        walls += [f.result() for f in others] + [last]
+    blocks = ([first_rows] if len(first_rows) else []) + rest
     wall = np.concatenate([np.full(len(r), w) for r, w in zip(blocks, walls, strict=True)])
     steps = stats[:, 0]
     return LanesRun(
@@ -191,7 +219,40 @@ def run_lanes(first: Any, lib: Any, workers: int, y0: np.ndarray,
         order_min=np.where(steps > 0, stats[:, 2], 0),
         order_max=stats[:, 1].copy(),
         wall=wall,
+        threads=len(rest),
     )
+
+
+#: The least estimated work, in seconds, for each thread of :func:`spread_threads` beyond the
+#: first: below it, handing blocks to other threads costs about as much as it saves. Measured
+#: on 2 cores (AMD EPYC, 20-step separatrix runs, tol 1e-9): 16 orbits took 0.67 ms on one
+#: thread and 1.09 ms on two, 64 orbits 1.33 and 1.6 ms, 256 orbits 4.1 and 3.2 ms.
+SPREAD_MIN_S = 1e-3
+
+
+def spread_threads(per_orbit_s: float, left: int, workers: int) -> int:
+    """Threads for ``left`` orbits of about ``per_orbit_s`` seconds each, at most ``workers``.
+
+    Parameters
+    ----------
+    per_orbit_s : float
+        Estimated seconds per orbit on one thread (the first group of lanes' time).
+    left : int
+        Orbits still to run.
+    workers : int
+        The most threads.
+
+    Returns
+    -------
+    int
+        ``k`` threads, the most with at least :data:`SPREAD_MIN_S` of work for each (at least
+        1; 1 where the estimate is not a finite number).
+    """
+    estimate = per_orbit_s * left
+    if not np.isfinite(estimate) or estimate < 2 * SPREAD_MIN_S:
+        return 1
+    most = min(workers, left)
+    return most if SPREAD_MIN_S <= 0 else int(max(1, min(most, estimate // SPREAD_MIN_S)))
 
 
 def lanes_result(integrator: Any, problem: Any, run: LanesRun, j: int, chosen: str,

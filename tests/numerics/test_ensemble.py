@@ -217,7 +217,7 @@ def test_the_bench_section_reports_every_row():
     assert len(rows) == 8 and sum(key.endswith(" N=5") for key in out) == 4
     for row in rows:
         assert row["failed"] == 0 and row["steps_per_orbit"] > 0
-        assert row["ours_one_s"] > 0 and row["ours_many_1_s"] > 0
+        assert row["ours_one_s"] > 0 and row["ours_many_1_s"] > 0 and row["ours_many_s"] > 0
     with pytest.raises(UserInputError):
         ensemble_throughput(orbits=(0,))
 
@@ -251,13 +251,16 @@ def test_the_evidence_of_all_orbits_at_once_is_each_orbit_s(monkeypatch):
             assert r.results[j].drift == one.drift and r.results[j].message == one.message
 
 
-@pytest.mark.parametrize("every_output", [False, True])
-def test_evidence_at_once_keeps_what_the_point_by_point_loop_keeps(every_output):
+@pytest.mark.parametrize(("every_output", "energy_at_zero"),
+                         [(False, True), (True, True), (True, False)])  # fmt: skip
+def test_evidence_at_once_keeps_what_the_point_by_point_loop_keeps(every_output,
+                                                                  energy_at_zero):  # fmt: skip
     """ensemble_evidence on made-up outputs -- NaN and infinity at the first or a later
     output, an orbit with one output, outputs after an orbit's last that are garbage, an
     integral starting at zero (absolute drift) -- against base._drift and the finiteness
     check, orbit by orbit (the route integrate() takes for a run on the C backend).
-    ``every_output``: every orbit reached every output (the route without masks)."""
+    ``every_output``: every orbit reached every output (the route without masks);
+    ``energy_at_zero`` False: no integral starts at zero (that route's plain quotient)."""
     from chaplygin.numerics.code import load_model_code
     from chaplygin.numerics.ensemble_evidence import ensemble_evidence
     from chaplygin.numerics.integrators.base import _all_finite, _drift
@@ -273,8 +276,9 @@ def test_evidence_at_once_keeps_what_the_point_by_point_loop_keeps(every_output)
     y[1, 2, 3] = np.nan
     y[2, 0, 0] = np.inf
     y[3, 1, 4] = -np.inf
-    y[4, :3, :] = 0.0  # M = 0: the energy starts at zero (absolute drift)
-    y[4, 0, 2] = 1e-9
+    if energy_at_zero:
+        y[4, :3, :] = 0.0  # M = 0: the energy starts at zero (absolute drift)
+        y[4, 0, 2] = 1e-9
     done = np.full(N, m) if every_output else np.array([6, 6, 6, 6, 6, 1, 3, 4, 6])
     y[6, 0, 3:] = np.nan  # after orbit 6's last output: not its evidence
     status = np.array([0, 0, 0, 0, 0, 0, -2, -3, 0])
@@ -364,3 +368,42 @@ def test_the_same_ensemble_again_reads_its_starts_once_and_gives_the_same_bits(m
     for _ in range(2):
         with pytest.raises(UserInputError, match="orbit 4"):
             integrate_many("chaplygin_ball", Y, 3.3, PARAMS, **kw)
+
+
+def test_the_threads_follow_the_estimated_work():
+    """spread_threads: one thread below twice SPREAD_MIN_S of estimated work (or where the
+    estimate is not a number), then one per SPREAD_MIN_S, at most ``workers`` and ``left``."""
+    from chaplygin.numerics.ensemble_lanes import SPREAD_MIN_S, spread_threads
+
+    per = SPREAD_MIN_S / 7.3  # seconds per orbit: 7.3 orbits make one thread's least work
+    assert spread_threads(per, 14, 4) == 1  # 1.92 of the least work
+    assert spread_threads(per, 15, 4) == 2  # 2.05
+    assert spread_threads(per, 22, 4) == 3  # 3.01
+    assert spread_threads(per, 10_000, 4) == 4 and spread_threads(per, 10_000, 1) == 1
+    assert spread_threads(1.0, 3, 8) == 3  # no more threads than orbits
+    assert spread_threads(float("nan"), 100, 4) == 1 and spread_threads(0.0, 100, 4) == 1
+
+
+@pytest.mark.parametrize("least_work", [0.0, float("inf")])
+def test_the_default_threads_are_chosen_from_the_work_and_keep_the_bits(least_work,
+                                                                          monkeypatch):  # fmt: skip
+    """threads left to the default: the first group of lanes is timed alone, then the other
+    orbits run on this thread (least work per thread infinite) or on every usable CPU (none),
+    and every orbit's numbers are those of threads=1 (one block, no timing)."""
+    import os
+
+    from chaplygin.numerics import ensemble_lanes
+
+    usable = len(os.sched_getaffinity(0))
+    if least_work == 0.0 and usable < 2:
+        pytest.skip("needs 2 usable CPUs (more than one thread to spread over)")
+    states = _states(23, seed=17)
+    kw = {"rtol": 1e-11, "atol": 1e-11}
+    one = integrate_many("chaplygin_ball", states, 2.3, PARAMS, threads=1, **kw)
+    monkeypatch.setattr(ensemble_lanes, "SPREAD_MIN_S", least_work)
+    r = integrate_many("chaplygin_ball", states, 2.3, PARAMS, **kw)
+    # the first group is four lanes (AVX2) or eight (AVX-512): 19 or 15 orbits left
+    assert r.threads in ({1} if least_work else {min(usable, 19), min(usable, 15)})
+    assert _same(r.y, one.y) and _same(r.status, one.status) and _same(r.nsteps, one.nsteps)
+    assert all(_same(r.drift[k], one.drift[k]) for k in one.drift)
+    assert r.orbit_wall_s.shape == (23,) and (r.orbit_wall_s > 0).all()
