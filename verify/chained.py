@@ -18,6 +18,7 @@ expanded right-hand side is over :data:`~chaplygin.derive.emit.base.CHAIN_OPS` o
 
 from __future__ import annotations
 
+import functools
 import random
 import time
 from collections.abc import Sequence
@@ -67,6 +68,10 @@ def _exact(x: sp.Expr) -> sp.Expr:
 def rate_at(model: Model, expr: sp.Expr, point: dict) -> sp.Expr:
     """``d expr/dt`` along the model's flow at an exact point, through the auxiliaries.
 
+    The auxiliaries' values and rates at a point are kept for the next expression at the
+    same point of the same equations (the last few points), and every expression's
+    partial derivatives for the next point: both are exact, so the rate is the same.
+
     Parameters
     ----------
     model : Model
@@ -81,23 +86,38 @@ def rate_at(model: Model, expr: sp.Expr, point: dict) -> sp.Expr:
     sympy.Expr
         The exact rate (``nan`` or ``zoo`` where an auxiliary is singular at the point).
     """
+    aux, state = tuple(model.aux), tuple(model.state)
+    values, rates, f = _flow_at(aux, state, tuple(model.rhs), frozenset(point.items()))
+    return _along(sp.sympify(expr), state, tuple(s for s, _ in aux), values, rates, f)
+
+
+@functools.lru_cache(maxsize=4096)
+def _partials(e: sp.Expr, symbols: tuple) -> tuple:
+    """``(s, de/ds)`` for the ``symbols`` that ``e`` has, in their order."""
+    free = e.free_symbols
+    return tuple((s, sp.diff(e, s)) for s in symbols if s in free)
+
+
+def _along(e: sp.Expr, state: tuple, aux: tuple, values: dict, rates: dict,
+           f: dict) -> sp.Expr:  # fmt: skip
+    """``de/dt`` at the point of ``values``: ``sum_y de/dy f_y + sum_B de/dB dB/dt`` over the
+    auxiliaries ``B`` whose rates are known (those defined before), exact."""
+    total = sum((d * f[y] for y, d in _partials(e, state)), sp.S.Zero)
+    total += sum((d * rates[a] for a, d in _partials(e, aux) if a in rates), sp.S.Zero)
+    return _exact(total.xreplace(values))
+
+
+@functools.lru_cache(maxsize=8)
+def _flow_at(aux: tuple, state: tuple, rhs: tuple, point: frozenset) -> tuple:
+    """The auxiliaries' exact values and rates and the right-hand side at ``point``."""
     values, rates = dict(point), {}
-    for symbol, definition in model.aux:
+    for symbol, definition in aux:
         values[symbol] = _exact(sp.sympify(definition).xreplace(values))
-    f = {
-        y: _exact(sp.sympify(e).xreplace(values))
-        for y, e in zip(model.state, model.rhs, strict=True)
-    }
-
-    def along(e: sp.Expr) -> sp.Expr:
-        e = sp.sympify(e)
-        total = sum((sp.diff(e, y) * f[y] for y in model.state), sp.S.Zero)
-        total += sum((sp.diff(e, a) * rates[a] for a in rates if e.has(a)), sp.S.Zero)
-        return _exact(total.xreplace(values))
-
-    for symbol, definition in model.aux:  # each auxiliary's rate, from those before it
-        rates[symbol] = along(definition)
-    return along(expr)
+    f = {y: _exact(sp.sympify(e).xreplace(values)) for y, e in zip(state, rhs, strict=True)}
+    symbols = tuple(s for s, _ in aux)
+    for symbol, definition in aux:  # each auxiliary's rate, from those before it
+        rates[symbol] = _along(sp.sympify(definition), state, symbols, values, rates, f)
+    return values, rates, f
 
 
 def decide_along_flow(

@@ -55,6 +55,27 @@ def test_the_chain_rule_gives_the_expanded_rate_at_exact_points():
     assert nonzero >= 5
 
 
+def test_the_auxiliaries_at_a_point_are_evaluated_once_for_every_expression():
+    """Two expressions at one point of the gyrostat ball: the auxiliaries' values and rates
+    are evaluated once (counted), the second rate still equals the expanded Lie derivative
+    at the point (an independent route), and a new point evaluates them anew."""
+    from chaplygin.verify import chained
+
+    model = build_model("chaplygin_ball", ["gyrostat"])
+    M, gamma = model.vectors["M"], model.vectors["gamma"]
+    rng = random.Random(31)
+    point = sample_point(model, rng, model.state)
+    chained._flow_at.cache_clear()
+    first = rate_at(model, M[1] * gamma[0], point)
+    e = M[2] * gamma[1] - M[0] ** 2
+    second = rate_at(model, e, dict(point))  # an equal point, another dict
+    info = chained._flow_at.cache_info()
+    assert (info.misses, info.hits) == (1, 1) and first != 0 and second != 0
+    assert sp.simplify(second - sp.nsimplify(lie_derivative(e, model).xreplace(point))) == 0
+    rate_at(model, e, sample_point(model, rng, model.state))
+    assert chained._flow_at.cache_info().misses == 2
+
+
 def test_only_large_rates_go_through_the_auxiliaries():
     """The gyrostat ball's rates expand (the Groebner route); the general ball's omega
     rates do not, while its F (the contact on the surface, rates of p only) does."""
