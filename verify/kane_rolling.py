@@ -136,7 +136,6 @@ def kane_compare(
     if system._parsed["surface"] is not None:
         return _compare_convex(system, model, kane, pvals, momenta)
     omega_of_x = model.expand_aux(model.omega).xreplace(pvals)
-    rhs = model.rhs_expanded.xreplace(pvals)
     jac = omega_of_x.jacobian(sp.Matrix(model.state))  # evaluated at exact points below
     explicit = omega_of_x.diff(sp.Symbol("t", real=True))  # I(t): omega(M, t)
     relations = [  # the ones on the momentum (no twist); rho is placed horizontal below
@@ -156,7 +155,8 @@ def kane_compare(
     time = sp.Symbol("t", real=True)
     # prescribed rates (of the model or of the system Kane sets up): compared at T0
     prescribed = ("rotation_rate", "plane_velocity", "rotor_momentum", "inertia")
-    timed = time in rhs.free_symbols | P0.free_symbols
+    laws = (*model.rhs, *(e for _, e in model.aux))
+    timed = any(e.has(time) for e in laws) or time in P0.free_symbols
     timed = timed or any(sp.sympify(system._parsed[k]).has(time) for k in prescribed)
     worst_acc = worst_mom = worst_rate = 0.0
     count = 0
@@ -192,7 +192,9 @@ def kane_compare(
                 rhs0 = -rels.xreplace(dict.fromkeys(unknowns, 0))
                 point.update(zip(unknowns, A.LUsolve(rhs0), strict=True))
             w = [omega_of_x[i].xreplace(point) for i in range(3)]
-            J, F = jac.xreplace(point), rhs.xreplace(point)
+            # the rates through the auxiliaries in order (the expanded right-hand side
+            # repeats them: seconds per point along a turntable's line)
+            J, F = jac.xreplace(point), sp.Matrix(model_rates(model, {**pvals, **point}))
             ours = list(J * F + explicit.xreplace(point))  # + d omega/dt at fixed state
             theirs, momentum, rates = kane.at(gamma, w, rho, point.get(time, 0))
             worst_acc = max(worst_acc, _relative(ours, theirs))
