@@ -155,8 +155,7 @@ def kane_compare(
     time = sp.Symbol("t", real=True)
     # prescribed rates (of the model or of the system Kane sets up): compared at T0
     prescribed = ("rotation_rate", "plane_velocity", "rotor_momentum", "inertia")
-    laws = (*model.rhs, *(e for _, e in model.aux))
-    timed = any(e.has(time) for e in laws) or time in P0.free_symbols
+    timed = any(e.has(time) for e in (*model.rhs, *(e for _, e in model.aux), P0))
     timed = timed or any(sp.sympify(system._parsed[k]).has(time) for k in prescribed)
     worst_acc = worst_mom = worst_rate = 0.0
     count = 0
@@ -192,9 +191,8 @@ def kane_compare(
                 rhs0 = -rels.xreplace(dict.fromkeys(unknowns, 0))
                 point.update(zip(unknowns, A.LUsolve(rhs0), strict=True))
             w = [omega_of_x[i].xreplace(point) for i in range(3)]
-            # the rates through the auxiliaries in order (the expanded right-hand side
-            # repeats them: seconds per point along a turntable's line)
-            J, F = jac.xreplace(point), sp.Matrix(model_rates(model, {**pvals, **point}))
+            F = sp.Matrix(model_rates(model, {**pvals, **point}))  # not the expanded rhs
+            J = jac.xreplace(point)
             ours = list(J * F + explicit.xreplace(point))  # + d omega/dt at fixed state
             theirs, momentum, rates = kane.at(gamma, w, rho, point.get(time, 0))
             worst_acc = max(worst_acc, _relative(ours, theirs))
