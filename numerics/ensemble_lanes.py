@@ -7,8 +7,11 @@ AVX-512) share the vector instructions of the Taylor recurrences, each lane with
 of the one-orbit loop in the same order, so that every orbit's outputs, final time, steps and
 orders are those of ``integrate()``'s compiled loop, bit for bit, whatever the number of lanes,
 threads or orbits per call. The orbits are cut into one contiguous block per thread (the driver
-releases the interpreter lock). The orbits go in and come out as arrays (:class:`LanesRun`): no
-Python object per orbit is made on the way, and each orbit's
+releases the interpreter lock); with the threads chosen from the work (``spread``: the default
+of ``integrate_many``) the first group of lanes runs alone first, timed, and
+:func:`spread_threads` decides how many blocks the others make. The orbits go in and come
+out as arrays (:class:`LanesRun`): no Python object per orbit is made on the way, and each
+orbit's
 :class:`~chaplygin.numerics.integrators.IntegrationResult` is made only when it is asked for,
 by the integrator's own :meth:`~chaplygin.numerics.integrators.base.Integrator._result`, as
 ``integrate()`` makes it (:func:`lanes_result`); the evidence of all orbits at once is in
