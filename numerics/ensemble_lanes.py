@@ -98,11 +98,12 @@ def _pool(threads: int) -> ThreadPoolExecutor:
         return _POOL[0]
 
 
-def _blocks(count: int, workers: int, lanes: int) -> list[range]:
-    """``count`` orbits in at most ``workers`` contiguous blocks, multiples of ``lanes``."""
-    size = -(-count // workers)
+def _blocks(count: int, workers: int, lanes: int, first: int = 0) -> list[range]:
+    """Orbits ``first`` to ``count`` in at most ``workers`` contiguous blocks, multiples of
+    ``lanes``."""
+    size = -(-(count - first) // workers)
     size = -(-size // lanes) * lanes
-    return [range(a, min(a + size, count)) for a in range(0, count, size)]
+    return [range(a, min(a + size, count)) for a in range(first, count, size)]
 
 
 @dataclass
@@ -202,8 +203,7 @@ def run_lanes(first: Any, lib: Any, workers: int, y0: np.ndarray,
         first_rows = range(0, width)
         walls.append(block(first_rows))
         workers = spread_threads(walls[0], count - width, workers)
-    rest = [range(first_rows.stop + r.start, first_rows.stop + r.stop)
-            for r in _blocks(count - first_rows.stop, workers, width)]  # fmt: skip
+    rest = _blocks(count, workers, width, first_rows.stop)
     if len(rest) == 1:
         walls.append(block(rest[0]))
     else:  # the last block in this thread, the others on the kept pool's threads

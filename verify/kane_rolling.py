@@ -155,8 +155,7 @@ def kane_compare(
     time = sp.Symbol("t", real=True)
     # prescribed rates (of the model or of the system Kane sets up): compared at T0
     prescribed = ("rotation_rate", "plane_velocity", "rotor_momentum", "inertia")
-    timed = any(e.has(time) for e in (*model.rhs, *(e for _, e in model.aux), P0))
-    timed = timed or any(sp.sympify(system._parsed[k]).has(time) for k in prescribed)
+    timed = _has_time(model, time, P0, *(sp.sympify(system._parsed[k]) for k in prescribed))
     worst_acc = worst_mom = worst_rate = 0.0
     count = 0
     for m0 in momenta:
@@ -249,6 +248,11 @@ def _closed_form(system: RollingSystem, pvals: Mapping[sp.Symbol, sp.Expr]) -> b
     return True
 
 
+def _has_time(model: Model, time: sp.Symbol, *others: sp.Basic | sp.MatrixBase) -> bool:
+    """Whether the model's right-hand side, its auxiliaries or ``others`` contain ``time``."""
+    return any(e.has(time) for e in (*model.rhs, *(e for _, e in model.aux), *others))
+
+
 def _compare_convex(system, model, kane, pvals, momenta) -> KaneComparison:
     """``omega'``, ``r'`` (and on a turntable ``rho'``) of the state ``(omega, r, ...)``
     against Kane's, and the momentum about the contact, at the contact points of
@@ -258,12 +262,11 @@ def _compare_convex(system, model, kane, pvals, momenta) -> KaneComparison:
     groups = dict(model.state_groups)
     omega, r = sp.Matrix(groups["omega"]), sp.Matrix(groups["r"])
     time = sp.Symbol("t", real=True)
-    laws = (*model.rhs, *(e for _, e in model.aux))
     compared = [n for n in ("omega", "r", "rho", "alpha", "beta") if n in groups]
     index = {s: list(model.state).index(s) for n in compared for s in groups[n]}
     momentum = model.details.equations.reduced.momentum.xreplace(pvals)
     surface = system._parsed["surface"].xreplace(pvals)
-    timed = any(e.has(time) for e in laws) or momentum.has(time)
+    timed = _has_time(model, time, momentum)
     now = T0 if timed else sp.S.Zero
     Omega = system._parsed["rotation_rate"].xreplace({**pvals, time: now})
     worst = [0.0, 0.0, 0.0]
