@@ -96,25 +96,27 @@ def ensemble_evidence(code: ModelCode, compiled: Any, t: np.ndarray, y: np.ndarr
 def _every_output(compiled: Any, t: np.ndarray, y: np.ndarray, m: int, status: np.ndarray,
                   params: np.ndarray, zero: float, names: Any) -> tuple:  # fmt: skip
     """:func:`ensemble_evidence` where every orbit reached all its ``m`` outputs (the common
-    case): the same operations on views, without masks."""
-    V = np.empty((len(y), m, len(names)))
+    case): the same numbers without masks, one integral per row (``(n_integrals, N)``, as the
+    batch routine gives them), the largest change taken output by output (``np.maximum``
+    keeps NaN as ``max`` does)."""
     P = params.T
-    for k in range(m):  # the compiled integrals of every orbit at output k
-        V[:, k, :] = compiled.integrals_many(float(t[k]), y[:, :, k].T, P).T
+    first = compiled.integrals_many(float(t[0]), y[:, :, 0].T, P)
     with np.errstate(invalid="ignore"):
-        change = V - V[:, :1, :]
-        np.abs(change, out=change)
-        change = change.max(axis=1)
-        ref = np.abs(V[:, 0, :])
+        change = np.abs(first - first)  # 0, or NaN where an integral starts not finite
+        for k in range(1, m):  # the compiled integrals of every orbit at output k
+            d = compiled.integrals_many(float(t[k]), y[:, :, k].T, P)
+            d -= first
+            np.maximum(change, np.abs(d, out=d), out=change)
+        ref = np.abs(first)
         small = ref <= zero
         if small.any():  # an integral starting below zero: its absolute change
             rel = np.where(small, change, change / np.where(small, 1.0, ref))
         else:
             rel = change / ref
     finite = np.isfinite(y[:, :, :m]).all(axis=(1, 2))
-    kept = np.isfinite(rel).all(axis=1)
+    kept = np.isfinite(rel).all(axis=0)
     status = np.array(status, dtype=np.int64)
     if not (finite.all() and kept.all()):  # -1: outputs not finite; -5: a drift not finite
         status = np.where(finite, status, -1)
         status = np.where(~kept & (status == 0), -5, status)
-    return status, dict(zip(names, np.ascontiguousarray(rel.T), strict=True))
+    return status, dict(zip(names, rel, strict=True))

@@ -33,7 +33,7 @@ from .integrate import DEFAULT_MAX_WALL_S, _read_start, check_output_times, prep
 from .integrators import IntegrationResult
 from .step_budget import DEFAULT_MAX_STEPS, refuse_hopeless_span
 
-__all__ = ["Propagator"]
+__all__ = ["Propagator", "call_span"]
 
 
 class Propagator:
@@ -187,27 +187,7 @@ class Propagator:
             (:func:`~chaplygin.numerics.step_budget.refuse_hopeless_span`).
         """
         prec = self._problem.precision
-        t_end = working_number(t, prec)
-        if not t_end != self.time:
-            raise UserInputError(f"the end time {t!r} equals the current time")
-        if self._max_steps is not None:
-            hopeless = refuse_hopeless_span(
-                abs(float(t_end - self.time)), "taylor", None, prec.is_double, self._max_steps
-            )
-            if hopeless:
-                raise UserInputError(hopeless)
-        if t_eval is None:
-            outputs = [self.time, t_end]
-        else:
-            if isinstance(t_eval, str | bytes) or not hasattr(t_eval, "__len__"):
-                raise UserInputError(f"t_eval must be a sequence of numbers, got {t_eval!r}")
-            outputs = [working_number(v, prec) for v in t_eval]
-            lo, hi = min(self.time, t_end), max(self.time, t_end)
-            if any(not lo <= v <= hi for v in outputs):
-                raise UserInputError("t_eval must lie inside the span of the call")
-            check_output_times(outputs, (self.time, t_end))
-            if not outputs or outputs[-1] != t_end:  # the end is always an output: the
-                outputs.append(t_end)  # next call starts from its state
+        t_end, outputs = call_span(self.time, t, t_eval, prec, self._max_steps)
         if self._fast is None:
             problem = dataclasses.replace(
                 self._problem, y0=list(self._state), t_span=(self.time, t_end), t_eval=outputs
@@ -248,13 +228,67 @@ class Propagator:
 
 
 
+def call_span(now: object, t: float | str, t_eval: Sequence[float] | None, prec: Precision,
+              max_steps: int | None) -> tuple[object, list]:  # fmt: skip
+    """The end time and the output times of a call from ``now`` to ``t`` (the checks of
+    :meth:`Propagator.propagate_until`).
+
+    Parameters
+    ----------
+    now : number
+        Where the last call stopped.
+    t : float or str
+        The end time asked for.
+    t_eval : sequence of float or None
+        The output times asked for (None: the two ends); ``t`` is appended when it is not
+        the last.
+    prec : Precision
+    max_steps : int or None
+        The default step limit (a span that could only end at it is refused), or None when
+        a limit was given.
+
+    Returns
+    -------
+    (number, list)
+        The end time and the output times, at the working precision.
+
+    Raises
+    ------
+    UserInputError
+        As :meth:`Propagator.propagate_until`.
+    """
+    t_end = working_number(t, prec)
+    if not t_end != now:
+        raise UserInputError(f"the end time {t!r} equals the current time")
+    if max_steps is not None:
+        hopeless = refuse_hopeless_span(
+            abs(float(t_end - now)), "taylor", None, prec.is_double, max_steps
+        )
+        if hopeless:
+            raise UserInputError(hopeless)
+    if t_eval is None:
+        return t_end, [now, t_end]
+    if isinstance(t_eval, str | bytes) or not hasattr(t_eval, "__len__"):
+        raise UserInputError(f"t_eval must be a sequence of numbers, got {t_eval!r}")
+    outputs = [working_number(v, prec) for v in t_eval]
+    lo, hi = min(now, t_end), max(now, t_end)
+    if any(not lo <= v <= hi for v in outputs):
+        raise UserInputError("t_eval must lie inside the span of the call")
+    check_output_times(outputs, (now, t_end))
+    if not outputs or outputs[-1] != t_end:  # the end is always an output: the next call
+        outputs.append(t_end)  # starts from its state
+    return t_end, outputs
+
+
 class _RunView:
     """The prepared problem seen with one call's span (what ``_solution`` and ``_result``
     read of it; ``dataclasses.replace`` of the problem costs as much as the evidence)."""
 
-    __slots__ = ("code", "params", "precision", "rtol", "atol", "t_span", "t_eval")
+    __slots__ = ("code", "params", "precision", "rtol", "atol", "options", "max_steps",
+                 "t_span", "t_eval")  # fmt: skip
 
     def __init__(self, problem, t0, t_end, outputs):
         self.code, self.params, self.precision = problem.code, problem.params, problem.precision
         self.rtol, self.atol = problem.rtol, problem.atol
+        self.options, self.max_steps = problem.options, problem.max_steps
         self.t_span, self.t_eval = (t0, t_end), outputs

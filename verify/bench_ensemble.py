@@ -15,6 +15,7 @@ import numpy as np
 
 from ..derive.errors import UserInputError
 from ..numerics.ensemble import integrate_many
+from ..numerics.ensemble_propagator import EnsemblePropagator
 from ..numerics.integrate import integrate
 from .bench_peers import heyoka_system
 from .bench_problems import PROBLEMS, state_strings
@@ -72,9 +73,12 @@ def ensemble_throughput(orbits: tuple[int, ...] = (64, 1024), repeats: int = 3,
     on their number), ``ours_many``, ``ours_many_1`` and ``ours_many_<cpus>``
     (``integrate_many``, the orbits in vector lanes, with the default threads -- as many as
     the work needs -- on 1 thread and on the usable CPUs; the whole call) and
-    ``ours_many_1_c`` (the compiled integration alone, the orbits' ``wall_s``), heyoka's
-    ensemble and batch mode when installed; medians of ``repeats``; the ratios of
-    ``ours_many`` (what a call gives by default) to heyoka's.
+    ``ours_many_1_c`` (the compiled integration alone, the orbits' ``wall_s``),
+    ``ours_prop`` (an :class:`~chaplygin.numerics.ensemble_propagator.EnsemblePropagator`
+    made once, each call ``reset()`` and ``propagate_until(T)``: heyoka's batch row sets its
+    time and states and propagates), heyoka's ensemble and batch mode when installed;
+    medians of ``repeats``; the ratios of ``ours_many`` (what a call gives by default) and of
+    ``ours_prop`` to heyoka's.
 
     Parameters
     ----------
@@ -115,6 +119,8 @@ def ensemble_throughput(orbits: tuple[int, ...] = (64, 1024), repeats: int = 3,
                     best = row["ours_many_s"]
                     row["ratio_many_to_heyoka_ensemble"] = best / row["heyoka_ensemble_s"]
                     row["ratio_many_to_heyoka_batch4"] = best / row["heyoka_batch4_s"]
+                    row["ratio_prop_to_heyoka_batch4"] = (
+                        row["ours_prop_s"] / row["heyoka_batch4_s"])
                 out[f"{name} tol={tol:g} T={T:g} N={count}"] = row
     out["load_after"] = os.getloadavg()[0]
     return out
@@ -148,6 +154,14 @@ def _ours_rows(name: str, T: float, tol: float, count: int, repeats: int,
             if threads == 1:  # the compiled integration alone (one thread: its wall time)
                 runs.setdefault("ours_many_1_c_s", []).append(
                     float(r.orbit_wall_s.sum()) / count)
+    # prepared once (heyoka's taylor_adaptive_batch): each call goes back to the starts
+    prop = EnsemblePropagator("chaplygin_ball", starts, p, rtol=tol, atol=tol)
+    prop.propagate_until(T)  # warm
+    for _ in range(repeats):
+        start = time.perf_counter()
+        prop.reset()
+        prop.propagate_until(T)
+        runs.setdefault("ours_prop_s", []).append((time.perf_counter() - start) / count)
     row: dict[str, Any] = {k: statistics.median(v) for k, v in runs.items()}
     row["steps_per_orbit"] = float(np.median(r.nsteps))
     row["failed"] = int((r.status != 0).sum())

@@ -13,6 +13,7 @@ MODULES = [
     "chaplygin.derive.emit.functions",
     "chaplygin.numerics.integrate",
     "chaplygin.numerics.ensemble",
+    "chaplygin.numerics.ensemble_propagator",
     "chaplygin.numerics.ball.quadratures",
     "chaplygin.numerics.dynamics.lyapunov_batch",
     "chaplygin.numerics.validated.lohner",

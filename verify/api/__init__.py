@@ -48,6 +48,7 @@ _PUBLIC: dict[str, str] = {
     "integrate_many": "numerics.ensemble:integrate_many",
     "EnsembleResult": "numerics.ensemble:EnsembleResult",
     "Propagator": "numerics.propagator:Propagator",
+    "EnsemblePropagator": "numerics.ensemble_propagator:EnsemblePropagator",
     "IntegrationResult": "numerics.integrate:IntegrationResult",
     "METHODS": "numerics.integrate:METHODS",
     "Precision": "numerics.precision:Precision",
