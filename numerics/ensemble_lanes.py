@@ -211,7 +211,7 @@ def run_lanes(first: Any, lib: Any, workers: int, y0: np.ndarray,
         last = block(rest[-1])
         walls += [f.result() for f in others] + [last]
     blocks = ([first_rows] if len(first_rows) else []) + rest
-    wall = np.concatenate([np.full(len(r), w) for r, w in zip(blocks, walls, strict=True)])
+    wall = np.repeat(walls, [len(r) for r in blocks])
     steps = stats[:, 0]
     return LanesRun(
         t_eval=t_eval,
