@@ -586,9 +586,10 @@ def _integrate(
         centre = [run["x"].centre[i, 0] for i in range(n)]
         c = prob.taylor(t, centre, prob.params, prob.order, ARB_LIB)
         h_try = _step_size(c, prob.order, tol)
-        piece, h, last = _take_step(prob, t, run["box"], c, sign * h_try * scale, stop - t, tol)
-        if not last:  # remember how far the remainder control cut the estimate
-            scale = min(1.0, 1.1 * abs(float(h.mid())) / h_try)
+        piece, h, last, w = _take_step(prob, t, run["box"], c, sign * h_try * scale, stop - t,
+                                       tol)  # fmt: skip
+        if not last:  # the next step from this one's remainder (about h^(order + 1))
+            scale = min(1.0, _growth(w, prob.order) * abs(float(h.mid())) / h_try)
         _apply(prob, run, piece, t + h, max_width)
         t = t + h
         if last:
@@ -668,9 +669,21 @@ def _remainder_width(prob: _Problem, piece: dict, tol: float) -> float:
     return w
 
 
+#: The safety factor and the largest growth of the next step over the last accepted one.
+STEP_SAFETY, STEP_GROWTH = 0.9, 1.1
+
+
+def _growth(w: float, order: int) -> float:
+    """How much longer the next step may be than the last, whose remainder was ``w`` times
+    its tolerance: ``STEP_SAFETY w^(-1/(order + 1))``, at most ``STEP_GROWTH``."""
+    if not w > 0:
+        return STEP_GROWTH
+    return min(STEP_GROWTH, STEP_SAFETY * w ** (-1.0 / (order + 1)))
+
+
 def _take_step(
     prob: _Problem, t: arb, box: list, c: list, h_try: float, remaining: arb, tol: float
-) -> tuple[dict, arb, bool]:
+) -> tuple[dict, arb, bool, float]:
     """The step from ``t``: the first of ``h_try``, ``remaining`` (the last step) or smaller
     steps whose a-priori enclosure exists and whose remainder is at most ``tol`` wide (three
     shrinkings at most on the remainder; the a-priori test may halve the step 30 times).
@@ -685,7 +698,7 @@ def _take_step(
             continue
         w = _remainder_width(prob, piece, tol)
         if w <= 1 or attempt >= 3:
-            return piece, h, last
+            return piece, h, last, w
         h, last = arb(float(h.mid()) * 0.9 * w ** (-1.0 / (prob.order + 1))), False
     raise EnclosureError(f"no a-priori enclosure at t = {float(t.mid()):.6g} even with h = {h}")
 

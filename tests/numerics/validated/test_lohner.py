@@ -503,3 +503,24 @@ def test_the_free_rigid_body_is_enclosed_around_its_jacobi_elliptic_solution() -
         assert e.max_width < 1e-25
         for b, r in zip(e.state, refs, strict=True):
             assert not b.contains(r + 3 * 2 * b.rad())
+
+
+@pytest.mark.parametrize("jacobian", [False, True])
+def test_the_next_step_follows_the_last_remainder_and_is_seldom_cut(jacobian, monkeypatch):
+    """The step after an accepted one grows by what its remainder allows (``w^(-1/(p+1))``
+    with a safety factor), so that trial steps cut by the remainder control are rare: at most
+    one in ten steps tried again (before, a growth of 1.1 whatever the remainder: about half
+    the steps were tried twice, the control below)."""
+    from chaplygin.numerics.validated import lohner
+
+    code = load_model_code("chaplygin_ball")
+    body, start = ["1.1", "1.7", "2.3", "0.9"], ["0.3", "-0.2", "0.5", "0.6", "0", "0.8"]
+    tried = []
+    step = lohner._step
+    monkeypatch.setattr(lohner, "_step", lambda *a, **k: tried.append(1) or step(*a, **k))
+    e = enclose_flow(code, body, start, 0, 13, jacobian=jacobian, order=20, tol=1e-18)
+    assert len(tried) <= 1.1 * e.steps + 1
+    tried.clear()
+    monkeypatch.setattr(lohner, "_growth", lambda w, order: lohner.STEP_GROWTH)  # the control
+    e = enclose_flow(code, body, start, 0, 13, jacobian=jacobian, order=20, tol=1e-18)
+    assert len(tried) > 1.1 * e.steps + 1
