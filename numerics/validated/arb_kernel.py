@@ -24,6 +24,12 @@ a gradient):
   layout, 48 bytes, the C source declares);
 * a probe reads a ball python-flint computed and writes one python-flint reads back, both
   equal to the kernel's own computation.
+
+:meth:`ArbTaylorKernel.gradient_series` gives the validated integrator the coefficients'
+gradients as one matrix per state component (written by the kernel into python-flint's
+``arb_mat``, the balls the jets would carry, without a jet per coefficient) when a second
+probe finds FLINT 3's matrix layout (entries, rows, columns, stride) and a ball written
+through it where it was meant to go; otherwise the integrator runs the jets.
 """
 
 from __future__ import annotations
@@ -63,6 +69,9 @@ _ffi.cdef(_CDEF)
 
 #: Where python-flint keeps a ball in its ``arb`` object: the last field.
 _OFFSET = arb.__basicsize__ - BALL_BYTES
+#: Where python-flint keeps FLINT 3's ``arb_mat_struct`` (entries, rows, columns, stride) in
+#: its ``arb_mat`` object: the last fields.
+_MAT_OFFSET = arb_mat.__basicsize__ - 32
 
 _KERNELS: dict[str, ArbTaylorKernel | None] = {}
 _LOCK = threading.Lock()
@@ -112,6 +121,18 @@ def _addresses(balls: list) -> Any:
     return addr, _ffi.cast("void **", _ffi.from_buffer(addr))
 
 
+def _matrix_addresses(M: arb_mat, rows: int, cols: int) -> np.ndarray | None:
+    """The addresses of the balls of a matrix python-flint made, row by row, from FLINT 3's
+    ``arb_mat_struct`` (entries, r, c, stride); None when the struct does not read as a
+    ``rows x cols`` matrix with contiguous rows (another layout: nothing is written)."""
+    fields = _ffi.cast("int64_t *", id(M) + _MAT_OFFSET)
+    entries, r, c, stride = fields[0], fields[1], fields[2], fields[3]
+    if entries == 0 or r != rows or c != cols or stride != cols:
+        return None
+    index = np.arange(rows * cols, dtype=np.uint64) * np.uint64(BALL_BYTES)
+    return index + np.uint64(entries)
+
+
 def _fresh(count: int) -> list:
     """``count`` new zero balls (python-flint objects nobody else holds)."""
     return list(map(arb.__new__, repeat(arb, count)))
@@ -157,6 +178,9 @@ class ArbTaylorKernel:
         self.lib.chaplygin_taylor_sizes(sizes)
         self.n_state, self.n_param, _, self.max_seeds = list(sizes)
         self._probe()
+        #: the identity seeds of :meth:`gradient_series` (kept: their addresses are passed)
+        self._seeds = [arb(int(i == c)) for i in range(self.n_state) for c in range(self.n_state)]
+        self._matrices = self._probe_matrices()
 
     def _probe(self) -> None:
         old = ctx.prec
@@ -173,6 +197,69 @@ class ArbTaylorKernel:
         del keep_x, keep_y
         if not ok:
             raise ValueError("the probe of python-flint's balls failed")
+
+    def _probe_matrices(self) -> bool:
+        """Whether the kernel can write into python-flint's matrices: a ball written through
+        the addresses of :func:`_matrix_addresses` is read back where it was meant to go."""
+        old = ctx.prec
+        try:
+            ctx.prec = 128
+            M = arb_mat(2, 3)
+            where = _matrix_addresses(M, 2, 3)
+            if where is None:
+                return False
+            x = arb(1) / 3
+            keep_x, px = _addresses([x])
+            keep_y = where[5:6]
+            py = _ffi.cast("void **", _ffi.from_buffer(keep_y))
+            same = self.lib.chaplygin_arb_probe(px[0], py[0], 128)
+            z = arb(2) / 3
+            entries = [M[i, j] for i in range(2) for j in range(3)]
+            return (same == 1 and entries[5].mid() == z.mid() and entries[5].rad() == z.rad()
+                    and all(e == 0 for e in entries[:5]))  # fmt: skip
+        finally:
+            ctx.prec = old
+
+    def gradient_series(self, t0: Any, y: list, p: list, order: int) -> tuple | None:
+        """The Taylor coefficients ``0..order`` of the state over the balls ``y`` and their
+        derivatives with respect to the initial state, as matrices (what the jets seeded with
+        the unit vectors give, without a jet per coefficient).
+
+        Parameters
+        ----------
+        t0 : arb
+        y : list of arb
+            The state's balls.
+        p : list of arb
+        order : int
+
+        Returns
+        -------
+        (list of list of arb, list of arb_mat) or None
+            ``n_state`` lists of ``order + 1`` balls, and for each state component the
+            ``(order + 1) x n_state`` matrix of the coefficients' gradients; None when the
+            kernel does not take these inputs (the caller runs the jets).
+        """
+        n = self.n_state
+        if (not self._matrices or len(y) != n or len(p) != self.n_param or n > self.max_seeds
+                or any(type(q) is not arb for q in p) or any(type(v) is not arb for v in y)):
+            return None  # fmt: skip
+        S = order + 1
+        grads = [arb_mat(S, n) for _ in range(n)]
+        where = [_matrix_addresses(G, S, n) for G in grads]
+        if any(w is None for w in where):
+            return None
+        outg = np.concatenate(where)
+        t0 = t0 if type(t0) is arb else arb(t0)
+        out = _fresh(n * S)
+        arrays = [_addresses(b) for b in ([t0], y, self._seeds, p or [t0], out)]
+        pointers = [a[1] for a in arrays]
+        pointers.append(_ffi.cast("void **", _ffi.from_buffer(outg)))
+        status = self.lib.chaplygin_taylor_arb(ctx.prec, order, n, *pointers)
+        del arrays, pointers
+        if status != 0:  # pragma: no cover - the checks above keep the kernel's limits
+            return None
+        return [out[i * S : (i + 1) * S] for i in range(n)], grads
 
     def __call__(self, t0: Any, y: list, p: list, order: int, lib: Any) -> list:
         """Normalised Taylor coefficients ``0..order`` of the state components.

@@ -40,7 +40,7 @@ from flint import arb, arb_mat, ctx
 
 from ...arith import detlinalg
 from ...derive.errors import ComputationError, UserInputError
-from .jets import ARB_LIB, JET_LIB, ArbJet, jet_gradient, jet_value, seed_jets
+from .jets import ARB_LIB, JET_LIB, jet_gradient, jet_value, seed_jets
 
 __all__ = [
     "FlowEnclosure",
@@ -323,27 +323,40 @@ def _apriori(prob: _Problem, t: arb, cX: list, h: arb) -> list | None:
     return None
 
 
+def _series_gradients(prob: _Problem, t: arb, X: list, order: int) -> tuple[list, list]:
+    """The Taylor coefficients over the balls ``X`` and their derivatives in the initial
+    state: ``n`` lists of ``order + 1`` balls, and ``n`` matrices ``(order + 1) x n`` (row
+    ``k``: the gradient of coefficient ``k``). The compiled kernel writes the matrices
+    (:meth:`~chaplygin.numerics.validated.arb_kernel.ArbTaylorKernel.gradient_series`);
+    otherwise the recurrences run on jets seeded with the unit vectors."""
+    direct = getattr(prob.taylor, "gradient_series", None)
+    got = direct(t, X, prob.params, order) if direct is not None else None
+    if got is not None:
+        return got
+    n = prob.n
+    jets = prob.taylor(t, seed_jets(X), prob.params, order, JET_LIB)
+    values = [[jet_value(x) for x in row] for row in jets]
+    return values, [arb_mat([jet_gradient(x, n) for x in row]) for row in jets]
+
+
 def _box_jets(prob: _Problem, t: arb, box: list) -> tuple[list, list]:
-    """The Taylor coefficients over the box at ``t`` as jets, and their values: what every
+    """The Taylor coefficients' gradients over the box at ``t`` and their values: what every
     trial step from ``t`` shares."""
-    jets = prob.taylor(t, seed_jets(box), prob.params, prob.order, JET_LIB)
-    return jets, [[jet_value(x) for x in row] for row in jets]
+    values, grads = _series_gradients(prob, t, box, prob.order)
+    return grads, values
 
 
-def _gradient_polynomial(jets: list, n: int, order: int, h: arb) -> arb_mat:
-    """``S = sum_k D_x c_k h^k`` (``n x n``) from the coefficients' jets: each row by Horner's
-    rule on the jets' gradient rows (one Arb call per operation on a whole row)."""
+def _gradient_polynomial(grads: list, n: int, order: int, h: arb) -> arb_mat:
+    """``S = sum_k D_x c_k h^k`` (``n x n``): row ``i`` is the row of the powers of ``h``
+    times component ``i``'s matrix of gradients (one Arb call per row)."""
+    powers = [arb(1)]
+    for _ in range(order):
+        powers.append(powers[-1] * h)
+    P = arb_mat([powers])
     rows = []
     for i in range(n):
-        acc = None
-        for k in range(order, -1, -1):
-            x = jets[i][k]
-            g = x.g if isinstance(x, ArbJet) else None
-            if acc is not None:
-                acc = acc * h if g is None else acc * h + g
-            else:
-                acc = g
-        rows.append([arb(0)] * n if acc is None else [acc[0, j] for j in range(n)])
+        r = P * grads[i]
+        rows.append([r[0, j] for j in range(n)])
     return _mat(rows)
 
 
@@ -354,28 +367,27 @@ def _step(
     a-priori enclosure fails (``box_jets``: :func:`_box_jets` of ``t`` and the box, when
     known)."""
     n, order = prob.n, prob.order
-    jets, cX = _box_jets(prob, t, box) if box_jets is None else box_jets
+    grads, cX = _box_jets(prob, t, box) if box_jets is None else box_jets
     Z = _apriori(prob, t, cX, h)
     if Z is None:
         return None
     H = _hull_interval(h)
     T = t + H
     if prob.want_jacobian:
-        jz = prob.taylor(T, seed_jets(Z), prob.params, order + 1, JET_LIB)
-        cZ = [[jet_value(x) for x in row] for row in jz]
+        cZ, gZ = _series_gradients(prob, T, Z, order + 1)
     else:
         cZ = prob.taylor(T, Z, prob.params, order + 1, ARB_LIB)
     hp = h ** (order + 1)
     R = [cZ[i][order + 1] * hp for i in range(n)]
     u = [_horner(c[i], h) + R[i] for i in range(n)]
-    out = {"u": u, "R": R, "S": _gradient_polynomial(jets, n, order, h), "Z": Z}
+    out = {"u": u, "R": R, "S": _gradient_polynomial(grads, n, order, h), "Z": Z}
     if prob.want_jacobian:
-        Df = [jet_gradient(jz[i][1], n) for i in range(n)]
+        Df = [[gZ[i][1, j] for j in range(n)] for i in range(n)]
         # a float sum of 6 upper bounds, rounded up by far more than its rounding error
         L = max(sum(float(abs(x).upper()) for x in row) for row in Df) * (1 + 2**-40)
         e = math.expm1(float(abs(h * L).upper()) * (1 + 2**-40)) * (1 + 2**-40)
         W = _identity(n) + arb_mat([[arb(0, e)] * n for _ in range(n)])
-        G = _mat([jet_gradient(jz[i][order + 1], n) for i in range(n)])
+        G = _mat([[gZ[i][order + 1, j] for j in range(n)] for i in range(n)])
         out["DR"] = (G * W) * hp
     return out
 

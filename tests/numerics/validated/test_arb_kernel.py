@@ -132,13 +132,16 @@ def test_coefficients_and_gradients_contain_the_symbolic_ones() -> None:
         # point inputs (decimal balls of radius ~2^-128): the balls are narrow
         values = kernel(t0, y, p, order, ARB_LIB)
         jets = kernel(t0, seed_jets(y), p, order, JET_LIB)
+        # the same coefficients with their gradients written into matrices
+        series, grads = kernel.gradient_series(t0, y, p, order)
         checked = 0
         for k in range(1, order + 1):
             for i, s in enumerate(model.state):
                 exact = lie[k - 1][i]
                 want = [exact, *(sp.diff(exact, v) for v in model.state)]
-                got = [values[i][k], jet_value(jets[i][k]), *jet_gradient(jets[i][k], 3)]
-                refs = [want[0], want[0], *want[1:]]
+                got = [values[i][k], jet_value(jets[i][k]), *jet_gradient(jets[i][k], 3),
+                       series[i][k], *(grads[i][k, c] for c in range(3))]  # fmt: skip
+                refs = [want[0], want[0], *want[1:], *want]
                 for ball, ref in zip(got, refs, strict=True):
                     r = arb(sp.N(ref.subs(subs), 60).__str__())
                     assert ball.overlaps(r), (k, s, ball, r)
@@ -147,7 +150,7 @@ def test_coefficients_and_gradients_contain_the_symbolic_ones() -> None:
                     assert not ball.overlaps(r + shift)
                     assert float(ball.rad()) <= 2.0 ** (-PREC + 24) * max(1.0, abs(float(r)))
                     checked += 1
-        assert checked == order * 3 * 5
+        assert checked == order * 3 * 9
     finally:
         ctx.prec = old
 
@@ -253,3 +256,29 @@ def test_a_program_whose_c_would_reach_outside_its_arrays_is_refused() -> None:
     about["about"] = ["*/ int planted(void) { return 1; } /*"]
     text = taylor_arb_source(json.dumps(about))
     assert "*/ int planted" not in text and "* / int planted" in text
+
+
+def test_without_the_matrix_route_the_jets_give_the_same_enclosure(monkeypatch) -> None:
+    """The gradients written into matrices and the jets' gradients are the same balls: a
+    C^1 enclosure is the same, ball for ball, when the kernel cannot write into matrices
+    (another FLINT layout: ``_matrix_addresses`` reads no ``rows x cols`` struct)."""
+    from chaplygin.numerics import load_model_code
+    from chaplygin.numerics.validated import arb_kernel as ak
+    from chaplygin.numerics.validated import enclose_flow
+
+    code = load_model_code("chaplygin_ball")
+    kernel = arb_kernel(code)
+    assert isinstance(kernel, ArbTaylorKernel) and kernel._matrices
+    body, start = ["1.1", "1.7", "2.3", "0.9"], ["0.3", "-0.2", "0.5", "0.6", "0", "0.8"]
+
+    def run():
+        e = enclose_flow(code, body, start, 0, "2.7", jacobian=True, order=16, tol=1e-18)
+        return [*e.state, *(x for row in e.jacobian for x in row)]
+
+    direct = run()
+    assert ak._matrix_addresses(ak.arb_mat(2, 3), 3, 2) is None  # not read as 3 x 2
+    monkeypatch.setattr(kernel, "_matrices", False)
+    assert kernel.gradient_series(ak.arb(0), [ak.arb(0)] * 6, [ak.arb(1)] * 4, 3) is None
+    jets = run()
+    assert all(a.mid() == b.mid() and a.rad() == b.rad() for a, b in zip(direct, jets,
+                                                                        strict=True))
