@@ -138,56 +138,85 @@ def matmul(a: ArrayLike, b: ArrayLike) -> NDArray[np.float64]:
     return np.ascontiguousarray(out)
 
 
-def _householder(x: NDArray[np.float64]) -> tuple[NDArray[np.float64], float, float]:
-    """Reflector ``H = I - beta v v^T`` with ``H x = alpha e_1``, ``alpha = -sign(x_0) |x|``."""
-    v = x.copy()
-    sigma = norm(x)
+def _householder(x: list[float]) -> tuple[list[float], float, float]:
+    """Reflector ``H = I - beta v v^T`` with ``H x = alpha e_1``, ``alpha = -sign(x_0) |x|``
+    (``|x|`` as :func:`norm` computes it)."""
+    v = list(x)
+    big = 0.0
+    for a in x:  # the largest magnitude, NaN if one is (as numpy's max)
+        a = abs(a)
+        if a != a:
+            big = math.nan
+            break
+        big = a if a > big else big
+    if big == 0.0 or not math.isfinite(big):
+        sigma = big
+    else:
+        s = 0.0
+        for a in x:
+            a = a / big
+            s += a * a
+        sigma = big * math.sqrt(s)
     if sigma == 0.0:
         return v, 0.0, 0.0
     alpha = -sigma if x[0] >= 0 else sigma
     v[0] = x[0] - alpha
-    vv = dot(v, v)
+    vv = 0.0
+    for a in v:
+        vv += a * a
     beta = 0.0 if vv == 0.0 else 2.0 / vv
     return v, beta, alpha
 
 
-def _apply_reflector(
-    v: NDArray[np.float64], beta: float, M: NDArray[np.float64], rows: slice
-) -> None:
-    """``M[rows] <- (I - beta v v^T) M[rows]`` in place (columns in order)."""
+def _reflect_rows(v: list[float], beta: float, M: list[list[float]], first: int) -> None:
+    """``M[first:] <- (I - beta v v^T) M[first:]`` in place: ``w = beta v^T M`` summed over the
+    rows in order, then each row less ``v_i w``."""
     if beta == 0.0:
         return
-    block = M[rows]
-    w = matmul(v, block) * beta
-    M[rows] = block - v[:, None] * w[None, :]
+    rows = M[first:]  # (the lengths agree by construction: zip's check left out, hot loop)
+    w = [v[0] * x for x in rows[0]]
+    for vi, row in zip(v[1:], rows[1:], strict=False):
+        w = [a + vi * x for a, x in zip(w, row, strict=False)]
+    w = [a * beta for a in w]
+    for vi, row in zip(v, rows, strict=False):
+        row[:] = [x - vi * a for x, a in zip(row, w, strict=False)]
 
 
 def _qr_full(
     A: NDArray[np.float64], pivot: bool
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.intp]]:
-    """Householder QR ``A[:, perm] = Q R`` with the full orthogonal ``Q`` (m x m)."""
+    """Householder QR ``A[:, perm] = Q R`` with the full orthogonal ``Q`` (m x m).
+
+    On Python floats, row by row: each number is what the same operations on numpy arrays
+    give (every product rounded, sums in order, no fused multiply-add; IEEE arithmetic
+    either way), for the small matrices it serves without numpy's per-call cost."""
     m, n = A.shape
-    R = A.copy()
-    Q = np.eye(m)
-    perm = np.arange(n)
+    R = A.tolist()
+    QT = [[1.0 if i == j else 0.0 for j in range(m)] for i in range(m)]
+    perm = list(range(n))
     for j in range(min(m, n)):
         if pivot:
-            norms = [dot(R[j:, c], R[j:, c]) for c in range(j, n)]
+            norms = []
+            for c in range(j, n):
+                s = 0.0
+                for i in range(j, m):
+                    s += R[i][c] * R[i][c]
+                norms.append(s)
             best = j + int(np.argmax(norms))
             if best != j:
-                R[:, [j, best]] = R[:, [best, j]]
-                perm[[j, best]] = perm[[best, j]]
-        v, beta, alpha = _householder(R[j:, j])
+                for row in R:
+                    row[j], row[best] = row[best], row[j]
+                perm[j], perm[best] = perm[best], perm[j]
+        v, beta, alpha = _householder([R[i][j] for i in range(j, m)])
         if beta == 0.0:
             continue
-        _apply_reflector(v, beta, R, slice(j, m))
-        R[j, j] = alpha
-        R[j + 1 :, j] = 0.0
-        # Q <- Q H_j: columns j.. of Q reflected (rows of Q^T)
-        QT = Q.T.copy()
-        _apply_reflector(v, beta, QT, slice(j, m))
-        Q = QT.T.copy()
-    return Q, R, perm
+        _reflect_rows(v, beta, R, j)
+        R[j][j] = alpha
+        for i in range(j + 1, m):
+            R[i][j] = 0.0
+        _reflect_rows(v, beta, QT, j)  # Q <- Q H_j: the rows of Q^T
+    Q = np.array(QT, dtype=np.float64).reshape(m, m).T.copy()
+    return Q, np.array(R, dtype=np.float64).reshape(m, n), np.array(perm, dtype=np.intp)
 
 
 def qr(a: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

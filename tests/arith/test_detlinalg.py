@@ -215,3 +215,59 @@ def test_one_by_one_and_two_by_two_eigenproblems():
     c, s = 1.3 * math.cos(0.7), 1.3 * math.sin(0.7)
     w = dl.eigvals([[c, -s], [s, c]])
     assert w[0] == np.conj(w[1]) and abs(abs(w[0]) - 1.3) <= 4 * EPS
+
+
+def _in_order(values: np.ndarray) -> float:
+    """Left to right from 0.0 (not ``sum``, which compensates since Python 3.12)."""
+    s = 0.0
+    for v in values.tolist():
+        s += v
+    return s
+
+
+def _numpy_qr_full(A: np.ndarray, pivot: bool) -> tuple:
+    """The same Householder QR on numpy arrays, column by column (the reference for the
+    list-based one: the same IEEE operations in the same order must give the same bits)."""
+    m, n = A.shape
+    R, QT, perm = A.copy(), np.eye(m), np.arange(n)
+    for j in range(min(m, n)):
+        if pivot:
+            norms = [_in_order(R[j:, c] * R[j:, c]) for c in range(j, n)]
+            best = j + int(np.argmax(norms))
+            R[:, [j, best]], perm[[j, best]] = R[:, [best, j]], perm[[best, j]]
+        x = R[j:, j].copy()
+        big = float(np.max(np.abs(x)))
+        sigma = big if big == 0 or not np.isfinite(big) else big * math.sqrt(
+            _in_order((x / big) * (x / big)))  # fmt: skip
+        if sigma == 0:
+            continue
+        alpha = -sigma if x[0] >= 0 else sigma
+        v = x.copy()
+        v[0] = x[0] - alpha
+        vv = _in_order(v * v)
+        if vv == 0:
+            continue
+        beta = 2.0 / vv
+        for M in (R, QT):
+            w = v[0] * M[j]
+            for i in range(1, m - j):
+                w = w + v[i] * M[j + i]
+            M[j:] = M[j:] - v[:, None] * (w * beta)[None, :]
+        R[j, j], R[j + 1 :, j] = alpha, 0.0
+    return QT.T, R, perm
+
+
+@pytest.mark.parametrize("pivot", [False, True])
+def test_the_list_based_qr_gives_the_bits_of_the_same_operations_on_arrays(pivot):
+    rng = np.random.default_rng(29)
+    for trial in range(300):
+        m, n = int(rng.integers(1, 8)), int(rng.integers(1, 8))
+        A = rng.normal(size=(m, n)) * 10.0 ** float(rng.integers(-6, 6))
+        if trial % 5 == 0:
+            A[:, int(rng.integers(0, n))] = 0.0  # a zero column: no reflector there
+        got = dl._qr_full(A, pivot)
+        want = _numpy_qr_full(A, pivot)
+        for a, b in zip(got, want, strict=True):
+            assert a.shape == b.shape and np.array_equal(a, b), (trial, m, n)
+            if a.dtype == np.float64:
+                assert np.array_equal(a.view(np.int64), b.view(np.int64))
