@@ -699,7 +699,9 @@ def _take_step(
     """The step from ``t``: the first of ``h_try``, ``remaining`` (the last step) or smaller
     steps whose a-priori enclosure exists and whose remainder is at most ``tol`` wide (three
     shrinkings at most on the remainder; the a-priori test may halve the step 30 times).
-    ``h_try`` and ``remaining`` have the sign of the direction of integration."""
+    ``h_try`` and ``remaining`` have the sign of the direction of integration. Returns the
+    step's pieces, its size, whether it is the last, and its remainder over its tolerance
+    (:func:`_remainder_width`, which sets the next step: :func:`_growth`)."""
     last = abs(h_try) >= float(abs(remaining).lower())
     h = remaining if last else arb(h_try)
     box_jets = _box_jets(prob, t, box)  # the same for every trial step
