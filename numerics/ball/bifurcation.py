@@ -361,6 +361,45 @@ def _fibonacci_sphere(n: int) -> np.ndarray:
     return np.stack([r * detmath.cos(phi), r * detmath.sin(phi), z], axis=1)
 
 
+@dataclass(frozen=True)
+class _EnergyGrid:
+    """``2 H = (M, omega)`` sampled on the circles of ``M`` over a Fibonacci grid of
+    ``gamma`` (:func:`level_set_components`), the same for every level ``E``."""
+
+    G: np.ndarray
+    a: np.ndarray
+    b: np.ndarray
+    t: np.ndarray
+    Mg: float
+    s: float
+    energy: np.ndarray
+
+    def momentum(self, rows: np.ndarray, angles: np.ndarray) -> np.ndarray:
+        G, a, b = self.G, self.a, self.b
+        return self.Mg * G[rows] + self.s * (
+            detmath.cos(angles)[..., None] * a[rows] + detmath.sin(angles)[..., None] * b[rows]
+        )
+
+
+@lru_cache(maxsize=2)
+def _energy_grid(p: tuple, C: float, Mg: float, n_gamma: int, n_theta: int) -> _EnergyGrid:
+    """The energy on the sampling grid of the level sets at ``(C, M_gamma)`` (kept for the
+    next levels ``E`` of the same point: the claims ask for three; read-only arrays)."""
+    G = _fibonacci_sphere(n_gamma)
+    e = np.eye(3)[np.argmin(np.abs(G), axis=1)]
+    a = np.cross(G, e)
+    a /= np.sqrt(a[:, 0] * a[:, 0] + a[:, 1] * a[:, 1] + a[:, 2] * a[:, 2])[:, None]
+    b = np.cross(G, a)
+    t = np.linspace(0, 2 * np.pi, n_theta, endpoint=False)
+    grid = _EnergyGrid(G, a, b, t, Mg, float(np.sqrt(C - Mg * Mg)), np.empty(0))
+    M = grid.momentum(np.arange(len(G))[:, None], t[None, :])
+    Y = np.concatenate([M, np.broadcast_to(G[:, None, :], M.shape)], axis=2).reshape(-1, 6).T
+    energy = 2 * np.asarray(_ball_code().numpy.integrals(0.0, Y, list(p)))[0].reshape(M.shape[:2])
+    for x in (G, a, b, t, energy):
+        x.flags.writeable = False
+    return _EnergyGrid(G, a, b, t, Mg, grid.s, energy)
+
+
 def level_set_components(
     I: Sequence[float],
     D: float,
@@ -419,26 +458,12 @@ def level_set_components(
     from ..arguments import check_inertia_vector
 
     I, D = check_inertia_vector(I, D, double=True)
-    p = [float(v) for v in (*I, D)]
     if not (C > 0 and Mg * Mg < C):
         raise UserInputError(f"need C > 0 and M_gamma^2 < C, got C={C}, M_gamma={Mg}")
-    G = _fibonacci_sphere(int(n_gamma))
-    e = np.eye(3)[np.argmin(np.abs(G), axis=1)]
-    a = np.cross(G, e)
-    a /= np.sqrt(a[:, 0] * a[:, 0] + a[:, 1] * a[:, 1] + a[:, 2] * a[:, 2])[:, None]
-    b = np.cross(G, a)
-    t = np.linspace(0, 2 * np.pi, int(n_theta), endpoint=False)
-    s = np.sqrt(C - Mg * Mg)
-
-    def momentum(rows, angles):
-        return Mg * G[rows] + s * (
-            detmath.cos(angles)[..., None] * a[rows] + detmath.sin(angles)[..., None] * b[rows]
-        )
-
-    rows = np.arange(len(G))[:, None]
-    M = momentum(rows, t[None, :])
-    Y = np.concatenate([M, np.broadcast_to(G[:, None, :], M.shape)], axis=2).reshape(-1, 6).T
-    f = 2 * np.asarray(_ball_code().numpy.integrals(0.0, Y, p))[0].reshape(M.shape[:2]) - E
+    grid = _energy_grid(tuple(float(v) for v in (*I, D)), float(C), float(Mg), int(n_gamma),
+                        int(n_theta))  # fmt: skip
+    G, t, momentum = grid.G, grid.t, grid.momentum
+    f = grid.energy - E
     f_next = np.roll(f, -1, axis=1)
     i, j = np.nonzero(np.sign(f) != np.sign(f_next))
     if not len(i):

@@ -288,3 +288,33 @@ def test_bifurcation_complex_figure_draws_four_leaves_glued_at_sigma2():
     ends = sorted(float(ln.get_ydata()[0 if ln.get_xdata()[0] < 0.4 else -1]) for ln in leaves)
     assert ends[0] < -0.9 and ends[1] < -0.9 and ends[2] > 0.9 and ends[3] > 0.9
     assert any("Sigma_2: 1 component" in (ln.get_label() or "") for ln in ax.lines)
+
+
+def test_the_levels_of_one_point_share_one_energy_grid(monkeypatch):
+    """BKM12 Fig. 2(b)'s three levels at (C, M_gamma) = (1, 0): the energy is sampled once for
+    all three (the claims ask for three levels per point), and each level's components are
+    those of a fresh grid, number for number; another M_gamma samples anew."""
+    from chaplygin.numerics.ball import bifurcation as bif
+
+    I, D = (1.0, 1.5, 3.0), 1.0
+    levels = (0.325, 0.4, 0.45)
+    grid = {"n_gamma": 2500, "n_theta": 180}  # spacing about 0.08, well below the radius 0.3
+    bif._energy_grid.cache_clear()
+    fresh = []
+    for E in levels:
+        fresh.append(bif.level_set_components(I, D, E, 1.0, 0.0, **grid))
+        bif._energy_grid.cache_clear()
+    calls = []
+    integrals = bif._ball_code().numpy.integrals
+    monkeypatch.setattr(bif._ball_code().numpy, "integrals",
+                        lambda *a: calls.append(1) or integrals(*a))  # fmt: skip
+    kept = [bif.level_set_components(I, D, E, 1.0, 0.0, **grid) for E in levels]
+    assert len(calls) == 1
+    assert [r.count for r in kept] == [2, 1, 2]  # BKM12-Fig2b
+    for a, b in zip(fresh, kept, strict=True):
+        assert (a.count, a.sizes, a.separation, a.points) == (b.count, b.sizes, b.separation,
+                                                              b.points)  # fmt: skip
+        assert np.array_equal(a.mean_M, b.mean_M)
+    bif.level_set_components(I, D, 0.45, 1.0, 0.2, **grid)
+    assert len(calls) == 2
+    assert not bif._energy_grid(tuple((*I, D)), 1.0, 0.0, 2500, 180).energy.flags.writeable
