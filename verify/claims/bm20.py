@@ -683,6 +683,22 @@ BM20_FIG5_ANDOYER = ("3", "0.5", "1", "1")
 BM20_LYAPUNOV_RUN = {"intervals": 8000, "transient": 500, "states": 3, "windows": 10}
 
 
+@cache
+def _bm20_fig5_spectrum():  # noqa: ANN202 - a LyapunovResult
+    """The level-set spectrum of Fig. 5's attractor (:data:`BM20_LYAPUNOV_RUN`), computed
+    once per process: BM20-Lyap and its control compare the same run with other numbers."""
+    import mpmath
+    from chaplygin.numerics.ball.initial_state import state_from_andoyer
+    from chaplygin.numerics.code import load_model_code
+    from chaplygin.numerics.dynamics.lyapunov import lyapunov_spectrum
+
+    code = load_model_code(BALL, VB)
+    with mpmath.workdps(30):
+        start = state_from_andoyer(*(mpmath.mpf(v) for v in BM20_FIG5_ANDOYER))
+        y0 = [float(v) for v in start["M"] + start["gamma"]]
+    return lyapunov_spectrum(code, BM20_FIG5_PARAMS, y0, rtol=1e-10, **BM20_LYAPUNOV_RUN)
+
+
 def _bm20_lyapunov(printed: tuple[tuple[float, float], ...]) -> Callable:
     """Our level-set spectrum of Fig. 5's attractor against ``printed`` (per iteration).
 
@@ -692,17 +708,9 @@ def _bm20_lyapunov(printed: tuple[tuple[float, float], ...]) -> Callable:
     """
 
     def run():
-        import mpmath
         import numpy as np
-        from chaplygin.numerics.ball.initial_state import state_from_andoyer
-        from chaplygin.numerics.code import load_model_code
-        from chaplygin.numerics.dynamics.lyapunov import lyapunov_spectrum
 
-        code = load_model_code(BALL, VB)
-        with mpmath.workdps(30):
-            start = state_from_andoyer(*(mpmath.mpf(v) for v in BM20_FIG5_ANDOYER))
-            y0 = [float(v) for v in start["M"] + start["gamma"]]
-        res = lyapunov_spectrum(code, BM20_FIG5_PARAMS, y0, rtol=1e-10, **BM20_LYAPUNOV_RUN)
+        res = _bm20_fig5_spectrum()
         ours = res.per_iteration(res.exponents)
         errors = res.per_iteration(res.errors)
         paper = np.array([p for p, _ in printed])
@@ -930,6 +938,22 @@ register(
 _FIG2_STARTS = ((0.7, 1.0, 0.3), (-0.6, 1.0, 1.2), (0.1, 2.0, 2.5))
 
 
+@cache
+def _fig2_regime(omega: float, start: tuple[float, float, float]):  # noqa: ANN202
+    """The regime from rest at Fig. 2's values from the start ``(z, l, g)``, computed once per
+    process (BM20-Fig2.attractors and its control read the same runs)."""
+    from chaplygin.numerics.ball.map_coordinates import from_andoyer_deprit
+    from chaplygin.numerics.ball.regimes import attractor_regime
+    from chaplygin.numerics.code import load_model_code
+
+    code = load_model_code(BALL, list(VB))
+    params = [4, 3, 2, 1.5, -0.5, 1.2, 3, -1, -2, omega]
+    _, gamma = from_andoyer_deprit(0.0, *start)
+    y0 = [0.0, 0.0, 0.0, *map(float, gamma)]
+    return attractor_regime(code, params, y0, transient=10000, recorded=200, tol=1e-6,
+                            intervals=1000)  # fmt: skip
+
+
 def _fig2_regimes(expected: dict[float, str]) -> Callable[[], Computed]:
     """The regime reached from rest from each start at Fig. 2's values, after 10000 iterations
     (the map on the sphere contracts at -0.0019 per iteration and faster: e^-19; after 3000, a
@@ -938,20 +962,10 @@ def _fig2_regimes(expected: dict[float, str]) -> Callable[[], Computed]:
     differ."""
 
     def run() -> Computed:
-        from chaplygin.numerics.ball.map_coordinates import from_andoyer_deprit
-        from chaplygin.numerics.ball.regimes import attractor_regime
-        from chaplygin.numerics.code import load_model_code
-
-        code = load_model_code(BALL, list(VB))
         wrong, values = 0, {}
         for omega, regime in expected.items():
-            params = [4, 3, 2, 1.5, -0.5, 1.2, 3, -1, -2, omega]
             for z, l, g in _FIG2_STARTS:
-                _, gamma = from_andoyer_deprit(0.0, z, l, g)
-                y0 = [0.0, 0.0, 0.0, *map(float, gamma)]
-                r = attractor_regime(
-                    code, params, y0, transient=10000, recorded=200, tol=1e-6, intervals=1000
-                )
+                r = _fig2_regime(omega, (z, l, g))
                 wrong += r.regime != regime
                 values[f"Omega={omega} start {z, l, g}"] = (
                     f"{r.regime}, period {r.period}, lambda {r.lyapunov:.2g} +- "
