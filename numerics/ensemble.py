@@ -54,7 +54,7 @@ from .integrate import DEFAULT_MAX_WALL_S, _call_key, prepare_problem
 from .integrators import IntegrationResult
 from .precision import Precision
 
-__all__ = ["EnsembleResult", "LazyResults", "integrate_many"]
+__all__ = ["EnsembleResult", "LazyResults", "integrate_many", "start_arrays"]
 
 
 @dataclass
@@ -343,6 +343,37 @@ def _read_at_once(code: ModelCode, first: tuple, states: Any, sets: Any, prec: P
     return read_starts(code, problem, Y, P, code.compiled() if compiled else None)
 
 
+def start_arrays(problem: Any, read: ReadStarts | None, slow: dict[int, Any],
+                 count: int) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+    """The starts and parameters of ``count`` orbits as rows (double): those ``read`` at
+    once, and the ``slow`` ones (index -> problem, read by ``integrate``'s route) filled in;
+    ``read``'s own arrays are filled (the callers pass a copy).
+
+    Parameters
+    ----------
+    problem : Problem
+        The first orbit's (its parameters for every orbit when ``read`` has none).
+    read : ReadStarts or None
+    slow : dict of int to Problem
+    count : int
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        ``Y`` of shape ``(count, n_state)`` and ``P`` of shape ``(count, n_param)``.
+    """
+    n = len(problem.code.state)
+    Y = np.empty((count, n)) if read is None else read.Y
+    if read is None or read.P is None:
+        P = np.tile(np.asarray(problem.params, dtype=float), (count, 1))
+    else:
+        P = read.P
+    for j, other in slow.items():
+        Y[j] = [float(v) for v in other.y0]
+        P[j] = [float(v) for v in other.params]
+    return Y, P
+
+
 def _in_lanes(first: tuple, read: ReadStarts | None, prepare: Callable[[int], tuple],
               count: int, lanes: tuple, workers: int, start: float,
               spread: bool) -> EnsembleResult:  # fmt: skip
@@ -352,16 +383,8 @@ def _in_lanes(first: tuple, read: ReadStarts | None, prepare: Callable[[int], tu
     slow = {0: problem}
     if read is None or not read.ok.all():
         slow.update({j: prepare(j)[1] for j in range(1, count) if read is None or not read.ok[j]})
-    n = len(problem.code.state)
     # read's arrays are its own: the rows of the starts it did not accept are filled here
-    Y = np.empty((count, n)) if read is None else read.Y
-    if read is None or read.P is None:
-        P = np.tile(np.asarray(problem.params, dtype=float), (count, 1))
-    else:
-        P = read.P
-    for j, other in slow.items():
-        Y[j] = [float(v) for v in other.y0]
-        P[j] = [float(v) for v in other.params]
+    Y, P = start_arrays(problem, read, slow, count)
     setup_s = (time.perf_counter() - start) / count
     run = run_lanes(problem, lanes[0], workers, Y, P, spread)
 

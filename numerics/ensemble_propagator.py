@@ -48,6 +48,7 @@ from .ensemble import (
     _read_at_once,
     _rows,
     _thread_count,
+    start_arrays,
 )
 from .ensemble_evidence import ensemble_evidence
 from .ensemble_lanes import lanes_library, lanes_result, run_lanes
@@ -125,21 +126,33 @@ class EnsemblePropagator:
                          "atol": atol, "taylor_options": taylor_options,
                          "max_wall_s": max_wall_s}  # fmt: skip
         self._params, self._backend, self._precision = params, backend, prec
-        first = self._prepare(system, y0, 0, t_start)
+        states, sets = self._rows(y0)
+        first = self._prepare(system, states, sets, y0, 0, t_start)
         self.code: ModelCode = first[1].code
         self._first = first
         self._lanes = lanes_library(*first, backend)
         self._max_steps = None if first[1].options.get("max_steps") else DEFAULT_MAX_STEPS
         self.count = 0
-        self._read(y0, t_start)
+        self._read(y0, t_start, first)
         self._workers = _thread_count(threads, prec, self.count)
         self._spread = threads is None
         self._start = (self.time, self._keep())
 
     # ------------------------------------------------------------------ reading
-    def _prepare(self, system: Any, y0: Any, j: int, t_start: Any) -> tuple:
-        """Orbit ``j``'s integrator and problem, read by ``integrate``'s route."""
+    def _rows(self, y0: Any) -> tuple:
+        """The states and parameter sets as rows (None: one for every orbit), checked to be
+        as many."""
         states, sets = _rows(y0, "y0"), _rows(self._params, "params")
+        if states is not None and sets is not None and len(states) != len(sets):
+            raise UserInputError(
+                f"y0 has {len(states)} rows but params has {len(sets)}: give one of them once "
+                "or both with the same number of rows"
+            )
+        return states, sets
+
+    def _prepare(self, system: Any, states: Any, sets: Any, y0: Any, j: int,
+                 t_start: Any) -> tuple:  # fmt: skip
+        """Orbit ``j``'s integrator and problem, read by ``integrate``'s route."""
         try:
             return prepare_problem(
                 system, y0 if states is None else states[j], (t_start, t_start + 1),
@@ -148,14 +161,10 @@ class EnsemblePropagator:
         except UserInputError as exc:
             raise UserInputError(f"orbit {j}: {exc}") from None
 
-    def _read(self, y0: Any, t_start: Any) -> None:
-        """Read and check the starts (all before anything changes)."""
-        states, sets = _rows(y0, "y0"), _rows(self._params, "params")
-        if states is not None and sets is not None and len(states) != len(sets):
-            raise UserInputError(
-                f"y0 has {len(states)} rows but params has {len(sets)}: give one of them once "
-                "or both with the same number of rows"
-            )
+    def _read(self, y0: Any, t_start: Any, first: tuple | None = None) -> None:
+        """Read and check the starts (all before anything changes; ``first``: orbit 0's
+        problem when already read at ``t_start``)."""
+        states, sets = self._rows(y0)
         count = len(states) if states is not None else len(sets) if sets is not None else 1
         if self.count and count != self.count:
             raise UserInputError(f"reset needs {self.count} states, got {count}")
@@ -174,21 +183,15 @@ class EnsemblePropagator:
                     raise UserInputError(f"orbit {j}: {exc}") from None
             self._props, self.count, self.time = props, count, t_start
             return
-        first = self._prepare(code, y0, 0, t_start)
+        if first is None:
+            first = self._prepare(code, states, sets, y0, 0, t_start)
         read = _read_at_once(code, first, states, sets, self._precision, count, True)
         slow = {0: first[1]}
         if read is None or not read.ok.all():
-            slow.update({j: self._prepare(code, y0, j, t_start)[1] for j in range(1, count)
-                         if read is None or not read.ok[j]})  # fmt: skip
-        problem = first[1]
-        Y = np.empty((count, len(code.state))) if read is None else read.Y.copy()
-        if read is None or read.P is None:
-            P = np.tile(np.asarray(problem.params, dtype=float), (count, 1))
-        else:
-            P = read.P.copy()
-        for j, other in slow.items():
-            Y[j] = [float(v) for v in other.y0]
-            P[j] = [float(v) for v in other.params]
+            slow.update({j: self._prepare(code, states, sets, y0, j, t_start)[1]
+                         for j in range(1, count) if read is None or not read.ok[j]})  # fmt: skip
+        # read's arrays are its own (made for this call): filled in place
+        Y, P = start_arrays(first[1], read, slow, count)
         self._slow, self._read_starts = slow, read
         self._Y, self._P, self.count, self.time = Y, P, count, t_start
 

@@ -14,6 +14,7 @@ K01-Fig1, K01-Fig2, K01-Fig3, BKM12-24, BKM12-Fig3, BKM12-2.7c, BKM12-1.5stab8.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cache, lru_cache
@@ -397,7 +398,7 @@ def _energy_grid(p: tuple, C: float, Mg: float, n_gamma: int, n_theta: int) -> _
     energy = 2 * np.asarray(_ball_code().numpy.integrals(0.0, Y, list(p)))[0].reshape(M.shape[:2])
     for x in (G, a, b, t, energy):
         x.flags.writeable = False
-    return _EnergyGrid(G, a, b, t, Mg, grid.s, energy)
+    return dataclasses.replace(grid, energy=energy)
 
 
 def level_set_components(

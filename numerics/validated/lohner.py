@@ -339,13 +339,6 @@ def _series_gradients(prob: _Problem, t: arb, X: list, order: int) -> tuple[list
     return values, [arb_mat([jet_gradient(x, n) for x in row]) for row in jets]
 
 
-def _box_jets(prob: _Problem, t: arb, box: list) -> tuple[list, list]:
-    """The Taylor coefficients' gradients over the box at ``t`` and their values: what every
-    trial step from ``t`` shares."""
-    values, grads = _series_gradients(prob, t, box, prob.order)
-    return grads, values
-
-
 def _gradient_polynomial(grads: list, n: int, order: int, h: arb) -> arb_mat:
     """``S = sum_k D_x c_k h^k`` (``n x n``): row ``i`` is the row of the powers of ``h``
     times component ``i``'s matrix of gradients (one Arb call per row)."""
@@ -364,10 +357,10 @@ def _step(
     prob: _Problem, t: arb, box: list, c: list, h: arb, box_jets: tuple | None = None
 ) -> dict | None:
     """One step of size ``h`` from the box: the pieces of the update, or None when the
-    a-priori enclosure fails (``box_jets``: :func:`_box_jets` of ``t`` and the box, when
-    known)."""
+    a-priori enclosure fails (``box_jets``: :func:`_series_gradients` of ``t`` and the box,
+    when known)."""
     n, order = prob.n, prob.order
-    grads, cX = _box_jets(prob, t, box) if box_jets is None else box_jets
+    cX, grads = _series_gradients(prob, t, box, order) if box_jets is None else box_jets
     Z = _apriori(prob, t, cX, h)
     if Z is None:
         return None
@@ -704,7 +697,7 @@ def _take_step(
     (:func:`_remainder_width`, which sets the next step: :func:`_growth`)."""
     last = abs(h_try) >= float(abs(remaining).lower())
     h = remaining if last else arb(h_try)
-    box_jets = _box_jets(prob, t, box)  # the same for every trial step
+    box_jets = _series_gradients(prob, t, box, prob.order)  # the same for every trial step
     for attempt in range(33):
         piece = _step(prob, t, box, c, h, box_jets)
         if piece is None:
